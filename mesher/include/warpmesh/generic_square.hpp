@@ -1,0 +1,245 @@
+// generic_square.hpp — the generic square and the diagonal rules, written once.
+//
+// This header is the single source of truth for the geometry that the angle
+// proof is about.  The mesher instantiates it with `double`; the prover
+// instantiates it with outward-rounded intervals and certifies, box by box,
+// exactly what this code decides.  Nothing here may depend on how the scalar
+// is represented beyond the few operations of `ScalarOps<T>` below.
+//
+// The generic square is the unit square with corners
+//
+//        C=(0,1) ------- D=(1,1)
+//          |               |
+//          |               |
+//        A=(0,0) ------- B=(1,0)
+//
+// Corner c sits at (c & 1, c >> 1).  Each corner either stays, or has been
+// warped onto a cut point: it slid a distance t in [0, 1/2] (in units of the
+// lattice spacing) along +x, -x, +y or -y.  Two of those directions run along
+// the square's own edges ("inward"), the other two leave the square towards a
+// lattice neighbour ("outward").  The two diagonals are AD and BC; each splits
+// the square into two triangles, listed counter-clockwise for the unwarped
+// square:
+//
+//        AD:  (A, B, D) and (A, D, C)
+//        BC:  (A, B, C) and (B, D, C)
+//
+// Angles are never computed.  For a triangle (p0, p1, p2) the angle at p_i with
+// edge vectors u, v satisfies
+//
+//        cot(angle_i) = (u . v) / (u x v),
+//
+// and u x v is the same number for all three vertices of a triangle: twice its
+// signed area.  So a triangle's smallest angle has the largest cotangent, and
+// its *quality* `max_i (u_i . v_i) / (2 area)` orders triangles exactly as the
+// minimum angle does (reversed) — a rational function of the coordinates, so
+// the prover can enclose it and the checker can evaluate it exactly.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <type_traits>
+
+namespace warpmesh {
+
+// ---------------------------------------------------------------------------
+// Three-valued truth.  For exact scalars (double) every test is `yes` or `no`;
+// for intervals a test that depends on the point of the box is `maybe`.
+enum class Truth : std::uint8_t { no = 0, yes = 1, maybe = 2 };
+
+constexpr Truth truth(bool b) { return b ? Truth::yes : Truth::no; }
+// Kleene's strong three-valued logic.
+constexpr Truth operator!(Truth a) {
+    return a == Truth::maybe ? Truth::maybe : truth(a == Truth::no);
+}
+constexpr Truth operator&&(Truth a, Truth b) {
+    if (a == Truth::no || b == Truth::no) return Truth::no;
+    if (a == Truth::yes && b == Truth::yes) return Truth::yes;
+    return Truth::maybe;
+}
+constexpr Truth operator||(Truth a, Truth b) { return !(!a && !b); }
+
+// The operations the generic code needs from a scalar type.  The primary
+// template serves the built-in floating types; the prover specialises it for
+// its interval type (outward rounding, and `maybe` when a comparison is not
+// decided on the whole interval).
+template <class T>
+struct ScalarOps {
+    static_assert(std::is_floating_point_v<T>, "specialise ScalarOps for this scalar");
+    static T from_int(int v) { return static_cast<T>(v); }
+    static Truth positive(const T& a) { return truth(a > 0); }
+    static Truth less(const T& a, const T& b) { return truth(a < b); }
+    static T max(const T& a, const T& b) { return a < b ? b : a; }
+};
+
+// ---------------------------------------------------------------------------
+// Corners, warp states, diagonals.
+enum Corner : int { A = 0, B = 1, C = 2, D = 3 };
+
+enum class Warp : std::uint8_t { stay = 0, px = 1, mx = 2, py = 3, my = 4 };
+inline constexpr int warp_count = 5;
+
+constexpr int warp_dx(Warp w) { return w == Warp::px ? 1 : w == Warp::mx ? -1 : 0; }
+constexpr int warp_dy(Warp w) { return w == Warp::py ? 1 : w == Warp::my ? -1 : 0; }
+
+// True when sliding corner c along w runs along an edge of the square
+// (towards another corner); false for `stay` and for outward slides.
+constexpr bool warp_is_inward(int c, Warp w) {
+    const int cx = c & 1, cy = c >> 1;
+    return (warp_dx(w) != 0 && cx + warp_dx(w) == 1 - cx) ||
+           (warp_dy(w) != 0 && cy + warp_dy(w) == 1 - cy);
+}
+
+enum class Diagonal : std::uint8_t { AD = 0, BC = 1 };
+enum class DiagonalRule : std::uint8_t { maxmin = 0, separating = 1 };
+
+// The two triangles of each diagonal, counter-clockwise on the unwarped square.
+inline constexpr std::array<std::array<int, 3>, 2> diagonal_triangles(Diagonal d) {
+    if (d == Diagonal::AD) return {{{A, B, D}, {A, D, C}}};
+    return {{{A, B, C}, {B, D, C}}};
+}
+
+template <class T>
+struct Point {
+    T x, y;
+};
+
+// Position of corner c of the unit square after sliding t along w.
+template <class T>
+Point<T> warped_corner(int c, Warp w, const T& t) {
+    using O = ScalarOps<T>;
+    Point<T> p{O::from_int(c & 1), O::from_int(c >> 1)};
+    if (warp_dx(w) != 0) p.x = p.x + O::from_int(warp_dx(w)) * t;
+    if (warp_dy(w) != 0) p.y = p.y + O::from_int(warp_dy(w)) * t;
+    return p;
+}
+
+// A corner counts as inside the region for output when its value is <= 0:
+// a warped corner lies on the level set, so it counts as 0.
+constexpr bool corner_inside(int sign, Warp w) { return w != Warp::stay || sign <= 0; }
+
+// ---------------------------------------------------------------------------
+// Angle forms of one triangle.  dot[i] = u_i . v_i at vertex i, cross = u x v
+// (equal at the three vertices).  The angle at vertex i is >= theta iff
+// cross > 0 and dot[i] <= cot(theta) * cross; it is <= phi (phi > 90 deg) iff
+// dot[i] >= cot(phi) * cross.  Only additions and multiplications are used, so
+// with exact inputs these forms are exact.
+template <class T>
+struct TriangleForms {
+    std::array<T, 3> dot;
+    T cross;
+};
+
+template <class T>
+TriangleForms<T> triangle_forms(const Point<T>& p0, const Point<T>& p1, const Point<T>& p2) {
+    const std::array<Point<T>, 3> p{p0, p1, p2};
+    TriangleForms<T> f{};
+    for (int i = 0; i < 3; ++i) {
+        const Point<T>& o = p[i];
+        const Point<T>& q = p[(i + 1) % 3];
+        const Point<T>& r = p[(i + 2) % 3];
+        const T ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
+        f.dot[i] = ux * vx + uy * vy;
+        if (i == 0) f.cross = ux * vy - uy * vx;
+    }
+    return f;
+}
+
+// Quality of a diagonal: whether both of its triangles are positively
+// oriented, and the largest cotangent among their six angles, i.e. the
+// cotangent of the smallest angle.  `worst_cot` is meaningful only where
+// `valid` is not `no` (an interval enclosure, where `valid` is `maybe`, may be
+// unbounded).
+template <class T>
+struct DiagonalQuality {
+    Truth valid;
+    T worst_cot;
+};
+
+template <class T>
+DiagonalQuality<T> diagonal_quality(const std::array<Point<T>, 4>& p, Diagonal d) {
+    using O = ScalarOps<T>;
+    DiagonalQuality<T> q{Truth::yes, O::from_int(0)};
+    bool first = true;
+    for (const auto& tri : diagonal_triangles(d)) {
+        const TriangleForms<T> f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        const Truth ok = O::positive(f.cross);
+        q.valid = q.valid && ok;
+        if (ok == Truth::no) continue;  // an inverted triangle: never wins
+        const T worst = O::max(O::max(f.dot[0], f.dot[1]), f.dot[2]) / f.cross;
+        q.worst_cot = first ? worst : O::max(q.worst_cot, worst);
+        first = false;
+    }
+    return q;
+}
+
+// ---------------------------------------------------------------------------
+// The separating rule's combinatorial test.  If two opposite corners both stay
+// and have strictly opposite signs, every path between them along the square's
+// edges changes sign, so each of the other two corners is either zero-valued
+// or the warped endpoint of a cut edge: both lie on the level set.  Taking the
+// diagonal through them keeps the mesh boundary on the level set.  At most one
+// pair can qualify: if A, D both stay with opposite signs, edge AC or CD is cut
+// and, A and D staying, C must warp or be zero — so C does not stay with a
+// non-zero sign.
+struct CornerState {
+    std::int8_t sign;  // sign of f at the lattice point: -1, 0, +1
+    Warp warp;
+};
+
+constexpr bool stays_signed(const CornerState& s) { return s.warp == Warp::stay && s.sign != 0; }
+
+// Returns the forced diagonal in `forced` and true, or false if no pair qualifies.
+constexpr bool separating_diagonal(const std::array<CornerState, 4>& s, Diagonal& forced) {
+    if (stays_signed(s[A]) && stays_signed(s[D]) && s[A].sign == -s[D].sign) {
+        forced = Diagonal::BC;
+        return true;
+    }
+    if (stays_signed(s[B]) && stays_signed(s[C]) && s[B].sign == -s[C].sign) {
+        forced = Diagonal::AD;
+        return true;
+    }
+    return false;
+}
+
+// ---------------------------------------------------------------------------
+// The diagonal rule.  Max-min: take the diagonal whose smaller angle is larger;
+// an inverted or degenerate triangle never wins; if both diagonals are equally
+// good (in particular on the unwarped square) or both are invalid, take AD.
+// In three-valued form:
+//
+//        BC is taken  <=>  valid(BC) and (not valid(AD) or q(BC) < q(AD)),
+//
+// where q is the worst cotangent (smaller q = larger minimum angle).
+//
+// `Choice` says which diagonals the rule may take.  With exact scalars exactly
+// one flag is set.  With intervals both may be set: the rule is undecided on
+// the box and the prover must bound both diagonals there.
+struct Choice {
+    bool ad = false;
+    bool bc = false;
+};
+
+template <class T>
+Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p,
+                       const std::array<CornerState, 4>& s) {
+    if (rule == DiagonalRule::separating) {
+        Diagonal forced{};
+        if (separating_diagonal(s, forced)) return Choice{forced == Diagonal::AD, forced == Diagonal::BC};
+    }
+    const DiagonalQuality<T> ad = diagonal_quality(p, Diagonal::AD);
+    const DiagonalQuality<T> bc = diagonal_quality(p, Diagonal::BC);
+    Truth better = Truth::no;  // "q(BC) < q(AD)", evaluated only where it matters
+    if (bc.valid != Truth::no && ad.valid != Truth::no) better = ScalarOps<T>::less(bc.worst_cot, ad.worst_cot);
+    const Truth take_bc = bc.valid && (!ad.valid || better);
+    return Choice{take_bc != Truth::yes, take_bc != Truth::no};
+}
+
+// The corner positions of a square of the mesher in the unit square's frame.
+template <class T>
+std::array<Point<T>, 4> generic_positions(const std::array<Warp, 4>& w, const std::array<T, 4>& t) {
+    return {warped_corner(A, w[A], t[A]), warped_corner(B, w[B], t[B]), warped_corner(C, w[C], t[C]),
+            warped_corner(D, w[D], t[D])};
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,85 @@
+// lattice.hpp — the uniform lattice of squares and the per-point arrays the
+// pipeline stages exchange.
+//
+//   lattice.cpp     → Lattice, sampling f at the lattice points
+//   signs.cpp       → sign of f at each point
+//   cut_points.cpp  → cut edges and their cut points
+//   warp.cpp        → which endpoint of each cut edge moves, and where
+//   triangulate.cpp → diagonal per square, output triangles, boundary
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "warpmesh/generic_square.hpp"
+#include "warpmesh/levelset.hpp"
+#include "warpmesh/mesh.hpp"
+
+namespace warpmesh {
+
+// Points (i, j), 0 <= i <= nx, 0 <= j <= ny, at (x0 + i s, y0 + j s); point
+// index i + j (nx + 1).  Square (i, j) has corners A = (i, j), B = (i+1, j),
+// C = (i, j+1), D = (i+1, j+1) — the generic square's labelling.
+struct Lattice {
+    double x0 = 0, y0 = 0, s = 1;
+    std::int64_t nx = 0, ny = 0;  // number of squares along x and y
+
+    std::int64_t points_x() const { return nx + 1; }
+    std::int64_t point_count() const { return (nx + 1) * (ny + 1); }
+    std::int64_t index(std::int64_t i, std::int64_t j) const { return i + j * (nx + 1); }
+    Vec2 position(std::int64_t i, std::int64_t j) const {
+        return {x0 + static_cast<double>(i) * s, y0 + static_cast<double>(j) * s};
+    }
+};
+
+// The lattice of spacing s whose points cover box: x0 = xmin, and as many
+// whole squares as fit (at least one).
+Lattice lattice_over(const Box& box, double s);
+
+// f at all points (row-major).  Throws std::runtime_error on NaN or infinity.
+std::vector<double> sample_values(const LevelSet& f, const Lattice& lattice);
+
+// Signs of f: -1, 0 (exactly on the level set) or +1.
+std::vector<std::int8_t> compute_signs(std::span<const double> values);
+
+// A cut edge runs from point p to its neighbour in +x (axis 0) or +y (axis 1);
+// its endpoints have strictly opposite signs; the cut point is at parameter u
+// in (0, 1) from p.
+struct CutEdge {
+    std::int64_t p;
+    std::int8_t axis;
+    double u;
+};
+
+// All cut edges, sorted by (p, axis).
+std::vector<CutEdge> find_cut_edges(const LevelSet& f, const Lattice& lattice, std::span<const double> values,
+                                    std::span<const std::int8_t> signs);
+
+// A warped lattice point: it moved distance t (in units of s, 0 < t <= 1/2)
+// along `dir` onto a cut point.
+struct WarpedPoint {
+    std::int64_t p;
+    Warp dir;
+    double t;
+};
+
+// For every cut edge the endpoint closer to the cut point warps onto it; at a
+// tie (u = 1/2 exactly) the endpoint with f < 0 does.  A point that is the
+// closer endpoint of several cut edges takes the nearest cut point; equal
+// distances are broken in the order +x, -x, +y, -y.  Sorted by p.
+std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts,
+                                     std::span<const std::int8_t> signs);
+
+struct TriangulateStats {
+    std::int64_t warped_squares = 0;
+    std::int64_t forced_diagonals = 0;  // squares where the separating rule overrode max-min
+};
+
+// Build the output mesh: per square, the diagonal by `rule`; the triangles
+// whose three corners are inside (sign <= 0 or warped); vertices compacted in
+// point order; boundary edges oriented with the region on their left.
+Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats = nullptr);
+
+}  // namespace warpmesh

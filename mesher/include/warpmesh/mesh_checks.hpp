@@ -1,0 +1,35 @@
+// mesh_checks.hpp — the invariants every warpmesh mesh must satisfy, checked
+// from scratch on the mesh alone.  Used by the tests, the fuzzers and --verify.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "warpmesh/mesh.hpp"
+
+namespace warpmesh {
+
+struct MeshCheck {
+    std::int64_t non_ccw = 0;            // triangles with cross product <= 0
+    std::int64_t bad_indices = 0;        // vertex indices out of range
+    std::int64_t unused_vertices = 0;    // vertices in no triangle (not compacted)
+    std::int64_t overfull_edges = 0;     // edges in more than two triangles
+    std::int64_t misoriented_edges = 0;  // interior edges traversed the same way by both triangles
+    std::int64_t boundary_mismatch = 0;  // boundary list differs from the edges in exactly one triangle
+    std::int64_t open_loop_vertices = 0; // vertices where boundary in-degree != out-degree
+    std::int64_t boundary_edges = 0;
+    std::int64_t interior_edges = 0;
+    std::vector<std::string> messages;   // the first few problems, for humans
+
+    bool ok() const {
+        return non_ccw == 0 && bad_indices == 0 && unused_vertices == 0 && overfull_edges == 0 &&
+               misoriented_edges == 0 && boundary_mismatch == 0 && open_loop_vertices == 0;
+    }
+};
+
+MeshCheck check_mesh(const Mesh& mesh);
+
+// Twice the signed area of triangle t.
+double cross2(const Mesh& mesh, std::size_t t);
+
+}  // namespace warpmesh

@@ -1,0 +1,262 @@
+// triangulate.cpp — stage 5: one diagonal per square, the output triangles,
+// compacted vertices and the boundary.
+//
+// Each square emits the triangles of its chosen diagonal whose three corners
+// are inside (sign <= 0, or warped: a warped point lies on f = 0).  Squares
+// with no warped corner are the unit square in the generic frame, where both
+// diagonals tie at 45 degrees and the rule takes AD; the fast path below takes
+// AD without evaluating the rule, which is exactly what choose_diagonal
+// returns there (the unit square's corners are exact in floating point).
+// Squares with a warped corner are handed, in the generic frame, to the same
+// choose_diagonal that the prover certifies.
+//
+// Topology comes from the lattice alone: every triangle edge is a lattice edge
+// or a square's diagonal, so two squares that share a side share its two
+// endpoints and the mesh is conforming by construction.  Its geometric
+// validity — every triangle counter-clockwise — is what the prover's
+// orientation theorem certifies for every generic square.
+//
+// The work is four passes, each parallel over rows and each deterministic:
+//   1. a code per square: its diagonal and which of its triangles it emits;
+//   2. per point, whether an emitted triangle uses it → compact vertex ids;
+//   3. the triangles, at row offsets from a prefix sum;
+//   4. the boundary: edges covered by exactly one emitted triangle.
+#include <algorithm>
+#include <numeric>
+
+#include "warpmesh/lattice.hpp"
+
+namespace warpmesh {
+namespace {
+
+// Per-point state bits.
+constexpr std::uint8_t inside_bit = 1, warped_bit = 2;
+
+// Square code: bit 0 = first triangle emitted, bit 1 = second, bit 2 = BC.
+constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4;
+
+constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
+    return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
+}
+
+// Whether the emitted triangles of a square with this code use corner c.
+constexpr bool uses_corner(std::uint8_t code, int c) {
+    for (int k = 0; k < 2; ++k) {
+        if (!(code & (1 << k))) continue;
+        for (int v : triangle_of(code, k))
+            if (v == c) return true;
+    }
+    return false;
+}
+
+// Which triangle (0 or 1) of a diagonal holds each side of the square:
+// sides 0 = AB (bottom), 1 = BD (right), 2 = DC (top), 3 = CA (left),
+// each with its counter-clockwise direction inside that triangle.
+struct Side {
+    int from, to;
+    int tri_ad, tri_bc;
+};
+constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {C, A, 1, 0}}};
+
+}  // namespace
+
+Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
+
+    std::vector<std::uint8_t> state(npoints);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k)
+        state[static_cast<std::size_t>(k)] = signs[static_cast<std::size_t>(k)] <= 0 ? inside_bit : 0;
+    for (const WarpedPoint& w : warped) state[static_cast<std::size_t>(w.p)] = inside_bit | warped_bit;
+
+    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& {
+        return *std::lower_bound(warped.begin(), warped.end(), p,
+                                 [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
+    };
+
+    // ---- pass 1: square codes ------------------------------------------------
+    std::vector<std::uint8_t> code(static_cast<std::size_t>(nx * ny));
+    std::vector<std::int64_t> row_tris(static_cast<std::size_t>(ny) + 1, 0);
+    std::int64_t warped_squares = 0, forced = 0;
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : warped_squares, forced)
+    for (std::int64_t j = 0; j < ny; ++j) {
+        std::int64_t tris = 0;
+        for (std::int64_t i = 0; i < nx; ++i) {
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            const std::array<std::uint8_t, 4> st{state[static_cast<std::size_t>(p[0])],
+                                                 state[static_cast<std::size_t>(p[1])],
+                                                 state[static_cast<std::size_t>(p[2])],
+                                                 state[static_cast<std::size_t>(p[3])]};
+            const int inside = (st[0] & 1) + (st[1] & 1) + (st[2] & 1) + (st[3] & 1);
+            const bool any_warped = (st[0] | st[1] | st[2] | st[3]) & warped_bit;
+            std::uint8_t c = 0;
+            if (any_warped) {
+                ++warped_squares;
+                std::array<CornerState, 4> cs{};
+                std::array<Warp, 4> w{};
+                std::array<double, 4> t{};
+                for (int k = 0; k < 4; ++k) {
+                    cs[k].sign = signs[static_cast<std::size_t>(p[k])];
+                    if (st[k] & warped_bit) {
+                        const WarpedPoint& wp = warp_of(p[k]);
+                        w[k] = wp.dir;
+                        t[k] = wp.t;
+                    }
+                    cs[k].warp = w[k];
+                }
+                const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
+                if (ch.bc) c |= bc_bit;
+                Diagonal forced_d{};
+                if (rule == DiagonalRule::separating && separating_diagonal(cs, forced_d)) {
+                    const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs);
+                    if (free.bc != ch.bc) ++forced;
+                }
+            }
+            if (inside >= 3) {
+                for (int k = 0; k < 2; ++k) {
+                    bool all = true;
+                    for (int v : triangle_of(c, k)) all = all && (st[static_cast<std::size_t>(v)] & inside_bit);
+                    if (all) c |= static_cast<std::uint8_t>(1 << k), ++tris;
+                }
+            }
+            code[static_cast<std::size_t>(i + j * nx)] = c;
+        }
+        row_tris[static_cast<std::size_t>(j) + 1] = tris;
+    }
+    std::partial_sum(row_tris.begin(), row_tris.end(), row_tris.begin());
+
+    // ---- pass 2: compact vertex ids -------------------------------------------
+    // A point is a vertex iff one of its (up to four) squares emits a triangle
+    // that uses it.  The point's corner role in square (i - di, j - dj) is
+    // di + 2 dj.
+    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
+        return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
+    };
+    std::vector<std::int32_t> vid(npoints, -1);
+    std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        std::int64_t count = 0;
+        for (std::int64_t i = 0; i < nxp; ++i) {
+            if (!(state[static_cast<std::size_t>(lattice.index(i, j))] & inside_bit)) continue;
+            const bool used = uses_corner(square_code(i, j), A) || uses_corner(square_code(i - 1, j), B) ||
+                              uses_corner(square_code(i, j - 1), C) || uses_corner(square_code(i - 1, j - 1), D);
+            if (used) vid[static_cast<std::size_t>(lattice.index(i, j))] = 0, ++count;
+        }
+        row_verts[static_cast<std::size_t>(j) + 1] = count;
+    }
+    std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
+    Mesh mesh;
+    const std::int64_t nverts = row_verts.back(), ntris = row_tris.back();
+    if (nverts > INT32_MAX || ntris > INT32_MAX)
+        throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
+    mesh.vertices.resize(static_cast<std::size_t>(nverts));
+    mesh.triangles.resize(static_cast<std::size_t>(ntris));
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        std::int64_t next = row_verts[static_cast<std::size_t>(j)];
+        for (std::int64_t i = 0; i < nxp; ++i) {
+            const std::int64_t p = lattice.index(i, j);
+            if (vid[static_cast<std::size_t>(p)] < 0) continue;
+            Vec2 x = lattice.position(i, j);
+            if (state[static_cast<std::size_t>(p)] & warped_bit) {
+                const WarpedPoint& wp = warp_of(p);
+                // The same affine map as generic_positions, scaled by s.
+                x.x += warp_dx(wp.dir) * wp.t * lattice.s;
+                x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+            }
+            vid[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(next);
+            mesh.vertices[static_cast<std::size_t>(next++)] = x;
+        }
+    }
+
+    // ---- pass 3: triangles -----------------------------------------------------
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j < ny; ++j) {
+        std::int64_t next = row_tris[static_cast<std::size_t>(j)];
+        for (std::int64_t i = 0; i < nx; ++i) {
+            const std::uint8_t c = code[static_cast<std::size_t>(i + j * nx)];
+            if (!(c & (tri0_bit | tri1_bit))) continue;
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            for (int k = 0; k < 2; ++k) {
+                if (!(c & (1 << k))) continue;
+                const auto tri = triangle_of(c, k);
+                mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[tri[0]])],
+                                                                    vid[static_cast<std::size_t>(p[tri[1]])],
+                                                                    vid[static_cast<std::size_t>(p[tri[2]])]};
+            }
+        }
+    }
+    mesh.region.assign(mesh.triangles.size(), 1);
+    if (f.tags_regions()) {
+#pragma omp parallel for schedule(static)
+        for (std::int64_t k = 0; k < ntris; ++k) {
+            const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
+            const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+                       &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+            mesh.region[static_cast<std::size_t>(k)] = f.region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
+        }
+    }
+
+    // ---- pass 4: boundary --------------------------------------------------------
+    // A side of square (i, j) is covered when the triangle of the chosen
+    // diagonal that holds it is emitted.  It is a boundary edge when exactly
+    // one of the two squares sharing it covers it (the lattice's outer border
+    // has one square only: tag `boundary_domain`).  A diagonal is a boundary
+    // edge when exactly one of the square's two triangles is emitted.
+    auto covers = [](std::uint8_t c, int side) {
+        const int k = (c & bc_bit) ? sides[static_cast<std::size_t>(side)].tri_bc : sides[static_cast<std::size_t>(side)].tri_ad;
+        return (c >> k) & 1;
+    };
+    std::vector<std::vector<std::array<std::int32_t, 3>>> per_row(static_cast<std::size_t>(ny));
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::int64_t j = 0; j < ny; ++j) {
+        auto& out = per_row[static_cast<std::size_t>(j)];
+        for (std::int64_t i = 0; i < nx; ++i) {
+            const std::uint8_t c = code[static_cast<std::size_t>(i + j * nx)];
+            if (!(c & (tri0_bit | tri1_bit))) continue;
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            auto edge = [&](int from, int to, std::int32_t tag) {
+                out.push_back({vid[static_cast<std::size_t>(p[from])], vid[static_cast<std::size_t>(p[to])], tag});
+            };
+            // Neighbour across each side: below, right, above, left.
+            const std::array<std::uint8_t, 4> nb{square_code(i, j - 1), square_code(i + 1, j), square_code(i, j + 1),
+                                                 square_code(i - 1, j)};
+            const std::array<bool, 4> border{j == 0, i == nx - 1, j == ny - 1, i == 0};
+            const std::array<int, 4> opposite{2, 3, 0, 1};
+            for (int sd = 0; sd < 4; ++sd) {
+                if (!covers(c, sd)) continue;
+                if (border[static_cast<std::size_t>(sd)])
+                    edge(sides[static_cast<std::size_t>(sd)].from, sides[static_cast<std::size_t>(sd)].to, boundary_domain);
+                else if (!covers(nb[static_cast<std::size_t>(sd)], opposite[static_cast<std::size_t>(sd)]))
+                    edge(sides[static_cast<std::size_t>(sd)].from, sides[static_cast<std::size_t>(sd)].to, boundary_level_set);
+            }
+            const int emitted = (c & tri0_bit) + ((c & tri1_bit) >> 1);
+            if (emitted == 1) {
+                // The diagonal's direction inside the emitted triangle:
+                // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
+                const bool bc = c & bc_bit, first = c & tri0_bit;
+                if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
+                else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
+            }
+        }
+    }
+    for (const auto& r : per_row)
+        for (const auto& e : r) {
+            mesh.boundary.push_back({e[0], e[1]});
+            mesh.boundary_tag.push_back(e[2]);
+        }
+
+    if (stats) {
+        stats->warped_squares = warped_squares;
+        stats->forced_diagonals = forced;
+    }
+    return mesh;
+}
+
+}  // namespace warpmesh
