@@ -258,3 +258,17 @@ BOOST_AUTO_TEST_CASE(mesh_check_detects_broken_meshes) {
     extra.vertices.push_back({5, 5});
     BOOST_TEST(!check_mesh(extra).ok());
 }
+
+BOOST_AUTO_TEST_CASE(separating_rule_applies_to_unwarped_squares_with_zero_corners) {
+    // A inside, B and C exactly on the level set, D outside, nothing warps.
+    // The separating rule must still take BC, emitting triangle (A, B, C) with
+    // its boundary edge BC on the level set; max-min takes AD (a tie on the
+    // unit square), whose triangles both touch D: nothing is emitted.
+    Grid g(1, 1, {-1, 0, 0, 1});
+    const auto sep = mesh_uniform(g, g.lat, DiagonalRule::separating);
+    BOOST_TEST(sep.warped_points == 0);
+    BOOST_REQUIRE_EQUAL(sep.mesh.triangles.size(), 1u);
+    BOOST_TEST(check_mesh(sep.mesh).ok());
+    const auto mm = mesh_uniform(g, g.lat, DiagonalRule::maxmin);
+    BOOST_TEST(mm.mesh.triangles.empty());
+}

@@ -1,14 +1,14 @@
 // lattice.cpp — stage 1: the lattice and the values of f at its points.
 #include <cmath>
-#include <stdexcept>
 #include <string>
 
+#include "warpmesh/errors.hpp"
 #include "warpmesh/lattice.hpp"
 
 namespace warpmesh {
 
 Lattice lattice_over(const Box& box, double s) {
-    if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("lattice spacing must be a positive finite number");
+    if (!(s > 0) || !std::isfinite(s)) throw InputError("lattice spacing must be a positive finite number");
     Lattice l;
     l.s = s;
     l.x0 = box.xmin;
@@ -22,6 +22,17 @@ Lattice lattice_over(const Box& box, double s) {
     };
     l.nx = squares(box.xmax - box.xmin);
     l.ny = squares(box.ymax - box.ymin);
+    return l;
+}
+
+Lattice lattice_around(const Box& box, double s) {
+    if (!(s > 0) || !std::isfinite(s)) throw InputError("lattice spacing must be a positive finite number");
+    Lattice l;
+    l.s = s;
+    l.x0 = box.xmin - s;
+    l.y0 = box.ymin - s;
+    l.nx = static_cast<std::int64_t>(std::ceil((box.xmax - box.xmin) / s)) + 2;
+    l.ny = static_cast<std::int64_t>(std::ceil((box.ymax - box.ymin) / s)) + 2;
     return l;
 }
 
@@ -47,7 +58,7 @@ std::vector<double> sample_values(const LevelSet& f, const Lattice& lattice) {
     if (bad >= 0) {
         const std::int64_t i = bad % lattice.points_x(), j = bad / lattice.points_x();
         const Vec2 p = lattice.position(i, j);
-        throw std::runtime_error("level set value is not finite at lattice point (" + std::to_string(i) + ", " +
+        throw InputError("level set value is not finite at lattice point (" + std::to_string(i) + ", " +
                                  std::to_string(j) + ") = (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
                                  ")");
     }

@@ -2,13 +2,15 @@
 // compacted vertices and the boundary.
 //
 // Each square emits the triangles of its chosen diagonal whose three corners
-// are inside (sign <= 0, or warped: a warped point lies on f = 0).  Squares
-// with no warped corner are the unit square in the generic frame, where both
-// diagonals tie at 45 degrees and the rule takes AD; the fast path below takes
-// AD without evaluating the rule, which is exactly what choose_diagonal
-// returns there (the unit square's corners are exact in floating point).
-// Squares with a warped corner are handed, in the generic frame, to the same
-// choose_diagonal that the prover certifies.
+// are inside (sign <= 0, or warped: a warped point lies on f = 0).  A square
+// with no warped and no zero-valued corner is the unit square in the generic
+// frame with no separating pair on the level set, where both diagonals tie at
+// 45 degrees and the rule takes AD; the fast path below takes AD without
+// evaluating the rule, which is exactly what choose_diagonal returns there
+// (the unit square's corners are exact in floating point).  Every other square
+// — a warped corner, or a zero-valued one, which can make the separating rule
+// force BC on an unwarped square — is handed, in the generic frame, to the
+// same choose_diagonal that the prover certifies.
 //
 // Topology comes from the lattice alone: every triangle edge is a lattice edge
 // or a square's diagonal, so two squares that share a side share its two
@@ -30,7 +32,7 @@ namespace warpmesh {
 namespace {
 
 // Per-point state bits.
-constexpr std::uint8_t inside_bit = 1, warped_bit = 2;
+constexpr std::uint8_t inside_bit = 1, warped_bit = 2, zero_bit = 4;
 
 // Square code: bit 0 = first triangle emitted, bit 1 = second, bit 2 = BC.
 constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4;
@@ -60,6 +62,22 @@ constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {
 
 }  // namespace
 
+Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& cs,
+                                const std::array<double, 4>& t, bool* forced) {
+    std::array<Warp, 4> w{};
+    for (int k = 0; k < 4; ++k) w[static_cast<std::size_t>(k)] = cs[static_cast<std::size_t>(k)].warp;
+    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
+    if (forced) {
+        Diagonal forced_d{};
+        *forced = false;
+        if (rule == DiagonalRule::separating && separating_diagonal(cs, forced_d)) {
+            const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs);
+            *forced = free.bc != ch.bc;
+        }
+    }
+    return ch.bc ? Diagonal::BC : Diagonal::AD;
+}
+
 Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
                  std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats) {
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
@@ -68,7 +86,9 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     std::vector<std::uint8_t> state(npoints);
 #pragma omp parallel for schedule(static)
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k)
-        state[static_cast<std::size_t>(k)] = signs[static_cast<std::size_t>(k)] <= 0 ? inside_bit : 0;
+        state[static_cast<std::size_t>(k)] = signs[static_cast<std::size_t>(k)] < 0    ? inside_bit
+                                             : signs[static_cast<std::size_t>(k)] == 0 ? inside_bit | zero_bit
+                                                                                       : 0;
     for (const WarpedPoint& w : warped) state[static_cast<std::size_t>(w.p)] = inside_bit | warped_bit;
 
     auto warp_of = [&](std::int64_t p) -> const WarpedPoint& {
@@ -91,29 +111,23 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                                                  state[static_cast<std::size_t>(p[2])],
                                                  state[static_cast<std::size_t>(p[3])]};
             const int inside = (st[0] & 1) + (st[1] & 1) + (st[2] & 1) + (st[3] & 1);
-            const bool any_warped = (st[0] | st[1] | st[2] | st[3]) & warped_bit;
+            const std::uint8_t any = st[0] | st[1] | st[2] | st[3];
             std::uint8_t c = 0;
-            if (any_warped) {
-                ++warped_squares;
+            if (any & (warped_bit | zero_bit)) {
+                warped_squares += (any & warped_bit) != 0;
                 std::array<CornerState, 4> cs{};
-                std::array<Warp, 4> w{};
                 std::array<double, 4> t{};
                 for (int k = 0; k < 4; ++k) {
                     cs[k].sign = signs[static_cast<std::size_t>(p[k])];
                     if (st[k] & warped_bit) {
                         const WarpedPoint& wp = warp_of(p[k]);
-                        w[k] = wp.dir;
+                        cs[k].warp = wp.dir;
                         t[k] = wp.t;
                     }
-                    cs[k].warp = w[k];
                 }
-                const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
-                if (ch.bc) c |= bc_bit;
-                Diagonal forced_d{};
-                if (rule == DiagonalRule::separating && separating_diagonal(cs, forced_d)) {
-                    const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs);
-                    if (free.bc != ch.bc) ++forced;
-                }
+                bool was_forced = false;
+                if (warped_square_diagonal(rule, cs, t, &was_forced) == Diagonal::BC) c |= bc_bit;
+                forced += was_forced;
             }
             if (inside >= 3) {
                 for (int k = 0; k < 2; ++k) {

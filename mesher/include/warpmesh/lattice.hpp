@@ -37,7 +37,13 @@ struct Lattice {
 // whole squares as fit (at least one).
 Lattice lattice_over(const Box& box, double s);
 
-// f at all points (row-major).  Throws std::runtime_error on NaN or infinity.
+// The lattice of spacing s around a region contained in box, with at least
+// one whole square of margin on every side.  Every lattice point on the
+// lattice's border is then at distance >= s from the region, so it is the
+// endpoint of no cut edge, never warps, and the mesh never reaches the border.
+Lattice lattice_around(const Box& box, double s);
+
+// f at all points (row-major).  Throws InputError on NaN or infinity.
 std::vector<double> sample_values(const LevelSet& f, const Lattice& lattice);
 
 // Signs of f: -1, 0 (exactly on the level set) or +1.
@@ -70,6 +76,14 @@ struct WarpedPoint {
 // distances are broken in the order +x, -x, +y, -y.  Sorted by p.
 std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts,
                                      std::span<const std::int8_t> signs);
+
+// The diagonal of a square with at least one warped corner: choose_diagonal
+// on the square in the generic frame — exactly what the prover certifies.
+// `forced`, if given, is set to whether the separating rule overrode max-min.
+// (Squares with no warped corner take AD, which is what the rule returns on
+// the unit square.)  Shared by the uniform and the graded triangulations.
+Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& corners,
+                                const std::array<double, 4>& t, bool* forced = nullptr);
 
 struct TriangulateStats {
     std::int64_t warped_squares = 0;

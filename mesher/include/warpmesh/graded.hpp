@@ -1,0 +1,180 @@
+// graded.hpp — the graded interior mesher: the uniform lattice-warping mesh
+// near the level set, coarsening inward on a 2:1-balanced quadtree.
+//
+// The pipeline is the uniform one up to the warp (sample → signs → cut points
+// → warp, unchanged), then
+//
+//   quadtree.cpp            → which squares may be merged into coarse leaves,
+//                             2:1 balance, the leaves
+//   triangulate_graded.cpp  → triangles of the leaves, vertices, boundary
+//   graded.cpp              → the driver, timed
+//
+// Levels and nodes.  A node of level l covers the 2^l x 2^l block of lattice
+// squares [I 2^l, (I+1) 2^l) x [J 2^l, (J+1) 2^l); level 0 nodes are the
+// lattice squares.  The tree is conceptually padded to a power-of-two root;
+// nodes that do not lie entirely inside the lattice are never leaves (they are
+// always split), and parts outside the lattice do not exist.  The roots are
+// the nodes of level `top`, with 2^top = K (max_cell) or, for K = 0, the
+// smallest power of two covering the lattice.
+//
+// Which nodes may be leaves.  A lattice point is *critical* when f is 0 there
+// or it is an endpoint of a cut edge (a 4-neighbour has the strictly opposite
+// sign): exactly the points that lie on the level set or could warp.  A node of
+// level l >= 1 is *coarsenable* with sign σ in {-1, +1} when every lattice point
+// in it (interior and boundary) is non-critical with sign σ — computed
+// bottom-up as a pyramid: a node is coarsenable iff its 4 children are
+// coarsenable with the same sign (their points cover the parent's).  This is
+// exact: a single critical point anywhere in a big block, e.g. a tiny hole,
+// keeps it from coarsening.  In addition an inside node (σ = -1) touching the
+// lattice's outer border is not coarsenable, so the border squares that are
+// meshed are finest squares and the domain-border boundary edges are those of
+// the uniform mesh.  Outside nodes (σ = +1) coarsen too; they emit nothing.
+//
+// The invariant that makes the angle proof apply: every lattice square that
+// has a critical corner (in particular every square with a warped corner) is a
+// finest leaf with no split side.  Proof: a coarse leaf contains only
+// non-critical points, so a square with a critical corner lies in no coarse
+// leaf and is a level-0 leaf; and a level-0 leaf never has a split side, since
+// a side is split only by a neighbour strictly finer than the leaf, and
+// nothing is finer than level 0.  Conversely every vertex a coarse leaf uses
+// (corners, side midpoints, centre) is one of its own non-critical points, so
+// it never warps: coarse triangles are exact template shapes.  So no extra
+// band is needed beyond "squares with a critical corner are finest" — the
+// coarsenability test already yields it, and balance only ever splits.
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "warpmesh/lattice.hpp"
+
+namespace warpmesh {
+
+// A set of lattice points, one bit each, rows padded to whole 64-bit words,
+// with ranks: after finish(), rank(p) is the number of members before p in
+// point order, in O(1) — so a sorted list indexed by members (the warped
+// points, the compacted vertices) needs no lattice-sized index array.
+struct PointSet {
+    std::int64_t words_per_row = 0;
+    std::vector<std::uint64_t> words;
+    std::vector<std::int64_t> prefix;  // per word, members before it (after finish)
+
+    PointSet() = default;
+    PointSet(std::int64_t points_x, std::int64_t rows)
+        : words_per_row((points_x + 63) / 64), words(static_cast<std::size_t>(words_per_row * rows), 0) {}
+    // Point (i, j): no division on the hot paths.
+    std::size_t word(std::int64_t i, std::int64_t j) const { return static_cast<std::size_t>(j * words_per_row + (i >> 6)); }
+    static std::uint64_t bit(std::int64_t i) { return std::uint64_t{1} << (i & 63); }
+    bool contains(std::int64_t i, std::int64_t j) const { return words[word(i, j)] & bit(i); }
+    void insert(std::int64_t i, std::int64_t j) { words[word(i, j)] |= bit(i); }
+    void finish();  // fill prefix
+    std::int64_t rank(std::int64_t i, std::int64_t j) const {
+        const std::size_t w = word(i, j);
+        return prefix[w] + std::popcount(words[w] & (bit(i) - 1));
+    }
+};
+
+// The balanced quadtree, as per-level arrays (no pointers).  Level l
+// (1 <= l <= top) has nodes_x[l] x nodes_y[l] nodes, row-major; level 0 (the
+// lattice squares) stores nothing: a square is a finest leaf iff its level-1
+// parent is split (or top = 0).  Level 1 stores no split array either: it has
+// no balance constraint (nothing is split below it), so its nodes are split
+// iff not coarsenable.
+struct Quadtree {
+    std::int64_t nx = 0, ny = 0;  // lattice squares
+    int top = 0;                  // level of the roots
+    PointSet warped;              // the warped points (warped[k] has rank k)
+    std::vector<std::int64_t> nodes_x, nodes_y;     // per level: ceil(n / 2^l)
+    std::vector<std::vector<std::int8_t>> sign;     // per level >= 1: σ if coarsenable, else 0
+    std::vector<std::vector<std::uint8_t>> split;   // per level >= 2: 1 if the node is not a leaf and not inside one
+
+    // Whether node (i, j) of level l exists and is split.  Levels above `top`
+    // are all split (the roots form a forest); level 0 never is.
+    bool is_split(int l, std::int64_t i, std::int64_t j) const {
+        if (l > top) return true;
+        const std::size_t L = static_cast<std::size_t>(l);
+        if (l == 0 || i < 0 || j < 0 || i >= nodes_x[L] || j >= nodes_y[L]) return false;
+        const std::size_t k = static_cast<std::size_t>(i + j * nodes_x[L]);
+        return l == 1 ? sign[1][k] == 0 : split[L][k] != 0;
+    }
+    // Whether lattice square (i, j) is a finest leaf.
+    bool is_finest(std::int64_t i, std::int64_t j) const { return is_split(1, i >> 1, j >> 1); }
+};
+
+// Build the tree: critical points from the signs, the set of `warped` points,
+// the coarsenability pyramid up to level log2(max_cell) (max_cell 0: as coarse
+// as the lattice allows), then 2:1 balance.  Throws std::invalid_argument if
+// max_cell is negative or not a power of two.
+Quadtree build_quadtree(const Lattice& lattice, std::span<const std::int8_t> signs,
+                        std::span<const WarpedPoint> warped, std::int64_t max_cell);
+
+// Sides of a leaf, as bits of Leaf::split_sides: bottom (A-B), right (B-D),
+// top (D-C), left (C-A).
+inline constexpr std::uint8_t side_bottom = 1, side_right = 2, side_top = 4, side_left = 8;
+
+// A leaf of the tree: squares [i, i + 2^level) x [j, j + 2^level).  For coarse
+// leaves `sign` is σ and `split_sides` marks the sides halved by a finer
+// neighbour (their midpoints are vertices); finest leaves have sign 0 (their
+// corners decide) and never a split side.
+struct Leaf {
+    std::int32_t i, j;
+    std::int8_t level;
+    std::int8_t sign;
+    std::uint8_t split_sides;
+};
+
+// All leaves, finest first, then by increasing level; within a level in
+// row-major order (deterministic).  leaves_per_level[l] counts them.
+std::vector<Leaf> quadtree_leaves(const Quadtree& tree, std::vector<std::int64_t>* leaves_per_level = nullptr);
+
+// The checks of the quadtree's invariants, from scratch (O(lattice) memory):
+// the leaves tile the lattice; edge-adjacent leaves differ by at most one
+// level; every square with a critical corner (zero-valued, or an endpoint of a
+// cut edge of `signs`) is a finest leaf; every square on the lattice border
+// with an inside corner is a finest leaf; every coarse leaf's points all have
+// its sign, non-zero.  Used by the tests, and asserted in debug builds.
+struct QuadtreeCheck {
+    std::int64_t untiled = 0;            // squares covered by no leaf or by several
+    std::int64_t unbalanced = 0;         // adjacent squares whose leaves differ by >= 2 levels
+    std::int64_t coarse_critical = 0;    // squares with a critical corner inside a coarse leaf
+    std::int64_t coarse_border = 0;      // inside border squares inside a coarse leaf
+    std::int64_t bad_sign = 0;           // coarse leaves with a point of another sign
+    std::vector<std::string> messages;
+    bool ok() const { return untiled == 0 && unbalanced == 0 && coarse_critical == 0 && coarse_border == 0 && bad_sign == 0; }
+};
+QuadtreeCheck check_quadtree(const Quadtree& tree, std::span<const std::int8_t> signs);
+
+// Triangles of the leaves.  Finest leaves: the square's diagonal by `rule`
+// exactly as the uniform triangulation (warped_square_diagonal where a corner
+// is warped, AD otherwise) and the triangles with three inside corners.
+// Coarse inside leaves: AD if no side is split; otherwise the centre template
+// (centre joined to the corners and to the split sides' midpoints).  Vertices
+// compacted in lattice-point order, boundary edges oriented with the region on
+// their left, region tags as in the uniform mesh.
+Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+                        const Quadtree& tree, std::span<const Leaf> leaves, std::span<const WarpedPoint> warped,
+                        DiagonalRule rule, TriangulateStats* stats = nullptr);
+
+struct GradedTimes {
+    double sample = 0, signs = 0, cut_points = 0, warp = 0, quadtree = 0, triangulate = 0;  // seconds
+    double total() const { return sample + signs + cut_points + warp + quadtree + triangulate; }
+};
+
+struct GradedResult {
+    Mesh mesh;
+    GradedTimes times;
+    TriangulateStats stats;
+    std::int64_t cut_edges = 0;
+    std::int64_t warped_points = 0;
+    std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, inside or outside
+};
+
+// lattice → signs → cut points → warp → quadtree → triangulate.  max_cell is K,
+// the largest leaf width in squares: a power of two, or 0 for as coarse as the
+// lattice allows.
+GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell);
+
+}  // namespace warpmesh

@@ -1,0 +1,89 @@
+// quality.hpp — a quality report of a mesh (for stdout and --report FILE).
+//
+// This is the *reporting* path: angles are computed in floating point with
+// std::atan2 and are not part of any proof.  compute_quality is one parallel
+// pass over the triangles (OpenMP, per-thread partial results merged in thread
+// order, so the result is deterministic for a given thread count).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "warpmesh/mesh.hpp"
+
+namespace warpmesh {
+
+// Smallest and largest interior angle of triangle abc, in degrees (either
+// orientation).  The smallest angle is opposite the shortest side and the
+// largest opposite the longest (law of sines), so only these two are computed,
+// each as atan2(|cross|, dot) of the two sides at that vertex — accurate for
+// tiny and near-180° angles alike.  Three distinct collinear points give 0 and
+// 180; at a repeated vertex atan2(0, 0) = 0 is used.
+struct TriangleAngles {
+    double min_deg, max_deg;
+};
+TriangleAngles triangle_angles(Vec2 a, Vec2 b, Vec2 c);
+
+// Radius ratio normalised so that the equilateral triangle has 1:
+//   2 r_in / R_circ = 16 A² / ((a + b + c) a b c) = 4 cross² / ((a + b + c) a b c),
+// using r_in = 2A / (a + b + c), R_circ = a b c / (4A) and cross = 2A.  It lies
+// in [0, 1]; 0 for degenerate triangles.
+double radius_ratio(Vec2 a, Vec2 b, Vec2 c);
+
+// JSON-ready "extra" values: a quoted, escaped string / a number (null when
+// not finite) / an integer.
+std::string json_string(std::string_view s);
+std::string json_number(double x);
+std::string json_number(std::int64_t i);
+
+struct QualityReport {
+    static constexpr int histogram_bin_deg = 2;
+    static constexpr int histogram_bins = 30;  // 0°–60°: bin i is [2i, 2i + 2), 60° goes to the last
+
+    std::int64_t vertices = 0, triangles = 0, boundary_edges = 0;
+
+    // Over all triangles (NaN when there are none).
+    double min_angle_deg = 0, max_angle_deg = 0;
+    double mean_min_angle_deg = 0;
+    std::array<std::int64_t, histogram_bins> min_angle_histogram{};  // of each triangle's minimum angle
+
+    // Statistics of each triangle's maximum angle.
+    double max_angle_min_deg = 0, max_angle_mean_deg = 0;
+    std::int64_t max_angle_over_90 = 0, max_angle_over_120 = 0;  // obtuse / very obtuse (beyond 1e-9° rounding)
+
+    // 2 r_in / R_circ (1 = equilateral).
+    double radius_ratio_min = 0, radius_ratio_mean = 0;
+
+    double area = 0;                          // sum of signed areas
+    std::int64_t nonpositive_triangles = 0;   // signed area <= 0 (should be none)
+    double boundary_length = 0;               // sum of boundary edge lengths
+    std::map<std::int32_t, std::int64_t> boundary_edges_by_tag;
+    std::map<std::int32_t, double> boundary_length_by_tag;
+    std::map<std::int32_t, std::int64_t> triangles_by_region;
+
+    // Wall time per pipeline phase, in order, as passed to compute_quality.
+    std::vector<std::pair<std::string, double>> phase_seconds;
+
+    // Further JSON fields the caller appends: key → JSON-ready value text, e.g.
+    // {"lattice", "[1024, 768]"}, {"rule", json_string("max-min")}.
+    std::vector<std::pair<std::string, std::string>> extra;
+};
+
+QualityReport compute_quality(const Mesh& mesh, std::vector<std::pair<std::string, double>> phase_seconds = {});
+
+// Human-readable summary, several lines, ends with a newline.
+std::string quality_text(const QualityReport& report);
+
+// One JSON object: every field above, then report.extra, then `extra`.
+std::string quality_json(const QualityReport& report, const std::vector<std::pair<std::string, std::string>>& extra = {});
+
+// quality_json written atomically to `path` (throws OutputError).
+void write_quality_json(const std::string& path, const QualityReport& report,
+                        const std::vector<std::pair<std::string, std::string>>& extra = {});
+
+}  // namespace warpmesh

@@ -1,0 +1,138 @@
+// writers.hpp — mesh output formats.
+//
+//   write_vtu.cpp      → VTK XML UnstructuredGrid (.vtu), ASCII inline
+//   write_msh.cpp      → Gmsh MSH 4.1 ASCII (.msh)
+//   write_triangle.cpp → Triangle's .node/.ele (+ .poly with the boundary)
+//   write_svg.cpp      → an SVG picture
+//
+// Every file is written atomically (atomic_file.hpp): on failure nothing
+// appears under the requested name and OutputError (declared in
+// atomic_file.hpp, reachable through this header) names the path and reason.
+// Coordinates and cell data are printed as the shortest decimal that reads back
+// to the same double (std::to_chars), so text formats round-trip exactly.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+#include "warpmesh/atomic_file.hpp"
+#include "warpmesh/mesh.hpp"
+
+namespace warpmesh {
+
+struct SvgOptions {
+    // Fill each triangle by its minimum angle (0° red … 60° green) with a legend.
+    bool color_by_min_angle = false;
+    // Fill each triangle by this mesh.cell_data array (its min … max range), with
+    // a legend; takes precedence over color_by_min_angle.  An unknown name is an
+    // OutputError.
+    std::string color_by_cell_data;
+    // Size of the picture's long side, in px (the mesh's aspect ratio is kept).
+    double long_side_px = 1000;
+    // Draw the interior edges (thin).  Off is useful for very fine meshes.
+    bool draw_edges = true;
+};
+
+struct WriteOptions {
+    SvgOptions svg;
+};
+
+// Chooses the format by the (case-insensitive) extension of `path`: .vtu,
+// .msh, .node or .ele (both are written, plus .poly, with the same stem), .svg.
+// Anything else is an OutputError listing the supported extensions.
+void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
+
+// Throws OutputError if write_mesh would refuse `path` for its extension or
+// because its directory does not exist — checked before any work is done.
+void check_output_path(const std::string& path);
+
+// VTK XML UnstructuredGrid, ASCII.  Points are 3D with z = 0; cells are the
+// triangles only (VTK_TRIANGLE = 5; boundary edges are not written — use .msh
+// or .poly for them); CellData: "region" (Int32) and every mesh.cell_data
+// array (Float64).
+void write_vtu(const Mesh& mesh, const std::string& path);
+void write_vtu(const Mesh& mesh, std::ostream& out);
+
+// Gmsh MSH 4.1 ASCII; see write_msh.cpp for the entity/physical layout.
+void write_msh(const Mesh& mesh, const std::string& path);
+void write_msh(const Mesh& mesh, std::ostream& out);
+
+// Triangle's formats, 1-based: STEM.node ("N 2 0 1": vertex marker 1 on the
+// boundary, 0 inside), STEM.ele ("T 3 1": the region tag as attribute) and
+// STEM.poly (no vertices — they are in .node — and the boundary edges as
+// segments with their tag as marker, no holes).  `path` may name any of the
+// three files or the bare stem.
+void write_triangle(const Mesh& mesh, const std::string& path);
+void write_triangle_node(const Mesh& mesh, std::ostream& out);
+void write_triangle_ele(const Mesh& mesh, std::ostream& out);
+void write_triangle_poly(const Mesh& mesh, std::ostream& out);
+
+// SVG picture: one <polygon> per triangle, boundary edges as <path>s coloured
+// by tag (level set: red, lattice border: blue), y flipped so that y-up is up.
+void write_svg(const Mesh& mesh, const std::string& path, const SvgOptions& options = {});
+void write_svg(const Mesh& mesh, std::ostream& out, const SvgOptions& options = {});
+
+namespace detail {
+
+// A growing text buffer written out to a stream in ~1 MiB pieces: formatting
+// with std::to_chars into it is several times faster than ostream << double,
+// which matters at tens of millions of triangles.
+class TextSink {
+public:
+    explicit TextSink(std::ostream& out) : out_(out) { buf_.reserve(chunk + 256); }
+    ~TextSink() { flush(); }
+    TextSink(const TextSink&) = delete;
+    TextSink& operator=(const TextSink&) = delete;
+
+    TextSink& operator<<(std::string_view s) {
+        buf_.append(s);
+        return maybe_flush();
+    }
+    TextSink& operator<<(char c) {
+        buf_.push_back(c);
+        return maybe_flush();
+    }
+    // Shortest representation that parses back to exactly x.
+    TextSink& operator<<(double x) { return put(x); }
+    TextSink& operator<<(std::int32_t i) { return put(i); }
+    TextSink& operator<<(std::int64_t i) { return put(i); }
+    TextSink& operator<<(std::uint64_t i) { return put(i); }
+    // Fixed notation with `digits` decimals (SVG coordinates).
+    TextSink& fixed(double x, int digits) {
+        char tmp[64];
+        const auto r = std::to_chars(tmp, tmp + sizeof tmp, x, std::chars_format::fixed, digits);
+        buf_.append(tmp, r.ptr);
+        return maybe_flush();
+    }
+    void flush() {
+        if (!buf_.empty()) out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+        buf_.clear();
+    }
+
+private:
+    static constexpr std::size_t chunk = std::size_t{1} << 20;
+    template <class T>
+    TextSink& put(T x) {
+        char tmp[64];
+        const auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
+        buf_.append(tmp, r.ptr);
+        return maybe_flush();
+    }
+    TextSink& maybe_flush() {
+        if (buf_.size() >= chunk) flush();
+        return *this;
+    }
+    std::ostream& out_;
+    std::string buf_;
+};
+
+// Throws OutputError unless every per-triangle array of `mesh` (region,
+// cell_data) has one entry per triangle and boundary_tag one per boundary edge.
+void check_mesh_arrays(const Mesh& mesh, const std::string& path);
+
+}  // namespace detail
+
+}  // namespace warpmesh

@@ -1,0 +1,438 @@
+// image_levelset.cpp — threshold and label level sets on images.
+//
+// Both modes are a bilinear interpolant of one number per pixel centre (the
+// `field`).  On the cell [c, c+1] x [y, y+1] between four pixel centres,
+//
+//     f(x, y) = (1-fy) ((1-fx) f00 + fx f10) + fy ((1-fx) f01 + fx f11),
+//
+// fx = x - c, fy = y - y0.  With y fixed, f is linear in x inside each cell,
+// and continuous across cells: along a horizontal (or vertical) line f is
+// piecewise linear with knots at the integers.  So the zero of f on a lattice
+// edge is found exactly by evaluating f at the integer knots the edge spans
+// and interpolating linearly inside the one sub-segment whose ends differ in
+// sign.  On a lattice whose points are the pixel centres (x0 = 0, s = 1) an
+// edge spans no knot and the cut point is u = fa / (fa - fb) — marching
+// squares' linear interpolation, here exact rather than an approximation.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/image_levelset.hpp"
+#include "warpmesh/lattice.hpp"
+
+namespace warpmesh {
+namespace {
+
+// Position of coordinate t on the axis of n pixel centres 0..n-1: the cell
+// index c (0 <= c <= n-2, or 0 when n == 1) and the fraction ft in [0, 1].
+// Outside [0, n-1] the coordinate is clamped: f is extended as a constant.
+inline void locate(double t, int n, int& c, double& ft) {
+    t = std::clamp(t, 0.0, static_cast<double>(n - 1));
+    c = std::min(static_cast<int>(t), std::max(n - 2, 0));
+    ft = t - c;  // exact: c <= t < c + 2 and both are small integers or t
+}
+
+// Keep a cut parameter in the open interval (0, 1), as the pipeline requires.
+inline double open_unit(double u) {
+    return std::clamp(u, std::numeric_limits<double>::denorm_min(), 1 - std::numeric_limits<double>::epsilon() / 2);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// ImageField
+
+ImageField::ImageField(int w, int h, std::vector<double> field_y_up) : w_(w), h_(h), field_(std::move(field_y_up)) {}
+
+Box ImageField::bounds() const { return {0.0, 0.0, static_cast<double>(w_ - 1), static_cast<double>(h_ - 1)}; }
+
+namespace {
+// The interpolant at cell (c, y) with fractions (fx, fy).  At a pixel centre
+// (fx = fy = 0) it is the stored value itself; (1-t) a + t b is exact at both
+// t = 0 and t = 1, so the interpolant is continuous bit for bit across cells.
+inline double interpolate(const double* F, int w, int c, double fx, int y, double fy) {
+    const double* row0 = F + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    const double p00 = row0[c];
+    if (fx == 0 && fy == 0) return p00;
+    const double v0 = fx == 0 ? p00 : (1 - fx) * p00 + fx * row0[c + 1];
+    if (fy == 0) return v0;
+    const double* row1 = row0 + w;
+    const double v1 = fx == 0 ? row1[c] : (1 - fx) * row1[c] + fx * row1[c + 1];
+    return (1 - fy) * v0 + fy * v1;
+}
+}  // namespace
+
+double ImageField::value(double x, double y) const {
+    if (!std::isfinite(x) || !std::isfinite(y)) return std::numeric_limits<double>::quiet_NaN();
+    int c = 0, r = 0;
+    double fx = 0, fy = 0;
+    locate(x, w_, c, fx);
+    locate(y, h_, r, fy);
+    return interpolate(field_.data(), w_, c, fx, r, fy);
+}
+
+// The same arithmetic as value() — coordinates from Lattice::position, the
+// same locate/interpolate — so that sample() and value() agree bit for bit;
+// the cell lookup along x is done once per column instead of once per point.
+void ImageField::sample(const Lattice& lattice, std::span<double> out) const {
+    const std::int64_t nxp = lattice.points_x(), rows = lattice.ny + 1;
+    std::vector<int> col(static_cast<std::size_t>(nxp));
+    std::vector<double> colf(static_cast<std::size_t>(nxp));
+    bool finite = true;
+    for (std::int64_t i = 0; i < nxp; ++i) {
+        const double x = lattice.position(i, 0).x;
+        finite = finite && std::isfinite(x);
+        locate(x, w_, col[static_cast<std::size_t>(i)], colf[static_cast<std::size_t>(i)]);
+    }
+    if (!finite) return LevelSet::sample(lattice, out);  // value() reports NaN where it belongs
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j < rows; ++j) {
+        const double y = lattice.position(0, j).y;
+        if (!std::isfinite(y)) {
+            for (std::int64_t i = 0; i < nxp; ++i)
+                out[static_cast<std::size_t>(lattice.index(i, j))] = std::numeric_limits<double>::quiet_NaN();
+            continue;
+        }
+        int r = 0;
+        double fy = 0;
+        locate(y, h_, r, fy);
+        double* o = out.data() + lattice.index(0, j);
+        for (std::int64_t i = 0; i < nxp; ++i)
+            o[i] = interpolate(field_.data(), w_, col[static_cast<std::size_t>(i)], colf[static_cast<std::size_t>(i)], r, fy);
+    }
+}
+
+double ImageField::cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const {
+    // Which axis the edge runs along; anything else gets the generic root finder.
+    int axis = -1;
+    if (a.y == b.y && a.x != b.x) axis = 0;
+    if (a.x == b.x && a.y != b.y) axis = 1;
+    if (axis < 0 || !std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y))
+        return bracketed_root(*this, a, b, fa, fb);
+
+    const double t0 = axis == 0 ? a.x : a.y, t1 = axis == 0 ? b.x : b.y;
+    const int n = axis == 0 ? w_ : h_;
+    // Knots strictly inside the edge; beyond [0, n-1] f is constant along the
+    // edge, so only knots in that range matter.
+    const double lo = std::max(std::min(t0, t1), -1.0), hi = std::min(std::max(t0, t1), static_cast<double>(n));
+    const std::int64_t kfirst = static_cast<std::int64_t>(std::floor(lo)) + 1;
+    const std::int64_t klast = static_cast<std::int64_t>(std::ceil(hi)) - 1;
+    const bool ascending = t1 > t0;
+
+    // Walk the knots from a towards b, keeping (u_prev, g_prev) with g_prev of
+    // the sign of fa; the first knot where the sign flips closes the linear
+    // piece that holds the zero.
+    double u_prev = 0, g_prev = fa;
+    for (std::int64_t m = 0; m <= klast - kfirst; ++m) {
+        const std::int64_t k = ascending ? kfirst + m : klast - m;
+        if (k < 0 || k > n - 1) continue;
+        const double kd = static_cast<double>(k);
+        const double u = (kd - t0) / (t1 - t0);
+        const double g = axis == 0 ? value(kd, a.y) : value(a.x, kd);
+        if (g == 0) return open_unit(u);  // the zero sits exactly on a knot
+        if ((g < 0) != (g_prev < 0)) return open_unit(u_prev + (u - u_prev) * (g_prev / (g_prev - g)));
+        u_prev = u, g_prev = g;
+    }
+    return open_unit(u_prev + (1 - u_prev) * (g_prev / (g_prev - fb)));
+}
+
+// ---------------------------------------------------------------------------
+// Threshold mode.  f = V - I is the bilinear interpolant of V - p (bilinear
+// interpolation is linear in the data), so the field stores V - p or p - V.
+
+namespace {
+std::vector<double> threshold_field(const Image& img, double iso, bool above) {
+    std::vector<double> f(img.pixels.size());
+    for (int r = 0; r < img.height; ++r) {
+        const int y = img.height - 1 - r;
+        for (int c = 0; c < img.width; ++c) {
+            const double p = img.at(c, r);
+            f[static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(c)] =
+                above ? iso - p : p - iso;
+        }
+    }
+    return f;
+}
+
+std::string format_number(double v) {
+    std::ostringstream os;
+    os.precision(17);
+    os << v;
+    return os.str();
+}
+}  // namespace
+
+ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside_above)
+    : ImageField(image.width, image.height, threshold_field(image, iso, inside_above)),
+      iso_(iso),
+      above_(inside_above),
+      maxval_(image.maxval),
+      source_(image.source) {}
+
+std::string ThresholdLevelSet::describe() const {
+    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + ", maxval " +
+           std::to_string(maxval_) + "), inside where the bilinear intensity is " + (above_ ? "above " : "below ") +
+           format_number(iso_);
+}
+
+// ---------------------------------------------------------------------------
+// Label mode.
+//
+// Why the signed distance, offset by 1/2, interpolated bilinearly:
+//  * A 4-adjacent inside/outside pair of pixels gets f = -1/2 and +1/2, so the
+//    boundary crosses the segment between their centres exactly midway — the
+//    pixel edge, as marching squares on the 0/1 indicator would put it.  With
+//    the pixel-centre lattice the mesh boundary therefore follows the pixel
+//    outlines, cutting corners at 45 degrees.
+//  * Further from the boundary f keeps growing with the distance (|f| is the
+//    Euclidean distance to the other phase, minus 1/2), so on coarser lattices
+//    the zero set interpolated between distant points is a smooth curve
+//    through the staircase rather than a replica of it: diagonal staircases
+//    become straight lines.
+//  * A one-pixel-wide line has f = -1/2 on its pixels and positive values
+//    beside it, so it survives at the pixel-centre spacing (it would vanish
+//    from a sampled indicator function only at coarser spacings, as it must).
+//  * f is never 0 at a pixel centre (|f| >= 1/2 there), so a pixel-centre
+//    lattice has no zero-valued points.
+// The distances are exact (Felzenszwalb & Huttenlocher, "Distance transforms
+// of sampled functions", 2012): a 1-D pass per column, then the lower envelope
+// of parabolas per row, O(W H) in total.
+
+namespace {
+
+constexpr std::int64_t no_feature = std::numeric_limits<std::int64_t>::max();
+
+struct Edt {
+    std::vector<std::int64_t> d2;         // squared distance to the nearest feature pixel centre
+    std::vector<std::uint32_t> nearest;   // that pixel's index (y-up)
+};
+
+// Exact squared Euclidean distance transform of the feature pixels (y-up
+// indexing).  Pixels get d2 = no_feature if there is no feature at all.
+Edt distance_transform(const std::vector<std::uint8_t>& feature, int w, int h) {
+    const std::size_t W = static_cast<std::size_t>(w), N = W * static_cast<std::size_t>(h);
+    // Pass 1, per column: distance (in rows) to the nearest feature in the
+    // same column, and that feature's row.
+    std::vector<std::int64_t> g(N);
+    std::vector<std::int32_t> grow(N);
+#pragma omp parallel for schedule(static)
+    for (int c = 0; c < w; ++c) {
+        std::int64_t last = -1;
+        for (int y = 0; y < h; ++y) {
+            const std::size_t k = static_cast<std::size_t>(y) * W + static_cast<std::size_t>(c);
+            if (feature[k]) last = y;
+            g[k] = last >= 0 ? y - last : no_feature;
+            grow[k] = static_cast<std::int32_t>(last);
+        }
+        std::int64_t next = -1;
+        for (int y = h - 1; y >= 0; --y) {
+            const std::size_t k = static_cast<std::size_t>(y) * W + static_cast<std::size_t>(c);
+            if (feature[k]) next = y;
+            if (next >= 0 && next - y < g[k]) g[k] = next - y, grow[k] = static_cast<std::int32_t>(next);
+        }
+        for (int y = 0; y < h; ++y) {
+            const std::size_t k = static_cast<std::size_t>(y) * W + static_cast<std::size_t>(c);
+            if (g[k] != no_feature) g[k] *= g[k];
+        }
+    }
+    // Pass 2, per row: d2(q) = min_p (q - p)^2 + g(p), the lower envelope of
+    // the parabolas rooted at the columns p with a finite g(p).
+    Edt out{std::vector<std::int64_t>(N), std::vector<std::uint32_t>(N)};
+#pragma omp parallel
+    {
+        std::vector<int> v(W);          // columns of the envelope's parabolas
+        std::vector<double> z(W + 1);   // boundaries between them
+#pragma omp for schedule(static)
+        for (int y = 0; y < h; ++y) {
+            const std::int64_t* gr = g.data() + static_cast<std::size_t>(y) * W;
+            auto key = [&](int p) { return gr[p] + std::int64_t{p} * p; };
+            int k = -1;
+            for (int q = 0; q < w; ++q) {
+                if (gr[q] == no_feature) continue;
+                double s = -std::numeric_limits<double>::infinity();
+                while (k >= 0) {
+                    // Abscissa where parabola q starts to beat parabola v[k].
+                    s = static_cast<double>(key(q) - key(v[k])) / (2.0 * (q - v[k]));
+                    if (s > z[k]) break;
+                    --k;
+                }
+                if (k < 0) s = -std::numeric_limits<double>::infinity();
+                ++k;
+                v[k] = q, z[k] = s, z[k + 1] = std::numeric_limits<double>::infinity();
+            }
+            const std::size_t base = static_cast<std::size_t>(y) * W;
+            if (k < 0) {  // no feature in any column
+                std::fill(out.d2.begin() + base, out.d2.begin() + base + W, no_feature);
+                std::fill(out.nearest.begin() + base, out.nearest.begin() + base + W, 0u);
+                continue;
+            }
+            int j = 0;
+            for (int q = 0; q < w; ++q) {
+                while (z[j + 1] < q) ++j;
+                const std::int64_t p = v[j];
+                out.d2[base + q] = (q - p) * (q - p) + gr[p];
+                out.nearest[base + q] = static_cast<std::uint32_t>(
+                    static_cast<std::size_t>(grow[base + static_cast<std::size_t>(p)]) * W + static_cast<std::size_t>(p));
+            }
+        }
+    }
+    return out;
+}
+
+std::string list_labels(const std::vector<int>& labels, std::size_t limit = 12) {
+    std::string s;
+    for (std::size_t i = 0; i < labels.size() && i < limit; ++i) s += (i ? ", " : "") + std::to_string(labels[i]);
+    if (labels.size() > limit) s += ", ... (" + std::to_string(labels.size()) + " in all)";
+    return s;
+}
+
+}  // namespace
+
+LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool nonzero)
+    : ImageField(image.width, image.height, {}), labels_(std::move(labels)), nonzero_(nonzero), source_(image.source) {
+    std::vector<std::uint8_t> selected(65536, 0);
+    if (nonzero_)
+        std::fill(selected.begin() + 1, selected.end(), 1);
+    else
+        for (int l : labels_) {
+            if (l < 0 || l > 65535) throw InputError("label " + std::to_string(l) + " is not in 0..65535");
+            selected[static_cast<std::size_t>(l)] = 1;
+        }
+
+    const std::size_t W = static_cast<std::size_t>(w_), N = image.pixels.size();
+    label_.resize(N);
+    inside_.resize(N);
+    std::vector<std::uint8_t> present(65536, 0), outside(N);
+    std::size_t count_in = 0;
+    for (int r = 0; r < h_; ++r)
+        for (int c = 0; c < w_; ++c) {
+            const std::uint16_t v = image.at(c, r);
+            const std::size_t k = static_cast<std::size_t>(h_ - 1 - r) * W + static_cast<std::size_t>(c);
+            label_[k] = v;
+            inside_[k] = selected[v];
+            outside[k] = !selected[v];
+            present[v] = 1;
+            count_in += selected[v];
+        }
+    if (count_in == 0) {
+        std::vector<int> have;
+        for (int v = 0; v < 65536; ++v)
+            if (present[static_cast<std::size_t>(v)]) have.push_back(v);
+        throw InputError("image '" + source_ + "': " +
+                         (nonzero_ ? std::string("no nonzero pixels") : "none of the labels {" + list_labels(labels_) + "} is present") +
+                         " (labels present: " + list_labels(have) + ")");
+    }
+
+    const Edt to_outside = distance_transform(outside, w_, h_);
+    Edt to_inside = distance_transform(inside_, w_, h_);
+    nearest_in_ = std::move(to_inside.nearest);
+    // Without any outside pixel the whole image is inside: any negative value
+    // larger in magnitude than every in-image distance will do.
+    const double all_inside = -static_cast<double>(w_) - static_cast<double>(h_);
+    field_.resize(N);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(N); ++k) {
+        const std::size_t i = static_cast<std::size_t>(k);
+        if (inside_[i])
+            field_[i] = to_outside.d2[i] == no_feature ? all_inside
+                                                       : -(std::sqrt(static_cast<double>(to_outside.d2[i])) - 0.5);
+        else
+            field_[i] = std::sqrt(static_cast<double>(to_inside.d2[i])) - 0.5;
+    }
+}
+
+std::int32_t LabelLevelSet::region_at(double x, double y) const {
+    if (!std::isfinite(x) || !std::isfinite(y)) return label_[nearest_in_[0]];
+    x = std::clamp(x, 0.0, static_cast<double>(w_ - 1));
+    y = std::clamp(y, 0.0, static_cast<double>(h_ - 1));
+    // The nearest region pixel among the (up to) four centres around (x, y);
+    // if none of them is in the region, the region pixel nearest to the
+    // nearest centre.
+    const int c0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t pick = 0;
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            const int c = std::min(c0 + dx, w_ - 1), yy = std::min(y0 + dy, h_ - 1);
+            const std::size_t k = index(c, yy);
+            const double d = (x - c) * (x - c) + (y - yy) * (y - yy);
+            if (inside_[k] && d < best) best = d, pick = k;
+        }
+    if (best == std::numeric_limits<double>::infinity())
+        pick = nearest_in_[index(static_cast<int>(std::lround(x)), static_cast<int>(std::lround(y)))];
+    return label_[pick];
+}
+
+std::string LabelLevelSet::describe() const {
+    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + "), region = " +
+           (nonzero_ ? std::string("nonzero pixels") : "labels {" + list_labels(labels_, 20) + "}") +
+           ", f = bilinear signed distance to the pixel centres of the other phase, minus 1/2";
+}
+
+// ---------------------------------------------------------------------------
+// Factory and option parsing.
+
+std::unique_ptr<LevelSet> make_image_levelset(const Image& image, const ImageLevelSetOptions& options) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+        throw InputError("image '" + image.source + "': empty or inconsistent image");
+    if (options.mode == ImageMode::threshold) {
+        const double iso = options.iso.value_or(image.maxval / 2.0);
+        if (!std::isfinite(iso)) throw InputError("iso value must be a finite number");
+        return std::make_unique<ThresholdLevelSet>(image, iso, options.inside_above);
+    }
+    if (!options.label_nonzero && options.labels.empty()) throw InputError("label mode needs at least one label");
+    return std::make_unique<LabelLevelSet>(image, options.labels, options.label_nonzero);
+}
+
+std::vector<int> parse_label_list(const std::string& list) {
+    auto bad = [&](const std::string& why) -> InputError {
+        return InputError("bad label list '" + list + "': " + why +
+                          " (expected e.g. 3, 51,52, 1000-1035 or nonzero; labels are 0..65535)");
+    };
+    auto number = [&](std::string_view t) {
+        while (!t.empty() && t.front() == ' ') t.remove_prefix(1);
+        while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
+        int v = 0;
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (t.empty() || ec != std::errc{} || end != t.data() + t.size())
+            throw bad("'" + std::string(t) + "' is not a label");
+        if (v < 0 || v > 65535) throw bad(std::to_string(v) + " is out of range");
+        return v;
+    };
+    std::vector<int> out;
+    std::string_view rest = list;
+    if (rest.find_first_not_of(' ') == std::string_view::npos) throw bad("empty");
+    while (true) {
+        const std::size_t comma = rest.find(',');
+        const std::string_view item = rest.substr(0, comma);
+        const std::size_t dash = item.find('-', item.find_first_not_of(' ') + 1);  // not a leading sign
+        if (dash == std::string_view::npos) {
+            out.push_back(number(item));
+        } else {
+            const int from = number(item.substr(0, dash)), to = number(item.substr(dash + 1));
+            if (from > to) throw bad("range " + std::to_string(from) + "-" + std::to_string(to) + " is empty");
+            for (int v = from; v <= to; ++v) out.push_back(v);
+        }
+        if (comma == std::string_view::npos) break;
+        rest.remove_prefix(comma + 1);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+ImageLevelSetOptions label_options(const std::string& spec) {
+    ImageLevelSetOptions o;
+    o.mode = ImageMode::label;
+    if (spec == "nonzero")
+        o.label_nonzero = true;
+    else
+        o.labels = parse_label_list(spec);
+    return o;
+}
+
+}  // namespace warpmesh

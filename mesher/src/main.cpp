@@ -1,0 +1,324 @@
+// main.cpp — the `warpmesh` command line.
+//
+//   warpmesh mesh INPUT -o OUT [options]      mesh an image
+//   warpmesh mesh --shape SPEC -o OUT         mesh an analytic shape
+//   warpmesh prove [--out DIR] [--threads N]  run the angle prover
+//
+// Exit codes: 0 success, 1 bad input or output (a clear message, nothing
+// written under the requested name), 2 usage error, 3 internal error.
+#include <sys/resource.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/graded.hpp"
+#include "warpmesh/image.hpp"
+#include "warpmesh/image_levelset.hpp"
+#include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/quality.hpp"
+#include "warpmesh/shapes.hpp"
+#include "warpmesh/uniform.hpp"
+#include "warpmesh/writers.hpp"
+#ifdef WARPMESH_HAVE_PROVER
+#include "warpmesh/prove.hpp"
+#endif
+
+namespace {
+
+using namespace warpmesh;
+
+constexpr const char* version = "0.1.0";
+
+constexpr const char* usage = R"(warpmesh — conforming triangle meshes of 2D level sets by lattice warping
+
+usage:
+  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG)
+  warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
+  warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
+  warpmesh --help | --version
+
+input (images):
+  --iso V                threshold mode: the region is where the bilinear image is
+                         above V (default: half the maximum value)
+  --inside above|below   threshold mode: objects brighter (above, default) or darker than V
+  --label L[,L...]       label mode: the region is the pixels with one of these labels;
+  --label nonzero        or every non-zero pixel.  f is the signed distance to the
+                         region's boundary, interpolated bilinearly
+  --max-pixels N         refuse images with more pixels than N (default 268435456)
+
+input (shapes):
+  --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
+                         flower:cx,cy,a,b,k  rect:x0,y0,x1,y1
+                         union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
+
+lattice and algorithm:
+  --spacing S            lattice spacing, in pixels for images (default 1)
+  --diagonal RULE        separating (default): the mesh boundary follows the level set;
+                         maxmin: the paper's rule, the diagonal with the larger minimum angle
+  --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
+  --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
+                         default: as coarse as the domain allows)
+  --max-squares N        refuse lattices with more than N squares (default 1073741824)
+
+output:
+  -o, --output FILE      the mesh; the format follows the extension:
+                         .vtu (VTK XML), .msh (Gmsh 4.1), .node/.ele (Triangle), .svg
+  --also FILE            write the mesh to another file as well (repeatable)
+  --svg-color minangle   colour SVG triangles by their minimum angle
+  --report FILE          the quality report as JSON (it is printed as text on stdout too)
+  --quiet                do not print the text report
+  --threads N            OpenMP threads (default: all cores)
+)";
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+double parse_number(const std::string& opt, const std::string& text) {
+    double v = 0;
+    const char* end = text.data() + text.size();
+    auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (ec != std::errc() || ptr != end || !std::isfinite(v))
+        throw UsageError(opt + " expects a finite number, got '" + text + "'");
+    return v;
+}
+
+std::int64_t parse_integer(const std::string& opt, const std::string& text) {
+    std::int64_t v = 0;
+    const char* end = text.data() + text.size();
+    auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (ec != std::errc() || ptr != end) throw UsageError(opt + " expects an integer, got '" + text + "'");
+    return v;
+}
+
+struct MeshOptions {
+    std::string input, shape;
+    std::vector<std::string> outputs;
+    std::string report;
+    double spacing = 1;
+    std::optional<double> iso;
+    bool inside_above = true;
+    std::optional<std::string> labels;
+    DiagonalRule rule = DiagonalRule::separating;
+    bool graded = false;
+    std::int64_t max_cell = 0;
+    std::int64_t max_pixels = std::int64_t{1} << 28;
+    std::int64_t max_squares = std::int64_t{1} << 30;
+    bool svg_min_angle = false;
+    bool quiet = false;
+};
+
+MeshOptions parse_mesh_options(int argc, char** argv) {
+    MeshOptions o;
+    for (int i = 0; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw UsageError(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "-o" || a == "--output") o.outputs.insert(o.outputs.begin(), value());
+        else if (a == "--also") o.outputs.push_back(value());
+        else if (a == "--report") o.report = value();
+        else if (a == "--shape") o.shape = value();
+        else if (a == "--spacing") o.spacing = parse_number(a, value());
+        else if (a == "--iso") o.iso = parse_number(a, value());
+        else if (a == "--inside") {
+            const std::string v = value();
+            if (v != "above" && v != "below") throw UsageError("--inside expects 'above' or 'below', got '" + v + "'");
+            o.inside_above = v == "above";
+        } else if (a == "--label") o.labels = value();
+        else if (a == "--diagonal") {
+            const std::string v = value();
+            if (v == "maxmin") o.rule = DiagonalRule::maxmin;
+            else if (v == "separating") o.rule = DiagonalRule::separating;
+            else throw UsageError("--diagonal expects 'maxmin' or 'separating', got '" + v + "'");
+        } else if (a == "--graded") o.graded = true;
+        else if (a == "--max-cell") o.max_cell = parse_integer(a, value());
+        else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
+        else if (a == "--max-squares") o.max_squares = parse_integer(a, value());
+        else if (a == "--svg-color") {
+            const std::string v = value();
+            if (v != "minangle") throw UsageError("--svg-color expects 'minangle', got '" + v + "'");
+            o.svg_min_angle = true;
+        } else if (a == "--quiet") o.quiet = true;
+        else if (a == "--threads") {
+            const std::int64_t n = parse_integer(a, value());
+            if (n < 1 || n > 1024) throw UsageError("--threads expects 1 to 1024");
+#ifdef _OPENMP
+            omp_set_num_threads(static_cast<int>(n));
+#endif
+        } else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "'");
+        else if (o.input.empty()) o.input = a;
+        else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
+    }
+    if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input image or --shape SPEC");
+    if (o.outputs.empty() && o.report.empty() && o.quiet)
+        throw UsageError("nothing to do: no -o, no --report and --quiet");
+    if (!(o.spacing > 0) || o.spacing > 1e9) throw UsageError("--spacing must be positive and at most 1e9");
+    if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0)
+        throw UsageError("--max-cell must be a power of two");
+    if (o.max_pixels < 1 || o.max_squares < 1) throw UsageError("--max-pixels and --max-squares must be positive");
+    if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
+    if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    return o;
+}
+
+double peak_memory_mb() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+int run_mesh(int argc, char** argv) {
+    const MeshOptions o = parse_mesh_options(argc, argv);
+    // Check the outputs' extensions before doing any work.
+    for (const auto& out : o.outputs) check_output_path(out);
+
+    std::unique_ptr<LevelSet> f;
+    Lattice lattice;
+    if (!o.shape.empty()) {
+        f = parse_shape(o.shape);
+        const Box b = f->bounds();
+        const double w = (b.xmax - b.xmin) / o.spacing + 2, h = (b.ymax - b.ymin) / o.spacing + 2;
+        if (!(w * h <= static_cast<double>(o.max_squares)))
+            throw InputError("the lattice would have about " + std::to_string(std::llround(w)) + " x " +
+                             std::to_string(std::llround(h)) + " squares, more than --max-squares " +
+                             std::to_string(o.max_squares) + " (use a larger --spacing)");
+        lattice = lattice_around(b, o.spacing);
+    } else {
+        const Image img = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
+        ImageLevelSetOptions io;
+        if (o.labels) {
+            io = label_options(*o.labels);
+        } else {
+            io.mode = ImageMode::threshold;
+            io.iso = o.iso ? *o.iso : img.maxval / 2.0;
+            io.inside_above = o.inside_above;
+        }
+        if (img.width < 2 || img.height < 2)
+            throw InputError(o.input + ": the image is " + std::to_string(img.width) + " x " +
+                             std::to_string(img.height) + " pixels; at least 2 x 2 are needed for one lattice square");
+        const double w = (img.width - 1) / o.spacing, h = (img.height - 1) / o.spacing;
+        if (!(w * h <= static_cast<double>(o.max_squares)))
+            throw InputError("spacing " + std::to_string(o.spacing) + " gives about " +
+                             std::to_string(std::llround(w * h)) + " lattice squares, more than --max-squares " +
+                             std::to_string(o.max_squares));
+        f = make_image_levelset(img, io);
+        lattice = lattice_over(f->bounds(), o.spacing);
+    }
+
+    Mesh mesh;
+    std::vector<std::pair<std::string, double>> phases;
+    std::vector<std::pair<std::string, std::string>> extra;
+    extra.emplace_back("input", json_string(o.shape.empty() ? o.input : o.shape));
+    extra.emplace_back("levelset", json_string(f->describe()));
+    extra.emplace_back("rule", json_string(o.rule == DiagonalRule::maxmin ? "maxmin" : "separating"));
+    extra.emplace_back("spacing", json_number(o.spacing));
+    extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
+    if (o.graded) {
+        GradedResult r = mesh_graded(*f, lattice, o.rule, o.max_cell);
+        mesh = std::move(r.mesh);
+        phases = {{"sample", r.times.sample},         {"signs", r.times.signs},
+                  {"cut_points", r.times.cut_points}, {"warp", r.times.warp},
+                  {"quadtree", r.times.quadtree},     {"triangulate", r.times.triangulate}};
+        std::string levels = "[";
+        for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
+            levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
+        extra.emplace_back("graded", "true");
+        extra.emplace_back("leaves_per_level", levels + "]");
+        extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+        extra.emplace_back("warped_points", std::to_string(r.warped_points));
+    } else {
+        UniformResult r = mesh_uniform(*f, lattice, o.rule);
+        mesh = std::move(r.mesh);
+        phases = {{"sample", r.times.sample},
+                  {"signs", r.times.signs},
+                  {"cut_points", r.times.cut_points},
+                  {"warp", r.times.warp},
+                  {"triangulate", r.times.triangulate}};
+        extra.emplace_back("graded", "false");
+        extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+        extra.emplace_back("warped_points", std::to_string(r.warped_points));
+        extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
+        extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
+    }
+    if (mesh.triangles.empty())
+        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
+                         "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
+
+    for (const auto& out : o.outputs) {
+        WriteOptions wo;
+        wo.svg.color_by_min_angle = o.svg_min_angle;
+        write_mesh(mesh, out, wo);
+    }
+    QualityReport q = compute_quality(mesh, phases);
+    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
+    q.extra = extra;
+    if (!o.report.empty()) write_quality_json(o.report, q);
+    if (!o.quiet) std::cout << quality_text(q);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        if (argc < 2) {
+            std::cerr << usage;
+            return 2;
+        }
+        const std::string cmd = argv[1];
+        if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+            std::cout << usage;
+            return 0;
+        }
+        if (cmd == "--version") {
+            std::cout << "warpmesh " << version << "\n";
+            return 0;
+        }
+        if (cmd == "mesh") {
+            for (int i = 2; i < argc; ++i)
+                if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+                    std::cout << usage;
+                    return 0;
+                }
+            return run_mesh(argc - 2, argv + 2);
+        }
+        if (cmd == "prove") {
+#ifdef WARPMESH_HAVE_PROVER
+            return prove_main(argc - 1, argv + 1);
+#else
+            std::cerr << "warpmesh: this build has no prover\n";
+            return 3;
+#endif
+        }
+        throw UsageError("unknown command '" + cmd + "' (try 'warpmesh --help')");
+    } catch (const UsageError& e) {
+        std::cerr << "warpmesh: " << e.what() << "\n";
+        return 2;
+    } catch (const InputError& e) {
+        std::cerr << "warpmesh: error: " << e.what() << "\n";
+        return 1;
+    } catch (const OutputError& e) {
+        std::cerr << "warpmesh: error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "warpmesh: error: out of memory (try a larger --spacing)\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "warpmesh: internal error: " << e.what() << "\n";
+        return 3;
+    }
+}

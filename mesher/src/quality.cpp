@@ -1,0 +1,330 @@
+// quality.cpp — the mesh quality report.
+#include "warpmesh/quality.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "warpmesh/atomic_file.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace warpmesh {
+
+namespace {
+
+constexpr double deg_per_rad = 180.0 / std::numbers::pi;
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+// Lattice meshes are full of exact right angles; atan2 may return them as
+// 90.00000000000001°.  Counts "over 90°/120°" ignore such rounding.
+constexpr double angle_slack_deg = 1e-9;
+
+double cross(Vec2 u, Vec2 v) { return u.x * v.y - u.y * v.x; }
+double dot(Vec2 u, Vec2 v) { return u.x * v.x + u.y * v.y; }
+Vec2 operator-(Vec2 p, Vec2 q) { return {p.x - q.x, p.y - q.y}; }
+
+// Angle at p between p→q and p→r, in degrees, in [0, 180].
+double angle_at(Vec2 p, Vec2 q, Vec2 r) {
+    const Vec2 u = q - p, v = r - p;
+    return std::atan2(std::abs(cross(u, v)), dot(u, v)) * deg_per_rad;
+}
+
+// Per-thread partial results of the triangle pass.
+struct Partial {
+    double min_angle = std::numeric_limits<double>::infinity(), max_angle = -std::numeric_limits<double>::infinity();
+    double sum_min_angle = 0;
+    std::array<std::int64_t, QualityReport::histogram_bins> hist{};
+    double min_max_angle = std::numeric_limits<double>::infinity(), sum_max_angle = 0;
+    std::int64_t over_90 = 0, over_120 = 0;
+    double min_rr = std::numeric_limits<double>::infinity(), sum_rr = 0;
+    double area = 0;
+    std::int64_t nonpositive = 0;
+};
+
+std::string tag_name(std::int32_t tag) {
+    if (tag == boundary_level_set) return "level set";
+    if (tag == boundary_domain) return "lattice border";
+    return "tag " + std::to_string(tag);
+}
+
+std::string fmt(double x, int digits = 6) {
+    if (!std::isfinite(x)) return "n/a";
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
+    return std::string(buf, r.ptr);
+}
+
+}  // namespace
+
+namespace {
+
+// Everything the report needs from one triangle, from the squared side
+// lengths (no hypot, two atan2).
+struct Shape {
+    TriangleAngles angles;
+    double ratio;       // 2 r_in / R_circ
+    double twice_area;  // signed: > 0 for counter-clockwise
+};
+
+Shape shape(Vec2 a, Vec2 b, Vec2 c) {
+    // Squared side lengths opposite a, b, c.
+    const Vec2 ab = b - a, bc = c - b, ca = a - c;
+    const double l[3] = {dot(bc, bc), dot(ca, ca), dot(ab, ab)};
+    const Vec2 p[3] = {a, b, c};
+    // The vertex opposite the shortest side has the smallest angle, the vertex
+    // opposite the longest side the largest (law of sines).
+    int imin = 0, imax = 0;
+    for (int i = 1; i < 3; ++i) {
+        if (l[i] < l[imin]) imin = i;
+        if (l[i] > l[imax]) imax = i;
+    }
+    if (imin == imax) imax = (imin + 1) % 3;  // all sides equal (or all zero)
+    auto at = [&](int i) { return angle_at(p[i], p[(i + 1) % 3], p[(i + 2) % 3]); };
+
+    const double x = cross(ab, c - a);
+    const double la = std::sqrt(l[0]), lb = std::sqrt(l[1]), lc = std::sqrt(l[2]);
+    const double denom = (la + lb + lc) * la * lb * lc;
+    const double ratio = denom > 0 ? std::min(1.0, 4 * x * x / denom) : 0.0;
+    return {{at(imin), at(imax)}, ratio, x};
+}
+
+}  // namespace
+
+TriangleAngles triangle_angles(Vec2 a, Vec2 b, Vec2 c) { return shape(a, b, c).angles; }
+
+double radius_ratio(Vec2 a, Vec2 b, Vec2 c) { return shape(a, b, c).ratio; }
+
+std::string json_string(std::string_view s) {
+    std::string r = "\"";
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        switch (c) {
+            case '"': r += "\\\""; break;
+            case '\\': r += "\\\\"; break;
+            case '\n': r += "\\n"; break;
+            case '\r': r += "\\r"; break;
+            case '\t': r += "\\t"; break;
+            default:
+                if (c < 0x20) {
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "\\u%04x", c);
+                    r += buf;
+                } else {
+                    r += ch;
+                }
+        }
+    }
+    return r + "\"";
+}
+
+std::string json_number(double x) {
+    if (!std::isfinite(x)) return "null";
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    return std::string(buf, r.ptr);
+}
+
+std::string json_number(std::int64_t i) { return std::to_string(i); }
+
+QualityReport compute_quality(const Mesh& mesh, std::vector<std::pair<std::string, double>> phase_seconds) {
+    QualityReport q;
+    q.vertices = static_cast<std::int64_t>(mesh.vertices.size());
+    q.triangles = static_cast<std::int64_t>(mesh.triangles.size());
+    q.boundary_edges = static_cast<std::int64_t>(mesh.boundary.size());
+    q.phase_seconds = std::move(phase_seconds);
+
+    const std::int64_t nt = q.triangles;
+    int threads = 1;
+#ifdef _OPENMP
+    threads = omp_get_max_threads();
+#endif
+    std::vector<Partial> partial(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+    {
+        int me = 0;
+#ifdef _OPENMP
+        me = omp_get_thread_num();
+#endif
+        Partial p;
+#pragma omp for schedule(static)
+        for (std::int64_t k = 0; k < nt; ++k) {
+            const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
+            const Vec2 a = mesh.vertices[static_cast<std::size_t>(t[0])], b = mesh.vertices[static_cast<std::size_t>(t[1])],
+                       c = mesh.vertices[static_cast<std::size_t>(t[2])];
+            const Shape sh = shape(a, b, c);
+            const TriangleAngles& ang = sh.angles;
+            p.min_angle = std::min(p.min_angle, ang.min_deg);
+            p.max_angle = std::max(p.max_angle, ang.max_deg);
+            p.sum_min_angle += ang.min_deg;
+            const int bin = std::clamp(static_cast<int>(ang.min_deg / QualityReport::histogram_bin_deg), 0,
+                                       QualityReport::histogram_bins - 1);
+            ++p.hist[static_cast<std::size_t>(bin)];
+            p.min_max_angle = std::min(p.min_max_angle, ang.max_deg);
+            p.sum_max_angle += ang.max_deg;
+            p.over_90 += ang.max_deg > 90 + angle_slack_deg;
+            p.over_120 += ang.max_deg > 120 + angle_slack_deg;
+            p.min_rr = std::min(p.min_rr, sh.ratio);
+            p.sum_rr += sh.ratio;
+            p.area += sh.twice_area / 2;
+            p.nonpositive += !(sh.twice_area > 0);
+        }
+        partial[static_cast<std::size_t>(me)] = p;
+    }
+
+    Partial all;
+    for (const Partial& p : partial) {
+        all.min_angle = std::min(all.min_angle, p.min_angle);
+        all.max_angle = std::max(all.max_angle, p.max_angle);
+        all.sum_min_angle += p.sum_min_angle;
+        for (std::size_t i = 0; i < all.hist.size(); ++i) all.hist[i] += p.hist[i];
+        all.min_max_angle = std::min(all.min_max_angle, p.min_max_angle);
+        all.sum_max_angle += p.sum_max_angle;
+        all.over_90 += p.over_90;
+        all.over_120 += p.over_120;
+        all.min_rr = std::min(all.min_rr, p.min_rr);
+        all.sum_rr += p.sum_rr;
+        all.area += p.area;
+        all.nonpositive += p.nonpositive;
+    }
+    const double n = static_cast<double>(nt);
+    q.min_angle_deg = nt ? all.min_angle : nan;
+    q.max_angle_deg = nt ? all.max_angle : nan;
+    q.mean_min_angle_deg = nt ? all.sum_min_angle / n : nan;
+    q.min_angle_histogram = all.hist;
+    q.max_angle_min_deg = nt ? all.min_max_angle : nan;
+    q.max_angle_mean_deg = nt ? all.sum_max_angle / n : nan;
+    q.max_angle_over_90 = all.over_90;
+    q.max_angle_over_120 = all.over_120;
+    q.radius_ratio_min = nt ? all.min_rr : nan;
+    q.radius_ratio_mean = nt ? all.sum_rr / n : nan;
+    q.area = all.area;
+    q.nonpositive_triangles = all.nonpositive;
+
+    // Boundary (O(sqrt T) edges) and regions (tags come in runs: cache the
+    // last map entry).
+    for (std::size_t e = 0; e < mesh.boundary.size(); ++e) {
+        const Vec2 a = mesh.vertices[static_cast<std::size_t>(mesh.boundary[e][0])],
+                   b = mesh.vertices[static_cast<std::size_t>(mesh.boundary[e][1])];
+        const double len = std::hypot(b.x - a.x, b.y - a.y);
+        const std::int32_t tag = e < mesh.boundary_tag.size() ? mesh.boundary_tag[e] : 0;
+        q.boundary_length += len;
+        ++q.boundary_edges_by_tag[tag];
+        q.boundary_length_by_tag[tag] += len;
+    }
+    auto last = q.triangles_by_region.end();
+    for (const std::int32_t r : mesh.region) {
+        if (last == q.triangles_by_region.end() || last->first != r) last = q.triangles_by_region.try_emplace(r, 0).first;
+        ++last->second;
+    }
+    return q;
+}
+
+std::string quality_text(const QualityReport& q) {
+    std::ostringstream o;
+    o << "mesh: " << q.vertices << " vertices, " << q.triangles << " triangles, " << q.boundary_edges
+      << " boundary edges\n";
+    if (q.triangles_by_region.size() > 1) {
+        o << "  regions:";
+        for (const auto& [r, count] : q.triangles_by_region) o << ' ' << r << ": " << count;
+        o << '\n';
+    }
+    o << "  area " << fmt(q.area, 10) << ", boundary length " << fmt(q.boundary_length, 10);
+    for (const auto& [tag, count] : q.boundary_edges_by_tag)
+        o << "; " << tag_name(tag) << ": " << count << " edges, length " << fmt(q.boundary_length_by_tag.at(tag), 8);
+    o << '\n';
+    if (q.nonpositive_triangles) o << "  WARNING: " << q.nonpositive_triangles << " triangles with area <= 0\n";
+    o << "angles: min " << fmt(q.min_angle_deg) << " deg, max " << fmt(q.max_angle_deg) << " deg; mean minimum angle "
+      << fmt(q.mean_min_angle_deg, 4) << " deg\n";
+    o << "  largest angle per triangle: min " << fmt(q.max_angle_min_deg, 4) << ", mean " << fmt(q.max_angle_mean_deg, 4)
+      << ", > 90 deg: " << q.max_angle_over_90 << ", > 120 deg: " << q.max_angle_over_120 << '\n';
+    o << "radius ratio 2 r_in / R_circ (1 = equilateral): min " << fmt(q.radius_ratio_min, 4) << ", mean "
+      << fmt(q.radius_ratio_mean, 4) << '\n';
+
+    // Histogram rows from the first to the last non-empty bin, bars up to 40 #.
+    const auto& h = q.min_angle_histogram;
+    const auto first = std::find_if(h.begin(), h.end(), [](std::int64_t c) { return c > 0; });
+    if (first != h.end()) {
+        const auto last = std::find_if(h.rbegin(), h.rend(), [](std::int64_t c) { return c > 0; }).base();
+        const std::int64_t peak = *std::max_element(h.begin(), h.end());
+        o << "minimum-angle histogram (" << QualityReport::histogram_bin_deg << " deg bins):\n";
+        for (auto it = first; it != last; ++it) {
+            const int i = static_cast<int>(it - h.begin());
+            const int lo = i * QualityReport::histogram_bin_deg, hi = lo + QualityReport::histogram_bin_deg;
+            char row[64];
+            std::snprintf(row, sizeof row, "  [%2d, %2d%c %12lld  ", lo, hi, i + 1 == QualityReport::histogram_bins ? ']' : ')',
+                          static_cast<long long>(*it));
+            const auto bar = static_cast<std::size_t>(std::llround(40.0 * static_cast<double>(*it) / static_cast<double>(peak)));
+            o << row << std::string(bar == 0 && *it > 0 ? 1 : bar, '#') << '\n';
+        }
+    }
+    if (!q.phase_seconds.empty()) {
+        double total = 0;
+        std::size_t width = 5;
+        for (const auto& [name, s] : q.phase_seconds) total += s, width = std::max(width, name.size());
+        o << "time:\n";
+        for (const auto& [name, s] : q.phase_seconds)
+            o << "  " << name << std::string(width - name.size(), ' ') << "  " << fmt(s, 4) << " s\n";
+        o << "  total" << std::string(width - 5, ' ') << "  " << fmt(total, 4) << " s\n";
+    }
+    return o.str();
+}
+
+std::string quality_json(const QualityReport& q, const std::vector<std::pair<std::string, std::string>>& extra) {
+    std::string o = "{\n";
+    auto field = [&](std::string_view key, const std::string& value) {
+        if (o.size() > 2) o += ",\n";
+        o += "  " + json_string(key) + ": " + value;
+    };
+    auto num = [](double x) { return json_number(x); };
+    auto integer = [](std::int64_t i) { return json_number(i); };
+    field("vertices", integer(q.vertices));
+    field("triangles", integer(q.triangles));
+    field("boundary_edges", integer(q.boundary_edges));
+    field("min_angle_deg", num(q.min_angle_deg));
+    field("max_angle_deg", num(q.max_angle_deg));
+    field("mean_min_angle_deg", num(q.mean_min_angle_deg));
+    std::string hist = "{\"bin_width_deg\": " + std::to_string(QualityReport::histogram_bin_deg) + ", \"counts\": [";
+    for (std::size_t i = 0; i < q.min_angle_histogram.size(); ++i)
+        hist += (i ? ", " : "") + std::to_string(q.min_angle_histogram[i]);
+    field("min_angle_histogram", hist + "]}");
+    field("max_angle", "{\"min_deg\": " + num(q.max_angle_min_deg) + ", \"mean_deg\": " + num(q.max_angle_mean_deg) +
+                           ", \"max_deg\": " + num(q.max_angle_deg) + ", \"over_90\": " + integer(q.max_angle_over_90) +
+                           ", \"over_120\": " + integer(q.max_angle_over_120) + "}");
+    field("radius_ratio", "{\"min\": " + num(q.radius_ratio_min) + ", \"mean\": " + num(q.radius_ratio_mean) + "}");
+    field("area", num(q.area));
+    field("nonpositive_triangles", integer(q.nonpositive_triangles));
+    field("boundary_length", num(q.boundary_length));
+    auto by_tag = [](const auto& map, auto value) {
+        std::string s = "{";
+        for (const auto& [tag, v] : map) s += (s.size() > 1 ? ", " : "") + json_string(std::to_string(tag)) + ": " + value(v);
+        return s + "}";
+    };
+    field("boundary_edges_by_tag", by_tag(q.boundary_edges_by_tag, integer));
+    field("boundary_length_by_tag", by_tag(q.boundary_length_by_tag, num));
+    field("triangles_by_region", by_tag(q.triangles_by_region, integer));
+    std::string phases = "{";
+    double total = 0;
+    for (const auto& [name, s] : q.phase_seconds) {
+        phases += (phases.size() > 1 ? ", " : "") + json_string(name) + ": " + num(s);
+        total += s;
+    }
+    field("phase_seconds", phases + "}");
+    field("total_seconds", num(total));
+    for (const auto& [key, value] : q.extra) field(key, value);
+    for (const auto& [key, value] : extra) field(key, value);
+    return o + "\n}\n";
+}
+
+void write_quality_json(const std::string& path, const QualityReport& report,
+                        const std::vector<std::pair<std::string, std::string>>& extra) {
+    const std::string text = quality_json(report, extra);
+    write_file_atomically(path, [&](std::ostream& os) { os << text; });
+}
+
+}  // namespace warpmesh

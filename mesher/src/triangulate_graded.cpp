@@ -1,0 +1,362 @@
+// triangulate_graded.cpp — the triangles of the quadtree's leaves, compacted
+// vertices and the boundary.
+//
+// Finest leaves are lattice squares and are triangulated exactly as the
+// uniform mesher does: the diagonal by the rule (warped_square_diagonal, the
+// code the prover certifies, wherever a corner is warped; AD on the unwarped
+// unit square, where both diagonals tie), and the triangles whose three
+// corners are inside.  By the quadtree's invariant (graded.hpp) every square
+// with a warped corner is such a leaf, so every warped triangle of the graded
+// mesh is a triangle of a generic square of the proof.
+//
+// Coarse leaves (level l >= 1, side w = 2^l) are unwarped and, by the
+// quadtree's construction, entirely inside (σ = -1: all their points have f < 0)
+// or entirely outside (σ = +1: they emit nothing).  An inside coarse leaf with
+// no split side is the square (A, B, D), (A, D, C) — angles 45, 45, 90.  With
+// split sides it takes the centre template: the centre M joined to the ring
+//
+//        A → [mid AB] → B → [mid BD] → D → [mid DC] → C → [mid CA] → A,
+//
+// (midpoints only of split sides), one triangle (M, ring[k], ring[k+1]) per
+// ring edge: 4 + (number of split sides) triangles, each a right isosceles
+// triangle — the half-square (M, A, B) of legs w/√2 or the quarter-square
+// (M, A, mid AB) of legs w/2 — so every angle is 45 or 90 degrees.
+//
+// Conformity.  Every triangle edge is a side of a leaf, a half side, or lies
+// inside a leaf.  A side shared by two leaves of the same level is one edge on
+// both sides (neither halves it).  A side shared by leaves of levels l and
+// l - 1 (the only other case, by 2:1 edge balance) is halved on the coarse
+// side, whose template puts a vertex at its midpoint; on the fine side that
+// midpoint is the shared corner of the two finer leaves.  So every vertex on a
+// leaf's side is one of the leaf's own vertices: no hanging vertex.
+//
+// Boundary.  A coarse inside leaf never carries a boundary edge: it does not
+// touch the lattice border (graded.hpp), and a square across one of its sides
+// shares two non-critical inside points, so its other two corners cannot be
+// outside (an outside one would make a cut edge with a shared point, which
+// would then be critical): all four are inside and the square covers the side.
+// So boundary edges come from finest leaves only, and are found as in the
+// uniform mesher: a side covered by exactly one of its two squares (a square
+// inside a coarse leaf covers it iff the leaf is inside), or a diagonal with
+// one emitted triangle.  Since the finest leaves emit what the uniform squares
+// emit and the coarse leaves tile what the uniform inside squares tile, the
+// graded mesh covers exactly the uniform mesh's region and has the same
+// boundary edges.
+//
+// Passes, over fixed-size chunks of leaves (parallel, deterministic):
+//   1. per leaf its code and triangle count; mark used points;
+//   2. compact vertex ids in lattice-point order (a bitset with ranks);
+//   3. triangles at chunk offsets; region tags;
+//   4. boundary edges of the finest leaves.
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cassert>
+#include <cstring>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+
+#include "warpmesh/graded.hpp"
+
+namespace warpmesh {
+namespace {
+
+// Finest leaf code: bit 0 = first triangle of the diagonal emitted, bit 1 =
+// second, bit 2 = BC (as in triangulate.cpp).
+constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4;
+
+constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
+    return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
+}
+
+// Sides of a square: bottom A→B, right B→D, top D→C, left C→A (counter-
+// clockwise), and which triangle (0 or 1) of each diagonal holds the side.
+struct Side {
+    int from, to;
+    int tri_ad, tri_bc;
+};
+constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {C, A, 1, 0}}};
+
+constexpr bool covers(std::uint8_t code, int side) {
+    const Side& s = sides[static_cast<std::size_t>(side)];
+    return (code >> ((code & bc_bit) ? s.tri_bc : s.tri_ad)) & 1;
+}
+
+constexpr std::int64_t chunk_size = 2048;
+
+// Number of triangles a coarse inside leaf emits.
+constexpr int coarse_triangles(std::uint8_t split) { return split ? 4 + std::popcount(split) : 2; }
+
+// A lattice point by its indices (the point sets take (i, j): no division).
+struct Pt {
+    std::int64_t i, j;
+};
+
+// Ring of a coarse leaf (corner points and midpoints of split sides, counter-
+// clockwise from A) and its centre; returns the ring's length.
+inline int coarse_ring(const Leaf& leaf, std::array<Pt, 8>& ring, Pt& centre) {
+    const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
+    centre = {i + h, j + h};
+    int n = 0;
+    ring[n++] = {i, j};
+    if (leaf.split_sides & side_bottom) ring[n++] = {i + h, j};
+    ring[n++] = {i + w, j};
+    if (leaf.split_sides & side_right) ring[n++] = {i + w, j + h};
+    ring[n++] = {i + w, j + w};
+    if (leaf.split_sides & side_top) ring[n++] = {i + h, j + w};
+    ring[n++] = {i, j + w};
+    if (leaf.split_sides & side_left) ring[n++] = {i, j + h};
+    return n;
+}
+
+// Corners A, B, C, D of square (i, j).
+inline std::array<Pt, 4> square_corners(std::int64_t i, std::int64_t j) {
+    return {Pt{i, j}, Pt{i + 1, j}, Pt{i, j + 1}, Pt{i + 1, j + 1}};
+}
+
+}  // namespace
+
+Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+                        const Quadtree& tree, std::span<const Leaf> leaves, std::span<const WarpedPoint> warped,
+                        DiagonalRule rule, TriangulateStats* stats) {
+    const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
+    const std::int64_t nleaves = static_cast<std::int64_t>(leaves.size());
+    const std::int64_t nchunks = (nleaves + chunk_size - 1) / chunk_size;
+    const PointSet& warped_set = tree.warped;
+    auto sign = [&](Pt p) { return signs[static_cast<std::size_t>(p.i + p.j * nxp)]; };
+    // `warped` is sorted by point: a warped point's record is at its rank.
+    auto warp_of = [&](Pt p) -> const WarpedPoint& {
+        const WarpedPoint& w = warped[static_cast<std::size_t>(warped_set.rank(p.i, p.j))];
+        assert(w.p == p.i + p.j * nxp);
+        return w;
+    };
+
+    // The code of finest square (i, j): its diagonal and emitted triangles, as
+    // in triangulate.cpp.  `warped_corner` / `forced_diag` report, for the
+    // stats, whether a corner is warped and whether the separating rule
+    // overrode max-min.
+    auto finest_code = [&](std::int64_t i, std::int64_t j, bool* warped_corner, bool* forced_diag) -> std::uint8_t {
+        const auto p = square_corners(i, j);
+        std::array<bool, 4> in{}, wp{};
+        for (std::size_t q = 0; q < 4; ++q) {
+            wp[q] = warped_set.contains(p[q].i, p[q].j);
+            in[q] = wp[q] || sign(p[q]) <= 0;  // inside: f <= 0, or warped onto the level set
+        }
+        std::uint8_t c = 0;
+        *warped_corner = wp[0] || wp[1] || wp[2] || wp[3];
+        if (*warped_corner) {
+            std::array<CornerState, 4> cs{};
+            std::array<double, 4> t{};
+            for (std::size_t q = 0; q < 4; ++q) {
+                cs[q].sign = sign(p[q]);
+                if (wp[q]) {
+                    const WarpedPoint& w = warp_of(p[q]);
+                    cs[q].warp = w.dir;
+                    t[q] = w.t;
+                }
+            }
+            if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
+        }
+        if (in[0] + in[1] + in[2] + in[3] >= 3)
+            for (int q = 0; q < 2; ++q) {
+                bool all = true;
+                for (int v : triangle_of(c, q)) all = all && in[static_cast<std::size_t>(v)];
+                if (all) c |= static_cast<std::uint8_t>(1 << q);
+            }
+        return c;
+    };
+
+    // ---- pass 1: codes, counts, used points ----------------------------------
+    std::vector<std::uint8_t> leaf_code(leaves.size(), 0);
+    // Used points, a bitset with ranks: the vertex id of a used point is its
+    // rank — no lattice-sized id array.
+    PointSet used(nxp, ny + 1);
+    std::vector<std::int64_t> chunk_tris(static_cast<std::size_t>(nchunks) + 1, 0);
+    // Several leaves may mark one point: relaxed atomic or-s.
+    auto mark = [&](Pt p) {
+        std::atomic_ref<std::uint64_t>(used.words[used.word(p.i, p.j)]).fetch_or(PointSet::bit(p.i), std::memory_order_relaxed);
+    };
+    std::int64_t warped_squares = 0, forced = 0, n_finest = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced, n_finest) if (nchunks > 1)
+    for (std::int64_t ch = 0; ch < nchunks; ++ch) {
+        std::int64_t tris = 0;
+        for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
+            const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
+            if (leaf.level > 0) {
+                if (leaf.sign > 0) continue;
+                std::array<Pt, 8> ring{};
+                Pt centre{};
+                const int n = coarse_ring(leaf, ring, centre);
+                for (int r = 0; r < n; ++r) mark(ring[static_cast<std::size_t>(r)]);
+                if (leaf.split_sides) mark(centre);
+                tris += coarse_triangles(leaf.split_sides);
+                continue;
+            }
+            ++n_finest;
+            bool warped_corner = false, was_forced = false;
+            const std::uint8_t c = finest_code(leaf.i, leaf.j, &warped_corner, &was_forced);
+            warped_squares += warped_corner;
+            forced += was_forced;
+            const auto p = square_corners(leaf.i, leaf.j);
+            for (int q = 0; q < 2; ++q) {
+                if (!(c & (1 << q))) continue;
+                ++tris;
+                for (int v : triangle_of(c, q)) mark(p[static_cast<std::size_t>(v)]);
+            }
+            leaf_code[static_cast<std::size_t>(k)] = c;
+        }
+        chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;
+    }
+    std::partial_sum(chunk_tris.begin(), chunk_tris.end(), chunk_tris.begin());
+
+    // ---- pass 2: compact vertex ids in lattice-point order ----------------------
+    const std::int64_t wpr = used.words_per_row;
+    used.prefix.resize(used.words.size());
+    std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
+#pragma omp parallel for schedule(static) if (used.words.size() >= 4096)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        std::int64_t count = 0;
+        for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w) count += std::popcount(used.words[static_cast<std::size_t>(w)]);
+        row_verts[static_cast<std::size_t>(j) + 1] = count;
+    }
+    std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
+    const std::int64_t nverts = row_verts.back(), ntris = chunk_tris.back();
+    if (nverts > INT32_MAX || ntris > INT32_MAX)
+        throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
+    Mesh mesh;
+    mesh.vertices.resize(static_cast<std::size_t>(nverts));
+    mesh.triangles.resize(static_cast<std::size_t>(ntris));
+#pragma omp parallel for schedule(static) if (nverts >= 4096)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        std::int64_t next = row_verts[static_cast<std::size_t>(j)];
+        for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w) {
+            used.prefix[static_cast<std::size_t>(w)] = next;
+            for (std::uint64_t bits = used.words[static_cast<std::size_t>(w)]; bits; bits &= bits - 1) {
+                const std::int64_t i = (w - j * wpr) * 64 + std::countr_zero(bits);
+                Vec2 x = lattice.position(i, j);
+                if (warped_set.contains(i, j)) {
+                    const WarpedPoint& wp = warp_of({i, j});
+                    // The same affine map as generic_positions, scaled by s — and
+                    // the same expression as triangulate.cpp, so the coordinates
+                    // agree with the uniform mesh's to the bit.
+                    x.x += warp_dx(wp.dir) * wp.t * lattice.s;
+                    x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+                }
+                mesh.vertices[static_cast<std::size_t>(next++)] = x;
+            }
+        }
+    }
+    auto vid = [&](Pt p) {
+        assert(used.contains(p.i, p.j));
+        return static_cast<std::int32_t>(used.rank(p.i, p.j));
+    };
+
+    // ---- pass 3: triangles --------------------------------------------------------
+#pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
+    for (std::int64_t ch = 0; ch < nchunks; ++ch) {
+        std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
+        auto emit = [&](Pt a, Pt b, Pt c) { mesh.triangles[static_cast<std::size_t>(next++)] = {vid(a), vid(b), vid(c)}; };
+        for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
+            const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
+            if (leaf.level > 0) {
+                if (leaf.sign > 0) continue;
+                std::array<Pt, 8> ring{};
+                Pt centre{};
+                const int n = coarse_ring(leaf, ring, centre);
+                if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
+                    emit(ring[0], ring[1], ring[2]);
+                    emit(ring[0], ring[2], ring[3]);
+                    continue;
+                }
+                for (int r = 0; r < n; ++r)
+                    emit(centre, ring[static_cast<std::size_t>(r)], ring[static_cast<std::size_t>((r + 1) % n)]);
+                continue;
+            }
+            const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
+            const auto p = square_corners(leaf.i, leaf.j);
+            for (int q = 0; q < 2; ++q) {
+                if (!(c & (1 << q))) continue;
+                const auto tri = triangle_of(c, q);
+                emit(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])],
+                     p[static_cast<std::size_t>(tri[2])]);
+            }
+        }
+        assert(next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
+    }
+    mesh.region.assign(mesh.triangles.size(), 1);
+    if (f.tags_regions()) {
+#pragma omp parallel for schedule(static) if (ntris >= 4096)
+        for (std::int64_t k = 0; k < ntris; ++k) {
+            const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
+            const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+                       &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+            mesh.region[static_cast<std::size_t>(k)] = f.region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
+        }
+    }
+
+    // ---- pass 4: boundary (finest leaves only; see the head comment) --------------
+    // The finest leaves come first in `leaves`.  The square across a side is
+    // either outside the lattice (domain border), a finest square (its code),
+    // or inside a coarse leaf: all its corners then have the leaf's sign, and
+    // it covers every side iff that sign is -1 (code 3 = both AD triangles).
+    // A finest neighbour's code is recomputed (the same deterministic
+    // function as in pass 1) rather than stored in a lattice-sized array,
+    // whose scattered first touches would cost more than the whole pass.
+    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
+        bool unused_w = false, unused_f = false;
+        if (tree.is_finest(i, j)) return finest_code(i, j, &unused_w, &unused_f);
+        return sign({i, j}) < 0 ? (tri0_bit | tri1_bit) : 0;
+    };
+    const std::int64_t finest_chunks = (n_finest + chunk_size - 1) / chunk_size;
+    std::vector<std::vector<std::array<std::int32_t, 3>>> per_chunk(static_cast<std::size_t>(finest_chunks));
+#pragma omp parallel for schedule(dynamic, 1) if (finest_chunks > 1)
+    for (std::int64_t ch = 0; ch < finest_chunks; ++ch) {
+        auto& out = per_chunk[static_cast<std::size_t>(ch)];
+        for (std::int64_t k = ch * chunk_size; k < std::min(n_finest, (ch + 1) * chunk_size); ++k) {
+            const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
+            assert(leaf.level == 0);
+            const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
+            if (!(c & (tri0_bit | tri1_bit))) continue;
+            const auto p = square_corners(leaf.i, leaf.j);
+            auto edge = [&](int from, int to, std::int32_t tag) {
+                out.push_back({vid(p[static_cast<std::size_t>(from)]), vid(p[static_cast<std::size_t>(to)]), tag});
+            };
+            const std::int64_t i = leaf.i, j = leaf.j;
+            const std::array<std::int64_t, 4> ni{i, i + 1, i, i - 1}, nj{j - 1, j, j + 1, j};
+            for (int sd = 0; sd < 4; ++sd) {
+                if (!covers(c, sd)) continue;
+                const std::int64_t a = ni[static_cast<std::size_t>(sd)], b = nj[static_cast<std::size_t>(sd)];
+                const Side& s = sides[static_cast<std::size_t>(sd)];
+                if (a < 0 || b < 0 || a >= nx || b >= ny)
+                    edge(s.from, s.to, boundary_domain);
+                else if (!covers(square_code(a, b), (sd + 2) % 4))
+                    edge(s.from, s.to, boundary_level_set);
+            }
+            if (std::popcount(static_cast<unsigned>(c & (tri0_bit | tri1_bit))) == 1) {
+                // The diagonal's direction inside the emitted triangle:
+                // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
+                const bool bc = c & bc_bit, first = c & tri0_bit;
+                if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
+                else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
+            }
+        }
+    }
+    std::size_t nb = 0;
+    for (const auto& r : per_chunk) nb += r.size();
+    mesh.boundary.reserve(nb);
+    mesh.boundary_tag.reserve(nb);
+    for (const auto& r : per_chunk)
+        for (const auto& e : r) {
+            mesh.boundary.push_back({e[0], e[1]});
+            mesh.boundary_tag.push_back(e[2]);
+        }
+
+    if (stats) {
+        stats->warped_squares = warped_squares;
+        stats->forced_diagonals = forced;
+    }
+    return mesh;
+}
+
+}  // namespace warpmesh

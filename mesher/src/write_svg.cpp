@@ -1,0 +1,214 @@
+// write_svg.cpp — an SVG picture of the mesh.
+//
+// Mapping: the mesh's bounding box is scaled uniformly so that its long side
+// is `long_side_px` px, with a margin; SVG's y axis points down, so a mesh point
+// (x, y) goes to (m + (x - xmin) s, m + (ymax - y) s) and y-up appears up.
+// Triangles are <polygon>s (one per triangle, light fill, thin edges), drawn
+// under the boundary: one <path> per boundary tag, thicker, coloured by tag.
+// Stroke widths follow the typical edge length in px, h ≈ sqrt(4 A / (√3 T))
+// (the side of an equilateral triangle of the mean area), so fine meshes are
+// not drowned in ink and coarse ones stay readable.
+//
+// Colouring (optional) maps a per-triangle value to red → yellow → green
+// (low → high) with a legend on the right: the minimum angle over 0°–60°, or a
+// cell_data array over its finite min–max (non-finite values are grey).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string_view>
+#include <vector>
+
+#include "warpmesh/quality.hpp"
+#include "warpmesh/writers.hpp"
+
+namespace warpmesh {
+
+namespace {
+
+std::string xml_text(std::string_view s) {
+    std::string r;
+    for (const char c : s) {
+        if (c == '&') r += "&amp;";
+        else if (c == '<') r += "&lt;";
+        else if (c == '>') r += "&gt;";
+        else if (c == '"') r += "&quot;";
+        else r += c;
+    }
+    return r;
+}
+
+// Red (0) → yellow (0.5) → green (1), linear in RGB between the stops.
+std::string colour(double t) {
+    if (!std::isfinite(t)) return "#999999";
+    t = std::clamp(t, 0.0, 1.0);
+    constexpr std::array<std::array<double, 3>, 3> stops{{{215, 48, 39}, {254, 224, 139}, {26, 152, 80}}};
+    const double u = t * 2;
+    const std::size_t i = u >= 1 ? 1 : 0;
+    const double f = u - static_cast<double>(i);
+    char buf[8];
+    auto hex = [](int v) { return "0123456789abcdef"[v & 15]; };
+    buf[0] = '#';
+    for (int c = 0; c < 3; ++c) {
+        const int v = static_cast<int>(std::lround(stops[i][static_cast<std::size_t>(c)] * (1 - f) +
+                                                   stops[i + 1][static_cast<std::size_t>(c)] * f));
+        buf[1 + 2 * c] = hex(v >> 4);
+        buf[2 + 2 * c] = hex(v);
+    }
+    return std::string(buf, 7);
+}
+
+std::string boundary_colour(std::int32_t tag) {
+    if (tag == boundary_level_set) return "#d62728";
+    if (tag == boundary_domain) return "#1f77b4";
+    return "#2ca02c";
+}
+
+}  // namespace
+
+void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
+    detail::check_mesh_arrays(mesh, "<svg stream>");
+    const std::size_t nt = mesh.triangles.size();
+
+    // Values to colour by, normalised to [0, 1].
+    std::vector<double> value;
+    std::string legend_title;
+    double lo = 0, hi = 60;
+    if (!options.color_by_cell_data.empty()) {
+        const auto it = std::find_if(mesh.cell_data.begin(), mesh.cell_data.end(),
+                                     [&](const auto& d) { return d.first == options.color_by_cell_data; });
+        if (it == mesh.cell_data.end())
+            throw OutputError("no cell data array named '" + options.color_by_cell_data + "' to colour the SVG by");
+        value = it->second;
+        legend_title = it->first;
+        lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const double v : value)
+            if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+        if (!(lo <= hi)) lo = 0, hi = 1;
+    } else if (options.color_by_min_angle) {
+        value.resize(nt);
+        for (std::size_t k = 0; k < nt; ++k) {
+            const auto& t = mesh.triangles[k];
+            value[k] = triangle_angles(mesh.vertices[static_cast<std::size_t>(t[0])],
+                                       mesh.vertices[static_cast<std::size_t>(t[1])],
+                                       mesh.vertices[static_cast<std::size_t>(t[2])])
+                           .min_deg;
+        }
+        legend_title = "min angle (\u00b0)";
+    }
+    const bool coloured = !legend_title.empty();
+    const double range = hi > lo ? hi - lo : 1;
+
+    // Geometry: bounding box, scale, typical edge length.
+    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+    if (!mesh.vertices.empty()) {
+        xmin = xmax = mesh.vertices[0].x, ymin = ymax = mesh.vertices[0].y;
+        for (const Vec2& v : mesh.vertices)
+            xmin = std::min(xmin, v.x), xmax = std::max(xmax, v.x), ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
+    }
+    const double long_side = std::max(xmax - xmin, ymax - ymin);
+    const double s = long_side > 0 ? options.long_side_px / long_side : 1;
+    const double margin = 10, legend_w = coloured ? 110 : 0;
+    const double width = (xmax - xmin) * s + 2 * margin + legend_w;
+    const double height = std::max((ymax - ymin) * s + 2 * margin, coloured ? 240.0 : 0.0);
+    double area = 0;
+    for (const auto& t : mesh.triangles) {
+        const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+                   &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+        area += std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
+    }
+    const double h_px = nt ? std::sqrt(4 * area / (std::sqrt(3.0) * static_cast<double>(nt))) * s : 10;
+    const double edge_w = std::clamp(0.06 * h_px, 0.02, 1.0);
+    const double boundary_w = std::max(std::clamp(0.2 * h_px, 0.5, 3.0), 2 * edge_w);
+
+    detail::TextSink out(os);
+    auto px = [&](Vec2 p) {
+        out.fixed(margin + (p.x - xmin) * s, 3) << ',';
+        out.fixed(margin + (ymax - p.y) * s, 3);
+    };
+    out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"";
+    out.fixed(width, 1) << "\" height=\"";
+    out.fixed(height, 1) << "\" viewBox=\"0 0 ";
+    out.fixed(width, 1) << ' ';
+    out.fixed(height, 1) << "\">\n";
+    out << "<title>warpmesh: " << static_cast<std::uint64_t>(mesh.vertices.size()) << " vertices, "
+        << static_cast<std::uint64_t>(nt) << " triangles</title>\n";
+    out << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+
+    out << "<g id=\"triangles\" fill=\"#dbe6f4\" stroke=\"" << (options.draw_edges ? "#4a5568" : "none")
+        << "\" stroke-width=\"";
+    out.fixed(edge_w, 3) << "\" stroke-linejoin=\"round\">\n";
+    for (std::size_t k = 0; k < nt; ++k) {
+        const auto& t = mesh.triangles[k];
+        out << "<polygon points=\"";
+        px(mesh.vertices[static_cast<std::size_t>(t[0])]);
+        out << ' ';
+        px(mesh.vertices[static_cast<std::size_t>(t[1])]);
+        out << ' ';
+        px(mesh.vertices[static_cast<std::size_t>(t[2])]);
+        out << '"';
+        if (coloured) out << " fill=\"" << colour((value[k] - lo) / range) << '"';
+        out << "/>\n";
+    }
+    out << "</g>\n";
+
+    // Boundary: one path per tag, "M x,y L x,y …" polylines.
+    std::vector<std::int32_t> tags(mesh.boundary_tag);
+    std::sort(tags.begin(), tags.end());
+    tags.erase(std::unique(tags.begin(), tags.end()), tags.end());
+    out << "<g id=\"boundary\" fill=\"none\" stroke-width=\"";
+    out.fixed(boundary_w, 3) << "\" stroke-linecap=\"round\">\n";
+    for (const std::int32_t tag : tags) {
+        out << "<path class=\"boundary-" << tag << "\" stroke=\"" << boundary_colour(tag) << "\" d=\"";
+        // Consecutive edges that chain (the next starts where the last ended)
+        // continue the polyline instead of starting a new subpath.
+        std::int32_t pen = -1;
+        for (std::size_t k = 0; k < mesh.boundary.size(); ++k) {
+            if (mesh.boundary_tag[k] != tag) continue;
+            const auto& e = mesh.boundary[k];
+            if (e[0] != pen) {
+                out << (pen < 0 ? "M" : " M");
+                px(mesh.vertices[static_cast<std::size_t>(e[0])]);
+            }
+            out << " L";
+            px(mesh.vertices[static_cast<std::size_t>(e[1])]);
+            pen = e[1];
+        }
+        out << "\"/>\n";
+    }
+    out << "</g>\n";
+
+    if (coloured) {
+        // A vertical colour bar (low at the bottom) with three labels.
+        const double x0 = width - legend_w + 15, y0 = margin + 25, bar_h = 180, bar_w = 18;
+        out << "<defs><linearGradient id=\"legend-gradient\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">";
+        for (int i = 0; i <= 4; ++i) {
+            out << "<stop offset=\"";
+            out.fixed(i / 4.0, 2) << "\" stop-color=\"" << colour(i / 4.0) << "\"/>";
+        }
+        out << "</linearGradient></defs>\n<g id=\"legend\" font-family=\"sans-serif\" font-size=\"12\">\n<text x=\"";
+        out.fixed(x0 - 5, 1) << "\" y=\"";
+        out.fixed(y0 - 10, 1) << "\">" << xml_text(legend_title) << "</text>\n<rect x=\"";
+        out.fixed(x0, 1) << "\" y=\"";
+        out.fixed(y0, 1) << "\" width=\"";
+        out.fixed(bar_w, 1) << "\" height=\"";
+        out.fixed(bar_h, 1) << "\" fill=\"url(#legend-gradient)\" stroke=\"#333\" stroke-width=\"0.5\"/>\n";
+        for (int i = 0; i <= 2; ++i) {
+            const double v = lo + (hi - lo) * i / 2.0;
+            char label[32];
+            const auto r = std::to_chars(label, label + sizeof label, v, std::chars_format::general, 4);
+            out << "<text x=\"";
+            out.fixed(x0 + bar_w + 5, 1) << "\" y=\"";
+            out.fixed(y0 + bar_h - bar_h * i / 2.0 + 4, 1) << "\">" << std::string_view(label, r.ptr) << "</text>\n";
+        }
+        out << "</g>\n";
+    }
+    out << "</svg>\n";
+}
+
+void write_svg(const Mesh& mesh, const std::string& path, const SvgOptions& options) {
+    detail::check_mesh_arrays(mesh, path);
+    write_file_atomically(path, [&](std::ostream& os) { write_svg(mesh, os, options); });
+}
+
+}  // namespace warpmesh

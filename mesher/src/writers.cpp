@@ -1,0 +1,69 @@
+// writers.cpp — the format dispatcher and checks shared by the writers.
+#include "warpmesh/writers.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace warpmesh {
+
+namespace detail {
+
+void check_mesh_arrays(const Mesh& mesh, const std::string& path) {
+    auto fail = [&](const std::string& what) { throw OutputError("cannot write '" + path + "': invalid mesh: " + what); };
+    const std::size_t nt = mesh.triangles.size();
+    if (mesh.region.size() != nt)
+        fail("region has " + std::to_string(mesh.region.size()) + " entries for " + std::to_string(nt) + " triangles");
+    if (mesh.boundary_tag.size() != mesh.boundary.size())
+        fail("boundary_tag has " + std::to_string(mesh.boundary_tag.size()) + " entries for " +
+             std::to_string(mesh.boundary.size()) + " boundary edges");
+    for (const auto& [name, values] : mesh.cell_data)
+        if (values.size() != nt)
+            fail("cell data '" + name + "' has " + std::to_string(values.size()) + " entries for " +
+                 std::to_string(nt) + " triangles");
+    const auto nv = static_cast<std::int64_t>(mesh.vertices.size());
+    auto bad = [nv](std::int32_t v) { return v < 0 || v >= nv; };
+    for (const auto& t : mesh.triangles)
+        if (bad(t[0]) || bad(t[1]) || bad(t[2])) fail("a triangle has a vertex index out of range");
+    for (const auto& e : mesh.boundary)
+        if (bad(e[0]) || bad(e[1])) fail("a boundary edge has a vertex index out of range");
+}
+
+}  // namespace detail
+
+namespace {
+
+enum class Format { vtu, msh, triangle, svg };
+
+// The format named by the (case-insensitive) extension of `path`.
+Format output_format(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".vtu") return Format::vtu;
+    if (ext == ".msh") return Format::msh;
+    if (ext == ".node" || ext == ".ele" || ext == ".poly") return Format::triangle;
+    if (ext == ".svg") return Format::svg;
+    throw OutputError("cannot write '" + path + "': unknown output format '" + ext +
+                      "' (supported: .vtu, .msh, .node/.ele, .svg)");
+}
+
+}  // namespace
+
+void check_output_path(const std::string& path) {
+    output_format(path);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
+        throw OutputError("cannot write '" + path + "': '" + dir.string() + "' is not a directory");
+}
+
+void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
+    switch (output_format(path)) {
+        case Format::vtu: write_vtu(mesh, path); break;
+        case Format::msh: write_msh(mesh, path); break;
+        case Format::triangle: write_triangle(mesh, path); break;
+        case Format::svg: write_svg(mesh, path, options.svg); break;
+    }
+}
+
+}  // namespace warpmesh

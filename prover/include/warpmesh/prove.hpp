@@ -1,0 +1,69 @@
+// prove.hpp — the angle prover for the generic square (see proofs/README.md).
+//
+// `prove_main` implements `warpmesh prove [--out DIR] [--threads N] [--keys I,J,..]`.
+// The rest is the prover's API, used by the tests.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "warpmesh/generic_square.hpp"
+
+namespace warpmesh {
+
+int prove_main(int argc, char** argv);
+
+namespace prover {
+
+// A configuration key: each corner's original sign and warp state.
+struct Key {
+    std::array<CornerState, 4> s;
+};
+
+// 8 characters: per corner A, B, C, D the sign (- 0 +) and the warp
+// (s = stay, R = +x, L = -x, U = +y, D = -y).
+std::string key_code(const Key& k);
+// All keys satisfying the consistency rules of proofs/README.md, in the
+// canonical order (corner A's state most significant).
+std::vector<Key> consistent_keys();
+// Whether some flat 12-point stencil sign pattern is consistent with the key
+// (computed from the exhaustive enumeration of flat patterns).
+bool flat_compatible(const Key& k);
+// Number of distinct sign patterns of affine functions on the 12-point stencil.
+std::size_t flat_pattern_count();
+// The warped corners, in order: the variables t_0.. of the key's box [0,1/2]^m.
+std::vector<int> key_vars(const Key& k);
+
+// One leaf box: dimension i is [num[2i], num[2i+1]] / 2^k; diag bit 1 = AD, 2 = BC.
+struct Leaf {
+    std::uint8_t diag = 0;
+    int k = 0;
+    std::array<std::int64_t, 8> num{};
+    double threshold = 0;  // non-zero: the diagonal was decided by the threshold test (see prover.cpp)
+};
+
+struct KeyProof {
+    bool ok = false;
+    std::vector<Leaf> leaves;
+    std::array<double, 4> fail_point{};  // centre of a box that could not be certified
+};
+
+// Branch and bound over the key's t-box: every angle of the chosen triangles
+// has cot <= min_cot and cot >= max_cot, both triangles positively oriented.
+KeyProof prove_key(DiagonalRule rule, const Key& key, double min_cot, double max_cot,
+                   std::size_t max_leaves = 2000000);
+
+// The choice of the rule on a box, evaluated with outward-rounded intervals
+// through generic_square.hpp (bit 1 = AD may be taken, bit 2 = BC).
+int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 4>& lo,
+                    const std::array<double, 4>& hi);
+
+// Runs the whole proof for a rule and returns the certificate text.  `key_subset`
+// (indices into consistent_keys()) restricts the run, for tests; the claims are
+// then over that subset only.  `log` receives a human summary.
+std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log);
+
+}  // namespace prover
+}  // namespace warpmesh

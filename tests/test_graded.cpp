@@ -1,0 +1,394 @@
+// Tests of the graded mesher: the quadtree's invariants, conformity, the
+// boundary and area against the uniform mesh at the same finest spacing, the
+// angle bounds, determinism, and real images.
+#define BOOST_TEST_MODULE graded
+#include <boost/test/unit_test.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <random>
+#include <tuple>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "warpmesh/graded.hpp"
+#include "warpmesh/image.hpp"
+#include "warpmesh/image_levelset.hpp"
+#include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/uniform.hpp"
+
+using namespace warpmesh;
+
+namespace {
+
+using Fn = std::function<double(double, double)>;
+
+struct Lambda : LevelSet {
+    Fn f;
+    Box box;
+    Lambda(Fn g, Box b) : f(std::move(g)), box(b) {}
+    double value(double x, double y) const override { return f(x, y); }
+    Box bounds() const override { return box; }
+    std::string describe() const override { return "lambda"; }
+};
+
+Fn circle(double cx, double cy, double r) {
+    return [=](double x, double y) { return std::hypot(x - cx, y - cy) - r; };
+}
+Fn ellipse(double cx, double cy, double a, double b) {
+    return [=](double x, double y) { return std::min(a, b) * (std::hypot((x - cx) / a, (y - cy) / b) - 1); };
+}
+Fn unite(Fn a, Fn b) {
+    return [=](double x, double y) { return std::min(a(x, y), b(x, y)); };
+}
+Fn subtract(Fn a, Fn b) {
+    return [=](double x, double y) { return std::max(a(x, y), -b(x, y)); };
+}
+
+Lattice integer_lattice(std::int64_t nx, std::int64_t ny) {
+    Lattice l;
+    l.x0 = 0, l.y0 = 0, l.s = 1, l.nx = nx, l.ny = ny;
+    return l;
+}
+
+double deg(double rad) { return rad * 180 / M_PI; }
+
+// The three angles of triangle t, in degrees.
+std::array<double, 3> angles(const Mesh& m, std::size_t t) {
+    std::array<double, 3> a{};
+    for (int k = 0; k < 3; ++k) {
+        const Vec2 o = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
+        const Vec2 q = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
+        const Vec2 r = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 2) % 3])];
+        const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
+        a[static_cast<std::size_t>(k)] = deg(std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy));
+    }
+    return a;
+}
+
+double area(const Mesh& m) {
+    double a = 0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) a += cross2(m, t) / 2;
+    return a;
+}
+
+// Boundary edges as (from, to, tag) coordinate tuples, sorted.
+using CoordEdge = std::tuple<double, double, double, double, int>;
+std::vector<CoordEdge> boundary_coords(const Mesh& m) {
+    std::vector<CoordEdge> e;
+    for (std::size_t k = 0; k < m.boundary.size(); ++k) {
+        const Vec2 a = m.vertices[static_cast<std::size_t>(m.boundary[k][0])];
+        const Vec2 b = m.vertices[static_cast<std::size_t>(m.boundary[k][1])];
+        e.emplace_back(a.x, a.y, b.x, b.y, m.boundary_tag[k]);
+    }
+    std::sort(e.begin(), e.end());
+    return e;
+}
+
+// The quadtree of the graded mesh, rebuilt from the public stages.
+struct Tree {
+    std::vector<std::int8_t> signs;
+    Quadtree tree;
+    std::vector<Leaf> leaves;
+};
+Tree rebuild(const LevelSet& f, const Lattice& l, std::int64_t K) {
+    Tree t;
+    const auto values = sample_values(f, l);
+    t.signs = compute_signs(values);
+    const auto cuts = find_cut_edges(f, l, values, t.signs);
+    const auto warped = warp_points(l, cuts, t.signs);
+    t.tree = build_quadtree(l, t.signs, warped, K);
+    t.leaves = quadtree_leaves(t.tree);
+    return t;
+}
+
+bool is_integer(double v) { return v == std::floor(v); }
+
+// No mesh vertex lies strictly inside a triangle edge whose endpoints are
+// lattice points (integer lattice); and every split side's midpoint is a
+// vertex of triangles on both sides of the split side.
+void check_no_hanging_vertices(const Mesh& m, const Tree& t) {
+    std::map<std::pair<double, double>, std::int32_t> at;
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) at[{m.vertices[v].x, m.vertices[v].y}] = static_cast<std::int32_t>(v);
+    std::int64_t hanging = 0;
+    for (const auto& tri : m.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = m.vertices[static_cast<std::size_t>(tri[k])], b = m.vertices[static_cast<std::size_t>(tri[(k + 1) % 3])];
+            if (!is_integer(a.x) || !is_integer(a.y) || !is_integer(b.x) || !is_integer(b.y)) continue;
+            const auto dx = static_cast<std::int64_t>(b.x - a.x), dy = static_cast<std::int64_t>(b.y - a.y);
+            const std::int64_t g = std::gcd(std::abs(dx), std::abs(dy));
+            for (std::int64_t q = 1; q < g; ++q)
+                if (at.count({a.x + static_cast<double>(dx / g * q), a.y + static_cast<double>(dy / g * q)})) ++hanging;
+        }
+    BOOST_TEST(hanging == 0);
+
+    // Incident triangles of each vertex, by centroid.
+    std::vector<std::vector<Vec2>> centroids(m.vertices.size());
+    for (const auto& tri : m.triangles) {
+        Vec2 c{0, 0};
+        for (int k = 0; k < 3; ++k) {
+            c.x += m.vertices[static_cast<std::size_t>(tri[k])].x / 3;
+            c.y += m.vertices[static_cast<std::size_t>(tri[k])].y / 3;
+        }
+        for (int k = 0; k < 3; ++k) centroids[static_cast<std::size_t>(tri[k])].push_back(c);
+    }
+    std::int64_t split_sides = 0, bad = 0;
+    for (const Leaf& leaf : t.leaves) {
+        if (leaf.level == 0 || leaf.sign > 0) continue;
+        const double w = std::ldexp(1.0, leaf.level), h = w / 2, i = leaf.i, j = leaf.j;
+        // side: midpoint, and the normal pointing into the leaf
+        const std::array<std::tuple<std::uint8_t, double, double, double, double>, 4> sides{
+            {{side_bottom, i + h, j, 0, 1}, {side_right, i + w, j + h, -1, 0}, {side_top, i + h, j + w, 0, -1}, {side_left, i, j + h, 1, 0}}};
+        for (const auto& [bit, mx, my, nx, ny] : sides) {
+            if (!(leaf.split_sides & bit)) continue;
+            ++split_sides;
+            const auto it = at.find({mx, my});
+            if (it == at.end()) {
+                ++bad;
+                continue;
+            }
+            bool in_leaf = false, in_neighbour = false;
+            for (const Vec2& c : centroids[static_cast<std::size_t>(it->second)]) {
+                const double side = (c.x - mx) * nx + (c.y - my) * ny;
+                in_leaf = in_leaf || side > 0;
+                in_neighbour = in_neighbour || side < 0;
+            }
+            if (!in_leaf || !in_neighbour) ++bad;
+        }
+    }
+    BOOST_TEST(bad == 0);
+}
+
+struct Compared {
+    std::size_t uniform_triangles = 0, graded_triangles = 0;
+};
+
+// The graded mesh against the uniform one on the same lattice.
+Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule rule, std::int64_t K,
+                              bool integer_coordinates = true) {
+    const UniformResult u = mesh_uniform(f, l, rule);
+    const GradedResult g = mesh_graded(f, l, rule, K);
+    const MeshCheck chk = check_mesh(g.mesh);
+    BOOST_TEST(chk.ok());
+    for (const auto& msg : chk.messages) BOOST_TEST_MESSAGE(msg);
+
+    const Tree t = rebuild(f, l, K);
+    const QuadtreeCheck q = check_quadtree(t.tree, t.signs);
+    BOOST_TEST(q.ok());
+    for (const auto& msg : q.messages) BOOST_TEST_MESSAGE(msg);
+    std::int64_t leaves = 0;
+    for (auto c : g.leaves_per_level) leaves += c;
+    BOOST_TEST(leaves == static_cast<std::int64_t>(t.leaves.size()));
+
+    // Same boundary, same area.
+    BOOST_TEST((boundary_coords(g.mesh) == boundary_coords(u.mesh)));
+    const double ua = area(u.mesh), ga = area(g.mesh);
+    BOOST_TEST(std::abs(ua - ga) <= 1e-9 * std::max(1.0, ua));
+    BOOST_TEST(g.cut_edges == u.cut_edges);
+    BOOST_TEST(g.stats.warped_squares == u.stats.warped_squares);
+    BOOST_TEST(g.stats.forced_diagonals == u.stats.forced_diagonals);
+    BOOST_TEST(g.mesh.triangles.size() <= u.mesh.triangles.size());
+
+    // Angles: within the uniform mesh's range and the provisional bounds;
+    // triangles with three lattice-point vertices are template shapes.
+    double umin = 180, umax = 0;
+    for (std::size_t k = 0; k < u.mesh.triangles.size(); ++k)
+        for (double a : angles(u.mesh, k)) umin = std::min(umin, a), umax = std::max(umax, a);
+    const double eps = 1e-9;
+    std::int64_t out_of_range = 0, bad_template = 0;
+    for (std::size_t k = 0; k < g.mesh.triangles.size(); ++k) {
+        const auto a = angles(g.mesh, k);
+        bool lattice_only = integer_coordinates;
+        for (int v = 0; v < 3; ++v) {
+            const Vec2 p = g.mesh.vertices[static_cast<std::size_t>(g.mesh.triangles[k][v])];
+            lattice_only = lattice_only && is_integer(p.x) && is_integer(p.y);
+        }
+        for (double x : a) {
+            if (x < umin - eps || x > umax + eps || x > 143.1302 + eps) ++out_of_range;
+            if (rule == DiagonalRule::maxmin && x < 15 - eps) ++out_of_range;
+            if (lattice_only && (x < 45 - eps || x > 90 + eps)) ++bad_template;
+        }
+    }
+    BOOST_TEST(out_of_range == 0);
+    BOOST_TEST(bad_template == 0);
+    if (integer_coordinates) check_no_hanging_vertices(g.mesh, t);
+    return {u.mesh.triangles.size(), g.mesh.triangles.size()};
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(max_cell_must_be_a_power_of_two) {
+    Lambda f(circle(8, 8, 5), {0, 0, 16, 16});
+    const Lattice l = integer_lattice(16, 16);
+    BOOST_CHECK_THROW(mesh_graded(f, l, DiagonalRule::maxmin, 3), std::invalid_argument);
+    BOOST_CHECK_THROW(mesh_graded(f, l, DiagonalRule::maxmin, -2), std::invalid_argument);
+    BOOST_CHECK_NO_THROW(mesh_graded(f, l, DiagonalRule::maxmin, 1));
+    BOOST_CHECK_NO_THROW(mesh_graded(f, l, DiagonalRule::maxmin, 1024));
+}
+
+BOOST_AUTO_TEST_CASE(max_cell_one_is_the_uniform_mesh) {
+    Lambda f(subtract(circle(30, 31, 24.3), ellipse(33, 29, 9.2, 5.1)), {0, 0, 64, 64});
+    const Lattice l = integer_lattice(64, 64);
+    for (auto rule : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+        const auto u = mesh_uniform(f, l, rule);
+        const auto g = mesh_graded(f, l, rule, 1);
+        BOOST_TEST(g.leaves_per_level.size() == 1u);
+        // Same vertices in the same (point) order; same triangles as sets.
+        BOOST_REQUIRE(g.mesh.vertices.size() == u.mesh.vertices.size());
+        for (std::size_t v = 0; v < u.mesh.vertices.size(); ++v) {
+            BOOST_TEST(g.mesh.vertices[v].x == u.mesh.vertices[v].x);
+            BOOST_TEST(g.mesh.vertices[v].y == u.mesh.vertices[v].y);
+        }
+        auto sorted = [](std::vector<std::array<std::int32_t, 3>> t) {
+            std::sort(t.begin(), t.end());
+            return t;
+        };
+        BOOST_TEST((sorted(g.mesh.triangles) == sorted(u.mesh.triangles)));
+    }
+}
+
+BOOST_AUTO_TEST_CASE(fully_inside_lattice_keeps_a_finest_border_and_coarsens_inside) {
+    Lambda f([](double, double) { return -1.0; }, {0, 0, 64, 64});
+    const Lattice l = integer_lattice(64, 64);
+    const auto g = mesh_graded(f, l, DiagonalRule::maxmin, 0);
+    BOOST_TEST(check_mesh(g.mesh).ok());
+    for (auto tag : g.mesh.boundary_tag) BOOST_TEST(tag == boundary_domain);
+    BOOST_TEST(g.mesh.boundary.size() == 4u * 64u);  // every border square is finest
+    BOOST_TEST(g.leaves_per_level.size() == 7u);
+    BOOST_TEST(g.leaves_per_level[4] > 0);  // 16 x 16 leaves inside
+    BOOST_TEST(std::abs(area(g.mesh) - 64.0 * 64.0) < 1e-9);
+    compare_with_uniform(f, l, DiagonalRule::maxmin, 0);
+}
+
+BOOST_AUTO_TEST_CASE(a_tiny_hole_inside_a_big_cell_is_found) {
+    // A hole around one lattice point deep inside a disc: the point is
+    // outside, its four neighbours inside; the pyramid must not coarsen over it.
+    Lambda f(subtract(circle(64, 64, 60), circle(41, 77, 0.3)), {0, 0, 128, 128});
+    const Lattice l = integer_lattice(128, 128);
+    const auto r = compare_with_uniform(f, l, DiagonalRule::maxmin, 0);
+    BOOST_TEST(r.graded_triangles * 3 < r.uniform_triangles);
+    const Tree t = rebuild(f, l, 0);
+    BOOST_TEST(t.tree.is_finest(41, 77));
+    BOOST_TEST(t.tree.is_finest(40, 76));
+}
+
+BOOST_AUTO_TEST_CASE(non_power_of_two_lattices_and_max_cells) {
+    Lambda f(unite(circle(40, 20, 17.5), ellipse(75, 18, 20, 8.3)), {0, 0, 100, 37});
+    for (std::int64_t K : {0, 2, 4, 8, 32})
+        for (auto rule : {DiagonalRule::maxmin, DiagonalRule::separating})
+            compare_with_uniform(f, integer_lattice(100, 37), rule, K);
+    // Degenerate lattices: one row, one column.
+    compare_with_uniform(f, integer_lattice(100, 1), DiagonalRule::maxmin, 0);
+    compare_with_uniform(f, integer_lattice(1, 37), DiagonalRule::maxmin, 0);
+}
+
+BOOST_AUTO_TEST_CASE(random_analytic_shapes) {
+    std::mt19937 rng(20240521);
+    std::uniform_real_distribution<double> U(0, 1);
+    for (int seed = 0; seed < 60; ++seed) {
+        const std::int64_t nx = 40 + static_cast<std::int64_t>(U(rng) * 120), ny = 40 + static_cast<std::int64_t>(U(rng) * 120);
+        const double X = static_cast<double>(nx), Y = static_cast<double>(ny), R = std::min(X, Y) / 2;
+        auto rand_circle = [&](double scale) {
+            return circle(X * (0.2 + 0.6 * U(rng)), Y * (0.2 + 0.6 * U(rng)), R * scale * (0.3 + 0.7 * U(rng)));
+        };
+        Fn shape;
+        switch (seed % 4) {
+            case 0: shape = rand_circle(1.0); break;
+            case 1:
+                shape = ellipse(X * (0.3 + 0.4 * U(rng)), Y * (0.3 + 0.4 * U(rng)), R * (0.3 + 0.8 * U(rng)),
+                                R * (0.2 + 0.7 * U(rng)));
+                break;
+            case 2: {  // annulus, possibly cut by the border
+                const double cx = X * (0.2 + 0.6 * U(rng)), cy = Y * (0.2 + 0.6 * U(rng)), r2 = R * (0.5 + 0.6 * U(rng));
+                shape = subtract(circle(cx, cy, r2), circle(cx + U(rng), cy - U(rng), r2 * (0.2 + 0.5 * U(rng))));
+                break;
+            }
+            default: shape = subtract(unite(rand_circle(0.8), rand_circle(0.8)), rand_circle(0.4)); break;
+        }
+        Lambda f(shape, {0, 0, X, Y});
+        const std::int64_t K = std::array<std::int64_t, 4>{0, 4, 8, 2}[static_cast<std::size_t>(seed % 4)];
+        const auto rule = seed % 2 ? DiagonalRule::separating : DiagonalRule::maxmin;
+        BOOST_TEST_CONTEXT("seed " << seed << " lattice " << nx << "x" << ny << " K " << K) {
+            compare_with_uniform(f, integer_lattice(nx, ny), rule, K);
+        }
+    }
+}
+
+BOOST_AUTO_TEST_CASE(non_integer_spacing_and_offset) {
+    // Lattice points are not integers here: the template check is off, the
+    // rest (boundary and area equal to the uniform mesh's) holds exactly.
+    Lambda f(subtract(circle(0.31, -0.2, 1.17), ellipse(0.1, -0.1, 0.4, 0.23)), {-1.0, -1.5, 1.6, 1.1});
+    const Lattice l = lattice_over(f.bounds(), 0.013);
+    for (auto rule : {DiagonalRule::maxmin, DiagonalRule::separating}) compare_with_uniform(f, l, rule, 0, false);
+}
+
+BOOST_AUTO_TEST_CASE(disc_on_a_1024_lattice_has_at_least_three_times_fewer_triangles) {
+    Lambda f(circle(512, 512, 460.5), {0, 0, 1024, 1024});
+    const Lattice l = integer_lattice(1024, 1024);
+    const auto u = mesh_uniform(f, l, DiagonalRule::maxmin);
+    const auto g = mesh_graded(f, l, DiagonalRule::maxmin, 0);
+    BOOST_TEST(check_mesh(g.mesh).ok());
+    BOOST_TEST_MESSAGE("disc 1024^2: uniform " << u.mesh.triangles.size() << " triangles, graded "
+                                               << g.mesh.triangles.size());
+    BOOST_TEST(g.mesh.triangles.size() * 3 <= u.mesh.triangles.size());
+    BOOST_TEST((boundary_coords(g.mesh) == boundary_coords(u.mesh)));
+    BOOST_TEST(std::abs(area(g.mesh) - area(u.mesh)) < 1e-6);
+}
+
+#ifdef _OPENMP
+BOOST_AUTO_TEST_CASE(output_is_independent_of_the_thread_count) {
+    Lambda f(subtract(circle(300, 260, 230), circle(280, 300, 70.2)), {0, 0, 600, 520});
+    const Lattice l = integer_lattice(600, 520);
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const auto a = mesh_graded(f, l, DiagonalRule::separating, 0);
+    omp_set_num_threads(std::max(2, saved));
+    const auto b = mesh_graded(f, l, DiagonalRule::separating, 0);
+    omp_set_num_threads(saved);
+    BOOST_REQUIRE(a.mesh.vertices.size() == b.mesh.vertices.size());
+    for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v) {
+        BOOST_TEST(a.mesh.vertices[v].x == b.mesh.vertices[v].x);
+        BOOST_TEST(a.mesh.vertices[v].y == b.mesh.vertices[v].y);
+    }
+    BOOST_TEST((a.mesh.triangles == b.mesh.triangles));
+    BOOST_TEST((a.mesh.boundary == b.mesh.boundary));
+    BOOST_TEST((a.mesh.boundary_tag == b.mesh.boundary_tag));
+    BOOST_TEST((a.leaves_per_level == b.leaves_per_level));
+}
+#endif
+
+BOOST_AUTO_TEST_CASE(real_images) {
+    auto path = [](const char* name) { return (std::filesystem::path(WARPMESH_TEST_DATA) / name).string(); };
+    ImageLevelSetOptions thr;
+    thr.mode = ImageMode::threshold;
+    for (const char* name : {"horse_binary.pgm", "K1_small.pgm", "VentricleModel.pgm"}) {
+        const Image img = read_image(path(name));
+        const auto f = make_image_levelset(img, thr);
+        BOOST_TEST_CONTEXT(name) {
+            // Spacing 1 on the pixel-centre box: integer lattice points.
+            const Lattice l = lattice_over(f->bounds(), 1.0);
+            for (std::int64_t K : {0, 8}) compare_with_uniform(*f, l, DiagonalRule::maxmin, K);
+            compare_with_uniform(*f, lattice_over(f->bounds(), 0.37), DiagonalRule::separating, 0, false);
+        }
+    }
+    // Label image, several regions: region tags as in the uniform mesh.
+    ImageLevelSetOptions lab;
+    lab.mode = ImageMode::label;
+    lab.labels = {3, 4, 13};
+    const auto f = make_image_levelset(read_image(path("abdomen_axial_z024_labels16.pgm")), lab);
+    const Lattice l = lattice_over(f->bounds(), 1.0);
+    compare_with_uniform(*f, l, DiagonalRule::separating, 0);
+    const auto g = mesh_graded(*f, l, DiagonalRule::separating, 0);
+    std::map<std::int32_t, double> by_region_g, by_region_u;
+    for (std::size_t t = 0; t < g.mesh.triangles.size(); ++t) by_region_g[g.mesh.region[t]] += cross2(g.mesh, t);
+    const auto u = mesh_uniform(*f, l, DiagonalRule::separating);
+    for (std::size_t t = 0; t < u.mesh.triangles.size(); ++t) by_region_u[u.mesh.region[t]] += cross2(u.mesh, t);
+    BOOST_TEST(by_region_g.size() == by_region_u.size());
+    BOOST_TEST(by_region_g.size() >= 2u);
+}
