@@ -320,6 +320,20 @@ BOOST_AUTO_TEST_CASE(random_analytic_shapes) {
     }
 }
 
+BOOST_AUTO_TEST_CASE(zero_valued_points_and_forced_diagonals_match_the_uniform_mesh) {
+    // f = x + y - 21 vanishes exactly at lattice points: squares with A < 0,
+    // D > 0 and B = C = 0, where the separating rule forces BC on an
+    // unwarped square.  Plus a circle through lattice points (radius 5 about
+    // an integer centre: (3, 4) offsets are exact zeros).
+    Lambda line([](double x, double y) { return x + y - 21.0; }, {0, 0, 48, 40});
+    Lambda round(circle(20, 20, 5), {0, 0, 48, 40});
+    for (auto rule : {DiagonalRule::maxmin, DiagonalRule::separating})
+        for (const LevelSet* f : {static_cast<const LevelSet*>(&line), static_cast<const LevelSet*>(&round)})
+            compare_with_uniform(*f, integer_lattice(48, 40), rule, 0);
+    const auto g = mesh_graded(line, integer_lattice(48, 40), DiagonalRule::separating, 0);
+    BOOST_TEST(g.stats.forced_diagonals > 0);
+}
+
 BOOST_AUTO_TEST_CASE(non_integer_spacing_and_offset) {
     // Lattice points are not integers here: the template check is off, the
     // rest (boundary and area equal to the uniform mesh's) holds exactly.

@@ -95,7 +95,7 @@ Circle::Circle(double cx, double cy, double r) : cx_(cx), cy_(cy), r_(r) {
     require_finite({cx, cy, r}, "circle");
     require(r > 0, "circle: radius must be positive (got " + num(r) + ")");
 }
-double Circle::value(double x, double y) const { return std::hypot(x - cx_, y - cy_) - r_; }
+double Circle::value(double x, double y) const { return std::sqrt((x - cx_) * (x - cx_) + (y - cy_) * (y - cy_)) - r_; }
 Box Circle::bounds() const { return {cx_ - r_, cy_ - r_, cx_ + r_, cy_ + r_}; }
 bool Circle::crossings(Vec2 a, Vec2 b, std::vector<double>& out) const {
     circle_roots(a, b, cx_, cy_, r_, out);
@@ -135,7 +135,7 @@ Annulus::Annulus(double cx, double cy, double r1, double r2) : cx_(cx), cy_(cy),
     require(r1 > 0 && r2 > r1, "annulus: radii must satisfy 0 < r1 < r2 (got " + num(r1) + ", " + num(r2) + ")");
 }
 double Annulus::value(double x, double y) const {
-    const double rho = std::hypot(x - cx_, y - cy_);
+    const double rho = std::sqrt((x - cx_) * (x - cx_) + (y - cy_) * (y - cy_));
     return std::max(r1_ - rho, rho - r2_);
 }
 Box Annulus::bounds() const { return {cx_ - r2_, cy_ - r2_, cx_ + r2_, cy_ + r2_}; }
@@ -162,7 +162,7 @@ Flower::Flower(double cx, double cy, double a, double b, int k) : cx_(cx), cy_(c
 }
 double Flower::value(double x, double y) const {
     const double dx = x - cx_, dy = y - cy_;
-    return std::hypot(dx, dy) - (a_ + b_ * std::cos(k_ * std::atan2(dy, dx)));
+    return std::sqrt(dx * dx + dy * dy) - (a_ + b_ * std::cos(k_ * std::atan2(dy, dx)));
 }
 Box Flower::bounds() const {
     const double R = a_ + std::abs(b_);

@@ -41,15 +41,31 @@ constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
     return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
 }
 
-// Whether the emitted triangles of a square with this code use corner c.
-constexpr bool uses_corner(std::uint8_t code, int c) {
-    for (int k = 0; k < 2; ++k) {
-        if (!(code & (1 << k))) continue;
-        for (int v : triangle_of(code, k))
-            if (v == c) return true;
-    }
-    return false;
-}
+// Whether the emitted triangles of a square with this code use corner c, as a
+// table: bit c of corner_mask[code].
+constexpr std::array<std::uint8_t, 8> corner_mask = [] {
+    std::array<std::uint8_t, 8> m{};
+    for (int code = 0; code < 8; ++code)
+        for (int k = 0; k < 2; ++k)
+            if (code & (1 << k))
+                for (int v : triangle_of(static_cast<std::uint8_t>(code), k)) m[code] |= static_cast<std::uint8_t>(1 << v);
+    return m;
+}();
+constexpr bool uses_corner(std::uint8_t code, int c) { return (corner_mask[code & 7] >> c) & 1; }
+
+// Which triangles a square emits, given its diagonal (bc_bit or 0) and the
+// mask of its inside corners (bit c = corner c): emitted[diagonal][mask].
+constexpr std::array<std::array<std::uint8_t, 16>, 2> emitted = [] {
+    std::array<std::array<std::uint8_t, 16>, 2> e{};
+    for (int d = 0; d < 2; ++d)
+        for (int mask = 0; mask < 16; ++mask)
+            for (int k = 0; k < 2; ++k) {
+                bool all = true;
+                for (int v : triangle_of(static_cast<std::uint8_t>(d ? bc_bit : 0), k)) all = all && ((mask >> v) & 1);
+                if (all) e[d][mask] |= static_cast<std::uint8_t>(1 << k);
+            }
+    return e;
+}();
 
 // Which triangle (0 or 1) of a diagonal holds each side of the square:
 // sides 0 = AB (bottom), 1 = BD (right), 2 = DC (top), 3 = CA (left),
@@ -110,7 +126,8 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                                                  state[static_cast<std::size_t>(p[1])],
                                                  state[static_cast<std::size_t>(p[2])],
                                                  state[static_cast<std::size_t>(p[3])]};
-            const int inside = (st[0] & 1) + (st[1] & 1) + (st[2] & 1) + (st[3] & 1);
+            const int inside = (st[0] & inside_bit) | (st[1] & inside_bit) << 1 | (st[2] & inside_bit) << 2 |
+                               (st[3] & inside_bit) << 3;
             const std::uint8_t any = st[0] | st[1] | st[2] | st[3];
             std::uint8_t c = 0;
             if (any & (warped_bit | zero_bit)) {
@@ -129,13 +146,9 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                 if (warped_square_diagonal(rule, cs, t, &was_forced) == Diagonal::BC) c |= bc_bit;
                 forced += was_forced;
             }
-            if (inside >= 3) {
-                for (int k = 0; k < 2; ++k) {
-                    bool all = true;
-                    for (int v : triangle_of(c, k)) all = all && (st[static_cast<std::size_t>(v)] & inside_bit);
-                    if (all) c |= static_cast<std::uint8_t>(1 << k), ++tris;
-                }
-            }
+            const std::uint8_t e = emitted[(c & bc_bit) != 0][inside];
+            c |= e;
+            tris += (e & 1) + (e >> 1);
             code[static_cast<std::size_t>(i + j * nx)] = c;
         }
         row_tris[static_cast<std::size_t>(j) + 1] = tris;
@@ -233,6 +246,13 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::uint8_t c = code[static_cast<std::size_t>(i + j * nx)];
             if (!(c & (tri0_bit | tri1_bit))) continue;
+            // A full square whose four neighbours are full has no boundary edge.
+            constexpr std::uint8_t full = tri0_bit | tri1_bit;
+            if ((c & full) == full && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny &&
+                (code[static_cast<std::size_t>(i - 1 + j * nx)] & code[static_cast<std::size_t>(i + 1 + j * nx)] &
+                 code[static_cast<std::size_t>(i + (j - 1) * nx)] & code[static_cast<std::size_t>(i + (j + 1) * nx)] &
+                 full) == full)
+                continue;
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
             auto edge = [&](int from, int to, std::int32_t tag) {

@@ -3,8 +3,8 @@
 //
 // Finest leaves are lattice squares and are triangulated exactly as the
 // uniform mesher does: the diagonal by the rule (warped_square_diagonal, the
-// code the prover certifies, wherever a corner is warped; AD on the unwarped
-// unit square, where both diagonals tie), and the triangles whose three
+// code the prover certifies, wherever a corner is warped or zero-valued; AD on
+// the plain unit square, where both diagonals tie), and the triangles whose three
 // corners are inside.  By the quadtree's invariant (graded.hpp) every square
 // with a warped corner is such a leaf, so every warped triangle of the graded
 // mesh is a triangle of a generic square of the proof.
@@ -145,7 +145,11 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
         }
         std::uint8_t c = 0;
         *warped_corner = wp[0] || wp[1] || wp[2] || wp[3];
-        if (*warped_corner) {
+        // As in triangulate.cpp: a warped or zero-valued corner (where the
+        // separating rule may force BC even on the unwarped square) goes to the
+        // certified rule; the plain unit square takes AD.
+        const bool zero_corner = sign(p[0]) == 0 || sign(p[1]) == 0 || sign(p[2]) == 0 || sign(p[3]) == 0;
+        if (*warped_corner || zero_corner) {
             std::array<CornerState, 4> cs{};
             std::array<double, 4> t{};
             for (std::size_t q = 0; q < 4; ++q) {

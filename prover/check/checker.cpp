@@ -1,1 +1,559 @@
-int main(){return 1;}
+// warpmesh-check — independent checker of the angle certificates (proofs/*.cert).
+//
+// Shares no code with the prover or the mesher: it re-derives the consistent
+// keys and their flatness, rebuilds every key's bisection tree from the leaves,
+// re-verifies every leaf with exact rational interval arithmetic, checks the
+// claims and witnesses, and prints the theorem table.  Any failure: exit 1.
+// Format and semantics: proofs/README.md.
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <boost/multiprecision/cpp_int.hpp>
+
+using Q = boost::multiprecision::cpp_rational;
+using Z = boost::multiprecision::cpp_int;
+
+struct Fail {
+    std::string msg;
+};
+[[noreturn]] void fail(const std::string& m) { throw Fail{m}; }
+
+// ---- parsing (hostile input: bounded sizes, digits only) ---------------------
+bool digits(const std::string& s, std::size_t from) {
+    if (s.size() <= from || s.size() - from > 40) return false;
+    for (std::size_t i = from; i < s.size(); ++i)
+        if (s[i] < '0' || s[i] > '9') return false;
+    return true;
+}
+Z parse_int(const std::string& s) {
+    if (!digits(s, s.size() && s[0] == '-' ? 1 : 0)) fail("bad integer '" + s.substr(0, 60) + "'");
+    return Z(s);
+}
+Q parse_q(const std::string& s) {
+    const auto slash = s.find('/');
+    if (slash == std::string::npos) return Q(parse_int(s));
+    const Z d = parse_int(s.substr(slash + 1));
+    if (d <= 0) fail("bad denominator in '" + s.substr(0, 60) + "'");
+    return Q(parse_int(s.substr(0, slash)), d);
+}
+long small_int(const std::string& s, long lo, long hi) {
+    const Z z = parse_int(s);
+    if (z < lo || z > hi) fail("integer out of range: '" + s.substr(0, 60) + "'");
+    return z.convert_to<long>();
+}
+
+// ---- configurations ------------------------------------------------------------
+// Corner c at (c%2, c/2); warp 0 stay, 1 +x, 2 -x, 3 +y, 4 -y.
+struct St {
+    int sign, warp;
+};
+const int DX[5] = {0, 1, -1, 0, 0}, DY[5] = {0, 0, 0, 1, -1};
+const char WCH[5] = {'s', 'R', 'L', 'U', 'D'};
+int target_corner(int c, int w) {  // corner reached by an inward slide, else -1
+    const int x = c % 2 + DX[w], y = c / 2 + DY[w];
+    return (w == 0 || x < 0 || x > 1 || y < 0 || y > 1) ? -1 : x + 2 * y;
+}
+bool consistent(const std::array<St, 4>& k) {
+    for (int c = 0; c < 4; ++c) {
+        if (k[c].warp == 0) continue;
+        if (k[c].sign == 0) return false;
+        const int n = target_corner(c, k[c].warp);
+        if (n >= 0 && (k[n].sign != -k[c].sign || target_corner(n, k[n].warp) == c)) return false;
+    }
+    const int E[4][2] = {{0, 1}, {1, 3}, {3, 2}, {2, 0}};
+    for (auto& e : E)
+        if (k[e[0]].sign != 0 && k[e[0]].sign == -k[e[1]].sign && !k[e[0]].warp && !k[e[1]].warp) return false;
+    return true;
+}
+std::string code(const std::array<St, 4>& k) {
+    std::string s;
+    for (auto& x : k) s += std::string(1, "-0+"[x.sign + 1]) + WCH[x.warp];
+    return s;
+}
+// Flat-compatible: some a x + b y + c has the corner signs and the opposite
+// sign at the outside neighbour of every outward slide.  By homogeneity, strict
+// signs become s (a x + b y + c) >= 1; zeros stay = 0.  A non-empty polyhedron
+// contains a point solving 3 independent rows taken among its constraints made
+// tight and the coordinate rows w_j = 0, so trying all such 3x3 systems
+// (Cramer, integers) decides feasibility exactly.
+bool flat(const std::array<St, 4>& k) {
+    std::vector<std::array<long, 4>> rows;  // r . w (>= if r[3] = 1, == if r[3] = 0) r[3]
+    for (int c = 0; c < 4; ++c) {
+        const long x = c % 2, y = c / 2, s = k[c].sign;
+        rows.push_back({s * x, s * y, s, s != 0});
+        if (k[c].warp && target_corner(c, k[c].warp) < 0)
+            rows.push_back({-s * (x + DX[k[c].warp]), -s * (y + DY[k[c].warp]), -s, 1});
+    }
+    std::vector<std::array<long, 4>> cand = rows;
+    cand.push_back({1, 0, 0, 0}), cand.push_back({0, 1, 0, 0}), cand.push_back({0, 0, 1, 0});
+    auto det = [](const std::array<long, 4>& a, const std::array<long, 4>& b, const std::array<long, 4>& c, int col) {
+        auto e = [&](const std::array<long, 4>& r, int j) { return j == col ? r[3] : r[j]; };
+        return e(a, 0) * (e(b, 1) * e(c, 2) - e(b, 2) * e(c, 1)) - e(a, 1) * (e(b, 0) * e(c, 2) - e(b, 2) * e(c, 0)) +
+               e(a, 2) * (e(b, 0) * e(c, 1) - e(b, 1) * e(c, 0));
+    };
+    for (std::size_t i = 0; i < cand.size(); ++i)
+        for (std::size_t j = i + 1; j < cand.size(); ++j)
+            for (std::size_t l = j + 1; l < cand.size(); ++l) {
+                const long D = det(cand[i], cand[j], cand[l], -1);
+                if (D == 0) continue;
+                const long N[3] = {det(cand[i], cand[j], cand[l], 0), det(cand[i], cand[j], cand[l], 1),
+                                   det(cand[i], cand[j], cand[l], 2)};
+                bool ok = true;  // w = N / D
+                for (auto& r : rows) {
+                    const long v = r[0] * N[0] + r[1] * N[1] + r[2] * N[2];
+                    ok = ok && (r[3] ? (D > 0 ? v >= D : v <= D) : v == 0);
+                }
+                if (ok) return true;
+            }
+    return false;
+}
+// Separating rule: opposite corners both staying with opposite non-zero signs
+// force the other diagonal.  Returns 0 none, 1 AD, 2 BC.
+int forced(const std::array<St, 4>& k) {
+    auto ss = [&](int c) { return k[c].warp == 0 && k[c].sign != 0; };
+    if (ss(0) && ss(3) && k[0].sign == -k[3].sign) return 2;
+    if (ss(1) && ss(2) && k[1].sign == -k[2].sign) return 1;
+    return 0;
+}
+
+// ---- exact interval arithmetic with derivatives ---------------------------------
+struct R {
+    Q lo, hi;
+};
+R operator+(const R& a, const R& b) { return {a.lo + b.lo, a.hi + b.hi}; }
+R operator-(const R& a, const R& b) { return {a.lo - b.hi, a.hi - b.lo}; }
+R operator*(const R& a, const R& b) {
+    const Q p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+    R r{p[0], p[0]};
+    for (const Q& x : p) r.lo = x < r.lo ? x : r.lo, r.hi = x > r.hi ? x : r.hi;
+    return r;
+}
+R quot(const R& a, const R& b) {  // b > 0
+    const Q p[4] = {a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi};
+    R r{p[0], p[0]};
+    for (const Q& x : p) r.lo = x < r.lo ? x : r.lo, r.hi = x > r.hi ? x : r.hi;
+    return r;
+}
+struct D {  // value and partial derivatives in the key's variables
+    R v;
+    std::array<R, 4> d;
+};
+D operator+(const D& a, const D& b) {
+    D r{a.v + b.v, {}};
+    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] + b.d[i];
+    return r;
+}
+D operator-(const D& a, const D& b) {
+    D r{a.v - b.v, {}};
+    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] - b.d[i];
+    return r;
+}
+D operator*(const D& a, const D& b) {
+    D r{a.v * b.v, {}};
+    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    return r;
+}
+D cst(const Q& q) { return D{{q, q}, {R{0, 0}, R{0, 0}, R{0, 0}, R{0, 0}}}; }
+
+using Box = std::vector<R>;  // one interval per warped corner (in corner order)
+struct Tri {
+    D cross;
+    std::array<D, 3> dot;
+};
+const int TRI[2][2][3] = {{{0, 1, 3}, {0, 3, 2}}, {{0, 1, 2}, {1, 3, 2}}};  // AD, BC
+
+struct Key {
+    std::array<St, 4> s;
+    std::vector<int> vars;
+    std::array<D, 2> pos[4];
+    void positions(const Box& b) {
+        for (int c = 0; c < 4; ++c) {
+            D t = cst(0);
+            for (std::size_t j = 0; j < vars.size(); ++j)
+                if (vars[j] == c) t.v = b[j], t.d[j] = R{1, 1};
+            pos[c][0] = cst(c % 2), pos[c][1] = cst(c / 2);
+            if (DX[s[c].warp]) pos[c][0] = pos[c][0] + cst(DX[s[c].warp]) * t;
+            if (DY[s[c].warp]) pos[c][1] = pos[c][1] + cst(DY[s[c].warp]) * t;
+        }
+    }
+    Tri tri(int diag, int k) const {
+        const int* v = TRI[diag][k];
+        Tri t;
+        for (int i = 0; i < 3; ++i) {
+            const auto &o = pos[v[i]], &q = pos[v[(i + 1) % 3]], &r = pos[v[(i + 2) % 3]];
+            const D ux = q[0] - o[0], uy = q[1] - o[1], vx = r[0] - o[0], vy = r[1] - o[1];
+            t.dot[i] = ux * vx + uy * vy;
+            if (i == 0) t.cross = ux * vy - uy * vx;
+        }
+        return t;
+    }
+};
+
+// Form f of a triangle: 0 cross > 0; 1..3 qmin cross - dot >= 0; 4..6 dot - qmax cross >= 0.
+D form(const Tri& t, int f, const Q& qmin, const Q& qmax) {
+    if (f == 0) return t.cross;
+    if (f <= 3) return cst(qmin) * t.cross - t.dot[f - 1];
+    return t.dot[f - 4] - cst(qmax) * t.cross;
+}
+// The form holds on the box: evaluate; while undecided, fix every variable with
+// a sign-definite partial derivative at the end where the form is smallest.
+bool verify_form(Key& k, Box b, int diag, int tri, int f, const Q& qmin, const Q& qmax) {
+    for (;;) {
+        k.positions(b);
+        const D g = form(k.tri(diag, tri), f, qmin, qmax);
+        if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
+        bool fixed = false;
+        for (std::size_t j = 0; j < b.size(); ++j) {
+            if (b[j].lo == b[j].hi) continue;
+            if (g.d[j].lo >= 0) b[j].hi = b[j].lo, fixed = true;
+            else if (g.d[j].hi <= 0) b[j].lo = b[j].hi, fixed = true;
+        }
+        if (!fixed) return false;
+    }
+}
+// q(diag) = max over its triangles of max_i dot_i / cross (crosses > 0 required).
+bool valid_q(Key& k, int diag, R& q) {
+    for (int t = 0; t < 2; ++t) {
+        const Tri tr = k.tri(diag, t);
+        if (!(tr.cross.v.lo > 0)) return false;
+        R m = tr.dot[0].v;
+        for (int i = 1; i < 3; ++i)
+            m.lo = std::max(m.lo, tr.dot[i].v.lo), m.hi = std::max(m.hi, tr.dot[i].v.hi);
+        const R r = quot(m, tr.cross.v);
+        if (t == 0) q = r;
+        else q.lo = std::max(q.lo, r.lo), q.hi = std::max(q.hi, r.hi);
+    }
+    return true;
+}
+bool invalid(Key& k, int diag) { return !(k.tri(diag, 0).cross.v.hi > 0) || !(k.tri(diag, 1).cross.v.hi > 0); }
+// The max-min rule takes `win` (0 AD, 1 BC) on the whole box.  Positions must be set.
+bool decided(Key& k, int win, bool threshold, const Q& h) {
+    const int other = 1 - win;
+    if (threshold) {  // win valid, q(win) <= h, and some dot_i - h cross > 0 on the other diagonal
+        for (int t = 0; t < 2; ++t) {
+            const Tri tr = k.tri(win, t);
+            if (!(tr.cross.v.lo > 0)) return false;
+            for (auto& d : tr.dot)
+                if (quot(d.v, tr.cross.v).hi > h) return false;
+        }
+        for (int t = 0; t < 2; ++t) {
+            const Tri tr = k.tri(other, t);
+            for (auto& d : tr.dot)
+                if ((d.v - R{h, h} * tr.cross.v).lo > 0) return true;
+        }
+        return false;
+    }
+    R qa, qb;
+    if (win == 0) {  // BC invalid, or both valid with q(BC) >= q(AD)
+        if (invalid(k, 1)) return true;
+        return valid_q(k, 0, qa) && valid_q(k, 1, qb) && qb.lo >= qa.hi;
+    }
+    if (!valid_q(k, 1, qb)) return false;  // BC valid, and AD invalid or q(BC) < q(AD)
+    return invalid(k, 0) || (valid_q(k, 0, qa) && qb.hi < qa.lo);
+}
+
+// ---- exact point evaluation (witnesses) -------------------------------------------
+struct PointVal {
+    bool valid;
+    Q qmin, qmax;  // largest and smallest cot of the chosen triangles' angles
+};
+PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
+    Box b;
+    for (auto& x : t) b.push_back(R{x, x});
+    k.positions(b);
+    int diag = separating && forced(k.s) ? forced(k.s) - 1 : -1;
+    if (diag < 0) {
+        R qa, qb;
+        const bool va = valid_q(k, 0, qa), vb = valid_q(k, 1, qb);
+        diag = vb && (!va || qb.lo < qa.lo) ? 1 : 0;
+    }
+    PointVal p{true, 0, 0};
+    bool first = true;
+    for (int t = 0; t < 2; ++t) {
+        const Tri tr = k.tri(diag, t);
+        if (tr.cross.v.lo <= 0) {
+            p.valid = false;
+            continue;
+        }
+        for (auto& d : tr.dot) {
+            const Q c = d.v.lo / tr.cross.v.lo;
+            if (first || c > p.qmin) p.qmin = c;
+            if (first || c < p.qmax) p.qmax = c;
+            first = false;
+        }
+    }
+    return p;
+}
+
+// ---- rigorous degrees for the report ------------------------------------------------
+R atan_ser(const Q& z) {  // |z| <= 1/2, alternating series, error < next term
+    Q s = 0, p = z;
+    for (int n = 0; n < 40; ++n, p *= z * z) s += (n % 2 ? -p : p) / (2 * n + 1);
+    const Q e = abs(p) / 81;
+    return {s - e, s + e};
+}
+R deg(const Q& cot) {  // the angle in degrees whose cotangent is cot
+    const R a5 = atan_ser(Q(1, 5)), a239 = atan_ser(Q(1, 239));
+    const R pi{16 * a5.lo - 4 * a239.hi, 16 * a5.hi - 4 * a239.lo};
+    if (cot == 0) return {90, 90};
+    const Q y = 1 / abs(cot);
+    R a;  // atan(y) / pi
+    if (y <= Q(1, 2)) a = atan_ser(y), a = {a.lo / pi.hi, a.hi / pi.lo};
+    else if (y <= 2) {
+        const R s = atan_ser((y - 1) / (y + 1));
+        a = {Q(1, 4) + std::min(s.lo / pi.hi, s.lo / pi.lo), Q(1, 4) + std::max(s.hi / pi.lo, s.hi / pi.hi)};
+    } else {
+        const R s = atan_ser(1 / y);
+        a = {Q(1, 2) - s.hi / pi.lo, Q(1, 2) - s.lo / pi.hi};
+    }
+    return cot > 0 ? R{180 * a.lo, 180 * a.hi} : R{180 - 180 * a.hi, 180 - 180 * a.lo};
+}
+std::string dec(const Q& q, bool up) {  // 10 decimals, rounded outward
+    const Q s = q * 10000000000LL;
+    Z n = numerator(s) / denominator(s);
+    if (Q(n) > s) n -= 1;
+    if (up && Q(n) < s) n += 1;
+    std::string d = (n < 0 ? -n : n).str();
+    while (d.size() < 11) d = "0" + d;
+    return std::string(n < 0 ? "-" : "") + d.substr(0, d.size() - 10) + "." + d.substr(d.size() - 10);
+}
+std::string degs(const Q& cot) {
+    const R r = deg(cot);
+    return "[" + dec(r.lo, false) + ", " + dec(r.hi, true) + "] deg";
+}
+
+// ---- certificate -----------------------------------------------------------------------
+struct Reader {
+    std::vector<std::vector<std::string>> lines;
+    std::size_t at = 0;
+    const std::vector<std::string>& next(const char* what) {
+        if (at >= lines.size()) fail(std::string("truncated: expected ") + what);
+        return lines[at++];
+    }
+};
+
+struct Cover {  // rebuilds the bisection tree: widest side first (lowest index on ties), halves in order
+    Key& k;
+    bool sep;
+    Q qmin, qmax;
+    Reader& rd;
+    long remaining;
+    long leaves = 0;
+    void leaf_or_split(const Box& b, int depth) {
+        if (depth > 260) fail("key " + code(k.s) + ": leaves do not tile the box");
+        if (remaining <= 0) fail("key " + code(k.s) + ": missing leaves");
+        const auto& L = rd.lines[rd.at];
+        const std::size_t m = k.vars.size();
+        if (L.size() < 2 + 2 * m || L[0].size() != 1) fail("key " + code(k.s) + ": malformed leaf");
+        const long e = small_int(L[1], 0, 62);
+        const Q den = Q(Z(1) << e);
+        Box lb(m);
+        for (std::size_t j = 0; j < m; ++j)
+            lb[j] = R{parse_q(L[2 + 2 * j]) / den, parse_q(L[3 + 2 * j]) / den};
+        bool equal = true, inside = true;
+        for (std::size_t j = 0; j < m; ++j) {
+            equal = equal && lb[j].lo == b[j].lo && lb[j].hi == b[j].hi;
+            inside = inside && lb[j].lo >= b[j].lo && lb[j].hi <= b[j].hi && lb[j].lo < lb[j].hi;
+        }
+        if (equal) {
+            ++rd.at, --remaining, ++leaves;
+            verify_leaf(L, b);
+            return;
+        }
+        if (!inside) fail("key " + code(k.s) + ": leaf " + std::to_string(leaves) + " does not tile the box");
+        std::size_t s = 0;
+        for (std::size_t j = 1; j < m; ++j)
+            if (b[j].hi - b[j].lo > b[s].hi - b[s].lo) s = j;
+        const Q mid = (b[s].lo + b[s].hi) / 2;
+        Box l = b, r = b;
+        l[s].hi = mid, r[s].lo = mid;
+        leaf_or_split(l, depth + 1);
+        leaf_or_split(r, depth + 1);
+    }
+    void verify_leaf(const std::vector<std::string>& L, const Box& b) {
+        const char c = L[0][0];
+        const std::size_t m = k.vars.size();
+        const bool thr = c == 'a' || c == 'b';
+        if (L.size() != 2 + 2 * m + (thr ? 1 : 0)) fail("key " + code(k.s) + ": malformed leaf");
+        if (c != 'A' && c != 'B' && c != 'X' && !thr) fail("key " + code(k.s) + ": bad diagonal tag");
+        const std::string where = "key " + code(k.s) + " leaf " + std::to_string(leaves) + ": ";
+        const int f = sep ? forced(k.s) : 0;
+        k.positions(b);
+        if (f && !(c == "?AB"[f])) fail(where + "separating rule forces the other diagonal");
+        if (!f && c != 'X' && !decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? parse_q(L.back()) : Q(0)))
+            fail(where + "claimed diagonal is not decided on the box");
+        for (int diag = 0; diag < 2; ++diag) {
+            if (c != 'X' && diag != ((c == 'B' || c == 'b') ? 1 : 0)) continue;
+            for (int t = 0; t < 2; ++t)
+                for (int form = 0; form < 7; ++form)
+                    if (!verify_form(k, b, diag, t, form, qmin, qmax))
+                        fail(where + (form == 0 ? "orientation" : form <= 3 ? "min-angle" : "max-angle") +
+                             " inequality not verified");
+        }
+    }
+};
+
+int check_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot read " + path);
+    Reader rd;
+    std::string line;
+    std::size_t bytes = 0;
+    while (std::getline(in, line)) {
+        bytes += line.size() + 1;
+        if (bytes > (std::size_t(256) << 20) || line.size() > 4096) fail("certificate too large");
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream ss(line);
+        std::vector<std::string> tok;
+        for (std::string t; ss >> t;) tok.push_back(t);
+        if (tok.size() > 40) fail("line too long");
+        rd.lines.push_back(tok);
+    }
+    auto expect = [&](const std::vector<std::string>& l, const std::string& w, std::size_t n) {
+        if (l.empty() || l[0] != w || l.size() != n) fail("expected '" + w + "' line");
+    };
+    expect(rd.next("header"), "warpmesh-certificate", 2);
+    if (rd.lines[0][1] != "1") fail("unknown version");
+    const auto& rl = rd.next("rule");
+    expect(rl, "rule", 2);
+    if (rl[1] != "maxmin" && rl[1] != "separating") fail("unknown rule");
+    const bool sep = rl[1] == "separating";
+    // Own enumeration of the consistent keys, in canonical order.
+    std::vector<std::array<St, 4>> keys;
+    for (int i = 0; i < 14641; ++i) {
+        std::array<St, 4> k;
+        for (int c = 3, r = i; c >= 0; --c, r /= 11) k[c] = r % 11 == 0 ? St{0, 0} : St{r % 11 <= 5 ? -1 : 1, (r % 11 - 1) % 5};
+        if (consistent(k)) keys.push_back(k);
+    }
+    struct Claim {
+        bool present = false, inverted = false;
+        Q qmin, qmax;
+    } claim[2];
+    struct Wit {
+        int cat;
+        std::string kind, code;
+        std::vector<Q> t;
+        Q value;
+    };
+    std::vector<Wit> wits;
+    while (rd.at < rd.lines.size() && (rd.lines[rd.at][0] == "claim" || rd.lines[rd.at][0] == "witness")) {
+        const auto& l = rd.next("claim");
+        if (l.size() < 3 || (l[1] != "U" && l[1] != "F")) fail("bad claim/witness line");
+        const int c = l[1] == "F";
+        if (l[0] == "claim") {
+            if (claim[c].present) fail("duplicate claim");
+            claim[c].present = true;
+            if (l.size() == 3 && l[2] == "inverted") claim[c].inverted = true;
+            else if (l.size() == 4) claim[c].qmin = parse_q(l[2]), claim[c].qmax = parse_q(l[3]);
+            else fail("bad claim line");
+        } else {
+            if (l.size() < 4 || l.size() > 9) fail("bad witness line");
+            Wit w{c, l[2], l[3], {}, 0};
+            const std::size_t nt = l.size() - 4 - (w.kind == "inverted" ? 0 : 1);
+            for (std::size_t j = 0; j < nt; ++j) w.t.push_back(parse_q(l[4 + j]));
+            if (w.kind != "inverted") w.value = parse_q(l.back());
+            wits.push_back(w);
+        }
+    }
+    if (!claim[0].present || !claim[1].present) fail("missing claims");
+    const auto& kl = rd.next("keys");
+    expect(kl, "keys", 2);
+    if (small_int(kl[1], 0, 1000000) != static_cast<long>(keys.size())) fail("key count differs from the enumeration");
+    Q agg_min[2] = {-1000000, -1000000}, agg_max[2] = {1000000, 1000000};
+    bool any_inv[2] = {false, false};
+    long total_leaves = 0, nflat = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const auto& h = rd.next("key");
+        if (h.size() < 6 || h[0] != "key") fail("expected key line");
+        Key k{keys[i], {}, {}};
+        for (int c = 0; c < 4; ++c)
+            if (k.s[c].warp) k.vars.push_back(c);
+        if (small_int(h[1], 0, 14641) < 0 || h[2] != code(k.s)) fail("key " + std::to_string(i) + " is not " + code(k.s));
+        const bool fl = flat(k.s);
+        nflat += fl;
+        if (small_int(h[3], 0, 1) != fl) fail("key " + code(k.s) + ": flatness flag differs");
+        if (small_int(h[4], 0, 4) != static_cast<long>(k.vars.size())) fail("key " + code(k.s) + ": dimension");
+        if (h.size() == 6 && h[5] == "inverted") {
+            any_inv[0] = true, any_inv[1] = any_inv[1] || fl;
+            continue;
+        }
+        if (h.size() != 8) fail("malformed key line");
+        Cover cv{k, sep, parse_q(h[5]), parse_q(h[6]), rd, small_int(h[7], 1, 50000000)};
+        Box root(k.vars.size(), R{0, Q(1, 2)});
+        cv.leaf_or_split(root, 0);
+        if (cv.remaining != 0) fail("key " + code(k.s) + ": extra leaves");
+        total_leaves += cv.leaves;
+        for (int c = 0; c < 1 + fl; ++c)
+            agg_min[c] = std::max(agg_min[c], cv.qmin), agg_max[c] = std::min(agg_max[c], cv.qmax);
+    }
+    const auto& e = rd.next("end");
+    expect(e, "end", 1);
+    if (rd.at != rd.lines.size()) fail("data after end");
+    const char* cname[2] = {"U (all consistent configurations)", "F (flat stencils)"};
+    std::cout << path << ": rule " << rl[1] << ", " << keys.size() << " keys (" << nflat << " flat-compatible), "
+              << total_leaves << " leaves verified\n";
+    for (int c = 0; c < 2; ++c) {
+        if (claim[c].inverted != any_inv[c]) fail(std::string("claim ") + "UF"[c] + ": inverted status is wrong");
+        if (!claim[c].inverted && (agg_min[c] > claim[c].qmin || agg_max[c] < claim[c].qmax))
+            fail(std::string("claim ") + "UF"[c] + " does not follow from the key claims");
+        if (claim[c].inverted) std::cout << "  " << cname[c] << ": NOT all triangles positively oriented\n";
+        else
+            std::cout << "  " << cname[c] << ": every angle in " << degs(claim[c].qmin).substr(0, 13) << ".."
+                      << " and <= " << degs(claim[c].qmax) << " (cot <= " << claim[c].qmin << ", cot >= "
+                      << claim[c].qmax << "); min angle >= " << degs(claim[c].qmin)
+                      << "; both triangles positively oriented\n";
+    }
+    for (const Wit& w : wits) {
+        std::size_t i = 0;
+        while (i < keys.size() && code(keys[i]) != w.code) ++i;
+        if (i == keys.size()) fail("witness key " + w.code.substr(0, 20) + " is not a consistent key");
+        Key k{keys[i], {}, {}};
+        for (int c = 0; c < 4; ++c)
+            if (k.s[c].warp) k.vars.push_back(c);
+        if (w.cat == 1 && !flat(k.s)) fail("flat witness on a key that is not flat-compatible");
+        if (w.t.size() != k.vars.size()) fail("witness has the wrong number of t values");
+        for (const Q& x : w.t)
+            if (x < 0 || x > Q(1, 2)) fail("witness t outside [0, 1/2]");
+        const PointVal p = at_point(k, sep, w.t);
+        std::cout << "  witness " << "UF"[w.cat] << " " << w.kind << " " << w.code << ": ";
+        if (w.kind == "inverted") {
+            if (p.valid) fail("inverted witness is not inverted");
+            std::cout << "the chosen diagonal has a triangle with cross <= 0 (exact)\n";
+            continue;
+        }
+        if (!p.valid) fail("witness is inverted");
+        const Q v = w.kind == "min" ? p.qmin : p.qmax;
+        if (v != w.value || (w.kind != "min" && w.kind != "max")) fail("witness value differs from exact evaluation");
+        const Q bound = w.kind == "min" ? claim[w.cat].qmin : claim[w.cat].qmax;
+        const R a = deg(v), bd = deg(bound);
+        std::cout << "angle " << degs(v) << " (cot " << v.convert_to<double>() << "), claim " << degs(bound)
+                  << ", gap <= " << dec(w.kind == "min" ? a.hi - bd.lo : bd.hi - a.lo, true) << " deg\n";
+    }
+    return 0;
+}
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::cerr << "usage: warpmesh-check FILE.cert...\n";
+        return 2;
+    }
+    int status = 0;
+    for (int i = 1; i < argc; ++i) {
+        try {
+            check_file(argv[i]);
+        } catch (const Fail& f) {
+            std::cerr << argv[i] << ": REJECTED: " << f.msg << "\n";
+            status = 1;
+        } catch (const std::exception& e) {
+            std::cerr << argv[i] << ": REJECTED: " << e.what() << "\n";
+            status = 1;
+        }
+    }
+    if (status == 0) std::cout << "all certificates verified\n";
+    return status;
+}

@@ -149,7 +149,7 @@ QuadtreeCheck check_quadtree(const Quadtree& tree, std::span<const std::int8_t> 
 
 // Triangles of the leaves.  Finest leaves: the square's diagonal by `rule`
 // exactly as the uniform triangulation (warped_square_diagonal where a corner
-// is warped, AD otherwise) and the triangles with three inside corners.
+// is warped or zero-valued, AD otherwise) and the triangles with three inside corners.
 // Coarse inside leaves: AD if no side is split; otherwise the centre template
 // (centre joined to the corners and to the split sides' midpoints).  Vertices
 // compacted in lattice-point order, boundary edges oriented with the region on

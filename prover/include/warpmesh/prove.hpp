@@ -48,6 +48,7 @@ struct KeyProof {
     bool ok = false;
     std::vector<Leaf> leaves;
     std::array<double, 4> fail_point{};  // centre of a box that could not be certified
+    int fail_kind = 0;                   // what failed there: 0 orientation, 1 min angle, 2 max angle
 };
 
 // Branch and bound over the key's t-box: every angle of the chosen triangles
