@@ -33,7 +33,7 @@ void check_mesh_arrays(const Mesh& mesh, const std::string& path) {
 
 namespace {
 
-enum class Format { vtu, msh, triangle, svg };
+enum class Format { vtu, msh, triangle, svg, png };
 
 // The format named by the (case-insensitive) extension of `path`.
 Format output_format(const std::string& path) {
@@ -43,8 +43,15 @@ Format output_format(const std::string& path) {
     if (ext == ".msh") return Format::msh;
     if (ext == ".node" || ext == ".ele" || ext == ".poly") return Format::triangle;
     if (ext == ".svg") return Format::svg;
+    if (ext == ".png") {
+#ifdef WARPMESH_HAVE_PNG
+        return Format::png;
+#else
+        throw OutputError("cannot write '" + path + "': PNG output needs libpng, which was not found at build time");
+#endif
+    }
     throw OutputError("cannot write '" + path + "': unknown output format '" + ext +
-                      "' (supported: .vtu, .msh, .node/.ele, .svg)");
+                      "' (supported: .vtu, .msh, .node/.ele, .svg, .png)");
 }
 
 }  // namespace
@@ -63,6 +70,12 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
         case Format::msh: write_msh(mesh, path); break;
         case Format::triangle: write_triangle(mesh, path); break;
         case Format::svg: write_svg(mesh, path, options.svg); break;
+        case Format::png: {
+            PngOptions png = options.png;
+            if (options.svg.color_by_min_angle) png.color_by_min_angle = true;
+            write_png(mesh, path, png);
+            break;
+        }
     }
 }
 

@@ -4,6 +4,7 @@
 //   write_msh.cpp      → Gmsh MSH 4.1 ASCII (.msh)
 //   write_triangle.cpp → Triangle's .node/.ele (+ .poly with the boundary)
 //   write_svg.cpp      → an SVG picture
+//   write_png.cpp      → a PNG picture (libpng), anti-aliased, for figures
 //
 // Every file is written atomically (atomic_file.hpp): on failure nothing
 // appears under the requested name and OutputError (declared in
@@ -36,12 +37,40 @@ struct SvgOptions {
     bool draw_edges = true;
 };
 
+struct PngOptions {
+    // Size of the picture's long side, in px, legend excluded (the legend adds
+    // columns on the right).  The mesh's aspect ratio is kept.
+    int long_side_px = 1600;
+    // Samples per pixel along each axis (anti-aliasing by supersampling): the
+    // picture is rendered at supersample x supersample samples per pixel and
+    // box-filtered down.  1 to 8.
+    int supersample = 4;
+    // Fill each triangle by its minimum angle (0° red … 60° green), with a
+    // colour-bar legend.
+    bool color_by_min_angle = false;
+    // Fill each triangle by this mesh.cell_data array (its finite min … max
+    // range; non-finite values grey), with a legend; takes precedence over
+    // color_by_min_angle.  An unknown name is an OutputError.
+    std::string color_by_cell_data;
+    // Draw the interior edges (thin, dark).  They fade out by themselves when
+    // the triangles are only a few pixels wide.
+    bool draw_edges = true;
+    // Label the legend (title, minimum, middle, maximum) with a built-in
+    // 5x7 bitmap font.
+    bool legend_labels = true;
+};
+
 struct WriteOptions {
     SvgOptions svg;
+    // .png pictures.  The dispatcher also colours the PNG by minimum angle when
+    // svg.color_by_min_angle is set (the CLI's --svg-color minangle), so that
+    // one option colours every picture.
+    PngOptions png;
 };
 
 // Chooses the format by the (case-insensitive) extension of `path`: .vtu,
-// .msh, .node or .ele (both are written, plus .poly, with the same stem), .svg.
+// .msh, .node or .ele (both are written, plus .poly, with the same stem), .svg,
+// .png.
 // Anything else is an OutputError listing the supported extensions.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
 
@@ -74,6 +103,15 @@ void write_triangle_poly(const Mesh& mesh, std::ostream& out);
 // by tag (level set: red, lattice border: blue), y flipped so that y-up is up.
 void write_svg(const Mesh& mesh, const std::string& path, const SvgOptions& options = {});
 void write_svg(const Mesh& mesh, std::ostream& out, const SvgOptions& options = {});
+
+// PNG picture (8-bit RGB), drawn with libpng: white background, light triangle
+// fill (or a colour by minimum angle / cell data, with a colour bar on the
+// right), thin dark interior edges, boundary edges thicker and coloured by tag
+// (level set: red, lattice border: blue); y up.  Anti-aliased by
+// supersampling.  Throws OutputError if the build has no libpng
+// (WARPMESH_HAVE_PNG) or on any failure; written atomically.
+void write_png(const Mesh& mesh, const std::string& path, const PngOptions& options = {});
+void write_png(const Mesh& mesh, std::ostream& out, const PngOptions& options = {});
 
 namespace detail {
 
