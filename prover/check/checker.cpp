@@ -85,7 +85,7 @@ bool flat(const std::array<St, 4>& k) {
     std::vector<std::array<long, 4>> rows;  // r . w (>= if r[3] = 1, == if r[3] = 0) r[3]
     for (int c = 0; c < 4; ++c) {
         const long x = c % 2, y = c / 2, s = k[c].sign;
-        rows.push_back({s * x, s * y, s, s != 0});
+        rows.push_back(s != 0 ? std::array<long, 4>{s * x, s * y, s, 1} : std::array<long, 4>{x, y, 1, 0});
         if (k[c].warp && target_corner(c, k[c].warp) < 0)
             rows.push_back({-s * (x + DX[k[c].warp]), -s * (y + DY[k[c].warp]), -s, 1});
     }
@@ -122,43 +122,89 @@ int forced(const std::array<St, 4>& k) {
 }
 
 // ---- exact interval arithmetic with derivatives ---------------------------------
-struct R {
+// Boxes and claims are dyadic, and the forms use only + - *, so they are
+// evaluated exactly on dyadic numbers m 2^e (no gcd: fast); divisions (the
+// rule's quality comparisons, witnesses, degrees) use rationals.
+struct N {
+    Z m;
+    long e = 0;
+    N() = default;
+    N(int v) : m(v) {}
+    N(Z mm, long ee) : m(std::move(mm)), e(ee) {}
+};
+N align(const N& a, long e) { return N(a.m << static_cast<unsigned>(a.e - e), e); }
+N operator+(const N& a, const N& b) {
+    if (a.e == b.e) return N(a.m + b.m, a.e);
+    return a.e < b.e ? N(a.m + align(b, a.e).m, a.e) : N(align(a, b.e).m + b.m, b.e);
+}
+N operator-(const N& a) { return N(-a.m, a.e); }
+N operator-(const N& a, const N& b) { return a + (-b); }
+N operator*(const N& a, const N& b) {
+    if (a.m == 0 || b.m == 0) return N(0);
+    if (a.e + b.e < -4000) fail("number too small");
+    return N(a.m * b.m, a.e + b.e);
+}
+int cmp(const N& a, const N& b) {
+    const N d = a - b;
+    return d.m > 0 ? 1 : d.m < 0 ? -1 : 0;
+}
+bool operator<(const N& a, const N& b) { return cmp(a, b) < 0; }
+bool operator>(const N& a, const N& b) { return cmp(a, b) > 0; }
+bool operator<=(const N& a, const N& b) { return cmp(a, b) <= 0; }
+bool operator>=(const N& a, const N& b) { return cmp(a, b) >= 0; }
+bool operator==(const N& a, const N& b) { return cmp(a, b) == 0; }
+Q toQ(const N& a) {
+    if (a.e >= 0) return Q(a.m << static_cast<unsigned>(a.e));
+    return Q(a.m, Z(1) << static_cast<unsigned>(-a.e));
+}
+N dyadic(const Q& q) {  // exact, or rejected
+    const Z d = denominator(q);
+    if ((d & (d - 1)) != 0) fail("number is not dyadic");
+    return N(numerator(q), -static_cast<long>(msb(d)));
+}
+struct RQ {
     Q lo, hi;
+};
+struct R {
+    N lo, hi;
 };
 R operator+(const R& a, const R& b) { return {a.lo + b.lo, a.hi + b.hi}; }
 R operator-(const R& a, const R& b) { return {a.lo - b.hi, a.hi - b.lo}; }
 R operator*(const R& a, const R& b) {
-    const Q p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+    const N p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
     R r{p[0], p[0]};
+    for (const N& x : p) r.lo = x < r.lo ? x : r.lo, r.hi = x > r.hi ? x : r.hi;
+    return r;
+}
+RQ quot(const R& a, const R& b) {  // b > 0
+    const Q al = toQ(a.lo), ah = toQ(a.hi), bl = toQ(b.lo), bh = toQ(b.hi);
+    const Q p[4] = {al / bl, al / bh, ah / bl, ah / bh};
+    RQ r{p[0], p[0]};
     for (const Q& x : p) r.lo = x < r.lo ? x : r.lo, r.hi = x > r.hi ? x : r.hi;
     return r;
 }
-R quot(const R& a, const R& b) {  // b > 0
-    const Q p[4] = {a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi};
-    R r{p[0], p[0]};
-    for (const Q& x : p) r.lo = x < r.lo ? x : r.lo, r.hi = x > r.hi ? x : r.hi;
-    return r;
-}
+int NV = 4;   // derivatives computed: 0 for a value-only pass, else the key's variable count
+int NVK = 4;  // the key's variable count
 struct D {  // value and partial derivatives in the key's variables
     R v;
     std::array<R, 4> d;
 };
 D operator+(const D& a, const D& b) {
     D r{a.v + b.v, {}};
-    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] + b.d[i];
+    for (int i = 0; i < NV; ++i) r.d[i] = a.d[i] + b.d[i];
     return r;
 }
 D operator-(const D& a, const D& b) {
     D r{a.v - b.v, {}};
-    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] - b.d[i];
+    for (int i = 0; i < NV; ++i) r.d[i] = a.d[i] - b.d[i];
     return r;
 }
 D operator*(const D& a, const D& b) {
     D r{a.v * b.v, {}};
-    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    for (int i = 0; i < NV; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
 }
-D cst(const Q& q) { return D{{q, q}, {R{0, 0}, R{0, 0}, R{0, 0}, R{0, 0}}}; }
+D cst(const N& q) { return D{{q, q}, {R{0, 0}, R{0, 0}, R{0, 0}, R{0, 0}}}; }
 
 using Box = std::vector<R>;  // one interval per warped corner (in corner order)
 struct Tri {
@@ -195,14 +241,19 @@ struct Key {
 };
 
 // Form f of a triangle: 0 cross > 0; 1..3 qmin cross - dot >= 0; 4..6 dot - qmax cross >= 0.
-D form(const Tri& t, int f, const Q& qmin, const Q& qmax) {
+D form(const Tri& t, int f, const N& qmin, const N& qmax) {
     if (f == 0) return t.cross;
     if (f <= 3) return cst(qmin) * t.cross - t.dot[f - 1];
     return t.dot[f - 4] - cst(qmax) * t.cross;
 }
 // The form holds on the box: evaluate; while undecided, fix every variable with
 // a sign-definite partial derivative at the end where the form is smallest.
-bool verify_form(Key& k, Box b, int diag, int tri, int f, const Q& qmin, const Q& qmax) {
+bool verify_form(Key& k, Box b, int diag, int tri, int f, const N& qmin, const N& qmax, const Tri* first) {
+    if (first) {  // value-only pass on the whole box
+        const D g = form(*first, f, qmin, qmax);
+        if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
+    }
+    NV = NVK;
     for (;;) {
         k.positions(b);
         const D g = form(k.tri(diag, tri), f, qmin, qmax);
@@ -217,14 +268,14 @@ bool verify_form(Key& k, Box b, int diag, int tri, int f, const Q& qmin, const Q
     }
 }
 // q(diag) = max over its triangles of max_i dot_i / cross (crosses > 0 required).
-bool valid_q(Key& k, int diag, R& q) {
+bool valid_q(Key& k, int diag, RQ& q) {
     for (int t = 0; t < 2; ++t) {
         const Tri tr = k.tri(diag, t);
         if (!(tr.cross.v.lo > 0)) return false;
         R m = tr.dot[0].v;
         for (int i = 1; i < 3; ++i)
             m.lo = std::max(m.lo, tr.dot[i].v.lo), m.hi = std::max(m.hi, tr.dot[i].v.hi);
-        const R r = quot(m, tr.cross.v);
+        const RQ r = quot(m, tr.cross.v);
         if (t == 0) q = r;
         else q.lo = std::max(q.lo, r.lo), q.hi = std::max(q.hi, r.hi);
     }
@@ -232,14 +283,14 @@ bool valid_q(Key& k, int diag, R& q) {
 }
 bool invalid(Key& k, int diag) { return !(k.tri(diag, 0).cross.v.hi > 0) || !(k.tri(diag, 1).cross.v.hi > 0); }
 // The max-min rule takes `win` (0 AD, 1 BC) on the whole box.  Positions must be set.
-bool decided(Key& k, int win, bool threshold, const Q& h) {
+bool decided(Key& k, int win, bool threshold, const N& h) {
     const int other = 1 - win;
     if (threshold) {  // win valid, q(win) <= h, and some dot_i - h cross > 0 on the other diagonal
         for (int t = 0; t < 2; ++t) {
             const Tri tr = k.tri(win, t);
             if (!(tr.cross.v.lo > 0)) return false;
             for (auto& d : tr.dot)
-                if (quot(d.v, tr.cross.v).hi > h) return false;
+                if (quot(d.v, tr.cross.v).hi > toQ(h)) return false;
         }
         for (int t = 0; t < 2; ++t) {
             const Tri tr = k.tri(other, t);
@@ -248,7 +299,7 @@ bool decided(Key& k, int win, bool threshold, const Q& h) {
         }
         return false;
     }
-    R qa, qb;
+    RQ qa, qb;
     if (win == 0) {  // BC invalid, or both valid with q(BC) >= q(AD)
         if (invalid(k, 1)) return true;
         return valid_q(k, 0, qa) && valid_q(k, 1, qb) && qb.lo >= qa.hi;
@@ -264,11 +315,11 @@ struct PointVal {
 };
 PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
     Box b;
-    for (auto& x : t) b.push_back(R{x, x});
+    for (auto& x : t) b.push_back(R{dyadic(x), dyadic(x)});
     k.positions(b);
     int diag = separating && forced(k.s) ? forced(k.s) - 1 : -1;
     if (diag < 0) {
-        R qa, qb;
+        RQ qa, qb;
         const bool va = valid_q(k, 0, qa), vb = valid_q(k, 1, qb);
         diag = vb && (!va || qb.lo < qa.lo) ? 1 : 0;
     }
@@ -281,7 +332,7 @@ PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
             continue;
         }
         for (auto& d : tr.dot) {
-            const Q c = d.v.lo / tr.cross.v.lo;
+            const Q c = toQ(d.v.lo) / toQ(tr.cross.v.lo);
             if (first || c > p.qmin) p.qmin = c;
             if (first || c < p.qmax) p.qmax = c;
             first = false;
@@ -291,27 +342,27 @@ PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
 }
 
 // ---- rigorous degrees for the report ------------------------------------------------
-R atan_ser(const Q& z) {  // |z| <= 1/2, alternating series, error < next term
+RQ atan_ser(const Q& z) {  // |z| <= 1/2, alternating series, error < next term
     Q s = 0, p = z;
     for (int n = 0; n < 40; ++n, p *= z * z) s += (n % 2 ? -p : p) / (2 * n + 1);
     const Q e = abs(p) / 81;
     return {s - e, s + e};
 }
-R deg(const Q& cot) {  // the angle in degrees whose cotangent is cot
-    const R a5 = atan_ser(Q(1, 5)), a239 = atan_ser(Q(1, 239));
-    const R pi{16 * a5.lo - 4 * a239.hi, 16 * a5.hi - 4 * a239.lo};
+RQ deg(const Q& cot) {  // the angle in degrees whose cotangent is cot
+    const RQ a5 = atan_ser(Q(1, 5)), a239 = atan_ser(Q(1, 239));
+    const RQ pi{16 * a5.lo - 4 * a239.hi, 16 * a5.hi - 4 * a239.lo};
     if (cot == 0) return {90, 90};
     const Q y = 1 / abs(cot);
-    R a;  // atan(y) / pi
+    RQ a;  // atan(y) / pi
     if (y <= Q(1, 2)) a = atan_ser(y), a = {a.lo / pi.hi, a.hi / pi.lo};
     else if (y <= 2) {
-        const R s = atan_ser((y - 1) / (y + 1));
+        const RQ s = atan_ser((y - 1) / (y + 1));
         a = {Q(1, 4) + std::min(s.lo / pi.hi, s.lo / pi.lo), Q(1, 4) + std::max(s.hi / pi.lo, s.hi / pi.hi)};
     } else {
-        const R s = atan_ser(1 / y);
+        const RQ s = atan_ser(1 / y);
         a = {Q(1, 2) - s.hi / pi.lo, Q(1, 2) - s.lo / pi.hi};
     }
-    return cot > 0 ? R{180 * a.lo, 180 * a.hi} : R{180 - 180 * a.hi, 180 - 180 * a.lo};
+    return cot > 0 ? RQ{180 * a.lo, 180 * a.hi} : RQ{180 - 180 * a.hi, 180 - 180 * a.lo};
 }
 std::string dec(const Q& q, bool up) {  // 10 decimals, rounded outward
     const Q s = q * 10000000000LL;
@@ -323,7 +374,7 @@ std::string dec(const Q& q, bool up) {  // 10 decimals, rounded outward
     return std::string(n < 0 ? "-" : "") + d.substr(0, d.size() - 10) + "." + d.substr(d.size() - 10);
 }
 std::string degs(const Q& cot) {
-    const R r = deg(cot);
+    const RQ r = deg(cot);
     return "[" + dec(r.lo, false) + ", " + dec(r.hi, true) + "] deg";
 }
 
@@ -340,21 +391,20 @@ struct Reader {
 struct Cover {  // rebuilds the bisection tree: widest side first (lowest index on ties), halves in order
     Key& k;
     bool sep;
-    Q qmin, qmax;
+    N qmin, qmax;
     Reader& rd;
     long remaining;
     long leaves = 0;
     void leaf_or_split(const Box& b, int depth) {
         if (depth > 260) fail("key " + code(k.s) + ": leaves do not tile the box");
-        if (remaining <= 0) fail("key " + code(k.s) + ": missing leaves");
+        if (remaining <= 0 || rd.at >= rd.lines.size()) fail("key " + code(k.s) + ": missing leaves");
         const auto& L = rd.lines[rd.at];
         const std::size_t m = k.vars.size();
         if (L.size() < 2 + 2 * m || L[0].size() != 1) fail("key " + code(k.s) + ": malformed leaf");
         const long e = small_int(L[1], 0, 62);
-        const Q den = Q(Z(1) << e);
         Box lb(m);
         for (std::size_t j = 0; j < m; ++j)
-            lb[j] = R{parse_q(L[2 + 2 * j]) / den, parse_q(L[3 + 2 * j]) / den};
+            lb[j] = R{N(parse_int(L[2 + 2 * j]), -e), N(parse_int(L[3 + 2 * j]), -e)};
         bool equal = true, inside = true;
         for (std::size_t j = 0; j < m; ++j) {
             equal = equal && lb[j].lo == b[j].lo && lb[j].hi == b[j].hi;
@@ -369,7 +419,8 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         std::size_t s = 0;
         for (std::size_t j = 1; j < m; ++j)
             if (b[j].hi - b[j].lo > b[s].hi - b[s].lo) s = j;
-        const Q mid = (b[s].lo + b[s].hi) / 2;
+        N mid = b[s].lo + b[s].hi;
+        mid.e -= 1;
         Box l = b, r = b;
         l[s].hi = mid, r[s].lo = mid;
         leaf_or_split(l, depth + 1);
@@ -385,15 +436,25 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         const int f = sep ? forced(k.s) : 0;
         k.positions(b);
         if (f && !(c == "?AB"[f])) fail(where + "separating rule forces the other diagonal");
-        if (!f && c != 'X' && !decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? parse_q(L.back()) : Q(0)))
+        if (!f && c != 'X' && !decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? dyadic(parse_q(L.back())) : N(0)))
             fail(where + "claimed diagonal is not decided on the box");
-        for (int diag = 0; diag < 2; ++diag) {
-            if (c != 'X' && diag != ((c == 'B' || c == 'b') ? 1 : 0)) continue;
-            for (int t = 0; t < 2; ++t)
-                for (int form = 0; form < 7; ++form)
-                    if (!verify_form(k, b, diag, t, form, qmin, qmax))
-                        fail(where + (form == 0 ? "orientation" : form <= 3 ? "min-angle" : "max-angle") +
-                             " inequality not verified");
+        auto forms = [&](int diag, int f0, int f1) {
+            for (int t = 0; t < 2; ++t) {
+                NV = 0;
+                k.positions(b);
+                const Tri tr = k.tri(diag, t);
+                for (int form = f0; form < f1; ++form)
+                    if (!verify_form(k, b, diag, t, form, qmin, qmax, &tr)) return false;
+            }
+            return true;
+        };
+        if (c == 'X') {  // undecided: one diagonal valid with the min-angle bound (the rule takes
+                         // a valid one at least as good), the max-angle bound on both
+            if (sep && f) fail(where + "undecided leaf on a forced key");
+            if (!forms(0, 0, 4) && !forms(1, 0, 4)) fail(where + "orientation/min-angle not verified");
+            if (!forms(0, 4, 7) || !forms(1, 4, 7)) fail(where + "max-angle inequality not verified");
+        } else if (!forms((c == 'B' || c == 'b') ? 1 : 0, 0, 7)) {
+            fail(where + "angle or orientation inequality not verified");
         }
     }
 };
@@ -412,6 +473,7 @@ int check_file(const std::string& path) {
         std::vector<std::string> tok;
         for (std::string t; ss >> t;) tok.push_back(t);
         if (tok.size() > 40) fail("line too long");
+        if (tok.empty()) continue;
         rd.lines.push_back(tok);
     }
     auto expect = [&](const std::vector<std::string>& l, const std::string& w, std::size_t n) {
@@ -454,6 +516,7 @@ int check_file(const std::string& path) {
         } else {
             if (l.size() < 4 || l.size() > 9) fail("bad witness line");
             Wit w{c, l[2], l[3], {}, 0};
+            if (w.kind != "inverted" && l.size() < 5) fail("bad witness line");
             const std::size_t nt = l.size() - 4 - (w.kind == "inverted" ? 0 : 1);
             for (std::size_t j = 0; j < nt; ++j) w.t.push_back(parse_q(l[4 + j]));
             if (w.kind != "inverted") w.value = parse_q(l.back());
@@ -466,6 +529,16 @@ int check_file(const std::string& path) {
     if (small_int(kl[1], 0, 1000000) != static_cast<long>(keys.size())) fail("key count differs from the enumeration");
     Q agg_min[2] = {-1000000, -1000000}, agg_max[2] = {1000000, 1000000};
     bool any_inv[2] = {false, false};
+    // Cheap pre-pass: the claims must follow from the key claims (re-checked
+    // below against the keys as verified); rejects a tampered claim at once.
+    for (std::size_t j = rd.at; j < rd.lines.size(); ++j) {
+        const auto& h = rd.lines[j];
+        if (h.size() != 8 || h[0] != "key") continue;
+        const int fl = h[3] == "1";
+        for (int c = 0; c < 1 + fl; ++c)
+            if (!claim[c].inverted && (parse_q(h[5]) > claim[c].qmin || parse_q(h[6]) < claim[c].qmax))
+                fail(std::string("claim ") + "UF"[c] + " does not follow from key " + h[2].substr(0, 8));
+    }
     long total_leaves = 0, nflat = 0;
     for (std::size_t i = 0; i < keys.size(); ++i) {
         const auto& h = rd.next("key");
@@ -473,7 +546,8 @@ int check_file(const std::string& path) {
         Key k{keys[i], {}, {}};
         for (int c = 0; c < 4; ++c)
             if (k.s[c].warp) k.vars.push_back(c);
-        if (small_int(h[1], 0, 14641) < 0 || h[2] != code(k.s)) fail("key " + std::to_string(i) + " is not " + code(k.s));
+        if (small_int(h[1], 0, 14641) != static_cast<long>(i) || h[2] != code(k.s))
+            fail("key " + std::to_string(i) + " is not " + code(k.s));
         const bool fl = flat(k.s);
         nflat += fl;
         if (small_int(h[3], 0, 1) != fl) fail("key " + code(k.s) + ": flatness flag differs");
@@ -483,13 +557,14 @@ int check_file(const std::string& path) {
             continue;
         }
         if (h.size() != 8) fail("malformed key line");
-        Cover cv{k, sep, parse_q(h[5]), parse_q(h[6]), rd, small_int(h[7], 1, 50000000)};
-        Box root(k.vars.size(), R{0, Q(1, 2)});
+        NV = NVK = static_cast<int>(k.vars.size());
+        Cover cv{k, sep, dyadic(parse_q(h[5])), dyadic(parse_q(h[6])), rd, small_int(h[7], 1, 50000000)};
+        Box root(k.vars.size(), R{N(0), N(Z(1), -1)});
         cv.leaf_or_split(root, 0);
         if (cv.remaining != 0) fail("key " + code(k.s) + ": extra leaves");
         total_leaves += cv.leaves;
         for (int c = 0; c < 1 + fl; ++c)
-            agg_min[c] = std::max(agg_min[c], cv.qmin), agg_max[c] = std::min(agg_max[c], cv.qmax);
+            agg_min[c] = std::max(agg_min[c], toQ(cv.qmin)), agg_max[c] = std::min(agg_max[c], toQ(cv.qmax));
     }
     const auto& e = rd.next("end");
     expect(e, "end", 1);
@@ -503,10 +578,9 @@ int check_file(const std::string& path) {
             fail(std::string("claim ") + "UF"[c] + " does not follow from the key claims");
         if (claim[c].inverted) std::cout << "  " << cname[c] << ": NOT all triangles positively oriented\n";
         else
-            std::cout << "  " << cname[c] << ": every angle in " << degs(claim[c].qmin).substr(0, 13) << ".."
-                      << " and <= " << degs(claim[c].qmax) << " (cot <= " << claim[c].qmin << ", cot >= "
-                      << claim[c].qmax << "); min angle >= " << degs(claim[c].qmin)
-                      << "; both triangles positively oriented\n";
+            std::cout << "  " << cname[c] << ": every angle >= " << dec(deg(claim[c].qmin).lo, false)
+                      << " deg and <= " << dec(deg(claim[c].qmax).hi, true) << " deg (cot <= " << claim[c].qmin
+                      << ", cot >= " << claim[c].qmax << "); both triangles positively oriented\n";
     }
     for (const Wit& w : wits) {
         std::size_t i = 0;
@@ -515,6 +589,7 @@ int check_file(const std::string& path) {
         Key k{keys[i], {}, {}};
         for (int c = 0; c < 4; ++c)
             if (k.s[c].warp) k.vars.push_back(c);
+        NV = NVK = static_cast<int>(k.vars.size());
         if (w.cat == 1 && !flat(k.s)) fail("flat witness on a key that is not flat-compatible");
         if (w.t.size() != k.vars.size()) fail("witness has the wrong number of t values");
         for (const Q& x : w.t)
@@ -530,7 +605,7 @@ int check_file(const std::string& path) {
         const Q v = w.kind == "min" ? p.qmin : p.qmax;
         if (v != w.value || (w.kind != "min" && w.kind != "max")) fail("witness value differs from exact evaluation");
         const Q bound = w.kind == "min" ? claim[w.cat].qmin : claim[w.cat].qmax;
-        const R a = deg(v), bd = deg(bound);
+        const RQ a = deg(v), bd = deg(bound);
         std::cout << "angle " << degs(v) << " (cot " << v.convert_to<double>() << "), claim " << degs(bound)
                   << ", gap <= " << dec(w.kind == "min" ? a.hi - bd.lo : bd.hi - a.lo, true) << " deg\n";
     }

@@ -270,12 +270,13 @@ bool verify_form(const Key& k, const std::vector<int>& vars, Box b, const std::a
     }
 }
 
+// Forms f0 <= f < f1 of both triangles of diagonal d.
 bool verify_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, double qmin, double qmax,
-                 int* fail_kind) {
+                 int* fail_kind, int f0 = 0, int f1 = 7) {
     const auto p = positions_d(k, vars, b);
     for (const auto& tri : diagonal_triangles(d)) {
         const TriangleForms<DI> tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
-        for (int f = 0; f < 7; ++f)
+        for (int f = f0; f < f1; ++f)
             if (!verify_form(k, vars, b, tri, f, qmin, qmax, form(tf, f, qmin, qmax))) {
                 *fail_kind = f == 0 ? 0 : f <= 3 ? 1 : 2;
                 return false;
@@ -642,8 +643,20 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
         }
         bool ok = true;
         int kind = 0;
-        if (ch.ad) ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind);
-        if (ok && ch.bc) ok = verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind);
+        if (ch.ad && ch.bc) {
+            // Undecided (max-min rule): if one diagonal X is valid with q(X) <= qmin
+            // on the box, the rule takes a valid diagonal Y with q(Y) <= q(X) at
+            // every point, so orientation and the min angle hold; the max angle is
+            // needed on both diagonals (the one taken is valid there).
+            ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind, 0, 4) ||
+                 verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind, 0, 4);
+            ok = ok && verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind, 4, 7) &&
+                 verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind, 4, 7);
+        } else if (ch.ad) {
+            ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind);
+        } else {
+            ok = verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind);
+        }
         if (ok) {
             out.leaves.push_back(make_leaf(b, (ch.ad ? 1 : 0) | (ch.bc ? 2 : 0)));
             out.leaves.back().threshold = (ch.ad && ch.bc) ? 0 : thr;
@@ -713,13 +726,16 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             if (cat[c].wmin < 0 || f.emin.value > info[static_cast<std::size_t>(cat[c].wmin)].emin.value) cat[c].wmin = i;
             if (cat[c].wmax < 0 || f.emax.value < info[static_cast<std::size_t>(cat[c].wmax)].emax.value) cat[c].wmax = i;
         }
-        const int bits = c == 1 ? 33 : 24;  // margins: 2^-33 (F, < 1e-9 deg), 2^-24 (U, < 1e-6 deg)
+        const int bits = c == 1 ? 33 : 24;  // min-angle margins: 2^-33 (F, < 1e-9 deg), 2^-24 (U, < 1e-6 deg)
+        // Max-angle margins: 2^-12 for F (flat keys), 1/4 for U: tight max-angle
+        // bounds cost many leaves along the max-min switching surfaces.
+        const int mbits = c == 1 ? 12 : 2;
         const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
         std::tie(cat[c].tmin, cat[c].emin) = witness(rule, kmin, info[static_cast<std::size_t>(cat[c].wmin)].emin.t, 1);
         cat[c].qmin = std::max(q_up(cat[c].emin.qmin, bits + 3), round_up(info[static_cast<std::size_t>(cat[c].wmin)].emin.value, bits + 3)) + std::ldexp(1.0, -bits);
         const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
         std::tie(cat[c].tmax, cat[c].emax) = witness(rule, kmax, info[static_cast<std::size_t>(cat[c].wmax)].emax.t, -1);
-        cat[c].qmax = std::min(q_down(cat[c].emax.qmax, bits + 3), round_down(info[static_cast<std::size_t>(cat[c].wmax)].emax.value, bits + 3)) - std::ldexp(1.0, -bits);
+        cat[c].qmax = std::min(q_down(cat[c].emax.qmax, bits + 3), round_down(info[static_cast<std::size_t>(cat[c].wmax)].emax.value, bits + 3)) - std::ldexp(1.0, -mbits);
     }
     for (int i = 0; i < n; ++i) {
         Info& f = info[static_cast<std::size_t>(i)];
@@ -727,9 +743,14 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         const double rel = 0.25 * (1 + std::fabs(f.emin.value));
         f.qmin = std::min(round_up(f.emin.value + rel, 16), c.qmin);
         f.qmax = std::max(round_down(f.emax.value - 0.25 * (1 + std::fabs(f.emax.value)), 16), c.qmax);
+        // Keys that are not flat-compatible: the max-angle claim is at least as
+        // loose as cot -2 (153.43 deg) — tight max-angle claims need too many leaves
+        // along the max-min switching surfaces (both diagonals must be bounded there).
+        if (!f.flat) f.qmax = std::min(f.qmax, std::getenv("WARPMESH_U_MAX_COT") ? std::atof(std::getenv("WARPMESH_U_MAX_COT")) : -2.0);
     }
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
+    const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
     if (verbose)
         std::fprintf(stderr, "targets: U %.17g %.17g  F %.17g %.17g  (%.2f s)\n", cat[0].qmin, cat[0].qmax, cat[1].qmin,
                      cat[1].qmax, std::chrono::duration<double>(t1 - t0).count());
@@ -743,10 +764,10 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         // A claim that cannot be certified within the leaf budget is relaxed
         // (and reported as such): the certificate only ever states what was proved.
         for (int attempt = 0; attempt < 8; ++attempt) {
-            f.proof = prove_key(rule, key, f.qmin, f.qmax, 40000);
+            f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
             if (f.proof.ok) break;
             const PointEval e = eval_double(rule, key, f.proof.fail_point);
-            const double step = 1e-4 * std::pow(8.0, attempt);
+            const double step = 1e-3 * std::pow(4.0, attempt);
             if (f.proof.fail_kind == 1)
                 f.qmin = round_up(std::max(f.qmin, e.valid ? e.qmin : f.qmin) + step * (1 + std::fabs(f.qmin)), 24);
             else if (f.proof.fail_kind == 2)
@@ -756,7 +777,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             f.relaxed = true;
         }
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
-        if (verbose && dt > 0.2)
+        if (verbose && (dt > 0.2 || f.relaxed))
             std::fprintf(stderr, "key %d %s: %.2f s, %zu leaves, ok %d, targets %.12g %.12g (sampled %.12g %.12g)\n",
                          ids[i], key_code(all[static_cast<std::size_t>(ids[i])]).c_str(), dt, f.proof.leaves.size(),
                          f.proof.ok, f.qmin, f.qmax, f.emin.value, f.emax.value);
@@ -885,6 +906,20 @@ int prove_main(int argc, char** argv) {
         f << cert;
         f.close();
         std::filesystem::rename(path + ".tmp", path);
+        // The key table: one line per key.
+        std::ofstream tab(out + "/key_table.txt", r == DiagonalRule::maxmin ? std::ios::trunc : std::ios::app);
+        if (r == DiagonalRule::maxmin)
+            tab << "# rule key flat min_cot max_cot   (see proofs/README.md; every angle a of the chosen triangles\n"
+                << "# of every configuration of the key has max_cot <= cot(a) <= min_cot)\n";
+        std::istringstream cs(cert);
+        for (std::string line; std::getline(cs, line);) {
+            if (line.rfind("key ", 0) != 0) continue;
+            std::istringstream ls(line);
+            std::string w, id, code, flat, m, qmin, qmax;
+            ls >> w >> id >> code >> flat >> m >> qmin >> qmax;
+            tab << name << ' ' << code << ' ' << (flat == "1" ? "flat" : "any") << ' ' << qmin << ' '
+                << (qmin == "inverted" ? "-" : qmax) << "\n";
+        }
         std::fputs(log.c_str(), stdout);
         std::fflush(stdout);
         if (log.find("FAILED") != std::string::npos) status = 1;

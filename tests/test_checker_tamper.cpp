@@ -1,0 +1,128 @@
+// The independent checker rejects tampered certificates.  Each test copies the
+// committed proofs/maxmin.cert into a temporary directory, changes one thing,
+// and runs warpmesh-check on it, which must exit non-zero with a message.
+#define BOOST_TEST_MODULE checker_tamper
+#include <boost/test/unit_test.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef WARPMESH_CHECK_EXE
+#error "tests/CMakeLists.txt must define WARPMESH_CHECK_EXE"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> read_lines(const fs::path& p) {
+    std::ifstream in(p);
+    std::vector<std::string> out;
+    for (std::string l; std::getline(in, l);) out.push_back(l);
+    return out;
+}
+
+int run_checker(const std::vector<std::string>& lines, const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_tamper_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path f = dir / (name + ".cert");
+    {
+        std::ofstream out(f);
+        for (const auto& l : lines) out << l << "\n";
+    }
+    const std::string cmd = std::string("\"") + WARPMESH_CHECK_EXE + "\" \"" + f.string() + "\" >/dev/null 2>" +
+                            (dir / (name + ".err")).string();
+    const int rc = std::system(cmd.c_str());
+    std::ifstream err(dir / (name + ".err"));
+    std::stringstream ss;
+    ss << err.rdbuf();
+    BOOST_TEST_MESSAGE(name << ": " << ss.str());
+    fs::remove_all(dir);
+    return rc;
+}
+
+std::vector<std::string> cert() {
+    auto l = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "maxmin.cert");
+    BOOST_REQUIRE(l.size() > 100);
+    return l;
+}
+
+// Index of the first leaf line of the first key with at least `min_leaves` leaves
+// whose leaves carry the tag `tag` (any tag if 0).
+std::size_t find_leaf(const std::vector<std::string>& l, char tag, int min_dims = 1) {
+    for (std::size_t i = 0; i < l.size(); ++i) {
+        if (l[i].rfind("key ", 0) != 0) continue;
+        std::istringstream ss(l[i]);
+        std::string w, id, code, flat, m, qmin, qmax, leaves;
+        ss >> w >> id >> code >> flat >> m >> qmin >> qmax >> leaves;
+        if (std::stoi(m) < min_dims || std::stoi(leaves) < 2) continue;
+        for (std::size_t j = i + 1; j < l.size() && l[j].rfind("key ", 0) != 0; ++j)
+            if (tag == 0 || l[j][0] == tag) return j;
+    }
+    BOOST_FAIL("no suitable leaf");
+    return 0;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(changed_endpoint) {
+    auto l = cert();
+    const std::size_t i = find_leaf(l, 0, 2);
+    std::istringstream ss(l[i]);
+    std::vector<std::string> tok;
+    for (std::string t; ss >> t;) tok.push_back(t);
+    tok[3] = std::to_string(std::stoll(tok[3]) + 1);  // hi of the first side
+    std::string s;
+    for (auto& t : tok) s += (s.empty() ? "" : " ") + t;
+    l[i] = s;
+    BOOST_TEST(run_checker(l, "endpoint") != 0);
+}
+
+BOOST_AUTO_TEST_CASE(missing_leaf) {
+    auto l = cert();
+    const std::size_t i = find_leaf(l, 0, 1);
+    l.erase(l.begin() + static_cast<long>(i));
+    BOOST_TEST(run_checker(l, "missing") != 0);
+}
+
+BOOST_AUTO_TEST_CASE(wrong_diagonal) {
+    auto l = cert();
+    const std::size_t i = find_leaf(l, 'A', 1);
+    l[i][0] = 'B';
+    BOOST_TEST(run_checker(l, "diagonal") != 0);
+}
+
+BOOST_AUTO_TEST_CASE(claim_raised_by_1e_9) {
+    auto l = cert();
+    for (auto& s : l)
+        if (s.rfind("claim F ", 0) == 0) {
+            std::istringstream ss(s);
+            std::string w, c, qmin, qmax;
+            ss >> w >> c >> qmin >> qmax;
+            // A larger min angle is a smaller cot bound: subtract 1e-9 from it.
+            const auto slash = qmin.find('/');
+            BOOST_REQUIRE(slash != std::string::npos);
+            const long double num = std::stold(qmin.substr(0, slash)), den = std::stold(qmin.substr(slash + 1));
+            const long double raised = num / den - 1e-9L;
+            std::ostringstream q;
+            q.precision(0);
+            q << std::fixed << raised * 1e12L << "/1000000000000";
+            s = "claim F " + q.str() + " " + qmax;
+        }
+    BOOST_TEST(run_checker(l, "claim") != 0);
+}
+
+BOOST_AUTO_TEST_CASE(garbage_and_truncation) {
+    auto l = cert();
+    std::vector<std::string> t(l.begin(), l.begin() + static_cast<long>(l.size() / 3));
+    BOOST_TEST(run_checker(t, "truncated") != 0);
+    auto g = l;
+    g[g.size() / 2] = "A 99999999999999999999999999999999999999999999 1 2 3";
+    BOOST_TEST(run_checker(g, "huge") != 0);
+    BOOST_TEST(run_checker({"\x01\x02 garbage"}, "garbage") != 0);
+    BOOST_TEST(run_checker({}, "empty") != 0);
+}

@@ -1,0 +1,114 @@
+// The prover's interval decisions agree with the mesher's double evaluation,
+// and the committed witnesses evaluate exactly to what the certificates say.
+#define BOOST_TEST_MODULE prover_agreement
+#include <boost/test/unit_test.hpp>
+
+#include <boost/multiprecision/cpp_int.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "warpmesh/generic_square.hpp"
+#include "warpmesh/prove.hpp"
+
+using namespace warpmesh;
+using Q = boost::multiprecision::cpp_rational;
+
+BOOST_AUTO_TEST_CASE(key_space) {
+    const auto keys = prover::consistent_keys();
+    BOOST_TEST(keys.size() == 5095u);
+    int flat = 0;
+    for (const auto& k : keys) flat += prover::flat_compatible(k);
+    BOOST_TEST(flat == 383);
+}
+
+// For a spread of keys: prove loose bounds, then at sample points of every leaf
+// whose diagonal is decided, choose_diagonal<double> takes that diagonal.
+BOOST_AUTO_TEST_CASE(double_agrees_with_intervals) {
+    const auto keys = prover::consistent_keys();
+    int checked = 0;
+    for (std::size_t i = 0; i < keys.size(); i += 173) {
+        for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+            const auto& k = keys[i];
+            const auto vars = prover::key_vars(k);
+            const auto proof = prover::prove_key(rule, k, 1e6, -1e6, 20000);
+            for (const auto& leaf : proof.leaves) {
+                if (leaf.diag == 3) continue;
+                for (int s = 0; s < 5; ++s) {
+                    std::array<double, 4> t{};
+                    std::array<Warp, 4> w{};
+                    for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp;
+                    for (std::size_t j = 0; j < vars.size(); ++j) {
+                        const double lo = std::ldexp(double(leaf.num[2 * j]), -leaf.k);
+                        const double hi = std::ldexp(double(leaf.num[2 * j + 1]), -leaf.k);
+                        const double u = s == 0 ? 0.5 : ((s + j) % 3) / 2.0;
+                        t[vars[j]] = lo + u * (hi - lo);
+                    }
+                    const Choice ch = choose_diagonal<double>(rule, generic_positions<double>(w, t), k.s);
+                    BOOST_TEST((ch.ad ? 1 : 2) == int(leaf.diag));
+                    ++checked;
+                }
+            }
+        }
+    }
+    BOOST_TEST(checked > 100);
+}
+
+// Witness lines of the committed certificates: exact re-evaluation with
+// rationals of the chosen diagonal's extreme cotangent.
+BOOST_AUTO_TEST_CASE(witnesses_exact) {
+    const auto keys = prover::consistent_keys();
+    for (const char* name : {"maxmin", "separating"}) {
+        std::ifstream in(std::filesystem::path(WARPMESH_PROOFS_DIR) / (std::string(name) + ".cert"));
+        BOOST_REQUIRE(in.good());
+        const DiagonalRule rule = std::string(name) == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating;
+        int seen = 0;
+        for (std::string line; std::getline(in, line);) {
+            if (line.rfind("witness ", 0) != 0) continue;
+            std::istringstream ss(line);
+            std::vector<std::string> tok;
+            for (std::string t; ss >> t;) tok.push_back(t);
+            if (tok[2] == "inverted") continue;
+            const prover::Key* key = nullptr;
+            for (const auto& k : keys)
+                if (prover::key_code(k) == tok[3]) key = &k;
+            BOOST_REQUIRE(key);
+            const auto vars = prover::key_vars(*key);
+            std::array<Q, 4> t{};
+            for (std::size_t j = 0; j < vars.size(); ++j) t[vars[j]] = Q(tok[4 + j]);
+            std::array<Point<Q>, 4> p;
+            for (int c = 0; c < 4; ++c) {
+                const Warp w = key->s[c].warp;
+                p[c] = {Q(c & 1) + warp_dx(w) * t[c], Q(c >> 1) + warp_dy(w) * t[c]};
+            }
+            // The chosen diagonal, exactly (max-min on exact forms; separating forcing).
+            auto quality = [&](Diagonal d, bool& valid) {
+                Q q = -1000000;
+                valid = true;
+                for (const auto& tri : diagonal_triangles(d)) {
+                    const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+                    if (f.cross <= 0) {
+                        valid = false;
+                        continue;
+                    }
+                    for (const Q& dot : f.dot) q = std::max(q, Q(dot / f.cross));
+                }
+                return q;
+            };
+            bool va = false, vb = false;
+            const Q qa = quality(Diagonal::AD, va), qb = quality(Diagonal::BC, vb);
+            Diagonal d = vb && (!va || qb < qa) ? Diagonal::BC : Diagonal::AD;
+            Diagonal forced{};
+            if (rule == DiagonalRule::separating && separating_diagonal(key->s, forced)) d = forced;
+            Q lo = 1000000, hi = -1000000;
+            for (const auto& tri : diagonal_triangles(d)) {
+                const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+                BOOST_REQUIRE(f.cross > 0);
+                for (const Q& dot : f.dot) lo = std::min(lo, Q(dot / f.cross)), hi = std::max(hi, Q(dot / f.cross));
+            }
+            BOOST_TEST((tok[2] == "min" ? hi : lo) == Q(tok.back()), line);
+            ++seen;
+        }
+        BOOST_TEST(seen >= 2);
+    }
+}
