@@ -6,7 +6,8 @@
 
 namespace warpmesh {
 
-GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell) {
+GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
+                         const CertifyOptions& certify) {
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     GradedResult r;
@@ -35,8 +36,16 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     r.times.quadtree = seconds(t0);
 
     t0 = clock::now();
+    std::vector<std::int64_t> tri_square;
+    if (certify.enabled) r.stats.triangle_square = &tri_square;
     r.mesh = triangulate_graded(f, lattice, signs, tree, leaves, warped, rule, &r.stats);
     r.times.triangulate = seconds(t0);
+    r.stats.triangle_square = nullptr;
+    if (certify.enabled) {
+        t0 = clock::now();
+        r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, tri_square, certify);
+        r.times.certify = seconds(t0);
+    }
     return r;
 }
 

@@ -182,7 +182,9 @@ struct PngSource {
     const std::uint8_t* data;
     std::size_t size;
     std::size_t pos;
-    char error[256];  // libpng's message, when it gave up
+    char error[256];    // libpng's message, when it gave up
+    char warning[160];  // libpng's first warning: often the detail behind a
+                        // generic error ("Invalid bit depth in IHDR")
 };
 
 extern "C" void png_read_from_memory(png_structp png, png_bytep out, png_size_t n) {
@@ -193,12 +195,17 @@ extern "C" void png_read_from_memory(png_structp png, png_bytep out, png_size_t 
 }
 
 extern "C" void png_error_to_jmp(png_structp png, png_const_charp msg) {
-    auto* src = static_cast<PngSource*>(png_get_io_ptr(png));
-    std::snprintf(src->error, sizeof src->error, "%s", msg ? msg : "libpng error");
+    auto* src = static_cast<PngSource*>(png_get_error_ptr(png));
+    std::snprintf(src->error, sizeof src->error, src->warning[0] ? "%s (libpng warned: %s)" : "%s",
+                  msg ? msg : "libpng error", src->warning);
     png_longjmp(png, 1);
 }
 
-extern "C" void png_ignore_warning(png_structp, png_const_charp) {}
+// Warnings do not stop reading; the first is kept for the error message.
+extern "C" void png_ignore_warning(png_structp png, png_const_charp msg) {
+    auto* src = static_cast<PngSource*>(png_get_error_ptr(png));
+    if (src && !src->warning[0] && msg) std::snprintf(src->warning, sizeof src->warning, "%s", msg);
+}
 
 struct PngHeader {
     png_uint_32 width, height;
@@ -260,7 +267,7 @@ struct PngHandles {
 };
 
 Image read_png(std::span<const std::uint8_t> bytes, const std::string& name, std::uint64_t max_pixels) {
-    PngSource src{bytes.data(), bytes.size(), 0, {}};
+    PngSource src{bytes.data(), bytes.size(), 0, {}, {}};
     PngHandles hd;
     hd.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &src, png_error_to_jmp, png_ignore_warning);
     if (!hd.png) fail(name, "cannot initialise libpng");

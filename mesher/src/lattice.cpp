@@ -1,5 +1,7 @@
 // lattice.cpp — stage 1: the lattice and the values of f at its points.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "warpmesh/errors.hpp"
@@ -7,8 +9,53 @@
 
 namespace warpmesh {
 
-Lattice lattice_over(const Box& box, double s) {
+namespace {
+
+std::string short_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+// Positive and finite, and within 1e-100 .. 1e100: beyond, the triangle areas
+// (products of two lengths) underflow to 0 or overflow, and the mesh
+// degenerates although every coordinate is representable.
+void check_spacing(double s) {
     if (!(s > 0) || !std::isfinite(s)) throw InputError("lattice spacing must be a positive finite number");
+    if (s < 1e-100 || s > 1e100)
+        throw InputError("lattice spacing " + short_number(s) +
+                         " is outside 1e-100 .. 1e100, where triangle areas would underflow or overflow "
+                         "(scale the region instead)");
+}
+
+// A number of squares along one axis, refused (before any conversion that
+// could overflow) when it is not finite, negative (an inverted box) or
+// absurdly large.
+std::int64_t checked_count(double n) {
+    if (!(n >= 0 && n <= max_lattice_squares_per_axis))
+        throw InputError("the lattice would have " + short_number(n) +
+                         " squares along one axis (at most 2^32; use a larger spacing)");
+    return static_cast<std::int64_t>(n);
+}
+
+// Lattice points are computed as x0 + i s in doubles; far from the origin
+// relative to s they round onto each other and the mesh degenerates (zero-area
+// triangles).  Refuse lattices whose coordinates exceed 2^32 spacings: then
+// positions are exact to about 2^-20 s, far below what the angles notice.
+void check_resolution(const Lattice& l) {
+    const double m = std::max({std::abs(l.x0), std::abs(l.y0), std::abs(l.x0 + static_cast<double>(l.nx) * l.s),
+                               std::abs(l.y0 + static_cast<double>(l.ny) * l.s)});
+    if (!std::isfinite(m) || m > l.s * 4294967296.0)
+        throw InputError("lattice spacing " + short_number(l.s) + " is too small for coordinates as large as " +
+                         short_number(m) +
+                         ": lattice points would round onto each other (coordinates must stay within 2^32 "
+                         "spacings of the origin; move the region nearer the origin or use a larger spacing)");
+}
+
+}  // namespace
+
+Lattice lattice_over(const Box& box, double s) {
+    check_spacing(s);
     Lattice l;
     l.s = s;
     l.x0 = box.xmin;
@@ -18,21 +65,23 @@ Lattice lattice_over(const Box& box, double s) {
     // exactly k s is not cut to k - 1 squares by round-off.)
     auto squares = [s](double w) {
         const double n = std::floor(w / s * (1 + 1e-12));
-        return static_cast<std::int64_t>(std::max(1.0, n));
+        return checked_count(std::max(1.0, n));
     };
     l.nx = squares(box.xmax - box.xmin);
     l.ny = squares(box.ymax - box.ymin);
+    check_resolution(l);
     return l;
 }
 
 Lattice lattice_around(const Box& box, double s) {
-    if (!(s > 0) || !std::isfinite(s)) throw InputError("lattice spacing must be a positive finite number");
+    check_spacing(s);
     Lattice l;
     l.s = s;
     l.x0 = box.xmin - s;
     l.y0 = box.ymin - s;
-    l.nx = static_cast<std::int64_t>(std::ceil((box.xmax - box.xmin) / s)) + 2;
-    l.ny = static_cast<std::int64_t>(std::ceil((box.ymax - box.ymin) / s)) + 2;
+    l.nx = checked_count(std::ceil((box.xmax - box.xmin) / s)) + 2;
+    l.ny = checked_count(std::ceil((box.ymax - box.ymin) / s)) + 2;
+    check_resolution(l);
     return l;
 }
 

@@ -72,11 +72,23 @@ lattice and algorithm:
                          default: as coarse as the domain allows)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
 
+certificates (proofs/*.cert, compiled in):
+  --verify / --no-verify check every triangle of a warped square against its key's
+                         certified angle interval (default: on); a violation is an
+                         internal error naming the square
+  --no-certify           skip the per-square bounds (no certified_min_angle, no report)
+  --guarantee flat       halve the spacing until every warped square's 12-point
+                         stencil is flat (theorem F applies); --guarantee any: no refinement
+  --min-spacing S        --guarantee flat stops before the spacing drops below S
+                         (default: spacing/16)
+
 output:
   -o, --output FILE      the mesh; the format follows the extension:
-                         .vtu (VTK XML), .msh (Gmsh 4.1), .node/.ele (Triangle), .svg
+                         .vtu (VTK XML), .msh (Gmsh 4.1), .node/.ele (Triangle),
+                         .svg or .png (pictures)
   --also FILE            write the mesh to another file as well (repeatable)
-  --svg-color minangle   colour SVG triangles by their minimum angle
+  --svg-color minangle   colour SVG/PNG triangles by their minimum angle
+  --svg-color certified  colour them by the certified minimum angle of their square
   --report FILE          the quality report as JSON (it is printed as text on stdout too)
   --quiet                do not print the text report
   --threads N            OpenMP threads (default: all cores)
@@ -117,7 +129,10 @@ struct MeshOptions {
     std::int64_t max_pixels = std::int64_t{1} << 28;
     std::int64_t max_squares = std::int64_t{1} << 30;
     bool svg_min_angle = false;
+    bool svg_certified = false;
     bool quiet = false;
+    bool certify = true, verify = true, guarantee_flat = false;
+    std::optional<double> min_spacing;
 };
 
 MeshOptions parse_mesh_options(int argc, char** argv) {
@@ -150,8 +165,18 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--max-squares") o.max_squares = parse_integer(a, value());
         else if (a == "--svg-color") {
             const std::string v = value();
-            if (v != "minangle") throw UsageError("--svg-color expects 'minangle', got '" + v + "'");
-            o.svg_min_angle = true;
+            if (v == "minangle") o.svg_min_angle = true;
+            else if (v == "certified") o.svg_certified = true;
+            else throw UsageError("--svg-color expects 'minangle' or 'certified', got '" + v + "'");
+        } else if (a == "--verify") o.verify = true;
+        else if (a == "--no-verify") o.verify = false;
+        else if (a == "--no-certify") o.certify = false;
+        else if (a == "--min-spacing") o.min_spacing = parse_number(a, value());
+        else if (a == "--guarantee") {
+            const std::string v = value();
+            if (v == "flat") o.guarantee_flat = true;
+            else if (v == "any") o.guarantee_flat = false;
+            else throw UsageError("--guarantee expects 'flat' or 'any', got '" + v + "'");
         } else if (a == "--quiet") o.quiet = true;
         else if (a == "--threads") {
             const std::int64_t n = parse_integer(a, value());
@@ -169,6 +194,9 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
     if (!(o.spacing > 0) || o.spacing > 1e9) throw UsageError("--spacing must be positive and at most 1e9");
     if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0)
         throw UsageError("--max-cell must be a power of two");
+    if (o.min_spacing && !(*o.min_spacing > 0)) throw UsageError("--min-spacing must be positive");
+    if (o.guarantee_flat && !o.certify) throw UsageError("--guarantee flat needs the certification (drop --no-certify)");
+    if (o.svg_certified && !o.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
     if (o.max_pixels < 1 || o.max_squares < 1) throw UsageError("--max-pixels and --max-squares must be positive");
     if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
     if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
@@ -187,18 +215,12 @@ int run_mesh(int argc, char** argv) {
     for (const auto& out : o.outputs) check_output_path(out);
 
     std::unique_ptr<LevelSet> f;
-    Lattice lattice;
+    std::optional<Image> image;
     if (!o.shape.empty()) {
         f = parse_shape(o.shape);
-        const Box b = f->bounds();
-        const double w = (b.xmax - b.xmin) / o.spacing + 2, h = (b.ymax - b.ymin) / o.spacing + 2;
-        if (!(w * h <= static_cast<double>(o.max_squares)))
-            throw InputError("the lattice would have about " + std::to_string(std::llround(w)) + " x " +
-                             std::to_string(std::llround(h)) + " squares, more than --max-squares " +
-                             std::to_string(o.max_squares) + " (use a larger --spacing)");
-        lattice = lattice_around(b, o.spacing);
     } else {
-        const Image img = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
+        image = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
+        const Image& img = *image;
         ImageLevelSetOptions io;
         if (o.labels) {
             io = label_options(*o.labels);
@@ -210,64 +232,154 @@ int run_mesh(int argc, char** argv) {
         if (img.width < 2 || img.height < 2)
             throw InputError(o.input + ": the image is " + std::to_string(img.width) + " x " +
                              std::to_string(img.height) + " pixels; at least 2 x 2 are needed for one lattice square");
-        const double w = (img.width - 1) / o.spacing, h = (img.height - 1) / o.spacing;
+        f = make_image_levelset(img, io);
+    }
+    auto make_lattice = [&](double spacing) {
+        if (!o.shape.empty()) {
+            const Box b = f->bounds();
+            const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
+            if (!(w * h <= static_cast<double>(o.max_squares)))
+                throw InputError("the lattice would have about " + std::to_string(std::llround(w)) + " x " +
+                                 std::to_string(std::llround(h)) + " squares, more than --max-squares " +
+                                 std::to_string(o.max_squares) + " (use a larger --spacing)");
+            return lattice_around(b, spacing);
+        }
+        const double w = (image->width - 1) / spacing, h = (image->height - 1) / spacing;
         if (!(w * h <= static_cast<double>(o.max_squares)))
-            throw InputError("spacing " + std::to_string(o.spacing) + " gives about " +
+            throw InputError("spacing " + std::to_string(spacing) + " gives about " +
                              std::to_string(std::llround(w * h)) + " lattice squares, more than --max-squares " +
                              std::to_string(o.max_squares));
-        f = make_image_levelset(img, io);
-        lattice = lattice_over(f->bounds(), o.spacing);
-    }
+        return lattice_over(f->bounds(), spacing);
+    };
 
+    const CertifyOptions certify{o.certify, o.certify, o.certify && o.verify};
     Mesh mesh;
+    CertifiedSummary cert;
+    Lattice lattice;
     std::vector<std::pair<std::string, double>> phases;
     std::vector<std::pair<std::string, std::string>> extra;
-    extra.emplace_back("input", json_string(o.shape.empty() ? o.input : o.shape));
-    extra.emplace_back("levelset", json_string(f->describe()));
-    extra.emplace_back("rule", json_string(o.rule == DiagonalRule::maxmin ? "maxmin" : "separating"));
-    extra.emplace_back("spacing", json_number(o.spacing));
-    extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
-    if (o.graded) {
-        GradedResult r = mesh_graded(*f, lattice, o.rule, o.max_cell);
-        mesh = std::move(r.mesh);
-        phases = {{"sample", r.times.sample},         {"signs", r.times.signs},
-                  {"cut_points", r.times.cut_points}, {"warp", r.times.warp},
-                  {"quadtree", r.times.quadtree},     {"triangulate", r.times.triangulate}};
-        std::string levels = "[";
-        for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
-            levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
-        extra.emplace_back("graded", "true");
-        extra.emplace_back("leaves_per_level", levels + "]");
-        extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-        extra.emplace_back("warped_points", std::to_string(r.warped_points));
-    } else {
-        UniformResult r = mesh_uniform(*f, lattice, o.rule);
-        mesh = std::move(r.mesh);
-        phases = {{"sample", r.times.sample},
-                  {"signs", r.times.signs},
-                  {"cut_points", r.times.cut_points},
-                  {"warp", r.times.warp},
-                  {"triangulate", r.times.triangulate}};
-        extra.emplace_back("graded", "false");
-        extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-        extra.emplace_back("warped_points", std::to_string(r.warped_points));
-        extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
-        extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
+    double spacing = o.spacing;
+    const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
+    int refinements = 0;
+    for (;;) {
+        lattice = make_lattice(spacing);
+        extra.clear();
+        extra.emplace_back("input", json_string(o.shape.empty() ? o.input : o.shape));
+        extra.emplace_back("levelset", json_string(f->describe()));
+        extra.emplace_back("rule", json_string(o.rule == DiagonalRule::maxmin ? "maxmin" : "separating"));
+        extra.emplace_back("spacing", json_number(spacing));
+        extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
+        if (o.graded) {
+            GradedResult r = mesh_graded(*f, lattice, o.rule, o.max_cell, certify);
+            mesh = std::move(r.mesh);
+            cert = std::move(r.certified);
+            phases = {{"sample", r.times.sample},         {"signs", r.times.signs},
+                      {"cut_points", r.times.cut_points}, {"warp", r.times.warp},
+                      {"quadtree", r.times.quadtree},     {"triangulate", r.times.triangulate}};
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
+            std::string levels = "[";
+            for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
+                levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
+            extra.emplace_back("graded", "true");
+            extra.emplace_back("leaves_per_level", levels + "]");
+            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+            extra.emplace_back("warped_points", std::to_string(r.warped_points));
+        } else {
+            UniformResult r = mesh_uniform(*f, lattice, o.rule, certify);
+            mesh = std::move(r.mesh);
+            cert = std::move(r.certified);
+            phases = {{"sample", r.times.sample},
+                      {"signs", r.times.signs},
+                      {"cut_points", r.times.cut_points},
+                      {"warp", r.times.warp},
+                      {"triangulate", r.times.triangulate}};
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
+            extra.emplace_back("graded", "false");
+            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+            extra.emplace_back("warped_points", std::to_string(r.warped_points));
+            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
+            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
+        }
+        if (!o.guarantee_flat || !cert.available || cert.nonflat_squares == 0) break;
+        if (spacing / 2 < min_spacing) {
+            std::cerr << "warpmesh: warning: --guarantee flat: " << cert.nonflat_squares
+                      << " warped square(s) are still not flat at spacing " << spacing << " (--min-spacing "
+                      << min_spacing << "); the mesh is written with its true guarantee "
+                      << cert.min_deg << " deg; non-flat squares (i, j) key:";
+            for (std::size_t e = 0; e < cert.nonflat_examples.size() && e < 10; ++e)
+                std::cerr << (e ? "," : "") << " (" << cert.nonflat_examples[e][0] << ", "
+                          << cert.nonflat_examples[e][1] << ") " << cert.nonflat_keys[e];
+            std::cerr << "\n";
+            break;
+        }
+        spacing /= 2;
+        ++refinements;
     }
     if (mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
+    if (cert.available && !o.shape.empty()) measure_fidelity(mesh, *f, lattice.s, cert);
+    if (o.certify && !cert.available)
+        std::cerr << "warpmesh: warning: this build has no certificates (proofs/*.cert); no certified bounds\n";
 
     for (const auto& out : o.outputs) {
         WriteOptions wo;
         wo.svg.color_by_min_angle = o.svg_min_angle;
+        if (o.svg_certified && cert.available) {
+            wo.svg.color_by_cell_data = "certified_min_angle";
+            wo.png.color_by_cell_data = "certified_min_angle";
+        }
         write_mesh(mesh, out, wo);
     }
     QualityReport q = compute_quality(mesh, phases);
     extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
+    if (o.guarantee_flat) extra.emplace_back("refinements", std::to_string(refinements));
+    std::string cert_text;
+    if (o.certify) {
+        if (!cert.available) {
+            extra.emplace_back("certified", "null");
+        } else {
+            const CertifiedTheorem th = certified_theorem(o.rule);
+            std::string j = "{\"min_angle_deg\": " + json_number(cert.min_deg) +
+                            ", \"max_angle_deg\": " + json_number(cert.max_deg) +
+                            ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
+                            ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
+                            ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
+                            ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) + ", \"nonflat\": [";
+            for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
+                j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
+                     ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +
+                     json_string(cert.nonflat_keys[e]) + "}";
+            j += "], \"verified\": " + std::string(cert.verified ? "true" : "false") +
+                 ", \"theorem_any_deg\": " + json_number(th.min_deg_any) +
+                 ", \"theorem_flat_deg\": " + json_number(th.min_deg_flat);
+            if (cert.has_fidelity)
+                j += ", \"max_boundary_distance\": " + json_number(cert.max_boundary_distance) +
+                     ", \"boundary_edges_off_levelset\": " + std::to_string(cert.boundary_edges_off_levelset);
+            extra.emplace_back("certified", j + "}");
+            std::ostringstream t;
+            t.precision(10);
+            t << "certified angles     [" << cert.min_deg << ", " << cert.max_deg << "] deg (proofs/"
+              << (o.rule == DiagonalRule::maxmin ? "maxmin" : "separating") << ".cert"
+              << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
+            t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "
+              << cert.nonflat_squares << " not flat)\n";
+            if (cert.nonflat_squares) {
+                t << "not flat (i, j)     ";
+                for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
+                    t << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1] << ")";
+                if (cert.nonflat_squares > static_cast<std::int64_t>(cert.nonflat_examples.size())) t << " ...";
+                t << "\n";
+            }
+            if (cert.has_fidelity)
+                t << "boundary fidelity    max distance to level set " << cert.max_boundary_distance << ", "
+                  << cert.boundary_edges_off_levelset << " boundary edges off it\n";
+            cert_text = t.str();
+        }
+    }
     q.extra = extra;
     if (!o.report.empty()) write_quality_json(o.report, q);
-    if (!o.quiet) std::cout << quality_text(q);
+    if (!o.quiet) std::cout << quality_text(q) << cert_text;
     return 0;
 }
 

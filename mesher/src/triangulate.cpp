@@ -201,6 +201,11 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     }
 
     // ---- pass 3: triangles -----------------------------------------------------
+    std::int64_t* tri_square = nullptr;
+    if (stats && stats->triangle_square) {
+        stats->triangle_square->resize(static_cast<std::size_t>(ntris));
+        tri_square = stats->triangle_square->data();
+    }
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j < ny; ++j) {
         std::int64_t next = row_tris[static_cast<std::size_t>(j)];
@@ -212,6 +217,7 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             for (int k = 0; k < 2; ++k) {
                 if (!(c & (1 << k))) continue;
                 const auto tri = triangle_of(c, k);
+                if (tri_square) tri_square[next] = i + j * nx;
                 mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[tri[0]])],
                                                                     vid[static_cast<std::size_t>(p[tri[1]])],
                                                                     vid[static_cast<std::size_t>(p[tri[2]])]};

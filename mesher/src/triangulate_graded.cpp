@@ -257,6 +257,11 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
     };
 
     // ---- pass 3: triangles --------------------------------------------------------
+    std::int64_t* tri_square = nullptr;
+    if (stats && stats->triangle_square) {
+        stats->triangle_square->assign(mesh.triangles.size(), -1);
+        tri_square = stats->triangle_square->data();
+    }
 #pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
@@ -282,6 +287,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;
                 const auto tri = triangle_of(c, q);
+                if (tri_square) tri_square[next] = leaf.i + leaf.j * nx;
                 emit(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])],
                      p[static_cast<std::size_t>(tri[2])]);
             }

@@ -5,7 +5,8 @@
 
 namespace warpmesh {
 
-UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule) {
+UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
+                           const CertifyOptions& certify) {
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     UniformResult r;
@@ -29,8 +30,16 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
     r.warped_points = static_cast<std::int64_t>(warped.size());
 
     t0 = clock::now();
+    std::vector<std::int64_t> tri_square;
+    if (certify.enabled) r.stats.triangle_square = &tri_square;
     r.mesh = triangulate(f, lattice, signs, warped, rule, &r.stats);
     r.times.triangulate = seconds(t0);
+    r.stats.triangle_square = nullptr;
+    if (certify.enabled) {
+        t0 = clock::now();
+        r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, tri_square, certify);
+        r.times.certify = seconds(t0);
+    }
     return r;
 }
 

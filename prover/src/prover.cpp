@@ -727,9 +727,10 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             if (cat[c].wmax < 0 || f.emax.value < info[static_cast<std::size_t>(cat[c].wmax)].emax.value) cat[c].wmax = i;
         }
         const int bits = c == 1 ? 33 : 24;  // min-angle margins: 2^-33 (F, < 1e-9 deg), 2^-24 (U, < 1e-6 deg)
-        // Max-angle margins: 2^-12 for F (flat keys), 1/4 for U: tight max-angle
-        // bounds cost many leaves along the max-min switching surfaces.
-        const int mbits = c == 1 ? 12 : 2;
+        // Max-angle margins: 2^-33 for F (flat keys: < 1e-8 deg at 135 and 143.13
+        // deg), 1/4 for U: tight max-angle bounds cost many leaves along the
+        // max-min switching surfaces.
+        const int mbits = c == 1 ? 33 : 2;
         const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
         std::tie(cat[c].tmin, cat[c].emin) = witness(rule, kmin, info[static_cast<std::size_t>(cat[c].wmin)].emin.t, 1);
         cat[c].qmin = std::max(q_up(cat[c].emin.qmin, bits + 3), round_up(info[static_cast<std::size_t>(cat[c].wmin)].emin.value, bits + 3)) + std::ldexp(1.0, -bits);

@@ -49,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/certified.hpp"
 #include "warpmesh/lattice.hpp"
 
 namespace warpmesh {
@@ -160,7 +161,8 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
 
 struct GradedTimes {
     double sample = 0, signs = 0, cut_points = 0, warp = 0, quadtree = 0, triangulate = 0;  // seconds
-    double total() const { return sample + signs + cut_points + warp + quadtree + triangulate; }
+    double certify = 0;  // certification post-pass (certified.hpp), if asked
+    double total() const { return sample + signs + cut_points + warp + quadtree + triangulate + certify; }
 };
 
 struct GradedResult {
@@ -170,11 +172,13 @@ struct GradedResult {
     std::int64_t cut_edges = 0;
     std::int64_t warped_points = 0;
     std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, inside or outside
+    CertifiedSummary certified;  // available = false unless certification ran
 };
 
 // lattice → signs → cut points → warp → quadtree → triangulate.  max_cell is K,
 // the largest leaf width in squares: a power of two, or 0 for as coarse as the
 // lattice allows.
-GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell);
+GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
+                         const CertifyOptions& certify = CertifyOptions{false, false, false});
 
 }  // namespace warpmesh

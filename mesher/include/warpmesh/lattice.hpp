@@ -43,6 +43,13 @@ Lattice lattice_over(const Box& box, double s);
 // endpoint of no cut edge, never warps, and the mesh never reaches the border.
 Lattice lattice_around(const Box& box, double s);
 
+// Both throw InputError for a spacing that is not positive and finite or not
+// within 1e-100 .. 1e100 (triangle areas would underflow or overflow), more
+// than this many squares along an axis (callers bound the total first, e.g.
+// the CLI's --max-squares), or coordinates beyond 2^32 spacings from the
+// origin, where lattice points would round onto each other.
+inline constexpr double max_lattice_squares_per_axis = 4294967296.0;  // 2^32
+
 // f at all points (row-major).  Throws InputError on NaN or infinity.
 std::vector<double> sample_values(const LevelSet& f, const Lattice& lattice);
 
@@ -88,6 +95,9 @@ Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState,
 struct TriangulateStats {
     std::int64_t warped_squares = 0;
     std::int64_t forced_diagonals = 0;  // squares where the separating rule overrode max-min
+    // If set (input), filled with one entry per output triangle: the finest
+    // lattice square i + j nx it belongs to, or -1 (graded coarse leaves).
+    std::vector<std::int64_t>* triangle_square = nullptr;
 };
 
 // Build the output mesh: per square, the diagonal by `rule`; the triangles

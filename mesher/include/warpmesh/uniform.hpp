@@ -1,13 +1,15 @@
 // uniform.hpp — the paper's uniform lattice-warping mesher, end to end.
 #pragma once
 
+#include "warpmesh/certified.hpp"
 #include "warpmesh/lattice.hpp"
 
 namespace warpmesh {
 
 struct PhaseTimes {
     double sample = 0, signs = 0, cut_points = 0, warp = 0, triangulate = 0;  // seconds
-    double total() const { return sample + signs + cut_points + warp + triangulate; }
+    double certify = 0;  // certification post-pass (certified.hpp), if asked
+    double total() const { return sample + signs + cut_points + warp + triangulate + certify; }
 };
 
 struct UniformResult {
@@ -16,9 +18,13 @@ struct UniformResult {
     TriangulateStats stats;
     std::int64_t cut_edges = 0;
     std::int64_t warped_points = 0;
+    CertifiedSummary certified;  // available = false unless certification ran
 };
 
 // lattice → signs → cut points → warp → triangulate.
-UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule);
+// With `certify`, also the per-square certified bounds (certified.hpp): cell
+// data "certified_min_angle", the summary, and optionally the verification.
+UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
+                           const CertifyOptions& certify = CertifyOptions{false, false, false});
 
 }  // namespace warpmesh

@@ -1,0 +1,122 @@
+// certified.hpp — the proofs' per-key angle bounds, compiled into the mesher,
+// and the per-square certification of a mesh against them.
+//
+// The table is generated at configure time from the `key ` lines of
+// proofs/maxmin.cert and proofs/separating.cert (mesher/CMakeLists.txt →
+// build/mesher/generated/certified_table.cpp); a change of a certificate
+// re-runs the configuration.  Format of a line (proofs/README.md):
+//   key <index> <code> <flat 0|1> <m> <qmin> <qmax> <leaves>
+// meaning: for every configuration of the key, every angle a of both chosen
+// triangles has qmax <= cot(a) <= qmin.
+//
+// The proof is about the cotangents (min_cot = qmax, max_cot = qmin, rationals
+// rounded to the nearest double); the degrees are atan-derived and for
+// reporting only.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "warpmesh/generic_square.hpp"
+#include "warpmesh/lattice.hpp"
+
+namespace warpmesh {
+
+struct CertifiedBound {
+    double min_deg, max_deg;   // arccot(max_cot), arccot(min_cot): every angle in [min_deg, max_deg]
+    double min_cot, max_cot;   // qmax, qmin of the key line: min_cot <= cot(angle) <= max_cot
+    bool flat_compatible;
+};
+
+// The key code of a square's corner states, e.g. "-R+U-L-R".
+std::string key_code(const std::array<CornerState, 4>& corners);
+
+// The bound of the key, or nullptr if the key is not in the compiled-in table.
+const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& corners);
+
+// True when the build found both certificates (the table is non-empty).
+bool certified_table_available();
+// Number of keys of the compiled-in table for a rule.
+std::size_t certified_key_count(DiagonalRule rule);
+
+// The theorems as implied by the table: min over all keys of min_deg (resp.
+// max_cot), and over the flat-compatible keys only.
+struct CertifiedTheorem {
+    double min_deg_any, min_deg_flat;
+    double max_cot_any, max_cot_flat;  // the cot bounds behind them (proof side)
+};
+CertifiedTheorem certified_theorem(DiagonalRule rule);
+
+// ---- the table as text, and its comparison with a certificate --------------
+// One parsed key line.
+struct CertKeyLine {
+    std::int64_t index = 0;
+    std::string code;
+    bool flat = false;
+    int m = 0;
+    std::string qmin, qmax;  // the rationals as written
+};
+// The compiled-in `key ` lines of a rule (the generated file's text).
+std::string_view certified_table_text(DiagonalRule rule);
+// Parse `key ` lines (other lines are ignored); throws std::runtime_error on a
+// malformed key line.
+std::vector<CertKeyLine> parse_cert_key_lines(std::string_view text);
+// Compares two key lists key by key; returns "" if equal, otherwise a
+// description of the first difference.
+std::string compare_cert_keys(const std::vector<CertKeyLine>& a, const std::vector<CertKeyLine>& b);
+// p/q or an integer → double (via __int128 and long double).
+double parse_rational(std::string_view text);
+
+// ---- flatness ----------------------------------------------------------------
+// The 12-point stencil of square (i, j), in the order
+//   A, B, C, D, A:(-1,0), A:(0,-1), B:(2,0), B:(1,-1), C:(-1,1), C:(0,2), D:(2,1), D:(1,2)
+// (offsets from A).  True iff some affine a x + b y + c has exactly these signs
+// (0 = on the line).  Exact (integer) test, cached.
+inline constexpr std::array<std::array<int, 2>, 12> stencil_offsets{{{0, 0}, {1, 0}, {0, 1}, {1, 1},
+                                                                     {-1, 0}, {0, -1}, {2, 0}, {1, -1},
+                                                                     {-1, 1}, {0, 2}, {2, 1}, {1, 2}}};
+bool stencil_is_flat(const std::array<std::int8_t, 12>& signs);
+
+// ---- certification of a mesh -------------------------------------------------
+struct CertifyOptions {
+    bool enabled = true;    // compute the per-square bounds and the summary
+    bool cell_data = true;  // add mesh.cell_data "certified_min_angle"
+    bool verify = false;    // check every triangle of a keyed square against its interval
+};
+
+// Squares "through the rule" are the finest squares with a warped or
+// zero-valued corner that emit a triangle (they have a key).  Other triangles:
+// plain lattice squares (45°/90° exactly) and graded coarse-leaf templates
+// (right isosceles: 45°/90°), bound [45°, 90°].
+struct CertifiedSummary {
+    bool available = false;
+    double min_deg = 0, max_deg = 0;     // guarantee of the mesh: min / max over its triangles' bounds
+    double keyed_min_deg = 0;            // min over the keyed squares only (NaN if none)
+    std::int64_t keyed_squares = 0, flat_squares = 0, nonflat_squares = 0;
+    std::vector<std::array<std::int64_t, 2>> nonflat_examples;  // up to 20 (i, j)
+    std::vector<std::string> nonflat_keys;                     // their keys
+    bool verified = false;
+    // Fidelity of the level-set boundary (filled by measure_fidelity).
+    bool has_fidelity = false;
+    double max_boundary_distance = 0;
+    std::int64_t boundary_edges_off_levelset = 0;
+};
+
+// `triangle_square[k]` = i + j nx of the finest square triangle k came from, or
+// -1.  Throws std::logic_error (→ internal error) for an unknown key or, with
+// verify, for a triangle outside its interval.
+CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<const std::int8_t> signs,
+                              std::span<const WarpedPoint> warped, DiagonalRule rule,
+                              std::span<const std::int64_t> triangle_square, const CertifyOptions& options);
+
+// The largest distance from the mesh's level-set boundary edges to f = 0,
+// sampled at 9 points per edge (endpoints included) as |f| / |grad f| with a
+// central-difference gradient (step 1e-6 s); and the number of such edges with
+// an endpoint where |f| > 1e-9 s.  Meaningful for analytic shapes.
+void measure_fidelity(const Mesh& mesh, const LevelSet& f, double spacing, CertifiedSummary& summary);
+
+}  // namespace warpmesh

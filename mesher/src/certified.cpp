@@ -1,0 +1,329 @@
+// certified.cpp — the compiled-in per-key bounds (certified.hpp) and the
+// certification of a mesh: per-triangle bound, flatness, verification.
+#include "warpmesh/certified.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+namespace warpmesh {
+
+namespace generated {
+extern const std::string_view certified_maxmin_keys;
+extern const std::string_view certified_separating_keys;
+}  // namespace generated
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+double arccot_deg(double c) { return std::atan2(1.0, c) * 180.0 / pi; }
+
+int sign_index(int s) { return s + 1; }
+int char_sign(char c) { return c == '-' ? -1 : c == '0' ? 0 : c == '+' ? 1 : 9; }
+int char_warp(char c) {
+    switch (c) {
+        case 's': return 0;
+        case 'R': return 1;
+        case 'L': return 2;
+        case 'U': return 3;
+        case 'D': return 4;
+        default: return 9;
+    }
+}
+constexpr char warp_chars[] = {'s', 'R', 'L', 'U', 'D'};
+
+constexpr int raw_keys = 15 * 15 * 15 * 15;
+int raw_index(const std::array<CornerState, 4>& cs) {
+    int k = 0;
+    for (int c = 0; c < 4; ++c)
+        k = k * 15 + sign_index(cs[static_cast<std::size_t>(c)].sign) * 5 + static_cast<int>(cs[static_cast<std::size_t>(c)].warp);
+    return k;
+}
+
+struct Table {
+    std::vector<CertifiedBound> bound = std::vector<CertifiedBound>(raw_keys);
+    std::vector<std::uint8_t> known = std::vector<std::uint8_t>(raw_keys, 0);
+    std::size_t count = 0;
+    CertifiedTheorem theorem{};
+};
+
+Table build(std::string_view text) {
+    Table t;
+    double max_any = -std::numeric_limits<double>::infinity(), max_flat = max_any;
+    for (const CertKeyLine& k : parse_cert_key_lines(text)) {
+        if (k.code.size() != 8) throw std::runtime_error("certified table: bad key code " + k.code);
+        std::array<CornerState, 4> cs{};
+        for (int c = 0; c < 4; ++c) {
+            const int s = char_sign(k.code[static_cast<std::size_t>(2 * c)]);
+            const int w = char_warp(k.code[static_cast<std::size_t>(2 * c + 1)]);
+            if (s == 9 || w == 9) throw std::runtime_error("certified table: bad key code " + k.code);
+            cs[static_cast<std::size_t>(c)] = {static_cast<std::int8_t>(s), static_cast<Warp>(w)};
+        }
+        const double qmin = parse_rational(k.qmin), qmax = parse_rational(k.qmax);
+        const int idx = raw_index(cs);
+        t.bound[static_cast<std::size_t>(idx)] = {arccot_deg(qmin), arccot_deg(qmax), qmax, qmin, k.flat};
+        t.known[static_cast<std::size_t>(idx)] = 1;
+        ++t.count;
+        max_any = std::max(max_any, qmin);
+        if (k.flat) max_flat = std::max(max_flat, qmin);
+    }
+    t.theorem = {arccot_deg(max_any), arccot_deg(max_flat), max_any, max_flat};
+    return t;
+}
+
+const Table& table(DiagonalRule rule) {
+    static const Table maxmin = build(generated::certified_maxmin_keys);
+    static const Table separating = build(generated::certified_separating_keys);
+    return rule == DiagonalRule::maxmin ? maxmin : separating;
+}
+
+}  // namespace
+
+std::string_view certified_table_text(DiagonalRule rule) {
+    return rule == DiagonalRule::maxmin ? generated::certified_maxmin_keys : generated::certified_separating_keys;
+}
+
+double parse_rational(std::string_view text) {
+    auto parse_int = [&](std::string_view s) -> __int128 {
+        if (s.empty()) throw std::runtime_error("bad rational '" + std::string(text) + "'");
+        bool neg = s[0] == '-';
+        if (neg || s[0] == '+') s.remove_prefix(1);
+        if (s.empty() || s.size() > 36) throw std::runtime_error("bad rational '" + std::string(text) + "'");
+        __int128 v = 0;
+        for (char c : s) {
+            if (c < '0' || c > '9') throw std::runtime_error("bad rational '" + std::string(text) + "'");
+            v = v * 10 + (c - '0');
+        }
+        return neg ? -v : v;
+    };
+    const auto slash = text.find('/');
+    if (slash == std::string_view::npos) return static_cast<double>(static_cast<long double>(parse_int(text)));
+    const __int128 p = parse_int(text.substr(0, slash)), q = parse_int(text.substr(slash + 1));
+    if (q <= 0) throw std::runtime_error("bad rational '" + std::string(text) + "'");
+    return static_cast<double>(static_cast<long double>(p) / static_cast<long double>(q));
+}
+
+std::vector<CertKeyLine> parse_cert_key_lines(std::string_view text) {
+    std::vector<CertKeyLine> out;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        if (line.substr(0, 4) != "key ") continue;
+        std::istringstream in{std::string(line)};
+        std::string word;
+        CertKeyLine k;
+        int flat = -1;
+        std::int64_t leaves = 0;
+        in >> word >> k.index >> k.code >> flat >> k.m >> k.qmin >> k.qmax >> leaves;
+        if (!in || (flat != 0 && flat != 1)) throw std::runtime_error("malformed key line: " + std::string(line));
+        k.flat = flat == 1;
+        out.push_back(std::move(k));
+    }
+    return out;
+}
+
+std::string compare_cert_keys(const std::vector<CertKeyLine>& a, const std::vector<CertKeyLine>& b) {
+    if (a.size() != b.size())
+        return "key count differs: " + std::to_string(a.size()) + " vs " + std::to_string(b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const auto &x = a[i], &y = b[i];
+        if (x.index != y.index || x.code != y.code || x.flat != y.flat || x.m != y.m || x.qmin != y.qmin ||
+            x.qmax != y.qmax || parse_rational(x.qmin) != parse_rational(y.qmin) ||
+            parse_rational(x.qmax) != parse_rational(y.qmax))
+            return "key " + std::to_string(x.index) + " (" + x.code + ") differs: qmin " + x.qmin + " vs " + y.qmin +
+                   ", qmax " + x.qmax + " vs " + y.qmax;
+    }
+    return "";
+}
+
+std::string key_code(const std::array<CornerState, 4>& cs) {
+    std::string s;
+    for (const auto& c : cs) {
+        s += c.sign < 0 ? '-' : c.sign == 0 ? '0' : '+';
+        s += warp_chars[static_cast<int>(c.warp)];
+    }
+    return s;
+}
+
+const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& cs) {
+    for (const auto& c : cs)
+        if (c.sign < -1 || c.sign > 1 || static_cast<int>(c.warp) >= warp_count) return nullptr;
+    const Table& t = table(rule);
+    const int idx = raw_index(cs);
+    return t.known[static_cast<std::size_t>(idx)] ? &t.bound[static_cast<std::size_t>(idx)] : nullptr;
+}
+
+bool certified_table_available() {
+    return table(DiagonalRule::maxmin).count > 0 && table(DiagonalRule::separating).count > 0;
+}
+std::size_t certified_key_count(DiagonalRule rule) { return table(rule).count; }
+CertifiedTheorem certified_theorem(DiagonalRule rule) { return table(rule).theorem; }
+
+// ---------------------------------------------------------------------------
+CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<const std::int8_t> signs,
+                              std::span<const WarpedPoint> warped, DiagonalRule rule,
+                              std::span<const std::int64_t> triangle_square, const CertifyOptions& options) {
+    CertifiedSummary sum;
+    if (!options.enabled || !certified_table_available()) return sum;
+    sum.available = true;
+    const std::int64_t ntris = static_cast<std::int64_t>(mesh.triangles.size());
+    if (static_cast<std::int64_t>(triangle_square.size()) != ntris)
+        throw std::logic_error("certify_mesh: triangle provenance missing");
+    const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
+    auto warp_of = [&](std::int64_t p) -> const WarpedPoint* {
+        auto it = std::lower_bound(warped.begin(), warped.end(), p,
+                                   [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
+        return (it != warped.end() && it->p == p) ? &*it : nullptr;
+    };
+    constexpr double lattice_deg = 45.0;  // plain lattice squares and graded templates: 45°, 45°, 90°
+    std::vector<double> cell;
+    if (options.cell_data) cell.assign(static_cast<std::size_t>(ntris), lattice_deg);
+    double gmin = std::numeric_limits<double>::infinity(), gmax = -gmin, kmin = gmin;
+    bool any_plain = false;
+    std::int64_t keyed = 0, flat_count = 0, nonflat = 0;
+    std::mutex mu;
+    std::vector<std::pair<std::int64_t, std::string>> examples;  // (square, key)
+    std::string failure;
+    std::int64_t failure_tri = -1;
+
+#pragma omp parallel for schedule(dynamic, 4096) reduction(min : gmin, kmin) reduction(max : gmax) \
+    reduction(+ : keyed, flat_count, nonflat) reduction(|| : any_plain)
+    for (std::int64_t k = 0; k < ntris; ++k) {
+        const std::int64_t sq = triangle_square[static_cast<std::size_t>(k)];
+        // Triangles of one square are consecutive: handle the square at its first triangle.
+        const bool first = k == 0 || triangle_square[static_cast<std::size_t>(k - 1)] != sq;
+        if (sq < 0) {
+            any_plain = true;
+            continue;
+        }
+        const std::int64_t i = sq % nx, j = sq / nx;
+        const std::int64_t pa = lattice.index(i, j);
+        const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+        std::array<CornerState, 4> cs{};
+        std::array<double, 4> t{};
+        bool keyed_sq = false;
+        for (int c = 0; c < 4; ++c) {
+            cs[static_cast<std::size_t>(c)].sign = signs[static_cast<std::size_t>(p[static_cast<std::size_t>(c)])];
+            if (cs[static_cast<std::size_t>(c)].sign == 0) keyed_sq = true;
+            if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) {
+                cs[static_cast<std::size_t>(c)].warp = w->dir;
+                t[static_cast<std::size_t>(c)] = w->t;
+                keyed_sq = true;
+            }
+        }
+        if (!keyed_sq) {
+            any_plain = true;
+            continue;
+        }
+        const CertifiedBound* b = certified_bound(rule, cs);
+        if (!b) {
+            std::lock_guard<std::mutex> lock(mu);
+            if (failure.empty() || k < failure_tri) {
+                failure = "square (" + std::to_string(i) + ", " + std::to_string(j) + ") has key " + key_code(cs) +
+                          ", which is not in the certificate";
+                failure_tri = k;
+            }
+            continue;
+        }
+        gmin = std::min(gmin, b->min_deg);
+        kmin = std::min(kmin, b->min_deg);
+        gmax = std::max(gmax, b->max_deg);
+        if (options.cell_data) cell[static_cast<std::size_t>(k)] = b->min_deg;
+        if (options.verify) {
+            const auto& tri = mesh.triangles[static_cast<std::size_t>(k)];
+            std::array<Point<double>, 3> v{};
+            // In the square's frame (cot is invariant under translation and scaling).
+            const Vec2 o = lattice.position(i, j);
+            for (int q = 0; q < 3; ++q) {
+                const Vec2& x = mesh.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>(q)])];
+                v[static_cast<std::size_t>(q)] = {(x.x - o.x) / lattice.s, (x.y - o.y) / lattice.s};
+            }
+            const TriangleForms<double> f = triangle_forms(v[0], v[1], v[2]);
+            bool ok = f.cross > 0;
+            for (int q = 0; q < 3 && ok; ++q) {
+                const double d = f.dot[static_cast<std::size_t>(q)];
+                const double tol = 1e-9 * (std::abs(d) + f.cross * std::max({1.0, std::abs(b->max_cot), std::abs(b->min_cot)}));
+                ok = d <= b->max_cot * f.cross + tol && d >= b->min_cot * f.cross - tol;
+            }
+            if (!ok) {
+                std::ostringstream m;
+                m.precision(12);
+                m << "certificate violated: square (" << i << ", " << j << ") key " << key_code(cs) << ", triangle " << k
+                  << " has angles";
+                for (int q = 0; q < 3; ++q)
+                    m << ' ' << arccot_deg(f.dot[static_cast<std::size_t>(q)] / f.cross);
+                m << " deg (cross " << f.cross << "), certified [" << b->min_deg << ", " << b->max_deg << "] deg";
+                std::lock_guard<std::mutex> lock(mu);
+                if (failure.empty() || k < failure_tri) failure = m.str(), failure_tri = k;
+            }
+        }
+        if (!first) continue;
+        ++keyed;
+        // Flatness of the 12-point stencil; a stencil leaving the lattice is not flat.
+        std::array<std::int8_t, 12> st{};
+        bool inside = true;
+        for (int q = 0; q < 12 && inside; ++q) {
+            const std::int64_t x = i + stencil_offsets[static_cast<std::size_t>(q)][0],
+                               y = j + stencil_offsets[static_cast<std::size_t>(q)][1];
+            if (x < 0 || y < 0 || x > nx || y > ny) inside = false;
+            else st[static_cast<std::size_t>(q)] = signs[static_cast<std::size_t>(lattice.index(x, y))];
+        }
+        if (inside && stencil_is_flat(st)) ++flat_count;
+        else {
+            ++nonflat;
+            std::lock_guard<std::mutex> lock(mu);
+            examples.emplace_back(sq, key_code(cs));
+        }
+    }
+    if (!failure.empty()) throw std::logic_error(failure);
+    if (any_plain) gmin = std::min(gmin, lattice_deg), gmax = std::max(gmax, 90.0);
+    sum.min_deg = gmin;
+    sum.max_deg = gmax;
+    sum.keyed_min_deg = keyed ? kmin : std::numeric_limits<double>::quiet_NaN();
+    sum.keyed_squares = keyed;
+    sum.flat_squares = flat_count;
+    sum.nonflat_squares = nonflat;
+    sum.verified = options.verify;
+    std::sort(examples.begin(), examples.end());
+    for (std::size_t e = 0; e < examples.size() && e < 20; ++e) {
+        sum.nonflat_examples.push_back({examples[e].first % nx, examples[e].first / nx});
+        sum.nonflat_keys.push_back(examples[e].second);
+    }
+    if (options.cell_data) mesh.cell_data.emplace_back("certified_min_angle", std::move(cell));
+    return sum;
+}
+
+void measure_fidelity(const Mesh& mesh, const LevelSet& f, double s, CertifiedSummary& sum) {
+    double worst = 0;
+    std::int64_t off = 0;
+    const std::int64_t n = static_cast<std::int64_t>(mesh.boundary.size());
+    const double h = 1e-6 * s;
+#pragma omp parallel for schedule(static) reduction(max : worst) reduction(+ : off)
+    for (std::int64_t e = 0; e < n; ++e) {
+        if (mesh.boundary_tag[static_cast<std::size_t>(e)] != boundary_level_set) continue;
+        const Vec2 a = mesh.vertices[static_cast<std::size_t>(mesh.boundary[static_cast<std::size_t>(e)][0])];
+        const Vec2 b = mesh.vertices[static_cast<std::size_t>(mesh.boundary[static_cast<std::size_t>(e)][1])];
+        if (std::abs(f.value(a.x, a.y)) > 1e-9 * s || std::abs(f.value(b.x, b.y)) > 1e-9 * s) ++off;
+        for (int q = 0; q <= 8; ++q) {
+            const double u = q / 8.0, x = a.x + u * (b.x - a.x), y = a.y + u * (b.y - a.y);
+            const double v = f.value(x, y);
+            if (v == 0) continue;
+            const double gx = (f.value(x + h, y) - f.value(x - h, y)) / (2 * h);
+            const double gy = (f.value(x, y + h) - f.value(x, y - h)) / (2 * h);
+            const double g = std::hypot(gx, gy);
+            worst = std::max(worst, g > 0 ? std::abs(v) / g : std::numeric_limits<double>::infinity());
+        }
+    }
+    sum.has_fidelity = true;
+    sum.max_boundary_distance = worst;
+    sum.boundary_edges_off_levelset = off;
+}
+
+}  // namespace warpmesh
