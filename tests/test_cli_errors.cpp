@@ -110,7 +110,7 @@ struct Sandbox {
             BOOST_TEST(r.err.find(n) != std::string::npos);
         }
         BOOST_TEST_INFO("warpmesh" << line);
-        BOOST_TEST(r.err.find("internal error") == std::string::npos);
+        BOOST_TEST(r.err.find("warpmesh: internal error") == std::string::npos);
         const auto after = listing(out);
         std::string extra;
         for (const auto& f : after)

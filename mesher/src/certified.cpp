@@ -184,44 +184,66 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
     };
     constexpr double lattice_deg = 45.0;  // plain lattice squares and graded templates: 45°, 45°, 90°
     std::vector<double> cell;
-    if (options.cell_data) cell.assign(static_cast<std::size_t>(ntris), lattice_deg);
     double gmin = std::numeric_limits<double>::infinity(), gmax = -gmin, kmin = gmin;
     bool any_plain = false;
+    if (options.cell_data) cell.resize(static_cast<std::size_t>(ntris));
     std::int64_t keyed = 0, flat_count = 0, nonflat = 0;
     std::mutex mu;
     std::vector<std::pair<std::int64_t, std::string>> examples;  // (square, key)
     std::string failure;
     std::int64_t failure_tri = -1;
 
-#pragma omp parallel for schedule(dynamic, 4096) reduction(min : gmin, kmin) reduction(max : gmax) \
-    reduction(+ : keyed, flat_count, nonflat) reduction(|| : any_plain)
-    for (std::int64_t k = 0; k < ntris; ++k) {
-        const std::int64_t sq = triangle_square[static_cast<std::size_t>(k)];
-        // Triangles of one square are consecutive: handle the square at its first triangle.
-        const bool first = k == 0 || triangle_square[static_cast<std::size_t>(k - 1)] != sq;
-        if (sq < 0) {
-            any_plain = true;
-            continue;
-        }
+    // The keyed squares: those with a warped or zero-valued corner.  Found from
+    // the warped and zero points (few), not by scanning the triangles.
+    std::vector<std::int64_t> keyed_list;
+    auto add_squares_of = [&](std::int64_t p) {
+        const std::int64_t x = p % nxp, y = p / nxp;
+        for (std::int64_t dy = -1; dy <= 0; ++dy)
+            for (std::int64_t dx = -1; dx <= 0; ++dx)
+                if (x + dx >= 0 && y + dy >= 0 && x + dx < nx && y + dy < ny) keyed_list.push_back(x + dx + (y + dy) * nx);
+    };
+    for (const WarpedPoint& w : warped) add_squares_of(w.p);
+    {
+        std::vector<std::vector<std::int64_t>> zeros_per_row(static_cast<std::size_t>(ny) + 1);
+#pragma omp parallel for schedule(static)
+        for (std::int64_t y = 0; y <= ny; ++y)
+            for (std::int64_t x = 0; x < nxp; ++x)
+                if (signs[static_cast<std::size_t>(x + y * nxp)] == 0) zeros_per_row[static_cast<std::size_t>(y)].push_back(x + y * nxp);
+        for (const auto& r : zeros_per_row)
+            for (std::int64_t p : r) add_squares_of(p);
+    }
+    std::sort(keyed_list.begin(), keyed_list.end());
+    keyed_list.erase(std::unique(keyed_list.begin(), keyed_list.end()), keyed_list.end());
+    if (options.cell_data) {
+#pragma omp parallel for schedule(static)
+        for (std::int64_t k = 0; k < ntris; ++k) cell[static_cast<std::size_t>(k)] = lattice_deg;
+    }
+    // Triangles with a square are emitted in increasing square order (uniform:
+    // row-major; graded: finest leaves first, row-major), so each keyed square's
+    // triangles are an equal_range of the prefix of triangle_square that is >= 0.
+    std::int64_t nfinest = ntris;
+    while (nfinest > 0 && triangle_square[static_cast<std::size_t>(nfinest - 1)] < 0) --nfinest;
+    const auto fin_begin = triangle_square.begin(), fin_end = triangle_square.begin() + nfinest;
+    std::int64_t keyed_tris = 0;
+    const std::int64_t nkeyed = static_cast<std::int64_t>(keyed_list.size());
+
+#pragma omp parallel for schedule(dynamic, 256) reduction(min : gmin, kmin) reduction(max : gmax) \
+    reduction(+ : keyed, flat_count, nonflat, keyed_tris)
+    for (std::int64_t ks = 0; ks < nkeyed; ++ks) {
+        const std::int64_t sq = keyed_list[static_cast<std::size_t>(ks)];
+        const auto range = std::equal_range(fin_begin, fin_end, sq);
+        if (range.first == range.second) continue;  // emits nothing
+        const std::int64_t k0 = range.first - triangle_square.begin(), k1 = range.second - triangle_square.begin();
+        keyed_tris += k1 - k0;
         const std::int64_t i = sq % nx, j = sq / nx;
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         std::array<CornerState, 4> cs{};
-        std::array<double, 4> t{};
-        bool keyed_sq = false;
         for (int c = 0; c < 4; ++c) {
             cs[static_cast<std::size_t>(c)].sign = signs[static_cast<std::size_t>(p[static_cast<std::size_t>(c)])];
-            if (cs[static_cast<std::size_t>(c)].sign == 0) keyed_sq = true;
-            if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) {
-                cs[static_cast<std::size_t>(c)].warp = w->dir;
-                t[static_cast<std::size_t>(c)] = w->t;
-                keyed_sq = true;
-            }
+            if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) cs[static_cast<std::size_t>(c)].warp = w->dir;
         }
-        if (!keyed_sq) {
-            any_plain = true;
-            continue;
-        }
+        const std::int64_t k = k0;
         const CertifiedBound* b = certified_bound(rule, cs);
         if (!b) {
             std::lock_guard<std::mutex> lock(mu);
@@ -235,8 +257,10 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
         gmin = std::min(gmin, b->min_deg);
         kmin = std::min(kmin, b->min_deg);
         gmax = std::max(gmax, b->max_deg);
-        if (options.cell_data) cell[static_cast<std::size_t>(k)] = b->min_deg;
+        for (std::int64_t kt = k0; kt < k1; ++kt) {
+        if (options.cell_data) cell[static_cast<std::size_t>(kt)] = b->min_deg;
         if (options.verify) {
+            const std::int64_t k = kt;
             const auto& tri = mesh.triangles[static_cast<std::size_t>(k)];
             std::array<Point<double>, 3> v{};
             // In the square's frame (cot is invariant under translation and scaling).
@@ -264,7 +288,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
                 if (failure.empty() || k < failure_tri) failure = m.str(), failure_tri = k;
             }
         }
-        if (!first) continue;
+        }
         ++keyed;
         // Flatness of the 12-point stencil; a stencil leaving the lattice is not flat.
         std::array<std::int8_t, 12> st{};
@@ -283,6 +307,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
         }
     }
     if (!failure.empty()) throw std::logic_error(failure);
+    any_plain = keyed_tris < ntris;
     if (any_plain) gmin = std::min(gmin, lattice_deg), gmax = std::max(gmax, 90.0);
     sum.min_deg = gmin;
     sum.max_deg = gmax;

@@ -74,8 +74,8 @@ lattice and algorithm:
 
 certificates (proofs/*.cert, compiled in):
   --verify / --no-verify check every triangle of a warped square against its key's
-                         certified angle interval (default: on); a violation is an
-                         internal error naming the square
+                         certified angle interval (default: on); a violation exits
+                         with code 3, naming the square
   --no-certify           skip the per-square bounds (no certified_min_angle, no report)
   --guarantee flat       halve the spacing until every warped square's 12-point
                          stencil is flat (theorem F applies); --guarantee any: no refinement

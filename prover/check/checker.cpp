@@ -364,14 +364,16 @@ RQ deg(const Q& cot) {  // the angle in degrees whose cotangent is cot
     }
     return cot > 0 ? RQ{180 * a.lo, 180 * a.hi} : RQ{180 - 180 * a.hi, 180 - 180 * a.lo};
 }
-std::string dec(const Q& q, bool up) {  // 10 decimals, rounded outward
-    const Q s = q * 10000000000LL;
+std::string dec(const Q& q, bool up, int digits = 10) {  // `digits` decimals, rounded outward
+    Z scale = 1;
+    for (int i = 0; i < digits; ++i) scale *= 10;
+    const Q s = q * Q(scale);
     Z n = numerator(s) / denominator(s);
     if (Q(n) > s) n -= 1;
     if (up && Q(n) < s) n += 1;
     std::string d = (n < 0 ? -n : n).str();
-    while (d.size() < 11) d = "0" + d;
-    return std::string(n < 0 ? "-" : "") + d.substr(0, d.size() - 10) + "." + d.substr(d.size() - 10);
+    while (static_cast<int>(d.size()) <= digits) d = "0" + d;
+    return std::string(n < 0 ? "-" : "") + d.substr(0, d.size() - digits) + "." + d.substr(d.size() - digits);
 }
 std::string degs(const Q& cot) {
     const RQ r = deg(cot);
@@ -580,7 +582,9 @@ int check_file(const std::string& path) {
         else
             std::cout << "  " << cname[c] << ": every angle >= " << dec(deg(claim[c].qmin).lo, false)
                       << " deg and <= " << dec(deg(claim[c].qmax).hi, true) << " deg (cot <= " << claim[c].qmin
-                      << ", cot >= " << claim[c].qmax << "); both triangles positively oriented\n";
+                      << ", cot >= " << claim[c].qmax << "); both triangles positively oriented\n"
+                      << "    rounded outward to 4 decimals: every angle in [" << dec(deg(claim[c].qmin).lo, false, 4)
+                      << ", " << dec(deg(claim[c].qmax).hi, true, 4) << "] deg\n";
     }
     for (const Wit& w : wits) {
         std::size_t i = 0;

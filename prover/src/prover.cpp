@@ -728,9 +728,10 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         }
         const int bits = c == 1 ? 33 : 24;  // min-angle margins: 2^-33 (F, < 1e-9 deg), 2^-24 (U, < 1e-6 deg)
         // Max-angle margins: 2^-33 for F (flat keys: < 1e-8 deg at 135 and 143.13
-        // deg), 1/4 for U: tight max-angle bounds cost many leaves along the
-        // max-min switching surfaces.
-        const int mbits = c == 1 ? 33 : 2;
+        // deg; the extremes sit at box corners, where the monotonicity reduction
+        // closes the boxes), 1/8 for U: tight max-angle bounds cost many leaves
+        // along the max-min switching surfaces.
+        const int mbits = c == 1 ? 33 : 3;
         const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
         std::tie(cat[c].tmin, cat[c].emin) = witness(rule, kmin, info[static_cast<std::size_t>(cat[c].wmin)].emin.t, 1);
         cat[c].qmin = std::max(q_up(cat[c].emin.qmin, bits + 3), round_up(info[static_cast<std::size_t>(cat[c].wmin)].emin.value, bits + 3)) + std::ldexp(1.0, -bits);
@@ -745,9 +746,9 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         f.qmin = std::min(round_up(f.emin.value + rel, 16), c.qmin);
         f.qmax = std::max(round_down(f.emax.value - 0.25 * (1 + std::fabs(f.emax.value)), 16), c.qmax);
         // Keys that are not flat-compatible: the max-angle claim is at least as
-        // loose as cot -2 (153.43 deg) — tight max-angle claims need too many leaves
+        // loose as cot -3/2 (146.31 deg) — tight max-angle claims need too many leaves
         // along the max-min switching surfaces (both diagonals must be bounded there).
-        if (!f.flat) f.qmax = std::min(f.qmax, std::getenv("WARPMESH_U_MAX_COT") ? std::atof(std::getenv("WARPMESH_U_MAX_COT")) : -2.0);
+        if (!f.flat) f.qmax = std::min(f.qmax, std::getenv("WARPMESH_U_MAX_COT") ? std::atof(std::getenv("WARPMESH_U_MAX_COT")) : -1.5);
     }
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;

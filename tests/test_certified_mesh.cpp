@@ -1,0 +1,130 @@
+// Meshes checked against the certificates: every triangle of a warped square
+// lies in its key's certified interval (verify), the reported guarantee is the
+// min over the triangles' bounds, and flat refinement removes sub-18.43° bounds.
+#define BOOST_TEST_MODULE certified_mesh
+#include <boost/test/unit_test.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "warpmesh/certified.hpp"
+#include "warpmesh/graded.hpp"
+#include "warpmesh/shapes.hpp"
+#include "warpmesh/uniform.hpp"
+
+using namespace warpmesh;
+
+namespace {
+const std::vector<double>& cell(const Mesh& m) {
+    for (const auto& [name, v] : m.cell_data)
+        if (name == "certified_min_angle") return v;
+    BOOST_FAIL("no certified_min_angle");
+    static std::vector<double> none;
+    return none;
+}
+std::string random_shape(std::mt19937& rng, int it) {
+    std::uniform_real_distribution<double> u(0, 1);
+    std::ostringstream spec;
+    spec.precision(17);
+    const double cx = u(rng), cy = u(rng);
+    switch (it % 3) {
+        case 0: spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5; break;
+        case 1: spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng); break;
+        default: spec << "union(circle:" << cx << "," << cy << ",4;circle:" << cx + 5 << "," << cy + 1 << ",3)"; break;
+    }
+    return spec.str();
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(random_levelsets_verify_and_guarantee) {
+    std::mt19937 rng(777);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::int64_t nonflat = 0;
+    for (int it = 0; it < 30; ++it) {
+        const auto f = parse_shape(random_shape(rng, it));
+        const Lattice lat = lattice_around(f->bounds(), 0.4 + 2.0 * u(rng));  // coarse: non-flat stencils occur
+        for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating})
+            for (int graded = 0; graded < 2; ++graded) {
+                Mesh mesh;
+                CertifiedSummary c;
+                const CertifyOptions opt{true, true, true};
+                try {
+                    if (graded) {
+                        auto res = mesh_graded(*f, lat, r, 0, opt);
+                        mesh = std::move(res.mesh);
+                        c = res.certified;
+                    } else {
+                        auto res = mesh_uniform(*f, lat, r, opt);
+                        mesh = std::move(res.mesh);
+                        c = res.certified;
+                    }
+                } catch (const std::exception& e) {
+                    BOOST_FAIL("shape " << it << " rule " << int(r) << " graded " << graded << ": " << e.what());
+                }
+                BOOST_REQUIRE(c.available);
+                BOOST_TEST(c.verified);
+                if (mesh.triangles.empty()) continue;
+                const auto& v = cell(mesh);
+                BOOST_REQUIRE(v.size() == mesh.triangles.size());
+                BOOST_TEST(c.min_deg == *std::min_element(v.begin(), v.end()));
+                BOOST_TEST(c.min_deg >= certified_theorem(r).min_deg_any);
+                BOOST_TEST(c.flat_squares + c.nonflat_squares == c.keyed_squares);
+                if (c.nonflat_squares == 0 && c.keyed_squares > 0)
+                    BOOST_TEST(c.keyed_min_deg >= certified_theorem(r).min_deg_flat);
+                nonflat += c.nonflat_squares;
+            }
+    }
+    BOOST_TEST(nonflat > 0);  // the coarse spacings do exercise non-flat stencils
+}
+
+// A coarse shape where a non-flat square's key certifies less than atan(1/3);
+// refining (as --guarantee flat does) removes every non-flat square and the
+// guarantee rises to theorem F.
+BOOST_AUTO_TEST_CASE(nonflat_low_bound_removed_by_refinement) {
+    const double flat_deg = certified_theorem(DiagonalRule::maxmin).min_deg_flat;
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<double> u(0, 1);
+    bool found = false;
+    for (int it = 0; it < 400 && !found; ++it) {
+        const std::string spec = random_shape(rng, it);
+        const auto f = parse_shape(spec);
+        double s = 0.5 + 2.5 * u(rng);
+        auto res = mesh_uniform(*f, lattice_around(f->bounds(), s), DiagonalRule::maxmin, CertifyOptions{true, true, true});
+        if (!(res.certified.nonflat_squares > 0 && res.certified.keyed_min_deg < flat_deg - 1e-6)) continue;
+        found = true;
+        BOOST_TEST_MESSAGE(spec << " at spacing " << s << ": certified " << res.certified.keyed_min_deg
+                                << " deg, non-flat " << res.certified.nonflat_keys.front());
+        for (int ref = 0; ref < 6 && res.certified.nonflat_squares > 0; ++ref) {
+            s /= 2;
+            res = mesh_uniform(*f, lattice_around(f->bounds(), s), DiagonalRule::maxmin, CertifyOptions{true, true, true});
+        }
+        BOOST_TEST(res.certified.nonflat_squares == 0);
+        BOOST_TEST(res.certified.keyed_min_deg >= flat_deg);
+        BOOST_TEST(res.certified.min_deg >= flat_deg);
+    }
+    BOOST_TEST(found, "no coarse shape with a non-flat sub-18.43 deg key found");
+}
+
+BOOST_AUTO_TEST_CASE(cli_guarantee_flat) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_cert_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string report = (dir / "r.json").string();
+    const std::string cmd = std::string(WARPMESH_EXE) +
+                            " mesh --shape ellipse:0.83394607101968854,0.51418896218051124,8.6396592053008217,1.7641549835951533 --spacing 2.77624 --diagonal maxmin --guarantee flat --quiet"
+                            " --verify --report " + report + " -o " + (dir / "m.svg").string() +
+                            " --svg-color certified 2>" + (dir / "err.txt").string();
+    BOOST_REQUIRE(std::system(cmd.c_str()) == 0);
+    std::ifstream in(report);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string j = ss.str();
+    BOOST_TEST(j.find("\"certified\": {") != std::string::npos);
+    BOOST_TEST(j.find("\"nonflat_squares\": 0") != std::string::npos, j.substr(j.find("\"certified\"")));
+    BOOST_TEST(j.find("\"verified\": true") != std::string::npos);
+    fs::remove_all(dir);
+}

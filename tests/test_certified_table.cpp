@@ -1,0 +1,137 @@
+// The compiled-in certified table (certified.hpp) agrees with proofs/*.cert,
+// a corrupted copy is detected, and every key the mesher produces is in it.
+#define BOOST_TEST_MODULE certified_table
+#include <boost/test/unit_test.hpp>
+
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "warpmesh/certified.hpp"
+#include "warpmesh/shapes.hpp"
+#include "warpmesh/uniform.hpp"
+
+using namespace warpmesh;
+
+namespace {
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    BOOST_REQUIRE_MESSAGE(in, "cannot read " << path);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+const char* rule_name(DiagonalRule r) { return r == DiagonalRule::maxmin ? "maxmin" : "separating"; }
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(table_matches_certificates) {
+    BOOST_REQUIRE(certified_table_available());
+    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+        const auto file = parse_cert_key_lines(slurp(std::string(WARPMESH_PROOFS_DIR) + "/" + rule_name(r) + ".cert"));
+        const auto compiled = parse_cert_key_lines(certified_table_text(r));
+        BOOST_TEST(file.size() == 5095u);
+        const std::string diff = compare_cert_keys(file, compiled);
+        BOOST_TEST(diff.empty(), rule_name(r) << ": compiled table is stale (re-run cmake): " << diff);
+        BOOST_TEST(certified_key_count(r) == file.size());
+        // Every key of the file looks up to its own bound.
+        for (const auto& k : file) {
+            std::array<CornerState, 4> cs{};
+            for (int c = 0; c < 4; ++c) {
+                const char sc = k.code[static_cast<std::size_t>(2 * c)], wc = k.code[static_cast<std::size_t>(2 * c + 1)];
+                cs[static_cast<std::size_t>(c)].sign = static_cast<std::int8_t>(sc == '-' ? -1 : sc == '0' ? 0 : 1);
+                cs[static_cast<std::size_t>(c)].warp = static_cast<Warp>(std::string("sRLUD").find(wc));
+            }
+            BOOST_TEST(key_code(cs) == k.code);
+            const CertifiedBound* b = certified_bound(r, cs);
+            BOOST_REQUIRE(b);
+            BOOST_TEST(b->max_cot == parse_rational(k.qmin));
+            BOOST_TEST(b->min_cot == parse_rational(k.qmax));
+            BOOST_TEST(b->flat_compatible == k.flat);
+            BOOST_TEST(b->min_deg <= b->max_deg);
+        }
+    }
+}
+
+BOOST_AUTO_TEST_CASE(corrupted_copy_is_detected) {
+    auto keys = parse_cert_key_lines(certified_table_text(DiagonalRule::maxmin));
+    BOOST_REQUIRE(keys.size() > 100);
+    auto bad = keys;
+    bad[100].qmin = bad[100].qmin == "3" ? "4" : "3";
+    BOOST_TEST(compare_cert_keys(keys, keys).empty());
+    BOOST_TEST(!compare_cert_keys(keys, bad).empty());
+    auto shorter = keys;
+    shorter.pop_back();
+    BOOST_TEST(!compare_cert_keys(keys, shorter).empty());
+}
+
+BOOST_AUTO_TEST_CASE(theorems_from_table) {
+    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+        const CertifiedTheorem th = certified_theorem(r);
+        BOOST_TEST(th.min_deg_any > 14.99);
+        BOOST_TEST(th.min_deg_any < 15.0);
+        BOOST_TEST(th.min_deg_flat > 18.4349488);
+        BOOST_TEST(th.min_deg_flat < 18.4349489);
+    }
+    BOOST_TEST(parse_rational("25769803777/8589934592") == 3.0 + 1.0 / 8589934592.0);
+    BOOST_TEST(parse_rational("-4097/4096") == -4097.0 / 4096.0);
+}
+
+BOOST_AUTO_TEST_CASE(flatness) {
+    std::array<std::int8_t, 12> s{};
+    s.fill(-1);
+    BOOST_TEST(stencil_is_flat(s));
+    s.fill(0);
+    BOOST_TEST(stencil_is_flat(s));
+    // x - 1/2 sign pattern: flat.  Points at x <= 0 negative, x >= 1 positive.
+    for (int k = 0; k < 12; ++k) s[static_cast<std::size_t>(k)] = stencil_offsets[static_cast<std::size_t>(k)][0] <= 0 ? -1 : 1;
+    BOOST_TEST(stencil_is_flat(s));
+    // x = 0 line with zeros: flat.
+    for (int k = 0; k < 12; ++k) {
+        const int x = stencil_offsets[static_cast<std::size_t>(k)][0];
+        s[static_cast<std::size_t>(k)] = static_cast<std::int8_t>(x < 0 ? -1 : x == 0 ? 0 : 1);
+    }
+    BOOST_TEST(stencil_is_flat(s));
+    // Opposite corners positive, the others negative (saddle): not flat.
+    s.fill(-1);
+    s[0] = s[3] = 1;
+    BOOST_TEST(!stencil_is_flat(s));
+    // A single positive point in the middle of negatives along a line... A + and
+    // both its outside neighbours -, B, C, D -: flat (a small disc around A? no:
+    // affine sign sets are half-planes; {A} alone is a half-plane's trace iff A is
+    // a vertex of the convex hull, and A=(0,0) is interior to the stencil's hull).
+    s.fill(-1);
+    s[0] = 1;
+    BOOST_TEST(!stencil_is_flat(s));
+    // Hull vertex (2,0) alone positive: flat.
+    s.fill(-1);
+    s[6] = 1;
+    BOOST_TEST(stencil_is_flat(s));
+}
+
+BOOST_AUTO_TEST_CASE(mesher_keys_are_in_table) {
+    // Random analytic shapes at random spacings and offsets: certify_mesh throws
+    // on any key that is not in the table.
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::int64_t keyed = 0;
+    for (int it = 0; it < 60; ++it) {
+        std::ostringstream spec;
+        spec.precision(17);
+        const double cx = u(rng), cy = u(rng);
+        switch (it % 4) {
+            case 0: spec << "circle:" << cx << "," << cy << "," << 2 + 10 * u(rng); break;
+            case 1: spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng); break;
+            case 2: spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5; break;
+            default: spec << "annulus:" << cx << "," << cy << "," << 2 + 3 * u(rng) << "," << 6 + 5 * u(rng); break;
+        }
+        const auto f = parse_shape(spec.str());
+        const Lattice lat = lattice_around(f->bounds(), 0.3 + 1.5 * u(rng));
+        for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+            UniformResult res;
+            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, CertifyOptions{true, false, true}));
+            BOOST_REQUIRE(res.certified.available);
+            keyed += res.certified.keyed_squares;
+        }
+    }
+    BOOST_TEST(keyed > 1000);
+}
