@@ -473,7 +473,9 @@ BOOST_AUTO_TEST_CASE(unwritable_outputs) {
     // An output path that is an existing directory: the mesh is written to a
     // temporary that cannot be renamed onto it; the temporary is removed.
     fs::create_directory(sb.out / "d.vtu");
-    sb.refuse({"mesh", img, "-o", "d.vtu"}, 1, {"cannot write 'd.vtu'", "Is a directory"});
+    sb.refuse({"mesh", img, "-o", "d.vtu"}, 1, {"cannot write 'd.vtu'", "is a directory"});
+    // Several outputs are all-or-nothing: a bad second one means no first one.
+    sb.refuse({"mesh", img, "-o", "m.vtu", "--also", "d.vtu"}, 1, {"cannot write 'd.vtu'", "is a directory"});
     fs::create_directory(sb.out / "r.json");
     sb.refuse({"mesh", img, "-o", "d.vtu", "--report", "r.json"}, 1, {"cannot write"});
     BOOST_TEST(fs::is_empty(sb.out / "d.vtu"));
@@ -497,6 +499,17 @@ BOOST_AUTO_TEST_CASE(a_write_failing_midway_leaves_nothing) {
     // The report is small and fits, the mesh does not: no report either.
     sb.refuse({"mesh", img, "--report", "r.json", "-o", "m.vtu", "--quiet"}, 1, {"cannot write 'm.vtu'"},
               "trap '' XFSZ; ulimit -f 2;");
+    // Two meshes, the first small enough to be written, the second not: the
+    // first must not appear either (outputs are staged, then renamed together).
+    BOOST_TEST(sb.run({"mesh", img, "-o", "small.msh", "--also", "big.svg", "--quiet"}).code == 0);
+    const auto small = fs::file_size(sb.out / "small.msh"), big = fs::file_size(sb.out / "big.svg");
+    fs::remove(sb.out / "small.msh");
+    fs::remove(sb.out / "big.svg");
+    const auto limit_blocks = small / 512 + 1;  // /bin/sh's ulimit -f counts 512-byte blocks (dash, POSIX)
+    BOOST_TEST_INFO("small.msh " << small << " bytes, big.svg " << big << " bytes");
+    BOOST_REQUIRE(limit_blocks * 512 < big);
+    sb.refuse({"mesh", img, "-o", "small.msh", "--also", "big.svg", "--quiet"}, 1, {"cannot write 'big.svg'"},
+              "trap '' XFSZ; ulimit -f " + std::to_string(limit_blocks) + ";");
 }
 
 // --- region touching the border --------------------------------------------------------

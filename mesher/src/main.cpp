@@ -8,7 +8,10 @@
 // written under the requested name), 2 usage error, 3 internal error.
 #include <sys/resource.h>
 
+#include <cerrno>
 #include <charconv>
+#include <filesystem>
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -203,6 +206,55 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
     return o;
 }
 
+// A count or size for a message: "%.4g" never overflows (1e+30, inf).
+std::string approx(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+// All outputs of one run appear together or not at all.  Each is first written
+// (atomically, see atomic_file.hpp) under a staging name in its own directory,
+// ".NAME.warpmesh-PID"; only when every file is complete are they renamed onto
+// the requested names.  A failure on the way removes the staged files, so a
+// failed run leaves neither partial nor stale-mixed outputs behind.  (The
+// final renames are within one directory each and do not fail in practice.)
+class StagedOutputs {
+public:
+    // Calls write(staged name) for `path`; remembers to rename it later.  An
+    // OutputError's message names the requested path, not the staged one.
+    template <class Write>
+    void write(const std::string& path, Write&& write) {
+        namespace fs = std::filesystem;
+        const fs::path p(path);
+        const std::string tag = ".warpmesh-" + std::to_string(::getpid()) + "-" + std::to_string(renames_.size());
+        // Keep the extension last: the writers choose the format by it.
+        const fs::path staged = p.parent_path() / ("." + p.stem().string() + tag + p.extension().string());
+        const auto real = output_files(p.string()), tmp = output_files(staged.string());
+        for (std::size_t k = 0; k < real.size(); ++k) renames_.emplace_back(tmp[k], real[k]);
+        try {
+            write(staged.string());
+        } catch (const OutputError& e) {
+            std::string m = e.what();
+            for (std::size_t k = 0; k < real.size(); ++k)
+                for (std::size_t at; (at = m.find(tmp[k])) != std::string::npos;) m.replace(at, tmp[k].size(), real[k]);
+            throw OutputError(m);
+        }
+    }
+    void commit() {
+        for (const auto& [from, to] : renames_)
+            if (std::rename(from.c_str(), to.c_str()) != 0)
+                throw OutputError("cannot rename '" + from + "' to '" + to + "': " + std::strerror(errno));
+        renames_.clear();
+    }
+    ~StagedOutputs() {
+        for (const auto& r : renames_) std::remove(r.first.c_str());
+    }
+
+private:
+    std::vector<std::pair<std::string, std::string>> renames_;
+};
+
 double peak_memory_mb() {
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
@@ -211,8 +263,9 @@ double peak_memory_mb() {
 
 int run_mesh(int argc, char** argv) {
     const MeshOptions o = parse_mesh_options(argc, argv);
-    // Check the outputs' extensions before doing any work.
+    // Check the outputs' extensions and directories before doing any work.
     for (const auto& out : o.outputs) check_output_path(out);
+    if (!o.report.empty()) check_writable(o.report);
 
     std::unique_ptr<LevelSet> f;
     std::optional<Image> image;
@@ -239,15 +292,15 @@ int run_mesh(int argc, char** argv) {
             const Box b = f->bounds();
             const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
             if (!(w * h <= static_cast<double>(o.max_squares)))
-                throw InputError("the lattice would have about " + std::to_string(std::llround(w)) + " x " +
-                                 std::to_string(std::llround(h)) + " squares, more than --max-squares " +
+                throw InputError("the lattice would have about " + approx(w) + " x " + approx(h) +
+                                 " squares, more than --max-squares " +
                                  std::to_string(o.max_squares) + " (use a larger --spacing)");
             return lattice_around(b, spacing);
         }
         const double w = (image->width - 1) / spacing, h = (image->height - 1) / spacing;
         if (!(w * h <= static_cast<double>(o.max_squares)))
-            throw InputError("spacing " + std::to_string(spacing) + " gives about " +
-                             std::to_string(std::llround(w * h)) + " lattice squares, more than --max-squares " +
+            throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
+                             " lattice squares, more than --max-squares " +
                              std::to_string(o.max_squares));
         return lattice_over(f->bounds(), spacing);
     };
@@ -322,6 +375,7 @@ int run_mesh(int argc, char** argv) {
     if (o.certify && !cert.available)
         std::cerr << "warpmesh: warning: this build has no certificates (proofs/*.cert); no certified bounds\n";
 
+    StagedOutputs staged;
     for (const auto& out : o.outputs) {
         WriteOptions wo;
         wo.svg.color_by_min_angle = o.svg_min_angle;
@@ -329,7 +383,7 @@ int run_mesh(int argc, char** argv) {
             wo.svg.color_by_cell_data = "certified_min_angle";
             wo.png.color_by_cell_data = "certified_min_angle";
         }
-        write_mesh(mesh, out, wo);
+        staged.write(out, [&](const std::string& path) { write_mesh(mesh, path, wo); });
     }
     QualityReport q = compute_quality(mesh, phases);
     extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
@@ -378,7 +432,8 @@ int run_mesh(int argc, char** argv) {
         }
     }
     q.extra = extra;
-    if (!o.report.empty()) write_quality_json(o.report, q);
+    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, q); });
+    staged.commit();
     if (!o.quiet) std::cout << quality_text(q) << cert_text;
     return 0;
 }

@@ -56,11 +56,7 @@ void write_triangle_poly(const Mesh& mesh, std::ostream& os) {
 
 void write_triangle(const Mesh& mesh, const std::string& path) {
     detail::check_mesh_arrays(mesh, path);
-    // The stem: `path` without a .node/.ele/.poly extension.
-    std::string stem = path;
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext == ".node" || ext == ".ele" || ext == ".poly") stem.resize(stem.size() - ext.size());
+    const std::string stem = detail::triangle_stem(path);
 
     AtomicFile node(stem + ".node"), ele(stem + ".ele"), poly(stem + ".poly");
     auto fill = [](AtomicFile& f, auto&& body) {

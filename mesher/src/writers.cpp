@@ -5,6 +5,8 @@
 #include <cctype>
 #include <filesystem>
 
+#include <unistd.h>
+
 namespace warpmesh {
 
 namespace detail {
@@ -27,6 +29,14 @@ void check_mesh_arrays(const Mesh& mesh, const std::string& path) {
         if (bad(t[0]) || bad(t[1]) || bad(t[2])) fail("a triangle has a vertex index out of range");
     for (const auto& e : mesh.boundary)
         if (bad(e[0]) || bad(e[1])) fail("a boundary edge has a vertex index out of range");
+}
+
+std::string triangle_stem(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::string stem = path;
+    if (ext == ".node" || ext == ".ele" || ext == ".poly") stem.resize(stem.size() - ext.size());
+    return stem;
 }
 
 }  // namespace detail
@@ -56,12 +66,29 @@ Format output_format(const std::string& path) {
 
 }  // namespace
 
+void check_writable(const std::string& path) {
+    namespace fs = std::filesystem;
+    const fs::path p(path), dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    std::error_code ec;
+    if (p.filename().empty() || fs::is_directory(p, ec))
+        throw OutputError("cannot write '" + path + "': it is a directory, not a file name");
+    if (!fs::is_directory(dir, ec))
+        throw OutputError("cannot write '" + path + "': '" + dir.string() + "' is not a directory");
+    // The file is created in `dir` (a temporary, then renamed), so `dir` must
+    // be writable and searchable; an existing file under the name is replaced.
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        throw OutputError("cannot write '" + path + "': directory '" + dir.string() + "' is not writable");
+}
+
 void check_output_path(const std::string& path) {
     output_format(path);
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-        throw OutputError("cannot write '" + path + "': '" + dir.string() + "' is not a directory");
+    check_writable(path);
+}
+
+std::vector<std::string> output_files(const std::string& path) {
+    const std::string stem = detail::triangle_stem(path);
+    if (stem == path) return {path};
+    return {stem + ".node", stem + ".ele", stem + ".poly"};
 }
 
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {

@@ -18,6 +18,7 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "warpmesh/atomic_file.hpp"
 #include "warpmesh/mesh.hpp"
@@ -77,6 +78,14 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
 // Throws OutputError if write_mesh would refuse `path` for its extension or
 // because its directory does not exist — checked before any work is done.
 void check_output_path(const std::string& path);
+
+// The part of check_output_path that does not depend on the format: `path` is
+// not a directory, and its directory exists and is writable.  Throws OutputError.
+void check_writable(const std::string& path);
+
+// The files that write_mesh(mesh, path) creates: `path` itself, or for the
+// Triangle format the stem's .node, .ele and .poly.
+std::vector<std::string> output_files(const std::string& path);
 
 // VTK XML UnstructuredGrid, ASCII.  Points are 3D with z = 0; cells are the
 // triangles only (VTK_TRIANGLE = 5; boundary edges are not written — use .msh
@@ -170,6 +179,10 @@ private:
 // Throws OutputError unless every per-triangle array of `mesh` (region,
 // cell_data) has one entry per triangle and boundary_tag one per boundary edge.
 void check_mesh_arrays(const Mesh& mesh, const std::string& path);
+
+// `path` without a (case-insensitive) .node/.ele/.poly extension: the stem of
+// the Triangle files.  Any other path is returned unchanged.
+std::string triangle_stem(const std::string& path);
 
 }  // namespace detail
 
