@@ -38,6 +38,15 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   done
   cat "$fresh"/*.check
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
+  echo "== README's table of certified bounds is the checker's"
+  cat "$fresh"/*.check | "$root/scripts/bounds-table.sh" >"$fresh/table.md"
+  sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/README.md" | sed '1d;$d' >"$fresh/readme.md"
+  if ! cmp -s "$fresh/table.md" "$fresh/readme.md"; then
+    echo "test: README.md's certified-bounds table differs from the checker's output; regenerate it with" >&2
+    echo "      build/prover/warpmesh-check proofs/*.cert | scripts/bounds-table.sh" >&2
+    diff "$fresh/readme.md" "$fresh/table.md" >&2 || true
+    exit 1
+  fi
 fi
 
 echo "== the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"

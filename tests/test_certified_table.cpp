@@ -3,6 +3,10 @@
 #define BOOST_TEST_MODULE certified_table
 #include <boost/test/unit_test.hpp>
 
+#include <string>
+
+#include <cmath>
+
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -71,6 +75,28 @@ BOOST_AUTO_TEST_CASE(theorems_from_table) {
         BOOST_TEST(th.min_deg_any < 15.0);
         BOOST_TEST(th.min_deg_flat > 18.4349488);
         BOOST_TEST(th.min_deg_flat < 18.4349489);
+    }
+    // The theorem lines of the certificates are what the compiled table implies:
+    // the min-angle side exactly (the claim is the largest key cot bound), and
+    // the max-angle side equal to arccot of the claim's least cot bound.
+    for (const char* rule : {"maxmin", "separating"}) {
+        const CertifiedTheorem th = certified_theorem(std::string(rule) == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating);
+        std::ifstream in(std::string(WARPMESH_PROOFS_DIR) + "/" + rule + ".cert");
+        int claims = 0;
+        for (std::string line; std::getline(in, line) && line.rfind("keys ", 0) != 0;) {
+            std::istringstream ss(line);
+            std::string w, set, qmin, qmax;
+            ss >> w >> set >> qmin >> qmax;
+            if (w != "claim") continue;
+            ++claims;
+            const double cmin = parse_rational(qmin), cmax = parse_rational(qmax);
+            const double deg_max = std::atan2(1.0, cmax) * 180 / M_PI;
+            BOOST_TEST_INFO(rule << " claim " << set);
+            BOOST_TEST((set == "U" ? th.max_cot_any : th.max_cot_flat) == cmin);
+            BOOST_TEST_INFO(rule << " claim " << set);
+            BOOST_TEST((set == "U" ? th.max_deg_any : th.max_deg_flat) == deg_max, boost::test_tools::tolerance(1e-12));
+        }
+        BOOST_TEST(claims == 2);
     }
     BOOST_TEST(parse_rational("25769803777/8589934592") == 3.0 + 1.0 / 8589934592.0);
     BOOST_TEST(parse_rational("-4097/4096") == -4097.0 / 4096.0);

@@ -53,6 +53,7 @@ struct Table {
 Table build(std::string_view text) {
     Table t;
     double max_any = -std::numeric_limits<double>::infinity(), max_flat = max_any;
+    double min_any = std::numeric_limits<double>::infinity(), min_flat = min_any;  // least cot: largest angle
     for (const CertKeyLine& k : parse_cert_key_lines(text)) {
         if (k.code.size() != 8) throw std::runtime_error("certified table: bad key code " + k.code);
         std::array<CornerState, 4> cs{};
@@ -68,9 +69,10 @@ Table build(std::string_view text) {
         t.known[static_cast<std::size_t>(idx)] = 1;
         ++t.count;
         max_any = std::max(max_any, qmin);
-        if (k.flat) max_flat = std::max(max_flat, qmin);
+        min_any = std::min(min_any, qmax);
+        if (k.flat) max_flat = std::max(max_flat, qmin), min_flat = std::min(min_flat, qmax);
     }
-    t.theorem = {arccot_deg(max_any), arccot_deg(max_flat), max_any, max_flat};
+    t.theorem = {arccot_deg(max_any), arccot_deg(max_flat), max_any, max_flat, arccot_deg(min_any), arccot_deg(min_flat)};
     return t;
 }
 
@@ -317,6 +319,10 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
     sum.nonflat_squares = nonflat;
     sum.verified = options.verify;
     std::sort(examples.begin(), examples.end());
+    for (std::size_t e = 0; e < examples.size() && e < 100000; ++e) {
+        const Vec2 lo = lattice.position(examples[e].first % nx, examples[e].first / nx);
+        sum.nonflat_boxes.push_back({lo.x, lo.y, lo.x + lattice.s, lo.y + lattice.s});
+    }
     for (std::size_t e = 0; e < examples.size() && e < 20; ++e) {
         sum.nonflat_examples.push_back({examples[e].first % nx, examples[e].first / nx});
         sum.nonflat_keys.push_back(examples[e].second);

@@ -379,6 +379,12 @@ int run_mesh(int argc, char** argv) {
     for (const auto& out : o.outputs) {
         WriteOptions wo;
         wo.svg.color_by_min_angle = o.svg_min_angle;
+        if (cert.available && !cert.nonflat_boxes.empty()) {
+            wo.svg.marked_boxes = cert.nonflat_boxes;
+            wo.svg.marked_label = std::to_string(cert.nonflat_squares) +
+                                  " warped square(s) with a non-flat stencil (outlined in magenta); the mesh is certified down to " +
+                                  approx(cert.min_deg) + " deg";
+        }
         if (o.svg_certified && cert.available) {
             wo.svg.color_by_cell_data = "certified_min_angle";
             wo.png.color_by_cell_data = "certified_min_angle";

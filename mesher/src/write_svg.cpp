@@ -178,6 +178,26 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
     }
     out << "</g>\n";
 
+    if (!options.marked_boxes.empty()) {
+        out << "<g id=\"marked\" fill=\"none\" stroke=\"#d000d0\" stroke-width=\"";
+        out.fixed(boundary_w, 3) << "\">\n";
+        if (!options.marked_label.empty()) out << "<title>" << xml_text(options.marked_label) << "</title>\n";
+        for (const auto& b : options.marked_boxes) {
+            out << "<rect x=\"";
+            out.fixed(margin + (b[0] - xmin) * s, 3) << "\" y=\"";
+            out.fixed(margin + (ymax - b[3]) * s, 3) << "\" width=\"";
+            out.fixed((b[2] - b[0]) * s, 3) << "\" height=\"";
+            out.fixed((b[3] - b[1]) * s, 3) << "\"/>\n";
+        }
+        out << "</g>\n";
+        if (!options.marked_label.empty()) {
+            out << "<text x=\"";
+            out.fixed(margin, 1) << "\" y=\"";
+            out.fixed(height - 2, 1) << "\" font-family=\"sans-serif\" font-size=\"10\" fill=\"#d000d0\">"
+                                    << xml_text(options.marked_label) << "</text>\n";
+        }
+    }
+
     if (coloured) {
         // A vertical colour bar (low at the bottom) with three labels.
         const double x0 = width - legend_w + 15, y0 = margin + 25, bar_h = 180, bar_w = 18;

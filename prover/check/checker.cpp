@@ -616,10 +616,60 @@ int check_file(const std::string& path) {
     return 0;
 }
 
+// ---- graded-mesh templates (not in the certificates: a finite, exact check) --
+// The graded mesher (issue: quadtree) triangulates an unwarped leaf, scaled to
+// [0,2]^2, in one of two ways: no split side → one diagonal (either one);
+// otherwise the centre (1,1) is joined to the 4 corners and to the midpoint of
+// every split side, i.e. each side gives the triangle (centre, corner, corner),
+// or, split, (centre, corner, midpoint) and (centre, midpoint, corner).  All 16
+// split patterns are enumerated; every triangle must be positively oriented
+// with every angle in [45°, 90°]: cross > 0 and 0 <= dot <= cross (cot in
+// [0, 1]).  Integer coordinates: the test is exact.
+int check_templates() {
+    using P = std::array<long, 2>;
+    const P corner[4] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}}, mid[4] = {{1, 0}, {2, 1}, {1, 2}, {0, 1}}, centre{1, 1};
+    auto ok = [](const P& a, const P& b, const P& c) {
+        const P v[3] = {a, b, c};
+        for (int i = 0; i < 3; ++i) {
+            const P &o = v[i], &p = v[(i + 1) % 3], &q = v[(i + 2) % 3];
+            const long ux = p[0] - o[0], uy = p[1] - o[1], wx = q[0] - o[0], wy = q[1] - o[1];
+            const long cross = ux * wy - uy * wx, dot = ux * wx + uy * wy;
+            if (cross <= 0 || dot < 0 || dot > cross) return false;
+        }
+        return true;
+    };
+    int triangles = 0;
+    for (int pattern = 0; pattern < 16; ++pattern) {
+        std::vector<std::array<P, 3>> tris;
+        if (pattern == 0) {
+            tris = {{corner[0], corner[1], corner[2]}, {corner[0], corner[2], corner[3]},   // diagonal (0,0)-(2,2)
+                    {corner[0], corner[1], corner[3]}, {corner[1], corner[2], corner[3]}};  // diagonal (2,0)-(0,2)
+        } else {
+            for (int side = 0; side < 4; ++side) {
+                const P &a = corner[side], &b = corner[(side + 1) % 4];
+                if (pattern >> side & 1) tris.push_back({centre, a, mid[side]}), tris.push_back({centre, mid[side], b});
+                else tris.push_back({centre, a, b});
+            }
+        }
+        for (const auto& t : tris)
+            if (!ok(t[0], t[1], t[2])) fail("graded template " + std::to_string(pattern) + ": a triangle leaves [45, 90] deg");
+        triangles += static_cast<int>(tris.size());
+    }
+    return triangles;
+}
+
 int main(int argc, char** argv) {
     if (argc < 2) {
         std::cerr << "usage: warpmesh-check FILE.cert...\n";
         return 2;
+    }
+    try {
+        const int n = check_templates();
+        std::cout << "graded templates: 16 split patterns, " << n
+                  << " triangles, every angle in [45, 90] deg and positively oriented (exact)\n";
+    } catch (const Fail& f) {
+        std::cerr << "REJECTED: " << f.msg << "\n";
+        return 1;
     }
     int status = 0;
     for (int i = 1; i < argc; ++i) {

@@ -20,6 +20,7 @@
 #include <tuple>
 #include <vector>
 
+#include "warpmesh/certified.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
 #include "warpmesh/image.hpp"
@@ -30,10 +31,17 @@
 
 namespace warpmesh::fuzz {
 
-// Provisional angle bounds (the numerical study of the generic square; the
-// prover's certificates will replace them), with round-off slack.
-inline constexpr double min_angle_deg = 15.0 - 1e-6;
-inline constexpr double max_angle_deg = 143.1302 + 1e-6;
+// The certified theorem U of the rule (proofs/*.cert, compiled in), as
+// degrees with round-off slack: every angle of every mesh lies in it.  Each
+// warped square is also checked against its own key's interval by the
+// mesher's verify pass (a violation throws std::logic_error: a crash here).
+struct AngleBounds {
+    double min_deg, max_deg;
+};
+inline AngleBounds certified_bounds(DiagonalRule rule) {
+    const CertifiedTheorem t = certified_theorem(rule);
+    return {t.min_deg_any - 1e-6, t.max_deg_any + 1e-6};
+}
 
 // Pixel limit of the image-reader target: small, so that no input can make
 // the reader allocate much.
@@ -169,7 +177,8 @@ inline double mesh_area(const Mesh& m) {
 }
 
 // Checks every invariant of a mesh of `lattice`; `what` names the mesher.
-inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, const char* what) {
+inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, DiagonalRule rule, const char* what) {
+    const AngleBounds bounds = certified_bounds(rule);
     const MeshCheck mc = check_mesh(m);
     if (!mc.ok()) violation(std::string(what) + ": check_mesh failed: " + (mc.messages.empty() ? "" : mc.messages[0]));
     if (m.region.size() != m.triangles.size()) violation(std::string(what) + ": region array size");
@@ -190,10 +199,10 @@ inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, const c
             const Vec2 r = m.vertices[static_cast<std::size_t>(t[(k + 2) % 3])];
             const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
             const double deg = std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI;
-            if (!(deg >= min_angle_deg && deg <= max_angle_deg)) {
-                char buf[200];
-                std::snprintf(buf, sizeof buf, "%s: angle %.9f deg at vertex (%.17g, %.17g) outside [15, 143.1302]",
-                              what, deg, o.x, o.y);
+            if (!(deg >= bounds.min_deg && deg <= bounds.max_deg)) {
+                char buf[240];
+                std::snprintf(buf, sizeof buf, "%s: angle %.9f deg at vertex (%.17g, %.17g) outside the certified [%.6f, %.6f]",
+                              what, deg, o.x, o.y, bounds.min_deg, bounds.max_deg);
                 violation(buf);
             }
         }
@@ -222,11 +231,12 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         return false;
     }
     const Lattice lattice = c.around ? lattice_around(f->bounds(), c.spacing) : lattice_over(f->bounds(), c.spacing);
-    const UniformResult u = mesh_uniform(*f, lattice, c.rule);
-    check_mesh_invariants(u.mesh, lattice, "uniform");
+    const CertifyOptions verify{true, true, true};
+    const UniformResult u = mesh_uniform(*f, lattice, c.rule, verify);
+    check_mesh_invariants(u.mesh, lattice, c.rule, "uniform");
     if (c.graded) {
-        const GradedResult g = mesh_graded(*f, lattice, c.rule, c.max_cell);
-        check_mesh_invariants(g.mesh, lattice, "graded");
+        const GradedResult g = mesh_graded(*f, lattice, c.rule, c.max_cell, verify);
+        check_mesh_invariants(g.mesh, lattice, c.rule, "graded");
         const double au = mesh_area(u.mesh), ag = mesh_area(g.mesh);
         if (std::abs(au - ag) > 1e-9 * std::max(1.0, au)) violation("graded and uniform areas differ");
         if (boundary_coords(u.mesh) != boundary_coords(g.mesh)) violation("graded and uniform boundaries differ");

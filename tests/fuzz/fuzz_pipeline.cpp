@@ -3,8 +3,8 @@
 // Decodes a tiny image and the meshing options from the input (layout in
 // fuzz_checks.hpp: size 2..24 per side, spacing, threshold or label mode,
 // diagonal rule, uniform or graded), meshes it and checks the mesh
-// invariants: check_mesh, every angle within the provisional bounds
-// [15°, 143.1302°], tags, vertices inside the lattice, and for graded meshes
+// invariants: check_mesh, every triangle of a warped square inside its key's
+// certified interval and every angle inside the rule's certified theorem U, tags, vertices inside the lattice, and for graded meshes
 // the same area and boundary as the uniform mesh and a valid quadtree.  A
 // violation aborts, so the fuzzer reports it.  Built by scripts/fuzz.sh.
 #include <cstddef>

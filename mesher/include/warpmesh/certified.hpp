@@ -43,11 +43,13 @@ bool certified_table_available();
 // Number of keys of the compiled-in table for a rule.
 std::size_t certified_key_count(DiagonalRule rule);
 
-// The theorems as implied by the table: min over all keys of min_deg (resp.
-// max_cot), and over the flat-compatible keys only.
+// The theorems as implied by the table: over all keys ("any") and over the
+// flat-compatible keys only ("flat"), the least min_deg and the greatest
+// max_deg (every angle lies in [min_deg, max_deg]).
 struct CertifiedTheorem {
     double min_deg_any, min_deg_flat;
-    double max_cot_any, max_cot_flat;  // the cot bounds behind them (proof side)
+    double max_cot_any, max_cot_flat;  // the largest cot bound, behind min_deg (proof side)
+    double max_deg_any, max_deg_flat;
 };
 CertifiedTheorem certified_theorem(DiagonalRule rule);
 
@@ -99,6 +101,7 @@ struct CertifiedSummary {
     std::int64_t keyed_squares = 0, flat_squares = 0, nonflat_squares = 0;
     std::vector<std::array<std::int64_t, 2>> nonflat_examples;  // up to 20 (i, j)
     std::vector<std::string> nonflat_keys;                     // their keys
+    std::vector<std::array<double, 4>> nonflat_boxes;          // all of them (up to 10^5): {xmin, ymin, xmax, ymax}
     bool verified = false;
     // Fidelity of the level-set boundary (filled by measure_fidelity).
     bool has_fidelity = false;

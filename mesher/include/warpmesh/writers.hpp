@@ -13,6 +13,7 @@
 // to the same double (std::to_chars), so text formats round-trip exactly.
 #pragma once
 
+#include <array>
 #include <charconv>
 #include <cstdint>
 #include <ostream>
@@ -36,6 +37,11 @@ struct SvgOptions {
     double long_side_px = 1000;
     // Draw the interior edges (thin).  Off is useful for very fine meshes.
     bool draw_edges = true;
+    // Axis-aligned boxes {xmin, ymin, xmax, ymax} (mesh coordinates) outlined
+    // in magenta on top of the mesh, with `marked_label` in a note: the mesher
+    // marks the warped squares whose stencil is not flat this way.
+    std::vector<std::array<double, 4>> marked_boxes;
+    std::string marked_label;
 };
 
 struct PngOptions {
