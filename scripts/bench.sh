@@ -2,13 +2,14 @@
 # Speed and memory of the mesher, as measured on this machine.
 #
 # For each case and thread count: output triangles, meshing time (the sum of
-# the pipeline phases, excluding file output and the quality report),
+# the pipeline phases, excluding file output and the quality report; the
+# fastest of three runs),
 # triangles per second, and peak resident memory of the whole process in bytes
 # per output triangle.  No mesh file is written (the cost of .vtu/.msh output
 # is a separate, I/O-bound matter).
 #
-#   scripts/bench.sh            all cases
-#   scripts/bench.sh --quick    small cases only (used by the tests of the script)
+#   scripts/bench.sh            all cases: uniform, graded, cost of certification
+#   scripts/bench.sh --quick    the atlas slice only
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
@@ -23,7 +24,16 @@ field() { sed -n "s/^  \"$1\": \\([^,]*\\),*$/\\1/p" "$2"; }
 run_case() {  # name threads args...
   local name="$1" threads="$2"
   shift 2
-  OMP_NUM_THREADS="$threads" "$exe" mesh "$@" --quiet --report "$tmp/r.json"
+  # Fastest of three runs: the figures of a shared 2-core VM vary by ±30 %.
+  local best="" s
+  for _ in 1 2 3; do
+    OMP_NUM_THREADS="$threads" "$exe" mesh "$@" --quiet --report "$tmp/run.json"
+    s=$(field total_seconds "$tmp/run.json")
+    if [ -z "$best" ] || awk -v a="$s" -v b="$best" 'BEGIN { exit !(a < b) }'; then
+      best="$s"
+      cp "$tmp/run.json" "$tmp/r.json"
+    fi
+  done
   local tris secs mem
   tris=$(field triangles "$tmp/r.json")
   secs=$(field total_seconds "$tmp/r.json")
@@ -34,15 +44,33 @@ run_case() {  # name threads args...
 }
 
 echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)"
-printf "%-34s %2s  %11s  %8s  %8s  %9s  %6s\n" case thr triangles seconds "Mtri/s" "peak MB" "B/tri"
-modes=("")
-[ "${1:-}" = "--graded" ] && modes=("--graded")
-for g in "${modes[@]}" ${WARPMESH_BENCH_GRADED:+--graded}; do
-  for th in 1 2; do
-    run_case "atlas slice 256x256, s=1 ${g}" "$th" "$brain" --label nonzero --spacing 1 $g
-    if [ "${1:-}" != "--quick" ]; then
-      run_case "disc, 4096x4096 lattice ${g}" "$th" --shape circle:0,0,2047 --spacing 1 $g
-      run_case "atlas upscaled, 4096x4096 ${g}" "$th" "$brain" --label nonzero --spacing 0.062255859375 $g
-    fi
-  done
+echo "time = sum of the pipeline phases (no file output); certification off (--no-certify) unless stated"
+printf "%-44s %2s  %11s  %8s  %8s  %9s  %6s\n" case thr triangles seconds "Mtri/s" "peak MB" "B/tri"
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
+for th in 1 2; do
+  run_case "atlas slice 256x256, s=1" "$th" "$brain" --label nonzero --spacing 1 --no-certify
+  if [ "$quick" = 0 ]; then
+    run_case "disc, 4096x4096 lattice" "$th" --shape circle:0,0,2047 --spacing 1 --no-certify
+    run_case "atlas upscaled, 4096x4096 lattice" "$th" "$brain" --label nonzero --spacing 0.062255859375 --no-certify
+  fi
 done
+
+echo "== graded (--graded, --max-cell default)"
+for th in 1 2; do
+  run_case "graded atlas slice 256x256, s=1" "$th" "$brain" --label nonzero --spacing 1 --graded --no-certify
+  if [ "$quick" = 0 ]; then
+    run_case "graded disc, 4096x4096 lattice" "$th" --shape circle:0,0,2047 --spacing 1 --graded --no-certify
+    run_case "graded atlas upscaled, 4096x4096" "$th" "$brain" --label nonzero --spacing 0.062255859375 --graded --no-certify
+    run_case "graded flower, 4096x4096 lattice" "$th" --shape flower:0,0,1500,500,40 --spacing 1 --graded --no-certify
+  fi
+done
+
+if [ "$quick" = 0 ]; then
+  echo "== cost of the certification (per-square bounds, certified_min_angle, --verify), 1 thread"
+  run_case "disc 4096, --no-certify" 1 --shape circle:0,0,2047 --spacing 1 --no-certify
+  run_case "disc 4096, certified, --no-verify" 1 --shape circle:0,0,2047 --spacing 1 --no-verify
+  run_case "disc 4096, certified and verified (default)" 1 --shape circle:0,0,2047 --spacing 1
+  run_case "atlas upscaled, --no-certify" 1 "$brain" --label nonzero --spacing 0.062255859375 --no-certify
+  run_case "atlas upscaled, certified and verified" 1 "$brain" --label nonzero --spacing 0.062255859375
+fi

@@ -19,11 +19,11 @@
 using namespace warpmesh;
 
 namespace {
-const std::vector<double>& cell(const Mesh& m) {
+const Buffer<double>& cell(const Mesh& m) {
     for (const auto& [name, v] : m.cell_data)
         if (name == "certified_min_angle") return v;
     BOOST_FAIL("no certified_min_angle");
-    static std::vector<double> none;
+    static Buffer<double> none;
     return none;
 }
 std::string random_shape(std::mt19937& rng, int it) {

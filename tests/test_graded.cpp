@@ -93,7 +93,7 @@ std::vector<CoordEdge> boundary_coords(const Mesh& m) {
 
 // The quadtree of the graded mesh, rebuilt from the public stages.
 struct Tree {
-    std::vector<std::int8_t> signs;
+    Buffer<std::int8_t> signs;
     Quadtree tree;
     std::vector<Leaf> leaves;
 };
@@ -245,7 +245,7 @@ BOOST_AUTO_TEST_CASE(max_cell_one_is_the_uniform_mesh) {
             BOOST_TEST(g.mesh.vertices[v].x == u.mesh.vertices[v].x);
             BOOST_TEST(g.mesh.vertices[v].y == u.mesh.vertices[v].y);
         }
-        auto sorted = [](std::vector<std::array<std::int32_t, 3>> t) {
+        auto sorted = [](Buffer<std::array<std::int32_t, 3>> t) {
             std::sort(t.begin(), t.end());
             return t;
         };

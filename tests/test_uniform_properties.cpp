@@ -77,7 +77,7 @@ std::string random_shape(std::mt19937& rng) {
 // The pipeline run stage by stage, so that tests can see the intermediates.
 struct Run {
     Lattice lattice;
-    std::vector<std::int8_t> signs;
+    Buffer<std::int8_t> signs;
     std::vector<CutEdge> cuts;
     std::vector<WarpedPoint> warped;
     Mesh mesh;

@@ -67,7 +67,7 @@ Mesh grid(int n) {
         m.boundary.push_back({id(n - i, n), id(n - i - 1, n)}), m.boundary_tag.push_back(boundary_level_set);
         m.boundary.push_back({id(0, n - i), id(0, n - i - 1)}), m.boundary_tag.push_back(boundary_level_set);
     }
-    m.cell_data.emplace_back("height", height);
+    m.cell_data.emplace_back("height", Buffer<double>(height.begin(), height.end()));
     return m;
 }
 

@@ -92,7 +92,7 @@ Mesh grid_mesh(int nx = 5, int ny = 3) {
         a.push_back(static_cast<double>(k) / 7 + 1e-300);
         b.push_back(-std::sqrt(2.0) * static_cast<double>(k) * 1e20);
     }
-    m.cell_data = {{"certified_min_angle", a}, {"weird <name> & \"q\"", b}};
+    m.cell_data = {{"certified_min_angle", Buffer<double>(a.begin(), a.end())}, {"weird <name> & \"q\"", Buffer<double>(b.begin(), b.end())}};
     for (int i = 0; i < nx; ++i) m.boundary.push_back({id(i, 0), id(i + 1, 0)}), m.boundary_tag.push_back(1);
     for (int j = 0; j < ny; ++j) m.boundary.push_back({id(nx, j), id(nx, j + 1)}), m.boundary_tag.push_back(2);
     for (int i = nx; i > 0; --i) m.boundary.push_back({id(i, ny), id(i - 1, ny)}), m.boundary_tag.push_back(1);

@@ -171,13 +171,11 @@ CertifiedTheorem certified_theorem(DiagonalRule rule) { return table(rule).theor
 // ---------------------------------------------------------------------------
 CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<const std::int8_t> signs,
                               std::span<const WarpedPoint> warped, DiagonalRule rule,
-                              std::span<const std::int64_t> triangle_square, const CertifyOptions& options) {
+                              std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
     CertifiedSummary sum;
     if (!options.enabled || !certified_table_available()) return sum;
     sum.available = true;
     const std::int64_t ntris = static_cast<std::int64_t>(mesh.triangles.size());
-    if (static_cast<std::int64_t>(triangle_square.size()) != ntris)
-        throw std::logic_error("certify_mesh: triangle provenance missing");
     const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
     auto warp_of = [&](std::int64_t p) -> const WarpedPoint* {
         auto it = std::lower_bound(warped.begin(), warped.end(), p,
@@ -185,7 +183,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
         return (it != warped.end() && it->p == p) ? &*it : nullptr;
     };
     constexpr double lattice_deg = 45.0;  // plain lattice squares and graded templates: 45°, 45°, 90°
-    std::vector<double> cell;
+    Buffer<double> cell;  // every element written: lattice_deg first, then the keyed squares' bounds
     double gmin = std::numeric_limits<double>::infinity(), gmax = -gmin, kmin = gmin;
     bool any_plain = false;
     if (options.cell_data) cell.resize(static_cast<std::size_t>(ntris));
@@ -195,47 +193,23 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
     std::string failure;
     std::int64_t failure_tri = -1;
 
-    // The keyed squares: those with a warped or zero-valued corner.  Found from
-    // the warped and zero points (few), not by scanning the triangles.
-    std::vector<std::int64_t> keyed_list;
-    auto add_squares_of = [&](std::int64_t p) {
-        const std::int64_t x = p % nxp, y = p / nxp;
-        for (std::int64_t dy = -1; dy <= 0; ++dy)
-            for (std::int64_t dx = -1; dx <= 0; ++dx)
-                if (x + dx >= 0 && y + dy >= 0 && x + dx < nx && y + dy < ny) keyed_list.push_back(x + dx + (y + dy) * nx);
-    };
-    for (const WarpedPoint& w : warped) add_squares_of(w.p);
-    {
-        std::vector<std::vector<std::int64_t>> zeros_per_row(static_cast<std::size_t>(ny) + 1);
-#pragma omp parallel for schedule(static)
-        for (std::int64_t y = 0; y <= ny; ++y)
-            for (std::int64_t x = 0; x < nxp; ++x)
-                if (signs[static_cast<std::size_t>(x + y * nxp)] == 0) zeros_per_row[static_cast<std::size_t>(y)].push_back(x + y * nxp);
-        for (const auto& r : zeros_per_row)
-            for (std::int64_t p : r) add_squares_of(p);
-    }
-    std::sort(keyed_list.begin(), keyed_list.end());
-    keyed_list.erase(std::unique(keyed_list.begin(), keyed_list.end()), keyed_list.end());
     if (options.cell_data) {
 #pragma omp parallel for schedule(static)
         for (std::int64_t k = 0; k < ntris; ++k) cell[static_cast<std::size_t>(k)] = lattice_deg;
     }
-    // Triangles with a square are emitted in increasing square order (uniform:
-    // row-major; graded: finest leaves first, row-major), so each keyed square's
-    // triangles are an equal_range of the prefix of triangle_square that is >= 0.
-    std::int64_t nfinest = ntris;
-    while (nfinest > 0 && triangle_square[static_cast<std::size_t>(nfinest - 1)] < 0) --nfinest;
-    const auto fin_begin = triangle_square.begin(), fin_end = triangle_square.begin() + nfinest;
     std::int64_t keyed_tris = 0;
-    const std::int64_t nkeyed = static_cast<std::int64_t>(keyed_list.size());
+    const std::int64_t nkeyed = static_cast<std::int64_t>(keyed_squares.size());
 
 #pragma omp parallel for schedule(dynamic, 256) reduction(min : gmin, kmin) reduction(max : gmax) \
     reduction(+ : keyed, flat_count, nonflat, keyed_tris)
     for (std::int64_t ks = 0; ks < nkeyed; ++ks) {
-        const std::int64_t sq = keyed_list[static_cast<std::size_t>(ks)];
-        const auto range = std::equal_range(fin_begin, fin_end, sq);
-        if (range.first == range.second) continue;  // emits nothing
-        const std::int64_t k0 = range.first - triangle_square.begin(), k1 = range.second - triangle_square.begin();
+        const KeyedSquare& ksq = keyed_squares[static_cast<std::size_t>(ks)];
+        const std::int64_t sq = ksq.square, k0 = ksq.first, k1 = ksq.first + ksq.count;
+        if (k0 < 0 || ksq.count < 1 || k1 > ntris) {  // no exception may leave an OpenMP region
+            std::lock_guard<std::mutex> lock(mu);
+            failure = "certify_mesh: bad triangle provenance for square " + std::to_string(sq);
+            continue;
+        }
         keyed_tris += k1 - k0;
         const std::int64_t i = sq % nx, j = sq / nx;
         const std::int64_t pa = lattice.index(i, j);

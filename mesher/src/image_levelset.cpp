@@ -352,6 +352,15 @@ std::int32_t LabelLevelSet::region_at(double x, double y) const {
     // if none of them is in the region, the region pixel nearest to the
     // nearest centre.
     const int c0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    // Fast path (almost every triangle): all four centres in the region with
+    // one label — then that label is the nearest one's, whichever it is.
+    if (c0 + 1 < w_ && y0 + 1 < h_) {
+        const std::size_t k00 = index(c0, y0), k10 = index(c0 + 1, y0), k01 = index(c0, y0 + 1), k11 = index(c0 + 1, y0 + 1);
+        const std::int32_t l = label_[k00];
+        if (inside_[k00] && inside_[k10] && inside_[k01] && inside_[k11] && label_[k10] == l && label_[k01] == l &&
+            label_[k11] == l)
+            return l;
+    }
     double best = std::numeric_limits<double>::infinity();
     std::size_t pick = 0;
     for (int dy = 0; dy < 2; ++dy)

@@ -95,8 +95,8 @@ void LevelSet::sample(const Lattice& lattice, std::span<double> out) const {
         }
 }
 
-std::vector<double> sample_values(const LevelSet& f, const Lattice& lattice) {
-    std::vector<double> values(static_cast<std::size_t>(lattice.point_count()));
+Buffer<double> sample_values(const LevelSet& f, const Lattice& lattice) {
+    Buffer<double> values(static_cast<std::size_t>(lattice.point_count()));  // every element written by f.sample
     f.sample(lattice, values);
     // A NaN has no sign and would silently drop out of every comparison below:
     // refuse it here, once, with the place it occurred.

@@ -305,7 +305,11 @@ int run_mesh(int argc, char** argv) {
         return lattice_over(f->bounds(), spacing);
     };
 
-    const CertifyOptions certify{o.certify, o.certify, o.certify && o.verify};
+    // The per-triangle array certified_min_angle (8 bytes a triangle) only when
+    // a file will carry it or a picture is coloured by it.
+    bool cell_data = o.svg_certified;
+    for (const auto& out : o.outputs) cell_data = cell_data || format_carries_cell_data(out);
+    const CertifyOptions certify{o.certify, o.certify && cell_data, o.certify && o.verify};
     Mesh mesh;
     CertifiedSummary cert;
     Lattice lattice;

@@ -7,8 +7,8 @@
 
 namespace warpmesh {
 
-std::vector<std::int8_t> compute_signs(std::span<const double> values) {
-    std::vector<std::int8_t> signs(values.size());
+Buffer<std::int8_t> compute_signs(std::span<const double> values) {
+    Buffer<std::int8_t> signs(values.size());  // every element written below
     const std::int64_t n = static_cast<std::int64_t>(values.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t k = 0; k < n; ++k) {

@@ -99,7 +99,7 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
     const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
 
-    std::vector<std::uint8_t> state(npoints);
+    Buffer<std::uint8_t> state(npoints);  // every element written by the loop below
 #pragma omp parallel for schedule(static)
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k)
         state[static_cast<std::size_t>(k)] = signs[static_cast<std::size_t>(k)] < 0    ? inside_bit
@@ -113,7 +113,7 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     };
 
     // ---- pass 1: square codes ------------------------------------------------
-    std::vector<std::uint8_t> code(static_cast<std::size_t>(nx * ny));
+    Buffer<std::uint8_t> code(static_cast<std::size_t>(nx * ny));  // every element written by pass 1
     std::vector<std::int64_t> row_tris(static_cast<std::size_t>(ny) + 1, 0);
     std::int64_t warped_squares = 0, forced = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : warped_squares, forced)
@@ -162,16 +162,17 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
         return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
     };
-    std::vector<std::int32_t> vid(npoints, -1);
+    Buffer<std::int32_t> vid(npoints);  // every element written: 0 (used) or -1 just below
     std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j <= ny; ++j) {
         std::int64_t count = 0;
         for (std::int64_t i = 0; i < nxp; ++i) {
-            if (!(state[static_cast<std::size_t>(lattice.index(i, j))] & inside_bit)) continue;
-            const bool used = uses_corner(square_code(i, j), A) || uses_corner(square_code(i - 1, j), B) ||
-                              uses_corner(square_code(i, j - 1), C) || uses_corner(square_code(i - 1, j - 1), D);
-            if (used) vid[static_cast<std::size_t>(lattice.index(i, j))] = 0, ++count;
+            const bool used = (state[static_cast<std::size_t>(lattice.index(i, j))] & inside_bit) &&
+                              (uses_corner(square_code(i, j), A) || uses_corner(square_code(i - 1, j), B) ||
+                               uses_corner(square_code(i, j - 1), C) || uses_corner(square_code(i - 1, j - 1), D));
+            vid[static_cast<std::size_t>(lattice.index(i, j))] = used ? 0 : -1;
+            count += used;
         }
         row_verts[static_cast<std::size_t>(j) + 1] = count;
     }
@@ -180,8 +181,8 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     const std::int64_t nverts = row_verts.back(), ntris = row_tris.back();
     if (nverts > INT32_MAX || ntris > INT32_MAX)
         throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
-    mesh.vertices.resize(static_cast<std::size_t>(nverts));
-    mesh.triangles.resize(static_cast<std::size_t>(ntris));
+    mesh.vertices.resize(static_cast<std::size_t>(nverts));  // written by the loop below, one per used point
+    mesh.triangles.resize(static_cast<std::size_t>(ntris));  // written by pass 3, row_tris[j] on
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j <= ny; ++j) {
         std::int64_t next = row_verts[static_cast<std::size_t>(j)];
@@ -201,11 +202,9 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     }
 
     // ---- pass 3: triangles -----------------------------------------------------
-    std::int64_t* tri_square = nullptr;
-    if (stats && stats->triangle_square) {
-        stats->triangle_square->resize(static_cast<std::size_t>(ntris));
-        tri_square = stats->triangle_square->data();
-    }
+    // Squares through the rule, for the certification: per row, then joined.
+    const bool want_keyed = stats && stats->keyed_squares;
+    std::vector<std::vector<KeyedSquare>> keyed_rows(want_keyed ? static_cast<std::size_t>(ny) : 0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j < ny; ++j) {
         std::int64_t next = row_tris[static_cast<std::size_t>(j)];
@@ -214,25 +213,36 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             if (!(c & (tri0_bit | tri1_bit))) continue;
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            if (want_keyed && ((state[static_cast<std::size_t>(p[0])] | state[static_cast<std::size_t>(p[1])] |
+                                state[static_cast<std::size_t>(p[2])] | state[static_cast<std::size_t>(p[3])]) &
+                               (warped_bit | zero_bit)))
+                keyed_rows[static_cast<std::size_t>(j)].push_back(
+                    {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
             for (int k = 0; k < 2; ++k) {
                 if (!(c & (1 << k))) continue;
                 const auto tri = triangle_of(c, k);
-                if (tri_square) tri_square[next] = i + j * nx;
                 mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[tri[0]])],
                                                                     vid[static_cast<std::size_t>(p[tri[1]])],
                                                                     vid[static_cast<std::size_t>(p[tri[2]])]};
             }
         }
     }
-    mesh.region.assign(mesh.triangles.size(), 1);
-    if (f.tags_regions()) {
+    if (want_keyed) {
+        stats->keyed_squares->clear();
+        for (const auto& row : keyed_rows) stats->keyed_squares->insert(stats->keyed_squares->end(), row.begin(), row.end());
+    }
+    mesh.region.resize(mesh.triangles.size());  // every element written below
+    const bool tags = f.tags_regions();
 #pragma omp parallel for schedule(static)
-        for (std::int64_t k = 0; k < ntris; ++k) {
-            const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
-            const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
-                       &c = mesh.vertices[static_cast<std::size_t>(t[2])];
-            mesh.region[static_cast<std::size_t>(k)] = f.region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
+    for (std::int64_t k = 0; k < ntris; ++k) {
+        if (!tags) {
+            mesh.region[static_cast<std::size_t>(k)] = 1;
+            continue;
         }
+        const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
+        const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+                   &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+        mesh.region[static_cast<std::size_t>(k)] = f.region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
     }
 
     // ---- pass 4: boundary --------------------------------------------------------

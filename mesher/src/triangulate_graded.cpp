@@ -257,11 +257,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
     };
 
     // ---- pass 3: triangles --------------------------------------------------------
-    std::int64_t* tri_square = nullptr;
-    if (stats && stats->triangle_square) {
-        stats->triangle_square->assign(mesh.triangles.size(), -1);
-        tri_square = stats->triangle_square->data();
-    }
+    // Finest leaves through the rule, for the certification: per chunk, then
+    // joined (chunks hold leaves in order, finest first, row-major).
+    const bool want_keyed = stats && stats->keyed_squares;
+    std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(nchunks) : 0);
 #pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
@@ -284,15 +283,25 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
             }
             const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
             const auto p = square_corners(leaf.i, leaf.j);
+            if (want_keyed && (c & (tri0_bit | tri1_bit))) {
+                bool through_rule = false;  // a warped or zero-valued corner, as in finest_code
+                for (const Pt& q : p) through_rule = through_rule || warped_set.contains(q.i, q.j) || sign(q) == 0;
+                if (through_rule)
+                    keyed_chunks[static_cast<std::size_t>(ch)].push_back(
+                        {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+            }
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;
                 const auto tri = triangle_of(c, q);
-                if (tri_square) tri_square[next] = leaf.i + leaf.j * nx;
                 emit(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])],
                      p[static_cast<std::size_t>(tri[2])]);
             }
         }
         assert(next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
+    }
+    if (want_keyed) {
+        stats->keyed_squares->clear();
+        for (const auto& c : keyed_chunks) stats->keyed_squares->insert(stats->keyed_squares->end(), c.begin(), c.end());
     }
     mesh.region.assign(mesh.triangles.size(), 1);
     if (f.tags_regions()) {

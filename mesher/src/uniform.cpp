@@ -11,16 +11,16 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
     auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     UniformResult r;
     auto t0 = clock::now();
-    std::vector<double> values = sample_values(f, lattice);
+    Buffer<double> values = sample_values(f, lattice);
     r.times.sample = seconds(t0);
 
     t0 = clock::now();
-    const std::vector<std::int8_t> signs = compute_signs(values);
+    const Buffer<std::int8_t> signs = compute_signs(values);
     r.times.signs = seconds(t0);
 
     t0 = clock::now();
     const std::vector<CutEdge> cuts = find_cut_edges(f, lattice, values, signs);
-    std::vector<double>().swap(values);  // values are not needed past the cut points
+    Buffer<double>().swap(values);  // values are not needed past the cut points
     r.times.cut_points = seconds(t0);
     r.cut_edges = static_cast<std::int64_t>(cuts.size());
 
@@ -30,14 +30,14 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
     r.warped_points = static_cast<std::int64_t>(warped.size());
 
     t0 = clock::now();
-    std::vector<std::int64_t> tri_square;
-    if (certify.enabled) r.stats.triangle_square = &tri_square;
+    std::vector<KeyedSquare> keyed;
+    if (certify.enabled) r.stats.keyed_squares = &keyed;
     r.mesh = triangulate(f, lattice, signs, warped, rule, &r.stats);
     r.times.triangulate = seconds(t0);
-    r.stats.triangle_square = nullptr;
+    r.stats.keyed_squares = nullptr;
     if (certify.enabled) {
         t0 = clock::now();
-        r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, tri_square, certify);
+        r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, keyed, certify);
         r.times.certify = seconds(t0);
     }
     return r;

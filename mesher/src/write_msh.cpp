@@ -35,6 +35,7 @@
 // region (boundary) tag t are t itself when all region (boundary) tags are
 // >= 1, else the 1-based rank of t among the distinct tags.
 #include <algorithm>
+#include <span>
 #include <map>
 #include <string_view>
 #include <vector>
@@ -75,7 +76,7 @@ struct Grouping {
     std::size_t member(std::size_t i) const { return order.empty() ? i : static_cast<std::size_t>(order[i]); }
 };
 
-Grouping group_by_tag(const std::vector<std::int32_t>& tags) {
+Grouping group_by_tag(std::span<const std::int32_t> tags) {
     // Count per tag (tags come in long runs, so cache the last map lookup).
     std::map<std::int32_t, std::size_t> count;
     auto last = count.end();

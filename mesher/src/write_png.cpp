@@ -217,7 +217,7 @@ Image render(const Mesh& mesh, const PngOptions& options) {
                                      [&](const auto& d) { return d.first == options.color_by_cell_data; });
         if (it == mesh.cell_data.end())
             throw OutputError("no cell data array named '" + options.color_by_cell_data + "' to colour the PNG by");
-        value = it->second;
+        value.assign(it->second.begin(), it->second.end());
         legend_title = it->first;
         lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (const double v : value)

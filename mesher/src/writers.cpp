@@ -80,6 +80,11 @@ void check_writable(const std::string& path) {
         throw OutputError("cannot write '" + path + "': directory '" + dir.string() + "' is not writable");
 }
 
+bool format_carries_cell_data(const std::string& path) {
+    const Format f = output_format(path);
+    return f == Format::vtu || f == Format::msh;
+}
+
 void check_output_path(const std::string& path) {
     output_format(path);
     check_writable(path);

@@ -109,12 +109,14 @@ struct CertifiedSummary {
     std::int64_t boundary_edges_off_levelset = 0;
 };
 
-// `triangle_square[k]` = i + j nx of the finest square triangle k came from, or
-// -1.  Throws std::logic_error (→ internal error) for an unknown key or, with
-// verify, for a triangle outside its interval.
+// `keyed` = the squares through the rule with their triangles, from the
+// triangulation (TriangulateStats::keyed_squares); every other triangle is a
+// plain lattice or template triangle (45°, 45°, 90°).  Throws std::logic_error
+// (→ internal error) for an unknown key or, with verify, for a triangle outside
+// its interval.
 CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<const std::int8_t> signs,
                               std::span<const WarpedPoint> warped, DiagonalRule rule,
-                              std::span<const std::int64_t> triangle_square, const CertifyOptions& options);
+                              std::span<const KeyedSquare> keyed, const CertifyOptions& options);
 
 // The largest distance from the mesh's level-set boundary edges to f = 0,
 // sampled at 9 points per edge (endpoints included) as |f| / |grad f| with a

@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "warpmesh/buffer.hpp"
 #include "warpmesh/generic_square.hpp"
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/mesh.hpp"
@@ -51,10 +52,10 @@ Lattice lattice_around(const Box& box, double s);
 inline constexpr double max_lattice_squares_per_axis = 4294967296.0;  // 2^32
 
 // f at all points (row-major).  Throws InputError on NaN or infinity.
-std::vector<double> sample_values(const LevelSet& f, const Lattice& lattice);
+Buffer<double> sample_values(const LevelSet& f, const Lattice& lattice);
 
 // Signs of f: -1, 0 (exactly on the level set) or +1.
-std::vector<std::int8_t> compute_signs(std::span<const double> values);
+Buffer<std::int8_t> compute_signs(std::span<const double> values);
 
 // A cut edge runs from point p to its neighbour in +x (axis 0) or +y (axis 1);
 // its endpoints have strictly opposite signs; the cut point is at parameter u
@@ -92,12 +93,21 @@ std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const Cut
 Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& corners,
                                 const std::array<double, 4>& t, bool* forced = nullptr);
 
+// A finest lattice square i + j nx whose diagonal went through the rule, and
+// its output triangles first .. first + count - 1 (count 1 or 2).
+struct KeyedSquare {
+    std::int64_t square;
+    std::int64_t first;
+    std::int32_t count;
+};
+
 struct TriangulateStats {
     std::int64_t warped_squares = 0;
     std::int64_t forced_diagonals = 0;  // squares where the separating rule overrode max-min
-    // If set (input), filled with one entry per output triangle: the finest
-    // lattice square i + j nx it belongs to, or -1 (graded coarse leaves).
-    std::vector<std::int64_t>* triangle_square = nullptr;
+    // If set (input), filled with the squares "through the rule" (a warped or
+    // zero-valued corner) that emit triangles, in increasing square order, with
+    // their output triangles: a few per boundary square, nothing per triangle.
+    std::vector<KeyedSquare>* keyed_squares = nullptr;
 };
 
 // Build the output mesh: per square, the diagonal by `rule`; the triangles

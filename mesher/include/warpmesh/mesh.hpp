@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/buffer.hpp"
+
 namespace warpmesh {
 
 // Tags of boundary edges.
@@ -26,15 +28,16 @@ struct Vec2 {
 };
 
 struct Mesh {
-    std::vector<Vec2> vertices;
-    std::vector<std::array<std::int32_t, 3>> triangles;
-    std::vector<std::int32_t> region;  // one tag per triangle
+    // The large arrays are Buffers (buffer.hpp): filled in parallel, not zeroed.
+    Buffer<Vec2> vertices;
+    Buffer<std::array<std::int32_t, 3>> triangles;
+    Buffer<std::int32_t> region;  // one tag per triangle
     std::vector<std::array<std::int32_t, 2>> boundary;
     std::vector<std::int32_t> boundary_tag;  // one tag per boundary edge
 
     // Per-triangle cell data that writers export when present (same length as
     // `triangles`), e.g. the certified minimum angle of the triangle's square.
-    std::vector<std::pair<std::string, std::vector<double>>> cell_data;
+    std::vector<std::pair<std::string, Buffer<double>>> cell_data;
 };
 
 }  // namespace warpmesh

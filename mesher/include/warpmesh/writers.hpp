@@ -85,6 +85,9 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
 // because its directory does not exist — checked before any work is done.
 void check_output_path(const std::string& path);
 
+// True if write_mesh(mesh, path) exports mesh.cell_data (.vtu and .msh).
+bool format_carries_cell_data(const std::string& path);
+
 // The part of check_output_path that does not depend on the format: `path` is
 // not a directory, and its directory exists and is writable.  Throws OutputError.
 void check_writable(const std::string& path);
