@@ -17,6 +17,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/certified.hpp"
 #include "warpmesh/graded.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
@@ -195,7 +196,7 @@ Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule 
     BOOST_TEST(g.stats.forced_diagonals == u.stats.forced_diagonals);
     BOOST_TEST(g.mesh.triangles.size() <= u.mesh.triangles.size());
 
-    // Angles: within the uniform mesh's range and the provisional bounds;
+    // Angles: within the uniform mesh's range and the rule's certified theorem U;
     // triangles with three lattice-point vertices are template shapes.
     double umin = 180, umax = 0;
     for (std::size_t k = 0; k < u.mesh.triangles.size(); ++k)
@@ -210,8 +211,8 @@ Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule 
             lattice_only = lattice_only && is_integer(p.x) && is_integer(p.y);
         }
         for (double x : a) {
-            if (x < umin - eps || x > umax + eps || x > 143.1302 + eps) ++out_of_range;
-            if (rule == DiagonalRule::maxmin && x < 15 - eps) ++out_of_range;
+            if (x < umin - eps || x > umax + eps || x > certified_theorem(rule).max_deg_any + eps) ++out_of_range;
+            if (x < certified_theorem(rule).min_deg_any - eps) ++out_of_range;
             if (lattice_only && (x < 45 - eps || x > 90 + eps)) ++bad_template;
         }
     }
