@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "warpmesh/graded.hpp"
+#include "warpmesh/uniform.hpp"  // warp_lattice: the stages both meshers share
 
 namespace warpmesh {
 
@@ -11,26 +12,14 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     GradedResult r;
+    const WarpedLattice w = warp_lattice(f, lattice);
+    r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
+    r.cut_edges = w.cut_edges;
+    r.warped_points = static_cast<std::int64_t>(w.warped.size());
+    const auto& signs = w.signs;
+    const auto& warped = w.warped;
+
     auto t0 = clock::now();
-    Buffer<double> values = sample_values(f, lattice);
-    r.times.sample = seconds(t0);
-
-    t0 = clock::now();
-    const Buffer<std::int8_t> signs = compute_signs(values);
-    r.times.signs = seconds(t0);
-
-    t0 = clock::now();
-    const std::vector<CutEdge> cuts = find_cut_edges(f, lattice, values, signs);
-    Buffer<double>().swap(values);
-    r.times.cut_points = seconds(t0);
-    r.cut_edges = static_cast<std::int64_t>(cuts.size());
-
-    t0 = clock::now();
-    const std::vector<WarpedPoint> warped = warp_points(lattice, cuts, signs);
-    r.times.warp = seconds(t0);
-    r.warped_points = static_cast<std::int64_t>(warped.size());
-
-    t0 = clock::now();
     const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell);
     const std::vector<Leaf> leaves = quadtree_leaves(tree, &r.leaves_per_level);
     r.times.quadtree = seconds(t0);

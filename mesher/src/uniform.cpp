@@ -5,40 +5,53 @@
 
 namespace warpmesh {
 
-UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
-                           const CertifyOptions& certify) {
-    using clock = std::chrono::steady_clock;
-    auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
-    UniformResult r;
+namespace {
+using clock = std::chrono::steady_clock;
+double seconds_since(clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); }
+}  // namespace
+
+WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice) {
+    WarpedLattice w;
     auto t0 = clock::now();
     Buffer<double> values = sample_values(f, lattice);
-    r.times.sample = seconds(t0);
+    w.sample = seconds_since(t0);
 
     t0 = clock::now();
-    const Buffer<std::int8_t> signs = compute_signs(values);
-    r.times.signs = seconds(t0);
+    w.signs = compute_signs(values);
+    w.signs_seconds = seconds_since(t0);
 
     t0 = clock::now();
-    const std::vector<CutEdge> cuts = find_cut_edges(f, lattice, values, signs);
+    const std::vector<CutEdge> cuts = find_cut_edges(f, lattice, values, w.signs);
     Buffer<double>().swap(values);  // values are not needed past the cut points
-    r.times.cut_points = seconds(t0);
-    r.cut_edges = static_cast<std::int64_t>(cuts.size());
+    w.cut_points = seconds_since(t0);
+    w.cut_edges = static_cast<std::int64_t>(cuts.size());
 
     t0 = clock::now();
-    const std::vector<WarpedPoint> warped = warp_points(lattice, cuts, signs);
-    r.times.warp = seconds(t0);
-    r.warped_points = static_cast<std::int64_t>(warped.size());
+    w.warped = warp_points(lattice, cuts, w.signs);
+    w.warp = seconds_since(t0);
+    return w;
+}
 
-    t0 = clock::now();
+UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
+                           const CertifyOptions& certify) {
+    UniformResult r;
+    const WarpedLattice w = warp_lattice(f, lattice);
+    r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
+    r.cut_edges = w.cut_edges;
+    r.warped_points = static_cast<std::int64_t>(w.warped.size());
+    const auto& signs = w.signs;
+    const auto& warped = w.warped;
+
+    auto t0 = clock::now();
     std::vector<KeyedSquare> keyed;
     if (certify.enabled) r.stats.keyed_squares = &keyed;
     r.mesh = triangulate(f, lattice, signs, warped, rule, &r.stats);
-    r.times.triangulate = seconds(t0);
+    r.times.triangulate = seconds_since(t0);
     r.stats.keyed_squares = nullptr;
     if (certify.enabled) {
         t0 = clock::now();
         r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, keyed, certify);
-        r.times.certify = seconds(t0);
+        r.times.certify = seconds_since(t0);
     }
     return r;
 }

@@ -209,30 +209,11 @@ Image render(const Mesh& mesh, const PngOptions& options) {
         throw OutputError("PNG supersampling must be 1 to 8, got " + std::to_string(options.supersample));
 
     // Values to colour by, normalised to [0, 1].
-    std::vector<double> value;
-    std::string legend_title;
-    double lo = 0, hi = 60;
-    if (!options.color_by_cell_data.empty()) {
-        const auto it = std::find_if(mesh.cell_data.begin(), mesh.cell_data.end(),
-                                     [&](const auto& d) { return d.first == options.color_by_cell_data; });
-        if (it == mesh.cell_data.end())
-            throw OutputError("no cell data array named '" + options.color_by_cell_data + "' to colour the PNG by");
-        value.assign(it->second.begin(), it->second.end());
-        legend_title = it->first;
-        lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        for (const double v : value)
-            if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-        if (!(lo <= hi)) lo = 0, hi = 1;
-    } else if (options.color_by_min_angle) {
-        value.resize(nt);
-        for (std::size_t k = 0; k < nt; ++k) {
-            const auto& t = mesh.triangles[k];
-            value[k] = triangle_angles(mesh.vertices[static_cast<std::size_t>(t[0])], mesh.vertices[static_cast<std::size_t>(t[1])],
-                                       mesh.vertices[static_cast<std::size_t>(t[2])])
-                           .min_deg;
-        }
-        legend_title = "min angle (\u00b0)";
-    }
+    detail::Colouring colouring =
+        detail::picture_colouring(mesh, options.color_by_cell_data, options.color_by_min_angle, "PNG");
+    const std::vector<double>& value = colouring.value;
+    const std::string& legend_title = colouring.title;
+    const double lo = colouring.lo, hi = colouring.hi;
     const bool coloured = !legend_title.empty();
     const double range = hi > lo ? hi - lo : 1;
     std::vector<Rgb> tri_colour;

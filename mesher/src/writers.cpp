@@ -3,9 +3,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include <unistd.h>
+
+#include "warpmesh/quality.hpp"
 
 namespace warpmesh {
 
@@ -29,6 +33,34 @@ void check_mesh_arrays(const Mesh& mesh, const std::string& path) {
         if (bad(t[0]) || bad(t[1]) || bad(t[2])) fail("a triangle has a vertex index out of range");
     for (const auto& e : mesh.boundary)
         if (bad(e[0]) || bad(e[1])) fail("a boundary edge has a vertex index out of range");
+}
+
+Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
+                            const std::string& what) {
+    Colouring c;
+    if (!cell_data_name.empty()) {
+        const auto it = std::find_if(mesh.cell_data.begin(), mesh.cell_data.end(),
+                                     [&](const auto& d) { return d.first == cell_data_name; });
+        if (it == mesh.cell_data.end())
+            throw OutputError("no cell data array named '" + cell_data_name + "' to colour the " + what + " by");
+        c.value.assign(it->second.begin(), it->second.end());
+        c.title = it->first;
+        c.lo = std::numeric_limits<double>::infinity(), c.hi = -c.lo;
+        for (const double v : c.value)
+            if (std::isfinite(v)) c.lo = std::min(c.lo, v), c.hi = std::max(c.hi, v);
+        if (!(c.lo <= c.hi)) c.lo = 0, c.hi = 1;
+    } else if (by_min_angle) {
+        c.value.resize(mesh.triangles.size());
+        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+            const auto& t = mesh.triangles[k];
+            c.value[k] = triangle_angles(mesh.vertices[static_cast<std::size_t>(t[0])],
+                                         mesh.vertices[static_cast<std::size_t>(t[1])],
+                                         mesh.vertices[static_cast<std::size_t>(t[2])])
+                             .min_deg;
+        }
+        c.title = "min angle (\u00b0)";
+    }
+    return c;
 }
 
 std::string triangle_stem(const std::string& path) {

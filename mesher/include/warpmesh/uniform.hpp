@@ -12,6 +12,16 @@ struct PhaseTimes {
     double total() const { return sample + signs + cut_points + warp + triangulate + certify; }
 };
 
+// The stages both meshers share, in order and timed: sample f → signs → cut
+// points → warp.  The sampled values are dropped after the cut points.
+struct WarpedLattice {
+    Buffer<std::int8_t> signs;
+    std::vector<WarpedPoint> warped;
+    std::int64_t cut_edges = 0;
+    double sample = 0, signs_seconds = 0, cut_points = 0, warp = 0;  // seconds
+};
+WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice);
+
 struct UniformResult {
     Mesh mesh;
     PhaseTimes times;

@@ -189,6 +189,18 @@ private:
 // cell_data) has one entry per triangle and boundary_tag one per boundary edge.
 void check_mesh_arrays(const Mesh& mesh, const std::string& path);
 
+// What a picture (SVG or PNG) colours its triangles by: a cell data array
+// (by name, its finite min … max range) or, failing that and if asked, each
+// triangle's minimum angle over 0°–60°; `title` empty = no colouring.  An
+// unknown array name is an OutputError naming `what` ("SVG", "PNG").
+struct Colouring {
+    std::vector<double> value;
+    std::string title;
+    double lo = 0, hi = 60;
+};
+Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
+                            const std::string& what);
+
 // `path` without a (case-insensitive) .node/.ele/.poly extension: the stem of
 // the Triangle files.  Any other path is returned unchanged.
 std::string triangle_stem(const std::string& path);
