@@ -13,9 +13,7 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     GradedResult r;
     const WarpedLattice w = warp_lattice(f, lattice);
-    r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
-    r.cut_edges = w.cut_edges;
-    r.warped_points = static_cast<std::int64_t>(w.warped.size());
+    record_front_end(r, w);
     const auto& signs = w.signs;
     const auto& warped = w.warped;
 

@@ -22,6 +22,15 @@ struct WarpedLattice {
 };
 WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice);
 
+// Copies the front end's times and counts into a mesher's result
+// (UniformResult, GradedResult).
+template <class Result>
+void record_front_end(Result& r, const WarpedLattice& w) {
+    r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
+    r.cut_edges = w.cut_edges;
+    r.warped_points = static_cast<std::int64_t>(w.warped.size());
+}
+
 struct UniformResult {
     Mesh mesh;
     PhaseTimes times;
