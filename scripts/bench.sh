@@ -67,6 +67,30 @@ for th in 1 2; do
 done
 
 if [ "$quick" = 0 ]; then
+  echo "== triangle counts, uniform and graded (separating rule, --max-cell default), markdown"
+  abdomen="$root/mesher/examples/abdomen_axial_z040_labels16.pgm"
+  count() { "$exe" mesh "$@" --quiet --no-certify --report "$tmp/c.json" && field triangles "$tmp/c.json"; }
+  echo "| case | uniform | graded | uniform / graded |"
+  echo "|---|---:|---:|---:|"
+  while IFS='|' read -r name args; do
+    # shellcheck disable=SC2086
+    u=$(count $args)
+    # shellcheck disable=SC2086
+    g=$(count $args --graded)
+    awk -v n="$name" -v u="$u" -v g="$g" 'BEGIN { printf "| %s | %d | %d | %.1f |\n", n, u, g, u / g }'
+  done <<EOF_CASES
+brain slice (all labels), s = 1|$brain --label nonzero --spacing 1
+brain slice (all labels), s = 2|$brain --label nonzero --spacing 2
+brain slice (all labels), s = 4|$brain --label nonzero --spacing 4
+abdomen slice (all labels), s = 1|$abdomen --label nonzero --spacing 1
+abdomen slice (all labels), s = 2|$abdomen --label nonzero --spacing 2
+abdomen slice (all labels), s = 4|$abdomen --label nonzero --spacing 4
+ellipse 400 x 250, s = 1|--shape ellipse:0,0,400,250 --spacing 1
+annulus 200 / 400, s = 1|--shape annulus:0,0,200,400 --spacing 1
+flower r = 300 + 100 cos 5θ, s = 1|--shape flower:0,0,300,100,5 --spacing 1
+disc on a 1024 x 1024 lattice|--shape circle:0,0,511 --spacing 1
+EOF_CASES
+
   echo "== cost of the certification (per-square bounds, certified_min_angle, --verify), 1 thread"
   run_case "disc 4096, --no-certify" 1 --shape circle:0,0,2047 --spacing 1 --no-certify
   run_case "disc 4096, certified, --no-verify" 1 --shape circle:0,0,2047 --spacing 1 --no-verify
