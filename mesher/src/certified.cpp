@@ -107,6 +107,11 @@ double parse_rational(std::string_view text) {
     if (slash == std::string_view::npos) return static_cast<double>(static_cast<long double>(parse_int(text)));
     const __int128 p = parse_int(text.substr(0, slash)), q = parse_int(text.substr(slash + 1));
     if (q <= 0) throw std::runtime_error("bad rational '" + std::string(text) + "'");
+    // Both below 2^53 (every key bound): exact as doubles, so one IEEE division
+    // gives the correctly rounded quotient.  Larger ones (witness values) go
+    // through long double, a few ulps off — the table needs no better.
+    constexpr __int128 exact = __int128{1} << 53;
+    if (p > -exact && p < exact && q < exact) return static_cast<double>(p) / static_cast<double>(q);
     return static_cast<double>(static_cast<long double>(p) / static_cast<long double>(q));
 }
 
