@@ -3,13 +3,12 @@
 #define BOOST_TEST_MODULE certified_table
 #include <boost/test/unit_test.hpp>
 
-#include <string>
-
+#include <array>
 #include <cmath>
-
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "warpmesh/certified.hpp"
 #include "warpmesh/shapes.hpp"
@@ -54,6 +53,36 @@ BOOST_AUTO_TEST_CASE(table_matches_certificates) {
             BOOST_TEST(b->min_deg <= b->max_deg);
         }
     }
+}
+
+// proofs/key_table.txt (the human-readable per-key table the prover writes
+// beside the certificates) says the same as the compiled table.
+BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
+    std::istringstream in(slurp(std::string(WARPMESH_PROOFS_DIR) + "/key_table.txt"));
+    std::size_t lines = 0;
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream ls(line);
+        std::string rule, code, flat, qmin, qmax;
+        ls >> rule >> code >> flat >> qmin >> qmax;
+        BOOST_REQUIRE(ls);
+        BOOST_REQUIRE((rule == "maxmin" || rule == "separating"));
+        const DiagonalRule r = rule == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating;
+        std::array<CornerState, 4> cs{};
+        for (int c = 0; c < 4; ++c) {
+            const char sc = code[static_cast<std::size_t>(2 * c)], wc = code[static_cast<std::size_t>(2 * c + 1)];
+            cs[static_cast<std::size_t>(c)].sign = static_cast<std::int8_t>(sc == '-' ? -1 : sc == '0' ? 0 : 1);
+            cs[static_cast<std::size_t>(c)].warp = static_cast<Warp>(std::string("sRLUD").find(wc));
+        }
+        const CertifiedBound* b = certified_bound(r, cs);
+        BOOST_TEST_INFO(line);
+        BOOST_REQUIRE(b);
+        BOOST_TEST_INFO(line);
+        BOOST_TEST((b->max_cot == parse_rational(qmin) && b->min_cot == parse_rational(qmax) &&
+                    b->flat_compatible == (flat == "flat")));
+        ++lines;
+    }
+    BOOST_TEST(lines == certified_key_count(DiagonalRule::maxmin) + certified_key_count(DiagonalRule::separating));
 }
 
 BOOST_AUTO_TEST_CASE(corrupted_copy_is_detected) {
