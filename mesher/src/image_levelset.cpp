@@ -326,6 +326,16 @@ LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool n
                          " (labels present: " + list_labels(have) + ")");
     }
 
+    cell_label_.assign(N, -1);
+    for (int y = 0; y + 1 < h_; ++y)
+        for (int c = 0; c + 1 < w_; ++c) {
+            const std::size_t k00 = index(c, y), k10 = index(c + 1, y), k01 = index(c, y + 1), k11 = index(c + 1, y + 1);
+            const std::uint16_t l = label_[k00];
+            if (inside_[k00] && inside_[k10] && inside_[k01] && inside_[k11] && label_[k10] == l && label_[k01] == l &&
+                label_[k11] == l)
+                cell_label_[k00] = l;
+        }
+
     const Edt to_outside = distance_transform(outside, w_, h_);
     Edt to_inside = distance_transform(inside_, w_, h_);
     nearest_in_ = std::move(to_inside.nearest);
@@ -354,13 +364,8 @@ std::int32_t LabelLevelSet::region_at(double x, double y) const {
     const int c0 = static_cast<int>(x), y0 = static_cast<int>(y);
     // Fast path (almost every triangle): all four centres in the region with
     // one label — then that label is the nearest one's, whichever it is.
-    if (c0 + 1 < w_ && y0 + 1 < h_) {
-        const std::size_t k00 = index(c0, y0), k10 = index(c0 + 1, y0), k01 = index(c0, y0 + 1), k11 = index(c0 + 1, y0 + 1);
-        const std::int32_t l = label_[k00];
-        if (inside_[k00] && inside_[k10] && inside_[k01] && inside_[k11] && label_[k10] == l && label_[k01] == l &&
-            label_[k11] == l)
-            return l;
-    }
+    if (c0 + 1 < w_ && y0 + 1 < h_)
+        if (const std::int32_t l = cell_label_[index(c0, y0)]; l >= 0) return l;
     double best = std::numeric_limits<double>::infinity();
     std::size_t pick = 0;
     for (int dy = 0; dy < 2; ++dy)
