@@ -242,24 +242,22 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
             cs[static_cast<std::size_t>(c)].sign = signs[static_cast<std::size_t>(p[static_cast<std::size_t>(c)])];
             if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) cs[static_cast<std::size_t>(c)].warp = w->dir;
         }
-        const std::int64_t k = k0;
         const CertifiedBound* b = certified_bound(rule, cs);
         if (!b) {
             std::lock_guard<std::mutex> lock(mu);
-            if (failure.empty() || k < failure_tri) {
+            if (failure.empty() || k0 < failure_tri) {
                 failure = "square (" + std::to_string(i) + ", " + std::to_string(j) + ") has key " + key_code(cs) +
                           ", which is not in the certificate";
-                failure_tri = k;
+                failure_tri = k0;
             }
             continue;
         }
         gmin = std::min(gmin, b->min_deg);
         kmin = std::min(kmin, b->min_deg);
         gmax = std::max(gmax, b->max_deg);
-        for (std::int64_t kt = k0; kt < k1; ++kt) {
-        if (options.cell_data) cell[static_cast<std::size_t>(kt)] = b->min_deg;
-        if (options.verify) {
-            const std::int64_t k = kt;
+        for (std::int64_t k = k0; k < k1; ++k) {
+            if (options.cell_data) cell[static_cast<std::size_t>(k)] = b->min_deg;
+            if (!options.verify) continue;
             const auto& tri = mesh.triangles[static_cast<std::size_t>(k)];
             std::array<Point<double>, 3> v{};
             // In the square's frame (cot is invariant under translation and scaling).
@@ -286,7 +284,6 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
                 std::lock_guard<std::mutex> lock(mu);
                 if (failure.empty() || k < failure_tri) failure = m.str(), failure_tri = k;
             }
-        }
         }
         ++keyed;
         // Flatness of the 12-point stencil; a stencil leaving the lattice is not flat.

@@ -34,8 +34,10 @@ namespace {
 // Per-point state bits.
 constexpr std::uint8_t inside_bit = 1, warped_bit = 2, zero_bit = 4;
 
-// Square code: bit 0 = first triangle emitted, bit 1 = second, bit 2 = BC.
-constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4;
+// Square code: bit 0 = first triangle emitted, bit 1 = second, bit 2 = BC,
+// bit 3 = the diagonal went through the rule (a warped or zero-valued corner:
+// the square has a key in the certificates).
+constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
 
 constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
     return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
@@ -143,6 +145,7 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                     }
                 }
                 bool was_forced = false;
+                c = rule_bit;
                 if (warped_square_diagonal(rule, cs, t, &was_forced) == Diagonal::BC) c |= bc_bit;
                 forced += was_forced;
             }
@@ -213,9 +216,7 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             if (!(c & (tri0_bit | tri1_bit))) continue;
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
-            if (want_keyed && ((state[static_cast<std::size_t>(p[0])] | state[static_cast<std::size_t>(p[1])] |
-                                state[static_cast<std::size_t>(p[2])] | state[static_cast<std::size_t>(p[3])]) &
-                               (warped_bit | zero_bit)))
+            if (want_keyed && (c & rule_bit))
                 keyed_rows[static_cast<std::size_t>(j)].push_back(
                     {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
             for (int k = 0; k < 2; ++k) {

@@ -63,8 +63,8 @@ namespace warpmesh {
 namespace {
 
 // Finest leaf code: bit 0 = first triangle of the diagonal emitted, bit 1 =
-// second, bit 2 = BC (as in triangulate.cpp).
-constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4;
+// second, bit 2 = BC, bit 3 = through the rule (as in triangulate.cpp).
+constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
 
 constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
     return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
@@ -160,6 +160,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
                     t[q] = w.t;
                 }
             }
+            c = rule_bit;
             if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
         }
         if (in[0] + in[1] + in[2] + in[3] >= 3)
@@ -283,13 +284,9 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
             }
             const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
             const auto p = square_corners(leaf.i, leaf.j);
-            if (want_keyed && (c & (tri0_bit | tri1_bit))) {
-                bool through_rule = false;  // a warped or zero-valued corner, as in finest_code
-                for (const Pt& q : p) through_rule = through_rule || warped_set.contains(q.i, q.j) || sign(q) == 0;
-                if (through_rule)
-                    keyed_chunks[static_cast<std::size_t>(ch)].push_back(
-                        {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
-            }
+            if (want_keyed && (c & rule_bit) && (c & (tri0_bit | tri1_bit)))
+                keyed_chunks[static_cast<std::size_t>(ch)].push_back(
+                    {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;
                 const auto tri = triangle_of(c, q);

@@ -63,9 +63,16 @@ Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name,
     return c;
 }
 
-std::string triangle_stem(const std::string& path) {
+// The extension of `path` (with its dot), lower-cased: formats are chosen
+// case-insensitively.
+std::string lower_extension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+std::string triangle_stem(const std::string& path) {
+    const std::string ext = lower_extension(path);
     std::string stem = path;
     if (ext == ".node" || ext == ".ele" || ext == ".poly") stem.resize(stem.size() - ext.size());
     return stem;
@@ -79,8 +86,7 @@ enum class Format { vtu, msh, triangle, svg, png };
 
 // The format named by the (case-insensitive) extension of `path`.
 Format output_format(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = detail::lower_extension(path);
     if (ext == ".vtu") return Format::vtu;
     if (ext == ".msh") return Format::msh;
     if (ext == ".node" || ext == ".ele" || ext == ".poly") return Format::triangle;
