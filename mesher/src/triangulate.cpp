@@ -27,6 +27,7 @@
 #include <numeric>
 
 #include "warpmesh/lattice.hpp"
+#include "square_code.hpp"
 
 namespace warpmesh {
 namespace {
@@ -34,14 +35,7 @@ namespace {
 // Per-point state bits.
 constexpr std::uint8_t inside_bit = 1, warped_bit = 2, zero_bit = 4;
 
-// Square code: bit 0 = first triangle emitted, bit 1 = second, bit 2 = BC,
-// bit 3 = the diagonal went through the rule (a warped or zero-valued corner:
-// the square has a key in the certificates).
-constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
-
-constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
-    return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
-}
+using namespace square_code;  // tri0_bit, …, triangle_of, emitted, sides, covers
 
 // Whether the emitted triangles of a square with this code use corner c, as a
 // table: bit c of corner_mask[code].
@@ -54,29 +48,6 @@ constexpr std::array<std::uint8_t, 8> corner_mask = [] {
     return m;
 }();
 constexpr bool uses_corner(std::uint8_t code, int c) { return (corner_mask[code & 7] >> c) & 1; }
-
-// Which triangles a square emits, given its diagonal (bc_bit or 0) and the
-// mask of its inside corners (bit c = corner c): emitted[diagonal][mask].
-constexpr std::array<std::array<std::uint8_t, 16>, 2> emitted = [] {
-    std::array<std::array<std::uint8_t, 16>, 2> e{};
-    for (int d = 0; d < 2; ++d)
-        for (int mask = 0; mask < 16; ++mask)
-            for (int k = 0; k < 2; ++k) {
-                bool all = true;
-                for (int v : triangle_of(static_cast<std::uint8_t>(d ? bc_bit : 0), k)) all = all && ((mask >> v) & 1);
-                if (all) e[d][mask] |= static_cast<std::uint8_t>(1 << k);
-            }
-    return e;
-}();
-
-// Which triangle (0 or 1) of a diagonal holds each side of the square:
-// sides 0 = AB (bottom), 1 = BD (right), 2 = DC (top), 3 = CA (left),
-// each with its counter-clockwise direction inside that triangle.
-struct Side {
-    int from, to;
-    int tri_ad, tri_bc;
-};
-constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {C, A, 1, 0}}};
 
 }  // namespace
 
@@ -252,10 +223,6 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     // one of the two squares sharing it covers it (the lattice's outer border
     // has one square only: tag `boundary_domain`).  A diagonal is a boundary
     // edge when exactly one of the square's two triangles is emitted.
-    auto covers = [](std::uint8_t c, int side) {
-        const int k = (c & bc_bit) ? sides[static_cast<std::size_t>(side)].tri_bc : sides[static_cast<std::size_t>(side)].tri_ad;
-        return (c >> k) & 1;
-    };
     std::vector<std::vector<std::array<std::int32_t, 3>>> per_row(static_cast<std::size_t>(ny));
 #pragma omp parallel for schedule(dynamic, 16)
     for (std::int64_t j = 0; j < ny; ++j) {

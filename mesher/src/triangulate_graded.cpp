@@ -58,30 +58,12 @@
 #include <stdexcept>
 
 #include "warpmesh/graded.hpp"
+#include "square_code.hpp"
 
 namespace warpmesh {
 namespace {
 
-// Finest leaf code: bit 0 = first triangle of the diagonal emitted, bit 1 =
-// second, bit 2 = BC, bit 3 = through the rule (as in triangulate.cpp).
-constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
-
-constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
-    return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
-}
-
-// Sides of a square: bottom A→B, right B→D, top D→C, left C→A (counter-
-// clockwise), and which triangle (0 or 1) of each diagonal holds the side.
-struct Side {
-    int from, to;
-    int tri_ad, tri_bc;
-};
-constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {C, A, 1, 0}}};
-
-constexpr bool covers(std::uint8_t code, int side) {
-    const Side& s = sides[static_cast<std::size_t>(side)];
-    return (code >> ((code & bc_bit) ? s.tri_bc : s.tri_ad)) & 1;
-}
+using namespace square_code;  // finest leaf codes: tri0_bit, …, triangle_of, emitted, sides, covers
 
 constexpr std::int64_t chunk_size = 2048;
 
@@ -163,13 +145,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<con
             c = rule_bit;
             if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
         }
-        if (in[0] + in[1] + in[2] + in[3] >= 3)
-            for (int q = 0; q < 2; ++q) {
-                bool all = true;
-                for (int v : triangle_of(c, q)) all = all && in[static_cast<std::size_t>(v)];
-                if (all) c |= static_cast<std::uint8_t>(1 << q);
-            }
-        return c;
+        return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3]);
     };
 
     // ---- pass 1: codes, counts, used points ----------------------------------

@@ -1,0 +1,57 @@
+// square_code.hpp — the one-byte code of a finest lattice square, shared by
+// the uniform (triangulate.cpp) and graded (triangulate_graded.cpp)
+// triangulations, so that both emit, and find the boundary of, a square in
+// exactly the same way.  Private to mesher/src.
+//
+// Bit 0 = the chosen diagonal's first triangle is emitted, bit 1 = its second,
+// bit 2 = the diagonal is BC (else AD), bit 3 = the diagonal went through the
+// rule (a warped or zero-valued corner: the square has a key in the
+// certificates).  Corners A, B, C, D and diagonal_triangles are from
+// generic_square.hpp.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "warpmesh/generic_square.hpp"
+
+namespace warpmesh::square_code {
+
+constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
+
+// Corners of triangle k (0 or 1) of the code's diagonal.
+constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
+    return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];
+}
+
+// Which triangles a square emits, given its diagonal (bc_bit or 0) and the
+// mask of its inside corners (bit c = corner c): emitted[diagonal][mask].
+constexpr std::array<std::array<std::uint8_t, 16>, 2> emitted = [] {
+    std::array<std::array<std::uint8_t, 16>, 2> e{};
+    for (int d = 0; d < 2; ++d)
+        for (int mask = 0; mask < 16; ++mask)
+            for (int k = 0; k < 2; ++k) {
+                bool all = true;
+                for (int v : triangle_of(static_cast<std::uint8_t>(d ? bc_bit : 0), k)) all = all && ((mask >> v) & 1);
+                if (all) e[d][mask] |= static_cast<std::uint8_t>(1 << k);
+            }
+    return e;
+}();
+
+// Sides of a square: bottom A→B, right B→D, top D→C, left C→A (counter-
+// clockwise, the direction each has inside its triangle), and which triangle
+// (0 or 1) of each diagonal holds the side.
+struct Side {
+    int from, to;
+    int tri_ad, tri_bc;
+};
+constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {C, A, 1, 0}}};
+
+// Whether a square with this code covers side `side` (the triangle holding it
+// is emitted).
+constexpr bool covers(std::uint8_t code, int side) {
+    const Side& s = sides[static_cast<std::size_t>(side)];
+    return (code >> ((code & bc_bit) ? s.tri_bc : s.tri_ad)) & 1;
+}
+
+}  // namespace warpmesh::square_code
