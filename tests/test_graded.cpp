@@ -11,6 +11,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <string>
 #include <tuple>
 
 #ifdef _OPENMP
@@ -22,7 +23,9 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
+#include "without_range.hpp"
 
 using namespace warpmesh;
 
@@ -94,16 +97,16 @@ std::vector<CoordEdge> boundary_coords(const Mesh& m) {
 
 // The quadtree of the graded mesh, rebuilt from the public stages.
 struct Tree {
-    Buffer<std::int8_t> signs;
+    TiledSigns signs;
     Quadtree tree;
     std::vector<Leaf> leaves;
 };
 Tree rebuild(const LevelSet& f, const Lattice& l, std::int64_t K) {
     Tree t;
     const auto values = sample_values(f, l);
-    t.signs = compute_signs(values);
-    const auto cuts = find_cut_edges(f, l, values, t.signs);
-    const auto warped = warp_points(l, cuts, t.signs);
+    const auto signs = compute_signs(values);
+    t.signs = tile_signs(l, signs);  // every tile sampled, from the uniform front end
+    const auto warped = warp_points(l, find_cut_edges(f, l, values, signs));
     t.tree = build_quadtree(l, t.signs, warped, K);
     t.leaves = quadtree_leaves(t.tree);
     return t;
@@ -186,6 +189,12 @@ Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule 
     std::int64_t leaves = 0;
     for (auto c : g.leaves_per_level) leaves += c;
     BOOST_TEST(leaves == static_cast<std::int64_t>(t.leaves.size()));
+    // The range bounds only skip work: the same mesh, bit for bit, as with
+    // every tile sampled.
+    const GradedResult all = mesh_graded(testing::WithoutRange(f), l, rule, K);
+    BOOST_TEST(testing::same_mesh(all.mesh, g.mesh));
+    BOOST_TEST(all.sampled_points >= l.point_count());  // tiles share their border points
+    BOOST_TEST(g.sampled_points <= all.sampled_points);
 
     // Same boundary, same area.
     BOOST_TEST((boundary_coords(g.mesh) == boundary_coords(u.mesh)));
@@ -406,4 +415,58 @@ BOOST_AUTO_TEST_CASE(real_images) {
     for (std::size_t t = 0; t < u.mesh.triangles.size(); ++t) by_region_u[u.mesh.region[t]] += cross2(u.mesh, t);
     BOOST_TEST(by_region_g.size() == by_region_u.size());
     BOOST_TEST(by_region_g.size() >= 2u);
+}
+
+// The tiled front end with range bounds (tiles.hpp) on every kind of level set
+// that has them: parsed shapes of each kind and CSG, threshold and label
+// images, at spacings and offsets that put tile borders anywhere.  The mesh
+// must be the one with every tile sampled, bit for bit, while most tiles of a
+// large lattice are skipped.
+BOOST_AUTO_TEST_CASE(range_bounds_skip_tiles_and_change_nothing) {
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<double> U(0, 1);
+    const std::vector<std::string> shapes = {
+        "circle:0.3,-0.2,40.7", "ellipse:3,1,50,21.5", "annulus:0,0,12.25,45", "flower:1,2,30,12,7",
+        "flower:0,0,40,-15,3", "rect:-30.5,-12,41,33.3", "union(circle:-20,0,18;circle:15,4,22)",
+        "intersect(circle:0,0,40;rect:-50,-10,50,25)", "diff(ellipse:0,0,48,30;circle:5,3,11;annulus:0,0,20,22)",
+        "diff(flower:0,0,36,10,5;circle:0,0,9.5)"};
+    for (const auto& spec : shapes)
+        for (int trial = 0; trial < 3; ++trial) {
+            const auto f = parse_shape(spec);
+            const double s = 0.35 + 1.4 * U(rng);
+            Box b = f->bounds();
+            b.xmin -= 3 * s * U(rng), b.ymin -= 3 * s * U(rng);
+            const Lattice l = lattice_around(b, s);
+            const auto rule = trial % 2 ? DiagonalRule::separating : DiagonalRule::maxmin;
+            const std::int64_t K = std::array<std::int64_t, 3>{0, 4, 16}[static_cast<std::size_t>(trial)];
+            const GradedResult g = mesh_graded(*f, l, rule, K), all = mesh_graded(testing::WithoutRange(*f), l, rule, K);
+            BOOST_TEST_CONTEXT(spec << " s " << s << " K " << K) {
+                BOOST_TEST(testing::same_mesh(g.mesh, all.mesh));
+                BOOST_TEST(g.sampled_points <= all.sampled_points);
+                BOOST_TEST(check_mesh(g.mesh).ok());
+            }
+        }
+    auto path = [](const char* name) { return (std::filesystem::path(WARPMESH_TEST_DATA) / name).string(); };
+    ImageLevelSetOptions thr, lab;
+    thr.mode = ImageMode::threshold;
+    lab.mode = ImageMode::label;
+    lab.labels = {3, 4, 13};
+    const auto horse = make_image_levelset(read_image(path("horse_binary.pgm")), thr);
+    const auto abdomen = make_image_levelset(read_image(path("abdomen_axial_z024_labels16.pgm")), lab);
+    for (const LevelSet* f : {horse.get(), abdomen.get()})
+        for (double s : {1.0, 0.37, 2.5}) {
+            const Lattice l = lattice_over(f->bounds(), s);
+            const GradedResult g = mesh_graded(*f, l, DiagonalRule::separating, 0),
+                               all = mesh_graded(testing::WithoutRange(*f), l, DiagonalRule::separating, 0);
+            BOOST_TEST_CONTEXT(f->describe() << " s " << s) {
+                BOOST_TEST(testing::same_mesh(g.mesh, all.mesh));
+                BOOST_TEST(g.sampled_points < all.sampled_points);
+            }
+        }
+    // A large disc: f is evaluated near the circle only.
+    const auto disc = parse_shape("circle:0,0,1000");
+    const Lattice l = lattice_around(disc->bounds(), 1.0);
+    const GradedResult g = mesh_graded(*disc, l, DiagonalRule::maxmin, 0);
+    BOOST_TEST_MESSAGE("disc r = 1000: " << g.sampled_points << " evaluations for " << l.point_count() << " points");
+    BOOST_TEST(g.sampled_points * 10 < l.point_count());
 }

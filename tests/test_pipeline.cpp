@@ -90,7 +90,7 @@ BOOST_AUTO_TEST_CASE(closer_endpoint_warps) {
     const auto cuts = find_cut_edges(g, g.lat, values, signs);
     BOOST_REQUIRE_EQUAL(cuts.size(), 1u);
     BOOST_TEST(cuts[0].u == 0.25);
-    auto w = warp_points(g.lat, cuts, signs);
+    auto w = warp_points(g.lat, cuts);
     BOOST_REQUIRE_EQUAL(w.size(), 1u);
     BOOST_TEST(w[0].p == 0);
     BOOST_TEST((w[0].dir == Warp::px));
@@ -100,7 +100,7 @@ BOOST_AUTO_TEST_CASE(closer_endpoint_warps) {
     Grid h(1, 0, {-3, 1});
     const auto hv = sample_values(h, h.lat);
     const auto hs = compute_signs(hv);
-    w = warp_points(h.lat, find_cut_edges(h, h.lat, hv, hs), hs);
+    w = warp_points(h.lat, find_cut_edges(h, h.lat, hv, hs));
     BOOST_REQUIRE_EQUAL(w.size(), 1u);
     BOOST_TEST(w[0].p == 1);
     BOOST_TEST((w[0].dir == Warp::mx));
@@ -112,7 +112,7 @@ BOOST_AUTO_TEST_CASE(tie_at_half_moves_the_inside_endpoint) {
         Grid g(1, 0, {sign * 1, -sign * 1});  // cut exactly at the midpoint
         const auto v = sample_values(g, g.lat);
         const auto s = compute_signs(v);
-        const auto w = warp_points(g.lat, find_cut_edges(g, g.lat, v, s), s);
+        const auto w = warp_points(g.lat, find_cut_edges(g, g.lat, v, s));
         BOOST_REQUIRE_EQUAL(w.size(), 1u);
         BOOST_TEST(w[0].t == 0.5);
         BOOST_TEST(s[static_cast<std::size_t>(w[0].p)] == -1);  // the inside endpoint moved
@@ -127,7 +127,7 @@ BOOST_AUTO_TEST_CASE(a_point_closer_to_several_cut_points_takes_the_nearest) {
     const auto s = compute_signs(v);
     const auto cuts = find_cut_edges(g, g.lat, v, s);
     BOOST_REQUIRE_EQUAL(cuts.size(), 2u);
-    const auto w = warp_points(g.lat, cuts, s);
+    const auto w = warp_points(g.lat, cuts);
     BOOST_REQUIRE_EQUAL(w.size(), 1u);
     BOOST_TEST((w[0].dir == Warp::py));
     BOOST_TEST(std::abs(w[0].t - 0.2) < 1e-15);
@@ -136,7 +136,7 @@ BOOST_AUTO_TEST_CASE(a_point_closer_to_several_cut_points_takes_the_nearest) {
     Grid e(1, 1, {-1, 3, 3, 1});
     const auto ev = sample_values(e, e.lat);
     const auto es = compute_signs(ev);
-    const auto ew = warp_points(e.lat, find_cut_edges(e, e.lat, ev, es), es);
+    const auto ew = warp_points(e.lat, find_cut_edges(e, e.lat, ev, es));
     BOOST_REQUIRE_EQUAL(ew.size(), 1u);
     BOOST_TEST((ew[0].dir == Warp::px));
 }

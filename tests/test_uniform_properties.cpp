@@ -91,7 +91,7 @@ Run run(const LevelSet& f, const Lattice& lattice, DiagonalRule rule) {
     const auto values = sample_values(f, lattice);
     r.signs = compute_signs(values);
     r.cuts = find_cut_edges(f, lattice, values, r.signs);
-    r.warped = warp_points(lattice, r.cuts, r.signs);
+    r.warped = warp_points(lattice, r.cuts);
     r.mesh = triangulate(f, lattice, r.signs, r.warped, rule);
     return r;
 }

@@ -192,7 +192,7 @@ std::size_t certified_key_count(DiagonalRule rule) { return table(rule).count; }
 CertifiedTheorem certified_theorem(DiagonalRule rule) { return table(rule).theorem; }
 
 // ---------------------------------------------------------------------------
-CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<const std::int8_t> signs,
+CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
                               std::span<const WarpedPoint> warped, DiagonalRule rule,
                               std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
     CertifiedSummary sum;
@@ -239,7 +239,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         std::array<CornerState, 4> cs{};
         for (int c = 0; c < 4; ++c) {
-            cs[static_cast<std::size_t>(c)].sign = signs[static_cast<std::size_t>(p[static_cast<std::size_t>(c)])];
+            cs[static_cast<std::size_t>(c)].sign = sign_at(i + (c & 1), j + (c >> 1));
             if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) cs[static_cast<std::size_t>(c)].warp = w->dir;
         }
         const CertifiedBound* b = certified_bound(rule, cs);
@@ -293,7 +293,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<cons
             const std::int64_t x = i + stencil_offsets[static_cast<std::size_t>(q)][0],
                                y = j + stencil_offsets[static_cast<std::size_t>(q)][1];
             if (x < 0 || y < 0 || x > nx || y > ny) inside = false;
-            else st[static_cast<std::size_t>(q)] = signs[static_cast<std::size_t>(lattice.index(x, y))];
+            else st[static_cast<std::size_t>(q)] = sign_at(x, y);
         }
         if (inside && stencil_is_flat(st)) ++flat_count;
         else {

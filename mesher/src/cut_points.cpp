@@ -57,19 +57,12 @@ std::vector<CutEdge> find_cut_edges(const LevelSet& f, const Lattice& lattice, s
     for (std::int64_t j = 0; j < rows; ++j) {
         auto& out = per_row[static_cast<std::size_t>(j)];
         for (std::int64_t i = 0; i < nxp; ++i) {
-            const std::int64_t p = lattice.index(i, j);
-            const int sp = signs[static_cast<std::size_t>(p)];
-            if (sp == 0) continue;
-            for (int axis = 0; axis < 2; ++axis) {
-                if (axis == 0 ? i + 1 >= nxp : j + 1 > lattice.ny) continue;
-                const std::int64_t q = axis == 0 ? p + 1 : p + nxp;
-                if (signs[static_cast<std::size_t>(q)] != -sp) continue;
-                const Vec2 a = lattice.position(i, j);
-                const Vec2 b = lattice.position(i + (axis == 0), j + (axis == 1));
-                const double u = f.cut_parameter(a, b, values[static_cast<std::size_t>(p)],
-                                                 values[static_cast<std::size_t>(q)]);
-                out.push_back({p, static_cast<std::int8_t>(axis), u});
-            }
+            const std::size_t p = static_cast<std::size_t>(lattice.index(i, j));
+            if (signs[p] == 0) continue;
+            if (i + 1 < nxp) append_cut_edge(f, lattice, i, j, 0, signs[p], signs[p + 1], values[p], values[p + 1], out);
+            if (j < lattice.ny)
+                append_cut_edge(f, lattice, i, j, 1, signs[p], signs[p + static_cast<std::size_t>(nxp)], values[p],
+                                values[p + static_cast<std::size_t>(nxp)], out);
         }
     }
     std::vector<CutEdge> cuts;

@@ -1,9 +1,8 @@
-// graded.cpp — the graded mesher: the uniform stages up to the warp, then the
+// graded.cpp — the graded mesher: the tiled front end (tiles.hpp), the
 // balanced quadtree and its triangulation, timed.
 #include <chrono>
 
 #include "warpmesh/graded.hpp"
-#include "warpmesh/uniform.hpp"  // warp_lattice: the stages both meshers share
 
 namespace warpmesh {
 
@@ -12,10 +11,14 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     using clock = std::chrono::steady_clock;
     auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     GradedResult r;
-    const WarpedLattice w = warp_lattice(f, lattice);
-    record_front_end(r, w);
-    const auto& signs = w.signs;
-    const auto& warped = w.warped;
+    const TiledFront front = warp_tiles(f, lattice);
+    r.times.tiles = front.tiles_seconds;
+    r.times.warp = front.warp_seconds;
+    r.cut_edges = front.cut_edges;
+    r.warped_points = static_cast<std::int64_t>(front.warped.size());
+    r.sampled_points = front.sampled_points;
+    const TiledSigns& signs = front.signs;
+    const auto& warped = front.warped;
 
     auto t0 = clock::now();
     const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell);
@@ -30,7 +33,8 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     r.stats.keyed_squares = nullptr;
     if (certify.enabled) {
         t0 = clock::now();
-        r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, keyed, certify);
+        const auto sign_at = [&signs](std::int64_t i, std::int64_t j) { return signs(i, j); };
+        r.certified = certify_mesh(r.mesh, lattice, sign_at, warped, rule, keyed, certify);
         r.times.certify = seconds(t0);
     }
     return r;

@@ -75,34 +75,103 @@ double ImageField::value(double x, double y) const {
 }
 
 // The same arithmetic as value() — coordinates from Lattice::position, the
-// same locate/interpolate — so that sample() and value() agree bit for bit;
-// the cell lookup along x is done once per column instead of once per point.
-void ImageField::sample(const Lattice& lattice, std::span<double> out) const {
-    const std::int64_t nxp = lattice.points_x(), rows = lattice.ny + 1;
-    std::vector<int> col(static_cast<std::size_t>(nxp));
-    std::vector<double> colf(static_cast<std::size_t>(nxp));
+// same locate/interpolate — so that sample_block() and value() agree bit for
+// bit; the cell lookup along x is done once per column instead of once per point.
+void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::span<double> out) const {
+    std::vector<int> col(static_cast<std::size_t>(b.ni));
+    std::vector<double> colf(static_cast<std::size_t>(b.ni));
     bool finite = true;
-    for (std::int64_t i = 0; i < nxp; ++i) {
-        const double x = lattice.position(i, 0).x;
+    for (std::int64_t i = 0; i < b.ni; ++i) {
+        const double x = lattice.position(b.i0 + i, 0).x;
         finite = finite && std::isfinite(x);
         locate(x, w_, col[static_cast<std::size_t>(i)], colf[static_cast<std::size_t>(i)]);
     }
-    if (!finite) return LevelSet::sample(lattice, out);  // value() reports NaN where it belongs
-#pragma omp parallel for schedule(static)
-    for (std::int64_t j = 0; j < rows; ++j) {
-        const double y = lattice.position(0, j).y;
+    if (!finite) return LevelSet::sample_block(lattice, b, out);  // value() reports NaN where it belongs
+#pragma omp parallel for schedule(static) if (b.ni * b.nj >= 4096)
+    for (std::int64_t j = 0; j < b.nj; ++j) {
+        const double y = lattice.position(0, b.j0 + j).y;
+        double* o = out.data() + j * b.ni;
         if (!std::isfinite(y)) {
-            for (std::int64_t i = 0; i < nxp; ++i)
-                out[static_cast<std::size_t>(lattice.index(i, j))] = std::numeric_limits<double>::quiet_NaN();
+            std::fill(o, o + b.ni, std::numeric_limits<double>::quiet_NaN());
             continue;
         }
         int r = 0;
         double fy = 0;
         locate(y, h_, r, fy);
-        double* o = out.data() + lattice.index(0, j);
-        for (std::int64_t i = 0; i < nxp; ++i)
+        for (std::int64_t i = 0; i < b.ni; ++i)
             o[i] = interpolate(field_.data(), w_, col[static_cast<std::size_t>(i)], colf[static_cast<std::size_t>(i)], r, fy);
     }
+}
+
+// Level k of the pyramid (k >= 1) has blocks of 2^(k+2) pixels a side; level 1
+// is made from field_ directly, each further level from the one below.  About
+// 1/3 B per pixel.
+void ImageField::build_range_pyramid() {
+    pyramid_.clear();
+    auto blocks = [](int n, int k) { return (n + (1 << (k + 2)) - 1) >> (k + 2); };
+    for (int k = 1; (1 << (k + 1)) < std::max(w_, h_); ++k) {
+        const int bw = blocks(w_, k), bh = blocks(h_, k);
+        std::vector<std::array<double, 2>> lv(static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh),
+                                              {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+        auto merge = [](std::array<double, 2>& a, double lo, double hi) { a[0] = std::min(a[0], lo), a[1] = std::max(a[1], hi); };
+        if (k == 1) {
+            for (int y = 0; y < h_; ++y)
+                for (int c = 0; c < w_; ++c) {
+                    const double v = field_[index(c, y)];
+                    merge(lv[static_cast<std::size_t>((y >> 3) * bw + (c >> 3))], v, v);
+                }
+        } else {
+            const auto& below = pyramid_.back();
+            const int cw = blocks(w_, k - 1), ch = blocks(h_, k - 1);
+            for (int y = 0; y < ch; ++y)
+                for (int c = 0; c < cw; ++c) {
+                    const auto& v = below[static_cast<std::size_t>(y * cw + c)];
+                    merge(lv[static_cast<std::size_t>((y >> 1) * bw + (c >> 1))], v[0], v[1]);
+                }
+        }
+        pyramid_.push_back(std::move(lv));
+    }
+}
+
+Range ImageField::range(const Box& box) const {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (!(std::isfinite(box.xmin) && std::isfinite(box.xmax) && std::isfinite(box.ymin) && std::isfinite(box.ymax)))
+        return {-inf, inf};
+    // f on the box uses (coordinates clamped, as in locate) the pixels
+    // [c0, c1] x [y0, y1] around it.
+    auto span = [](double lo, double hi, int n, int& a, int& b) {
+        const double top = static_cast<double>(n - 1);
+        a = static_cast<int>(std::floor(std::clamp(lo, 0.0, top)));
+        b = static_cast<int>(std::ceil(std::clamp(hi, 0.0, top)));
+    };
+    int c0 = 0, c1 = 0, y0 = 0, y1 = 0;
+    span(box.xmin, box.xmax, w_, c0, c1);
+    span(box.ymin, box.ymax, h_, y0, y1);
+    double lo = inf, hi = -inf;
+    const int extent = std::max(c1 - c0, y1 - y0) + 1;
+    if (extent <= 8 || pyramid_.empty()) {
+        for (int y = y0; y <= y1; ++y)
+            for (int c = c0; c <= c1; ++c) {
+                const double v = field_[index(c, y)];
+                lo = std::min(lo, v), hi = std::max(hi, v);
+            }
+    } else {
+        // The level whose blocks are at least `extent` wide: the pixel range
+        // meets at most 2 x 2 of them.
+        int k = 1;
+        while ((1 << (k + 2)) < extent && static_cast<std::size_t>(k) < pyramid_.size()) ++k;
+        const auto& lv = pyramid_[static_cast<std::size_t>(k) - 1];
+        const int bw = (w_ + (1 << (k + 2)) - 1) >> (k + 2);
+        for (int by = y0 >> (k + 2); by <= y1 >> (k + 2); ++by)
+            for (int bx = c0 >> (k + 2); bx <= c1 >> (k + 2); ++bx) {
+                const auto& v = lv[static_cast<std::size_t>(by * bw + bx)];
+                lo = std::min(lo, v[0]), hi = std::max(hi, v[1]);
+            }
+    }
+    // A convex combination computed in floating point stays within the data's
+    // range up to a few rounding errors; widen by far more than those.
+    const double slack = 1e-12 * std::max(std::abs(lo), std::abs(hi)) + std::numeric_limits<double>::min();
+    return {lo - slack, hi + slack};
 }
 
 double ImageField::cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const {
@@ -170,7 +239,9 @@ ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside
       iso_(iso),
       above_(inside_above),
       maxval_(image.maxval),
-      source_(image.source) {}
+      source_(image.source) {
+    build_range_pyramid();
+}
 
 std::string ThresholdLevelSet::describe() const {
     return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + ", maxval " +
@@ -352,6 +423,7 @@ LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool n
         else
             field_[i] = std::sqrt(static_cast<double>(to_inside.d2[i])) - 0.5;
     }
+    build_range_pyramid();
 }
 
 std::int32_t LabelLevelSet::region_at(double x, double y) const {

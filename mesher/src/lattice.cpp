@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "warpmesh/errors.hpp"
@@ -85,14 +86,22 @@ Lattice lattice_around(const Box& box, double s) {
     return l;
 }
 
-void LevelSet::sample(const Lattice& lattice, std::span<double> out) const {
-    const std::int64_t nxp = lattice.points_x(), rows = lattice.ny + 1;
-#pragma omp parallel for schedule(static)
-    for (std::int64_t j = 0; j < rows; ++j)
-        for (std::int64_t i = 0; i < nxp; ++i) {
-            const Vec2 p = lattice.position(i, j);
-            out[static_cast<std::size_t>(lattice.index(i, j))] = value(p.x, p.y);
+void LevelSet::sample_block(const Lattice& lattice, const PointBlock& b, std::span<double> out) const {
+#pragma omp parallel for schedule(static) if (b.ni * b.nj >= 4096)
+    for (std::int64_t j = 0; j < b.nj; ++j)
+        for (std::int64_t i = 0; i < b.ni; ++i) {
+            const Vec2 p = lattice.position(b.i0 + i, b.j0 + j);
+            out[static_cast<std::size_t>(i + j * b.ni)] = value(p.x, p.y);
         }
+}
+
+void LevelSet::sample(const Lattice& lattice, std::span<double> out) const {
+    sample_block(lattice, {0, 0, lattice.points_x(), lattice.ny + 1}, out);
+}
+
+Range LevelSet::range(const Box&) const {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    return {-inf, inf};
 }
 
 Buffer<double> sample_values(const LevelSet& f, const Lattice& lattice) {

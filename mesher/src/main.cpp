@@ -330,9 +330,10 @@ int run_mesh(int argc, char** argv) {
             GradedResult r = mesh_graded(*f, lattice, o.rule, o.max_cell, certify);
             mesh = std::move(r.mesh);
             cert = std::move(r.certified);
-            phases = {{"sample", r.times.sample},         {"signs", r.times.signs},
-                      {"cut_points", r.times.cut_points}, {"warp", r.times.warp},
-                      {"quadtree", r.times.quadtree},     {"triangulate", r.times.triangulate}};
+            phases = {{"tiles", r.times.tiles},
+                      {"warp", r.times.warp},
+                      {"quadtree", r.times.quadtree},
+                      {"triangulate", r.times.triangulate}};
             if (o.certify) phases.emplace_back("certify", r.times.certify);
             std::string levels = "[";
             for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
@@ -341,6 +342,7 @@ int run_mesh(int argc, char** argv) {
             extra.emplace_back("leaves_per_level", levels + "]");
             extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
             extra.emplace_back("warped_points", std::to_string(r.warped_points));
+            extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
         } else {
             UniformResult r = mesh_uniform(*f, lattice, o.rule, certify);
             mesh = std::move(r.mesh);

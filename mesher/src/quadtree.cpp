@@ -80,37 +80,14 @@ inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
         for_each_byte<false>(t.split[L].data() + j * mx, mx, fn);
 }
 
-// Row r of the lattice points' pyramid codes: the sign of f if the point is
-// not critical, else 0.  A point is critical if f = 0 there or a 4-neighbour
-// has the strictly opposite sign; a missing neighbour reads as 0, which never
-// makes a non-zero point critical.  Interior columns are branch-free.
-void point_codes(std::span<const std::int8_t> signs, std::int64_t nx, std::int64_t ny, std::int64_t r,
-                 const std::int8_t* zeros, std::int8_t* out) {
-    const std::int64_t nxp = nx + 1;
-    const std::int8_t* row = signs.data() + r * nxp;
-    const std::int8_t* below = r > 0 ? row - nxp : zeros;
-    const std::int8_t* above = r < ny ? row + nxp : zeros;
-    for (std::int64_t i = 1; i < nx; ++i) {
-        const std::int8_t s = row[i], o = static_cast<std::int8_t>(-s);
-        const bool critical = (s == 0) | (row[i - 1] == o) | (row[i + 1] == o) | (below[i] == o) | (above[i] == o);
-        out[i] = static_cast<std::int8_t>(s & -static_cast<std::int8_t>(!critical));
-    }
-    for (std::int64_t i : {std::int64_t{0}, nx}) {
-        const std::int8_t s = row[i], o = static_cast<std::int8_t>(-s);
-        const bool critical = s == 0 || (i > 0 && row[i - 1] == o) || (i < nx && row[i + 1] == o) || below[i] == o ||
-                              above[i] == o;
-        out[i] = critical ? 0 : s;
-    }
-}
-
 // Below this many nodes a level is done by one thread: a parallel region costs
 // more than the loop.
 constexpr std::int64_t parallel_min = std::int64_t{1} << 16;
 
 }  // namespace
 
-Quadtree build_quadtree(const Lattice& lattice, std::span<const std::int8_t> signs,
-                        std::span<const WarpedPoint> warped, std::int64_t max_cell) {
+Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
+                        std::int64_t max_cell) {
     if (max_cell < 0 || (max_cell != 0 && !std::has_single_bit(static_cast<std::uint64_t>(max_cell))))
         throw std::invalid_argument("max cell size must be 0 or a power of two, got " + std::to_string(max_cell));
     if (lattice.nx >= INT32_MAX || lattice.ny >= INT32_MAX)
@@ -140,40 +117,54 @@ Quadtree build_quadtree(const Lattice& lattice, std::span<const std::int8_t> sig
     if (t.top == 0) return t;
 
     // ---- 2. the coarsenability pyramid -----------------------------------------
-    // Level 1 straight from the signs, one row of nodes at a time: the point
-    // codes of its three point rows, their vertical agreement, then each
-    // node's three columns.  Nothing lattice-sized is stored.  An inside node
-    // on the lattice border is not coarsenable (its border squares stay
-    // finest, as in the uniform mesh).
+    // Level 1 tile by tile (tiles.hpp).  A uniform tile's points are all
+    // non-critical with its sign, so all its level-1 nodes are coarsenable
+    // with it.  In a sampled tile each point's code is its sign if it is not
+    // critical (not 0, no 4-neighbour of the opposite sign: the block's ring
+    // holds the neighbours beyond the tile, 0 outside the lattice, which never
+    // makes a point critical), else 0; a node takes the common code of its
+    // 3 x 3 points.  Either way a node partly outside the lattice is never a
+    // leaf, and an inside node on the lattice border is not coarsenable (its
+    // border squares stay finest, as in the uniform mesh).
     {
-        const std::int64_t mx = t.nodes_x[1], my = t.nodes_y[1];
+        const std::int64_t mx = t.nodes_x[1], my = t.nodes_y[1], half = signs.size() / 2, S = signs.stride();
         auto& s1 = t.sign[1];
         s1.resize(static_cast<std::size_t>(mx * my));
-        const std::vector<std::int8_t> zeros(static_cast<std::size_t>(nxp), 0);
+        const std::int64_t ntiles = signs.tx * signs.ty;
 #pragma omp parallel if (mx * my >= parallel_min)
         {
-            std::vector<std::int8_t> buf(static_cast<std::size_t>(4 * nxp));
-            std::int8_t *c0 = buf.data(), *c1 = c0 + nxp, *c2 = c1 + nxp, *vert = c2 + nxp;
-#pragma omp for schedule(static)
-            for (std::int64_t J = 0; J < my; ++J) {
-                std::int8_t* out = s1.data() + J * mx;
-                if (2 * J + 2 > ny) {  // partly outside the lattice: never a leaf
-                    std::fill(out, out + mx, std::int8_t{0});
-                    continue;
-                }
-                point_codes(signs, nx, ny, 2 * J, zeros.data(), c0);
-                point_codes(signs, nx, ny, 2 * J + 1, zeros.data(), c1);
-                point_codes(signs, nx, ny, 2 * J + 2, zeros.data(), c2);
-                for (std::int64_t i = 0; i < nxp; ++i)
-                    vert[i] = static_cast<std::int8_t>(c0[i] & -static_cast<std::int8_t>((c0[i] == c1[i]) & (c1[i] == c2[i])));
-                const bool border_row = J == 0 || 2 * J + 2 == ny;
-                for (std::int64_t I = 0; I < mx; ++I) {
-                    const std::int64_t c = 2 * I;
-                    std::int8_t sg = 0;
-                    if (c + 2 <= nx && vert[c] == vert[c + 1] && vert[c] == vert[c + 2]) sg = vert[c];
-                    if (sg < 0 && (border_row || I == 0 || c + 2 == nx)) sg = 0;
-                    out[I] = sg;
-                }
+            std::vector<std::int8_t> code(static_cast<std::size_t>((signs.size() + 1) * (signs.size() + 1)));
+#pragma omp for schedule(dynamic, 16)
+            for (std::int64_t k = 0; k < ntiles; ++k) {
+                const std::int64_t TI = k % signs.tx, TJ = k / signs.tx;
+                const std::int32_t slot = signs.slot[static_cast<std::size_t>(k)];
+                const std::int8_t* blk = slot >= 0 ? signs.block(slot) : nullptr;
+                const std::int64_t i0 = TI << signs.tile_log, j0 = TJ << signs.tile_log;
+                if (blk)
+                    for (std::int64_t y = 0; y <= signs.size() && j0 + y <= ny; ++y)
+                        for (std::int64_t x = 0; x <= signs.size() && i0 + x <= nx; ++x) {
+                            const std::int8_t* c = blk + (y + 1) * S + x + 1;
+                            const std::int8_t v = *c, o = static_cast<std::int8_t>(-v);
+                            const bool critical = v == 0 || c[-1] == o || c[1] == o || c[-S] == o || c[S] == o;
+                            code[static_cast<std::size_t>(y * (signs.size() + 1) + x)] = critical ? 0 : v;
+                        }
+                for (std::int64_t J = TJ * half; J < std::min((TJ + 1) * half, my); ++J)
+                    for (std::int64_t I = TI * half; I < std::min((TI + 1) * half, mx); ++I) {
+                        std::int8_t sg = 0;
+                        if (2 * I + 2 <= nx && 2 * J + 2 <= ny) {
+                            if (!blk) {
+                                sg = signs.uniform[static_cast<std::size_t>(k)];
+                            } else {
+                                const std::int64_t x = 2 * I - i0, y = 2 * J - j0, w = signs.size() + 1;
+                                const std::int8_t* c = code.data() + y * w + x;
+                                sg = c[0];
+                                for (std::int64_t dy = 0; dy < 3; ++dy)
+                                    for (std::int64_t dx = 0; dx < 3; ++dx) sg = c[dy * w + dx] == sg ? sg : 0;
+                            }
+                            if (sg < 0 && (I == 0 || J == 0 || 2 * I + 2 == nx || 2 * J + 2 == ny)) sg = 0;
+                        }
+                        s1[static_cast<std::size_t>(I + J * mx)] = sg;
+                    }
             }
         }
     }
@@ -295,13 +286,13 @@ void PointSet::finish() {
     }
 }
 
-QuadtreeCheck check_quadtree(const Quadtree& t, std::span<const std::int8_t> signs) {
+QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {
     QuadtreeCheck r;
     auto note = [&r](std::string m) {
         if (r.messages.size() < 10) r.messages.push_back(std::move(m));
     };
     const std::int64_t nx = t.nx, ny = t.ny, nxp = nx + 1;
-    auto sgn = [&](std::int64_t i, std::int64_t j) { return signs[static_cast<std::size_t>(i + j * nxp)]; };
+    auto sgn = [&](std::int64_t i, std::int64_t j) { return signs(i, j); };
     // Leaf level of every square, by painting the leaves.
     std::vector<std::int8_t> level(static_cast<std::size_t>(nx * ny), -1);
     for (const Leaf& leaf : quadtree_leaves(t)) {

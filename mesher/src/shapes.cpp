@@ -58,6 +58,32 @@ bool boxes_disjoint(const Box& p, const Box& q) {
     return p.xmax <= q.xmin || q.xmax <= p.xmin || p.ymax <= q.ymin || q.ymax <= p.ymin;
 }
 
+// Bounds on f over a box.  value() and the bounds are both computed in
+// floating point, each within a few units in the last place of the magnitudes
+// involved (coordinates, centre, radii); widening by 1e-9 of those magnitudes
+// covers both by a factor of ~10^6, so a bound that excludes 0 is never
+// contradicted by a computed value.  (A wider range only costs the graded
+// mesher some sampling, never correctness.)
+double magnitude(const Box& b, std::initializer_list<double> more) {
+    double m = std::max({std::abs(b.xmin), std::abs(b.xmax), std::abs(b.ymin), std::abs(b.ymax)});
+    for (double v : more) m = std::max(m, std::abs(v));
+    return m;
+}
+Range widened(double lo, double hi, double magnitude) {
+    const double e = 1e-9 * magnitude + std::numeric_limits<double>::min();
+    return {lo - e, hi + e};
+}
+// Distances from (cx, cy) to the nearest and the farthest point of a box.
+struct Distances {
+    double near, far;
+};
+Distances distances(const Box& b, double cx, double cy) {
+    const double nx = std::max({b.xmin - cx, 0.0, cx - b.xmax}), ny = std::max({b.ymin - cy, 0.0, cy - b.ymax});
+    const double fx = std::max(std::abs(b.xmin - cx), std::abs(b.xmax - cx)),
+                 fy = std::max(std::abs(b.ymin - cy), std::abs(b.ymax - cy));
+    return {std::hypot(nx, ny), std::hypot(fx, fy)};
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -96,6 +122,10 @@ Circle::Circle(double cx, double cy, double r) : cx_(cx), cy_(cy), r_(r) {
     require(r > 0, "circle: radius must be positive (got " + num(r) + ")");
 }
 double Circle::value(double x, double y) const { return std::sqrt((x - cx_) * (x - cx_) + (y - cy_) * (y - cy_)) - r_; }
+Range Circle::range(const Box& b) const {
+    const Distances d = distances(b, cx_, cy_);
+    return widened(d.near - r_, d.far - r_, magnitude(b, {cx_, cy_, r_, d.far}));
+}
 Box Circle::bounds() const { return {cx_ - r_, cy_ - r_, cx_ + r_, cy_ + r_}; }
 bool Circle::crossings(Vec2 a, Vec2 b, std::vector<double>& out) const {
     circle_roots(a, b, cx_, cy_, r_, out);
@@ -113,6 +143,12 @@ Ellipse::Ellipse(double cx, double cy, double a, double b) : cx_(cx), cy_(cy), a
 }
 double Ellipse::value(double x, double y) const {
     return std::min(a_, b_) * (std::hypot((x - cx_) / a_, (y - cy_) / b_) - 1);
+}
+// In coordinates scaled by 1/a, 1/b: f = min(a, b) (|q| - 1).
+Range Ellipse::range(const Box& b) const {
+    const Distances d = distances({(b.xmin - cx_) / a_, (b.ymin - cy_) / b_, (b.xmax - cx_) / a_, (b.ymax - cy_) / b_}, 0, 0);
+    const double m = std::min(a_, b_);
+    return widened(m * (d.near - 1), m * (d.far - 1), magnitude(b, {cx_, cy_, a_, b_, m * (d.far + 1)}));
 }
 Box Ellipse::bounds() const { return {cx_ - a_, cy_ - b_, cx_ + a_, cy_ + b_}; }
 // In coordinates scaled by 1/a along x and 1/b along y the ellipse is the
@@ -137,6 +173,11 @@ Annulus::Annulus(double cx, double cy, double r1, double r2) : cx_(cx), cy_(cy),
 double Annulus::value(double x, double y) const {
     const double rho = std::sqrt((x - cx_) * (x - cx_) + (y - cy_) * (y - cy_));
     return std::max(r1_ - rho, rho - r2_);
+}
+Range Annulus::range(const Box& b) const {
+    const Distances d = distances(b, cx_, cy_);
+    return widened(std::max(r1_ - d.far, d.near - r2_), std::max(r1_ - d.near, d.far - r2_),
+                   magnitude(b, {cx_, cy_, r2_, d.far}));
 }
 Box Annulus::bounds() const { return {cx_ - r2_, cy_ - r2_, cx_ + r2_, cy_ + r2_}; }
 bool Annulus::crossings(Vec2 a, Vec2 b, std::vector<double>& out) const {
@@ -164,6 +205,32 @@ double Flower::value(double x, double y) const {
     const double dx = x - cx_, dy = y - cy_;
     return std::sqrt(dx * dx + dy * dy) - (a_ + b_ * std::cos(k_ * std::atan2(dy, dx)));
 }
+// f = |p - c| - (a + b cos(k theta)).  A box away from the centre subtends
+// an angle below pi, attained at its corners; cos(k theta) over that arc is
+// bounded by its values at the ends and by +-1 where the arc contains a
+// multiple of 2 pi (resp. an odd multiple of pi).  atan2 and cos round, so the
+// arc and the cosine bounds are widened by 1e-9 (their errors are ~1e-16).
+Range Flower::range(const Box& b) const {
+    const Distances d = distances(b, cx_, cy_);
+    double cmin = -1, cmax = 1;
+    if (d.near > 0) {
+        const double mid = std::atan2(0.5 * (b.ymin + b.ymax) - cy_, 0.5 * (b.xmin + b.xmax) - cx_);
+        double lo = 0, hi = 0;
+        for (double x : {b.xmin, b.xmax})
+            for (double y : {b.ymin, b.ymax}) {
+                const double off = std::remainder(std::atan2(y - cy_, x - cx_) - mid, 2 * pi);
+                lo = std::min(lo, off), hi = std::max(hi, off);
+            }
+        const double k = k_, plo = k * (mid + lo - 1e-9), phi = k * (mid + hi + 1e-9);
+        if (phi - plo < 2 * pi) {
+            const double c0 = std::cos(plo), c1 = std::cos(phi);
+            cmin = std::floor((phi - pi) / (2 * pi)) >= std::ceil((plo - pi) / (2 * pi)) ? -1 : std::min(c0, c1) - 1e-9;
+            cmax = std::floor(phi / (2 * pi)) >= std::ceil(plo / (2 * pi)) ? 1 : std::max(c0, c1) + 1e-9;
+        }
+    }
+    const double rmin = a_ + std::min(b_ * cmin, b_ * cmax), rmax = a_ + std::max(b_ * cmin, b_ * cmax);
+    return widened(d.near - rmax, d.far - rmin, magnitude(b, {cx_, cy_, a_, b_, d.far}));
+}
 Box Flower::bounds() const {
     const double R = a_ + std::abs(b_);
     return {cx_ - R, cy_ - R, cx_ + R, cy_ + R};
@@ -183,6 +250,10 @@ Rectangle::Rectangle(double x0, double y0, double x1, double y1) : x0_(x0), y0_(
                                     "," + num(y1) + ")");
 }
 double Rectangle::value(double x, double y) const { return std::max({x0_ - x, x - x1_, y0_ - y, y - y1_}); }
+Range Rectangle::range(const Box& b) const {
+    return widened(std::max({x0_ - b.xmax, b.xmin - x1_, y0_ - b.ymax, b.ymin - y1_}),
+                   std::max({x0_ - b.xmin, b.xmax - x1_, y0_ - b.ymin, b.ymax - y1_}), magnitude(b, {x0_, y0_, x1_, y1_}));
+}
 Box Rectangle::bounds() const { return {x0_, y0_, x1_, y1_}; }
 bool Rectangle::crossings(Vec2 a, Vec2 b, std::vector<double>& out) const {
     const double dx = b.x - a.x, dy = b.y - a.y;
@@ -212,6 +283,16 @@ double Csg::value(double x, double y) const {
         case CsgOp::union_: return std::min(fa, fb);
         case CsgOp::intersection: return std::max(fa, fb);
         default: return std::max(fa, -fb);
+    }
+}
+// Interval arithmetic on the operands' (already widened) ranges; min, max and
+// negation are exact.
+Range Csg::range(const Box& b) const {
+    const Range p = a_->range(b), q = b_->range(b);
+    switch (op_) {
+        case CsgOp::union_: return {std::min(p.lo, q.lo), std::min(p.hi, q.hi)};
+        case CsgOp::intersection: return {std::max(p.lo, q.lo), std::max(p.hi, q.hi)};
+        default: return {std::max(p.lo, -q.hi), std::max(p.hi, -q.lo)};
     }
 }
 Box Csg::bounds() const {

@@ -99,14 +99,14 @@ inline std::array<Pt, 4> square_corners(std::int64_t i, std::int64_t j) {
 
 }  // namespace
 
-Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSigns& signs,
                         const Quadtree& tree, std::span<const Leaf> leaves, std::span<const WarpedPoint> warped,
                         DiagonalRule rule, TriangulateStats* stats) {
     const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
     const std::int64_t nleaves = static_cast<std::int64_t>(leaves.size());
     const std::int64_t nchunks = (nleaves + chunk_size - 1) / chunk_size;
     const PointSet& warped_set = tree.warped;
-    auto sign = [&](Pt p) { return signs[static_cast<std::size_t>(p.i + p.j * nxp)]; };
+    auto sign = [&](Pt p) { return signs(p.i, p.j); };
     // `warped` is sorted by point: a warped point's record is at its rank.
     auto warp_of = [&](Pt p) -> const WarpedPoint& {
         const WarpedPoint& w = warped[static_cast<std::size_t>(warped_set.rank(p.i, p.j))];

@@ -27,7 +27,7 @@ WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice) {
     w.cut_edges = static_cast<std::int64_t>(cuts.size());
 
     t0 = clock::now();
-    w.warped = warp_points(lattice, cuts, w.signs);
+    w.warped = warp_points(lattice, cuts);
     w.warp = seconds_since(t0);
     return w;
 }
@@ -48,7 +48,8 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
     r.stats.keyed_squares = nullptr;
     if (certify.enabled) {
         t0 = clock::now();
-        r.certified = certify_mesh(r.mesh, lattice, signs, warped, rule, keyed, certify);
+        const auto sign_at = [&](std::int64_t i, std::int64_t j) { return signs[static_cast<std::size_t>(lattice.index(i, j))]; };
+        r.certified = certify_mesh(r.mesh, lattice, sign_at, warped, rule, keyed, certify);
         r.times.certify = seconds_since(t0);
     }
     return r;

@@ -14,13 +14,12 @@
 
 namespace warpmesh {
 
-std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts,
-                                     std::span<const std::int8_t> signs) {
+std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts) {
     std::vector<WarpedPoint> cand;
     cand.reserve(cuts.size());
     for (const CutEdge& e : cuts) {
         const std::int64_t q = e.p + (e.axis == 0 ? 1 : lattice.points_x());
-        const bool p_moves = e.u < 0.5 || (e.u == 0.5 && signs[static_cast<std::size_t>(e.p)] < 0);
+        const bool p_moves = e.u < 0.5 || (e.u == 0.5 && e.sign < 0);
         if (p_moves)
             cand.push_back({e.p, e.axis == 0 ? Warp::px : Warp::py, e.u});
         else

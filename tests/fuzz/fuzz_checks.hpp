@@ -28,6 +28,7 @@
 #include "warpmesh/lattice.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/uniform.hpp"
+#include "../without_range.hpp"
 
 namespace warpmesh::fuzz {
 
@@ -244,10 +245,15 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         const auto values = sample_values(*f, lattice);
         const auto signs = compute_signs(values);
         const auto cuts = find_cut_edges(*f, lattice, values, signs);
-        const auto warped = warp_points(lattice, cuts, signs);
-        const Quadtree tree = build_quadtree(lattice, signs, warped, c.max_cell);
-        const QuadtreeCheck qc = check_quadtree(tree, signs);
+        const auto warped = warp_points(lattice, cuts);
+        const TiledSigns tiles = tile_signs(lattice, signs);
+        const Quadtree tree = build_quadtree(lattice, tiles, warped, c.max_cell);
+        const QuadtreeCheck qc = check_quadtree(tree, tiles);
         if (!qc.ok()) violation("check_quadtree failed: " + (qc.messages.empty() ? std::string() : qc.messages[0]));
+        // The range bounds skip tiles but change nothing: the same mesh as
+        // with every tile sampled.
+        const GradedResult all = mesh_graded(testing::WithoutRange(*f), lattice, c.rule, c.max_cell, verify);
+        if (!testing::same_mesh(all.mesh, g.mesh)) violation("graded mesh differs from the one with every tile sampled");
     }
     return true;
 }

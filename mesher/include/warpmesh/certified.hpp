@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -113,8 +114,10 @@ struct CertifiedSummary {
 // triangulation (TriangulateStats::keyed_squares); every other triangle is a
 // plain lattice or template triangle (45°, 45°, 90°).  Throws std::logic_error
 // (→ internal error) for an unknown key or, with verify, for a triangle outside
-// its interval.
-CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, std::span<const std::int8_t> signs,
+// its interval.  `sign_at(i, j)` is the sign of f at lattice point (i, j)
+// (a flat array for the uniform mesher, tiles for the graded one).
+using SignAt = std::function<std::int8_t(std::int64_t, std::int64_t)>;
+CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
                               std::span<const WarpedPoint> warped, DiagonalRule rule,
                               std::span<const KeyedSquare> keyed, const CertifyOptions& options);
 

@@ -1,9 +1,13 @@
 // graded.hpp — the graded interior mesher: the uniform lattice-warping mesh
 // near the level set, coarsening inward on a 2:1-balanced quadtree.
 //
-// The pipeline is the uniform one up to the warp (sample → signs → cut points
-// → warp, unchanged), then
+// The pipeline:
 //
+//   tiles.cpp               → sample → signs → cut points, only in the tiles
+//                             the level set can reach (a range bound per tile);
+//                             the same signs and cut points as the uniform
+//                             front end, without its O(lattice) work
+//   warp.cpp                → the warp, as in the uniform mesher
 //   quadtree.cpp            → which squares may be merged into coarse leaves,
 //                             2:1 balance, the leaves
 //   triangulate_graded.cpp  → triangles of the leaves, vertices, boundary
@@ -51,6 +55,7 @@
 
 #include "warpmesh/certified.hpp"
 #include "warpmesh/lattice.hpp"
+#include "warpmesh/tiles.hpp"
 
 namespace warpmesh {
 
@@ -109,8 +114,8 @@ struct Quadtree {
 // the coarsenability pyramid up to level log2(max_cell) (max_cell 0: as coarse
 // as the lattice allows), then 2:1 balance.  Throws std::invalid_argument if
 // max_cell is negative or not a power of two.
-Quadtree build_quadtree(const Lattice& lattice, std::span<const std::int8_t> signs,
-                        std::span<const WarpedPoint> warped, std::int64_t max_cell);
+Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
+                        std::int64_t max_cell);
 
 // Sides of a leaf, as bits of Leaf::split_sides: bottom (A-B), right (B-D),
 // top (D-C), left (C-A).
@@ -146,7 +151,7 @@ struct QuadtreeCheck {
     std::vector<std::string> messages;
     bool ok() const { return untiled == 0 && unbalanced == 0 && coarse_critical == 0 && coarse_border == 0 && bad_sign == 0; }
 };
-QuadtreeCheck check_quadtree(const Quadtree& tree, std::span<const std::int8_t> signs);
+QuadtreeCheck check_quadtree(const Quadtree& tree, const TiledSigns& signs);
 
 // Triangles of the leaves.  Finest leaves: the square's diagonal by `rule`
 // exactly as the uniform triangulation (warped_square_diagonal where a corner
@@ -155,14 +160,15 @@ QuadtreeCheck check_quadtree(const Quadtree& tree, std::span<const std::int8_t> 
 // (centre joined to the corners and to the split sides' midpoints).  Vertices
 // compacted in lattice-point order, boundary edges oriented with the region on
 // their left, region tags as in the uniform mesh.
-Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSigns& signs,
                         const Quadtree& tree, std::span<const Leaf> leaves, std::span<const WarpedPoint> warped,
                         DiagonalRule rule, TriangulateStats* stats = nullptr);
 
 struct GradedTimes {
-    double sample = 0, signs = 0, cut_points = 0, warp = 0, quadtree = 0, triangulate = 0;  // seconds
+    double tiles = 0;  // classify tiles, sample, signs, cut points (tiles.hpp)
+    double warp = 0, quadtree = 0, triangulate = 0;  // seconds
     double certify = 0;  // certification post-pass (certified.hpp), if asked
-    double total() const { return sample + signs + cut_points + warp + quadtree + triangulate + certify; }
+    double total() const { return tiles + warp + quadtree + triangulate + certify; }
 };
 
 struct GradedResult {
@@ -171,11 +177,13 @@ struct GradedResult {
     TriangulateStats stats;
     std::int64_t cut_edges = 0;
     std::int64_t warped_points = 0;
+    std::int64_t sampled_points = 0;  // evaluations of f (tiles.hpp; neighbouring sampled tiles share a border)
     std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, inside or outside
     CertifiedSummary certified;  // available = false unless certification ran
 };
 
-// lattice → signs → cut points → warp → quadtree → triangulate.  max_cell is K,
+// tiles (sample → signs → cut points where the level set can pass) → warp →
+// quadtree → triangulate.  max_cell is K,
 // the largest leaf width in squares: a power of two, or 0 for as coarse as the
 // lattice allows.
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,

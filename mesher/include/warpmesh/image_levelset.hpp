@@ -21,6 +21,7 @@
 //              image_levelset.cpp for why this gives a smooth boundary.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -54,7 +55,10 @@ public:
     // Exact zero of the piecewise-linear restriction of f to an axis-aligned
     // edge (bracketed_root for any other segment).
     double cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const override;
-    void sample(const Lattice& lattice, std::span<double> out) const override;
+    void sample_block(const Lattice& lattice, const PointBlock& block, std::span<double> out) const override;
+    // The interpolant on a box is a convex combination of the pixel values
+    // around it: their minimum and maximum bound it (min/max pyramid).
+    Range range(const Box& box) const override;
 
     int width() const { return w_; }
     int height() const { return h_; }
@@ -66,8 +70,13 @@ protected:
     std::size_t index(int c, int y) const {
         return static_cast<std::size_t>(y) * static_cast<std::size_t>(w_) + static_cast<std::size_t>(c);
     }
+    // Call once field_ is final: builds the min/max pyramid behind range().
+    void build_range_pyramid();
     int w_, h_;
     std::vector<double> field_;
+    // pyramid_[k - 1]: per block of 2^(k + 2) x 2^(k + 2) pixels (row-major,
+    // ceil(w / 2^(k+2)) blocks per row), the minimum and maximum of field_.
+    std::vector<std::vector<std::array<double, 2>>> pyramid_;
 };
 
 class ThresholdLevelSet final : public ImageField {

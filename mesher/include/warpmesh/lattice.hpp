@@ -59,16 +59,27 @@ Buffer<std::int8_t> compute_signs(std::span<const double> values);
 
 // A cut edge runs from point p to its neighbour in +x (axis 0) or +y (axis 1);
 // its endpoints have strictly opposite signs; the cut point is at parameter u
-// in (0, 1) from p.
+// in (0, 1) from p.  sign is the sign of f at p (for the warp's tie rule).
 struct CutEdge {
     std::int64_t p;
     std::int8_t axis;
+    std::int8_t sign;
     double u;
 };
 
 // All cut edges, sorted by (p, axis).
 std::vector<CutEdge> find_cut_edges(const LevelSet& f, const Lattice& lattice, std::span<const double> values,
                                     std::span<const std::int8_t> signs);
+
+// The one test both front ends (find_cut_edges, tiles.cpp) make: appends the
+// edge from point (i, j) to its neighbour along `axis` (0: +x, 1: +y) if their
+// signs sp, sq are strictly opposite, with its cut point from the values fp, fq.
+inline void append_cut_edge(const LevelSet& f, const Lattice& lattice, std::int64_t i, std::int64_t j, int axis,
+                            std::int8_t sp, std::int8_t sq, double fp, double fq, std::vector<CutEdge>& out) {
+    if (sp == 0 || sq != -sp) return;
+    const Vec2 a = lattice.position(i, j), b = lattice.position(i + (axis == 0), j + (axis == 1));
+    out.push_back({lattice.index(i, j), static_cast<std::int8_t>(axis), sp, f.cut_parameter(a, b, fp, fq)});
+}
 
 // A warped lattice point: it moved distance t (in units of s, 0 < t <= 1/2)
 // along `dir` onto a cut point.
@@ -82,8 +93,7 @@ struct WarpedPoint {
 // tie (u = 1/2 exactly) the endpoint with f < 0 does.  A point that is the
 // closer endpoint of several cut edges takes the nearest cut point; equal
 // distances are broken in the order +x, -x, +y, -y.  Sorted by p.
-std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts,
-                                     std::span<const std::int8_t> signs);
+std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts);
 
 // The diagonal of a square with at least one warped corner: choose_diagonal
 // on the square in the generic frame — exactly what the prover certifies.

@@ -18,6 +18,16 @@ struct Box {
     double xmin, ymin, xmax, ymax;
 };
 
+// Bounds lo <= f <= hi on a closed box (lo may be -inf, hi +inf).
+struct Range {
+    double lo, hi;
+};
+
+// Lattice points [i0, i0 + ni) x [j0, j0 + nj) of a Lattice.
+struct PointBlock {
+    std::int64_t i0, j0, ni, nj;
+};
+
 struct Lattice;
 
 class LevelSet {
@@ -37,9 +47,20 @@ public:
     // root is known exactly (piecewise-linear images, circles).
     virtual double cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const;
 
-    // Fill f at every lattice point (row-major, (nx+1) x (ny+1)).  The default
-    // calls value() in parallel; images override it with a faster loop.
-    virtual void sample(const Lattice& lattice, std::span<double> out) const;
+    // Fill f at the lattice points of `block` (row-major, ni x nj), with the
+    // points' coordinates from Lattice::position and bit for bit the values
+    // value() gives there.  The default calls value() (in parallel for large
+    // blocks); images override it with a faster loop.
+    virtual void sample_block(const Lattice& lattice, const PointBlock& block, std::span<double> out) const;
+    // Every lattice point, row-major, (nx+1) x (ny+1).
+    void sample(const Lattice& lattice, std::span<double> out) const;
+
+    // Bounds on f over a closed box, used by the graded mesher to skip blocks
+    // of the lattice that the level set cannot reach (tiles.hpp).  They must
+    // hold for the values value() actually computes, rounding included: a
+    // block is skipped only when every value there would have had the sign
+    // the bound implies.  The default knows nothing: (-inf, +inf).
+    virtual Range range(const Box& box) const;
 
     // Region tag for a triangle with this centroid (label images: the label).
     // Only asked when tags_regions() is true; otherwise every triangle gets 1.

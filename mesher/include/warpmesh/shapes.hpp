@@ -11,6 +11,11 @@
 // CSG involving one) fall back to bracketed_root.
 //
 // bounds() is the tight bounding box of {f <= 0}; no margin is added.
+//
+// range(box) bounds f on a box from the distances to the centre's nearest and
+// farthest points of the box (conics), the box's angular extent (flower), or
+// interval arithmetic on min / max (rectangle, CSG), widened well beyond the
+// rounding of value() (shapes.cpp).
 #pragma once
 
 #include <memory>
@@ -35,6 +40,7 @@ class Circle final : public Shape {
 public:
     Circle(double cx, double cy, double r);
     double value(double x, double y) const override;
+    Range range(const Box& box) const override;
     Box bounds() const override;
     bool crossings(Vec2 a, Vec2 b, std::vector<double>& out) const override;
     std::optional<double> exact_area() const override;
@@ -51,6 +57,7 @@ class Ellipse final : public Shape {
 public:
     Ellipse(double cx, double cy, double a, double b);
     double value(double x, double y) const override;
+    Range range(const Box& box) const override;
     Box bounds() const override;
     bool crossings(Vec2 a, Vec2 b, std::vector<double>& out) const override;
     std::optional<double> exact_area() const override;
@@ -65,6 +72,7 @@ class Annulus final : public Shape {
 public:
     Annulus(double cx, double cy, double r1, double r2);
     double value(double x, double y) const override;
+    Range range(const Box& box) const override;
     Box bounds() const override;
     bool crossings(Vec2 a, Vec2 b, std::vector<double>& out) const override;
     std::optional<double> exact_area() const override;
@@ -80,6 +88,7 @@ class Flower final : public Shape {
 public:
     Flower(double cx, double cy, double a, double b, int k);
     double value(double x, double y) const override;
+    Range range(const Box& box) const override;
     Box bounds() const override;
     std::optional<double> exact_area() const override;
     std::string describe() const override;
@@ -94,6 +103,7 @@ class Rectangle final : public Shape {
 public:
     Rectangle(double x0, double y0, double x1, double y1);
     double value(double x, double y) const override;
+    Range range(const Box& box) const override;
     Box bounds() const override;
     bool crossings(Vec2 a, Vec2 b, std::vector<double>& out) const override;
     std::optional<double> exact_area() const override;
@@ -112,6 +122,7 @@ class Csg final : public Shape {
 public:
     Csg(CsgOp op, std::unique_ptr<Shape> first, std::unique_ptr<Shape> second);
     double value(double x, double y) const override;
+    Range range(const Box& box) const override;
     Box bounds() const override;
     bool crossings(Vec2 a, Vec2 b, std::vector<double>& out) const override;
     std::optional<double> exact_area() const override;

@@ -1,0 +1,189 @@
+// tiles.cpp — the graded mesher's front end: classify tiles by a range bound,
+// sample the others, signs, cut edges, warp (tiles.hpp).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/tiles.hpp"
+
+namespace warpmesh {
+namespace {
+
+// Tile (I, J)'s points: [i0, i0 + ni) x [j0, j0 + nj).
+PointBlock tile_points(const TiledSigns& t, std::int64_t I, std::int64_t J) {
+    const std::int64_t i0 = I << t.tile_log, j0 = J << t.tile_log;
+    return {i0, j0, std::min(i0 + t.size(), t.nx) - i0 + 1, std::min(j0 + t.size(), t.ny) - j0 + 1};
+}
+
+TiledSigns empty_tiles(const Lattice& lattice, int tile_log) {
+    if (tile_log < 1 || tile_log > 12) throw std::invalid_argument("tile_log must be in 1..12");
+    TiledSigns t;
+    t.tile_log = tile_log;
+    t.nx = lattice.nx, t.ny = lattice.ny;
+    t.tx = std::max<std::int64_t>(1, (lattice.nx + t.size() - 1) >> tile_log);
+    t.ty = std::max<std::int64_t>(1, (lattice.ny + t.size() - 1) >> tile_log);
+    t.slot.assign(static_cast<std::size_t>(t.tx * t.ty), -1);
+    t.uniform.assign(static_cast<std::size_t>(t.tx * t.ty), 0);
+    return t;
+}
+
+// Number the tiles with uniform 0 as sampled (row-major) and allocate their blocks.
+std::vector<std::int64_t> allocate_sampled(TiledSigns& t) {
+    std::vector<std::int64_t> sampled;
+    for (std::int64_t k = 0; k < t.tx * t.ty; ++k)
+        if (t.uniform[static_cast<std::size_t>(k)] == 0) {
+            t.slot[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(sampled.size());
+            sampled.push_back(k);
+        }
+    if (sampled.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("too many tiles");
+    t.blocks.resize(sampled.size() * static_cast<std::size_t>(t.stride() * t.stride()));
+    return sampled;
+}
+
+// The ring of every sampled tile, from the tiles around it, once all tiles'
+// own points are set (a ring point belongs to another tile, whose own points
+// are only read).  Also checks the range bounds where a sampled tile meets a
+// uniform one: the points they share must have the uniform tile's sign;
+// returns false if not (a range() that is not conservative).
+bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
+    bool consistent = true;
+    const std::int64_t n = static_cast<std::int64_t>(sampled.size()), S = t.stride();
+#pragma omp parallel for schedule(static) reduction(&& : consistent) if (n >= 64)
+    for (std::int64_t s = 0; s < n; ++s) {
+        const std::int64_t k = sampled[static_cast<std::size_t>(s)], I = k % t.tx, J = k / t.tx;
+        const PointBlock b = tile_points(t, I, J);
+        std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
+        for (std::int64_t y = -1; y <= b.nj; ++y)
+            for (std::int64_t x = -1; x <= b.ni; ++x) {
+                const std::int64_t i = b.i0 + x, j = b.j0 + y;
+                const bool ring = x < 0 || y < 0 || x == b.ni || y == b.nj;
+                const bool in_lattice = i >= 0 && j >= 0 && i <= t.nx && j <= t.ny;
+                if (ring) {
+                    blk[(y + 1) * S + x + 1] = in_lattice ? t(i, j) : std::int8_t{0};
+                    continue;
+                }
+                const std::int64_t owner = t.tile_of_x(i) + t.tile_of_y(j) * t.tx;
+                if (owner != k && t.slot[static_cast<std::size_t>(owner)] < 0)
+                    consistent = consistent && blk[(y + 1) * S + x + 1] == t.uniform[static_cast<std::size_t>(owner)];
+            }
+    }
+    return consistent;
+}
+
+using clock = std::chrono::steady_clock;
+double seconds_since(clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); }
+
+}  // namespace
+
+TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
+    const auto t0 = clock::now();
+    TiledFront r;
+    TiledSigns& t = r.signs;
+    t = empty_tiles(lattice, tile_log);
+    const std::int64_t ntiles = t.tx * t.ty, S = t.stride();
+
+    // ---- classify: a range bound on each tile's reach --------------------------
+#pragma omp parallel for schedule(static) if (ntiles >= 1024)
+    for (std::int64_t k = 0; k < ntiles; ++k) {
+        const PointBlock b = tile_points(t, k % t.tx, k / t.tx);
+        const Vec2 lo = lattice.position(b.i0 - 1, b.j0 - 1), hi = lattice.position(b.i0 + b.ni, b.j0 + b.nj);
+        const Range range = f.range({lo.x, lo.y, hi.x, hi.y});
+        t.uniform[static_cast<std::size_t>(k)] = range.lo > 0 ? 1 : range.hi < 0 ? -1 : 0;  // NaN: sampled
+    }
+    const std::vector<std::int64_t> sampled = allocate_sampled(t);
+    const std::int64_t n = static_cast<std::int64_t>(sampled.size());
+
+    // ---- sample, signs, cut edges of each sampled tile ----------------------------
+    std::vector<std::vector<CutEdge>> cuts(sampled.size());
+    std::int64_t bad = -1, points = 0;  // the lattice index of a non-finite value
+#pragma omp parallel reduction(max : bad) reduction(+ : points)
+    {
+        std::vector<double> v(static_cast<std::size_t>((t.size() + 1) * (t.size() + 1)));
+#pragma omp for schedule(dynamic, 4)
+        for (std::int64_t s = 0; s < n; ++s) {
+            const std::int64_t k = sampled[static_cast<std::size_t>(s)], I = k % t.tx, J = k / t.tx;
+            const PointBlock b = tile_points(t, I, J);
+            f.sample_block(lattice, b, v);
+            points += b.ni * b.nj;
+            std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
+            for (std::int64_t y = 0; y < b.nj; ++y)
+                for (std::int64_t x = 0; x < b.ni; ++x) {
+                    const double fv = v[static_cast<std::size_t>(x + y * b.ni)];
+                    if (!std::isfinite(fv)) bad = std::max(bad, lattice.index(b.i0 + x, b.j0 + y));
+                    blk[(y + 1) * S + x + 1] = static_cast<std::int8_t>((fv > 0) - (fv < 0));
+                }
+            if (bad >= 0) continue;
+            // Owned points: all but the last column / row, unless the tile is
+            // the last of its row / column.
+            const std::int64_t own_x = I + 1 == t.tx ? b.ni : b.ni - 1, own_y = J + 1 == t.ty ? b.nj : b.nj - 1;
+            auto& out = cuts[static_cast<std::size_t>(s)];
+            for (std::int64_t y = 0; y < own_y; ++y)
+                for (std::int64_t x = 0; x < own_x; ++x) {
+                    const std::int8_t sp = blk[(y + 1) * S + x + 1];
+                    const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
+                    if (x + 1 < b.ni)
+                        append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 0, sp, blk[(y + 1) * S + x + 2], fp,
+                                        v[static_cast<std::size_t>(x + 1 + y * b.ni)], out);
+                    if (y + 1 < b.nj)
+                        append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 1, sp, blk[(y + 2) * S + x + 1], fp,
+                                        v[static_cast<std::size_t>(x + (y + 1) * b.ni)], out);
+                }
+        }
+    }
+    if (bad >= 0) {
+        const std::int64_t i = bad % lattice.points_x(), j = bad / lattice.points_x();
+        const Vec2 p = lattice.position(i, j);
+        throw InputError("level set value is not finite at lattice point (" + std::to_string(i) + ", " +
+                         std::to_string(j) + ") = (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")");
+    }
+    r.sampled_points = points;
+    if (!fill_rings(t, sampled))
+        throw std::logic_error("the range bound of " + f.describe() + " is not conservative (a sampled sign contradicts it)");
+
+    // ---- cut edges in point order: tile rows own the same lattice rows -----------
+    std::vector<CutEdge> all;
+    std::size_t total = 0;
+    for (const auto& c : cuts) total += c.size();
+    all.reserve(total);
+    std::vector<std::size_t> cursor(sampled.size(), 0);
+    for (std::int64_t s0 = 0; s0 < n;) {
+        const std::int64_t J = sampled[static_cast<std::size_t>(s0)] / t.tx;
+        std::int64_t s1 = s0;
+        while (s1 < n && sampled[static_cast<std::size_t>(s1)] / t.tx == J) ++s1;
+        const std::int64_t j_end = J + 1 == t.ty ? t.ny + 1 : (J + 1) << tile_log;
+        for (std::int64_t j = J << tile_log; j < j_end; ++j)
+            for (std::int64_t s = s0; s < s1; ++s) {
+                const auto& c = cuts[static_cast<std::size_t>(s)];
+                auto& q = cursor[static_cast<std::size_t>(s)];
+                while (q < c.size() && c[q].p / lattice.points_x() == j) all.push_back(c[q++]);
+            }
+        s0 = s1;
+    }
+    r.cut_edges = static_cast<std::int64_t>(all.size());
+    r.tiles_seconds = seconds_since(t0);
+
+    const auto t1 = clock::now();
+    r.warped = warp_points(lattice, all);
+    r.warp_seconds = seconds_since(t1);
+    return r;
+}
+
+TiledSigns tile_signs(const Lattice& lattice, std::span<const std::int8_t> signs, int tile_log) {
+    TiledSigns t = empty_tiles(lattice, tile_log);
+    const std::vector<std::int64_t> sampled = allocate_sampled(t);
+    const std::int64_t S = t.stride();
+    for (std::size_t s = 0; s < sampled.size(); ++s) {
+        const PointBlock b = tile_points(t, sampled[s] % t.tx, sampled[s] / t.tx);
+        std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
+        for (std::int64_t y = 0; y < b.nj; ++y)
+            for (std::int64_t x = 0; x < b.ni; ++x)
+                blk[(y + 1) * S + x + 1] = signs[static_cast<std::size_t>(lattice.index(b.i0 + x, b.j0 + y))];
+    }
+    fill_rings(t, sampled);
+    return t;
+}
+
+}  // namespace warpmesh
