@@ -137,39 +137,59 @@ Range ImageField::range(const Box& box) const {
     constexpr double inf = std::numeric_limits<double>::infinity();
     if (!(std::isfinite(box.xmin) && std::isfinite(box.xmax) && std::isfinite(box.ymin) && std::isfinite(box.ymax)))
         return {-inf, inf};
-    // f on the box uses (coordinates clamped, as in locate) the pixels
-    // [c0, c1] x [y0, y1] around it.
-    auto span = [](double lo, double hi, int n, int& a, int& b) {
-        const double top = static_cast<double>(n - 1);
-        a = static_cast<int>(std::floor(std::clamp(lo, 0.0, top)));
-        b = static_cast<int>(std::ceil(std::clamp(hi, 0.0, top)));
-    };
-    int c0 = 0, c1 = 0, y0 = 0, y1 = 0;
-    span(box.xmin, box.xmax, w_, c0, c1);
-    span(box.ymin, box.ymax, h_, y0, y1);
+    // f on the box is f on the box clamped to the pixel-centre rectangle (f
+    // is extended as a constant beyond it).
+    const double x0 = std::clamp(box.xmin, 0.0, static_cast<double>(w_ - 1)),
+                 x1 = std::clamp(box.xmax, 0.0, static_cast<double>(w_ - 1)),
+                 y0 = std::clamp(box.ymin, 0.0, static_cast<double>(h_ - 1)),
+                 y1 = std::clamp(box.ymax, 0.0, static_cast<double>(h_ - 1));
+    const int c0 = static_cast<int>(std::floor(x0)), c1 = static_cast<int>(std::ceil(x1)),
+              r0 = static_cast<int>(std::floor(y0)), r1 = static_cast<int>(std::ceil(y1));
     double lo = inf, hi = -inf;
-    const int extent = std::max(c1 - c0, y1 - y0) + 1;
-    if (extent <= 8 || pyramid_.empty()) {
-        for (int y = y0; y <= y1; ++y)
+    if (c1 - c0 <= 8 && r1 - r0 <= 8) {
+        // Exact for a small box: on each pixel cell f is bilinear, linear in x
+        // for fixed y and in y for fixed x, so its extremes on a rectangle are
+        // at the rectangle's corners.  The box's pieces in the cells have
+        // their corners on the grid {x0, the integers between, x1} x {y0, …}.
+        auto knots = [](double a, double b, int ka, int kb, std::array<double, 10>& out) {
+            int n = 0;
+            out[static_cast<std::size_t>(n++)] = a;
+            for (int k = ka + 1; k < kb; ++k) out[static_cast<std::size_t>(n++)] = k;
+            if (b > a) out[static_cast<std::size_t>(n++)] = b;
+            return n;
+        };
+        std::array<double, 10> xs{}, ys{};
+        const int nxk = knots(x0, x1, c0, c1, xs), nyk = knots(y0, y1, r0, r1, ys);
+        for (int b = 0; b < nyk; ++b)
+            for (int a = 0; a < nxk; ++a) {
+                const double v = value(xs[static_cast<std::size_t>(a)], ys[static_cast<std::size_t>(b)]);
+                lo = std::min(lo, v), hi = std::max(hi, v);
+            }
+    } else if (pyramid_.empty()) {
+        for (int y = r0; y <= r1; ++y)
             for (int c = c0; c <= c1; ++c) {
                 const double v = field_[index(c, y)];
                 lo = std::min(lo, v), hi = std::max(hi, v);
             }
     } else {
-        // The level whose blocks are at least `extent` wide: the pixel range
-        // meets at most 2 x 2 of them.
+        // The interpolant is a convex combination of the pixel values around
+        // the box, [c0, c1] x [r0, r1]: their extremes bound it.  The pyramid
+        // level whose blocks are at least as wide as that range has at most
+        // 2 x 2 blocks meeting it.
+        const int extent = std::max(c1 - c0, r1 - r0) + 1;
         int k = 1;
         while ((1 << (k + 2)) < extent && static_cast<std::size_t>(k) < pyramid_.size()) ++k;
         const auto& lv = pyramid_[static_cast<std::size_t>(k) - 1];
         const int bw = (w_ + (1 << (k + 2)) - 1) >> (k + 2);
-        for (int by = y0 >> (k + 2); by <= y1 >> (k + 2); ++by)
+        for (int by = r0 >> (k + 2); by <= r1 >> (k + 2); ++by)
             for (int bx = c0 >> (k + 2); bx <= c1 >> (k + 2); ++bx) {
                 const auto& v = lv[static_cast<std::size_t>(by * bw + bx)];
                 lo = std::min(lo, v[0]), hi = std::max(hi, v[1]);
             }
     }
-    // A convex combination computed in floating point stays within the data's
-    // range up to a few rounding errors; widen by far more than those.
+    // value() rounds: a bilinear combination computed in floating point stays
+    // within its exact range up to a few units in the last place of the
+    // data's magnitude; widen by far more than that.
     const double slack = 1e-12 * std::max(std::abs(lo), std::abs(hi)) + std::numeric_limits<double>::min();
     return {lo - slack, hi + slack};
 }
@@ -397,14 +417,20 @@ LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool n
                          " (labels present: " + list_labels(have) + ")");
     }
 
+    // A cell's label: the one label of its corner pixels that are in the
+    // region, if there is at least one and they agree — then the nearest
+    // region pixel among the corners has it, wherever the point is.
     cell_label_.assign(N, -1);
     for (int y = 0; y + 1 < h_; ++y)
         for (int c = 0; c + 1 < w_; ++c) {
-            const std::size_t k00 = index(c, y), k10 = index(c + 1, y), k01 = index(c, y + 1), k11 = index(c + 1, y + 1);
-            const std::uint16_t l = label_[k00];
-            if (inside_[k00] && inside_[k10] && inside_[k01] && inside_[k11] && label_[k10] == l && label_[k01] == l &&
-                label_[k11] == l)
-                cell_label_[k00] = l;
+            std::int32_t l = -1;
+            bool one = true;
+            for (const std::size_t k : {index(c, y), index(c + 1, y), index(c, y + 1), index(c + 1, y + 1)}) {
+                if (!inside_[k]) continue;
+                if (l >= 0 && label_[k] != l) one = false;
+                l = label_[k];
+            }
+            if (one) cell_label_[index(c, y)] = l;
         }
 
     const Edt to_outside = distance_transform(outside, w_, h_);
@@ -434,8 +460,9 @@ std::int32_t LabelLevelSet::region_at(double x, double y) const {
     // if none of them is in the region, the region pixel nearest to the
     // nearest centre.
     const int c0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    // Fast path (almost every triangle): all four centres in the region with
-    // one label — then that label is the nearest one's, whichever it is.
+    // Fast path (almost every triangle): the centres around (x, y) that are in
+    // the region all have one label — then it is the nearest one's label,
+    // whichever that is.
     if (c0 + 1 < w_ && y0 + 1 < h_)
         if (const std::int32_t l = cell_label_[index(c0, y0)]; l >= 0) return l;
     double best = std::numeric_limits<double>::infinity();

@@ -1,16 +1,21 @@
-// quadtree.cpp — the graded mesher's balanced quadtree, as per-level arrays.
+// quadtree.cpp — the graded mesher's balanced quadtree (graded.hpp).
 //
-// Three passes, each a flat loop over one level's array (level 1 is computed
-// straight from the signs: a point is critical when f = 0 there or a
-// 4-neighbour has the strictly opposite sign — exactly the endpoints of cut
-// edges) (parallel over rows,
-// no pointers, no Morton codes — a node's parent is (i >> 1, j >> 1), its
-// children (2i + a, 2j + b)):
+// Passes, bottom-up, with no pointers and no Morton codes — a node's parent
+// is (i >> 1, j >> 1), its children (2i + a, 2j + b):
 //
 //  1. the set of warped points (a bitset with ranks);
-//  2. the coarsenability pyramid `sign` (see graded.hpp), bottom-up;
-//  3. `split`, bottom-up: a node is split when it is not coarsenable, or when
+//  2. the active tiles (graded.hpp): tiles with sampled signs or on the
+//     lattice border, and their eight neighbours;
+//  3. the coarsenability pyramid `sign` (see graded.hpp): level 1 from the
+//     signs (a point is critical when f = 0 there or a 4-neighbour has the
+//     strictly opposite sign — exactly the endpoints of cut edges), then each
+//     level from its children; per active tile below the tiles' level, dense
+//     above;
+//  4. `split`, bottom-up: a node is split when it is not coarsenable, or when
 //     2:1 balance demands it.
+// Work and memory are proportional to the active tiles plus the dense levels'
+// nodes (at most 4/3 per tile): O(boundary), not O(lattice), apart from the
+// warped points' bitset (one bit per lattice point, touched only where set).
 //
 // 2:1 balance, edge neighbours only.  Leaves that share an edge (a segment of
 // positive length) differ by at most one level; leaves that only touch at a
@@ -34,14 +39,16 @@
 // the leaf L, not split.  Splitting a node of level m + 1 to satisfy the rule
 // creates leaves of level m (no new split node of level m), so the rule
 // propagates strictly upward and one bottom-up pass enforces it: level l + 1
-// is final once level l is.  Pass 3 evaluates it as a gather (each node reads
-// the 4x4 block of level-l nodes around its children, minus the block's
-// corners), which is race-free and independent of the thread count.
+// is final once level l is.  Pass 4 applies it row by row: row J of level
+// l + 1 is written only by the iteration for J, which reads the split nodes
+// of rows 2J - 1 .. 2J + 2 of level l — race-free and independent of the
+// thread count.
 #include <algorithm>
 #include <bit>
 #include <cassert>
 #include <cstring>
 #include <stdexcept>
+#include <numeric>
 #include <string>
 
 #include "warpmesh/graded.hpp"
@@ -69,15 +76,26 @@ inline void for_each_byte(const T* row, std::int64_t n, Fn&& fn) {
         if ((row[i] == 0) == Zero) fn(i);
 }
 
-// fn(i) for every split node i of row j of level l >= 1.
+// fn(i) for every split node i of row j of level l >= 1, in increasing i.
 template <class Fn>
 inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
     const std::size_t L = static_cast<std::size_t>(l);
     const std::int64_t mx = t.nodes_x[L];
-    if (l == 1)
-        for_each_byte<true>(t.sign[1].data() + j * mx, mx, fn);  // level 1: split iff not coarsenable
-    else
-        for_each_byte<false>(t.split[L].data() + j * mx, mx, fn);
+    if (l > t.local_top) return for_each_byte<false>(t.split[L].data() + j * mx, mx, fn);
+    // A per-tile level: only active tiles have split nodes; those of tile row
+    // TJ are the slots row_start[TJ] .. row_start[TJ + 1] - 1, left to right.
+    // Level 1 is split where not coarsenable (code 0).
+    const int h = t.tile_log - l;
+    const std::int64_t TJ = j >> h;
+    for (std::int64_t s = t.row_start[static_cast<std::size_t>(TJ)]; s < t.row_start[static_cast<std::size_t>(TJ) + 1]; ++s) {
+        const std::int64_t I0 = t.active_x[static_cast<std::size_t>(s)] << h;
+        const std::int64_t base = t.local_index(l, s, I0, j), n = std::min(std::int64_t{1} << h, mx - I0);
+        auto at = [&](std::int64_t q) { fn(I0 + q); };
+        if (l == 1)
+            for_each_byte<true>(t.local_sign.data() + base, n, at);
+        else
+            for_each_byte<false>(t.local_split.data() + base, n, at);
+    }
 }
 
 // Below this many nodes a level is done by one thread: a parallel region costs
@@ -115,107 +133,183 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
         t.nodes_y[static_cast<std::size_t>(l)] = (ny + (std::int64_t{1} << l) - 1) >> l;
     }
     if (t.top == 0) return t;
-
-    // ---- 2. the coarsenability pyramid -----------------------------------------
-    // Level 1 tile by tile (tiles.hpp).  A uniform tile's points are all
-    // non-critical with its sign, so all its level-1 nodes are coarsenable
-    // with it.  In a sampled tile each point's code is its sign if it is not
-    // critical (not 0, no 4-neighbour of the opposite sign: the block's ring
-    // holds the neighbours beyond the tile, 0 outside the lattice, which never
-    // makes a point critical), else 0; a node takes the common code of its
-    // 3 x 3 points.  Either way a node partly outside the lattice is never a
-    // leaf, and an inside node on the lattice border is not coarsenable (its
-    // border squares stay finest, as in the uniform mesh).
+    auto nodes = [&t](int l) { return t.nodes_x[static_cast<std::size_t>(l)] * t.nodes_y[static_cast<std::size_t>(l)]; };
+    // ---- 2. the active tiles ------------------------------------------------------
+    const std::int64_t TX = signs.tx, TY = signs.ty, ntiles = TX * TY, T = signs.size();
+    t.tile_log = signs.tile_log, t.tiles_x = TX, t.tiles_y = TY;
+    t.local_top = std::min(signs.tile_log - 1, t.top);
+    t.tile_sign = signs.uniform;
     {
-        const std::int64_t mx = t.nodes_x[1], my = t.nodes_y[1], half = signs.size() / 2, S = signs.stride();
-        auto& s1 = t.sign[1];
-        s1.resize(static_cast<std::size_t>(mx * my));
-        const std::int64_t ntiles = signs.tx * signs.ty;
-#pragma omp parallel if (mx * my >= parallel_min)
-        {
-            std::vector<std::int8_t> code(static_cast<std::size_t>((signs.size() + 1) * (signs.size() + 1)));
+        std::vector<std::uint8_t> seed(static_cast<std::size_t>(ntiles));
+        for (std::int64_t k = 0; k < ntiles; ++k) {
+            const std::int64_t TI = k % TX, TJ = k / TX;
+            seed[static_cast<std::size_t>(k)] =
+                signs.slot[static_cast<std::size_t>(k)] >= 0 || TI == 0 || TJ == 0 || TI == TX - 1 || TJ == TY - 1;
+        }
+        t.tile_slot.assign(static_cast<std::size_t>(ntiles), -1);
+        t.row_start.assign(static_cast<std::size_t>(TY) + 1, 0);
+        for (std::int64_t TJ = 0; TJ < TY; ++TJ) {
+            t.row_start[static_cast<std::size_t>(TJ)] = static_cast<std::int64_t>(t.active.size());
+            for (std::int64_t TI = 0; TI < TX; ++TI) {
+                bool near = false;
+                for (std::int64_t b = std::max<std::int64_t>(TJ - 1, 0); b <= std::min(TJ + 1, TY - 1) && !near; ++b)
+                    for (std::int64_t a = std::max<std::int64_t>(TI - 1, 0); a <= std::min(TI + 1, TX - 1); ++a)
+                        near = near || seed[static_cast<std::size_t>(a + b * TX)];
+                if (!near) continue;
+                t.tile_slot[static_cast<std::size_t>(TI + TJ * TX)] = static_cast<std::int32_t>(t.active.size());
+                t.active.push_back(TI + TJ * TX);
+                t.active_x.push_back(TI);
+            }
+        }
+        t.row_start[static_cast<std::size_t>(TY)] = static_cast<std::int64_t>(t.active.size());
+        t.local_offset.assign(static_cast<std::size_t>(t.local_top) + 1, 0);
+        t.local_size = 0;
+        for (int l = 1; l <= t.local_top; ++l) {
+            t.local_offset[static_cast<std::size_t>(l)] = t.local_size;
+            t.local_size += (T >> l) * (T >> l);
+        }
+        const std::size_t n = t.active.size() * static_cast<std::size_t>(t.local_size);
+        t.local_sign.resize(n);
+        t.local_split.assign(n, 0);
+    }
+    const std::int64_t nslots = static_cast<std::int64_t>(t.active.size());
+    // ---- 3. the coarsenability pyramid -------------------------------------------
+    // Per active tile, level 1 from the tile's points: their signs if sampled
+    // (a point's code is its sign if it is not critical — not 0, no
+    // 4-neighbour of the opposite sign: the signs' ring holds the neighbours
+    // beyond the tile, 0 outside the lattice, which never makes a point
+    // critical — else 0), or the tile's σ for every point; a node takes the
+    // common code of its 3 x 3 points.  A node partly outside the lattice is
+    // never a leaf, and an inside node on the lattice border is not
+    // coarsenable (its border squares stay finest, as in the uniform mesh).
+    // Then levels 2 .. local_top, each node from its four children (in the
+    // same tile; a child outside the lattice's nodes counts as 0).
+#pragma omp parallel if (nslots >= 256)
+    {
+        std::vector<std::int8_t> code(static_cast<std::size_t>((T + 1) * (T + 1)));
+        const std::int64_t w = T + 1, S = signs.stride();
 #pragma omp for schedule(dynamic, 16)
-            for (std::int64_t k = 0; k < ntiles; ++k) {
-                const std::int64_t TI = k % signs.tx, TJ = k / signs.tx;
-                const std::int32_t slot = signs.slot[static_cast<std::size_t>(k)];
-                const std::int8_t* blk = slot >= 0 ? signs.block(slot) : nullptr;
-                const std::int64_t i0 = TI << signs.tile_log, j0 = TJ << signs.tile_log;
-                if (blk)
-                    for (std::int64_t y = 0; y <= signs.size() && j0 + y <= ny; ++y)
-                        for (std::int64_t x = 0; x <= signs.size() && i0 + x <= nx; ++x) {
-                            const std::int8_t* c = blk + (y + 1) * S + x + 1;
-                            const std::int8_t v = *c, o = static_cast<std::int8_t>(-v);
-                            const bool critical = v == 0 || c[-1] == o || c[1] == o || c[-S] == o || c[S] == o;
-                            code[static_cast<std::size_t>(y * (signs.size() + 1) + x)] = critical ? 0 : v;
-                        }
-                for (std::int64_t J = TJ * half; J < std::min((TJ + 1) * half, my); ++J)
-                    for (std::int64_t I = TI * half; I < std::min((TI + 1) * half, mx); ++I) {
-                        std::int8_t sg = 0;
-                        if (2 * I + 2 <= nx && 2 * J + 2 <= ny) {
-                            if (!blk) {
-                                sg = signs.uniform[static_cast<std::size_t>(k)];
-                            } else {
-                                const std::int64_t x = 2 * I - i0, y = 2 * J - j0, w = signs.size() + 1;
-                                const std::int8_t* c = code.data() + y * w + x;
-                                sg = c[0];
-                                for (std::int64_t dy = 0; dy < 3; ++dy)
-                                    for (std::int64_t dx = 0; dx < 3; ++dx) sg = c[dy * w + dx] == sg ? sg : 0;
-                            }
-                            if (sg < 0 && (I == 0 || J == 0 || 2 * I + 2 == nx || 2 * J + 2 == ny)) sg = 0;
-                        }
-                        s1[static_cast<std::size_t>(I + J * mx)] = sg;
+        for (std::int64_t s = 0; s < nslots; ++s) {
+            const std::int64_t k = t.active[static_cast<std::size_t>(s)], TI = k % TX, TJ = k / TX;
+            const std::int32_t sslot = signs.slot[static_cast<std::size_t>(k)];
+            const std::int8_t* blk = sslot >= 0 ? signs.block(sslot) : nullptr;
+            const std::int64_t i0 = TI * T, j0 = TJ * T;
+            const std::int64_t half = T / 2;
+            std::int8_t* out = t.local_sign.data() + s * t.local_size + t.local_offset[1];
+            const bool border = TI == 0 || TJ == 0 || TI == TX - 1 || TJ == TY - 1;
+            if (!blk && !border) {  // every point non-critical with σ: every node coarsenable with σ
+                std::fill(out, out + t.local_size - t.local_offset[1], signs.uniform[static_cast<std::size_t>(k)]);
+                continue;
+            }
+            for (std::int64_t y = 0; y < w && j0 + y <= ny; ++y)
+                for (std::int64_t x = 0; x < w && i0 + x <= nx; ++x) {
+                    std::int8_t v = signs.uniform[static_cast<std::size_t>(k)];
+                    if (blk) {
+                        const std::int8_t* c = blk + (y + 1) * S + x + 1;
+                        const std::int8_t o = static_cast<std::int8_t>(-*c);
+                        const bool critical = *c == 0 || c[-1] == o || c[1] == o || c[-S] == o || c[S] == o;
+                        v = critical ? 0 : *c;
+                    }
+                    code[static_cast<std::size_t>(y * w + x)] = v;
+                }
+            for (std::int64_t y = 0; y < half; ++y)
+                for (std::int64_t x = 0; x < half; ++x) {
+                    const std::int64_t I = TI * half + x, J = TJ * half + y;
+                    std::int8_t sg = 0;
+                    if (2 * I + 2 <= nx && 2 * J + 2 <= ny) {
+                        const std::int8_t* c = code.data() + 2 * y * w + 2 * x;
+                        sg = c[0];
+                        for (std::int64_t dy = 0; dy < 3; ++dy)
+                            for (std::int64_t dx = 0; dx < 3; ++dx) sg = c[dy * w + dx] == sg ? sg : 0;
+                        if (sg < 0 && (I == 0 || J == 0 || 2 * I + 2 == nx || 2 * J + 2 == ny)) sg = 0;
+                    }
+                    out[y * half + x] = sg;
+                }
+            for (int l = 2; l <= t.local_top; ++l) {
+                const std::int64_t n = T >> l, cx = t.nodes_x[static_cast<std::size_t>(l) - 1],
+                                   cy = t.nodes_y[static_cast<std::size_t>(l) - 1];
+                const std::int8_t* child = t.local_sign.data() + s * t.local_size + t.local_offset[static_cast<std::size_t>(l) - 1];
+                std::int8_t* o = t.local_sign.data() + s * t.local_size + t.local_offset[static_cast<std::size_t>(l)];
+                for (std::int64_t y = 0; y < n; ++y)
+                    for (std::int64_t x = 0; x < n; ++x) {
+                        const std::int64_t I = TI * n + x, J = TJ * n + y;
+                        const std::int8_t* c = child + 2 * y * (2 * n) + 2 * x;
+                        const std::int8_t v = c[0];
+                        const bool same = 2 * I + 1 < cx && 2 * J + 1 < cy && v != 0 && c[1] == v && c[2 * n] == v &&
+                                          c[2 * n + 1] == v;
+                        o[y * n + x] = same ? v : 0;
                     }
             }
         }
     }
-    for (int l = 2; l <= t.top; ++l) {
-        const std::int64_t mx = t.nodes_x[static_cast<std::size_t>(l)], my = t.nodes_y[static_cast<std::size_t>(l)];
-        const std::int64_t cx = t.nodes_x[static_cast<std::size_t>(l) - 1], cy = t.nodes_y[static_cast<std::size_t>(l) - 1];
-        const auto& child = t.sign[static_cast<std::size_t>(l) - 1];
-        auto& s = t.sign[static_cast<std::size_t>(l)];
-        s.assign(static_cast<std::size_t>(mx * my), 0);
+    // Dense levels: at most about one node per tile, read through node_sign.
+    for (int l = t.local_top + 1; l <= t.top; ++l) {
+        const std::size_t L = static_cast<std::size_t>(l);
+        const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], cx = t.nodes_x[L - 1], cy = t.nodes_y[L - 1];
+        auto& sg = t.sign[L];
+        sg.assign(static_cast<std::size_t>(mx * my), 0);
 #pragma omp parallel for schedule(static) if (mx * my >= parallel_min)
         for (std::int64_t J = 0; J < my; ++J) {
             if (2 * J + 1 >= cy) continue;
             for (std::int64_t I = 0; 2 * I + 1 < cx; ++I) {
-                const std::size_t c = static_cast<std::size_t>(2 * I + 2 * J * cx);
-                const std::int8_t v = child[c];
-                const bool same = v != 0 && child[c + 1] == v && child[c + static_cast<std::size_t>(cx)] == v &&
-                                  child[c + static_cast<std::size_t>(cx) + 1] == v;
-                s[static_cast<std::size_t>(I + J * mx)] = same ? v : 0;
+                const std::int8_t v = t.node_sign(l - 1, 2 * I, 2 * J);
+                const bool same = v != 0 && t.node_sign(l - 1, 2 * I + 1, 2 * J) == v &&
+                                  t.node_sign(l - 1, 2 * I, 2 * J + 1) == v && t.node_sign(l - 1, 2 * I + 1, 2 * J + 1) == v;
+                sg[static_cast<std::size_t>(I + J * mx)] = same ? v : 0;
             }
         }
     }
-
-    // ---- 3. split nodes, with 2:1 balance ---------------------------------------
-    // Level 1: split iff not coarsenable (stored as sign 0).  Levels >= 2:
+    // ---- 4. split nodes, with 2:1 balance ---------------------------------------
+    // Level 1: split iff not coarsenable (code 0).  Levels >= 2: first split
+    // iff not coarsenable, then, for every split node (a, r) of level l - 1,
+    // split the parents of its existing edge neighbours.  Row J of level l is
+    // written only by iteration J, reading child rows 2J - 1 .. 2J + 2.  A
+    // parent in an inactive tile would contradict the reach of balance
+    // (graded.hpp): checked, not assumed.
+    std::int64_t outside_active = 0;
     for (int l = 2; l <= t.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
-        const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L];
-        auto& sp = t.split[L];
-        sp.resize(static_cast<std::size_t>(mx * my));
-        const auto& sg = t.sign[L];
-#pragma omp parallel for schedule(static) if (mx * my >= parallel_min)
-        for (std::int64_t k = 0; k < mx * my; ++k) sp[static_cast<std::size_t>(k)] = sg[static_cast<std::size_t>(k)] == 0;
-        // Balance: for every split node (a, r) of level l - 1, split the parents
-        // of its existing edge neighbours.  Row J of this level is written only
-        // by iteration J, reading child rows 2J - 1 .. 2J + 2.
-        const std::int64_t cx = t.nodes_x[L - 1], cy = t.nodes_y[L - 1];
-#pragma omp parallel for schedule(static) if (mx * my >= parallel_min)
+        const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], cx = t.nodes_x[L - 1], cy = t.nodes_y[L - 1];
+        const bool local = l <= t.local_top;
+        if (local) {
+            const std::int64_t n = (T >> l) * (T >> l);
+            for (std::int64_t s = 0; s < nslots; ++s) {
+                const std::int64_t base = s * t.local_size + t.local_offset[L];
+                for (std::int64_t q = base; q < base + n; ++q)
+                    t.local_split[static_cast<std::size_t>(q)] = t.local_sign[static_cast<std::size_t>(q)] == 0;
+            }
+        } else {
+            auto& sp = t.split[L];
+            const auto& sg = t.sign[L];
+            sp.resize(static_cast<std::size_t>(mx * my));
+            for (std::int64_t k = 0; k < mx * my; ++k) sp[static_cast<std::size_t>(k)] = sg[static_cast<std::size_t>(k)] == 0;
+        }
+        auto set_split = [&](std::int64_t I, std::int64_t J) -> bool {  // false: an inactive tile
+            if (!local) {
+                t.split[L][static_cast<std::size_t>(I + J * mx)] = 1;
+                return true;
+            }
+            const std::int32_t s = t.tile_slot[static_cast<std::size_t>(t.tile_of(l, I, J))];
+            if (s < 0) return false;
+            t.local_split[static_cast<std::size_t>(t.local_index(l, s, I, J))] = 1;
+            return true;
+        };
+#pragma omp parallel for schedule(static) reduction(+ : outside_active) if (nodes(l) >= parallel_min)
         for (std::int64_t J = 0; J < my; ++J) {
-            std::uint8_t* out = sp.data() + J * mx;
             for (std::int64_t r = std::max<std::int64_t>(0, 2 * J - 1); r <= std::min(cy - 1, 2 * J + 2); ++r)
                 for_each_split(t, l - 1, r, [&](std::int64_t a) {
+                    auto mark = [&](std::int64_t I) { outside_active += !set_split(I, J); };
                     if ((r >> 1) == J) {
-                        out[a >> 1] = 1;  // (its own parent: split already)
-                        if (a > 0) out[(a - 1) >> 1] = 1;
-                        if (a + 1 < cx) out[(a + 1) >> 1] = 1;
+                        mark(a >> 1);  // (its own parent: not a leaf either)
+                        if (a > 0) mark((a - 1) >> 1);
+                        if (a + 1 < cx) mark((a + 1) >> 1);
                     }
-                    if (r > 0 && ((r - 1) >> 1) == J) out[a >> 1] = 1;
-                    if (r + 1 < cy && ((r + 1) >> 1) == J) out[a >> 1] = 1;
+                    if (r > 0 && ((r - 1) >> 1) == J) mark(a >> 1);
+                    if (r + 1 < cy && ((r + 1) >> 1) == J) mark(a >> 1);
                 });
         }
     }
+    if (outside_active) throw std::logic_error("quadtree: 2:1 balance reached an inactive tile");
 #ifndef NDEBUG
     // The invariant the angle proof rests on (graded.hpp); O(lattice), debug only.
     {
@@ -227,7 +321,10 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
 }
 
 std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level) {
-    std::vector<std::vector<Leaf>> levels(static_cast<std::size_t>(t.top) + 1);
+    // Per level, chunks of rows in parallel, each chunk's leaves in order;
+    // then one copy into the result.
+    constexpr std::int64_t rows_per_chunk = 32;
+    std::vector<std::vector<std::vector<Leaf>>> parts(static_cast<std::size_t>(t.top) + 1);
     for (int l = 0; l <= t.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L];
@@ -240,50 +337,60 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
                     (t.is_split(l, I, J - 1) ? side_bottom : 0) | (t.is_split(l, I + 1, J) ? side_right : 0) |
                     (t.is_split(l, I, J + 1) ? side_top : 0) | (t.is_split(l, I - 1, J) ? side_left : 0));
             return {static_cast<std::int32_t>(I << l), static_cast<std::int32_t>(J << l), static_cast<std::int8_t>(l),
-                    l > 0 ? t.sign[L][static_cast<std::size_t>(I + J * mx)] : std::int8_t{0}, sides};
+                    l > 0 ? t.node_sign(l, I, J) : std::int8_t{0}, sides};
         };
-        auto is_leaf_node = [&](std::int64_t I, std::int64_t J) { return !t.is_split(l, I, J); };
         // The leaves of level l are the unsplit nodes among the children of the
-        // split nodes of level l + 1 (all unsplit nodes at the top).  Rows of
-        // level l + 1 in parallel, each giving two rows of level l in order.
+        // split nodes of level l + 1 (all unsplit nodes at the top); a row R of
+        // level l + 1 gives rows 2R and 2R + 1 of level l, in order.
         const bool roots = l == t.top;
         const std::int64_t rows = roots ? my : t.nodes_y[L + 1];
-        std::vector<std::vector<Leaf>> per_row(static_cast<std::size_t>(rows));
-#pragma omp parallel for schedule(dynamic, 16) if (mx * my >= parallel_min)
-        for (std::int64_t R = 0; R < rows; ++R) {
-            auto& out = per_row[static_cast<std::size_t>(R)];
-            if (roots) {
-                for (std::int64_t I = 0; I < mx; ++I)
-                    if (is_leaf_node(I, R)) out.push_back(leaf(I, R));
-                continue;
+        const std::int64_t nchunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
+        auto& out = parts[L];
+        out.resize(static_cast<std::size_t>(nchunks));
+#pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1 && mx * my >= parallel_min)
+        for (std::int64_t ch = 0; ch < nchunks; ++ch) {
+            auto& o = out[static_cast<std::size_t>(ch)];
+            for (std::int64_t R = ch * rows_per_chunk; R < std::min(rows, (ch + 1) * rows_per_chunk); ++R) {
+                if (roots) {
+                    for (std::int64_t I = 0; I < mx; ++I)
+                        if (!t.is_split(l, I, R)) o.push_back(leaf(I, R));
+                    continue;
+                }
+                for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
+                    for_each_split(t, l + 1, R, [&](std::int64_t P) {
+                        if (l == 0) {  // level 0 is never split, and a finest leaf has no split side
+                            for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
+                                o.push_back({static_cast<std::int32_t>(I), static_cast<std::int32_t>(J), 0, 0, 0});
+                            return;
+                        }
+                        for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
+                            if (!t.is_split(l, I, J)) o.push_back(leaf(I, J));
+                    });
             }
-            for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
-                for_each_split(t, l + 1, R, [&](std::int64_t P) {
-                    for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
-                        if (is_leaf_node(I, J)) out.push_back(leaf(I, J));
-                });
         }
-        for (auto& r : per_row) levels[L].insert(levels[L].end(), r.begin(), r.end());
     }
     std::vector<Leaf> all;
     std::size_t total = 0;
-    for (const auto& v : levels) total += v.size();
+    for (const auto& level : parts)
+        for (const auto& c : level) total += c.size();
     all.reserve(total);
     if (per_level) per_level->clear();
-    for (const auto& v : levels) {
-        all.insert(all.end(), v.begin(), v.end());
-        if (per_level) per_level->push_back(static_cast<std::int64_t>(v.size()));
+    for (const auto& level : parts) {
+        const std::size_t before = all.size();
+        for (const auto& c : level) all.insert(all.end(), c.begin(), c.end());
+        if (per_level) per_level->push_back(static_cast<std::int64_t>(all.size() - before));
     }
     return all;
 }
 
 void PointSet::finish() {
-    prefix.resize(words.size());
+    prefix.resize(words.size());  // written for the non-zero words, the only ones rank() reads
     std::int64_t n = 0;
-    for (std::size_t w = 0; w < words.size(); ++w) {
-        prefix[w] = n;
-        n += std::popcount(words[w]);
-    }
+    for (std::size_t w = 0; w < words.size(); ++w)
+        if (words[w]) {
+            prefix[w] = n;
+            n += std::popcount(words[w]);
+        }
 }
 
 QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {
@@ -291,7 +398,7 @@ QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {
     auto note = [&r](std::string m) {
         if (r.messages.size() < 10) r.messages.push_back(std::move(m));
     };
-    const std::int64_t nx = t.nx, ny = t.ny, nxp = nx + 1;
+    const std::int64_t nx = t.nx, ny = t.ny;
     auto sgn = [&](std::int64_t i, std::int64_t j) { return signs(i, j); };
     // Leaf level of every square, by painting the leaves.
     std::vector<std::int8_t> level(static_cast<std::size_t>(nx * ny), -1);

@@ -19,7 +19,8 @@ PointBlock tile_points(const TiledSigns& t, std::int64_t I, std::int64_t J) {
 }
 
 TiledSigns empty_tiles(const Lattice& lattice, int tile_log) {
-    if (tile_log < 1 || tile_log > 12) throw std::invalid_argument("tile_log must be in 1..12");
+    // At least 4 x 4 squares: the quadtree reads levels 1 and 2 per tile.
+    if (tile_log < 2 || tile_log > 12) throw std::invalid_argument("tile_log must be in 2..12");
     TiledSigns t;
     t.tile_log = tile_log;
     t.nx = lattice.nx, t.ny = lattice.ny;
@@ -56,8 +57,11 @@ bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
         const std::int64_t k = sampled[static_cast<std::size_t>(s)], I = k % t.tx, J = k / t.tx;
         const PointBlock b = tile_points(t, I, J);
         std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
-        for (std::int64_t y = -1; y <= b.nj; ++y)
-            for (std::int64_t x = -1; x <= b.ni; ++x) {
+        // The ring, and the tile's own border points (only those can belong to
+        // another tile), row by row: interior rows visit 4 points.
+        for (std::int64_t y = -1; y <= b.nj; ++y) {
+            const bool full_row = y <= 0 || y >= b.nj - 1;
+            for (std::int64_t x = -1; x <= b.ni; x = (full_row || x != 0) ? x + 1 : b.ni - 1) {
                 const std::int64_t i = b.i0 + x, j = b.j0 + y;
                 const bool ring = x < 0 || y < 0 || x == b.ni || y == b.nj;
                 const bool in_lattice = i >= 0 && j >= 0 && i <= t.nx && j <= t.ny;
@@ -69,6 +73,7 @@ bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
                 if (owner != k && t.slot[static_cast<std::size_t>(owner)] < 0)
                     consistent = consistent && blk[(y + 1) * S + x + 1] == t.uniform[static_cast<std::size_t>(owner)];
             }
+        }
     }
     return consistent;
 }
@@ -83,15 +88,37 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
     TiledFront r;
     TiledSigns& t = r.signs;
     t = empty_tiles(lattice, tile_log);
-    const std::int64_t ntiles = t.tx * t.ty, S = t.stride();
+    const std::int64_t S = t.stride();
 
-    // ---- classify: a range bound on each tile's reach --------------------------
-#pragma omp parallel for schedule(static) if (ntiles >= 1024)
-    for (std::int64_t k = 0; k < ntiles; ++k) {
-        const PointBlock b = tile_points(t, k % t.tx, k / t.tx);
-        const Vec2 lo = lattice.position(b.i0 - 1, b.j0 - 1), hi = lattice.position(b.i0 + b.ni, b.j0 + b.nj);
+    // ---- classify: a range bound on each tile's reach ---------------------------
+    // Top-down over blocks of tiles: a block whose reach (its points grown by
+    // one spacing) the bound decides decides all its tiles at once; others
+    // split in four, down to single tiles.  Work: O(undecided tiles x log).
+    auto reach = [&](std::int64_t I0, std::int64_t J0, std::int64_t I1, std::int64_t J1) {  // tiles [I0, I1) x [J0, J1)
+        const Vec2 lo = lattice.position((I0 << tile_log) - 1, (J0 << tile_log) - 1);
+        const Vec2 hi = lattice.position(std::min(I1 << tile_log, t.nx) + 1, std::min(J1 << tile_log, t.ny) + 1);
         const Range range = f.range({lo.x, lo.y, hi.x, hi.y});
-        t.uniform[static_cast<std::size_t>(k)] = range.lo > 0 ? 1 : range.hi < 0 ? -1 : 0;  // NaN: sampled
+        return static_cast<std::int8_t>(range.lo > 0 ? 1 : range.hi < 0 ? -1 : 0);  // NaN: undecided
+    };
+    auto classify = [&](auto&& self, std::int64_t I0, std::int64_t J0, std::int64_t I1, std::int64_t J1) -> void {
+        const std::int8_t sg = reach(I0, J0, I1, J1);
+        if (sg != 0 || (I1 - I0 == 1 && J1 - J0 == 1)) {
+            for (std::int64_t J = J0; J < J1; ++J)
+                for (std::int64_t I = I0; I < I1; ++I) t.uniform[static_cast<std::size_t>(I + J * t.tx)] = sg;
+            return;
+        }
+        const std::int64_t Im = I1 - I0 > 1 ? (I0 + I1) / 2 : I1, Jm = J1 - J0 > 1 ? (J0 + J1) / 2 : J1;
+        self(self, I0, J0, Im, Jm);
+        if (Im < I1) self(self, Im, J0, I1, Jm);
+        if (Jm < J1) self(self, I0, Jm, Im, J1);
+        if (Im < I1 && Jm < J1) self(self, Im, Jm, I1, J1);
+    };
+    constexpr std::int64_t top_block = 16;  // tiles a side: the parallel grain
+    const std::int64_t bx = (t.tx + top_block - 1) / top_block, by = (t.ty + top_block - 1) / top_block;
+#pragma omp parallel for schedule(dynamic, 1) if (bx * by >= 4)
+    for (std::int64_t b = 0; b < bx * by; ++b) {
+        const std::int64_t I0 = (b % bx) * top_block, J0 = (b / bx) * top_block;
+        classify(classify, I0, J0, std::min(I0 + top_block, t.tx), std::min(J0 + top_block, t.ty));
     }
     const std::vector<std::int64_t> sampled = allocate_sampled(t);
     const std::int64_t n = static_cast<std::int64_t>(sampled.size());
@@ -142,7 +169,6 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
     r.sampled_points = points;
     if (!fill_rings(t, sampled))
         throw std::logic_error("the range bound of " + f.describe() + " is not conservative (a sampled sign contradicts it)");
-
     // ---- cut edges in point order: tile rows own the same lattice rows -----------
     std::vector<CutEdge> all;
     std::size_t total = 0;

@@ -60,12 +60,23 @@
 #include "warpmesh/graded.hpp"
 #include "square_code.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace warpmesh {
 namespace {
 
 using namespace square_code;  // finest leaf codes: tri0_bit, …, triangle_of, emitted, sides, covers
 
 constexpr std::int64_t chunk_size = 2048;
+
+// A finest square whose four corners are unwarped with f < 0 (in its code,
+// beside square_code's bits).  None of its sides is on the level-set
+// boundary: the square across a side shares two such corners, and its other
+// two corners are inside too — an outside one, unwarped with f > 0, would
+// make a cut edge with a shared corner, and one of the two would warp.
+constexpr std::uint8_t interior_bit = 16;
 
 // Number of triangles a coarse inside leaf emits.
 constexpr int coarse_triangles(std::uint8_t split) { return split ? 4 + std::popcount(split) : 2; }
@@ -106,12 +117,25 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     const std::int64_t nleaves = static_cast<std::int64_t>(leaves.size());
     const std::int64_t nchunks = (nleaves + chunk_size - 1) / chunk_size;
     const PointSet& warped_set = tree.warped;
-    auto sign = [&](Pt p) { return signs(p.i, p.j); };
     // `warped` is sorted by point: a warped point's record is at its rank.
     auto warp_of = [&](Pt p) -> const WarpedPoint& {
         const WarpedPoint& w = warped[static_cast<std::size_t>(warped_set.rank(p.i, p.j))];
         assert(w.p == p.i + p.j * nxp);
         return w;
+    };
+
+    // The position of lattice point p as a mesh vertex: warped points moved
+    // by the same affine map as generic_positions, scaled by s — and the same
+    // expression as triangulate.cpp, so the coordinates agree with the uniform
+    // mesh's to the bit.
+    auto position = [&](Pt p, bool is_warped) {
+        Vec2 x = lattice.position(p.i, p.j);
+        if (is_warped) {
+            const WarpedPoint& wp = warp_of(p);
+            x.x += warp_dx(wp.dir) * wp.t * lattice.s;
+            x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+        }
+        return x;
     };
 
     // The code of finest square (i, j): its diagonal and emitted triangles, as
@@ -120,22 +144,25 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // overrode max-min.
     auto finest_code = [&](std::int64_t i, std::int64_t j, bool* warped_corner, bool* forced_diag) -> std::uint8_t {
         const auto p = square_corners(i, j);
+        const std::array<std::int8_t, 4> sg = signs.square(i, j);
         std::array<bool, 4> in{}, wp{};
-        for (std::size_t q = 0; q < 4; ++q) {
-            wp[q] = warped_set.contains(p[q].i, p[q].j);
-            in[q] = wp[q] || sign(p[q]) <= 0;  // inside: f <= 0, or warped onto the level set
-        }
+        const std::size_t w0 = warped_set.word(i, j), w1 = warped_set.word(i, j + 1);
+        const std::uint64_t b0 = PointSet::bit(i), b1 = PointSet::bit(i + 1);
+        const std::size_t w0r = warped_set.word(i + 1, j), w1r = warped_set.word(i + 1, j + 1);
+        wp[0] = warped_set.words[w0] & b0, wp[1] = warped_set.words[w0r] & b1;
+        wp[2] = warped_set.words[w1] & b0, wp[3] = warped_set.words[w1r] & b1;
+        for (std::size_t q = 0; q < 4; ++q) in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
         std::uint8_t c = 0;
         *warped_corner = wp[0] || wp[1] || wp[2] || wp[3];
         // As in triangulate.cpp: a warped or zero-valued corner (where the
         // separating rule may force BC even on the unwarped square) goes to the
         // certified rule; the plain unit square takes AD.
-        const bool zero_corner = sign(p[0]) == 0 || sign(p[1]) == 0 || sign(p[2]) == 0 || sign(p[3]) == 0;
+        const bool zero_corner = sg[0] == 0 || sg[1] == 0 || sg[2] == 0 || sg[3] == 0;
         if (*warped_corner || zero_corner) {
             std::array<CornerState, 4> cs{};
             std::array<double, 4> t{};
             for (std::size_t q = 0; q < 4; ++q) {
-                cs[q].sign = sign(p[q]);
+                cs[q].sign = sg[q];
                 if (wp[q]) {
                     const WarpedPoint& w = warp_of(p[q]);
                     cs[q].warp = w.dir;
@@ -144,6 +171,8 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             }
             c = rule_bit;
             if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
+        } else if (sg[0] < 0 && sg[1] < 0 && sg[2] < 0 && sg[3] < 0) {
+            c = interior_bit;
         }
         return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3]);
     };
@@ -154,12 +183,22 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // rank — no lattice-sized id array.
     PointSet used(nxp, ny + 1);
     std::vector<std::int64_t> chunk_tris(static_cast<std::size_t>(nchunks) + 1, 0);
-    // Several leaves may mark one point: relaxed atomic or-s.
+    // Several leaves may mark one point: relaxed atomic or-s when chunks run
+    // in parallel (a locked instruction costs several plain ones, so not
+    // with one thread).
+    bool parallel = false;
+#ifdef _OPENMP
+    parallel = nchunks > 1 && omp_get_max_threads() > 1;
+#endif
     auto mark = [&](Pt p) {
-        std::atomic_ref<std::uint64_t>(used.words[used.word(p.i, p.j)]).fetch_or(PointSet::bit(p.i), std::memory_order_relaxed);
+        std::uint64_t& w = used.words[used.word(p.i, p.j)];
+        if (parallel)
+            std::atomic_ref<std::uint64_t>(w).fetch_or(PointSet::bit(p.i), std::memory_order_relaxed);
+        else
+            w |= PointSet::bit(p.i);
     };
     std::int64_t warped_squares = 0, forced = 0, n_finest = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced, n_finest) if (nchunks > 1)
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced, n_finest) if (parallel)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t tris = 0;
         for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
@@ -190,15 +229,15 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;
     }
     std::partial_sum(chunk_tris.begin(), chunk_tris.end(), chunk_tris.begin());
-
     // ---- pass 2: compact vertex ids in lattice-point order ----------------------
     const std::int64_t wpr = used.words_per_row;
-    used.prefix.resize(used.words.size());
+    used.prefix.resize(used.words.size());  // set below for the non-zero words, the only ones rank() reads
     std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
 #pragma omp parallel for schedule(static) if (used.words.size() >= 4096)
     for (std::int64_t j = 0; j <= ny; ++j) {
         std::int64_t count = 0;
-        for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w) count += std::popcount(used.words[static_cast<std::size_t>(w)]);
+        for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w)
+            if (const std::uint64_t bits = used.words[static_cast<std::size_t>(w)]) count += std::popcount(bits);
         row_verts[static_cast<std::size_t>(j) + 1] = count;
     }
     std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
@@ -212,19 +251,11 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     for (std::int64_t j = 0; j <= ny; ++j) {
         std::int64_t next = row_verts[static_cast<std::size_t>(j)];
         for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w) {
+            if (!used.words[static_cast<std::size_t>(w)]) continue;
             used.prefix[static_cast<std::size_t>(w)] = next;
             for (std::uint64_t bits = used.words[static_cast<std::size_t>(w)]; bits; bits &= bits - 1) {
                 const std::int64_t i = (w - j * wpr) * 64 + std::countr_zero(bits);
-                Vec2 x = lattice.position(i, j);
-                if (warped_set.contains(i, j)) {
-                    const WarpedPoint& wp = warp_of({i, j});
-                    // The same affine map as generic_positions, scaled by s — and
-                    // the same expression as triangulate.cpp, so the coordinates
-                    // agree with the uniform mesh's to the bit.
-                    x.x += warp_dx(wp.dir) * wp.t * lattice.s;
-                    x.y += warp_dy(wp.dir) * wp.t * lattice.s;
-                }
-                mesh.vertices[static_cast<std::size_t>(next++)] = x;
+                mesh.vertices[static_cast<std::size_t>(next++)] = position({i, j}, warped_set.contains(i, j));
             }
         }
     }
@@ -232,42 +263,74 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         assert(used.contains(p.i, p.j));
         return static_cast<std::int32_t>(used.rank(p.i, p.j));
     };
-
     // ---- pass 3: triangles --------------------------------------------------------
     // Finest leaves through the rule, for the certification: per chunk, then
     // joined (chunks hold leaves in order, finest first, row-major).
     const bool want_keyed = stats && stats->keyed_squares;
     std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(nchunks) : 0);
+    // Region tags (label images) in the same pass, from the centroid of the
+    // vertex positions computed as in pass 2 (bit for bit the same doubles):
+    // no second walk over scattered vertices.
+    const bool tags = f.tags_regions();
+    mesh.region.resize(mesh.triangles.size());  // every element written below
 #pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
-        auto emit = [&](Pt a, Pt b, Pt c) { mesh.triangles[static_cast<std::size_t>(next++)] = {vid(a), vid(b), vid(c)}; };
+        // Vertex ids and positions are looked up once per leaf, not per triangle.
+        auto emit = [&](std::int32_t a, std::int32_t b, std::int32_t c, const Vec2& xa, const Vec2& xb, const Vec2& xc) {
+            mesh.region[static_cast<std::size_t>(next)] =
+                tags ? f.region_at((xa.x + xb.x + xc.x) / 3, (xa.y + xb.y + xc.y) / 3) : 1;
+            mesh.triangles[static_cast<std::size_t>(next++)] = {a, b, c};
+        };
         for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
             const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
             if (leaf.level > 0) {
                 if (leaf.sign > 0) continue;
                 std::array<Pt, 8> ring{};
+                std::array<std::int32_t, 8> v{};
+                std::array<Vec2, 8> x{};
                 Pt centre{};
                 const int n = coarse_ring(leaf, ring, centre);
+                for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) {
+                    v[r] = vid(ring[r]);
+                    if (tags) x[r] = lattice.position(ring[r].i, ring[r].j);  // coarse leaves are unwarped
+                }
                 if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-                    emit(ring[0], ring[1], ring[2]);
-                    emit(ring[0], ring[2], ring[3]);
+                    emit(v[0], v[1], v[2], x[0], x[1], x[2]);
+                    emit(v[0], v[2], v[3], x[0], x[2], x[3]);
                     continue;
                 }
-                for (int r = 0; r < n; ++r)
-                    emit(centre, ring[static_cast<std::size_t>(r)], ring[static_cast<std::size_t>((r + 1) % n)]);
+                const std::int32_t vm = vid(centre);
+                const Vec2 xm = tags ? lattice.position(centre.i, centre.j) : Vec2{};
+                for (int r = 0; r < n; ++r) {
+                    const std::size_t r0 = static_cast<std::size_t>(r), r1 = static_cast<std::size_t>((r + 1) % n);
+                    emit(vm, v[r0], v[r1], xm, x[r0], x[r1]);
+                }
                 continue;
             }
             const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
+            if (!(c & (tri0_bit | tri1_bit))) continue;
             const auto p = square_corners(leaf.i, leaf.j);
-            if (want_keyed && (c & rule_bit) && (c & (tri0_bit | tri1_bit)))
+            if (want_keyed && (c & rule_bit))
                 keyed_chunks[static_cast<std::size_t>(ch)].push_back(
                     {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+            unsigned corners = 0;  // the corners of the emitted triangles
+            for (int q = 0; q < 2; ++q)
+                if (c & (1 << q))
+                    for (int w : triangle_of(c, q)) corners |= 1u << w;
+            std::array<std::int32_t, 4> v{};
+            std::array<Vec2, 4> x{};
+            for (std::size_t q = 0; q < 4; ++q) {
+                if (!((corners >> q) & 1)) continue;
+                v[q] = vid(p[q]);
+                if (tags) x[q] = position(p[q], warped_set.contains(p[q].i, p[q].j));
+            }
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;
                 const auto tri = triangle_of(c, q);
-                emit(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])],
-                     p[static_cast<std::size_t>(tri[2])]);
+                const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
+                                  d = static_cast<std::size_t>(tri[2]);
+                emit(v[a], v[b], v[d], x[a], x[b], x[d]);
             }
         }
         assert(next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
@@ -276,35 +339,36 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         stats->keyed_squares->clear();
         for (const auto& c : keyed_chunks) stats->keyed_squares->insert(stats->keyed_squares->end(), c.begin(), c.end());
     }
-    mesh.region.assign(mesh.triangles.size(), 1);
-    if (f.tags_regions()) {
-#pragma omp parallel for schedule(static) if (ntris >= 4096)
-        for (std::int64_t k = 0; k < ntris; ++k) {
-            const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
-            const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
-                       &c = mesh.vertices[static_cast<std::size_t>(t[2])];
-            mesh.region[static_cast<std::size_t>(k)] = f.region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
-        }
-    }
-
     // ---- pass 4: boundary (finest leaves only; see the head comment) --------------
-    // The finest leaves come first in `leaves`.  The square across a side is
-    // either outside the lattice (domain border), a finest square (its code),
-    // or inside a coarse leaf: all its corners then have the leaf's sign, and
-    // it covers every side iff that sign is -1 (code 3 = both AD triangles).
-    // A finest neighbour's code is recomputed (the same deterministic
-    // function as in pass 1) rather than stored in a lattice-sized array,
-    // whose scattered first touches would cost more than the whole pass.
-    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
-        bool unused_w = false, unused_f = false;
-        if (tree.is_finest(i, j)) return finest_code(i, j, &unused_w, &unused_f);
-        return sign({i, j}) < 0 ? (tri0_bit | tri1_bit) : 0;
+    // The finest leaves come first in `leaves`, in row-major order.  The
+    // square across a side is either outside the lattice (domain border), a
+    // finest square (its code from pass 1, found in its row of finest
+    // leaves: the neighbour along x is the next or previous leaf), or inside
+    // a coarse leaf: all its corners then have the leaf's sign, and it covers
+    // every side iff that sign is -1 (code 3 = both AD triangles).
+    std::vector<std::int64_t> row_first(static_cast<std::size_t>(ny) + 1, n_finest);  // first finest leaf of row >= j
+    for (std::int64_t k = n_finest - 1; k >= 0; --k) row_first[static_cast<std::size_t>(leaves[static_cast<std::size_t>(k)].j)] = k;
+    for (std::int64_t j = ny - 1; j >= 0; --j)
+        row_first[static_cast<std::size_t>(j)] = std::min(row_first[static_cast<std::size_t>(j)], row_first[static_cast<std::size_t>(j) + 1]);
+    // The code of square (a, b) in row b = j - 1 or j + 1 of the current leaf
+    // (i, j): `hint` is a cursor into row b that only moves forward, since the
+    // leaves of a chunk visit a row's i in increasing order.
+    auto square_code = [&](std::int64_t a, std::int64_t b, std::int64_t& hint) -> std::uint8_t {
+        if (!tree.is_finest(a, b)) return signs(a, b) < 0 ? (tri0_bit | tri1_bit) : 0;
+        const std::int64_t last = row_first[static_cast<std::size_t>(b) + 1];
+        if (hint < row_first[static_cast<std::size_t>(b)] || hint >= last || leaves[static_cast<std::size_t>(hint)].j != b ||
+            leaves[static_cast<std::size_t>(hint)].i > a)
+            hint = row_first[static_cast<std::size_t>(b)];
+        while (leaves[static_cast<std::size_t>(hint)].i < a) ++hint;
+        assert(hint < last && leaves[static_cast<std::size_t>(hint)].i == a && leaves[static_cast<std::size_t>(hint)].j == b);
+        return leaf_code[static_cast<std::size_t>(hint)];
     };
     const std::int64_t finest_chunks = (n_finest + chunk_size - 1) / chunk_size;
     std::vector<std::vector<std::array<std::int32_t, 3>>> per_chunk(static_cast<std::size_t>(finest_chunks));
 #pragma omp parallel for schedule(dynamic, 1) if (finest_chunks > 1)
     for (std::int64_t ch = 0; ch < finest_chunks; ++ch) {
         auto& out = per_chunk[static_cast<std::size_t>(ch)];
+        std::int64_t below = -1, above = -1;  // cursors into the rows j - 1 and j + 1
         for (std::int64_t k = ch * chunk_size; k < std::min(n_finest, (ch + 1) * chunk_size); ++k) {
             const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
             assert(leaf.level == 0);
@@ -316,14 +380,25 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             };
             const std::int64_t i = leaf.i, j = leaf.j;
             const std::array<std::int64_t, 4> ni{i, i + 1, i, i - 1}, nj{j - 1, j, j + 1, j};
+            const bool interior = c & interior_bit;
+            if (interior && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny) continue;
             for (int sd = 0; sd < 4; ++sd) {
                 if (!covers(c, sd)) continue;
                 const std::int64_t a = ni[static_cast<std::size_t>(sd)], b = nj[static_cast<std::size_t>(sd)];
                 const Side& s = sides[static_cast<std::size_t>(sd)];
-                if (a < 0 || b < 0 || a >= nx || b >= ny)
+                if (a < 0 || b < 0 || a >= nx || b >= ny) {
                     edge(s.from, s.to, boundary_domain);
-                else if (!covers(square_code(a, b), (sd + 2) % 4))
-                    edge(s.from, s.to, boundary_level_set);
+                    continue;
+                }
+                if (interior) continue;
+                std::uint8_t nc;
+                const std::int64_t step = sd == 1 ? 1 : sd == 3 ? -1 : 0;  // right / left: the adjacent leaf?
+                if (step && k + step >= 0 && k + step < n_finest && leaves[static_cast<std::size_t>(k + step)].i == a &&
+                    leaves[static_cast<std::size_t>(k + step)].j == b)
+                    nc = leaf_code[static_cast<std::size_t>(k + step)];
+                else
+                    nc = square_code(a, b, sd == 0 ? below : above);
+                if (!covers(nc, (sd + 2) % 4)) edge(s.from, s.to, boundary_level_set);
             }
             if (std::popcount(static_cast<unsigned>(c & (tri0_bit | tri1_bit))) == 1) {
                 // The diagonal's direction inside the emitted triangle:

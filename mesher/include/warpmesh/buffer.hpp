@@ -15,7 +15,9 @@
 // resize() calls say which loop).
 #pragma once
 
+#include <cstdlib>
 #include <memory>
+#include <new>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -51,5 +53,38 @@ bool operator==(const DefaultInitAllocator<T>&, const DefaultInitAllocator<U>&) 
 
 template <class T>
 using Buffer = std::vector<T, DefaultInitAllocator<T>>;
+
+// An allocator whose memory comes zeroed from calloc, for trivial types whose
+// all-zero bytes are the value 0.  Elements are never written on
+// construction, so a ZeroBuffer is all zeros without being touched: a large
+// calloc is fresh pages the kernel zeroes on first use, and a sparse array
+// (the graded mesher's point bitsets, mostly empty away from the boundary)
+// costs only the pages it writes.
+template <class T>
+struct ZeroAllocator : DefaultInitAllocator<T> {
+    static_assert(std::is_trivial_v<T>);
+    using value_type = T;
+    template <class U>
+    struct rebind {
+        using other = ZeroAllocator<U>;
+    };
+    ZeroAllocator() noexcept = default;
+    template <class U>
+    ZeroAllocator(const ZeroAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) {
+        void* p = std::calloc(n, sizeof(T));
+        if (!p) throw std::bad_alloc();
+        return static_cast<T*>(p);
+    }
+    void deallocate(T* p, std::size_t) noexcept { std::free(p); }
+};
+
+template <class T, class U>
+bool operator==(const ZeroAllocator<T>&, const ZeroAllocator<U>&) noexcept {
+    return true;
+}
+
+template <class T>
+using ZeroBuffer = std::vector<T, ZeroAllocator<T>>;
 
 }  // namespace warpmesh

@@ -65,37 +65,82 @@ namespace warpmesh {
 // points, the compacted vertices) needs no lattice-sized index array.
 struct PointSet {
     std::int64_t words_per_row = 0;
-    std::vector<std::uint64_t> words;
-    std::vector<std::int64_t> prefix;  // per word, members before it (after finish)
+    ZeroBuffer<std::uint64_t> words;  // zeroed, touched only where written (buffer.hpp)
+    Buffer<std::int64_t> prefix;      // per non-zero word, members before it (after finish)
 
     PointSet() = default;
     PointSet(std::int64_t points_x, std::int64_t rows)
-        : words_per_row((points_x + 63) / 64), words(static_cast<std::size_t>(words_per_row * rows), 0) {}
+        : words_per_row((points_x + 63) / 64), words(static_cast<std::size_t>(words_per_row * rows)) {}
     // Point (i, j): no division on the hot paths.
     std::size_t word(std::int64_t i, std::int64_t j) const { return static_cast<std::size_t>(j * words_per_row + (i >> 6)); }
     static std::uint64_t bit(std::int64_t i) { return std::uint64_t{1} << (i & 63); }
     bool contains(std::int64_t i, std::int64_t j) const { return words[word(i, j)] & bit(i); }
     void insert(std::int64_t i, std::int64_t j) { words[word(i, j)] |= bit(i); }
     void finish();  // fill prefix
+    // Only for members: prefix is set for non-zero words only.
     std::int64_t rank(std::int64_t i, std::int64_t j) const {
         const std::size_t w = word(i, j);
         return prefix[w] + std::popcount(words[w] & (bit(i) - 1));
     }
 };
 
-// The balanced quadtree, as per-level arrays (no pointers).  Level l
-// (1 <= l <= top) has nodes_x[l] x nodes_y[l] nodes, row-major; level 0 (the
-// lattice squares) stores nothing: a square is a finest leaf iff its level-1
-// parent is split (or top = 0).  Level 1 stores no split array either: it has
-// no balance constraint (nothing is split below it), so its nodes are split
-// iff not coarsenable.
+// The balanced quadtree, as arrays (no pointers).  Level 0 (the lattice
+// squares) stores nothing: a square is a finest leaf iff its level-1 parent is
+// split (or top = 0).  The levels below the tiles' (1 .. local_top, local_top =
+// min(tile_log - 1, top)) are stored per tile of the signs (tiles.hpp), and
+// only for *active* tiles: tiles with sampled signs or on the lattice border,
+// and their eight neighbours.  In any other tile every point is non-critical
+// with the tile's sign σ, so all its nodes below the tile's level are
+// coarsenable with σ and none is split: a split can only come from a
+// non-coarsenable node, all of which lie in tiles with sampled signs or on
+// the border, and 2:1 balance carries a split from level m to level m + 1 at
+// most 2^(m+1) squares further, which sums to less than one tile (T = 2^tile_log)
+// below the tiles' level.  Levels local_top + 1 .. top are dense arrays,
+// nodes_x[l] x nodes_y[l], row-major, with at most one node per tile.
+// Level 1 stores no split array: it has no balance constraint (nothing is
+// split below it), so its nodes are split iff not coarsenable.
 struct Quadtree {
     std::int64_t nx = 0, ny = 0;  // lattice squares
     int top = 0;                  // level of the roots
     PointSet warped;              // the warped points (warped[k] has rank k)
     std::vector<std::int64_t> nodes_x, nodes_y;     // per level: ceil(n / 2^l)
-    std::vector<std::vector<std::int8_t>> sign;     // per level >= 1: σ if coarsenable, else 0
-    std::vector<std::vector<std::uint8_t>> split;   // per level >= 2: 1 if the node is not a leaf and not inside one
+    // Dense levels l > local_top: σ if coarsenable, else 0; 1 if split.
+    std::vector<std::vector<std::int8_t>> sign;
+    std::vector<std::vector<std::uint8_t>> split;
+
+    // Per-tile levels 1 .. local_top.
+    int tile_log = 1, local_top = 0;
+    std::int64_t tiles_x = 0, tiles_y = 0;
+    std::vector<std::int32_t> tile_slot;     // per tile: its slot if active, else -1
+    std::vector<std::int8_t> tile_sign;      // per tile: σ of an inactive tile
+    std::vector<std::int64_t> active;        // per slot: its tile (row-major order)
+    std::vector<std::int64_t> active_x;      // per slot: its tile's column
+    std::vector<std::int64_t> row_start;     // per tile row: its first slot
+    std::vector<std::int64_t> local_offset;  // per level: offset of its nodes in a slot
+    std::int64_t local_size = 0;             // nodes per slot, all levels
+    std::vector<std::int8_t> local_sign;     // per slot and level, (T >> l)^2 nodes, row-major
+    std::vector<std::uint8_t> local_split;
+
+    // Node (I, J) of per-tile level l: its slot (-1: inactive tile) and index
+    // in the slot's arrays.
+    std::int64_t tile_of(int l, std::int64_t I, std::int64_t J) const {
+        const int h = tile_log - l;
+        return (I >> h) + (J >> h) * tiles_x;
+    }
+    std::int64_t local_index(int l, std::int64_t slot, std::int64_t I, std::int64_t J) const {
+        const int h = tile_log - l;
+        const std::int64_t m = (std::int64_t{1} << h) - 1;
+        return slot * local_size + local_offset[static_cast<std::size_t>(l)] + ((J & m) << h) + (I & m);
+    }
+    // σ of node (I, J) of level 1 <= l <= top if coarsenable, else 0; (I, J)
+    // within the level's nodes.
+    std::int8_t node_sign(int l, std::int64_t I, std::int64_t J) const {
+        if (l > local_top)
+            return sign[static_cast<std::size_t>(l)][static_cast<std::size_t>(I + J * nodes_x[static_cast<std::size_t>(l)])];
+        const std::int64_t k = tile_of(l, I, J);
+        const std::int32_t s = tile_slot[static_cast<std::size_t>(k)];
+        return s < 0 ? tile_sign[static_cast<std::size_t>(k)] : local_sign[static_cast<std::size_t>(local_index(l, s, I, J))];
+    }
 
     // Whether node (i, j) of level l exists and is split.  Levels above `top`
     // are all split (the roots form a forest); level 0 never is.
@@ -103,8 +148,10 @@ struct Quadtree {
         if (l > top) return true;
         const std::size_t L = static_cast<std::size_t>(l);
         if (l == 0 || i < 0 || j < 0 || i >= nodes_x[L] || j >= nodes_y[L]) return false;
-        const std::size_t k = static_cast<std::size_t>(i + j * nodes_x[L]);
-        return l == 1 ? sign[1][k] == 0 : split[L][k] != 0;
+        if (l == 1) return node_sign(1, i, j) == 0;
+        if (l > local_top) return split[L][static_cast<std::size_t>(i + j * nodes_x[L])] != 0;
+        const std::int32_t s = tile_slot[static_cast<std::size_t>(tile_of(l, i, j))];
+        return s >= 0 && local_split[static_cast<std::size_t>(local_index(l, s, i, j))] != 0;
     }
     // Whether lattice square (i, j) is a finest leaf.
     bool is_finest(std::int64_t i, std::int64_t j) const { return is_split(1, i >> 1, j >> 1); }

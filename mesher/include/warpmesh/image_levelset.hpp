@@ -102,9 +102,9 @@ public:
 private:
     std::vector<std::uint16_t> label_;      // y-up, like field_
     std::vector<std::uint8_t> inside_;      // pixel is in the region
-    // Per pixel cell (lower-left pixel index): its label if the four pixels
-    // around it are all in the region with one label, else -1.  Lets
-    // region_at answer most triangles with one load.
+    // Per pixel cell (lower-left pixel index): the label of the pixels around
+    // it that are in the region, if there are some and they share one label,
+    // else -1.  Lets region_at answer most triangles with one load.
     std::vector<std::int32_t> cell_label_;
     std::vector<std::uint32_t> nearest_in_; // index of the nearest region pixel (itself when inside)
     std::vector<int> labels_;

@@ -30,6 +30,8 @@
 // tile's samples decide it.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -61,6 +63,18 @@ struct TiledSigns {
         const std::int32_t s = slot[static_cast<std::size_t>(I + J * tx)];
         if (s < 0) return uniform[static_cast<std::size_t>(I + J * tx)];
         return block(s)[(j - (J << tile_log) + 1) * stride() + (i - (I << tile_log) + 1)];
+    }
+    // The signs at the corners A, B, C, D of lattice square (i, j), i < nx,
+    // j < ny: one lookup, since a tile's block holds all corners of its squares.
+    std::array<std::int8_t, 4> square(std::int64_t i, std::int64_t j) const {
+        const std::int64_t I = i >> tile_log, J = j >> tile_log;
+        const std::int32_t s = slot[static_cast<std::size_t>(I + J * tx)];
+        if (s < 0) {
+            const std::int8_t u = uniform[static_cast<std::size_t>(I + J * tx)];
+            return {u, u, u, u};
+        }
+        const std::int8_t* c = block(s) + (j - (J << tile_log) + 1) * stride() + (i - (I << tile_log) + 1);
+        return {c[0], c[1], c[stride()], c[stride() + 1]};
     }
     const std::int8_t* block(std::int32_t s) const { return blocks.data() + static_cast<std::int64_t>(s) * stride() * stride(); }
     std::int8_t* block(std::int32_t s) { return blocks.data() + static_cast<std::int64_t>(s) * stride() * stride(); }
