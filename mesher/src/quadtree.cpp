@@ -53,6 +53,10 @@
 
 #include "warpmesh/graded.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace warpmesh {
 namespace {
 
@@ -140,22 +144,27 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
     t.local_top = std::min(signs.tile_log - 1, t.top);
     t.tile_sign = signs.uniform;
     {
-        std::vector<std::uint8_t> seed(static_cast<std::size_t>(ntiles));
-        for (std::int64_t k = 0; k < ntiles; ++k) {
-            const std::int64_t TI = k % TX, TJ = k / TX;
-            seed[static_cast<std::size_t>(k)] =
-                signs.slot[static_cast<std::size_t>(k)] >= 0 || TI == 0 || TJ == 0 || TI == TX - 1 || TJ == TY - 1;
+        // Seeds, then their 3 x 3 dilation: along rows, then across.
+        std::vector<std::uint8_t> seed(static_cast<std::size_t>(ntiles)), wide(static_cast<std::size_t>(ntiles));
+        for (std::int64_t TJ = 0; TJ < TY; ++TJ)
+            for (std::int64_t TI = 0; TI < TX; ++TI)
+                seed[static_cast<std::size_t>(TI + TJ * TX)] = signs.slot[static_cast<std::size_t>(TI + TJ * TX)] >= 0 ||
+                                                               TI == 0 || TJ == 0 || TI == TX - 1 || TJ == TY - 1;
+        for (std::int64_t TJ = 0; TJ < TY; ++TJ) {
+            const std::uint8_t* r = seed.data() + TJ * TX;
+            std::uint8_t* o = wide.data() + TJ * TX;
+            for (std::int64_t TI = 0; TI < TX; ++TI)
+                o[TI] = r[TI] | (TI > 0 ? r[TI - 1] : 0) | (TI + 1 < TX ? r[TI + 1] : 0);
         }
         t.tile_slot.assign(static_cast<std::size_t>(ntiles), -1);
         t.row_start.assign(static_cast<std::size_t>(TY) + 1, 0);
         for (std::int64_t TJ = 0; TJ < TY; ++TJ) {
             t.row_start[static_cast<std::size_t>(TJ)] = static_cast<std::int64_t>(t.active.size());
+            const std::uint8_t* mid = wide.data() + TJ * TX;
+            const std::uint8_t* below = TJ > 0 ? mid - TX : mid;
+            const std::uint8_t* above = TJ + 1 < TY ? mid + TX : mid;
             for (std::int64_t TI = 0; TI < TX; ++TI) {
-                bool near = false;
-                for (std::int64_t b = std::max<std::int64_t>(TJ - 1, 0); b <= std::min(TJ + 1, TY - 1) && !near; ++b)
-                    for (std::int64_t a = std::max<std::int64_t>(TI - 1, 0); a <= std::min(TI + 1, TX - 1); ++a)
-                        near = near || seed[static_cast<std::size_t>(a + b * TX)];
-                if (!near) continue;
+                if (!(below[TI] | mid[TI] | above[TI])) continue;
                 t.tile_slot[static_cast<std::size_t>(TI + TJ * TX)] = static_cast<std::int32_t>(t.active.size());
                 t.active.push_back(TI + TJ * TX);
                 t.active_x.push_back(TI);
@@ -320,11 +329,25 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
     return t;
 }
 
-std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level) {
-    // Per level, chunks of rows in parallel, each chunk's leaves in order;
-    // then one copy into the result.
+std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, bool drop_outside) {
+    // Per level, rows in order; with several threads, chunks of rows in
+    // parallel, each chunk's leaves in order, then joined.
+    bool parallel = false;
+#ifdef _OPENMP
+    parallel = omp_get_max_threads() > 1;
+#endif
     constexpr std::int64_t rows_per_chunk = 32;
-    std::vector<std::vector<std::vector<Leaf>>> parts(static_cast<std::size_t>(t.top) + 1);
+    // Reserved for the most leaves there can be: below the tiles' level only
+    // in active tiles, above it at most one per node.  Only the pages written
+    // are ever touched, and no growth copies the leaves.
+    std::size_t bound = t.active.size() << (2 * t.tile_log);
+    auto nodes = [&t](int l) { return static_cast<std::size_t>(t.nodes_x[static_cast<std::size_t>(l)] * t.nodes_y[static_cast<std::size_t>(l)]); };
+    for (int l = t.local_top + 1; l <= t.top; ++l) bound += nodes(l);  // the dense levels
+    if (t.top > 0 && t.local_top == t.top) bound += nodes(t.top);      // roots below the tiles' level
+    if (t.top == 0) bound = static_cast<std::size_t>(t.nx * t.ny);
+    std::vector<Leaf> all;
+    all.reserve(bound);
+    if (per_level) per_level->clear();
     for (int l = 0; l <= t.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L];
@@ -344,16 +367,16 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         // level l + 1 gives rows 2R and 2R + 1 of level l, in order.
         const bool roots = l == t.top;
         const std::int64_t rows = roots ? my : t.nodes_y[L + 1];
-        const std::int64_t nchunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
-        auto& out = parts[L];
-        out.resize(static_cast<std::size_t>(nchunks));
-#pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1 && mx * my >= parallel_min)
-        for (std::int64_t ch = 0; ch < nchunks; ++ch) {
-            auto& o = out[static_cast<std::size_t>(ch)];
-            for (std::int64_t R = ch * rows_per_chunk; R < std::min(rows, (ch + 1) * rows_per_chunk); ++R) {
+        auto emit_rows = [&](std::int64_t R0, std::int64_t R1, std::vector<Leaf>& o) {
+            std::int64_t dropped = 0;
+            auto keep = [&](const Leaf& x) {
+                if (drop_outside && x.sign > 0) ++dropped;
+                else o.push_back(x);
+            };
+            for (std::int64_t R = R0; R < R1; ++R) {
                 if (roots) {
                     for (std::int64_t I = 0; I < mx; ++I)
-                        if (!t.is_split(l, I, R)) o.push_back(leaf(I, R));
+                        if (!t.is_split(l, I, R)) keep(leaf(I, R));
                     continue;
                 }
                 for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
@@ -364,21 +387,27 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
                             return;
                         }
                         for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
-                            if (!t.is_split(l, I, J)) o.push_back(leaf(I, J));
+                            if (!t.is_split(l, I, J)) keep(leaf(I, J));
                     });
             }
-        }
-    }
-    std::vector<Leaf> all;
-    std::size_t total = 0;
-    for (const auto& level : parts)
-        for (const auto& c : level) total += c.size();
-    all.reserve(total);
-    if (per_level) per_level->clear();
-    for (const auto& level : parts) {
+            return dropped;
+        };
         const std::size_t before = all.size();
-        for (const auto& c : level) all.insert(all.end(), c.begin(), c.end());
-        if (per_level) per_level->push_back(static_cast<std::int64_t>(all.size() - before));
+        const std::int64_t nchunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
+        std::int64_t dropped = 0;
+        if (!parallel || nchunks < 2 || mx * my < parallel_min) {
+            dropped = emit_rows(0, rows, all);
+        } else {
+            std::vector<std::vector<Leaf>> parts(static_cast<std::size_t>(nchunks));
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : dropped)
+            for (std::int64_t ch = 0; ch < nchunks; ++ch)
+                dropped += emit_rows(ch * rows_per_chunk, std::min(rows, (ch + 1) * rows_per_chunk), parts[static_cast<std::size_t>(ch)]);
+            std::size_t add = 0;
+            for (const auto& c : parts) add += c.size();
+            all.reserve(all.size() + add);
+            for (const auto& c : parts) all.insert(all.end(), c.begin(), c.end());
+        }
+        if (per_level) per_level->push_back(static_cast<std::int64_t>(all.size() - before) + dropped);
     }
     return all;
 }

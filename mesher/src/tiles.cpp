@@ -184,7 +184,8 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
             for (std::int64_t s = s0; s < s1; ++s) {
                 const auto& c = cuts[static_cast<std::size_t>(s)];
                 auto& q = cursor[static_cast<std::size_t>(s)];
-                while (q < c.size() && c[q].p / lattice.points_x() == j) all.push_back(c[q++]);
+                const std::int64_t row_end = (j + 1) * lattice.points_x();  // cuts of row j: p < row_end
+                while (q < c.size() && c[q].p < row_end) all.push_back(c[q++]);
             }
         s0 = s1;
     }

@@ -219,11 +219,14 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             warped_squares += warped_corner;
             forced += was_forced;
             const auto p = square_corners(leaf.i, leaf.j);
+            unsigned corners = 0;  // the corners of the emitted triangles
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;
                 ++tris;
-                for (int v : triangle_of(c, q)) mark(p[static_cast<std::size_t>(v)]);
+                for (int v : triangle_of(c, q)) corners |= 1u << v;
             }
+            for (std::size_t q = 0; q < 4; ++q)
+                if ((corners >> q) & 1) mark(p[q]);
             leaf_code[static_cast<std::size_t>(k)] = c;
         }
         chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;

@@ -180,8 +180,11 @@ struct Leaf {
 };
 
 // All leaves, finest first, then by increasing level; within a level in
-// row-major order (deterministic).  leaves_per_level[l] counts them.
-std::vector<Leaf> quadtree_leaves(const Quadtree& tree, std::vector<std::int64_t>* leaves_per_level = nullptr);
+// row-major order (deterministic).  leaves_per_level[l] counts them.  With
+// drop_outside, coarse leaves outside the region (sign +1, which emit
+// nothing) are counted but not returned.
+std::vector<Leaf> quadtree_leaves(const Quadtree& tree, std::vector<std::int64_t>* leaves_per_level = nullptr,
+                                  bool drop_outside = false);
 
 // The checks of the quadtree's invariants, from scratch (O(lattice) memory):
 // the leaves tile the lattice; edge-adjacent leaves differ by at most one
