@@ -3,8 +3,12 @@
 #define BOOST_TEST_MODULE pipeline
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
+#include <random>
+#include <tuple>
 
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/uniform.hpp"
@@ -139,6 +143,40 @@ BOOST_AUTO_TEST_CASE(a_point_closer_to_several_cut_points_takes_the_nearest) {
     const auto ew = warp_points(e.lat, find_cut_edges(e, e.lat, ev, es));
     BOOST_REQUIRE_EQUAL(ew.size(), 1u);
     BOOST_TEST((ew[0].dir == Warp::px));
+}
+
+// The warp's merge of its four candidate lists against the rule written out
+// directly: every candidate, sorted by (point, distance, direction), the
+// first of each point kept.  Random grids with many ties (distances 1/2, equal
+// distances from two sides) and zero-valued points.
+BOOST_AUTO_TEST_CASE(warp_merge_matches_the_rule_on_random_grids) {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::int64_t nx = 1 + trial % 9, ny = 1 + (trial / 9) % 7;
+        std::vector<double> v(static_cast<std::size_t>((nx + 1) * (ny + 1)));
+        for (auto& x : v) x = std::array<double, 6>{-2, -1, 1, 2, 0, -1}[rng() % 6];
+        Grid g(nx, ny, v);
+        const auto values = sample_values(g, g.lat);
+        const auto signs = compute_signs(values);
+        const auto cuts = find_cut_edges(g, g.lat, values, signs);
+        std::vector<WarpedPoint> ref;
+        for (const CutEdge& e : cuts) {
+            const std::int64_t q = e.p + (e.axis == 0 ? 1 : g.lat.points_x());
+            if (e.u < 0.5 || (e.u == 0.5 && signs[static_cast<std::size_t>(e.p)] < 0))
+                ref.push_back({e.p, e.axis == 0 ? Warp::px : Warp::py, e.u});
+            else
+                ref.push_back({q, e.axis == 0 ? Warp::mx : Warp::my, 1 - e.u});
+        }
+        std::sort(ref.begin(), ref.end(), [](const WarpedPoint& a, const WarpedPoint& b) {
+            return std::tie(a.p, a.t, a.dir) < std::tie(b.p, b.t, b.dir);
+        });
+        ref.erase(std::unique(ref.begin(), ref.end(), [](const WarpedPoint& a, const WarpedPoint& b) { return a.p == b.p; }),
+                  ref.end());
+        const auto w = warp_points(g.lat, cuts);
+        BOOST_TEST_REQUIRE(w.size() == ref.size());
+        for (std::size_t k = 0; k < w.size(); ++k)
+            BOOST_TEST((w[k].p == ref[k].p && w[k].dir == ref[k].dir && w[k].t == ref[k].t), "trial " << trial << " point " << k);
+    }
 }
 
 BOOST_AUTO_TEST_CASE(diagonal_rule_on_the_unit_square_takes_AD) {

@@ -45,6 +45,14 @@
 // it never warps: coarse triangles are exact template shapes.  So no extra
 // band is needed beyond "squares with a critical corner are finest" — the
 // coarsenability test already yields it, and balance only ever splits.
+//
+// Cost.  The work follows the boundary, not the lattice's area: f is
+// evaluated only in sampled tiles (tiles.hpp), the quadtree below the tiles'
+// level exists only in active tiles (quadtree.cpp), the dense levels above it
+// have at most 4/3 node per tile, and the triangulation visits leaves.  What
+// remains proportional to the area is small: one bit per lattice point for
+// the warped and the used points (calloc'd bitsets, touched only where set,
+// scanned a 64-bit word at a time) and a few bytes per tile.
 #pragma once
 
 #include <bit>

@@ -6,8 +6,10 @@
 // the lattice is cut into tiles of T x T squares (T = 2^tile_log; the last
 // tile of a row or column may be smaller).  A tile's *reach* is the closed box
 // of its points grown by one spacing on every side: it holds the tile's points
-// and all their 4-neighbours.  Per tile, one call of LevelSet::range bounds f
-// on the reach:
+// and all their 4-neighbours.  LevelSet::range bounds f on the reach of a
+// tile — found top-down: a block of tiles whose reach the bound decides
+// decides all of its tiles, others split in four, so the bounds asked for
+// follow the boundary too:
 //
 //   * lo > 0 or hi < 0: every point of the tile has that sign σ and so has
 //     every neighbour, so no point of the tile is critical (graded.hpp): none
