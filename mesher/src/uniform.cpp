@@ -36,7 +36,9 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
                            const CertifyOptions& certify) {
     UniformResult r;
     const WarpedLattice w = warp_lattice(f, lattice);
-    record_front_end(r, w);
+    r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
+    r.cut_edges = w.cut_edges;
+    r.warped_points = static_cast<std::int64_t>(w.warped.size());
     const auto& signs = w.signs;
     const auto& warped = w.warped;
 

@@ -12,8 +12,10 @@ struct PhaseTimes {
     double total() const { return sample + signs + cut_points + warp + triangulate + certify; }
 };
 
-// The stages both meshers share, in order and timed: sample f → signs → cut
-// points → warp.  The sampled values are dropped after the cut points.
+// The uniform front end, in order and timed: sample f at every lattice point
+// → signs → cut points → warp.  The sampled values are dropped after the cut
+// points.  (The graded mesher samples only where the boundary can be:
+// tiles.hpp.)
 struct WarpedLattice {
     Buffer<std::int8_t> signs;
     std::vector<WarpedPoint> warped;
@@ -21,15 +23,6 @@ struct WarpedLattice {
     double sample = 0, signs_seconds = 0, cut_points = 0, warp = 0;  // seconds
 };
 WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice);
-
-// Copies the front end's times and counts into a mesher's result
-// (UniformResult, GradedResult).
-template <class Result>
-void record_front_end(Result& r, const WarpedLattice& w) {
-    r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
-    r.cut_edges = w.cut_edges;
-    r.warped_points = static_cast<std::int64_t>(w.warped.size());
-}
 
 struct UniformResult {
     Mesh mesh;
