@@ -414,12 +414,27 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
 
 void PointSet::finish() {
     prefix.resize(words.size());  // written for the non-zero words, the only ones rank() reads
+    row_first.assign(static_cast<std::size_t>(rows) + 1, 0);
     std::int64_t n = 0;
-    for (std::size_t w = 0; w < words.size(); ++w)
-        if (words[w]) {
-            prefix[w] = n;
-            n += std::popcount(words[w]);
+    std::vector<std::int64_t> band;  // the flagged blocks of a band of rows
+    for (std::int64_t j = 0; j < rows; ++j) {
+        if ((j & 127) == 0) {
+            band.clear();
+            for (std::int64_t bx = 0; bx < blocks_x; ++bx)
+                if (flagged[static_cast<std::size_t>((j >> 7) * blocks_x + bx)]) band.push_back(bx);
         }
+        row_first[static_cast<std::size_t>(j)] = n;
+        for (const std::int64_t bx : band) {
+            const std::size_t base = static_cast<std::size_t>(((j >> 7) * blocks_x + bx) * (block_words * block_rows) + ((j & 127) << 2));
+            for (std::size_t q = 0; q < static_cast<std::size_t>(block_words); ++q)
+                if (const std::uint64_t w = words[base + q]) {
+                    prefix[base + q] = n;
+                    n += std::popcount(w);
+                }
+        }
+    }
+    row_first[static_cast<std::size_t>(rows)] = n;
+    count = n;
 }
 
 QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {

@@ -191,11 +191,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     parallel = nchunks > 1 && omp_get_max_threads() > 1;
 #endif
     auto mark = [&](Pt p) {
-        std::uint64_t& w = used.words[used.word(p.i, p.j)];
         if (parallel)
-            std::atomic_ref<std::uint64_t>(w).fetch_or(PointSet::bit(p.i), std::memory_order_relaxed);
+            used.insert_concurrent(p.i, p.j);
         else
-            w |= PointSet::bit(p.i);
+            used.insert(p.i, p.j);
     };
     std::int64_t warped_squares = 0, forced = 0, n_finest = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced, n_finest) if (parallel)
@@ -233,35 +232,19 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     }
     std::partial_sum(chunk_tris.begin(), chunk_tris.end(), chunk_tris.begin());
     // ---- pass 2: compact vertex ids in lattice-point order ----------------------
-    const std::int64_t wpr = used.words_per_row;
-    used.prefix.resize(used.words.size());  // set below for the non-zero words, the only ones rank() reads
-    std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
-#pragma omp parallel for schedule(static) if (used.words.size() >= 4096)
-    for (std::int64_t j = 0; j <= ny; ++j) {
-        std::int64_t count = 0;
-        for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w)
-            if (const std::uint64_t bits = used.words[static_cast<std::size_t>(w)]) count += std::popcount(bits);
-        row_verts[static_cast<std::size_t>(j) + 1] = count;
-    }
-    std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
-    const std::int64_t nverts = row_verts.back(), ntris = chunk_tris.back();
+    // The ranks (point order) are the vertex ids; positions by rows in parallel.
+    used.finish();
+    const std::int64_t nverts = used.count, ntris = chunk_tris.back();
     if (nverts > INT32_MAX || ntris > INT32_MAX)
         throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
     Mesh mesh;
     mesh.vertices.resize(static_cast<std::size_t>(nverts));
     mesh.triangles.resize(static_cast<std::size_t>(ntris));
-#pragma omp parallel for schedule(static) if (nverts >= 4096)
-    for (std::int64_t j = 0; j <= ny; ++j) {
-        std::int64_t next = row_verts[static_cast<std::size_t>(j)];
-        for (std::int64_t w = j * wpr; w < (j + 1) * wpr; ++w) {
-            if (!used.words[static_cast<std::size_t>(w)]) continue;
-            used.prefix[static_cast<std::size_t>(w)] = next;
-            for (std::uint64_t bits = used.words[static_cast<std::size_t>(w)]; bits; bits &= bits - 1) {
-                const std::int64_t i = (w - j * wpr) * 64 + std::countr_zero(bits);
-                mesh.vertices[static_cast<std::size_t>(next++)] = position({i, j}, warped_set.contains(i, j));
-            }
-        }
-    }
+#pragma omp parallel for schedule(static) if (parallel && nverts >= 4096)
+    for (std::int64_t j = 0; j <= ny; ++j)
+        used.for_each_in_row(j, [&](std::int64_t i, std::int64_t rank) {
+            mesh.vertices[static_cast<std::size_t>(rank)] = position({i, j}, warped_set.contains(i, j));
+        });
     auto vid = [&](Pt p) {
         assert(used.contains(p.i, p.j));
         return static_cast<std::int32_t>(used.rank(p.i, p.j));
