@@ -470,3 +470,40 @@ BOOST_AUTO_TEST_CASE(range_bounds_skip_tiles_and_change_nothing) {
     BOOST_TEST_MESSAGE("disc r = 1000: " << g.sampled_points << " evaluations for " << l.point_count() << " points");
     BOOST_TEST(g.sampled_points * 10 < l.point_count());
 }
+
+// The blocked point set: ranks in point (row-major) order, across blocks of
+// 256 points x 128 rows, against a plain sorted list.
+BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
+    std::mt19937 rng(3);
+    for (const auto& [w, h] : {std::pair<std::int64_t, std::int64_t>{1, 1}, {64, 3}, {257, 129}, {1000, 700}, {3, 1000}}) {
+        PointSet set(w, h);
+        std::vector<std::int64_t> members;  // i + j w
+        for (int k = 0; k < 3000; ++k) {
+            const std::int64_t i = static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(w)),
+                               j = static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(h));
+            if (k % 2) set.insert(i, j);
+            else set.insert_concurrent(i, j);
+            members.push_back(i + j * w);
+        }
+        std::sort(members.begin(), members.end());
+        members.erase(std::unique(members.begin(), members.end()), members.end());
+        set.finish();
+        BOOST_TEST(set.count == static_cast<std::int64_t>(members.size()));
+        for (std::size_t r = 0; r < members.size(); ++r) {
+            const std::int64_t i = members[r] % w, j = members[r] / w;
+            BOOST_TEST_REQUIRE(set.contains(i, j));
+            BOOST_TEST_REQUIRE(set.rank(i, j) == static_cast<std::int64_t>(r));
+        }
+        std::vector<std::int64_t> seen;
+        for (std::int64_t j = 0; j < h; ++j)
+            set.for_each_in_row(j, [&](std::int64_t i, std::int64_t rank) {
+                BOOST_TEST_REQUIRE(rank == static_cast<std::int64_t>(seen.size()));
+                seen.push_back(i + j * w);
+            });
+        BOOST_TEST((seen == members));
+        std::int64_t absent = 0;
+        for (std::int64_t k = 0; k < std::min<std::int64_t>(w * h, 20000); ++k)
+            absent += !std::binary_search(members.begin(), members.end(), k) && set.contains(k % w, k / w);
+        BOOST_TEST(absent == 0);
+    }
+}
