@@ -9,7 +9,6 @@ namespace warpmesh {
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
                          const CertifyOptions& certify) {
     using clock = std::chrono::steady_clock;
-    auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
     GradedResult r;
     const TiledFront front = warp_tiles(f, lattice);
     r.times.tiles = front.tiles_seconds;
@@ -23,19 +22,19 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     auto t0 = clock::now();
     const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell);
     const std::vector<Leaf> leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/true);
-    r.times.quadtree = seconds(t0);
+    r.times.quadtree = seconds_since(t0);
 
     t0 = clock::now();
     std::vector<KeyedSquare> keyed;
     if (certify.enabled) r.stats.keyed_squares = &keyed;
     r.mesh = triangulate_graded(f, lattice, signs, tree, leaves, warped, rule, &r.stats);
-    r.times.triangulate = seconds(t0);
+    r.times.triangulate = seconds_since(t0);
     r.stats.keyed_squares = nullptr;
     if (certify.enabled) {
         t0 = clock::now();
         const auto sign_at = [&signs](std::int64_t i, std::int64_t j) { return signs(i, j); };
         r.certified = certify_mesh(r.mesh, lattice, sign_at, warped, rule, keyed, certify);
-        r.times.certify = seconds(t0);
+        r.times.certify = seconds_since(t0);
     }
     return r;
 }

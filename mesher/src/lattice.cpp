@@ -113,14 +113,15 @@ Buffer<double> sample_values(const LevelSet& f, const Lattice& lattice) {
 #pragma omp parallel for reduction(max : bad)
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(values.size()); ++k)
         if (!std::isfinite(values[static_cast<std::size_t>(k)])) bad = std::max(bad, k);
-    if (bad >= 0) {
-        const std::int64_t i = bad % lattice.points_x(), j = bad / lattice.points_x();
-        const Vec2 p = lattice.position(i, j);
-        throw InputError("level set value is not finite at lattice point (" + std::to_string(i) + ", " +
-                                 std::to_string(j) + ") = (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
-                                 ")");
-    }
+    if (bad >= 0) throw_non_finite(lattice, bad);
     return values;
+}
+
+void throw_non_finite(const Lattice& lattice, std::int64_t p) {
+    const std::int64_t i = p % lattice.points_x(), j = p / lattice.points_x();
+    const Vec2 x = lattice.position(i, j);
+    throw InputError("level set value is not finite at lattice point (" + std::to_string(i) + ", " + std::to_string(j) +
+                     ") = (" + std::to_string(x.x) + ", " + std::to_string(x.y) + ")");
 }
 
 }  // namespace warpmesh

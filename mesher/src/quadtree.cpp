@@ -14,8 +14,8 @@
 //  4. `split`, bottom-up: a node is split when it is not coarsenable, or when
 //     2:1 balance demands it.
 // Work and memory are proportional to the active tiles plus the dense levels'
-// nodes (at most 4/3 per tile): O(boundary), not O(lattice), apart from the
-// warped points' bitset (one bit per lattice point, touched only where set).
+// nodes (at most 4/3 per tile): O(boundary), not O(lattice), apart from a few
+// bytes per tile and the warped points' block flags (PointSet).
 //
 // 2:1 balance, edge neighbours only.  Leaves that share an edge (a segment of
 // positive length) differ by at most one level; leaves that only touch at a
@@ -137,10 +137,9 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
         t.nodes_y[static_cast<std::size_t>(l)] = (ny + (std::int64_t{1} << l) - 1) >> l;
     }
     if (t.top == 0) return t;
-    auto nodes = [&t](int l) { return t.nodes_x[static_cast<std::size_t>(l)] * t.nodes_y[static_cast<std::size_t>(l)]; };
     // ---- 2. the active tiles ------------------------------------------------------
     const std::int64_t TX = signs.tx, TY = signs.ty, ntiles = TX * TY, T = signs.size();
-    t.tile_log = signs.tile_log, t.tiles_x = TX, t.tiles_y = TY;
+    t.tile_log = signs.tile_log, t.tiles_x = TX;
     t.local_top = std::min(signs.tile_log - 1, t.top);
     t.tile_sign = signs.uniform;
     {
@@ -303,7 +302,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
             t.local_split[static_cast<std::size_t>(t.local_index(l, s, I, J))] = 1;
             return true;
         };
-#pragma omp parallel for schedule(static) reduction(+ : outside_active) if (nodes(l) >= parallel_min)
+#pragma omp parallel for schedule(static) reduction(+ : outside_active) if (t.nodes(l) >= parallel_min)
         for (std::int64_t J = 0; J < my; ++J) {
             for (std::int64_t r = std::max<std::int64_t>(0, 2 * J - 1); r <= std::min(cy - 1, 2 * J + 2); ++r)
                 for_each_split(t, l - 1, r, [&](std::int64_t a) {
@@ -341,9 +340,8 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
     // in active tiles, above it at most one per node.  Only the pages written
     // are ever touched, and no growth copies the leaves.
     std::size_t bound = t.active.size() << (2 * t.tile_log);
-    auto nodes = [&t](int l) { return static_cast<std::size_t>(t.nodes_x[static_cast<std::size_t>(l)] * t.nodes_y[static_cast<std::size_t>(l)]); };
-    for (int l = t.local_top + 1; l <= t.top; ++l) bound += nodes(l);  // the dense levels
-    if (t.top > 0 && t.local_top == t.top) bound += nodes(t.top);      // roots below the tiles' level
+    for (int l = t.local_top + 1; l <= t.top; ++l) bound += static_cast<std::size_t>(t.nodes(l));  // the dense levels
+    if (t.top > 0 && t.local_top == t.top) bound += static_cast<std::size_t>(t.nodes(t.top));      // roots below the tiles' level
     if (t.top == 0) bound = static_cast<std::size_t>(t.nx * t.ny);
     std::vector<Leaf> all;
     all.reserve(bound);
@@ -414,7 +412,6 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
 
 void PointSet::finish() {
     prefix.resize(words.size());  // written for the non-zero words, the only ones rank() reads
-    row_first.assign(static_cast<std::size_t>(rows) + 1, 0);
     std::int64_t n = 0;
     std::vector<std::int64_t> band;  // the flagged blocks of a band of rows
     for (std::int64_t j = 0; j < rows; ++j) {
@@ -423,7 +420,6 @@ void PointSet::finish() {
             for (std::int64_t bx = 0; bx < blocks_x; ++bx)
                 if (flagged[static_cast<std::size_t>((j >> 7) * blocks_x + bx)]) band.push_back(bx);
         }
-        row_first[static_cast<std::size_t>(j)] = n;
         for (const std::int64_t bx : band) {
             const std::size_t base = static_cast<std::size_t>(((j >> 7) * blocks_x + bx) * (block_words * block_rows) + ((j & 127) << 2));
             for (std::size_t q = 0; q < static_cast<std::size_t>(block_words); ++q)
@@ -433,7 +429,6 @@ void PointSet::finish() {
                 }
         }
     }
-    row_first[static_cast<std::size_t>(rows)] = n;
     count = n;
 }
 

@@ -38,6 +38,18 @@ constexpr std::array<std::array<std::uint8_t, 16>, 2> emitted = [] {
     return e;
 }();
 
+// Whether the emitted triangles of a square with this code use corner c, as a
+// table: bit c of corner_mask[code].
+constexpr std::array<std::uint8_t, 8> corner_mask = [] {
+    std::array<std::uint8_t, 8> m{};
+    for (int code = 0; code < 8; ++code)
+        for (int k = 0; k < 2; ++k)
+            if (code & (1 << k))
+                for (int v : triangle_of(static_cast<std::uint8_t>(code), k)) m[code] |= static_cast<std::uint8_t>(1 << v);
+    return m;
+}();
+constexpr bool uses_corner(std::uint8_t code, int c) { return (corner_mask[code & 7] >> c) & 1; }
+
 // Sides of a square: bottom A→B, right B→D, top D→C, left C→A (counter-
 // clockwise, the direction each has inside its triangle), and which triangle
 // (0 or 1) of each diagonal holds the side.

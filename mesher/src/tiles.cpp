@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "warpmesh/errors.hpp"
 #include "warpmesh/tiles.hpp"
 
 namespace warpmesh {
@@ -79,7 +78,6 @@ bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
 }
 
 using clock = std::chrono::steady_clock;
-double seconds_since(clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); }
 
 }  // namespace
 
@@ -160,12 +158,7 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
                 }
         }
     }
-    if (bad >= 0) {
-        const std::int64_t i = bad % lattice.points_x(), j = bad / lattice.points_x();
-        const Vec2 p = lattice.position(i, j);
-        throw InputError("level set value is not finite at lattice point (" + std::to_string(i) + ", " +
-                         std::to_string(j) + ") = (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")");
-    }
+    if (bad >= 0) throw_non_finite(lattice, bad);
     r.sampled_points = points;
     if (!fill_rings(t, sampled))
         throw std::logic_error("the range bound of " + f.describe() + " is not conservative (a sampled sign contradicts it)");

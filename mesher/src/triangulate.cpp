@@ -35,19 +35,8 @@ namespace {
 // Per-point state bits.
 constexpr std::uint8_t inside_bit = 1, warped_bit = 2, zero_bit = 4;
 
-using namespace square_code;  // tri0_bit, …, triangle_of, emitted, sides, covers
+using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corner, sides, covers
 
-// Whether the emitted triangles of a square with this code use corner c, as a
-// table: bit c of corner_mask[code].
-constexpr std::array<std::uint8_t, 8> corner_mask = [] {
-    std::array<std::uint8_t, 8> m{};
-    for (int code = 0; code < 8; ++code)
-        for (int k = 0; k < 2; ++k)
-            if (code & (1 << k))
-                for (int v : triangle_of(static_cast<std::uint8_t>(code), k)) m[code] |= static_cast<std::uint8_t>(1 << v);
-    return m;
-}();
-constexpr bool uses_corner(std::uint8_t code, int c) { return (corner_mask[code & 7] >> c) & 1; }
 
 }  // namespace
 

@@ -146,12 +146,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         const auto p = square_corners(i, j);
         const std::array<std::int8_t, 4> sg = signs.square(i, j);
         std::array<bool, 4> in{}, wp{};
-        const std::size_t w0 = warped_set.word(i, j), w1 = warped_set.word(i, j + 1);
-        const std::uint64_t b0 = PointSet::bit(i), b1 = PointSet::bit(i + 1);
-        const std::size_t w0r = warped_set.word(i + 1, j), w1r = warped_set.word(i + 1, j + 1);
-        wp[0] = warped_set.words[w0] & b0, wp[1] = warped_set.words[w0r] & b1;
-        wp[2] = warped_set.words[w1] & b0, wp[3] = warped_set.words[w1r] & b1;
-        for (std::size_t q = 0; q < 4; ++q) in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
+        for (std::size_t q = 0; q < 4; ++q) {
+            wp[q] = warped_set.contains(p[q].i, p[q].j);
+            in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
+        }
         std::uint8_t c = 0;
         *warped_corner = wp[0] || wp[1] || wp[2] || wp[3];
         // As in triangulate.cpp: a warped or zero-valued corner (where the
@@ -218,14 +216,9 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             warped_squares += warped_corner;
             forced += was_forced;
             const auto p = square_corners(leaf.i, leaf.j);
-            unsigned corners = 0;  // the corners of the emitted triangles
-            for (int q = 0; q < 2; ++q) {
-                if (!(c & (1 << q))) continue;
-                ++tris;
-                for (int v : triangle_of(c, q)) corners |= 1u << v;
-            }
-            for (std::size_t q = 0; q < 4; ++q)
-                if ((corners >> q) & 1) mark(p[q]);
+            tris += (c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0);
+            for (int q = 0; q < 4; ++q)
+                if (uses_corner(c, q)) mark(p[static_cast<std::size_t>(q)]);
             leaf_code[static_cast<std::size_t>(k)] = c;
         }
         chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;
@@ -300,14 +293,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             if (want_keyed && (c & rule_bit))
                 keyed_chunks[static_cast<std::size_t>(ch)].push_back(
                     {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
-            unsigned corners = 0;  // the corners of the emitted triangles
-            for (int q = 0; q < 2; ++q)
-                if (c & (1 << q))
-                    for (int w : triangle_of(c, q)) corners |= 1u << w;
             std::array<std::int32_t, 4> v{};
             std::array<Vec2, 4> x{};
             for (std::size_t q = 0; q < 4; ++q) {
-                if (!((corners >> q) & 1)) continue;
+                if (!uses_corner(c, static_cast<int>(q))) continue;
                 v[q] = vid(p[q]);
                 if (tags) x[q] = position(p[q], warped_set.contains(p[q].i, p[q].j));
             }

@@ -7,7 +7,6 @@ namespace warpmesh {
 
 namespace {
 using clock = std::chrono::steady_clock;
-double seconds_since(clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); }
 }  // namespace
 
 WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice) {

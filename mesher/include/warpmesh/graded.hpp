@@ -50,9 +50,10 @@
 // evaluated only in sampled tiles (tiles.hpp), the quadtree below the tiles'
 // level exists only in active tiles (quadtree.cpp), the dense levels above it
 // have at most 4/3 node per tile, and the triangulation visits leaves.  What
-// remains proportional to the area is small: one bit per lattice point for
-// the warped and the used points (calloc'd bitsets, touched only where set,
-// scanned a 64-bit word at a time) and a few bytes per tile.
+// remains proportional to the area is small: a few bytes per tile, and the
+// flags of the warped and used points' blocks (PointSet: one byte per 32 768
+// points; their bits are stored, and touched, only in blocks the boundary
+// crosses).
 #pragma once
 
 #include <atomic>
@@ -84,7 +85,6 @@ struct PointSet {
     ZeroBuffer<std::uint64_t> words;    // zeroed, touched only where written (buffer.hpp)
     Buffer<std::int64_t> prefix;        // per non-zero word, members before it (after finish)
     std::vector<std::uint8_t> flagged;  // per block: 1 if it may hold a member
-    std::vector<std::int64_t> row_first;  // per row: rank of its first member (after finish)
     std::int64_t count = 0;               // members (after finish)
 
     PointSet() = default;
@@ -113,7 +113,7 @@ struct PointSet {
         std::atomic_ref<std::uint64_t>(words[word(i, j)]).fetch_or(bit(i), std::memory_order_relaxed);
         std::atomic_ref<std::uint8_t>(flagged[block(i, j)]).store(1, std::memory_order_relaxed);
     }
-    void finish();  // prefix, row_first, count
+    void finish();  // prefix, count
     std::int64_t rank(std::int64_t i, std::int64_t j) const {
         const std::size_t w = word(i, j);
         return prefix[w] + std::popcount(words[w] & (bit(i) - 1));
@@ -158,10 +158,11 @@ struct Quadtree {
     // Dense levels l > local_top: σ if coarsenable, else 0; 1 if split.
     std::vector<std::vector<std::int8_t>> sign;
     std::vector<std::vector<std::uint8_t>> split;
+    std::int64_t nodes(int l) const { return nodes_x[static_cast<std::size_t>(l)] * nodes_y[static_cast<std::size_t>(l)]; }
 
     // Per-tile levels 1 .. local_top.
     int tile_log = 1, local_top = 0;
-    std::int64_t tiles_x = 0, tiles_y = 0;
+    std::int64_t tiles_x = 0;
     std::vector<std::int32_t> tile_slot;     // per tile: its slot if active, else -1
     std::vector<std::int8_t> tile_sign;      // per tile: σ of an inactive tile
     std::vector<std::int64_t> active;        // per slot: its tile (row-major order)

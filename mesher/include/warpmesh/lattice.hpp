@@ -8,6 +8,7 @@
 //   triangulate.cpp → diagonal per square, output triangles, boundary
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -53,6 +54,15 @@ inline constexpr double max_lattice_squares_per_axis = 4294967296.0;  // 2^32
 
 // f at all points (row-major).  Throws InputError on NaN or infinity.
 Buffer<double> sample_values(const LevelSet& f, const Lattice& lattice);
+
+// The InputError both front ends throw for a NaN or infinite value of f at
+// lattice point p (an index i + j (nx + 1)), naming the point.
+[[noreturn]] void throw_non_finite(const Lattice& lattice, std::int64_t p);
+
+// Seconds since a time point, for the pipelines' phase times.
+inline double seconds_since(std::chrono::steady_clock::time_point a) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+}
 
 // Signs of f: -1, 0 (exactly on the level set) or +1.
 Buffer<std::int8_t> compute_signs(std::span<const double> values);

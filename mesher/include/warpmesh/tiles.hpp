@@ -63,8 +63,7 @@ struct TiledSigns {
     std::int8_t operator()(std::int64_t i, std::int64_t j) const {
         const std::int64_t I = tile_of_x(i), J = tile_of_y(j);
         const std::int32_t s = slot[static_cast<std::size_t>(I + J * tx)];
-        if (s < 0) return uniform[static_cast<std::size_t>(I + J * tx)];
-        return block(s)[(j - (J << tile_log) + 1) * stride() + (i - (I << tile_log) + 1)];
+        return s < 0 ? uniform[static_cast<std::size_t>(I + J * tx)] : *at(s, I, J, i, j);
     }
     // The signs at the corners A, B, C, D of lattice square (i, j), i < nx,
     // j < ny: one lookup, since a tile's block holds all corners of its squares.
@@ -75,8 +74,12 @@ struct TiledSigns {
             const std::int8_t u = uniform[static_cast<std::size_t>(I + J * tx)];
             return {u, u, u, u};
         }
-        const std::int8_t* c = block(s) + (j - (J << tile_log) + 1) * stride() + (i - (I << tile_log) + 1);
+        const std::int8_t* c = at(s, I, J, i, j);
         return {c[0], c[1], c[stride()], c[stride() + 1]};
+    }
+    // Point (i, j) in the block of sampled tile (I, J), slot s.
+    const std::int8_t* at(std::int32_t s, std::int64_t I, std::int64_t J, std::int64_t i, std::int64_t j) const {
+        return block(s) + (j - (J << tile_log) + 1) * stride() + (i - (I << tile_log) + 1);
     }
     const std::int8_t* block(std::int32_t s) const { return blocks.data() + static_cast<std::int64_t>(s) * stride() * stride(); }
     std::int8_t* block(std::int32_t s) { return blocks.data() + static_cast<std::int64_t>(s) * stride() * stride(); }
