@@ -3,6 +3,8 @@
 #define BOOST_TEST_MODULE certified_table
 #include <boost/test/unit_test.hpp>
 
+#include "read_file.hpp"
+
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -17,13 +19,7 @@
 using namespace warpmesh;
 
 namespace {
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    BOOST_REQUIRE_MESSAGE(in, "cannot read " << path);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using warpmesh::testing::slurp;
 const char* rule_name(DiagonalRule r) { return r == DiagonalRule::maxmin ? "maxmin" : "separating"; }
 }  // namespace
 

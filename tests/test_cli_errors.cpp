@@ -10,6 +10,8 @@
 #define BOOST_TEST_MODULE cli_errors
 #include <boost/test/unit_test.hpp>
 
+#include "read_file.hpp"
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -33,12 +35,7 @@ std::string quote(const std::string& s) {
     return q + "'";
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using warpmesh::testing::slurp;
 
 void write_bytes(const fs::path& p, const std::string& bytes) {
     std::ofstream out(p, std::ios::binary);

@@ -1,6 +1,8 @@
 #define BOOST_TEST_MODULE writers
 #include <boost/test/unit_test.hpp>
 
+#include "read_file.hpp"
+
 // Writers round-trip: small hand-built meshes are written in every format to a
 // temporary directory, read back with the small readers below and compared
 // with the original.  Also: the dispatcher, atomic-write failures, and the
@@ -100,13 +102,7 @@ Mesh grid_mesh(int nx = 5, int ny = 3) {
     return m;
 }
 
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    BOOST_REQUIRE_MESSAGE(in, "cannot read " << path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using warpmesh::testing::slurp;
 
 bool close(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(1.0, std::max(std::abs(a), std::abs(b))); }
 
