@@ -208,6 +208,32 @@ BOOST_AUTO_TEST_CASE(a_good_run_writes_exactly_the_requested_files) {
     BOOST_TEST((listing(sb.out) == std::set<std::string>{"m.vtu", "r.json"}));
 }
 
+// The graded report carries the uniform report's counts of the warped squares
+// and of the squares where the separating rule overrode max-min, and they
+// agree: the graded mesh's warped squares are the uniform mesh's (graded.hpp).
+BOOST_AUTO_TEST_CASE(graded_and_uniform_reports_count_the_same_warped_squares) {
+    Sandbox sb;
+    const auto img = sb.input("disc.pgm", disc_pgm(40, 32)).string();
+    auto count = [&](const std::string& json, const std::string& key) -> long {
+        const std::string k = "\"" + key + "\": ";
+        const auto at = json.find(k);
+        BOOST_TEST_INFO("report: " << json);
+        BOOST_REQUIRE(at != std::string::npos);
+        return std::stol(json.substr(at + k.size()));
+    };
+    for (const std::string rule : {"separating", "maxmin"}) {
+        const Result u = sb.run({"mesh", img, "--spacing", "0.25", "--diagonal", rule, "--report", "u.json", "--quiet"});
+        const Result g = sb.run({"mesh", img, "--spacing", "0.25", "--diagonal", rule, "--graded", "--report", "g.json", "--quiet"});
+        BOOST_TEST_INFO(u.err << g.err);
+        BOOST_REQUIRE(u.code == 0 && g.code == 0);
+        const std::string uj = slurp(sb.out / "u.json"), gj = slurp(sb.out / "g.json");
+        BOOST_TEST(count(gj, "warped_squares") > 0);
+        BOOST_TEST(count(gj, "warped_squares") == count(uj, "warped_squares"));
+        BOOST_TEST(count(gj, "separating_overrides") == count(uj, "separating_overrides"));
+        BOOST_TEST(count(gj, "warped_points") == count(uj, "warped_points"));
+    }
+}
+
 // --- usage errors: exit 2 ---------------------------------------------------------
 
 BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {

@@ -501,6 +501,17 @@ BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
                 seen.push_back(i + j * w);
             });
         BOOST_TEST((seen == members));
+        // Pairs (i, j), (i + 1, j): membership bits, and the ranks of members,
+        // including pairs that straddle two words (i = 63 mod 64) or blocks.
+        for (std::int64_t j = 0; j < h; ++j)
+            for (std::int64_t i = 0; i + 1 < w; ++i) {
+                const unsigned bits = set.pair(i, j);
+                BOOST_TEST_REQUIRE(((bits & 1) != 0) == set.contains(i, j));
+                BOOST_TEST_REQUIRE(((bits & 2) != 0) == set.contains(i + 1, j));
+                const auto ranks = set.rank_pair(i, j);
+                if (bits & 1) BOOST_TEST_REQUIRE(ranks[0] == set.rank(i, j));
+                if (bits & 2) BOOST_TEST_REQUIRE(ranks[1] == set.rank(i + 1, j));
+            }
         std::int64_t absent = 0;
         for (std::int64_t k = 0; k < std::min<std::int64_t>(w * h, 20000); ++k)
             absent += !std::binary_search(members.begin(), members.end(), k) && set.contains(k % w, k / w);

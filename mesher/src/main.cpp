@@ -344,6 +344,8 @@ int run_mesh(int argc, char** argv) {
             extra.emplace_back("leaves_per_level", levels + "]");
             extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
             extra.emplace_back("warped_points", std::to_string(r.warped_points));
+            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
+            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
             extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
         } else {
             UniformResult r = mesh_uniform(*f, lattice, o.rule, certify);

@@ -367,14 +367,16 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         const std::int64_t rows = roots ? my : t.nodes_y[L + 1];
         auto emit_rows = [&](std::int64_t R0, std::int64_t R1, std::vector<Leaf>& o) {
             std::int64_t dropped = 0;
-            auto keep = [&](const Leaf& x) {
-                if (drop_outside && x.sign > 0) ++dropped;
-                else o.push_back(x);
+            // Node (I, J) of level l is a leaf: kept, or only counted
+            // when it is outside and dropped (before its sides are looked up).
+            auto keep = [&](std::int64_t I, std::int64_t J) {
+                if (drop_outside && l > 0 && t.node_sign(l, I, J) > 0) ++dropped;
+                else o.push_back(leaf(I, J));
             };
             for (std::int64_t R = R0; R < R1; ++R) {
                 if (roots) {
                     for (std::int64_t I = 0; I < mx; ++I)
-                        if (!t.is_split(l, I, R)) keep(leaf(I, R));
+                        if (!t.is_split(l, I, R)) keep(I, R);
                     continue;
                 }
                 for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
@@ -385,7 +387,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
                             return;
                         }
                         for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
-                            if (!t.is_split(l, I, J)) keep(leaf(I, J));
+                            if (!t.is_split(l, I, J)) keep(I, J);
                     });
             }
             return dropped;

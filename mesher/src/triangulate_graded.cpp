@@ -145,11 +145,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     auto finest_code = [&](std::int64_t i, std::int64_t j, bool* warped_corner, bool* forced_diag) -> std::uint8_t {
         const auto p = square_corners(i, j);
         const std::array<std::int8_t, 4> sg = signs.square(i, j);
-        std::array<bool, 4> in{}, wp{};
-        for (std::size_t q = 0; q < 4; ++q) {
-            wp[q] = warped_set.contains(p[q].i, p[q].j);
-            in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
-        }
+        const unsigned lo = warped_set.pair(i, j), hi = warped_set.pair(i, j + 1);
+        const std::array<bool, 4> wp{(lo & 1) != 0, (lo & 2) != 0, (hi & 1) != 0, (hi & 2) != 0};
+        std::array<bool, 4> in{};
+        for (std::size_t q = 0; q < 4; ++q) in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
         std::uint8_t c = 0;
         *warped_corner = wp[0] || wp[1] || wp[2] || wp[3];
         // As in triangulate.cpp: a warped or zero-valued corner (where the
@@ -293,12 +292,18 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             if (want_keyed && (c & rule_bit))
                 keyed_chunks[static_cast<std::size_t>(ch)].push_back(
                     {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
-            std::array<std::int32_t, 4> v{};
+            // Ids of the used corners: the ranks of A, B from one word, and of C, D.
+            const auto ab = used.rank_pair(leaf.i, leaf.j), cd = used.rank_pair(leaf.i, leaf.j + 1);
+            const std::array<std::int32_t, 4> v{static_cast<std::int32_t>(ab[0]), static_cast<std::int32_t>(ab[1]),
+                                                static_cast<std::int32_t>(cd[0]), static_cast<std::int32_t>(cd[1])};
+            for (std::size_t q = 0; q < 4; ++q)
+                assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(p[q].i, p[q].j) && v[q] == vid(p[q])));
             std::array<Vec2, 4> x{};
-            for (std::size_t q = 0; q < 4; ++q) {
-                if (!uses_corner(c, static_cast<int>(q))) continue;
-                v[q] = vid(p[q]);
-                if (tags) x[q] = position(p[q], warped_set.contains(p[q].i, p[q].j));
+            if (tags) {
+                const unsigned lo = warped_set.pair(leaf.i, leaf.j), hi = warped_set.pair(leaf.i, leaf.j + 1);
+                const unsigned wbits = lo | hi << 2;
+                for (std::size_t q = 0; q < 4; ++q)
+                    if (uses_corner(c, static_cast<int>(q))) x[q] = position(p[q], (wbits >> q) & 1);
             }
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;

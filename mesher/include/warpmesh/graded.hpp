@@ -56,6 +56,7 @@
 // crosses).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -113,10 +114,30 @@ struct PointSet {
         std::atomic_ref<std::uint64_t>(words[word(i, j)]).fetch_or(bit(i), std::memory_order_relaxed);
         std::atomic_ref<std::uint8_t>(flagged[block(i, j)]).store(1, std::memory_order_relaxed);
     }
+    // Membership of (i, j) and (i + 1, j) as bits 0 and 1: one word, unless
+    // i is the last point of its word.
+    unsigned pair(std::int64_t i, std::int64_t j) const {
+        const std::uint64_t w = words[word(i, j)];
+        const int b = static_cast<int>(i & 63);
+        if (b != 63) return static_cast<unsigned>(w >> b) & 3u;
+        return static_cast<unsigned>(w >> 63) | (contains(i + 1, j) ? 2u : 0u);
+    }
     void finish();  // prefix, count
     std::int64_t rank(std::int64_t i, std::int64_t j) const {
         const std::size_t w = word(i, j);
         return prefix[w] + std::popcount(words[w] & (bit(i) - 1));
+    }
+    // The ranks of (i, j) and (i + 1, j), each meaningful only if a member:
+    // the second from the first's word (it counts (i, j) itself if a member),
+    // unless i + 1 starts the next word.  A word with no member has no prefix
+    // written, and is not read.
+    std::array<std::int64_t, 2> rank_pair(std::int64_t i, std::int64_t j) const {
+        const std::size_t w = word(i, j);
+        const std::uint64_t x = words[w];
+        const std::int64_t r = x ? prefix[w] + std::popcount(x & (bit(i) - 1)) : 0;
+        if ((i & 63) != 63) return {r, r + static_cast<std::int64_t>((x >> (i & 63)) & 1)};
+        const std::size_t w1 = word(i + 1, j);
+        return {r, words[w1] ? prefix[w1] : 0};
     }
     // fn(i, rank) for every member of row j, in increasing i (after finish).
     template <class Fn>
