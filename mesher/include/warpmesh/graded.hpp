@@ -123,21 +123,19 @@ struct PointSet {
         return static_cast<unsigned>(w >> 63) | (contains(i + 1, j) ? 2u : 0u);
     }
     void finish();  // prefix, count
+    // Members before (i, j) in point order: its vertex id if a member.  A
+    // word with no member has no prefix written, and is not read (0).
     std::int64_t rank(std::int64_t i, std::int64_t j) const {
         const std::size_t w = word(i, j);
-        return prefix[w] + std::popcount(words[w] & (bit(i) - 1));
-    }
-    // The ranks of (i, j) and (i + 1, j), each meaningful only if a member:
-    // the second from the first's word (it counts (i, j) itself if a member),
-    // unless i + 1 starts the next word.  A word with no member has no prefix
-    // written, and is not read.
-    std::array<std::int64_t, 2> rank_pair(std::int64_t i, std::int64_t j) const {
-        const std::size_t w = word(i, j);
         const std::uint64_t x = words[w];
-        const std::int64_t r = x ? prefix[w] + std::popcount(x & (bit(i) - 1)) : 0;
-        if ((i & 63) != 63) return {r, r + static_cast<std::int64_t>((x >> (i & 63)) & 1)};
-        const std::size_t w1 = word(i + 1, j);
-        return {r, words[w1] ? prefix[w1] : 0};
+        return x ? prefix[w] + std::popcount(x & (bit(i) - 1)) : 0;
+    }
+    // rank(i, j) and rank(i + 1, j): the second from the first and (i, j)'s
+    // own bit, unless i + 1 starts the next word.
+    std::array<std::int64_t, 2> rank_pair(std::int64_t i, std::int64_t j) const {
+        const std::int64_t r = rank(i, j);
+        if ((i & 63) == 63) return {r, rank(i + 1, j)};
+        return {r, r + static_cast<std::int64_t>(contains(i, j))};
     }
     // fn(i, rank) for every member of row j, in increasing i (after finish).
     template <class Fn>
