@@ -44,6 +44,7 @@
 // of rows 2J - 1 .. 2J + 2 of level l — race-free and independent of the
 // thread count.
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cassert>
 #include <cstring>
@@ -124,7 +125,16 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
 
     // ---- 1. the warped points ----------------------------------------------------
     t.warped = PointSet(nxp, ny + 1);
-    for (const WarpedPoint& w : warped) t.warped.insert(w.p % nxp, w.p / nxp);
+    // `warped` is sorted by point, so the row only advances: no division per
+    // point (a 64-bit divide costs tens of cycles, and this ran at one per point).
+    {
+        std::int64_t j = 0, row0 = 0;  // row0 = j * nxp
+        for (const WarpedPoint& w : warped) {
+            assert(w.p >= row0);
+            while (w.p - row0 >= nxp) ++j, row0 += nxp;
+            t.warped.insert(w.p - row0, j);
+        }
+    }
     t.warped.finish();
 
     t.nodes_x.assign(static_cast<std::size_t>(t.top) + 1, 0);
@@ -194,7 +204,11 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
     // same tile; a child outside the lattice's nodes counts as 0).
 #pragma omp parallel if (nslots >= 256)
     {
-        std::vector<std::int8_t> code(static_cast<std::size_t>((T + 1) * (T + 1)));
+        // Per thread: the codes of a tile's (T + 1)^2 points, and per row of
+        // points the common code of each horizontal triple (2x, 2x + 1, 2x + 2)
+        // (0 if they differ): a node's 3 x 3 points agree iff the triples of
+        // its three rows do.
+        std::vector<std::int8_t> code(static_cast<std::size_t>((T + 1) * (T + 1))), triple(static_cast<std::size_t>((T + 1) * (T / 2)));
         const std::int64_t w = T + 1, S = signs.stride();
 #pragma omp for schedule(dynamic, 16)
         for (std::int64_t s = 0; s < nslots; ++s) {
@@ -205,30 +219,40 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
             const std::int64_t half = T / 2;
             std::int8_t* out = t.local_sign.data() + s * t.local_size + t.local_offset[1];
             const bool border = TI == 0 || TJ == 0 || TI == TX - 1 || TJ == TY - 1;
+            const std::int8_t sigma = signs.uniform[static_cast<std::size_t>(k)];
             if (!blk && !border) {  // every point non-critical with σ: every node coarsenable with σ
-                std::fill(out, out + t.local_size - t.local_offset[1], signs.uniform[static_cast<std::size_t>(k)]);
+                std::fill(out, out + t.local_size - t.local_offset[1], sigma);
                 continue;
             }
-            for (std::int64_t y = 0; y < w && j0 + y <= ny; ++y)
-                for (std::int64_t x = 0; x < w && i0 + x <= nx; ++x) {
-                    std::int8_t v = signs.uniform[static_cast<std::size_t>(k)];
-                    if (blk) {
-                        const std::int8_t* c = blk + (y + 1) * S + x + 1;
-                        const std::int8_t o = static_cast<std::int8_t>(-*c);
-                        const bool critical = *c == 0 || c[-1] == o || c[1] == o || c[-S] == o || c[S] == o;
-                        v = critical ? 0 : *c;
+            // Points of the tile inside the lattice: wx x wy.
+            const std::int64_t wx = std::min(w, nx - i0 + 1), wy = std::min(w, ny - j0 + 1);
+            if (blk) {
+                for (std::int64_t y = 0; y < wy; ++y) {
+                    const std::int8_t* c = blk + (y + 1) * S + 1;
+                    std::int8_t* o = code.data() + y * w;
+#pragma omp simd
+                    for (std::int64_t x = 0; x < wx; ++x) {
+                        const std::int8_t v = c[x], opp = static_cast<std::int8_t>(-v);
+                        const bool critical = (v == 0) | (c[x - 1] == opp) | (c[x + 1] == opp) | (c[x - S] == opp) | (c[x + S] == opp);
+                        o[x] = critical ? std::int8_t{0} : v;
                     }
-                    code[static_cast<std::size_t>(y * w + x)] = v;
                 }
+            } else {
+                for (std::int64_t y = 0; y < wy; ++y) std::fill_n(code.data() + y * w, wx, sigma);
+            }
+            for (std::int64_t y = 0; y < wy; ++y) {
+                const std::int8_t* c = code.data() + y * w;
+                std::int8_t* o = triple.data() + y * half;
+                for (std::int64_t x = 0; x < half; ++x)
+                    o[x] = c[2 * x] == c[2 * x + 1] && c[2 * x + 1] == c[2 * x + 2] ? c[2 * x] : std::int8_t{0};
+            }
             for (std::int64_t y = 0; y < half; ++y)
                 for (std::int64_t x = 0; x < half; ++x) {
                     const std::int64_t I = TI * half + x, J = TJ * half + y;
                     std::int8_t sg = 0;
-                    if (2 * I + 2 <= nx && 2 * J + 2 <= ny) {
-                        const std::int8_t* c = code.data() + 2 * y * w + 2 * x;
-                        sg = c[0];
-                        for (std::int64_t dy = 0; dy < 3; ++dy)
-                            for (std::int64_t dx = 0; dx < 3; ++dx) sg = c[dy * w + dx] == sg ? sg : 0;
+                    if (2 * I + 2 <= nx && 2 * J + 2 <= ny) {  // (its points are then all computed)
+                        const std::int8_t* c = triple.data() + 2 * y * half + x;
+                        sg = c[0] == c[half] && c[half] == c[2 * half] ? c[0] : std::int8_t{0};
                         if (sg < 0 && (I == 0 || J == 0 || 2 * I + 2 == nx || 2 * J + 2 == ny)) sg = 0;
                     }
                     out[y * half + x] = sg;
@@ -256,10 +280,23 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], cx = t.nodes_x[L - 1], cy = t.nodes_y[L - 1];
         auto& sg = t.sign[L];
         sg.assign(static_cast<std::size_t>(mx * my), 0);
+        assert(l != t.tile_log || (mx == TX && my == TY));
 #pragma omp parallel for schedule(static) if (mx * my >= parallel_min)
         for (std::int64_t J = 0; J < my; ++J) {
             if (2 * J + 1 >= cy) continue;
             for (std::int64_t I = 0; 2 * I + 1 < cx; ++I) {
+                if (l == t.tile_log) {
+                    // One node per tile: its children are the 2 x 2 nodes of the
+                    // slot's last level, or, in an inactive tile, all σ (never 0).
+                    const std::int32_t s = t.tile_slot[static_cast<std::size_t>(I + J * TX)];
+                    std::int8_t v = t.tile_sign[static_cast<std::size_t>(I + J * TX)];
+                    if (s >= 0) {
+                        const std::int8_t* c = t.local_sign.data() + s * t.local_size + t.local_offset[L - 1];
+                        v = c[0] != 0 && c[1] == c[0] && c[2] == c[0] && c[3] == c[0] ? c[0] : 0;
+                    }
+                    sg[static_cast<std::size_t>(I + J * mx)] = v;
+                    continue;
+                }
                 const std::int8_t v = t.node_sign(l - 1, 2 * I, 2 * J);
                 const bool same = v != 0 && t.node_sign(l - 1, 2 * I + 1, 2 * J) == v &&
                                   t.node_sign(l - 1, 2 * I, 2 * J + 1) == v && t.node_sign(l - 1, 2 * I + 1, 2 * J + 1) == v;
@@ -270,43 +307,73 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
     // ---- 4. split nodes, with 2:1 balance ---------------------------------------
     // Level 1: split iff not coarsenable (code 0).  Levels >= 2: first split
     // iff not coarsenable, then, for every split node (a, r) of level l - 1,
-    // split the parents of its existing edge neighbours.  Row J of level l is
-    // written only by iteration J, reading child rows 2J - 1 .. 2J + 2.  A
-    // parent in an inactive tile would contradict the reach of balance
+    // split its parent and the parents of its existing edge neighbours.  Level
+    // l is final once level l - 1 is, so the levels go in order; within a
+    // level the marks only set bytes to 1, so their order does not matter.
+    // A parent in an inactive tile would contradict the reach of balance
     // (graded.hpp): checked, not assumed.
     std::int64_t outside_active = 0;
     for (int l = 2; l <= t.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], cx = t.nodes_x[L - 1], cy = t.nodes_y[L - 1];
-        const bool local = l <= t.local_top;
-        if (local) {
-            const std::int64_t n = (T >> l) * (T >> l);
+        if (l <= t.local_top) {
+            // Per-tile level: per active tile, its own split children of level
+            // l - 1 (2n x 2n of them, n = T >> l).  A mark lands in the same
+            // tile unless the neighbour is across the tile's side; several
+            // threads may then mark one byte (relaxed atomic stores of 1).
+            const int h = t.tile_log - l;
+            const std::int64_t n = std::int64_t{1} << h, cn = 2 * n;
             for (std::int64_t s = 0; s < nslots; ++s) {
                 const std::int64_t base = s * t.local_size + t.local_offset[L];
-                for (std::int64_t q = base; q < base + n; ++q)
+                for (std::int64_t q = base; q < base + n * n; ++q)
                     t.local_split[static_cast<std::size_t>(q)] = t.local_sign[static_cast<std::size_t>(q)] == 0;
             }
-        } else {
-            auto& sp = t.split[L];
-            const auto& sg = t.sign[L];
-            sp.resize(static_cast<std::size_t>(mx * my));
-            for (std::int64_t k = 0; k < mx * my; ++k) sp[static_cast<std::size_t>(k)] = sg[static_cast<std::size_t>(k)] == 0;
-        }
-        auto set_split = [&](std::int64_t I, std::int64_t J) -> bool {  // false: an inactive tile
-            if (!local) {
-                t.split[L][static_cast<std::size_t>(I + J * mx)] = 1;
-                return true;
+#pragma omp parallel for schedule(static) reduction(+ : outside_active) if (nslots >= 256)
+            for (std::int64_t s = 0; s < nslots; ++s) {
+                const std::int64_t TI = t.active_x[static_cast<std::size_t>(s)], TJ = t.active[static_cast<std::size_t>(s)] / TX;
+                std::uint8_t* own = t.local_split.data() + s * t.local_size + t.local_offset[L];
+                auto mark = [&](std::int64_t I, std::int64_t J) {  // node (I, J) of level l
+                    std::uint8_t* b;
+                    if ((I >> h) == TI && (J >> h) == TJ) {
+                        b = own + ((J & (n - 1)) << h) + (I & (n - 1));
+                    } else {
+                        const std::int32_t o = t.tile_slot[static_cast<std::size_t>((I >> h) + (J >> h) * TX)];
+                        if (o < 0) return void(++outside_active);
+                        b = t.local_split.data() + t.local_index(l, o, I, J);
+                    }
+                    std::atomic_ref<std::uint8_t>(*b).store(1, std::memory_order_relaxed);
+                };
+                // The tile's children of level l - 1: rows B < cy, columns A < cx.
+                const std::int64_t A0 = TI * cn, B0 = TJ * cn, wa = std::min(cn, cx - A0);
+                for (std::int64_t B = B0; B < std::min(B0 + cn, cy); ++B) {
+                    auto child = [&](std::int64_t a) {
+                        const std::int64_t A = A0 + a;
+                        mark(A >> 1, B >> 1);  // (its own parent: not a leaf either)
+                        if (A > 0) mark((A - 1) >> 1, B >> 1);
+                        if (A + 1 < cx) mark((A + 1) >> 1, B >> 1);
+                        if (B > 0) mark(A >> 1, (B - 1) >> 1);
+                        if (B + 1 < cy) mark(A >> 1, (B + 1) >> 1);
+                    };
+                    const std::int64_t row = t.local_offset[L - 1] + (B - B0) * cn;
+                    if (l == 2)  // level 1 is split where not coarsenable (code 0)
+                        for_each_byte<true>(t.local_sign.data() + s * t.local_size + row, wa, child);
+                    else
+                        for_each_byte<false>(t.local_split.data() + s * t.local_size + row, wa, child);
+                }
             }
-            const std::int32_t s = t.tile_slot[static_cast<std::size_t>(t.tile_of(l, I, J))];
-            if (s < 0) return false;
-            t.local_split[static_cast<std::size_t>(t.local_index(l, s, I, J))] = 1;
-            return true;
-        };
-#pragma omp parallel for schedule(static) reduction(+ : outside_active) if (t.nodes(l) >= parallel_min)
+            continue;
+        }
+        // Dense level: row J of level l is written only by iteration J, which
+        // reads child rows 2J - 1 .. 2J + 2 (race-free).
+        auto& sp = t.split[L];
+        const auto& sg = t.sign[L];
+        sp.resize(static_cast<std::size_t>(mx * my));
+        for (std::int64_t k = 0; k < mx * my; ++k) sp[static_cast<std::size_t>(k)] = sg[static_cast<std::size_t>(k)] == 0;
+#pragma omp parallel for schedule(static) if (t.nodes(l) >= parallel_min)
         for (std::int64_t J = 0; J < my; ++J) {
             for (std::int64_t r = std::max<std::int64_t>(0, 2 * J - 1); r <= std::min(cy - 1, 2 * J + 2); ++r)
                 for_each_split(t, l - 1, r, [&](std::int64_t a) {
-                    auto mark = [&](std::int64_t I) { outside_active += !set_split(I, J); };
+                    auto mark = [&](std::int64_t I) { sp[static_cast<std::size_t>(I + J * mx)] = 1; };
                     if ((r >> 1) == J) {
                         mark(a >> 1);  // (its own parent: not a leaf either)
                         if (a > 0) mark((a - 1) >> 1);
