@@ -471,6 +471,37 @@ BOOST_AUTO_TEST_CASE(range_bounds_skip_tiles_and_change_nothing) {
     BOOST_TEST(g.sampled_points * 10 < l.point_count());
 }
 
+// A range bound that is not conservative is caught, not trusted: where a
+// sampled tile shares points with a tile the bound called uniform, the
+// sampled signs must agree (fill_rings).  The half-plane f = x - 32.5 (or
+// y - 32.5) on a 128 x 128 lattice of 16 x 16 tiles; the lying bound calls
+// every box with x >= 30 positive, so tile 2 (x in [32, 48]) is uniform +1
+// while tile 1 samples its last column, x = 32 — which tile 2 owns — as -1.
+// Across a tile's column and across its row; the honest bound passes.
+BOOST_AUTO_TEST_CASE(a_range_bound_that_is_not_conservative_is_caught) {
+    class HalfPlane final : public LevelSet {
+    public:
+        HalfPlane(bool along_y, bool lie) : along_y_(along_y), lie_(lie) {}
+        double value(double x, double y) const override { return (along_y_ ? y : x) - 32.5; }
+        Box bounds() const override { return {0, 0, 128, 128}; }
+        Range range(const Box& b) const override {
+            const double lo = along_y_ ? b.ymin : b.xmin, hi = along_y_ ? b.ymax : b.xmax;
+            if (lie_ && lo >= 30) return {1, 2};
+            return {lo - 32.5, hi - 32.5};
+        }
+        std::string describe() const override { return "half-plane"; }
+
+    private:
+        bool along_y_, lie_;
+    };
+    const Lattice l = lattice_over({0, 0, 128, 128}, 1.0);
+    BOOST_TEST_REQUIRE(l.nx == 128);
+    for (const bool along_y : {false, true}) {
+        BOOST_CHECK_NO_THROW(warp_tiles(HalfPlane(along_y, false), l));
+        BOOST_CHECK_THROW(warp_tiles(HalfPlane(along_y, true), l), std::logic_error);
+    }
+}
+
 // The blocked point set: ranks in point (row-major) order, across blocks of
 // 256 points x 128 rows, against a plain sorted list.
 BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {

@@ -432,6 +432,40 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         // level l + 1 gives rows 2R and 2R + 1 of level l, in order.
         const bool roots = l == t.top;
         const std::int64_t rows = roots ? my : t.nodes_y[L + 1];
+        // The same for the nodes (2P, J), (2P + 1, J) of a per-tile level l >= 1,
+        // which lie in one tile: its slot is looked up once, and so are the
+        // neighbours inside the tile; only those across its sides go through
+        // is_split.  An inactive tile has no split node of level l.
+        const int h = t.tile_log - l;
+        const std::int64_t m = (std::int64_t{1} << h) - 1;
+        auto local_children = [&](std::int64_t P, std::int64_t J, std::vector<Leaf>& o, std::int64_t& dropped) {
+            const std::int64_t k = t.tile_of(l, 2 * P, J);
+            const std::int32_t s = t.tile_slot[static_cast<std::size_t>(k)];
+            const std::int8_t* sg = s < 0 ? nullptr : t.local_sign.data() + t.local_index(l, s, 2 * P, J);
+            const std::uint8_t* sp = s < 0 ? nullptr : t.local_split.data() + t.local_index(l, s, 2 * P, J);
+            const std::int64_t n = m + 1;  // row stride in the slot
+            auto split_at = [&](std::int64_t d) {  // node at offset d of (2P, J), in the tile
+                return l == 1 ? sg[d] == 0 : sp[d] != 0;
+            };
+            for (std::int64_t q = 0; q < 2 && 2 * P + q < mx; ++q) {
+                const std::int64_t I = 2 * P + q;
+                const std::int8_t sign = s < 0 ? t.tile_sign[static_cast<std::size_t>(k)] : sg[q];
+                if (s >= 0 && split_at(q)) continue;
+                if (drop_outside && sign > 0) {
+                    ++dropped;
+                    continue;
+                }
+                const bool in_x0 = (I & m) != 0, in_x1 = (I & m) != m, in_y0 = (J & m) != 0, in_y1 = (J & m) != m;
+                auto near = [&](bool inside, std::int64_t d, std::int64_t a, std::int64_t b) {
+                    if (!inside) return t.is_split(l, a, b);
+                    return s >= 0 && split_at(q + d);
+                };
+                const std::uint8_t sides = static_cast<std::uint8_t>(
+                    (near(in_y0, -n, I, J - 1) ? side_bottom : 0) | (near(in_x1, 1, I + 1, J) ? side_right : 0) |
+                    (near(in_y1, n, I, J + 1) ? side_top : 0) | (near(in_x0, -1, I - 1, J) ? side_left : 0));
+                o.push_back({static_cast<std::int32_t>(I << l), static_cast<std::int32_t>(J << l), static_cast<std::int8_t>(l), sign, sides});
+            }
+        };
         auto emit_rows = [&](std::int64_t R0, std::int64_t R1, std::vector<Leaf>& o) {
             std::int64_t dropped = 0;
             // Node (I, J) of level l is a leaf: kept, or only counted
@@ -441,6 +475,10 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
                 else o.push_back(leaf(I, J));
             };
             for (std::int64_t R = R0; R < R1; ++R) {
+                if (roots && l >= 1 && l <= t.local_top) {
+                    for (std::int64_t P = 0; 2 * P < mx; ++P) local_children(P, R, o, dropped);
+                    continue;
+                }
                 if (roots) {
                     for (std::int64_t I = 0; I < mx; ++I)
                         if (!t.is_split(l, I, R)) keep(I, R);
@@ -453,6 +491,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
                                 o.push_back({static_cast<std::int32_t>(I), static_cast<std::int32_t>(J), 0, 0, 0});
                             return;
                         }
+                        if (l <= t.local_top) return local_children(P, J, o, dropped);
                         for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
                             if (!t.is_split(l, I, J)) keep(I, J);
                     });

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <limits>
 #include <string>
 
 #include "warpmesh/tiles.hpp"
@@ -43,11 +44,41 @@ std::vector<std::int64_t> allocate_sampled(TiledSigns& t) {
     return sampled;
 }
 
+// fn(m0, m1, owner) for the points (i, j) + m (di, dj), 0 <= m < len, of the
+// lattice, cut into runs [m0, m1) that belong to one tile (-1: outside the
+// lattice).  A run ends where the owner's column or row does: ownership is
+// min(i >> b, tx - 1) on each axis (tiles.hpp), monotone along the run.
+template <class Fn>
+void for_each_owner_run(const TiledSigns& t, std::int64_t i, std::int64_t j, std::int64_t di, std::int64_t dj,
+                        std::int64_t len, Fn&& fn) {
+    for (std::int64_t m0 = 0; m0 < len;) {
+        const std::int64_t a = i + m0 * di, b = j + m0 * dj;
+        const std::int64_t c = di ? a : b, n = di ? t.nx : t.ny, tiles = di ? t.tx : t.ty;  // the moving coordinate
+        const std::int64_t f = di ? b : a, nf = di ? t.ny : t.nx;                             // the fixed one
+        std::int64_t m1 = len;  // outside to the end, unless:
+        if (f >= 0 && f <= nf && c < 0) {
+            m1 = std::min(len, m0 - c);  // outside until the coordinate reaches 0
+        } else if (f >= 0 && f <= nf && c <= n) {
+            // Inside: up to the end of the owner's span, [T c' , T (c' + 1)) or
+            // up to n for the last tile.
+            const std::int64_t owner = std::min(c >> t.tile_log, tiles - 1);
+            const std::int64_t end = owner + 1 == tiles ? n + 1 : (owner + 1) << t.tile_log;
+            m1 = std::min(len, m0 + (end - c));
+        }
+        const bool in_lattice = a >= 0 && b >= 0 && a <= t.nx && b <= t.ny;
+        fn(m0, m1, in_lattice ? t.tile_of_x(a) + t.tile_of_y(b) * t.tx : std::int64_t{-1});
+        m0 = m1;
+    }
+}
+
 // The ring of every sampled tile, from the tiles around it, once all tiles'
 // own points are set (a ring point belongs to another tile, whose own points
-// are only read).  Also checks the range bounds where a sampled tile meets a
-// uniform one: the points they share must have the uniform tile's sign;
-// returns false if not (a range() that is not conservative).
+// are only read).  Run by run (for_each_owner_run): copied from a sampled
+// owner's block, the owner's sign if it is uniform, 0 outside the lattice.
+// Also checks the range bounds where a sampled tile meets a uniform one: the
+// points they share (the tile's last row and column may belong to the next
+// tiles) must have the uniform tile's sign; returns false if not (a range()
+// that is not conservative).
 bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
     bool consistent = true;
     const std::int64_t n = static_cast<std::int64_t>(sampled.size()), S = t.stride();
@@ -56,23 +87,35 @@ bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
         const std::int64_t k = sampled[static_cast<std::size_t>(s)], I = k % t.tx, J = k / t.tx;
         const PointBlock b = tile_points(t, I, J);
         std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
-        // The ring, and the tile's own border points (only those can belong to
-        // another tile), row by row: interior rows visit 4 points.
-        for (std::int64_t y = -1; y <= b.nj; ++y) {
-            const bool full_row = y <= 0 || y >= b.nj - 1;
-            for (std::int64_t x = -1; x <= b.ni; x = (full_row || x != 0) ? x + 1 : b.ni - 1) {
-                const std::int64_t i = b.i0 + x, j = b.j0 + y;
-                const bool ring = x < 0 || y < 0 || x == b.ni || y == b.nj;
-                const bool in_lattice = i >= 0 && j >= 0 && i <= t.nx && j <= t.ny;
-                if (ring) {
-                    blk[(y + 1) * S + x + 1] = in_lattice ? t(i, j) : std::int8_t{0};
-                    continue;
+        // Point (x, y) of the tile, -1 <= x <= ni, -1 <= y <= nj, in its block.
+        auto cell = [&](std::int64_t x, std::int64_t y) { return blk + (y + 1) * S + x + 1; };
+        auto fill = [&](std::int64_t x, std::int64_t y, std::int64_t dx, std::int64_t dy, std::int64_t len) {
+            std::int8_t* dst = cell(x, y);
+            const std::int64_t step = dx + dy * S;
+            for_each_owner_run(t, b.i0 + x, b.j0 + y, dx, dy, len, [&](std::int64_t m0, std::int64_t m1, std::int64_t owner) {
+                const std::int32_t os = owner < 0 ? -1 : t.slot[static_cast<std::size_t>(owner)];
+                if (os < 0) {
+                    const std::int8_t v = owner < 0 ? std::int8_t{0} : t.uniform[static_cast<std::size_t>(owner)];
+                    for (std::int64_t m = m0; m < m1; ++m) dst[m * step] = v;
+                    return;
                 }
-                const std::int64_t owner = t.tile_of_x(i) + t.tile_of_y(j) * t.tx;
-                if (owner != k && t.slot[static_cast<std::size_t>(owner)] < 0)
-                    consistent = consistent && blk[(y + 1) * S + x + 1] == t.uniform[static_cast<std::size_t>(owner)];
-            }
-        }
+                const std::int8_t* src = t.at(os, owner % t.tx, owner / t.tx, b.i0 + x + m0 * dx, b.j0 + y + m0 * dy);
+                for (std::int64_t m = 0; m < m1 - m0; ++m) dst[(m0 + m) * step] = src[m * step];
+            });
+        };
+        fill(-1, -1, 1, 0, b.ni + 2);  // bottom ring row, corners included
+        fill(-1, b.nj, 1, 0, b.ni + 2);  // top
+        fill(-1, 0, 0, 1, b.nj);       // left column
+        fill(b.ni, 0, 0, 1, b.nj);     // right column
+        auto check = [&](std::int64_t x, std::int64_t y, std::int64_t dx, std::int64_t dy, std::int64_t len) {
+            for_each_owner_run(t, b.i0 + x, b.j0 + y, dx, dy, len, [&](std::int64_t m0, std::int64_t m1, std::int64_t owner) {
+                if (owner == k || t.slot[static_cast<std::size_t>(owner)] >= 0) return;
+                for (std::int64_t m = m0; m < m1; ++m)
+                    consistent = consistent && *cell(x + m * dx, y + m * dy) == t.uniform[static_cast<std::size_t>(owner)];
+            });
+        };
+        check(0, b.nj - 1, 1, 0, b.ni);  // the tile's last row and column
+        check(b.ni - 1, 0, 0, 1, b.nj);
     }
     return consistent;
 }
