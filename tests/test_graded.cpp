@@ -415,6 +415,19 @@ BOOST_AUTO_TEST_CASE(real_images) {
     for (std::size_t t = 0; t < u.mesh.triangles.size(); ++t) by_region_u[u.mesh.region[t]] += cross2(u.mesh, t);
     BOOST_TEST(by_region_g.size() == by_region_u.size());
     BOOST_TEST(by_region_g.size() >= 2u);
+    // Every tag is the level set's region at the triangle's centroid, warped
+    // vertices included (spacing 0.37: few lattice points on pixel centres).
+    for (const double s : {1.0, 0.37}) {
+        const auto m = mesh_graded(*f, lattice_over(f->bounds(), s), DiagonalRule::separating, 0).mesh;
+        std::int64_t wrong = 0;
+        for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+            const auto& tri = m.triangles[t];
+            const Vec2 &a = m.vertices[static_cast<std::size_t>(tri[0])], &b = m.vertices[static_cast<std::size_t>(tri[1])],
+                       &c = m.vertices[static_cast<std::size_t>(tri[2])];
+            wrong += m.region[t] != f->region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
+        }
+        BOOST_TEST(wrong == 0, "spacing " << s << ": " << wrong << " of " << m.triangles.size() << " tags differ");
+    }
 }
 
 // The tiled front end with range bounds (tiles.hpp) on every kind of level set

@@ -246,9 +246,11 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // joined (chunks hold leaves in order, finest first, row-major).
     const bool want_keyed = stats && stats->keyed_squares;
     std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(nchunks) : 0);
-    // Region tags (label images) in the same pass, from the centroid of the
-    // vertex positions computed as in pass 2 (bit for bit the same doubles):
-    // no second walk over scattered vertices.
+    // Region tags (label images) in the same pass, from the triangles'
+    // centroids: a finest square's corners read back from the vertices of
+    // pass 2 (its rows' vertices are near each other in the array), a coarse
+    // leaf's (unwarped) as lattice positions, the same doubles as pass 2's —
+    // no walk over the coarse leaves' scattered vertices.
     const bool tags = f.tags_regions();
     mesh.region.resize(mesh.triangles.size());  // every element written below
 #pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
@@ -288,7 +290,6 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             }
             const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
             if (!(c & (tri0_bit | tri1_bit))) continue;
-            const auto p = square_corners(leaf.i, leaf.j);
             if (want_keyed && (c & rule_bit))
                 keyed_chunks[static_cast<std::size_t>(ch)].push_back(
                     {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
@@ -296,15 +297,16 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             const auto ab = used.rank_pair(leaf.i, leaf.j), cd = used.rank_pair(leaf.i, leaf.j + 1);
             const std::array<std::int32_t, 4> v{static_cast<std::int32_t>(ab[0]), static_cast<std::int32_t>(ab[1]),
                                                 static_cast<std::int32_t>(cd[0]), static_cast<std::int32_t>(cd[1])};
-            for (std::size_t q = 0; q < 4; ++q)
-                assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(p[q].i, p[q].j) && v[q] == vid(p[q])));
-            std::array<Vec2, 4> x{};
-            if (tags) {
-                const unsigned lo = warped_set.pair(leaf.i, leaf.j), hi = warped_set.pair(leaf.i, leaf.j + 1);
-                const unsigned wbits = lo | hi << 2;
-                for (std::size_t q = 0; q < 4; ++q)
-                    if (uses_corner(c, static_cast<int>(q))) x[q] = position(p[q], (wbits >> q) & 1);
+#ifndef NDEBUG
+            for (std::size_t q = 0; q < 4; ++q) {
+                const Pt pq = square_corners(leaf.i, leaf.j)[q];
+                assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
             }
+#endif
+            std::array<Vec2, 4> x{};
+            if (tags)
+                for (std::size_t q = 0; q < 4; ++q)
+                    if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
             for (int q = 0; q < 2; ++q) {
                 if (!(c & (1 << q))) continue;
                 const auto tri = triangle_of(c, q);
