@@ -40,8 +40,13 @@ using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corne
 
 }  // namespace
 
-Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& cs,
-                                const std::array<double, 4>& t, bool* forced) {
+// `flatten`: the rule's helpers (triangle_forms, diagonal_quality) are
+// inlined here, for double only — left to itself the compiler calls them
+// (about a third of the rule's time on this machine).  Inlining changes no
+// operation and no order of operations: the same doubles come out.  The
+// prover's interval instantiation is compiled as before.
+[[gnu::flatten]] Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& cs,
+                                                 const std::array<double, 4>& t, bool* forced) {
     std::array<Warp, 4> w{};
     for (int k = 0; k < 4; ++k) w[static_cast<std::size_t>(k)] = cs[static_cast<std::size_t>(k)].warp;
     const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
