@@ -266,10 +266,12 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
             if (leaf.level > 0) {
                 if (leaf.sign > 0) continue;
-                std::array<Pt, 8> ring{};
-                std::array<std::int32_t, 8> v{};
-                std::array<Vec2, 8> x{};
-                Pt centre{};
+                // Filled for the ring's n points below (x only with tags, and
+                // only then read): not zeroed first.
+                std::array<Pt, 8> ring;
+                std::array<std::int32_t, 8> v;
+                std::array<Vec2, 8> x;
+                Pt centre;
                 const int n = coarse_ring(leaf, ring, centre);
                 for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) {
                     v[r] = vid(ring[r]);
