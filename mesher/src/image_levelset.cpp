@@ -23,6 +23,10 @@
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace warpmesh {
 namespace {
 
@@ -76,30 +80,69 @@ double ImageField::value(double x, double y) const {
 
 // The same arithmetic as value() — coordinates from Lattice::position, the
 // same locate/interpolate — so that sample_block() and value() agree bit for
-// bit; the cell lookup along x is done once per column instead of once per point.
+// bit; the cell lookup along x is done once per column instead of once per
+// point.  And the lattice rows of one pixel row r (several, when the spacing
+// is below a pixel) share their horizontal interpolations: interpolate()
+// first computes v0 on pixel row r and v1 on row r + 1, each depending only
+// on the column, then (1 - fy) v0 + fy v1.  So v0 and v1 are computed once per
+// pixel row and column (h0, h1) by the very same expressions, and each point
+// costs the last step only.
 void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::span<double> out) const {
-    std::vector<int> col(static_cast<std::size_t>(b.ni));
-    std::vector<double> colf(static_cast<std::size_t>(b.ni));
+    const std::size_t ni = static_cast<std::size_t>(b.ni);
+    std::vector<int> col(ni);
+    std::vector<double> colf(ni);
     bool finite = true;
-    for (std::int64_t i = 0; i < b.ni; ++i) {
-        const double x = lattice.position(b.i0 + i, 0).x;
+    for (std::size_t i = 0; i < ni; ++i) {
+        const double x = lattice.position(b.i0 + static_cast<std::int64_t>(i), 0).x;
         finite = finite && std::isfinite(x);
-        locate(x, w_, col[static_cast<std::size_t>(i)], colf[static_cast<std::size_t>(i)]);
+        locate(x, w_, col[i], colf[i]);
     }
     if (!finite) return LevelSet::sample_block(lattice, b, out);  // value() reports NaN where it belongs
-#pragma omp parallel for schedule(static) if (b.ni * b.nj >= 4096)
-    for (std::int64_t j = 0; j < b.nj; ++j) {
-        const double y = lattice.position(0, b.j0 + j).y;
-        double* o = out.data() + j * b.ni;
-        if (!std::isfinite(y)) {
-            std::fill(o, o + b.ni, std::numeric_limits<double>::quiet_NaN());
-            continue;
+    // v0 or v1 of interpolate() on pixel row `row`, for every column.
+    auto horizontal = [&](const double* row, double* h) {
+        for (std::size_t i = 0; i < ni; ++i) {
+            const int c = col[i];
+            const double fx = colf[i];
+            h[i] = fx == 0 ? row[c] : (1 - fx) * row[c] + fx * row[c + 1];
         }
-        int r = 0;
-        double fy = 0;
-        locate(y, h_, r, fy);
-        for (std::int64_t i = 0; i < b.ni; ++i)
-            o[i] = interpolate(field_.data(), w_, col[static_cast<std::size_t>(i)], colf[static_cast<std::size_t>(i)], r, fy);
+    };
+    // Rows [j0, j1), with h0 / h1 for the pixel rows last used (r0, r1).
+    auto rows = [&](std::int64_t j0, std::int64_t j1) {
+        std::vector<double> h(2 * ni);
+        double *h0 = h.data(), *h1 = h.data() + ni;
+        int r0 = -1, r1 = -1;
+        for (std::int64_t j = j0; j < j1; ++j) {
+            const double y = lattice.position(0, b.j0 + j).y;
+            double* o = out.data() + j * b.ni;
+            if (!std::isfinite(y)) {
+                std::fill(o, o + b.ni, std::numeric_limits<double>::quiet_NaN());
+                continue;
+            }
+            int r = 0;
+            double fy = 0;
+            locate(y, h_, r, fy);
+            const double* row0 = field_.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(w_);
+            if (r != r0) horizontal(row0, h0), r0 = r;
+            if (fy == 0) {  // interpolate() returns v0 (p00 itself when fx = 0 too)
+                std::copy(h0, h0 + ni, o);
+                continue;
+            }
+            if (r != r1) horizontal(row0 + w_, h1), r1 = r;
+            for (std::size_t i = 0; i < ni; ++i) o[i] = (1 - fy) * h0[i] + fy * h1[i];
+        }
+    };
+    // A small block (a tile of the graded front end) runs here: even a
+    // parallel region with a false `if` costs microseconds, as much as
+    // sampling the block.
+    if (b.ni * b.nj < 4096) return rows(0, b.nj);
+#pragma omp parallel
+    {
+        std::int64_t j0 = 0, j1 = b.nj;
+#ifdef _OPENMP
+        const std::int64_t nt = omp_get_num_threads(), t = omp_get_thread_num();
+        j0 = b.nj * t / nt, j1 = b.nj * (t + 1) / nt;
+#endif
+        rows(j0, j1);
     }
 }
 
