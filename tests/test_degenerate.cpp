@@ -407,6 +407,11 @@ BOOST_AUTO_TEST_CASE(non_finite_values_are_an_input_error) {
         } catch (const InputError& e) {
             BOOST_TEST(std::string(e.what()).find("not finite at lattice point (2, 3)") != std::string::npos);
         }
+        try {  // the graded front end names the same point
+            mesh_graded(f, l, DiagonalRule::maxmin, 0);
+        } catch (const InputError& e) {
+            BOOST_TEST(std::string(e.what()).find("not finite at lattice point (2, 3)") != std::string::npos);
+        }
     }
     // A non-finite iso value.
     const Image img = image(2, 2, {0, 1, 2, 3});

@@ -1,6 +1,7 @@
 // tiles.cpp — the graded mesher's front end: classify tiles by a range bound,
 // sample the others, signs, cut edges, warp (tiles.hpp).
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -177,28 +178,50 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
             f.sample_block(lattice, b, v);
             points += b.ni * b.nj;
             std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
-            for (std::int64_t y = 0; y < b.nj; ++y)
+            bool finite = true;
+            for (std::int64_t y = 0; y < b.nj; ++y) {
+                const double* vr = v.data() + y * b.ni;
+                std::int8_t* o = blk + (y + 1) * S + 1;
                 for (std::int64_t x = 0; x < b.ni; ++x) {
-                    const double fv = v[static_cast<std::size_t>(x + y * b.ni)];
-                    if (!std::isfinite(fv)) bad = std::max(bad, lattice.index(b.i0 + x, b.j0 + y));
-                    blk[(y + 1) * S + x + 1] = static_cast<std::int8_t>((fv > 0) - (fv < 0));
+                    finite = finite & std::isfinite(vr[x]);
+                    o[x] = static_cast<std::int8_t>((vr[x] > 0) - (vr[x] < 0));
                 }
-            if (bad >= 0) continue;
+            }
+            if (!finite) {  // the largest non-finite point's index, as for every tile
+                for (std::int64_t y = 0; y < b.nj; ++y)
+                    for (std::int64_t x = 0; x < b.ni; ++x)
+                        if (!std::isfinite(v[static_cast<std::size_t>(x + y * b.ni)]))
+                            bad = std::max(bad, lattice.index(b.i0 + x, b.j0 + y));
+                continue;
+            }
             // Owned points: all but the last column / row, unless the tile is
-            // the last of its row / column.
+            // the last of its row / column.  Per row, 64 points at a time, a
+            // bit mask of the points whose edge to the right (+x) or upward
+            // (+y) is cut — sp != 0 and the other end -sp — so that the cut
+            // edges, a few per row, are visited in point order (+x before +y).
             const std::int64_t own_x = I + 1 == t.tx ? b.ni : b.ni - 1, own_y = J + 1 == t.ty ? b.nj : b.nj - 1;
             auto& out = cuts[static_cast<std::size_t>(s)];
-            for (std::int64_t y = 0; y < own_y; ++y)
-                for (std::int64_t x = 0; x < own_x; ++x) {
-                    const std::int8_t sp = blk[(y + 1) * S + x + 1];
-                    const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
-                    if (x + 1 < b.ni)
-                        append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 0, sp, blk[(y + 1) * S + x + 2], fp,
-                                        v[static_cast<std::size_t>(x + 1 + y * b.ni)], out);
-                    if (y + 1 < b.nj)
-                        append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 1, sp, blk[(y + 2) * S + x + 1], fp,
-                                        v[static_cast<std::size_t>(x + (y + 1) * b.ni)], out);
+            for (std::int64_t y = 0; y < own_y; ++y) {
+                const std::int8_t* r = blk + (y + 1) * S + 1;  // row y; row y + 1 is r + S
+                const std::int64_t with_right = std::min(own_x, b.ni - 1), with_up = y + 1 < b.nj ? own_x : 0;
+                for (std::int64_t x0 = 0; x0 < own_x; x0 += 64) {
+                    std::uint64_t right = 0, up = 0;
+                    for (std::int64_t x = x0; x < std::min(x0 + 64, with_right); ++x)
+                        right |= static_cast<std::uint64_t>(r[x] != 0 && r[x + 1] == -r[x]) << (x - x0);
+                    for (std::int64_t x = x0; x < std::min(x0 + 64, with_up); ++x)
+                        up |= static_cast<std::uint64_t>(r[x] != 0 && r[x + S] == -r[x]) << (x - x0);
+                    for (std::uint64_t m = right | up; m; m &= m - 1) {
+                        const std::int64_t x = x0 + std::countr_zero(m);
+                        const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
+                        if ((right >> (x - x0)) & 1)
+                            append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 0, r[x], r[x + 1], fp,
+                                            v[static_cast<std::size_t>(x + 1 + y * b.ni)], out);
+                        if ((up >> (x - x0)) & 1)
+                            append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 1, r[x], r[x + S], fp,
+                                            v[static_cast<std::size_t>(x + (y + 1) * b.ni)], out);
+                    }
                 }
+            }
         }
     }
     if (bad >= 0) throw_non_finite(lattice, bad);
