@@ -468,6 +468,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         };
         auto emit_rows = [&](std::int64_t R0, std::int64_t R1, std::vector<Leaf>& o) {
             std::int64_t dropped = 0;
+            std::vector<std::int32_t> parents;
             // Node (I, J) of level l is a leaf: kept, or only counted
             // when it is outside and dropped (before its sides are looked up).
             auto keep = [&](std::int64_t I, std::int64_t J) {
@@ -484,13 +485,17 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
                         if (!t.is_split(l, I, R)) keep(I, R);
                     continue;
                 }
+                if (l == 0) {  // level 0 is never split, and a finest leaf has no split side
+                    parents.clear();  // the split parents of rows 2R and 2R + 1, found once
+                    for_each_split(t, 1, R, [&](std::int64_t P) { parents.push_back(static_cast<std::int32_t>(P)); });
+                    for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
+                        for (const std::int32_t P : parents)
+                            for (std::int64_t I = 2 * P; I < std::min<std::int64_t>(2 * P + 2, mx); ++I)
+                                o.push_back({static_cast<std::int32_t>(I), static_cast<std::int32_t>(J), 0, 0, 0});
+                    continue;
+                }
                 for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
                     for_each_split(t, l + 1, R, [&](std::int64_t P) {
-                        if (l == 0) {  // level 0 is never split, and a finest leaf has no split side
-                            for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
-                                o.push_back({static_cast<std::int32_t>(I), static_cast<std::int32_t>(J), 0, 0, 0});
-                            return;
-                        }
                         if (l <= t.local_top) return local_children(P, J, o, dropped);
                         for (std::int64_t I = 2 * P; I < std::min(2 * P + 2, mx); ++I)
                             if (!t.is_split(l, I, J)) keep(I, J);
