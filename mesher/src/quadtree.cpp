@@ -99,7 +99,7 @@ inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
         if (l == 1)
             for_each_byte<true>(t.local_sign.data() + base, n, at);
         else
-            for_each_byte<false>(t.local_split.data() + base, n, at);
+            for_each_byte<false>(t.local_split.data() + t.split_index(l, s, I0, j), n, at);
     }
 }
 
@@ -188,7 +188,8 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
         }
         const std::size_t n = t.active.size() * static_cast<std::size_t>(t.local_size);
         t.local_sign.resize(n);
-        t.local_split.assign(n, 0);
+        t.level1 = t.local_top >= 1 ? (T >> 1) * (T >> 1) : 0;
+        t.local_split.resize(t.active.size() * static_cast<std::size_t>(t.local_size - t.level1));  // written in pass 4
     }
     const std::int64_t nslots = static_cast<std::int64_t>(t.active.size());
     // ---- 3. the coarsenability pyramid -------------------------------------------
@@ -325,13 +326,14 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
             const std::int64_t n = std::int64_t{1} << h, cn = 2 * n;
             for (std::int64_t s = 0; s < nslots; ++s) {
                 const std::int64_t base = s * t.local_size + t.local_offset[L];
-                for (std::int64_t q = base; q < base + n * n; ++q)
-                    t.local_split[static_cast<std::size_t>(q)] = t.local_sign[static_cast<std::size_t>(q)] == 0;
+                const std::int64_t sbase = base - (s + 1) * t.level1;  // split_index of the same node
+                for (std::int64_t q = 0; q < n * n; ++q)
+                    t.local_split[static_cast<std::size_t>(sbase + q)] = t.local_sign[static_cast<std::size_t>(base + q)] == 0;
             }
 #pragma omp parallel for schedule(static) reduction(+ : outside_active) if (nslots >= 256)
             for (std::int64_t s = 0; s < nslots; ++s) {
                 const std::int64_t TI = t.active_x[static_cast<std::size_t>(s)], TJ = t.active[static_cast<std::size_t>(s)] / TX;
-                std::uint8_t* own = t.local_split.data() + s * t.local_size + t.local_offset[L];
+                std::uint8_t* own = t.local_split.data() + s * t.local_size + t.local_offset[L] - (s + 1) * t.level1;
                 auto mark = [&](std::int64_t I, std::int64_t J) {  // node (I, J) of level l
                     std::uint8_t* b;
                     if ((I >> h) == TI && (J >> h) == TJ) {
@@ -339,7 +341,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
                     } else {
                         const std::int32_t o = t.tile_slot[static_cast<std::size_t>((I >> h) + (J >> h) * TX)];
                         if (o < 0) return void(++outside_active);
-                        b = t.local_split.data() + t.local_index(l, o, I, J);
+                        b = t.local_split.data() + t.split_index(l, o, I, J);
                     }
                     std::atomic_ref<std::uint8_t>(*b).store(1, std::memory_order_relaxed);
                 };
@@ -358,7 +360,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
                     if (l == 2)  // level 1 is split where not coarsenable (code 0)
                         for_each_byte<true>(t.local_sign.data() + s * t.local_size + row, wa, child);
                     else
-                        for_each_byte<false>(t.local_split.data() + s * t.local_size + row, wa, child);
+                        for_each_byte<false>(t.local_split.data() + s * t.local_size + row - (s + 1) * t.level1, wa, child);
                 }
             }
             continue;
@@ -442,7 +444,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
             const std::int64_t k = t.tile_of(l, 2 * P, J);
             const std::int32_t s = t.tile_slot[static_cast<std::size_t>(k)];
             const std::int8_t* sg = s < 0 ? nullptr : t.local_sign.data() + t.local_index(l, s, 2 * P, J);
-            const std::uint8_t* sp = s < 0 ? nullptr : t.local_split.data() + t.local_index(l, s, 2 * P, J);
+            const std::uint8_t* sp = s < 0 || l == 1 ? nullptr : t.local_split.data() + t.split_index(l, s, 2 * P, J);
             const std::int64_t n = m + 1;  // row stride in the slot
             auto split_at = [&](std::int64_t d) {  // node at offset d of (2P, J), in the tile
                 return l == 1 ? sg[d] == 0 : sp[d] != 0;
@@ -537,7 +539,9 @@ void PointSet::finish() {
             const std::size_t base = static_cast<std::size_t>(((j >> 7) * blocks_x + bx) * (block_words * block_rows) + ((j & 127) << 2));
             for (std::size_t q = 0; q < static_cast<std::size_t>(block_words); ++q)
                 if (const std::uint64_t w = words[base + q]) {
-                    prefix[base + q] = n;
+                    if (n > static_cast<std::int64_t>(UINT32_MAX) - 64)
+                        throw std::length_error("more lattice points in a point set than 32-bit ranks allow");
+                    prefix[base + q] = static_cast<std::uint32_t>(n);
                     n += std::popcount(w);
                 }
         }

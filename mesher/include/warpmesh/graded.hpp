@@ -84,7 +84,7 @@ struct PointSet {
     static constexpr int block_words = 4, block_rows = 128;
     std::int64_t words_per_row = 0, rows = 0, blocks_x = 0, blocks_y = 0;
     ZeroBuffer<std::uint64_t> words;    // zeroed, touched only where written (buffer.hpp)
-    Buffer<std::int64_t> prefix;        // per non-zero word, members before it (after finish)
+    Buffer<std::uint32_t> prefix;       // per non-zero word, members before it (after finish; < 2^32)
     std::vector<std::uint8_t> flagged;  // per block: 1 if it may hold a member
     std::int64_t count = 0;               // members (after finish)
 
@@ -122,13 +122,15 @@ struct PointSet {
         if (b != 63) return static_cast<unsigned>(w >> b) & 3u;
         return static_cast<unsigned>(w >> 63) | (contains(i + 1, j) ? 2u : 0u);
     }
-    void finish();  // prefix, count
+    // Prefix sums and count.  Throws std::length_error beyond 2^32 - 1
+    // members (a mesh's vertex ids are 32-bit anyway).
+    void finish();
     // Members before (i, j) in point order: its vertex id if a member.  A
     // word with no member has no prefix written, and is not read (0).
     std::int64_t rank(std::int64_t i, std::int64_t j) const {
         const std::size_t w = word(i, j);
         const std::uint64_t x = words[w];
-        return x ? prefix[w] + std::popcount(x & (bit(i) - 1)) : 0;
+        return x ? static_cast<std::int64_t>(prefix[w]) + std::popcount(x & (bit(i) - 1)) : 0;
     }
     // rank(i, j) and rank(i + 1, j): the second from the first and (i, j)'s
     // own bit, unless i + 1 starts the next word.
@@ -146,7 +148,7 @@ struct PointSet {
             const std::size_t base = static_cast<std::size_t>((by * blocks_x + bx) * (block_words * block_rows) + ((j & 127) << 2));
             for (int q = 0; q < block_words; ++q) {
                 std::uint64_t bits = words[base + static_cast<std::size_t>(q)];
-                const std::int64_t r0 = bits ? prefix[base + static_cast<std::size_t>(q)] : 0;
+                const std::int64_t r0 = bits ? static_cast<std::int64_t>(prefix[base + static_cast<std::size_t>(q)]) : 0;
                 for (int k = 0; bits; bits &= bits - 1, ++k)
                     fn((bx * block_words + q) * 64 + std::countr_zero(bits), r0 + k);
             }
@@ -190,7 +192,10 @@ struct Quadtree {
     std::vector<std::int64_t> local_offset;  // per level: offset of its nodes in a slot
     std::int64_t local_size = 0;             // nodes per slot, all levels
     std::vector<std::int8_t> local_sign;     // per slot and level, (T >> l)^2 nodes, row-major
-    std::vector<std::uint8_t> local_split;
+    // Split flags of levels 2 .. local_top only (level 1 is split iff not
+    // coarsenable), per slot: local_size - level1 bytes each.
+    std::int64_t level1 = 0;                 // nodes of level 1 per slot, (T / 2)^2
+    Buffer<std::uint8_t> local_split;        // every byte written by build_quadtree
 
     // Node (I, J) of per-tile level l: its slot (-1: inactive tile) and index
     // in the slot's arrays.
@@ -202,6 +207,10 @@ struct Quadtree {
         const int h = tile_log - l;
         const std::int64_t m = (std::int64_t{1} << h) - 1;
         return slot * local_size + local_offset[static_cast<std::size_t>(l)] + ((J & m) << h) + (I & m);
+    }
+    // The same for local_split, levels 2 .. local_top.
+    std::int64_t split_index(int l, std::int64_t slot, std::int64_t I, std::int64_t J) const {
+        return local_index(l, slot, I, J) - (slot + 1) * level1;
     }
     // σ of node (I, J) of level 1 <= l <= top if coarsenable, else 0; (I, J)
     // within the level's nodes.
@@ -222,7 +231,7 @@ struct Quadtree {
         if (l == 1) return node_sign(1, i, j) == 0;
         if (l > local_top) return split[L][static_cast<std::size_t>(i + j * nodes_x[L])] != 0;
         const std::int32_t s = tile_slot[static_cast<std::size_t>(tile_of(l, i, j))];
-        return s >= 0 && local_split[static_cast<std::size_t>(local_index(l, s, i, j))] != 0;
+        return s >= 0 && local_split[static_cast<std::size_t>(split_index(l, s, i, j))] != 0;
     }
     // Whether lattice square (i, j) is a finest leaf.
     bool is_finest(std::int64_t i, std::int64_t j) const { return is_split(1, i >> 1, j >> 1); }
