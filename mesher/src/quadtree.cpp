@@ -438,7 +438,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         // which lie in one tile: its slot is looked up once, and so are the
         // neighbours inside the tile; only those across its sides go through
         // is_split.  An inactive tile has no split node of level l.
-        const int h = t.tile_log - l;
+        const int h = l <= t.local_top ? t.tile_log - l : 0;  // (only used on per-tile levels)
         const std::int64_t m = (std::int64_t{1} << h) - 1;
         auto local_children = [&](std::int64_t P, std::int64_t J, std::vector<Leaf>& o, std::int64_t& dropped) {
             const std::int64_t k = t.tile_of(l, 2 * P, J);
