@@ -39,10 +39,12 @@
 // the leaf L, not split.  Splitting a node of level m + 1 to satisfy the rule
 // creates leaves of level m (no new split node of level m), so the rule
 // propagates strictly upward and one bottom-up pass enforces it: level l + 1
-// is final once level l is.  Pass 4 applies it row by row: row J of level
-// l + 1 is written only by the iteration for J, which reads the split nodes
-// of rows 2J - 1 .. 2J + 2 of level l — race-free and independent of the
-// thread count.
+// is final once level l is.  Pass 4 applies it level by level: on a per-tile
+// level each active tile marks from its own split children (a mark only sets
+// a byte to 1, so concurrent marks across a tile side commute: relaxed atomic
+// stores); on a dense level row J of level l + 1 is written only by the
+// iteration for J, which reads the split nodes of rows 2J - 1 .. 2J + 2 of
+// level l.  Either way the result is independent of the thread count.
 #include <algorithm>
 #include <atomic>
 #include <bit>

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <limits>
 #include <string>
 
 #include "warpmesh/tiles.hpp"
