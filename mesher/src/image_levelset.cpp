@@ -54,17 +54,18 @@ ImageField::ImageField(int w, int h, std::vector<double> field_y_up) : w_(w), h_
 Box ImageField::bounds() const { return {0.0, 0.0, static_cast<double>(w_ - 1), static_cast<double>(h_ - 1)}; }
 
 namespace {
+// Along one pixel row: the value at fraction fx of cell c.
+inline double along_row(const double* row, int c, double fx) {
+    return fx == 0 ? row[c] : (1 - fx) * row[c] + fx * row[c + 1];
+}
 // The interpolant at cell (c, y) with fractions (fx, fy).  At a pixel centre
 // (fx = fy = 0) it is the stored value itself; (1-t) a + t b is exact at both
 // t = 0 and t = 1, so the interpolant is continuous bit for bit across cells.
 inline double interpolate(const double* F, int w, int c, double fx, int y, double fy) {
     const double* row0 = F + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
-    const double p00 = row0[c];
-    if (fx == 0 && fy == 0) return p00;
-    const double v0 = fx == 0 ? p00 : (1 - fx) * p00 + fx * row0[c + 1];
+    const double v0 = along_row(row0, c, fx);  // p00 itself when fx = 0
     if (fy == 0) return v0;
-    const double* row1 = row0 + w;
-    const double v1 = fx == 0 ? row1[c] : (1 - fx) * row1[c] + fx * row1[c + 1];
+    const double v1 = along_row(row0 + w, c, fx);
     return (1 - fy) * v0 + fy * v1;
 }
 }  // namespace
@@ -100,11 +101,7 @@ void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::
     if (!finite) return LevelSet::sample_block(lattice, b, out);  // value() reports NaN where it belongs
     // v0 or v1 of interpolate() on pixel row `row`, for every column.
     auto horizontal = [&](const double* row, double* h) {
-        for (std::size_t i = 0; i < ni; ++i) {
-            const int c = col[i];
-            const double fx = colf[i];
-            h[i] = fx == 0 ? row[c] : (1 - fx) * row[c] + fx * row[c + 1];
-        }
+        for (std::size_t i = 0; i < ni; ++i) h[i] = along_row(row, col[i], colf[i]);
     };
     // Rows [j0, j1), with h0 / h1 for the pixel rows last used (r0, r1).
     auto rows = [&](std::int64_t j0, std::int64_t j1) {
