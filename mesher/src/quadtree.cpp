@@ -83,6 +83,17 @@ inline void for_each_byte(const T* row, std::int64_t n, Fn&& fn) {
         if ((row[i] == 0) == Zero) fn(i);
 }
 
+// fn(q) for every split node among n consecutive nodes of a row of per-tile
+// level l >= 1 in slot s, the first at index `first` of local_sign: level 1
+// is split where not coarsenable (code 0), higher levels by their flag.
+template <class Fn>
+inline void for_each_split_in_run(const Quadtree& t, int l, std::int64_t s, std::int64_t first, std::int64_t n, Fn&& fn) {
+    if (l == 1)
+        for_each_byte<true>(t.local_sign.data() + first, n, fn);
+    else
+        for_each_byte<false>(t.local_split.data() + t.split_of_local(s, first), n, fn);
+}
+
 // fn(i) for every split node i of row j of level l >= 1, in increasing i.
 template <class Fn>
 inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
@@ -97,11 +108,7 @@ inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
     for (std::int64_t s = t.row_start[static_cast<std::size_t>(TJ)]; s < t.row_start[static_cast<std::size_t>(TJ) + 1]; ++s) {
         const std::int64_t I0 = t.active_x[static_cast<std::size_t>(s)] << h;
         const std::int64_t base = t.local_index(l, s, I0, j), n = std::min(std::int64_t{1} << h, mx - I0);
-        auto at = [&](std::int64_t q) { fn(I0 + q); };
-        if (l == 1)
-            for_each_byte<true>(t.local_sign.data() + base, n, at);
-        else
-            for_each_byte<false>(t.local_split.data() + t.split_index(l, s, I0, j), n, at);
+        for_each_split_in_run(t, l, s, base, n, [&](std::int64_t q) { fn(I0 + q); });
     }
 }
 
@@ -328,14 +335,14 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
             const std::int64_t n = std::int64_t{1} << h, cn = 2 * n;
             for (std::int64_t s = 0; s < nslots; ++s) {
                 const std::int64_t base = s * t.local_size + t.local_offset[L];
-                const std::int64_t sbase = base - (s + 1) * t.level1;  // split_index of the same node
+                const std::int64_t sbase = t.split_of_local(s, base);
                 for (std::int64_t q = 0; q < n * n; ++q)
                     t.local_split[static_cast<std::size_t>(sbase + q)] = t.local_sign[static_cast<std::size_t>(base + q)] == 0;
             }
 #pragma omp parallel for schedule(static) reduction(+ : outside_active) if (nslots >= 256)
             for (std::int64_t s = 0; s < nslots; ++s) {
                 const std::int64_t TI = t.active_x[static_cast<std::size_t>(s)], TJ = t.active[static_cast<std::size_t>(s)] / TX;
-                std::uint8_t* own = t.local_split.data() + s * t.local_size + t.local_offset[L] - (s + 1) * t.level1;
+                std::uint8_t* own = t.local_split.data() + t.split_of_local(s, s * t.local_size + t.local_offset[L]);
                 auto mark = [&](std::int64_t I, std::int64_t J) {  // node (I, J) of level l
                     std::uint8_t* b;
                     if ((I >> h) == TI && (J >> h) == TJ) {
@@ -358,11 +365,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
                         if (B > 0) mark(A >> 1, (B - 1) >> 1);
                         if (B + 1 < cy) mark(A >> 1, (B + 1) >> 1);
                     };
-                    const std::int64_t row = t.local_offset[L - 1] + (B - B0) * cn;
-                    if (l == 2)  // level 1 is split where not coarsenable (code 0)
-                        for_each_byte<true>(t.local_sign.data() + s * t.local_size + row, wa, child);
-                    else
-                        for_each_byte<false>(t.local_split.data() + s * t.local_size + row - (s + 1) * t.level1, wa, child);
+                    for_each_split_in_run(t, l - 1, s, s * t.local_size + t.local_offset[L - 1] + (B - B0) * cn, wa, child);
                 }
             }
             continue;
@@ -420,65 +423,56 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
     for (int l = 0; l <= t.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L];
-        auto leaf = [&](std::int64_t I, std::int64_t J) -> Leaf {
-            std::uint8_t sides = 0;
-            if (l > 0)
-                // By balance a split edge neighbour's two children along the
-                // shared side are leaves one level finer: the side is halved.
-                sides = static_cast<std::uint8_t>(
-                    (t.is_split(l, I, J - 1) ? side_bottom : 0) | (t.is_split(l, I + 1, J) ? side_right : 0) |
-                    (t.is_split(l, I, J + 1) ? side_top : 0) | (t.is_split(l, I - 1, J) ? side_left : 0));
-            return {static_cast<std::int32_t>(I << l), static_cast<std::int32_t>(J << l), static_cast<std::int8_t>(l),
-                    l > 0 ? t.node_sign(l, I, J) : std::int8_t{0}, sides};
+        // Node (I, J) of level l, with sign σ (0 on level 0), is a leaf: only
+        // counted when it is outside and dropped (before its sides are looked
+        // up), else appended with its split sides, asked of split(a, b) for its
+        // four edge neighbours — by balance a split edge neighbour's two
+        // children along the shared side are leaves one level finer: the side
+        // is halved.
+        auto put = [&](std::vector<Leaf>& o, std::int64_t& dropped, std::int64_t I, std::int64_t J, std::int8_t sign,
+                       auto&& split) {
+            if (drop_outside && sign > 0) return void(++dropped);
+            const std::uint8_t sides = static_cast<std::uint8_t>(
+                (split(I, J - 1) ? side_bottom : 0) | (split(I + 1, J) ? side_right : 0) | (split(I, J + 1) ? side_top : 0) |
+                (split(I - 1, J) ? side_left : 0));
+            o.push_back({static_cast<std::int32_t>(I << l), static_cast<std::int32_t>(J << l), static_cast<std::int8_t>(l), sign, sides});
         };
+        auto is_split = [&](std::int64_t a, std::int64_t b) { return t.is_split(l, a, b); };
         // The leaves of level l are the unsplit nodes among the children of the
         // split nodes of level l + 1 (all unsplit nodes at the top); a row R of
         // level l + 1 gives rows 2R and 2R + 1 of level l, in order.
         const bool roots = l == t.top;
         const std::int64_t rows = roots ? my : t.nodes_y[L + 1];
-        // The same for the nodes (2P, J), (2P + 1, J) of a per-tile level l >= 1,
-        // which lie in one tile: its slot is looked up once, and so are the
-        // neighbours inside the tile; only those across its sides go through
-        // is_split.  An inactive tile has no split node of level l.
+        // put() for the unsplit nodes among (2P, J), (2P + 1, J) of a per-tile
+        // level l >= 1, which lie in one tile: its slot is looked up once, and
+        // neighbours inside the tile are read from it; only those across its
+        // sides go through is_split.  An inactive tile has no split node of
+        // level l.
         const int h = l <= t.local_top ? t.tile_log - l : 0;  // (only used on per-tile levels)
-        const std::int64_t m = (std::int64_t{1} << h) - 1;
         auto local_children = [&](std::int64_t P, std::int64_t J, std::vector<Leaf>& o, std::int64_t& dropped) {
             const std::int64_t k = t.tile_of(l, 2 * P, J);
             const std::int32_t s = t.tile_slot[static_cast<std::size_t>(k)];
-            const std::int8_t* sg = s < 0 ? nullptr : t.local_sign.data() + t.local_index(l, s, 2 * P, J);
-            const std::uint8_t* sp = s < 0 || l == 1 ? nullptr : t.local_split.data() + t.split_index(l, s, 2 * P, J);
-            const std::int64_t n = m + 1;  // row stride in the slot
+            const std::int64_t first = s < 0 ? 0 : t.local_index(l, s, 2 * P, J);  // node (2P, J) in local_sign
             auto split_at = [&](std::int64_t d) {  // node at offset d of (2P, J), in the tile
-                return l == 1 ? sg[d] == 0 : sp[d] != 0;
+                return l == 1 ? t.local_sign[static_cast<std::size_t>(first + d)] == 0
+                              : t.local_split[static_cast<std::size_t>(t.split_of_local(s, first + d))] != 0;
             };
             for (std::int64_t q = 0; q < 2 && 2 * P + q < mx; ++q) {
-                const std::int64_t I = 2 * P + q;
-                const std::int8_t sign = s < 0 ? t.tile_sign[static_cast<std::size_t>(k)] : sg[q];
                 if (s >= 0 && split_at(q)) continue;
-                if (drop_outside && sign > 0) {
-                    ++dropped;
-                    continue;
-                }
-                const bool in_x0 = (I & m) != 0, in_x1 = (I & m) != m, in_y0 = (J & m) != 0, in_y1 = (J & m) != m;
-                auto near = [&](bool inside, std::int64_t d, std::int64_t a, std::int64_t b) {
-                    if (!inside) return t.is_split(l, a, b);
-                    return s >= 0 && split_at(q + d);
-                };
-                const std::uint8_t sides = static_cast<std::uint8_t>(
-                    (near(in_y0, -n, I, J - 1) ? side_bottom : 0) | (near(in_x1, 1, I + 1, J) ? side_right : 0) |
-                    (near(in_y1, n, I, J + 1) ? side_top : 0) | (near(in_x0, -1, I - 1, J) ? side_left : 0));
-                o.push_back({static_cast<std::int32_t>(I << l), static_cast<std::int32_t>(J << l), static_cast<std::int8_t>(l), sign, sides});
+                const std::int64_t I = 2 * P + q;
+                put(o, dropped, I, J, s < 0 ? t.tile_sign[static_cast<std::size_t>(k)] : t.local_sign[static_cast<std::size_t>(first + q)],
+                    [&](std::int64_t a, std::int64_t b) {
+                        // Across the tile's side, or no node: as is_split.  Else
+                        // the same answer from the slot found above.
+                        if (a < 0 || b < 0 || a >= mx || b >= my || ((a ^ I) | (b ^ J)) >> h) return t.is_split(l, a, b);
+                        return s >= 0 && split_at((a - 2 * P) + ((b - J) << h));
+                    });
             }
         };
         auto emit_rows = [&](std::int64_t R0, std::int64_t R1, std::vector<Leaf>& o) {
             std::int64_t dropped = 0;
             std::vector<std::int32_t> parents;
-            // Node (I, J) of level l is a leaf: kept, or only counted
-            // when it is outside and dropped (before its sides are looked up).
-            auto keep = [&](std::int64_t I, std::int64_t J) {
-                if (drop_outside && l > 0 && t.node_sign(l, I, J) > 0) ++dropped;
-                else o.push_back(leaf(I, J));
-            };
+            auto keep = [&](std::int64_t I, std::int64_t J) { put(o, dropped, I, J, l > 0 ? t.node_sign(l, I, J) : std::int8_t{0}, is_split); };
             for (std::int64_t R = R0; R < R1; ++R) {
                 if (roots && l >= 1 && l <= t.local_top) {
                     for (std::int64_t P = 0; 2 * P < mx; ++P) local_children(P, R, o, dropped);

@@ -208,9 +208,11 @@ struct Quadtree {
         const std::int64_t m = (std::int64_t{1} << h) - 1;
         return slot * local_size + local_offset[static_cast<std::size_t>(l)] + ((J & m) << h) + (I & m);
     }
-    // The same for local_split, levels 2 .. local_top.
+    // The same for local_split, levels 2 .. local_top: a node's index there
+    // from its index `local` in local_sign (slot `slot`), or from (I, J).
+    std::int64_t split_of_local(std::int64_t slot, std::int64_t local) const { return local - (slot + 1) * level1; }
     std::int64_t split_index(int l, std::int64_t slot, std::int64_t I, std::int64_t J) const {
-        return local_index(l, slot, I, J) - (slot + 1) * level1;
+        return split_of_local(slot, local_index(l, slot, I, J));
     }
     // σ of node (I, J) of level 1 <= l <= top if coarsenable, else 0; (I, J)
     // within the level's nodes.
