@@ -37,7 +37,6 @@ constexpr std::uint8_t inside_bit = 1, warped_bit = 2, zero_bit = 4;
 
 using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corner, sides, covers
 
-
 }  // namespace
 
 // `flatten`: the rule's helpers (triangle_forms, diagonal_quality) are
