@@ -247,6 +247,9 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
             }
         s0 = s1;
     }
+    // Freed before warping, so that the warped points (and the later stages)
+    // reuse these pages rather than fault in new ones.
+    std::vector<std::vector<CutEdge>>().swap(cuts);
     r.cut_edges = static_cast<std::int64_t>(all.size());
     r.tiles_seconds = seconds_since(t0);
 

@@ -16,36 +16,44 @@
 namespace warpmesh {
 
 std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts) {
-    // The candidates fall into four lists by mover and axis: p along +x, p
+    // The candidates fall into four streams by mover and axis: p along +x, p
     // along +y, q = p + x along -x, q = p + y along -y.  `cuts` is sorted by
     // (p, axis), and a point is the lower (upper) endpoint of at most one cut
-    // edge per axis, so each list is sorted by point with no point twice.  A
-    // four-way merge in the order (point, t, direction) — nearest first, then
-    // the order of the Warp enumeration — replaces a sort.
-    std::array<std::vector<WarpedPoint>, 4> list;
-    for (auto& l : list) l.reserve(cuts.size() / 2 + 1);
-    for (const CutEdge& e : cuts) {
-        const std::int64_t q = e.p + (e.axis == 0 ? 1 : lattice.points_x());
-        const bool p_moves = e.u < 0.5 || (e.u == 0.5 && e.sign < 0);
-        if (p_moves)
-            list[e.axis == 0 ? 0 : 1].push_back({e.p, e.axis == 0 ? Warp::px : Warp::py, e.u});
-        else
-            list[e.axis == 0 ? 2 : 3].push_back({q, e.axis == 0 ? Warp::mx : Warp::my, 1 - e.u});
-    }
+    // edge per axis, so each stream — a subsequence of `cuts` — is sorted by
+    // point with no point twice.  A four-way merge in the order (point, t,
+    // direction) — nearest first, then the order of the Warp enumeration —
+    // replaces a sort; each stream is read in place by its own cursor (no copy).
+    const std::int64_t nxp = lattice.points_x();
+    const std::size_t n = cuts.size();
+    auto p_moves = [](const CutEdge& e) { return e.u < 0.5 || (e.u == 0.5 && e.sign < 0); };
+    // Stream k: axis k & 1; the mover is p for k < 2, q for k >= 2.
+    auto in_stream = [&](const CutEdge& e, int k) { return e.axis == (k & 1) && p_moves(e) == (k < 2); };
+    auto candidate = [&](const CutEdge& e) -> WarpedPoint {
+        if (p_moves(e)) return {e.p, e.axis == 0 ? Warp::px : Warp::py, e.u};
+        return {e.p + (e.axis == 0 ? 1 : nxp), e.axis == 0 ? Warp::mx : Warp::my, 1 - e.u};
+    };
+    std::array<std::size_t, 4> at{};
+    std::array<WarpedPoint, 4> head{};
+    auto advance = [&](int k) {  // to stream k's next edge at or after at[k]; its candidate
+        std::size_t& a = at[static_cast<std::size_t>(k)];
+        while (a < n && !in_stream(cuts[a], k)) ++a;
+        if (a < n) head[static_cast<std::size_t>(k)] = candidate(cuts[a]);
+    };
+    for (int k = 0; k < 4; ++k) advance(k);
     auto before = [](const WarpedPoint& a, const WarpedPoint& b) { return std::tie(a.p, a.t, a.dir) < std::tie(b.p, b.t, b.dir); };
     std::vector<WarpedPoint> out;
-    out.reserve(cuts.size());
-    std::array<std::size_t, 4> at{};
+    out.reserve(n);
     for (;;) {
         int best = -1;
         for (int k = 0; k < 4; ++k)
-            if (at[static_cast<std::size_t>(k)] < list[static_cast<std::size_t>(k)].size() &&
-                (best < 0 || before(list[static_cast<std::size_t>(k)][at[static_cast<std::size_t>(k)]],
-                                    list[static_cast<std::size_t>(best)][at[static_cast<std::size_t>(best)]])))
+            if (at[static_cast<std::size_t>(k)] < n &&
+                (best < 0 || before(head[static_cast<std::size_t>(k)], head[static_cast<std::size_t>(best)])))
                 best = k;
         if (best < 0) break;
-        const WarpedPoint& w = list[static_cast<std::size_t>(best)][at[static_cast<std::size_t>(best)]++];
+        const WarpedPoint w = head[static_cast<std::size_t>(best)];
         if (out.empty() || out.back().p != w.p) out.push_back(w);  // the first of a point's candidates wins
+        ++at[static_cast<std::size_t>(best)];
+        advance(best);
     }
     return out;
 }
