@@ -1,8 +1,10 @@
 #define BOOST_TEST_MODULE levelsets
 #include <boost/test/unit_test.hpp>
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -363,6 +365,59 @@ BOOST_AUTO_TEST_CASE(edt_matches_brute_force) {
         }
     BOOST_TEST(check_all_cuts(*f, make_lattice(0, 0, 1, W - 1, H - 1), 1e-12) > 100);
     BOOST_TEST(check_all_cuts(*f, make_lattice(0, 0, 1.7, 17, 12), 1e-12) > 20);
+}
+
+// region_in's contract (levelset.hpp): where it answers, `within` holds the
+// box and region_at gives its tag at every point of `within` — probed at its
+// corners, at random points and at centroids of random triangles in the box;
+// and it answers for most small boxes inside a labelled area.
+BOOST_AUTO_TEST_CASE(region_in_agrees_with_region_at) {
+    std::mt19937 rng(11);
+    const int W = 23, H = 17;
+    std::vector<std::uint16_t> px(static_cast<std::size_t>(W * H));
+    for (int r = 0; r < H; ++r)
+        for (int c = 0; c < W; ++c)  // blobs of labels 7 and 9, and random pixels of 0, 7, 9, 12
+            px[static_cast<std::size_t>(r * W + c)] = static_cast<std::uint16_t>(
+                c > 15 ? std::array{0, 7, 9, 12}[rng() % 4] : (c / 4 + r / 5) % 3 == 0 ? 0 : (c < 8 ? 7 : 9));
+    const auto f = make_image_levelset(make_image(W, H, px), label_options("nonzero"));
+    std::uniform_real_distribution<double> pos(-1.0, W + 1.0), size(0.0, 0.6), unit(0.0, 1.0);
+    int answered = 0, inside_small = 0;
+    for (int n = 0; n < 20000; ++n) {
+        const double x0 = pos(rng), y0 = pos(rng) * H / W, w = size(rng), h = size(rng);
+        const Box box{x0, y0, x0 + w, y0 + h};
+        const std::optional<RegionCell> cell = f->region_in(box);
+        if (!cell) continue;
+        ++answered;
+        BOOST_REQUIRE(cell->holds(box));
+        const Box& in = cell->within;
+        for (double x : {in.xmin, in.xmax})
+            for (double y : {in.ymin, in.ymax}) BOOST_REQUIRE(f->region_at(x, y) == cell->region);
+        for (int k = 0; k < 4; ++k) {
+            const double x = in.xmin + unit(rng) * (in.xmax - in.xmin), y = in.ymin + unit(rng) * (in.ymax - in.ymin);
+            BOOST_REQUIRE(f->region_at(x, y) == cell->region);
+            Vec2 v[3];
+            for (auto& p : v) p = {box.xmin + unit(rng) * w, box.ymin + unit(rng) * h};
+            BOOST_REQUIRE(f->region_at((v[0].x + v[1].x + v[2].x) / 3, (v[0].y + v[1].y + v[2].y) / 3) == cell->region);
+        }
+    }
+    // A box well inside a cell whose four pixels (y up) share a nonzero label
+    // is answered, with that label.
+    auto label = [&](int c, int y) { return px[static_cast<std::size_t>((H - 1 - y) * W + c)]; };
+    int cells = 0;
+    for (int y = 0; y + 1 < H; ++y)
+        for (int c = 0; c + 1 < W; ++c) {
+            const int l = label(c, y);
+            if (l == 0 || label(c + 1, y) != l || label(c, y + 1) != l || label(c + 1, y + 1) != l) continue;
+            ++cells;
+            const double x0 = c + 0.5 * unit(rng), y0 = y + 0.5 * unit(rng);
+            const std::optional<RegionCell> cell = f->region_in({x0, y0, x0 + 0.4, y0 + 0.4});
+            inside_small += cell && cell->region == l;
+        }
+    BOOST_TEST(answered > 1000);
+    BOOST_TEST(cells > 20);
+    BOOST_TEST(inside_small == cells);
+    // Level sets without region tags answer nothing.
+    BOOST_TEST(!parse_shape("circle:0,0,1")->region_in({0, 0, 0.1, 0.1}).has_value());
 }
 
 BOOST_AUTO_TEST_CASE(thin_line_survives) {

@@ -492,6 +492,26 @@ LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool n
     build_range_pyramid();
 }
 
+// A pixel cell [c, c + 1] x [r, r + 1] whose region centres share one label
+// (cell_label_): every point (x, y) with c <= x < c + 1, r <= y < r + 1 is
+// left alone by region_at's clamp (c + 1 <= w - 1, r + 1 <= h - 1) and
+// truncates to the cell, so region_at's fast path answers that label.
+// `within` is the cell shrunk by a margin, 2^-30 of the image's size: far
+// above the rounding of a centroid of three vertices in it (a few ulps of the
+// coordinates), so such a centroid stays in [c, c + 1) x [r, r + 1), and far
+// below a pixel.
+std::optional<RegionCell> LabelLevelSet::region_in(const Box& box) const {
+    const double m = 0x1p-30 * (1 + std::max(w_, h_));
+    if (!(box.xmin >= m && box.ymin >= m && box.xmax < w_ && box.ymax < h_)) return std::nullopt;
+    const int c = static_cast<int>(box.xmin), r = static_cast<int>(box.ymin);
+    if (c + 1 >= w_ || r + 1 >= h_) return std::nullopt;
+    const std::int32_t l = cell_label_[index(c, r)];
+    if (l < 0) return std::nullopt;
+    const RegionCell cell{l, {c + m, r + m, c + 1 - m, r + 1 - m}};
+    if (!cell.holds(box)) return std::nullopt;
+    return cell;
+}
+
 std::int32_t LabelLevelSet::region_at(double x, double y) const {
     if (!std::isfinite(x) || !std::isfinite(y)) return label_[nearest_in_[0]];
     x = std::clamp(x, 0.0, static_cast<double>(w_ - 1));

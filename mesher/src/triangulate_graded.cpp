@@ -52,9 +52,11 @@
 #include <atomic>
 #include <bit>
 #include <cassert>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include "warpmesh/graded.hpp"
@@ -80,6 +82,28 @@ constexpr std::uint8_t interior_bit = 16;
 
 // Number of triangles a coarse inside leaf emits.
 constexpr int coarse_triangles(std::uint8_t split) { return split ? 4 + std::popcount(split) : 2; }
+
+// Region tags by centroid, asking the level set as rarely as it allows: the
+// last cell region_in answered is kept (empty at first: holds nothing), and
+// every box or centroid it holds takes its tag without a call.  One per chunk.
+struct RegionTagger {
+    const LevelSet& f;
+    RegionCell cell{0, {INFINITY, INFINITY, -INFINITY, -INFINITY}};
+
+    // The one tag of every triangle with vertices in `box`, if known.
+    std::optional<std::int32_t> of_box(const Box& box) {
+        if (!cell.holds(box)) {
+            const std::optional<RegionCell> c = f.region_in(box);
+            if (!c) return std::nullopt;  // the last cell stays, for the centroids
+            cell = *c;
+        }
+        return cell.region;
+    }
+    std::int32_t of_triangle(const Vec2& a, const Vec2& b, const Vec2& c) const {
+        const double x = (a.x + b.x + c.x) / 3, y = (a.y + b.y + c.y) / 3;
+        return cell.holds({x, y, x, y}) ? cell.region : f.region_at(x, y);
+    }
+};
 
 // A lattice point by its indices (the point sets take (i, j): no division).
 struct Pt {
@@ -247,27 +271,39 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     const bool want_keyed = stats && stats->keyed_squares;
     std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(nchunks) : 0);
     // Region tags (label images) in the same pass, from the triangles'
-    // centroids: a finest square's corners read back from the vertices of
-    // pass 2 (its rows' vertices are near each other in the array), a coarse
-    // leaf's (unwarped) as lattice positions, the same doubles as pass 2's —
-    // no walk over the coarse leaves' scattered vertices.
+    // centroids.  Where the level set knows a box around a square or a coarse
+    // leaf to be one region (region_in), all its triangles take that tag, and
+    // so do the next leaves in the same box (one call for a run of squares in
+    // one pixel cell).  Else per triangle: a finest square's corners read back
+    // from the vertices of pass 2 (its rows' vertices are near each other in
+    // the array), a coarse leaf's (unwarped) as lattice positions, the same
+    // doubles as pass 2's.  Warped corners stay in their square (they slide
+    // along its sides), so its box holds every centroid.
     const bool tags = f.tags_regions();
     mesh.region.resize(mesh.triangles.size());  // every element written below
 #pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
+        RegionTagger tagger{f};
+        // The one tag of the leaf at (i, j) of side w, if known.
+        auto region_of_box = [&](std::int64_t i, std::int64_t j, std::int64_t w) -> std::optional<std::int32_t> {
+            if (!tags) return 1;
+            const Vec2 lo = lattice.position(i, j), hi = lattice.position(i + w, j + w);
+            return tagger.of_box({lo.x, lo.y, hi.x, hi.y});
+        };
+        auto centroid_region = [&](const Vec2& xa, const Vec2& xb, const Vec2& xc) { return tagger.of_triangle(xa, xb, xc); };
         // Vertex ids and positions are looked up once per leaf, not per triangle.
-        auto emit = [&](std::int32_t a, std::int32_t b, std::int32_t c, const Vec2& xa, const Vec2& xb, const Vec2& xc) {
-            mesh.region[static_cast<std::size_t>(next)] =
-                tags ? f.region_at((xa.x + xb.x + xc.x) / 3, (xa.y + xb.y + xc.y) / 3) : 1;
+        auto emit = [&](std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t region) {
+            mesh.region[static_cast<std::size_t>(next)] = region;
             mesh.triangles[static_cast<std::size_t>(next++)] = {a, b, c};
         };
         for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
             const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
             if (leaf.level > 0) {
                 if (leaf.sign > 0) continue;
-                // Filled for the ring's n points below (x only with tags, and
-                // only then read): not zeroed first.
+                const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, std::int64_t{1} << leaf.level);
+                // Filled for the ring's n points below (x only when tagging
+                // per triangle, and only then read): not zeroed first.
                 std::array<Pt, 8> ring;
                 std::array<std::int32_t, 8> v;
                 std::array<Vec2, 8> x;
@@ -275,18 +311,18 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 const int n = coarse_ring(leaf, ring, centre);
                 for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) {
                     v[r] = vid(ring[r]);
-                    if (tags) x[r] = lattice.position(ring[r].i, ring[r].j);  // coarse leaves are unwarped
+                    if (!one) x[r] = lattice.position(ring[r].i, ring[r].j);  // coarse leaves are unwarped
                 }
                 if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-                    emit(v[0], v[1], v[2], x[0], x[1], x[2]);
-                    emit(v[0], v[2], v[3], x[0], x[2], x[3]);
+                    emit(v[0], v[1], v[2], one ? *one : centroid_region(x[0], x[1], x[2]));
+                    emit(v[0], v[2], v[3], one ? *one : centroid_region(x[0], x[2], x[3]));
                     continue;
                 }
                 const std::int32_t vm = vid(centre);
-                const Vec2 xm = tags ? lattice.position(centre.i, centre.j) : Vec2{};
+                const Vec2 xm = one ? Vec2{} : lattice.position(centre.i, centre.j);
                 for (int r = 0; r < n; ++r) {
                     const std::size_t r0 = static_cast<std::size_t>(r), r1 = static_cast<std::size_t>((r + 1) % n);
-                    emit(vm, v[r0], v[r1], xm, x[r0], x[r1]);
+                    emit(vm, v[r0], v[r1], one ? *one : centroid_region(xm, x[r0], x[r1]));
                 }
                 continue;
             }
@@ -305,8 +341,9 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
             }
 #endif
+            const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, 1);
             std::array<Vec2, 4> x{};
-            if (tags)
+            if (!one)
                 for (std::size_t q = 0; q < 4; ++q)
                     if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
             for (int q = 0; q < 2; ++q) {
@@ -314,7 +351,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 const auto tri = triangle_of(c, q);
                 const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
                                   d = static_cast<std::size_t>(tri[2]);
-                emit(v[a], v[b], v[d], x[a], x[b], x[d]);
+                emit(v[a], v[b], v[d], one ? *one : centroid_region(x[a], x[b], x[d]));
             }
         }
         assert(next == chunk_tris[static_cast<std::size_t>(ch) + 1]);

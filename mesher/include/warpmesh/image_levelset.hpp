@@ -98,6 +98,7 @@ public:
     // Triangles are tagged with the label of the nearest pixel in the region.
     bool tags_regions() const override { return true; }
     std::int32_t region_at(double x, double y) const override;
+    std::optional<RegionCell> region_in(const Box& box) const override;
 
 private:
     std::vector<std::uint16_t> label_;      // y-up, like field_

@@ -18,6 +18,15 @@ struct Box {
     double xmin, ymin, xmax, ymax;
 };
 
+// A region tag and a closed box on which region_at gives it (region_in).
+struct RegionCell {
+    std::int32_t region;
+    Box within;
+    bool holds(const Box& b) const {
+        return b.xmin >= within.xmin && b.xmax <= within.xmax && b.ymin >= within.ymin && b.ymax <= within.ymax;
+    }
+};
+
 // Bounds lo <= f <= hi on a closed box (lo may be -inf, hi +inf).
 struct Range {
     double lo, hi;
@@ -66,6 +75,14 @@ public:
     // Only asked when tags_regions() is true; otherwise every triangle gets 1.
     virtual bool tags_regions() const { return false; }
     virtual std::int32_t region_at(double /*x*/, double /*y*/) const { return 1; }
+    // Where the level set can tell cheaply that region_at is one tag on the
+    // whole closed box `box`: that tag, and a closed box `within` holding
+    // `box` on which the same holds (callers reuse it for the boxes it
+    // holds).  Else nullopt: ask region_at per triangle.  It must hold for the
+    // centroids the mesher computes from vertices in such a box, rounding
+    // included.  Lets the mesher tag the triangles of a run of squares or a
+    // coarse leaf with one call.
+    virtual std::optional<RegionCell> region_in(const Box& /*box*/) const { return std::nullopt; }
 
     // Exact area of {f <= 0}, where known (analytic shapes), for tests.
     virtual std::optional<double> exact_area() const { return std::nullopt; }
