@@ -15,18 +15,12 @@
 // resize() calls say which loop).
 #pragma once
 
-#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <new>
 #include <type_traits>
 #include <utility>
 #include <vector>
-
-#if __has_include(<sys/mman.h>)
-#include <sys/mman.h>
-#define WARPMESH_HAVE_MMAP 1
-#endif
 
 namespace warpmesh {
 
@@ -60,15 +54,12 @@ bool operator==(const DefaultInitAllocator<T>&, const DefaultInitAllocator<U>&) 
 template <class T>
 using Buffer = std::vector<T, DefaultInitAllocator<T>>;
 
-// An allocator whose memory comes zeroed, for trivial types whose all-zero
-// bytes are the value 0.  Elements are never written on construction, so a
-// ZeroBuffer is all zeros without being touched: a large one is fresh
-// anonymous pages from mmap, which the kernel zeroes on first use, and a
-// sparse array (the graded mesher's point bitsets, mostly empty away from the
-// boundary) costs only the pages it writes.  Not calloc for the large ones: a
-// calloc served from memory the heap already holds (the CLI raises glibc's
-// mmap threshold so that stages reuse each other's pages, main.cpp) must
-// clear it, touching every page.
+// An allocator whose memory comes zeroed from calloc, for trivial types whose
+// all-zero bytes are the value 0.  Elements are never written on
+// construction, so a ZeroBuffer is all zeros without being touched: a large
+// calloc is fresh pages the kernel zeroes on first use, and a sparse array
+// (the graded mesher's point bitsets, mostly empty away from the boundary)
+// costs only the pages it writes.
 template <class T>
 struct ZeroAllocator : DefaultInitAllocator<T> {
     static_assert(std::is_trivial_v<T>);
@@ -80,29 +71,12 @@ struct ZeroAllocator : DefaultInitAllocator<T> {
     ZeroAllocator() noexcept = default;
     template <class U>
     ZeroAllocator(const ZeroAllocator<U>&) noexcept {}
-    static constexpr std::size_t mmap_bytes = std::size_t{1} << 18;  // 256 KiB and up: pages of their own
     T* allocate(std::size_t n) {
-        if (n > SIZE_MAX / sizeof(T)) throw std::bad_alloc();
-#ifdef WARPMESH_HAVE_MMAP
-        if (n * sizeof(T) >= mmap_bytes) {
-            void* p = mmap(nullptr, n * sizeof(T), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-            if (p == MAP_FAILED) throw std::bad_alloc();
-            return static_cast<T*>(p);
-        }
-#endif
         void* p = std::calloc(n, sizeof(T));
         if (!p) throw std::bad_alloc();
         return static_cast<T*>(p);
     }
-    void deallocate(T* p, std::size_t n) noexcept {
-#ifdef WARPMESH_HAVE_MMAP
-        if (n * sizeof(T) >= mmap_bytes) {
-            munmap(p, n * sizeof(T));
-            return;
-        }
-#endif
-        std::free(p);
-    }
+    void deallocate(T* p, std::size_t) noexcept { std::free(p); }
 };
 
 template <class T, class U>
