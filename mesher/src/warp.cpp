@@ -9,6 +9,8 @@
 // Warped points carry the value 0 from here on: they lie on the level set.
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <stdexcept>
 #include <tuple>
 
 #include "warpmesh/lattice.hpp"
@@ -22,38 +24,41 @@ std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const Cut
     // edge per axis, so each stream — a subsequence of `cuts` — is sorted by
     // point with no point twice.  A four-way merge in the order (point, t,
     // direction) — nearest first, then the order of the Warp enumeration —
-    // replaces a sort; each stream is read in place by its own cursor (no copy).
+    // replaces a sort.  The streams hold indices into `cuts` (4 bytes an edge,
+    // not a copy of it).
     const std::int64_t nxp = lattice.points_x();
-    const std::size_t n = cuts.size();
+    if (cuts.size() >= UINT32_MAX) throw std::length_error("too many cut edges");
     auto p_moves = [](const CutEdge& e) { return e.u < 0.5 || (e.u == 0.5 && e.sign < 0); };
-    // Stream k: axis k & 1; the mover is p for k < 2, q for k >= 2.
-    auto in_stream = [&](const CutEdge& e, int k) { return e.axis == (k & 1) && p_moves(e) == (k < 2); };
-    auto candidate = [&](const CutEdge& e) -> WarpedPoint {
-        if (p_moves(e)) return {e.p, e.axis == 0 ? Warp::px : Warp::py, e.u};
-        return {e.p + (e.axis == 0 ? 1 : nxp), e.axis == 0 ? Warp::mx : Warp::my, 1 - e.u};
+    std::array<std::vector<std::uint32_t>, 4> stream;  // k = axis + 2 (q moves)
+    for (auto& l : stream) l.reserve(cuts.size() / 2 + 1);
+    for (std::size_t k = 0; k < cuts.size(); ++k)
+        stream[static_cast<std::size_t>(cuts[k].axis + (p_moves(cuts[k]) ? 0 : 2))].push_back(static_cast<std::uint32_t>(k));
+    auto candidate = [&](int k, std::uint32_t c) -> WarpedPoint {
+        const CutEdge& e = cuts[c];
+        switch (k) {
+            case 0: return {e.p, Warp::px, e.u};
+            case 1: return {e.p, Warp::py, e.u};
+            case 2: return {e.p + 1, Warp::mx, 1 - e.u};
+            default: return {e.p + nxp, Warp::my, 1 - e.u};
+        }
     };
+    auto before = [](const WarpedPoint& a, const WarpedPoint& b) { return std::tie(a.p, a.t, a.dir) < std::tie(b.p, b.t, b.dir); };
     std::array<std::size_t, 4> at{};
     std::array<WarpedPoint, 4> head{};
-    auto advance = [&](int k) {  // to stream k's next edge at or after at[k]; its candidate
-        std::size_t& a = at[static_cast<std::size_t>(k)];
-        while (a < n && !in_stream(cuts[a], k)) ++a;
-        if (a < n) head[static_cast<std::size_t>(k)] = candidate(cuts[a]);
-    };
-    for (int k = 0; k < 4; ++k) advance(k);
-    auto before = [](const WarpedPoint& a, const WarpedPoint& b) { return std::tie(a.p, a.t, a.dir) < std::tie(b.p, b.t, b.dir); };
+    for (int k = 0; k < 4; ++k)
+        if (!stream[static_cast<std::size_t>(k)].empty()) head[static_cast<std::size_t>(k)] = candidate(k, stream[static_cast<std::size_t>(k)][0]);
     std::vector<WarpedPoint> out;
-    out.reserve(n);
+    out.reserve(cuts.size());
     for (;;) {
         int best = -1;
         for (int k = 0; k < 4; ++k)
-            if (at[static_cast<std::size_t>(k)] < n &&
+            if (at[static_cast<std::size_t>(k)] < stream[static_cast<std::size_t>(k)].size() &&
                 (best < 0 || before(head[static_cast<std::size_t>(k)], head[static_cast<std::size_t>(best)])))
                 best = k;
         if (best < 0) break;
-        const WarpedPoint w = head[static_cast<std::size_t>(best)];
-        if (out.empty() || out.back().p != w.p) out.push_back(w);  // the first of a point's candidates wins
-        ++at[static_cast<std::size_t>(best)];
-        advance(best);
+        const std::size_t b = static_cast<std::size_t>(best);
+        if (out.empty() || out.back().p != head[b].p) out.push_back(head[b]);  // the first of a point's candidates wins
+        if (++at[b] < stream[b].size()) head[b] = candidate(best, stream[b][at[b]]);
     }
     return out;
 }
