@@ -257,6 +257,26 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--max-pixels", "0", "-o", "m.vtu"}, 2, {"--max-pixels"});
     sb.refuse({"mesh", img, "--max-squares", "-5", "-o", "m.vtu"}, 2, {"--max-squares"});
     sb.refuse({"mesh", img, "--threads", "0", "-o", "m.vtu"}, 2, {"--threads"});
+    sb.refuse({"mesh", img, "--repeat", "0", "-o", "m.vtu"}, 2, {"--repeat expects 1 to 1000"});
+    sb.refuse({"mesh", img, "--repeat", "two", "-o", "m.vtu"}, 2, {"--repeat expects an integer"});
+}
+
+// --repeat (benchmarks) meshes several times in one process: the files are
+// those of a single run, byte for byte, and the report says it was repeated.
+BOOST_AUTO_TEST_CASE(repeat_writes_the_mesh_of_one_run) {
+    Sandbox sb;
+    const std::string img = sb.input("disc.pgm", disc_pgm(24, 20)).string();
+    for (const bool graded : {false, true}) {
+        std::vector<std::string> once{"mesh", img, "--spacing", "0.5", "-o", "a.msh", "--report", "a.json", "--quiet"};
+        std::vector<std::string> thrice{"mesh", img, "--spacing", "0.5", "-o", "b.msh", "--report", "b.json", "--quiet", "--repeat", "3"};
+        if (graded) once.push_back("--graded"), thrice.push_back("--graded");
+        const Result r1 = sb.run(once), r3 = sb.run(thrice);
+        BOOST_TEST_INFO(r1.err << r3.err);
+        BOOST_REQUIRE(r1.code == 0 && r3.code == 0);
+        BOOST_TEST(slurp(sb.out / "a.msh") == slurp(sb.out / "b.msh"));
+        BOOST_TEST(slurp(sb.out / "b.json").find("\"repeat\": 3") != std::string::npos);
+        BOOST_TEST(slurp(sb.out / "a.json").find("\"repeat\"") == std::string::npos);
+    }
 }
 
 // --- spacing ------------------------------------------------------------------------
