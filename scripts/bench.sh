@@ -86,7 +86,9 @@ if [ "$quick" = 0 ]; then
   # The same meshing repeated in one process (library use): memory freed by
   # one run is reused by the next, so these exclude the first-touch page
   # faults that a fresh process pays (~2 us a page on this VM) — the
-  # difference between the two blocks is mostly that.
+  # difference between the two blocks is mostly that.  Peak memory here is
+  # the process's over all ten runs (the heap keeps freed pages, and
+  # fragmentation can hold up to two runs' worth).
   echo "== graded, warm: ten runs in one process (--repeat 10), the fastest"
   warm_case "graded disc, 4096x4096, warm" 1 --shape circle:0,0,2047 --spacing 1 --graded --no-certify
   warm_case "graded atlas upscaled, warm" 1 "$brain" --label nonzero --spacing 0.062255859375 --graded --no-certify

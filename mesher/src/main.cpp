@@ -338,7 +338,8 @@ int run_mesh(int argc, char** argv) {
         extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
         if (o.graded) {
             // --repeat: the earlier runs only for their times (each freed before
-            // the next, so peak memory is one run's); the last one is kept.
+            // the next; the heap keeps their pages, so the process's peak
+            // resident memory can exceed one run's); the last one is kept.
             GradedTimes fastest;
             for (std::int64_t k = 1; k < o.repeat; ++k) {
                 const GradedTimes t = mesh_graded(*f, lattice, o.rule, o.max_cell, certify).times;
