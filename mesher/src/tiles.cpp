@@ -204,11 +204,26 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
                 const std::int8_t* r = blk + (y + 1) * S + 1;  // row y; row y + 1 is r + S
                 const std::int64_t with_right = std::min(own_x, b.ni - 1), with_up = y + 1 < b.nj ? own_x : 0;
                 for (std::int64_t x0 = 0; x0 < own_x; x0 += 64) {
+                    // First a flag byte per point (a loop the compiler
+                    // vectorises), then — only in the rare chunk with a cut
+                    // edge — the bit masks.
+                    const std::int64_t nr = std::min(x0 + 64, with_right) - x0, nu = std::min(x0 + 64, with_up) - x0;
+                    std::array<std::uint8_t, 64> cr, cu;  // written for x < nr, x < nu; only those read
+                    std::uint8_t any = 0;
+                    for (std::int64_t x = 0; x < nr; ++x) {
+                        const std::int8_t a = r[x0 + x];
+                        cr[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>((a != 0) & (r[x0 + x + 1] == -a));
+                        any |= cr[static_cast<std::size_t>(x)];
+                    }
+                    for (std::int64_t x = 0; x < nu; ++x) {
+                        const std::int8_t a = r[x0 + x];
+                        cu[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>((a != 0) & (r[x0 + x + S] == -a));
+                        any |= cu[static_cast<std::size_t>(x)];
+                    }
+                    if (!any) continue;
                     std::uint64_t right = 0, up = 0;
-                    for (std::int64_t x = x0; x < std::min(x0 + 64, with_right); ++x)
-                        right |= static_cast<std::uint64_t>(r[x] != 0 && r[x + 1] == -r[x]) << (x - x0);
-                    for (std::int64_t x = x0; x < std::min(x0 + 64, with_up); ++x)
-                        up |= static_cast<std::uint64_t>(r[x] != 0 && r[x + S] == -r[x]) << (x - x0);
+                    for (std::int64_t x = 0; x < nr; ++x) right |= std::uint64_t{cr[static_cast<std::size_t>(x)]} << x;
+                    for (std::int64_t x = 0; x < nu; ++x) up |= std::uint64_t{cu[static_cast<std::size_t>(x)]} << x;
                     for (std::uint64_t m = right | up; m; m &= m - 1) {
                         const std::int64_t x = x0 + std::countr_zero(m);
                         const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
