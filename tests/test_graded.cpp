@@ -24,6 +24,7 @@
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/shapes.hpp"
+#include "warpmesh/tiles.hpp"
 #include "warpmesh/uniform.hpp"
 #include "without_range.hpp"
 
@@ -427,6 +428,34 @@ BOOST_AUTO_TEST_CASE(real_images) {
             wrong += m.region[t] != f->region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
         }
         BOOST_TEST(wrong == 0, "spacing " << s << ": " << wrong << " of " << m.triangles.size() << " tags differ");
+    }
+}
+
+// The tiled front end finds the uniform front end's cut edges and warped
+// points, for tiles of 4 to 128 squares (rows of up to 129 points: several
+// 64-point chunks of the cut-edge scan), and its signs are those of every
+// lattice point.
+BOOST_AUTO_TEST_CASE(tiled_front_end_matches_the_uniform_one_for_any_tile_size) {
+    for (const std::string spec : {"flower:0.3,-0.2,60,22,9", "diff(circle:0,0,70;rect:-20,-15,18,21)"}) {
+        const auto f = parse_shape(spec);
+        const Lattice l = lattice_around(f->bounds(), 0.61);
+        const WarpedLattice u = warp_lattice(*f, l);
+        for (const int tile_log : {2, 4, 6, 7}) {
+            BOOST_TEST_CONTEXT(spec << " tile_log " << tile_log) {
+                const TiledFront t = warp_tiles(*f, l, tile_log);
+                BOOST_TEST(t.cut_edges == u.cut_edges);
+                BOOST_REQUIRE(t.warped.size() == u.warped.size());
+                for (std::size_t k = 0; k < u.warped.size(); ++k) {
+                    BOOST_REQUIRE(t.warped[k].p == u.warped[k].p);
+                    BOOST_REQUIRE(t.warped[k].dir == u.warped[k].dir);
+                    BOOST_REQUIRE(t.warped[k].t == u.warped[k].t);
+                }
+                std::int64_t wrong = 0;
+                for (std::int64_t j = 0; j <= l.ny; ++j)
+                    for (std::int64_t i = 0; i <= l.nx; ++i) wrong += t.signs(i, j) != u.signs[static_cast<std::size_t>(l.index(i, j))];
+                BOOST_TEST(wrong == 0);
+            }
+        }
     }
 }
 
