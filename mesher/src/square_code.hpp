@@ -4,9 +4,10 @@
 // exactly the same way.  Private to mesher/src.
 //
 // Bit 0 = the chosen diagonal's first triangle is emitted, bit 1 = its second,
-// bit 2 = the diagonal is BC (else AD), bit 3 = the diagonal went through the
+// bit 2 = the diagonal is BC (else AD), bit 3 = the square goes through the
 // rule (a warped or zero-valued corner: the square has a key in the
-// certificates).  Corners A, B, C, D and diagonal_triangles are from
+// certificates) — where the diagonal matters (diagonal_matters below; a
+// square that emits nothing keeps bit 2 clear).  Corners A, B, C, D and diagonal_triangles are from
 // generic_square.hpp.
 #pragma once
 
@@ -37,6 +38,16 @@ constexpr std::array<std::array<std::uint8_t, 16>, 2> emitted = [] {
             }
     return e;
 }();
+
+// Whether the diagonal changes what a square with these inside corners emits.
+// Only with three or four inside corners: with two or fewer, no triangle of
+// either diagonal has three inside corners, and the square emits nothing
+// whichever diagonal it takes.  The meshers ask the rule only where it
+// matters (a fifth to a half of the squares with a warped corner are on the
+// outer side of the boundary and emit nothing).
+constexpr bool diagonal_matters(int inside_mask) {
+    return (emitted[0][static_cast<std::size_t>(inside_mask)] | emitted[1][static_cast<std::size_t>(inside_mask)]) != 0;
+}
 
 // Whether the emitted triangles of a square with this code use corner c, as a
 // table: bit c of corner_mask[code].

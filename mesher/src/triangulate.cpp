@@ -98,20 +98,22 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             std::uint8_t c = 0;
             if (any & (warped_bit | zero_bit)) {
                 warped_squares += (any & warped_bit) != 0;
-                std::array<CornerState, 4> cs{};
-                std::array<double, 4> t{};
-                for (int k = 0; k < 4; ++k) {
-                    cs[k].sign = signs[static_cast<std::size_t>(p[k])];
-                    if (st[k] & warped_bit) {
-                        const WarpedPoint& wp = warp_of(p[k]);
-                        cs[k].warp = wp.dir;
-                        t[k] = wp.t;
-                    }
-                }
-                bool was_forced = false;
                 c = rule_bit;
-                if (warped_square_diagonal(rule, cs, t, &was_forced) == Diagonal::BC) c |= bc_bit;
-                forced += was_forced;
+                if (diagonal_matters(inside)) {  // else it emits nothing, whichever diagonal
+                    std::array<CornerState, 4> cs{};
+                    std::array<double, 4> t{};
+                    for (int k = 0; k < 4; ++k) {
+                        cs[k].sign = signs[static_cast<std::size_t>(p[k])];
+                        if (st[k] & warped_bit) {
+                            const WarpedPoint& wp = warp_of(p[k]);
+                            cs[k].warp = wp.dir;
+                            t[k] = wp.t;
+                        }
+                    }
+                    bool was_forced = false;
+                    if (warped_square_diagonal(rule, cs, t, &was_forced) == Diagonal::BC) c |= bc_bit;
+                    forced += was_forced;
+                }
             }
             const std::uint8_t e = emitted[(c & bc_bit) != 0][inside];
             c |= e;

@@ -165,7 +165,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // The code of finest square (i, j): its diagonal and emitted triangles, as
     // in triangulate.cpp.  `warped_corner` / `forced_diag` report, for the
     // stats, whether a corner is warped and whether the separating rule
-    // overrode max-min.
+    // overrode max-min (asked only where the diagonal matters).
     auto finest_code = [&](std::int64_t i, std::int64_t j, bool* warped_corner, bool* forced_diag) -> std::uint8_t {
         const auto p = square_corners(i, j);
         const std::array<std::int8_t, 4> sg = signs.square(i, j);
@@ -179,23 +179,26 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         // separating rule may force BC even on the unwarped square) goes to the
         // certified rule; the plain unit square takes AD.
         const bool zero_corner = sg[0] == 0 || sg[1] == 0 || sg[2] == 0 || sg[3] == 0;
+        const int mask = in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3;
         if (*warped_corner || zero_corner) {
-            std::array<CornerState, 4> cs{};
-            std::array<double, 4> t{};
-            for (std::size_t q = 0; q < 4; ++q) {
-                cs[q].sign = sg[q];
-                if (wp[q]) {
-                    const WarpedPoint& w = warp_of(p[q]);
-                    cs[q].warp = w.dir;
-                    t[q] = w.t;
-                }
-            }
             c = rule_bit;
-            if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
+            if (diagonal_matters(mask)) {
+                std::array<CornerState, 4> cs{};
+                std::array<double, 4> t{};
+                for (std::size_t q = 0; q < 4; ++q) {
+                    cs[q].sign = sg[q];
+                    if (wp[q]) {
+                        const WarpedPoint& w = warp_of(p[q]);
+                        cs[q].warp = w.dir;
+                        t[q] = w.t;
+                    }
+                }
+                if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
+            }
         } else if (sg[0] < 0 && sg[1] < 0 && sg[2] < 0 && sg[3] < 0) {
             c = interior_bit;
         }
-        return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3]);
+        return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][mask]);
     };
 
     // ---- pass 1: codes, counts, used points ----------------------------------

@@ -123,7 +123,9 @@ struct KeyedSquare {
 
 struct TriangulateStats {
     std::int64_t warped_squares = 0;
-    std::int64_t forced_diagonals = 0;  // squares where the separating rule overrode max-min
+    // Squares that emit triangles and whose diagonal the separating rule took
+    // against max-min (a square that emits nothing has no diagonal in the mesh).
+    std::int64_t forced_diagonals = 0;
     // If set (input), filled with the squares "through the rule" (a warped or
     // zero-valued corner) that emit triangles, in increasing square order, with
     // their output triangles: a few per boundary square, nothing per triangle.
