@@ -152,12 +152,13 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // by the same affine map as generic_positions, scaled by s — and the same
     // expression as triangulate.cpp, so the coordinates agree with the uniform
     // mesh's to the bit.
-    auto position = [&](Pt p, bool is_warped) {
-        Vec2 x = lattice.position(p.i, p.j);
-        if (is_warped) {
-            const WarpedPoint& wp = warp_of(p);
-            x.x += warp_dx(wp.dir) * wp.t * lattice.s;
-            x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+    // `wp`: the point's warp record, or null if it stays.
+    auto position = [&](std::int64_t i, std::int64_t j, const WarpedPoint* wp) {
+        Vec2 x = lattice.position(i, j);
+        if (wp) {
+            assert(wp->p == i + j * nxp);
+            x.x += warp_dx(wp->dir) * wp->t * lattice.s;
+            x.y += warp_dy(wp->dir) * wp->t * lattice.s;
         }
         return x;
     };
@@ -259,10 +260,22 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     Mesh mesh;
     mesh.vertices.resize(static_cast<std::size_t>(nverts));
     mesh.triangles.resize(static_cast<std::size_t>(ntris));
+    // Word by word: `used` and the tree's warped set have the same dimensions,
+    // hence the same word layout, so a word's warped members are one AND away
+    // and their records at the warped set's ranks (no per-point lookups).
+    assert(used.words.size() == warped_set.words.size());
 #pragma omp parallel for schedule(static) if (parallel && nverts >= 4096)
     for (std::int64_t j = 0; j <= ny; ++j)
-        used.for_each_in_row(j, [&](std::int64_t i, std::int64_t rank) {
-            mesh.vertices[static_cast<std::size_t>(rank)] = position({i, j}, warped_set.contains(i, j));
+        used.for_each_word_in_row(j, [&](std::size_t w, std::int64_t i0, std::uint64_t bits, std::int64_t r0) {
+            const std::uint64_t moved = warped_set.words[w];
+            for (std::int64_t r = r0; bits; bits &= bits - 1, ++r) {
+                const int b = std::countr_zero(bits);
+                const WarpedPoint* wp = nullptr;
+                if ((moved >> b) & 1)  // `warped` is sorted by point: a record at its rank
+                    wp = &warped[static_cast<std::size_t>(warped_set.prefix[w]) +
+                                 static_cast<std::size_t>(std::popcount(moved & ((std::uint64_t{1} << b) - 1)))];
+                mesh.vertices[static_cast<std::size_t>(r)] = position(i0 + b, j, wp);
+            }
         });
     auto vid = [&](Pt p) {
         assert(used.contains(p.i, p.j));

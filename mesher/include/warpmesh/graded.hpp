@@ -139,20 +139,28 @@ struct PointSet {
         if ((i & 63) == 63) return {r, rank(i + 1, j)};
         return {r, r + static_cast<std::int64_t>(contains(i, j))};
     }
-    // fn(i, rank) for every member of row j, in increasing i (after finish).
+    // fn(w, i0, bits, rank0) for every non-zero word of row j, in increasing
+    // i (after finish): its index w, its first point i0, its members and the
+    // rank of its first member.  Point sets of the same dimensions share the
+    // word layout, so w indexes theirs too.
     template <class Fn>
-    void for_each_in_row(std::int64_t j, Fn&& fn) const {
+    void for_each_word_in_row(std::int64_t j, Fn&& fn) const {
         const std::int64_t by = j >> 7;
         for (std::int64_t bx = 0; bx < blocks_x; ++bx) {
             if (!flagged[static_cast<std::size_t>(by * blocks_x + bx)]) continue;
             const std::size_t base = static_cast<std::size_t>((by * blocks_x + bx) * (block_words * block_rows) + ((j & 127) << 2));
-            for (int q = 0; q < block_words; ++q) {
-                std::uint64_t bits = words[base + static_cast<std::size_t>(q)];
-                const std::int64_t r0 = bits ? static_cast<std::int64_t>(prefix[base + static_cast<std::size_t>(q)]) : 0;
-                for (int k = 0; bits; bits &= bits - 1, ++k)
-                    fn((bx * block_words + q) * 64 + std::countr_zero(bits), r0 + k);
-            }
+            for (int q = 0; q < block_words; ++q)
+                if (const std::uint64_t bits = words[base + static_cast<std::size_t>(q)])
+                    fn(base + static_cast<std::size_t>(q), (bx * block_words + q) * 64, bits,
+                       static_cast<std::int64_t>(prefix[base + static_cast<std::size_t>(q)]));
         }
+    }
+    // fn(i, rank) for every member of row j, in increasing i (after finish).
+    template <class Fn>
+    void for_each_in_row(std::int64_t j, Fn&& fn) const {
+        for_each_word_in_row(j, [&](std::size_t, std::int64_t i0, std::uint64_t bits, std::int64_t r0) {
+            for (int k = 0; bits; bits &= bits - 1, ++k) fn(i0 + std::countr_zero(bits), r0 + k);
+        });
     }
 };
 
