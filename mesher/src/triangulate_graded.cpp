@@ -215,11 +215,13 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
 #ifdef _OPENMP
     parallel = nchunks > 1 && omp_get_max_threads() > 1;
 #endif
-    auto mark = [&](Pt p) {
+    // Points (i + k, j) for the bits k of rel (several in one or two words).
+    auto mark = [&](std::int64_t i, std::int64_t j, std::uint64_t rel) {
+        if (!rel) return;
         if (parallel)
-            used.insert_concurrent(p.i, p.j);
+            used.insert_bits<true>(i, j, rel);
         else
-            used.insert(p.i, p.j);
+            used.insert_bits<false>(i, j, rel);
     };
     std::int64_t warped_squares = 0, forced = 0, n_finest = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced, n_finest) if (parallel)
@@ -229,12 +231,21 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
             if (leaf.level > 0) {
                 if (leaf.sign > 0) continue;
-                std::array<Pt, 8> ring{};
-                Pt centre{};
-                const int n = coarse_ring(leaf, ring, centre);
-                for (int r = 0; r < n; ++r) mark(ring[static_cast<std::size_t>(r)]);
-                if (leaf.split_sides) mark(centre);
-                tris += coarse_triangles(leaf.split_sides);
+                const std::uint8_t split = leaf.split_sides;
+                const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
+                if (w < 64) {  // the ring and centre (coarse_ring) by rows: j, j + h, j + w
+                    auto at = [](bool on, std::int64_t k) { return on ? std::uint64_t{1} << k : 0; };
+                    mark(i, j, 1 | at(split & side_bottom, h) | std::uint64_t{1} << w);
+                    mark(i, j + h, at(split & side_left, 0) | at(split != 0, h) | at(split & side_right, w));
+                    mark(i, j + w, 1 | at(split & side_top, h) | std::uint64_t{1} << w);
+                } else {
+                    std::array<Pt, 8> ring{};
+                    Pt centre{};
+                    const int n = coarse_ring(leaf, ring, centre);
+                    for (int r = 0; r < n; ++r) mark(ring[static_cast<std::size_t>(r)].i, ring[static_cast<std::size_t>(r)].j, 1);
+                    if (split) mark(centre.i, centre.j, 1);
+                }
+                tris += coarse_triangles(split);
                 continue;
             }
             ++n_finest;
@@ -242,10 +253,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             const std::uint8_t c = finest_code(leaf.i, leaf.j, &warped_corner, &was_forced);
             warped_squares += warped_corner;
             forced += was_forced;
-            const auto p = square_corners(leaf.i, leaf.j);
             tris += (c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0);
-            for (int q = 0; q < 4; ++q)
-                if (uses_corner(c, q)) mark(p[static_cast<std::size_t>(q)]);
+            const unsigned corners = corner_mask[c & 7];  // bit q: corner q (A, B, C, D) is used
+            mark(leaf.i, leaf.j, corners & 3);
+            mark(leaf.i, leaf.j + 1, corners >> 2);
             leaf_code[static_cast<std::size_t>(k)] = c;
         }
         chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;

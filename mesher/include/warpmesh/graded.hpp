@@ -105,15 +105,31 @@ struct PointSet {
     }
     static std::uint64_t bit(std::int64_t i) { return std::uint64_t{1} << (i & 63); }
     bool contains(std::int64_t i, std::int64_t j) const { return words[word(i, j)] & bit(i); }
-    void insert(std::int64_t i, std::int64_t j) {
-        words[word(i, j)] |= bit(i);
-        flagged[block(i, j)] = 1;
-    }
+    void insert(std::int64_t i, std::int64_t j) { insert_bits<false>(i, j, 1); }
     // insert() for threads marking the same set at once (relaxed atomics).
-    void insert_concurrent(std::int64_t i, std::int64_t j) {
-        std::atomic_ref<std::uint64_t>(words[word(i, j)]).fetch_or(bit(i), std::memory_order_relaxed);
-        std::atomic_ref<std::uint8_t>(flagged[block(i, j)]).store(1, std::memory_order_relaxed);
+    void insert_concurrent(std::int64_t i, std::int64_t j) { insert_bits<true>(i, j, 1); }
+    // Points (i + k, j) for the bits k of rel (non-zero): at most two words,
+    // the one of i and the next, since k < 64.
+    template <bool concurrent>
+    void insert_bits(std::int64_t i, std::int64_t j, std::uint64_t rel) {
+        const int b = static_cast<int>(i & 63);
+        or_word<concurrent>(i, j, rel << b);
+        if (b && (rel >> (64 - b))) or_word<concurrent>(i - b + 64, j, rel >> (64 - b));
     }
+
+private:
+    template <bool concurrent>
+    void or_word(std::int64_t i, std::int64_t j, std::uint64_t bits) {
+        if constexpr (concurrent) {
+            std::atomic_ref<std::uint64_t>(words[word(i, j)]).fetch_or(bits, std::memory_order_relaxed);
+            std::atomic_ref<std::uint8_t>(flagged[block(i, j)]).store(1, std::memory_order_relaxed);
+        } else {
+            words[word(i, j)] |= bits;
+            flagged[block(i, j)] = 1;
+        }
+    }
+
+public:
     // Membership of (i, j) and (i + 1, j) as bits 0 and 1: one word, unless
     // i is the last point of its word.
     unsigned pair(std::int64_t i, std::int64_t j) const {
