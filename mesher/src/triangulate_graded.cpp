@@ -44,7 +44,8 @@
 // boundary edges.
 //
 // Passes, over fixed-size chunks of leaves (parallel, deterministic):
-//   1. per leaf its code and triangle count; mark used points;
+//   1. the finest leaves' codes, by pairs of rows (a parent's 2 x 2 squares
+//      at once); then per chunk the triangle counts, and the used points;
 //   2. compact vertex ids in lattice-point order (a bitset with ranks);
 //   3. triangles at chunk offsets; region tags;
 //   4. boundary edges of the finest leaves.
@@ -167,11 +168,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // in triangulate.cpp.  `warped_corner` / `forced_diag` report, for the
     // stats, whether a corner is warped and whether the separating rule
     // overrode max-min (asked only where the diagonal matters).
-    auto finest_code = [&](std::int64_t i, std::int64_t j, bool* warped_corner, bool* forced_diag) -> std::uint8_t {
+    // `sg`, `wp`: the signs and warped flags of its corners A, B, C, D.
+    auto finest_code = [&](std::int64_t i, std::int64_t j, const std::array<std::int8_t, 4>& sg, const std::array<bool, 4>& wp,
+                           bool* warped_corner, bool* forced_diag) -> std::uint8_t {
         const auto p = square_corners(i, j);
-        const std::array<std::int8_t, 4> sg = signs.square(i, j);
-        const unsigned lo = warped_set.pair(i, j), hi = warped_set.pair(i, j + 1);
-        const std::array<bool, 4> wp{(lo & 1) != 0, (lo & 2) != 0, (hi & 1) != 0, (hi & 2) != 0};
         std::array<bool, 4> in{};
         for (std::size_t q = 0; q < 4; ++q) in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
         std::uint8_t c = 0;
@@ -202,8 +202,73 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][mask]);
     };
 
-    // ---- pass 1: codes, counts, used points ----------------------------------
+    // The finest leaves come first in `leaves`, row by row (quadtree_leaves).
+    const std::int64_t n_finest = std::partition_point(leaves.begin(), leaves.end(), [](const Leaf& l) { return l.level == 0; }) - leaves.begin();
+    std::vector<std::int64_t> row_first(static_cast<std::size_t>(ny) + 1);  // first finest leaf of row >= j
+    for (std::int64_t j = 0, k = 0; j <= ny; ++j) {
+        while (k < n_finest && leaves[static_cast<std::size_t>(k)].j < j) ++k;
+        row_first[static_cast<std::size_t>(j)] = k;
+    }
+    auto row_end = [&](std::int64_t j) { return j < ny ? row_first[static_cast<std::size_t>(j) + 1] : n_finest; };
+
+    // ---- pass 1a: the finest leaves' codes, a parent's 2 x 2 squares at once --
+    // Rows 2R and 2R + 1 of finest leaves hold the children of the same split
+    // level-1 parents (quadtree_leaves): the same i's, in the same order.  A
+    // parent's (up to) 2 x 2 squares share their 3 x 3 corners, whose signs
+    // lie in one tile's block (the tile of its lower-left square: T is even,
+    // so the corners reach at most the tile's last point) and whose warped
+    // flags lie in three rows of the warped set: looked up once per parent.
     std::vector<std::uint8_t> leaf_code(leaves.size(), 0);
+    auto warped_bits = [&](std::int64_t i, std::int64_t row, int n) -> unsigned {  // (i + q, row), q < n
+        const int b = static_cast<int>(i & 63);
+        if (b + n <= 64) return static_cast<unsigned>(warped_set.words[warped_set.word(i, row)] >> b) & ((1u << n) - 1);
+        unsigned r = 0;
+        for (int q = 0; q < n; ++q) r |= static_cast<unsigned>(warped_set.contains(i + q, row)) << q;
+        return r;
+    };
+    const std::int64_t row_pairs = (ny + 1) / 2;
+    std::int64_t warped_squares = 0, forced = 0;
+    bool parallel = false;
+#ifdef _OPENMP
+    parallel = nchunks > 1 && omp_get_max_threads() > 1;
+#endif
+#pragma omp parallel for schedule(dynamic, 16) reduction(+ : warped_squares, forced) if (parallel)
+    for (std::int64_t R = 0; R < row_pairs; ++R) {
+        const std::int64_t j = 2 * R, k0 = row_first[static_cast<std::size_t>(j)], n = row_end(j) - k0;
+        const bool two_rows = j + 1 < ny;
+        const std::int64_t k1 = two_rows ? row_first[static_cast<std::size_t>(j) + 1] : 0;
+        assert(!two_rows || row_end(j + 1) - k1 == n);
+        for (std::int64_t t = 0; t < n;) {
+            const std::int64_t i = leaves[static_cast<std::size_t>(k0 + t)].i;
+            const int cols = t + 1 < n && leaves[static_cast<std::size_t>(k0 + t + 1)].i == i + 1 ? 2 : 1, rows = two_rows ? 2 : 1;
+            std::array<std::array<std::int8_t, 3>, 3> sg{};  // [row][column] of the corners (i + c, j + r)
+            const std::int64_t I = i >> signs.tile_log, J = j >> signs.tile_log;
+            const std::int32_t slot = signs.slot[static_cast<std::size_t>(I + J * signs.tx)];
+            const std::int8_t* c0 = slot < 0 ? nullptr : signs.at(slot, I, J, i, j);
+            std::array<unsigned, 3> wb{};
+            for (int r = 0; r <= rows; ++r) {
+                for (int c = 0; c <= cols; ++c)
+                    sg[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)] =
+                        c0 ? c0[r * signs.stride() + c] : signs.uniform[static_cast<std::size_t>(I + J * signs.tx)];
+                wb[static_cast<std::size_t>(r)] = warped_bits(i, j + r, cols + 1);
+            }
+            for (int r = 0; r < rows; ++r)
+                for (int c = 0; c < cols; ++c) {
+                    const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(c);
+                    const std::array<std::int8_t, 4> s4{sg[R0][C0], sg[R0][C0 + 1], sg[R0 + 1][C0], sg[R0 + 1][C0 + 1]};
+                    const std::array<bool, 4> w4{((wb[R0] >> c) & 1) != 0, ((wb[R0] >> (c + 1)) & 1) != 0,
+                                                 ((wb[R0 + 1] >> c) & 1) != 0, ((wb[R0 + 1] >> (c + 1)) & 1) != 0};
+                    assert(s4 == signs.square(i + c, j + r));
+                    bool warped_corner = false, was_forced = false;
+                    leaf_code[static_cast<std::size_t>((r ? k1 : k0) + t + c)] = finest_code(i + c, j + r, s4, w4, &warped_corner, &was_forced);
+                    warped_squares += warped_corner;
+                    forced += was_forced;
+                }
+            t += cols;
+        }
+    }
+
+    // ---- pass 1: counts, used points -------------------------------------------
     // Used points, a bitset with ranks: the vertex id of a used point is its
     // rank — no lattice-sized id array.
     PointSet used(nxp, ny + 1);
@@ -211,10 +276,6 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // Several leaves may mark one point: relaxed atomic or-s when chunks run
     // in parallel (a locked instruction costs several plain ones, so not
     // with one thread).
-    bool parallel = false;
-#ifdef _OPENMP
-    parallel = nchunks > 1 && omp_get_max_threads() > 1;
-#endif
     // Points (i + k, j) for the bits k of rel (several in one or two words).
     auto mark = [&](std::int64_t i, std::int64_t j, std::uint64_t rel) {
         if (!rel) return;
@@ -223,8 +284,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         else
             used.insert_bits<false>(i, j, rel);
     };
-    std::int64_t warped_squares = 0, forced = 0, n_finest = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced, n_finest) if (parallel)
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t tris = 0;
         for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
@@ -248,16 +308,11 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 tris += coarse_triangles(split);
                 continue;
             }
-            ++n_finest;
-            bool warped_corner = false, was_forced = false;
-            const std::uint8_t c = finest_code(leaf.i, leaf.j, &warped_corner, &was_forced);
-            warped_squares += warped_corner;
-            forced += was_forced;
+            const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
             tris += (c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0);
             const unsigned corners = corner_mask[c & 7];  // bit q: corner q (A, B, C, D) is used
             mark(leaf.i, leaf.j, corners & 3);
             mark(leaf.i, leaf.j + 1, corners >> 2);
-            leaf_code[static_cast<std::size_t>(k)] = c;
         }
         chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;
     }
@@ -394,10 +449,6 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // leaves: the neighbour along x is the next or previous leaf), or inside
     // a coarse leaf: all its corners then have the leaf's sign, and it covers
     // every side iff that sign is -1 (code 3 = both AD triangles).
-    std::vector<std::int64_t> row_first(static_cast<std::size_t>(ny) + 1, n_finest);  // first finest leaf of row >= j
-    for (std::int64_t k = n_finest - 1; k >= 0; --k) row_first[static_cast<std::size_t>(leaves[static_cast<std::size_t>(k)].j)] = k;
-    for (std::int64_t j = ny - 1; j >= 0; --j)
-        row_first[static_cast<std::size_t>(j)] = std::min(row_first[static_cast<std::size_t>(j)], row_first[static_cast<std::size_t>(j) + 1]);
     // The code of square (a, b) in row b = j - 1 or j + 1 of the current leaf
     // (i, j): `hint` is a cursor into row b that only moves forward, since the
     // leaves of a chunk visit a row's i in increasing order.
