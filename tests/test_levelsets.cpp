@@ -380,7 +380,7 @@ BOOST_AUTO_TEST_CASE(region_in_agrees_with_region_at) {
             px[static_cast<std::size_t>(r * W + c)] = static_cast<std::uint16_t>(
                 c > 15 ? std::array{0, 7, 9, 12}[rng() % 4] : (c / 4 + r / 5) % 3 == 0 ? 0 : (c < 8 ? 7 : 9));
     const auto f = make_image_levelset(make_image(W, H, px), label_options("nonzero"));
-    std::uniform_real_distribution<double> pos(-1.0, W + 1.0), size(0.0, 0.6), unit(0.0, 1.0);
+    std::uniform_real_distribution<double> pos(-1.0, W + 1.0), size(0.0, 2.5), unit(0.0, 1.0);  // boxes over up to 3 x 3 cells
     int answered = 0, inside_small = 0;
     for (int n = 0; n < 20000; ++n) {
         const double x0 = pos(rng), y0 = pos(rng) * H / W, w = size(rng), h = size(rng);

@@ -492,22 +492,26 @@ LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool n
     build_range_pyramid();
 }
 
-// A pixel cell [c, c + 1] x [r, r + 1] whose region centres share one label
+// Pixel cells [c, c + 1] x [r, r + 1] whose region centres share one label
 // (cell_label_): every point (x, y) with c <= x < c + 1, r <= y < r + 1 is
 // left alone by region_at's clamp (c + 1 <= w - 1, r + 1 <= h - 1) and
-// truncates to the cell, so region_at's fast path answers that label.
-// `within` is the cell shrunk by a margin, 2^-30 of the image's size: far
-// above the rounding of a centroid of three vertices in it (a few ulps of the
-// coordinates), so such a centroid stays in [c, c + 1) x [r, r + 1), and far
-// below a pixel.
+// truncates to the cell, so region_at's fast path answers that label.  The
+// box may span up to 3 x 3 cells, all of one label.  `within` is those cells'
+// union shrunk by a margin, 2^-30 of the image's size: far above the rounding
+// of a centroid of three vertices in it (a few ulps of the coordinates), so
+// such a centroid stays in the cells, and far below a pixel.
 std::optional<RegionCell> LabelLevelSet::region_in(const Box& box) const {
     const double m = 0x1p-30 * (1 + std::max(w_, h_));
     if (!(box.xmin >= m && box.ymin >= m && box.xmax < w_ && box.ymax < h_)) return std::nullopt;
-    const int c = static_cast<int>(box.xmin), r = static_cast<int>(box.ymin);
-    if (c + 1 >= w_ || r + 1 >= h_) return std::nullopt;
-    const std::int32_t l = cell_label_[index(c, r)];
+    const int c0 = static_cast<int>(box.xmin), r0 = static_cast<int>(box.ymin);
+    const int c1 = static_cast<int>(box.xmax), r1 = static_cast<int>(box.ymax);
+    if (c1 + 1 >= w_ || r1 + 1 >= h_ || c1 - c0 > 2 || r1 - r0 > 2) return std::nullopt;
+    const std::int32_t l = cell_label_[index(c0, r0)];
     if (l < 0) return std::nullopt;
-    const RegionCell cell{l, {c + m, r + m, c + 1 - m, r + 1 - m}};
+    for (int r = r0; r <= r1; ++r)
+        for (int c = c0; c <= c1; ++c)
+            if (cell_label_[index(c, r)] != l) return std::nullopt;
+    const RegionCell cell{l, {c0 + m, r0 + m, c1 + 1 - m, r1 + 1 - m}};
     if (!cell.holds(box)) return std::nullopt;
     return cell;
 }
