@@ -535,8 +535,11 @@ std::int32_t LabelLevelSet::region_at(double x, double y) const {
         for (int dx = 0; dx < 2; ++dx) {
             const int c = std::min(c0 + dx, w_ - 1), yy = std::min(y0 + dy, h_ - 1);
             const std::size_t k = index(c, yy);
-            const double d = (x - c) * (x - c) + (y - yy) * (y - yy);
-            if (inside_[k] && d < best) best = d, pick = k;
+            // Selects, not branches: which centre wins is data-dependent.
+            const double d = inside_[k] ? (x - c) * (x - c) + (y - yy) * (y - yy) : std::numeric_limits<double>::infinity();
+            const bool nearer = d < best;
+            best = nearer ? d : best;
+            pick = nearer ? k : pick;
         }
     if (best == std::numeric_limits<double>::infinity())
         pick = nearest_in_[index(static_cast<int>(std::lround(x)), static_cast<int>(std::lround(y)))];
