@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <tuple>
 
@@ -43,22 +44,28 @@ std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const Cut
         }
     };
     auto before = [](const WarpedPoint& a, const WarpedPoint& b) { return std::tie(a.p, a.t, a.dir) < std::tie(b.p, b.t, b.dir); };
+    constexpr std::int64_t done = std::numeric_limits<std::int64_t>::max();
     std::array<std::size_t, 4> at{};
     std::array<WarpedPoint, 4> head{};
-    for (int k = 0; k < 4; ++k)
-        if (!stream[static_cast<std::size_t>(k)].empty()) head[static_cast<std::size_t>(k)] = candidate(k, stream[static_cast<std::size_t>(k)][0]);
+    std::array<std::int64_t, 4> key{};  // the head's point, or `done`
+    auto load = [&](std::size_t k) {
+        key[k] = done;
+        if (at[k] < stream[k].size()) head[k] = candidate(static_cast<int>(k), stream[k][at[k]]), key[k] = head[k].p;
+    };
+    for (std::size_t k = 0; k < 4; ++k) load(k);
     std::vector<WarpedPoint> out;
     out.reserve(cuts.size());
     for (;;) {
-        int best = -1;
-        for (int k = 0; k < 4; ++k)
-            if (at[static_cast<std::size_t>(k)] < stream[static_cast<std::size_t>(k)].size() &&
-                (best < 0 || before(head[static_cast<std::size_t>(k)], head[static_cast<std::size_t>(best)])))
-                best = k;
-        if (best < 0) break;
-        const std::size_t b = static_cast<std::size_t>(best);
+        // The smallest point by selects (which stream holds it is data-
+        // dependent); another head at the same point, rarely, by (t, direction).
+        std::size_t b = 0;
+        for (std::size_t k = 1; k < 4; ++k) b = key[k] < key[b] ? k : b;
+        if (key[b] == done) break;
+        for (std::size_t k = 0; k < 4; ++k)
+            if (k != b && key[k] == key[b] && before(head[k], head[b])) b = k;
         if (out.empty() || out.back().p != head[b].p) out.push_back(head[b]);  // the first of a point's candidates wins
-        if (++at[b] < stream[b].size()) head[b] = candidate(best, stream[b][at[b]]);
+        ++at[b];
+        load(b);
     }
     return out;
 }
