@@ -253,20 +253,23 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
             for (std::int64_t y = 0; y < wy; ++y) {
                 const std::int8_t* c = code.data() + y * w;
                 std::int8_t* o = triple.data() + y * half;
-                for (std::int64_t x = 0; x < half; ++x)
-                    o[x] = c[2 * x] == c[2 * x + 1] && c[2 * x + 1] == c[2 * x + 2] ? c[2 * x] : std::int8_t{0};
+                for (std::int64_t x = 0; x < half; ++x)  // & and a select, not && (which kept the loop scalar)
+                    o[x] = static_cast<std::int8_t>(c[2 * x] * ((c[2 * x] == c[2 * x + 1]) & (c[2 * x + 1] == c[2 * x + 2])));
             }
-            for (std::int64_t y = 0; y < half; ++y)
-                for (std::int64_t x = 0; x < half; ++x) {
-                    const std::int64_t I = TI * half + x, J = TJ * half + y;
-                    std::int8_t sg = 0;
-                    if (2 * I + 2 <= nx && 2 * J + 2 <= ny) {  // (its points are then all computed)
-                        const std::int8_t* c = triple.data() + 2 * y * half + x;
-                        sg = c[0] == c[half] && c[half] == c[2 * half] ? c[0] : std::int8_t{0};
-                        if (sg < 0 && (I == 0 || J == 0 || 2 * I + 2 == nx || 2 * J + 2 == ny)) sg = 0;
-                    }
-                    out[y * half + x] = sg;
+            for (std::int64_t y = 0; y < half; ++y) {
+                const std::int64_t J = TJ * half + y;
+                const std::int8_t* c = triple.data() + 2 * y * half;  // rows 2y, 2y + 1, 2y + 2 of triples
+                for (std::int64_t x = 0; x < half; ++x) {  // selects, not branches: a loop the compiler vectorises
+                    const std::int64_t I = TI * half + x;
+                    // Only a node whose points are all in the lattice (then all
+                    // computed; the others' triples are stale and ignored);
+                    // an inside one on the lattice border is not coarsenable.
+                    const bool in = (2 * I + 2 <= nx) & (2 * J + 2 <= ny);
+                    const bool edge = (I == 0) | (J == 0) | (2 * I + 2 == nx) | (2 * J + 2 == ny);
+                    const std::int8_t sg = static_cast<std::int8_t>(c[x] * ((c[x] == c[x + half]) & (c[x + half] == c[x + 2 * half])));
+                    out[y * half + x] = static_cast<std::int8_t>(sg * (in & !(edge & (sg < 0))));
                 }
+            }
             for (int l = 2; l <= t.local_top; ++l) {
                 const std::int64_t n = T >> l, cx = t.nodes_x[static_cast<std::size_t>(l) - 1],
                                    cy = t.nodes_y[static_cast<std::size_t>(l) - 1];
