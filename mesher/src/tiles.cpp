@@ -9,6 +9,10 @@
 
 #include "warpmesh/tiles.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace warpmesh {
 namespace {
 
@@ -165,11 +169,30 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
     const std::int64_t n = static_cast<std::int64_t>(sampled.size());
 
     // ---- sample, signs, cut edges of each sampled tile ----------------------------
-    std::vector<std::vector<CutEdge>> cuts(sampled.size());
+    // Each thread appends its tiles' cut edges to one list of its own (not a
+    // list per tile: thousands of small growing vectors cost more in the
+    // allocator than the edges themselves); a tile's are at span[s].
+    struct Span {
+        std::size_t list, begin, end;
+    };
+    int nthreads = 1;
+#ifdef _OPENMP
+    nthreads = omp_get_max_threads();
+#endif
+    std::vector<std::vector<CutEdge>> lists(static_cast<std::size_t>(nthreads));
+    std::vector<Span> span(sampled.size(), Span{0, 0, 0});
     std::int64_t bad = -1, points = 0;  // the lattice index of a non-finite value
 #pragma omp parallel reduction(max : bad) reduction(+ : points)
     {
         std::vector<double> v(static_cast<std::size_t>((t.size() + 1) * (t.size() + 1)));
+        int me = 0;
+#ifdef _OPENMP
+        me = omp_get_thread_num();
+#endif
+        auto& out = lists[static_cast<std::size_t>(me)];
+        // Room for a boundary crossing each of its tiles once (T cut edges);
+        // reserved, so untouched beyond what is written.
+        out.reserve(static_cast<std::size_t>(n / nthreads + 1) * static_cast<std::size_t>(t.size()));
 #pragma omp for schedule(dynamic, 4)
         for (std::int64_t s = 0; s < n; ++s) {
             const std::int64_t k = sampled[static_cast<std::size_t>(s)], I = k % t.tx, J = k / t.tx;
@@ -199,7 +222,7 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
             // (+y) is cut — sp != 0 and the other end -sp — so that the cut
             // edges, a few per row, are visited in point order (+x before +y).
             const std::int64_t own_x = I + 1 == t.tx ? b.ni : b.ni - 1, own_y = J + 1 == t.ty ? b.nj : b.nj - 1;
-            auto& out = cuts[static_cast<std::size_t>(s)];
+            const std::size_t first = out.size();
             for (std::int64_t y = 0; y < own_y; ++y) {
                 const std::int8_t* r = blk + (y + 1) * S + 1;  // row y; row y + 1 is r + S
                 const std::int64_t with_right = std::min(own_x, b.ni - 1), with_up = y + 1 < b.nj ? own_x : 0;
@@ -236,6 +259,7 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
                     }
                 }
             }
+            span[static_cast<std::size_t>(s)] = {static_cast<std::size_t>(me), first, out.size()};
         }
     }
     if (bad >= 0) throw_non_finite(lattice, bad);
@@ -245,9 +269,8 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
     // ---- cut edges in point order: tile rows own the same lattice rows -----------
     std::vector<CutEdge> all;
     std::size_t total = 0;
-    for (const auto& c : cuts) total += c.size();
+    for (const auto& c : lists) total += c.size();
     all.reserve(total);
-    std::vector<std::size_t> cursor(sampled.size(), 0);
     for (std::int64_t s0 = 0; s0 < n;) {
         const std::int64_t J = sampled[static_cast<std::size_t>(s0)] / t.tx;
         std::int64_t s1 = s0;
@@ -255,16 +278,16 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
         const std::int64_t j_end = J + 1 == t.ty ? t.ny + 1 : (J + 1) << tile_log;
         for (std::int64_t j = J << tile_log; j < j_end; ++j)
             for (std::int64_t s = s0; s < s1; ++s) {
-                const auto& c = cuts[static_cast<std::size_t>(s)];
-                auto& q = cursor[static_cast<std::size_t>(s)];
+                Span& q = span[static_cast<std::size_t>(s)];  // begin: the tile's first edge not yet taken
+                const auto& c = lists[q.list];
                 const std::int64_t row_end = (j + 1) * lattice.points_x();  // cuts of row j: p < row_end
-                while (q < c.size() && c[q].p < row_end) all.push_back(c[q++]);
+                while (q.begin < q.end && c[q.begin].p < row_end) all.push_back(c[q.begin++]);
             }
         s0 = s1;
     }
     // Freed before warping, so that the warped points (and the later stages)
     // reuse these pages rather than fault in new ones.
-    std::vector<std::vector<CutEdge>>().swap(cuts);
+    std::vector<std::vector<CutEdge>>().swap(lists);
     r.cut_edges = static_cast<std::int64_t>(all.size());
     r.tiles_seconds = seconds_since(t0);
 
