@@ -14,6 +14,7 @@
 // edge spans no knot and the cut point is u = fa / (fa - fb) — marching
 // squares' linear interpolation, here exact rather than an approximation.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -90,8 +91,16 @@ double ImageField::value(double x, double y) const {
 // costs the last step only.
 void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::span<double> out) const {
     const std::size_t ni = static_cast<std::size_t>(b.ni);
-    std::vector<int> col(ni);
-    std::vector<double> colf(ni);
+    // Scratch on the stack for narrow blocks (a graded tile is 17 points
+    // wide, and thousands are sampled: heap scratch cost as much as the
+    // sampling), else on the heap.
+    constexpr std::size_t narrow = 64;
+    std::array<int, narrow> col_small;
+    std::array<double, narrow> colf_small;
+    std::vector<int> col_heap(ni > narrow ? ni : 0);
+    std::vector<double> colf_heap(ni > narrow ? ni : 0);
+    int* const col = ni > narrow ? col_heap.data() : col_small.data();
+    double* const colf = ni > narrow ? colf_heap.data() : colf_small.data();
     bool finite = true;
     for (std::size_t i = 0; i < ni; ++i) {
         const double x = lattice.position(b.i0 + static_cast<std::int64_t>(i), 0).x;
@@ -105,8 +114,9 @@ void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::
     };
     // Rows [j0, j1), with h0 / h1 for the pixel rows last used (r0, r1).
     auto rows = [&](std::int64_t j0, std::int64_t j1) {
-        std::vector<double> h(2 * ni);
-        double *h0 = h.data(), *h1 = h.data() + ni;
+        std::array<double, 2 * narrow> h_small;
+        std::vector<double> h_heap(ni > narrow ? 2 * ni : 0);
+        double *h0 = ni > narrow ? h_heap.data() : h_small.data(), *h1 = h0 + ni;
         int r0 = -1, r1 = -1;
         for (std::int64_t j = j0; j < j1; ++j) {
             const double y = lattice.position(0, b.j0 + j).y;
