@@ -467,6 +467,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
 #pragma omp parallel for schedule(dynamic, 1) if (finest_chunks > 1)
     for (std::int64_t ch = 0; ch < finest_chunks; ++ch) {
         auto& out = per_chunk[static_cast<std::size_t>(ch)];
+        out.reserve(chunk_size / 4);  // about what a chunk along the boundary has: few regrowths
         std::int64_t below = -1, above = -1;  // cursors into the rows j - 1 and j + 1
         for (std::int64_t k = ch * chunk_size; k < std::min(n_finest, (ch + 1) * chunk_size); ++k) {
             const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
