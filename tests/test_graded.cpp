@@ -5,6 +5,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -554,9 +555,14 @@ BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
         for (int k = 0; k < 3000; ++k) {
             const std::int64_t i = static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(w)),
                                j = static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(h));
-            if (k % 2) set.insert(i, j);
-            else set.insert_concurrent(i, j);
-            members.push_back(i + j * w);
+            // Some with neighbours in the same call: i + 5 (often the same
+            // word) and i + 63 (the next word unless i is a word's first).
+            const bool run = k % 3 == 0;
+            const std::uint64_t rel = 1 | (run && i + 5 < w ? std::uint64_t{1} << 5 : 0) | (run && i + 63 < w ? std::uint64_t{1} << 63 : 0);
+            if (k % 2) set.insert_bits<false>(i, j, rel);
+            else set.insert_bits<true>(i, j, rel);
+            for (int q = 0; q < 64; ++q)
+                if ((rel >> q) & 1) members.push_back(i + q + j * w);
         }
         std::sort(members.begin(), members.end());
         members.erase(std::unique(members.begin(), members.end()), members.end());
@@ -567,20 +573,29 @@ BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
             BOOST_TEST_REQUIRE(set.contains(i, j));
             BOOST_TEST_REQUIRE(set.rank(i, j) == static_cast<std::int64_t>(r));
         }
+        // Word by word in point order: each member once, with its rank.
         std::vector<std::int64_t> seen;
         for (std::int64_t j = 0; j < h; ++j)
-            set.for_each_in_row(j, [&](std::int64_t i, std::int64_t rank) {
-                BOOST_TEST_REQUIRE(rank == static_cast<std::int64_t>(seen.size()));
-                seen.push_back(i + j * w);
+            set.for_each_word_in_row(j, [&](std::size_t wd, std::int64_t i0, std::uint64_t bits, std::int64_t r0) {
+                for (std::int64_t r = r0; bits; bits &= bits - 1, ++r) {
+                    const int b = std::countr_zero(bits);
+                    BOOST_TEST_REQUIRE(r == static_cast<std::int64_t>(seen.size()));
+                    BOOST_TEST_REQUIRE(set.rank_in_word(wd, b) == r);
+                    seen.push_back(i0 + b + j * w);
+                }
             });
         BOOST_TEST((seen == members));
-        // Pairs (i, j), (i + 1, j): membership bits, and the ranks of members,
-        // including pairs that straddle two words (i = 63 mod 64) or blocks.
+        // Runs (i + q, j), q < n: membership bits, including runs that
+        // straddle two words or blocks; and the ranks of pairs' members.
         for (std::int64_t j = 0; j < h; ++j)
             for (std::int64_t i = 0; i + 1 < w; ++i) {
-                const unsigned bits = set.pair(i, j);
-                BOOST_TEST_REQUIRE(((bits & 1) != 0) == set.contains(i, j));
-                BOOST_TEST_REQUIRE(((bits & 2) != 0) == set.contains(i + 1, j));
+                for (const int n : {2, 3, 64}) {
+                    if (i + n > w) continue;
+                    std::uint64_t want = 0;
+                    for (int q = 0; q < n; ++q) want |= static_cast<std::uint64_t>(set.contains(i + q, j)) << q;
+                    BOOST_TEST_REQUIRE(set.members(i, j, n) == want);
+                }
+                const std::uint64_t bits = set.members(i, j, 2);
                 const auto ranks = set.rank_pair(i, j);
                 if (bits & 1) BOOST_TEST_REQUIRE(ranks[0] == set.rank(i, j));
                 if (bits & 2) BOOST_TEST_REQUIRE(ranks[1] == set.rank(i + 1, j));

@@ -219,13 +219,6 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // so the corners reach at most the tile's last point) and whose warped
     // flags lie in three rows of the warped set: looked up once per parent.
     std::vector<std::uint8_t> leaf_code(leaves.size(), 0);
-    auto warped_bits = [&](std::int64_t i, std::int64_t row, int n) -> unsigned {  // (i + q, row), q < n
-        const int b = static_cast<int>(i & 63);
-        if (b + n <= 64) return static_cast<unsigned>(warped_set.words[warped_set.word(i, row)] >> b) & ((1u << n) - 1);
-        unsigned r = 0;
-        for (int q = 0; q < n; ++q) r |= static_cast<unsigned>(warped_set.contains(i + q, row)) << q;
-        return r;
-    };
     const std::int64_t row_pairs = (ny + 1) / 2;
     std::int64_t warped_squares = 0, forced = 0;
     bool parallel = false;
@@ -250,7 +243,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 for (int c = 0; c <= cols; ++c)
                     sg[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)] =
                         c0 ? c0[r * signs.stride() + c] : signs.uniform[static_cast<std::size_t>(I + J * signs.tx)];
-                wb[static_cast<std::size_t>(r)] = warped_bits(i, j + r, cols + 1);
+                wb[static_cast<std::size_t>(r)] = static_cast<unsigned>(warped_set.members(i, j + r, cols + 1));
             }
             for (int r = 0; r < rows; ++r)
                 for (int c = 0; c < cols; ++c) {
@@ -273,10 +266,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // rank — no lattice-sized id array.
     PointSet used(nxp, ny + 1);
     std::vector<std::int64_t> chunk_tris(static_cast<std::size_t>(nchunks) + 1, 0);
+    // Points (i + k, j) for the bits k of rel (several in one or two words).
     // Several leaves may mark one point: relaxed atomic or-s when chunks run
     // in parallel (a locked instruction costs several plain ones, so not
     // with one thread).
-    // Points (i + k, j) for the bits k of rel (several in one or two words).
     auto mark = [&](std::int64_t i, std::int64_t j, std::uint64_t rel) {
         if (!rel) return;
         if (parallel)
@@ -338,8 +331,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 const int b = std::countr_zero(bits);
                 const WarpedPoint* wp = nullptr;
                 if ((moved >> b) & 1)  // `warped` is sorted by point: a record at its rank
-                    wp = &warped[static_cast<std::size_t>(warped_set.prefix[w]) +
-                                 static_cast<std::size_t>(std::popcount(moved & ((std::uint64_t{1} << b) - 1)))];
+                    wp = &warped[static_cast<std::size_t>(warped_set.rank_in_word(w, b))];
                 mesh.vertices[static_cast<std::size_t>(r)] = position(i0 + b, j, wp);
             }
         });

@@ -106,10 +106,9 @@ struct PointSet {
     static std::uint64_t bit(std::int64_t i) { return std::uint64_t{1} << (i & 63); }
     bool contains(std::int64_t i, std::int64_t j) const { return words[word(i, j)] & bit(i); }
     void insert(std::int64_t i, std::int64_t j) { insert_bits<false>(i, j, 1); }
-    // insert() for threads marking the same set at once (relaxed atomics).
-    void insert_concurrent(std::int64_t i, std::int64_t j) { insert_bits<true>(i, j, 1); }
     // Points (i + k, j) for the bits k of rel (non-zero): at most two words,
-    // the one of i and the next, since k < 64.
+    // the one of i and the next, since k < 64.  `concurrent`: for threads
+    // marking the same set at once (relaxed atomics).
     template <bool concurrent>
     void insert_bits(std::int64_t i, std::int64_t j, std::uint64_t rel) {
         const int b = static_cast<int>(i & 63);
@@ -130,13 +129,13 @@ private:
     }
 
 public:
-    // Membership of (i, j) and (i + 1, j) as bits 0 and 1: one word, unless
-    // i is the last point of its word.
-    unsigned pair(std::int64_t i, std::int64_t j) const {
-        const std::uint64_t w = words[word(i, j)];
+    // Membership of (i + q, j), q < n <= 64, as bit q: the word of i and,
+    // past its end, the next (the points must lie in the row).
+    std::uint64_t members(std::int64_t i, std::int64_t j, int n) const {
         const int b = static_cast<int>(i & 63);
-        if (b != 63) return static_cast<unsigned>(w >> b) & 3u;
-        return static_cast<unsigned>(w >> 63) | (contains(i + 1, j) ? 2u : 0u);
+        std::uint64_t m = words[word(i, j)] >> b;
+        if (b + n > 64) m |= words[word(i - b + 64, j)] << (64 - b);
+        return n == 64 ? m : m & ((std::uint64_t{1} << n) - 1);
     }
     // Prefix sums and count.  Throws std::length_error beyond 2^32 - 1
     // members (a mesh's vertex ids are 32-bit anyway).
@@ -145,8 +144,11 @@ public:
     // word with no member has no prefix written, and is not read (0).
     std::int64_t rank(std::int64_t i, std::int64_t j) const {
         const std::size_t w = word(i, j);
-        const std::uint64_t x = words[w];
-        return x ? static_cast<std::int64_t>(prefix[w]) + std::popcount(x & (bit(i) - 1)) : 0;
+        return words[w] ? rank_in_word(w, static_cast<int>(i & 63)) : 0;
+    }
+    // Members before bit b of word w, a word with a member (after finish).
+    std::int64_t rank_in_word(std::size_t w, int b) const {
+        return static_cast<std::int64_t>(prefix[w]) + std::popcount(words[w] & ((std::uint64_t{1} << b) - 1));
     }
     // rank(i, j) and rank(i + 1, j): the second from the first and (i, j)'s
     // own bit, unless i + 1 starts the next word.
@@ -170,13 +172,6 @@ public:
                     fn(base + static_cast<std::size_t>(q), (bx * block_words + q) * 64, bits,
                        static_cast<std::int64_t>(prefix[base + static_cast<std::size_t>(q)]));
         }
-    }
-    // fn(i, rank) for every member of row j, in increasing i (after finish).
-    template <class Fn>
-    void for_each_in_row(std::int64_t j, Fn&& fn) const {
-        for_each_word_in_row(j, [&](std::size_t, std::int64_t i0, std::uint64_t bits, std::int64_t r0) {
-            for (int k = 0; bits; bits &= bits - 1, ++k) fn(i0 + std::countr_zero(bits), r0 + k);
-        });
     }
 };
 
