@@ -456,10 +456,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
             const std::int64_t k = t.tile_of(l, 2 * P, J);
             const std::int32_t s = t.tile_slot[static_cast<std::size_t>(k)];
             const std::int64_t first = s < 0 ? 0 : t.local_index(l, s, 2 * P, J);  // node (2P, J) in local_sign
-            auto split_at = [&](std::int64_t d) {  // node at offset d of (2P, J), in the tile
-                return l == 1 ? t.local_sign[static_cast<std::size_t>(first + d)] == 0
-                              : t.local_split[static_cast<std::size_t>(t.split_of_local(s, first + d))] != 0;
-            };
+            auto split_at = [&](std::int64_t d) { return t.local_is_split(l, s, first + d); };  // node at offset d of (2P, J), in the tile
             for (std::int64_t q = 0; q < 2 && 2 * P + q < mx; ++q) {
                 if (s >= 0 && split_at(q)) continue;
                 const std::int64_t I = 2 * P + q;

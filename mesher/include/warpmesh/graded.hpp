@@ -233,6 +233,13 @@ struct Quadtree {
     std::int64_t split_index(int l, std::int64_t slot, std::int64_t I, std::int64_t J) const {
         return split_of_local(slot, local_index(l, slot, I, J));
     }
+    // Whether the node at index `local` of local_sign (slot `slot`, per-tile
+    // level 1 <= l <= local_top) is split: level 1 where not coarsenable
+    // (code 0), higher levels by their flag.
+    bool local_is_split(int l, std::int64_t slot, std::int64_t local) const {
+        return l == 1 ? local_sign[static_cast<std::size_t>(local)] == 0
+                      : local_split[static_cast<std::size_t>(split_of_local(slot, local))] != 0;
+    }
     // σ of node (I, J) of level 1 <= l <= top if coarsenable, else 0; (I, J)
     // within the level's nodes.
     std::int8_t node_sign(int l, std::int64_t I, std::int64_t J) const {
@@ -249,10 +256,13 @@ struct Quadtree {
         if (l > top) return true;
         const std::size_t L = static_cast<std::size_t>(l);
         if (l == 0 || i < 0 || j < 0 || i >= nodes_x[L] || j >= nodes_y[L]) return false;
-        if (l == 1) return node_sign(1, i, j) == 0;
         if (l > local_top) return split[L][static_cast<std::size_t>(i + j * nodes_x[L])] != 0;
-        const std::int32_t s = tile_slot[static_cast<std::size_t>(tile_of(l, i, j))];
-        return s >= 0 && local_split[static_cast<std::size_t>(split_index(l, s, i, j))] != 0;
+        const std::int64_t k = tile_of(l, i, j);
+        const std::int32_t s = tile_slot[static_cast<std::size_t>(k)];
+        // An inactive tile: no split node above level 1, and level 1 split
+        // only if the tile's σ is 0.
+        if (s < 0) return l == 1 && tile_sign[static_cast<std::size_t>(k)] == 0;
+        return local_is_split(l, s, local_index(l, s, i, j));
     }
     // Whether lattice square (i, j) is a finest leaf.
     bool is_finest(std::int64_t i, std::int64_t j) const { return is_split(1, i >> 1, j >> 1); }
