@@ -1,7 +1,6 @@
 // tiles.cpp — the graded mesher's front end: classify tiles by a range bound,
 // sample the others, signs, cut edges, warp (tiles.hpp).
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -218,18 +217,16 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
             }
             // Owned points: all but the last column / row, unless the tile is
             // the last of its row / column.  Per row, 64 points at a time, a
-            // bit mask of the points whose edge to the right (+x) or upward
-            // (+y) is cut — sp != 0 and the other end -sp — so that the cut
-            // edges, a few per row, are visited in point order (+x before +y).
+            // flag byte per point whose edge to the right (+x) or upward (+y)
+            // is cut — sp != 0 and the other end -sp — in a loop the compiler
+            // vectorises; only a chunk with a flag is walked, in point order
+            // (+x before +y), the cut edges being a few per row.
             const std::int64_t own_x = I + 1 == t.tx ? b.ni : b.ni - 1, own_y = J + 1 == t.ty ? b.nj : b.nj - 1;
             const std::size_t first = out.size();
             for (std::int64_t y = 0; y < own_y; ++y) {
                 const std::int8_t* r = blk + (y + 1) * S + 1;  // row y; row y + 1 is r + S
                 const std::int64_t with_right = std::min(own_x, b.ni - 1), with_up = y + 1 < b.nj ? own_x : 0;
                 for (std::int64_t x0 = 0; x0 < own_x; x0 += 64) {
-                    // First a flag byte per point (a loop the compiler
-                    // vectorises), then — only in the rare chunk with a cut
-                    // edge — the bit masks.
                     const std::int64_t nr = std::min(x0 + 64, with_right) - x0, nu = std::min(x0 + 64, with_up) - x0;
                     std::array<std::uint8_t, 64> cr, cu;  // written for x < nr, x < nu; only those read
                     std::uint8_t any = 0;
@@ -244,16 +241,14 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
                         any |= cu[static_cast<std::size_t>(x)];
                     }
                     if (!any) continue;
-                    std::uint64_t right = 0, up = 0;
-                    for (std::int64_t x = 0; x < nr; ++x) right |= std::uint64_t{cr[static_cast<std::size_t>(x)]} << x;
-                    for (std::int64_t x = 0; x < nu; ++x) up |= std::uint64_t{cu[static_cast<std::size_t>(x)]} << x;
-                    for (std::uint64_t m = right | up; m; m &= m - 1) {
-                        const std::int64_t x = x0 + std::countr_zero(m);
+                    for (std::int64_t q = 0; q < std::max(nr, nu); ++q) {
+                        const std::size_t Q = static_cast<std::size_t>(q);
+                        const std::int64_t x = x0 + q;
                         const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
-                        if ((right >> (x - x0)) & 1)
+                        if (q < nr && cr[Q])
                             append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 0, r[x], r[x + 1], fp,
                                             v[static_cast<std::size_t>(x + 1 + y * b.ni)], out);
-                        if ((up >> (x - x0)) & 1)
+                        if (q < nu && cu[Q])
                             append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 1, r[x], r[x + S], fp,
                                             v[static_cast<std::size_t>(x + (y + 1) * b.ni)], out);
                     }
