@@ -215,6 +215,22 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
     return o;
 }
 
+// --repeat: run `mesh` n times and return the last result with the fastest
+// run's phase times.  The earlier runs are kept only for their times (each
+// freed before the next; the heap keeps their pages, so the process's peak
+// resident memory can exceed one run's).
+template <class Run>
+auto fastest_of(std::int64_t n, Run&& mesh) {
+    decltype(mesh().times) fastest{};
+    for (std::int64_t k = 1; k < n; ++k) {
+        const auto t = mesh().times;
+        if (k == 1 || t.total() < fastest.total()) fastest = t;
+    }
+    auto r = mesh();
+    if (n > 1 && fastest.total() < r.times.total()) r.times = fastest;
+    return r;
+}
+
 // A count or size for a message: "%.4g" never overflows (1e+30, inf).
 std::string approx(double v) {
     char buf[32];
@@ -337,16 +353,7 @@ int run_mesh(int argc, char** argv) {
         if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
         extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
         if (o.graded) {
-            // --repeat: the earlier runs only for their times (each freed before
-            // the next; the heap keeps their pages, so the process's peak
-            // resident memory can exceed one run's); the last one is kept.
-            GradedTimes fastest;
-            for (std::int64_t k = 1; k < o.repeat; ++k) {
-                const GradedTimes t = mesh_graded(*f, lattice, o.rule, o.max_cell, certify).times;
-                if (k == 1 || t.total() < fastest.total()) fastest = t;
-            }
-            GradedResult r = mesh_graded(*f, lattice, o.rule, o.max_cell, certify);
-            if (o.repeat > 1 && fastest.total() < r.times.total()) r.times = fastest;
+            GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(*f, lattice, o.rule, o.max_cell, certify); });
             mesh = std::move(r.mesh);
             cert = std::move(r.certified);
             phases = {{"tiles", r.times.tiles},
@@ -365,13 +372,7 @@ int run_mesh(int argc, char** argv) {
             extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
             extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
         } else {
-            PhaseTimes fastest;
-            for (std::int64_t k = 1; k < o.repeat; ++k) {
-                const PhaseTimes t = mesh_uniform(*f, lattice, o.rule, certify).times;
-                if (k == 1 || t.total() < fastest.total()) fastest = t;
-            }
-            UniformResult r = mesh_uniform(*f, lattice, o.rule, certify);
-            if (o.repeat > 1 && fastest.total() < r.times.total()) r.times = fastest;
+            UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(*f, lattice, o.rule, certify); });
             mesh = std::move(r.mesh);
             cert = std::move(r.certified);
             phases = {{"sample", r.times.sample},
