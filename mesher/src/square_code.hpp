@@ -6,9 +6,9 @@
 // Bit 0 = the chosen diagonal's first triangle is emitted, bit 1 = its second,
 // bit 2 = the diagonal is BC (else AD), bit 3 = the square goes through the
 // rule (a warped or zero-valued corner: the square has a key in the
-// certificates) — where the diagonal matters (diagonal_matters below; a
-// square that emits nothing keeps bit 2 clear).  Corners A, B, C, D and diagonal_triangles are from
-// generic_square.hpp.
+// certificates) — asked only where the diagonal matters (diagonal_matters
+// below; a square that emits nothing keeps bit 2 clear).  Corners A, B, C, D
+// and diagonal_triangles are from generic_square.hpp.
 #pragma once
 
 #include <array>
