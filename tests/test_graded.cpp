@@ -101,7 +101,7 @@ std::vector<CoordEdge> boundary_coords(const Mesh& m) {
 struct Tree {
     TiledSigns signs;
     Quadtree tree;
-    std::vector<Leaf> leaves;
+    Leaves leaves;
 };
 Tree rebuild(const LevelSet& f, const Lattice& l, std::int64_t K) {
     Tree t;
@@ -145,8 +145,8 @@ void check_no_hanging_vertices(const Mesh& m, const Tree& t) {
         for (int k = 0; k < 3; ++k) centroids[static_cast<std::size_t>(tri[k])].push_back(c);
     }
     std::int64_t split_sides = 0, bad = 0;
-    for (const Leaf& leaf : t.leaves) {
-        if (leaf.level == 0 || leaf.sign > 0) continue;
+    for (const Leaf& leaf : t.leaves.coarse) {
+        if (leaf.sign > 0) continue;
         const double w = std::ldexp(1.0, leaf.level), h = w / 2, i = leaf.i, j = leaf.j;
         // side: midpoint, and the normal pointing into the leaf
         const std::array<std::tuple<std::uint8_t, double, double, double, double>, 4> sides{
@@ -190,7 +190,11 @@ Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule 
     for (const auto& msg : q.messages) BOOST_TEST_MESSAGE(msg);
     std::int64_t leaves = 0;
     for (auto c : g.leaves_per_level) leaves += c;
-    BOOST_TEST(leaves == static_cast<std::int64_t>(t.leaves.size()));
+    std::int64_t finest = 0;  // the finest leaves, listed by their parents
+    for_each_finest(t.leaves, [&](std::int64_t, std::int64_t) { ++finest; });
+    BOOST_TEST(finest == t.leaves.finest);
+    BOOST_TEST(g.leaves_per_level.at(0) == finest);
+    BOOST_TEST(leaves == finest + static_cast<std::int64_t>(t.leaves.coarse.size()));
     // The range bounds only skip work: the same mesh, bit for bit, as with
     // every tile sampled.
     const GradedResult all = mesh_graded(testing::WithoutRange(f), l, rule, K);

@@ -21,7 +21,7 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
 
     auto t0 = clock::now();
     const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell);
-    const std::vector<Leaf> leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/true);
+    const Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/true);
     r.times.quadtree = seconds_since(t0);
 
     t0 = clock::now();

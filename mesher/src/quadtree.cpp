@@ -405,7 +405,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
     return t;
 }
 
-std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, bool drop_outside) {
+Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, bool drop_outside) {
     // Per level, rows in order; with several threads, chunks of rows in
     // parallel, each chunk's leaves in order, then joined.
     bool parallel = false;
@@ -413,25 +413,67 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
     parallel = omp_get_max_threads() > 1;
 #endif
     constexpr std::int64_t rows_per_chunk = 32;
-    // Reserved for the most leaves there can be: below the tiles' level only
-    // in active tiles, above it at most one per node.  Only the pages written
-    // are ever touched, and no growth copies the leaves.
+    // Rows [0, rows) by emit(R0, R1, out) -> dropped, in chunks; the chunks'
+    // outputs joined in order.
+    auto by_chunks = [&](std::int64_t rows, std::int64_t work, auto& all, auto&& emit) {
+        const std::int64_t nchunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
+        if (!parallel || nchunks < 2 || work < parallel_min) return emit(0, rows, all);
+        std::vector<std::remove_reference_t<decltype(all)>> parts(static_cast<std::size_t>(nchunks));
+        std::int64_t dropped = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : dropped)
+        for (std::int64_t ch = 0; ch < nchunks; ++ch)
+            dropped += emit(ch * rows_per_chunk, std::min(rows, (ch + 1) * rows_per_chunk), parts[static_cast<std::size_t>(ch)]);
+        std::size_t add = 0;
+        for (const auto& c : parts) add += c.size();
+        all.reserve(all.size() + add);
+        for (const auto& c : parts) all.insert(all.end(), c.begin(), c.end());
+        return dropped;
+    };
+    Leaves out;
+    out.nx = t.nx, out.ny = t.ny;
+    if (per_level) per_level->clear();
+
+    // ---- finest leaves: the split level-1 nodes, by row pairs --------------------
+    // Reserved for the most there can be (only the pages written are ever
+    // touched, and no growth copies them): below the tiles' level only in
+    // active tiles, above it one per node; with top = 0, every column.
+    const std::int64_t pairs = (t.ny + 1) / 2, px = (t.nx + 1) / 2;
+    out.parents.reserve(static_cast<std::size_t>(t.top == 0 ? px * pairs
+                                                 : t.local_top >= 1 ? static_cast<std::int64_t>(t.active.size()) << (2 * t.tile_log - 2)
+                                                                    : t.nodes(1)));
+    out.pair_start.assign(static_cast<std::size_t>(pairs) + 1, 0);
+    by_chunks(pairs, px * pairs, out.parents, [&](std::int64_t R0, std::int64_t R1, std::vector<std::int32_t>& o) {
+        for (std::int64_t R = R0; R < R1; ++R) {
+            const std::size_t before = o.size();
+            if (t.top == 0)
+                for (std::int64_t P = 0; P < px; ++P) o.push_back(static_cast<std::int32_t>(P));
+            else
+                for_each_split(t, 1, R, [&](std::int64_t P) { o.push_back(static_cast<std::int32_t>(P)); });
+            out.pair_start[static_cast<std::size_t>(R) + 1] = static_cast<std::int64_t>(o.size() - before);  // a count until summed
+        }
+        return std::int64_t{0};
+    });
+    std::partial_sum(out.pair_start.begin(), out.pair_start.end(), out.pair_start.begin());
+    // Two columns per parent, but one for a parent at an odd lattice's last column.
+    for (std::int64_t R = 0; R < pairs; ++R) {
+        const std::int64_t k0 = out.pair_start[static_cast<std::size_t>(R)], k1 = out.pair_start[static_cast<std::size_t>(R) + 1];
+        if (k1 > k0) out.finest += out.rows(R) * (2 * (k1 - k0) - (2 - out.columns(out.parents[static_cast<std::size_t>(k1) - 1])));
+    }
+    if (per_level) per_level->push_back(out.finest);
+
+    // ---- coarse leaves, level by level -------------------------------------------
     std::size_t bound = t.active.size() << (2 * t.tile_log);
     for (int l = t.local_top + 1; l <= t.top; ++l) bound += static_cast<std::size_t>(t.nodes(l));  // the dense levels
     if (t.top > 0 && t.local_top == t.top) bound += static_cast<std::size_t>(t.nodes(t.top));      // roots below the tiles' level
-    if (t.top == 0) bound = static_cast<std::size_t>(t.nx * t.ny);
-    std::vector<Leaf> all;
-    all.reserve(bound);
-    if (per_level) per_level->clear();
-    for (int l = 0; l <= t.top; ++l) {
+    out.coarse.reserve(bound);
+    for (int l = 1; l <= t.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L];
-        // Node (I, J) of level l, with sign σ (0 on level 0), is a leaf: only
-        // counted when it is outside and dropped (before its sides are looked
-        // up), else appended with its split sides, asked of split(a, b) for its
-        // four edge neighbours — by balance a split edge neighbour's two
-        // children along the shared side are leaves one level finer: the side
-        // is halved.
+        // Node (I, J) of level l, with sign σ, is a leaf: only counted when it
+        // is outside and dropped (before its sides are looked up), else
+        // appended with its split sides, asked of split(a, b) for its four
+        // edge neighbours — by balance a split edge neighbour's two children
+        // along the shared side are leaves one level finer: the side is halved.
         auto put = [&](std::vector<Leaf>& o, std::int64_t& dropped, std::int64_t I, std::int64_t J, std::int8_t sign,
                        auto&& split) {
             if (drop_outside && sign > 0) return void(++dropped);
@@ -447,7 +489,7 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         const bool roots = l == t.top;
         const std::int64_t rows = roots ? my : t.nodes_y[L + 1];
         // put() for the unsplit nodes among (2P, J), (2P + 1, J) of a per-tile
-        // level l >= 1, which lie in one tile: its slot is looked up once, and
+        // level l, which lie in one tile: its slot is looked up once, and
         // neighbours inside the tile are read from it; only those across its
         // sides go through is_split.  An inactive tile has no split node of
         // level l.
@@ -471,25 +513,15 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
         };
         auto emit_rows = [&](std::int64_t R0, std::int64_t R1, std::vector<Leaf>& o) {
             std::int64_t dropped = 0;
-            std::vector<std::int32_t> parents;
-            auto keep = [&](std::int64_t I, std::int64_t J) { put(o, dropped, I, J, l > 0 ? t.node_sign(l, I, J) : std::int8_t{0}, is_split); };
+            auto keep = [&](std::int64_t I, std::int64_t J) { put(o, dropped, I, J, t.node_sign(l, I, J), is_split); };
             for (std::int64_t R = R0; R < R1; ++R) {
-                if (roots && l >= 1 && l <= t.local_top) {
+                if (roots && l <= t.local_top) {
                     for (std::int64_t P = 0; 2 * P < mx; ++P) local_children(P, R, o, dropped);
                     continue;
                 }
                 if (roots) {
                     for (std::int64_t I = 0; I < mx; ++I)
                         if (!t.is_split(l, I, R)) keep(I, R);
-                    continue;
-                }
-                if (l == 0) {  // level 0 is never split, and a finest leaf has no split side
-                    parents.clear();  // the split parents of rows 2R and 2R + 1, found once
-                    for_each_split(t, 1, R, [&](std::int64_t P) { parents.push_back(static_cast<std::int32_t>(P)); });
-                    for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
-                        for (const std::int32_t P : parents)
-                            for (std::int64_t I = 2 * P; I < std::min<std::int64_t>(2 * P + 2, mx); ++I)
-                                o.push_back({static_cast<std::int32_t>(I), static_cast<std::int32_t>(J), 0, 0, 0});
                     continue;
                 }
                 for (std::int64_t J = 2 * R; J < std::min(2 * R + 2, my); ++J)
@@ -501,24 +533,11 @@ std::vector<Leaf> quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* 
             }
             return dropped;
         };
-        const std::size_t before = all.size();
-        const std::int64_t nchunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
-        std::int64_t dropped = 0;
-        if (!parallel || nchunks < 2 || mx * my < parallel_min) {
-            dropped = emit_rows(0, rows, all);
-        } else {
-            std::vector<std::vector<Leaf>> parts(static_cast<std::size_t>(nchunks));
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : dropped)
-            for (std::int64_t ch = 0; ch < nchunks; ++ch)
-                dropped += emit_rows(ch * rows_per_chunk, std::min(rows, (ch + 1) * rows_per_chunk), parts[static_cast<std::size_t>(ch)]);
-            std::size_t add = 0;
-            for (const auto& c : parts) add += c.size();
-            all.reserve(all.size() + add);
-            for (const auto& c : parts) all.insert(all.end(), c.begin(), c.end());
-        }
-        if (per_level) per_level->push_back(static_cast<std::int64_t>(all.size() - before) + dropped);
+        const std::size_t before = out.coarse.size();
+        const std::int64_t dropped = by_chunks(rows, mx * my, out.coarse, emit_rows);
+        if (per_level) per_level->push_back(static_cast<std::int64_t>(out.coarse.size() - before) + dropped);
     }
-    return all;
+    return out;
 }
 
 void PointSet::finish() {
@@ -554,7 +573,18 @@ QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {
     auto sgn = [&](std::int64_t i, std::int64_t j) { return signs(i, j); };
     // Leaf level of every square, by painting the leaves.
     std::vector<std::int8_t> level(static_cast<std::size_t>(nx * ny), -1);
-    for (const Leaf& leaf : quadtree_leaves(t)) {
+    const Leaves leaves = quadtree_leaves(t);
+    for_each_finest(leaves, [&](std::int64_t i, std::int64_t j) {
+        if (i >= nx || j >= ny) {
+            ++r.untiled;
+            note("finest leaf (" + std::to_string(i) + ", " + std::to_string(j) + ") outside the lattice");
+            return;
+        }
+        auto& v = level[static_cast<std::size_t>(i + j * nx)];
+        if (v >= 0) ++r.untiled;
+        v = 0;
+    });
+    for (const Leaf& leaf : leaves.coarse) {
         const std::int64_t w = std::int64_t{1} << leaf.level;
         if (leaf.i + w > nx || leaf.j + w > ny) {
             ++r.untiled;
@@ -567,15 +597,12 @@ QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {
                 if (v >= 0) ++r.untiled;
                 v = leaf.level;
             }
-        if (leaf.level > 0) {
-            bool good = leaf.sign != 0;
-            for (std::int64_t j = leaf.j; j <= leaf.j + w; ++j)
-                for (std::int64_t i = leaf.i; i <= leaf.i + w; ++i) good = good && sgn(i, j) == leaf.sign;
-            if (!good) {
-                ++r.bad_sign;
-                note("coarse leaf at (" + std::to_string(leaf.i) + ", " + std::to_string(leaf.j) +
-                     ") has a point of another sign");
-            }
+        bool good = leaf.level >= 1 && leaf.sign != 0;
+        for (std::int64_t j = leaf.j; j <= leaf.j + w; ++j)
+            for (std::int64_t i = leaf.i; i <= leaf.i + w; ++i) good = good && sgn(i, j) == leaf.sign;
+        if (!good) {
+            ++r.bad_sign;
+            note("coarse leaf at (" + std::to_string(leaf.i) + ", " + std::to_string(leaf.j) + ") has a point of another sign");
         }
     }
     auto lv = [&](std::int64_t i, std::int64_t j) { return level[static_cast<std::size_t>(i + j * nx)]; };

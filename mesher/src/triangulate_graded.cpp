@@ -43,9 +43,11 @@
 // graded mesh covers exactly the uniform mesh's region and has the same
 // boundary edges.
 //
-// Passes, over fixed-size chunks of leaves (parallel, deterministic):
-//   1. the finest leaves' codes, by pairs of rows (a parent's 2 x 2 squares
-//      at once); then per chunk the triangle counts, and the used points;
+// Passes, over chunks of leaves (parallel, deterministic): the finest leaves
+// by their level-1 parents (Leaves, graded.hpp), in runs of row pairs, then
+// the coarse leaves.
+//   1. the finest leaves' codes, a parent's 2 x 2 squares at once; then per
+//      chunk the triangle counts, and the used points;
 //   2. compact vertex ids in lattice-point order (a bitset with ranks);
 //   3. triangles at chunk offsets; region tags;
 //   4. boundary edges of the finest leaves.
@@ -136,11 +138,9 @@ inline std::array<Pt, 4> square_corners(std::int64_t i, std::int64_t j) {
 }  // namespace
 
 Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSigns& signs,
-                        const Quadtree& tree, std::span<const Leaf> leaves, std::span<const WarpedPoint> warped,
+                        const Quadtree& tree, const Leaves& leaves, std::span<const WarpedPoint> warped,
                         DiagonalRule rule, TriangulateStats* stats) {
     const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
-    const std::int64_t nleaves = static_cast<std::int64_t>(leaves.size());
-    const std::int64_t nchunks = (nleaves + chunk_size - 1) / chunk_size;
     const PointSet& warped_set = tree.warped;
     // `warped` is sorted by point: a warped point's record is at its rank.
     auto warp_of = [&](Pt p) -> const WarpedPoint& {
@@ -202,38 +202,59 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][mask]);
     };
 
-    // The finest leaves come first in `leaves`, row by row (quadtree_leaves).
-    const std::int64_t n_finest = std::partition_point(leaves.begin(), leaves.end(), [](const Leaf& l) { return l.level == 0; }) - leaves.begin();
-    std::vector<std::int64_t> row_first(static_cast<std::size_t>(ny) + 1);  // first finest leaf of row >= j
-    for (std::int64_t j = 0, k = 0; j <= ny; ++j) {
-        while (k < n_finest && leaves[static_cast<std::size_t>(k)].j < j) ++k;
-        row_first[static_cast<std::size_t>(j)] = k;
+    // ---- chunks -----------------------------------------------------------------
+    // The finest leaves by their parents (Leaves): parent k of row pair R
+    // has the squares (2P + c, 2R + r), P = parents[k], their codes at
+    // code[k][2r + c] (0, emitting nothing, for a child outside the lattice).
+    // Finest chunks are runs of whole row pairs with about chunk_size squares,
+    // so that a chunk can emit its squares in the canonical (row-major) order;
+    // then the coarse leaves, chunk_size per chunk.  Triangles are numbered in
+    // chunk order: finest leaves first, in canonical order, then the coarse.
+    const std::vector<std::int32_t>& parents = leaves.parents;
+    const std::span<const Leaf> coarse = leaves.coarse;
+    const std::int64_t npairs = leaves.row_pairs(), ncoarse = static_cast<std::int64_t>(coarse.size());
+    auto pair_start = [&](std::int64_t R) { return leaves.pair_start[static_cast<std::size_t>(R)]; };
+    std::vector<std::int64_t> chunk_pair{0};  // finest chunk ch: row pairs chunk_pair[ch] .. chunk_pair[ch + 1] - 1
+    for (std::int64_t R = 0, since = 0; R < npairs; ++R) {
+        since += pair_start(R + 1) - pair_start(R);
+        if (since >= chunk_size / 4 || R + 1 == npairs) chunk_pair.push_back(R + 1), since = 0;
     }
-    auto row_end = [&](std::int64_t j) { return j < ny ? row_first[static_cast<std::size_t>(j) + 1] : n_finest; };
+    const std::int64_t finest_chunks = static_cast<std::int64_t>(chunk_pair.size()) - 1;
+    const std::int64_t nchunks = finest_chunks + (ncoarse + chunk_size - 1) / chunk_size;
+    // The coarse leaves of (coarse) chunk ch.
+    auto coarse_range = [&](std::int64_t ch) {
+        const std::int64_t k0 = (ch - finest_chunks) * chunk_size;
+        return std::pair{k0, std::min(ncoarse, k0 + chunk_size)};
+    };
+    // fn(k, r, c, i, j) for the squares (i, j) = (2P + c, 2R + r) of finest
+    // chunk ch, parent k, in canonical order.
+    auto for_each_square = [&](std::int64_t ch, auto&& fn) {
+        for (std::int64_t R = chunk_pair[static_cast<std::size_t>(ch)]; R < chunk_pair[static_cast<std::size_t>(ch) + 1]; ++R)
+            for (int r = 0; r < leaves.rows(R); ++r)
+                for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
+                    const std::int64_t P = parents[static_cast<std::size_t>(k)];
+                    for (int c = 0; c < leaves.columns(P); ++c) fn(k, r, c, 2 * P + c, 2 * R + r);
+                }
+    };
 
     // ---- pass 1a: the finest leaves' codes, a parent's 2 x 2 squares at once --
-    // Rows 2R and 2R + 1 of finest leaves hold the children of the same split
-    // level-1 parents (quadtree_leaves): the same i's, in the same order.  A
-    // parent's (up to) 2 x 2 squares share their 3 x 3 corners, whose signs
+    // A parent's (up to) 2 x 2 squares share their 3 x 3 corners, whose signs
     // lie in one tile's block (the tile of its lower-left square: T is even,
     // so the corners reach at most the tile's last point) and whose warped
     // flags lie in three rows of the warped set: looked up once per parent.
-    std::vector<std::uint8_t> leaf_code(leaves.size(), 0);
-    const std::int64_t row_pairs = (ny + 1) / 2;
+    std::vector<std::array<std::uint8_t, 4>> code(parents.size(), std::array<std::uint8_t, 4>{});
     std::int64_t warped_squares = 0, forced = 0;
     bool parallel = false;
 #ifdef _OPENMP
     parallel = nchunks > 1 && omp_get_max_threads() > 1;
 #endif
 #pragma omp parallel for schedule(dynamic, 16) reduction(+ : warped_squares, forced) if (parallel)
-    for (std::int64_t R = 0; R < row_pairs; ++R) {
-        const std::int64_t j = 2 * R, k0 = row_first[static_cast<std::size_t>(j)], n = row_end(j) - k0;
-        const bool two_rows = j + 1 < ny;
-        const std::int64_t k1 = two_rows ? row_first[static_cast<std::size_t>(j) + 1] : 0;
-        assert(!two_rows || row_end(j + 1) - k1 == n);
-        for (std::int64_t t = 0; t < n;) {
-            const std::int64_t i = leaves[static_cast<std::size_t>(k0 + t)].i;
-            const int cols = t + 1 < n && leaves[static_cast<std::size_t>(k0 + t + 1)].i == i + 1 ? 2 : 1, rows = two_rows ? 2 : 1;
+    for (std::int64_t R = 0; R < npairs; ++R) {
+        const std::int64_t j = 2 * R;
+        const int rows = leaves.rows(R);
+        for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
+            const std::int64_t i = 2 * std::int64_t{parents[static_cast<std::size_t>(k)]};
+            const int cols = leaves.columns(i / 2);
             std::array<std::array<std::int8_t, 3>, 3> sg{};  // [row][column] of the corners (i + c, j + r)
             const std::int64_t I = i >> signs.tile_log, J = j >> signs.tile_log;
             const std::int32_t slot = signs.slot[static_cast<std::size_t>(I + J * signs.tx)];
@@ -253,11 +274,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                                                  ((wb[R0 + 1] >> c) & 1) != 0, ((wb[R0 + 1] >> (c + 1)) & 1) != 0};
                     assert(s4 == signs.square(i + c, j + r));
                     bool warped_corner = false, was_forced = false;
-                    leaf_code[static_cast<std::size_t>((r ? k1 : k0) + t + c)] = finest_code(i + c, j + r, s4, w4, &warped_corner, &was_forced);
+                    code[static_cast<std::size_t>(k)][2 * R0 + C0] = finest_code(i + c, j + r, s4, w4, &warped_corner, &was_forced);
                     warped_squares += warped_corner;
                     forced += was_forced;
                 }
-            t += cols;
         }
     }
 
@@ -280,14 +300,31 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t tris = 0;
-        for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
-            const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
-            if (leaf.level > 0) {
+        if (ch < finest_chunks) {
+            // A parent's used corners (corner_mask: bit q for corner q = A, B,
+            // C, D of a square) as its three rows of three points.
+            for (std::int64_t R = chunk_pair[static_cast<std::size_t>(ch)]; R < chunk_pair[static_cast<std::size_t>(ch) + 1]; ++R)
+                for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
+                    const auto& q = code[static_cast<std::size_t>(k)];
+                    std::array<unsigned, 4> m{};
+                    for (std::size_t s = 0; s < 4; ++s) {
+                        tris += (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
+                        m[s] = corner_mask[q[s] & 7];
+                    }
+                    const std::int64_t i = 2 * std::int64_t{parents[static_cast<std::size_t>(k)]}, j = 2 * R;
+                    mark(i, j, (m[0] & 3) | (m[1] & 3) << 1);
+                    mark(i, j + 1, (m[0] >> 2) | (m[1] >> 2) << 1 | (m[2] & 3) | (m[3] & 3) << 1);
+                    mark(i, j + 2, (m[2] >> 2) | (m[3] >> 2) << 1);
+                }
+        } else {
+            const auto [k0, k1] = coarse_range(ch);
+            for (std::int64_t k = k0; k < k1; ++k) {
+                const Leaf& leaf = coarse[static_cast<std::size_t>(k)];
                 if (leaf.sign > 0) continue;
                 const std::uint8_t split = leaf.split_sides;
                 const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
                 if (w < 64) {  // the ring and centre (coarse_ring) by rows: j, j + h, j + w
-                    auto at = [](bool on, std::int64_t k) { return on ? std::uint64_t{1} << k : 0; };
+                    auto at = [](bool on, std::int64_t b) { return on ? std::uint64_t{1} << b : 0; };
                     mark(i, j, 1 | at(split & side_bottom, h) | std::uint64_t{1} << w);
                     mark(i, j + h, at(split & side_left, 0) | at(split != 0, h) | at(split & side_right, w));
                     mark(i, j + w, 1 | at(split & side_top, h) | std::uint64_t{1} << w);
@@ -299,13 +336,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                     if (split) mark(centre.i, centre.j, 1);
                 }
                 tris += coarse_triangles(split);
-                continue;
             }
-            const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
-            tris += (c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0);
-            const unsigned corners = corner_mask[c & 7];  // bit q: corner q (A, B, C, D) is used
-            mark(leaf.i, leaf.j, corners & 3);
-            mark(leaf.i, leaf.j + 1, corners >> 2);
         }
         chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;
     }
@@ -343,7 +374,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // Finest leaves through the rule, for the certification: per chunk, then
     // joined (chunks hold leaves in order, finest first, row-major).
     const bool want_keyed = stats && stats->keyed_squares;
-    std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(nchunks) : 0);
+    std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(finest_chunks) : 0);
     // Region tags (label images) in the same pass, from the triangles'
     // centroids.  Where the level set knows a box around a square or a coarse
     // leaf to be one region (region_in), all its triangles take that tag, and
@@ -371,9 +402,40 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             mesh.region[static_cast<std::size_t>(next)] = region;
             mesh.triangles[static_cast<std::size_t>(next++)] = {a, b, c};
         };
-        for (std::int64_t k = ch * chunk_size; k < std::min(nleaves, (ch + 1) * chunk_size); ++k) {
-            const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
-            if (leaf.level > 0) {
+        if (ch < finest_chunks) {
+            for_each_square(ch, [&](std::int64_t k, int r, int cc, std::int64_t i, std::int64_t j) {
+                const std::uint8_t c = code[static_cast<std::size_t>(k)][static_cast<std::size_t>(2 * r + cc)];
+                if (!(c & (tri0_bit | tri1_bit))) return;
+                if (want_keyed && (c & rule_bit))
+                    keyed_chunks[static_cast<std::size_t>(ch)].push_back(
+                        {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+                // Ids of the used corners: the ranks of A, B from one word, and of C, D.
+                const auto ab = used.rank_pair(i, j), cd = used.rank_pair(i, j + 1);
+                const std::array<std::int32_t, 4> v{static_cast<std::int32_t>(ab[0]), static_cast<std::int32_t>(ab[1]),
+                                                    static_cast<std::int32_t>(cd[0]), static_cast<std::int32_t>(cd[1])};
+#ifndef NDEBUG
+                for (std::size_t q = 0; q < 4; ++q) {
+                    const Pt pq = square_corners(i, j)[q];
+                    assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
+                }
+#endif
+                const std::optional<std::int32_t> one = region_of_box(i, j, 1);
+                std::array<Vec2, 4> x{};
+                if (!one)
+                    for (std::size_t q = 0; q < 4; ++q)
+                        if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
+                for (int q = 0; q < 2; ++q) {
+                    if (!(c & (1 << q))) continue;
+                    const auto tri = triangle_of(c, q);
+                    const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
+                                      d = static_cast<std::size_t>(tri[2]);
+                    emit(v[a], v[b], v[d], one ? *one : centroid_region(x[a], x[b], x[d]));
+                }
+            });
+        } else {
+            const auto [k0, k1] = coarse_range(ch);
+            for (std::int64_t k = k0; k < k1; ++k) {
+                const Leaf& leaf = coarse[static_cast<std::size_t>(k)];
                 if (leaf.sign > 0) continue;
                 const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, std::int64_t{1} << leaf.level);
                 // Filled for the ring's n points below (x only when tagging
@@ -398,34 +460,6 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                     const std::size_t r0 = static_cast<std::size_t>(r), r1 = static_cast<std::size_t>((r + 1) % n);
                     emit(vm, v[r0], v[r1], one ? *one : centroid_region(xm, x[r0], x[r1]));
                 }
-                continue;
-            }
-            const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
-            if (!(c & (tri0_bit | tri1_bit))) continue;
-            if (want_keyed && (c & rule_bit))
-                keyed_chunks[static_cast<std::size_t>(ch)].push_back(
-                    {leaf.i + leaf.j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
-            // Ids of the used corners: the ranks of A, B from one word, and of C, D.
-            const auto ab = used.rank_pair(leaf.i, leaf.j), cd = used.rank_pair(leaf.i, leaf.j + 1);
-            const std::array<std::int32_t, 4> v{static_cast<std::int32_t>(ab[0]), static_cast<std::int32_t>(ab[1]),
-                                                static_cast<std::int32_t>(cd[0]), static_cast<std::int32_t>(cd[1])};
-#ifndef NDEBUG
-            for (std::size_t q = 0; q < 4; ++q) {
-                const Pt pq = square_corners(leaf.i, leaf.j)[q];
-                assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
-            }
-#endif
-            const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, 1);
-            std::array<Vec2, 4> x{};
-            if (!one)
-                for (std::size_t q = 0; q < 4; ++q)
-                    if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
-            for (int q = 0; q < 2; ++q) {
-                if (!(c & (1 << q))) continue;
-                const auto tri = triangle_of(c, q);
-                const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
-                                  d = static_cast<std::size_t>(tri[2]);
-                emit(v[a], v[b], v[d], one ? *one : centroid_region(x[a], x[b], x[d]));
             }
         }
         assert(next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
@@ -435,45 +469,44 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         for (const auto& c : keyed_chunks) stats->keyed_squares->insert(stats->keyed_squares->end(), c.begin(), c.end());
     }
     // ---- pass 4: boundary (finest leaves only; see the head comment) --------------
-    // The finest leaves come first in `leaves`, in row-major order.  The
-    // square across a side is either outside the lattice (domain border), a
-    // finest square (its code from pass 1, found in its row of finest
-    // leaves: the neighbour along x is the next or previous leaf), or inside
-    // a coarse leaf: all its corners then have the leaf's sign, and it covers
-    // every side iff that sign is -1 (code 3 = both AD triangles).
-    // The code of square (a, b) in row b = j - 1 or j + 1 of the current leaf
-    // (i, j): `hint` is a cursor into row b that only moves forward, since the
-    // leaves of a chunk visit a row's i in increasing order.
-    auto square_code = [&](std::int64_t a, std::int64_t b, std::int64_t& hint) -> std::uint8_t {
-        if (!tree.is_finest(a, b)) return signs(a, b) < 0 ? (tri0_bit | tri1_bit) : 0;
-        const std::int64_t last = row_first[static_cast<std::size_t>(b) + 1];
-        if (hint < row_first[static_cast<std::size_t>(b)] || hint >= last || leaves[static_cast<std::size_t>(hint)].j != b ||
-            leaves[static_cast<std::size_t>(hint)].i > a)
-            hint = row_first[static_cast<std::size_t>(b)];
-        while (leaves[static_cast<std::size_t>(hint)].i < a) ++hint;
-        assert(hint < last && leaves[static_cast<std::size_t>(hint)].i == a && leaves[static_cast<std::size_t>(hint)].j == b);
-        return leaf_code[static_cast<std::size_t>(hint)];
+    // The square across a side is either outside the lattice (domain border),
+    // a finest square — a child of the same parent, of the parent beside it
+    // in the row pair (the previous or next listed, if it is the adjacent
+    // column), or of the parent with the same column in the row pair below
+    // or above — or, if its parent is not listed, inside a coarse leaf: all
+    // its corners then have the leaf's sign, and it covers every side iff
+    // that sign is -1 (code 3 = both AD triangles).
+    auto coarse_code = [&](std::int64_t a, std::int64_t b) -> std::uint8_t {
+        assert(!tree.is_finest(a, b));
+        return signs(a, b) < 0 ? (tri0_bit | tri1_bit) : 0;
     };
-    const std::int64_t finest_chunks = (n_finest + chunk_size - 1) / chunk_size;
+    // Parent of column P in row pair Rn, or -1: `cursor` only moves forward
+    // while the queries' P increase (one row's sweep), and restarts otherwise.
+    auto parent_in_pair = [&](std::int64_t Rn, std::int64_t P, std::int64_t& cursor) -> std::int64_t {
+        const std::int64_t k0 = pair_start(Rn), k1 = pair_start(Rn + 1);
+        if (cursor < k0 || cursor > k1 || (cursor > k0 && parents[static_cast<std::size_t>(cursor) - 1] >= P)) cursor = k0;
+        while (cursor < k1 && parents[static_cast<std::size_t>(cursor)] < P) ++cursor;
+        return cursor < k1 && parents[static_cast<std::size_t>(cursor)] == P ? cursor : -1;
+    };
     std::vector<std::vector<std::array<std::int32_t, 3>>> per_chunk(static_cast<std::size_t>(finest_chunks));
 #pragma omp parallel for schedule(dynamic, 1) if (finest_chunks > 1)
     for (std::int64_t ch = 0; ch < finest_chunks; ++ch) {
         auto& out = per_chunk[static_cast<std::size_t>(ch)];
         out.reserve(chunk_size / 4);  // about what a chunk along the boundary has: few regrowths
-        std::int64_t below = -1, above = -1;  // cursors into the rows j - 1 and j + 1
-        for (std::int64_t k = ch * chunk_size; k < std::min(n_finest, (ch + 1) * chunk_size); ++k) {
-            const Leaf& leaf = leaves[static_cast<std::size_t>(k)];
-            assert(leaf.level == 0);
-            const std::uint8_t c = leaf_code[static_cast<std::size_t>(k)];
-            if (!(c & (tri0_bit | tri1_bit))) continue;
-            const auto p = square_corners(leaf.i, leaf.j);
+        std::int64_t below = -1, above = -1;  // cursors into the row pairs below and above
+        for_each_square(ch, [&](std::int64_t k, int r, int cc, std::int64_t i, std::int64_t j) {
+            const auto& q = code[static_cast<std::size_t>(k)];
+            const std::uint8_t c = q[static_cast<std::size_t>(2 * r + cc)];
+            if (!(c & (tri0_bit | tri1_bit))) return;
+            const auto p = square_corners(i, j);
             auto edge = [&](int from, int to, std::int32_t tag) {
                 out.push_back({vid(p[static_cast<std::size_t>(from)]), vid(p[static_cast<std::size_t>(to)]), tag});
             };
-            const std::int64_t i = leaf.i, j = leaf.j;
             const std::array<std::int64_t, 4> ni{i, i + 1, i, i - 1}, nj{j - 1, j, j + 1, j};
             const bool interior = c & interior_bit;
-            if (interior && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny) continue;
+            if (interior && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny) return;
+            const std::int64_t R = j >> 1, P = i >> 1;
+            const std::size_t r2 = static_cast<std::size_t>(2 * r);
             for (int sd = 0; sd < 4; ++sd) {
                 if (!covers(c, sd)) continue;
                 const std::int64_t a = ni[static_cast<std::size_t>(sd)], b = nj[static_cast<std::size_t>(sd)];
@@ -483,13 +516,24 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                     continue;
                 }
                 if (interior) continue;
-                std::uint8_t nc;
-                const std::int64_t step = sd == 1 ? 1 : sd == 3 ? -1 : 0;  // right / left: the adjacent leaf?
-                if (step && k + step >= 0 && k + step < n_finest && leaves[static_cast<std::size_t>(k + step)].i == a &&
-                    leaves[static_cast<std::size_t>(k + step)].j == b)
-                    nc = leaf_code[static_cast<std::size_t>(k + step)];
-                else
-                    nc = square_code(a, b, sd == 0 ? below : above);
+                std::int64_t kn = -1;  // the neighbour's parent, if finest
+                std::size_t qn = 0;    // and its place in it
+                switch (sd) {
+                    case 0:  // below: the same parent's row 0, or row 1 of the pair below
+                        kn = r ? k : parent_in_pair(R - 1, P, below), qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
+                        break;
+                    case 2:  // above
+                        kn = r ? parent_in_pair(R + 1, P, above) : k, qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
+                        break;
+                    case 1:  // right: the same parent's column 1, or column 0 of the next parent
+                        kn = !cc ? k : k + 1 < pair_start(R + 1) && parents[static_cast<std::size_t>(k) + 1] == P + 1 ? k + 1 : -1;
+                        qn = r2 + (cc ? 0 : 1);
+                        break;
+                    default:  // left
+                        kn = cc ? k : k > pair_start(R) && parents[static_cast<std::size_t>(k) - 1] == P - 1 ? k - 1 : -1;
+                        qn = r2 + (cc ? 0 : 1);
+                }
+                const std::uint8_t nc = kn >= 0 ? code[static_cast<std::size_t>(kn)][qn] : coarse_code(a, b);
                 if (!covers(nc, (sd + 2) % 4)) edge(s.from, s.to, boundary_level_set);
             }
             if (std::popcount(static_cast<unsigned>(c & (tri0_bit | tri1_bit))) == 1) {
@@ -499,7 +543,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                 if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
                 else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
             }
-        }
+        });
     }
     std::size_t nb = 0;
     for (const auto& r : per_chunk) nb += r.size();

@@ -279,10 +279,9 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
 // top (D-C), left (C-A).
 inline constexpr std::uint8_t side_bottom = 1, side_right = 2, side_top = 4, side_left = 8;
 
-// A leaf of the tree: squares [i, i + 2^level) x [j, j + 2^level).  For coarse
-// leaves `sign` is σ and `split_sides` marks the sides halved by a finer
-// neighbour (their midpoints are vertices); finest leaves have sign 0 (their
-// corners decide) and never a split side.
+// A coarse leaf of the tree (level >= 1): squares [i, i + 2^level) x
+// [j, j + 2^level), `sign` its σ, `split_sides` the sides halved by a finer
+// neighbour (their midpoints are vertices).
 struct Leaf {
     std::int32_t i, j;
     std::int8_t level;
@@ -290,12 +289,47 @@ struct Leaf {
     std::uint8_t split_sides;
 };
 
-// All leaves, finest first, then by increasing level; within a level in
-// row-major order (deterministic).  leaves_per_level[l] counts them.  With
+// The leaves of the tree.  The finest leaves (level 0: lattice squares, with
+// no sign of their own and never a split side) are listed by their parents:
+// a square is a finest leaf iff its level-1 parent is split (level 0 is never
+// split), so the finest leaves are exactly the squares inside the lattice
+// among the 2 x 2 children of the split level-1 nodes — one record for up to
+// four leaves, and a square's neighbours inside its parent need no lookup.
+// (With top = 0 there is no level 1: every square is a finest leaf, and
+// `parents` lists every column of every row pair.)
+//
+// The finest leaves' canonical order, in which the graded triangulation
+// emits them, is row-major: row pair by row pair, row 2R before 2R + 1, and
+// in a row by increasing i (for_each_finest).
+struct Leaves {
+    std::int64_t nx = 0, ny = 0;           // lattice squares
+    std::vector<std::int32_t> parents;     // column P of each split level-1 node (squares 2P, 2P + 1), by row pair, P increasing
+    std::vector<std::int64_t> pair_start;  // per row pair R (rows 2R, 2R + 1): its first parent; ceil(ny / 2) + 1 entries
+    std::vector<Leaf> coarse;              // levels >= 1, by increasing level; within a level row-major
+    std::int64_t finest = 0;               // number of finest leaves
+
+    std::int64_t row_pairs() const { return static_cast<std::int64_t>(pair_start.size()) - 1; }
+    // Columns and rows of parent P's squares in row pair R (1 or 2: the
+    // lattice may end in the middle of a parent).
+    int columns(std::int64_t P) const { return 2 * P + 1 < nx ? 2 : 1; }
+    int rows(std::int64_t R) const { return 2 * R + 1 < ny ? 2 : 1; }
+};
+
+// fn(i, j) for every finest leaf, in the canonical order (above).
+template <class Fn>
+void for_each_finest(const Leaves& leaves, Fn&& fn) {
+    for (std::int64_t R = 0; R < leaves.row_pairs(); ++R)
+        for (std::int64_t j = 2 * R; j < 2 * R + leaves.rows(R); ++j)
+            for (std::int64_t k = leaves.pair_start[static_cast<std::size_t>(R)]; k < leaves.pair_start[static_cast<std::size_t>(R) + 1]; ++k) {
+                const std::int64_t P = leaves.parents[static_cast<std::size_t>(k)];
+                for (std::int64_t i = 2 * P; i < 2 * P + leaves.columns(P); ++i) fn(i, j);
+            }
+}
+
+// All leaves (deterministic order).  leaves_per_level[l] counts them.  With
 // drop_outside, coarse leaves outside the region (sign +1, which emit
 // nothing) are counted but not returned.
-std::vector<Leaf> quadtree_leaves(const Quadtree& tree, std::vector<std::int64_t>* leaves_per_level = nullptr,
-                                  bool drop_outside = false);
+Leaves quadtree_leaves(const Quadtree& tree, std::vector<std::int64_t>* leaves_per_level = nullptr, bool drop_outside = false);
 
 // The checks of the quadtree's invariants, from scratch (O(lattice) memory):
 // the leaves tile the lattice; edge-adjacent leaves differ by at most one
@@ -322,7 +356,7 @@ QuadtreeCheck check_quadtree(const Quadtree& tree, const TiledSigns& signs);
 // compacted in lattice-point order, boundary edges oriented with the region on
 // their left, region tags as in the uniform mesh.
 Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSigns& signs,
-                        const Quadtree& tree, std::span<const Leaf> leaves, std::span<const WarpedPoint> warped,
+                        const Quadtree& tree, const Leaves& leaves, std::span<const WarpedPoint> warped,
                         DiagonalRule rule, TriangulateStats* stats = nullptr);
 
 struct GradedTimes {
