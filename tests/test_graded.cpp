@@ -590,7 +590,7 @@ BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
             });
         BOOST_TEST((seen == members));
         // Runs (i + q, j), q < n: membership bits, including runs that
-        // straddle two words or blocks; and the ranks of pairs' members.
+        // straddle two words or blocks; and the ranks of runs' members.
         for (std::int64_t j = 0; j < h; ++j)
             for (std::int64_t i = 0; i + 1 < w; ++i) {
                 for (const int n : {2, 3, 64}) {
@@ -599,10 +599,12 @@ BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
                     for (int q = 0; q < n; ++q) want |= static_cast<std::uint64_t>(set.contains(i + q, j)) << q;
                     BOOST_TEST_REQUIRE(set.members(i, j, n) == want);
                 }
-                const std::uint64_t bits = set.members(i, j, 2);
-                const auto ranks = set.rank_pair(i, j);
-                if (bits & 1) BOOST_TEST_REQUIRE(ranks[0] == set.rank(i, j));
-                if (bits & 2) BOOST_TEST_REQUIRE(ranks[1] == set.rank(i + 1, j));
+                for (int n = 1; n <= 3 && i + n <= w; ++n) {  // ranks of runs' members
+                    const std::uint64_t bits = set.members(i, j, n);
+                    const auto ranks = set.rank_run(i, j, n);
+                    for (int q = 0; q < n; ++q)
+                        if ((bits >> q) & 1) BOOST_TEST_REQUIRE(ranks[static_cast<std::size_t>(q)] == set.rank(i + q, j));
+                }
             }
         std::int64_t absent = 0;
         for (std::int64_t k = 0; k < std::min<std::int64_t>(w * h, 20000); ++k)

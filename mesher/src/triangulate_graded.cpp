@@ -206,10 +206,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // The finest leaves by their parents (Leaves): parent k of row pair R
     // has the squares (2P + c, 2R + r), P = parents[k], their codes at
     // code[k][2r + c] (0, emitting nothing, for a child outside the lattice).
-    // Finest chunks are runs of whole row pairs with about chunk_size squares,
-    // so that a chunk can emit its squares in the canonical (row-major) order;
-    // then the coarse leaves, chunk_size per chunk.  Triangles are numbered in
-    // chunk order: finest leaves first, in canonical order, then the coarse.
+    // Finest chunks are runs of whole row pairs with about chunk_size squares
+    // (pass 1a works by row pairs); then the coarse leaves, chunk_size per
+    // chunk.  Triangles are numbered in chunk order: finest leaves first, in
+    // canonical order (by parents, graded.hpp), then the coarse leaves.
     const std::vector<std::int32_t>& parents = leaves.parents;
     const std::span<const Leaf> coarse = leaves.coarse;
     const std::int64_t npairs = leaves.row_pairs(), ncoarse = static_cast<std::int64_t>(coarse.size());
@@ -226,17 +226,16 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         const std::int64_t k0 = (ch - finest_chunks) * chunk_size;
         return std::pair{k0, std::min(ncoarse, k0 + chunk_size)};
     };
-    // fn(k, r, c, i, j) for the squares (i, j) = (2P + c, 2R + r) of finest
-    // chunk ch, parent k, in canonical order.
-    auto for_each_square = [&](std::int64_t ch, auto&& fn) {
+    // fn(k, i, j, cols, rows) for the parents of finest chunk ch, in order:
+    // parent k, its lower-left square (i, j) = (2P, 2R), its squares' columns
+    // and rows (1 or 2).
+    auto for_each_parent = [&](std::int64_t ch, auto&& fn) {
         for (std::int64_t R = chunk_pair[static_cast<std::size_t>(ch)]; R < chunk_pair[static_cast<std::size_t>(ch) + 1]; ++R)
-            for (int r = 0; r < leaves.rows(R); ++r)
-                for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
-                    const std::int64_t P = parents[static_cast<std::size_t>(k)];
-                    for (int c = 0; c < leaves.columns(P); ++c) fn(k, r, c, 2 * P + c, 2 * R + r);
-                }
+            for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
+                const std::int64_t P = parents[static_cast<std::size_t>(k)];
+                fn(k, 2 * P, 2 * R, leaves.columns(P), leaves.rows(R));
+            }
     };
-
     // ---- pass 1a: the finest leaves' codes, a parent's 2 x 2 squares at once --
     // A parent's (up to) 2 x 2 squares share their 3 x 3 corners, whose signs
     // lie in one tile's block (the tile of its lower-left square: T is even,
@@ -370,9 +369,21 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         assert(used.contains(p.i, p.j));
         return static_cast<std::int32_t>(used.rank(p.i, p.j));
     };
+    // The vertex ids of a parent's 3 x 3 corners (i + c, j + r), c <= cols,
+    // r <= rows, valid for the used ones: one rank per row (after pass 2).
+    using CornerIds = std::array<std::array<std::int32_t, 3>, 3>;
+    auto corner_ids = [&](std::int64_t i, std::int64_t j, int cols, int rows) {
+        CornerIds id;
+        for (int r = 0; r <= rows; ++r) {
+            const auto rk = used.rank_run(i, j + r, cols + 1);
+            for (std::size_t c = 0; c < 3; ++c) id[static_cast<std::size_t>(r)][c] = static_cast<std::int32_t>(rk[c]);
+        }
+        return id;
+    };
+
     // ---- pass 3: triangles --------------------------------------------------------
     // Finest leaves through the rule, for the certification: per chunk, then
-    // joined (chunks hold leaves in order, finest first, row-major).
+    // joined (chunks hold leaves in order: finest first, in canonical order).
     const bool want_keyed = stats && stats->keyed_squares;
     std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(finest_chunks) : 0);
     // Region tags (label images) in the same pass, from the triangles'
@@ -390,10 +401,10 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     for (std::int64_t ch = 0; ch < nchunks; ++ch) {
         std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
         RegionTagger tagger{f};
-        // The one tag of the leaf at (i, j) of side w, if known.
-        auto region_of_box = [&](std::int64_t i, std::int64_t j, std::int64_t w) -> std::optional<std::int32_t> {
+        // The one tag of the w x h squares from (i, j), if known.
+        auto region_of_box = [&](std::int64_t i, std::int64_t j, std::int64_t w, std::int64_t h) -> std::optional<std::int32_t> {
             if (!tags) return 1;
-            const Vec2 lo = lattice.position(i, j), hi = lattice.position(i + w, j + w);
+            const Vec2 lo = lattice.position(i, j), hi = lattice.position(i + w, j + h);
             return tagger.of_box({lo.x, lo.y, hi.x, hi.y});
         };
         auto centroid_region = [&](const Vec2& xa, const Vec2& xb, const Vec2& xc) { return tagger.of_triangle(xa, xb, xc); };
@@ -403,41 +414,47 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             mesh.triangles[static_cast<std::size_t>(next++)] = {a, b, c};
         };
         if (ch < finest_chunks) {
-            for_each_square(ch, [&](std::int64_t k, int r, int cc, std::int64_t i, std::int64_t j) {
-                const std::uint8_t c = code[static_cast<std::size_t>(k)][static_cast<std::size_t>(2 * r + cc)];
-                if (!(c & (tri0_bit | tri1_bit))) return;
-                if (want_keyed && (c & rule_bit))
-                    keyed_chunks[static_cast<std::size_t>(ch)].push_back(
-                        {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
-                // Ids of the used corners: the ranks of A, B from one word, and of C, D.
-                const auto ab = used.rank_pair(i, j), cd = used.rank_pair(i, j + 1);
-                const std::array<std::int32_t, 4> v{static_cast<std::int32_t>(ab[0]), static_cast<std::int32_t>(ab[1]),
-                                                    static_cast<std::int32_t>(cd[0]), static_cast<std::int32_t>(cd[1])};
+            for_each_parent(ch, [&](std::int64_t k, std::int64_t i0, std::int64_t j0, int cols, int rows) {
+                const auto& q4 = code[static_cast<std::size_t>(k)];
+                if (!((q4[0] | q4[1] | q4[2] | q4[3]) & (tri0_bit | tri1_bit))) return;
+                const CornerIds id = corner_ids(i0, j0, cols, rows);
+                const std::optional<std::int32_t> all = region_of_box(i0, j0, cols, rows);  // else per square
+                for (int r = 0; r < rows; ++r)
+                    for (int cc = 0; cc < cols; ++cc) {
+                        const std::uint8_t c = q4[static_cast<std::size_t>(2 * r + cc)];
+                        if (!(c & (tri0_bit | tri1_bit))) continue;
+                        const std::int64_t i = i0 + cc, j = j0 + r;
+                        if (want_keyed && (c & rule_bit))
+                            keyed_chunks[static_cast<std::size_t>(ch)].push_back(
+                                {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+                        const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(cc);
+                        const std::array<std::int32_t, 4> v{id[R0][C0], id[R0][C0 + 1], id[R0 + 1][C0], id[R0 + 1][C0 + 1]};
 #ifndef NDEBUG
-                for (std::size_t q = 0; q < 4; ++q) {
-                    const Pt pq = square_corners(i, j)[q];
-                    assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
-                }
+                        for (std::size_t q = 0; q < 4; ++q) {
+                            const Pt pq = square_corners(i, j)[q];
+                            assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
+                        }
 #endif
-                const std::optional<std::int32_t> one = region_of_box(i, j, 1);
-                std::array<Vec2, 4> x{};
-                if (!one)
-                    for (std::size_t q = 0; q < 4; ++q)
-                        if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
-                for (int q = 0; q < 2; ++q) {
-                    if (!(c & (1 << q))) continue;
-                    const auto tri = triangle_of(c, q);
-                    const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
-                                      d = static_cast<std::size_t>(tri[2]);
-                    emit(v[a], v[b], v[d], one ? *one : centroid_region(x[a], x[b], x[d]));
-                }
+                        const std::optional<std::int32_t> one = all ? all : region_of_box(i, j, 1, 1);
+                        std::array<Vec2, 4> x{};
+                        if (!one)
+                            for (std::size_t q = 0; q < 4; ++q)
+                                if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
+                        for (int q = 0; q < 2; ++q) {
+                            if (!(c & (1 << q))) continue;
+                            const auto tri = triangle_of(c, q);
+                            const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
+                                              d = static_cast<std::size_t>(tri[2]);
+                            emit(v[a], v[b], v[d], one ? *one : centroid_region(x[a], x[b], x[d]));
+                        }
+                    }
             });
         } else {
             const auto [k0, k1] = coarse_range(ch);
             for (std::int64_t k = k0; k < k1; ++k) {
                 const Leaf& leaf = coarse[static_cast<std::size_t>(k)];
                 if (leaf.sign > 0) continue;
-                const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, std::int64_t{1} << leaf.level);
+                const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, std::int64_t{1} << leaf.level, std::int64_t{1} << leaf.level);
                 // Filled for the ring's n points below (x only when tagging
                 // per triangle, and only then read): not zeroed first.
                 std::array<Pt, 8> ring;
@@ -481,7 +498,8 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         return signs(a, b) < 0 ? (tri0_bit | tri1_bit) : 0;
     };
     // Parent of column P in row pair Rn, or -1: `cursor` only moves forward
-    // while the queries' P increase (one row's sweep), and restarts otherwise.
+    // while the queries' P increase (the sweep over a row pair's parents), and
+    // restarts otherwise.
     auto parent_in_pair = [&](std::int64_t Rn, std::int64_t P, std::int64_t& cursor) -> std::int64_t {
         const std::int64_t k0 = pair_start(Rn), k1 = pair_start(Rn + 1);
         if (cursor < k0 || cursor > k1 || (cursor > k0 && parents[static_cast<std::size_t>(cursor) - 1] >= P)) cursor = k0;
@@ -494,55 +512,63 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         auto& out = per_chunk[static_cast<std::size_t>(ch)];
         out.reserve(chunk_size / 4);  // about what a chunk along the boundary has: few regrowths
         std::int64_t below = -1, above = -1;  // cursors into the row pairs below and above
-        for_each_square(ch, [&](std::int64_t k, int r, int cc, std::int64_t i, std::int64_t j) {
-            const auto& q = code[static_cast<std::size_t>(k)];
-            const std::uint8_t c = q[static_cast<std::size_t>(2 * r + cc)];
-            if (!(c & (tri0_bit | tri1_bit))) return;
-            const auto p = square_corners(i, j);
-            auto edge = [&](int from, int to, std::int32_t tag) {
-                out.push_back({vid(p[static_cast<std::size_t>(from)]), vid(p[static_cast<std::size_t>(to)]), tag});
-            };
-            const std::array<std::int64_t, 4> ni{i, i + 1, i, i - 1}, nj{j - 1, j, j + 1, j};
-            const bool interior = c & interior_bit;
-            if (interior && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny) return;
-            const std::int64_t R = j >> 1, P = i >> 1;
-            const std::size_t r2 = static_cast<std::size_t>(2 * r);
-            for (int sd = 0; sd < 4; ++sd) {
-                if (!covers(c, sd)) continue;
-                const std::int64_t a = ni[static_cast<std::size_t>(sd)], b = nj[static_cast<std::size_t>(sd)];
-                const Side& s = sides[static_cast<std::size_t>(sd)];
-                if (a < 0 || b < 0 || a >= nx || b >= ny) {
-                    edge(s.from, s.to, boundary_domain);
-                    continue;
+        for_each_parent(ch, [&](std::int64_t k, std::int64_t i0, std::int64_t j0, int cols, int rows) {
+            const auto& q4 = code[static_cast<std::size_t>(k)];
+            std::optional<CornerIds> id;  // looked up at the parent's first boundary edge
+            for (int r = 0; r < rows; ++r)
+                for (int cc = 0; cc < cols; ++cc) {
+                    const std::uint8_t c = q4[static_cast<std::size_t>(2 * r + cc)];
+                    if (!(c & (tri0_bit | tri1_bit))) continue;
+                    const std::int64_t i = i0 + cc, j = j0 + r;
+                    const bool interior = c & interior_bit;
+                    if (interior && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny) continue;
+                    // Edge from corner `from` to corner `to` of this square (A, B, C, D = 0..3).
+                    auto edge = [&](int from, int to, std::int32_t tag) {
+                        if (!id) id = corner_ids(i0, j0, cols, rows);
+                        const auto& v = *id;
+                        out.push_back({v[static_cast<std::size_t>(r + (from >> 1))][static_cast<std::size_t>(cc + (from & 1))],
+                                       v[static_cast<std::size_t>(r + (to >> 1))][static_cast<std::size_t>(cc + (to & 1))], tag});
+                    };
+                    const std::array<std::int64_t, 4> ni{i, i + 1, i, i - 1}, nj{j - 1, j, j + 1, j};
+                    const std::int64_t R = j0 >> 1, P = i0 >> 1;
+                    const std::size_t r2 = static_cast<std::size_t>(2 * r);
+                    for (int sd = 0; sd < 4; ++sd) {
+                        if (!covers(c, sd)) continue;
+                        const std::int64_t a = ni[static_cast<std::size_t>(sd)], b = nj[static_cast<std::size_t>(sd)];
+                        const Side& s = sides[static_cast<std::size_t>(sd)];
+                        if (a < 0 || b < 0 || a >= nx || b >= ny) {
+                            edge(s.from, s.to, boundary_domain);
+                            continue;
+                        }
+                        if (interior) continue;
+                        std::int64_t kn = -1;  // the neighbour's parent, if finest
+                        std::size_t qn = 0;    // and its place in it
+                        switch (sd) {
+                            case 0:  // below: the same parent's row 0, or row 1 of the pair below
+                                kn = r ? k : parent_in_pair(R - 1, P, below), qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
+                                break;
+                            case 2:  // above
+                                kn = r ? parent_in_pair(R + 1, P, above) : k, qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
+                                break;
+                            case 1:  // right: the same parent's column 1, or column 0 of the next parent
+                                kn = !cc ? k : k + 1 < pair_start(R + 1) && parents[static_cast<std::size_t>(k) + 1] == P + 1 ? k + 1 : -1;
+                                qn = r2 + (cc ? 0 : 1);
+                                break;
+                            default:  // left
+                                kn = cc ? k : k > pair_start(R) && parents[static_cast<std::size_t>(k) - 1] == P - 1 ? k - 1 : -1;
+                                qn = r2 + (cc ? 0 : 1);
+                        }
+                        const std::uint8_t nc = kn >= 0 ? code[static_cast<std::size_t>(kn)][qn] : coarse_code(a, b);
+                        if (!covers(nc, (sd + 2) % 4)) edge(s.from, s.to, boundary_level_set);
+                    }
+                    if (std::popcount(static_cast<unsigned>(c & (tri0_bit | tri1_bit))) == 1) {
+                        // The diagonal's direction inside the emitted triangle:
+                        // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
+                        const bool bc = c & bc_bit, first = c & tri0_bit;
+                        if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
+                        else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
+                    }
                 }
-                if (interior) continue;
-                std::int64_t kn = -1;  // the neighbour's parent, if finest
-                std::size_t qn = 0;    // and its place in it
-                switch (sd) {
-                    case 0:  // below: the same parent's row 0, or row 1 of the pair below
-                        kn = r ? k : parent_in_pair(R - 1, P, below), qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
-                        break;
-                    case 2:  // above
-                        kn = r ? parent_in_pair(R + 1, P, above) : k, qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
-                        break;
-                    case 1:  // right: the same parent's column 1, or column 0 of the next parent
-                        kn = !cc ? k : k + 1 < pair_start(R + 1) && parents[static_cast<std::size_t>(k) + 1] == P + 1 ? k + 1 : -1;
-                        qn = r2 + (cc ? 0 : 1);
-                        break;
-                    default:  // left
-                        kn = cc ? k : k > pair_start(R) && parents[static_cast<std::size_t>(k) - 1] == P - 1 ? k - 1 : -1;
-                        qn = r2 + (cc ? 0 : 1);
-                }
-                const std::uint8_t nc = kn >= 0 ? code[static_cast<std::size_t>(kn)][qn] : coarse_code(a, b);
-                if (!covers(nc, (sd + 2) % 4)) edge(s.from, s.to, boundary_level_set);
-            }
-            if (std::popcount(static_cast<unsigned>(c & (tri0_bit | tri1_bit))) == 1) {
-                // The diagonal's direction inside the emitted triangle:
-                // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
-                const bool bc = c & bc_bit, first = c & tri0_bit;
-                if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
-                else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
-            }
         });
     }
     std::size_t nb = 0;

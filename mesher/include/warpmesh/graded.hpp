@@ -150,12 +150,23 @@ public:
     std::int64_t rank_in_word(std::size_t w, int b) const {
         return static_cast<std::int64_t>(prefix[w]) + std::popcount(words[w] & ((std::uint64_t{1} << b) - 1));
     }
-    // rank(i, j) and rank(i + 1, j): the second from the first and (i, j)'s
-    // own bit, unless i + 1 starts the next word.
-    std::array<std::int64_t, 2> rank_pair(std::int64_t i, std::int64_t j) const {
-        const std::int64_t r = rank(i, j);
-        if ((i & 63) == 63) return {r, rank(i + 1, j)};
-        return {r, r + static_cast<std::int64_t>(contains(i, j))};
+    // rank(i + q, j) for q < n <= 3 (the points must lie in the row), valid
+    // for the members among them: one word's prefix and bits, unless the run
+    // crosses into the next word.
+    std::array<std::int64_t, 3> rank_run(std::int64_t i, std::int64_t j, int n) const {
+        const int b = static_cast<int>(i & 63);
+        std::array<std::int64_t, 3> r{};
+        if (b + n > 64) {
+            for (int q = 0; q < n; ++q) r[static_cast<std::size_t>(q)] = rank(i + q, j);
+            return r;
+        }
+        const std::size_t w = word(i, j);
+        const std::uint64_t bits = words[w] >> b;
+        if (!bits) return r;  // no member among them
+        r[0] = rank_in_word(w, b);
+        r[1] = r[0] + static_cast<std::int64_t>(bits & 1);
+        r[2] = r[1] + static_cast<std::int64_t>((bits >> 1) & 1);
+        return r;
     }
     // fn(w, i0, bits, rank0) for every non-zero word of row j, in increasing
     // i (after finish): its index w, its first point i0, its members and the
@@ -299,8 +310,8 @@ struct Leaf {
 // `parents` lists every column of every row pair.)
 //
 // The finest leaves' canonical order, in which the graded triangulation
-// emits them, is row-major: row pair by row pair, row 2R before 2R + 1, and
-// in a row by increasing i (for_each_finest).
+// emits them, is by parents (row pair by row pair, by increasing P), a
+// parent's squares row-major (for_each_finest).
 struct Leaves {
     std::int64_t nx = 0, ny = 0;           // lattice squares
     std::vector<std::int32_t> parents;     // column P of each split level-1 node (squares 2P, 2P + 1), by row pair, P increasing
@@ -319,11 +330,11 @@ struct Leaves {
 template <class Fn>
 void for_each_finest(const Leaves& leaves, Fn&& fn) {
     for (std::int64_t R = 0; R < leaves.row_pairs(); ++R)
-        for (std::int64_t j = 2 * R; j < 2 * R + leaves.rows(R); ++j)
-            for (std::int64_t k = leaves.pair_start[static_cast<std::size_t>(R)]; k < leaves.pair_start[static_cast<std::size_t>(R) + 1]; ++k) {
-                const std::int64_t P = leaves.parents[static_cast<std::size_t>(k)];
+        for (std::int64_t k = leaves.pair_start[static_cast<std::size_t>(R)]; k < leaves.pair_start[static_cast<std::size_t>(R) + 1]; ++k) {
+            const std::int64_t P = leaves.parents[static_cast<std::size_t>(k)];
+            for (std::int64_t j = 2 * R; j < 2 * R + leaves.rows(R); ++j)
                 for (std::int64_t i = 2 * P; i < 2 * P + leaves.columns(P); ++i) fn(i, j);
-            }
+        }
 }
 
 // All leaves (deterministic order).  leaves_per_level[l] counts them.  With
