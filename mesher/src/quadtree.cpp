@@ -112,6 +112,43 @@ inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
     }
 }
 
+// The split flags of n (a power of two, <= 64) consecutive nodes of a row of
+// per-tile level l in slot s, from index `first` of local_sign, as bits: level
+// 1 is split where its code is 0, higher levels where their flag is not.  Eight
+// bytes at a time: a byte's high bit, after adding 0x7f to its low seven bits
+// and or-ing the byte itself, is set iff the byte is non-zero (no carry leaves
+// the byte), and a multiply gathers the eight high bits.
+inline std::uint64_t split_row(const Quadtree& t, int l, std::int64_t s, std::int64_t first, std::int64_t n) {
+    const std::uint8_t* p = l == 1 ? reinterpret_cast<const std::uint8_t*>(t.local_sign.data()) + first
+                                   : t.local_split.data() + t.split_of_local(s, first);
+    if (n < 8) {
+        std::uint64_t b = 0;
+        for (std::int64_t x = 0; x < n; ++x) b |= static_cast<std::uint64_t>((p[x] == 0) == (l == 1)) << x;
+        return b;
+    }
+    constexpr std::uint64_t low7 = 0x7f7f7f7f7f7f7f7full, highs = 0x8080808080808080ull;
+    std::uint64_t b = 0;
+    for (std::int64_t x = 0; x < n; x += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + x, 8);
+        std::uint64_t nonzero = (((w & low7) + low7) | w) & highs;
+        if (l == 1) nonzero ^= highs;  // split: code 0
+        b |= ((nonzero >> 7) * 0x0102040810204080ull >> 56) << x;
+    }
+    return b;
+}
+
+// Bit k of x < 2^32 to bits 2k and 2k + 1.
+inline std::uint64_t spread_bits(std::uint64_t x) {
+    x &= 0xffffffffull;
+    x = (x | x << 16) & 0x0000ffff0000ffffull;
+    x = (x | x << 8) & 0x00ff00ff00ff00ffull;
+    x = (x | x << 4) & 0x0f0f0f0f0f0f0f0full;
+    x = (x | x << 2) & 0x3333333333333333ull;
+    x = (x | x << 1) & 0x5555555555555555ull;
+    return x | x << 1;
+}
+
 // Below this many nodes a level is done by one thread: a parallel region costs
 // more than the loop.
 constexpr std::int64_t parallel_min = std::int64_t{1} << 16;
@@ -533,8 +570,71 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
             }
             return dropped;
         };
+        // Per-tile levels below local_top, tile by tile: a leaf's parent is
+        // then a node of the same tile (so only active tiles have leaves), and
+        // a row of the tile's n = 2^h <= 64 nodes is one word of split bits.
+        // A row's leaves are its unsplit nodes under split parents, and their
+        // split sides come from shifts of the row and the rows above and
+        // below — the tile's own, or across its border by is_split.
+        auto tile_leaves = [&](std::int64_t s0, std::int64_t s1, std::vector<Leaf>& o) {
+            std::int64_t dropped = 0;
+            const std::int64_t n = std::int64_t{1} << h;
+            std::array<std::uint64_t, 66> S;       // split bits of rows -1 .. n of the tile, at S[y + 1]
+            std::array<std::uint64_t, 32> parent;  // split bits of the parents' rows, doubled
+            for (std::int64_t s = s0; s < s1; ++s) {
+                const std::int64_t I0 = t.active_x[static_cast<std::size_t>(s)] << h,
+                                   J0 = (t.active[static_cast<std::size_t>(s)] / t.tiles_x) << h;
+                const std::int64_t ex = std::min(n, mx - I0), ey = std::min(n, my - J0);  // the tile's nodes that exist
+                const std::uint64_t exist = ex == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << ex) - 1;
+                // Split parents first: a tile without any has no leaf of level l.
+                const std::int64_t pfirst = t.local_index(l + 1, s, I0, J0);
+                std::uint64_t any = 0;
+                for (std::int64_t yp = 0; 2 * yp < ey; ++yp)
+                    any |= parent[static_cast<std::size_t>(yp)] = spread_bits(split_row(t, l + 1, s, pfirst + (yp << (h - 1)), n / 2)) & exist;
+                if (!any) continue;
+                const std::int64_t first = t.local_index(l, s, I0, J0);
+                for (std::int64_t y = 0; y < ey; ++y) S[static_cast<std::size_t>(y) + 1] = split_row(t, l, s, first + (y << h), n) & exist;
+                // Across the tile's border (is_split, once per tile and side, if asked).
+                auto across = [&](std::int64_t a, std::int64_t b, std::int64_t cnt, std::int64_t da, std::int64_t db) {
+                    std::uint64_t m = 0;  // bit x: node (a + x da, b + x db) is split
+                    for (std::int64_t x = 0; x < cnt; ++x) m |= static_cast<std::uint64_t>(t.is_split(l, a + x * da, b + x * db)) << x;
+                    return m;
+                };
+                std::uint64_t left = 0, right = 0;
+                bool have_columns = false;
+                for (std::int64_t y = 0; y < ey; ++y) {
+                    const std::uint64_t cur = S[static_cast<std::size_t>(y) + 1];
+                    std::uint64_t leaves = ~cur & parent[static_cast<std::size_t>(y >> 1)];
+                    if (!leaves) continue;
+                    if (y == 0) S[0] = across(I0, J0 - 1, ex, 1, 0);
+                    if (y == ey - 1) S[static_cast<std::size_t>(ey) + 1] = across(I0, J0 + ey, ex, 1, 0);
+                    if (!have_columns && (leaves & (1 | std::uint64_t{1} << (ex - 1)))) {
+                        left = across(I0 - 1, J0, ey, 0, 1), right = across(I0 + ex, J0, ey, 0, 1);
+                        have_columns = true;
+                    }
+                    const std::uint64_t below = S[static_cast<std::size_t>(y)], above = S[static_cast<std::size_t>(y) + 2];
+                    const std::uint64_t to_left = cur << 1 | ((left >> y) & 1), to_right = cur >> 1 | ((right >> y) & 1) << (ex - 1);
+                    for (; leaves; leaves &= leaves - 1) {
+                        const int x = std::countr_zero(leaves);
+                        const std::int8_t sign = t.local_sign[static_cast<std::size_t>(first + (y << h) + x)];
+                        if (drop_outside && sign > 0) {
+                            ++dropped;
+                            continue;
+                        }
+                        const std::uint8_t sides = static_cast<std::uint8_t>(
+                            ((below >> x) & 1) * side_bottom | ((to_right >> x) & 1) * side_right | ((above >> x) & 1) * side_top |
+                            ((to_left >> x) & 1) * side_left);
+                        o.push_back({static_cast<std::int32_t>((I0 + x) << l), static_cast<std::int32_t>((J0 + y) << l),
+                                     static_cast<std::int8_t>(l), sign, sides});
+                    }
+                }
+            }
+            return dropped;
+        };
         const std::size_t before = out.coarse.size();
-        const std::int64_t dropped = by_chunks(rows, mx * my, out.coarse, emit_rows);
+        const std::int64_t dropped = l < t.local_top && h <= 6
+                                         ? by_chunks(static_cast<std::int64_t>(t.active.size()), mx * my, out.coarse, tile_leaves)
+                                         : by_chunks(rows, mx * my, out.coarse, emit_rows);
         if (per_level) per_level->push_back(static_cast<std::int64_t>(out.coarse.size() - before) + dropped);
     }
     return out;

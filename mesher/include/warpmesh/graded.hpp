@@ -316,7 +316,7 @@ struct Leaves {
     std::int64_t nx = 0, ny = 0;           // lattice squares
     std::vector<std::int32_t> parents;     // column P of each split level-1 node (squares 2P, 2P + 1), by row pair, P increasing
     std::vector<std::int64_t> pair_start;  // per row pair R (rows 2R, 2R + 1): its first parent; ceil(ny / 2) + 1 entries
-    std::vector<Leaf> coarse;              // levels >= 1, by increasing level; within a level row-major
+    std::vector<Leaf> coarse;              // levels >= 1, by increasing level; within a level row-major, or tile by tile (quadtree.cpp)
     std::int64_t finest = 0;               // number of finest leaves
 
     std::int64_t row_pairs() const { return static_cast<std::int64_t>(pair_start.size()) - 1; }
