@@ -464,6 +464,78 @@ BOOST_AUTO_TEST_CASE(tiled_front_end_matches_the_uniform_one_for_any_tile_size) 
     }
 }
 
+// The quadtree, its leaf list and the triangulation work per tile below the
+// tiles' level (rows of a tile's nodes as words of bits): the graded mesh
+// must not depend on the tile size — the same vertices, and the same
+// triangles (with their tags) and boundary edges up to order — and the tree
+// must pass its checks, for tiles of 4 to 128 squares; larger tiles are refused.
+BOOST_AUTO_TEST_CASE(graded_mesh_does_not_depend_on_the_tile_size) {
+    struct Canonical {
+        std::vector<std::array<std::int32_t, 4>> triangles;  // rotated to the smallest id first, and the tag
+        std::vector<std::array<std::int32_t, 3>> boundary;
+    };
+    auto canonical = [](const Mesh& m) {
+        Canonical c;
+        for (std::size_t k = 0; k < m.triangles.size(); ++k) {
+            auto t = m.triangles[k];
+            std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+            c.triangles.push_back({t[0], t[1], t[2], m.region[k]});
+        }
+        for (std::size_t k = 0; k < m.boundary.size(); ++k) c.boundary.push_back({m.boundary[k][0], m.boundary[k][1], m.boundary_tag[k]});
+        std::sort(c.triangles.begin(), c.triangles.end());
+        std::sort(c.boundary.begin(), c.boundary.end());
+        return c;
+    };
+    const std::vector<std::uint16_t> px = [] {  // labels 3 and 5 in blobs, with a hole
+        std::vector<std::uint16_t> v(61 * 47, 0);
+        for (int r = 0; r < 47; ++r)
+            for (int c = 0; c < 61; ++c) {
+                const double x = c - 30, y = r - 23, d = x * x / 700 + y * y / 380;
+                if (d < 1 && (x - 6) * (x - 6) + y * y > 30) v[static_cast<std::size_t>(r * 61 + c)] = x < 0.3 * y ? 3 : 5;
+            }
+        return v;
+    }();
+    Image img;
+    img.width = 61, img.height = 47, img.maxval = 255, img.pixels = px, img.source = "blobs";
+    const auto image = make_image_levelset(img, label_options("nonzero"));
+    const auto flower = parse_shape("flower:0.3,-0.2,60,22,9");
+    const auto holes = parse_shape("diff(circle:0,0,70;union(rect:-20,-15,18,21;circle:40,10,9))");
+    struct Case {
+        const LevelSet* f;
+        double s;
+        std::int64_t K;
+    };
+    for (const Case& c : {Case{flower.get(), 0.61, 0}, Case{holes.get(), 0.37, 0}, Case{holes.get(), 0.37, 8}, Case{image.get(), 0.13, 0}}) {
+        const Lattice l = lattice_around(c.f->bounds(), c.s);
+        auto mesh = [&](int tile_log) {
+            const TiledFront front = warp_tiles(*c.f, l, tile_log);
+            const Quadtree tree = build_quadtree(l, front.signs, front.warped, c.K);
+            const QuadtreeCheck chk = check_quadtree(tree, front.signs);
+            BOOST_TEST(chk.ok());
+            for (const auto& msg : chk.messages) BOOST_TEST_MESSAGE(msg);
+            return triangulate_graded(*c.f, l, front.signs, tree, quadtree_leaves(tree, nullptr, true), front.warped,
+                                      DiagonalRule::separating);
+        };
+        const Mesh want = mesh(default_tile_log);
+        const Canonical cw = canonical(want);
+        BOOST_TEST(cw.triangles.size() > 1000u);
+        for (const int tile_log : {2, 3, 5, 6, 7}) {
+            BOOST_TEST_CONTEXT("lattice " << l.nx << " x " << l.ny << " K " << c.K << " tile_log " << tile_log) {
+                const Mesh got = mesh(tile_log);
+                BOOST_REQUIRE(got.vertices.size() == want.vertices.size());
+                std::int64_t moved = 0;
+                for (std::size_t k = 0; k < want.vertices.size(); ++k)
+                    moved += got.vertices[k].x != want.vertices[k].x || got.vertices[k].y != want.vertices[k].y;
+                BOOST_TEST(moved == 0);
+                const Canonical cg = canonical(got);
+                BOOST_TEST((cg.triangles == cw.triangles));
+                BOOST_TEST((cg.boundary == cw.boundary));
+            }
+        }
+        BOOST_CHECK_THROW(build_quadtree(l, warp_tiles(*c.f, l, 8).signs, {}, c.K), std::invalid_argument);
+    }
+}
+
 // The tiled front end with range bounds (tiles.hpp) on every kind of level set
 // that has them: parsed shapes of each kind and CSG, threshold and label
 // images, at spacings and offsets that put tile borders anywhere.  The mesh

@@ -149,6 +149,17 @@ inline std::uint64_t spread_bits(std::uint64_t x) {
     return x | x << 1;
 }
 
+// Bits 0, 2, 4, ... of x to bits 0, 1, 2, ... (the inverse of spread_bits).
+inline std::uint64_t compress_even(std::uint64_t x) {
+    x &= 0x5555555555555555ull;
+    x = (x | x >> 1) & 0x3333333333333333ull;
+    x = (x | x >> 2) & 0x0f0f0f0f0f0f0f0full;
+    x = (x | x >> 4) & 0x00ff00ff00ff00ffull;
+    x = (x | x >> 8) & 0x0000ffff0000ffffull;
+    x = (x | x >> 16) & 0x00000000ffffffffull;
+    return x;
+}
+
 // Below this many nodes a level is done by one thread: a parallel region costs
 // more than the loop.
 constexpr std::int64_t parallel_min = std::int64_t{1} << 16;
@@ -161,6 +172,8 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
         throw std::invalid_argument("max cell size must be 0 or a power of two, got " + std::to_string(max_cell));
     if (lattice.nx >= INT32_MAX || lattice.ny >= INT32_MAX)
         throw std::length_error("lattice too large for the graded mesher");
+    if (signs.tile_log > 7)  // a row of a tile's level-1 nodes must fit in a 64-bit word
+        throw std::invalid_argument("the quadtree needs tiles of at most 128 squares, got tile_log " + std::to_string(signs.tile_log));
     Quadtree t;
     const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = nx + 1;
     t.nx = nx, t.ny = ny;
@@ -368,9 +381,10 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
         const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], cx = t.nodes_x[L - 1], cy = t.nodes_y[L - 1];
         if (l <= t.local_top) {
             // Per-tile level: per active tile, its own split children of level
-            // l - 1 (2n x 2n of them, n = T >> l).  A mark lands in the same
-            // tile unless the neighbour is across the tile's side; several
-            // threads may then mark one byte (relaxed atomic stores of 1).
+            // l - 1 (2n x 2n of them, n = T >> l, 2n <= 64: tile_log <= 7).
+            // A mark lands in the same tile unless the neighbour is across the
+            // tile's side; several threads may then mark one byte (relaxed
+            // atomic stores of 1).
             const int h = t.tile_log - l;
             const std::int64_t n = std::int64_t{1} << h, cn = 2 * n;
             for (std::int64_t s = 0; s < nslots; ++s) {
@@ -383,30 +397,47 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
             for (std::int64_t s = 0; s < nslots; ++s) {
                 const std::int64_t TI = t.active_x[static_cast<std::size_t>(s)], TJ = t.active[static_cast<std::size_t>(s)] / TX;
                 std::uint8_t* own = t.local_split.data() + t.split_of_local(s, s * t.local_size + t.local_offset[L]);
-                auto mark = [&](std::int64_t I, std::int64_t J) {  // node (I, J) of level l
-                    std::uint8_t* b;
-                    if ((I >> h) == TI && (J >> h) == TJ) {
-                        b = own + ((J & (n - 1)) << h) + (I & (n - 1));
-                    } else {
-                        const std::int32_t o = t.tile_slot[static_cast<std::size_t>((I >> h) + (J >> h) * TX)];
-                        if (o < 0) return void(++outside_active);
-                        b = t.local_split.data() + t.split_index(l, o, I, J);
-                    }
-                    std::atomic_ref<std::uint8_t>(*b).store(1, std::memory_order_relaxed);
+                auto mark = [&](std::int64_t I, std::int64_t J) {  // node (I, J) of level l, in another tile
+                    const std::int32_t o = t.tile_slot[static_cast<std::size_t>((I >> h) + (J >> h) * TX)];
+                    if (o < 0) return void(++outside_active);
+                    std::atomic_ref<std::uint8_t>(t.local_split[static_cast<std::size_t>(t.split_index(l, o, I, J))])
+                        .store(1, std::memory_order_relaxed);
                 };
-                // The tile's children of level l - 1: rows B < cy, columns A < cx.
-                const std::int64_t A0 = TI * cn, B0 = TJ * cn, wa = std::min(cn, cx - A0);
-                for (std::int64_t B = B0; B < std::min(B0 + cn, cy); ++B) {
-                    auto child = [&](std::int64_t a) {
-                        const std::int64_t A = A0 + a;
-                        mark(A >> 1, B >> 1);  // (its own parent: not a leaf either)
-                        if (A > 0) mark((A - 1) >> 1, B >> 1);
-                        if (A + 1 < cx) mark((A + 1) >> 1, B >> 1);
-                        if (B > 0) mark(A >> 1, (B - 1) >> 1);
-                        if (B + 1 < cy) mark(A >> 1, (B + 1) >> 1);
-                    };
-                    for_each_split_in_run(t, l - 1, s, s * t.local_size + t.local_offset[L - 1] + (B - B0) * cn, wa, child);
+                // The tile's children of level l - 1 that exist (columns A <
+                // cx, rows B < cy), a row of them per word.  Their marks inside
+                // the tile by shifts: node (X, Y) is marked by a split child in
+                // rows 2Y, 2Y + 1 and columns 2X - 1 .. 2X + 2 (its own
+                // children and the children beside them that mark it as their
+                // parent's edge neighbour), or in rows 2Y - 1, 2Y + 2 and
+                // columns 2X, 2X + 1.  Marks across the tile's sides, from its
+                // border children, one by one.
+                const std::int64_t A0 = TI * cn, B0 = TJ * cn, wa = std::min(cn, cx - A0), hb = std::min(cn, cy - B0);
+                const std::uint64_t cexist = wa == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << wa) - 1;
+                std::array<std::uint64_t, 66> C{};  // child row b at C[b + 1]; rows -1 and cn stay 0
+                std::uint64_t any = 0;
+                for (std::int64_t b = 0; b < hb; ++b)
+                    any |= C[static_cast<std::size_t>(b) + 1] =
+                        split_row(t, l - 1, s, s * t.local_size + t.local_offset[L - 1] + b * cn, cn) & cexist;
+                if (!any) continue;
+                const std::uint64_t row_nodes = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
+                for (std::int64_t Y = 0; Y < n; ++Y) {
+                    const std::size_t y0 = static_cast<std::size_t>(2 * Y) + 1;  // C index of row 2Y
+                    const std::uint64_t H = C[y0] | C[y0 + 1], V = C[y0 - 1] | C[y0 + 2];
+                    // Bit 2X: columns 2X - 1 .. 2X + 2 of H, columns 2X, 2X + 1 of V.
+                    std::uint64_t marked = compress_even(H | H >> 1 | H << 1 | H >> 2 | V | V >> 1) & row_nodes;
+                    for (; marked; marked &= marked - 1) {
+                        std::uint8_t& b = own[static_cast<std::size_t>((Y << h) + std::countr_zero(marked))];
+                        if (!b) std::atomic_ref<std::uint8_t>(b).store(1, std::memory_order_relaxed);
+                    }
                 }
+                for (std::int64_t b = 0; b < hb; ++b) {
+                    const std::uint64_t r = C[static_cast<std::size_t>(b) + 1];
+                    if ((r & 1) && A0 > 0) mark((A0 - 1) >> 1, (B0 + b) >> 1);
+                    if (((r >> (wa - 1)) & 1) && A0 + wa < cx) mark((A0 + wa) >> 1, (B0 + b) >> 1);
+                }
+                for (std::uint64_t r = B0 > 0 ? C[1] : 0; r; r &= r - 1) mark((A0 + std::countr_zero(r)) >> 1, (B0 - 1) >> 1);
+                for (std::uint64_t r = B0 + hb < cy ? C[static_cast<std::size_t>(hb)] : 0; r; r &= r - 1)
+                    mark((A0 + std::countr_zero(r)) >> 1, (B0 + hb) >> 1);
             }
             continue;
         }
@@ -632,7 +663,7 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
             return dropped;
         };
         const std::size_t before = out.coarse.size();
-        const std::int64_t dropped = l < t.local_top && h <= 6
+        const std::int64_t dropped = l < t.local_top
                                          ? by_chunks(static_cast<std::int64_t>(t.active.size()), mx * my, out.coarse, tile_leaves)
                                          : by_chunks(rows, mx * my, out.coarse, emit_rows);
         if (per_level) per_level->push_back(static_cast<std::int64_t>(out.coarse.size() - before) + dropped);

@@ -282,7 +282,9 @@ struct Quadtree {
 // Build the tree: critical points from the signs, the set of `warped` points,
 // the coarsenability pyramid up to level log2(max_cell) (max_cell 0: as coarse
 // as the lattice allows), then 2:1 balance.  Throws std::invalid_argument if
-// max_cell is negative or not a power of two.
+// max_cell is negative or not a power of two, or if the signs' tiles are
+// larger than 128 squares (tile_log > 7: a row of a tile's level-1 nodes is
+// one 64-bit word).
 Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
                         std::int64_t max_cell);
 
