@@ -413,12 +413,14 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
                 // border children, one by one.
                 const std::int64_t A0 = TI * cn, B0 = TJ * cn, wa = std::min(cn, cx - A0), hb = std::min(cn, cy - B0);
                 const std::uint64_t cexist = wa == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << wa) - 1;
-                std::array<std::uint64_t, 66> C{};  // child row b at C[b + 1]; rows -1 and cn stay 0
+                std::array<std::uint64_t, 66> C;  // child row b at C[b + 1]; rows -1 and hb .. cn are 0
                 std::uint64_t any = 0;
                 for (std::int64_t b = 0; b < hb; ++b)
                     any |= C[static_cast<std::size_t>(b) + 1] =
                         split_row(t, l - 1, s, s * t.local_size + t.local_offset[L - 1] + b * cn, cn) & cexist;
                 if (!any) continue;
+                C[0] = 0;
+                std::fill(C.begin() + hb + 1, C.begin() + cn + 2, 0);
                 const std::uint64_t row_nodes = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
                 for (std::int64_t Y = 0; Y < n; ++Y) {
                     const std::size_t y0 = static_cast<std::size_t>(2 * Y) + 1;  // C index of row 2Y
@@ -606,7 +608,7 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
         // a row of the tile's n = 2^h <= 64 nodes is one word of split bits.
         // A row's leaves are its unsplit nodes under split parents, and their
         // split sides come from shifts of the row and the rows above and
-        // below — the tile's own, or across its border by is_split.
+        // below — the tile's own, or those of the neighbouring tiles.
         auto tile_leaves = [&](std::int64_t s0, std::int64_t s1, std::vector<Leaf>& o) {
             std::int64_t dropped = 0;
             const std::int64_t n = std::int64_t{1} << h;
@@ -625,10 +627,23 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
                 if (!any) continue;
                 const std::int64_t first = t.local_index(l, s, I0, J0);
                 for (std::int64_t y = 0; y < ey; ++y) S[static_cast<std::size_t>(y) + 1] = split_row(t, l, s, first + (y << h), n) & exist;
-                // Across the tile's border (is_split, once per tile and side, if asked).
-                auto across = [&](std::int64_t a, std::int64_t b, std::int64_t cnt, std::int64_t da, std::int64_t db) {
-                    std::uint64_t m = 0;  // bit x: node (a + x da, b + x db) is split
-                    for (std::int64_t x = 0; x < cnt; ++x) m |= static_cast<std::uint64_t>(t.is_split(l, a + x * da, b + x * db)) << x;
+                // Split bits beyond the tile's side (di, dj), once per side if
+                // asked: the row of nodes below or above the tile (bit x:
+                // column I0 + x) or the column left or right of it (bit y: row
+                // J0 + y), read in the neighbouring tile and answered as
+                // is_split does: no node (outside the level's nodes), not
+                // split; an inactive tile splits nothing but, on level 1,
+                // everything if its σ is 0.
+                auto beyond = [&](std::int64_t di, std::int64_t dj) -> std::uint64_t {
+                    if ((di < 0 && I0 == 0) || (di > 0 && I0 + ex >= mx) || (dj < 0 && J0 == 0) || (dj > 0 && J0 + ey >= my)) return 0;
+                    const std::size_t k = static_cast<std::size_t>(t.active[static_cast<std::size_t>(s)] + di + dj * t.tiles_x);
+                    const std::int32_t o = t.tile_slot[k];
+                    if (o < 0) return l == 1 && t.tile_sign[k] == 0 ? (di ? (std::uint64_t{1} << ey) - 1 : exist) : 0;
+                    if (dj) return split_row(t, l, o, t.local_index(l, o, I0, dj < 0 ? J0 - 1 : J0 + n), n) & exist;
+                    const std::int64_t I = di < 0 ? I0 - 1 : I0 + n;  // (a right neighbour exists only if the tile is full)
+                    std::uint64_t m = 0;
+                    for (std::int64_t y = 0; y < ey; ++y)
+                        m |= static_cast<std::uint64_t>(t.local_is_split(l, o, t.local_index(l, o, I, J0 + y))) << y;
                     return m;
                 };
                 std::uint64_t left = 0, right = 0;
@@ -637,10 +652,10 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
                     const std::uint64_t cur = S[static_cast<std::size_t>(y) + 1];
                     std::uint64_t leaves = ~cur & parent[static_cast<std::size_t>(y >> 1)];
                     if (!leaves) continue;
-                    if (y == 0) S[0] = across(I0, J0 - 1, ex, 1, 0);
-                    if (y == ey - 1) S[static_cast<std::size_t>(ey) + 1] = across(I0, J0 + ey, ex, 1, 0);
+                    if (y == 0) S[0] = beyond(0, -1);
+                    if (y == ey - 1) S[static_cast<std::size_t>(ey) + 1] = beyond(0, 1);
                     if (!have_columns && (leaves & (1 | std::uint64_t{1} << (ex - 1)))) {
-                        left = across(I0 - 1, J0, ey, 0, 1), right = across(I0 + ex, J0, ey, 0, 1);
+                        left = beyond(-1, 0), right = beyond(1, 0);
                         have_columns = true;
                     }
                     const std::uint64_t below = S[static_cast<std::size_t>(y)], above = S[static_cast<std::size_t>(y) + 2];
