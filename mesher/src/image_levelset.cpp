@@ -210,9 +210,14 @@ Range ImageField::range(const Box& box) const {
         };
         std::array<double, 10> xs{}, ys{};
         const int nxk = knots(x0, x1, c0, c1, xs), nyk = knots(y0, y1, r0, r1, ys);
-        for (int b = 0; b < nyk; ++b)
-            for (int a = 0; a < nxk; ++a) {
-                const double v = value(xs[static_cast<std::size_t>(a)], ys[static_cast<std::size_t>(b)]);
+        // value() at the knots (finite): each coordinate located once.
+        std::array<int, 10> kc{}, kr{};
+        std::array<double, 10> kfx{}, kfy{};
+        for (std::size_t a = 0; a < static_cast<std::size_t>(nxk); ++a) locate(xs[a], w_, kc[a], kfx[a]);
+        for (std::size_t b = 0; b < static_cast<std::size_t>(nyk); ++b) locate(ys[b], h_, kr[b], kfy[b]);
+        for (std::size_t b = 0; b < static_cast<std::size_t>(nyk); ++b)
+            for (std::size_t a = 0; a < static_cast<std::size_t>(nxk); ++a) {
+                const double v = interpolate(field_.data(), w_, kc[a], kfx[a], kr[b], kfy[b]);
                 lo = std::min(lo, v), hi = std::max(hi, v);
             }
     } else if (pyramid_.empty()) {
