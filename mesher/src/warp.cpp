@@ -18,22 +18,25 @@
 
 namespace warpmesh {
 
-std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts) {
+std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts, std::span<const std::uint32_t> order) {
     // The candidates fall into four streams by mover and axis: p along +x, p
-    // along +y, q = p + x along -x, q = p + y along -y.  `cuts` is sorted by
-    // (p, axis), and a point is the lower (upper) endpoint of at most one cut
-    // edge per axis, so each stream — a subsequence of `cuts` — is sorted by
-    // point with no point twice.  A four-way merge in the order (point, t,
-    // direction) — nearest first, then the order of the Warp enumeration —
-    // replaces a sort.  The streams hold indices into `cuts` (4 bytes an edge,
-    // not a copy of it).
+    // along +y, q = p + x along -x, q = p + y along -y.  The cut edges come in
+    // (p, axis) order, and a point is the lower (upper) endpoint of at most
+    // one cut edge per axis, so each stream — a subsequence of that order — is
+    // sorted by point with no point twice.  A four-way merge in the order
+    // (point, t, direction) — nearest first, then the order of the Warp
+    // enumeration — replaces a sort.  The streams hold indices into `cuts` (4
+    // bytes an edge, not a copy of it).
     const std::int64_t nxp = lattice.points_x();
     if (cuts.size() >= UINT32_MAX) throw std::length_error("too many cut edges");
+    if (!order.empty() && order.size() != cuts.size()) throw std::invalid_argument("warp_points: order is not a permutation of the cut edges");
     auto p_moves = [](const CutEdge& e) { return e.u < 0.5 || (e.u == 0.5 && e.sign < 0); };
     std::array<std::vector<std::uint32_t>, 4> stream;  // k = axis + 2 (q moves)
     for (auto& l : stream) l.reserve(cuts.size() / 2 + 1);
-    for (std::size_t k = 0; k < cuts.size(); ++k)
-        stream[static_cast<std::size_t>(cuts[k].axis + (p_moves(cuts[k]) ? 0 : 2))].push_back(static_cast<std::uint32_t>(k));
+    for (std::size_t k = 0; k < cuts.size(); ++k) {
+        const std::uint32_t c = order.empty() ? static_cast<std::uint32_t>(k) : order[k];
+        stream[static_cast<std::size_t>(cuts[c].axis + (p_moves(cuts[c]) ? 0 : 2))].push_back(c);
+    }
     auto candidate = [&](int k, std::uint32_t c) -> WarpedPoint {
         const CutEdge& e = cuts[c];
         switch (k) {

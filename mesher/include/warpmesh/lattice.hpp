@@ -102,8 +102,12 @@ struct WarpedPoint {
 // For every cut edge the endpoint closer to the cut point warps onto it; at a
 // tie (u = 1/2 exactly) the endpoint with f < 0 does.  A point that is the
 // closer endpoint of several cut edges takes the nearest cut point; equal
-// distances are broken in the order +x, -x, +y, -y.  Sorted by p.
-std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts);
+// distances are broken in the order +x, -x, +y, -y.  Sorted by p.  The cut
+// edges in (p, axis) order are cuts[order[k]], or cuts[k] if order is empty
+// (a front end that finds them in another order passes the permutation
+// rather than a sorted copy).
+std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const CutEdge> cuts,
+                                     std::span<const std::uint32_t> order = {});
 
 // The diagonal of a square with at least one warped corner: choose_diagonal
 // on the square in the generic frame — exactly what the prover certifies.
