@@ -12,7 +12,11 @@
 //     level from its children; per active tile below the tiles' level, dense
 //     above;
 //  4. `split`, bottom-up: a node is split when it is not coarsenable, or when
-//     2:1 balance demands it.
+//     2:1 balance demands it;
+// and, on demand, the leaf list (quadtree_leaves): the finest leaves as their
+// split level-1 parents, the coarse leaves level by level.  On the per-tile
+// levels, pass 4 and the leaf list work on a tile's rows of nodes as words of
+// bits (tile_log <= 7: a row of level-1 nodes fits in 64 bits).
 // Work and memory are proportional to the active tiles plus the dense levels'
 // nodes (at most 4/3 per tile): O(boundary), not O(lattice), apart from a few
 // bytes per tile and the warped points' block flags (PointSet).
