@@ -123,13 +123,13 @@ inline void for_each_split(const Quadtree& t, int l, std::int64_t j, Fn&& fn) {
 // and or-ing the byte itself, is set iff the byte is non-zero (no carry leaves
 // the byte), and a multiply gathers the eight high bits.
 inline std::uint64_t split_row(const Quadtree& t, int l, std::int64_t s, std::int64_t first, std::int64_t n) {
-    const std::uint8_t* p = l == 1 ? reinterpret_cast<const std::uint8_t*>(t.local_sign.data()) + first
-                                   : t.local_split.data() + t.split_of_local(s, first);
     if (n < 8) {
         std::uint64_t b = 0;
-        for (std::int64_t x = 0; x < n; ++x) b |= static_cast<std::uint64_t>((p[x] == 0) == (l == 1)) << x;
+        for (std::int64_t x = 0; x < n; ++x) b |= static_cast<std::uint64_t>(t.local_is_split(l, s, first + x)) << x;
         return b;
     }
+    const std::uint8_t* p = l == 1 ? reinterpret_cast<const std::uint8_t*>(t.local_sign.data()) + first
+                                   : t.local_split.data() + t.split_of_local(s, first);
     constexpr std::uint64_t low7 = 0x7f7f7f7f7f7f7f7full, highs = 0x8080808080808080ull;
     std::uint64_t b = 0;
     for (std::int64_t x = 0; x < n; x += 8) {
@@ -141,6 +141,9 @@ inline std::uint64_t split_row(const Quadtree& t, int l, std::int64_t s, std::in
     }
     return b;
 }
+
+// Bits 0 .. n - 1 set, 0 <= n <= 64 (a shift by 64 would be undefined).
+inline std::uint64_t low_bits(std::int64_t n) { return n >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1; }
 
 // Bit k of x < 2^32 to bits 2k and 2k + 1.
 inline std::uint64_t spread_bits(std::uint64_t x) {
@@ -416,7 +419,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
                 // columns 2X, 2X + 1.  Marks across the tile's sides, from its
                 // border children, one by one.
                 const std::int64_t A0 = TI * cn, B0 = TJ * cn, wa = std::min(cn, cx - A0), hb = std::min(cn, cy - B0);
-                const std::uint64_t cexist = wa == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << wa) - 1;
+                const std::uint64_t cexist = low_bits(wa);
                 std::array<std::uint64_t, 66> C;  // child row b at C[b + 1]; rows -1 and hb .. cn are 0
                 std::uint64_t any = 0;
                 for (std::int64_t b = 0; b < hb; ++b)
@@ -425,7 +428,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
                 if (!any) continue;
                 C[0] = 0;
                 std::fill(C.begin() + hb + 1, C.begin() + cn + 2, 0);
-                const std::uint64_t row_nodes = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
+                const std::uint64_t row_nodes = low_bits(n);
                 for (std::int64_t Y = 0; Y < n; ++Y) {
                     const std::size_t y0 = static_cast<std::size_t>(2 * Y) + 1;  // C index of row 2Y
                     const std::uint64_t H = C[y0] | C[y0 + 1], V = C[y0 - 1] | C[y0 + 2];
@@ -480,15 +483,16 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
 }
 
 Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, bool drop_outside) {
-    // Per level, rows in order; with several threads, chunks of rows in
-    // parallel, each chunk's leaves in order, then joined.
+    // Per level, rows (or, on the lower per-tile levels, tiles) in order; with
+    // several threads, chunks of them in parallel, each chunk's leaves in
+    // order, then joined.
     bool parallel = false;
 #ifdef _OPENMP
     parallel = omp_get_max_threads() > 1;
 #endif
     constexpr std::int64_t rows_per_chunk = 32;
-    // Rows [0, rows) by emit(R0, R1, out) -> dropped, in chunks; the chunks'
-    // outputs joined in order.
+    // Rows (or tiles) [0, rows) by emit(R0, R1, out) -> dropped, in chunks;
+    // the chunks' outputs joined in order.
     auto by_chunks = [&](std::int64_t rows, std::int64_t work, auto& all, auto&& emit) {
         const std::int64_t nchunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
         if (!parallel || nchunks < 2 || work < parallel_min) return emit(0, rows, all);
@@ -622,7 +626,7 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
                 const std::int64_t I0 = t.active_x[static_cast<std::size_t>(s)] << h,
                                    J0 = (t.active[static_cast<std::size_t>(s)] / t.tiles_x) << h;
                 const std::int64_t ex = std::min(n, mx - I0), ey = std::min(n, my - J0);  // the tile's nodes that exist
-                const std::uint64_t exist = ex == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << ex) - 1;
+                const std::uint64_t exist = low_bits(ex);
                 // Split parents first: a tile without any has no leaf of level l.
                 const std::int64_t pfirst = t.local_index(l + 1, s, I0, J0);
                 std::uint64_t any = 0;
@@ -642,7 +646,7 @@ Leaves quadtree_leaves(const Quadtree& t, std::vector<std::int64_t>* per_level, 
                     if ((di < 0 && I0 == 0) || (di > 0 && I0 + ex >= mx) || (dj < 0 && J0 == 0) || (dj > 0 && J0 + ey >= my)) return 0;
                     const std::size_t k = static_cast<std::size_t>(t.active[static_cast<std::size_t>(s)] + di + dj * t.tiles_x);
                     const std::int32_t o = t.tile_slot[k];
-                    if (o < 0) return l == 1 && t.tile_sign[k] == 0 ? (di ? (std::uint64_t{1} << ey) - 1 : exist) : 0;
+                    if (o < 0) return l == 1 && t.tile_sign[k] == 0 ? (di ? low_bits(ey) : exist) : 0;
                     if (dj) return split_row(t, l, o, t.local_index(l, o, I0, dj < 0 ? J0 - 1 : J0 + n), n) & exist;
                     const std::int64_t I = di < 0 ? I0 - 1 : I0 + n;  // (a right neighbour exists only if the tile is full)
                     std::uint64_t m = 0;

@@ -207,8 +207,8 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
     // has the squares (2P + c, 2R + r), P = parents[k], their codes at
     // code[k][2r + c] (0, emitting nothing, for a child outside the lattice).
     // Finest chunks are runs of whole row pairs with about chunk_size squares
-    // (pass 1a works by row pairs); then the coarse leaves, chunk_size per
-    // chunk.  Triangles are numbered in chunk order: finest leaves first, in
+    // (for_each_parent walks a chunk by row pairs); then the coarse leaves,
+    // chunk_size per chunk.  Triangles are numbered in chunk order: finest leaves first, in
     // canonical order (by parents, graded.hpp), then the coarse leaves.
     const std::vector<std::int32_t>& parents = leaves.parents;
     const std::span<const Leaf> coarse = leaves.coarse;
@@ -247,13 +247,9 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
 #ifdef _OPENMP
     parallel = nchunks > 1 && omp_get_max_threads() > 1;
 #endif
-#pragma omp parallel for schedule(dynamic, 16) reduction(+ : warped_squares, forced) if (parallel)
-    for (std::int64_t R = 0; R < npairs; ++R) {
-        const std::int64_t j = 2 * R;
-        const int rows = leaves.rows(R);
-        for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
-            const std::int64_t i = 2 * std::int64_t{parents[static_cast<std::size_t>(k)]};
-            const int cols = leaves.columns(i / 2);
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced) if (parallel)
+    for (std::int64_t ch = 0; ch < finest_chunks; ++ch)
+        for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int cols, int rows) {
             std::array<std::array<std::int8_t, 3>, 3> sg{};  // [row][column] of the corners (i + c, j + r)
             const std::int64_t I = i >> signs.tile_log, J = j >> signs.tile_log;
             const std::int32_t slot = signs.slot[static_cast<std::size_t>(I + J * signs.tx)];
@@ -277,8 +273,7 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
                     warped_squares += warped_corner;
                     forced += was_forced;
                 }
-        }
-    }
+        });
 
     // ---- pass 1: counts, used points -------------------------------------------
     // Used points, a bitset with ranks: the vertex id of a used point is its
@@ -302,19 +297,17 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         if (ch < finest_chunks) {
             // A parent's used corners (corner_mask: bit q for corner q = A, B,
             // C, D of a square) as its three rows of three points.
-            for (std::int64_t R = chunk_pair[static_cast<std::size_t>(ch)]; R < chunk_pair[static_cast<std::size_t>(ch) + 1]; ++R)
-                for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
-                    const auto& q = code[static_cast<std::size_t>(k)];
-                    std::array<unsigned, 4> m{};
-                    for (std::size_t s = 0; s < 4; ++s) {
-                        tris += (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
-                        m[s] = corner_mask[q[s] & 7];
-                    }
-                    const std::int64_t i = 2 * std::int64_t{parents[static_cast<std::size_t>(k)]}, j = 2 * R;
-                    mark(i, j, (m[0] & 3) | (m[1] & 3) << 1);
-                    mark(i, j + 1, (m[0] >> 2) | (m[1] >> 2) << 1 | (m[2] & 3) | (m[3] & 3) << 1);
-                    mark(i, j + 2, (m[2] >> 2) | (m[3] >> 2) << 1);
+            for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int, int) {
+                const auto& q = code[static_cast<std::size_t>(k)];
+                std::array<unsigned, 4> m{};
+                for (std::size_t s = 0; s < 4; ++s) {
+                    tris += (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
+                    m[s] = corner_mask[q[s] & 7];
                 }
+                mark(i, j, (m[0] & 3) | (m[1] & 3) << 1);
+                mark(i, j + 1, (m[0] >> 2) | (m[1] >> 2) << 1 | (m[2] & 3) | (m[3] & 3) << 1);
+                mark(i, j + 2, (m[2] >> 2) | (m[3] >> 2) << 1);
+            });
         } else {
             const auto [k0, k1] = coarse_range(ch);
             for (std::int64_t k = k0; k < k1; ++k) {
