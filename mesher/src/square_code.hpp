@@ -15,6 +15,7 @@
 #include <cstdint>
 
 #include "warpmesh/generic_square.hpp"
+#include "warpmesh/lattice.hpp"
 
 namespace warpmesh::square_code {
 
@@ -47,6 +48,20 @@ constexpr std::array<std::array<std::uint8_t, 16>, 2> emitted = [] {
 // outer side of the boundary and emit nothing).
 constexpr bool diagonal_matters(int inside_mask) {
     return (emitted[0][static_cast<std::size_t>(inside_mask)] | emitted[1][static_cast<std::size_t>(inside_mask)]) != 0;
+}
+
+// bc_bit if the rule takes BC on the square whose corners A, B, C, D have these
+// signs and warps — record(q): corner q's warp record, null if it stays — as
+// the generic square the prover certifies (warped_square_diagonal); else 0.
+template <class Record>
+std::uint8_t rule_diagonal(DiagonalRule rule, const std::array<std::int8_t, 4>& sign, Record&& record, bool* forced) {
+    std::array<CornerState, 4> cs{};
+    std::array<double, 4> t{};
+    for (std::size_t q = 0; q < 4; ++q) {
+        cs[q].sign = sign[q];
+        if (const WarpedPoint* w = record(static_cast<int>(q))) cs[q].warp = w->dir, t[q] = w->t;
+    }
+    return warped_square_diagonal(rule, cs, t, forced) == Diagonal::BC ? bc_bit : 0;
 }
 
 // Whether the emitted triangles of a square with this code use corner c, as a

@@ -100,18 +100,12 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                 warped_squares += (any & warped_bit) != 0;
                 c = rule_bit;
                 if (diagonal_matters(inside)) {  // else it emits nothing, whichever diagonal
-                    std::array<CornerState, 4> cs{};
-                    std::array<double, 4> t{};
-                    for (int k = 0; k < 4; ++k) {
-                        cs[k].sign = signs[static_cast<std::size_t>(p[k])];
-                        if (st[k] & warped_bit) {
-                            const WarpedPoint& wp = warp_of(p[k]);
-                            cs[k].warp = wp.dir;
-                            t[k] = wp.t;
-                        }
-                    }
+                    const std::array<std::int8_t, 4> sg{signs[static_cast<std::size_t>(p[0])], signs[static_cast<std::size_t>(p[1])],
+                                                        signs[static_cast<std::size_t>(p[2])], signs[static_cast<std::size_t>(p[3])]};
                     bool was_forced = false;
-                    if (warped_square_diagonal(rule, cs, t, &was_forced) == Diagonal::BC) c |= bc_bit;
+                    c |= rule_diagonal(rule, sg, [&](int k) {
+                        return st[static_cast<std::size_t>(k)] & warped_bit ? &warp_of(p[static_cast<std::size_t>(k)]) : nullptr;
+                    }, &was_forced);
                     forced += was_forced;
                 }
             }

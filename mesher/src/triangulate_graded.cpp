@@ -183,19 +183,11 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         const int mask = in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3;
         if (*warped_corner || zero_corner) {
             c = rule_bit;
-            if (diagonal_matters(mask)) {
-                std::array<CornerState, 4> cs{};
-                std::array<double, 4> t{};
-                for (std::size_t q = 0; q < 4; ++q) {
-                    cs[q].sign = sg[q];
-                    if (wp[q]) {
-                        const WarpedPoint& w = warp_of(p[q]);
-                        cs[q].warp = w.dir;
-                        t[q] = w.t;
-                    }
-                }
-                if (warped_square_diagonal(rule, cs, t, forced_diag) == Diagonal::BC) c |= bc_bit;
-            }
+            if (diagonal_matters(mask))
+                c |= rule_diagonal(rule, sg, [&](int q) {
+                    const std::size_t Q = static_cast<std::size_t>(q);
+                    return wp[Q] ? &warp_of(p[Q]) : nullptr;
+                }, forced_diag);
         } else if (sg[0] < 0 && sg[1] < 0 && sg[2] < 0 && sg[3] < 0) {
             c = interior_bit;
         }
