@@ -1,7 +1,7 @@
 // mesh.hpp — the output of every mesher: a conforming triangle mesh.
 //
-// Invariants (checked by tests/test_mesh_properties.cpp and, for any mesh, by
-// `check_mesh` in mesh_checks.hpp):
+// Invariants (checked for any mesh by `check_mesh` in mesh_checks.hpp, which
+// the tests run on every mesher's output):
 //  * vertices are compacted: every vertex is used by at least one triangle;
 //  * every triangle is counter-clockwise with positive area;
 //  * `boundary` lists each edge that belongs to exactly one triangle, oriented
@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "warpmesh/buffer.hpp"
@@ -34,6 +35,15 @@ struct Mesh {
     Buffer<std::int32_t> region;  // one tag per triangle
     std::vector<std::array<std::int32_t, 2>> boundary;
     std::vector<std::int32_t> boundary_tag;  // one tag per boundary edge
+
+    // Multi-material meshes: the edges shared by two triangles of different
+    // regions, each oriented with region interface_regions[k][0] on its left
+    // and interface_regions[k][1] on its right.  Empty for a one-region mesh.
+    std::vector<std::array<std::int32_t, 2>> interfaces;
+    std::vector<std::array<std::int32_t, 2>> interface_regions;
+    // Names of region tags for formats that name groups (.msh physical names,
+    // XDMF/Abaqus sets); a tag without an entry is named by its number.
+    std::vector<std::pair<std::int32_t, std::string>> region_names;
 
     // Per-triangle cell data that writers export when present (same length as
     // `triangles`), e.g. the certified minimum angle of the triangle's square.
