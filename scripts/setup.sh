@@ -8,6 +8,13 @@ have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok
 for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev pkg-config python3; do
   have_pkg "$pkg" || need+=("$pkg")
 done
+# The real-client tests (tests/python/, run by ctest with /usr/bin/python3):
+# pytest and numpy; meshio (its XDMF reader imports h5py even for inline XML);
+# gmsh's command line and Python API (also what dolfinx.io.gmshio uses);
+# FEniCSx 0.5 for the round trips and the Poisson convergence test.
+for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx; do
+  have_pkg "$pkg" || need+=("$pkg")
+done
 # libgomp ships with g++ (OpenMP); Boost.Interval and Boost.Multiprecision are
 # header-only parts of libboost-dev.
 

@@ -89,8 +89,10 @@ certificates (proofs/*.cert, compiled in):
 
 output:
   -o, --output FILE      the mesh; the format follows the extension:
-                         .vtu (VTK XML), .msh (Gmsh 4.1), .node/.ele (Triangle),
-                         .svg or .png (pictures)
+                         .vtu (VTK XML), .msh (Gmsh), .xdmf (FEniCSx; + _facets.xdmf),
+                         .inp (Abaqus/CalculiX), .node/.ele (Triangle), .svg or .png
+  --msh-version V        .msh format version: 4.1 (default) or 2.2
+  --msh-cell-data        also write per-triangle data (certified_min_angle) into .msh
   --also FILE            write the mesh to another file as well (repeatable)
   --svg-color minangle   colour SVG/PNG triangles by their minimum angle
   --svg-color certified  colour them by the certified minimum angle of their square
@@ -135,6 +137,7 @@ struct MeshOptions {
     std::int64_t max_cell = 0;
     std::int64_t max_pixels = std::int64_t{1} << 28;
     std::int64_t max_squares = std::int64_t{1} << 30;
+    MshOptions msh;
     bool svg_min_angle = false;
     bool svg_certified = false;
     bool quiet = false;
@@ -171,6 +174,11 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--max-cell") o.max_cell = parse_integer(a, value());
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
         else if (a == "--max-squares") o.max_squares = parse_integer(a, value());
+        else if (a == "--msh-version") {
+            const std::string v = value();
+            if (v != "4.1" && v != "2.2") throw UsageError("--msh-version expects '4.1' or '2.2', got '" + v + "'");
+            o.msh.version = v == "4.1" ? 41 : 22;
+        } else if (a == "--msh-cell-data") o.msh.cell_data = true;
         else if (a == "--svg-color") {
             const std::string v = value();
             if (v == "minangle") o.svg_min_angle = true;
@@ -333,7 +341,9 @@ int run_mesh(int argc, char** argv) {
     // The per-triangle array certified_min_angle (8 bytes a triangle) only when
     // a file will carry it or a picture is coloured by it.
     bool cell_data = o.svg_certified;
-    for (const auto& out : o.outputs) cell_data = cell_data || format_carries_cell_data(out);
+    WriteOptions formats;
+    formats.msh = o.msh;
+    for (const auto& out : o.outputs) cell_data = cell_data || format_carries_cell_data(out, formats);
     const CertifyOptions certify{o.certify, o.certify && cell_data, o.certify && o.verify};
     Mesh mesh;
     CertifiedSummary cert;
@@ -412,6 +422,7 @@ int run_mesh(int argc, char** argv) {
     StagedOutputs staged;
     for (const auto& out : o.outputs) {
         WriteOptions wo;
+        wo.msh = o.msh;
         wo.svg.color_by_min_angle = o.svg_min_angle;
         if (cert.available && !cert.nonflat_boxes.empty()) {
             wo.svg.marked_boxes = cert.nonflat_boxes;
