@@ -11,8 +11,9 @@ done
 # The real-client tests (tests/python/, run by ctest with /usr/bin/python3):
 # pytest and numpy; meshio (its XDMF reader imports h5py even for inline XML);
 # gmsh's command line and Python API (also what dolfinx.io.gmshio uses);
-# FEniCSx 0.5 for the round trips and the Poisson convergence test.
-for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx; do
+# FEniCSx 0.5 for the round trips and the Poisson convergence test; CalculiX
+# (an Abaqus-format solver) for the .inp.
+for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx calculix-ccx; do
   have_pkg "$pkg" || need+=("$pkg")
 done
 # libgomp ships with g++ (OpenMP); Boost.Interval and Boost.Multiprecision are

@@ -259,6 +259,7 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--threads", "0", "-o", "m.vtu"}, 2, {"--threads"});
     sb.refuse({"mesh", img, "--repeat", "0", "-o", "m.vtu"}, 2, {"--repeat expects 1 to 1000"});
     sb.refuse({"mesh", img, "--repeat", "two", "-o", "m.vtu"}, 2, {"--repeat expects an integer"});
+    sb.refuse({"mesh", img, "--msh-version", "4", "-o", "m.msh"}, 2, {"--msh-version expects '4.1' or '2.2', got '4'"});
 }
 
 // --repeat (benchmarks) meshes several times in one process: the files are

@@ -527,7 +527,16 @@ void check_inp(const Mesh& mesh, const std::string& path) {
     const auto blocks = inp_blocks(slurp(path));
     std::map<std::string, std::vector<std::string>> by_header(blocks.begin(), blocks.end());
     BOOST_REQUIRE(by_header.count("*NODE"));
-    BOOST_TEST(by_header["*NODE"].size() == 3 * mesh.vertices.size());
+    const auto& nodes = by_header["*NODE"];
+    BOOST_REQUIRE_EQUAL(nodes.size(), 3 * mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+        for (int c = 1; c <= 2; ++c) {
+            // CalculiX reads numbers of at most 20 characters.
+            const std::string& f = nodes[3 * i + static_cast<std::size_t>(c)];
+            BOOST_TEST(f.size() <= 20u, f);
+            const double want = c == 1 ? mesh.vertices[i].x : mesh.vertices[i].y;
+            BOOST_TEST(std::abs(std::stod(f) - want) <= 5e-14 * std::abs(want), f << " vs " << want);
+        }
     BOOST_REQUIRE(by_header.count("*ELEMENT, TYPE=CPS3"));
     const auto& el = by_header["*ELEMENT, TYPE=CPS3"];
     BOOST_REQUIRE_EQUAL(el.size(), 4 * mesh.triangles.size());
@@ -593,10 +602,10 @@ void round_trip(const Mesh& mesh, const std::string& label) {
     // real clients (meshio, gmsh, dolfinx) read these formats in
     // tests/python/test_solver_formats.py.
     std::string why;
-    for (const std::string name : {label + ".xdmf", label + "_facets.xdmf"}) BOOST_TEST(xml_balanced(slurp(dir.file(name)), why), why);
+    for (const std::string& name : {label + ".xdmf", label + "_facets.xdmf"}) BOOST_TEST(xml_balanced(slurp(dir.file(name)), why), why);
     if (have_python3()) {
         const std::string parse = "import sys, xml.dom.minidom; xml.dom.minidom.parse(sys.argv[1])";
-        for (const std::string name : {label + ".vtu", label + ".svg", label + "-angle.svg", label + ".xdmf", label + "_facets.xdmf"})
+        for (const std::string& name : {label + ".vtu", label + ".svg", label + "-angle.svg", label + ".xdmf", label + "_facets.xdmf"})
             BOOST_TEST(python_ok(parse, dir.file(name)), name);
     }
 }

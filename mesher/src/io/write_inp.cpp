@@ -1,7 +1,9 @@
 // write_inp.cpp — Abaqus input file (.inp), which CalculiX reads too.
 //
-//   *HEADING
-//   *NODE                    "id, x, y" (id = vertex index + 1; 2D, z = 0)
+//   ** comments (no *HEADING: the file is meant to be *INCLUDEd by a deck,
+//                            which has its own and must have it first)
+//   *NODE                    "id, x, y" (id = vertex index + 1; 2D, z = 0;
+//                            numbers of at most 20 characters, see inp_number)
 //   *ELEMENT, TYPE=CPS3      "id, n1, n2, n3" (id = triangle index + 1,
 //                            nodes counter-clockwise as the format requires)
 //   *ELSET, ELSET=<region>   one per region tag: the region's elements
@@ -26,6 +28,7 @@
 // "*SOLID SECTION, ELSET=domain, MATERIAL=…" and includes this file.
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -63,6 +66,19 @@ void put_ids(detail::TextSink& out, const std::vector<std::uint64_t>& ids) {
         out << ids[i];
         out << (i % 16 == 15 || i + 1 == ids.size() ? std::string_view("\n") : std::string_view(", "));
     }
+}
+
+// `x` in at most 20 characters, the width of CalculiX's number fields (a
+// longer number is a fatal "error reading *NODE"): the shortest decimal that
+// reads back to x when it fits (any |x| in [1e-5, 1e15) with up to 17
+// significant digits does), else the most significant digits that fit (at
+// least 13, a relative rounding of at most 5e-14).
+std::string inp_number(double x) {
+    char buf[64];
+    auto r = std::to_chars(buf, buf + sizeof buf, x);
+    for (int digits = 16; r.ptr - buf > 20 && digits >= 1; --digits)
+        r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
+    return std::string(buf, r.ptr);
 }
 
 std::uint64_t edge_key(std::int32_t u, std::int32_t v) {
@@ -109,11 +125,12 @@ void write_inp(const Mesh& mesh, std::ostream& os) {
 
     detail::TextSink out(os);
     out << "** Written by warpmesh: 2D triangles (CPS3) with region element sets and boundary/interface\n"
-           "** node sets and surfaces.  Add sections, materials and steps, e.g.\n"
+           "** node sets and surfaces.  *INCLUDE it in a deck that adds sections, materials and steps, e.g.\n"
            "**   *SOLID SECTION, ELSET=<region>, MATERIAL=<material>\n"
-           "*HEADING\nwarpmesh mesh\n*NODE\n";
+           "*NODE\n";
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-        out << static_cast<std::uint64_t>(i + 1) << ", " << mesh.vertices[i].x << ", " << mesh.vertices[i].y << '\n';
+        out << static_cast<std::uint64_t>(i + 1) << ", " << inp_number(mesh.vertices[i].x) << ", "
+            << inp_number(mesh.vertices[i].y) << '\n';
     if (!mesh.triangles.empty()) {
         out << "*ELEMENT, TYPE=CPS3\n";
         for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
