@@ -81,6 +81,19 @@ def check_points(points, ref, rtol=0):
         assert not points[:, 2].any()
 
 
+def check_triangle_mesh(m, ref, rtol=0):
+    """A meshio mesh of one triangle block: the reference's points and
+    triangles, in the reference's order."""
+    check_points(m.points, ref, rtol)
+    assert [c.type for c in m.cells] == ["triangle"]
+    assert np.array_equal(m.cells[0].data, ref.triangles)
+
+
+def field_names(m):
+    """meshio's field_data as {name: [tag, dim]}."""
+    return {k: [int(v[0]), int(v[1])] for k, v in m.field_data.items()}
+
+
 def check_boundary_orientation(edges, tags, ref, spec):
     """Boundary lines keep the mesh's orientation (region on the left)."""
     boundary = {tuple(int(v) for v in e) for e, t in zip(ref.segments, ref.segment_tags)
@@ -118,7 +131,7 @@ def test_meshio_reads_msh_with_named_physical_groups(case, suffix):
     # Names: meshio's field_data is {name: [tag, dim]}.
     expect = {n: [t, 2] for t, n in spec["regions"].items()}
     expect.update({n: [t, 1] for t, n in spec["facets"].items()})
-    assert {k: [int(v[0]), int(v[1])] for k, v in m.field_data.items()} == expect
+    assert field_names(m) == expect
     data_names = set(m.cell_data) - {"gmsh:physical", "gmsh:geometrical"}
     if suffix != "-data":
         assert not data_names, "per-triangle data in a .msh nobody asked for"
@@ -148,9 +161,7 @@ def test_meshio_reads_vtu(case):
     name, stem, spec = case
     ref = Reference(stem)
     m = meshio.read(stem + ".vtu")
-    check_points(m.points, ref)
-    assert [c.type for c in m.cells] == ["triangle"]
-    assert np.array_equal(m.cells[0].data, ref.triangles)
+    check_triangle_mesh(m, ref)
     assert np.array_equal(m.cell_data["region"][0], ref.region)
     assert np.array_equal(m.point_data["boundary_marker"], ref.markers)
 
@@ -161,17 +172,15 @@ def test_meshio_reads_xdmf_mesh_and_facets(case):
     name, stem, spec = case
     ref = Reference(stem)
     m = meshio.read(stem + ".xdmf")
-    check_points(m.points, ref)
-    assert [c.type for c in m.cells] == ["triangle"]
-    assert np.array_equal(m.cells[0].data, ref.triangles)
+    check_triangle_mesh(m, ref)
     assert np.array_equal(m.cell_data["region"][0], ref.region)
-    assert {k: [int(v[0]), int(v[1])] for k, v in m.field_data.items()} == {n: [t, 2] for t, n in spec["regions"].items()}
+    assert field_names(m) == {n: [t, 2] for t, n in spec["regions"].items()}
     f = meshio.read(stem + "_facets.xdmf")
     check_points(f.points, ref)
     assert [c.type for c in f.cells] == ["line"]
     assert tagged_edges(f.cells[0].data, f.cell_data["facet_tags"][0]) == ref.tagged_edges()
     check_boundary_orientation(f.cells[0].data, f.cell_data["facet_tags"][0], ref, spec)
-    assert {k: [int(v[0]), int(v[1])] for k, v in f.field_data.items()} == {n: [t, 1] for t, n in spec["facets"].items()}
+    assert field_names(f) == {n: [t, 1] for t, n in spec["facets"].items()}
 
 
 def abaqus_name(name):
@@ -183,9 +192,7 @@ def test_meshio_reads_abaqus_inp_with_sets(case):
     name, stem, spec = case
     ref = Reference(stem)
     m = meshio.read(stem + ".inp")
-    check_points(m.points, ref, rtol=5e-14)
-    assert [c.type for c in m.cells] == ["triangle"]
-    assert np.array_equal(m.cells[0].data, ref.triangles)
+    check_triangle_mesh(m, ref, rtol=5e-14)
     # One element set per region: exactly the region's triangles.
     for tag, region in spec["regions"].items():
         got = m.cell_sets[abaqus_name(region)][0]
