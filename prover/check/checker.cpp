@@ -70,6 +70,9 @@ bool consistent(const std::array<St, 4>& k) {
         if (k[e[0]].sign != 0 && k[e[0]].sign == -k[e[1]].sign && !k[e[0]].warp && !k[e[1]].warp) return false;
     return true;
 }
+// The key code and the flatness test below are independent copies, on purpose:
+// the untrusted side's single copies are key_code and stencil_admits_flat
+// (mesher/include/warpmesh/certified.hpp), used by the mesher and the prover.
 std::string code(const std::array<St, 4>& k) {
     std::string s;
     for (auto& x : k) s += std::string(1, "-0+"[x.sign + 1]) + WCH[x.warp];
