@@ -10,7 +10,8 @@
 #include <functional>
 
 #include "warpmesh/graded.hpp"
-#include "warpmesh/tiles.hpp"
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
 
 using namespace warpmesh;
 

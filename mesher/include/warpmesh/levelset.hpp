@@ -69,7 +69,7 @@ public:
     void sample(const Lattice& lattice, std::span<double> out) const;
 
     // Bounds on f over a closed box, used by the graded mesher to skip blocks
-    // of the lattice that the level set cannot reach (tiles.hpp).  They must
+    // of the lattice that the level set cannot reach (src/graded/tiles.hpp).  They must
     // hold for the values value() actually computes, rounding included: a
     // block is skipped only when every value there would have had the sign
     // the bound implies.  The default knows nothing: (-inf, +inf).
