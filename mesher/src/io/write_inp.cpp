@@ -51,10 +51,11 @@ std::string abaqus_name(const std::string& name, std::int32_t tag, std::set<std:
     };
     r.resize(std::min<std::size_t>(r.size(), 80));
     if (used.count(upper(r))) {
-        const std::string suffix = "_" + std::to_string(tag);
-        r.resize(std::min<std::size_t>(r.size(), 80 - suffix.size()));
-        r += suffix;
-        for (int k = 2; used.count(upper(r)); ++k) r = r.substr(0, r.rfind('_')) + "_" + std::to_string(k);
+        // (Appended piecewise: GCC 12 warns falsely on "_" + std::to_string.)
+        const std::string number = std::to_string(tag);
+        r.resize(std::min<std::size_t>(r.size(), 80 - 1 - number.size()));
+        r.append(1, '_').append(number);
+        for (int k = 2; used.count(upper(r)); ++k) r.erase(r.rfind('_') + 1).append(std::to_string(k));
     }
     used.insert(upper(r));
     return r;
@@ -166,14 +167,15 @@ void write_inp(const Mesh& mesh, std::ostream& os) {
             auto& ids = by_side[static_cast<std::size_t>(s)];
             if (ids.empty()) continue;
             std::sort(ids.begin(), ids.end());
-            out << "*ELSET, ELSET=_" << name << "_S" << static_cast<std::int32_t>(s + 1) << '\n';
+            const char side = static_cast<char>('1' + s);  // faces S1..S3
+            out << "*ELSET, ELSET=_" << name << "_S" << side << '\n';
             put_ids(out, ids);
         }
         out << "*SURFACE, TYPE=ELEMENT, NAME=" << name << '\n';
-        for (int s = 0; s < 3; ++s)
-            if (!by_side[static_cast<std::size_t>(s)].empty())
-                out << '_' << name << "_S" << static_cast<std::int32_t>(s + 1) << ", S" << static_cast<std::int32_t>(s + 1)
-                    << '\n';
+        for (int s = 0; s < 3; ++s) {
+            const char side = static_cast<char>('1' + s);
+            if (!by_side[static_cast<std::size_t>(s)].empty()) out << '_' << name << "_S" << side << ", S" << side << '\n';
+        }
     }
 }
 
