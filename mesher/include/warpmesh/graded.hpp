@@ -361,6 +361,22 @@ struct QuadtreeCheck {
 };
 QuadtreeCheck check_quadtree(const Quadtree& tree, const TiledSigns& signs);
 
+// The invariant the certificates rest on, checked on the leaf list itself
+// (cheap: O(warped points + sampled tiles' points), binary searches in
+// `parents`): every lattice square with a warped or zero-valued corner is a
+// finest leaf (hence has no split side).  mesh_graded runs it whenever
+// CertifyOptions::verify is set (`warpmesh --verify`, release builds
+// included) and throws std::logic_error with `first` on a violation.
+struct CriticalSquaresCheck {
+    std::int64_t critical_points = 0;  // warped points, then zero-valued ones (a point may be both: counted twice)
+    std::int64_t squares = 0;          // squares around them checked (with repetitions)
+    std::int64_t violations = 0;       // of those, squares that are not finest leaves
+    std::string first;                 // the first violation, described
+    bool ok() const { return violations == 0; }
+};
+CriticalSquaresCheck check_critical_squares_finest(const Leaves& leaves, const TiledSigns& signs,
+                                                   std::span<const WarpedPoint> warped);
+
 // Triangles of the leaves.  Finest leaves: the square's diagonal by `rule`
 // exactly as the uniform triangulation (warped_square_diagonal where a corner
 // is warped or zero-valued, AD otherwise) and the triangles with three inside corners.
@@ -388,6 +404,7 @@ struct GradedResult {
     std::int64_t sampled_points = 0;  // evaluations of f (tiles.hpp; neighbouring sampled tiles share a border)
     std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, inside or outside
     CertifiedSummary certified;  // available = false unless certification ran
+    std::int64_t invariant_squares = -1;  // squares check_critical_squares_finest checked (-1: not run)
 };
 
 // tiles (sample → signs → cut points where the level set can pass) → warp →
