@@ -9,7 +9,8 @@
 
 #include "warpmesh/graded.hpp"
 #include "warpmesh/shapes.hpp"
-#include "warpmesh/tiles.hpp"
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
 
 using namespace warpmesh;
 

@@ -5,6 +5,10 @@
 
 #include "warpmesh/graded.hpp"
 
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
+#include "graded/triangulate_graded.hpp"
+
 namespace warpmesh {
 
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,

@@ -14,6 +14,8 @@
 #include <algorithm>
 
 #include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
 
 namespace warpmesh {
 
