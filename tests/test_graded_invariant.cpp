@@ -6,25 +6,15 @@
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
-#include <cmath>
-#include <functional>
 
 #include "warpmesh/graded.hpp"
+#include "warpmesh/shapes.hpp"
 #include "graded/quadtree.hpp"
 #include "graded/tiles.hpp"
 
 using namespace warpmesh;
 
 namespace {
-
-struct Lambda : LevelSet {
-    std::function<double(double, double)> f;
-    Box box;
-    Lambda(std::function<double(double, double)> g, Box b) : f(std::move(g)), box(b) {}
-    double value(double x, double y) const override { return f(x, y); }
-    Box bounds() const override { return box; }
-    std::string describe() const override { return "lambda"; }
-};
 
 Lattice integer_lattice(std::int64_t n) {
     Lattice l;
@@ -48,7 +38,7 @@ void drop_parent(Leaves& leaves, std::int64_t a, std::int64_t b) {
 
 BOOST_AUTO_TEST_CASE(square_with_warped_corner_left_coarse_is_detected) {
     const Lattice l = integer_lattice(64);
-    const Lambda f([](double x, double y) { return std::hypot(x - 30.3, y - 33.7) - 17.2; }, {0, 0, 64, 64});
+    const Circle f(30.3, 33.7, 17.2);
     const TiledFront front = warp_tiles(f, l);
     const Quadtree tree = build_quadtree(l, front.signs, front.warped, 0);
     Leaves leaves = quadtree_leaves(tree, nullptr, true);
@@ -64,16 +54,16 @@ BOOST_AUTO_TEST_CASE(square_with_warped_corner_left_coarse_is_detected) {
 }
 
 BOOST_AUTO_TEST_CASE(square_with_zero_corner_left_coarse_is_detected) {
-    // f = 0 on the lattice column x = 20: zero-valued points, no cut edge, no warp.
+    // f = 0 on the rectangle's sides (lattice lines): zero-valued points, no cut edge, no warp.
     const Lattice l = integer_lattice(64);
-    const Lambda f([](double x, double) { return x - 20; }, {0, 0, 64, 64});
+    const Rectangle f(20, 10, 44, 50);
     const TiledFront front = warp_tiles(f, l);
     BOOST_TEST(front.warped.empty());
     const Quadtree tree = build_quadtree(l, front.signs, front.warped, 0);
     Leaves leaves = quadtree_leaves(tree, nullptr, true);
     const CriticalSquaresCheck ok = check_critical_squares_finest(leaves, front.signs, front.warped);
     BOOST_TEST(ok.ok());
-    BOOST_TEST(ok.critical_points >= 65);  // the column x = 20 (tile borders count twice)
+    BOOST_TEST(ok.critical_points >= 2 * (24 + 40));  // the rectangle's boundary points
     drop_parent(leaves, 19, 40);
     const CriticalSquaresCheck bad = check_critical_squares_finest(leaves, front.signs, front.warped);
     BOOST_TEST(bad.violations > 0);
@@ -82,7 +72,7 @@ BOOST_AUTO_TEST_CASE(square_with_zero_corner_left_coarse_is_detected) {
 
 BOOST_AUTO_TEST_CASE(verify_runs_the_invariant_check) {
     const Lattice l = integer_lattice(64);
-    const Lambda f([](double x, double y) { return std::hypot(x - 30.3, y - 33.7) - 17.2; }, {0, 0, 64, 64});
+    const Circle f(30.3, 33.7, 17.2);
     const GradedResult with = mesh_graded(f, l, DiagonalRule::maxmin, 0, CertifyOptions{true, false, true});
     BOOST_TEST(with.invariant_squares > 0);
     const GradedResult without = mesh_graded(f, l, DiagonalRule::maxmin, 0, CertifyOptions{true, false, false});
