@@ -20,12 +20,12 @@
 #endif
 
 #include "warpmesh/certified.hpp"
-#include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/shapes.hpp"
-#include "warpmesh/tiles.hpp"
+#include "graded/tiles.hpp"
 #include "warpmesh/uniform.hpp"
 #include "without_range.hpp"
 

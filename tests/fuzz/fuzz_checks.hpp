@@ -22,7 +22,7 @@
 
 #include "warpmesh/certified.hpp"
 #include "warpmesh/errors.hpp"
-#include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"

@@ -2,7 +2,7 @@
 // balanced quadtree and its triangulation, timed.
 #include <chrono>
 
-#include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
 
 namespace warpmesh {
 

@@ -58,7 +58,7 @@
 #include <numeric>
 #include <string>
 
-#include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "warpmesh/tiles.hpp"
+#include "graded/tiles.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -62,7 +62,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
 #include "square_code.hpp"
 
 #ifdef _OPENMP

@@ -22,6 +22,7 @@
 // cell data are written as "nan"/"inf", which VTK's ASCII reader may reject.
 #include <string_view>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
