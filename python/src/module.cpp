@@ -38,6 +38,15 @@ py::array view(const void* data, std::size_t count, std::size_t cols, py::handle
     return a;
 }
 
+// MeshResult.<name>: a view of the array get(result), `cols` T's a row.
+template <class T, class Get>
+void def_view(py::class_<MeshResult>& cls, const char* name, std::size_t cols, Get get) {
+    cls.def_property_readonly(name, [cols, get](py::object self) {
+        const auto& a = get(self.cast<const MeshResult&>());
+        return view<T>(a.data(), a.size(), cols, self);
+    });
+}
+
 MeshOptions mesh_options(const py::dict& kw) {
     MeshOptions o;
     if (kw.contains("spacing")) o.spacing = kw["spacing"].cast<double>();
@@ -81,35 +90,16 @@ PYBIND11_MODULE(_core, m) {
     py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
     py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
 
-    py::class_<MeshResult>(m, "MeshResult")
-        .def_property_readonly("points", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<double>(r.mesh.vertices.data(), r.mesh.vertices.size(), 2, self);
-        })
-        .def_property_readonly("triangles", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<std::int32_t>(r.mesh.triangles.data(), r.mesh.triangles.size(), 3, self);
-        })
-        .def_property_readonly("regions", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<std::int32_t>(r.mesh.region.data(), r.mesh.region.size(), 1, self);
-        })
-        .def_property_readonly("boundary_edges", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<std::int32_t>(r.mesh.boundary.data(), r.mesh.boundary.size(), 2, self);
-        })
-        .def_property_readonly("boundary_tags", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<std::int32_t>(r.mesh.boundary_tag.data(), r.mesh.boundary_tag.size(), 1, self);
-        })
-        .def_property_readonly("interfaces", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<std::int32_t>(r.mesh.interfaces.data(), r.mesh.interfaces.size(), 2, self);
-        })
-        .def_property_readonly("interface_regions", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            return view<std::int32_t>(r.mesh.interface_regions.data(), r.mesh.interface_regions.size(), 2, self);
-        })
+    py::class_<MeshResult> result(m, "MeshResult");
+    def_view<double>(result, "points", 2, [](const MeshResult& r) -> const auto& { return r.mesh.vertices; });
+    def_view<std::int32_t>(result, "triangles", 3, [](const MeshResult& r) -> const auto& { return r.mesh.triangles; });
+    def_view<std::int32_t>(result, "regions", 1, [](const MeshResult& r) -> const auto& { return r.mesh.region; });
+    def_view<std::int32_t>(result, "boundary_edges", 2, [](const MeshResult& r) -> const auto& { return r.mesh.boundary; });
+    def_view<std::int32_t>(result, "boundary_tags", 1, [](const MeshResult& r) -> const auto& { return r.mesh.boundary_tag; });
+    def_view<std::int32_t>(result, "interfaces", 2, [](const MeshResult& r) -> const auto& { return r.mesh.interfaces; });
+    def_view<std::int32_t>(result, "interface_regions", 2,
+                           [](const MeshResult& r) -> const auto& { return r.mesh.interface_regions; });
+    result
         .def_property_readonly("cell_data", [](py::object self) {
             const auto& r = self.cast<const MeshResult&>();
             py::dict d;
