@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "warpmesh/mesh.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"

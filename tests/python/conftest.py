@@ -12,6 +12,7 @@ Triangle's format in the same run (.node/.ele/.poly), read by `read_triangle`.
 """
 import importlib
 import os
+import pathlib
 import subprocess
 
 import numpy as np
@@ -120,3 +121,18 @@ def tagged_edges(edges, tags):
 def two_region(tmp_path_factory):
     """Stem of the hand-built two-region fixture files."""
     return write_fixtures(tmp_path_factory.mktemp("fixtures"))
+
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def root():
+    """The repository's root."""
+    return ROOT
+
+
+@pytest.fixture
+def cli():
+    """The warpmesh command line (CTest passes it in WARPMESH_EXE)."""
+    return executable("WARPMESH_EXE")

@@ -23,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-#include "warpmesh/atomic_file.hpp"
+#include "warpmesh/errors.hpp"
 #include "warpmesh/mesh.hpp"
 
 namespace warpmesh {

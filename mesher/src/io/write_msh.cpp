@@ -60,6 +60,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {

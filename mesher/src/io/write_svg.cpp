@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"
 

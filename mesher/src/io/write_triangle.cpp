@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {

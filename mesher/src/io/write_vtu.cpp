@@ -23,6 +23,9 @@
 // would give them region/cell-data values too and confuse filters; the .msh and
 // .poly outputs carry the boundary.  Values are written 6 per line.  Non-finite
 // cell data are written as "nan"/"inf", which VTK's ASCII reader may reject.
+#include <string_view>
+
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
