@@ -239,11 +239,6 @@ Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name,
 // the Triangle files.  Any other path is returned unchanged.
 std::string triangle_stem(const std::string& path);
 
-// Writes `f`'s content with body(f.stream()) and closes it (not yet renamed:
-// for formats of several files, each f.commit() once all are complete).  Any
-// exception from the body becomes OutputError("cannot write 'PATH': …").
-void fill_atomic_file(AtomicFile& f, const std::function<void(std::ostream&)>& body);
-
 // `s` escaped for an XML attribute value or text (& < > " ').
 std::string xml_escape(std::string_view s);
 

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "graded/quadtree.hpp"
+#include "warpmesh/graded.hpp"
 
 #include "graded/quadtree.hpp"
 #include "graded/tiles.hpp"

@@ -60,4 +60,11 @@ private:
 // removed (an OutputError from the body is rethrown unchanged).
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& body);
 
+namespace detail {
+// Writes `f`'s content with body(f.stream()) and closes it (not yet renamed:
+// for formats of several files, each f.commit() once all are complete).  Any
+// exception from the body becomes OutputError("cannot write 'PATH': …").
+void fill_atomic_file(AtomicFile& f, const std::function<void(std::ostream&)>& body);
+}  // namespace detail
+
 }  // namespace warpmesh

@@ -33,6 +33,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {

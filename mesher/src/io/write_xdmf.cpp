@@ -38,6 +38,7 @@
 // Numbers: Float precision 8 (meshio reads Precision="4" as float32) with the
 // shortest round-trip decimal, Int precision 4; values separated by spaces and
 // newlines only (dolfinx splits on those two characters).
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {

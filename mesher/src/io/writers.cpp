@@ -1,4 +1,5 @@
 // writers.cpp — the format dispatcher and checks shared by the writers.
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 #include <algorithm>
