@@ -32,7 +32,9 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/optimize.hpp"
 #include "warpmesh/quality.hpp"
+#include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
 #include "warpmesh/writers.hpp"
@@ -76,6 +78,9 @@ lattice and algorithm:
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
                          default: as coarse as the domain allows)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
+  --optimize             after meshing, move the boundary band's vertices (boundary ones
+                         along the level set) and flip its interior edges to raise the
+                         worst angles; no triangle's star gets a smaller minimum angle
 
 certificates (proofs/*.cert, compiled in):
   --verify / --no-verify check every triangle of a warped square against its key's
@@ -139,6 +144,7 @@ struct MeshOptions {
     bool svg_certified = false;
     bool quiet = false;
     bool certify = true, verify = true, guarantee_flat = false;
+    bool optimize = false;
     std::optional<double> min_spacing;
     std::int64_t repeat = 1;
 };
@@ -168,6 +174,7 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
             else if (v == "separating") o.rule = DiagonalRule::separating;
             else throw UsageError("--diagonal expects 'maxmin' or 'separating', got '" + v + "'");
         } else if (a == "--graded") o.graded = true;
+        else if (a == "--optimize") o.optimize = true;
         else if (a == "--max-cell") o.max_cell = parse_integer(a, value());
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
         else if (a == "--max-squares") o.max_squares = parse_integer(a, value());
@@ -405,6 +412,23 @@ int run_mesh(int argc, char** argv) {
     if (mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
+    if (const ResolutionCheck res = check_resolution(mesh, lattice.s); res.unresolved) {
+        std::cerr << "warpmesh: warning: spacing " << lattice.s << " is too coarse for this input: " << res.unresolved
+                  << " of " << res.loops << " boundary loop(s) (components or holes) are less than "
+                  << default_min_squares_across << " squares across (narrowest width 4*area/perimeter = "
+                  << approx(res.narrowest) << "); spacing " << approx(res.suggested_spacing) << " or less would resolve them\n";
+        extra.emplace_back("resolution", "{\"unresolved_loops\": " + std::to_string(res.unresolved) +
+                                             ", \"suggested_spacing\": " + json_number(res.suggested_spacing) + "}");
+    }
+    std::optional<OptimizeReport> optimized;
+    if (o.optimize) {
+        OptimizeOptions oo;
+        oo.spacing = lattice.s;
+        if (cert.available) oo.certified_floor = cert.min_deg;
+        optimized = optimize_mesh(mesh, *f, oo);
+        phases.emplace_back("optimize", optimized->seconds);
+        extra.emplace_back("optimize", optimize_json(*optimized));
+    }
     if (cert.available && !o.shape.empty()) measure_fidelity(mesh, *f, lattice.s, cert);
     if (o.certify && !cert.available)
         std::cerr << "warpmesh: warning: this build has no certificates (proofs/*.cert); no certified bounds\n";
@@ -474,7 +498,7 @@ int run_mesh(int argc, char** argv) {
     q.extra = extra;
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, q); });
     staged.commit();
-    if (!o.quiet) std::cout << quality_text(q) << cert_text;
+    if (!o.quiet) std::cout << quality_text(q) << cert_text << (optimized ? optimize_text(*optimized) : "");
     return 0;
 }
 
