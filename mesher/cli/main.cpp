@@ -412,13 +412,11 @@ int run_mesh(int argc, char** argv) {
     if (mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
-    if (const ResolutionCheck res = check_resolution(mesh, lattice.s); res.unresolved) {
+    if (const ResolutionCheck res = check_resolution(mesh, lattice.s, o.shape.empty() ? 1.0 : 0.0); res.unresolved) {
         std::cerr << "warpmesh: warning: spacing " << lattice.s << " is too coarse for this input: " << res.unresolved
                   << " of " << res.loops << " boundary loop(s) (components or holes) are less than "
                   << default_min_squares_across << " squares across (narrowest width 4*area/perimeter = "
                   << approx(res.narrowest) << "); spacing " << approx(res.suggested_spacing) << " or less would resolve them\n";
-        extra.emplace_back("resolution", "{\"unresolved_loops\": " + std::to_string(res.unresolved) +
-                                             ", \"suggested_spacing\": " + json_number(res.suggested_spacing) + "}");
     }
     std::optional<OptimizeReport> optimized;
     if (o.optimize) {

@@ -9,6 +9,11 @@
 // least `min_squares` lattice squares.  The check cannot see parts that
 // vanished altogether (smaller than a square); those lower the area, not the
 // loop count.
+//
+// `finest` is the input's own resolution (1 for images: a spacing below a
+// pixel adds no detail; 0 for analytic shapes).  A suggestion is never below
+// it, and at a spacing <= finest nothing is reported unresolved: a label
+// image's one-pixel islands are as resolved as the data allows.
 #pragma once
 
 #include <cstdint>
@@ -23,12 +28,13 @@ struct ResolutionCheck {
     double narrowest = 0;         // the smallest loop width 4A/P (mesh units; 0 without loops)
     // A spacing at which the narrowest loop would be min_squares squares
     // across (narrowest / min_squares, rounded down to two significant
-    // digits); 0 when every loop is resolved.
+    // digits, at least `finest`); 0 when every loop is resolved.
     double suggested_spacing = 0;
 };
 
 inline constexpr double default_min_squares_across = 4;
 
-ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double min_squares = default_min_squares_across);
+ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double finest = 0,
+                                 double min_squares = default_min_squares_across);
 
 }  // namespace warpmesh

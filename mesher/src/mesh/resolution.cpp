@@ -1,6 +1,7 @@
 // resolution.cpp — boundary loops and their widths (resolution.hpp).
 #include "warpmesh/resolution.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -8,8 +9,9 @@
 
 namespace warpmesh {
 
-ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double min_squares) {
+ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double finest, double min_squares) {
     ResolutionCheck r;
+    const bool refinable = spacing > finest;
     // Outgoing boundary edges per vertex; a pinch vertex has several, and the
     // walk takes any unused one (the loop's area and length are sums over its
     // edges, so how loops touching at a pinch are split matters little).
@@ -39,13 +41,13 @@ ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double min_sq
         ++r.loops;
         const double width = 2 * std::abs(twice_area) / length;  // 4A/P
         narrowest = std::min(narrowest, width);
-        if (width < min_squares * spacing) ++r.unresolved;
+        if (refinable && width < min_squares * spacing) ++r.unresolved;
     }
     r.narrowest = r.loops ? narrowest : 0;
     if (r.unresolved) {
         const double s = narrowest / min_squares;
         const double unit = std::pow(10.0, std::floor(std::log10(s)) - 1);
-        r.suggested_spacing = std::floor(s / unit) * unit;
+        r.suggested_spacing = std::max(finest, std::floor(s / unit) * unit);
     }
     return r;
 }
