@@ -400,7 +400,8 @@ bool Optimizer::try_move(std::int32_t lv) {
     std::vector<Vec2>& grads = grads_;
     const Vec2 d = gradient_direction(lv, now.q, axis, one_d, &values, &grads);
     const double dn = std::sqrt(norm2(d));
-    if (!(dn > 1e-12)) return false;
+    // Stationary (degrees per star size: scale-free); no step can gain min_gain_deg.
+    if (!(dn * now.shortest > 1e-9)) return false;
     const Vec2 dir = (1 / dn) * d;
 
     // Predicted best step: follow the lowest linear model min_i (c_i + α s_i)
