@@ -580,3 +580,21 @@ BOOST_AUTO_TEST_CASE(region_touching_the_border_is_closed_with_tag_2) {
     BOOST_REQUIRE(sb.run({"mesh", disc, "-o", "d.msh", "--quiet"}).code == 0);
     BOOST_TEST(slurp(sb.out / "d.msh").find("\"domain_border\"") == std::string::npos);
 }
+
+BOOST_AUTO_TEST_CASE(coarse_spacing_warns_with_a_spacing_that_resolves_and_optimize_reports_its_section) {
+    Sandbox sb;
+    // A disc of radius 1 at the default spacing 1 is a 4-triangle diamond.
+    const Result coarse = sb.run({"mesh", "--shape", "circle:0,0,1", "-o", "d.vtu", "--quiet"});
+    BOOST_TEST(coarse.code == 0);
+    BOOST_TEST(coarse.err.find("too coarse") != std::string::npos);
+    BOOST_TEST(coarse.err.find("spacing 0.35 or less") != std::string::npos);
+    const Result fine = sb.run({"mesh", "--shape", "circle:0,0,1", "--spacing", "0.35", "-o", "d.vtu", "--quiet"});
+    BOOST_TEST(fine.err.find("too coarse") == std::string::npos);
+
+    const Result o = sb.run({"mesh", "--shape", "ellipse:0,0,30,18", "--optimize", "-o", "e.msh", "--report", "r.json"});
+    BOOST_TEST(o.code == 0);
+    BOOST_TEST(o.out.find("optimize             min angle") != std::string::npos);
+    const std::string json = slurp(sb.out / "r.json");
+    for (const char* key : {"\"optimize\": {", "\"certified_floor_deg\"", "\"min_angle_after_deg\"", "\"optimize\": 0"})
+        BOOST_TEST(json.find(key) != std::string::npos, key);
+}

@@ -67,6 +67,9 @@ lattice and algorithm:
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
                          default: as coarse as the domain allows)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
+  --optimize             after meshing, move the boundary band's vertices (boundary ones
+                         along the level set) and flip its interior edges to raise the
+                         worst angles; no triangle's star gets a smaller minimum angle
 
 certificates (proofs/*.cert, compiled in):
   --verify / --no-verify check every triangle of a warped square against its key's
@@ -158,6 +161,7 @@ CliOptions parse_mesh_options(int argc, char** argv) {
             else if (v == "separating") m.rule = DiagonalRule::separating;
             else throw UsageError("--diagonal expects 'maxmin' or 'separating', got '" + v + "'");
         } else if (a == "--graded") m.graded = true;
+        else if (a == "--optimize") m.optimize = true;
         else if (a == "--max-cell") m.max_cell = parse_integer(a, value());
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
         else if (a == "--max-squares") m.max_squares = parse_integer(a, value());

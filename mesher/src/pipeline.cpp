@@ -9,6 +9,7 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
+#include "warpmesh/resolution.hpp"
 #include "warpmesh/uniform.hpp"
 
 namespace warpmesh {
@@ -190,6 +191,24 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     if (mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
+    // Images: a spacing below one pixel adds no detail (resolution.hpp).
+    if (const ResolutionCheck rc = check_resolution(mesh, res.lattice.s, f.bounds_are_domain() ? 1.0 : 0.0);
+        rc.unresolved) {
+        std::ostringstream w;
+        w << "spacing " << res.lattice.s << " is too coarse for this input: " << rc.unresolved << " of " << rc.loops
+          << " boundary loop(s) (components or holes) are less than " << default_min_squares_across
+          << " squares across (narrowest width 4*area/perimeter = " << approx(rc.narrowest) << "); spacing "
+          << approx(rc.suggested_spacing) << " or less would resolve them";
+        res.warnings.push_back(w.str());
+    }
+    if (o.optimize) {
+        OptimizeOptions oo;
+        oo.spacing = res.lattice.s;
+        if (cert.available) oo.certified_floor = cert.min_deg;
+        res.optimized = optimize_mesh(mesh, f, oo);
+        phases.emplace_back("optimize", res.optimized->seconds);
+        extra.emplace_back("optimize", optimize_json(*res.optimized));
+    }
     if (cert.available && !f.bounds_are_domain()) measure_fidelity(mesh, f, res.lattice.s, cert);
     if (o.certify && !cert.available)
         res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
@@ -212,7 +231,9 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
 
 std::string to_json(const MeshResult& r) { return quality_json(r.report); }
 
-std::string to_text(const MeshResult& r) { return quality_text(r.report) + r.certified_text; }
+std::string to_text(const MeshResult& r) {
+    return quality_text(r.report) + r.certified_text + (r.optimized ? optimize_text(*r.optimized) : "");
+}
 
 WriteOptions write_options(const MeshResult& r, bool color_min_angle, bool color_certified) {
     WriteOptions wo;

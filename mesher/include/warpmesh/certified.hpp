@@ -134,4 +134,8 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
 // an endpoint where |f| > 1e-9 s.  Meaningful for analytic shapes.
 void measure_fidelity(const Mesh& mesh, const LevelSet& f, double spacing, CertifiedSummary& summary);
 
+// The distance measure of measure_fidelity for one edge a-b: the largest
+// |f| / |grad f| at its 9 sample points.
+double edge_distance_to_levelset(const LevelSet& f, Vec2 a, Vec2 b, double spacing);
+
 }  // namespace warpmesh

@@ -14,8 +14,9 @@
 // mesh() owns the whole pipeline the command line runs: the lattice and its
 // size limits, the uniform or graded mesher, the diagonal rule, the
 // certification against the compiled-in proofs and its verification, the
-// `--guarantee flat` refinement, the boundary-fidelity measurement, and the
-// report.  It prints nothing: warnings are returned in MeshResult::warnings.
+// `--guarantee flat` refinement, the optional optimisation pass, the
+// resolution check (resolution.hpp: a warning when the spacing is too coarse
+// for the input), the boundary-fidelity measurement, and the report.  It prints nothing: warnings are returned in MeshResult::warnings.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +32,7 @@
 #include "warpmesh/lattice.hpp"
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/mesh.hpp"
+#include "warpmesh/optimize.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"
 
@@ -65,6 +67,10 @@ struct MeshOptions {
     // warning.  Needs certify.
     Guarantee guarantee = Guarantee::any;
     std::optional<double> min_spacing;
+    // After meshing (and certification), the monotone optimisation pass
+    // (optimize.hpp): raises the band's worst angles, never a star's minimum
+    // lower; the certified floor and the cell data stay valid lower bounds.
+    bool optimize = false;
     // Benchmarks: mesh `repeat` times (1..1000) and report the fastest run's
     // phase times; the mesh is the same every time.
     std::int64_t repeat = 1;
@@ -85,6 +91,7 @@ struct MeshResult {
     int refinements = 0;         // halvings made by Guarantee::flat
     QualityReport report;        // quality, phase times and the "extra" JSON fields
     std::string certified_text;  // the certification's lines of to_text ("" without)
+    std::optional<OptimizeReport> optimized;  // with MeshOptions::optimize: before/after figures
     std::vector<std::string> warnings;  // e.g. Guarantee::flat stopped at min_spacing; no certificates in this build
 };
 

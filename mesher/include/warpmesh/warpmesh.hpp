@@ -10,6 +10,8 @@
 //   quality.hpp         the quality report (angles, histogram), JSON and text
 //   writers.hpp         .vtu .msh .node/.ele .svg .png (warpmesh::io)
 //   mesh_checks.hpp     the mesh invariants, checked from scratch
+//   optimize.hpp        the monotone optimisation pass (MeshOptions::optimize)
+//   resolution.hpp      is the spacing fine enough for the input?
 //   errors.hpp          InputError, OutputError
 //
 // The stages below mesh() (uniform.hpp, graded.hpp, lattice.hpp) are public
@@ -24,7 +26,9 @@
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/mesh.hpp"
 #include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/optimize.hpp"
 #include "warpmesh/pipeline.hpp"
 #include "warpmesh/quality.hpp"
+#include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/writers.hpp"
