@@ -22,7 +22,7 @@ jobs="${WARPMESH_JOBS:-$(nproc)}"
 # --- dependencies ------------------------------------------------------------
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 need=()
-for pkg in cmake make libpng-dev libboost-dev; do have_pkg "$pkg" || need+=("$pkg"); done
+for pkg in cmake make libpng-dev zlib1g-dev libtiff-dev libboost-dev; do have_pkg "$pkg" || need+=("$pkg"); done
 cxx=""
 for c in clang++-14 clang++; do
   if command -v "$c" >/dev/null; then cxx="$(command -v "$c")"; break; fi

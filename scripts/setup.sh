@@ -5,7 +5,7 @@ set -euo pipefail
 
 need=()
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev pkg-config python3; do
+for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev zlib1g-dev libtiff-dev pkg-config python3; do
   have_pkg "$pkg" || need+=("$pkg")
 done
 # libgomp ships with g++ (OpenMP); Boost.Interval and Boost.Multiprecision are

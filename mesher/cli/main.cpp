@@ -11,6 +11,7 @@
 
 #include <cerrno>
 #include <charconv>
+#include <chrono>
 #include <limits>
 #include <filesystem>
 #include <unistd.h>
@@ -18,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -27,6 +29,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/atomic_file.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
 #include "warpmesh/image.hpp"
@@ -35,6 +38,7 @@
 #include "warpmesh/quality.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
+#include "warpmesh/volume.hpp"
 #include "warpmesh/writers.hpp"
 #ifdef WARPMESH_HAVE_PROVER
 #include "warpmesh/prove.hpp"
@@ -49,7 +53,8 @@ constexpr const char* version = "0.1.0";
 constexpr const char* usage = R"(warpmesh — conforming triangle meshes of 2D level sets by lattice warping
 
 usage:
-  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG)
+  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG, TIFF)
+                                           or a slice of a volume (NRRD, NIfTI, TIFF)
   warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
   warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
   warpmesh --help | --version
@@ -61,7 +66,18 @@ input (images):
   --label L[,L...]       label mode: the region is the pixels with one of these labels;
   --label nonzero        or every non-zero pixel.  f is the signed distance to the
                          region's boundary, interpolated bilinearly
-  --max-pixels N         refuse images with more pixels than N (default 268435456)
+  --max-pixels N         refuse images and volumes with more pixels (voxels) than N
+                         (default 268435456)
+
+input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
+  --slice AXIS=INDEX     mesh one slice: AXIS is the index axis i, j or k, e.g. k=60
+  --slices AXIS=A:B      mesh slices A .. B-1, in parallel, one output per slice: -o and
+                         --also need a %d field (out_%03d.vtu); --report is a summary
+  --units mm|pixels      mesh in the file's physical coordinates (mm, default for NRRD
+                         and NIfTI) or in pixels (default for PGM, PNG and TIFF)
+  --pixel-size SX[,SY[,SZ]]  pixel (voxel) size in mm, for any input; implies mm
+  --points-3d FILE       also write the mesh's vertices at their 3D positions (CSV x,y,z,
+                         in vertex order; with --slices a %d pattern)
 
 input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
@@ -69,7 +85,8 @@ input (shapes):
                          union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
 
 lattice and algorithm:
-  --spacing S            lattice spacing, in pixels for images (default 1)
+  --spacing S            lattice spacing, in the input's units: mm for physical inputs
+                         (default: the smaller pixel size), else pixels (default 1)
   --diagonal RULE        separating (default): the mesh boundary follows the level set;
                          maxmin: the paper's rule, the diagonal with the larger minimum angle
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
@@ -141,6 +158,11 @@ struct MeshOptions {
     bool certify = true, verify = true, guarantee_flat = false;
     std::optional<double> min_spacing;
     std::int64_t repeat = 1;
+    // Volumes and units (volume.hpp).
+    std::optional<std::string> slice, slices;
+    bool units_pixels = false, spacing_given = false;
+    std::vector<double> pixel_size;
+    std::string points_3d;
 };
 
 MeshOptions parse_mesh_options(int argc, char** argv) {
@@ -155,7 +177,24 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--also") o.outputs.push_back(value());
         else if (a == "--report") o.report = value();
         else if (a == "--shape") o.shape = value();
-        else if (a == "--spacing") o.spacing = parse_number(a, value());
+        else if (a == "--spacing") o.spacing = parse_number(a, value()), o.spacing_given = true;
+        else if (a == "--slice") o.slice = value();
+        else if (a == "--slices") o.slices = value();
+        else if (a == "--points-3d") o.points_3d = value();
+        else if (a == "--units") {
+            const std::string v = value();
+            if (v != "mm" && v != "pixels") throw UsageError("--units expects 'mm' or 'pixels', got '" + v + "'");
+            o.units_pixels = v == "pixels";
+        } else if (a == "--pixel-size") {
+            const std::string v = value();
+            std::size_t from = 0;
+            for (std::size_t comma; (comma = v.find(',', from)) != std::string::npos || from <= v.size();) {
+                o.pixel_size.push_back(parse_number(a, v.substr(from, comma == std::string::npos ? std::string::npos : comma - from)));
+                if (comma == std::string::npos) break;
+                from = comma + 1;
+            }
+            if (o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
+        }
         else if (a == "--iso") o.iso = parse_number(a, value());
         else if (a == "--inside") {
             const std::string v = value();
@@ -212,6 +251,10 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
     if (o.max_pixels < 1 || o.max_squares < 1) throw UsageError("--max-pixels and --max-squares must be positive");
     if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
     if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    if (!o.shape.empty() && (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty()))
+        throw UsageError("--slice, --slices, --pixel-size and --points-3d apply to images and volumes, not to --shape");
+    if (o.slice && o.slices) throw UsageError("--slice and --slices exclude each other");
+    if (o.slices && o.repeat > 1) throw UsageError("--repeat does not combine with --slices");
     return o;
 }
 
@@ -252,11 +295,13 @@ public:
     void write(const std::string& path, Write&& write) {
         namespace fs = std::filesystem;
         const fs::path p(path);
+        std::unique_lock lock(mutex_);  // --slices writes from several threads
         const std::string tag = ".warpmesh-" + std::to_string(::getpid()) + "-" + std::to_string(renames_.size());
         // Keep the extension last: the writers choose the format by it.
         const fs::path staged = p.parent_path() / ("." + p.stem().string() + tag + p.extension().string());
         const auto real = output_files(p.string()), tmp = output_files(staged.string());
         for (std::size_t k = 0; k < real.size(); ++k) renames_.emplace_back(tmp[k], real[k]);
+        lock.unlock();
         try {
             write(staged.string());
         } catch (const OutputError& e) {
@@ -278,6 +323,7 @@ public:
 
 private:
     std::vector<std::pair<std::string, std::string>> renames_;
+    std::mutex mutex_;
 };
 
 double peak_memory_mb() {
@@ -286,32 +332,63 @@ double peak_memory_mb() {
     return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
+// The input file as a volume (images are one slice), with --pixel-size.
+Volume read_input(const MeshOptions& o) {
+    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
+    if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
+    return v;
+}
+
+SliceOptions slice_options(const MeshOptions& o, std::optional<SliceSpec> slice) {
+    SliceOptions so;
+    so.slice = slice;
+    so.units = o.units_pixels ? Units::pixels : Units::physical;
+    if (o.labels) {
+        so.levelset = label_options(*o.labels);
+    } else {
+        so.levelset.mode = ImageMode::threshold;
+        so.levelset.iso = o.iso;  // default: half the image's maxval, or midway between the slice's extremes
+        so.levelset.inside_above = o.inside_above;
+    }
+    return so;
+}
+
+struct Meshed {
+    QualityReport q;
+    std::string cert_text;
+};
+Meshed mesh_input(const MeshOptions& o, const std::unique_ptr<LevelSet>& f, const LoadedSlice* input,
+                  StagedOutputs& staged);
+
+int run_slices(const MeshOptions& o);
+
 int run_mesh(int argc, char** argv) {
     const MeshOptions o = parse_mesh_options(argc, argv);
+    if (o.slices) return run_slices(o);
     // Check the outputs' extensions and directories before doing any work.
     for (const auto& out : o.outputs) check_output_path(out);
     if (!o.report.empty()) check_writable(o.report);
+    if (!o.points_3d.empty()) check_writable(o.points_3d);
 
     std::unique_ptr<LevelSet> f;
-    std::optional<Image> image;
+    std::optional<LoadedSlice> input;
     if (!o.shape.empty()) {
         f = parse_shape(o.shape);
     } else {
-        image = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
-        const Image& img = *image;
-        ImageLevelSetOptions io;
-        if (o.labels) {
-            io = label_options(*o.labels);
-        } else {
-            io.mode = ImageMode::threshold;
-            io.iso = o.iso ? *o.iso : img.maxval / 2.0;
-            io.inside_above = o.inside_above;
-        }
-        if (img.width < 2 || img.height < 2)
-            throw InputError(o.input + ": the image is " + std::to_string(img.width) + " x " +
-                             std::to_string(img.height) + " pixels; at least 2 x 2 are needed for one lattice square");
-        f = make_image_levelset(img, io);
+        input = load_slice(read_input(o), slice_options(o, o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt));
+        f = std::move(input->f);
     }
+    StagedOutputs staged;
+    const Meshed m = mesh_input(o, f, input ? &*input : nullptr, staged);
+    staged.commit();
+    if (!o.quiet) std::cout << quality_text(m.q) << m.cert_text;
+    return 0;
+}
+
+// Mesh one input (a shape, or an image or volume slice) and stage its
+// outputs: the mesh files, --points-3d and the JSON report.
+Meshed mesh_input(const MeshOptions& o, const std::unique_ptr<LevelSet>& f, const LoadedSlice* input,
+                  StagedOutputs& staged) {
     auto make_lattice = [&](double spacing) {
         if (!o.shape.empty()) {
             const Box b = f->bounds();
@@ -322,7 +399,8 @@ int run_mesh(int argc, char** argv) {
                                  std::to_string(o.max_squares) + " (use a larger --spacing)");
             return lattice_around(b, spacing);
         }
-        const double w = (image->width - 1) / spacing, h = (image->height - 1) / spacing;
+        const Box b = f->bounds();
+        const double w = (b.xmax - b.xmin) / spacing, h = (b.ymax - b.ymin) / spacing;
         if (!(w * h <= static_cast<double>(o.max_squares)))
             throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
                              " lattice squares, more than --max-squares " +
@@ -340,14 +418,17 @@ int run_mesh(int argc, char** argv) {
     Lattice lattice;
     std::vector<std::pair<std::string, double>> phases;
     std::vector<std::pair<std::string, std::string>> extra;
-    double spacing = o.spacing;
-    const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
+    // Physical inputs: the default spacing is the smaller pixel size.
+    double spacing = input && !o.spacing_given ? input->pixel_min : o.spacing;
+    const double min_spacing = o.min_spacing ? *o.min_spacing : spacing / 16;
     int refinements = 0;
     for (;;) {
         lattice = make_lattice(spacing);
         extra.clear();
         extra.emplace_back("input", json_string(o.shape.empty() ? o.input : o.shape));
         extra.emplace_back("levelset", json_string(f->describe()));
+        if (input)
+            for (auto& field : slice_report_fields(*input)) extra.push_back(std::move(field));
         extra.emplace_back("rule", json_string(o.rule == DiagonalRule::maxmin ? "maxmin" : "separating"));
         extra.emplace_back("spacing", json_number(spacing));
         if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
@@ -409,7 +490,8 @@ int run_mesh(int argc, char** argv) {
     if (o.certify && !cert.available)
         std::cerr << "warpmesh: warning: this build has no certificates (proofs/*.cert); no certified bounds\n";
 
-    StagedOutputs staged;
+    if (!o.points_3d.empty())
+        staged.write(o.points_3d, [&](const std::string& path) { write_points_3d(mesh, input->plane, path); });
     for (const auto& out : o.outputs) {
         WriteOptions wo;
         wo.svg.color_by_min_angle = o.svg_min_angle;
@@ -473,8 +555,104 @@ int run_mesh(int argc, char** argv) {
     }
     q.extra = extra;
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, q); });
+    return {std::move(q), std::move(cert_text)};
+}
+
+// --slices AXIS=A:B: the volume is read once, its slices meshed in parallel
+// (one thread each; the pipeline inside runs serially), one output set per
+// slice from the %d patterns, one summary (stdout, --report).  A slice whose
+// region is empty, or that cannot be meshed for a reason of its own (an
+// InputError), is skipped and listed; the run fails if every slice is.
+int run_slices(const MeshOptions& o) {
+    const SliceRange range = parse_slice_range(*o.slices);
+    auto name = [&](const std::string& pattern, std::int64_t k) {
+        try {
+            return slice_file_name(pattern, k);
+        } catch (const InputError& e) {
+            throw UsageError(e.what());
+        }
+    };
+    for (const auto& out : o.outputs) check_output_path(name(out, range.first));
+    if (!o.points_3d.empty()) check_writable(name(o.points_3d, range.first));
+    if (!o.report.empty()) check_writable(o.report);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Volume volume = read_input(o);
+    if (range.end > volume.dims[static_cast<std::size_t>(range.axis)])
+        throw InputError("--slices " + *o.slices + " reaches beyond '" + o.input + "' (" + "ijk"[range.axis] + " = 0.." +
+                         std::to_string(volume.dims[static_cast<std::size_t>(range.axis)] - 1) + ")");
+    const double read_seconds = seconds_since(t0);
+
+    const std::int64_t n = range.end - range.first;
+    struct Done {
+        std::string outputs, skipped, plane;
+        std::optional<QualityReport> q;
+        std::exception_ptr error;
+    };
+    std::vector<Done> done(static_cast<std::size_t>(n));
+    StagedOutputs staged;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t s = 0; s < n; ++s) {
+        Done& d = done[static_cast<std::size_t>(s)];
+        const std::int64_t k = range.first + s;
+        try {
+            MeshOptions ok = o;
+            ok.outputs.clear();
+            for (const auto& out : o.outputs) ok.outputs.push_back(name(out, k));
+            if (!o.points_3d.empty()) ok.points_3d = name(o.points_3d, k);
+            ok.report.clear();
+            for (const auto& out : ok.outputs) d.outputs += (d.outputs.empty() ? "" : ", ") + out;
+            LoadedSlice input = load_slice(volume, slice_options(o, SliceSpec{range.axis, k}));
+            std::unique_ptr<LevelSet> f = std::move(input.f);
+            for (const auto& [key, value] : slice_report_fields(input))
+                if (key == "plane") d.plane = value;
+            d.q = mesh_input(ok, f, &input, staged).q;
+        } catch (const InputError& e) {
+            d.skipped = e.what();
+        } catch (...) {
+            d.error = std::current_exception();
+        }
+    }
+    for (const Done& d : done)
+        if (d.error) std::rethrow_exception(d.error);
+    std::int64_t meshed = 0, triangles = 0;
+    std::string json = "{\"input\": " + json_string(o.input) + ", \"format\": " + json_string(volume.format) +
+                       ", \"axis\": \"" + "ijk"[range.axis] + "\", \"first\": " + std::to_string(range.first) +
+                       ", \"end\": " + std::to_string(range.end) + ", \"slices\": [";
+    std::ostringstream text;
+    for (std::int64_t s = 0; s < n; ++s) {
+        const Done& d = done[static_cast<std::size_t>(s)];
+        const std::int64_t k = range.first + s;
+        json += std::string(s ? ", " : "") + "{\"index\": " + std::to_string(k);
+        text << "ijk"[range.axis] << "=" << k << ": ";
+        if (d.q) {
+            ++meshed, triangles += d.q->triangles;
+            json += ", \"outputs\": " + json_string(d.outputs) + ", \"triangles\": " + std::to_string(d.q->triangles) +
+                    ", \"vertices\": " + std::to_string(d.q->vertices) + ", \"area\": " + json_number(d.q->area) +
+                    ", \"min_angle_deg\": " + json_number(d.q->min_angle_deg) + ", \"max_angle_deg\": " +
+                    json_number(d.q->max_angle_deg) + ", \"plane\": " + d.plane + "}";
+            text << d.q->triangles << " triangles, angles [" << approx(d.q->min_angle_deg) << ", "
+                 << approx(d.q->max_angle_deg) << "] deg, area " << approx(d.q->area) << " -> " << d.outputs << "\n";
+        } else {
+            json += ", \"skipped\": " + json_string(d.skipped) + "}";
+            text << "skipped: " << d.skipped << "\n";
+        }
+    }
+    if (meshed == 0)
+        throw InputError("--slices " + *o.slices + ": no slice could be meshed (" + done.front().skipped + "); nothing written");
+    const double seconds = seconds_since(t0);
+    json += "], \"meshed\": " + std::to_string(meshed) + ", \"skipped\": " + std::to_string(n - meshed) +
+            ", \"triangles\": " + std::to_string(triangles) + ", \"read_seconds\": " + json_number(read_seconds) +
+            ", \"total_seconds\": " + json_number(seconds) + ", \"peak_memory_mb\": " + json_number(peak_memory_mb()) + "}\n";
+    if (!o.report.empty())
+        staged.write(o.report, [&](const std::string& path) {
+            AtomicFile file(path);
+            file.stream() << json;
+            file.commit();
+        });
     staged.commit();
-    if (!o.quiet) std::cout << quality_text(q) << cert_text;
+    if (!o.quiet)
+        std::cout << text.str() << meshed << " of " << n << " slices meshed, " << triangles << " triangles in "
+                  << approx(seconds) << " s (reading " << approx(read_seconds) << " s)\n";
     return 0;
 }
 
