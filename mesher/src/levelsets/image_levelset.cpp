@@ -617,9 +617,8 @@ std::int32_t LabelLevelSet::region_at(double x, double y) const {
 }
 
 std::string LabelLevelSet::describe() const {
-    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + "), region = " +
-           describe_geometry() +
-           (nonzero_ ? std::string("nonzero pixels") : "labels {" + list_labels(labels_, 20) + "}") +
+    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + describe_geometry() +
+           "), region = " + (nonzero_ ? std::string("nonzero pixels") : "labels {" + list_labels(labels_, 20) + "}") +
            ", f = bilinear signed distance to the pixel centres of the other phase, minus 1/2";
 }
 
