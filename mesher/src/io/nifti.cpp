@@ -145,6 +145,8 @@ Volume decode_nifti(std::span<const std::uint8_t> bytes, const std::string& name
         bool integer = true;
         for (double& x : v.values) {
             x = slope * x + inter;
+            if (!std::isfinite(x)) bad("scl_slope " + std::to_string(slope) + " and scl_inter " + std::to_string(inter) +
+                                       " scale a voxel beyond the range of numbers");
             integer = integer && x == std::floor(x);
         }
         v.integer_valued = integer;

@@ -227,7 +227,8 @@ Volume decode_nrrd(std::span<const std::uint8_t> bytes, const std::string& name,
     double byte_skip = 0;
     if (const auto bs = get({"byte skip", "byteskip"})) {
         byte_skip = number(name, "byte skip", *bs);
-        if (!(byte_skip >= -1) || byte_skip != std::floor(byte_skip) || (byte_skip == -1 && !(encoding == "raw")))
+        if (!(byte_skip >= -1 && byte_skip <= 1e15) || byte_skip != std::floor(byte_skip) ||
+            (byte_skip == -1 && !(encoding == "raw")))
             bad(name, "malformed header: byte skip '" + *bs + "' (-1 only with raw encoding)");
     }
     const std::uint64_t need_bytes = n * b;

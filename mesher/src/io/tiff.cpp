@@ -143,8 +143,9 @@ Volume decode_tiff(std::span<const std::uint8_t> bytes, const std::string& name,
     const std::size_t plane = static_cast<std::size_t>(W) * H;
     v.values.resize(plane * pages);
     const std::size_t bpp = bits / 8;
+    if (!TIFFSetDirectory(tif, 0)) bad("cannot read page 0");
     for (std::uint64_t p = 0; p < pages; ++p) {
-        if (!TIFFSetDirectory(tif, static_cast<tdir_t>(p))) bad("cannot read page " + std::to_string(p));
+        if (p > 0 && !TIFFReadDirectory(tif)) bad("cannot read page " + std::to_string(p));
         std::uint16_t photo = PHOTOMETRIC_MINISBLACK, fmt = SAMPLEFORMAT_UINT;
         TIFFGetField(tif, TIFFTAG_PHOTOMETRIC, &photo);
         TIFFGetFieldDefaulted(tif, TIFFTAG_SAMPLEFORMAT, &fmt);

@@ -101,18 +101,22 @@ std::optional<Vec3> axis_aligned(const Vec3& d) {
 
 Volume decode_volume(std::span<const std::uint8_t> bytes, const std::string& name, const VolumeLimits& limits,
                      const std::string& dir) {
-    if (bytes.empty()) throw InputError("'" + name + "': empty file");
     if (starts_with(bytes, "NRRD000")) return decode_nrrd(bytes, name, limits, dir);
     if (first_int_is(bytes, 348) || first_int_is(bytes, 540) || starts_with(bytes, "\x1f\x8b"))
         return decode_nifti(bytes, name, limits);
     if (starts_with(bytes, "II*") || starts_with(bytes, std::string_view("MM\0*", 4)) ||
         starts_with(bytes, std::string_view("II+\0", 4)) || starts_with(bytes, std::string_view("MM\0+", 4)))
         return decode_tiff(bytes, name, limits);
-    if (starts_with(bytes, "P2") || starts_with(bytes, "P5") || starts_with(bytes, "\x89PNG\r\n\x1a\n") ||
-        (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '7'))
-        return image_volume(decode_image(bytes, name, limits.max_voxels), bytes[0] == 'P' ? "PGM" : "PNG");
-    throw InputError("'" + name + "': unsupported format; expected NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), "
-                     "TIFF, PGM or PNG");
+    // Everything else is an image (or refused by the image reader, whose
+    // messages name what the bytes look like).
+    try {
+        const Image img = decode_image(bytes, name, limits.max_voxels);  // not empty once decoded
+        return image_volume(img, bytes[0] == 'P' ? "PGM" : "PNG");
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        if (m.find("unsupported format") == std::string::npos) throw;
+        throw InputError(m + ", or a volume: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz) or TIFF");
+    }
 }
 
 Volume read_volume(const std::string& path, const VolumeLimits& limits) {
