@@ -186,14 +186,10 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
             if (v != "mm" && v != "pixels") throw UsageError("--units expects 'mm' or 'pixels', got '" + v + "'");
             o.units_pixels = v == "pixels";
         } else if (a == "--pixel-size") {
-            const std::string v = value();
-            std::size_t from = 0;
-            for (std::size_t comma; (comma = v.find(',', from)) != std::string::npos || from <= v.size();) {
-                o.pixel_size.push_back(parse_number(a, v.substr(from, comma == std::string::npos ? std::string::npos : comma - from)));
-                if (comma == std::string::npos) break;
-                from = comma + 1;
-            }
-            if (o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
+            std::stringstream list(value());
+            o.pixel_size.clear();
+            for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(parse_number(a, item));
+            if (o.pixel_size.empty() || o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
         }
         else if (a == "--iso") o.iso = parse_number(a, value());
         else if (a == "--inside") {
