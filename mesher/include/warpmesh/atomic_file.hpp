@@ -18,13 +18,9 @@
 #include <stdexcept>
 #include <string>
 
-namespace warpmesh {
+#include "warpmesh/errors.hpp"
 
-// Any failure to produce an output file (writers, reports).  The message names
-// the path and the reason.
-struct OutputError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+namespace warpmesh {
 
 // One file being written atomically.  Construction creates the temporary;
 // stream() is where the content goes; commit() checks, closes and renames.

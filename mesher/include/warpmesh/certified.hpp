@@ -83,6 +83,13 @@ inline constexpr std::array<std::array<int, 2>, 12> stencil_offsets{{{0, 0}, {1,
                                                                      {-1, 0}, {0, -1}, {2, 0}, {1, -1},
                                                                      {-1, 1}, {0, 2}, {2, 1}, {1, 2}}};
 bool stencil_is_flat(const std::array<std::int8_t, 12>& signs);
+// True iff some affine a x + b y + c has the signs `signs[q]` at the stencil
+// points q in `known` (bit q), whatever its signs elsewhere.  `known` must
+// contain the four corners (bits 0-3; else std::invalid_argument).  The
+// prover's flat-compatible keys: the corners' signs and the outside
+// neighbours of the outward slides.  stencil_admits_flat(s, 0xfff) ==
+// stencil_is_flat(s).
+bool stencil_admits_flat(const std::array<std::int8_t, 12>& signs, std::uint16_t known);
 
 // ---- certification of a mesh -------------------------------------------------
 struct CertifyOptions {

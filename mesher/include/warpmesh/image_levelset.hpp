@@ -67,6 +67,7 @@ class ImageField : public LevelSet {
 public:
     double value(double x, double y) const override;
     Box bounds() const override;
+    bool bounds_are_domain() const override { return true; }
     // Exact zero of the piecewise-linear restriction of f to an axis-aligned
     // edge (bracketed_root for any other segment).
     double cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const override;

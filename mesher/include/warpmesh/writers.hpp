@@ -6,9 +6,9 @@
 //   write_svg.cpp      → an SVG picture
 //   write_png.cpp      → a PNG picture (libpng), anti-aliased, for figures
 //
-// Every file is written atomically (atomic_file.hpp): on failure nothing
-// appears under the requested name and OutputError (declared in
-// atomic_file.hpp, reachable through this header) names the path and reason.
+// Every file is written atomically (src/io/atomic_file.hpp): on failure nothing
+// appears under the requested name and OutputError (errors.hpp) names the
+// path and the reason.
 // Coordinates and cell data are printed as the shortest decimal that reads back
 // to the same double (std::to_chars), so text formats round-trip exactly.
 #pragma once
