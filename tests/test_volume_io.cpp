@@ -592,26 +592,25 @@ BOOST_AUTO_TEST_CASE(cli_slice_slices_units_and_points_3d) {
 
     // Refusals: nothing written.
     const auto before = std::distance(fs::directory_iterator(dir.path), fs::directory_iterator());
-    r = run("mesh v.nrrd --slices k=0:3 --label 7 -o bad.vtu", dir.path);
-    BOOST_TEST(r.code == 2);
-    BOOST_TEST(r.err.find("bad output pattern 'bad.vtu'") != std::string::npos, r.err);
-    r = run("mesh v.nrrd --slices k=0:3 --label 7 -o 'x_%s.vtu'", dir.path);
-    BOOST_TEST(r.code == 2);
-    r = run("mesh v.nrrd --slices k=1:4 --label 7 -o 'o%d.vtu'", dir.path);
-    BOOST_TEST(r.code == 1);
-    BOOST_TEST(r.err.find("reaches beyond") != std::string::npos, r.err);
-    r = run("mesh v.nrrd --slices k=1:2 --label 7 -o 'o%d.vtu'", dir.path);
-    BOOST_TEST(r.code == 1);
-    BOOST_TEST(r.err.find("no slice could be meshed") != std::string::npos, r.err);
-    r = run("mesh v.nrrd --label 7 -o o.vtu", dir.path);
-    BOOST_TEST(r.code == 1);
-    BOOST_TEST(r.err.find("choose a slice with --slice") != std::string::npos, r.err);
-    r = run("mesh v.nrrd --slice q=1 --label 7 -o o.vtu", dir.path);
-    BOOST_TEST(r.code == 1);
-    r = run("mesh v.nrrd --slice k=1 --slices k=0:2 --label 7 -o o.vtu", dir.path);
-    BOOST_TEST(r.code == 2);
-    r = run("mesh --shape circle:0,0,3 --slice k=1 -o o.vtu", dir.path);
-    BOOST_TEST(r.code == 2);
+    const struct {
+        const char* args;
+        int code;
+        const char* message;
+    } refusals[] = {
+        {"v.nrrd --slices k=0:3 --label 7 -o bad.vtu", 2, "bad output pattern 'bad.vtu'"},
+        {"v.nrrd --slices k=0:3 --label 7 -o 'x_%s.vtu'", 2, "bad output pattern"},
+        {"v.nrrd --slices k=1:4 --label 7 -o 'o%d.vtu'", 1, "reaches beyond"},
+        {"v.nrrd --slices k=1:2 --label 7 -o 'o%d.vtu'", 1, "no slice could be meshed"},
+        {"v.nrrd --label 7 -o o.vtu", 1, "choose a slice with --slice"},
+        {"v.nrrd --slice q=1 --label 7 -o o.vtu", 1, "AXIS i, j or k"},
+        {"v.nrrd --slice k=1 --slices k=0:2 --label 7 -o o.vtu", 2, "exclude each other"},
+        {"--shape circle:0,0,3 --slice k=1 -o o.vtu", 2, "not to --shape"},
+    };
+    for (const auto& t : refusals) {
+        r = run(std::string("mesh ") + t.args, dir.path);
+        BOOST_TEST(r.code == t.code, t.args);
+        BOOST_TEST(r.err.find(t.message) != std::string::npos, t.args << ": " << r.err);
+    }
     BOOST_TEST(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == before);
 }
 
