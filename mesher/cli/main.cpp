@@ -16,7 +16,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <chrono>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -26,6 +28,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/volume.hpp"
 #include "warpmesh/warpmesh.hpp"
 #ifdef WARPMESH_HAVE_PROVER
 #include "warpmesh/prove.hpp"
@@ -40,7 +43,8 @@ constexpr const char* version = "0.1.0";
 constexpr const char* usage = R"(warpmesh — conforming triangle meshes of 2D level sets by lattice warping
 
 usage:
-  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG)
+  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG, TIFF)
+                                           or a slice of a volume (NRRD, NIfTI, TIFF)
   warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
   warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
   warpmesh --help | --version
@@ -52,7 +56,18 @@ input (images):
   --label L[,L...]       label mode: the region is the pixels with one of these labels;
   --label nonzero        or every non-zero pixel.  f is the signed distance to the
                          region's boundary, interpolated bilinearly
-  --max-pixels N         refuse images with more pixels than N (default 268435456)
+  --max-pixels N         refuse images and volumes with more pixels (voxels) than N
+                         (default 268435456)
+
+input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
+  --slice AXIS=INDEX     mesh one slice: AXIS is the index axis i, j or k, e.g. k=60
+  --slices AXIS=A:B      mesh slices A .. B-1, in parallel, one output per slice: -o and
+                         --also need a %d field (out_%03d.vtu); --report is a summary
+  --units mm|pixels      mesh in the file's physical coordinates (mm, default for NRRD
+                         and NIfTI) or in pixels (default for PGM, PNG and TIFF)
+  --pixel-size SX[,SY[,SZ]]  pixel (voxel) size in mm, for any input; implies mm
+  --points-3d FILE       also write the mesh's vertices at their 3D positions (CSV x,y,z,
+                         in vertex order; with --slices a %d pattern)
 
 input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
@@ -60,7 +75,8 @@ input (shapes):
                          union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
 
 lattice and algorithm:
-  --spacing S            lattice spacing, in pixels for images (default 1)
+  --spacing S            lattice spacing, in the input's units: mm for physical inputs
+                         (default: the smaller pixel size), else pixels (default 1)
   --diagonal RULE        separating (default): the mesh boundary follows the level set;
                          maxmin: the paper's rule, the diagonal with the larger minimum angle
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
@@ -133,6 +149,11 @@ struct CliOptions {
     bool svg_min_angle = false;
     bool svg_certified = false;
     bool quiet = false;
+    // Volumes and units (volume.hpp).
+    std::optional<std::string> slice, slices;
+    bool units_pixels = false, spacing_given = false;
+    std::vector<double> pixel_size;
+    std::string points_3d;
 };
 
 CliOptions parse_mesh_options(int argc, char** argv) {
@@ -148,7 +169,20 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--also") o.outputs.push_back(value());
         else if (a == "--report") o.report = value();
         else if (a == "--shape") o.shape = value();
-        else if (a == "--spacing") m.spacing = parse_number(a, value());
+        else if (a == "--spacing") m.spacing = parse_number(a, value()), o.spacing_given = true;
+        else if (a == "--slice") o.slice = value();
+        else if (a == "--slices") o.slices = value();
+        else if (a == "--points-3d") o.points_3d = value();
+        else if (a == "--units") {
+            const std::string v = value();
+            if (v != "mm" && v != "pixels") throw UsageError("--units expects 'mm' or 'pixels', got '" + v + "'");
+            o.units_pixels = v == "pixels";
+        } else if (a == "--pixel-size") {
+            std::stringstream list(value());
+            o.pixel_size.clear();
+            for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(parse_number(a, item));
+            if (o.pixel_size.empty() || o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
+        }
         else if (a == "--iso") o.iso = parse_number(a, value());
         else if (a == "--inside") {
             const std::string v = value();
@@ -211,6 +245,10 @@ CliOptions parse_mesh_options(int argc, char** argv) {
     if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
     if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
     if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    if (!o.shape.empty() && (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty()))
+        throw UsageError("--slice, --slices, --pixel-size and --points-3d apply to images and volumes, not to --shape");
+    if (o.slice && o.slices) throw UsageError("--slice and --slices exclude each other");
+    if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
     return o;
 }
 
@@ -228,11 +266,13 @@ public:
     void write(const std::string& path, Write&& write) {
         namespace fs = std::filesystem;
         const fs::path p(path);
+        std::unique_lock lock(mutex_);  // --slices writes from several threads
         const std::string tag = ".warpmesh-" + std::to_string(::getpid()) + "-" + std::to_string(renames_.size());
         // Keep the extension last: the writers choose the format by it.
         const fs::path staged = p.parent_path() / ("." + p.stem().string() + tag + p.extension().string());
         const auto real = output_files(p.string()), tmp = output_files(staged.string());
         for (std::size_t k = 0; k < real.size(); ++k) renames_.emplace_back(tmp[k], real[k]);
+        lock.unlock();
         try {
             write(staged.string());
         } catch (const OutputError& e) {
@@ -254,48 +294,175 @@ public:
 
 private:
     std::vector<std::pair<std::string, std::string>> renames_;
+    std::mutex mutex_;
 };
 
-int run_mesh(int argc, char** argv) {
-    CliOptions o = parse_mesh_options(argc, argv);
-    // Check the outputs' extensions and directories before doing any work.
-    for (const auto& out : o.outputs) check_output_path(out);
-    if (!o.report.empty()) check_writable(o.report);
+// The input file as a volume (images are one slice), with --pixel-size.
+Volume read_input(const CliOptions& o) {
+    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
+    if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
+    return v;
+}
 
-    std::unique_ptr<LevelSet> f;
-    if (!o.shape.empty()) {
-        f = parse_shape(o.shape);
+SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) {
+    SliceOptions so;
+    so.slice = slice;
+    so.units = o.units_pixels ? Units::pixels : Units::physical;
+    if (o.labels) {
+        so.levelset = label_options(*o.labels);
     } else {
-        const Image image = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
-        ImageLevelSetOptions io;
-        if (o.labels) {
-            io = label_options(*o.labels);
-        } else {
-            io.iso = o.iso;
-            io.inside_above = o.inside_above;
-        }
-        f = image_levelset(image, io);
+        so.levelset.iso = o.iso;  // default: half the image's maxval, or midway between the slice's extremes
+        so.levelset.inside_above = o.inside_above;
     }
+    return so;
+}
 
+// Mesh one input and stage its outputs (meshes, --points-3d, report); the
+// slice's placement goes into the report.
+MeshResult mesh_and_stage(const CliOptions& o, const LevelSet& f, const LoadedSlice* input, StagedOutputs& staged) {
     // The per-triangle array certified_min_angle (8 bytes a triangle) only when
     // a file will carry it or a picture is coloured by it.
-    MeshOptions& m = o.mesh;
+    MeshOptions m = o.mesh;
     m.cell_data = o.svg_certified;
     WriteOptions formats;
     formats.msh = o.msh;
     for (const auto& out : o.outputs) m.cell_data = m.cell_data || format_carries_cell_data(out, formats);
     m.input = o.shape.empty() ? o.input : o.shape;
-    const MeshResult r = mesh(*f, m);
+    if (input && !o.spacing_given) m.spacing = input->pixel_min;  // mm inputs: the smaller pixel size
+    MeshResult r = mesh(f, m);
+    if (input)
+        for (auto& field : slice_report_fields(*input)) r.report.extra.push_back(std::move(field));
     for (const auto& w : r.warnings) std::cerr << "warpmesh: warning: " << w << "\n";
-
-    StagedOutputs staged;
     WriteOptions wo = write_options(r, o.svg_min_angle, o.svg_certified);
     wo.msh = o.msh;
     for (const auto& out : o.outputs)
         staged.write(out, [&](const std::string& path) { write_mesh(r.mesh, path, wo); });
+    if (!o.points_3d.empty())
+        staged.write(o.points_3d, [&](const std::string& path) { write_points_3d(r.mesh, input->plane, path); });
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, r.report); });
+    return r;
+}
+
+int run_slices(const CliOptions& o);
+
+int run_mesh(int argc, char** argv) {
+    CliOptions o = parse_mesh_options(argc, argv);
+    if (o.slices) return run_slices(o);
+    // Check the outputs' extensions and directories before doing any work.
+    for (const auto& out : o.outputs) check_output_path(out);
+    if (!o.report.empty()) check_writable(o.report);
+    if (!o.points_3d.empty()) check_writable(o.points_3d);
+
+    std::unique_ptr<LevelSet> f;
+    std::optional<LoadedSlice> input;
+    if (!o.shape.empty()) {
+        f = parse_shape(o.shape);
+    } else {
+        input = load_slice(read_input(o), slice_options(o, o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt));
+        f = std::move(input->f);
+    }
+    StagedOutputs staged;
+    const MeshResult r = mesh_and_stage(o, *f, input ? &*input : nullptr, staged);
     staged.commit();
     if (!o.quiet) std::cout << to_text(r);
+    return 0;
+}
+
+// --slices AXIS=A:B: the volume is read once, its slices meshed in parallel
+// (one thread each; the pipeline inside runs serially), one output set per
+// slice from the %d patterns, one summary (stdout, --report).  A slice whose
+// region is empty, or that cannot be meshed for a reason of its own (an
+// InputError), is skipped and listed; the run fails if every slice is.
+int run_slices(const CliOptions& o) {
+    const SliceRange range = parse_slice_range(*o.slices);
+    auto name = [&](const std::string& pattern, std::int64_t k) {
+        try {
+            return slice_file_name(pattern, k);
+        } catch (const InputError& e) {
+            throw UsageError(e.what());
+        }
+    };
+    for (const auto& out : o.outputs) check_output_path(name(out, range.first));
+    if (!o.points_3d.empty()) check_writable(name(o.points_3d, range.first));
+    if (!o.report.empty()) check_writable(o.report);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Volume volume = read_input(o);
+    const std::int64_t size = volume.dims[static_cast<std::size_t>(range.axis)];
+    if (range.end > size)
+        throw InputError("--slices " + *o.slices + " reaches beyond '" + o.input + "' (" + "ijk"[range.axis] + " = 0.." +
+                         std::to_string(size - 1) + ")");
+    const double read_seconds = seconds_since(t0);
+
+    const std::int64_t n = range.end - range.first;
+    struct Done {
+        std::string outputs, skipped, plane;
+        std::optional<QualityReport> q;
+        std::exception_ptr error;
+    };
+    std::vector<Done> done(static_cast<std::size_t>(n));
+    StagedOutputs staged;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t s = 0; s < n; ++s) {
+        Done& d = done[static_cast<std::size_t>(s)];
+        const std::int64_t k = range.first + s;
+        try {
+            CliOptions ok = o;
+            ok.outputs.clear();
+            for (const auto& out : o.outputs) ok.outputs.push_back(name(out, k));
+            if (!o.points_3d.empty()) ok.points_3d = name(o.points_3d, k);
+            ok.report.clear();
+            for (const auto& out : ok.outputs) d.outputs += (d.outputs.empty() ? "" : ", ") + out;
+            LoadedSlice input = load_slice(volume, slice_options(o, SliceSpec{range.axis, k}));
+            const std::unique_ptr<LevelSet> f = std::move(input.f);
+            for (const auto& [key, value] : slice_report_fields(input))
+                if (key == "plane") d.plane = value;
+            d.q = mesh_and_stage(ok, *f, &input, staged).report;
+        } catch (const InputError& e) {
+            d.skipped = e.what();
+        } catch (...) {
+            d.error = std::current_exception();
+        }
+    }
+    for (const Done& d : done)
+        if (d.error) std::rethrow_exception(d.error);
+    std::int64_t meshed = 0, triangles = 0;
+    std::string json = "{\"input\": " + json_string(o.input) + ", \"format\": " + json_string(volume.format) +
+                       ", \"axis\": \"" + "ijk"[range.axis] + "\", \"first\": " + std::to_string(range.first) +
+                       ", \"end\": " + std::to_string(range.end) + ", \"slices\": [";
+    std::ostringstream text;
+    for (std::int64_t s = 0; s < n; ++s) {
+        const Done& d = done[static_cast<std::size_t>(s)];
+        json += std::string(s ? ", " : "") + "{\"index\": " + std::to_string(range.first + s);
+        text << "ijk"[range.axis] << "=" << range.first + s << ": ";
+        if (d.q) {
+            ++meshed, triangles += d.q->triangles;
+            json += ", \"outputs\": " + json_string(d.outputs) + ", \"triangles\": " + std::to_string(d.q->triangles) +
+                    ", \"vertices\": " + std::to_string(d.q->vertices) + ", \"area\": " + json_number(d.q->area) +
+                    ", \"min_angle_deg\": " + json_number(d.q->min_angle_deg) + ", \"max_angle_deg\": " +
+                    json_number(d.q->max_angle_deg) + ", \"plane\": " + d.plane + "}";
+            text << d.q->triangles << " triangles, angles [" << d.q->min_angle_deg << ", " << d.q->max_angle_deg
+                 << "] deg, area " << d.q->area << " -> " << d.outputs << "\n";
+        } else {
+            json += ", \"skipped\": " + json_string(d.skipped) + "}";
+            text << "skipped: " << d.skipped << "\n";
+        }
+    }
+    if (meshed == 0)
+        throw InputError("--slices " + *o.slices + ": no slice could be meshed (" + done.front().skipped + "); nothing written");
+    const double seconds = seconds_since(t0);
+    json += "], \"meshed\": " + std::to_string(meshed) + ", \"skipped\": " + std::to_string(n - meshed) +
+            ", \"triangles\": " + std::to_string(triangles) + ", \"read_seconds\": " + json_number(read_seconds) +
+            ", \"total_seconds\": " + json_number(seconds) + "}\n";
+    if (!o.report.empty())
+        staged.write(o.report, [&](const std::string& path) {
+            AtomicFile file(path);
+            file.stream() << json;
+            file.commit();
+        });
+    staged.commit();
+    if (!o.quiet)
+        std::cout << text.str() << meshed << " of " << n << " slices meshed, " << triangles << " triangles in "
+                  << seconds << " s (reading " << read_seconds << " s)\n";
     return 0;
 }
 

@@ -31,4 +31,5 @@
 #include "warpmesh/quality.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
+#include "warpmesh/volume.hpp"
 #include "warpmesh/writers.hpp"
