@@ -454,11 +454,7 @@ int run_slices(const CliOptions& o) {
             ", \"triangles\": " + std::to_string(triangles) + ", \"read_seconds\": " + json_number(read_seconds) +
             ", \"total_seconds\": " + json_number(seconds) + "}\n";
     if (!o.report.empty())
-        staged.write(o.report, [&](const std::string& path) {
-            AtomicFile file(path);
-            file.stream() << json;
-            file.commit();
-        });
+        staged.write(o.report, [&](const std::string& path) { write_text_file(path, json); });
     staged.commit();
     if (!o.quiet)
         std::cout << text.str() << meshed << " of " << n << " slices meshed, " << triangles << " triangles in "

@@ -102,6 +102,10 @@ void check_output_path(const std::string& path);
 // with options.msh.cell_data).
 bool format_carries_cell_data(const std::string& path, const WriteOptions& options = {});
 
+// Writes `text` to `path` atomically (a temporary file renamed when complete;
+// nothing under `path` on failure).  Throws OutputError naming `path`.
+void write_text_file(const std::string& path, std::string_view text);
+
 // The part of check_output_path that does not depend on the format: `path` is
 // not a directory, and its directory exists and is writable.  Throws OutputError.
 void check_writable(const std::string& path);

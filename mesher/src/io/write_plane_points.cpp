@@ -1,7 +1,7 @@
 // write_plane_points.cpp — a slice mesh's vertices placed in 3D (--points-3d).
 #include <cstdio>
 
-#include "warpmesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "warpmesh/volume.hpp"
 
 namespace warpmesh {

@@ -264,4 +264,8 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
     }
 }
 
+void write_text_file(const std::string& path, std::string_view text) {
+    write_file_atomically(path, [&](std::ostream& os) { os.write(text.data(), static_cast<std::streamsize>(text.size())); });
+}
+
 }  // namespace warpmesh
