@@ -324,7 +324,7 @@ Decision decided(Key& k, int win, bool threshold, const N& h) {
         return undecided;
     }
     RQ qa, qb;
-    auto margin = [&] {  // 2^-30 max |end|
+    auto margin = [&]() -> Q {  // 2^-30 max |end| (a Q, not an expression template over locals)
         Q m = 0;
         for (const Q& x : {qa.lo, qa.hi, qb.lo, qb.hi}) m = std::max(m, Q(abs(x)));
         return m / (Z(1) << 30);
