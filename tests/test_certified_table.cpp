@@ -3,7 +3,7 @@
 #define BOOST_TEST_MODULE certified_table
 #include <boost/test/unit_test.hpp>
 
-#include "read_file.hpp"
+#include "support.hpp"
 
 #include <array>
 #include <cmath>

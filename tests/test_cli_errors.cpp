@@ -10,7 +10,7 @@
 #define BOOST_TEST_MODULE cli_errors
 #include <boost/test/unit_test.hpp>
 
-#include "read_file.hpp"
+#include "support.hpp"
 
 #include <sys/wait.h>
 

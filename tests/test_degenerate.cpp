@@ -30,6 +30,7 @@
 #include "warpmesh/certified.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
+#include "support.hpp"
 
 using namespace warpmesh;
 namespace fs = std::filesystem;
@@ -55,11 +56,7 @@ struct Lambda : LevelSet {
     std::string describe() const override { return "lambda"; }
 };
 
-double area(const Mesh& m) {
-    double a = 0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) a += cross2(m, t) / 2;
-    return a;
-}
+double area(const Mesh& m) { return testing::mesh_area(m); }
 
 // check_mesh, array sizes, tags and the angle bounds.
 void expect_valid(const Mesh& m, const std::string& what) {
@@ -69,16 +66,8 @@ void expect_valid(const Mesh& m, const std::string& what) {
         BOOST_TEST(m.region.size() == m.triangles.size());
         BOOST_TEST(m.boundary_tag.size() == m.boundary.size());
         for (std::int32_t t : m.boundary_tag) BOOST_TEST((t == boundary_level_set || t == boundary_domain));
-        double lo = 180, hi = 0;
-        for (const auto& t : m.triangles)
-            for (int k = 0; k < 3; ++k) {
-                const Vec2 o = m.vertices[static_cast<std::size_t>(t[k])];
-                const Vec2 q = m.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
-                const Vec2 r = m.vertices[static_cast<std::size_t>(t[(k + 2) % 3])];
-                const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
-                const double deg = std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI;
-                lo = std::min(lo, deg), hi = std::max(hi, deg);
-            }
+        const testing::AngleRange r = testing::angle_range_deg(m);
+        const double lo = r.min, hi = r.max;
         if (!m.triangles.empty()) {
             BOOST_TEST(lo >= min_deg() - slack);
             BOOST_TEST(hi <= max_deg() + slack);

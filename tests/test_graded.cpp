@@ -26,6 +26,7 @@
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
+#include "support.hpp"
 #include "without_range.hpp"
 #include "graded/point_set.hpp"
 #include "graded/quadtree.hpp"
@@ -66,39 +67,9 @@ Lattice integer_lattice(std::int64_t nx, std::int64_t ny) {
     return l;
 }
 
-double deg(double rad) { return rad * 180 / M_PI; }
-
-// The three angles of triangle t, in degrees.
-std::array<double, 3> angles(const Mesh& m, std::size_t t) {
-    std::array<double, 3> a{};
-    for (int k = 0; k < 3; ++k) {
-        const Vec2 o = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
-        const Vec2 q = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
-        const Vec2 r = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 2) % 3])];
-        const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
-        a[static_cast<std::size_t>(k)] = deg(std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy));
-    }
-    return a;
-}
-
-double area(const Mesh& m) {
-    double a = 0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) a += cross2(m, t) / 2;
-    return a;
-}
-
-// Boundary edges as (from, to, tag) coordinate tuples, sorted.
-using CoordEdge = std::tuple<double, double, double, double, int>;
-std::vector<CoordEdge> boundary_coords(const Mesh& m) {
-    std::vector<CoordEdge> e;
-    for (std::size_t k = 0; k < m.boundary.size(); ++k) {
-        const Vec2 a = m.vertices[static_cast<std::size_t>(m.boundary[k][0])];
-        const Vec2 b = m.vertices[static_cast<std::size_t>(m.boundary[k][1])];
-        e.emplace_back(a.x, a.y, b.x, b.y, m.boundary_tag[k]);
-    }
-    std::sort(e.begin(), e.end());
-    return e;
-}
+using testing::boundary_coords;
+double area(const Mesh& m) { return testing::mesh_area(m); }
+std::array<double, 3> angles(const Mesh& m, std::size_t t) { return testing::triangle_angles_deg(m, t); }
 
 // The quadtree of the graded mesh, rebuilt from the public stages.
 struct Tree {

@@ -13,6 +13,7 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/image.hpp"
+#include "support.hpp"
 
 #ifdef WARPMESH_HAVE_PNG
 #include <csetjmp>
@@ -24,6 +25,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using warpmesh::testing::input_error_containing;
+
 const std::string data_dir = WARPMESH_TEST_DATA;
 
 std::vector<std::uint8_t> bytes_of(const std::string& s) { return {s.begin(), s.end()}; }
@@ -33,24 +36,6 @@ Image decode(const std::vector<std::uint8_t>& b, std::uint64_t max_pixels = defa
 }
 Image decode(const std::string& s, std::uint64_t max_pixels = default_max_pixels) {
     return decode(bytes_of(s), max_pixels);
-}
-
-// True when f throws an InputError whose message contains `needle`.
-template <class F>
-bool input_error_containing(F&& f, const std::string& needle) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        const std::string msg = e.what();
-        if (msg.find(needle) != std::string::npos) return true;
-        BOOST_TEST_MESSAGE("InputError without '" << needle << "': " << msg);
-        return false;
-    } catch (const std::exception& e) {
-        BOOST_TEST_MESSAGE("wrong exception type: " << e.what());
-        return false;
-    }
-    BOOST_TEST_MESSAGE("no exception (wanted '" << needle << "')");
-    return false;
 }
 
 std::string p5_header(int w, int h, int maxval) {

@@ -14,11 +14,14 @@
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
 #include "warpmesh/shapes.hpp"
+#include "support.hpp"
 
 using namespace warpmesh;
 namespace tt = boost::test_tools;
 
 namespace {
+
+using warpmesh::testing::input_error_containing;
 
 const std::string data_dir = WARPMESH_TEST_DATA;
 constexpr double pi = std::numbers::pi;
@@ -27,23 +30,6 @@ Image make_image(int w, int h, std::vector<std::uint16_t> px, int maxval = 255) 
     Image img;
     img.width = w, img.height = h, img.maxval = maxval, img.pixels = std::move(px), img.source = "test";
     return img;
-}
-
-template <class F>
-bool input_error_containing(F&& f, const std::string& needle) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        const std::string msg = e.what();
-        if (msg.find(needle) != std::string::npos) return true;
-        BOOST_TEST_MESSAGE("InputError without '" << needle << "': " << msg);
-        return false;
-    } catch (const std::exception& e) {
-        BOOST_TEST_MESSAGE("wrong exception type: " << e.what());
-        return false;
-    }
-    BOOST_TEST_MESSAGE("no exception (wanted '" << needle << "')");
-    return false;
 }
 
 // Root of f on a -> b by plain bisection (reference; assumes one sign change

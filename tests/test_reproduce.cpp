@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "temp_dir.hpp"
+#include "support.hpp"
 #include "warpmesh/certified.hpp"
 
 using namespace warpmesh;

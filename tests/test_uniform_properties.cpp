@@ -16,6 +16,7 @@
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
+#include "support.hpp"
 
 using namespace warpmesh;
 
@@ -29,28 +30,9 @@ constexpr double maxmin_min_deg = 15.0, maxmin_max_deg = 135.0;
 constexpr double sep_min_deg = 15.0, sep_max_deg = 143.1301023542;  // 180 - 2 atan(1/3)
 constexpr double angle_slack = 1e-7;                                 // degrees, round-off
 
-struct Angles {
-    double min = 180, max = 0;
-};
-
-Angles angles(const Mesh& m) {
-    Angles a;
-    for (const auto& t : m.triangles)
-        for (int k = 0; k < 3; ++k) {
-            const Vec2 &o = m.vertices[static_cast<std::size_t>(t[k])], &q = m.vertices[static_cast<std::size_t>(t[(k + 1) % 3])],
-                       &r = m.vertices[static_cast<std::size_t>(t[(k + 2) % 3])];
-            const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
-            const double deg = std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI;
-            a.min = std::min(a.min, deg), a.max = std::max(a.max, deg);
-        }
-    return a;
-}
-
-double area(const Mesh& m) {
-    double s = 0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) s += cross2(m, t) / 2;
-    return s;
-}
+using Angles = testing::AngleRange;
+Angles angles(const Mesh& m) { return testing::angle_range_deg(m); }
+double area(const Mesh& m) { return testing::mesh_area(m); }
 
 Lattice padded_lattice(const LevelSet& f, double s) { return lattice_around(f.bounds(), s); }
 

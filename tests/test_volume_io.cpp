@@ -25,8 +25,7 @@
 #include <sstream>
 
 #include "fuzz/fuzz_volume_checks.hpp"
-#include "read_file.hpp"
-#include "temp_dir.hpp"
+#include "support.hpp"
 #include "volume_fixtures.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/quality.hpp"

@@ -2,7 +2,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include "fixture_meshes.hpp"
-#include "read_file.hpp"
+#include "support.hpp"
 
 // Writers round-trip: small hand-built meshes are written in every format to a
 // temporary directory, read back with the small readers below and compared
@@ -40,19 +40,9 @@ namespace {
 
 // ---- fixtures ------------------------------------------------------------------
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string templ = (fs::temp_directory_path() / "warpmesh-writers-XXXXXX").string();
-        BOOST_REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::permissions(path, fs::perms::owner_all, fs::perm_options::add, ec);
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
+struct TempDir : warpmesh::testing::TempDir {
+    TempDir() : warpmesh::testing::TempDir("warpmesh-writers") {}
+    // The names of the files in it, sorted (hides the base's count).
     std::vector<std::string> entries() const {
         std::vector<std::string> r;
         for (const auto& e : fs::directory_iterator(path)) r.push_back(e.path().filename().string());

@@ -23,6 +23,7 @@
 #include "warpmesh/certified.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
+#include "../mesh_math.hpp"
 #include "graded/quadtree.hpp"
 #include "graded/tiles.hpp"
 #include "warpmesh/image.hpp"
@@ -173,11 +174,7 @@ inline bool decode_pipeline_case(std::span<const std::uint8_t> d, PipelineCase& 
     return true;
 }
 
-inline double mesh_area(const Mesh& m) {
-    double a = 0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) a += cross2(m, t) / 2;
-    return a;
-}
+using testing::mesh_area;
 
 // Checks every invariant of a mesh of `lattice`; `what` names the mesher.
 inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, DiagonalRule rule, const char* what) {
@@ -195,13 +192,11 @@ inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, Diagona
         if (!std::isfinite(v.x) || !std::isfinite(v.y) || v.x < lattice.x0 - tol || v.x > x1 + tol ||
             v.y < lattice.y0 - tol || v.y > y1 + tol)
             violation(std::string(what) + ": a vertex outside the lattice");
-    for (const auto& t : m.triangles)
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const auto a = testing::triangle_angles_deg(m, t);
         for (int k = 0; k < 3; ++k) {
-            const Vec2 o = m.vertices[static_cast<std::size_t>(t[k])];
-            const Vec2 q = m.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
-            const Vec2 r = m.vertices[static_cast<std::size_t>(t[(k + 2) % 3])];
-            const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
-            const double deg = std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI;
+            const double deg = a[static_cast<std::size_t>(k)];
+            const Vec2 o = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
             if (!(deg >= bounds.min_deg && deg <= bounds.max_deg)) {
                 char buf[240];
                 std::snprintf(buf, sizeof buf, "%s: angle %.9f deg at vertex (%.17g, %.17g) outside the certified [%.6f, %.6f]",
@@ -209,20 +204,10 @@ inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, Diagona
                 violation(buf);
             }
         }
+    }
 }
 
-// Boundary edges as coordinates (from, to, tag), sorted: the graded mesh's
-// boundary is the uniform mesh's, edge for edge.
-inline std::vector<std::tuple<double, double, double, double, int>> boundary_coords(const Mesh& m) {
-    std::vector<std::tuple<double, double, double, double, int>> e;
-    for (std::size_t k = 0; k < m.boundary.size(); ++k) {
-        const Vec2 a = m.vertices[static_cast<std::size_t>(m.boundary[k][0])];
-        const Vec2 b = m.vertices[static_cast<std::size_t>(m.boundary[k][1])];
-        e.emplace_back(a.x, a.y, b.x, b.y, m.boundary_tag[k]);
-    }
-    std::sort(e.begin(), e.end());
-    return e;
-}
+using testing::boundary_coords;
 
 // Runs the case; returns false if it was refused with an InputError (e.g. a
 // label that is not in the image).  Any violated invariant aborts.
