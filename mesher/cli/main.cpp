@@ -31,6 +31,7 @@
 #include "warpmesh/graded.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
+#include "warpmesh/materials.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/shapes.hpp"
@@ -62,11 +63,18 @@ input (images):
   --label nonzero        or every non-zero pixel.  f is the signed distance to the
                          region's boundary, interpolated bilinearly
   --max-pixels N         refuse images with more pixels than N (default 268435456)
+  --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
+                         background) or these labels, every other pixel one background
+                         material; interfaces between materials are mesh edges
+  --background drop|keep with --materials/--shapes: output the background's triangles
+                         (keep) or not (drop, default; it still bounds the materials)
 
 input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
                          flower:cx,cy,a,b,k  rect:x0,y0,x1,y1
                          union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
+  --shapes T=S;T=S...    analytic materials, region tag T for shape S; a later shape wins
+                         where they overlap; outside all: background (tag 0)
 
 lattice and algorithm:
   --spacing S            lattice spacing, in pixels for images (default 1)
@@ -130,6 +138,8 @@ struct MeshOptions {
     std::optional<double> iso;
     bool inside_above = true;
     std::optional<std::string> labels;
+    std::optional<std::string> materials, shapes;  // multi-material input (materials.hpp)
+    std::optional<bool> keep_background;
     DiagonalRule rule = DiagonalRule::separating;
     bool graded = false;
     std::int64_t max_cell = 0;
@@ -162,6 +172,13 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
             if (v != "above" && v != "below") throw UsageError("--inside expects 'above' or 'below', got '" + v + "'");
             o.inside_above = v == "above";
         } else if (a == "--label") o.labels = value();
+        else if (a == "--materials") o.materials = value();
+        else if (a == "--shapes") o.shapes = value();
+        else if (a == "--background") {
+            const std::string v = value();
+            if (v != "drop" && v != "keep") throw UsageError("--background expects 'drop' or 'keep', got '" + v + "'");
+            o.keep_background = v == "keep";
+        }
         else if (a == "--diagonal") {
             const std::string v = value();
             if (v == "maxmin") o.rule = DiagonalRule::maxmin;
@@ -200,7 +217,8 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else if (o.input.empty()) o.input = a;
         else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
     }
-    if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input image or --shape SPEC");
+    if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
+        throw UsageError("give exactly one of an input image, --shape SPEC or --shapes SPEC");
     if (o.outputs.empty() && o.report.empty() && o.quiet)
         throw UsageError("nothing to do: no -o, no --report and --quiet");
     if (!(o.spacing > 0) || o.spacing > 1e9) throw UsageError("--spacing must be positive and at most 1e9");
@@ -212,6 +230,14 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
     if (o.max_pixels < 1 || o.max_squares < 1) throw UsageError("--max-pixels and --max-squares must be positive");
     if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
     if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    if (o.materials && (o.labels || o.iso || o.input.empty()))
+        throw UsageError("--materials applies to a label image and excludes --label and --iso");
+    if (o.keep_background && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
+    if ((o.materials || o.shapes) && o.graded)
+        throw UsageError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
+                         "uniform lattice)");
+    if ((o.materials || o.shapes) && o.guarantee_flat)
+        throw UsageError("--guarantee flat is not available with --materials/--shapes");
     return o;
 }
 
@@ -293,9 +319,12 @@ int run_mesh(int argc, char** argv) {
     if (!o.report.empty()) check_writable(o.report);
 
     std::unique_ptr<LevelSet> f;
+    std::unique_ptr<MaterialField> mf;  // --materials / --shapes: the multi-material mesher
     std::optional<Image> image;
     if (!o.shape.empty()) {
         f = parse_shape(o.shape);
+    } else if (o.shapes) {
+        mf = parse_material_shapes(*o.shapes);
     } else {
         image = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
         const Image& img = *image;
@@ -310,11 +339,14 @@ int run_mesh(int argc, char** argv) {
         if (img.width < 2 || img.height < 2)
             throw InputError(o.input + ": the image is " + std::to_string(img.width) + " x " +
                              std::to_string(img.height) + " pixels; at least 2 x 2 are needed for one lattice square");
-        f = make_image_levelset(img, io);
+        if (o.materials) mf = make_label_materials(img, *o.materials);
+        else f = make_image_levelset(img, io);
     }
+    const bool analytic = !o.shape.empty() || o.shapes;
+    const Box domain = f ? f->bounds() : mf->bounds();
     auto make_lattice = [&](double spacing) {
-        if (!o.shape.empty()) {
-            const Box b = f->bounds();
+        if (analytic) {
+            const Box b = domain;
             const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
             if (!(w * h <= static_cast<double>(o.max_squares)))
                 throw InputError("the lattice would have about " + approx(w) + " x " + approx(h) +
@@ -327,7 +359,7 @@ int run_mesh(int argc, char** argv) {
             throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
                              " lattice squares, more than --max-squares " +
                              std::to_string(o.max_squares));
-        return lattice_over(f->bounds(), spacing);
+        return lattice_over(domain, spacing);
     };
 
     // The per-triangle array certified_min_angle (8 bytes a triangle) only when
@@ -340,19 +372,36 @@ int run_mesh(int argc, char** argv) {
     Lattice lattice;
     std::vector<std::pair<std::string, double>> phases;
     std::vector<std::pair<std::string, std::string>> extra;
+    std::string material_text;  // the multi-material report's lines
     double spacing = o.spacing;
     const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
     int refinements = 0;
     for (;;) {
         lattice = make_lattice(spacing);
         extra.clear();
-        extra.emplace_back("input", json_string(o.shape.empty() ? o.input : o.shape));
-        extra.emplace_back("levelset", json_string(f->describe()));
+        extra.emplace_back("input", json_string(o.shapes ? *o.shapes : o.shape.empty() ? o.input : o.shape));
+        extra.emplace_back("levelset", json_string(f ? f->describe() : mf->describe()));
         extra.emplace_back("rule", json_string(o.rule == DiagonalRule::maxmin ? "maxmin" : "separating"));
         extra.emplace_back("spacing", json_number(spacing));
         if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
         extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
-        if (o.graded) {
+        if (mf) {
+            const MaterialOptions mo{o.keep_background.value_or(false), o.rule, certify};
+            MaterialResult r = fastest_of(o.repeat, [&] { return mesh_materials(*mf, lattice, mo); });
+            phases = {{"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}, {"triangulate", r.times.triangulate}};
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
+            extra.emplace_back("graded", "false");
+            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+            extra.emplace_back("warped_points", std::to_string(r.warped_points));
+            extra.emplace_back("warped_squares", std::to_string(r.warped_squares));
+            extra.emplace_back("separating_overrides", std::to_string(r.forced_diagonals));
+            for (auto& e : material_report_json(r)) extra.push_back(std::move(e));
+            std::vector<std::string> warnings;
+            material_text = material_report_text(r, &warnings);
+            for (const auto& w : warnings) std::cerr << "warpmesh: warning: " << w << "\n";
+            mesh = std::move(r.mesh);
+            cert = std::move(r.certified);
+        } else if (o.graded) {
             GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(*f, lattice, o.rule, o.max_cell, certify); });
             mesh = std::move(r.mesh);
             cert = std::move(r.certified);
@@ -439,7 +488,8 @@ int run_mesh(int argc, char** argv) {
                             ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
                             ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
                             ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
-                            ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) + ", \"nonflat\": [";
+                            ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) +
+                            ", \"uncertified_junction_squares\": " + std::to_string(cert.junction_squares) + ", \"nonflat\": [";
             for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
                 j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
                      ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +
@@ -458,6 +508,9 @@ int run_mesh(int argc, char** argv) {
               << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
             t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "
               << cert.nonflat_squares << " not flat)\n";
+            if (cert.junction_squares)
+                t << "uncertified junction squares " << cert.junction_squares
+                  << " (excluded from the certified angles above: no bound is claimed for them)\n";
             if (cert.nonflat_squares) {
                 t << "not flat (i, j)     ";
                 for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
@@ -474,7 +527,7 @@ int run_mesh(int argc, char** argv) {
     q.extra = extra;
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, q); });
     staged.commit();
-    if (!o.quiet) std::cout << quality_text(q) << cert_text;
+    if (!o.quiet) std::cout << quality_text(q) << cert_text << material_text;
     return 0;
 }
 
