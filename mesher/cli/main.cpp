@@ -102,6 +102,7 @@ output:
   --also FILE            write the mesh to another file as well (repeatable)
   --svg-color minangle   colour SVG/PNG triangles by their minimum angle
   --svg-color certified  colour them by the certified minimum angle of their square
+  --svg-color region     colour them by region (label); interfaces drawn
   --report FILE          the quality report as JSON (it is printed as text on stdout too)
   --quiet                do not print the text report
   --threads N            OpenMP threads (default: all cores)
@@ -147,6 +148,7 @@ struct MeshOptions {
     std::int64_t max_squares = std::int64_t{1} << 30;
     bool svg_min_angle = false;
     bool svg_certified = false;
+    bool svg_region = false;
     bool quiet = false;
     bool certify = true, verify = true, guarantee_flat = false;
     std::optional<double> min_spacing;
@@ -192,7 +194,8 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
             const std::string v = value();
             if (v == "minangle") o.svg_min_angle = true;
             else if (v == "certified") o.svg_certified = true;
-            else throw UsageError("--svg-color expects 'minangle' or 'certified', got '" + v + "'");
+            else if (v == "region") o.svg_region = true;
+            else throw UsageError("--svg-color expects 'minangle', 'certified' or 'region', got '" + v + "'");
         } else if (a == "--verify") o.verify = true;
         else if (a == "--no-verify") o.verify = false;
         else if (a == "--no-certify") o.certify = false;
@@ -218,7 +221,7 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
     }
     if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
-        throw UsageError("give exactly one of an input image, --shape SPEC or --shapes SPEC");
+        throw UsageError("give exactly one of an input image or --shape SPEC (or --shapes SPEC)");
     if (o.outputs.empty() && o.report.empty() && o.quiet)
         throw UsageError("nothing to do: no -o, no --report and --quiet");
     if (!(o.spacing > 0) || o.spacing > 1e9) throw UsageError("--spacing must be positive and at most 1e9");
@@ -468,6 +471,7 @@ int run_mesh(int argc, char** argv) {
                                   " warped square(s) with a non-flat stencil (outlined in magenta); the mesh is certified down to " +
                                   approx(cert.min_deg) + " deg";
         }
+        if (o.svg_region) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
         if (o.svg_certified && cert.available) {
             wo.svg.color_by_cell_data = "certified_min_angle";
             wo.png.color_by_cell_data = "certified_min_angle";
@@ -489,7 +493,8 @@ int run_mesh(int argc, char** argv) {
                             ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
                             ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
                             ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) +
-                            ", \"uncertified_junction_squares\": " + std::to_string(cert.junction_squares) + ", \"nonflat\": [";
+                            (mf ? ", \"uncertified_junction_squares\": " + std::to_string(cert.junction_squares) : std::string()) +
+                            ", \"nonflat\": [";
             for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
                 j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
                      ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +

@@ -67,6 +67,15 @@ CASES = {
     # --guarantee flat refines the lattice until every warped square is flat;
     # here it stops at --min-spacing (16 / 16) with non-flat squares left.
     "k1_guarantee_flat_s16": [f"{DATA}/K1_small.pgm", "--iso", "128", "--spacing", "16", "--guarantee", "flat"],
+    # Multi-material meshes (--materials, --shapes): every label of an atlas
+    # slice with the background dropped; a list of labels (the rest merged into
+    # the background); three analytic materials with triple points and the
+    # background kept.
+    "brain_all_materials_s2": [f"{EX}/brain_axial_s128_labels16.pgm", "--materials", "all", "--spacing", "2"],
+    "abdomen_kidneys_materials_s2": [f"{EX}/abdomen_axial_z040_labels16.pgm", "--materials", "51,52",
+                                     "--spacing", "2"],
+    "three_shapes_materials": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
+                               "--background", "keep", "--spacing", "0.75"],
 }
 
 DROP = {"phase_seconds", "total_seconds", "peak_memory_mb", "input", "repeat"}
