@@ -217,40 +217,14 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     r.mixed_triangles = mixed;
     r.centroid_triangles = centroid;
 
-    // Pass 2: compact vertex ids.
-    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
-        return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
-    };
-    Buffer<std::int32_t> vid(npoints);
-    std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t j = 0; j <= ny; ++j) {
-        std::int64_t n = 0;
-        for (std::int64_t i = 0; i < nxp; ++i) {
-            const bool used = uses_corner(square_code(i, j), A) || uses_corner(square_code(i - 1, j), B) ||
-                              uses_corner(square_code(i, j - 1), C) || uses_corner(square_code(i - 1, j - 1), D);
-            vid[static_cast<std::size_t>(lattice.index(i, j))] = used ? 0 : -1;
-            n += used;
-        }
-        row_verts[static_cast<std::size_t>(j) + 1] = n;
-    }
-    std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
+    // Pass 2: compact vertex ids (points used by an output triangle).
     Mesh& mesh = r.mesh;
-    const std::int64_t nverts = row_verts.back(), ntris = row_tris.back();
-    if (nverts > INT32_MAX || ntris > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
-    mesh.vertices.resize(static_cast<std::size_t>(nverts));
-    mesh.triangles.resize(static_cast<std::size_t>(ntris));
+    Buffer<std::int32_t> vid;
+    const std::int64_t ntris = row_tris.back();
+    compact_vertices(
+        lattice, code, ntris, [](std::int64_t) { return true; },
+        [&](std::int64_t p, std::int64_t, std::int64_t) { return position(p); }, vid, mesh);
     mesh.region.resize(static_cast<std::size_t>(ntris));
-#pragma omp parallel for schedule(static)
-    for (std::int64_t j = 0; j <= ny; ++j) {
-        std::int64_t next = row_verts[static_cast<std::size_t>(j)];
-        for (std::int64_t i = 0; i < nxp; ++i) {
-            const std::int64_t p = lattice.index(i, j);
-            if (vid[static_cast<std::size_t>(p)] < 0) continue;
-            vid[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(next);
-            mesh.vertices[static_cast<std::size_t>(next++)] = position(p);
-        }
-    }
 
     // Pass 3: triangles, region tags, keyed squares.
     std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
