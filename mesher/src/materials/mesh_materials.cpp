@@ -128,8 +128,8 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     auto warp_of = [&](std::int64_t p) -> const WarpedPoint& {
         return *std::lower_bound(warped.begin(), warped.end(), p, [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
     };
-    auto position = [&](std::int64_t p) {
-        Vec2 x = lattice.position(p % nxp, p / nxp);
+    auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) {
+        Vec2 x = lattice.position(i, j);
         if (moved[static_cast<std::size_t>(p)]) {
             const WarpedPoint& wp = warp_of(p);
             x.x += warp_dx(wp.dir) * wp.t * lattice.s;  // the same affine map as generic_positions, scaled by s
@@ -137,6 +137,7 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
         }
         return x;
     };
+    auto position = [&](std::int64_t p) { return position_ij(p, p % nxp, p / nxp); };
 
     // ---- 4. triangulate ---------------------------------------------------------------
     t0 = clock::now();
@@ -179,7 +180,7 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
                         const WarpedPoint& wp = warp_of(p[q]);
                         cs[q].warp = wp.dir, t[q] = wp.t;
                     }
-                    x[q] = position(p[q]);
+                    x[q] = position_ij(p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
                 }
                 bool was_forced = false;
                 if (material_diagonal_bc(options.rule, cs, t, was_forced)) c |= bc_bit;
@@ -223,7 +224,7 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     const std::int64_t ntris = row_tris.back();
     compact_vertices(
         lattice, code, ntris, [](std::int64_t) { return true; },
-        [&](std::int64_t p, std::int64_t, std::int64_t) { return position(p); }, vid, mesh);
+        position_ij, vid, mesh);
     mesh.region.resize(static_cast<std::size_t>(ntris));
 
     // Pass 3: triangles, region tags, keyed squares.
