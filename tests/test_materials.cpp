@@ -419,9 +419,10 @@ BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
     BOOST_TEST(json.find("\"pixel_area\"") != std::string::npos);
     BOOST_TEST(json.find("\"uncertified_junction_squares\"") != std::string::npos);
 
-    r = run("mesh " + in + " --materials all --spacing 4 -o m.vtu --quiet");
+    r = run("mesh " + in + " --materials all --spacing 4 -o m.vtu --quiet --report lost.json");
     BOOST_TEST(r.code == 0);
     BOOST_TEST(r.err.find("material 9 (label_9) got no triangle") != std::string::npos, r.err);
+    BOOST_TEST(testing::slurp(img.parent_path() / "lost.json").find("\"materials_without_triangles\": [9]") != std::string::npos);
 
     auto refused = [&](const std::string& args, int code, const std::string& needle) {
         const Run x = run(args);

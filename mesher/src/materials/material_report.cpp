@@ -11,6 +11,12 @@
 namespace warpmesh {
 
 namespace {
+// A material with pixels (or an analytic one) that got no triangle; the
+// dropped background may well be empty.
+bool lost_material(const MaterialStats& s) {
+    return (s.tag != 0 || s.output) && s.triangles == 0 && (!s.reference_area || *s.reference_area > 0);
+}
+
 std::string tags_text(const std::array<std::int32_t, 4>& t) {
     return "[" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ", " + std::to_string(t[3]) + "]";
 }
@@ -29,6 +35,10 @@ std::vector<std::pair<std::string, std::string>> material_report_json(const Mate
         m += "}";
     }
     out.emplace_back("materials", m + "]");
+    std::string lost = "[";  // materials lost at this spacing (material_report_text warns of them)
+    for (const MaterialStats& s : r.materials)
+        if (lost_material(s)) lost += std::string(lost.size() > 1 ? ", " : "") + std::to_string(s.tag);
+    out.emplace_back("materials_without_triangles", lost + "]");
     out.emplace_back("interface_edges", std::to_string(r.mesh.interfaces.size()));
     out.emplace_back("third_material_edges", std::to_string(r.third_material_edges));
     out.emplace_back("centroid_material_triangles", std::to_string(r.centroid_triangles));
@@ -52,8 +62,7 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
           << s.area << ", perimeter " << s.perimeter;
         if (s.reference_area) t << ", pixel area " << *s.reference_area;
         t << "\n";
-        const bool real = s.tag != 0 || s.output;  // the dropped background may well be empty
-        if (warnings && real && s.triangles == 0 && (!s.reference_area || *s.reference_area > 0))
+        if (warnings && lost_material(s))
             warnings->push_back("material " + std::to_string(s.tag) + " (" + s.name +
                                 ") got no triangle: it is lost at this spacing (use a smaller --spacing)");
     }
