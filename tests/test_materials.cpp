@@ -439,4 +439,15 @@ BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
     refused("mesh --shapes '1=circle:0,0,3' --shape circle:0,0,1 -o m.vtu", 2, "exactly one of");
     r = run("mesh --shapes '1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12' --background keep --spacing 0.5 -o s.msh");
     BOOST_TEST(r.code == 0, r.err);
+    // Pictures coloured by region, interfaces drawn.
+    r = run("mesh --shapes '1=circle:0,0,10;2=circle:6,0,8' --spacing 0.5 --svg-color region -o s.svg --also s.png --quiet");
+    BOOST_TEST_REQUIRE(r.code == 0, r.err);
+    const std::string svg = testing::slurp(img.parent_path() / "s.svg");
+    BOOST_TEST(svg.find("<g id=\"interfaces\"") != std::string::npos);
+    std::set<std::string> fills;
+    for (std::size_t at = 0; (at = svg.find("<polygon", at)) != std::string::npos; ++at) {
+        const std::size_t f = svg.find("fill=\"#", at);
+        fills.insert(svg.substr(f, 14));
+    }
+    BOOST_TEST(fills.size() == 2u);  // the two materials (the background is dropped)
 }
