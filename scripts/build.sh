@@ -4,5 +4,9 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"
 jobs="${WARPMESH_JOBS:-$(nproc)}"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${WARPMESH_BUILD_TYPE:-Release}" ${WARPMESH_CMAKE_ARGS:-} >/dev/null
+# The Python module (python/) is built for /usr/bin/python3, the interpreter
+# with Debian's numpy, pytest, meshio and dask (scripts/setup.sh); turn it
+# off with WARPMESH_PYTHON=OFF.
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${WARPMESH_BUILD_TYPE:-Release}" \
+  -DWARPMESH_PYTHON="${WARPMESH_PYTHON:-ON}" -DPython3_EXECUTABLE=/usr/bin/python3 ${WARPMESH_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build" -j "$jobs"

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + UBSan) into build-fuzz/ and
-# runs each for SECONDS (default 60), both at once (one core each).
+# runs them for SECONDS (default 60) of wall time in all, two at a time (one
+# core each; see "run" below for how the time is split).
 #
 #   scripts/fuzz.sh [SECONDS]
 #
-# Targets (tests/fuzz/): fuzz_image_reader (decode_image: PGM, PNG) and
+# Targets (tests/fuzz/): fuzz_image_reader (decode_image: PGM, PNG),
 # fuzz_pipeline (the whole mesher on tiny images, checking the mesh
-# invariants and the angle bounds).  Each starts from the committed seeds
-# (tests/fuzz/corpus/NAME, NAME = image_reader or pipeline) and the crash regressions
+# invariants and the angle bounds), and the volume readers fuzz_nrrd_reader,
+# fuzz_nifti_reader, fuzz_tiff_reader (fuzz_volume_checks.hpp).  Each starts from the committed seeds
+# (tests/fuzz/corpus/NAME, NAME = the target without fuzz_) and the crash regressions
 # (tests/fuzz/regressions/NAME); new inputs go to build-fuzz/corpus/TARGET,
 # crashes to build-fuzz/artifacts/.  Exit status 1 if any target found a
 # crash: copy the artifact into tests/fuzz/regressions/NAME/ (the tests
@@ -22,7 +24,7 @@ jobs="${WARPMESH_JOBS:-$(nproc)}"
 # --- dependencies ------------------------------------------------------------
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 need=()
-for pkg in cmake make libpng-dev libboost-dev; do have_pkg "$pkg" || need+=("$pkg"); done
+for pkg in cmake make libpng-dev zlib1g-dev libtiff-dev libboost-dev; do have_pkg "$pkg" || need+=("$pkg"); done
 cxx=""
 for c in clang++-14 clang++; do
   if command -v "$c" >/dev/null; then cxx="$(command -v "$c")"; break; fi
@@ -49,32 +51,47 @@ cmake --build "$build" -j "$jobs" >/dev/null
 echo "fuzz: built in $((SECONDS - t0)) s with $cxx"
 
 # --- run ----------------------------------------------------------------------
+# Five targets share the two cores for SECONDS of wall time, in two lanes:
+# lane 1 runs fuzz_pipeline (half) then fuzz_nrrd_reader (half); lane 2
+# runs fuzz_image_reader, fuzz_nifti_reader and fuzz_tiff_reader (a third
+# each).  So the whole run takes about SECONDS, as with two targets before.
 mkdir -p "$build/artifacts"
-declare -A max_len=([fuzz_image_reader]=4096 [fuzz_pipeline]=700)
-pids=()
-for t in fuzz_image_reader fuzz_pipeline; do
+declare -A max_len=([fuzz_image_reader]=4096 [fuzz_pipeline]=700 [fuzz_nrrd_reader]=4096 [fuzz_nifti_reader]=4096 [fuzz_tiff_reader]=4096)
+half=$(( (seconds + 1) / 2 )); third=$(( (seconds + 2) / 3 ))
+declare -A budget=([fuzz_pipeline]=$half [fuzz_nrrd_reader]=$half [fuzz_image_reader]=$third [fuzz_nifti_reader]=$third [fuzz_tiff_reader]=$third)
+run_target() {
+  local t=$1
   mkdir -p "$build/corpus/$t"
-  extra=()
+  local extra=()
   [ -f "$root/tests/fuzz/$t.dict" ] && extra+=("-dict=$root/tests/fuzz/$t.dict")
   # -timeout: an input slower than 10 s is a hang; -rss_limit_mb: a leak or a
   # huge allocation is a bug too.  The first corpus directory receives new
   # inputs; the committed ones are only read.
-  "$build/$t" "$build/corpus/$t" "$root/tests/fuzz/corpus/${t#fuzz_}" "$root/tests/fuzz/regressions/${t#fuzz_}" \
-    -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
+  local seeds=()
+  for d in "$root/tests/fuzz/corpus/${t#fuzz_}" "$root/tests/fuzz/regressions/${t#fuzz_}"; do
+    [ -d "$d" ] && seeds+=("$d")
+  done
+  local rc=0
+  "$build/$t" "$build/corpus/$t" "${seeds[@]}" \
+    -max_total_time="${budget[$t]}" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" "${extra[@]}" \
-    >"$build/$t.log" 2>&1 &
-  pids+=($!)
-done
+    >"$build/$t.log" 2>&1 || rc=$?
+  echo "$rc" >"$build/$t.rc"
+}
+targets=(fuzz_pipeline fuzz_nrrd_reader fuzz_image_reader fuzz_nifti_reader fuzz_tiff_reader)
+( run_target fuzz_pipeline; run_target fuzz_nrrd_reader ) &
+lane1=$!
+( run_target fuzz_image_reader; run_target fuzz_nifti_reader; run_target fuzz_tiff_reader ) &
+lane2=$!
+wait "$lane1" || true
+wait "$lane2" || true
 status=0
-i=0
-for t in fuzz_image_reader fuzz_pipeline; do
-  rc=0
-  wait "${pids[$i]}" || rc=$?
-  i=$((i + 1))
+for t in "${targets[@]}"; do
+  rc=$(cat "$build/$t.rc" 2>/dev/null || echo 1)
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$build/$t.log" | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$build/$t.log" | tail -1 || true)
   if [ "$rc" -eq 0 ]; then
-    echo "fuzz: $t: ${execs:-?} executions in ${seconds} s, ${cov:-cov: ?}, no crash"
+    echo "fuzz: $t: ${execs:-?} executions in ${budget[$t]} s, ${cov:-cov: ?}, no crash"
   else
     status=1
     echo "fuzz: $t: FAILED (exit $rc) after ${execs:-?} executions; log $build/$t.log" >&2

@@ -2,8 +2,9 @@
 # Fresh machine → every test and the proof re-checked.  Installs, builds, runs
 # the CTest suites, reruns the prover and compares with the committed
 # certificates, runs the independent checker on them, then the whole suite
-# again under ASan + UBSan (scripts/sanitize.sh) and both libFuzzer targets
-# for WARPMESH_FUZZ_SECONDS each (default 60, at the same time; scripts/fuzz.sh).
+# again under ASan + UBSan (scripts/sanitize.sh) and the five libFuzzer
+# targets for WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a
+# time; scripts/fuzz.sh splits it).
 # Measured on the 2-core machine from a clean clone: about 9 minutes in all.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <boost/multiprecision/cpp_int.hpp>
+
 #ifndef WARPMESH_CHECK_EXE
 #error "tests/CMakeLists.txt must define WARPMESH_CHECK_EXE"
 #endif
@@ -26,7 +28,7 @@ std::vector<std::string> read_lines(const fs::path& p) {
     return out;
 }
 
-int run_checker(const std::vector<std::string>& lines, const std::string& name) {
+int run_checker(const std::vector<std::string>& lines, const std::string& name, std::string* message = nullptr) {
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_tamper_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const fs::path f = dir / (name + ".cert");
@@ -41,6 +43,7 @@ int run_checker(const std::vector<std::string>& lines, const std::string& name) 
     std::stringstream ss;
     ss << err.rdbuf();
     BOOST_TEST_MESSAGE(name << ": " << ss.str());
+    if (message) *message = ss.str();
     fs::remove_all(dir);
     return rc;
 }
@@ -147,4 +150,41 @@ BOOST_AUTO_TEST_CASE(garbage_and_truncation) {
     BOOST_TEST(run_checker({"\x01\x02 garbage"}, "garbage") != 0);
     BOOST_TEST(run_checker({std::string(1 << 20, 'x')}, "one_huge_line") != 0);
     BOOST_TEST(run_checker({}, "empty") != 0);
+}
+
+// A threshold leaf ('a'/'b') whose H exceeds the winner's quality, so the
+// exact decision holds, but by less than the relative margin 2^-28 that makes
+// the mesher's double evaluation agree: the checker must reject it for the
+// margin.  H is moved down by bisection (on certificates cut after the leaf's
+// key, so that each run stops at the leaf) to just above the least H the
+// exact test accepts, i.e. within 2^-40 of the winner's quality.
+BOOST_AUTO_TEST_CASE(threshold_without_double_agreement_margin) {
+    using Z = boost::multiprecision::cpp_int;
+    const auto full = cert();
+    const std::size_t i = find_leaf(full, 'a', 1);
+    std::size_t end = i + 1;
+    while (end < full.size() && full[end].rfind("key ", 0) != 0) ++end;
+    std::vector<std::string> l(full.begin(), full.begin() + static_cast<long>(end));
+    const std::string leaf = l[i].substr(0, l[i].rfind(' '));
+    const std::string h = l[i].substr(l[i].rfind(' ') + 1);
+    const auto slash = h.find('/');
+    BOOST_REQUIRE(slash != std::string::npos);
+    const Z num(h.substr(0, slash)), den(h.substr(slash + 1));
+    constexpr int bits = 80;  // H' = n / 2^80
+    const Z scale = Z(1) << bits;
+    BOOST_REQUIRE(scale % den == 0);
+    auto run = [&](const Z& n, std::string* msg) {
+        l[i] = leaf + " " + n.str() + "/" + scale.str();
+        return run_checker(l, "margin", msg);
+    };
+    std::string msg;
+    Z hi = num * (scale / den), lo = hi - (hi >> 10);  // lo: not decided; hi: decided (the committed H)
+    BOOST_REQUIRE(run(lo, &msg) != 0 && msg.find("not decided") != std::string::npos);
+    while (hi - lo > (Z(1) << (bits - 40))) {
+        const Z mid = (lo + hi) / 2;
+        run(mid, &msg);
+        (msg.find("not decided") != std::string::npos ? lo : hi) = mid;
+    }
+    BOOST_TEST(run(hi, &msg) != 0);
+    BOOST_TEST(msg.find("without the double-agreement margin") != std::string::npos, msg);
 }

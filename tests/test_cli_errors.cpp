@@ -210,7 +210,7 @@ BOOST_AUTO_TEST_CASE(a_good_run_writes_exactly_the_requested_files) {
 
 // The graded report carries the uniform report's counts of the warped squares
 // and of the squares where the separating rule overrode max-min, and they
-// agree: the graded mesh's warped squares are the uniform mesh's (graded.hpp).
+// agree: the graded mesh's warped squares are the uniform mesh's (src/graded/quadtree.hpp).
 BOOST_AUTO_TEST_CASE(graded_and_uniform_reports_count_the_same_warped_squares) {
     Sandbox sb;
     const auto img = sb.input("disc.pgm", disc_pgm(40, 32)).string();
@@ -259,6 +259,7 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--threads", "0", "-o", "m.vtu"}, 2, {"--threads"});
     sb.refuse({"mesh", img, "--repeat", "0", "-o", "m.vtu"}, 2, {"--repeat expects 1 to 1000"});
     sb.refuse({"mesh", img, "--repeat", "two", "-o", "m.vtu"}, 2, {"--repeat expects an integer"});
+    sb.refuse({"mesh", img, "--msh-version", "4", "-o", "m.msh"}, 2, {"--msh-version expects '4.1' or '2.2', got '4'"});
 }
 
 // --repeat (benchmarks) meshes several times in one process: the files are
@@ -578,4 +579,22 @@ BOOST_AUTO_TEST_CASE(region_touching_the_border_is_closed_with_tag_2) {
     const std::string disc = sb.input("disc.pgm", disc_pgm(16, 16)).string();
     BOOST_REQUIRE(sb.run({"mesh", disc, "-o", "d.msh", "--quiet"}).code == 0);
     BOOST_TEST(slurp(sb.out / "d.msh").find("\"domain_border\"") == std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(coarse_spacing_warns_with_a_spacing_that_resolves_and_optimize_reports_its_section) {
+    Sandbox sb;
+    // A disc of radius 1 at the default spacing 1 is a 4-triangle diamond.
+    const Result coarse = sb.run({"mesh", "--shape", "circle:0,0,1", "-o", "d.vtu", "--quiet"});
+    BOOST_TEST(coarse.code == 0);
+    BOOST_TEST(coarse.err.find("too coarse") != std::string::npos);
+    BOOST_TEST(coarse.err.find("spacing 0.35 or less") != std::string::npos);
+    const Result fine = sb.run({"mesh", "--shape", "circle:0,0,1", "--spacing", "0.35", "-o", "d.vtu", "--quiet"});
+    BOOST_TEST(fine.err.find("too coarse") == std::string::npos);
+
+    const Result o = sb.run({"mesh", "--shape", "ellipse:0,0,30,18", "--optimize", "-o", "e.msh", "--report", "r.json"});
+    BOOST_TEST(o.code == 0);
+    BOOST_TEST(o.out.find("optimize             min angle") != std::string::npos);
+    const std::string json = slurp(sb.out / "r.json");
+    for (const char* key : {"\"optimize\": {", "\"certified_floor_deg\"", "\"min_angle_after_deg\"", "\"optimize\": 0"})
+        BOOST_TEST(json.find(key) != std::string::npos, key);
 }

@@ -25,9 +25,12 @@
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/shapes.hpp"
-#include "warpmesh/tiles.hpp"
 #include "warpmesh/uniform.hpp"
 #include "without_range.hpp"
+#include "graded/point_set.hpp"
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
+#include "graded/triangulate_graded.hpp"
 
 using namespace warpmesh;
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "warpmesh/certified.hpp"
 #include "warpmesh/generic_square.hpp"
 #include "warpmesh/prove.hpp"
 
@@ -71,7 +72,7 @@ BOOST_AUTO_TEST_CASE(witnesses_exact) {
             if (tok[2] == "inverted") continue;
             const prover::Key* key = nullptr;
             for (const auto& k : keys)
-                if (prover::key_code(k) == tok[3]) key = &k;
+                if (key_code(k.s) == tok[3]) key = &k;
             BOOST_REQUIRE(key);
             const auto vars = prover::key_vars(*key);
             std::array<Q, 4> t{};

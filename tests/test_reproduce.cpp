@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
 #include "warpmesh/certified.hpp"
 
 using namespace warpmesh;
@@ -33,17 +34,8 @@ DiagonalRule rule_named(const std::string& name) {
     return name == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating;
 }
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string templ = (fs::temp_directory_path() / "warpmesh-reproduce-XXXXXX").string();
-        BOOST_REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
+struct TempDir : warpmesh::testing::TempDir {
+    TempDir() : warpmesh::testing::TempDir("warpmesh-reproduce") {}
 };
 
 std::string quoted(const std::string& s) {

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
 #include "warpmesh/mesh.hpp"
 #include "warpmesh/writers.hpp"
 
@@ -29,19 +30,8 @@ using namespace warpmesh;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string templ = (fs::temp_directory_path() / "warpmesh-png-XXXXXX").string();
-        BOOST_REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    std::size_t entries() const { return static_cast<std::size_t>(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
+struct TempDir : warpmesh::testing::TempDir {
+    TempDir() : warpmesh::testing::TempDir("warpmesh-png") {}
 };
 
 // n x n unit squares on [0, n]^2, two CCW triangles each; the whole outer

@@ -1,6 +1,6 @@
 // without_range.hpp — a level set that forwards everything to another except
 // range(): it knows no bound, so the graded mesher samples every tile
-// (tiles.hpp).  Meshes made through it are the reference the range-bounded
+// (src/graded/tiles.hpp).  Meshes made through it are the reference the range-bounded
 // front end must reproduce exactly.
 #pragma once
 

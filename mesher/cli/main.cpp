@@ -7,7 +7,6 @@
 // Exit codes: 0 success, 1 bad input or output (a clear message, nothing
 // written under the requested name), 2 usage error, 3 internal error.
 #include <malloc.h>
-#include <sys/resource.h>
 
 #include <cerrno>
 #include <charconv>
@@ -17,7 +16,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <chrono>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -27,16 +28,9 @@
 #include <omp.h>
 #endif
 
-#include "warpmesh/errors.hpp"
-#include "warpmesh/graded.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
 #include "warpmesh/materials.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/volume.hpp"
+#include "warpmesh/warpmesh.hpp"
 #ifdef WARPMESH_HAVE_PROVER
 #include "warpmesh/prove.hpp"
 #endif
@@ -50,7 +44,8 @@ constexpr const char* version = "0.1.0";
 constexpr const char* usage = R"(warpmesh — conforming triangle meshes of 2D level sets by lattice warping
 
 usage:
-  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG)
+  warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG, TIFF)
+                                           or a slice of a volume (NRRD, NIfTI, TIFF)
   warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
   warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
   warpmesh --help | --version
@@ -62,12 +57,24 @@ input (images):
   --label L[,L...]       label mode: the region is the pixels with one of these labels;
   --label nonzero        or every non-zero pixel.  f is the signed distance to the
                          region's boundary, interpolated bilinearly
-  --max-pixels N         refuse images with more pixels than N (default 268435456)
+  --max-pixels N         refuse images and volumes with more pixels (voxels) than N
+                         (default 268435456)
   --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
                          background) or these labels, every other pixel one background
                          material; interfaces between materials are mesh edges
+                         (2D images only, in pixel units; not with --slice/--slices)
   --background drop|keep with --materials/--shapes: output the background's triangles
                          (keep) or not (drop, default; it still bounds the materials)
+
+input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
+  --slice AXIS=INDEX     mesh one slice: AXIS is the index axis i, j or k, e.g. k=60
+  --slices AXIS=A:B      mesh slices A .. B-1, in parallel, one output per slice: -o and
+                         --also need a %d field (out_%03d.vtu); --report is a summary
+  --units mm|pixels      mesh in the file's physical coordinates (mm, default for NRRD
+                         and NIfTI) or in pixels (default for PGM, PNG and TIFF)
+  --pixel-size SX[,SY[,SZ]]  pixel (voxel) size in mm, for any input; implies mm
+  --points-3d FILE       also write the mesh's vertices at their 3D positions (CSV x,y,z,
+                         in vertex order; with --slices a %d pattern)
 
 input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
@@ -77,13 +84,17 @@ input (shapes):
                          where they overlap; outside all: background (tag 0)
 
 lattice and algorithm:
-  --spacing S            lattice spacing, in pixels for images (default 1)
+  --spacing S            lattice spacing, in the input's units: mm for physical inputs
+                         (default: the smaller pixel size), else pixels (default 1)
   --diagonal RULE        separating (default): the mesh boundary follows the level set;
                          maxmin: the paper's rule, the diagonal with the larger minimum angle
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
                          default: as coarse as the domain allows)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
+  --optimize             after meshing, move the boundary band's vertices (boundary ones
+                         along the level set) and flip its interior edges to raise the
+                         worst angles; no triangle's star gets a smaller minimum angle
 
 certificates (proofs/*.cert, compiled in):
   --verify / --no-verify check every triangle of a warped square against its key's
@@ -97,8 +108,10 @@ certificates (proofs/*.cert, compiled in):
 
 output:
   -o, --output FILE      the mesh; the format follows the extension:
-                         .vtu (VTK XML), .msh (Gmsh 4.1), .node/.ele (Triangle),
-                         .svg or .png (pictures)
+                         .vtu (VTK XML), .msh (Gmsh), .xdmf (FEniCSx; + _facets.xdmf),
+                         .inp (Abaqus/CalculiX), .node/.ele (Triangle), .svg or .png
+  --msh-version V        .msh format version: 4.1 (default) or 2.2
+  --msh-cell-data        also write per-triangle data (certified_min_angle) into .msh
   --also FILE            write the mesh to another file as well (repeatable)
   --svg-color minangle   colour SVG/PNG triangles by their minimum angle
   --svg-color certified  colour them by the certified minimum angle of their square
@@ -131,32 +144,34 @@ std::int64_t parse_integer(const std::string& opt, const std::string& text) {
     return v;
 }
 
-struct MeshOptions {
+// The command line's options: the library's MeshOptions (pipeline.hpp) and
+// what concerns input and output.
+struct CliOptions {
     std::string input, shape;
     std::vector<std::string> outputs;
     std::string report;
-    double spacing = 1;
+    MeshOptions mesh;
     std::optional<double> iso;
     bool inside_above = true;
     std::optional<std::string> labels;
     std::optional<std::string> materials, shapes;  // multi-material input (materials.hpp)
-    std::optional<bool> keep_background;
-    DiagonalRule rule = DiagonalRule::separating;
-    bool graded = false;
-    std::int64_t max_cell = 0;
+    bool background_given = false;                 // --background (into mesh.keep_background)
     std::int64_t max_pixels = std::int64_t{1} << 28;
-    std::int64_t max_squares = std::int64_t{1} << 30;
+    MshOptions msh;
     bool svg_min_angle = false;
     bool svg_certified = false;
     bool svg_region = false;
     bool quiet = false;
-    bool certify = true, verify = true, guarantee_flat = false;
-    std::optional<double> min_spacing;
-    std::int64_t repeat = 1;
+    // Volumes and units (volume.hpp).
+    std::optional<std::string> slice, slices;
+    bool units_pixels = false, spacing_given = false;
+    std::vector<double> pixel_size;
+    std::string points_3d;
 };
 
-MeshOptions parse_mesh_options(int argc, char** argv) {
-    MeshOptions o;
+CliOptions parse_mesh_options(int argc, char** argv) {
+    CliOptions o;
+    MeshOptions& m = o.mesh;
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&]() -> std::string {
@@ -167,7 +182,20 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--also") o.outputs.push_back(value());
         else if (a == "--report") o.report = value();
         else if (a == "--shape") o.shape = value();
-        else if (a == "--spacing") o.spacing = parse_number(a, value());
+        else if (a == "--spacing") m.spacing = parse_number(a, value()), o.spacing_given = true;
+        else if (a == "--slice") o.slice = value();
+        else if (a == "--slices") o.slices = value();
+        else if (a == "--points-3d") o.points_3d = value();
+        else if (a == "--units") {
+            const std::string v = value();
+            if (v != "mm" && v != "pixels") throw UsageError("--units expects 'mm' or 'pixels', got '" + v + "'");
+            o.units_pixels = v == "pixels";
+        } else if (a == "--pixel-size") {
+            std::stringstream list(value());
+            o.pixel_size.clear();
+            for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(parse_number(a, item));
+            if (o.pixel_size.empty() || o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
+        }
         else if (a == "--iso") o.iso = parse_number(a, value());
         else if (a == "--inside") {
             const std::string v = value();
@@ -179,36 +207,43 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--background") {
             const std::string v = value();
             if (v != "drop" && v != "keep") throw UsageError("--background expects 'drop' or 'keep', got '" + v + "'");
-            o.keep_background = v == "keep";
+            m.keep_background = v == "keep";
+            o.background_given = true;
         }
         else if (a == "--diagonal") {
             const std::string v = value();
-            if (v == "maxmin") o.rule = DiagonalRule::maxmin;
-            else if (v == "separating") o.rule = DiagonalRule::separating;
+            if (v == "maxmin") m.rule = DiagonalRule::maxmin;
+            else if (v == "separating") m.rule = DiagonalRule::separating;
             else throw UsageError("--diagonal expects 'maxmin' or 'separating', got '" + v + "'");
-        } else if (a == "--graded") o.graded = true;
-        else if (a == "--max-cell") o.max_cell = parse_integer(a, value());
+        } else if (a == "--graded") m.graded = true;
+        else if (a == "--optimize") m.optimize = true;
+        else if (a == "--max-cell") m.max_cell = parse_integer(a, value());
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
-        else if (a == "--max-squares") o.max_squares = parse_integer(a, value());
+        else if (a == "--max-squares") m.max_squares = parse_integer(a, value());
+        else if (a == "--msh-version") {
+            const std::string v = value();
+            if (v != "4.1" && v != "2.2") throw UsageError("--msh-version expects '4.1' or '2.2', got '" + v + "'");
+            o.msh.version = v == "4.1" ? 41 : 22;
+        } else if (a == "--msh-cell-data") o.msh.cell_data = true;
         else if (a == "--svg-color") {
             const std::string v = value();
             if (v == "minangle") o.svg_min_angle = true;
             else if (v == "certified") o.svg_certified = true;
             else if (v == "region") o.svg_region = true;
             else throw UsageError("--svg-color expects 'minangle', 'certified' or 'region', got '" + v + "'");
-        } else if (a == "--verify") o.verify = true;
-        else if (a == "--no-verify") o.verify = false;
-        else if (a == "--no-certify") o.certify = false;
-        else if (a == "--min-spacing") o.min_spacing = parse_number(a, value());
+        } else if (a == "--verify") m.verify = true;
+        else if (a == "--no-verify") m.verify = false;
+        else if (a == "--no-certify") m.certify = false;
+        else if (a == "--min-spacing") m.min_spacing = parse_number(a, value());
         else if (a == "--guarantee") {
             const std::string v = value();
-            if (v == "flat") o.guarantee_flat = true;
-            else if (v == "any") o.guarantee_flat = false;
+            if (v == "flat") m.guarantee = Guarantee::flat;
+            else if (v == "any") m.guarantee = Guarantee::any;
             else throw UsageError("--guarantee expects 'flat' or 'any', got '" + v + "'");
         } else if (a == "--quiet") o.quiet = true;
         else if (a == "--repeat") {
-            o.repeat = parse_integer(a, value());
-            if (o.repeat < 1 || o.repeat > 1000) throw UsageError("--repeat expects 1 to 1000");
+            m.repeat = parse_integer(a, value());
+            if (m.repeat < 1 || m.repeat > 1000) throw UsageError("--repeat expects 1 to 1000");
         }
         else if (a == "--threads") {
             const std::int64_t n = parse_integer(a, value());
@@ -224,47 +259,33 @@ MeshOptions parse_mesh_options(int argc, char** argv) {
         throw UsageError("give exactly one of an input image or --shape SPEC (or --shapes SPEC)");
     if (o.outputs.empty() && o.report.empty() && o.quiet)
         throw UsageError("nothing to do: no -o, no --report and --quiet");
-    if (!(o.spacing > 0) || o.spacing > 1e9) throw UsageError("--spacing must be positive and at most 1e9");
-    if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0)
-        throw UsageError("--max-cell must be a power of two");
-    if (o.min_spacing && !(*o.min_spacing > 0)) throw UsageError("--min-spacing must be positive");
-    if (o.guarantee_flat && !o.certify) throw UsageError("--guarantee flat needs the certification (drop --no-certify)");
-    if (o.svg_certified && !o.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
-    if (o.max_pixels < 1 || o.max_squares < 1) throw UsageError("--max-pixels and --max-squares must be positive");
+    try {
+        validate(m);
+    } catch (const InputError& e) {
+        throw UsageError(e.what());
+    }
+    if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
+    if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
     if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
     if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    if (!o.shape.empty() && (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty()))
+        throw UsageError("--slice, --slices, --pixel-size and --points-3d apply to images and volumes, not to --shape");
+    if (o.slice && o.slices) throw UsageError("--slice and --slices exclude each other");
+    if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
     if (o.materials && (o.labels || o.iso || o.input.empty()))
         throw UsageError("--materials applies to a label image and excludes --label and --iso");
-    if (o.keep_background && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
-    if ((o.materials || o.shapes) && o.graded)
-        throw UsageError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
-                         "uniform lattice)");
-    if ((o.materials || o.shapes) && o.guarantee_flat)
-        throw UsageError("--guarantee flat is not available with --materials/--shapes");
-    return o;
-}
-
-// --repeat: run `mesh` n times and return the last result with the fastest
-// run's phase times.  The earlier runs are kept only for their times (each
-// freed before the next; the heap keeps their pages, so the process's peak
-// resident memory can exceed one run's).
-template <class Run>
-auto fastest_of(std::int64_t n, Run&& mesh) {
-    decltype(mesh().times) fastest{};
-    for (std::int64_t k = 1; k < n; ++k) {
-        const auto t = mesh().times;
-        if (k == 1 || t.total() < fastest.total()) fastest = t;
+    if (o.background_given && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
+    if (o.materials || o.shapes) {
+        if (m.graded)
+            throw UsageError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
+                             "uniform lattice)");
+        if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
+        if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");
+        if (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty())
+            throw UsageError("--materials and --shapes mesh 2D label images in pixel units and analytic shapes: "
+                             "--slice, --slices, --pixel-size and --points-3d are not supported with them yet");
     }
-    auto r = mesh();
-    if (n > 1 && fastest.total() < r.times.total()) r.times = fastest;
-    return r;
-}
-
-// A count or size for a message: "%.4g" never overflows (1e+30, inf).
-std::string approx(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", v);
-    return buf;
+    return o;
 }
 
 // All outputs of one run appear together or not at all.  Each is first written
@@ -281,11 +302,13 @@ public:
     void write(const std::string& path, Write&& write) {
         namespace fs = std::filesystem;
         const fs::path p(path);
+        std::unique_lock lock(mutex_);  // --slices writes from several threads
         const std::string tag = ".warpmesh-" + std::to_string(::getpid()) + "-" + std::to_string(renames_.size());
         // Keep the extension last: the writers choose the format by it.
         const fs::path staged = p.parent_path() / ("." + p.stem().string() + tag + p.extension().string());
         const auto real = output_files(p.string()), tmp = output_files(staged.string());
         for (std::size_t k = 0; k < real.size(); ++k) renames_.emplace_back(tmp[k], real[k]);
+        lock.unlock();
         try {
             write(staged.string());
         } catch (const OutputError& e) {
@@ -307,232 +330,188 @@ public:
 
 private:
     std::vector<std::pair<std::string, std::string>> renames_;
+    std::mutex mutex_;
 };
 
-double peak_memory_mb() {
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
+// The input file as a volume (images are one slice), with --pixel-size.
+Volume read_input(const CliOptions& o) {
+    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
+    if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
+    return v;
 }
 
+SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) {
+    SliceOptions so;
+    so.slice = slice;
+    so.units = o.units_pixels ? Units::pixels : Units::physical;
+    if (o.labels) {
+        so.levelset = label_options(*o.labels);
+    } else {
+        so.levelset.iso = o.iso;  // default: half the image's maxval, or midway between the slice's extremes
+        so.levelset.inside_above = o.inside_above;
+    }
+    return so;
+}
+
+// Mesh one input (a LevelSet, or a MaterialField for --materials/--shapes)
+// and stage its outputs (meshes, --points-3d, report); the slice's placement
+// goes into the report.
+template <class Field>
+MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice* input, StagedOutputs& staged) {
+    // The per-triangle array certified_min_angle (8 bytes a triangle) only when
+    // a file will carry it or a picture is coloured by it.
+    MeshOptions m = o.mesh;
+    m.cell_data = o.svg_certified;
+    WriteOptions formats;
+    formats.msh = o.msh;
+    for (const auto& out : o.outputs) m.cell_data = m.cell_data || format_carries_cell_data(out, formats);
+    m.input = o.shapes ? *o.shapes : o.shape.empty() ? o.input : o.shape;
+    if (input && !o.spacing_given) m.spacing = input->pixel_min;  // mm inputs: the smaller pixel size
+    MeshResult r = mesh(f, m);
+    if (input)
+        for (auto& field : slice_report_fields(*input)) r.report.extra.push_back(std::move(field));
+    for (const auto& w : r.warnings) std::cerr << "warpmesh: warning: " << w << "\n";
+    WriteOptions wo = write_options(r, o.svg_min_angle, o.svg_certified);
+    if (o.svg_region && !o.svg_certified) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
+    wo.msh = o.msh;
+    for (const auto& out : o.outputs)
+        staged.write(out, [&](const std::string& path) { write_mesh(r.mesh, path, wo); });
+    if (!o.points_3d.empty())
+        staged.write(o.points_3d, [&](const std::string& path) { write_points_3d(r.mesh, input->plane, path); });
+    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, r.report); });
+    return r;
+}
+
+int run_slices(const CliOptions& o);
+
 int run_mesh(int argc, char** argv) {
-    const MeshOptions o = parse_mesh_options(argc, argv);
+    CliOptions o = parse_mesh_options(argc, argv);
+    if (o.slices) return run_slices(o);
     // Check the outputs' extensions and directories before doing any work.
     for (const auto& out : o.outputs) check_output_path(out);
     if (!o.report.empty()) check_writable(o.report);
+    if (!o.points_3d.empty()) check_writable(o.points_3d);
 
+    if (o.materials || o.shapes) {
+        // Multi-material: analytic shapes, or a 2D label image in pixel units.
+        std::unique_ptr<MaterialField> field;
+        if (o.shapes) {
+            field = parse_material_shapes(*o.shapes);
+        } else {
+            field = make_label_materials(read_image(o.input, static_cast<std::uint64_t>(o.max_pixels)), *o.materials);
+        }
+        StagedOutputs staged;
+        const MeshResult r = mesh_and_stage(o, *field, nullptr, staged);
+        staged.commit();
+        if (!o.quiet) std::cout << to_text(r);
+        return 0;
+    }
     std::unique_ptr<LevelSet> f;
-    std::unique_ptr<MaterialField> mf;  // --materials / --shapes: the multi-material mesher
-    std::optional<Image> image;
+    std::optional<LoadedSlice> input;
     if (!o.shape.empty()) {
         f = parse_shape(o.shape);
-    } else if (o.shapes) {
-        mf = parse_material_shapes(*o.shapes);
     } else {
-        image = read_image(o.input, static_cast<std::uint64_t>(o.max_pixels));
-        const Image& img = *image;
-        ImageLevelSetOptions io;
-        if (o.labels) {
-            io = label_options(*o.labels);
-        } else {
-            io.mode = ImageMode::threshold;
-            io.iso = o.iso ? *o.iso : img.maxval / 2.0;
-            io.inside_above = o.inside_above;
-        }
-        if (img.width < 2 || img.height < 2)
-            throw InputError(o.input + ": the image is " + std::to_string(img.width) + " x " +
-                             std::to_string(img.height) + " pixels; at least 2 x 2 are needed for one lattice square");
-        if (o.materials) mf = make_label_materials(img, *o.materials);
-        else f = make_image_levelset(img, io);
+        input = load_slice(read_input(o), slice_options(o, o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt));
+        f = std::move(input->f);
     }
-    const bool analytic = !o.shape.empty() || o.shapes;
-    const Box domain = f ? f->bounds() : mf->bounds();
-    auto make_lattice = [&](double spacing) {
-        if (analytic) {
-            const Box b = domain;
-            const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
-            if (!(w * h <= static_cast<double>(o.max_squares)))
-                throw InputError("the lattice would have about " + approx(w) + " x " + approx(h) +
-                                 " squares, more than --max-squares " +
-                                 std::to_string(o.max_squares) + " (use a larger --spacing)");
-            return lattice_around(b, spacing);
-        }
-        const double w = (image->width - 1) / spacing, h = (image->height - 1) / spacing;
-        if (!(w * h <= static_cast<double>(o.max_squares)))
-            throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
-                             " lattice squares, more than --max-squares " +
-                             std::to_string(o.max_squares));
-        return lattice_over(domain, spacing);
-    };
-
-    // The per-triangle array certified_min_angle (8 bytes a triangle) only when
-    // a file will carry it or a picture is coloured by it.
-    bool cell_data = o.svg_certified;
-    for (const auto& out : o.outputs) cell_data = cell_data || format_carries_cell_data(out);
-    const CertifyOptions certify{o.certify, o.certify && cell_data, o.certify && o.verify};
-    Mesh mesh;
-    CertifiedSummary cert;
-    Lattice lattice;
-    std::vector<std::pair<std::string, double>> phases;
-    std::vector<std::pair<std::string, std::string>> extra;
-    std::string material_text;  // the multi-material report's lines
-    double spacing = o.spacing;
-    const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
-    int refinements = 0;
-    for (;;) {
-        lattice = make_lattice(spacing);
-        extra.clear();
-        extra.emplace_back("input", json_string(o.shapes ? *o.shapes : o.shape.empty() ? o.input : o.shape));
-        extra.emplace_back("levelset", json_string(f ? f->describe() : mf->describe()));
-        extra.emplace_back("rule", json_string(o.rule == DiagonalRule::maxmin ? "maxmin" : "separating"));
-        extra.emplace_back("spacing", json_number(spacing));
-        if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
-        extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
-        if (mf) {
-            const MaterialOptions mo{o.keep_background.value_or(false), o.rule, certify};
-            MaterialResult r = fastest_of(o.repeat, [&] { return mesh_materials(*mf, lattice, mo); });
-            phases = {{"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}, {"triangulate", r.times.triangulate}};
-            if (o.certify) phases.emplace_back("certify", r.times.certify);
-            extra.emplace_back("graded", "false");
-            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-            extra.emplace_back("warped_points", std::to_string(r.warped_points));
-            extra.emplace_back("warped_squares", std::to_string(r.warped_squares));
-            extra.emplace_back("separating_overrides", std::to_string(r.forced_diagonals));
-            for (auto& e : material_report_json(r)) extra.push_back(std::move(e));
-            std::vector<std::string> warnings;
-            material_text = material_report_text(r, &warnings);
-            for (const auto& w : warnings) std::cerr << "warpmesh: warning: " << w << "\n";
-            mesh = std::move(r.mesh);
-            cert = std::move(r.certified);
-        } else if (o.graded) {
-            GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(*f, lattice, o.rule, o.max_cell, certify); });
-            mesh = std::move(r.mesh);
-            cert = std::move(r.certified);
-            phases = {{"tiles", r.times.tiles},
-                      {"warp", r.times.warp},
-                      {"quadtree", r.times.quadtree},
-                      {"triangulate", r.times.triangulate}};
-            if (o.certify) phases.emplace_back("certify", r.times.certify);
-            std::string levels = "[";
-            for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
-                levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
-            extra.emplace_back("graded", "true");
-            extra.emplace_back("leaves_per_level", levels + "]");
-            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-            extra.emplace_back("warped_points", std::to_string(r.warped_points));
-            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
-            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
-            extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
-        } else {
-            UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(*f, lattice, o.rule, certify); });
-            mesh = std::move(r.mesh);
-            cert = std::move(r.certified);
-            phases = {{"sample", r.times.sample},
-                      {"signs", r.times.signs},
-                      {"cut_points", r.times.cut_points},
-                      {"warp", r.times.warp},
-                      {"triangulate", r.times.triangulate}};
-            if (o.certify) phases.emplace_back("certify", r.times.certify);
-            extra.emplace_back("graded", "false");
-            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-            extra.emplace_back("warped_points", std::to_string(r.warped_points));
-            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
-            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
-        }
-        if (!o.guarantee_flat || !cert.available || cert.nonflat_squares == 0) break;
-        if (spacing / 2 < min_spacing) {
-            std::cerr << "warpmesh: warning: --guarantee flat: " << cert.nonflat_squares
-                      << " warped square(s) are still not flat at spacing " << spacing << " (--min-spacing "
-                      << min_spacing << "); the mesh is written with its true guarantee "
-                      << cert.min_deg << " deg; non-flat squares (i, j) key:";
-            for (std::size_t e = 0; e < cert.nonflat_examples.size() && e < 10; ++e)
-                std::cerr << (e ? "," : "") << " (" << cert.nonflat_examples[e][0] << ", "
-                          << cert.nonflat_examples[e][1] << ") " << cert.nonflat_keys[e];
-            std::cerr << "\n";
-            break;
-        }
-        spacing /= 2;
-        ++refinements;
-    }
-    if (mesh.triangles.empty())
-        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
-                         "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
-    if (cert.available && !o.shape.empty()) measure_fidelity(mesh, *f, lattice.s, cert);
-    if (o.certify && !cert.available)
-        std::cerr << "warpmesh: warning: this build has no certificates (proofs/*.cert); no certified bounds\n";
-
     StagedOutputs staged;
-    for (const auto& out : o.outputs) {
-        WriteOptions wo;
-        wo.svg.color_by_min_angle = o.svg_min_angle;
-        if (cert.available && !cert.nonflat_boxes.empty()) {
-            wo.svg.marked_boxes = cert.nonflat_boxes;
-            wo.svg.marked_label = std::to_string(cert.nonflat_squares) +
-                                  " warped square(s) with a non-flat stencil (outlined in magenta); the mesh is certified down to " +
-                                  approx(cert.min_deg) + " deg";
-        }
-        if (o.svg_region) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
-        if (o.svg_certified && cert.available) {
-            wo.svg.color_by_cell_data = "certified_min_angle";
-            wo.png.color_by_cell_data = "certified_min_angle";
-        }
-        staged.write(out, [&](const std::string& path) { write_mesh(mesh, path, wo); });
-    }
-    QualityReport q = compute_quality(mesh, phases);
-    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
-    if (o.guarantee_flat) extra.emplace_back("refinements", std::to_string(refinements));
-    std::string cert_text;
-    if (o.certify) {
-        if (!cert.available) {
-            extra.emplace_back("certified", "null");
-        } else {
-            const CertifiedTheorem th = certified_theorem(o.rule);
-            std::string j = "{\"min_angle_deg\": " + json_number(cert.min_deg) +
-                            ", \"max_angle_deg\": " + json_number(cert.max_deg) +
-                            ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
-                            ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
-                            ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
-                            ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) +
-                            (mf ? ", \"uncertified_junction_squares\": " + std::to_string(cert.junction_squares) : std::string()) +
-                            ", \"nonflat\": [";
-            for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
-                j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
-                     ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +
-                     json_string(cert.nonflat_keys[e]) + "}";
-            j += "], \"verified\": " + std::string(cert.verified ? "true" : "false") +
-                 ", \"theorem_any_deg\": " + json_number(th.min_deg_any) +
-                 ", \"theorem_flat_deg\": " + json_number(th.min_deg_flat);
-            if (cert.has_fidelity)
-                j += ", \"max_boundary_distance\": " + json_number(cert.max_boundary_distance) +
-                     ", \"boundary_edges_off_levelset\": " + std::to_string(cert.boundary_edges_off_levelset);
-            extra.emplace_back("certified", j + "}");
-            std::ostringstream t;
-            t.precision(10);
-            t << "certified angles     [" << cert.min_deg << ", " << cert.max_deg << "] deg (proofs/"
-              << (o.rule == DiagonalRule::maxmin ? "maxmin" : "separating") << ".cert"
-              << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
-            t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "
-              << cert.nonflat_squares << " not flat)\n";
-            if (cert.junction_squares)
-                t << "uncertified junction squares " << cert.junction_squares
-                  << " (excluded from the certified angles above: no bound is claimed for them)\n";
-            if (cert.nonflat_squares) {
-                t << "not flat (i, j)     ";
-                for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
-                    t << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1] << ")";
-                if (cert.nonflat_squares > static_cast<std::int64_t>(cert.nonflat_examples.size())) t << " ...";
-                t << "\n";
-            }
-            if (cert.has_fidelity)
-                t << "boundary fidelity    max distance to level set " << cert.max_boundary_distance << ", "
-                  << cert.boundary_edges_off_levelset << " boundary edges off it\n";
-            cert_text = t.str();
-        }
-    }
-    q.extra = extra;
-    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, q); });
+    const MeshResult r = mesh_and_stage(o, *f, input ? &*input : nullptr, staged);
     staged.commit();
-    if (!o.quiet) std::cout << quality_text(q) << cert_text << material_text;
+    if (!o.quiet) std::cout << to_text(r);
+    return 0;
+}
+
+// --slices AXIS=A:B: the volume is read once, its slices meshed in parallel
+// (one thread each; the pipeline inside runs serially), one output set per
+// slice from the %d patterns, one summary (stdout, --report).  A slice whose
+// region is empty, or that cannot be meshed for a reason of its own (an
+// InputError), is skipped and listed; the run fails if every slice is.
+int run_slices(const CliOptions& o) {
+    const SliceRange range = parse_slice_range(*o.slices);
+    auto name = [&](const std::string& pattern, std::int64_t k) {
+        try {
+            return slice_file_name(pattern, k);
+        } catch (const InputError& e) {
+            throw UsageError(e.what());
+        }
+    };
+    for (const auto& out : o.outputs) check_output_path(name(out, range.first));
+    if (!o.points_3d.empty()) check_writable(name(o.points_3d, range.first));
+    if (!o.report.empty()) check_writable(o.report);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Volume volume = read_input(o);
+    const std::int64_t size = volume.dims[static_cast<std::size_t>(range.axis)];
+    if (range.end > size)
+        throw InputError("--slices " + *o.slices + " reaches beyond '" + o.input + "' (" + "ijk"[range.axis] + " = 0.." +
+                         std::to_string(size - 1) + ")");
+    const double read_seconds = seconds_since(t0);
+
+    const std::int64_t n = range.end - range.first;
+    struct Done {
+        std::string outputs, skipped, plane;
+        std::optional<QualityReport> q;
+        std::exception_ptr error;
+    };
+    std::vector<Done> done(static_cast<std::size_t>(n));
+    StagedOutputs staged;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t s = 0; s < n; ++s) {
+        Done& d = done[static_cast<std::size_t>(s)];
+        const std::int64_t k = range.first + s;
+        try {
+            CliOptions ok = o;
+            ok.outputs.clear();
+            for (const auto& out : o.outputs) ok.outputs.push_back(name(out, k));
+            if (!o.points_3d.empty()) ok.points_3d = name(o.points_3d, k);
+            ok.report.clear();
+            for (const auto& out : ok.outputs) d.outputs += (d.outputs.empty() ? "" : ", ") + out;
+            LoadedSlice input = load_slice(volume, slice_options(o, SliceSpec{range.axis, k}));
+            const std::unique_ptr<LevelSet> f = std::move(input.f);
+            for (const auto& [key, value] : slice_report_fields(input))
+                if (key == "plane") d.plane = value;
+            d.q = mesh_and_stage(ok, *f, &input, staged).report;
+        } catch (const InputError& e) {
+            d.skipped = e.what();
+        } catch (...) {
+            d.error = std::current_exception();
+        }
+    }
+    for (const Done& d : done)
+        if (d.error) std::rethrow_exception(d.error);
+    std::int64_t meshed = 0, triangles = 0;
+    std::string json = "{\"input\": " + json_string(o.input) + ", \"format\": " + json_string(volume.format) +
+                       ", \"axis\": \"" + "ijk"[range.axis] + "\", \"first\": " + std::to_string(range.first) +
+                       ", \"end\": " + std::to_string(range.end) + ", \"slices\": [";
+    std::ostringstream text;
+    for (std::int64_t s = 0; s < n; ++s) {
+        const Done& d = done[static_cast<std::size_t>(s)];
+        json += std::string(s ? ", " : "") + "{\"index\": " + std::to_string(range.first + s);
+        text << "ijk"[range.axis] << "=" << range.first + s << ": ";
+        if (d.q) {
+            ++meshed, triangles += d.q->triangles;
+            json += ", \"outputs\": " + json_string(d.outputs) + ", \"triangles\": " + std::to_string(d.q->triangles) +
+                    ", \"vertices\": " + std::to_string(d.q->vertices) + ", \"area\": " + json_number(d.q->area) +
+                    ", \"min_angle_deg\": " + json_number(d.q->min_angle_deg) + ", \"max_angle_deg\": " +
+                    json_number(d.q->max_angle_deg) + ", \"plane\": " + d.plane + "}";
+            text << d.q->triangles << " triangles, angles [" << d.q->min_angle_deg << ", " << d.q->max_angle_deg
+                 << "] deg, area " << d.q->area << " -> " << d.outputs << "\n";
+        } else {
+            json += ", \"skipped\": " + json_string(d.skipped) + "}";
+            text << "skipped: " << d.skipped << "\n";
+        }
+    }
+    if (meshed == 0)
+        throw InputError("--slices " + *o.slices + ": no slice could be meshed (" + done.front().skipped + "); nothing written");
+    const double seconds = seconds_since(t0);
+    json += "], \"meshed\": " + std::to_string(meshed) + ", \"skipped\": " + std::to_string(n - meshed) +
+            ", \"triangles\": " + std::to_string(triangles) + ", \"read_seconds\": " + json_number(read_seconds) +
+            ", \"total_seconds\": " + json_number(seconds) + "}\n";
+    if (!o.report.empty())
+        staged.write(o.report, [&](const std::string& path) { write_text_file(path, json); });
+    staged.commit();
+    if (!o.quiet)
+        std::cout << text.str() << meshed << " of " << n << " slices meshed, " << triangles << " triangles in "
+                  << seconds << " s (reading " << read_seconds << " s)\n";
     return 0;
 }
 

@@ -142,4 +142,38 @@ void compact_vertices(const Lattice& lattice, std::span<const std::uint8_t> code
     }
 }
 
+// The square across each side (bottom, right, top, left) of square (i, j):
+// (i + side_step[side][0], j + side_step[side][1]); it sees the side as its
+// side (side + 2) % 4.
+constexpr std::array<std::array<int, 2>, 4> side_step{{{0, -1}, {1, 0}, {0, 1}, {-1, 0}}};
+
+// The boundary edges of a square with code c, as edge(from, to, tag) from
+// corner `from` to corner `to` (A, B, C, D), oriented with the square's
+// triangles on their left.  A side the square covers is a boundary edge when
+// it lies on the lattice's outer border (on_border(side): tag
+// boundary_domain) or the square across it does not cover it (across(side):
+// that square's code, asked only for covered sides off the border; tag
+// boundary_level_set).  The diagonal is a boundary edge when exactly one of
+// the square's two triangles is emitted.  Since a side's two squares see it
+// in opposite directions, each boundary edge is found once, by the square
+// that covers it.
+template <class OnBorder, class Across, class Edge>
+void square_boundary_edges(std::uint8_t c, OnBorder&& on_border, Across&& across, Edge&& edge) {
+    for (int sd = 0; sd < 4; ++sd) {
+        if (!covers(c, sd)) continue;
+        const Side& s = sides[static_cast<std::size_t>(sd)];
+        if (on_border(sd))
+            edge(s.from, s.to, boundary_domain);
+        else if (!covers(across(sd), (sd + 2) % 4))  // the opposite side, seen from across
+            edge(s.from, s.to, boundary_level_set);
+    }
+    if (((c & tri0_bit) != 0) != ((c & tri1_bit) != 0)) {
+        // The diagonal's direction inside the emitted triangle:
+        // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
+        const bool bc = c & bc_bit, first = c & tri0_bit;
+        if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
+        else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
+    }
+}
+
 }  // namespace warpmesh::square_code

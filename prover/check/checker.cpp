@@ -2,8 +2,10 @@
 //
 // Shares no code with the prover or the mesher: it re-derives the consistent
 // keys and their flatness, rebuilds every key's bisection tree from the leaves,
-// re-verifies every leaf with exact rational interval arithmetic, checks the
-// claims and witnesses, and prints the theorem table.  Any failure: exit 1.
+// re-verifies every leaf with exact rational interval arithmetic (including
+// the margins that make the mesher's double-precision diagonal choice agree),
+// checks the claims and witnesses, and prints the theorem table.  No global
+// state: every operation gets what it needs.  Any failure: exit 1.
 // Format and semantics: proofs/README.md.
 #include <array>
 #include <cstdio>
@@ -70,6 +72,9 @@ bool consistent(const std::array<St, 4>& k) {
         if (k[e[0]].sign != 0 && k[e[0]].sign == -k[e[1]].sign && !k[e[0]].warp && !k[e[1]].warp) return false;
     return true;
 }
+// The key code and the flatness test below are independent copies, on purpose:
+// the untrusted side's single copies are key_code and stencil_admits_flat
+// (mesher/include/warpmesh/certified.hpp), used by the mesher and the prover.
 std::string code(const std::array<St, 4>& k) {
     std::string s;
     for (auto& x : k) s += std::string(1, "-0+"[x.sign + 1]) + WCH[x.warp];
@@ -183,28 +188,27 @@ RQ quot(const R& a, const R& b) {  // b > 0
     for (const Q& x : p) r.lo = x < r.lo ? x : r.lo, r.hi = x > r.hi ? x : r.hi;
     return r;
 }
-int NV = 4;   // derivatives computed: 0 for a value-only pass, else the key's variable count
-int NVK = 4;  // the key's variable count
 struct D {  // value and partial derivatives in the key's variables
     R v;
-    std::array<R, 4> d;
+    std::array<R, 4> d;  // d[i] for i < n; the others are 0 and never read
+    int n = 0;           // partials carried: 0 for constants and value-only passes
 };
 D operator+(const D& a, const D& b) {
-    D r{a.v + b.v, {}};
-    for (int i = 0; i < NV; ++i) r.d[i] = a.d[i] + b.d[i];
+    D r{a.v + b.v, {}, std::max(a.n, b.n)};
+    for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] + b.d[i];
     return r;
 }
 D operator-(const D& a, const D& b) {
-    D r{a.v - b.v, {}};
-    for (int i = 0; i < NV; ++i) r.d[i] = a.d[i] - b.d[i];
+    D r{a.v - b.v, {}, std::max(a.n, b.n)};
+    for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] - b.d[i];
     return r;
 }
 D operator*(const D& a, const D& b) {
-    D r{a.v * b.v, {}};
-    for (int i = 0; i < NV; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    D r{a.v * b.v, {}, std::max(a.n, b.n)};
+    for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
 }
-D cst(const N& q) { return D{{q, q}, {R{0, 0}, R{0, 0}, R{0, 0}, R{0, 0}}}; }
+D cst(const N& q) { return D{{q, q}, {R{0, 0}, R{0, 0}, R{0, 0}, R{0, 0}}, 0}; }
 
 using Box = std::vector<R>;  // one interval per warped corner (in corner order)
 struct Tri {
@@ -217,11 +221,14 @@ struct Key {
     std::array<St, 4> s;
     std::vector<int> vars;
     std::array<D, 2> pos[4];
-    void positions(const Box& b) {
+    // Corner positions on box b; with `partials`, their derivatives in the
+    // key's variables as well (carried through every form computed from them).
+    void positions(const Box& b, bool partials) {
         for (int c = 0; c < 4; ++c) {
             D t = cst(0);
+            t.n = partials ? static_cast<int>(vars.size()) : 0;
             for (std::size_t j = 0; j < vars.size(); ++j)
-                if (vars[j] == c) t.v = b[j], t.d[j] = R{1, 1};
+                if (vars[j] == c) t.v = b[j], t.d[j] = partials ? R{1, 1} : R{0, 0};
             pos[c][0] = cst(c % 2), pos[c][1] = cst(c / 2);
             if (DX[s[c].warp]) pos[c][0] = pos[c][0] + cst(DX[s[c].warp]) * t;
             if (DY[s[c].warp]) pos[c][1] = pos[c][1] + cst(DY[s[c].warp]) * t;
@@ -253,9 +260,8 @@ bool verify_form(Key& k, Box b, int diag, int tri, int f, const N& qmin, const N
         const D g = form(*first, f, qmin, qmax);
         if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
     }
-    NV = NVK;
     for (;;) {
-        k.positions(b);
+        k.positions(b, true);
         const D g = form(k.tri(diag, tri), f, qmin, qmax);
         if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
         bool fixed = false;
@@ -282,30 +288,56 @@ bool valid_q(Key& k, int diag, RQ& q) {
     return true;
 }
 bool invalid(Key& k, int diag) { return !(k.tri(diag, 0).cross.v.hi > 0) || !(k.tri(diag, 1).cross.v.hi > 0); }
-// The max-min rule takes `win` (0 AD, 1 BC) on the whole box.  Positions must be set.
-bool decided(Key& k, int win, bool threshold, const N& h) {
+// The max-min rule takes `win` (0 AD, 1 BC) on the whole box, and the
+// mesher's double evaluation takes it too.  Positions must be set.
+// Agreement margins (proofs/README.md, "Double agreement"): a diagonal decided
+// by comparing the qualities q must win by the relative margin 2^-30, i.e.
+// q(winner) + 2^-30 M < q(loser) on the box, with M the largest |end| of the
+// two enclosures (the prover demands 1e-9 of its outward-rounded enclosures,
+// which contain these exact ones; 1e-9 - 2^-30 covers its round-to-nearest
+// test).  A threshold H must exceed q(win) by the relative margin 2^-28:
+// q(win) (1 + 2^-28) <= H.  Decisions by validity (a cross <= 0 on the whole
+// box) carry no margin.
+enum Decision { undecided, without_margin, decided_with_margin };
+Decision decided(Key& k, int win, bool threshold, const N& h) {
     const int other = 1 - win;
     if (threshold) {  // win valid, q(win) <= h, and some dot_i - h cross > 0 on the other diagonal
+        Q qw = 0;
+        bool first = true;
         for (int t = 0; t < 2; ++t) {
             const Tri tr = k.tri(win, t);
-            if (!(tr.cross.v.lo > 0)) return false;
-            for (auto& d : tr.dot)
-                if (quot(d.v, tr.cross.v).hi > toQ(h)) return false;
+            if (!(tr.cross.v.lo > 0)) return undecided;
+            for (auto& d : tr.dot) {
+                const Q q = quot(d.v, tr.cross.v).hi;
+                if (first || q > qw) qw = q;
+                first = false;
+            }
         }
+        const Q H = toQ(h);
+        if (qw > H) return undecided;
         for (int t = 0; t < 2; ++t) {
             const Tri tr = k.tri(other, t);
             for (auto& d : tr.dot)
-                if ((d.v - R{h, h} * tr.cross.v).lo > 0) return true;
+                if ((d.v - R{h, h} * tr.cross.v).lo > 0)
+                    return qw * (1 + Q(1, Z(1) << 28)) <= H ? decided_with_margin : without_margin;
         }
-        return false;
+        return undecided;
     }
     RQ qa, qb;
+    auto margin = [&] {  // 2^-30 max |end|
+        Q m = 0;
+        for (const Q& x : {qa.lo, qa.hi, qb.lo, qb.hi}) m = std::max(m, Q(abs(x)));
+        return m / (Z(1) << 30);
+    };
     if (win == 0) {  // BC invalid, or both valid with q(BC) >= q(AD)
-        if (invalid(k, 1)) return true;
-        return valid_q(k, 0, qa) && valid_q(k, 1, qb) && qb.lo >= qa.hi;
+        if (invalid(k, 1)) return decided_with_margin;
+        if (!valid_q(k, 0, qa) || !valid_q(k, 1, qb) || qb.lo < qa.hi) return undecided;
+        return qb.lo >= qa.hi + margin() ? decided_with_margin : without_margin;
     }
-    if (!valid_q(k, 1, qb)) return false;  // BC valid, and AD invalid or q(BC) < q(AD)
-    return invalid(k, 0) || (valid_q(k, 0, qa) && qb.hi < qa.lo);
+    if (!valid_q(k, 1, qb)) return undecided;  // BC valid, and AD invalid or q(BC) < q(AD)
+    if (invalid(k, 0)) return decided_with_margin;
+    if (!valid_q(k, 0, qa) || !(qb.hi < qa.lo)) return undecided;
+    return qb.hi + margin() < qa.lo ? decided_with_margin : without_margin;
 }
 
 // ---- exact point evaluation (witnesses) -------------------------------------------
@@ -316,7 +348,7 @@ struct PointVal {
 PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
     Box b;
     for (auto& x : t) b.push_back(R{dyadic(x), dyadic(x)});
-    k.positions(b);
+    k.positions(b, false);
     int diag = separating && forced(k.s) ? forced(k.s) - 1 : -1;
     if (diag < 0) {
         RQ qa, qb;
@@ -436,14 +468,16 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         if (c != 'A' && c != 'B' && c != 'X' && !thr) fail("key " + code(k.s) + ": bad diagonal tag");
         const std::string where = "key " + code(k.s) + " leaf " + std::to_string(leaves) + ": ";
         const int f = sep ? forced(k.s) : 0;
-        k.positions(b);
+        k.positions(b, false);
         if (f && !(c == "?AB"[f])) fail(where + "separating rule forces the other diagonal");
-        if (!f && c != 'X' && !decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? dyadic(parse_q(L.back())) : N(0)))
-            fail(where + "claimed diagonal is not decided on the box");
+        if (!f && c != 'X') {
+            const Decision d = decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? dyadic(parse_q(L.back())) : N(0));
+            if (d == undecided) fail(where + "claimed diagonal is not decided on the box");
+            if (d == without_margin) fail(where + "diagonal decided without the double-agreement margin");
+        }
         auto forms = [&](int diag, int f0, int f1) {
             for (int t = 0; t < 2; ++t) {
-                NV = 0;
-                k.positions(b);
+                k.positions(b, false);
                 const Tri tr = k.tri(diag, t);
                 for (int form = f0; form < f1; ++form)
                     if (!verify_form(k, b, diag, t, form, qmin, qmax, &tr)) return false;
@@ -559,7 +593,10 @@ int check_file(const std::string& path) {
             continue;
         }
         if (h.size() != 8) fail("malformed key line");
-        NV = NVK = static_cast<int>(k.vars.size());
+        // Premise of the double-agreement argument (proofs/README.md, "Double
+        // agreement"): a diagonal the double evaluation wrongly deems valid has
+        // quality above 2^40, far above every key's bound.
+        if (parse_q(h[5]) > 256) fail("key " + code(k.s) + ": min-angle cot bound above 256");
         Cover cv{k, sep, dyadic(parse_q(h[5])), dyadic(parse_q(h[6])), rd, small_int(h[7], 1, 50000000)};
         Box root(k.vars.size(), R{N(0), N(Z(1), -1)});
         cv.leaf_or_split(root, 0);
@@ -593,7 +630,6 @@ int check_file(const std::string& path) {
         Key k{keys[i], {}, {}};
         for (int c = 0; c < 4; ++c)
             if (k.s[c].warp) k.vars.push_back(c);
-        NV = NVK = static_cast<int>(k.vars.size());
         if (w.cat == 1 && !flat(k.s)) fail("flat witness on a key that is not flat-compatible");
         if (w.t.size() != k.vars.size()) fail("witness has the wrong number of t values");
         for (const Q& x : w.t)

@@ -23,6 +23,8 @@
 #include "warpmesh/certified.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"

@@ -117,7 +117,11 @@ def canonical(stem, report_path):
     tris.sort()
     _, poly = rows(stem + ".poly")
     nseg = int(poly[0][0])
-    edges = sorted((new[int(r[1]) - 1], new[int(r[2]) - 1], int(r[3])) for r in poly[1 : 1 + nseg])
+    # The boundary edges (tags 1 = level set, 2 = domain border); the .poly's
+    # interface segments of multi-material meshes (tags 3, ...) follow them
+    # and are not part of the canonical form.
+    edges = sorted((new[int(r[1]) - 1], new[int(r[2]) - 1], int(r[3])) for r in poly[1 : 1 + nseg]
+                   if int(r[3]) in (1, 2))
     with open(report_path) as f:
         report = {k: v for k, v in json.load(f).items() if k not in DROP}
     out = ["report " + json.dumps(report, sort_keys=True), f"vertices {len(xy)}"]

@@ -83,6 +83,13 @@ inline constexpr std::array<std::array<int, 2>, 12> stencil_offsets{{{0, 0}, {1,
                                                                      {-1, 0}, {0, -1}, {2, 0}, {1, -1},
                                                                      {-1, 1}, {0, 2}, {2, 1}, {1, 2}}};
 bool stencil_is_flat(const std::array<std::int8_t, 12>& signs);
+// True iff some affine a x + b y + c has the signs `signs[q]` at the stencil
+// points q in `known` (bit q), whatever its signs elsewhere.  `known` must
+// contain the four corners (bits 0-3; else std::invalid_argument).  The
+// prover's flat-compatible keys: the corners' signs and the outside
+// neighbours of the outward slides.  stencil_admits_flat(s, 0xfff) ==
+// stencil_is_flat(s).
+bool stencil_admits_flat(const std::array<std::int8_t, 12>& signs, std::uint16_t known);
 
 // ---- certification of a mesh -------------------------------------------------
 struct CertifyOptions {
@@ -142,5 +149,9 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
 // central-difference gradient (step 1e-6 s); and the number of such edges with
 // an endpoint where |f| > 1e-9 s.  Meaningful for analytic shapes.
 void measure_fidelity(const Mesh& mesh, const LevelSet& f, double spacing, CertifiedSummary& summary);
+
+// The distance measure of measure_fidelity for one edge a-b: the largest
+// |f| / |grad f| at its 9 sample points.
+double edge_distance_to_levelset(const LevelSet& f, Vec2 a, Vec2 b, double spacing);
 
 }  // namespace warpmesh

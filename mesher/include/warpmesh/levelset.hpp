@@ -49,6 +49,10 @@ public:
     // A rectangle that contains the region {f <= 0} (or, for images, the
     // image's extent).  The default lattice covers it.
     virtual Box bounds() const = 0;
+    // True when bounds() is the domain itself (an image's extent) rather than
+    // a box around the region: the mesh then fills the lattice over bounds()
+    // and may reach its border (pipeline.hpp).  Analytic shapes: false.
+    virtual bool bounds_are_domain() const { return false; }
 
     // The parameter u in (0, 1) of the point a + u (b - a) where f = 0, given
     // f(a) = fa and f(b) = fb of strictly opposite signs.  The default is a
@@ -65,7 +69,7 @@ public:
     void sample(const Lattice& lattice, std::span<double> out) const;
 
     // Bounds on f over a closed box, used by the graded mesher to skip blocks
-    // of the lattice that the level set cannot reach (tiles.hpp).  They must
+    // of the lattice that the level set cannot reach (src/graded/tiles.hpp).  They must
     // hold for the values value() actually computes, rounding included: a
     // block is skipped only when every value there would have had the sign
     // the bound implies.  The default knows nothing: (-inf, +inf).

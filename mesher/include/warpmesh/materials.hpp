@@ -70,6 +70,9 @@ public:
     virtual std::int32_t tag(int m) const = 0;        // region tag: the label value; background 0
     virtual std::string name(int m) const = 0;        // e.g. "label_41", "background"
     virtual Box bounds() const = 0;                   // as LevelSet::bounds
+    // As LevelSet::bounds_are_domain: true for images (the lattice covers
+    // exactly the bounds), false for shapes (a lattice around them).
+    virtual bool bounds_are_domain() const { return false; }
     virtual std::string describe() const = 0;
 
     // phi_m at a point (any finite value; negative inside m).

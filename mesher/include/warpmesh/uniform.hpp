@@ -15,7 +15,7 @@ struct PhaseTimes {
 // The uniform front end, in order and timed: sample f at every lattice point
 // → signs → cut points → warp.  The sampled values are dropped after the cut
 // points.  (The graded mesher samples only where the boundary can be:
-// tiles.hpp.)
+// src/graded/tiles.hpp.)
 struct WarpedLattice {
     Buffer<std::int8_t> signs;
     std::vector<WarpedPoint> warped;

@@ -1,14 +1,16 @@
 // writers.hpp — mesh output formats.
 //
 //   write_vtu.cpp      → VTK XML UnstructuredGrid (.vtu), ASCII inline
-//   write_msh.cpp      → Gmsh MSH 4.1 ASCII (.msh)
+//   write_msh.cpp      → Gmsh MSH 4.1 or 2.2 ASCII (.msh)
+//   write_xdmf.cpp     → XDMF 3 (.xdmf + _facets.xdmf), heavy data inline XML
+//   write_inp.cpp      → Abaqus/CalculiX input (.inp): nodes, CPS3, sets, surfaces
 //   write_triangle.cpp → Triangle's .node/.ele (+ .poly with the boundary)
 //   write_svg.cpp      → an SVG picture
 //   write_png.cpp      → a PNG picture (libpng), anti-aliased, for figures
 //
-// Every file is written atomically (atomic_file.hpp): on failure nothing
-// appears under the requested name and OutputError (declared in
-// atomic_file.hpp, reachable through this header) names the path and reason.
+// Every file is written atomically (src/io/atomic_file.hpp): on failure nothing
+// appears under the requested name and OutputError (errors.hpp) names the
+// path and the reason.
 // Coordinates and cell data are printed as the shortest decimal that reads back
 // to the same double (std::to_chars), so text formats round-trip exactly.
 #pragma once
@@ -21,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-#include "warpmesh/atomic_file.hpp"
+#include "warpmesh/errors.hpp"
 #include "warpmesh/mesh.hpp"
 
 namespace warpmesh {
@@ -67,7 +69,18 @@ struct PngOptions {
     bool legend_labels = true;
 };
 
+struct MshOptions {
+    // MSH file format version: 41 (4.1, Gmsh's current) or 22 (2.2, the one many
+    // solvers' importers still expect).  Anything else is an OutputError.
+    int version = 41;
+    // Write mesh.cell_data as $ElementData views.  Off by default: a .msh is a
+    // solver's input, and its readers (meshio) require a data value for every
+    // element, boundary lines included (see write_msh.cpp).
+    bool cell_data = false;
+};
+
 struct WriteOptions {
+    MshOptions msh;
     SvgOptions svg;
     // .png pictures.  The dispatcher also colours the PNG by minimum angle when
     // svg.color_by_min_angle is set (the CLI's --svg-color minangle), so that
@@ -76,8 +89,8 @@ struct WriteOptions {
 };
 
 // Chooses the format by the (case-insensitive) extension of `path`: .vtu,
-// .msh, .node or .ele (both are written, plus .poly, with the same stem), .svg,
-// .png.
+// .msh, .xdmf (plus STEM_facets.xdmf), .inp, .node or .ele (both are written,
+// plus .poly, with the same stem), .svg, .png.
 // Anything else is an OutputError listing the supported extensions.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
 
@@ -85,33 +98,57 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
 // because its directory does not exist — checked before any work is done.
 void check_output_path(const std::string& path);
 
-// True if write_mesh(mesh, path) exports mesh.cell_data (.vtu and .msh).
-bool format_carries_cell_data(const std::string& path);
+// True if write_mesh(mesh, path, options) exports mesh.cell_data (.vtu; .msh
+// with options.msh.cell_data).
+bool format_carries_cell_data(const std::string& path, const WriteOptions& options = {});
+
+// Writes `text` to `path` atomically (a temporary file renamed when complete;
+// nothing under `path` on failure).  Throws OutputError naming `path`.
+void write_text_file(const std::string& path, std::string_view text);
 
 // The part of check_output_path that does not depend on the format: `path` is
 // not a directory, and its directory exists and is writable.  Throws OutputError.
 void check_writable(const std::string& path);
 
-// The files that write_mesh(mesh, path) creates: `path` itself, or for the
-// Triangle format the stem's .node, .ele and .poly.
+// The files that write_mesh(mesh, path) creates: `path` itself, for XDMF
+// also STEM_facets.xdmf, for the Triangle format the stem's .node, .ele and
+// .poly.
 std::vector<std::string> output_files(const std::string& path);
 
 // VTK XML UnstructuredGrid, ASCII.  Points are 3D with z = 0; cells are the
 // triangles only (VTK_TRIANGLE = 5; boundary edges are not written — use .msh
 // or .poly for them); CellData: "region" (Int32) and every mesh.cell_data
-// array (Float64).
+// array (Float64); PointData: "boundary_marker" (Int32, detail::vertex_markers,
+// the same markers as the .node file).
 void write_vtu(const Mesh& mesh, const std::string& path);
 void write_vtu(const Mesh& mesh, std::ostream& out);
 
-// Gmsh MSH 4.1 ASCII; see write_msh.cpp for the entity/physical layout.
-void write_msh(const Mesh& mesh, const std::string& path);
-void write_msh(const Mesh& mesh, std::ostream& out);
+// Gmsh MSH 4.1 or 2.2 ASCII; see write_msh.cpp for the entity/physical layout:
+// one named physical group per region, per boundary tag and per interface.
+void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options = {});
+void write_msh(const Mesh& mesh, std::ostream& out, const MshOptions& options = {});
 
-// Triangle's formats, 1-based: STEM.node ("N 2 0 1": vertex marker 1 on the
-// boundary, 0 inside), STEM.ele ("T 3 1": the region tag as attribute) and
-// STEM.poly (no vertices — they are in .node — and the boundary edges as
-// segments with their tag as marker, no holes).  `path` may name any of the
-// three files or the bare stem.
+// XDMF 3 for FEniCSx (and meshio, ParaView): `path` holds the mesh (grid
+// "mesh": triangles, XY points, cell attribute "region") and STEM_facets.xdmf
+// the tagged edges (grid "facets": boundary and interface lines, attribute
+// "facet_tags" = detail::edge_groups' tags); see write_xdmf.cpp.
+void write_xdmf(const Mesh& mesh, const std::string& path);
+void write_xdmf_mesh(const Mesh& mesh, std::ostream& out);
+void write_xdmf_facets(const Mesh& mesh, std::ostream& out);
+
+// Abaqus/CalculiX input: *NODE, *ELEMENT TYPE=CPS3, an *ELSET per region, an
+// *NSET and an element-edge *SURFACE per boundary tag and per interface; see
+// write_inp.cpp.
+void write_inp(const Mesh& mesh, const std::string& path);
+void write_inp(const Mesh& mesh, std::ostream& out);
+
+// Triangle's formats, 1-based: STEM.node ("N 2 0 1": the vertex's marker,
+// detail::vertex_markers: the boundary tag of a boundary vertex as on the
+// .poly segments, an interface's tag, 0 inside), STEM.ele ("T 3 1": the
+// region tag as attribute) and STEM.poly (no vertices — they are in .node —
+// the boundary edges as segments with their tag as marker, then the
+// interface edges with theirs, no holes).  `path` may name any of the three
+// files or the bare stem.
 void write_triangle(const Mesh& mesh, const std::string& path);
 void write_triangle_node(const Mesh& mesh, std::ostream& out);
 void write_triangle_ele(const Mesh& mesh, std::ostream& out);
@@ -186,7 +223,8 @@ private:
 };
 
 // Throws OutputError unless every per-triangle array of `mesh` (region,
-// cell_data) has one entry per triangle and boundary_tag one per boundary edge.
+// cell_data) has one entry per triangle, boundary_tag one per boundary edge,
+// interface_regions one per interface edge, and every vertex index is in range.
 void check_mesh_arrays(const Mesh& mesh, const std::string& path);
 
 // What a picture (SVG or PNG) colours its triangles by: a cell data array
@@ -209,6 +247,49 @@ Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name,
 // `path` without a (case-insensitive) .node/.ele/.poly extension: the stem of
 // the Triangle files.  Any other path is returned unchanged.
 std::string triangle_stem(const std::string& path);
+
+// `s` escaped for an XML attribute value or text (& < > " ').
+std::string xml_escape(std::string_view s);
+
+// The facet-tag file written beside the XDMF file `path`: STEM_facets.xdmf
+// (the extension keeps its case).
+std::string xdmf_facets_path(const std::string& path);
+
+// ---- named groups, shared by the formats that tag or name them ------------------
+//
+// Regions: the name of region tag `tag` is its mesh.region_names entry, else
+// "domain" when the mesh has one region, else "domain_<tag>".
+std::string region_name(const Mesh& mesh, std::int32_t tag, bool single_region);
+
+// The distinct region tags of `mesh`, in increasing order.
+std::vector<std::int32_t> region_tags(const Mesh& mesh);
+
+// Tagged edges: one group per boundary tag (in increasing tag order), then one
+// per unordered pair of regions {a < b} that share interface edges.
+//  * A boundary group's tag is the boundary tag itself when every boundary tag
+//    is >= 1 (the meshers' 1 and 2), else the 1-based rank of the tag; its
+//    name is "boundary" (tag 1, the level set), "domain_border" (tag 2, the
+//    lattice border) or "boundary_<tag>".  Its edges are as in mesh.boundary
+//    (the meshed region on their left).
+//  * An interface group's tag is max(2, largest boundary group tag) + 1 + its
+//    rank among the pairs (so 3, 4, … for a mesher's mesh); its name is
+//    "interface_<a>_<b>" with the region tags; its edges are reoriented so
+//    that region a is on their left for all of them.
+// Group tags are the facet tags of every format (.msh physical curves, XDMF
+// facet_tags, .poly/.node markers); they are >= 1 and distinct.
+struct EdgeGroup {
+    std::int32_t tag;
+    std::string name;
+    bool interface = false;
+    std::int32_t left_region = 0, right_region = 0;  // interfaces only
+    std::vector<std::size_t> index;                  // into mesh.boundary or mesh.interfaces
+    std::vector<std::array<std::int32_t, 2>> edges;  // oriented as described above
+};
+std::vector<EdgeGroup> edge_groups(const Mesh& mesh);
+
+// One marker per vertex: the smallest edge-group tag of the boundary edges at
+// the vertex, else the smallest of the interface edges at it, else 0.
+std::vector<std::int32_t> vertex_markers(const Mesh& mesh, const std::vector<EdgeGroup>& groups);
 
 }  // namespace detail
 

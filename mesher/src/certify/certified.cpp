@@ -345,26 +345,32 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
     return sum;
 }
 
+double edge_distance_to_levelset(const LevelSet& f, Vec2 a, Vec2 b, double s) {
+    const double h = 1e-6 * s;
+    double worst = 0;
+    for (int q = 0; q <= 8; ++q) {
+        const double u = q / 8.0, x = a.x + u * (b.x - a.x), y = a.y + u * (b.y - a.y);
+        const double v = f.value(x, y);
+        if (v == 0) continue;
+        const double gx = (f.value(x + h, y) - f.value(x - h, y)) / (2 * h);
+        const double gy = (f.value(x, y + h) - f.value(x, y - h)) / (2 * h);
+        const double g = std::hypot(gx, gy);
+        worst = std::max(worst, g > 0 ? std::abs(v) / g : std::numeric_limits<double>::infinity());
+    }
+    return worst;
+}
+
 void measure_fidelity(const Mesh& mesh, const LevelSet& f, double s, CertifiedSummary& sum) {
     double worst = 0;
     std::int64_t off = 0;
     const std::int64_t n = static_cast<std::int64_t>(mesh.boundary.size());
-    const double h = 1e-6 * s;
 #pragma omp parallel for schedule(static) reduction(max : worst) reduction(+ : off)
     for (std::int64_t e = 0; e < n; ++e) {
         if (mesh.boundary_tag[static_cast<std::size_t>(e)] != boundary_level_set) continue;
         const Vec2 a = mesh.vertices[static_cast<std::size_t>(mesh.boundary[static_cast<std::size_t>(e)][0])];
         const Vec2 b = mesh.vertices[static_cast<std::size_t>(mesh.boundary[static_cast<std::size_t>(e)][1])];
         if (std::abs(f.value(a.x, a.y)) > 1e-9 * s || std::abs(f.value(b.x, b.y)) > 1e-9 * s) ++off;
-        for (int q = 0; q <= 8; ++q) {
-            const double u = q / 8.0, x = a.x + u * (b.x - a.x), y = a.y + u * (b.y - a.y);
-            const double v = f.value(x, y);
-            if (v == 0) continue;
-            const double gx = (f.value(x + h, y) - f.value(x - h, y)) / (2 * h);
-            const double gy = (f.value(x, y + h) - f.value(x, y - h)) / (2 * h);
-            const double g = std::hypot(gx, gy);
-            worst = std::max(worst, g > 0 ? std::abs(v) / g : std::numeric_limits<double>::infinity());
-        }
+        worst = std::max(worst, edge_distance_to_levelset(f, a, b, s));
     }
     sum.has_fidelity = true;
     sum.max_boundary_distance = worst;

@@ -1,8 +1,13 @@
 // graded.cpp — the graded mesher: the tiled front end (tiles.hpp), the
 // balanced quadtree and its triangulation, timed.
 #include <chrono>
+#include <stdexcept>
 
 #include "warpmesh/graded.hpp"
+
+#include "graded/quadtree.hpp"
+#include "graded/tiles.hpp"
+#include "graded/triangulate_graded.hpp"
 
 namespace warpmesh {
 
@@ -23,6 +28,11 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell);
     const Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/true);
     r.times.quadtree = seconds_since(t0);
+    if (certify.verify) {  // the invariant the certificates rest on, from the leaf list
+        const CriticalSquaresCheck inv = check_critical_squares_finest(leaves, signs, warped);
+        if (!inv.ok()) throw std::logic_error(inv.first);
+        r.invariant_squares = inv.squares;
+    }
 
     t0 = clock::now();
     std::vector<KeyedSquare> keyed;

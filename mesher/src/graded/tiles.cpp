@@ -1,5 +1,9 @@
-// tiles.cpp — the graded mesher's front end: classify tiles by a range bound,
-// sample the others, signs, cut edges, warp (tiles.hpp).
+// tiles.cpp — the graded mesher's front end (tiles.hpp), in passes:
+//   classify_tiles  a range bound per block of tiles, top-down;
+//   sample_tiles    f, signs and owned cut edges of each sampled tile;
+//   fill_rings      each sampled tile's ring of neighbouring signs;
+//   order_cut_edges the cut edges in point order;
+// then warp_points, as in the uniform mesher.
 #include <algorithm>
 #include <cassert>
 #include <chrono>
@@ -7,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "warpmesh/tiles.hpp"
+#include "graded/tiles.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -126,70 +130,139 @@ bool fill_rings(TiledSigns& t, std::span<const std::int64_t> sampled) {
 
 using clock = std::chrono::steady_clock;
 
-}  // namespace
+// ---- classify: a range bound on each tile's reach ---------------------------
+// The sign a range bound gives the reach (the points grown by one spacing) of
+// tiles [I0, I1) x [J0, J1): σ if the bound decides it, else 0 (NaN included).
+std::int8_t reach_sign(const LevelSet& f, const Lattice& lattice, const TiledSigns& t, std::int64_t I0, std::int64_t J0,
+                       std::int64_t I1, std::int64_t J1) {
+    const Vec2 lo = lattice.position((I0 << t.tile_log) - 1, (J0 << t.tile_log) - 1);
+    const Vec2 hi = lattice.position(std::min(I1 << t.tile_log, t.nx) + 1, std::min(J1 << t.tile_log, t.ny) + 1);
+    const Range range = f.range({lo.x, lo.y, hi.x, hi.y});
+    return static_cast<std::int8_t>(range.lo > 0 ? 1 : range.hi < 0 ? -1 : 0);
+}
 
-TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
-    const auto t0 = clock::now();
-    TiledFront r;
-    TiledSigns& t = r.signs;
-    t = empty_tiles(lattice, tile_log);
-    const std::int64_t S = t.stride();
+// A block of tiles whose reach the bound decides decides all its tiles at
+// once; others split in four, down to single tiles (undecided: 0, sampled).
+void classify_block(const LevelSet& f, const Lattice& lattice, TiledSigns& t, std::int64_t I0, std::int64_t J0, std::int64_t I1,
+                    std::int64_t J1) {
+    const std::int8_t sg = reach_sign(f, lattice, t, I0, J0, I1, J1);
+    if (sg != 0 || (I1 - I0 == 1 && J1 - J0 == 1)) {
+        for (std::int64_t J = J0; J < J1; ++J)
+            for (std::int64_t I = I0; I < I1; ++I) t.uniform[static_cast<std::size_t>(I + J * t.tx)] = sg;
+        return;
+    }
+    const std::int64_t Im = I1 - I0 > 1 ? (I0 + I1) / 2 : I1, Jm = J1 - J0 > 1 ? (J0 + J1) / 2 : J1;
+    classify_block(f, lattice, t, I0, J0, Im, Jm);
+    if (Im < I1) classify_block(f, lattice, t, Im, J0, I1, Jm);
+    if (Jm < J1) classify_block(f, lattice, t, I0, Jm, Im, J1);
+    if (Im < I1 && Jm < J1) classify_block(f, lattice, t, Im, Jm, I1, J1);
+}
 
-    // ---- classify: a range bound on each tile's reach ---------------------------
-    // Top-down over blocks of tiles: a block whose reach (its points grown by
-    // one spacing) the bound decides decides all its tiles at once; others
-    // split in four, down to single tiles.  Work: O(undecided tiles x log).
-    auto reach = [&](std::int64_t I0, std::int64_t J0, std::int64_t I1, std::int64_t J1) {  // tiles [I0, I1) x [J0, J1)
-        const Vec2 lo = lattice.position((I0 << tile_log) - 1, (J0 << tile_log) - 1);
-        const Vec2 hi = lattice.position(std::min(I1 << tile_log, t.nx) + 1, std::min(J1 << tile_log, t.ny) + 1);
-        const Range range = f.range({lo.x, lo.y, hi.x, hi.y});
-        return static_cast<std::int8_t>(range.lo > 0 ? 1 : range.hi < 0 ? -1 : 0);  // NaN: undecided
-    };
-    auto classify = [&](auto&& self, std::int64_t I0, std::int64_t J0, std::int64_t I1, std::int64_t J1) -> void {
-        const std::int8_t sg = reach(I0, J0, I1, J1);
-        if (sg != 0 || (I1 - I0 == 1 && J1 - J0 == 1)) {
-            for (std::int64_t J = J0; J < J1; ++J)
-                for (std::int64_t I = I0; I < I1; ++I) t.uniform[static_cast<std::size_t>(I + J * t.tx)] = sg;
-            return;
-        }
-        const std::int64_t Im = I1 - I0 > 1 ? (I0 + I1) / 2 : I1, Jm = J1 - J0 > 1 ? (J0 + J1) / 2 : J1;
-        self(self, I0, J0, Im, Jm);
-        if (Im < I1) self(self, Im, J0, I1, Jm);
-        if (Jm < J1) self(self, I0, Jm, Im, J1);
-        if (Im < I1 && Jm < J1) self(self, Im, Jm, I1, J1);
-    };
-    constexpr std::int64_t top_block = 16;  // tiles a side: the parallel grain
+// Sets t.uniform of every tile: top-down from blocks of top_block x
+// top_block tiles (the parallel grain).  Work: O(undecided tiles x log).
+void classify_tiles(const LevelSet& f, const Lattice& lattice, TiledSigns& t) {
+    constexpr std::int64_t top_block = 16;
     const std::int64_t bx = (t.tx + top_block - 1) / top_block, by = (t.ty + top_block - 1) / top_block;
 #pragma omp parallel for schedule(dynamic, 1) if (bx * by >= 4)
     for (std::int64_t b = 0; b < bx * by; ++b) {
         const std::int64_t I0 = (b % bx) * top_block, J0 = (b / bx) * top_block;
-        classify(classify, I0, J0, std::min(I0 + top_block, t.tx), std::min(J0 + top_block, t.ty));
+        classify_block(f, lattice, t, I0, J0, std::min(I0 + top_block, t.tx), std::min(J0 + top_block, t.ty));
     }
-    const std::vector<std::int64_t> sampled = allocate_sampled(t);
-    const std::int64_t n = static_cast<std::int64_t>(sampled.size());
+}
 
-    // ---- sample, signs, cut edges of each sampled tile ----------------------------
-    // Each thread appends its tiles' cut edges to one list of its own (not a
-    // list per tile: thousands of small growing vectors cost more in the
-    // allocator than the edges themselves); a tile's are at span[s].
+// ---- sample, signs, cut edges of each sampled tile ----------------------------
+// Each thread appends its tiles' cut edges to one list of its own (not a list
+// per tile: thousands of small growing vectors cost more in the allocator
+// than the edges themselves); sampled tile s's are span[s].
+struct CutEdgeLists {
     struct Span {
         std::size_t list, begin, end;
     };
+    std::vector<std::vector<CutEdge>> lists;  // per thread
+    std::vector<Span> span;                   // per sampled tile
+};
+
+// The signs of tile block b's values v (row stride b.ni) into the tile's
+// block; false if a value is not finite.
+bool tile_signs_from_values(const TiledSigns& t, const PointBlock& b, const std::vector<double>& v, std::int8_t* blk) {
+    const std::int64_t S = t.stride();
+    bool finite = true;
+    for (std::int64_t y = 0; y < b.nj; ++y) {
+        const double* vr = v.data() + y * b.ni;
+        std::int8_t* o = blk + (y + 1) * S + 1;
+        for (std::int64_t x = 0; x < b.ni; ++x) {
+            finite = finite & std::isfinite(vr[x]);
+            o[x] = static_cast<std::int8_t>((vr[x] > 0) - (vr[x] < 0));
+        }
+    }
+    return finite;
+}
+
+// The cut edges that start at the points tile (I, J) owns — all but its last
+// column / row, unless it is the last of its row / column — appended to out
+// in point order (+x before +y at a point).  Per row, 64 points at a time, a
+// flag byte per point whose edge to the right (+x) or upward (+y) is cut —
+// sp != 0 and the other end -sp — in a loop the compiler vectorises; only a
+// run with a flag is walked, the cut edges being a few per row.
+void owned_cut_edges(const LevelSet& f, const Lattice& lattice, const TiledSigns& t, std::int64_t I, std::int64_t J, const PointBlock& b,
+                     const std::vector<double>& v, const std::int8_t* blk, std::vector<CutEdge>& out) {
+    constexpr std::int64_t run = 64;
+    const std::int64_t S = t.stride();
+    const std::int64_t own_x = I + 1 == t.tx ? b.ni : b.ni - 1, own_y = J + 1 == t.ty ? b.nj : b.nj - 1;
+    for (std::int64_t y = 0; y < own_y; ++y) {
+        const std::int8_t* r = blk + (y + 1) * S + 1;  // row y; row y + 1 is r + S
+        const std::int64_t with_right = std::min(own_x, b.ni - 1), with_up = y + 1 < b.nj ? own_x : 0;
+        for (std::int64_t x0 = 0; x0 < own_x; x0 += run) {
+            const std::int64_t nr = std::min(x0 + run, with_right) - x0, nu = std::min(x0 + run, with_up) - x0;
+            std::array<std::uint8_t, run> cr, cu;  // written for x < nr, x < nu; only those read
+            std::uint8_t any = 0;
+            for (std::int64_t x = 0; x < nr; ++x) {
+                const std::int8_t a = r[x0 + x];
+                cr[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>((a != 0) & (r[x0 + x + 1] == -a));
+                any |= cr[static_cast<std::size_t>(x)];
+            }
+            for (std::int64_t x = 0; x < nu; ++x) {
+                const std::int8_t a = r[x0 + x];
+                cu[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>((a != 0) & (r[x0 + x + S] == -a));
+                any |= cu[static_cast<std::size_t>(x)];
+            }
+            if (!any) continue;
+            for (std::int64_t q = 0; q < std::max(nr, nu); ++q) {
+                const std::size_t Q = static_cast<std::size_t>(q);
+                const std::int64_t x = x0 + q;
+                const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
+                if (q < nr && cr[Q])
+                    append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 0, r[x], r[x + 1], fp, v[static_cast<std::size_t>(x + 1 + y * b.ni)], out);
+                if (q < nu && cu[Q])
+                    append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 1, r[x], r[x + S], fp, v[static_cast<std::size_t>(x + (y + 1) * b.ni)],
+                                    out);
+            }
+        }
+    }
+}
+
+// f at the points of every sampled tile, their signs into the tile's block,
+// and the tile's owned cut edges.  Throws InputError (throw_non_finite) at
+// the largest index of a non-finite value, whatever the thread count.
+CutEdgeLists sample_tiles(const LevelSet& f, const Lattice& lattice, TiledSigns& t, std::span<const std::int64_t> sampled,
+                          std::int64_t& points) {
+    const std::int64_t n = static_cast<std::int64_t>(sampled.size());
     int nthreads = 1;
 #ifdef _OPENMP
     nthreads = omp_get_max_threads();
 #endif
-    std::vector<std::vector<CutEdge>> lists(static_cast<std::size_t>(nthreads));
-    std::vector<Span> span(sampled.size(), Span{0, 0, 0});
-    std::int64_t bad = -1, points = 0;  // the lattice index of a non-finite value
-#pragma omp parallel reduction(max : bad) reduction(+ : points)
+    CutEdgeLists r;
+    r.lists.resize(static_cast<std::size_t>(nthreads));
+    r.span.assign(sampled.size(), CutEdgeLists::Span{0, 0, 0});
+    std::int64_t bad = -1, count = 0;  // the lattice index of a non-finite value
+#pragma omp parallel reduction(max : bad) reduction(+ : count)
     {
         std::vector<double> v(static_cast<std::size_t>((t.size() + 1) * (t.size() + 1)));
         int me = 0;
 #ifdef _OPENMP
         me = omp_get_thread_num();
 #endif
-        auto& out = lists[static_cast<std::size_t>(me)];
+        auto& out = r.lists[static_cast<std::size_t>(me)];
         // Room for a boundary crossing each of its tiles once (T cut edges);
         // reserved, so untouched beyond what is written.
         out.reserve(static_cast<std::size_t>(n / nthreads + 1) * static_cast<std::size_t>(t.size()));
@@ -198,102 +271,78 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
             const std::int64_t k = sampled[static_cast<std::size_t>(s)], I = k % t.tx, J = k / t.tx;
             const PointBlock b = tile_points(t, I, J);
             f.sample_block(lattice, b, v);
-            points += b.ni * b.nj;
+            count += b.ni * b.nj;
             std::int8_t* blk = t.block(static_cast<std::int32_t>(s));
-            bool finite = true;
-            for (std::int64_t y = 0; y < b.nj; ++y) {
-                const double* vr = v.data() + y * b.ni;
-                std::int8_t* o = blk + (y + 1) * S + 1;
-                for (std::int64_t x = 0; x < b.ni; ++x) {
-                    finite = finite & std::isfinite(vr[x]);
-                    o[x] = static_cast<std::int8_t>((vr[x] > 0) - (vr[x] < 0));
-                }
-            }
-            if (!finite) {  // the largest non-finite point's index, as for every tile
+            if (!tile_signs_from_values(t, b, v, blk)) {  // the largest non-finite point's index, as for every tile
                 for (std::int64_t y = 0; y < b.nj; ++y)
                     for (std::int64_t x = 0; x < b.ni; ++x)
-                        if (!std::isfinite(v[static_cast<std::size_t>(x + y * b.ni)]))
-                            bad = std::max(bad, lattice.index(b.i0 + x, b.j0 + y));
+                        if (!std::isfinite(v[static_cast<std::size_t>(x + y * b.ni)])) bad = std::max(bad, lattice.index(b.i0 + x, b.j0 + y));
                 continue;
             }
-            // Owned points: all but the last column / row, unless the tile is
-            // the last of its row / column.  Per row, 64 points at a time, a
-            // flag byte per point whose edge to the right (+x) or upward (+y)
-            // is cut — sp != 0 and the other end -sp — in a loop the compiler
-            // vectorises; only a chunk with a flag is walked, in point order
-            // (+x before +y), the cut edges being a few per row.
-            const std::int64_t own_x = I + 1 == t.tx ? b.ni : b.ni - 1, own_y = J + 1 == t.ty ? b.nj : b.nj - 1;
             const std::size_t first = out.size();
-            for (std::int64_t y = 0; y < own_y; ++y) {
-                const std::int8_t* r = blk + (y + 1) * S + 1;  // row y; row y + 1 is r + S
-                const std::int64_t with_right = std::min(own_x, b.ni - 1), with_up = y + 1 < b.nj ? own_x : 0;
-                for (std::int64_t x0 = 0; x0 < own_x; x0 += 64) {
-                    const std::int64_t nr = std::min(x0 + 64, with_right) - x0, nu = std::min(x0 + 64, with_up) - x0;
-                    std::array<std::uint8_t, 64> cr, cu;  // written for x < nr, x < nu; only those read
-                    std::uint8_t any = 0;
-                    for (std::int64_t x = 0; x < nr; ++x) {
-                        const std::int8_t a = r[x0 + x];
-                        cr[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>((a != 0) & (r[x0 + x + 1] == -a));
-                        any |= cr[static_cast<std::size_t>(x)];
-                    }
-                    for (std::int64_t x = 0; x < nu; ++x) {
-                        const std::int8_t a = r[x0 + x];
-                        cu[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>((a != 0) & (r[x0 + x + S] == -a));
-                        any |= cu[static_cast<std::size_t>(x)];
-                    }
-                    if (!any) continue;
-                    for (std::int64_t q = 0; q < std::max(nr, nu); ++q) {
-                        const std::size_t Q = static_cast<std::size_t>(q);
-                        const std::int64_t x = x0 + q;
-                        const double fp = v[static_cast<std::size_t>(x + y * b.ni)];
-                        if (q < nr && cr[Q])
-                            append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 0, r[x], r[x + 1], fp,
-                                            v[static_cast<std::size_t>(x + 1 + y * b.ni)], out);
-                        if (q < nu && cu[Q])
-                            append_cut_edge(f, lattice, b.i0 + x, b.j0 + y, 1, r[x], r[x + S], fp,
-                                            v[static_cast<std::size_t>(x + (y + 1) * b.ni)], out);
-                    }
-                }
-            }
-            span[static_cast<std::size_t>(s)] = {static_cast<std::size_t>(me), first, out.size()};
+            owned_cut_edges(f, lattice, t, I, J, b, v, blk, out);
+            r.span[static_cast<std::size_t>(s)] = {static_cast<std::size_t>(me), first, out.size()};
         }
     }
     if (bad >= 0) throw_non_finite(lattice, bad);
-    r.sampled_points = points;
-    if (!fill_rings(t, sampled))
-        throw std::logic_error("the range bound of " + f.describe() + " is not conservative (a sampled sign contradicts it)");
-    // ---- cut edges in point order: tile rows own the same lattice rows -----------
-    // As a permutation of the cut edges where they lie — the one thread's
-    // list, or the threads' lists joined — not as a sorted copy: 4 bytes an
-    // edge instead of 24, and with one thread no copy at all.
-    std::vector<std::size_t> base(lists.size() + 1, 0);  // list q's edges at base[q] .. of the joined edges
-    for (std::size_t q = 0; q < lists.size(); ++q) base[q + 1] = base[q] + lists[q].size();
+    points = count;
+    return r;
+}
+
+// ---- cut edges in point order -------------------------------------------------
+// All cut edges, as `edges` (the one thread's list, or the threads' lists
+// joined into `joined`) and a permutation of them into point order — not a
+// sorted copy: 4 bytes an edge instead of 24, and with one thread no copy at
+// all.  Tile rows own the same lattice rows, so per tile row the tiles' edges
+// are merged row by row.
+Buffer<std::uint32_t> order_cut_edges(const Lattice& lattice, const TiledSigns& t, std::span<const std::int64_t> sampled, CutEdgeLists& c,
+                                      std::vector<CutEdge>& joined, std::span<const CutEdge>& edges) {
+    std::vector<std::size_t> base(c.lists.size() + 1, 0);  // list q's edges at base[q] .. of the joined edges
+    for (std::size_t q = 0; q < c.lists.size(); ++q) base[q + 1] = base[q] + c.lists[q].size();
     const std::size_t total = base.back();
     if (total >= UINT32_MAX) throw std::length_error("too many cut edges");
-    std::vector<CutEdge> joined;
-    if (lists.size() > 1) {
+    if (c.lists.size() > 1) {
         joined.reserve(total);
-        for (const auto& c : lists) joined.insert(joined.end(), c.begin(), c.end());
+        for (const auto& l : c.lists) joined.insert(joined.end(), l.begin(), l.end());
     }
-    const std::span<const CutEdge> edges = lists.size() > 1 ? std::span<const CutEdge>(joined) : std::span<const CutEdge>(lists[0]);
+    edges = c.lists.size() > 1 ? std::span<const CutEdge>(joined) : std::span<const CutEdge>(c.lists[0]);
     Buffer<std::uint32_t> order(total);  // every element written below
+    const std::int64_t n = static_cast<std::int64_t>(sampled.size());
     std::size_t k = 0;
     for (std::int64_t s0 = 0; s0 < n;) {
         const std::int64_t J = sampled[static_cast<std::size_t>(s0)] / t.tx;
         std::int64_t s1 = s0;
         while (s1 < n && sampled[static_cast<std::size_t>(s1)] / t.tx == J) ++s1;
-        const std::int64_t j_end = J + 1 == t.ty ? t.ny + 1 : (J + 1) << tile_log;
-        for (std::int64_t j = J << tile_log; j < j_end; ++j)
+        const std::int64_t j_end = J + 1 == t.ty ? t.ny + 1 : (J + 1) << t.tile_log;
+        for (std::int64_t j = J << t.tile_log; j < j_end; ++j)
             for (std::int64_t s = s0; s < s1; ++s) {
-                Span& q = span[static_cast<std::size_t>(s)];  // begin: the tile's first edge not yet taken
-                const CutEdge* c = edges.data() + base[q.list];
+                CutEdgeLists::Span& q = c.span[static_cast<std::size_t>(s)];  // begin: the tile's first edge not yet taken
+                const CutEdge* e = edges.data() + base[q.list];
                 const std::int64_t row_end = (j + 1) * lattice.points_x();  // cuts of row j: p < row_end
-                while (q.begin < q.end && c[q.begin].p < row_end) order[k++] = static_cast<std::uint32_t>(base[q.list] + q.begin++);
+                while (q.begin < q.end && e[q.begin].p < row_end) order[k++] = static_cast<std::uint32_t>(base[q.list] + q.begin++);
             }
         s0 = s1;
     }
     assert(k == total);
-    r.cut_edges = static_cast<std::int64_t>(total);
+    return order;
+}
+
+}  // namespace
+
+TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
+    const auto t0 = clock::now();
+    TiledFront r;
+    TiledSigns& t = r.signs;
+    t = empty_tiles(lattice, tile_log);
+    classify_tiles(f, lattice, t);
+    const std::vector<std::int64_t> sampled = allocate_sampled(t);
+    CutEdgeLists cuts = sample_tiles(f, lattice, t, sampled, r.sampled_points);
+    if (!fill_rings(t, sampled))
+        throw std::logic_error("the range bound of " + f.describe() + " is not conservative (a sampled sign contradicts it)");
+    std::vector<CutEdge> joined;
+    std::span<const CutEdge> edges;
+    const Buffer<std::uint32_t> order = order_cut_edges(lattice, t, sampled, cuts, joined, edges);
+    r.cut_edges = static_cast<std::int64_t>(order.size());
     r.tiles_seconds = seconds_since(t0);
 
     const auto t1 = clock::now();

@@ -1,11 +1,11 @@
 // triangulate_graded.cpp — the triangles of the quadtree's leaves, compacted
-// vertices and the boundary.
+// vertices and the boundary (triangulate_graded.hpp).
 //
 // Finest leaves are lattice squares and are triangulated exactly as the
 // uniform mesher does: the diagonal by the rule (warped_square_diagonal, the
 // code the prover certifies, wherever a corner is warped or zero-valued; AD on
 // the plain unit square, where both diagonals tie), and the triangles whose three
-// corners are inside.  By the quadtree's invariant (graded.hpp) every square
+// corners are inside.  By the quadtree's invariant (quadtree.hpp) every square
 // with a warped corner is such a leaf, so every warped triangle of the graded
 // mesh is a triangle of a generic square of the proof.
 //
@@ -31,7 +31,7 @@
 // leaf's side is one of the leaf's own vertices: no hanging vertex.
 //
 // Boundary.  A coarse inside leaf never carries a boundary edge: it does not
-// touch the lattice border (graded.hpp), and a square across one of its sides
+// touch the lattice border (quadtree.hpp), and a square across one of its sides
 // shares two non-critical inside points, so its other two corners cannot be
 // outside (an outside one would make a cut edge with a shared point, which
 // would then be critical): all four are inside and the square covers the side.
@@ -43,26 +43,28 @@
 // graded mesh covers exactly the uniform mesh's region and has the same
 // boundary edges.
 //
-// Passes, over chunks of leaves (parallel, deterministic): the finest leaves
-// by their level-1 parents (Leaves, graded.hpp), in runs of row pairs, then
-// the coarse leaves.
-//   1. the finest leaves' codes, a parent's 2 x 2 squares at once; then per
-//      chunk the triangle counts, and the used points;
-//   2. compact vertex ids in lattice-point order (a bitset with ranks);
-//   3. triangles at chunk offsets; region tags;
-//   4. boundary edges of the finest leaves.
+// Passes, each a member function of GradedTriangulation below, over chunks
+// of leaves (parallel, deterministic): the finest leaves by their level-1
+// parents (Leaves, quadtree.hpp), in runs of row pairs, then the coarse
+// leaves.
+//   1. finest_codes: the finest leaves' codes, a parent's 2 x 2 squares at
+//      once; count_and_mark_used: per chunk the triangle count, and the used
+//      points;
+//   2. place_vertices: compact vertex ids in lattice-point order (a point
+//      set with ranks) and their positions;
+//   3. emit_triangles: triangles at chunk offsets, region tags;
+//   4. boundary_edges: the boundary edges of the finest leaves.
 #include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cassert>
 #include <cmath>
-#include <cstring>
-#include <memory>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
 
-#include "warpmesh/graded.hpp"
+#include "graded/triangulate_graded.hpp"
+#include "mesh_assembly.hpp"
 #include "square_code.hpp"
 
 #ifdef _OPENMP
@@ -82,6 +84,9 @@ constexpr std::int64_t chunk_size = 2048;
 // two corners are inside too — an outside one, unwarped with f > 0, would
 // make a cut edge with a shared corner, and one of the two would warp.
 constexpr std::uint8_t interior_bit = 16;
+static_assert((interior_bit & (tri0_bit | tri1_bit | bc_bit | rule_bit)) == 0);
+
+constexpr std::uint8_t both_triangles = tri0_bit | tri1_bit;
 
 // Number of triangles a coarse inside leaf emits.
 constexpr int coarse_triangles(std::uint8_t split) { return split ? 4 + std::popcount(split) : 2; }
@@ -135,26 +140,96 @@ inline std::array<Pt, 4> square_corners(std::int64_t i, std::int64_t j) {
     return {Pt{i, j}, Pt{i + 1, j}, Pt{i, j + 1}, Pt{i + 1, j + 1}};
 }
 
-}  // namespace
+// The vertex ids of a parent's 3 x 3 corners (i + c, j + r), [r][c].
+using CornerIds = std::array<std::array<std::int32_t, 3>, 3>;
 
-Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSigns& signs,
-                        const Quadtree& tree, const Leaves& leaves, std::span<const WarpedPoint> warped,
-                        DiagonalRule rule, TriangulateStats* stats) {
-    const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
-    const PointSet& warped_set = tree.warped;
-    // `warped` is sorted by point: a warped point's record is at its rank.
-    auto warp_of = [&](Pt p) -> const WarpedPoint& {
-        const WarpedPoint& w = warped[static_cast<std::size_t>(warped_set.rank(p.i, p.j))];
+// A boundary edge (from, to, tag), as the passes collect them per chunk.
+using TaggedEdge = std::array<std::int32_t, 3>;
+
+// The chunks of leaves the passes run over.  Finest chunks are runs of whole
+// row pairs with about chunk_size squares; then the coarse leaves, chunk_size
+// per chunk.  Triangles are numbered in chunk order: finest leaves first, in
+// canonical order (by parents, quadtree.hpp), then the coarse leaves.
+struct Chunks {
+    std::vector<std::int64_t> pair;  // finest chunk ch: row pairs pair[ch] .. pair[ch + 1] - 1
+    std::int64_t finest = 0;         // finest chunks (the first ones)
+    std::int64_t count = 0;          // all chunks
+    std::int64_t ncoarse = 0;        // coarse leaves
+
+    explicit Chunks(const Leaves& leaves) : pair{0}, ncoarse(static_cast<std::int64_t>(leaves.coarse.size())) {
+        const std::int64_t npairs = leaves.row_pairs();
+        for (std::int64_t R = 0, since = 0; R < npairs; ++R) {
+            since += leaves.pair_start[static_cast<std::size_t>(R) + 1] - leaves.pair_start[static_cast<std::size_t>(R)];
+            if (since >= chunk_size / 4 || R + 1 == npairs) pair.push_back(R + 1), since = 0;
+        }
+        finest = static_cast<std::int64_t>(pair.size()) - 1;
+        count = finest + (ncoarse + chunk_size - 1) / chunk_size;
+    }
+    // The coarse leaves [k0, k1) of (coarse) chunk ch.
+    std::pair<std::int64_t, std::int64_t> coarse_range(std::int64_t ch) const {
+        const std::int64_t k0 = (ch - finest) * chunk_size;
+        return {k0, std::min(ncoarse, k0 + chunk_size)};
+    }
+};
+
+// The triangulation's inputs, its passes' results, and the passes.
+struct GradedTriangulation {
+    const LevelSet& f;
+    const Lattice& lattice;
+    const TiledSigns& signs;
+    const Quadtree& tree;
+    const Leaves& leaves;
+    std::span<const WarpedPoint> warped;  // sorted by point: a warped point's record is at its rank in tree.warped
+    DiagonalRule rule;
+    std::int64_t nx, ny, nxp;
+    Chunks chunks;
+    bool parallel;
+
+    // Pass 1: per parent k, the codes of its squares (2P + c, 2R + r) at
+    // code[k][2r + c] (0, emitting nothing, for a child outside the lattice);
+    // statistics; per chunk the triangle count, then (prefix sum) the first
+    // triangle of each chunk; the used points.
+    std::vector<std::array<std::uint8_t, 4>> code;
+    std::int64_t warped_squares = 0, forced = 0;
+    std::vector<std::int64_t> chunk_tris;
+    PointSet used;
+    // Passes 2 - 4.
+    Mesh mesh;
+
+    GradedTriangulation(const LevelSet& f_, const Lattice& lattice_, const TiledSigns& signs_, const Quadtree& tree_,
+                        const Leaves& leaves_, std::span<const WarpedPoint> warped_, DiagonalRule rule_)
+        : f(f_),
+          lattice(lattice_),
+          signs(signs_),
+          tree(tree_),
+          leaves(leaves_),
+          warped(warped_),
+          rule(rule_),
+          nx(lattice_.nx),
+          ny(lattice_.ny),
+          nxp(lattice_.points_x()),
+          chunks(leaves_),
+          parallel(false),
+          code(leaves_.parents.size(), std::array<std::uint8_t, 4>{}),
+          chunk_tris(static_cast<std::size_t>(chunks.count) + 1, 0),
+          used(nxp, ny + 1) {
+#ifdef _OPENMP
+        parallel = chunks.count > 1 && omp_get_max_threads() > 1;
+#endif
+    }
+
+    // ---- helpers ------------------------------------------------------------------
+    const WarpedPoint& warp_of(Pt p) const {
+        const WarpedPoint& w = warped[static_cast<std::size_t>(tree.warped.rank(p.i, p.j))];
         assert(w.p == p.i + p.j * nxp);
         return w;
-    };
+    }
 
-    // The position of lattice point p as a mesh vertex: warped points moved
-    // by the same affine map as generic_positions, scaled by s — and the same
-    // expression as triangulate.cpp, so the coordinates agree with the uniform
-    // mesh's to the bit.
-    // `wp`: the point's warp record, or null if it stays.
-    auto position = [&](std::int64_t i, std::int64_t j, const WarpedPoint* wp) {
+    // The position of lattice point (i, j) as a mesh vertex: warped points
+    // moved by the same affine map as generic_positions, scaled by s — the
+    // same expression as triangulate.cpp, so the coordinates agree with the
+    // uniform mesh's to the bit.  `wp`: the point's warp record, or null.
+    Vec2 position(std::int64_t i, std::int64_t j, const WarpedPoint* wp) const {
         Vec2 x = lattice.position(i, j);
         if (wp) {
             assert(wp->p == i + j * nxp);
@@ -162,16 +237,29 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             x.y += warp_dy(wp->dir) * wp->t * lattice.s;
         }
         return x;
-    };
+    }
 
-    // The code of finest square (i, j): its diagonal and emitted triangles, as
-    // in triangulate.cpp.  `warped_corner` / `forced_diag` report, for the
+    std::int64_t pair_start(std::int64_t R) const { return leaves.pair_start[static_cast<std::size_t>(R)]; }
+
+    // fn(k, i, j, cols, rows) for the parents of finest chunk ch, in order:
+    // parent k, its lower-left square (i, j) = (2P, 2R), its squares' columns
+    // and rows (1 or 2).
+    template <class Fn>
+    void for_each_parent(std::int64_t ch, Fn&& fn) const {
+        for (std::int64_t R = chunks.pair[static_cast<std::size_t>(ch)]; R < chunks.pair[static_cast<std::size_t>(ch) + 1]; ++R)
+            for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
+                const std::int64_t P = leaves.parents[static_cast<std::size_t>(k)];
+                fn(k, 2 * P, 2 * R, leaves.columns(P), leaves.rows(R));
+            }
+    }
+
+    // The code of finest square (i, j), as in triangulate.cpp: its diagonal
+    // and emitted triangles.  `sg`, `wp`: the signs and warped flags of its
+    // corners A, B, C, D.  `warped_corner` / `forced_diag` report, for the
     // stats, whether a corner is warped and whether the separating rule
     // overrode max-min (asked only where the diagonal matters).
-    // `sg`, `wp`: the signs and warped flags of its corners A, B, C, D.
-    auto finest_code = [&](std::int64_t i, std::int64_t j, const std::array<std::int8_t, 4>& sg, const std::array<bool, 4>& wp,
-                           bool* warped_corner, bool* forced_diag) -> std::uint8_t {
-        const auto p = square_corners(i, j);
+    std::uint8_t finest_code(std::int64_t i, std::int64_t j, const std::array<std::int8_t, 4>& sg, const std::array<bool, 4>& wp,
+                             bool* warped_corner, bool* forced_diag) const {
         std::array<bool, 4> in{};
         for (std::size_t q = 0; q < 4; ++q) in[q] = wp[q] || sg[q] <= 0;  // inside: f <= 0, or warped onto the level set
         std::uint8_t c = 0;
@@ -183,318 +271,327 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
         const int mask = in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3;
         if (*warped_corner || zero_corner) {
             c = rule_bit;
-            if (diagonal_matters(mask))
+            if (diagonal_matters(mask)) {
+                const auto p = square_corners(i, j);
                 c |= rule_diagonal(rule, sg, [&](int q) {
                     const std::size_t Q = static_cast<std::size_t>(q);
                     return wp[Q] ? &warp_of(p[Q]) : nullptr;
                 }, forced_diag);
+            }
         } else if (sg[0] < 0 && sg[1] < 0 && sg[2] < 0 && sg[3] < 0) {
             c = interior_bit;
         }
         return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][mask]);
-    };
-
-    // ---- chunks -----------------------------------------------------------------
-    // The finest leaves by their parents (Leaves): parent k of row pair R
-    // has the squares (2P + c, 2R + r), P = parents[k], their codes at
-    // code[k][2r + c] (0, emitting nothing, for a child outside the lattice).
-    // Finest chunks are runs of whole row pairs with about chunk_size squares
-    // (for_each_parent walks a chunk by row pairs); then the coarse leaves,
-    // chunk_size per chunk.  Triangles are numbered in chunk order: finest leaves first, in
-    // canonical order (by parents, graded.hpp), then the coarse leaves.
-    const std::vector<std::int32_t>& parents = leaves.parents;
-    const std::span<const Leaf> coarse = leaves.coarse;
-    const std::int64_t npairs = leaves.row_pairs(), ncoarse = static_cast<std::int64_t>(coarse.size());
-    auto pair_start = [&](std::int64_t R) { return leaves.pair_start[static_cast<std::size_t>(R)]; };
-    std::vector<std::int64_t> chunk_pair{0};  // finest chunk ch: row pairs chunk_pair[ch] .. chunk_pair[ch + 1] - 1
-    for (std::int64_t R = 0, since = 0; R < npairs; ++R) {
-        since += pair_start(R + 1) - pair_start(R);
-        if (since >= chunk_size / 4 || R + 1 == npairs) chunk_pair.push_back(R + 1), since = 0;
     }
-    const std::int64_t finest_chunks = static_cast<std::int64_t>(chunk_pair.size()) - 1;
-    const std::int64_t nchunks = finest_chunks + (ncoarse + chunk_size - 1) / chunk_size;
-    // The coarse leaves of (coarse) chunk ch.
-    auto coarse_range = [&](std::int64_t ch) {
-        const std::int64_t k0 = (ch - finest_chunks) * chunk_size;
-        return std::pair{k0, std::min(ncoarse, k0 + chunk_size)};
-    };
-    // fn(k, i, j, cols, rows) for the parents of finest chunk ch, in order:
-    // parent k, its lower-left square (i, j) = (2P, 2R), its squares' columns
-    // and rows (1 or 2).
-    auto for_each_parent = [&](std::int64_t ch, auto&& fn) {
-        for (std::int64_t R = chunk_pair[static_cast<std::size_t>(ch)]; R < chunk_pair[static_cast<std::size_t>(ch) + 1]; ++R)
-            for (std::int64_t k = pair_start(R); k < pair_start(R + 1); ++k) {
-                const std::int64_t P = parents[static_cast<std::size_t>(k)];
-                fn(k, 2 * P, 2 * R, leaves.columns(P), leaves.rows(R));
-            }
-    };
-    // ---- pass 1a: the finest leaves' codes, a parent's 2 x 2 squares at once --
-    // A parent's (up to) 2 x 2 squares share their 3 x 3 corners, whose signs
-    // lie in one tile's block (the tile of its lower-left square: T is even,
-    // so the corners reach at most the tile's last point) and whose warped
-    // flags lie in three rows of the warped set: looked up once per parent.
-    std::vector<std::array<std::uint8_t, 4>> code(parents.size(), std::array<std::uint8_t, 4>{});
-    std::int64_t warped_squares = 0, forced = 0;
-    bool parallel = false;
-#ifdef _OPENMP
-    parallel = nchunks > 1 && omp_get_max_threads() > 1;
-#endif
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped_squares, forced) if (parallel)
-    for (std::int64_t ch = 0; ch < finest_chunks; ++ch)
-        for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int cols, int rows) {
-            std::array<std::array<std::int8_t, 3>, 3> sg{};  // [row][column] of the corners (i + c, j + r)
-            const std::int64_t I = i >> signs.tile_log, J = j >> signs.tile_log;
-            const std::int32_t slot = signs.slot[static_cast<std::size_t>(I + J * signs.tx)];
-            const std::int8_t* c0 = slot < 0 ? nullptr : signs.at(slot, I, J, i, j);
-            std::array<unsigned, 3> wb{};
-            for (int r = 0; r <= rows; ++r) {
-                for (int c = 0; c <= cols; ++c)
-                    sg[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)] =
-                        c0 ? c0[r * signs.stride() + c] : signs.uniform[static_cast<std::size_t>(I + J * signs.tx)];
-                wb[static_cast<std::size_t>(r)] = static_cast<unsigned>(warped_set.members(i, j + r, cols + 1));
-            }
-            for (int r = 0; r < rows; ++r)
-                for (int c = 0; c < cols; ++c) {
-                    const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(c);
-                    const std::array<std::int8_t, 4> s4{sg[R0][C0], sg[R0][C0 + 1], sg[R0 + 1][C0], sg[R0 + 1][C0 + 1]};
-                    const std::array<bool, 4> w4{((wb[R0] >> c) & 1) != 0, ((wb[R0] >> (c + 1)) & 1) != 0,
-                                                 ((wb[R0 + 1] >> c) & 1) != 0, ((wb[R0 + 1] >> (c + 1)) & 1) != 0};
-                    assert(s4 == signs.square(i + c, j + r));
-                    bool warped_corner = false, was_forced = false;
-                    code[static_cast<std::size_t>(k)][2 * R0 + C0] = finest_code(i + c, j + r, s4, w4, &warped_corner, &was_forced);
-                    warped_squares += warped_corner;
-                    forced += was_forced;
-                }
-        });
 
-    // ---- pass 1: counts, used points -------------------------------------------
-    // Used points, a bitset with ranks: the vertex id of a used point is its
-    // rank — no lattice-sized id array.
-    PointSet used(nxp, ny + 1);
-    std::vector<std::int64_t> chunk_tris(static_cast<std::size_t>(nchunks) + 1, 0);
-    // Points (i + k, j) for the bits k of rel (several in one or two words).
-    // Several leaves may mark one point: relaxed atomic or-s when chunks run
-    // in parallel (a locked instruction costs several plain ones, so not
-    // with one thread).
-    auto mark = [&](std::int64_t i, std::int64_t j, std::uint64_t rel) {
-        if (!rel) return;
-        if (parallel)
-            used.insert_bits<true>(i, j, rel);
-        else
-            used.insert_bits<false>(i, j, rel);
-    };
-#pragma omp parallel for schedule(dynamic, 1) if (parallel)
-    for (std::int64_t ch = 0; ch < nchunks; ++ch) {
-        std::int64_t tris = 0;
-        if (ch < finest_chunks) {
-            // A parent's used corners (corner_mask: bit q for corner q = A, B,
-            // C, D of a square) as its three rows of three points.
-            for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int, int) {
-                const auto& q = code[static_cast<std::size_t>(k)];
-                std::array<unsigned, 4> m{};
-                for (std::size_t s = 0; s < 4; ++s) {
-                    tris += (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
-                    m[s] = corner_mask[q[s] & 7];
-                }
-                mark(i, j, (m[0] & 3) | (m[1] & 3) << 1);
-                mark(i, j + 1, (m[0] >> 2) | (m[1] >> 2) << 1 | (m[2] & 3) | (m[3] & 3) << 1);
-                mark(i, j + 2, (m[2] >> 2) | (m[3] >> 2) << 1);
-            });
-        } else {
-            const auto [k0, k1] = coarse_range(ch);
-            for (std::int64_t k = k0; k < k1; ++k) {
-                const Leaf& leaf = coarse[static_cast<std::size_t>(k)];
-                if (leaf.sign > 0) continue;
-                const std::uint8_t split = leaf.split_sides;
-                const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
-                if (w < 64) {  // the ring and centre (coarse_ring) by rows: j, j + h, j + w
-                    auto at = [](bool on, std::int64_t b) { return on ? std::uint64_t{1} << b : 0; };
-                    mark(i, j, 1 | at(split & side_bottom, h) | std::uint64_t{1} << w);
-                    mark(i, j + h, at(split & side_left, 0) | at(split != 0, h) | at(split & side_right, w));
-                    mark(i, j + w, 1 | at(split & side_top, h) | std::uint64_t{1} << w);
-                } else {
-                    std::array<Pt, 8> ring{};
-                    Pt centre{};
-                    const int n = coarse_ring(leaf, ring, centre);
-                    for (int r = 0; r < n; ++r) mark(ring[static_cast<std::size_t>(r)].i, ring[static_cast<std::size_t>(r)].j, 1);
-                    if (split) mark(centre.i, centre.j, 1);
-                }
-                tris += coarse_triangles(split);
-            }
-        }
-        chunk_tris[static_cast<std::size_t>(ch) + 1] = tris;
-    }
-    std::partial_sum(chunk_tris.begin(), chunk_tris.end(), chunk_tris.begin());
-    // ---- pass 2: compact vertex ids in lattice-point order ----------------------
-    // The ranks (point order) are the vertex ids; positions by rows in parallel.
-    used.finish();
-    const std::int64_t nverts = used.count, ntris = chunk_tris.back();
-    if (nverts > INT32_MAX || ntris > INT32_MAX)
-        throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
-    Mesh mesh;
-    mesh.vertices.resize(static_cast<std::size_t>(nverts));
-    mesh.triangles.resize(static_cast<std::size_t>(ntris));
-    // Word by word: `used` and the tree's warped set have the same dimensions,
-    // hence the same word layout, so a word's warped members are one AND away
-    // and their records at the warped set's ranks (no per-point lookups).
-    assert(used.words.size() == warped_set.words.size());
-#pragma omp parallel for schedule(static) if (parallel && nverts >= 4096)
-    for (std::int64_t j = 0; j <= ny; ++j)
-        used.for_each_word_in_row(j, [&](std::size_t w, std::int64_t i0, std::uint64_t bits, std::int64_t r0) {
-            const std::uint64_t moved = warped_set.words[w];
-            for (std::int64_t r = r0; bits; bits &= bits - 1, ++r) {
-                const int b = std::countr_zero(bits);
-                const WarpedPoint* wp = nullptr;
-                if ((moved >> b) & 1)  // `warped` is sorted by point: a record at its rank
-                    wp = &warped[static_cast<std::size_t>(warped_set.rank_in_word(w, b))];
-                mesh.vertices[static_cast<std::size_t>(r)] = position(i0 + b, j, wp);
-            }
-        });
-    auto vid = [&](Pt p) {
+    // Vertex id of a used point (after pass 2).
+    std::int32_t vid(Pt p) const {
         assert(used.contains(p.i, p.j));
         return static_cast<std::int32_t>(used.rank(p.i, p.j));
-    };
+    }
     // The vertex ids of a parent's 3 x 3 corners (i + c, j + r), c <= cols,
     // r <= rows, valid for the used ones: one rank per row (after pass 2).
-    using CornerIds = std::array<std::array<std::int32_t, 3>, 3>;
-    auto corner_ids = [&](std::int64_t i, std::int64_t j, int cols, int rows) {
+    CornerIds corner_ids(std::int64_t i, std::int64_t j, int cols, int rows) const {
         CornerIds id;
         for (int r = 0; r <= rows; ++r) {
             const auto rk = used.rank_run(i, j + r, cols + 1);
             for (std::size_t c = 0; c < 3; ++c) id[static_cast<std::size_t>(r)][c] = static_cast<std::int32_t>(rk[c]);
         }
         return id;
-    };
+    }
 
-    // ---- pass 3: triangles --------------------------------------------------------
-    // Finest leaves through the rule, for the certification: per chunk, then
-    // joined (chunks hold leaves in order: finest first, in canonical order).
-    const bool want_keyed = stats && stats->keyed_squares;
-    std::vector<std::vector<KeyedSquare>> keyed_chunks(want_keyed ? static_cast<std::size_t>(finest_chunks) : 0);
-    // Region tags (label images) in the same pass, from the triangles'
-    // centroids.  Where the level set knows a box around a square or a coarse
-    // leaf to be one region (region_in), all its triangles take that tag, and
-    // so do the next leaves in the same box (one call for a run of squares in
-    // one pixel cell).  Else per triangle: a finest square's corners read back
-    // from the vertices of pass 2 (its rows' vertices are near each other in
-    // the array), a coarse leaf's (unwarped) as lattice positions, the same
-    // doubles as pass 2's.  Warped corners stay in their square (they slide
-    // along its sides), so its box holds every centroid.
-    const bool tags = f.tags_regions();
-    mesh.region.resize(mesh.triangles.size());  // every element written below
-#pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
-    for (std::int64_t ch = 0; ch < nchunks; ++ch) {
-        std::int64_t next = chunk_tris[static_cast<std::size_t>(ch)];
-        RegionTagger tagger{f};
-        // The one tag of the w x h squares from (i, j), if known.
-        auto region_of_box = [&](std::int64_t i, std::int64_t j, std::int64_t w, std::int64_t h) -> std::optional<std::int32_t> {
-            if (!tags) return 1;
-            const Vec2 lo = lattice.position(i, j), hi = lattice.position(i + w, j + h);
-            return tagger.of_box({lo.x, lo.y, hi.x, hi.y});
-        };
-        auto centroid_region = [&](const Vec2& xa, const Vec2& xb, const Vec2& xc) { return tagger.of_triangle(xa, xb, xc); };
-        // Vertex ids and positions are looked up once per leaf, not per triangle.
-        auto emit = [&](std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t region) {
-            mesh.region[static_cast<std::size_t>(next)] = region;
-            mesh.triangles[static_cast<std::size_t>(next++)] = {a, b, c};
-        };
-        if (ch < finest_chunks) {
-            for_each_parent(ch, [&](std::int64_t k, std::int64_t i0, std::int64_t j0, int cols, int rows) {
-                const auto& q4 = code[static_cast<std::size_t>(k)];
-                if (!((q4[0] | q4[1] | q4[2] | q4[3]) & (tri0_bit | tri1_bit))) return;
-                const CornerIds id = corner_ids(i0, j0, cols, rows);
-                const std::optional<std::int32_t> all = region_of_box(i0, j0, cols, rows);  // else per square
+    // ---- pass 1 ---------------------------------------------------------------------
+    // The finest leaves' codes, a parent's 2 x 2 squares at once.  A parent's
+    // (up to) 2 x 2 squares share their 3 x 3 corners, whose signs lie in one
+    // tile's block (the tile of its lower-left square: T is even, so the
+    // corners reach at most the tile's last point) and whose warped flags lie
+    // in three rows of the warped set: looked up once per parent.
+    void finest_codes() {
+        std::int64_t ws = 0, fd = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : ws, fd) if (parallel)
+        for (std::int64_t ch = 0; ch < chunks.finest; ++ch)
+            for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int cols, int rows) {
+                std::array<std::array<std::int8_t, 3>, 3> sg{};  // [row][column] of the corners (i + c, j + r)
+                const std::int64_t I = i >> signs.tile_log, J = j >> signs.tile_log;
+                const std::int32_t slot = signs.slot[static_cast<std::size_t>(I + J * signs.tx)];
+                const std::int8_t* c0 = slot < 0 ? nullptr : signs.at(slot, I, J, i, j);
+                std::array<unsigned, 3> wb{};
+                for (int r = 0; r <= rows; ++r) {
+                    for (int c = 0; c <= cols; ++c)
+                        sg[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)] =
+                            c0 ? c0[r * signs.stride() + c] : signs.uniform[static_cast<std::size_t>(I + J * signs.tx)];
+                    wb[static_cast<std::size_t>(r)] = static_cast<unsigned>(tree.warped.members(i, j + r, cols + 1));
+                }
                 for (int r = 0; r < rows; ++r)
-                    for (int cc = 0; cc < cols; ++cc) {
-                        const std::uint8_t c = q4[static_cast<std::size_t>(2 * r + cc)];
-                        if (!(c & (tri0_bit | tri1_bit))) continue;
-                        const std::int64_t i = i0 + cc, j = j0 + r;
-                        if (want_keyed && (c & rule_bit))
-                            keyed_chunks[static_cast<std::size_t>(ch)].push_back(
-                                {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
-                        const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(cc);
-                        const std::array<std::int32_t, 4> v{id[R0][C0], id[R0][C0 + 1], id[R0 + 1][C0], id[R0 + 1][C0 + 1]};
-#ifndef NDEBUG
-                        for (std::size_t q = 0; q < 4; ++q) {
-                            const Pt pq = square_corners(i, j)[q];
-                            assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
-                        }
-#endif
-                        const std::optional<std::int32_t> one = all ? all : region_of_box(i, j, 1, 1);
-                        std::array<Vec2, 4> x{};
-                        if (!one)
-                            for (std::size_t q = 0; q < 4; ++q)
-                                if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
-                        for (int q = 0; q < 2; ++q) {
-                            if (!(c & (1 << q))) continue;
-                            const auto tri = triangle_of(c, q);
-                            const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
-                                              d = static_cast<std::size_t>(tri[2]);
-                            emit(v[a], v[b], v[d], one ? *one : centroid_region(x[a], x[b], x[d]));
-                        }
+                    for (int c = 0; c < cols; ++c) {
+                        const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(c);
+                        const std::array<std::int8_t, 4> s4{sg[R0][C0], sg[R0][C0 + 1], sg[R0 + 1][C0], sg[R0 + 1][C0 + 1]};
+                        const std::array<bool, 4> w4{((wb[R0] >> c) & 1) != 0, ((wb[R0] >> (c + 1)) & 1) != 0,
+                                                     ((wb[R0 + 1] >> c) & 1) != 0, ((wb[R0 + 1] >> (c + 1)) & 1) != 0};
+                        assert(s4 == signs.square(i + c, j + r));
+                        bool warped_corner = false, was_forced = false;
+                        code[static_cast<std::size_t>(k)][2 * R0 + C0] = finest_code(i + c, j + r, s4, w4, &warped_corner, &was_forced);
+                        ws += warped_corner;
+                        fd += was_forced;
                     }
             });
-        } else {
-            const auto [k0, k1] = coarse_range(ch);
-            for (std::int64_t k = k0; k < k1; ++k) {
-                const Leaf& leaf = coarse[static_cast<std::size_t>(k)];
-                if (leaf.sign > 0) continue;
-                const std::optional<std::int32_t> one = region_of_box(leaf.i, leaf.j, std::int64_t{1} << leaf.level, std::int64_t{1} << leaf.level);
-                // Filled for the ring's n points below (x only when tagging
-                // per triangle, and only then read): not zeroed first.
-                std::array<Pt, 8> ring;
-                std::array<std::int32_t, 8> v;
-                std::array<Vec2, 8> x;
-                Pt centre;
+        warped_squares = ws, forced = fd;
+    }
+
+    // Points (i + k, j) for the bits k of rel (several in one or two words).
+    // Several leaves may mark one point: relaxed atomic or-s when chunks run
+    // in parallel (plain ones with one thread).
+    void mark_used(std::int64_t i, std::int64_t j, std::uint64_t rel) {
+        if (!rel) return;
+        if (parallel)
+            used.insert_bits<true>(i, j, rel);
+        else
+            used.insert_bits<false>(i, j, rel);
+    }
+
+    // Per chunk, its triangle count and its leaves' used points; then the
+    // chunks' first triangles.
+    void count_and_mark_used() {
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+        for (std::int64_t ch = 0; ch < chunks.count; ++ch)
+            chunk_tris[static_cast<std::size_t>(ch) + 1] = ch < chunks.finest ? mark_finest_chunk(ch) : mark_coarse_chunk(ch);
+        std::partial_sum(chunk_tris.begin(), chunk_tris.end(), chunk_tris.begin());
+    }
+    // A parent's used corners (corner_mask: bit q for corner q = A, B, C, D of
+    // a square) as its three rows of three points.
+    std::int64_t mark_finest_chunk(std::int64_t ch) {
+        std::int64_t tris = 0;
+        for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int, int) {
+            const auto& q = code[static_cast<std::size_t>(k)];
+            std::array<unsigned, 4> m{};
+            for (std::size_t s = 0; s < 4; ++s) {
+                tris += (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
+                m[s] = corner_mask[q[s] & 7];
+            }
+            mark_used(i, j, (m[0] & 3) | (m[1] & 3) << 1);
+            mark_used(i, j + 1, (m[0] >> 2) | (m[1] >> 2) << 1 | (m[2] & 3) | (m[3] & 3) << 1);
+            mark_used(i, j + 2, (m[2] >> 2) | (m[3] >> 2) << 1);
+        });
+        return tris;
+    }
+    // A coarse inside leaf uses its ring and, with a split side, its centre.
+    std::int64_t mark_coarse_chunk(std::int64_t ch) {
+        std::int64_t tris = 0;
+        const auto [k0, k1] = chunks.coarse_range(ch);
+        for (std::int64_t k = k0; k < k1; ++k) {
+            const Leaf& leaf = leaves.coarse[static_cast<std::size_t>(k)];
+            if (leaf.sign > 0) continue;
+            const std::uint8_t split = leaf.split_sides;
+            const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
+            if (w < bits::word_bits) {  // the ring and centre (coarse_ring) by rows: j, j + h, j + w
+                auto at = [](bool on, std::int64_t b) { return on ? std::uint64_t{1} << b : 0; };
+                mark_used(i, j, 1 | at(split & side_bottom, h) | std::uint64_t{1} << w);
+                mark_used(i, j + h, at(split & side_left, 0) | at(split != 0, h) | at(split & side_right, w));
+                mark_used(i, j + w, 1 | at(split & side_top, h) | std::uint64_t{1} << w);
+            } else {
+                std::array<Pt, 8> ring{};
+                Pt centre{};
                 const int n = coarse_ring(leaf, ring, centre);
-                for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) {
-                    v[r] = vid(ring[r]);
-                    if (!one) x[r] = lattice.position(ring[r].i, ring[r].j);  // coarse leaves are unwarped
+                for (int r = 0; r < n; ++r) mark_used(ring[static_cast<std::size_t>(r)].i, ring[static_cast<std::size_t>(r)].j, 1);
+                if (split) mark_used(centre.i, centre.j, 1);
+            }
+            tris += coarse_triangles(split);
+        }
+        return tris;
+    }
+
+    // ---- pass 2 ---------------------------------------------------------------------
+    // Compact vertex ids in lattice-point order: the ranks of the used points
+    // are the vertex ids; positions by rows in parallel, word by word: `used`
+    // and the tree's warped set have the same dimensions, hence the same word
+    // layout, so a word's warped members are one AND away and their records
+    // at the warped set's ranks (no per-point lookups).
+    void place_vertices() {
+        used.finish();
+        const std::int64_t nverts = used.count, ntris = chunk_tris.back();
+        if (nverts > INT32_MAX || ntris > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
+        mesh.vertices.resize(static_cast<std::size_t>(nverts));
+        mesh.triangles.resize(static_cast<std::size_t>(ntris));
+        const PointSet& moved_set = tree.warped;
+        assert(used.words.size() == moved_set.words.size());
+#pragma omp parallel for schedule(static) if (parallel && nverts >= 4096)
+        for (std::int64_t j = 0; j <= ny; ++j)
+            used.for_each_word_in_row(j, [&](std::size_t w, std::int64_t i0, std::uint64_t members, std::int64_t r0) {
+                const std::uint64_t moved = moved_set.words[w];
+                for (std::int64_t r = r0; members; members &= members - 1, ++r) {
+                    const int b = std::countr_zero(members);
+                    const WarpedPoint* wp = nullptr;
+                    if ((moved >> b) & 1) wp = &warped[static_cast<std::size_t>(moved_set.rank_in_word(w, b))];
+                    mesh.vertices[static_cast<std::size_t>(r)] = position(i0 + b, j, wp);
                 }
-                if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-                    emit(v[0], v[1], v[2], one ? *one : centroid_region(x[0], x[1], x[2]));
-                    emit(v[0], v[2], v[3], one ? *one : centroid_region(x[0], x[2], x[3]));
-                    continue;
+            });
+    }
+
+    // ---- pass 3 ---------------------------------------------------------------------
+    // The triangles, at their chunks' offsets, with region tags (label
+    // images) from their centroids.  Where the level set knows a box around a
+    // square or a coarse leaf to be one region (region_in), all its triangles
+    // take that tag, and so do the next leaves in the same box (one call for a
+    // run of squares in one pixel cell).  Else per triangle: a finest square's
+    // corners read back from the vertices of pass 2, a coarse leaf's
+    // (unwarped) as lattice positions, the same doubles as pass 2's.  Warped
+    // corners stay in their square (they slide along its sides), so its box
+    // holds every centroid.  The finest leaves through the rule are collected
+    // per chunk in `keyed`, if asked (for the certification).
+    struct Emitter {
+        GradedTriangulation& g;
+        std::int64_t next;  // the next triangle
+        RegionTagger tagger;
+        bool tags;
+
+        // The one tag of the w x h squares from (i, j), if known.
+        std::optional<std::int32_t> region_of_box(std::int64_t i, std::int64_t j, std::int64_t w, std::int64_t h) {
+            if (!tags) return 1;
+            const Vec2 lo = g.lattice.position(i, j), hi = g.lattice.position(i + w, j + h);
+            return tagger.of_box({lo.x, lo.y, hi.x, hi.y});
+        }
+        void emit(std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t region) {
+            g.mesh.region[static_cast<std::size_t>(next)] = region;
+            g.mesh.triangles[static_cast<std::size_t>(next++)] = {a, b, c};
+        }
+    };
+
+    void emit_triangles(std::vector<std::vector<KeyedSquare>>* keyed) {
+        const bool tags = f.tags_regions();
+        mesh.region.resize(mesh.triangles.size());  // every element written below
+#pragma omp parallel for schedule(dynamic, 1) if (chunks.count > 1)
+        for (std::int64_t ch = 0; ch < chunks.count; ++ch) {
+            Emitter e{*this, chunk_tris[static_cast<std::size_t>(ch)], RegionTagger{f}, tags};
+            if (ch < chunks.finest)
+                emit_finest_chunk(ch, e, keyed ? &(*keyed)[static_cast<std::size_t>(ch)] : nullptr);
+            else
+                emit_coarse_chunk(ch, e);
+            assert(e.next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
+        }
+    }
+    // Vertex ids and positions are looked up once per parent, not per triangle.
+    void emit_finest_chunk(std::int64_t ch, Emitter& e, std::vector<KeyedSquare>* keyed) const {
+        for_each_parent(ch, [&](std::int64_t k, std::int64_t i0, std::int64_t j0, int cols, int rows) {
+            const auto& q4 = code[static_cast<std::size_t>(k)];
+            if (!((q4[0] | q4[1] | q4[2] | q4[3]) & both_triangles)) return;
+            const CornerIds id = corner_ids(i0, j0, cols, rows);
+            const std::optional<std::int32_t> all = e.region_of_box(i0, j0, cols, rows);  // else per square
+            for (int r = 0; r < rows; ++r)
+                for (int cc = 0; cc < cols; ++cc) {
+                    const std::uint8_t c = q4[static_cast<std::size_t>(2 * r + cc)];
+                    if (!(c & both_triangles)) continue;
+                    const std::int64_t i = i0 + cc, j = j0 + r;
+                    if (keyed && (c & rule_bit))
+                        keyed->push_back({i + j * nx, e.next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+                    const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(cc);
+                    const std::array<std::int32_t, 4> v{id[R0][C0], id[R0][C0 + 1], id[R0 + 1][C0], id[R0 + 1][C0 + 1]};
+#ifndef NDEBUG
+                    for (std::size_t q = 0; q < 4; ++q) {
+                        const Pt pq = square_corners(i, j)[q];
+                        assert(!uses_corner(c, static_cast<int>(q)) || (used.contains(pq.i, pq.j) && v[q] == vid(pq)));
+                    }
+#endif
+                    const std::optional<std::int32_t> one = all ? all : e.region_of_box(i, j, 1, 1);
+                    std::array<Vec2, 4> x{};
+                    if (!one)
+                        for (std::size_t q = 0; q < 4; ++q)
+                            if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
+                    for (int q = 0; q < 2; ++q) {
+                        if (!(c & (1 << q))) continue;
+                        const auto tri = triangle_of(c, q);
+                        const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]),
+                                          d = static_cast<std::size_t>(tri[2]);
+                        e.emit(v[a], v[b], v[d], one ? *one : e.tagger.of_triangle(x[a], x[b], x[d]));
+                    }
                 }
-                const std::int32_t vm = vid(centre);
-                const Vec2 xm = one ? Vec2{} : lattice.position(centre.i, centre.j);
-                for (int r = 0; r < n; ++r) {
-                    const std::size_t r0 = static_cast<std::size_t>(r), r1 = static_cast<std::size_t>((r + 1) % n);
-                    emit(vm, v[r0], v[r1], one ? *one : centroid_region(xm, x[r0], x[r1]));
-                }
+        });
+    }
+    void emit_coarse_chunk(std::int64_t ch, Emitter& e) const {
+        const auto [k0, k1] = chunks.coarse_range(ch);
+        for (std::int64_t k = k0; k < k1; ++k) {
+            const Leaf& leaf = leaves.coarse[static_cast<std::size_t>(k)];
+            if (leaf.sign > 0) continue;
+            const std::int64_t w = std::int64_t{1} << leaf.level;
+            const std::optional<std::int32_t> one = e.region_of_box(leaf.i, leaf.j, w, w);
+            // Filled for the ring's n points below (x only when tagging per
+            // triangle, and only then read): not zeroed first.
+            std::array<Pt, 8> ring;
+            std::array<std::int32_t, 8> v;
+            std::array<Vec2, 8> x;
+            Pt centre;
+            const int n = coarse_ring(leaf, ring, centre);
+            for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) {
+                v[r] = vid(ring[r]);
+                if (!one) x[r] = lattice.position(ring[r].i, ring[r].j);  // coarse leaves are unwarped
+            }
+            if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
+                e.emit(v[0], v[1], v[2], one ? *one : e.tagger.of_triangle(x[0], x[1], x[2]));
+                e.emit(v[0], v[2], v[3], one ? *one : e.tagger.of_triangle(x[0], x[2], x[3]));
+                continue;
+            }
+            const std::int32_t vm = vid(centre);
+            const Vec2 xm = one ? Vec2{} : lattice.position(centre.i, centre.j);
+            for (int r = 0; r < n; ++r) {
+                const std::size_t r0 = static_cast<std::size_t>(r), r1 = static_cast<std::size_t>((r + 1) % n);
+                e.emit(vm, v[r0], v[r1], one ? *one : e.tagger.of_triangle(xm, x[r0], x[r1]));
             }
         }
-        assert(next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
     }
-    if (want_keyed) {
-        stats->keyed_squares->clear();
-        for (const auto& c : keyed_chunks) stats->keyed_squares->insert(stats->keyed_squares->end(), c.begin(), c.end());
-    }
-    // ---- pass 4: boundary (finest leaves only; see the head comment) --------------
-    // The square across a side is either outside the lattice (domain border),
-    // a finest square — a child of the same parent, of the parent beside it
-    // in the row pair (the previous or next listed, if it is the adjacent
-    // column), or of the parent with the same column in the row pair below
-    // or above — or, if its parent is not listed, inside a coarse leaf: all
-    // its corners then have the leaf's sign, and it covers every side iff
-    // that sign is -1 (code 3 = both AD triangles).
-    auto coarse_code = [&](std::int64_t a, std::int64_t b) -> std::uint8_t {
+
+    // ---- pass 4 ---------------------------------------------------------------------
+    // The boundary edges of the finest leaves (see the head comment), by the
+    // rule of square_boundary_edges (square_code.hpp).  The square across a
+    // side is either outside the lattice (domain border), a finest square — a
+    // child of the same parent, of the parent beside it in the row pair (the
+    // previous or next listed, if it is the adjacent column), or of the
+    // parent with the same column in the row pair below or above — or, if
+    // its parent is not listed, inside a coarse leaf: all its corners then
+    // have the leaf's sign, and it covers every side iff that sign is -1
+    // (both AD triangles).
+    std::uint8_t coarse_code(std::int64_t a, std::int64_t b) const {
         assert(!tree.is_finest(a, b));
-        return signs(a, b) < 0 ? (tri0_bit | tri1_bit) : 0;
-    };
+        return signs(a, b) < 0 ? both_triangles : 0;
+    }
     // Parent of column P in row pair Rn, or -1: `cursor` only moves forward
     // while the queries' P increase (the sweep over a row pair's parents), and
     // restarts otherwise.
-    auto parent_in_pair = [&](std::int64_t Rn, std::int64_t P, std::int64_t& cursor) -> std::int64_t {
+    std::int64_t parent_in_pair(std::int64_t Rn, std::int64_t P, std::int64_t& cursor) const {
         const std::int64_t k0 = pair_start(Rn), k1 = pair_start(Rn + 1);
+        const auto& parents = leaves.parents;
         if (cursor < k0 || cursor > k1 || (cursor > k0 && parents[static_cast<std::size_t>(cursor) - 1] >= P)) cursor = k0;
         while (cursor < k1 && parents[static_cast<std::size_t>(cursor)] < P) ++cursor;
         return cursor < k1 && parents[static_cast<std::size_t>(cursor)] == P ? cursor : -1;
-    };
-    std::vector<std::vector<std::array<std::int32_t, 3>>> per_chunk(static_cast<std::size_t>(finest_chunks));
-#pragma omp parallel for schedule(dynamic, 1) if (finest_chunks > 1)
-    for (std::int64_t ch = 0; ch < finest_chunks; ++ch) {
-        auto& out = per_chunk[static_cast<std::size_t>(ch)];
+    }
+    // The code of the square across side sd of square (cc, r) of parent k
+    // (lower-left square (i0, j0)), inside the lattice.
+    std::uint8_t code_across(std::int64_t k, std::int64_t i0, std::int64_t j0, int cc, int r, int sd, std::int64_t& below,
+                             std::int64_t& above) const {
+        const auto& parents = leaves.parents;
+        const std::int64_t R = j0 >> 1, P = i0 >> 1;
+        const std::size_t r2 = static_cast<std::size_t>(2 * r);
+        std::int64_t kn = -1;  // the neighbour's parent, if finest
+        std::size_t qn = 0;    // and its place in it
+        switch (sd) {
+            case 0:  // below: the same parent's row 0, or row 1 of the pair below
+                kn = r ? k : parent_in_pair(R - 1, P, below), qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
+                break;
+            case 2:  // above
+                kn = r ? parent_in_pair(R + 1, P, above) : k, qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
+                break;
+            case 1:  // right: the same parent's column 1, or column 0 of the next parent
+                kn = !cc ? k : k + 1 < pair_start(R + 1) && parents[static_cast<std::size_t>(k) + 1] == P + 1 ? k + 1 : -1;
+                qn = r2 + (cc ? 0 : 1);
+                break;
+            default:  // left
+                kn = cc ? k : k > pair_start(R) && parents[static_cast<std::size_t>(k) - 1] == P - 1 ? k - 1 : -1;
+                qn = r2 + (cc ? 0 : 1);
+        }
+        const std::array<std::int64_t, 4> ni{i0 + cc, i0 + cc + 1, i0 + cc, i0 + cc - 1}, nj{j0 + r - 1, j0 + r, j0 + r + 1, j0 + r};
+        return kn >= 0 ? code[static_cast<std::size_t>(kn)][qn]
+                       : coarse_code(ni[static_cast<std::size_t>(sd)], nj[static_cast<std::size_t>(sd)]);
+    }
+    std::vector<TaggedEdge> boundary_of_chunk(std::int64_t ch) const {
+        std::vector<TaggedEdge> out;
         out.reserve(chunk_size / 4);  // about what a chunk along the boundary has: few regrowths
         std::int64_t below = -1, above = -1;  // cursors into the row pairs below and above
         for_each_parent(ch, [&](std::int64_t k, std::int64_t i0, std::int64_t j0, int cols, int rows) {
@@ -503,74 +600,46 @@ Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSi
             for (int r = 0; r < rows; ++r)
                 for (int cc = 0; cc < cols; ++cc) {
                     const std::uint8_t c = q4[static_cast<std::size_t>(2 * r + cc)];
-                    if (!(c & (tri0_bit | tri1_bit))) continue;
+                    if (!(c & both_triangles)) continue;
                     const std::int64_t i = i0 + cc, j = j0 + r;
                     const bool interior = c & interior_bit;
-                    if (interior && i > 0 && j > 0 && i + 1 < nx && j + 1 < ny) continue;
-                    // Edge from corner `from` to corner `to` of this square (A, B, C, D = 0..3).
-                    auto edge = [&](int from, int to, std::int32_t tag) {
-                        if (!id) id = corner_ids(i0, j0, cols, rows);
-                        const auto& v = *id;
-                        out.push_back({v[static_cast<std::size_t>(r + (from >> 1))][static_cast<std::size_t>(cc + (from & 1))],
-                                       v[static_cast<std::size_t>(r + (to >> 1))][static_cast<std::size_t>(cc + (to & 1))], tag});
-                    };
-                    const std::array<std::int64_t, 4> ni{i, i + 1, i, i - 1}, nj{j - 1, j, j + 1, j};
-                    const std::int64_t R = j0 >> 1, P = i0 >> 1;
-                    const std::size_t r2 = static_cast<std::size_t>(2 * r);
-                    for (int sd = 0; sd < 4; ++sd) {
-                        if (!covers(c, sd)) continue;
-                        const std::int64_t a = ni[static_cast<std::size_t>(sd)], b = nj[static_cast<std::size_t>(sd)];
-                        const Side& s = sides[static_cast<std::size_t>(sd)];
-                        if (a < 0 || b < 0 || a >= nx || b >= ny) {
-                            edge(s.from, s.to, boundary_domain);
-                            continue;
-                        }
-                        if (interior) continue;
-                        std::int64_t kn = -1;  // the neighbour's parent, if finest
-                        std::size_t qn = 0;    // and its place in it
-                        switch (sd) {
-                            case 0:  // below: the same parent's row 0, or row 1 of the pair below
-                                kn = r ? k : parent_in_pair(R - 1, P, below), qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
-                                break;
-                            case 2:  // above
-                                kn = r ? parent_in_pair(R + 1, P, above) : k, qn = static_cast<std::size_t>(cc) + (r ? 0 : 2);
-                                break;
-                            case 1:  // right: the same parent's column 1, or column 0 of the next parent
-                                kn = !cc ? k : k + 1 < pair_start(R + 1) && parents[static_cast<std::size_t>(k) + 1] == P + 1 ? k + 1 : -1;
-                                qn = r2 + (cc ? 0 : 1);
-                                break;
-                            default:  // left
-                                kn = cc ? k : k > pair_start(R) && parents[static_cast<std::size_t>(k) - 1] == P - 1 ? k - 1 : -1;
-                                qn = r2 + (cc ? 0 : 1);
-                        }
-                        const std::uint8_t nc = kn >= 0 ? code[static_cast<std::size_t>(kn)][qn] : coarse_code(a, b);
-                        if (!covers(nc, (sd + 2) % 4)) edge(s.from, s.to, boundary_level_set);
-                    }
-                    if (std::popcount(static_cast<unsigned>(c & (tri0_bit | tri1_bit))) == 1) {
-                        // The diagonal's direction inside the emitted triangle:
-                        // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
-                        const bool bc = c & bc_bit, first = c & tri0_bit;
-                        if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
-                        else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
-                    }
+                    const std::array<bool, 4> border{j == 0, i + 1 == nx, j + 1 == ny, i == 0};  // below, right, above, left
+                    if (interior && !(border[0] || border[1] || border[2] || border[3])) continue;
+                    square_boundary_edges(
+                        c, [&](int sd) { return border[static_cast<std::size_t>(sd)]; },
+                        [&](int sd) { return interior ? both_triangles : code_across(k, i0, j0, cc, r, sd, below, above); },
+                        [&](int from, int to, std::int32_t tag) {
+                            if (!id) id = corner_ids(i0, j0, cols, rows);
+                            const auto& v = *id;
+                            out.push_back({v[static_cast<std::size_t>(r + (from >> 1))][static_cast<std::size_t>(cc + (from & 1))],
+                                           v[static_cast<std::size_t>(r + (to >> 1))][static_cast<std::size_t>(cc + (to & 1))], tag});
+                        });
                 }
         });
+        return out;
     }
-    std::size_t nb = 0;
-    for (const auto& r : per_chunk) nb += r.size();
-    mesh.boundary.reserve(nb);
-    mesh.boundary_tag.reserve(nb);
-    for (const auto& r : per_chunk)
-        for (const auto& e : r) {
-            mesh.boundary.push_back({e[0], e[1]});
-            mesh.boundary_tag.push_back(e[2]);
-        }
+    void boundary_edges() {
+        std::vector<std::vector<TaggedEdge>> per_chunk(static_cast<std::size_t>(chunks.finest));
+#pragma omp parallel for schedule(dynamic, 1) if (chunks.finest > 1)
+        for (std::int64_t ch = 0; ch < chunks.finest; ++ch) per_chunk[static_cast<std::size_t>(ch)] = boundary_of_chunk(ch);
+        append_boundary(mesh, per_chunk);
+    }
+};
 
-    if (stats) {
-        stats->warped_squares = warped_squares;
-        stats->forced_diagonals = forced;
-    }
-    return mesh;
+}  // namespace
+
+Mesh triangulate_graded(const LevelSet& f, const Lattice& lattice, const TiledSigns& signs, const Quadtree& tree,
+                        const Leaves& leaves, std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats) {
+    GradedTriangulation g(f, lattice, signs, tree, leaves, warped, rule);
+    g.finest_codes();
+    g.count_and_mark_used();
+    g.place_vertices();
+    const bool want_keyed = stats && stats->keyed_squares;
+    std::vector<std::vector<KeyedSquare>> keyed(want_keyed ? static_cast<std::size_t>(g.chunks.finest) : 0);
+    g.emit_triangles(want_keyed ? &keyed : nullptr);
+    g.boundary_edges();
+    record_stats(stats, g.warped_squares, g.forced, keyed);
+    return std::move(g.mesh);
 }
 
 }  // namespace warpmesh

@@ -1,5 +1,5 @@
 // atomic_file.cpp — temporary file in the target directory + rename(2).
-#include "warpmesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>

@@ -1,15 +1,18 @@
-// write_msh.cpp — Gmsh MSH 4.1, ASCII.
+// write_msh.cpp — Gmsh MSH 4.1 and 2.2, ASCII.
 //
-// Sections, in the order the format requires (Gmsh manual, "MSH file format"):
+// Groups (both versions): one physical surface per region tag, named by
+// detail::region_name ("domain", "domain_<tag>" or mesh.region_names), and
+// one physical curve per detail::edge_groups group ("boundary",
+// "domain_border", "interface_<a>_<b>"), its tag the group's facet tag.
+// Every group is one elementary entity with the same tag as its physical
+// group, so that readers which only keep entity tags see the same numbers.
+//
+// MSH 4.1 sections, in the order the format requires (Gmsh manual, "MSH file
+// format"):
 //
 //   $MeshFormat    "4.1 0 8": version 4.1, ASCII (0), sizeof(size_t) = 8.
-//   $PhysicalNames numPhysicalNames, then "dim physicalTag \"name\"" lines:
-//                  dim 2: one per region tag — "domain" when the mesh has a
-//                         single region, "domain_<tag>" otherwise;
-//                  dim 1: one per boundary tag — "boundary" (tag 1, level set),
-//                         "domain_border" (tag 2, lattice border),
-//                         "boundary_<tag>" for any other.
-//   $Entities      "numPoints numCurves numSurfaces numVolumes" (0 B R 0), then
+//   $PhysicalNames numPhysicalNames, then "dim physicalTag \"name\"" lines.
+//   $Entities      "numPoints numCurves numSurfaces numVolumes" (0 C R 0), then
 //                  per curve:   "tag minX minY minZ maxX maxY maxZ
 //                                numPhysicalTags physicalTag numBoundingPoints(0)"
 //                  per surface: "tag minX minY minZ maxX maxY maxZ
@@ -19,27 +22,45 @@
 //                  all node tags (one per line) followed by all "x y z" lines.
 //                  All nodes are classified on the first surface entity: a
 //                  node shared by several regions must live in one block, and
-//                  readers (Gmsh, meshio) only need the tags.
+//                  readers (Gmsh, meshio, dolfinx's gmshio) only need the tags.
 //   $Elements      "numEntityBlocks numElements minElementTag maxElementTag",
 //                  then per surface entity a block "2 entityTag 2 count" of
 //                  3-node triangles (type 2) and per curve entity a block
 //                  "1 entityTag 1 count" of 2-node lines (type 1):
 //                  "elementTag node node [node]".
-//   $ElementData   one view per mesh.cell_data array: 1 string tag (the name),
-//                  1 real tag (time 0), 3 integer tags (time step 0,
-//                  1 component, number of values), then "elementTag value".
+//   $ElementData   only if asked (MshOptions::cell_data): one view per
+//                  mesh.cell_data array: 1 string tag (the name), 1 real tag
+//                  (time 0), 3 integer tags (time step 0, 1 component, number
+//                  of values), then "elementTag value" for EVERY element, the
+//                  lines' value being nan.
+//
+// MSH 2.2: $MeshFormat "2.2 0 8", the same $PhysicalNames, "$Nodes" as a count
+// then "tag x y z" lines, "$Elements" as a count then
+// "tag type 2 physicalTag entityTag node…" lines (triangles first, in mesh
+// order, then the lines), and the same $ElementData.
+//
+// Why cell data stays out of .msh unless asked: a view in Gmsh may cover a
+// subset of the elements, but meshio (the hub through which most Python FEM
+// codes read .msh) requires one value per element of every cell block and
+// refuses the file otherwise ("Incompatible cell data").  A per-triangle
+// quantity such as certified_min_angle has no value on a boundary line, so
+// the only complete view pads the lines with nan — meaningless values that
+// every conversion would then carry along.  A .msh is a solver's input; the
+// per-triangle diagnostics go to .vtu (ParaView) by default, and into .msh
+// (padded with nan) only on request (warpmesh --msh-cell-data).
 //
 // Numbering (all 1-based): node tag = vertex index + 1; triangle k has element
 // tag k + 1 (so element data follow triangle order whatever the blocks are);
-// boundary edge e has element tag T + e + 1.  Entity and physical tags of a
-// region (boundary) tag t are t itself when all region (boundary) tags are
-// >= 1, else the 1-based rank of t among the distinct tags.
+// boundary edge e has element tag T + e + 1 and interface edge i tag
+// T + B + i + 1.  Entity and physical tags of a region tag t are t itself when
+// all region tags are >= 1, else the 1-based rank of t among the distinct tags.
 #include <algorithm>
 #include <span>
 #include <map>
 #include <string_view>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
@@ -61,7 +82,7 @@ struct Bbox {
 
 // A group of elements sharing a tag: the future entity and physical group.
 struct Group {
-    std::int32_t tag;     // region or boundary tag in the mesh
+    std::int32_t tag;     // region tag in the mesh
     std::int32_t entity;  // entity tag = physical tag in the file
     std::size_t begin = 0, end = 0;  // members: Grouping::member(begin … end - 1)
     Bbox box;
@@ -114,49 +135,70 @@ std::string quoted(std::string_view s) {
     return r + "\"";
 }
 
-std::string boundary_name(std::int32_t tag) {
-    if (tag == boundary_level_set) return "boundary";
-    if (tag == boundary_domain) return "domain_border";
-    return "boundary_" + std::to_string(tag);
+void put_entity(detail::TextSink& out, std::int32_t tag, const Bbox& box) {
+    out << tag << ' ' << box.xmin << ' ' << box.ymin << " 0 " << box.xmax << ' ' << box.ymax << " 0 1 " << tag << " 0\n";
 }
 
-void put_entity(detail::TextSink& out, const Group& g) {
-    out << g.entity << ' ' << g.box.xmin << ' ' << g.box.ymin << " 0 " << g.box.xmax << ' ' << g.box.ymax << " 0 1 "
-        << g.entity << " 0\n";
-}
+// What both versions write: the region groups (with their bounding boxes) and
+// the edge groups.
+struct Layout {
+    Grouping by_region;
+    std::vector<std::string> region_names;  // per region group
+    std::vector<detail::EdgeGroup> curves;
+    std::vector<Bbox> curve_box;
+    std::uint64_t nt = 0, nb = 0, ne = 0;  // triangles, boundary edges, elements
 
-}  // namespace
+    explicit Layout(const Mesh& mesh)
+        : by_region(group_by_tag(mesh.region)),
+          curves(detail::edge_groups(mesh)),
+          nt(mesh.triangles.size()),
+          nb(mesh.boundary.size()),
+          ne(nt + nb + mesh.interfaces.size()) {
+        for (Group& g : by_region.groups) {
+            for (std::size_t i = g.begin; i < g.end; ++i)
+                for (const std::int32_t v : mesh.triangles[by_region.member(i)]) g.box.add(mesh.vertices[static_cast<std::size_t>(v)]);
+            region_names.push_back(detail::region_name(mesh, g.tag, by_region.groups.size() == 1));
+        }
+        for (const detail::EdgeGroup& c : curves) {
+            Bbox& box = curve_box.emplace_back();
+            for (const auto& e : c.edges)
+                for (const std::int32_t v : e) box.add(mesh.vertices[static_cast<std::size_t>(v)]);
+        }
+    }
+    // Element tag of the i-th member of curve c.
+    std::uint64_t line_tag(const detail::EdgeGroup& c, std::size_t i) const {
+        return nt + (c.interface ? nb : 0) + c.index[i] + 1;
+    }
+};
 
-void write_msh(const Mesh& mesh, std::ostream& os) {
-    detail::check_mesh_arrays(mesh, "<msh stream>");
-    const auto nv = static_cast<std::uint64_t>(mesh.vertices.size());
-    const auto nt = static_cast<std::uint64_t>(mesh.triangles.size());
-    const auto nb = static_cast<std::uint64_t>(mesh.boundary.size());
-
-    Grouping by_region = group_by_tag(mesh.region), by_tag = group_by_tag(mesh.boundary_tag);
-    std::vector<Group>&regions = by_region.groups, &curves = by_tag.groups;
-    for (Group& g : regions)
-        for (std::size_t i = g.begin; i < g.end; ++i)
-            for (const std::int32_t v : mesh.triangles[by_region.member(i)])
-                g.box.add(mesh.vertices[static_cast<std::size_t>(v)]);
-    for (Group& g : curves)
-        for (std::size_t i = g.begin; i < g.end; ++i)
-            for (const std::int32_t v : mesh.boundary[by_tag.member(i)]) g.box.add(mesh.vertices[static_cast<std::size_t>(v)]);
-
-    detail::TextSink out(os);
-    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
-
-    out << "$PhysicalNames\n" << static_cast<std::uint64_t>(regions.size() + curves.size()) << '\n';
-    for (const Group& g : curves) out << "1 " << g.entity << ' ' << quoted(boundary_name(g.tag)) << '\n';
-    for (const Group& g : regions)
-        out << "2 " << g.entity << ' '
-            << quoted(regions.size() == 1 ? std::string("domain") : "domain_" + std::to_string(g.tag)) << '\n';
+void put_physical_names(detail::TextSink& out, const Layout& l) {
+    const auto& regions = l.by_region.groups;
+    out << "$PhysicalNames\n" << static_cast<std::uint64_t>(regions.size() + l.curves.size()) << '\n';
+    for (const auto& c : l.curves) out << "1 " << c.tag << ' ' << quoted(c.name) << '\n';
+    for (std::size_t r = 0; r < regions.size(); ++r)
+        out << "2 " << regions[r].entity << ' ' << quoted(l.region_names[r]) << '\n';
     out << "$EndPhysicalNames\n";
+}
 
-    out << "$Entities\n0 " << static_cast<std::uint64_t>(curves.size()) << ' '
+void put_element_data(detail::TextSink& out, const Mesh& mesh, const Layout& l) {
+    for (const auto& [name, values] : mesh.cell_data) {
+        out << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << l.ne << '\n';
+        for (std::uint64_t k = 0; k < l.nt; ++k) out << k + 1 << ' ' << values[k] << '\n';
+        for (std::uint64_t k = l.nt; k < l.ne; ++k) out << k + 1 << " nan\n";
+        out << "$EndElementData\n";
+    }
+}
+
+void write_msh41(const Mesh& mesh, const Layout& l, detail::TextSink& out) {
+    const auto nv = static_cast<std::uint64_t>(mesh.vertices.size());
+    const auto& regions = l.by_region.groups;
+    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+    put_physical_names(out, l);
+
+    out << "$Entities\n0 " << static_cast<std::uint64_t>(l.curves.size()) << ' '
         << static_cast<std::uint64_t>(regions.size()) << " 0\n";
-    for (const Group& g : curves) put_entity(out, g);
-    for (const Group& g : regions) put_entity(out, g);
+    for (std::size_t c = 0; c < l.curves.size(); ++c) put_entity(out, l.curves[c].tag, l.curve_box[c]);
+    for (const Group& g : regions) put_entity(out, g.entity, g.box);
     out << "$EndEntities\n";
 
     // Nodes: one block on the first surface (a mesh without triangles has no
@@ -172,39 +214,72 @@ void write_msh(const Mesh& mesh, std::ostream& os) {
     }
     out << "$EndNodes\n";
 
-    const std::uint64_t ne = nt + nb;
     out << "$Elements\n"
-        << static_cast<std::uint64_t>(regions.size() + curves.size()) << ' ' << ne << ' ' << (ne ? 1 : 0) << ' ' << ne
-        << '\n';
+        << static_cast<std::uint64_t>(regions.size() + l.curves.size()) << ' ' << l.ne << ' ' << (l.ne ? 1 : 0) << ' '
+        << l.ne << '\n';
     for (const Group& g : regions) {
         out << "2 " << g.entity << " 2 " << static_cast<std::uint64_t>(g.end - g.begin) << '\n';
         for (std::size_t i = g.begin; i < g.end; ++i) {
-            const std::size_t k = by_region.member(i);
+            const std::size_t k = l.by_region.member(i);
             const auto& t = mesh.triangles[k];
             out << static_cast<std::uint64_t>(k + 1) << ' ' << t[0] + std::int64_t{1} << ' ' << t[1] + std::int64_t{1}
                 << ' ' << t[2] + std::int64_t{1} << '\n';
         }
     }
-    for (const Group& g : curves) {
-        out << "1 " << g.entity << " 1 " << static_cast<std::uint64_t>(g.end - g.begin) << '\n';
-        for (std::size_t i = g.begin; i < g.end; ++i) {
-            const std::size_t k = by_tag.member(i);
-            const auto& e = mesh.boundary[k];
-            out << nt + k + 1 << ' ' << e[0] + std::int64_t{1} << ' ' << e[1] + std::int64_t{1} << '\n';
-        }
+    for (const auto& c : l.curves) {
+        out << "1 " << c.tag << " 1 " << static_cast<std::uint64_t>(c.edges.size()) << '\n';
+        for (std::size_t i = 0; i < c.edges.size(); ++i)
+            out << l.line_tag(c, i) << ' ' << c.edges[i][0] + std::int64_t{1} << ' ' << c.edges[i][1] + std::int64_t{1}
+                << '\n';
     }
     out << "$EndElements\n";
-
-    for (const auto& [name, values] : mesh.cell_data) {
-        out << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << nt << '\n';
-        for (std::uint64_t k = 0; k < nt; ++k) out << k + 1 << ' ' << values[k] << '\n';
-        out << "$EndElementData\n";
-    }
 }
 
-void write_msh(const Mesh& mesh, const std::string& path) {
+void write_msh22(const Mesh& mesh, const Layout& l, detail::TextSink& out) {
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+    put_physical_names(out, l);
+    out << "$Nodes\n" << static_cast<std::uint64_t>(mesh.vertices.size()) << '\n';
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+        out << static_cast<std::uint64_t>(i + 1) << ' ' << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0\n";
+    out << "$EndNodes\n";
+
+    // Physical (= entity) tag of each triangle, by region group.
+    std::vector<std::int32_t> entity(mesh.triangles.size());
+    for (const Group& g : l.by_region.groups)
+        for (std::size_t i = g.begin; i < g.end; ++i) entity[l.by_region.member(i)] = g.entity;
+    out << "$Elements\n" << l.ne << '\n';
+    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+        const auto& t = mesh.triangles[k];
+        out << static_cast<std::uint64_t>(k + 1) << " 2 2 " << entity[k] << ' ' << entity[k] << ' ' << t[0] + std::int64_t{1}
+            << ' ' << t[1] + std::int64_t{1} << ' ' << t[2] + std::int64_t{1} << '\n';
+    }
+    // Lines in element-tag order: boundary edges, then interface edges.
+    std::vector<std::pair<const detail::EdgeGroup*, std::size_t>> lines(l.ne - l.nt);
+    for (const auto& c : l.curves)
+        for (std::size_t i = 0; i < c.edges.size(); ++i) lines[l.line_tag(c, i) - l.nt - 1] = {&c, i};
+    for (const auto& [c, i] : lines)
+        out << l.line_tag(*c, i) << " 1 2 " << c->tag << ' ' << c->tag << ' ' << c->edges[i][0] + std::int64_t{1} << ' '
+            << c->edges[i][1] + std::int64_t{1} << '\n';
+    out << "$EndElements\n";
+}
+
+}  // namespace
+
+void write_msh(const Mesh& mesh, std::ostream& os, const MshOptions& options) {
+    detail::check_mesh_arrays(mesh, "<msh stream>");
+    if (options.version != 41 && options.version != 22)
+        throw OutputError("unsupported MSH version " + std::to_string(options.version / 10) + "." +
+                          std::to_string(options.version % 10) + " (supported: 4.1, 2.2)");
+    const Layout layout(mesh);
+    detail::TextSink out(os);
+    if (options.version == 41) write_msh41(mesh, layout, out);
+    else write_msh22(mesh, layout, out);
+    if (options.cell_data) put_element_data(out, mesh, layout);
+}
+
+void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options) {
     detail::check_mesh_arrays(mesh, path);
-    write_file_atomically(path, [&](std::ostream& os) { write_msh(mesh, os); });
+    write_file_atomically(path, [&](std::ostream& os) { write_msh(mesh, os, options); });
 }
 
 }  // namespace warpmesh

@@ -44,6 +44,7 @@
 #include <png.h>
 #endif
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"
 

@@ -20,6 +20,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"
 

@@ -9,6 +9,9 @@
 //         <Cells>     "connectivity" (Int32, 3 per cell, 0-based point ids),
 //                     "offsets" (Int64: end of each cell in connectivity = 3, 6, …),
 //                     "types" (UInt8: 5 = VTK_TRIANGLE)                </Cells>
+//         <PointData Scalars="boundary_marker">
+//                     "boundary_marker" (Int32): detail::vertex_markers, as in .node
+//         </PointData>
 //         <CellData Scalars="region">
 //                     "region" (Int32) and each mesh.cell_data array (Float64)
 //         </CellData>
@@ -22,27 +25,12 @@
 // cell data are written as "nan"/"inf", which VTK's ASCII reader may reject.
 #include <string_view>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
 
 namespace {
-
-// XML attribute value escaping (the array names are user-chosen).
-std::string xml_escape(std::string_view s) {
-    std::string r;
-    for (const char c : s) {
-        switch (c) {
-            case '&': r += "&amp;"; break;
-            case '<': r += "&lt;"; break;
-            case '>': r += "&gt;"; break;
-            case '"': r += "&quot;"; break;
-            case '\'': r += "&apos;"; break;
-            default: r += c;
-        }
-    }
-    return r;
-}
 
 // `count` values produced by value(i), six per line, each line indented.
 template <class F>
@@ -84,12 +72,19 @@ void write_vtu(const Mesh& mesh, std::ostream& os) {
     out << "        </DataArray>\n"
            "      </Cells>\n";
 
+    out << "      <PointData Scalars=\"boundary_marker\">\n"
+           "        <DataArray type=\"Int32\" Name=\"boundary_marker\" format=\"ascii\">\n";
+    const auto markers = detail::vertex_markers(mesh, detail::edge_groups(mesh));
+    put_values(out, nv, [&](std::size_t i) { out << markers[i]; });
+    out << "        </DataArray>\n"
+           "      </PointData>\n";
+
     out << "      <CellData Scalars=\"region\">\n"
            "        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
     put_values(out, nt, [&](std::size_t i) { out << mesh.region[i]; });
     out << "        </DataArray>\n";
     for (const auto& [name, values] : mesh.cell_data) {
-        out << "        <DataArray type=\"Float64\" Name=\"" << xml_escape(name) << "\" format=\"ascii\">\n";
+        out << "        <DataArray type=\"Float64\" Name=\"" << detail::xml_escape(name) << "\" format=\"ascii\">\n";
         put_values(out, nt, [&](std::size_t i) { out << values[i]; });
         out << "        </DataArray>\n";
     }

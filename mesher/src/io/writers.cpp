@@ -1,4 +1,5 @@
 // writers.cpp — the format dispatcher and checks shared by the writers.
+#include "io/atomic_file.hpp"
 #include "warpmesh/writers.hpp"
 
 #include <algorithm>
@@ -6,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <set>
 
 #include <unistd.h>
 
@@ -33,6 +36,108 @@ void check_mesh_arrays(const Mesh& mesh, const std::string& path) {
         if (bad(t[0]) || bad(t[1]) || bad(t[2])) fail("a triangle has a vertex index out of range");
     for (const auto& e : mesh.boundary)
         if (bad(e[0]) || bad(e[1])) fail("a boundary edge has a vertex index out of range");
+    if (mesh.interface_regions.size() != mesh.interfaces.size())
+        fail("interface_regions has " + std::to_string(mesh.interface_regions.size()) + " entries for " +
+             std::to_string(mesh.interfaces.size()) + " interface edges");
+    for (const auto& e : mesh.interfaces)
+        if (bad(e[0]) || bad(e[1])) fail("an interface edge has a vertex index out of range");
+    for (const auto& r : mesh.interface_regions)
+        if (r[0] == r[1]) fail("an interface edge has the same region (" + std::to_string(r[0]) + ") on both sides");
+}
+
+void fill_atomic_file(AtomicFile& f, const std::function<void(std::ostream&)>& body) {
+    try {
+        body(f.stream());
+    } catch (const OutputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw OutputError("cannot write '" + f.path() + "': " + e.what());
+    }
+    f.close();
+}
+
+std::string xml_escape(std::string_view s) {
+    std::string r;
+    for (const char c : s) {
+        switch (c) {
+            case '&': r += "&amp;"; break;
+            case '<': r += "&lt;"; break;
+            case '>': r += "&gt;"; break;
+            case '"': r += "&quot;"; break;
+            case '\'': r += "&apos;"; break;
+            default: r += c;
+        }
+    }
+    return r;
+}
+
+std::vector<std::int32_t> region_tags(const Mesh& mesh) {
+    // Tags come in long runs: compare with the last one before the set lookup.
+    std::set<std::int32_t> tags;
+    for (std::size_t k = 0; k < mesh.region.size(); ++k)
+        if (k == 0 || mesh.region[k] != mesh.region[k - 1]) tags.insert(mesh.region[k]);
+    return {tags.begin(), tags.end()};
+}
+
+std::string region_name(const Mesh& mesh, std::int32_t tag, bool single_region) {
+    for (const auto& [t, name] : mesh.region_names)
+        if (t == tag && !name.empty()) return name;
+    return single_region ? std::string("domain") : "domain_" + std::to_string(tag);
+}
+
+std::vector<EdgeGroup> edge_groups(const Mesh& mesh) {
+    std::vector<EdgeGroup> groups;
+    std::map<std::int32_t, std::size_t> by_tag;  // boundary tag → group
+    for (const std::int32_t t : mesh.boundary_tag) by_tag.try_emplace(t, 0);
+    const bool all_positive = by_tag.empty() || by_tag.begin()->first >= 1;
+    std::int32_t last = 2;
+    for (auto& [t, slot] : by_tag) {
+        slot = groups.size();
+        EdgeGroup g;
+        g.tag = all_positive ? t : static_cast<std::int32_t>(groups.size() + 1);
+        g.name = t == boundary_level_set ? "boundary" : t == boundary_domain ? "domain_border" : "boundary_" + std::to_string(t);
+        last = std::max(last, g.tag);
+        groups.push_back(std::move(g));
+    }
+    for (std::size_t k = 0; k < mesh.boundary.size(); ++k) {
+        EdgeGroup& g = groups[by_tag.at(mesh.boundary_tag[k])];
+        g.index.push_back(k);
+        g.edges.push_back(mesh.boundary[k]);
+    }
+    std::map<std::pair<std::int32_t, std::int32_t>, std::size_t> by_pair;  // {a < b} → group
+    for (const auto& r : mesh.interface_regions) by_pair.try_emplace({std::min(r[0], r[1]), std::max(r[0], r[1])}, 0);
+    for (auto& [pair, slot] : by_pair) {
+        slot = groups.size();
+        EdgeGroup g;
+        g.tag = ++last;
+        g.name = "interface_" + std::to_string(pair.first) + "_" + std::to_string(pair.second);
+        g.interface = true;
+        g.left_region = pair.first, g.right_region = pair.second;
+        groups.push_back(std::move(g));
+    }
+    for (std::size_t k = 0; k < mesh.interfaces.size(); ++k) {
+        const auto& r = mesh.interface_regions[k];
+        const auto& e = mesh.interfaces[k];
+        const bool flip = r[0] > r[1];
+        EdgeGroup& g = groups[by_pair.at({std::min(r[0], r[1]), std::max(r[0], r[1])})];
+        g.index.push_back(k);
+        g.edges.push_back(flip ? std::array<std::int32_t, 2>{e[1], e[0]} : e);
+    }
+    return groups;
+}
+
+std::vector<std::int32_t> vertex_markers(const Mesh& mesh, const std::vector<EdgeGroup>& groups) {
+    constexpr std::int32_t none = std::numeric_limits<std::int32_t>::max();
+    std::vector<std::int32_t> boundary(mesh.vertices.size(), none), interface(mesh.vertices.size(), none);
+    for (const EdgeGroup& g : groups)
+        for (const auto& e : g.edges)
+            for (const std::int32_t v : e) {
+                std::int32_t& m = (g.interface ? interface : boundary)[static_cast<std::size_t>(v)];
+                m = std::min(m, g.tag);
+            }
+    for (std::size_t i = 0; i < boundary.size(); ++i)
+        if (boundary[i] == none) boundary[i] = interface[i] == none ? 0 : interface[i];
+    return boundary;
 }
 
 Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
@@ -96,17 +201,24 @@ std::string triangle_stem(const std::string& path) {
     return stem;
 }
 
+std::string xdmf_facets_path(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return path.substr(0, path.size() - ext.size()) + "_facets" + ext;
+}
+
 }  // namespace detail
 
 namespace {
 
-enum class Format { vtu, msh, triangle, svg, png };
+enum class Format { vtu, msh, xdmf, inp, triangle, svg, png };
 
 // The format named by the (case-insensitive) extension of `path`.
 Format output_format(const std::string& path) {
     const std::string ext = detail::lower_extension(path);
     if (ext == ".vtu") return Format::vtu;
     if (ext == ".msh") return Format::msh;
+    if (ext == ".xdmf") return Format::xdmf;
+    if (ext == ".inp") return Format::inp;
     if (ext == ".node" || ext == ".ele" || ext == ".poly") return Format::triangle;
     if (ext == ".svg") return Format::svg;
     if (ext == ".png") {
@@ -117,7 +229,7 @@ Format output_format(const std::string& path) {
 #endif
     }
     throw OutputError("cannot write '" + path + "': unknown output format '" + ext +
-                      "' (supported: .vtu, .msh, .node/.ele, .svg, .png)");
+                      "' (supported: .vtu, .msh, .xdmf, .inp, .node/.ele, .svg, .png)");
 }
 
 }  // namespace
@@ -136,9 +248,9 @@ void check_writable(const std::string& path) {
         throw OutputError("cannot write '" + path + "': directory '" + dir.string() + "' is not writable");
 }
 
-bool format_carries_cell_data(const std::string& path) {
+bool format_carries_cell_data(const std::string& path, const WriteOptions& options) {
     const Format f = output_format(path);
-    return f == Format::vtu || f == Format::msh;
+    return f == Format::vtu || (f == Format::msh && options.msh.cell_data);
 }
 
 void check_output_path(const std::string& path) {
@@ -147,6 +259,7 @@ void check_output_path(const std::string& path) {
 }
 
 std::vector<std::string> output_files(const std::string& path) {
+    if (detail::lower_extension(path) == ".xdmf") return {path, detail::xdmf_facets_path(path)};
     const std::string stem = detail::triangle_stem(path);
     if (stem == path) return {path};
     return {stem + ".node", stem + ".ele", stem + ".poly"};
@@ -155,7 +268,9 @@ std::vector<std::string> output_files(const std::string& path) {
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
     switch (output_format(path)) {
         case Format::vtu: write_vtu(mesh, path); break;
-        case Format::msh: write_msh(mesh, path); break;
+        case Format::msh: write_msh(mesh, path, options.msh); break;
+        case Format::xdmf: write_xdmf(mesh, path); break;
+        case Format::inp: write_inp(mesh, path); break;
         case Format::triangle: write_triangle(mesh, path); break;
         case Format::svg: write_svg(mesh, path, options.svg); break;
         case Format::png: {
@@ -165,6 +280,10 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
             break;
         }
     }
+}
+
+void write_text_file(const std::string& path, std::string_view text) {
+    write_file_atomically(path, [&](std::ostream& os) { os.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 }  // namespace warpmesh

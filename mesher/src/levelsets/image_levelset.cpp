@@ -13,6 +13,14 @@
 // sign.  On a lattice whose points are the pixel centres (x0 = 0, s = 1) an
 // edge spans no knot and the cut point is u = fa / (fa - fb) — marching
 // squares' linear interpolation, here exact rather than an approximation.
+//
+// With a PixelGeometry (pixel size sx, sy and origin x0, y0) all of this
+// happens in pixel coordinates ((x - x0) / sx, (y - y0) / sy): the
+// interpolant, the knots, the ranges and the region cells.  That map is
+// monotone in each coordinate (so boxes map to boxes that contain every
+// mapped point, rounding included), and for the default geometry it is the
+// identity bit for bit ((x - 0) / 1 == x), so pixel-unit meshes are exactly
+// what they were without it.
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -46,9 +54,19 @@ inline void locate(double t, int n, int& c, double& ft) {
 // ---------------------------------------------------------------------------
 // ImageField
 
-ImageField::ImageField(int w, int h, std::vector<double> field_y_up) : w_(w), h_(h), field_(std::move(field_y_up)) {}
+ImageField::ImageField(int w, int h, std::vector<double> field_y_up, PixelGeometry geometry)
+    : w_(w), h_(h), g_(geometry), field_(std::move(field_y_up)) {}
 
-Box ImageField::bounds() const { return {0.0, 0.0, static_cast<double>(w_ - 1), static_cast<double>(h_ - 1)}; }
+Box ImageField::bounds() const {
+    return {g_.x0, g_.y0, g_.x0 + static_cast<double>(w_ - 1) * g_.sx, g_.y0 + static_cast<double>(h_ - 1) * g_.sy};
+}
+
+std::string ImageField::describe_geometry() const {
+    if (g_.is_pixels()) return {};
+    char buf[160];
+    std::snprintf(buf, sizeof buf, ", pixel %.6g x %.6g, origin (%.6g, %.6g)", g_.sx, g_.sy, g_.x0, g_.y0);
+    return buf;
+}
 
 namespace {
 // Along one pixel row: the value at fraction fx of cell c.
@@ -69,6 +87,10 @@ inline double interpolate(const double* F, int w, int c, double fx, int y, doubl
 
 double ImageField::value(double x, double y) const {
     if (!std::isfinite(x) || !std::isfinite(y)) return std::numeric_limits<double>::quiet_NaN();
+    return value_px(px(x), py(y));
+}
+
+double ImageField::value_px(double x, double y) const {
     int c = 0, r = 0;
     double fx = 0, fy = 0;
     locate(x, w_, c, fx);
@@ -101,7 +123,7 @@ void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::
     for (std::size_t i = 0; i < ni; ++i) {
         const double x = lattice.position(b.i0 + static_cast<std::int64_t>(i), 0).x;
         finite = finite && std::isfinite(x);
-        locate(x, w_, col[i], colf[i]);
+        locate(px(x), w_, col[i], colf[i]);
     }
     if (!finite) return LevelSet::sample_block(lattice, b, out);  // value() reports NaN where it belongs
     // v0 or v1 of interpolate() on pixel row `row`, for every column.
@@ -123,7 +145,7 @@ void ImageField::sample_block(const Lattice& lattice, const PointBlock& b, std::
             }
             int r = 0;
             double fy = 0;
-            locate(y, h_, r, fy);
+            locate(py(y), h_, r, fy);
             const double* row0 = field_.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(w_);
             if (r != r0) horizontal(row0, h0), r0 = r;
             if (fy == 0) {  // interpolate() returns v0 (p00 itself when fx = 0 too)
@@ -184,11 +206,11 @@ Range ImageField::range(const Box& box) const {
     if (!(std::isfinite(box.xmin) && std::isfinite(box.xmax) && std::isfinite(box.ymin) && std::isfinite(box.ymax)))
         return {-inf, inf};
     // f on the box is f on the box clamped to the pixel-centre rectangle (f
-    // is extended as a constant beyond it).
-    const double x0 = std::clamp(box.xmin, 0.0, static_cast<double>(w_ - 1)),
-                 x1 = std::clamp(box.xmax, 0.0, static_cast<double>(w_ - 1)),
-                 y0 = std::clamp(box.ymin, 0.0, static_cast<double>(h_ - 1)),
-                 y1 = std::clamp(box.ymax, 0.0, static_cast<double>(h_ - 1));
+    // is extended as a constant beyond it), in pixel coordinates.
+    const double x0 = std::clamp(px(box.xmin), 0.0, static_cast<double>(w_ - 1)),
+                 x1 = std::clamp(px(box.xmax), 0.0, static_cast<double>(w_ - 1)),
+                 y0 = std::clamp(py(box.ymin), 0.0, static_cast<double>(h_ - 1)),
+                 y1 = std::clamp(py(box.ymax), 0.0, static_cast<double>(h_ - 1));
     const int c0 = static_cast<int>(std::floor(x0)), c1 = static_cast<int>(std::ceil(x1)),
               r0 = static_cast<int>(std::floor(y0)), r1 = static_cast<int>(std::ceil(y1));
     double lo = inf, hi = -inf;
@@ -253,7 +275,10 @@ double ImageField::cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const {
     if (axis < 0 || !std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y))
         return bracketed_root(*this, a, b, fa, fb);
 
-    return knots::zero_on_edge(a, b, axis, axis == 0 ? w_ : h_, fa, fb, [this](double x, double y) { return value(x, y); });
+    // In pixel coordinates, where the knots are the integers.
+    const Vec2 pa{px(a.x), py(a.y)}, pb{px(b.x), py(b.y)};
+    return knots::zero_on_edge(pa, pb, axis, axis == 0 ? w_ : h_, fa, fb,
+                               [this](double x, double y) { return value_px(x, y); });
 }
 
 // ---------------------------------------------------------------------------
@@ -280,10 +305,24 @@ std::string format_number(double v) {
     os << v;
     return os.str();
 }
+
+// Pixel sizes positive and finite, and the origin within 2^24 pixels (see
+// region_in: the coordinates' rounding must stay far below a pixel).
+void check_geometry(const PixelGeometry& g, int w, int h) {
+    if (g.is_pixels()) return;
+    if (!(g.sx > 0 && g.sy > 0 && std::isfinite(g.sx) && std::isfinite(g.sy) && g.sx < 1e100 && g.sy < 1e100 &&
+          g.sx > 1e-100 && g.sy > 1e-100))
+        throw InputError("pixel size " + format_number(g.sx) + " x " + format_number(g.sy) +
+                         " is not positive and finite");
+    const double far = 0x1p24;
+    if (!(std::abs(g.x0 / g.sx) <= far && std::abs(g.y0 / g.sy) <= far && w < far && h < far))
+        throw InputError("origin (" + format_number(g.x0) + ", " + format_number(g.y0) + ") lies more than 2^24 pixels " +
+                         "from the image; coordinates would lose precision");
+}
 }  // namespace
 
-ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside_above)
-    : ImageField(image.width, image.height, threshold_field(image, iso, inside_above)),
+ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside_above, PixelGeometry geometry)
+    : ImageField(image.width, image.height, threshold_field(image, iso, inside_above), geometry),
       iso_(iso),
       above_(inside_above),
       maxval_(image.maxval),
@@ -291,10 +330,19 @@ ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside
     build_range_pyramid();
 }
 
+ThresholdLevelSet::ThresholdLevelSet(int w, int h, const std::vector<double>& values_y_up, double iso,
+                                     bool inside_above, std::string source, PixelGeometry geometry, int maxval)
+    : ImageField(w, h, {}, geometry), iso_(iso), above_(inside_above), maxval_(maxval), source_(std::move(source)) {
+    field_.resize(values_y_up.size());
+    for (std::size_t k = 0; k < values_y_up.size(); ++k)
+        field_[k] = inside_above ? iso - values_y_up[k] : values_y_up[k] - iso;
+    build_range_pyramid();
+}
+
 std::string ThresholdLevelSet::describe() const {
-    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + ", maxval " +
-           std::to_string(maxval_) + "), inside where the bilinear intensity is " + (above_ ? "above " : "below ") +
-           format_number(iso_);
+    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) +
+           (maxval_ >= 0 ? ", maxval " + std::to_string(maxval_) : std::string()) + describe_geometry() +
+           "), inside where the bilinear intensity is " + (above_ ? "above " : "below ") + format_number(iso_);
 }
 
 // ---------------------------------------------------------------------------
@@ -410,8 +458,8 @@ std::string list_labels(const std::vector<int>& labels, std::size_t limit = 12) 
 
 }  // namespace
 
-LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool nonzero)
-    : ImageField(image.width, image.height, {}), labels_(std::move(labels)), nonzero_(nonzero), source_(image.source) {
+LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool nonzero, PixelGeometry geometry)
+    : ImageField(image.width, image.height, {}, geometry), labels_(std::move(labels)), nonzero_(nonzero), source_(image.source) {
     std::vector<std::uint8_t> selected(65536, 0);
     if (nonzero_)
         std::fill(selected.begin() + 1, selected.end(), 1);
@@ -488,8 +536,14 @@ LabelLevelSet::LabelLevelSet(const Image& image, std::vector<int> labels, bool n
 // union shrunk by a margin, 2^-30 of the image's size: far above the rounding
 // of a centroid of three vertices in it (a few ulps of the coordinates), so
 // such a centroid stays in the cells, and far below a pixel.
-std::optional<RegionCell> LabelLevelSet::region_in(const Box& box) const {
-    const double m = 0x1p-30 * (1 + std::max(w_, h_));
+//
+// With a pixel geometry the cells are found in pixel coordinates and
+// `within` mapped back (x0 + v sx: exact in pixel units).  The margin grows
+// with the origin's distance in pixels, which the coordinates' rounding is
+// relative to; make_image_levelset bounds that distance by 2^24 pixels.
+std::optional<RegionCell> LabelLevelSet::region_in(const Box& physical_box) const {
+    const double m = 0x1p-30 * (1 + std::max(w_, h_) + std::max(std::abs(g_.x0 / g_.sx), std::abs(g_.y0 / g_.sy)));
+    const Box box{px(physical_box.xmin), py(physical_box.ymin), px(physical_box.xmax), py(physical_box.ymax)};
     if (!(box.xmin >= m && box.ymin >= m && box.xmax < w_ && box.ymax < h_)) return std::nullopt;
     const int c0 = static_cast<int>(box.xmin), r0 = static_cast<int>(box.ymin);
     const int c1 = static_cast<int>(box.xmax), r1 = static_cast<int>(box.ymax);
@@ -499,13 +553,16 @@ std::optional<RegionCell> LabelLevelSet::region_in(const Box& box) const {
     for (int r = r0; r <= r1; ++r)
         for (int c = c0; c <= c1; ++c)
             if (cell_label_[index(c, r)] != l) return std::nullopt;
-    const RegionCell cell{l, {c0 + m, r0 + m, c1 + 1 - m, r1 + 1 - m}};
-    if (!cell.holds(box)) return std::nullopt;
+    const RegionCell cell{l,
+                          {g_.x0 + (c0 + m) * g_.sx, g_.y0 + (r0 + m) * g_.sy, g_.x0 + (c1 + 1 - m) * g_.sx,
+                           g_.y0 + (r1 + 1 - m) * g_.sy}};
+    if (!cell.holds(physical_box)) return std::nullopt;
     return cell;
 }
 
 std::int32_t LabelLevelSet::region_at(double x, double y) const {
     if (!std::isfinite(x) || !std::isfinite(y)) return label_[nearest_in_[0]];
+    x = px(x), y = py(y);
     x = std::clamp(x, 0.0, static_cast<double>(w_ - 1));
     y = std::clamp(y, 0.0, static_cast<double>(h_ - 1));
     // The nearest region pixel among the (up to) four centres around (x, y);
@@ -535,8 +592,8 @@ std::int32_t LabelLevelSet::region_at(double x, double y) const {
 }
 
 std::string LabelLevelSet::describe() const {
-    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + "), region = " +
-           (nonzero_ ? std::string("nonzero pixels") : "labels {" + list_labels(labels_, 20) + "}") +
+    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + describe_geometry() +
+           "), region = " + (nonzero_ ? std::string("nonzero pixels") : "labels {" + list_labels(labels_, 20) + "}") +
            ", f = bilinear signed distance to the pixel centres of the other phase, minus 1/2";
 }
 
@@ -547,13 +604,45 @@ std::unique_ptr<LevelSet> make_image_levelset(const Image& image, const ImageLev
     if (image.width <= 0 || image.height <= 0 ||
         image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
         throw InputError("image '" + image.source + "': empty or inconsistent image");
+    check_geometry(options.geometry, image.width, image.height);
     if (options.mode == ImageMode::threshold) {
         const double iso = options.iso.value_or(image.maxval / 2.0);
         if (!std::isfinite(iso)) throw InputError("iso value must be a finite number");
-        return std::make_unique<ThresholdLevelSet>(image, iso, options.inside_above);
+        return std::make_unique<ThresholdLevelSet>(image, iso, options.inside_above, options.geometry);
     }
     if (!options.label_nonzero && options.labels.empty()) throw InputError("label mode needs at least one label");
-    return std::make_unique<LabelLevelSet>(image, options.labels, options.label_nonzero);
+    return std::make_unique<LabelLevelSet>(image, options.labels, options.label_nonzero, options.geometry);
+}
+
+std::unique_ptr<LevelSet> make_raster_levelset(int w, int h, const std::vector<double>& values,
+                                               const std::string& source, const ImageLevelSetOptions& options,
+                                               int maxval) {
+    if (w <= 0 || h <= 0 || values.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
+        throw InputError("'" + source + "': empty or inconsistent slice");
+    if (options.mode == ImageMode::threshold) {
+        check_geometry(options.geometry, w, h);
+        const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+        const double iso = options.iso.value_or(maxval >= 0 ? maxval / 2.0 : *lo / 2 + *hi / 2);
+        if (!std::isfinite(iso)) throw InputError("iso value must be a finite number");
+        return std::make_unique<ThresholdLevelSet>(w, h, values, iso, options.inside_above, source, options.geometry,
+                                                   maxval);
+    }
+    // Label mode: the values as a 16-bit image, row 0 at the top.
+    Image img;
+    img.width = w, img.height = h, img.source = source, img.maxval = 1;
+    img.pixels.resize(values.size());
+    for (int y = 0; y < h; ++y)
+        for (int c = 0; c < w; ++c) {
+            const double v = values[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)];
+            if (!(v >= 0 && v <= 65535 && v == std::floor(v)))
+                throw InputError("'" + source + "': label mode needs integer values in 0..65535, but pixel (" +
+                                 std::to_string(c) + ", " + std::to_string(y) + ") is " + format_number(v) +
+                                 " (use --iso for a threshold instead)");
+            const auto u = static_cast<std::uint16_t>(v);
+            img.pixels[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)] = u;
+            img.maxval = std::max<int>(img.maxval, u);
+        }
+    return make_image_levelset(img, options);
 }
 
 std::vector<int> parse_label_list(const std::string& list) {

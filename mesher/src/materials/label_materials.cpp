@@ -71,6 +71,7 @@ public:
     std::int32_t tag(int m) const override { return tags_[static_cast<std::size_t>(m)]; }
     std::string name(int m) const override { return m == 0 ? "background" : "label_" + std::to_string(tag(m)); }
     Box bounds() const override { return {0.0, 0.0, static_cast<double>(w_ - 1), static_cast<double>(h_ - 1)}; }
+    bool bounds_are_domain() const override { return true; }
     std::string describe() const override;
     double phi(int m, double x, double y) const override;
     int material_at(double x, double y) const override;

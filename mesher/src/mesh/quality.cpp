@@ -9,7 +9,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "warpmesh/atomic_file.hpp"
+#include "io/atomic_file.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

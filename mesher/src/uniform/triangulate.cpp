@@ -27,6 +27,7 @@
 #include <numeric>
 
 #include "warpmesh/lattice.hpp"
+#include "mesh_assembly.hpp"
 #include "square_code.hpp"
 
 namespace warpmesh {
@@ -35,7 +36,7 @@ namespace {
 // Per-point state bits.
 constexpr std::uint8_t inside_bit = 1, warped_bit = 2, zero_bit = 4;
 
-using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corner, sides, covers
+using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corner, square_boundary_edges
 
 }  // namespace
 
@@ -163,10 +164,6 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             }
         }
     }
-    if (want_keyed) {
-        stats->keyed_squares->clear();
-        for (const auto& row : keyed_rows) stats->keyed_squares->insert(stats->keyed_squares->end(), row.begin(), row.end());
-    }
     mesh.region.resize(mesh.triangles.size());  // every element written below
     const bool tags = f.tags_regions();
 #pragma omp parallel for schedule(static)
@@ -185,8 +182,9 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     // A side of square (i, j) is covered when the triangle of the chosen
     // diagonal that holds it is emitted.  It is a boundary edge when exactly
     // one of the two squares sharing it covers it (the lattice's outer border
-    // has one square only: tag `boundary_domain`).  A diagonal is a boundary
-    // edge when exactly one of the square's two triangles is emitted.
+    // has one square only), a diagonal when exactly one of the square's two
+    // triangles is emitted: square_boundary_edges (square_code.hpp), shared
+    // with the graded triangulation.
     std::vector<std::vector<std::array<std::int32_t, 3>>> per_row(static_cast<std::size_t>(ny));
 #pragma omp parallel for schedule(dynamic, 16)
     for (std::int64_t j = 0; j < ny; ++j) {
@@ -206,38 +204,18 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             auto edge = [&](int from, int to, std::int32_t tag) {
                 out.push_back({vid[static_cast<std::size_t>(p[from])], vid[static_cast<std::size_t>(p[to])], tag});
             };
-            // Neighbour across each side: below, right, above, left.
-            const std::array<std::uint8_t, 4> nb{square_code(i, j - 1), square_code(i + 1, j), square_code(i, j + 1),
-                                                 square_code(i - 1, j)};
-            const std::array<bool, 4> border{j == 0, i == nx - 1, j == ny - 1, i == 0};
-            const std::array<int, 4> opposite{2, 3, 0, 1};
-            for (int sd = 0; sd < 4; ++sd) {
-                if (!covers(c, sd)) continue;
-                if (border[static_cast<std::size_t>(sd)])
-                    edge(sides[static_cast<std::size_t>(sd)].from, sides[static_cast<std::size_t>(sd)].to, boundary_domain);
-                else if (!covers(nb[static_cast<std::size_t>(sd)], opposite[static_cast<std::size_t>(sd)]))
-                    edge(sides[static_cast<std::size_t>(sd)].from, sides[static_cast<std::size_t>(sd)].to, boundary_level_set);
-            }
-            const int emitted = (c & tri0_bit) + ((c & tri1_bit) >> 1);
-            if (emitted == 1) {
-                // The diagonal's direction inside the emitted triangle:
-                // ABD: D→A, ADC: A→D, ABC: B→C, BDC: C→B.
-                const bool bc = c & bc_bit, first = c & tri0_bit;
-                if (!bc) first ? edge(D, A, boundary_level_set) : edge(A, D, boundary_level_set);
-                else first ? edge(B, C, boundary_level_set) : edge(C, B, boundary_level_set);
-            }
+            const std::array<bool, 4> border{j == 0, i == nx - 1, j == ny - 1, i == 0};  // below, right, above, left
+            square_boundary_edges(
+                c, [&](int sd) { return border[static_cast<std::size_t>(sd)]; },
+                [&](int sd) {
+                    const auto& d = side_step[static_cast<std::size_t>(sd)];
+                    return square_code(i + d[0], j + d[1]);
+                },
+                edge);
         }
     }
-    for (const auto& r : per_row)
-        for (const auto& e : r) {
-            mesh.boundary.push_back({e[0], e[1]});
-            mesh.boundary_tag.push_back(e[2]);
-        }
-
-    if (stats) {
-        stats->warped_squares = warped_squares;
-        stats->forced_diagonals = forced;
-    }
+    append_boundary(mesh, per_row);
+    record_stats(stats, warped_squares, forced, keyed_rows);
     return mesh;
 }
 

@@ -22,17 +22,13 @@ struct Key {
     std::array<CornerState, 4> s;
 };
 
-// 8 characters: per corner A, B, C, D the sign (- 0 +) and the warp
-// (s = stay, R = +x, L = -x, U = +y, D = -y).
-std::string key_code(const Key& k);
+// A key's 8-character code is key_code(key.s) (certified.hpp).
 // All keys satisfying the consistency rules of proofs/README.md, in the
 // canonical order (corner A's state most significant).
 std::vector<Key> consistent_keys();
-// Whether some flat 12-point stencil sign pattern is consistent with the key
-// (computed from the exhaustive enumeration of flat patterns).
+// Whether some affine function has the key's corner signs and the opposite
+// sign at the outside neighbour of every outward slide (stencil_admits_flat).
 bool flat_compatible(const Key& k);
-// Number of distinct sign patterns of affine functions on the 12-point stencil.
-std::size_t flat_pattern_count();
 // The warped corners, in order: the variables t_0.. of the key's box [0,1/2]^m.
 std::vector<int> key_vars(const Key& k);
 
@@ -41,7 +37,7 @@ struct Leaf {
     std::uint8_t diag = 0;
     int k = 0;
     std::array<std::int64_t, 8> num{};
-    double threshold = 0;  // non-zero: the diagonal was decided by the threshold test (see prover.cpp)
+    double threshold = 0;  // non-zero: the diagonal was decided by the threshold test (see bound.cpp)
 };
 
 struct KeyProof {

@@ -18,13 +18,9 @@
 #include <stdexcept>
 #include <string>
 
-namespace warpmesh {
+#include "warpmesh/errors.hpp"
 
-// Any failure to produce an output file (writers, reports).  The message names
-// the path and the reason.
-struct OutputError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+namespace warpmesh {
 
 // One file being written atomically.  Construction creates the temporary;
 // stream() is where the content goes; commit() checks, closes and renames.
@@ -63,5 +59,12 @@ private:
 // rethrown as OutputError("cannot write 'PATH': <what>") after the temporary is
 // removed (an OutputError from the body is rethrown unchanged).
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& body);
+
+namespace detail {
+// Writes `f`'s content with body(f.stream()) and closes it (not yet renamed:
+// for formats of several files, each f.commit() once all are complete).  Any
+// exception from the body becomes OutputError("cannot write 'PATH': …").
+void fill_atomic_file(AtomicFile& f, const std::function<void(std::ostream&)>& body);
+}  // namespace detail
 
 }  // namespace warpmesh

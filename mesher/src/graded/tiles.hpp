@@ -1,5 +1,5 @@
 // tiles.hpp — the graded mesher's front end: f is sampled only where the
-// level set can pass.
+// level set can pass.  Private to mesher/src.
 //
 // The uniform front end (uniform.hpp) samples f at every lattice point; the
 // graded mesh has O(boundary) triangles, so that work would dominate it.  Here
@@ -12,7 +12,7 @@
 // follow the boundary too:
 //
 //   * lo > 0 or hi < 0: every point of the tile has that sign σ and so has
-//     every neighbour, so no point of the tile is critical (graded.hpp): none
+//     every neighbour, so no point of the tile is critical (quadtree.hpp): none
 //     is zero-valued, none is an endpoint of a cut edge, none warps.  The
 //     tile is *uniform* and is never sampled.
 //   * otherwise the tile is *sampled*: f at its (T+1)^2 points, their signs,

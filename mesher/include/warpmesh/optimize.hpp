@@ -1,0 +1,127 @@
+// optimize.hpp — a monotone quality pass after meshing (--optimize).
+//
+// What it does.  The lattice-warping mesh is right isosceles triangles
+// (45°, 45°, 90°) everywhere except in the band of warped squares along the
+// boundary, where the certified floor is 18.43° (flat stencils) or 15° and
+// measured minima are 20–28°.  optimize_mesh moves the vertices of that band,
+// and the interior vertices one edge away from it, to raise each vertex star's
+// worst angle, and flips interior edges of the band:
+//
+//  * the band: every triangle that is not right isosceles (to 1e-9 relative)
+//    starts it; its vertices and their neighbours (one ring) are *active*;
+//  * active interior vertices move freely;
+//  * active vertices on the level-set boundary (tag 1, |f| <= 1e-9 spacing)
+//    slide along the level set: a step along the tangent (perpendicular to a
+//    central-difference gradient of f), then back onto f = 0 by the level
+//    set's own cut_parameter on a segment along the normal — the root finder
+//    that placed the cut points, so they stay on the level set to its accuracy;
+//  * vertices on the lattice's outer border (tag 2) slide along that border
+//    line; vertices where two boundary kinds meet, lattice corners, boundary
+//    vertices off the level set, pinch vertices (more than two boundary
+//    edges) and endpoints of Mesh::interfaces do not move;
+//  * an interior edge is flipped only when both triangles have the same
+//    region and the edge is not an interface: boundary and interface edges
+//    stay edges, and regions and boundary tags are unchanged.
+//
+// The quality of an angle θ (degrees) is g(θ) = min(θ, 140 − θ): it rewards
+// raising small angles and, for angles beyond 70°, lowering large ones (g = 30
+// at 30° and at 110°: the targets); a triangle's quality is the least g of its
+// angles, a star's the least over its triangles.  A move of vertex v follows
+// the steepest ascent of the star quality (the minimum-norm element of the
+// convex hull of the gradients of the nearly-active angles, restricted to the
+// vertex's line or the level set's tangent), with a step-halving line search.
+//
+// The monotone rule (the contract that keeps the proof meaningful).  A move
+// is accepted only if
+//   (1) no triangle of the star inverts (twice the area stays > 0),
+//   (2) the smallest angle among the star's triangles does not decrease,
+//   (3) the star quality strictly increases (so the pass terminates),
+//   (4) for a boundary vertex, its boundary edges stay within the mesh's
+//       largest boundary distance to f = 0 before the pass (same measure as
+//       measure_fidelity): the boundary's Hausdorff distance never grows.
+// A flip is accepted only if the smallest angle of the pair strictly
+// increases and the pair's quality does not decrease.  Hence the mesh's
+// minimum angle never decreases, and every triangle stays at or above the
+// mesh's certified floor (the least certified_min_angle).
+//
+// Certified per-triangle data.  If the mesh has cell data
+// "certified_min_angle", it is kept a valid lower bound per triangle: when a
+// move or flip leaves a triangle below its own value, the value is lowered to
+// the least value among the triangles of that star (or pair), whose old
+// minimum angle the rule says the triangle still reaches.  The values never
+// fall below the mesh's certified floor.  These transferred bounds rest on
+// floating-point angle comparisons, not on the interval proof; the proof
+// certifies the unoptimised squares.  optimize_mesh checks at the end that
+// every triangle is >= its value and >= the floor (std::logic_error if not:
+// a bug).
+//
+// Determinism.  Vertices are visited Gauss-Seidel in increasing index order,
+// flips in increasing triangle order, with no dependence on the thread count
+// (only the read-only passes that find the band run in parallel, and they
+// produce ordered lists), so the result is the same for any number of threads.
+// Bounded: at most max_sweeps sweeps; a vertex is revisited only if its star
+// changed since its last visit, and left alone once its star's quality is
+// >= 42° (a band as good as that costs the meshing's time or less).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "warpmesh/levelset.hpp"
+#include "warpmesh/mesh.hpp"
+
+namespace warpmesh {
+
+// One accepted change, for observers (tests): a moved vertex with its old and
+// new position and the triangles of its star, or a flip with the old and new
+// triangle pair.  The mesh is the state after the change.
+struct OptimizeEvent {
+    bool flip = false;
+    std::int32_t vertex = -1;  // moves
+    Vec2 from{}, to{};
+    std::span<const std::size_t> star;
+    std::array<std::array<std::int32_t, 3>, 2> before{}, after{};  // flips
+};
+
+struct OptimizeOptions {
+    double spacing = 1;       // the lattice spacing (tolerances, step sizes)
+    int max_sweeps = 12;      // Gauss-Seidel sweeps at most (>= 0)
+    bool flips = true;        // flip interior edges of the band
+    // The mesh's certified floor when it has no "certified_min_angle" cell
+    // data (e.g. CertifiedSummary::min_deg); NaN: unknown.
+    double certified_floor = std::numeric_limits<double>::quiet_NaN();
+    std::function<void(const Mesh&, const OptimizeEvent&)> observer;  // called after every accepted change
+};
+
+struct OptimizeReport {
+    std::int64_t triangles = 0;
+    std::int64_t band_triangles = 0;   // triangles with an active vertex
+    std::int64_t active_vertices = 0;  // of which fixed: not counted
+    std::int64_t moves = 0, flips = 0;
+    int sweeps = 0;
+    // Over all triangles of the mesh, degrees.
+    double min_angle_before = 0, min_angle_after = 0;
+    double max_angle_before = 0, max_angle_after = 0;
+    double mean_min_angle_before = 0, mean_min_angle_after = 0;
+    // The least certified_min_angle of the mesh, else options.certified_floor.
+    double certified_floor = 0;
+    // The largest distance of a level-set boundary edge to f = 0 (the measure
+    // of measure_fidelity), before and after.
+    double boundary_distance_before = 0, boundary_distance_after = 0;
+    double seconds = 0;
+};
+
+OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOptions& options = {});
+
+// The report as text lines (for stdout) and as a JSON object (the report's
+// "optimize" field).
+std::string optimize_text(const OptimizeReport& report);
+std::string optimize_json(const OptimizeReport& report);
+
+}  // namespace warpmesh

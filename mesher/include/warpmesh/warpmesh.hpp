@@ -1,0 +1,37 @@
+// warpmesh.hpp — the whole public API in one include.
+//
+//   pipeline.hpp        mesh(level set, options) → mesh + certified bounds + report
+//   levelset.hpp        the region to mesh: f < 0 inside (implement it for your own f)
+//   shapes.hpp          analytic shapes from strings: "circle:0,0,1", "diff(S;S)", ...
+//   image.hpp           read_image / decode_image: PGM, PNG (warpmesh::io)
+//   image_levelset.hpp  images → level sets: threshold or labels
+//   materials.hpp       multi-material fields (label images, shapes) for mesh(field, options)
+//   mesh.hpp            the mesh: vertices, triangles, regions, boundary, interfaces
+//   certified.hpp       the proofs' angle bounds and the certification summary
+//   quality.hpp         the quality report (angles, histogram), JSON and text
+//   writers.hpp         .vtu .msh .node/.ele .svg .png (warpmesh::io)
+//   mesh_checks.hpp     the mesh invariants, checked from scratch
+//   optimize.hpp        the monotone optimisation pass (MeshOptions::optimize)
+//   resolution.hpp      is the spacing fine enough for the input?
+//   errors.hpp          InputError, OutputError
+//
+// The stages below mesh() (uniform.hpp, graded.hpp, lattice.hpp) are public
+// too, for callers who drive the pipeline themselves; they are not included
+// here.
+#pragma once
+
+#include "warpmesh/certified.hpp"
+#include "warpmesh/errors.hpp"
+#include "warpmesh/image.hpp"
+#include "warpmesh/image_levelset.hpp"
+#include "warpmesh/levelset.hpp"
+#include "warpmesh/materials.hpp"
+#include "warpmesh/mesh.hpp"
+#include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/optimize.hpp"
+#include "warpmesh/pipeline.hpp"
+#include "warpmesh/quality.hpp"
+#include "warpmesh/resolution.hpp"
+#include "warpmesh/shapes.hpp"
+#include "warpmesh/volume.hpp"
+#include "warpmesh/writers.hpp"

@@ -1,0 +1,104 @@
+// volume_detail.hpp — what the volume readers (nrrd.cpp, nifti.cpp,
+// tiff.cpp, volume_io.cpp) share: size checks before allocating, and raw
+// samples of the eight supported types to doubles.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/volume.hpp"
+
+namespace warpmesh::volume_detail {
+
+[[noreturn]] inline void fail(const std::string& format, const std::string& name, const std::string& what) {
+    throw InputError(format + " '" + name + "': " + what);
+}
+
+enum class Sample { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+inline std::size_t sample_bytes(Sample t) {
+    switch (t) {
+        case Sample::i8: case Sample::u8: return 1;
+        case Sample::i16: case Sample::u16: return 2;
+        case Sample::i32: case Sample::u32: case Sample::f32: return 4;
+        case Sample::f64: return 8;
+    }
+    return 1;
+}
+
+// The voxel count of `dims` (each >= 1), refused above the limits — voxels,
+// and the bytes of the decoded doubles and of the raw samples — with the
+// products computed without overflow.
+inline std::uint64_t checked_voxels(const std::string& format, const std::string& name,
+                                    std::span<const std::uint64_t> dims, std::size_t raw_bytes_per_voxel,
+                                    const VolumeLimits& limits) {
+    std::uint64_t n = 1;
+    std::string shown;
+    bool over = false;
+    for (const std::uint64_t d : dims) {
+        shown += (shown.empty() ? "" : " x ") + std::to_string(d);
+        if (d == 0) fail(format, name, "malformed header: a zero size (" + shown + ")");
+        if (!over && n > limits.max_voxels / d) over = true;
+        if (!over) n *= d;
+    }
+    if (over || n > limits.max_voxels)
+        fail(format, name, "dimensions " + shown + " exceed the limit of " + std::to_string(limits.max_voxels) + " voxels");
+    const std::uint64_t per = std::max<std::uint64_t>(raw_bytes_per_voxel, sizeof(double));
+    if (n > limits.max_bytes / per)
+        fail(format, name, "dimensions " + shown + " need more than the limit of " + std::to_string(limits.max_bytes) +
+                               " bytes");
+    return n;
+}
+
+// n samples of type t from `raw` (at least n * sample_bytes(t) bytes), byte
+// order swapped when `swap`, as doubles.  Sets *integer to false if some
+// value is not an integer; refuses NaN and infinities.
+inline std::vector<double> decode_samples(const std::string& format, const std::string& name,
+                                          std::span<const std::uint8_t> raw, Sample t, bool swap, std::size_t n,
+                                          bool* integer) {
+    const std::size_t b = sample_bytes(t);
+    std::vector<double> out(n);
+    bool all_int = true;
+    for (std::size_t k = 0; k < n; ++k) {
+        std::uint8_t v[8];
+        const std::uint8_t* p = raw.data() + k * b;
+        for (std::size_t q = 0; q < b; ++q) v[q] = swap ? p[b - 1 - q] : p[q];
+        double x = 0;
+        switch (t) {
+            case Sample::i8: { std::int8_t y; std::memcpy(&y, v, 1); x = y; break; }
+            case Sample::u8: x = v[0]; break;
+            case Sample::i16: { std::int16_t y; std::memcpy(&y, v, 2); x = y; break; }
+            case Sample::u16: { std::uint16_t y; std::memcpy(&y, v, 2); x = y; break; }
+            case Sample::i32: { std::int32_t y; std::memcpy(&y, v, 4); x = y; break; }
+            case Sample::u32: { std::uint32_t y; std::memcpy(&y, v, 4); x = y; break; }
+            case Sample::f32: {
+                float y;
+                std::memcpy(&y, v, 4);
+                x = y;
+                all_int = all_int && x == std::floor(x);
+                break;
+            }
+            case Sample::f64: std::memcpy(&x, v, 8); all_int = all_int && x == std::floor(x); break;
+        }
+        if (!std::isfinite(x))
+            fail(format, name, "voxel " + std::to_string(k) + " is not a finite number (NaN or infinity)");
+        out[k] = x;
+    }
+    *integer = all_int;
+    return out;
+}
+
+inline bool host_is_little_endian() {
+    const std::uint16_t one = 1;
+    std::uint8_t b;
+    std::memcpy(&b, &one, 1);
+    return b == 1;
+}
+
+}  // namespace warpmesh::volume_detail

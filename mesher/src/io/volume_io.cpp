@@ -1,0 +1,138 @@
+// volume_io.cpp — read_volume: recognise the format by its content and hand
+// the bytes to its reader (nrrd.cpp, nifti.cpp, tiff.cpp; PGM and PNG through
+// image_io.cpp as one slice); gzip inflation shared by the NRRD and NIfTI
+// readers.
+#include <zlib.h>
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string_view>
+
+#include "volume_detail.hpp"
+#include "warpmesh/image.hpp"
+
+namespace warpmesh {
+namespace {
+
+bool starts_with(std::span<const std::uint8_t> b, std::string_view magic) {
+    return b.size() >= magic.size() && std::memcmp(b.data(), magic.data(), magic.size()) == 0;
+}
+
+// The first four bytes as a 32-bit integer in either byte order.
+bool first_int_is(std::span<const std::uint8_t> b, std::uint32_t v) {
+    if (b.size() < 4) return false;
+    const std::uint32_t le = b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t{b[3]} << 24;
+    const std::uint32_t be = b[3] | b[2] << 8 | b[1] << 16 | std::uint32_t{b[0]} << 24;
+    return le == v || be == v;
+}
+
+// A PGM or PNG image as a one-slice volume: i = column, j = H - 1 - row.
+Volume image_volume(const Image& img, const char* format) {
+    Volume v;
+    v.dims = {img.width, img.height, 1};
+    v.values.resize(img.pixels.size());
+    const std::size_t W = static_cast<std::size_t>(img.width);
+    for (int r = 0; r < img.height; ++r)
+        for (int c = 0; c < img.width; ++c)
+            v.values[static_cast<std::size_t>(img.height - 1 - r) * W + static_cast<std::size_t>(c)] = img.at(c, r);
+    v.format = format;
+    v.source = img.source;
+    v.maxval = img.maxval;
+    return v;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t max_out, const std::string& name) {
+    std::vector<std::uint8_t> out;
+    z_stream zs{};
+    if (inflateInit2(&zs, 15 + 32) != Z_OK) throw InputError("'" + name + "': cannot initialise zlib");
+    struct End {
+        z_stream* z;
+        ~End() { inflateEnd(z); }
+    } end{&zs};
+    std::size_t pos = 0;
+    // Grow the output as data arrives (never beyond max_out): a small corrupt
+    // stream cannot make us allocate what its header merely claims.
+    while (out.size() < max_out) {
+        if (zs.avail_in == 0) {
+            if (pos >= in.size()) break;  // input ends: the caller sees a short result
+            const std::size_t chunk = std::min<std::size_t>(in.size() - pos, 1u << 30);
+            zs.next_in = const_cast<Bytef*>(in.data() + pos);
+            zs.avail_in = static_cast<uInt>(chunk);
+            pos += chunk;
+        }
+        const std::size_t have = out.size();
+        const std::size_t want = std::min<std::size_t>({max_out - have, std::max<std::size_t>(have, 1u << 16), 1u << 30});
+        out.resize(have + want);
+        zs.next_out = out.data() + have;
+        zs.avail_out = static_cast<uInt>(want);
+        const int rc = inflate(&zs, Z_NO_FLUSH);
+        out.resize(have + (want - zs.avail_out));
+        if (rc == Z_STREAM_END) {
+            // A gzip file may hold several members, one after the other.
+            if (zs.avail_in == 0 && pos >= in.size()) break;
+            if (inflateReset(&zs) != Z_OK) break;
+            continue;
+        }
+        if (rc == Z_BUF_ERROR && zs.avail_in == 0 && pos >= in.size()) break;
+        if (rc != Z_OK && rc != Z_BUF_ERROR)
+            throw InputError("'" + name + "': corrupt gzip data (" + (zs.msg ? zs.msg : "zlib error " + std::to_string(rc)) + ")");
+    }
+    return out;
+}
+
+std::optional<Vec3> axis_aligned(const Vec3& d) {
+    const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(n > 0) || !std::isfinite(n)) return std::nullopt;
+    int p = 0;
+    for (int q = 1; q < 3; ++q)
+        if (std::abs(d[q]) > std::abs(d[p])) p = q;
+    Vec3 e{0, 0, 0};
+    for (int q = 0; q < 3; ++q)
+        if (q != p && std::abs(d[q]) > 1e-6 * n) return std::nullopt;
+    e[p] = d[p] > 0 ? 1 : -1;
+    return e;
+}
+
+Volume decode_volume(std::span<const std::uint8_t> bytes, const std::string& name, const VolumeLimits& limits,
+                     const std::string& dir) {
+    if (starts_with(bytes, "NRRD000")) return decode_nrrd(bytes, name, limits, dir);
+    if (first_int_is(bytes, 348) || first_int_is(bytes, 540) || starts_with(bytes, "\x1f\x8b"))
+        return decode_nifti(bytes, name, limits);
+    if (starts_with(bytes, "II*") || starts_with(bytes, std::string_view("MM\0*", 4)) ||
+        starts_with(bytes, std::string_view("II+\0", 4)) || starts_with(bytes, std::string_view("MM\0+", 4)))
+        return decode_tiff(bytes, name, limits);
+    // Everything else is an image (or refused by the image reader, whose
+    // messages name what the bytes look like).
+    try {
+        const Image img = decode_image(bytes, name, limits.max_voxels);  // not empty once decoded
+        return image_volume(img, bytes[0] == 'P' ? "PGM" : "PNG");
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        if (m.find("unsupported format") == std::string::npos) throw;
+        throw InputError(m + ", or a volume: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz) or TIFF");
+    }
+}
+
+Volume read_volume(const std::string& path, const VolumeLimits& limits) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw InputError("'" + path + "': cannot read: is a directory");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("'" + path + "': cannot open: " + std::strerror(errno));
+    std::vector<std::uint8_t> bytes;
+    std::array<char, 1 << 16> buf;
+    while (in) {
+        in.read(buf.data(), buf.size());
+        bytes.insert(bytes.end(), buf.data(), buf.data() + in.gcount());
+    }
+    if (in.bad()) throw InputError("'" + path + "': read error");
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    return decode_volume(bytes, path, limits, dir.empty() ? "." : dir);
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,188 @@
+// write_inp.cpp — Abaqus input file (.inp), which CalculiX reads too.
+//
+//   ** comments (no *HEADING: the file is meant to be *INCLUDEd by a deck,
+//                            which has its own and must have it first)
+//   *NODE                    "id, x, y" (id = vertex index + 1; 2D, z = 0;
+//                            numbers of at most 20 characters, see inp_number)
+//   *ELEMENT, TYPE=CPS3      "id, n1, n2, n3" (id = triangle index + 1,
+//                            nodes counter-clockwise as the format requires)
+//   *ELSET, ELSET=<region>   one per region tag: the region's elements
+//   *NSET, NSET=<group>      one per detail::edge_groups group ("boundary",
+//                            "domain_border", "interface_<a>_<b>"): its nodes
+//   *ELSET, ELSET=_<group>_S<k>, and
+//   *SURFACE, TYPE=ELEMENT, NAME=<group>
+//                            the group's edges as element faces: edge (u, v)
+//                            is face S1, S2 or S3 of the triangle that has
+//                            u → v as its side n1→n2, n2→n3 or n3→n1 (CPS3's
+//                            face numbering); boundary edges have their region
+//                            on the left, so that triangle is inside the
+//                            mesh; an interface surface lies on the faces of
+//                            region a's triangles (the left one).
+//
+// Set and surface names follow detail::region_name and the edge groups' names,
+// made Abaqus-safe: letters, digits and '_' only (others become '_'), starting
+// with a letter (else prefixed "R"), at most 80 characters; Abaqus names are
+// case-insensitive, so a name equal (ignoring case) to an earlier one gets
+// "_<tag>" appended.  Sets list 16 ids per line (the format's limit).  No
+// section, material or step is written: a solver deck adds e.g.
+// "*SOLID SECTION, ELSET=domain, MATERIAL=…" and includes this file.
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "io/atomic_file.hpp"
+#include "warpmesh/writers.hpp"
+
+namespace warpmesh {
+
+namespace {
+
+// `name` as a unique Abaqus name (see the header comment); `used` holds the
+// upper-cased names given so far.
+std::string abaqus_name(const std::string& name, std::int32_t tag, std::set<std::string>& used) {
+    std::string r;
+    for (const char c : name) r += std::isalnum(static_cast<unsigned char>(c)) || c == '_' ? c : '_';
+    if (r.empty() || !std::isalpha(static_cast<unsigned char>(r[0]))) r.insert(r.begin(), 'R');
+    auto upper = [](std::string s) {
+        std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+        return s;
+    };
+    r.resize(std::min<std::size_t>(r.size(), 80));
+    if (used.count(upper(r))) {
+        // (Appended piecewise: GCC 12 warns falsely on "_" + std::to_string.)
+        const std::string number = std::to_string(tag);
+        r.resize(std::min<std::size_t>(r.size(), 80 - 1 - number.size()));
+        r.append(1, '_').append(number);
+        for (int k = 2; used.count(upper(r)); ++k) r.erase(r.rfind('_') + 1).append(std::to_string(k));
+    }
+    used.insert(upper(r));
+    return r;
+}
+
+// 1-based ids, 16 per line.
+void put_ids(detail::TextSink& out, const std::vector<std::uint64_t>& ids) {
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        out << ids[i];
+        out << (i % 16 == 15 || i + 1 == ids.size() ? std::string_view("\n") : std::string_view(", "));
+    }
+}
+
+// `x` in at most 20 characters, the width of CalculiX's number fields (a
+// longer number is a fatal "error reading *NODE"): the shortest decimal that
+// reads back to x when it fits (any |x| in [1e-5, 1e15) with up to 17
+// significant digits does), else the most significant digits that fit (at
+// least 13, a relative rounding of at most 5e-14).
+std::string inp_number(double x) {
+    char buf[64];
+    auto r = std::to_chars(buf, buf + sizeof buf, x);
+    for (int digits = 16; r.ptr - buf > 20 && digits >= 1; --digits)
+        r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
+    return std::string(buf, r.ptr);
+}
+
+std::uint64_t edge_key(std::int32_t u, std::int32_t v) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(u)) << 32) | static_cast<std::uint32_t>(v);
+}
+
+}  // namespace
+
+void write_inp(const Mesh& mesh, std::ostream& os) {
+    detail::check_mesh_arrays(mesh, "<inp stream>");
+    const auto groups = detail::edge_groups(mesh);
+
+    // For every grouped edge u → v, the face (element id, side 1..3) that has it.
+    struct Face {
+        std::uint64_t element = 0;
+        int side = 0;
+    };
+    std::vector<std::vector<Face>> faces(groups.size());
+    std::unordered_map<std::uint64_t, std::pair<std::size_t, std::size_t>> wanted;  // edge → (group, member)
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+        faces[g].resize(groups[g].edges.size());
+        for (std::size_t i = 0; i < groups[g].edges.size(); ++i)
+            wanted[edge_key(groups[g].edges[i][0], groups[g].edges[i][1])] = {g, i};
+    }
+    if (!wanted.empty())
+        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+            const auto& t = mesh.triangles[k];
+            for (int s = 0; s < 3; ++s) {
+                const auto it = wanted.find(edge_key(t[static_cast<std::size_t>(s)], t[static_cast<std::size_t>((s + 1) % 3)]));
+                if (it == wanted.end()) continue;
+                const auto [g, i] = it->second;
+                // An interface's face must be on its left region's side (a
+                // wrong interface_regions entry would put it on the other).
+                if (!groups[g].interface || mesh.region[k] == groups[g].left_region) faces[g][i] = {k + 1, s + 1};
+            }
+        }
+    for (std::size_t g = 0; g < groups.size(); ++g)
+        for (std::size_t i = 0; i < faces[g].size(); ++i)
+            if (faces[g][i].side == 0)
+                throw OutputError("invalid mesh: edge (" + std::to_string(groups[g].edges[i][0]) + ", " +
+                                  std::to_string(groups[g].edges[i][1]) + ") of '" + groups[g].name +
+                                  "' is not a side of a triangle on its left" +
+                                  (groups[g].interface ? " in region " + std::to_string(groups[g].left_region) : std::string()));
+
+    detail::TextSink out(os);
+    out << "** Written by warpmesh: 2D triangles (CPS3) with region element sets and boundary/interface\n"
+           "** node sets and surfaces.  *INCLUDE it in a deck that adds sections, materials and steps, e.g.\n"
+           "**   *SOLID SECTION, ELSET=<region>, MATERIAL=<material>\n"
+           "*NODE\n";
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+        out << static_cast<std::uint64_t>(i + 1) << ", " << inp_number(mesh.vertices[i].x) << ", "
+            << inp_number(mesh.vertices[i].y) << '\n';
+    if (!mesh.triangles.empty()) {
+        out << "*ELEMENT, TYPE=CPS3\n";
+        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+            const auto& t = mesh.triangles[k];
+            out << static_cast<std::uint64_t>(k + 1) << ", " << t[0] + std::int64_t{1} << ", " << t[1] + std::int64_t{1}
+                << ", " << t[2] + std::int64_t{1} << '\n';
+        }
+    }
+
+    std::set<std::string> used;
+    std::map<std::int32_t, std::vector<std::uint64_t>> region_elements;
+    auto last = region_elements.end();
+    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+        if (last == region_elements.end() || last->first != mesh.region[k])
+            last = region_elements.try_emplace(mesh.region[k]).first;
+        last->second.push_back(k + 1);
+    }
+    for (const auto& [tag, ids] : region_elements) {
+        out << "*ELSET, ELSET=" << abaqus_name(detail::region_name(mesh, tag, region_elements.size() == 1), tag, used)
+            << '\n';
+        put_ids(out, ids);
+    }
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+        const auto& group = groups[g];
+        const std::string name = abaqus_name(group.name, group.tag, used);
+        std::set<std::uint64_t> nodes;
+        for (const auto& e : group.edges) nodes.insert(e[0] + std::uint64_t{1}), nodes.insert(e[1] + std::uint64_t{1});
+        out << "*NSET, NSET=" << name << '\n';
+        put_ids(out, {nodes.begin(), nodes.end()});
+        std::array<std::vector<std::uint64_t>, 3> by_side;
+        for (const Face& f : faces[g]) by_side[static_cast<std::size_t>(f.side - 1)].push_back(f.element);
+        for (int s = 0; s < 3; ++s) {
+            auto& ids = by_side[static_cast<std::size_t>(s)];
+            if (ids.empty()) continue;
+            std::sort(ids.begin(), ids.end());
+            const char side = static_cast<char>('1' + s);  // faces S1..S3
+            out << "*ELSET, ELSET=_" << name << "_S" << side << '\n';
+            put_ids(out, ids);
+        }
+        out << "*SURFACE, TYPE=ELEMENT, NAME=" << name << '\n';
+        for (int s = 0; s < 3; ++s) {
+            const char side = static_cast<char>('1' + s);
+            if (!by_side[static_cast<std::size_t>(s)].empty()) out << '_' << name << "_S" << side << ", S" << side << '\n';
+        }
+    }
+}
+
+void write_inp(const Mesh& mesh, const std::string& path) {
+    detail::check_mesh_arrays(mesh, path);
+    write_file_atomically(path, [&](std::ostream& os) { write_inp(mesh, os); });
+}
+
+}  // namespace warpmesh

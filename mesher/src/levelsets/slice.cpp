@@ -1,0 +1,175 @@
+// slice.cpp — from a volume to the level set of one of its slices, in
+// millimetres or pixels (the conventions are in volume.hpp).
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/quality.hpp"
+#include "warpmesh/volume.hpp"
+
+namespace warpmesh {
+namespace {
+
+constexpr const char* axis_names = "ijk";
+
+int axis_of(const std::string& text, const std::string& what) {
+    if (text.size() < 2 || text[1] != '=' || (text[0] != 'i' && text[0] != 'j' && text[0] != 'k'))
+        throw InputError("bad " + what + " '" + text + "': expected AXIS=INDEX with AXIS i, j or k (e.g. k=60" +
+                         (what == "--slices" ? std::string(", or k=0:113 for slices 0 to 112") : std::string()) + ")");
+    return text[0] - 'i';
+}
+
+std::int64_t index_of(const std::string& whole, std::string_view t, const std::string& what) {
+    std::int64_t v = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (t.empty() || ec != std::errc{} || end != t.data() + t.size() || v < 0)
+        throw InputError("bad " + what + " '" + whole + "': '" + std::string(t) + "' is not a slice index (0, 1, ...)");
+    return v;
+}
+
+Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+std::string json_vec(const Vec3& v) {
+    return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
+}
+
+}  // namespace
+
+SliceSpec parse_slice(const std::string& text) {
+    const int axis = axis_of(text, "--slice");
+    return {axis, index_of(text, std::string_view(text).substr(2), "--slice")};
+}
+
+SliceRange parse_slice_range(const std::string& text) {
+    const int axis = axis_of(text, "--slices");
+    const std::string_view rest = std::string_view(text).substr(2);
+    const std::size_t colon = rest.find(':');
+    if (colon == std::string_view::npos) {
+        const std::int64_t k = index_of(text, rest, "--slices");
+        return {axis, k, k + 1};
+    }
+    const std::int64_t a = index_of(text, rest.substr(0, colon), "--slices");
+    const std::int64_t b = index_of(text, rest.substr(colon + 1), "--slices");
+    if (b <= a) throw InputError("bad --slices '" + text + "': the range FIRST:END (END excluded) is empty");
+    return {axis, a, b};
+}
+
+void set_pixel_size(Volume& volume, std::span<const double> size) {
+    if (size.empty() || size.size() > 3) throw InputError("--pixel-size expects SX[,SY[,SZ]]");
+    for (std::size_t a = 0; a < 3; ++a) {
+        const double s = size[std::min(a, size.size() - 1)];
+        if (!(s > 1e-12 && s < 1e12)) throw InputError("--pixel-size: " + std::to_string(s) + " is not a positive size");
+        volume.spacing[a] = s;
+    }
+    volume.physical = true;
+}
+
+LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
+    const bool one_slice = v.dims[2] == 1;
+    if (!options.slice && !one_slice)
+        throw InputError("'" + v.source + "' is a volume of " + std::to_string(v.dims[0]) + " x " +
+                         std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) +
+                         " voxels: choose a slice with --slice k=INDEX (or i=, j=), or several with --slices k=FIRST:END");
+    const SliceSpec spec = options.slice.value_or(SliceSpec{2, 0});
+    const int n = spec.axis;
+    if (n < 0 || n > 2) throw InputError("slice axis must be i, j or k");
+    if (spec.index < 0 || spec.index >= v.dims[n])
+        throw InputError("slice " + std::string(1, axis_names[n]) + "=" + std::to_string(spec.index) + " is outside '" +
+                         v.source + "' (" + axis_names[n] + " = 0.." + std::to_string(v.dims[n] - 1) + ")");
+    const int a = n == 0 ? 1 : 0, b = n == 2 ? 1 : 2;  // in-plane axes, a < b
+    const std::int64_t W = v.dims[a], H = v.dims[b];
+    const std::string name = options.slice ? v.source + " slice " + axis_names[n] + "=" + std::to_string(spec.index) : v.source;
+    if (W < 2 || H < 2)
+        throw InputError("'" + name + "': the slice is " + std::to_string(W) + " x " + std::to_string(H) +
+                         " pixels; at least 2 x 2 are needed for one lattice square");
+    if (W > 0x7fffffff || H > 0x7fffffff) throw InputError("'" + name + "': slice too large");
+
+    // The slice's values, y-up: pixel (ia, ib) at ia + W ib.
+    std::vector<double> values(static_cast<std::size_t>(W * H));
+    std::array<std::int64_t, 3> ijk{};
+    ijk[static_cast<std::size_t>(n)] = spec.index;
+    for (std::int64_t ib = 0; ib < H; ++ib)
+        for (std::int64_t ia = 0; ia < W; ++ia) {
+            ijk[static_cast<std::size_t>(a)] = ia, ijk[static_cast<std::size_t>(b)] = ib;
+            values[static_cast<std::size_t>(ia + W * ib)] = v.at(ijk[0], ijk[1], ijk[2]);
+        }
+
+    LoadedSlice out;
+    out.physical = options.units == Units::physical && v.physical;
+    out.units = out.physical ? "mm" : "pixels";
+    out.width = static_cast<int>(W), out.height = static_cast<int>(H);
+    out.slice = spec;
+    out.format = v.format;
+    out.placed = options.slice.has_value() || out.physical || !(v.format == "PGM" || v.format == "PNG");
+    const Vec3 &da = v.axes[static_cast<std::size_t>(a)], &db = v.axes[static_cast<std::size_t>(b)],
+               &dn = v.axes[static_cast<std::size_t>(n)];
+    const double sa = v.spacing[static_cast<std::size_t>(a)], sb = v.spacing[static_cast<std::size_t>(b)],
+                 sn = v.spacing[static_cast<std::size_t>(n)];
+    const double depth = static_cast<double>(spec.index) * sn;
+    ImageLevelSetOptions lo = options.levelset;
+    Vec3 base;
+    for (int c = 0; c < 3; ++c) base[c] = v.origin[c] + depth * dn[c];
+    if (out.physical) {
+        lo.geometry = {dot(v.origin, da), dot(v.origin, db), sa, sb};
+        for (int c = 0; c < 3; ++c) base[c] -= lo.geometry.x0 * da[c] + lo.geometry.y0 * db[c];
+        out.plane = {base, da, db, cross(da, db)};
+        out.pixel_min = std::min(sa, sb);
+    } else {
+        out.plane = {base, {sa * da[0], sa * da[1], sa * da[2]}, {sb * db[0], sb * db[1], sb * db[2]}, cross(da, db)};
+        out.pixel_min = 1;
+    }
+    out.f = make_raster_levelset(out.width, out.height, values, name, lo, v.maxval);
+    return out;
+}
+
+LoadedSlice load_level_set(const std::string& path, const SliceOptions& options, const VolumeLimits& limits) {
+    return load_slice(read_volume(path, limits), options);
+}
+
+std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& s) {
+    if (!s.placed) return {};
+    return {{"units", json_string(s.units)},
+            {"slice", "{\"axis\": \"" + std::string(1, axis_names[s.slice.axis]) + "\", \"index\": " +
+                          std::to_string(s.slice.index) + ", \"format\": " + json_string(s.format) + "}"},
+            {"plane", "{\"origin\": " + json_vec(s.plane.origin) + ", \"x_axis\": " + json_vec(s.plane.x_axis) +
+                          ", \"y_axis\": " + json_vec(s.plane.y_axis) + ", \"normal\": " + json_vec(s.plane.normal) + "}"}};
+}
+
+std::string slice_file_name(const std::string& pattern, std::int64_t index) {
+    auto bad = [&](const std::string& why) {
+        return InputError("bad output pattern '" + pattern + "': " + why +
+                          " (--slices writes one file per slice: give one %d field, e.g. out_%03d.vtu)");
+    };
+    std::string out;
+    int fields = 0;
+    for (std::size_t p = 0; p < pattern.size(); ++p) {
+        if (pattern[p] != '%') {
+            out += pattern[p];
+            continue;
+        }
+        if (p + 1 < pattern.size() && pattern[p + 1] == '%') {
+            out += '%', ++p;
+            continue;
+        }
+        std::size_t q = p + 1;
+        const bool zero = q < pattern.size() && pattern[q] == '0';
+        if (zero) ++q;
+        int width = 0;
+        while (q < pattern.size() && pattern[q] >= '0' && pattern[q] <= '9' && width < 100) width = width * 10 + (pattern[q++] - '0');
+        if (q >= pattern.size() || pattern[q] != 'd' || width >= 20)
+            throw bad("'%' must start %d, %Nd, %0Nd (N < 20) or %%");
+        if (++fields > 1) throw bad("more than one %d field");
+        std::string digits = std::to_string(index);
+        if (static_cast<int>(digits.size()) < width) digits.insert(0, static_cast<std::size_t>(width) - digits.size(), zero ? '0' : ' ');
+        out += digits;
+        p = q;
+    }
+    if (fields == 0) throw bad("no %d field");
+    return out;
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,661 @@
+// optimize.cpp — the monotone quality pass (optimize.hpp: the rule, the
+// vertex kinds, the report).
+#include "warpmesh/optimize.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_set>
+
+#include "warpmesh/certified.hpp"
+#include "warpmesh/quality.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace warpmesh {
+
+namespace {
+
+constexpr double deg_per_rad = 180.0 / std::numbers::pi;
+constexpr double inf = std::numeric_limits<double>::infinity();
+// g(θ) = min(θ, big_angle_pivot − θ): 30° and 110° score alike.
+constexpr double big_angle_pivot = 140;
+// Angles whose quality lies within this many degrees of the star's worst
+// steer the ascent direction together (an ε-subgradient).
+constexpr double active_band_deg = 0.5;
+constexpr int line_search_halvings = 8;
+// A star whose quality is at least this is left alone, and a move must gain
+// at least min_gain_deg.  (The lattice's right isosceles triangles score 45;
+// polishing stars between 42 and 45 as well costs 2-3 times the moves for
+// +0.5 deg of minimum angle.)
+constexpr double good_star_deg = 42;
+constexpr double min_gain_deg = 1e-3;
+
+Vec2 operator-(Vec2 p, Vec2 q) { return {p.x - q.x, p.y - q.y}; }
+Vec2 operator+(Vec2 p, Vec2 q) { return {p.x + q.x, p.y + q.y}; }
+Vec2 operator*(double a, Vec2 p) { return {a * p.x, a * p.y}; }
+double dot(Vec2 u, Vec2 v) { return u.x * v.x + u.y * v.y; }
+double cross(Vec2 u, Vec2 v) { return u.x * v.y - u.y * v.x; }
+double norm2(Vec2 u) { return dot(u, u); }
+Vec2 perp(Vec2 u) { return {-u.y, u.x}; }
+
+// atan2 for y >= 0 in degrees, to about 1e-5 degrees: a minimax polynomial
+// for atan on [0, 1] and the identities atan x = 90° − atan(1/x),
+// atan2(y, −x) = 180° − atan2(y, x).  Used for the search's objective only;
+// the monotone rule compares triangle_angles (quality.hpp), the reported ones.
+double fast_atan2_deg(double y, double x) {
+    const double ax = std::abs(x);
+    const bool swap = y > ax;
+    const double r = swap ? ax / y : (ax > 0 ? y / ax : 0);
+    const double r2 = r * r;
+    double a = r * (0.99997726 + r2 * (-0.33262347 + r2 * (0.19354346 + r2 * (-0.11643287 + r2 * (0.05265332 + r2 * -0.01172120)))));
+    a *= deg_per_rad;
+    if (swap) a = 90 - a;
+    return x < 0 ? 180 - a : a;
+}
+
+// A triangle's quality min(θmin, pivot − θmax) (g is a tent, so the middle
+// angle never scores below the two extremes), from the fast atan2.
+double tri_q_fast(Vec2 a, Vec2 b, Vec2 c) {
+    const Vec2 ab = b - a, bc = c - b, ca = a - c;
+    const double x = std::abs(cross(ab, c - a));
+    const double ta = fast_atan2_deg(x, -dot(ab, ca)), tb = fast_atan2_deg(x, -dot(bc, ab));
+    const double tc = 180 - ta - tb;
+    return std::min(std::min({ta, tb, tc}), big_angle_pivot - std::max({ta, tb, tc}));
+}
+
+// A triangle's smallest angle and quality, as reported (triangle_angles).
+struct TriQ {
+    double min_deg, q;
+};
+TriQ tri_q(Vec2 a, Vec2 b, Vec2 c) {
+    const TriangleAngles t = triangle_angles(a, b, c);
+    return {t.min_deg, std::min(t.min_deg, big_angle_pivot - t.max_deg)};
+}
+
+// The lattice's and the graded templates' triangles (45°, 45°, 90°), to a
+// relative tolerance: the squared sides are l, l, 2l.
+bool right_isosceles(Vec2 a, Vec2 b, Vec2 c) {
+    double l[3] = {norm2(b - c), norm2(c - a), norm2(a - b)};
+    std::sort(l, l + 3);
+    const double tol = 1e-9 * l[2];
+    return std::abs(l[0] - l[1]) <= tol && std::abs(l[2] - 2 * l[0]) <= tol && l[0] > 0;
+}
+
+// The minimum-norm point of the convex hull of a few 2D vectors (exact for
+// the hull's vertices and edges; zero when the origin lies inside a triangle
+// of them).
+Vec2 min_norm_point(const std::vector<Vec2>& g) {
+    Vec2 best = g[0];
+    for (const Vec2& v : g)
+        if (norm2(v) < norm2(best)) best = v;
+    const std::size_t n = g.size();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            const Vec2 e = g[j] - g[i];
+            const double ee = norm2(e);
+            if (!(ee > 0)) continue;
+            const double t = std::clamp(-dot(g[i], e) / ee, 0.0, 1.0);
+            const Vec2 p = g[i] + t * e;
+            if (norm2(p) < norm2(best)) best = p;
+            for (std::size_t k = j + 1; k < n; ++k) {
+                const double c1 = cross(g[j] - g[i], Vec2{0, 0} - g[i]), c2 = cross(g[k] - g[j], Vec2{0, 0} - g[j]),
+                             c3 = cross(g[i] - g[k], Vec2{0, 0} - g[k]);
+                if ((c1 > 0 && c2 > 0 && c3 > 0) || (c1 < 0 && c2 < 0 && c3 < 0)) return {0, 0};
+            }
+        }
+    return best;
+}
+
+enum class Kind : std::uint8_t { interior, levelset, line_x, line_y, fixed };
+
+class Optimizer {
+public:
+    Optimizer(Mesh& mesh, const LevelSet& f, const OptimizeOptions& o) : m_(mesh), f_(f), o_(o), s_(o.spacing) {
+        for (auto& [name, data] : m_.cell_data)
+            if (name == "certified_min_angle" && data.size() == m_.triangles.size()) cert_ = &data;
+    }
+
+    OptimizeReport run();
+
+private:
+    std::int32_t local(std::int32_t v) const { return local1_[static_cast<std::size_t>(v)] - 1; }
+    // A moved vertex's star and a flipped pair need their edges re-examined.
+    void touch(std::size_t t) { tdirty_[t] = 1; }
+    void find_band();
+    void classify();
+    bool try_move(std::int32_t lv);
+    int flip_pass();
+    bool try_flip(std::size_t t1, int k);
+    Vec2 gradient_direction(std::int32_t lv, double q, Vec2 axis, bool one_dimensional, std::vector<double>* slopes_c,
+                            std::vector<Vec2>* grads);
+    // Smallest angle, quality and validity of v's star with v at p.
+    struct StarQ {
+        double min_deg = inf, q = inf, shortest = inf;
+        bool valid = true;
+    };
+    // q from the fast atan2; min_deg (triangle_angles) only if `exact_min`.
+    StarQ star_q(std::int32_t lv, Vec2 p, bool exact_min) const;
+    bool project_to_levelset(Vec2 p, Vec2 normal, double reach, Vec2& out) const;
+    void lower_certified(std::span<const std::size_t> tris, double floor_before);
+
+    Mesh& m_;
+    const LevelSet& f_;
+    const OptimizeOptions& o_;
+    double s_;
+    Buffer<double>* cert_ = nullptr;
+
+    std::vector<std::size_t> band_;               // triangles with an active vertex, increasing
+    std::vector<std::int32_t> act_;               // active vertices, increasing
+    ZeroBuffer<std::int32_t> local1_;             // per mesh vertex: 1 + index in act_, or 0
+    ZeroBuffer<std::uint8_t> tdirty_;             // per mesh triangle: edges to examine for flips
+    std::vector<Kind> kind_;                      // per active vertex
+    std::vector<std::vector<std::size_t>> star_;  // per active vertex: its triangles
+    std::vector<std::array<std::int32_t, 2>> bnb_;  // level-set vertices: the two boundary neighbours
+    std::vector<char> dirty_;
+    std::unordered_set<std::uint64_t> interfaces_;
+    double dmax_ = 0;  // largest boundary distance before the pass
+    std::vector<Vec2> active_, grads_;  // scratch of gradient_direction / try_move
+    std::vector<double> values_, slope_;
+    std::int64_t moves_ = 0, flips_ = 0;
+};
+
+std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// Triangles (in increasing order) for which `pick` holds: a parallel scan in
+// contiguous chunks, concatenated in chunk order.
+template <class Pick>
+std::vector<std::size_t> scan_triangles(const Mesh& m, Pick&& pick) {
+    const std::int64_t nt = static_cast<std::int64_t>(m.triangles.size());
+    int threads = 1;
+#ifdef _OPENMP
+    threads = omp_get_max_threads();
+#endif
+    std::vector<std::vector<std::size_t>> part(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+    {
+        int me = 0;
+#ifdef _OPENMP
+        me = omp_get_thread_num();
+        const int nth = omp_get_num_threads();
+#else
+        const int nth = 1;
+#endif
+        const std::int64_t lo = nt * me / nth, hi = nt * (me + 1) / nth;
+        auto& out = part[static_cast<std::size_t>(me)];
+        for (std::int64_t t = lo; t < hi; ++t)
+            if (pick(m.triangles[static_cast<std::size_t>(t)], static_cast<std::size_t>(t))) out.push_back(static_cast<std::size_t>(t));
+    }
+    std::vector<std::size_t> all;
+    for (const auto& p : part) all.insert(all.end(), p.begin(), p.end());
+    return all;
+}
+
+void Optimizer::find_band() {
+    const auto& V = m_.vertices;
+    // Seeds: the vertices of triangles that are not right isosceles.
+    const auto odd = scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
+        return !right_isosceles(V[static_cast<std::size_t>(t[0])], V[static_cast<std::size_t>(t[1])],
+                                V[static_cast<std::size_t>(t[2])]);
+    });
+    ZeroBuffer<std::uint8_t> mark(V.size());
+    for (const std::size_t t : odd)
+        for (const std::int32_t v : m_.triangles[t]) mark[static_cast<std::size_t>(v)] = 1;
+    // Active: the seeds and their neighbours.
+    const auto ring = scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
+        return (mark[static_cast<std::size_t>(t[0])] | mark[static_cast<std::size_t>(t[1])] |
+                mark[static_cast<std::size_t>(t[2])]) & 1;
+    });
+    for (const std::size_t t : ring)
+        for (const std::int32_t v : m_.triangles[t]) {
+            auto& mv = mark[static_cast<std::size_t>(v)];
+            if (!(mv & 2)) act_.push_back(v);
+            mv |= 2;
+        }
+    std::sort(act_.begin(), act_.end());
+    local1_.resize(V.size());
+    for (std::size_t l = 0; l < act_.size(); ++l) local1_[static_cast<std::size_t>(act_[l])] = static_cast<std::int32_t>(l + 1);
+    band_ = scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
+        return (mark[static_cast<std::size_t>(t[0])] | mark[static_cast<std::size_t>(t[1])] |
+                mark[static_cast<std::size_t>(t[2])]) & 2;
+    });
+    star_.assign(act_.size(), {});
+    tdirty_.resize(m_.triangles.size());
+    for (const std::size_t t : band_) touch(t);
+    for (const std::size_t t : band_)
+        for (const std::int32_t v : m_.triangles[t]) {
+            const std::int32_t l = local(v);
+            if (l >= 0) star_[static_cast<std::size_t>(l)].push_back(t);
+        }
+}
+
+void Optimizer::classify() {
+    struct Count {
+        int n1 = 0, n2 = 0, other = 0;
+        bool horizontal = true, vertical = true;
+        std::array<std::int32_t, 2> nb{-1, -1};
+    };
+    std::vector<Count> c(act_.size());
+    for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
+        const auto [a, b] = m_.boundary[e];
+        const std::int32_t tag = e < m_.boundary_tag.size() ? m_.boundary_tag[e] : 0;
+        const Vec2 pa = m_.vertices[static_cast<std::size_t>(a)], pb = m_.vertices[static_cast<std::size_t>(b)];
+        for (int end = 0; end < 2; ++end) {
+            const std::int32_t l = local(end ? b : a);
+            if (l < 0) continue;
+            Count& k = c[static_cast<std::size_t>(l)];
+            if (tag == boundary_level_set) {
+                k.nb[static_cast<std::size_t>(end)] = end ? a : b;  // end 0: a's successor b; end 1: b's predecessor a
+                ++k.n1;
+            } else if (tag == boundary_domain) {
+                ++k.n2;
+                k.horizontal = k.horizontal && pa.y == pb.y;
+                k.vertical = k.vertical && pa.x == pb.x;
+            } else {
+                ++k.other;
+            }
+        }
+    }
+    for (const auto& e : m_.interfaces) {
+        interfaces_.insert(edge_key(e[0], e[1]));
+        for (const std::int32_t v : e)
+            if (const std::int32_t l = local(v); l >= 0) c[static_cast<std::size_t>(l)].other = 1;
+    }
+    kind_.assign(act_.size(), Kind::interior);
+    bnb_.assign(act_.size(), {-1, -1});
+    for (std::size_t l = 0; l < act_.size(); ++l) {
+        const Count& k = c[l];
+        Kind& kd = kind_[l];
+        if (k.other || k.n1 + k.n2 > 2 || (k.n1 && k.n2)) {
+            kd = Kind::fixed;
+        } else if (k.n1 == 2) {
+            const Vec2 p = m_.vertices[static_cast<std::size_t>(act_[l])];
+            kd = std::abs(f_.value(p.x, p.y)) <= 1e-9 * s_ ? Kind::levelset : Kind::fixed;
+            bnb_[l] = k.nb;
+        } else if (k.n2 == 2) {
+            kd = k.horizontal ? Kind::line_x : k.vertical ? Kind::line_y : Kind::fixed;
+        } else if (k.n1 + k.n2 != 0) {
+            kd = Kind::fixed;
+        }
+    }
+}
+
+Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) const {
+    StarQ r;
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        Vec2 q[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::int32_t v = m_.triangles[t][static_cast<std::size_t>(k)];
+            q[k] = v == g ? p : m_.vertices[static_cast<std::size_t>(v)];
+        }
+        if (!(cross(q[1] - q[0], q[2] - q[0]) > 0)) {
+            r.valid = false;
+            return r;
+        }
+        r.q = std::min(r.q, tri_q_fast(q[0], q[1], q[2]));
+        if (exact_min) r.min_deg = std::min(r.min_deg, triangle_angles(q[0], q[1], q[2]).min_deg);
+        r.shortest = std::min({r.shortest, norm2(q[1] - q[0]), norm2(q[2] - q[1]), norm2(q[0] - q[2])});
+    }
+    r.shortest = std::sqrt(r.shortest);
+    return r;
+}
+
+// The ascent direction of the star quality at the vertex's position, restricted
+// to `axis` when one_dimensional; the linear models (value, gradient) of every
+// angle's quality are returned for the step prediction.
+Vec2 Optimizer::gradient_direction(std::int32_t lv, double q, Vec2 axis, bool one_dimensional,
+                                   std::vector<double>* values, std::vector<Vec2>* grads) {
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    values->clear();
+    grads->clear();
+    std::vector<Vec2>& active = active_;
+    active.clear();
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        const auto& tri = m_.triangles[t];
+        int k = 0;
+        while (tri[static_cast<std::size_t>(k)] != g) ++k;
+        const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
+        const Vec2 a = m_.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 1) % 3)])];
+        const Vec2 b = m_.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 2) % 3)])];
+        // Angles at a and b (ccw triangle p, a, b) and their gradients in p:
+        // θa = arg(p − a) − arg(b − a), θb = arg(a − b) − arg(p − b), θp = π − θa − θb.
+        const Vec2 pa = p - a, pb = p - b;
+        const double ta = std::atan2(std::abs(cross(b - a, pa)), dot(b - a, pa)) * deg_per_rad;
+        const double tb = std::atan2(std::abs(cross(a - b, pb)), dot(a - b, pb)) * deg_per_rad;
+        const double tp = 180 - ta - tb;
+        const Vec2 ga = (deg_per_rad / norm2(pa)) * perp(pa), gb = (-deg_per_rad / norm2(pb)) * perp(pb);
+        const Vec2 gp = -1.0 * (ga + gb);
+        for (const auto& [theta, grad] : {std::pair{ta, ga}, std::pair{tb, gb}, std::pair{tp, gp}}) {
+            const bool rising = theta <= big_angle_pivot / 2;
+            const double value = rising ? theta : big_angle_pivot - theta;
+            Vec2 gq = rising ? grad : -1.0 * grad;
+            if (one_dimensional) gq = dot(gq, axis) * axis;
+            values->push_back(value);
+            grads->push_back(gq);
+            if (value <= q + active_band_deg) active.push_back(gq);
+        }
+    }
+    if (active.empty()) return {0, 0};
+    return min_norm_point(active);
+}
+
+bool Optimizer::project_to_levelset(Vec2 p, Vec2 n, double reach, Vec2& out) const {
+    const double f0 = f_.value(p.x, p.y);
+    if (f0 == 0) {
+        out = p;
+        return true;
+    }
+    const Vec2 a = p - reach * n, b = p + reach * n;
+    const double fa = f_.value(a.x, a.y), fb = f_.value(b.x, b.y);
+    if (!(fa < 0 && fb > 0)) return false;
+    const double u = f_.cut_parameter(a, b, fa, fb);
+    out = a + u * (b - a);
+    return std::abs(f_.value(out.x, out.y)) <= 1e-10 * s_;
+}
+
+void Optimizer::lower_certified(std::span<const std::size_t> tris, double floor_before) {
+    if (!cert_) return;
+    for (const std::size_t t : tris) {
+        const auto& tri = m_.triangles[t];
+        const double mn = triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])], m_.vertices[static_cast<std::size_t>(tri[1])],
+                                          m_.vertices[static_cast<std::size_t>(tri[2])])
+                              .min_deg;
+        double& c = (*cert_)[t];
+        if (mn < c) c = std::min(c, floor_before);
+    }
+}
+
+bool Optimizer::try_move(std::int32_t lv) {
+    const Kind kind = kind_[static_cast<std::size_t>(lv)];
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
+    const StarQ now = star_q(lv, p, false);
+    if (!now.valid || now.q >= good_star_deg) return false;
+    double now_min = inf;  // the star's smallest angle, computed once needed
+
+    Vec2 axis{0, 0}, normal{0, 0};
+    bool one_d = kind != Kind::interior;
+    if (kind == Kind::line_x) axis = {1, 0};
+    if (kind == Kind::line_y) axis = {0, 1};
+    if (kind == Kind::levelset) {
+        const double h = 1e-6 * s_;
+        const Vec2 grad{(f_.value(p.x + h, p.y) - f_.value(p.x - h, p.y)) / (2 * h),
+                        (f_.value(p.x, p.y + h) - f_.value(p.x, p.y - h)) / (2 * h)};
+        const double len = std::sqrt(norm2(grad));
+        if (!(len > 0) || !std::isfinite(len)) return false;
+        normal = (1 / len) * grad;
+        axis = perp(normal);
+    }
+    std::vector<double>& values = values_;
+    std::vector<Vec2>& grads = grads_;
+    const Vec2 d = gradient_direction(lv, now.q, axis, one_d, &values, &grads);
+    const double dn = std::sqrt(norm2(d));
+    // Stationary (degrees per star size: scale-free); no step can gain min_gain_deg.
+    if (!(dn * now.shortest > 1e-9)) return false;
+    const Vec2 dir = (1 / dn) * d;
+
+    // Predicted best step: follow the lowest linear model min_i (c_i + α s_i)
+    // from α = 0 until a line with slope <= 0 takes over.
+    double alpha = 0.5 * now.shortest;
+    {
+        std::vector<double>& slope = slope_;
+        slope.resize(values.size());
+        for (std::size_t i = 0; i < values.size(); ++i) slope[i] = dot(grads[i], dir);
+        std::size_t cur = 0;
+        for (std::size_t i = 1; i < values.size(); ++i)
+            if (values[i] < values[cur] || (values[i] == values[cur] && slope[i] < slope[cur])) cur = i;
+        double at = 0;
+        for (std::size_t guard = 0; guard < values.size() && slope[cur] > 0; ++guard) {
+            double next = inf;
+            std::size_t who = cur;
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                if (!(slope[i] < slope[cur])) continue;
+                const double x = (values[i] - values[cur]) / (slope[cur] - slope[i]);
+                if (x > at && x < next) next = x, who = i;
+            }
+            if (who == cur) break;
+            at = next, cur = who;
+        }
+        if (slope[cur] <= 0 && at > 0) alpha = std::min(alpha, at);
+    }
+
+    for (int halving = 0; halving <= line_search_halvings; ++halving, alpha *= 0.5) {
+        Vec2 q = p + alpha * dir;
+        if (kind == Kind::line_x) q.y = p.y;
+        if (kind == Kind::line_y) q.x = p.x;
+        if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
+        const StarQ next = star_q(lv, q, false);
+        if (!next.valid || !(next.q > now.q + min_gain_deg)) continue;
+        if (now_min == inf) now_min = star_q(lv, p, true).min_deg;
+        if (star_q(lv, q, true).min_deg < now_min) continue;  // the monotone rule
+        if (kind == Kind::levelset) {
+            const auto nb = bnb_[static_cast<std::size_t>(lv)];
+            bool close = true;
+            for (const std::int32_t w : nb)
+                close = close && edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(w)], q, s_) <= dmax_;
+            if (!close) continue;
+        }
+        // Accept: the least certified value of the star bounds every triangle
+        // of it from now on (each was >= it before, so the star's old minimum
+        // angle is >= it, and the new star's minimum is not smaller).
+        double floor_before = inf;
+        if (cert_)
+            for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) floor_before = std::min(floor_before, (*cert_)[t]);
+        m_.vertices[static_cast<std::size_t>(g)] = q;
+        lower_certified(star_[static_cast<std::size_t>(lv)], floor_before);
+        for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+            touch(t);
+            for (const std::int32_t v : m_.triangles[t])
+                if (const std::int32_t l = local(v); l >= 0) dirty_[static_cast<std::size_t>(l)] = 1;
+        }
+        ++moves_;
+        if (o_.observer) {
+            OptimizeEvent ev;
+            ev.vertex = g, ev.from = p, ev.to = q, ev.star = star_[static_cast<std::size_t>(lv)];
+            o_.observer(m_, ev);
+        }
+        return true;
+    }
+    return false;
+}
+
+// Flip the edge k (tri[k] → tri[k+1]) of triangle t1 if the max-min rule
+// gains and the edge is neither a boundary nor an interface edge.
+bool Optimizer::try_flip(std::size_t t1, int k) {
+    const auto T1 = m_.triangles[t1];
+    const std::int32_t a = T1[static_cast<std::size_t>(k)], b = T1[static_cast<std::size_t>((k + 1) % 3)],
+                       c = T1[static_cast<std::size_t>((k + 2) % 3)];
+    const std::int32_t la = local(a), lb = local(b);
+    if (la < 0 && lb < 0) return false;
+    const auto& around = star_[static_cast<std::size_t>(la >= 0 ? la : lb)];
+    std::size_t t2 = t1;
+    int k2 = -1;
+    for (const std::size_t t : around) {
+        if (t == t1) continue;
+        const auto& T = m_.triangles[t];
+        for (int j = 0; j < 3; ++j)
+            if (T[static_cast<std::size_t>(j)] == b && T[static_cast<std::size_t>((j + 1) % 3)] == a) t2 = t, k2 = j;
+    }
+    if (k2 < 0) return false;  // a boundary edge
+    if (m_.region[t1] != m_.region[t2] || interfaces_.count(edge_key(a, b))) return false;
+    const auto T2 = m_.triangles[t2];
+    const std::int32_t d = T2[static_cast<std::size_t>((k2 + 2) % 3)];
+    const auto P = [&](std::int32_t v) { return m_.vertices[static_cast<std::size_t>(v)]; };
+    // New pair (c, a, d), (d, b, c): both counter-clockwise iff a-d-b-c is convex.
+    if (!(cross(P(a) - P(c), P(d) - P(c)) > 0) || !(cross(P(b) - P(d), P(c) - P(d)) > 0)) return false;
+    // The fast quality first (most candidate flips gain nothing), then the rule
+    // on the reported angles.
+    if (std::min(tri_q_fast(P(c), P(a), P(d)), tri_q_fast(P(d), P(b), P(c))) <
+        std::min(tri_q_fast(P(a), P(b), P(c)), tri_q_fast(P(b), P(a), P(d))))
+        return false;
+    const TriQ o1 = tri_q(P(a), P(b), P(c)), o2 = tri_q(P(b), P(a), P(d));
+    const TriQ n1 = tri_q(P(c), P(a), P(d)), n2 = tri_q(P(d), P(b), P(c));
+    const double old_min = std::min(o1.min_deg, o2.min_deg), new_min = std::min(n1.min_deg, n2.min_deg);
+    if (!(new_min > old_min + 1e-9) || std::min(n1.q, n2.q) < std::min(o1.q, o2.q)) return false;
+
+    const std::array<std::array<std::int32_t, 3>, 2> before{T1, T2};
+    m_.triangles[t1] = {c, a, d};
+    m_.triangles[t2] = {d, b, c};
+    for (auto& [name, data] : m_.cell_data)
+        if (data.size() == m_.triangles.size()) data[t1] = data[t2] = std::min(data[t1], data[t2]);
+    auto drop = [&](std::int32_t v, std::size_t t) {
+        if (const std::int32_t l = local(v); l >= 0) {
+            auto& s = star_[static_cast<std::size_t>(l)];
+            s.erase(std::find(s.begin(), s.end(), t));
+        }
+    };
+    auto add = [&](std::int32_t v, std::size_t t) {
+        if (const std::int32_t l = local(v); l >= 0) star_[static_cast<std::size_t>(l)].push_back(t);
+    };
+    drop(a, t2), drop(b, t1), add(c, t2), add(d, t1);
+    for (const std::int32_t v : {a, b, c, d})
+        if (const std::int32_t l = local(v); l >= 0) dirty_[static_cast<std::size_t>(l)] = 1;
+    touch(t1), touch(t2);
+    ++flips_;
+    if (o_.observer) {
+        OptimizeEvent ev;
+        ev.flip = true;
+        ev.before = before;
+        ev.after = {m_.triangles[t1], m_.triangles[t2]};
+        o_.observer(m_, ev);
+    }
+    return true;
+}
+
+int Optimizer::flip_pass() {
+    int n = 0;
+    for (const std::size_t t : band_) {
+        if (!tdirty_[t]) continue;
+        tdirty_[t] = 0;
+        for (int k = 0; k < 3; ++k) n += try_flip(t, k);
+    }
+    return n;
+}
+
+OptimizeReport Optimizer::run() {
+    const auto start = std::chrono::steady_clock::now();
+    OptimizeReport r;
+    r.triangles = static_cast<std::int64_t>(m_.triangles.size());
+    find_band();
+    classify();
+    r.band_triangles = static_cast<std::int64_t>(band_.size());
+    for (const Kind k : kind_) r.active_vertices += k != Kind::fixed;
+
+    // Statistics: the triangles outside the band are right isosceles.
+    const std::int64_t outside = r.triangles - r.band_triangles;
+    auto stats = [&](double& mn, double& mx, double& mean) {
+        mn = outside ? 45 : inf, mx = outside ? 90 : -inf;
+        double sum = 45.0 * static_cast<double>(outside);
+        for (const std::size_t t : band_) {
+            const auto& tri = m_.triangles[t];
+            const TriangleAngles a = triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])],
+                                                     m_.vertices[static_cast<std::size_t>(tri[1])],
+                                                     m_.vertices[static_cast<std::size_t>(tri[2])]);
+            mn = std::min(mn, a.min_deg), mx = std::max(mx, a.max_deg), sum += a.min_deg;
+        }
+        mean = r.triangles ? sum / static_cast<double>(r.triangles) : std::numeric_limits<double>::quiet_NaN();
+    };
+    stats(r.min_angle_before, r.max_angle_before, r.mean_min_angle_before);
+    r.certified_floor = cert_ ? *std::min_element(cert_->begin(), cert_->end()) : o_.certified_floor;
+    auto boundary_distance = [&] {
+        double worst = 0;
+        for (std::size_t e = 0; e < m_.boundary.size(); ++e)
+            if (m_.boundary_tag[e] == boundary_level_set)
+                worst = std::max(worst, edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(m_.boundary[e][0])],
+                                                                  m_.vertices[static_cast<std::size_t>(m_.boundary[e][1])], s_));
+        return worst;
+    };
+    dmax_ = r.boundary_distance_before = boundary_distance();
+
+    dirty_.assign(act_.size(), 1);
+    for (int sweep = 0; sweep < o_.max_sweeps; ++sweep) {
+        bool changed = false;
+        for (std::size_t l = 0; l < act_.size(); ++l) {
+            if (!dirty_[l] || kind_[l] == Kind::fixed) continue;
+            dirty_[l] = 0;
+            changed = try_move(static_cast<std::int32_t>(l)) || changed;
+        }
+        if (o_.flips) changed = flip_pass() > 0 || changed;
+        r.sweeps = sweep + 1;
+        if (!changed) break;
+    }
+
+    stats(r.min_angle_after, r.max_angle_after, r.mean_min_angle_after);
+    r.boundary_distance_after = boundary_distance();
+    r.moves = moves_, r.flips = flips_;
+    // The rule's consequences, checked: no triangle below its (transferred)
+    // certified value, none below the floor, the minimum not lower.
+    constexpr double slack = 1e-7;
+    for (const std::size_t t : band_) {
+        const auto& tri = m_.triangles[t];
+        const double mn = triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])], m_.vertices[static_cast<std::size_t>(tri[1])],
+                                          m_.vertices[static_cast<std::size_t>(tri[2])])
+                              .min_deg;
+        if (cert_ && mn < (*cert_)[t] - slack)
+            throw std::logic_error("optimize: triangle " + std::to_string(t) + " has minimum angle " + std::to_string(mn) +
+                                   " below its certified value " + std::to_string((*cert_)[t]));
+    }
+    if (r.min_angle_after < r.min_angle_before || r.min_angle_after < r.certified_floor - slack)
+        throw std::logic_error("optimize: the minimum angle decreased from " + std::to_string(r.min_angle_before) + " to " +
+                               std::to_string(r.min_angle_after));
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+std::string fmt(double x) {
+    if (!std::isfinite(x)) return "n/a";
+    std::ostringstream o;
+    o.precision(6);
+    o << x;
+    return o.str();
+}
+
+}  // namespace
+
+OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOptions& options) {
+    if (!(options.spacing > 0) || !std::isfinite(options.spacing))
+        throw std::invalid_argument("optimize_mesh: the spacing must be positive and finite");
+    if (options.max_sweeps < 0) throw std::invalid_argument("optimize_mesh: max_sweeps must be >= 0");
+    if (mesh.triangles.empty()) return {};
+    return Optimizer(mesh, f, options).run();
+}
+
+std::string optimize_text(const OptimizeReport& r) {
+    std::ostringstream o;
+    o << "optimize             min angle " << fmt(r.min_angle_before) << " -> " << fmt(r.min_angle_after)
+      << " deg, max angle " << fmt(r.max_angle_before) << " -> " << fmt(r.max_angle_after) << " deg, mean minimum "
+      << fmt(r.mean_min_angle_before) << " -> " << fmt(r.mean_min_angle_after) << " deg\n";
+    o << "                     " << r.moves << " moves, " << r.flips << " flips, " << r.sweeps << " sweeps over "
+      << r.active_vertices << " movable vertices of " << r.band_triangles << " band triangles, " << fmt(r.seconds)
+      << " s\n";
+    o << "                     certified floor " << fmt(r.certified_floor)
+      << " deg (every triangle stays above it: monotone rule); boundary distance to f = 0 "
+      << fmt(r.boundary_distance_before) << " -> " << fmt(r.boundary_distance_after) << "\n";
+    return o.str();
+}
+
+std::string optimize_json(const OptimizeReport& r) {
+    auto n = [](double x) { return json_number(x); };
+    return "{\"min_angle_before_deg\": " + n(r.min_angle_before) + ", \"min_angle_after_deg\": " + n(r.min_angle_after) +
+           ", \"max_angle_before_deg\": " + n(r.max_angle_before) + ", \"max_angle_after_deg\": " + n(r.max_angle_after) +
+           ", \"mean_min_angle_before_deg\": " + n(r.mean_min_angle_before) +
+           ", \"mean_min_angle_after_deg\": " + n(r.mean_min_angle_after) + ", \"certified_floor_deg\": " +
+           n(r.certified_floor) + ", \"boundary_distance_before\": " + n(r.boundary_distance_before) +
+           ", \"boundary_distance_after\": " + n(r.boundary_distance_after) +
+           ", \"moves\": " + json_number(r.moves) + ", \"flips\": " + json_number(r.flips) +
+           ", \"sweeps\": " + json_number(static_cast<std::int64_t>(r.sweeps)) +
+           ", \"movable_vertices\": " + json_number(r.active_vertices) +
+           ", \"band_triangles\": " + json_number(r.band_triangles) + ", \"seconds\": " + n(r.seconds) + "}";
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,323 @@
+// pipeline.cpp — mesh(): lattice, mesher, certification, refinement, report
+// (pipeline.hpp).
+#include "warpmesh/pipeline.hpp"
+
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/graded.hpp"
+#include "warpmesh/materials.hpp"
+#include "warpmesh/resolution.hpp"
+#include "warpmesh/uniform.hpp"
+
+namespace warpmesh {
+
+namespace {
+
+// Run `mesh` n times and return the last result with the fastest run's phase
+// times.  The earlier runs are kept only for their times (each freed before
+// the next; the heap keeps their pages, so the process's peak resident memory
+// can exceed one run's).
+template <class Run>
+auto fastest_of(std::int64_t n, Run&& mesh) {
+    decltype(mesh().times) fastest{};
+    for (std::int64_t k = 1; k < n; ++k) {
+        const auto t = mesh().times;
+        if (k == 1 || t.total() < fastest.total()) fastest = t;
+    }
+    auto r = mesh();
+    if (n > 1 && fastest.total() < r.times.total()) r.times = fastest;
+    return r;
+}
+
+// A count or size for a message: "%.4g" never overflows (1e+30, inf).
+std::string approx(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+double peak_memory_mb() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+const char* rule_name(DiagonalRule rule) { return rule == DiagonalRule::maxmin ? "maxmin" : "separating"; }
+
+// The lattice of this spacing over the bounds b (domain: images) or around
+// them (shapes), within options.max_squares.
+Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOptions& o) {
+    if (!domain) {
+        const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
+        if (!(w * h <= static_cast<double>(o.max_squares)))
+            throw InputError("the lattice would have about " + approx(w) + " x " + approx(h) +
+                             " squares, more than --max-squares " + std::to_string(o.max_squares) +
+                             " (use a larger --spacing)");
+        return lattice_around(b, spacing);
+    }
+    const double w = (b.xmax - b.xmin) / spacing, h = (b.ymax - b.ymin) / spacing;
+    if (!(w * h <= static_cast<double>(o.max_squares)))
+        throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
+                         " lattice squares, more than --max-squares " + std::to_string(o.max_squares));
+    return lattice_over(b, spacing);
+}
+
+// The "certified" object of the JSON report and the certification's lines of
+// the text report.
+// Multi-material meshes (junctions) also count the junction squares, which
+// no certificate covers.
+std::pair<std::string, std::string> certified_report(const CertifiedSummary& cert, DiagonalRule rule,
+                                                      bool junctions) {
+    const CertifiedTheorem th = certified_theorem(rule);
+    std::string j = "{\"min_angle_deg\": " + json_number(cert.min_deg) +
+                    ", \"max_angle_deg\": " + json_number(cert.max_deg) +
+                    ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
+                    ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
+                    ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
+                    ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) +
+                    (junctions ? ", \"uncertified_junction_squares\": " + std::to_string(cert.junction_squares) : std::string()) +
+                    ", \"nonflat\": [";
+    for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
+        j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
+             ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +
+             json_string(cert.nonflat_keys[e]) + "}";
+    j += "], \"verified\": " + std::string(cert.verified ? "true" : "false") +
+         ", \"theorem_any_deg\": " + json_number(th.min_deg_any) +
+         ", \"theorem_flat_deg\": " + json_number(th.min_deg_flat);
+    if (cert.has_fidelity)
+        j += ", \"max_boundary_distance\": " + json_number(cert.max_boundary_distance) +
+             ", \"boundary_edges_off_levelset\": " + std::to_string(cert.boundary_edges_off_levelset);
+    j += "}";
+    std::ostringstream t;
+    t.precision(10);
+    t << "certified angles     [" << cert.min_deg << ", " << cert.max_deg << "] deg (proofs/" << rule_name(rule)
+      << ".cert" << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
+    t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "
+      << cert.nonflat_squares << " not flat)\n";
+    if (cert.junction_squares)
+        t << "uncertified junction squares " << cert.junction_squares
+          << " (excluded from the certified angles above: no bound is claimed for them)\n";
+    if (cert.nonflat_squares) {
+        t << "not flat (i, j)     ";
+        for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
+            t << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1] << ")";
+        if (cert.nonflat_squares > static_cast<std::int64_t>(cert.nonflat_examples.size())) t << " ...";
+        t << "\n";
+    }
+    if (cert.has_fidelity)
+        t << "boundary fidelity    max distance to level set " << cert.max_boundary_distance << ", "
+          << cert.boundary_edges_off_levelset << " boundary edges off it\n";
+    return {j, t.str()};
+}
+
+using Extra = std::vector<std::pair<std::string, std::string>>;
+
+// The report's first fields: input, level set (or material field), rule,
+// spacing, repeat, lattice.
+void report_head(Extra& extra, const MeshOptions& o, const std::string& describe, double spacing, const Lattice& lattice) {
+    extra.emplace_back("input", json_string(o.input));
+    extra.emplace_back("levelset", json_string(describe));
+    extra.emplace_back("rule", json_string(rule_name(o.rule)));
+    extra.emplace_back("spacing", json_number(spacing));
+    if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
+    extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
+}
+
+// The "certified" field (null without certificates) and res.certified_text.
+void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool junctions) {
+    if (!res.certified.available) {
+        extra.emplace_back("certified", "null");
+        return;
+    }
+    auto [json, text] = certified_report(res.certified, rule, junctions);
+    extra.emplace_back("certified", std::move(json));
+    res.certified_text = std::move(text);
+}
+
+}  // namespace
+
+void validate(const MeshOptions& o) {
+    if (!(o.spacing > 0) || o.spacing > 1e9) throw InputError("--spacing must be positive and at most 1e9");
+    if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0) throw InputError("--max-cell must be a power of two");
+    if (o.min_spacing && !(*o.min_spacing > 0)) throw InputError("--min-spacing must be positive");
+    if (o.guarantee == Guarantee::flat && !o.certify)
+        throw InputError("--guarantee flat needs the certification (drop --no-certify)");
+    if (o.max_squares < 1) throw InputError("--max-squares must be positive");
+    if (o.repeat < 1 || o.repeat > 1000) throw InputError("--repeat expects 1 to 1000");
+}
+
+MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
+    validate(o);
+    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
+    MeshResult res;
+    Mesh& mesh = res.mesh;
+    CertifiedSummary& cert = res.certified;
+    std::vector<std::pair<std::string, double>> phases;
+    std::vector<std::pair<std::string, std::string>> extra;
+    double spacing = o.spacing;
+    const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
+    for (;;) {
+        res.lattice = make_lattice(f.bounds(), f.bounds_are_domain(), spacing, o);
+        const Lattice& lattice = res.lattice;
+        extra.clear();
+        report_head(extra, o, f.describe(), spacing, lattice);
+        if (o.graded) {
+            GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, o.max_cell, certify); });
+            mesh = std::move(r.mesh);
+            cert = std::move(r.certified);
+            phases = {{"tiles", r.times.tiles},
+                      {"warp", r.times.warp},
+                      {"quadtree", r.times.quadtree},
+                      {"triangulate", r.times.triangulate}};
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
+            std::string levels = "[";
+            for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
+                levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
+            extra.emplace_back("graded", "true");
+            extra.emplace_back("leaves_per_level", levels + "]");
+            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+            extra.emplace_back("warped_points", std::to_string(r.warped_points));
+            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
+            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
+            extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
+        } else {
+            UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(f, lattice, o.rule, certify); });
+            mesh = std::move(r.mesh);
+            cert = std::move(r.certified);
+            phases = {{"sample", r.times.sample},
+                      {"signs", r.times.signs},
+                      {"cut_points", r.times.cut_points},
+                      {"warp", r.times.warp},
+                      {"triangulate", r.times.triangulate}};
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
+            extra.emplace_back("graded", "false");
+            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+            extra.emplace_back("warped_points", std::to_string(r.warped_points));
+            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
+            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
+        }
+        if (o.guarantee != Guarantee::flat || !cert.available || cert.nonflat_squares == 0) break;
+        if (spacing / 2 < min_spacing) {
+            std::ostringstream w;
+            w << "--guarantee flat: " << cert.nonflat_squares << " warped square(s) are still not flat at spacing "
+              << spacing << " (--min-spacing " << min_spacing << "); the mesh is written with its true guarantee "
+              << cert.min_deg << " deg; non-flat squares (i, j) key:";
+            for (std::size_t e = 0; e < cert.nonflat_examples.size() && e < 10; ++e)
+                w << (e ? "," : "") << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1]
+                  << ") " << cert.nonflat_keys[e];
+            res.warnings.push_back(w.str());
+            break;
+        }
+        spacing /= 2;
+        ++res.refinements;
+    }
+    res.spacing = spacing;
+    if (mesh.triangles.empty())
+        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
+                         "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
+    // Images: a spacing below one pixel adds no detail (resolution.hpp).
+    if (const ResolutionCheck rc = check_resolution(mesh, res.lattice.s, f.bounds_are_domain() ? 1.0 : 0.0);
+        rc.unresolved) {
+        std::ostringstream w;
+        w << "spacing " << res.lattice.s << " is too coarse for this input: " << rc.unresolved << " of " << rc.loops
+          << " boundary loop(s) (components or holes) are less than " << default_min_squares_across
+          << " squares across (narrowest width 4*area/perimeter = " << approx(rc.narrowest) << "); spacing "
+          << approx(rc.suggested_spacing) << " or less would resolve them";
+        res.warnings.push_back(w.str());
+    }
+    if (o.optimize) {
+        OptimizeOptions oo;
+        oo.spacing = res.lattice.s;
+        if (cert.available) oo.certified_floor = cert.min_deg;
+        res.optimized = optimize_mesh(mesh, f, oo);
+        phases.emplace_back("optimize", res.optimized->seconds);
+        extra.emplace_back("optimize", optimize_json(*res.optimized));
+    }
+    if (cert.available && !f.bounds_are_domain()) measure_fidelity(mesh, f, res.lattice.s, cert);
+    if (o.certify && !cert.available)
+        res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
+
+    res.report = compute_quality(mesh, phases);
+    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
+    if (o.guarantee == Guarantee::flat) extra.emplace_back("refinements", std::to_string(res.refinements));
+    if (o.certify) report_certified(extra, res, o.rule, false);
+    res.report.extra = std::move(extra);
+    return res;
+}
+
+MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
+    validate(o);
+    if (o.graded)
+        throw InputError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
+                         "uniform lattice)");
+    if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
+    if (o.optimize) throw InputError("--optimize is not available with --materials/--shapes");
+    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
+    MeshResult res;
+    res.spacing = o.spacing;
+    res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
+    std::vector<std::pair<std::string, std::string>> extra;
+    report_head(extra, o, field.describe(), o.spacing, res.lattice);
+    const MaterialOptions mo{o.keep_background, o.rule, certify};
+    MaterialResult r = fastest_of(o.repeat, [&] { return mesh_materials(field, res.lattice, mo); });
+    std::vector<std::pair<std::string, double>> phases = {
+        {"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}, {"triangulate", r.times.triangulate}};
+    if (o.certify) phases.emplace_back("certify", r.times.certify);
+    extra.emplace_back("graded", "false");
+    extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+    extra.emplace_back("warped_points", std::to_string(r.warped_points));
+    extra.emplace_back("warped_squares", std::to_string(r.warped_squares));
+    extra.emplace_back("separating_overrides", std::to_string(r.forced_diagonals));
+    for (auto& e : material_report_json(r)) extra.push_back(std::move(e));
+    res.materials_text = material_report_text(r, &res.warnings);
+    res.mesh = std::move(r.mesh);
+    res.certified = std::move(r.certified);
+    if (res.mesh.triangles.empty())
+        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
+                         "(check --materials, or use a smaller --spacing); nothing written");
+    const CertifiedSummary& cert = res.certified;
+    if (o.certify && !cert.available)
+        res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
+    res.report = compute_quality(res.mesh, phases);
+    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
+    if (o.certify) report_certified(extra, res, o.rule, true);
+    res.report.extra = std::move(extra);
+    return res;
+}
+
+std::string to_json(const MeshResult& r) { return quality_json(r.report); }
+
+std::string to_text(const MeshResult& r) {
+    return quality_text(r.report) + r.certified_text + r.materials_text +
+           (r.optimized ? optimize_text(*r.optimized) : "");
+}
+
+WriteOptions write_options(const MeshResult& r, bool color_min_angle, bool color_certified) {
+    WriteOptions wo;
+    wo.svg.color_by_min_angle = color_min_angle;
+    const CertifiedSummary& cert = r.certified;
+    if (cert.available && !cert.nonflat_boxes.empty()) {
+        wo.svg.marked_boxes = cert.nonflat_boxes;
+        wo.svg.marked_label = std::to_string(cert.nonflat_squares) +
+                              " warped square(s) with a non-flat stencil (outlined in magenta); the mesh is certified down to " +
+                              approx(cert.min_deg) + " deg";
+    }
+    if (color_certified && cert.available) {
+        wo.svg.color_by_cell_data = "certified_min_angle";
+        wo.png.color_by_cell_data = "certified_min_angle";
+    }
+    return wo;
+}
+
+std::unique_ptr<LevelSet> image_levelset(const Image& image, const ImageLevelSetOptions& options) {
+    if (image.width < 2 || image.height < 2)
+        throw InputError(image.source + ": the image is " + std::to_string(image.width) + " x " +
+                         std::to_string(image.height) + " pixels; at least 2 x 2 are needed for one lattice square");
+    return make_image_levelset(image, options);
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,289 @@
+// bound.cpp — branch and bound over a key's t-box: runs generic_square.hpp's
+// own choose_diagonal with outward-rounded intervals and verifies the angle
+// forms of the chosen triangles box by box (proofs/README.md, "Certificate
+// format" and "How the prover decides").
+#include <algorithm>
+#include <cmath>
+
+#include <boost/numeric/interval.hpp>
+
+#include "warpmesh/prove.hpp"
+
+namespace warpmesh {
+
+namespace ia = boost::numeric::interval_lib;
+using I = boost::numeric::interval<
+    double, ia::policies<ia::save_state<ia::rounded_arith_std<double>>, ia::checking_base<double>>>;
+
+
+// Intervals: `less` and `positive` answer yes/no only when decided on the whole
+// box.  `less` further demands a relative margin of 1e-9: where the prover says
+// "decided", the exact values differ by more than 1e-9 relative, so the
+// mesher's double evaluation (within a few ulps of the exact value) takes the
+// same diagonal.  An empty interval (NaN ends, from a division by [0,0]) is
+// never decided.
+template <>
+struct ScalarOps<I> {
+    static I from_int(int v) { return I(static_cast<double>(v)); }
+    static bool bad(const I& a) { return std::isnan(a.lower()) || std::isnan(a.upper()); }
+    static Truth positive(const I& a) {
+        if (bad(a)) return Truth::maybe;
+        if (a.lower() > 0) return Truth::yes;
+        if (a.upper() <= 0) return Truth::no;
+        return Truth::maybe;
+    }
+    static Truth less(const I& a, const I& b) {
+        if (bad(a) || bad(b)) return Truth::maybe;
+        const double mag = std::max({std::fabs(a.lower()), std::fabs(a.upper()), std::fabs(b.lower()),
+                                     std::fabs(b.upper())});
+        const double m = 1e-9 * mag;  // >= 0; fl(x + m) >= x, so the tests below imply the exact ones
+        if (a.upper() + m < b.lower()) return Truth::yes;
+        if (a.lower() >= b.upper() + m) return Truth::no;
+        return Truth::maybe;
+    }
+    static I max(const I& a, const I& b) {
+        if (bad(a) || bad(b)) return I::whole();
+        return boost::numeric::max(a, b);
+    }
+};
+
+
+// Forward-mode dual numbers over intervals: value and the partial derivatives
+// with respect to the (at most 4) t variables.  Positions are affine in t, the
+// angle forms quadratic; only + - * are needed.
+struct DI {
+    I v;
+    std::array<I, 4> d;
+};
+inline DI operator+(const DI& a, const DI& b) {
+    DI r{a.v + b.v, {}};
+    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] + b.d[i];
+    return r;
+}
+inline DI operator-(const DI& a, const DI& b) {
+    DI r{a.v - b.v, {}};
+    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] - b.d[i];
+    return r;
+}
+inline DI operator*(const DI& a, const DI& b) {
+    DI r{a.v * b.v, {}};
+    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    return r;
+}
+template <>
+struct ScalarOps<DI> {
+    static DI from_int(int v) { return DI{I(static_cast<double>(v)), {I(0.), I(0.), I(0.), I(0.)}}; }
+};
+
+namespace prover {
+namespace {
+
+// ---- boxes -----------------------------------------------------------------
+struct Box {
+    int m = 0;
+    std::array<double, 4> lo{}, hi{};
+};
+
+std::array<Point<I>, 4> positions_i(const Key& k, const std::vector<int>& vars, const Box& b) {
+    std::array<Warp, 4> w{};
+    std::array<I, 4> t{I(0.), I(0.), I(0.), I(0.)};
+    for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp;
+    for (int j = 0; j < b.m; ++j) t[vars[j]] = I(b.lo[j], b.hi[j]);
+    return generic_positions<I>(w, t);
+}
+
+std::array<Point<DI>, 4> positions_d(const Key& k, const std::vector<int>& vars, const Box& b) {
+    std::array<Warp, 4> w{};
+    std::array<DI, 4> t{};
+    for (int c = 0; c < 4; ++c) {
+        w[c] = k.s[c].warp;
+        t[c] = ScalarOps<DI>::from_int(0);
+    }
+    for (int j = 0; j < b.m; ++j) {
+        t[vars[j]].v = I(b.lo[j], b.hi[j]);
+        t[vars[j]].d[j] = I(1.);
+    }
+    return generic_positions<DI>(w, t);
+}
+
+// Form f of a triangle: 0 = cross (> 0), 1..3 = qmin*cross - dot_i (>= 0),
+// 4..6 = dot_i - qmax*cross (>= 0).
+DI form(const TriangleForms<DI>& tf, int f, double qmin, double qmax) {
+    if (f == 0) return tf.cross;
+    const DI qc = ScalarOps<DI>::from_int(0);
+    DI c = tf.cross;
+    if (f <= 3) {
+        DI q = qc;
+        q.v = I(qmin);
+        return q * c - tf.dot[f - 1];
+    }
+    DI q = qc;
+    q.v = I(qmax);
+    return tf.dot[f - 4] - q * c;
+}
+
+bool form_ok(const DI& g, int f) { return f == 0 ? g.v.lower() > 0 : g.v.lower() >= 0; }
+
+// Monotonicity reduction: while the form is not proved on the box, every
+// variable whose partial derivative has a decided sign on the box is fixed at
+// the end where the form is smallest (all fixed at once: each segment stays in
+// the box), and the form is re-evaluated on the smaller box.  The checker
+// applies the identical procedure with exact rational intervals.
+bool verify_form(const Key& k, const std::vector<int>& vars, Box b, const std::array<int, 3>& tri, int f,
+                 double qmin, double qmax, DI g) {
+    for (;;) {
+        if (form_ok(g, f)) return true;
+        bool fixed = false;
+        for (int j = 0; j < b.m; ++j) {
+            if (b.lo[j] == b.hi[j]) continue;
+            if (g.d[j].lower() >= 0) b.hi[j] = b.lo[j], fixed = true;
+            else if (g.d[j].upper() <= 0) b.lo[j] = b.hi[j], fixed = true;
+        }
+        if (!fixed) return false;
+        const auto p = positions_d(k, vars, b);
+        g = form(triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]), f, qmin, qmax);
+    }
+}
+
+// Forms f0 <= f < f1 of both triangles of diagonal d.
+bool verify_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, double qmin, double qmax,
+                 int* fail_kind, int f0 = 0, int f1 = 7) {
+    const auto p = positions_d(k, vars, b);
+    for (const auto& tri : diagonal_triangles(d)) {
+        const TriangleForms<DI> tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        for (int f = f0; f < f1; ++f)
+            if (!verify_form(k, vars, b, tri, f, qmin, qmax, form(tf, f, qmin, qmax))) {
+                *fail_kind = f == 0 ? 0 : f <= 3 ? 1 : 2;
+                return false;
+            }
+    }
+    return true;
+}
+
+// A second, division-free decision of the max-min rule, used where the header's
+// interval evaluation cannot decide because the losing diagonal degenerates
+// (its cross product's enclosure contains 0).  `win` is taken on the whole box
+// if `win` is valid there and, for some triangle T of the other diagonal and
+// some vertex i, dot_i(T) - H cross(T) > 0 on the box (>= 0 when win = AD, the
+// tie-break) with H >= q(win): where cross(T) > 0 this gives
+// q(other) >= dot_i/cross > H >= q(win) (so the rule takes win), and where
+// cross(T) <= 0 the other diagonal is invalid.  H is q(win)'s upper bound
+// times (1 + 2^-28), a dyadic recorded in the certificate: the relative margin
+// that lets the mesher's double evaluation agree.  Returns H in `thr`.
+bool threshold_decides(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal win, double& thr) {
+    const auto p = positions_i(k, vars, b);
+    double h = -1e300;
+    for (const auto& tri : diagonal_triangles(win)) {
+        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        if (!(tf.cross.lower() > 0)) return false;
+        for (const I& dot : tf.dot) h = std::max(h, (dot / tf.cross).upper());
+    }
+    if (!(h > 0) || !std::isfinite(h)) return false;
+    {
+        int e = 0;
+        std::frexp(h, &e);
+        h = std::ldexp(std::ceil(std::ldexp(h, 24 - e) * (1 + std::ldexp(1.0, -28))) + 1, e - 24);
+    }
+    const Diagonal other = win == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
+    for (const auto& tri : diagonal_triangles(other)) {
+        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        for (const I& dot : tf.dot) {
+            const I g = dot - I(h) * tf.cross;
+            if (g.lower() > 0) {
+                thr = h;
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+Leaf make_leaf(const Box& b, int diag) {
+    Leaf l;
+    l.diag = static_cast<std::uint8_t>(diag);
+    int k = 0;
+    for (int j = 0; j < b.m; ++j)
+        for (double x : {b.lo[j], b.hi[j]}) {
+            int e = 0;
+            while (x * std::ldexp(1.0, e) != std::floor(x * std::ldexp(1.0, e))) ++e;
+            k = std::max(k, e);
+        }
+    l.k = k;
+    for (int j = 0; j < b.m; ++j) {
+        l.num[2 * j] = static_cast<std::int64_t>(std::ldexp(b.lo[j], k));
+        l.num[2 * j + 1] = static_cast<std::int64_t>(std::ldexp(b.hi[j], k));
+    }
+    return l;
+}
+
+}  // namespace
+
+int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 4>& lo,
+                    const std::array<double, 4>& hi) {
+    const auto vars = key_vars(key);
+    Box b;
+    b.m = static_cast<int>(vars.size());
+    b.lo = lo, b.hi = hi;
+    const Choice ch = choose_diagonal<I>(rule, positions_i(key, vars, b), key.s);
+    return (ch.ad ? 1 : 0) | (ch.bc ? 2 : 0);
+}
+
+KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, std::size_t max_leaves) {
+    KeyProof out;
+    const auto vars = key_vars(key);
+    Box root;
+    root.m = static_cast<int>(vars.size());
+    for (int j = 0; j < root.m; ++j) root.lo[j] = 0, root.hi[j] = 0.5;
+    // Depth-first, left half first: the checker rebuilds the same bisection tree
+    // (split the widest side, the first one on ties, at its midpoint).
+    std::vector<Box> stack{root};
+    while (!stack.empty()) {
+        const Box b = stack.back();
+        stack.pop_back();
+        Choice ch = choose_diagonal<I>(rule, positions_i(key, vars, b), key.s);
+        double thr = 0;
+        if (ch.ad && ch.bc) {
+            if (threshold_decides(key, vars, b, Diagonal::BC, thr)) ch.ad = false;
+            else if (threshold_decides(key, vars, b, Diagonal::AD, thr)) ch.bc = false;
+        }
+        bool ok = true;
+        int kind = 0;
+        if (ch.ad && ch.bc) {
+            // Undecided (max-min rule): if one diagonal X is valid with q(X) <= qmin
+            // on the box, the rule takes a valid diagonal Y with q(Y) <= q(X) at
+            // every point, so orientation and the min angle hold; the max angle is
+            // needed on both diagonals (the one taken is valid there).
+            ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind, 0, 4) ||
+                 verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind, 0, 4);
+            ok = ok && verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind, 4, 7) &&
+                 verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind, 4, 7);
+        } else if (ch.ad) {
+            ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind);
+        } else {
+            ok = verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind);
+        }
+        if (ok) {
+            out.leaves.push_back(make_leaf(b, (ch.ad ? 1 : 0) | (ch.bc ? 2 : 0)));
+            out.leaves.back().threshold = (ch.ad && ch.bc) ? 0 : thr;
+            continue;
+        }
+        int s = -1;
+        for (int j = 0; j < b.m; ++j)
+            if (s < 0 || b.hi[j] - b.lo[j] > b.hi[s] - b.lo[s]) s = j;
+        if (s < 0 || b.hi[s] - b.lo[s] < std::ldexp(1.0, -44) || out.leaves.size() > max_leaves) {
+            for (int j = 0; j < b.m; ++j) out.fail_point[vars[j]] = 0.5 * (b.lo[j] + b.hi[j]);
+            out.fail_kind = kind;
+            return out;
+        }
+        const double mid = 0.5 * (b.lo[s] + b.hi[s]);
+        Box l = b, r = b;
+        l.hi[s] = mid, r.lo[s] = mid;
+        stack.push_back(r);
+        stack.push_back(l);
+    }
+    out.ok = true;
+    return out;
+}
+
+}  // namespace prover
+}  // namespace warpmesh

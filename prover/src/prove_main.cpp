@@ -1,0 +1,73 @@
+// prove_main.cpp — `warpmesh prove`: arguments, one proof per rule, and the
+// files proofs/<rule>.cert and proofs/key_table.txt.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "warpmesh/prove.hpp"
+
+namespace warpmesh {
+
+int prove_main(int argc, char** argv) {
+    std::string out = "proofs";
+    std::vector<int> subset;
+    bool use_subset = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "prove") continue;
+        if (a == "--out" && i + 1 < argc) out = argv[++i];
+        else if (a == "--threads" && i + 1 < argc) {
+#ifdef _OPENMP
+            omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
+#else
+            ++i;
+#endif
+        } else if (a == "--keys" && i + 1 < argc) {
+            use_subset = true;
+            std::stringstream ss(argv[++i]);
+            std::string tok;
+            while (std::getline(ss, tok, ',')) subset.push_back(std::atoi(tok.c_str()));
+        } else {
+            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--keys I,J,...]\n");
+            return 2;
+        }
+    }
+    std::filesystem::create_directories(out);
+    int status = 0;
+    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+        std::string log;
+        const std::string cert = prover::run_proof(r, use_subset ? &subset : nullptr, &log);
+        const std::string name = r == DiagonalRule::maxmin ? "maxmin" : "separating";
+        const std::string path = out + "/" + name + ".cert";
+        std::ofstream f(path + ".tmp", std::ios::binary);
+        f << cert;
+        f.close();
+        std::filesystem::rename(path + ".tmp", path);
+        // The key table: one line per key.
+        std::ofstream tab(out + "/key_table.txt", r == DiagonalRule::maxmin ? std::ios::trunc : std::ios::app);
+        if (r == DiagonalRule::maxmin)
+            tab << "# rule key flat min_cot max_cot   (see proofs/README.md; every angle a of the chosen triangles\n"
+                << "# of every configuration of the key has max_cot <= cot(a) <= min_cot)\n";
+        std::istringstream cs(cert);
+        for (std::string line; std::getline(cs, line);) {
+            if (line.rfind("key ", 0) != 0) continue;
+            std::istringstream ls(line);
+            std::string w, id, code, flat, m, qmin, qmax;
+            ls >> w >> id >> code >> flat >> m >> qmin >> qmax;
+            tab << name << ' ' << code << ' ' << (flat == "1" ? "flat" : "any") << ' ' << qmin << ' '
+                << (qmin == "inverted" ? "-" : qmax) << "\n";
+        }
+        std::fputs(log.c_str(), stdout);
+        std::fflush(stdout);
+        if (log.find("FAILED") != std::string::npos) status = 1;
+    }
+    return status;
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,455 @@
+// report.cpp — the targets (sampled extremes, not part of the proof), the
+// exact rational witnesses, rigorous degrees for the log, and the certificate
+// text: run_proof drives key enumeration (keys.cpp) and branch and bound
+// (bound.cpp) and writes what they proved (format: proofs/README.md).
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iomanip>
+#include <sstream>
+
+#include <boost/multiprecision/cpp_int.hpp>
+
+#include "warpmesh/certified.hpp"
+#include "warpmesh/prove.hpp"
+
+namespace warpmesh {
+
+using Q = boost::multiprecision::cpp_rational;
+
+// Exact rationals, for witnesses.
+template <>
+struct ScalarOps<Q> {
+    static Q from_int(int v) { return Q(v); }
+    static Truth positive(const Q& a) { return truth(a > 0); }
+    static Truth less(const Q& a, const Q& b) { return truth(a < b); }
+    static Q max(const Q& a, const Q& b) { return a < b ? b : a; }
+};
+
+namespace prover {
+namespace {
+
+// ---- double evaluation (targets and witnesses) ---------------------------------
+struct PointEval {
+    bool valid = true;
+    double qmin = -1e300;  // largest cot among the chosen triangles' angles
+    double qmax = 1e300;   // smallest cot
+    int diag = 0;
+};
+
+PointEval eval_double(DiagonalRule rule, const Key& k, const std::array<double, 4>& t) {
+    std::array<Warp, 4> w{};
+    for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp;
+    const auto p = generic_positions<double>(w, t);
+    const Choice ch = choose_diagonal<double>(rule, p, k.s);
+    PointEval e;
+    const Diagonal d = ch.ad ? Diagonal::AD : Diagonal::BC;
+    e.diag = ch.ad ? 1 : 2;
+    for (const auto& tri : diagonal_triangles(d)) {
+        const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        if (!(f.cross > 0)) {
+            e.valid = false;
+            continue;
+        }
+        for (double dot : f.dot) {
+            e.qmin = std::max(e.qmin, dot / f.cross);
+            e.qmax = std::min(e.qmax, dot / f.cross);
+        }
+    }
+    return e;
+}
+
+struct Extreme {
+    double value;
+    std::array<double, 4> t;  // indexed by corner
+};
+
+// Grid sampling, then pattern search from the best grid points.  `sense` = +1
+// maximises qmin, -1 minimises qmax.  Not part of the proof: it only picks targets.
+Extreme search(DiagonalRule rule, const Key& k, const std::vector<int>& vars, int sense, bool* invalid,
+               std::array<double, 4>* invalid_at) {
+    const int m = static_cast<int>(vars.size());
+    auto value = [&](const std::array<double, 4>& t) {
+        const PointEval e = eval_double(rule, k, t);
+        if (!e.valid) {
+            if (invalid && !*invalid) *invalid = true, *invalid_at = t;
+            return 1e300;
+        }
+        return sense > 0 ? e.qmin : -e.qmax;
+    };
+    const int n = m <= 1 ? 65 : m == 2 ? 33 : m == 3 ? 13 : 7;
+    std::vector<Extreme> best;
+    std::array<int, 4> idx{};
+    for (;;) {
+        std::array<double, 4> t{};
+        for (int j = 0; j < m; ++j) t[vars[j]] = 0.5 * idx[j] / (n - 1);
+        best.push_back({value(t), t});
+        int j = 0;
+        while (j < m && ++idx[j] == n) idx[j++] = 0;
+        if (j == m) break;
+    }
+    std::sort(best.begin(), best.end(), [](const Extreme& a, const Extreme& b) { return a.value > b.value; });
+    best.resize(std::min<std::size_t>(best.size(), 4));
+    Extreme top = best[0];
+    for (Extreme e : best) {
+        double h = 0.5 / (n - 1);
+        while (h > 1e-13 && m > 0) {
+            bool improved = false;
+            for (int j = 0; j < m; ++j)
+                for (int s : {-1, 1}) {
+                    std::array<double, 4> t = e.t;
+                    t[vars[j]] = std::clamp(t[vars[j]] + s * h, 0.0, 0.5);
+                    const double v = value(t);
+                    if (v > e.value) e = {v, t}, improved = true;
+                }
+            if (!improved) h *= 0.5;
+        }
+        if (e.value > top.value) top = e;
+    }
+    if (sense < 0) top.value = -top.value;
+    return top;
+}
+
+// ---- exact rationals for the report -------------------------------------------
+std::string qstr(const Q& q) {
+    std::ostringstream s;
+    s << q;
+    return s.str();
+}
+Q dyadic(double x) {  // exact value of a double
+    int e = 0;
+    const double f = std::frexp(x, &e);
+    const auto n = static_cast<long long>(std::ldexp(f, 53));
+    Q r(n);
+    e -= 53;
+    const Q two(2);
+    if (e >= 0) {
+        for (int i = 0; i < e; ++i) r *= 2;
+    } else {
+        boost::multiprecision::cpp_int den = 1;
+        den <<= -e;
+        r /= Q(den);
+    }
+    return r;
+}
+std::string dstr(double x) { return qstr(dyadic(x)); }
+
+// Rigorous enclosure of atan(y), y >= 0, by the alternating Taylor series after
+// reduction to |z| <= sqrt(2)-1; pi by Machin's formula.
+std::pair<Q, Q> atan_series(const Q& z) {  // |z| < 1/2
+    Q sum = 0, pw = z, z2 = z * z;
+    for (int n = 0; n < 40; ++n) {
+        sum += (n % 2 ? -pw : pw) / (2 * n + 1);
+        pw *= z2;
+    }
+    Q err = abs(pw) / 81;
+    return {sum - err, sum + err};
+}
+std::pair<Q, Q> pi_enc() {
+    auto a = atan_series(Q(1, 5)), b = atan_series(Q(1, 239));
+    return {16 * a.first - 4 * b.second, 16 * a.second - 4 * b.first};
+}
+// Angle in degrees whose cotangent is c, as an enclosure.
+std::pair<Q, Q> angle_of_cot(const Q& c) {
+    const auto pi = pi_enc();
+    if (c == 0) return {Q(90), Q(90)};
+    const Q y = 1 / abs(c);  // atan(y) in (0, pi/2)
+    std::pair<Q, Q> a;       // enclosure of atan(y)/pi
+    if (y <= Q(2, 5)) {
+        auto s = atan_series(y);
+        a = {s.first / pi.second, s.second / pi.first};
+    } else if (y <= Q(5, 2)) {
+        auto s = atan_series((y - 1) / (y + 1));  // atan(y) = pi/4 + atan((y-1)/(y+1))
+        a = {Q(1, 4) + std::min(s.first / pi.second, s.first / pi.first),
+             Q(1, 4) + std::max(s.second / pi.first, s.second / pi.second)};
+    } else {
+        auto s = atan_series(1 / y);  // atan(y) = pi/2 - atan(1/y)
+        a = {Q(1, 2) - s.second / pi.first, Q(1, 2) - s.first / pi.second};
+    }
+    if (c > 0) return {180 * a.first, 180 * a.second};
+    return {180 - 180 * a.second, 180 - 180 * a.first};
+}
+std::string dec(const Q& q, bool up, int digits = 10) {
+    boost::multiprecision::cpp_int scale = 1;
+    for (int i = 0; i < digits; ++i) scale *= 10;
+    const Q s = q * Q(scale);
+    boost::multiprecision::cpp_int n = numerator(s) / denominator(s);  // truncation toward 0
+    if (Q(n) > s) n -= 1;
+    if (up && Q(n) < s) n += 1;
+    const bool neg = n < 0;
+    if (neg) n = -n;
+    std::string d = n.str();
+    while (static_cast<int>(d.size()) <= digits) d = "0" + d;
+    return (neg ? "-" : "") + d.substr(0, d.size() - digits) + "." + d.substr(d.size() - digits);
+}
+std::string deg_range(const Q& cot) {
+    const auto e = angle_of_cot(cot);
+    return "[" + dec(e.first, false) + ", " + dec(e.second, true) + "] deg";
+}
+
+struct ExactEval {
+    Q qmin, qmax;
+    bool valid = true;
+    int diag = 0;
+};
+ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t) {
+    std::array<Warp, 4> w{};
+    for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp;
+    const auto p = generic_positions<Q>(w, t);
+    const Choice ch = choose_diagonal<Q>(rule, p, k.s);
+    ExactEval e;
+    e.diag = ch.ad ? 1 : 2;
+    bool first = true;
+    for (const auto& tri : diagonal_triangles(ch.ad ? Diagonal::AD : Diagonal::BC)) {
+        const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        if (f.cross <= 0) e.valid = false;
+        for (const Q& dot : f.dot) {
+            if (f.cross == 0) continue;
+            const Q c = dot / f.cross;
+            if (first || c > e.qmin) e.qmin = c;
+            if (first || c < e.qmax) e.qmax = c;
+            first = false;
+        }
+    }
+    return e;
+}
+
+std::array<Q, 4> to_dyadic_t(const std::array<double, 4>& t);
+ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t);
+// The rational witness: the dyadic point (2^-40 grid) nearest the sampled
+// extreme, or a neighbour at distance 2^-30 per coordinate if the rule's exact
+// choice there gives a more extreme value (the extreme may sit on a switch).
+std::pair<std::array<Q, 4>, ExactEval> witness(DiagonalRule rule, const Key& k, const std::array<double, 4>& t0,
+                                               int sense) {
+    const auto vars = key_vars(k);
+    std::pair<std::array<Q, 4>, ExactEval> best{to_dyadic_t(t0), eval_exact(rule, k, to_dyadic_t(t0))};
+    int combos = 1;
+    for (std::size_t j = 0; j < vars.size(); ++j) combos *= 3;
+    for (int cmb = 0; cmb < combos; ++cmb) {
+        std::array<double, 4> t = t0;
+        int r = cmb;
+        for (int v : vars) {
+            t[v] = std::clamp(t[v] + (r % 3 - 1) * std::ldexp(1.0, -30), 0.0, 0.5);
+            r /= 3;
+        }
+        const auto tq = to_dyadic_t(t);
+        const ExactEval e = eval_exact(rule, k, tq);
+        if (!e.valid) continue;
+        if ((sense > 0 && e.qmin > best.second.qmin) || (sense < 0 && e.qmax < best.second.qmax)) best = {tq, e};
+    }
+    return best;
+}
+
+std::array<Q, 4> to_dyadic_t(const std::array<double, 4>& t) {
+    std::array<Q, 4> r;
+    for (int c = 0; c < 4; ++c) r[c] = dyadic(std::ldexp(std::nearbyint(std::ldexp(t[c], 40)), -40));
+    return r;
+}
+
+double round_up(double x, int bits) { return std::ldexp(std::ceil(std::ldexp(x, bits)), -bits); }
+double round_down(double x, int bits) { return std::ldexp(std::floor(std::ldexp(x, bits)), -bits); }
+double q_up(const Q& q, int bits) {  // smallest multiple of 2^-bits that is >= q
+    const Q s = q * Q(boost::multiprecision::cpp_int(1) << bits);
+    boost::multiprecision::cpp_int n = numerator(s) / denominator(s);
+    if (Q(n) < s) n += 1;
+    return std::ldexp(n.convert_to<double>(), -bits);
+}
+double q_down(const Q& q, int bits) { return -q_up(-q, bits); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto all = consistent_keys();
+    std::vector<int> ids;
+    if (key_subset) ids = *key_subset;
+    else
+        for (int i = 0; i < static_cast<int>(all.size()); ++i) ids.push_back(i);
+    const int n = static_cast<int>(ids.size());
+    struct Info {
+        bool flat = false, invalid = false, relaxed = false;
+        std::array<double, 4> invalid_at{};
+        Extreme emin{}, emax{};
+        double qmin = 0, qmax = 0;
+        KeyProof proof;
+    };
+    std::vector<Info> info(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int i = 0; i < n; ++i) {
+        const Key& k = all[static_cast<std::size_t>(ids[i])];
+        Info& f = info[static_cast<std::size_t>(i)];
+        f.flat = flat_compatible(k);
+        const auto vars = key_vars(k);
+        f.emin = search(rule, k, vars, +1, &f.invalid, &f.invalid_at);
+        f.emax = search(rule, k, vars, -1, nullptr, nullptr);
+    }
+    // Targets: per category (0 = any, 1 = flat) the exact value at the rational
+    // witness nearest the sampled extreme, plus a small margin.
+    struct Cat {
+        int wmin = -1, wmax = -1, winv = -1;
+        ExactEval emin, emax;
+        std::array<Q, 4> tmin, tmax;
+        double qmin = 0, qmax = 0;
+    } cat[2];
+    for (int c = 0; c < 2; ++c) {
+        for (int i = 0; i < n; ++i) {
+            const Info& f = info[static_cast<std::size_t>(i)];
+            if (c == 1 && !f.flat) continue;
+            if (f.invalid) {
+                if (cat[c].winv < 0) cat[c].winv = i;
+                continue;
+            }
+            if (cat[c].wmin < 0 || f.emin.value > info[static_cast<std::size_t>(cat[c].wmin)].emin.value) cat[c].wmin = i;
+            if (cat[c].wmax < 0 || f.emax.value < info[static_cast<std::size_t>(cat[c].wmax)].emax.value) cat[c].wmax = i;
+        }
+        const int bits = c == 1 ? 33 : 24;  // min-angle margins: 2^-33 (F, < 1e-9 deg), 2^-24 (U, < 1e-6 deg)
+        // Max-angle margins: 2^-33 for F (flat keys: < 1e-8 deg at 135 and 143.13
+        // deg; the extremes sit at box corners, where the monotonicity reduction
+        // closes the boxes), 1/8 for U: tight max-angle bounds cost many leaves
+        // along the max-min switching surfaces.
+        const int mbits = c == 1 ? 33 : 3;
+        const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
+        std::tie(cat[c].tmin, cat[c].emin) = witness(rule, kmin, info[static_cast<std::size_t>(cat[c].wmin)].emin.t, 1);
+        cat[c].qmin = std::max(q_up(cat[c].emin.qmin, bits + 3), round_up(info[static_cast<std::size_t>(cat[c].wmin)].emin.value, bits + 3)) + std::ldexp(1.0, -bits);
+        const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
+        std::tie(cat[c].tmax, cat[c].emax) = witness(rule, kmax, info[static_cast<std::size_t>(cat[c].wmax)].emax.t, -1);
+        cat[c].qmax = std::min(q_down(cat[c].emax.qmax, bits + 3), round_down(info[static_cast<std::size_t>(cat[c].wmax)].emax.value, bits + 3)) - std::ldexp(1.0, -mbits);
+    }
+    for (int i = 0; i < n; ++i) {
+        Info& f = info[static_cast<std::size_t>(i)];
+        const Cat& c = cat[f.flat ? 1 : 0];
+        const double rel = 0.25 * (1 + std::fabs(f.emin.value));
+        f.qmin = std::min(round_up(f.emin.value + rel, 16), c.qmin);
+        f.qmax = std::max(round_down(f.emax.value - 0.25 * (1 + std::fabs(f.emax.value)), 16), c.qmax);
+        // Keys that are not flat-compatible: the max-angle claim is at least as
+        // loose as cot -3/2 (146.31 deg) — tight max-angle claims need too many leaves
+        // along the max-min switching surfaces (both diagonals must be bounded there).
+        if (!f.flat) f.qmax = std::min(f.qmax, std::getenv("WARPMESH_U_MAX_COT") ? std::atof(std::getenv("WARPMESH_U_MAX_COT")) : -1.5);
+    }
+    const auto t1 = std::chrono::steady_clock::now();
+    const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
+    const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
+    if (verbose)
+        std::fprintf(stderr, "targets: U %.17g %.17g  F %.17g %.17g  (%.2f s)\n", cat[0].qmin, cat[0].qmax, cat[1].qmin,
+                     cat[1].qmax, std::chrono::duration<double>(t1 - t0).count());
+    std::atomic<std::size_t> done{0};
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int i = 0; i < n; ++i) {
+        Info& f = info[static_cast<std::size_t>(i)];
+        if (f.invalid) continue;
+        const auto k0 = std::chrono::steady_clock::now();
+        const Key& key = all[static_cast<std::size_t>(ids[i])];
+        // A claim that cannot be certified within the leaf budget is relaxed
+        // (and reported as such): the certificate only ever states what was proved.
+        for (int attempt = 0; attempt < 8; ++attempt) {
+            f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
+            if (f.proof.ok) break;
+            const PointEval e = eval_double(rule, key, f.proof.fail_point);
+            const double step = 1e-3 * std::pow(4.0, attempt);
+            if (f.proof.fail_kind == 1)
+                f.qmin = round_up(std::max(f.qmin, e.valid ? e.qmin : f.qmin) + step * (1 + std::fabs(f.qmin)), 24);
+            else if (f.proof.fail_kind == 2)
+                f.qmax = round_down(std::min(f.qmax, e.valid ? e.qmax : f.qmax) - step * (1 + std::fabs(f.qmax)), 24);
+            else
+                break;  // orientation cannot be certified: reported as a failure
+            f.relaxed = true;
+        }
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
+        if (verbose && (dt > 0.2 || f.relaxed))
+            std::fprintf(stderr, "key %d %s: %.2f s, %zu leaves, ok %d, targets %.12g %.12g (sampled %.12g %.12g)\n",
+                         ids[i], key_code(all[static_cast<std::size_t>(ids[i])].s).c_str(), dt, f.proof.leaves.size(),
+                         f.proof.ok, f.qmin, f.qmax, f.emin.value, f.emax.value);
+        ++done;
+    }
+    const auto t2 = std::chrono::steady_clock::now();
+
+    std::ostringstream o, lg;
+    const char* rname = rule == DiagonalRule::maxmin ? "maxmin" : "separating";
+    o << "warpmesh-certificate 1\n"
+      << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
+      << "rule " << rname << "\n";
+    std::size_t leaves = 0, failed = 0, inverted = 0;
+    for (const Info& f : info) leaves += f.proof.leaves.size(), failed += !f.invalid && !f.proof.ok,
+                                inverted += f.invalid;
+    // Category claims: max/min of the key claims.
+    for (int c = 0; c < 2; ++c) {
+        double cq = -1e300, cp = 1e300;
+        bool any_inv = false;
+        for (const Info& f : info) {
+            if (c == 1 && !f.flat) continue;
+            if (f.invalid) {
+                any_inv = true;
+                continue;
+            }
+            cq = std::max(cq, f.qmin), cp = std::min(cp, f.qmax);
+        }
+        const char* cn = c ? "F" : "U";
+        if (any_inv) {
+            const Info& f = info[static_cast<std::size_t>(cat[c].winv)];
+            const auto t = to_dyadic_t(f.invalid_at);
+            o << "claim " << cn << " inverted\n";
+            o << "witness " << cn << " inverted " << key_code(all[static_cast<std::size_t>(ids[cat[c].winv])].s);
+            for (int v : key_vars(all[static_cast<std::size_t>(ids[cat[c].winv])])) o << ' ' << qstr(t[v]);
+            o << "\n";
+            lg << rname << " (" << cn << "): orientation FAILS, e.g. key "
+               << key_code(all[static_cast<std::size_t>(ids[cat[c].winv])].s) << "\n";
+            continue;
+        }
+        o << "claim " << cn << " " << dstr(cq) << " " << dstr(cp) << "\n";
+        const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
+        const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
+        o << "witness " << cn << " min " << key_code(kmin.s);
+        for (int v : key_vars(kmin)) o << ' ' << qstr(cat[c].tmin[v]);
+        o << " " << qstr(cat[c].emin.qmin) << "\n";
+        o << "witness " << cn << " max " << key_code(kmax.s);
+        for (int v : key_vars(kmax)) o << ' ' << qstr(cat[c].tmax[v]);
+        o << " " << qstr(cat[c].emax.qmax) << "\n";
+        lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq)) << " (cot <= " << dstr(cq)
+           << "), witness " << key_code(kmin.s) << " has cot " << std::setprecision(17)
+           << cat[c].emin.qmin.convert_to<double>() << " = " << deg_range(cat[c].emin.qmin) << "; gap in cot "
+           << (dyadic(cq) - cat[c].emin.qmin).convert_to<double>() << "\n";
+        lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp)) << " (cot >= " << dstr(cp)
+           << "), witness " << key_code(kmax.s) << " has cot " << cat[c].emax.qmax.convert_to<double>() << " = "
+           << deg_range(cat[c].emax.qmax) << "; gap in cot "
+           << (cat[c].emax.qmax - dyadic(cp)).convert_to<double>() << "\n";
+    }
+    o << "keys " << n << "\n";
+    for (int i = 0; i < n; ++i) {
+        const Info& f = info[static_cast<std::size_t>(i)];
+        const Key& k = all[static_cast<std::size_t>(ids[i])];
+        const int m = static_cast<int>(key_vars(k).size());
+        if (f.invalid) {
+            o << "key " << ids[i] << ' ' << key_code(k.s) << ' ' << f.flat << ' ' << m << " inverted\n";
+            continue;
+        }
+        o << "key " << ids[i] << ' ' << key_code(k.s) << ' ' << f.flat << ' ' << m << ' ' << dstr(f.qmin) << ' '
+          << dstr(f.qmax) << ' ' << (f.proof.ok ? f.proof.leaves.size() : 0) << "\n";
+        if (!f.proof.ok) {
+            lg << "FAILED key " << key_code(k.s) << " qmin " << f.qmin << " qmax " << f.qmax << " at";
+            for (double x : f.proof.fail_point) lg << ' ' << x;
+            const auto e = eval_double(rule, k, f.proof.fail_point);
+            lg << " (there: qmin " << e.qmin << " qmax " << e.qmax << ")\n";
+            continue;
+        }
+        for (const Leaf& l : f.proof.leaves) {
+            o << (l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
+            for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
+            if (l.threshold != 0) o << ' ' << dstr(l.threshold);
+            o << "\n";
+        }
+    }
+    o << "end\n";
+    lg << rname << ": " << n << " keys, " << leaves << " leaves, " << failed << " failed, " << inverted
+       << " with inverted triangles; targets "
+       << std::chrono::duration<double>(t1 - t0).count() << " s, branch and bound "
+       << std::chrono::duration<double>(t2 - t1).count() << " s\n";
+    if (log) *log += lg.str();
+    return o.str();
+}
+
+}  // namespace prover
+}  // namespace warpmesh

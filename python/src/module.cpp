@@ -1,0 +1,173 @@
+// module.cpp — warpmesh._core, the C++ side of the Python module `warpmesh`
+// (python/warpmesh/__init__.py holds the Python-facing API and its docs).
+//
+// Arrays: the mesh's arrays are returned as numpy views of the C++ buffers,
+// kept alive by the result object (no copy); images come in as 2D uint16
+// arrays (one copy into warpmesh::Image, which the level set turns into its
+// own double field anyway) and go out of read_image as numpy arrays that own
+// the decoded pixels (no copy).  The GIL is released while meshing.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "warpmesh/warpmesh.hpp"
+
+namespace py = pybind11;
+using namespace warpmesh;
+
+namespace {
+
+// A numpy view of `count` rows of `cols` T's at `data`, owned by `base`.
+template <class T>
+py::array view(const void* data, std::size_t count, std::size_t cols, py::handle base) {
+    std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(count)}, strides{static_cast<py::ssize_t>(cols * sizeof(T))};
+    if (cols > 1) shape.push_back(static_cast<py::ssize_t>(cols)), strides.push_back(sizeof(T));
+    py::array a(py::dtype::of<T>(), shape, strides, count ? data : nullptr, base);
+    // Read-only: the arrays describe one mesh; a caller who edits wants a copy.
+    py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+    return a;
+}
+
+// MeshResult.<name>: a view of the array get(result), `cols` T's a row.
+template <class T, class Get>
+void def_view(py::class_<MeshResult>& cls, const char* name, std::size_t cols, Get get) {
+    cls.def_property_readonly(name, [cols, get](py::object self) {
+        const auto& a = get(self.cast<const MeshResult&>());
+        return view<T>(a.data(), a.size(), cols, self);
+    });
+}
+
+MeshOptions mesh_options(const py::dict& kw) {
+    MeshOptions o;
+    if (kw.contains("spacing")) o.spacing = kw["spacing"].cast<double>();
+    if (kw.contains("rule")) {
+        const auto r = kw["rule"].cast<std::string>();
+        if (r == "separating") o.rule = DiagonalRule::separating;
+        else if (r == "maxmin") o.rule = DiagonalRule::maxmin;
+        else throw InputError("rule must be 'separating' or 'maxmin', got '" + r + "'");
+    }
+    if (kw.contains("graded")) o.graded = kw["graded"].cast<bool>();
+    if (kw.contains("max_cell")) o.max_cell = kw["max_cell"].cast<std::int64_t>();
+    if (kw.contains("max_squares")) o.max_squares = kw["max_squares"].cast<std::int64_t>();
+    if (kw.contains("certify")) o.certify = kw["certify"].cast<bool>();
+    if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
+    if (kw.contains("guarantee")) {
+        const auto g = kw["guarantee"].cast<std::string>();
+        if (g == "flat") o.guarantee = Guarantee::flat;
+        else if (g == "any") o.guarantee = Guarantee::any;
+        else throw InputError("guarantee must be None, 'any' or 'flat', got '" + g + "'");
+    }
+    if (kw.contains("min_spacing")) o.min_spacing = kw["min_spacing"].cast<double>();
+    if (kw.contains("input")) o.input = kw["input"].cast<std::string>();
+    return o;
+}
+
+MeshResult run(const LevelSet& f, const MeshOptions& o, std::optional<int> threads) {
+    py::gil_scoped_release release;
+#ifdef _OPENMP
+    // The thread count of this call only (OpenMP's setting is per calling thread).
+    if (threads) omp_set_num_threads(*threads);
+#else
+    (void)threads;
+#endif
+    return mesh(f, o);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+    m.doc() = "warpmesh C++ core (use the `warpmesh` package)";
+    py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+    py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
+
+    py::class_<MeshResult> result(m, "MeshResult");
+    def_view<double>(result, "points", 2, [](const MeshResult& r) -> const auto& { return r.mesh.vertices; });
+    def_view<std::int32_t>(result, "triangles", 3, [](const MeshResult& r) -> const auto& { return r.mesh.triangles; });
+    def_view<std::int32_t>(result, "regions", 1, [](const MeshResult& r) -> const auto& { return r.mesh.region; });
+    def_view<std::int32_t>(result, "boundary_edges", 2, [](const MeshResult& r) -> const auto& { return r.mesh.boundary; });
+    def_view<std::int32_t>(result, "boundary_tags", 1, [](const MeshResult& r) -> const auto& { return r.mesh.boundary_tag; });
+    def_view<std::int32_t>(result, "interfaces", 2, [](const MeshResult& r) -> const auto& { return r.mesh.interfaces; });
+    def_view<std::int32_t>(result, "interface_regions", 2,
+                           [](const MeshResult& r) -> const auto& { return r.mesh.interface_regions; });
+    result
+        .def_property_readonly("cell_data", [](py::object self) {
+            const auto& r = self.cast<const MeshResult&>();
+            py::dict d;
+            for (const auto& [name, values] : r.mesh.cell_data)
+                d[py::str(name)] = view<double>(values.data(), values.size(), 1, self);
+            return d;
+        })
+        .def_property_readonly("region_names", [](const MeshResult& r) { return r.mesh.region_names; })
+        .def_property_readonly("warnings", [](const MeshResult& r) { return r.warnings; })
+        .def_property_readonly("spacing", [](const MeshResult& r) { return r.spacing; })
+        .def_property_readonly("refinements", [](const MeshResult& r) { return r.refinements; })
+        .def("to_json", [](const MeshResult& r) { return to_json(r); })
+        .def("to_text", [](const MeshResult& r) { return to_text(r); })
+        .def("write", [](const MeshResult& r, const std::string& path) {
+            const WriteOptions wo = write_options(r);
+            py::gil_scoped_release release;
+            write_mesh(r.mesh, path, wo);
+        });
+
+    m.def(
+        "mesh_image",
+        [](py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast> pixels, int maxval,
+           std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels, bool nonzero,
+           const std::string& source, std::optional<int> threads, const py::dict& kw) {
+            if (pixels.ndim() != 2) throw InputError("the image must be a 2D array (rows, columns)");
+            Image img;
+            img.height = static_cast<int>(pixels.shape(0));
+            img.width = static_cast<int>(pixels.shape(1));
+            img.maxval = maxval;
+            img.source = source;
+            img.pixels.resize(static_cast<std::size_t>(pixels.size()));
+            if (pixels.size()) std::memcpy(img.pixels.data(), pixels.data(), img.pixels.size() * sizeof(std::uint16_t));
+            ImageLevelSetOptions io;
+            if (labels || nonzero) {
+                io.mode = ImageMode::label;
+                io.label_nonzero = nonzero;
+                if (labels) io.labels = *labels;
+            } else {
+                io.iso = iso;
+                io.inside_above = inside_above;
+            }
+            const std::unique_ptr<LevelSet> f = image_levelset(img, io);
+            return run(*f, mesh_options(kw), threads);
+        },
+        py::arg("pixels"), py::arg("maxval"), py::arg("iso"), py::arg("inside_above"), py::arg("labels"),
+        py::arg("nonzero"), py::arg("source"), py::arg("threads"), py::arg("options"));
+
+    m.def(
+        "mesh_shape",
+        [](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
+            const std::unique_ptr<LevelSet> f = parse_shape(spec);
+            return run(*f, mesh_options(kw), threads);
+        },
+        py::arg("spec"), py::arg("threads"), py::arg("options"));
+
+    // (pixels, maxval): pixels an array that owns the decoded samples.
+    m.def(
+        "read_image",
+        [](const std::string& path, std::uint64_t max_pixels) {
+            auto img = std::make_unique<Image>(read_image(path, max_pixels));
+            const int maxval = img->maxval;
+            const std::array<py::ssize_t, 2> shape{img->height, img->width};
+            std::uint16_t* data = img->pixels.data();
+            py::capsule owner(img.release(), [](void* p) { delete static_cast<Image*>(p); });
+            return py::make_tuple(py::array_t<std::uint16_t>(shape, data, owner), maxval);
+        },
+        py::arg("path"), py::arg("max_pixels") = default_max_pixels);
+
+    m.def("png_supported", &png_supported);
+    m.def("certified_table_available", &certified_table_available);
+}

@@ -1,0 +1,260 @@
+"""warpmesh — conforming triangle meshes of 2D level sets by lattice warping,
+with certified angle bounds.
+
+    >>> import numpy as np, warpmesh
+    >>> image = np.zeros((64, 64), np.uint8); image[16:48, 20:40] = 200
+    >>> m = warpmesh.mesh(image)                      # threshold at maxval / 2
+    >>> m.points.shape, m.triangles.shape             # (n, 2) float64, (t, 3) int32
+    >>> m.report["certified"]["min_angle_deg"]        # every angle is at least this
+    >>> m.to_meshio().write("mesh.vtu")
+
+    >>> d = warpmesh.mesh_shape("circle:0,0,1", spacing=0.05, graded=True)
+
+The functions release the GIL while meshing (threads can mesh in parallel; the
+mesher itself uses OpenMP threads, `threads=` per call).  Bad input raises
+ValueError (warpmesh.InputError), an output that cannot be written OSError
+(warpmesh.OutputError).
+"""
+import json
+import warnings
+
+import numpy as np
+
+from . import _core
+from ._core import InputError, OutputError, png_supported, certified_table_available
+
+__all__ = ["mesh", "mesh_shape", "read_image", "Mesh", "Image", "InputError", "OutputError",
+           "png_supported", "certified_table_available"]
+
+# The CLI's --max-squares and --max-pixels defaults.
+_MAX_SQUARES = 1 << 30
+_MAX_PIXELS = 1 << 28
+
+
+class Image(np.ndarray):
+    """A 2D uint16 array of samples (row 0 at the top) as read from a file, with
+    ``maxval`` (the file's largest possible sample: the default threshold is
+    half of it) and ``source`` (the path)."""
+
+    def __new__(cls, pixels, maxval, source=""):
+        obj = np.asarray(pixels).view(cls)
+        obj.maxval = int(maxval)
+        obj.source = str(source)
+        return obj
+
+    def __array_finalize__(self, obj):
+        self.maxval = getattr(obj, "maxval", None)
+        self.source = getattr(obj, "source", "")
+
+
+def read_image(path, *, slice=None, max_pixels=_MAX_PIXELS):
+    """Read a grayscale or label image the way the CLI does: PGM (P2/P5, 8 or
+    16 bits) and PNG (when built with libpng), recognised by content.
+
+    Returns an Image (a numpy uint16 array of shape (rows, columns) owning the
+    decoded samples, no copy) with ``maxval`` and ``source``.  ``slice``
+    selects a slice of a volume; the 2D formats have none (ValueError if
+    given).  Raises ValueError naming the file and the problem."""
+    if slice is not None:
+        raise ValueError(f"{path}: a 2D image has no slices (slice={slice!r})")
+    pixels, maxval = _core.read_image(str(path), int(max_pixels))
+    return Image(pixels, maxval, path)
+
+
+class Mesh:
+    """The result of mesh() / mesh_shape().
+
+    Arrays (numpy views of the C++ mesh, read-only, kept alive by this object):
+      points            (n, 2) float64   vertex coordinates (pixel units × pixel_size)
+      triangles         (t, 3) int32     counter-clockwise vertex indices
+      regions           (t,)   int32     region tag per triangle (label images: the label; else 1)
+      boundary_edges    (b, 2) int32     edges of one triangle, region on the left
+      boundary_tags     (b,)   int32     1 = on the level set, 2 = on the domain border
+      certified_min_angle (t,) float64   certified lower bound of the triangle's angles,
+                                         degrees (None without certification)
+      interfaces        (k, 2) int32     edges between two regions (multi-material; else empty)
+      interface_regions (k, 2) int32     their (left, right) regions
+    Other attributes: report (dict, the CLI's --report JSON), warnings (list of
+    str, also issued as Python warnings), spacing (final lattice spacing),
+    refinements (halvings made by guarantee="flat").
+    """
+
+    def __init__(self, core, pixel_size=None):
+        self._core = core
+        self._scale = pixel_size
+        self.report = json.loads(core.to_json())
+        self.warnings = list(core.warnings)
+        self.spacing = core.spacing * (pixel_size or 1.0)
+        self.refinements = core.refinements
+
+    @property
+    def points(self):
+        p = self._core.points
+        return p if self._scale is None else p * self._scale
+
+    triangles = property(lambda self: self._core.triangles)
+    regions = property(lambda self: self._core.regions)
+    boundary_edges = property(lambda self: self._core.boundary_edges)
+    boundary_tags = property(lambda self: self._core.boundary_tags)
+    interfaces = property(lambda self: self._core.interfaces)
+    interface_regions = property(lambda self: self._core.interface_regions)
+    region_names = property(lambda self: dict(self._core.region_names))
+
+    @property
+    def certified_min_angle(self):
+        return self._core.cell_data.get("certified_min_angle")
+
+    @property
+    def certified(self):
+        """The certified angle interval [min, max] in degrees of every triangle
+        (None without certification)."""
+        c = self.report.get("certified")
+        return None if c is None else (c["min_angle_deg"], c["max_angle_deg"])
+
+    def to_text(self):
+        """The CLI's text report."""
+        return self._core.to_text()
+
+    def write(self, path):
+        """Write the mesh with warpmesh's own writers, chosen by extension:
+        .vtu, .msh, .node/.ele, .svg, .png (in pixel units; atomic)."""
+        self._core.write(str(path))
+
+    def to_meshio(self, boundary=False):
+        """A meshio.Mesh: the triangles with cell data "region" (int32) and,
+        when certified, "certified_min_angle" (float64).  With boundary=True a
+        "line" block of the boundary edges follows, its "region" the boundary
+        tags (certified_min_angle NaN there)."""
+        import meshio
+
+        cells = [("triangle", self.triangles)]
+        region = [self.regions]
+        cma = self.certified_min_angle
+        angle = [cma] if cma is not None else None
+        if boundary:
+            cells.append(("line", self.boundary_edges))
+            region.append(self.boundary_tags)
+            if angle is not None:
+                angle.append(np.full(len(self.boundary_edges), np.nan))
+        cell_data = {"region": region}
+        if angle is not None:
+            cell_data["certified_min_angle"] = angle
+        return meshio.Mesh(self.points, cells, cell_data=cell_data)
+
+    def __repr__(self):
+        c = self.certified
+        cert = "" if c is None else f", certified angles [{c[0]:.4g}, {c[1]:.4g}] deg"
+        return f"<warpmesh.Mesh {len(self.points)} points, {len(self.triangles)} triangles{cert}>"
+
+
+def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input):
+    if rule not in ("separating", "maxmin"):
+        raise ValueError(f"rule must be 'separating' or 'maxmin', got {rule!r}")
+    o = dict(spacing=float(spacing), rule=rule, graded=bool(graded), max_cell=int(max_cell),
+             max_squares=int(max_squares), certify=bool(certify), verify=bool(verify),
+             guarantee="any" if guarantee is None else str(guarantee), input=input)
+    if min_spacing is not None:
+        o["min_spacing"] = float(min_spacing)
+    return o
+
+
+def _pixel_size(pixel_size):
+    if pixel_size is None:
+        return None
+    s = np.broadcast_to(np.asarray(pixel_size, dtype=float), (2,))
+    if s[0] != s[1] or not (s[0] > 0) or not np.isfinite(s[0]):
+        raise ValueError(f"pixel_size must be one positive number (square pixels), got {pixel_size!r}")
+    return float(s[0])
+
+
+def _finish(core, pixel_size=None):
+    m = Mesh(core, pixel_size)
+    for w in m.warnings:
+        warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=3)
+    return m
+
+
+def _labels(labels):
+    """labels= → (list of ints or None, nonzero)."""
+    if labels is None:
+        return None, False
+    if isinstance(labels, str):
+        if labels == "nonzero":
+            return None, True
+        out = []
+        for part in labels.split(","):
+            lo, _, hi = part.strip().partition("-")
+            out.extend(range(int(lo), int(hi or lo) + 1))
+        return out, False
+    if np.isscalar(labels):
+        return [int(labels)], False
+    return [int(v) for v in labels], False
+
+
+def mesh(image, *, iso=None, inside="above", labels=None, spacing=1.0, pixel_size=None, graded=False,
+         max_cell=0, rule="separating", guarantee=None, min_spacing=None, certify=True, verify=True,
+         max_squares=_MAX_SQUARES, threads=None):
+    """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
+
+    image       2D array of integers in 0..65535 or booleans (a uint8 image from
+                scikit-image, a label map, an Image from read_image)
+    iso         threshold mode: the region is where the bilinear image is above
+                iso (inside="above") or below it (inside="below").  Default:
+                half of maxval — image.maxval for an Image, 255 for uint8,
+                1 for bool, 65535 for uint16 arrays, else the array's maximum
+    labels      label mode instead: an int, a list of ints, "51,52", "1-9" or
+                "nonzero"; the region is the pixels with one of these labels,
+                triangles are tagged with the nearest pixel's label
+    spacing     lattice spacing in pixels; pixel_size scales the output
+                coordinates (square pixels: angles and bounds are unchanged)
+    graded      graded mesh (quadtree, finest along the boundary); max_cell the
+                largest cell in lattice squares (power of two, 0 = no limit)
+    rule        "separating" (the boundary follows the level set) or "maxmin"
+    guarantee   None / "any", or "flat": halve the spacing (not below
+                min_spacing, default spacing / 16) until every warped square's
+                stencil is flat, so that the flat theorem's bound applies
+    certify     per-triangle certified bounds from the compiled-in proofs;
+                verify checks every triangle against them
+    threads     OpenMP threads for this call (default: all cores)
+
+    Returns a Mesh.  Raises ValueError (InputError) for bad input: an empty
+    region, a lattice over max_squares, labels absent from the image, ...
+    """
+    a = np.asarray(image)
+    if a.ndim != 2:
+        raise ValueError(f"the image must be 2D (rows, columns), got shape {a.shape}")
+    if a.dtype == bool:
+        maxval = 1
+    elif np.issubdtype(a.dtype, np.integer):
+        if a.size and (a.min() < 0 or a.max() > 65535):
+            raise ValueError("image values must lie in 0..65535")
+        maxval = {np.dtype(np.uint8): 255, np.dtype(np.uint16): 65535}.get(a.dtype, int(a.max(initial=0)))
+    else:
+        raise TypeError(f"image dtype {a.dtype} is not supported: give integers in 0..65535 or booleans "
+                        "(e.g. (img * 255).astype(np.uint8) for a float image in [0, 1])")
+    maxval = getattr(image, "maxval", None) or max(maxval, 1)
+    if inside not in ("above", "below"):
+        raise ValueError(f"inside must be 'above' or 'below', got {inside!r}")
+    if labels is not None and iso is not None:
+        raise ValueError("iso (threshold mode) and labels (label mode) exclude each other")
+    label_list, nonzero = _labels(labels)
+    scale = _pixel_size(pixel_size)
+    source = getattr(image, "source", "") or "<array>"
+    core = _core.mesh_image(a.astype(np.uint16, copy=False), int(maxval),
+                            None if iso is None else float(iso), inside == "above", label_list, nonzero,
+                            source, threads,
+                            _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
+                                     max_squares, source))
+    return _finish(core, scale)
+
+
+def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, rule="separating", guarantee=None,
+               min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
+    """Mesh an analytic shape given as the CLI's --shape string:
+    circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2  flower:cx,cy,a,b,k
+    rect:x0,y0,x1,y1  union(S;S)  intersect(S;S)  diff(S;S).  Options as in
+    mesh(); the report also gives the boundary fidelity."""
+    core = _core.mesh_shape(str(spec), threads,
+                            _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
+                                     max_squares, str(spec)))
+    return _finish(core)

@@ -1,0 +1,138 @@
+"""Shared helpers for the real-client tests (run by CTest with Debian's
+/usr/bin/python3, which has meshio, gmsh, dolfinx; see tests/CMakeLists.txt).
+
+CMake passes the executables in the environment:
+  WARPMESH_EXE           the warpmesh command line
+  WARPMESH_FIXTURES_EXE  tests/tools/write_fixture_meshes (a hand-built
+                         two-region mesh with interfaces, written by the
+                         library's writers)
+
+The reference for every comparison is what warpmesh itself wrote in
+Triangle's format in the same run (.node/.ele/.poly), read by `read_triangle`.
+"""
+import importlib
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+
+def require(module, package):
+    """Imports `module`; a missing one fails the test naming the Debian package
+    (scripts/setup.sh installs it) instead of skipping silently."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        pytest.fail(f"cannot import {module} ({e}): install Debian's {package} (scripts/setup.sh)")
+
+
+def executable(var):
+    path = os.environ.get(var)
+    if not path or not os.path.exists(path):
+        pytest.fail(f"{var} is not set to an existing executable (run these tests through ctest)")
+    return path
+
+
+def run_warpmesh(args, cwd):
+    """Runs `warpmesh mesh ARGS --quiet` in `cwd`; fails the test with its
+    stderr on a non-zero exit."""
+    cmd = [executable("WARPMESH_EXE"), "mesh", *map(str, args), "--quiet"]
+    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}"
+    return r
+
+
+def write_fixtures(directory):
+    """The two-region mesh with interfaces in every format: DIR/two.*"""
+    r = subprocess.run([executable("WARPMESH_FIXTURES_EXE"), str(directory)], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0, r.stderr
+    return os.path.join(str(directory), "two")
+
+
+def write_pgm(path, pixels):
+    """An 8-bit binary PGM (P5) from a 2D uint8 array, row 0 at the top."""
+    pixels = np.asarray(pixels, dtype=np.uint8)
+    with open(path, "wb") as f:
+        f.write(b"P5\n%d %d\n255\n" % (pixels.shape[1], pixels.shape[0]))
+        f.write(pixels.tobytes())
+
+
+class Reference:
+    """A mesh as warpmesh wrote it in Triangle's format (0-based indices).
+
+    points (N, 2), markers (N,), triangles (T, 3), region (T,),
+    segments (S, 2) with segment_tags (S,): the boundary edges (region on
+    their left) followed by the interface edges, tagged as the facet tags of
+    every other format.
+    """
+
+    def __init__(self, stem):
+        def rows(path):
+            with open(path) as f:
+                lines = [ln.split("#")[0].split() for ln in f]
+            return [ln for ln in lines if ln]
+
+        node = rows(stem + ".node")
+        n = int(node[0][0])
+        assert node[0][1:] == ["2", "0", "1"]
+        self.points = np.array([[float(r[1]), float(r[2])] for r in node[1:n + 1]])
+        self.markers = np.array([int(r[3]) for r in node[1:n + 1]])
+        ele = rows(stem + ".ele")
+        t = int(ele[0][0])
+        self.triangles = np.array([[int(v) - 1 for v in r[1:4]] for r in ele[1:t + 1]], dtype=np.int64)
+        self.region = np.array([int(r[4]) for r in ele[1:t + 1]])
+        poly = rows(stem + ".poly")
+        s = int(poly[1][0])
+        self.segments = np.array([[int(v) - 1 for v in r[1:3]] for r in poly[2:s + 2]], dtype=np.int64).reshape(-1, 2)
+        self.segment_tags = np.array([int(r[3]) for r in poly[2:s + 2]], dtype=np.int64)
+
+    def tagged_triangles(self):
+        return tagged_cells(self.triangles, self.region)
+
+    def tagged_edges(self):
+        return tagged_edges(self.segments, self.segment_tags)
+
+
+def canonical_triangle(t):
+    """The triangle as a tuple starting at its smallest vertex, orientation kept."""
+    t = [int(v) for v in t]
+    k = t.index(min(t))
+    return tuple(t[k:] + t[:k])
+
+
+def tagged_cells(cells, tags):
+    """{canonical triangle: tag}, asserting that no triangle repeats."""
+    d = {canonical_triangle(c): int(g) for c, g in zip(cells, tags)}
+    assert len(d) == len(cells), "a triangle appears twice"
+    return d
+
+
+def tagged_edges(edges, tags):
+    """{frozenset edge: tag}, asserting that no edge repeats."""
+    d = {frozenset(int(v) for v in e): int(g) for e, g in zip(edges, tags)}
+    assert len(d) == len(edges), "an edge appears twice"
+    return d
+
+
+@pytest.fixture(scope="session")
+def two_region(tmp_path_factory):
+    """Stem of the hand-built two-region fixture files."""
+    return write_fixtures(tmp_path_factory.mktemp("fixtures"))
+
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def root():
+    """The repository's root."""
+    return ROOT
+
+
+@pytest.fixture
+def cli():
+    """The warpmesh command line (CTest passes it in WARPMESH_EXE)."""
+    return executable("WARPMESH_EXE")

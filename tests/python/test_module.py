@@ -1,0 +1,172 @@
+"""The Python module: numpy arrays, the report, meshio, errors, and the same
+meshes as the command line."""
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import warpmesh
+
+BRAIN = "mesher/examples/brain_axial_s128_labels16.pgm"
+
+
+def test_shape_mesh_has_typed_arrays_and_certified_bounds():
+    m = warpmesh.mesh_shape("circle:0,0,1", spacing=0.05)
+    assert m.points.dtype == np.float64 and m.points.shape[1] == 2
+    assert m.triangles.dtype == np.int32 and m.triangles.shape[1] == 3
+    assert m.regions.shape == (len(m.triangles),)
+    assert m.boundary_edges.shape == (len(m.boundary_tags), 2)
+    assert set(np.unique(m.boundary_tags)) == {1}
+    assert m.triangles.min() == 0 and m.triangles.max() == len(m.points) - 1
+    # Counter-clockwise, positive area, and the disc's area to within the spacing.
+    p = m.points[m.triangles]
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
+    assert (cross > 0).all()
+    assert abs(cross.sum() / 2 - np.pi) < 0.05
+    lo, hi = m.certified
+    assert 0 < lo <= hi < 180
+    assert m.certified_min_angle.shape == (len(m.triangles),)
+    assert (m.certified_min_angle >= lo).all()
+    assert m.report["triangles"] == len(m.triangles)
+    assert m.report["certified"]["verified"] is True
+    assert "boundary_edges_off_levelset" in m.report["certified"]  # fidelity: analytic shapes
+
+
+def test_arrays_are_read_only_views_of_the_result_not_copies():
+    m = warpmesh.mesh_shape("circle:0,0,1", spacing=0.1)
+    t = m.triangles
+    assert not t.flags.owndata and not t.flags.writeable
+    assert t.base is not None
+    assert m.triangles.__array_interface__["data"][0] == t.__array_interface__["data"][0]
+    del m  # the view keeps the C++ result alive
+    assert t.max() > 0
+
+
+def test_image_mesh_is_the_cli_mesh(cli, root, tmp_path):
+    # Same points (bit for bit), triangles, regions and report as `warpmesh mesh`.
+    import meshio
+
+    vtu = tmp_path / "m.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--label", "nonzero", "--spacing", "2", "--graded",
+                    "-o", str(vtu), "--quiet"], check=True)
+    ref = meshio.read(vtu)
+    img = warpmesh.read_image(root / BRAIN)
+    m = warpmesh.mesh(img, labels="nonzero", spacing=2, graded=True)
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    region = [v for k, v in ref.cell_data_dict.items() if k.lower() in ("region", "regions")]
+    assert region and np.array_equal(next(iter(region[0].values())), m.regions)
+    assert len(np.unique(m.regions)) > 5  # label tags kept
+
+
+def test_threshold_default_iso_is_half_maxval_like_the_cli(cli, root, tmp_path):
+    path = root / "tests/data/horse_binary.pgm"
+    rep = tmp_path / "r.json"
+    subprocess.run([cli, "mesh", str(path), "--spacing", "4", "--report", str(rep), "--quiet"], check=True)
+    import json
+
+    ref = json.loads(rep.read_text())
+    m = warpmesh.mesh(warpmesh.read_image(path), spacing=4)
+    for key in ("triangles", "vertices", "boundary_edges", "levelset", "lattice"):
+        assert m.report[key] == ref[key], key
+
+
+def test_numpy_arrays_uint8_bool_and_labels():
+    img = np.zeros((40, 50), np.uint8)
+    img[10:30, 5:25] = 200
+    img[12:28, 30:45] = 100
+    a = warpmesh.mesh(img)  # iso 127.5: the bright block only
+    b = warpmesh.mesh(img > 0)  # bool: both blocks
+    assert 0 < len(a.triangles) < len(b.triangles)
+    c = warpmesh.mesh(img, labels=[100, 200])
+    assert set(np.unique(c.regions)) == {100, 200}
+    d = warpmesh.mesh(img, iso=50, inside="below", spacing=2)
+    assert len(d.triangles) > 0
+    assert set(np.unique(d.boundary_tags)) == {1, 2}  # the outside touches the image border
+
+
+def test_pixel_size_scales_coordinates_only():
+    img = np.zeros((30, 30), np.uint8)
+    img[5:25, 5:25] = 255
+    a = warpmesh.mesh(img)
+    b = warpmesh.mesh(img, pixel_size=0.5)
+    assert np.array_equal(b.points, a.points * 0.5)
+    assert np.array_equal(a.triangles, b.triangles)
+    with pytest.raises(ValueError, match="pixel_size"):
+        warpmesh.mesh(img, pixel_size=(0.5, 1.0))
+
+
+def test_bad_input_raises_value_error_naming_the_problem():
+    img = np.zeros((20, 20), np.uint8)
+    with pytest.raises(ValueError, match="region is empty"):
+        warpmesh.mesh(img, iso=10)
+    with pytest.raises(ValueError, match="none of the labels"):
+        warpmesh.mesh(img, labels=7)
+    with pytest.raises(ValueError, match="at least 2 x 2"):
+        warpmesh.mesh(np.ones((1, 9), np.uint8))
+    with pytest.raises(ValueError, match="max-squares"):
+        warpmesh.mesh_shape("circle:0,0,10", spacing=1e-4)
+    with pytest.raises(ValueError, match="spacing"):
+        warpmesh.mesh_shape("circle:0,0,10", spacing=-1)
+    with pytest.raises(ValueError, match="circle"):
+        warpmesh.mesh_shape("circle:0,0")
+    with pytest.raises(TypeError, match="float"):
+        warpmesh.mesh(np.zeros((5, 5)))
+    with pytest.raises(warpmesh.InputError):
+        warpmesh.read_image("/nonexistent.pgm")
+
+
+def test_guarantee_flat_refines_and_warns_when_it_stops(root):
+    img = warpmesh.read_image(root / "tests/data/K1_small.pgm")
+    with pytest.warns(RuntimeWarning, match="still not flat"):
+        m = warpmesh.mesh(img, iso=128, spacing=16, guarantee="flat")
+    assert m.refinements == 4 and m.spacing == 1
+    assert m.report["refinements"] == 4
+
+
+def test_read_image_returns_the_pixels_with_maxval(root):
+    img = warpmesh.read_image(root / BRAIN)
+    assert img.dtype == np.uint16 and img.shape == (256, 256)
+    assert img.maxval >= img.max() > 0
+    with pytest.raises(ValueError, match="slice"):
+        warpmesh.read_image(root / BRAIN, slice=3)
+
+
+def test_to_meshio_and_back_through_a_file(tmp_path):
+    import meshio
+
+    m = warpmesh.mesh_shape("annulus:0,0,1,2", spacing=0.1)
+    mm = m.to_meshio()
+    assert np.array_equal(mm.cells_dict["triangle"], m.triangles)
+    assert set(mm.cell_data) == {"region", "certified_min_angle"}
+    mm.write(tmp_path / "a.vtu")
+    back = meshio.read(tmp_path / "a.vtu")
+    assert np.array_equal(back.cell_data["certified_min_angle"][0], m.certified_min_angle)
+    with_boundary = m.to_meshio(boundary=True)
+    assert np.array_equal(with_boundary.cells_dict["line"], m.boundary_edges)
+    m.write(tmp_path / "b.vtu")  # warpmesh's own writer
+    assert np.array_equal(meshio.read(tmp_path / "b.vtu").cells_dict["triangle"], m.triangles)
+
+
+def test_meshing_releases_the_gil():
+    # While one thread meshes, another keeps running Python code.
+    done = threading.Event()
+    result = {}
+
+    def work():
+        result["m"] = warpmesh.mesh_shape("flower:0,0,300,100,5", spacing=0.25, threads=1)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t0 = time.perf_counter()
+    t.start()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0)
+    t.join()
+    elapsed = time.perf_counter() - t0
+    assert elapsed > 0.05, "the meshing was too quick to tell"
+    assert ticks > 100, f"the main thread ran {ticks} times in {elapsed:.3f} s"
