@@ -67,6 +67,9 @@ for th in 1 2; do
   if [ "$quick" = 0 ]; then
     run_case "disc, 4096x4096 lattice" "$th" --shape circle:0,0,2047 --spacing 1 --no-certify
     run_case "atlas upscaled, 4096x4096 lattice" "$th" "$brain" --label nonzero --spacing 0.062255859375 --no-certify
+    # Multi-material: every label its own material, interfaces as mesh edges
+    # (the background's triangles are not output).
+    run_case "atlas upscaled, 4096^2, --materials all" "$th" "$brain" --materials all --spacing 0.062255859375 --no-certify
   fi
 done
 

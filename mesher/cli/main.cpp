@@ -28,6 +28,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/materials.hpp"
 #include "warpmesh/volume.hpp"
 #include "warpmesh/warpmesh.hpp"
 #ifdef WARPMESH_HAVE_PROVER
@@ -58,6 +59,12 @@ input (images):
                          region's boundary, interpolated bilinearly
   --max-pixels N         refuse images and volumes with more pixels (voxels) than N
                          (default 268435456)
+  --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
+                         background) or these labels, every other pixel one background
+                         material; interfaces between materials are mesh edges
+                         (2D images only, in pixel units; not with --slice/--slices)
+  --background drop|keep with --materials/--shapes: output the background's triangles
+                         (keep) or not (drop, default; it still bounds the materials)
 
 input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
   --slice AXIS=INDEX     mesh one slice: AXIS is the index axis i, j or k, e.g. k=60
@@ -73,6 +80,8 @@ input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
                          flower:cx,cy,a,b,k  rect:x0,y0,x1,y1
                          union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
+  --shapes T=S;T=S...    analytic materials, region tag T for shape S; a later shape wins
+                         where they overlap; outside all: background (tag 0)
 
 lattice and algorithm:
   --spacing S            lattice spacing, in the input's units: mm for physical inputs
@@ -106,6 +115,7 @@ output:
   --also FILE            write the mesh to another file as well (repeatable)
   --svg-color minangle   colour SVG/PNG triangles by their minimum angle
   --svg-color certified  colour them by the certified minimum angle of their square
+  --svg-color region     colour them by region (label); interfaces drawn
   --report FILE          the quality report as JSON (it is printed as text on stdout too)
   --quiet                do not print the text report
   --threads N            OpenMP threads (default: all cores)
@@ -144,10 +154,13 @@ struct CliOptions {
     std::optional<double> iso;
     bool inside_above = true;
     std::optional<std::string> labels;
+    std::optional<std::string> materials, shapes;  // multi-material input (materials.hpp)
+    bool background_given = false;                 // --background (into mesh.keep_background)
     std::int64_t max_pixels = std::int64_t{1} << 28;
     MshOptions msh;
     bool svg_min_angle = false;
     bool svg_certified = false;
+    bool svg_region = false;
     bool quiet = false;
     // Volumes and units (volume.hpp).
     std::optional<std::string> slice, slices;
@@ -189,6 +202,14 @@ CliOptions parse_mesh_options(int argc, char** argv) {
             if (v != "above" && v != "below") throw UsageError("--inside expects 'above' or 'below', got '" + v + "'");
             o.inside_above = v == "above";
         } else if (a == "--label") o.labels = value();
+        else if (a == "--materials") o.materials = value();
+        else if (a == "--shapes") o.shapes = value();
+        else if (a == "--background") {
+            const std::string v = value();
+            if (v != "drop" && v != "keep") throw UsageError("--background expects 'drop' or 'keep', got '" + v + "'");
+            m.keep_background = v == "keep";
+            o.background_given = true;
+        }
         else if (a == "--diagonal") {
             const std::string v = value();
             if (v == "maxmin") m.rule = DiagonalRule::maxmin;
@@ -208,7 +229,8 @@ CliOptions parse_mesh_options(int argc, char** argv) {
             const std::string v = value();
             if (v == "minangle") o.svg_min_angle = true;
             else if (v == "certified") o.svg_certified = true;
-            else throw UsageError("--svg-color expects 'minangle' or 'certified', got '" + v + "'");
+            else if (v == "region") o.svg_region = true;
+            else throw UsageError("--svg-color expects 'minangle', 'certified' or 'region', got '" + v + "'");
         } else if (a == "--verify") m.verify = true;
         else if (a == "--no-verify") m.verify = false;
         else if (a == "--no-certify") m.certify = false;
@@ -233,7 +255,8 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         else if (o.input.empty()) o.input = a;
         else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
     }
-    if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input image or --shape SPEC");
+    if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
+        throw UsageError("give exactly one of an input image or --shape SPEC (or --shapes SPEC)");
     if (o.outputs.empty() && o.report.empty() && o.quiet)
         throw UsageError("nothing to do: no -o, no --report and --quiet");
     try {
@@ -249,6 +272,19 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         throw UsageError("--slice, --slices, --pixel-size and --points-3d apply to images and volumes, not to --shape");
     if (o.slice && o.slices) throw UsageError("--slice and --slices exclude each other");
     if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
+    if (o.materials && (o.labels || o.iso || o.input.empty()))
+        throw UsageError("--materials applies to a label image and excludes --label and --iso");
+    if (o.background_given && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
+    if (o.materials || o.shapes) {
+        if (m.graded)
+            throw UsageError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
+                             "uniform lattice)");
+        if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
+        if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");
+        if (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty())
+            throw UsageError("--materials and --shapes mesh 2D label images in pixel units and analytic shapes: "
+                             "--slice, --slices, --pixel-size and --points-3d are not supported with them yet");
+    }
     return o;
 }
 
@@ -317,9 +353,11 @@ SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) 
     return so;
 }
 
-// Mesh one input and stage its outputs (meshes, --points-3d, report); the
-// slice's placement goes into the report.
-MeshResult mesh_and_stage(const CliOptions& o, const LevelSet& f, const LoadedSlice* input, StagedOutputs& staged) {
+// Mesh one input (a LevelSet, or a MaterialField for --materials/--shapes)
+// and stage its outputs (meshes, --points-3d, report); the slice's placement
+// goes into the report.
+template <class Field>
+MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice* input, StagedOutputs& staged) {
     // The per-triangle array certified_min_angle (8 bytes a triangle) only when
     // a file will carry it or a picture is coloured by it.
     MeshOptions m = o.mesh;
@@ -327,13 +365,14 @@ MeshResult mesh_and_stage(const CliOptions& o, const LevelSet& f, const LoadedSl
     WriteOptions formats;
     formats.msh = o.msh;
     for (const auto& out : o.outputs) m.cell_data = m.cell_data || format_carries_cell_data(out, formats);
-    m.input = o.shape.empty() ? o.input : o.shape;
+    m.input = o.shapes ? *o.shapes : o.shape.empty() ? o.input : o.shape;
     if (input && !o.spacing_given) m.spacing = input->pixel_min;  // mm inputs: the smaller pixel size
     MeshResult r = mesh(f, m);
     if (input)
         for (auto& field : slice_report_fields(*input)) r.report.extra.push_back(std::move(field));
     for (const auto& w : r.warnings) std::cerr << "warpmesh: warning: " << w << "\n";
     WriteOptions wo = write_options(r, o.svg_min_angle, o.svg_certified);
+    if (o.svg_region && !o.svg_certified) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
     wo.msh = o.msh;
     for (const auto& out : o.outputs)
         staged.write(out, [&](const std::string& path) { write_mesh(r.mesh, path, wo); });
@@ -353,6 +392,20 @@ int run_mesh(int argc, char** argv) {
     if (!o.report.empty()) check_writable(o.report);
     if (!o.points_3d.empty()) check_writable(o.points_3d);
 
+    if (o.materials || o.shapes) {
+        // Multi-material: analytic shapes, or a 2D label image in pixel units.
+        std::unique_ptr<MaterialField> field;
+        if (o.shapes) {
+            field = parse_material_shapes(*o.shapes);
+        } else {
+            field = make_label_materials(read_image(o.input, static_cast<std::uint64_t>(o.max_pixels)), *o.materials);
+        }
+        StagedOutputs staged;
+        const MeshResult r = mesh_and_stage(o, *field, nullptr, staged);
+        staged.commit();
+        if (!o.quiet) std::cout << to_text(r);
+        return 0;
+    }
     std::unique_ptr<LevelSet> f;
     std::optional<LoadedSlice> input;
     if (!o.shape.empty()) {

@@ -9,6 +9,7 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
+#include "warpmesh/materials.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/uniform.hpp"
 
@@ -47,10 +48,10 @@ double peak_memory_mb() {
 
 const char* rule_name(DiagonalRule rule) { return rule == DiagonalRule::maxmin ? "maxmin" : "separating"; }
 
-// The lattice of this spacing for f, within options.max_squares.
-Lattice make_lattice(const LevelSet& f, double spacing, const MeshOptions& o) {
-    const Box b = f.bounds();
-    if (!f.bounds_are_domain()) {
+// The lattice of this spacing over the bounds b (domain: images) or around
+// them (shapes), within options.max_squares.
+Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOptions& o) {
+    if (!domain) {
         const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
         if (!(w * h <= static_cast<double>(o.max_squares)))
             throw InputError("the lattice would have about " + approx(w) + " x " + approx(h) +
@@ -67,14 +68,19 @@ Lattice make_lattice(const LevelSet& f, double spacing, const MeshOptions& o) {
 
 // The "certified" object of the JSON report and the certification's lines of
 // the text report.
-std::pair<std::string, std::string> certified_report(const CertifiedSummary& cert, DiagonalRule rule) {
+// Multi-material meshes (junctions) also count the junction squares, which
+// no certificate covers.
+std::pair<std::string, std::string> certified_report(const CertifiedSummary& cert, DiagonalRule rule,
+                                                      bool junctions) {
     const CertifiedTheorem th = certified_theorem(rule);
     std::string j = "{\"min_angle_deg\": " + json_number(cert.min_deg) +
                     ", \"max_angle_deg\": " + json_number(cert.max_deg) +
                     ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
                     ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
                     ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
-                    ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) + ", \"nonflat\": [";
+                    ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) +
+                    (junctions ? ", \"uncertified_junction_squares\": " + std::to_string(cert.junction_squares) : std::string()) +
+                    ", \"nonflat\": [";
     for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
         j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
              ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +
@@ -92,6 +98,9 @@ std::pair<std::string, std::string> certified_report(const CertifiedSummary& cer
       << ".cert" << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
     t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "
       << cert.nonflat_squares << " not flat)\n";
+    if (cert.junction_squares)
+        t << "uncertified junction squares " << cert.junction_squares
+          << " (excluded from the certified angles above: no bound is claimed for them)\n";
     if (cert.nonflat_squares) {
         t << "not flat (i, j)     ";
         for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
@@ -103,6 +112,30 @@ std::pair<std::string, std::string> certified_report(const CertifiedSummary& cer
         t << "boundary fidelity    max distance to level set " << cert.max_boundary_distance << ", "
           << cert.boundary_edges_off_levelset << " boundary edges off it\n";
     return {j, t.str()};
+}
+
+using Extra = std::vector<std::pair<std::string, std::string>>;
+
+// The report's first fields: input, level set (or material field), rule,
+// spacing, repeat, lattice.
+void report_head(Extra& extra, const MeshOptions& o, const std::string& describe, double spacing, const Lattice& lattice) {
+    extra.emplace_back("input", json_string(o.input));
+    extra.emplace_back("levelset", json_string(describe));
+    extra.emplace_back("rule", json_string(rule_name(o.rule)));
+    extra.emplace_back("spacing", json_number(spacing));
+    if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
+    extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
+}
+
+// The "certified" field (null without certificates) and res.certified_text.
+void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool junctions) {
+    if (!res.certified.available) {
+        extra.emplace_back("certified", "null");
+        return;
+    }
+    auto [json, text] = certified_report(res.certified, rule, junctions);
+    extra.emplace_back("certified", std::move(json));
+    res.certified_text = std::move(text);
 }
 
 }  // namespace
@@ -128,15 +161,10 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     double spacing = o.spacing;
     const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
     for (;;) {
-        res.lattice = make_lattice(f, spacing, o);
+        res.lattice = make_lattice(f.bounds(), f.bounds_are_domain(), spacing, o);
         const Lattice& lattice = res.lattice;
         extra.clear();
-        extra.emplace_back("input", json_string(o.input));
-        extra.emplace_back("levelset", json_string(f.describe()));
-        extra.emplace_back("rule", json_string(rule_name(o.rule)));
-        extra.emplace_back("spacing", json_number(spacing));
-        if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
-        extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
+        report_head(extra, o, f.describe(), spacing, lattice);
         if (o.graded) {
             GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, o.max_cell, certify); });
             mesh = std::move(r.mesh);
@@ -216,15 +244,47 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     res.report = compute_quality(mesh, phases);
     extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
     if (o.guarantee == Guarantee::flat) extra.emplace_back("refinements", std::to_string(res.refinements));
-    if (o.certify) {
-        if (!cert.available) {
-            extra.emplace_back("certified", "null");
-        } else {
-            auto [json, text] = certified_report(cert, o.rule);
-            extra.emplace_back("certified", std::move(json));
-            res.certified_text = std::move(text);
-        }
-    }
+    if (o.certify) report_certified(extra, res, o.rule, false);
+    res.report.extra = std::move(extra);
+    return res;
+}
+
+MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
+    validate(o);
+    if (o.graded)
+        throw InputError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
+                         "uniform lattice)");
+    if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
+    if (o.optimize) throw InputError("--optimize is not available with --materials/--shapes");
+    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
+    MeshResult res;
+    res.spacing = o.spacing;
+    res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
+    std::vector<std::pair<std::string, std::string>> extra;
+    report_head(extra, o, field.describe(), o.spacing, res.lattice);
+    const MaterialOptions mo{o.keep_background, o.rule, certify};
+    MaterialResult r = fastest_of(o.repeat, [&] { return mesh_materials(field, res.lattice, mo); });
+    std::vector<std::pair<std::string, double>> phases = {
+        {"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}, {"triangulate", r.times.triangulate}};
+    if (o.certify) phases.emplace_back("certify", r.times.certify);
+    extra.emplace_back("graded", "false");
+    extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
+    extra.emplace_back("warped_points", std::to_string(r.warped_points));
+    extra.emplace_back("warped_squares", std::to_string(r.warped_squares));
+    extra.emplace_back("separating_overrides", std::to_string(r.forced_diagonals));
+    for (auto& e : material_report_json(r)) extra.push_back(std::move(e));
+    res.materials_text = material_report_text(r, &res.warnings);
+    res.mesh = std::move(r.mesh);
+    res.certified = std::move(r.certified);
+    if (res.mesh.triangles.empty())
+        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
+                         "(check --materials, or use a smaller --spacing); nothing written");
+    const CertifiedSummary& cert = res.certified;
+    if (o.certify && !cert.available)
+        res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
+    res.report = compute_quality(res.mesh, phases);
+    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
+    if (o.certify) report_certified(extra, res, o.rule, true);
     res.report.extra = std::move(extra);
     return res;
 }
@@ -232,7 +292,8 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
 std::string to_json(const MeshResult& r) { return quality_json(r.report); }
 
 std::string to_text(const MeshResult& r) {
-    return quality_text(r.report) + r.certified_text + (r.optimized ? optimize_text(*r.optimized) : "");
+    return quality_text(r.report) + r.certified_text + r.materials_text +
+           (r.optimized ? optimize_text(*r.optimized) : "");
 }
 
 WriteOptions write_options(const MeshResult& r, bool color_min_angle, bool color_certified) {

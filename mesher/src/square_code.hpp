@@ -13,6 +13,10 @@
 
 #include <array>
 #include <cstdint>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <vector>
 
 #include "warpmesh/generic_square.hpp"
 #include "warpmesh/lattice.hpp"
@@ -90,6 +94,52 @@ constexpr std::array<Side, 4> sides{{{A, B, 0, 0}, {B, D, 0, 1}, {D, C, 1, 1}, {
 constexpr bool covers(std::uint8_t code, int side) {
     const Side& s = sides[static_cast<std::size_t>(side)];
     return (code >> ((code & bc_bit) ? s.tri_bc : s.tri_ad)) & 1;
+}
+
+// Pass 2 of the uniform triangulations (triangulate.cpp, the multi-material
+// mesh_materials.cpp): compact vertex ids.  A point is a vertex iff
+// candidate(p) and one of its (up to four) squares emits a triangle that uses
+// it (the point's corner role in square (i - di, j - dj) is di + 2 dj).
+// Fills vid (the vertex id, or -1) and mesh.vertices (position(p, i, j)) in
+// point order, and sizes mesh.triangles for ntris triangles.  Throws
+// std::length_error beyond 32-bit indices.
+template <class Candidate, class Position>
+void compact_vertices(const Lattice& lattice, std::span<const std::uint8_t> code, std::int64_t ntris,
+                      Candidate&& candidate, Position&& position, Buffer<std::int32_t>& vid, Mesh& mesh) {
+    const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
+    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
+        return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
+    };
+    vid.resize(static_cast<std::size_t>(lattice.point_count()));  // every element written: 0 (used) or -1 just below
+    std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        std::int64_t count = 0;
+        for (std::int64_t i = 0; i < nxp; ++i) {
+            const bool used = candidate(lattice.index(i, j)) &&
+                              (uses_corner(square_code(i, j), A) || uses_corner(square_code(i - 1, j), B) ||
+                               uses_corner(square_code(i, j - 1), C) || uses_corner(square_code(i - 1, j - 1), D));
+            vid[static_cast<std::size_t>(lattice.index(i, j))] = used ? 0 : -1;
+            count += used;
+        }
+        row_verts[static_cast<std::size_t>(j) + 1] = count;
+    }
+    std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
+    const std::int64_t nverts = row_verts.back();
+    if (nverts > INT32_MAX || ntris > INT32_MAX)
+        throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
+    mesh.vertices.resize(static_cast<std::size_t>(nverts));  // written by the loop below, one per used point
+    mesh.triangles.resize(static_cast<std::size_t>(ntris));  // written by the caller's pass 3
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        std::int64_t next = row_verts[static_cast<std::size_t>(j)];
+        for (std::int64_t i = 0; i < nxp; ++i) {
+            const std::int64_t p = lattice.index(i, j);
+            if (vid[static_cast<std::size_t>(p)] < 0) continue;
+            vid[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(next);
+            mesh.vertices[static_cast<std::size_t>(next++)] = position(p, i, j);
+        }
+    }
 }
 
 // The square across each side (bottom, right, top, left) of square (i, j):

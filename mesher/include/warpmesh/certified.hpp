@@ -111,6 +111,11 @@ struct CertifiedSummary {
     std::vector<std::string> nonflat_keys;                     // their keys
     std::vector<std::array<double, 4>> nonflat_boxes;          // all of them (up to 10^5): {xmin, ymin, xmax, ymax}
     bool verified = false;
+    // Multi-material meshes: warped squares whose corners carry 3 or 4
+    // materials have no key yet.  They are excluded from every bound above
+    // (their triangles' certified_min_angle is 0: no bound claimed).
+    std::int64_t junction_squares = 0;
+    std::vector<std::int64_t> junction_list;  // the first 20, as square indices i + j nx
     // Fidelity of the level-set boundary (filled by measure_fidelity).
     bool has_fidelity = false;
     double max_boundary_distance = 0;
@@ -127,6 +132,17 @@ using SignAt = std::function<std::int8_t(std::int64_t, std::int64_t)>;
 CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
                               std::span<const WarpedPoint> warped, DiagonalRule rule,
                               std::span<const KeyedSquare> keyed, const CertifyOptions& options);
+
+// The general form behind certify_mesh.  `square_signs(i, j, signs)` fills
+// the signs the certificate sees at the 12 stencil points of square (i, j)
+// (stencil_offsets order: the corners first; off_lattice for a point outside
+// the lattice, which makes the stencil non-flat) and returns false for a
+// square that has no key (a junction square, see junction_squares).
+inline constexpr std::int8_t off_lattice = 9;
+using SquareSigns = std::function<bool(std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& signs)>;
+CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,
+                                 std::span<const WarpedPoint> warped, DiagonalRule rule,
+                                 std::span<const KeyedSquare> keyed, const CertifyOptions& options);
 
 // The largest distance from the mesh's level-set boundary edges to f = 0,
 // sampled at 9 points per edge (endpoints included) as |f| / |grad f| with a

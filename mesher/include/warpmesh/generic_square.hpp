@@ -174,14 +174,40 @@ DiagonalQuality<T> diagonal_quality(const std::array<Point<T>, 4>& p, Diagonal d
 }
 
 // ---------------------------------------------------------------------------
-// The separating rule's combinatorial test.  If two opposite corners both stay
-// and have strictly opposite signs, every path between them along the square's
-// edges changes sign, so each of the other two corners is either zero-valued
-// or the warped endpoint of a cut edge: both lie on the level set.  Taking the
-// diagonal through them keeps the mesh boundary on the level set.  At most one
-// pair can qualify: if A, D both stay with opposite signs, edge AC or CD is cut
-// and, A and D staying, C must warp or be zero — so C does not stay with a
-// non-zero sign.
+// The separating rule's combinatorial test, for corners that carry a *phase*:
+// the sign of f (two materials: inside, outside) or a material (multi-material
+// meshes).  `phase(c)` is -1 for a corner that does not take part — it warped,
+// or (signs) it is zero-valued — else the corner's phase.  If two opposite
+// corners both stay with different phases, every path between them along the
+// square's edges crosses an edge whose endpoints differ, i.e. a cut edge; its
+// closer endpoint warped, and the two staying ends did not, so each of the
+// other two corners warped (or is zero-valued): both lie on the interface.
+// Taking the diagonal through them keeps the interface on mesh edges.  At most
+// one pair can qualify: if A, D both stay with different phases, C warped (or
+// is zero), so B, C do not both take part.
+//
+// Consequence (multi-material meshes): no triangle of the chosen diagonal has
+// two staying corners of different materials.  Two of a triangle's corners are
+// either ends of a square side — if both stayed with different materials the
+// side would be cut and one of them would have warped — or the ends of the
+// chosen diagonal — which the rule never chooses between two staying corners
+// of different materials.
+template <class Phase>
+constexpr bool separating_pair(Phase&& phase, Diagonal& forced) {
+    const int a = phase(A), b = phase(B), c = phase(C), d = phase(D);
+    if (a >= 0 && d >= 0 && a != d) {
+        forced = Diagonal::BC;
+        return true;
+    }
+    if (b >= 0 && c >= 0 && b != c) {
+        forced = Diagonal::AD;
+        return true;
+    }
+    return false;
+}
+
+// Signs (two materials): a corner takes part when it stays with a non-zero
+// sign; two such corners differ exactly when their signs are opposite.
 struct CornerState {
     std::int8_t sign;  // sign of f at the lattice point: -1, 0, +1
     Warp warp;
@@ -191,15 +217,24 @@ constexpr bool stays_signed(const CornerState& s) { return s.warp == Warp::stay 
 
 // Returns the forced diagonal in `forced` and true, or false if no pair qualifies.
 constexpr bool separating_diagonal(const std::array<CornerState, 4>& s, Diagonal& forced) {
-    if (stays_signed(s[A]) && stays_signed(s[D]) && s[A].sign == -s[D].sign) {
-        forced = Diagonal::BC;
-        return true;
-    }
-    if (stays_signed(s[B]) && stays_signed(s[C]) && s[B].sign == -s[C].sign) {
-        forced = Diagonal::AD;
-        return true;
-    }
-    return false;
+    return separating_pair([&](int c) { return stays_signed(s[static_cast<std::size_t>(c)]) ? int{s[static_cast<std::size_t>(c)].sign > 0} : -1; },
+                           forced);
+}
+
+// Materials (multi-material meshes): every lattice point has one material (no
+// zero-valued points); a corner takes part when it stays.  On a square whose
+// corners carry two materials this is the rule above for the signs obtained by
+// mapping one material to '-' and the other to '+' (either way round: the
+// test only asks whether two phases differ).
+struct MaterialCorner {
+    std::uint16_t material;
+    Warp warp;
+};
+
+constexpr bool separating_diagonal(const std::array<MaterialCorner, 4>& s, Diagonal& forced) {
+    return separating_pair(
+        [&](int c) { return s[static_cast<std::size_t>(c)].warp == Warp::stay ? int{s[static_cast<std::size_t>(c)].material} : -1; },
+        forced);
 }
 
 // ---------------------------------------------------------------------------
@@ -220,9 +255,11 @@ struct Choice {
     bool bc = false;
 };
 
-template <class T>
-Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p,
-                       const std::array<CornerState, 4>& s) {
+// `Corners` is std::array<CornerState, 4> (the certified two-material rule)
+// or std::array<MaterialCorner, 4> (multi-material meshes): the same rule, the
+// separating test reading signs or materials (separating_diagonal above).
+template <class T, class Corners>
+Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s) {
     if (rule == DiagonalRule::separating) {
         Diagonal forced{};
         if (separating_diagonal(s, forced)) return Choice{forced == Diagonal::AD, forced == Diagonal::BC};

@@ -19,11 +19,17 @@ struct MeshCheck {
     std::int64_t open_loop_vertices = 0; // vertices where boundary in-degree != out-degree
     std::int64_t boundary_edges = 0;
     std::int64_t interior_edges = 0;
+    // Checked when the mesh lists interfaces (multi-material meshes): the list
+    // must be exactly the interior edges whose two triangles' regions differ,
+    // each once, oriented with interface_regions[k][0] on its left.
+    std::int64_t interface_mismatch = 0;
+    std::int64_t interface_edges = 0;
     std::vector<std::string> messages;   // the first few problems, for humans
 
     bool ok() const {
         return non_ccw == 0 && bad_indices == 0 && unused_vertices == 0 && overfull_edges == 0 &&
-               misoriented_edges == 0 && boundary_mismatch == 0 && open_loop_vertices == 0;
+               misoriented_edges == 0 && boundary_mismatch == 0 && open_loop_vertices == 0 &&
+               interface_mismatch == 0;
     }
 };
 

@@ -38,6 +38,8 @@
 
 namespace warpmesh {
 
+class MaterialField;  // materials.hpp
+
 enum class Guarantee {
     any,   // mesh at the given spacing; the certified bound is whatever it is
     flat,  // halve the spacing until every warped square's stencil is flat
@@ -74,6 +76,10 @@ struct MeshOptions {
     // Benchmarks: mesh `repeat` times (1..1000) and report the fastest run's
     // phase times; the mesh is the same every time.
     std::int64_t repeat = 1;
+    // Multi-material meshes (mesh(const MaterialField&, ...)): output the
+    // background's triangles (region 0) too; false: it only bounds the
+    // materials.  Ignored by mesh(const LevelSet&, ...).
+    bool keep_background = false;
     // What the report names as the input ("input" in the JSON), e.g. a path
     // or a shape string.
     std::string input;
@@ -91,6 +97,7 @@ struct MeshResult {
     int refinements = 0;         // halvings made by Guarantee::flat
     QualityReport report;        // quality, phase times and the "extra" JSON fields
     std::string certified_text;  // the certification's lines of to_text ("" without)
+    std::string materials_text;  // multi-material meshes: per material, interfaces, junction squares
     std::optional<OptimizeReport> optimized;  // with MeshOptions::optimize: before/after figures
     std::vector<std::string> warnings;  // e.g. Guarantee::flat stopped at min_spacing; no certificates in this build
 };
@@ -113,6 +120,18 @@ struct MeshResult {
 // point (uniform) or per point of the tiles the boundary reaches (graded).
 // Uses OpenMP threads (omp_set_num_threads); thread-safe for distinct results.
 MeshResult mesh(const LevelSet& f, const MeshOptions& options);
+
+// Multi-material meshes (materials.hpp: label images, analytic shapes): every
+// material in one conforming mesh whose interfaces are mesh edges
+// (Mesh::interfaces, interface_regions, region_names), region tag = the
+// material's tag; the background's triangles only with keep_background.  The
+// uniform lattice as for mesh(f): over the bounds for images, around them
+// for shapes.  The report adds the per-material figures, interface and
+// junction-square counts (material_report_json/_text); a material that got
+// no triangle is a warning.  Throws InputError as mesh(f), and for options
+// that do not apply to several materials (graded, Guarantee::flat,
+// optimize, DiagonalRule::maxmin).
+MeshResult mesh(const MaterialField& field, const MeshOptions& options);
 
 // The report as one JSON object (what `warpmesh mesh --report` writes) and as
 // text (what the command line prints).

@@ -5,6 +5,7 @@
 //   shapes.hpp          analytic shapes from strings: "circle:0,0,1", "diff(S;S)", ...
 //   image.hpp           read_image / decode_image: PGM, PNG (warpmesh::io)
 //   image_levelset.hpp  images → level sets: threshold or labels
+//   materials.hpp       multi-material fields (label images, shapes) for mesh(field, options)
 //   mesh.hpp            the mesh: vertices, triangles, regions, boundary, interfaces
 //   certified.hpp       the proofs' angle bounds and the certification summary
 //   quality.hpp         the quality report (angles, histogram), JSON and text
@@ -24,6 +25,7 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/levelset.hpp"
+#include "warpmesh/materials.hpp"
 #include "warpmesh/mesh.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/optimize.hpp"

@@ -235,7 +235,12 @@ struct Colouring {
     std::vector<double> value;
     std::string title;
     double lo = 0, hi = 60;
+    // cell_data_name "region" (with no cell data array of that name): each
+    // triangle's region tag, to be coloured by region_colour (no legend).
+    bool by_region = false;
 };
+// A distinct colour per region tag (golden-angle hues), as 0xRRGGBB.
+std::uint32_t region_colour(std::int32_t tag);
 Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
                             const std::string& what);
 

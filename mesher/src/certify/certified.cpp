@@ -195,11 +195,24 @@ CertifiedTheorem certified_theorem(DiagonalRule rule) { return table(rule).theor
 CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
                               std::span<const WarpedPoint> warped, DiagonalRule rule,
                               std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
+    const auto signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
+        for (std::size_t q = 0; q < 12; ++q) {
+            const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
+            st[q] = (x < 0 || y < 0 || x > lattice.nx || y > lattice.ny) ? off_lattice : sign_at(x, y);
+        }
+        return true;
+    };
+    return certify_squares(mesh, lattice, signs, warped, rule, keyed_squares, options);
+}
+
+CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,
+                                 std::span<const WarpedPoint> warped, DiagonalRule rule,
+                                 std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
     CertifiedSummary sum;
     if (!options.enabled || !certified_table_available()) return sum;
     sum.available = true;
     const std::int64_t ntris = static_cast<std::int64_t>(mesh.triangles.size());
-    const std::int64_t nx = lattice.nx, ny = lattice.ny, nxp = lattice.points_x();
+    const std::int64_t nx = lattice.nx, nxp = lattice.points_x();
     auto warp_of = [&](std::int64_t p) -> const WarpedPoint* {
         auto it = std::lower_bound(warped.begin(), warped.end(), p,
                                    [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
@@ -210,8 +223,9 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
     double gmin = std::numeric_limits<double>::infinity(), gmax = -gmin, kmin = gmin;
     bool any_plain = false;
     if (options.cell_data) cell.resize(static_cast<std::size_t>(ntris));
-    std::int64_t keyed = 0, flat_count = 0, nonflat = 0;
+    std::int64_t keyed = 0, flat_count = 0, nonflat = 0, junctions = 0;
     std::mutex mu;
+    std::vector<std::int64_t> junction_list;
     std::vector<std::pair<std::int64_t, std::string>> examples;  // (square, key)
     std::string failure;
     std::int64_t failure_tri = -1;
@@ -224,7 +238,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
     const std::int64_t nkeyed = static_cast<std::int64_t>(keyed_squares.size());
 
 #pragma omp parallel for schedule(dynamic, 256) reduction(min : gmin, kmin) reduction(max : gmax) \
-    reduction(+ : keyed, flat_count, nonflat, keyed_tris)
+    reduction(+ : keyed, flat_count, nonflat, keyed_tris, junctions)
     for (std::int64_t ks = 0; ks < nkeyed; ++ks) {
         const KeyedSquare& ksq = keyed_squares[static_cast<std::size_t>(ks)];
         const std::int64_t sq = ksq.square, k0 = ksq.first, k1 = ksq.first + ksq.count;
@@ -237,9 +251,18 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
         const std::int64_t i = sq % nx, j = sq / nx;
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+        std::array<std::int8_t, 12> st{};
+        if (!square_signs(i, j, st)) {  // a junction square: no key, no bound claimed
+            ++junctions;
+            if (options.cell_data)
+                for (std::int64_t k = k0; k < k1; ++k) cell[static_cast<std::size_t>(k)] = 0;
+            std::lock_guard<std::mutex> lock(mu);
+            junction_list.push_back(sq);
+            continue;
+        }
         std::array<CornerState, 4> cs{};
         for (int c = 0; c < 4; ++c) {
-            cs[static_cast<std::size_t>(c)].sign = sign_at(i + (c & 1), j + (c >> 1));
+            cs[static_cast<std::size_t>(c)].sign = st[static_cast<std::size_t>(c)];
             if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) cs[static_cast<std::size_t>(c)].warp = w->dir;
         }
         const CertifiedBound* b = certified_bound(rule, cs);
@@ -287,14 +310,7 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
         }
         ++keyed;
         // Flatness of the 12-point stencil; a stencil leaving the lattice is not flat.
-        std::array<std::int8_t, 12> st{};
-        bool inside = true;
-        for (int q = 0; q < 12 && inside; ++q) {
-            const std::int64_t x = i + stencil_offsets[static_cast<std::size_t>(q)][0],
-                               y = j + stencil_offsets[static_cast<std::size_t>(q)][1];
-            if (x < 0 || y < 0 || x > nx || y > ny) inside = false;
-            else st[static_cast<std::size_t>(q)] = sign_at(x, y);
-        }
+        const bool inside = std::find(st.begin(), st.end(), off_lattice) == st.end();
         if (inside && stencil_is_flat(st)) ++flat_count;
         else {
             ++nonflat;
@@ -304,6 +320,10 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
     }
     if (!failure.empty()) throw std::logic_error(failure);
     any_plain = keyed_tris < ntris;
+    sum.junction_squares = junctions;
+    std::sort(junction_list.begin(), junction_list.end());
+    if (junction_list.size() > 20) junction_list.resize(20);
+    sum.junction_list = std::move(junction_list);
     if (any_plain) gmin = std::min(gmin, lattice_deg), gmax = std::max(gmax, 90.0);
     sum.min_deg = gmin;
     sum.max_deg = gmax;

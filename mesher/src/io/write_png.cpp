@@ -215,12 +215,16 @@ Image render(const Mesh& mesh, const PngOptions& options) {
     const std::vector<double>& value = colouring.value;
     const std::string& legend_title = colouring.title;
     const double lo = colouring.lo, hi = colouring.hi;
-    const bool coloured = !legend_title.empty();
+    const bool coloured = !legend_title.empty() && !colouring.by_region;  // a legend
     const double range = hi > lo ? hi - lo : 1;
     std::vector<Rgb> tri_colour;
-    if (coloured) {
+    if (coloured || colouring.by_region) {
         tri_colour.resize(nt);
-        for (std::size_t k = 0; k < nt; ++k) tri_colour[k] = ramp((value[k] - lo) / range);
+        for (std::size_t k = 0; k < nt; ++k) {
+            const std::uint32_t c = detail::region_colour(static_cast<std::int32_t>(value[k]));
+            tri_colour[k] = colouring.by_region ? Rgb{static_cast<std::uint8_t>(c >> 16), static_cast<std::uint8_t>(c >> 8), static_cast<std::uint8_t>(c)}
+                                                : ramp((value[k] - lo) / range);
+        }
     }
 
     // Geometry: bounding box, scale, typical edge length.
@@ -288,8 +292,11 @@ Image render(const Mesh& mesh, const PngOptions& options) {
                 if (t[static_cast<std::size_t>(e)] < t[static_cast<std::size_t>((e + 1) % 3)])
                     edges.push_back(segment(t[static_cast<std::size_t>(e)], t[static_cast<std::size_t>((e + 1) % 3)]));
     }
-    std::vector<Segment> bedges(mesh.boundary.size());
+    // Boundary edges, then the interfaces between regions (drawn like a third boundary tag).
+    std::vector<Segment> bedges(mesh.boundary.size() + mesh.interfaces.size());
     for (std::size_t k = 0; k < mesh.boundary.size(); ++k) bedges[k] = segment(mesh.boundary[k][0], mesh.boundary[k][1]);
+    for (std::size_t k = 0; k < mesh.interfaces.size(); ++k)
+        bedges[mesh.boundary.size() + k] = segment(mesh.interfaces[k][0], mesh.interfaces[k][1]);
 
     // Per-primitive y ranges (in output rows) so that bands skip quickly.
     auto rows_of = [&](float y0, float y1, float pad) {
@@ -337,7 +344,7 @@ Image render(const Mesh& mesh, const PngOptions& options) {
             for (const std::uint32_t k : tri_bands[static_cast<std::size_t>(band)]) {
                 const auto& t = mesh.triangles[k];
                 const auto &a = P[static_cast<std::size_t>(t[0])], &b = P[static_cast<std::size_t>(t[1])], &c = P[static_cast<std::size_t>(t[2])];
-                const Rgb col = coloured ? tri_colour[k] : fill_colour;
+                const Rgb col = tri_colour.empty() ? fill_colour : tri_colour[k];
                 const float fxmin = std::min(a[0], std::min(b[0], c[0])), fxmax = std::max(a[0], std::max(b[0], c[0]));
                 const float fymin = std::min(a[1], std::min(b[1], c[1])), fymax = std::max(a[1], std::max(b[1], c[1]));
                 const std::int64_t r0 = std::max<std::int64_t>(sy0, static_cast<std::int64_t>(std::ceil(fymin - 0.5f)));
@@ -367,7 +374,7 @@ Image render(const Mesh& mesh, const PngOptions& options) {
                 stroke(edges[k], ehw, sy0, sy1, sw, [&](std::int64_t r, std::int64_t c) { emask[static_cast<std::size_t>(r * sw + c)] = 1; });
             // 3. boundary edges
             for (const std::uint32_t k : bedge_bands[static_cast<std::size_t>(band)]) {
-                const std::int32_t tag = mesh.boundary_tag[k];
+                const std::int32_t tag = k < mesh.boundary.size() ? mesh.boundary_tag[k] : 0;
                 const std::uint8_t code = tag == boundary_level_set ? 1 : tag == boundary_domain ? 2 : 3;
                 stroke(bedges[k], bhw, sy0, sy1, sw, [&](std::int64_t r, std::int64_t c) {
                     std::uint8_t& m = bmask[static_cast<std::size_t>(r * sw + c)];

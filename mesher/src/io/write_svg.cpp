@@ -12,6 +12,7 @@
 // Colouring (optional) maps a per-triangle value to red → yellow → green
 // (low → high) with a legend on the right: the minimum angle over 0°–60°, or a
 // cell_data array over its finite min–max (non-finite values are grey).
+#include <cstdio>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -77,7 +78,7 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
     const std::vector<double>& value = colouring.value;
     const std::string& legend_title = colouring.title;
     const double lo = colouring.lo, hi = colouring.hi;
-    const bool coloured = !legend_title.empty();
+    const bool coloured = !legend_title.empty() && !colouring.by_region;  // a legend
     const double range = hi > lo ? hi - lo : 1;
 
     // Geometry: bounding box, scale, typical edge length.
@@ -129,6 +130,11 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
         px(mesh.vertices[static_cast<std::size_t>(t[2])]);
         out << '"';
         if (coloured) out << " fill=\"" << colour((value[k] - lo) / range) << '"';
+        if (colouring.by_region) {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "#%06x", static_cast<unsigned>(detail::region_colour(static_cast<std::int32_t>(value[k]))));
+            out << " fill=\"" << hex << '"';
+        }
         out << "/>\n";
     }
     out << "</g>\n";
@@ -158,6 +164,17 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
         out << "\"/>\n";
     }
     out << "</g>\n";
+    if (!mesh.interfaces.empty()) {  // multi-material meshes: the interfaces between regions
+        out << "<g id=\"interfaces\" fill=\"none\" stroke=\"#222222\" stroke-width=\"";
+        out.fixed(boundary_w / 2, 3) << "\" stroke-linecap=\"round\">\n<path d=\"";
+        for (const auto& e : mesh.interfaces) {
+            out << " M";
+            px(mesh.vertices[static_cast<std::size_t>(e[0])]);
+            out << " L";
+            px(mesh.vertices[static_cast<std::size_t>(e[1])]);
+        }
+        out << "\"/>\n</g>\n";
+    }
 
     if (!options.marked_boxes.empty()) {
         out << "<g id=\"marked\" fill=\"none\" stroke=\"#d000d0\" stroke-width=\"";

@@ -143,7 +143,13 @@ std::vector<std::int32_t> vertex_markers(const Mesh& mesh, const std::vector<Edg
 Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
                             const std::string& what) {
     Colouring c;
-    if (!cell_data_name.empty()) {
+    const bool has_array = std::any_of(mesh.cell_data.begin(), mesh.cell_data.end(),
+                                       [&](const auto& d) { return d.first == cell_data_name; });
+    if (cell_data_name == "region" && !has_array) {
+        c.value.assign(mesh.region.begin(), mesh.region.end());
+        c.title = "region";
+        c.by_region = true;
+    } else if (!cell_data_name.empty()) {
         const auto it = std::find_if(mesh.cell_data.begin(), mesh.cell_data.end(),
                                      [&](const auto& d) { return d.first == cell_data_name; });
         if (it == mesh.cell_data.end())
@@ -166,6 +172,18 @@ Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name,
         c.title = "min angle (\u00b0)";
     }
     return c;
+}
+
+std::uint32_t region_colour(std::int32_t tag) {
+    // Hue by the golden angle, so that neighbouring tags differ; two
+    // lightness levels alternate.  HSV with s = 0.55, v = 0.95 / 0.8.
+    const double h = std::fmod(static_cast<double>(tag) * 137.50776405, 360.0) / 60.0;
+    const double v = tag % 2 ? 0.95 : 0.8, s = 0.55, c = v * s, x = c * (1 - std::abs(std::fmod(h, 2.0) - 1)), m = v - c;
+    const int sector = static_cast<int>(h) % 6;
+    const double rgb[6][3] = {{c, x, 0}, {x, c, 0}, {0, c, x}, {0, x, c}, {x, 0, c}, {c, 0, x}};
+    std::uint32_t out = 0;
+    for (int k = 0; k < 3; ++k) out = out << 8 | static_cast<std::uint32_t>(std::lround((rgb[sector][k] + m) * 255));
+    return out;
 }
 
 // The extension of `path` (with its dot), lower-cased: formats are chosen

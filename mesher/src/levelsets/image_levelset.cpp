@@ -31,6 +31,7 @@
 #include "warpmesh/errors.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
+#include "levelsets/knot_walk.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -46,11 +47,6 @@ inline void locate(double t, int n, int& c, double& ft) {
     t = std::clamp(t, 0.0, static_cast<double>(n - 1));
     c = std::min(static_cast<int>(t), std::max(n - 2, 0));
     ft = t - c;  // exact: c <= t < c + 2 and both are small integers or t
-}
-
-// Keep a cut parameter in the open interval (0, 1), as the pipeline requires.
-inline double open_unit(double u) {
-    return std::clamp(u, std::numeric_limits<double>::denorm_min(), 1 - std::numeric_limits<double>::epsilon() / 2);
 }
 
 }  // namespace
@@ -280,30 +276,9 @@ double ImageField::cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const {
         return bracketed_root(*this, a, b, fa, fb);
 
     // In pixel coordinates, where the knots are the integers.
-    const double t0 = axis == 0 ? px(a.x) : py(a.y), t1 = axis == 0 ? px(b.x) : py(b.y);
-    const int n = axis == 0 ? w_ : h_;
-    // Knots strictly inside the edge; beyond [0, n-1] f is constant along the
-    // edge, so only knots in that range matter.
-    const double lo = std::max(std::min(t0, t1), -1.0), hi = std::min(std::max(t0, t1), static_cast<double>(n));
-    const std::int64_t kfirst = static_cast<std::int64_t>(std::floor(lo)) + 1;
-    const std::int64_t klast = static_cast<std::int64_t>(std::ceil(hi)) - 1;
-    const bool ascending = t1 > t0;
-
-    // Walk the knots from a towards b, keeping (u_prev, g_prev) with g_prev of
-    // the sign of fa; the first knot where the sign flips closes the linear
-    // piece that holds the zero.
-    double u_prev = 0, g_prev = fa;
-    for (std::int64_t m = 0; m <= klast - kfirst; ++m) {
-        const std::int64_t k = ascending ? kfirst + m : klast - m;
-        if (k < 0 || k > n - 1) continue;
-        const double kd = static_cast<double>(k);
-        const double u = (kd - t0) / (t1 - t0);
-        const double g = axis == 0 ? value_px(kd, py(a.y)) : value_px(px(a.x), kd);
-        if (g == 0) return open_unit(u);  // the zero sits exactly on a knot
-        if ((g < 0) != (g_prev < 0)) return open_unit(u_prev + (u - u_prev) * (g_prev / (g_prev - g)));
-        u_prev = u, g_prev = g;
-    }
-    return open_unit(u_prev + (1 - u_prev) * (g_prev / (g_prev - fb)));
+    const Vec2 pa{px(a.x), py(a.y)}, pb{px(b.x), py(b.y)};
+    return knots::zero_on_edge(pa, pb, axis, axis == 0 ? w_ : h_, fa, fb,
+                               [this](double x, double y) { return value_px(x, y); });
 }
 
 // ---------------------------------------------------------------------------

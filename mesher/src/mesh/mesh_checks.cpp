@@ -5,6 +5,8 @@
 // once as (a, b) and once as (b, a); a boundary edge appears once, and the
 // boundary edges form closed loops (every vertex has as many boundary edges
 // leaving as entering).
+#include <array>
+#include <iterator>
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -30,6 +32,7 @@ MeshCheck check_mesh(const Mesh& mesh) {
     struct Directed {
         std::int32_t lo, hi;
         bool forward;  // traversed lo → hi
+        std::int32_t triangle;
         bool operator<(const Directed& o) const { return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : forward < o.forward; }
     };
     std::vector<Directed> edges;
@@ -47,7 +50,7 @@ MeshCheck check_mesh(const Mesh& mesh) {
         for (int k = 0; k < 3; ++k) {
             used[static_cast<std::size_t>(tri[k])] = 1;
             const std::int32_t a = tri[k], b = tri[(k + 1) % 3];
-            edges.push_back({std::min(a, b), std::max(a, b), a < b});
+            edges.push_back({std::min(a, b), std::max(a, b), a < b, static_cast<std::int32_t>(t)});
         }
         if (!(cross2(mesh, t) > 0)) {
             ++r.non_ccw;
@@ -61,6 +64,10 @@ MeshCheck check_mesh(const Mesh& mesh) {
 
     std::sort(edges.begin(), edges.end());
     std::vector<Directed> once;
+    // Interior edges between triangles of different regions: (lo, hi, region
+    // of the triangle traversing lo → hi, region of the other).
+    std::vector<std::array<std::int32_t, 4>> between;
+    const bool regions_ok = mesh.region.size() == mesh.triangles.size();
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
@@ -73,6 +80,11 @@ MeshCheck check_mesh(const Mesh& mesh) {
                 ++r.misoriented_edges;
                 note("edge " + std::to_string(edges[i].lo) + "-" + std::to_string(edges[i].hi) +
                      " is traversed the same way by both of its triangles");
+            } else if (regions_ok) {
+                const Directed& f = edges[i].forward ? edges[i] : edges[i + 1];
+                const Directed& b = edges[i].forward ? edges[i + 1] : edges[i];
+                const std::int32_t rf = mesh.region[static_cast<std::size_t>(f.triangle)], rb = mesh.region[static_cast<std::size_t>(b.triangle)];
+                if (rf != rb) between.push_back({f.lo, f.hi, rf, rb});
             }
         } else {
             ++r.overfull_edges;
@@ -91,7 +103,7 @@ MeshCheck check_mesh(const Mesh& mesh) {
             ++r.boundary_mismatch;
             continue;
         }
-        listed.push_back({std::min(e[0], e[1]), std::max(e[0], e[1]), e[0] < e[1]});
+        listed.push_back({std::min(e[0], e[1]), std::max(e[0], e[1]), e[0] < e[1], -1});
     }
     std::sort(listed.begin(), listed.end());
     std::vector<Directed> diff;
@@ -104,6 +116,33 @@ MeshCheck check_mesh(const Mesh& mesh) {
     if (mesh.boundary_tag.size() != mesh.boundary.size()) {
         ++r.boundary_mismatch;
         note("boundary_tag has a different length from boundary");
+    }
+
+    // Interfaces (multi-material meshes, when listed): exactly the interior
+    // edges between different regions, each once, its left region on its left.
+    if (!mesh.interfaces.empty() || !mesh.interface_regions.empty()) {
+        if (mesh.interface_regions.size() != mesh.interfaces.size()) {
+            ++r.interface_mismatch;
+            note("interface_regions has a different length from interfaces");
+        } else {
+            std::vector<std::array<std::int32_t, 4>> listed_if;
+            for (std::size_t k = 0; k < mesh.interfaces.size(); ++k) {
+                const auto& e = mesh.interfaces[k];
+                const auto& lr = mesh.interface_regions[k];
+                if (e[0] < e[1]) listed_if.push_back({e[0], e[1], lr[0], lr[1]});
+                else listed_if.push_back({e[1], e[0], lr[1], lr[0]});
+            }
+            std::sort(listed_if.begin(), listed_if.end());
+            std::sort(between.begin(), between.end());
+            std::vector<std::array<std::int32_t, 4>> d;
+            std::set_symmetric_difference(between.begin(), between.end(), listed_if.begin(), listed_if.end(), std::back_inserter(d));
+            r.interface_mismatch += static_cast<std::int64_t>(d.size());
+            if (std::adjacent_find(listed_if.begin(), listed_if.end()) != listed_if.end()) ++r.interface_mismatch;
+            if (r.interface_mismatch)
+                note(std::to_string(r.interface_mismatch) +
+                     " interface edges differ from the interior edges between triangles of different regions");
+        }
+        r.interface_edges = static_cast<std::int64_t>(mesh.interfaces.size());
     }
 
     std::vector<std::int32_t> degree(mesh.vertices.size(), 0);

@@ -119,40 +119,16 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     }
     std::partial_sum(row_tris.begin(), row_tris.end(), row_tris.begin());
 
-    // ---- pass 2: compact vertex ids -------------------------------------------
-    // A point is a vertex iff one of its (up to four) squares emits a triangle
-    // that uses it.  The point's corner role in square (i - di, j - dj) is
-    // di + 2 dj.
+    // ---- pass 2: compact vertex ids (inside points used by an emitted triangle) --
     auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
         return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
     };
-    Buffer<std::int32_t> vid(npoints);  // every element written: 0 (used) or -1 just below
-    std::vector<std::int64_t> row_verts(static_cast<std::size_t>(ny) + 2, 0);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t j = 0; j <= ny; ++j) {
-        std::int64_t count = 0;
-        for (std::int64_t i = 0; i < nxp; ++i) {
-            const bool used = (state[static_cast<std::size_t>(lattice.index(i, j))] & inside_bit) &&
-                              (uses_corner(square_code(i, j), A) || uses_corner(square_code(i - 1, j), B) ||
-                               uses_corner(square_code(i, j - 1), C) || uses_corner(square_code(i - 1, j - 1), D));
-            vid[static_cast<std::size_t>(lattice.index(i, j))] = used ? 0 : -1;
-            count += used;
-        }
-        row_verts[static_cast<std::size_t>(j) + 1] = count;
-    }
-    std::partial_sum(row_verts.begin(), row_verts.end(), row_verts.begin());
     Mesh mesh;
-    const std::int64_t nverts = row_verts.back(), ntris = row_tris.back();
-    if (nverts > INT32_MAX || ntris > INT32_MAX)
-        throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
-    mesh.vertices.resize(static_cast<std::size_t>(nverts));  // written by the loop below, one per used point
-    mesh.triangles.resize(static_cast<std::size_t>(ntris));  // written by pass 3, row_tris[j] on
-#pragma omp parallel for schedule(static)
-    for (std::int64_t j = 0; j <= ny; ++j) {
-        std::int64_t next = row_verts[static_cast<std::size_t>(j)];
-        for (std::int64_t i = 0; i < nxp; ++i) {
-            const std::int64_t p = lattice.index(i, j);
-            if (vid[static_cast<std::size_t>(p)] < 0) continue;
+    Buffer<std::int32_t> vid;
+    const std::int64_t ntris = row_tris.back();
+    compact_vertices(
+        lattice, code, ntris, [&](std::int64_t p) { return (state[static_cast<std::size_t>(p)] & inside_bit) != 0; },
+        [&](std::int64_t p, std::int64_t i, std::int64_t j) {
             Vec2 x = lattice.position(i, j);
             if (state[static_cast<std::size_t>(p)] & warped_bit) {
                 const WarpedPoint& wp = warp_of(p);
@@ -160,10 +136,9 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                 x.x += warp_dx(wp.dir) * wp.t * lattice.s;
                 x.y += warp_dy(wp.dir) * wp.t * lattice.s;
             }
-            vid[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(next);
-            mesh.vertices[static_cast<std::size_t>(next++)] = x;
-        }
-    }
+            return x;
+        },
+        vid, mesh);
 
     // ---- pass 3: triangles -----------------------------------------------------
     // Squares through the rule, for the certification: per row, then joined.

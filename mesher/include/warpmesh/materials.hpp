@@ -1,0 +1,169 @@
+// materials.hpp — multi-material meshes: every material of a label image (or
+// of a list of analytic shapes) in one conforming mesh whose interfaces are
+// chains of mesh edges.
+//
+// Model.  Materials are numbered 0 .. count()-1; material 0 is the background
+// (label images: every pixel not selected; shapes: outside every shape).  Each
+// material m has a function phi_m, negative inside it; the material at a point
+// is the one whose phi is smallest, i.e. most inside (an exact tie goes to the
+// larger material number).  The interface between materials a and b is where
+// phi_a = phi_b.
+//
+// Algorithm (mesh_materials, the uniform lattice):
+//   1. every lattice point gets its material;
+//   2. a lattice edge is cut when its endpoints' materials a, b differ; its
+//      one cut point is where phi_a = phi_b on it (a third material that lies
+//      between is counted, not meshed: `third_material_edges`);
+//   3. warping as for one level set (warp_points): the closer endpoint moves
+//      onto the cut point (at a tie, u = 1/2, the endpoint with the larger
+//      material number), a point that is the closer end of several cut edges
+//      takes the nearest cut point;
+//   4. per square the diagonal by the separating rule generalised to
+//      materials (generic_square.hpp: two opposite corners that stay with
+//      different materials force the other diagonal).  Then no triangle has
+//      two staying corners of different materials (proof at separating_pair),
+//      and each triangle's material is the common material of its staying
+//      corners; a triangle whose three corners all moved takes the material at
+//      its centroid.  Every square emits both its triangles, so the triangles
+//      of all materials tile the warped lattice (no gap, no overlap) and every
+//      interface is a chain of mesh edges.  The max-min rule can join two
+//      staying corners of different materials by its diagonal: mesh_materials
+//      refuses it (InputError).
+//
+// Certification.  A square whose corners carry one or two materials is a
+// square of the two-material proof: map its larger material to '-' and the
+// other to '+'.  The key is consistent in the prover's sense (prover.cpp,
+// `consistent`): no corner is zero-valued; a corner slides inward only along a
+// cut side, i.e. towards the other material, hence the opposite sign; never
+// two corners towards each other along one side (a side has one cut point and
+// one mover); every cut side has a warped endpoint.  Outward slides are not
+// constrained by the key (the neighbour is outside the square), t lies in
+// (0, 1/2] as in the proof, and both rules decide the same diagonal on the
+// square (the separating test only asks whether two corners differ).  So the
+// key's certified bound holds for the square's triangles, and --verify checks
+// it.  Squares with three or four materials ("junction squares") have no key
+// yet: they are counted and listed, excluded from the certified bounds, and
+// their triangles get certified_min_angle 0 (no bound claimed).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "warpmesh/certified.hpp"
+#include "warpmesh/image.hpp"
+#include "warpmesh/lattice.hpp"
+#include "warpmesh/levelset.hpp"
+#include "warpmesh/mesh.hpp"
+#include "warpmesh/uniform.hpp"
+
+namespace warpmesh {
+
+class MaterialField {
+public:
+    virtual ~MaterialField() = default;
+
+    virtual int count() const = 0;                    // materials, background included (<= 65536)
+    virtual std::int32_t tag(int m) const = 0;        // region tag: the label value; background 0
+    virtual std::string name(int m) const = 0;        // e.g. "label_41", "background"
+    virtual Box bounds() const = 0;                   // as LevelSet::bounds
+    // As LevelSet::bounds_are_domain: true for images (the lattice covers
+    // exactly the bounds), false for shapes (a lattice around them).
+    virtual bool bounds_are_domain() const { return false; }
+    virtual std::string describe() const = 0;
+
+    // phi_m at a point (any finite value; negative inside m).
+    virtual double phi(int m, double x, double y) const = 0;
+    // argmin_m phi_m(x, y), ties to the larger m.  Default: every material.
+    virtual int material_at(double x, double y) const;
+    // The material of every lattice point of `block` (row-major, ni x nj), as
+    // material_at at Lattice::position gives it.  Default: material_at.
+    virtual void sample_block(const Lattice& lattice, const PointBlock& block, std::span<std::uint16_t> out) const;
+    // The parameter u in (0, 1) of the point a + u (b - a) where
+    // phi_ma = phi_mb, given that ma is the material at a and mb at b.
+    // Default: bracketed_root on phi_ma - phi_mb.
+    virtual double cut_parameter(Vec2 a, Vec2 b, int ma, int mb) const;
+
+    // The area the material should have, where known (label images: its
+    // pixel count, one unit per pixel), for the report.
+    virtual std::optional<double> reference_area(int /*m*/) const { return std::nullopt; }
+};
+
+// ---- fields ------------------------------------------------------------------
+// A label image.  `spec`: "all" (every label present except 0, which is the
+// background) or a label list as parse_label_list reads it ("3,41,42",
+// "1000-1035"); every other pixel joins the background.  phi_m at a pixel
+// centre is label mode's field for the region "label m" (image_levelset.hpp):
+// -(d_out - 1/2) on m's pixels, d_in - 1/2 elsewhere, with the distances
+// between pixel centres capped at 3 pixels, and bilinear in between.  The
+// winner at a point is always a label of its pixel cell's four corners (the
+// others have phi >= 1/2 there, the corner with the largest weight's label
+// phi <= 0.36), whose distances are at most sqrt 2: so the materials are
+// those of the uncapped fields, computed from each pixel's 7 x 7 window and
+// only in cells whose corners differ — no distance transform per label.  Cut
+// points are exact zeros of the piecewise-linear phi_a - phi_b (exact for
+// spacings up to 2 pixels; beyond, segments farther than 3 pixels from a
+// material see the cap).
+// Throws InputError: label 0 in the list (it is the background), labels absent
+// from the image (named), no label at all, more than 65535 labels.
+std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec);
+
+// Analytic materials: "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12"
+// (shapes.hpp syntax after '='; tags 1..65535, each once).  A later shape wins
+// where shapes overlap; outside all of them: background (tag 0).  With f_k the
+// shapes' level sets, phi_m = max(f_m, -f_k for every later k), background
+// phi_0 = max(-f_k): negative exactly in the material's own region, and
+// phi_a = phi_b on the curve separating a and b.  Throws InputError.
+std::unique_ptr<MaterialField> parse_material_shapes(const std::string& spec);
+
+// ---- the mesher ----------------------------------------------------------------
+struct MaterialOptions {
+    bool keep_background = false;  // false: the background's triangles are not output
+    DiagonalRule rule = DiagonalRule::separating;  // maxmin is refused
+    CertifyOptions certify{false, false, false};
+};
+
+struct MaterialStats {
+    std::int32_t tag = 0;
+    std::string name;
+    bool output = true;            // false: the dropped background
+    std::int64_t triangles = 0;    // of the full tiling (also when not output)
+    double area = 0;               // of those triangles
+    double perimeter = 0;          // length of its interfaces, boundary and domain border
+    std::optional<double> reference_area;
+};
+
+struct JunctionSquare {
+    std::int64_t i, j;
+    std::array<std::int32_t, 4> tags;  // corner materials A, B, C, D
+    std::string pattern;               // e.g. "aRaUbscs": corners' partition letters and warps
+};
+
+struct MaterialResult {
+    Mesh mesh;
+    PhaseTimes times;
+    std::int64_t cut_edges = 0, warped_points = 0, warped_squares = 0, forced_diagonals = 0;
+    std::int64_t third_material_edges = 0;  // cut edges whose cut point lies in a third material
+    std::int64_t mixed_triangles = 0;       // two staying corners of different materials: 0 (proved)
+    std::int64_t centroid_triangles = 0;    // all corners moved: material at the centroid
+    std::vector<MaterialStats> materials;   // index = material number
+    CertifiedSummary certified;             // junction squares excluded (see below)
+    std::int64_t junction_squares = 0;      // warped squares with 3 or 4 materials: uncertified
+    std::vector<JunctionSquare> junction_examples;  // the first 20
+};
+
+// The multi-material uniform mesher (see the top of this file).  Throws
+// InputError for --diagonal maxmin or more than 65536 materials.
+MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options);
+
+// ---- report --------------------------------------------------------------------
+// JSON members ("materials": [...], "junction_squares": ..., ...) and text
+// lines for the CLI's reports; `warnings` receives one line per material that
+// got no triangle (it is lost at this spacing).
+std::vector<std::pair<std::string, std::string>> material_report_json(const MaterialResult& r);
+std::string material_report_text(const MaterialResult& r, std::vector<std::string>* warnings = nullptr);
+
+}  // namespace warpmesh

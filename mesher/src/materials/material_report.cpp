@@ -1,0 +1,79 @@
+// material_report.cpp — the multi-material part of the CLI's reports
+// (materials.hpp): per material its triangles, area, perimeter and reference
+// (pixel-count) area; the junction squares, which no certificate covers yet;
+// the edges where a third material lies between a cut edge's two.
+#include <cmath>
+#include <sstream>
+
+#include "warpmesh/materials.hpp"
+#include "warpmesh/quality.hpp"
+
+namespace warpmesh {
+
+namespace {
+// A material with pixels (or an analytic one) that got no triangle; the
+// dropped background may well be empty.
+bool lost_material(const MaterialStats& s) {
+    return (s.tag != 0 || s.output) && s.triangles == 0 && (!s.reference_area || *s.reference_area > 0);
+}
+
+std::string tags_text(const std::array<std::int32_t, 4>& t) {
+    return "[" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ", " + std::to_string(t[3]) + "]";
+}
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> material_report_json(const MaterialResult& r) {
+    std::vector<std::pair<std::string, std::string>> out;
+    std::string m = "[";
+    for (std::size_t k = 0; k < r.materials.size(); ++k) {
+        const MaterialStats& s = r.materials[k];
+        m += std::string(k ? ", " : "") + "{\"tag\": " + std::to_string(s.tag) + ", \"name\": " + json_string(s.name) +
+             ", \"output\": " + (s.output ? "true" : "false") + ", \"triangles\": " + std::to_string(s.triangles) +
+             ", \"area\": " + json_number(s.area) + ", \"perimeter\": " + json_number(s.perimeter);
+        if (s.reference_area)
+            m += ", \"pixel_area\": " + json_number(*s.reference_area) + ", \"area_minus_pixel_area\": " + json_number(s.area - *s.reference_area);
+        m += "}";
+    }
+    out.emplace_back("materials", m + "]");
+    std::string lost = "[";  // materials lost at this spacing (material_report_text warns of them)
+    for (const MaterialStats& s : r.materials)
+        if (lost_material(s)) lost += std::string(lost.size() > 1 ? ", " : "") + std::to_string(s.tag);
+    out.emplace_back("materials_without_triangles", lost + "]");
+    out.emplace_back("interface_edges", std::to_string(r.mesh.interfaces.size()));
+    out.emplace_back("third_material_edges", std::to_string(r.third_material_edges));
+    out.emplace_back("centroid_material_triangles", std::to_string(r.centroid_triangles));
+    out.emplace_back("mixed_triangles", std::to_string(r.mixed_triangles));
+    std::string j = "{\"count\": " + std::to_string(r.junction_squares) + ", \"certified\": false, \"examples\": [";
+    for (std::size_t k = 0; k < r.junction_examples.size(); ++k) {
+        const JunctionSquare& e = r.junction_examples[k];
+        j += std::string(k ? ", " : "") + "{\"i\": " + std::to_string(e.i) + ", \"j\": " + std::to_string(e.j) +
+             ", \"materials\": " + tags_text(e.tags) + ", \"pattern\": " + json_string(e.pattern) + "}";
+    }
+    out.emplace_back("uncertified_junction_squares", j + "]}");
+    return out;
+}
+
+std::string material_report_text(const MaterialResult& r, std::vector<std::string>* warnings) {
+    std::ostringstream t;
+    t.precision(6);
+    t << "materials            " << r.materials.size() << " (tag, triangles, area, perimeter, pixel area)\n";
+    for (const MaterialStats& s : r.materials) {
+        t << "  " << s.tag << " " << s.name << (s.output ? "" : " (not output)") << ": " << s.triangles << " triangles, area "
+          << s.area << ", perimeter " << s.perimeter;
+        if (s.reference_area) t << ", pixel area " << *s.reference_area;
+        t << "\n";
+        if (warnings && lost_material(s))
+            warnings->push_back("material " + std::to_string(s.tag) + " (" + s.name +
+                                ") got no triangle: it is lost at this spacing (use a smaller --spacing)");
+    }
+    t << "interface edges      " << r.mesh.interfaces.size() << "\n";
+    t << "third-material edges " << r.third_material_edges << " (cut edges whose cut point lies in a third material)\n";
+    t << "uncertified junction squares " << r.junction_squares
+      << " (3 or 4 materials: no certificate yet, excluded from the certified angles)\n";
+    for (const JunctionSquare& e : r.junction_examples)
+        t << "  (" << e.i << ", " << e.j << ") materials " << tags_text(e.tags) << " pattern " << e.pattern << "\n";
+    if (r.junction_squares > static_cast<std::int64_t>(r.junction_examples.size())) t << "  ...\n";
+    return t.str();
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,398 @@
+// mesh_materials.cpp — the multi-material uniform mesher (materials.hpp):
+// materials per point → cut edges → warp → triangulate → certify.
+//
+// The triangulation is four passes, each parallel over rows and deterministic
+// (as triangulate.cpp, whose square codes and side tables it shares):
+//   1. per square: its diagonal, its two triangles' materials, which of them
+//      are output (all but the dropped background's), per-material counts and
+//      areas of the full tiling;
+//   2. per point, whether an output triangle uses it → compact vertex ids;
+//   3. the triangles and their region tags (and the keyed squares);
+//   4. per square, its right and top sides and its diagonal (the left and
+//      bottom sides on the lattice border): an edge between two output
+//      triangles of different materials is an interface, an edge of exactly
+//      one output triangle a boundary edge; every edge between different
+//      materials adds its length to both materials' perimeters.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "square_code.hpp"
+#include "warpmesh/errors.hpp"
+#include "warpmesh/materials.hpp"
+
+namespace warpmesh {
+namespace {
+
+using clock = std::chrono::steady_clock;
+using namespace square_code;  // tri0_bit, tri1_bit, bc_bit, rule_bit, triangle_of, uses_corner, sides
+
+int thread_id() {
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+int thread_count() {
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+// The rule on a square's material corners, in the generic frame (the same
+// choose_diagonal the prover certifies; generic_square.hpp).
+[[gnu::flatten]] bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs,
+                                           const std::array<double, 4>& t, bool& forced) {
+    std::array<Warp, 4> w{};
+    for (std::size_t k = 0; k < 4; ++k) w[k] = cs[k].warp;
+    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
+    Diagonal d{};
+    forced = false;
+    if (separating_diagonal(cs, d)) forced = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs).bc != ch.bc;
+    return ch.bc;
+}
+
+}  // namespace
+
+MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options) {
+    if (options.rule == DiagonalRule::maxmin)
+        throw InputError("--diagonal maxmin cannot mesh several materials: it can join two unwarped corners of different "
+                         "materials by its diagonal, leaving a triangle with no single material; use the separating rule "
+                         "(the default)");
+    const int nmat = field.count();
+    if (nmat < 1 || nmat > 65536) throw InputError("between 1 and 65536 materials are needed, not " + std::to_string(nmat));
+    MaterialResult r;
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
+
+    // ---- 1. materials per point --------------------------------------------------
+    auto t0 = clock::now();
+    Buffer<std::uint16_t> mat(npoints);  // every element written by sample_block
+    field.sample_block(lattice, {0, 0, nxp, ny + 1}, mat);
+    r.times.sample = seconds_since(t0);
+
+    // ---- 2. cut edges --------------------------------------------------------------
+    // sign: -1 when p has the larger material (it moves at a tie, u = 1/2).
+    t0 = clock::now();
+    std::vector<std::vector<CutEdge>> per_row(static_cast<std::size_t>(ny + 1));
+    std::int64_t third = 0;
+#pragma omp parallel for schedule(dynamic, 16) reduction(+ : third)
+    for (std::int64_t j = 0; j <= ny; ++j) {
+        auto& out = per_row[static_cast<std::size_t>(j)];
+        const std::uint16_t* row = mat.data() + j * nxp;
+        const std::uint16_t* up = j < ny ? row + nxp : nullptr;
+        for (std::int64_t i = 0; i < nxp; ++i) {
+            const int mp = row[i];
+            for (int axis = 0; axis < 2; ++axis) {
+                if (axis == 0 ? i + 1 >= nxp : !up) continue;
+                const int mq = axis == 0 ? row[i + 1] : up[i];
+                if (mq == mp) continue;
+                const Vec2 a = lattice.position(i, j), b = lattice.position(i + (axis == 0), j + (axis == 1));
+                const double u = field.cut_parameter(a, b, mp, mq);
+                out.push_back({lattice.index(i, j), static_cast<std::int8_t>(axis), static_cast<std::int8_t>(mp > mq ? -1 : 1), u});
+                const int mc = field.material_at(a.x + u * (b.x - a.x), a.y + u * (b.y - a.y));
+                third += mc != mp && mc != mq;
+            }
+        }
+    }
+    std::vector<CutEdge> cuts;
+    {
+        std::size_t total = 0;
+        for (const auto& v : per_row) total += v.size();
+        cuts.reserve(total);
+        for (auto& v : per_row) cuts.insert(cuts.end(), v.begin(), v.end()), std::vector<CutEdge>().swap(v);
+    }
+    r.cut_edges = static_cast<std::int64_t>(cuts.size());
+    r.third_material_edges = third;
+    r.times.cut_points = seconds_since(t0);
+
+    // ---- 3. warp --------------------------------------------------------------------
+    t0 = clock::now();
+    const std::vector<WarpedPoint> warped = warp_points(lattice, cuts);
+    std::vector<CutEdge>().swap(cuts);
+    r.warped_points = static_cast<std::int64_t>(warped.size());
+    Buffer<std::uint8_t> moved(npoints);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k) moved[static_cast<std::size_t>(k)] = 0;
+    for (const WarpedPoint& w : warped) moved[static_cast<std::size_t>(w.p)] = 1;
+    r.times.warp = seconds_since(t0);
+    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& {
+        return *std::lower_bound(warped.begin(), warped.end(), p, [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
+    };
+    auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) {
+        Vec2 x = lattice.position(i, j);
+        if (moved[static_cast<std::size_t>(p)]) {
+            const WarpedPoint& wp = warp_of(p);
+            x.x += warp_dx(wp.dir) * wp.t * lattice.s;  // the same affine map as generic_positions, scaled by s
+            x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+        }
+        return x;
+    };
+    auto position = [&](std::int64_t p) { return position_ij(p, p % nxp, p / nxp); };
+
+    // ---- 4. triangulate ---------------------------------------------------------------
+    t0 = clock::now();
+    const bool drop = !options.keep_background;
+    Buffer<std::uint8_t> code(static_cast<std::size_t>(nx * ny));
+    Buffer<std::array<std::uint16_t, 2>> tmat(static_cast<std::size_t>(nx * ny));  // materials of triangles 0, 1
+    std::vector<std::int64_t> row_tris(static_cast<std::size_t>(ny) + 1, 0);
+    const int nthreads = thread_count();
+    std::vector<std::vector<std::int64_t>> tri_count(static_cast<std::size_t>(nthreads), std::vector<std::int64_t>(static_cast<std::size_t>(nmat), 0));
+    std::vector<std::vector<double>> area2(static_cast<std::size_t>(nthreads), std::vector<double>(static_cast<std::size_t>(nmat), 0.0));
+    std::int64_t warped_squares = 0, forced = 0, mixed = 0, centroid = 0;
+    const double s2 = lattice.s * lattice.s;
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : warped_squares, forced, mixed, centroid)
+    for (std::int64_t j = 0; j < ny; ++j) {
+        auto& count = tri_count[static_cast<std::size_t>(thread_id())];
+        auto& area = area2[static_cast<std::size_t>(thread_id())];
+        std::int64_t tris = 0;
+        for (std::int64_t i = 0; i < nx; ++i) {
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            const std::size_t sq = static_cast<std::size_t>(i + j * nx);
+            std::uint8_t c = 0;
+            std::array<std::uint16_t, 2> tm{};
+            if (!(moved[static_cast<std::size_t>(p[0])] | moved[static_cast<std::size_t>(p[1])] |
+                  moved[static_cast<std::size_t>(p[2])] | moved[static_cast<std::size_t>(p[3])])) {
+                // No corner moved, so no side is cut: one material, diagonal AD.
+                const std::uint16_t m = mat[static_cast<std::size_t>(pa)];
+                tm = {m, m};
+                count[m] += 2;
+                area[m] += 2 * s2;  // twice the areas of both halves
+            } else {
+                ++warped_squares;
+                c = rule_bit;
+                std::array<MaterialCorner, 4> cs{};
+                std::array<double, 4> t{};
+                std::array<Vec2, 4> x{};
+                for (std::size_t q = 0; q < 4; ++q) {
+                    cs[q].material = mat[static_cast<std::size_t>(p[q])];
+                    if (moved[static_cast<std::size_t>(p[q])]) {
+                        const WarpedPoint& wp = warp_of(p[q]);
+                        cs[q].warp = wp.dir, t[q] = wp.t;
+                    }
+                    x[q] = position_ij(p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
+                }
+                bool was_forced = false;
+                if (material_diagonal_bc(options.rule, cs, t, was_forced)) c |= bc_bit;
+                forced += was_forced;
+                for (int k = 0; k < 2; ++k) {
+                    const auto tri = triangle_of(c, k);
+                    int m = -1;
+                    for (int v : tri) {
+                        const MaterialCorner& mc = cs[static_cast<std::size_t>(v)];
+                        if (mc.warp != Warp::stay) continue;
+                        if (m >= 0 && m != mc.material) ++mixed;  // impossible by separating_pair's proof
+                        m = mc.material;
+                    }
+                    const Vec2 &a = x[static_cast<std::size_t>(tri[0])], &b = x[static_cast<std::size_t>(tri[1])],
+                               &e = x[static_cast<std::size_t>(tri[2])];
+                    if (m < 0) {
+                        m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
+                        ++centroid;
+                    }
+                    tm[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(m);
+                    ++count[static_cast<std::size_t>(m)];
+                    area[static_cast<std::size_t>(m)] += (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x);
+                }
+            }
+            for (int k = 0; k < 2; ++k)
+                if (!drop || tm[static_cast<std::size_t>(k)] != 0) c |= static_cast<std::uint8_t>(1 << k), ++tris;
+            code[sq] = c;
+            tmat[sq] = tm;
+        }
+        row_tris[static_cast<std::size_t>(j) + 1] = tris;
+    }
+    std::partial_sum(row_tris.begin(), row_tris.end(), row_tris.begin());
+    r.warped_squares = warped_squares;
+    r.forced_diagonals = forced;
+    r.mixed_triangles = mixed;
+    r.centroid_triangles = centroid;
+
+    // Pass 2: compact vertex ids (points used by an output triangle).
+    Mesh& mesh = r.mesh;
+    Buffer<std::int32_t> vid;
+    const std::int64_t ntris = row_tris.back();
+    compact_vertices(
+        lattice, code, ntris, [](std::int64_t) { return true; },
+        position_ij, vid, mesh);
+    mesh.region.resize(static_cast<std::size_t>(ntris));
+
+    // Pass 3: triangles, region tags, keyed squares.
+    std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
+    for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
+    const bool want_keyed = options.certify.enabled;
+    std::vector<std::vector<KeyedSquare>> keyed_rows(want_keyed ? static_cast<std::size_t>(ny) : 0);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t j = 0; j < ny; ++j) {
+        std::int64_t next = row_tris[static_cast<std::size_t>(j)];
+        for (std::int64_t i = 0; i < nx; ++i) {
+            const std::size_t sq = static_cast<std::size_t>(i + j * nx);
+            const std::uint8_t c = code[sq];
+            if (!(c & (tri0_bit | tri1_bit))) continue;
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            if (want_keyed && (c & rule_bit))
+                keyed_rows[static_cast<std::size_t>(j)].push_back(
+                    {static_cast<std::int64_t>(sq), next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+            for (int k = 0; k < 2; ++k) {
+                if (!(c & (1 << k))) continue;
+                const auto tri = triangle_of(c, k);
+                mesh.region[static_cast<std::size_t>(next)] = tag[tmat[sq][static_cast<std::size_t>(k)]];
+                mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[tri[0]])],
+                                                                    vid[static_cast<std::size_t>(p[tri[1]])],
+                                                                    vid[static_cast<std::size_t>(p[tri[2]])]};
+            }
+        }
+    }
+
+    // Pass 4: boundary, interfaces, perimeters.
+    struct Edge {
+        std::int32_t a, b;
+        std::int32_t tag_or_left, right;  // boundary: tag, -1; interface: left, right region tags
+    };
+    std::vector<std::vector<Edge>> edge_rows(static_cast<std::size_t>(ny));
+    std::vector<std::vector<double>> perim(static_cast<std::size_t>(nthreads), std::vector<double>(static_cast<std::size_t>(nmat), 0.0));
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::int64_t j = 0; j < ny; ++j) {
+        auto& out = edge_rows[static_cast<std::size_t>(j)];
+        auto& per = perim[static_cast<std::size_t>(thread_id())];
+        for (std::int64_t i = 0; i < nx; ++i) {
+            const std::size_t sq = static_cast<std::size_t>(i + j * nx);
+            const std::uint8_t c = code[sq];
+            const std::array<std::uint16_t, 2> tm = tmat[sq];
+            const bool plain = !(c & rule_bit);
+            // A plain square whose right and top neighbours are plain with its material has no edge to report.
+            if (plain && i + 1 < nx && j + 1 < ny && !(code[sq + 1] & rule_bit) && !(code[sq + static_cast<std::size_t>(nx)] & rule_bit) &&
+                tmat[sq + 1][0] == tm[0] && tmat[sq + static_cast<std::size_t>(nx)][0] == tm[0] && i > 0 && j > 0)
+                continue;
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            // The edge from corner `from` to `to` of this square, held by its triangle k (on the edge's left)
+            // and by triangle k2 of square sq2 (on its right; sq2 < 0: the lattice border).
+            auto edge = [&](int from, int to, int k, std::int64_t sq2, int k2) {
+                const int m1 = tm[static_cast<std::size_t>(k)];
+                const bool out1 = c & (1 << k);
+                if (sq2 < 0) {
+                    const Vec2 a = position(p[static_cast<std::size_t>(from)]), b = position(p[static_cast<std::size_t>(to)]);
+                    per[static_cast<std::size_t>(m1)] += std::hypot(b.x - a.x, b.y - a.y);
+                    if (out1) out.push_back({vid[static_cast<std::size_t>(p[static_cast<std::size_t>(from)])], vid[static_cast<std::size_t>(p[static_cast<std::size_t>(to)])], boundary_domain, -1});
+                    return;
+                }
+                const int m2 = tmat[static_cast<std::size_t>(sq2)][static_cast<std::size_t>(k2)];
+                const bool out2 = code[static_cast<std::size_t>(sq2)] & (1 << k2);
+                if (m1 == m2 && out1 == out2) return;
+                const std::int32_t va = vid[static_cast<std::size_t>(p[static_cast<std::size_t>(from)])], vb = vid[static_cast<std::size_t>(p[static_cast<std::size_t>(to)])];
+                if (m1 != m2) {
+                    const Vec2 a = position(p[static_cast<std::size_t>(from)]), b = position(p[static_cast<std::size_t>(to)]);
+                    const double len = std::hypot(b.x - a.x, b.y - a.y);
+                    per[static_cast<std::size_t>(m1)] += len;
+                    per[static_cast<std::size_t>(m2)] += len;
+                }
+                if (out1 && out2) out.push_back({va, vb, tag[static_cast<std::size_t>(m1)], tag[static_cast<std::size_t>(m2)]});
+                else if (out1) out.push_back({va, vb, boundary_level_set, -1});
+                else if (out2) out.push_back({vb, va, boundary_level_set, -1});
+            };
+            const bool bc = c & bc_bit;
+            const auto side_tri = [&](std::uint8_t code_, int sd) {
+                const Side& s = sides[static_cast<std::size_t>(sd)];
+                return (code_ & bc_bit) ? s.tri_bc : s.tri_ad;
+            };
+            // bottom (0) and left (3) only on the border; right (1) and top (2) always.
+            if (j == 0) edge(sides[0].from, sides[0].to, side_tri(c, 0), -1, 0);
+            if (i == 0) edge(sides[3].from, sides[3].to, side_tri(c, 3), -1, 0);
+            if (i + 1 < nx) edge(sides[1].from, sides[1].to, side_tri(c, 1), static_cast<std::int64_t>(sq + 1), side_tri(code[sq + 1], 3));
+            else edge(sides[1].from, sides[1].to, side_tri(c, 1), -1, 0);
+            if (j + 1 < ny) edge(sides[2].from, sides[2].to, side_tri(c, 2), static_cast<std::int64_t>(sq) + nx, side_tri(code[sq + static_cast<std::size_t>(nx)], 0));
+            else edge(sides[2].from, sides[2].to, side_tri(c, 2), -1, 0);
+            // The diagonal, as it runs in triangle 0 (ABD: D→A, ABC: B→C), triangle 1 on its right.
+            if (!plain) {
+                if (bc) edge(B, C, 0, static_cast<std::int64_t>(sq), 1);
+                else edge(D, A, 0, static_cast<std::int64_t>(sq), 1);
+            }
+        }
+    }
+    for (const auto& row : edge_rows)
+        for (const Edge& e : row) {
+            if (e.right < 0) {
+                mesh.boundary.push_back({e.a, e.b});
+                mesh.boundary_tag.push_back(e.tag_or_left);
+            } else {
+                mesh.interfaces.push_back({e.a, e.b});
+                mesh.interface_regions.push_back({e.tag_or_left, e.right});
+            }
+        }
+    r.times.triangulate = seconds_since(t0);
+
+    // Per-material statistics and names.
+    r.materials.resize(static_cast<std::size_t>(nmat));
+    for (int m = 0; m < nmat; ++m) {
+        MaterialStats& st = r.materials[static_cast<std::size_t>(m)];
+        st.tag = tag[static_cast<std::size_t>(m)];
+        st.name = field.name(m);
+        st.output = !(drop && m == 0);
+        st.reference_area = field.reference_area(m);
+        for (int t = 0; t < nthreads; ++t) {
+            st.triangles += tri_count[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+            st.area += 0.5 * area2[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+            st.perimeter += perim[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+        }
+        if (st.output && st.triangles > 0) mesh.region_names.emplace_back(st.tag, st.name);
+    }
+
+    // ---- 5. certify ------------------------------------------------------------------
+    if (options.certify.enabled) {
+        t0 = clock::now();
+        std::vector<KeyedSquare> keyed;
+        for (const auto& row : keyed_rows) keyed.insert(keyed.end(), row.begin(), row.end());
+        // A square with one or two materials: its larger material is '-', every
+        // other point of the stencil '+' (materials.hpp: why this is a key of the proof).
+        const auto square_signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
+            const std::int64_t pa = lattice.index(i, j);
+            const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(pa)], mat[static_cast<std::size_t>(pa + 1)],
+                                                 mat[static_cast<std::size_t>(pa + nxp)], mat[static_cast<std::size_t>(pa + nxp + 1)]};
+            const std::uint16_t hi = *std::max_element(m.begin(), m.end()), lo = *std::min_element(m.begin(), m.end());
+            for (const std::uint16_t v : m)
+                if (v != hi && v != lo) return false;
+            for (std::size_t q = 0; q < 12; ++q) {
+                const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
+                st[q] = (x < 0 || y < 0 || x > nx || y > ny) ? off_lattice
+                        : mat[static_cast<std::size_t>(lattice.index(x, y))] == hi ? std::int8_t{-1} : std::int8_t{1};
+            }
+            return true;
+        };
+        r.certified = certify_squares(mesh, lattice, square_signs, warped, options.rule, keyed, options.certify);
+        r.junction_squares = r.certified.junction_squares;
+        for (const std::int64_t sq : r.certified.junction_list) {
+            JunctionSquare js{sq % nx, sq / nx, {}, {}};
+            const std::int64_t pa = lattice.index(js.i, js.j);
+            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            std::array<int, 4> letter{-1, -1, -1, -1};
+            int next_letter = 0;
+            for (std::size_t q = 0; q < 4; ++q) {
+                const std::uint16_t m = mat[static_cast<std::size_t>(p[q])];
+                js.tags[q] = tag[m];
+                for (std::size_t e = 0; e < q && letter[q] < 0; ++e)
+                    if (mat[static_cast<std::size_t>(p[e])] == m) letter[q] = letter[e];
+                if (letter[q] < 0) letter[q] = next_letter++;
+                constexpr char warp_chars[] = {'s', 'R', 'L', 'U', 'D'};
+                js.pattern += static_cast<char>('a' + letter[q]);
+                js.pattern += moved[static_cast<std::size_t>(p[q])] ? warp_chars[static_cast<int>(warp_of(p[q]).dir)] : 's';
+            }
+            r.junction_examples.push_back(std::move(js));
+        }
+        r.times.certify = seconds_since(t0);
+    }
+    return r;
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,453 @@
+// Multi-material meshes (materials.hpp): conformity and interfaces, the
+// no-mixed-triangle property of the separating rule on thousands of random
+// multi-material fields, equality with today's label mode for two materials,
+// the fidelity and convergence order on analytic shapes, certification of the
+// two-material squares, and the CLI's refusals.
+#define BOOST_TEST_MODULE materials
+#include <boost/test/unit_test.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "read_file.hpp"
+#include "warpmesh/errors.hpp"
+#include "warpmesh/image_levelset.hpp"
+#include "warpmesh/materials.hpp"
+#include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/uniform.hpp"
+
+using namespace warpmesh;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+// The random trials mesh thousands of tiny lattices: one thread each (a
+// parallel region per pass would cost more than the mesh).
+struct OneThread {
+#ifdef _OPENMP
+    int saved = omp_get_max_threads();
+    OneThread() { omp_set_num_threads(1); }
+    ~OneThread() { omp_set_num_threads(saved); }
+#endif
+};
+
+// Random "power diagram" materials: phi_m = |p - c_m| - r_m, the nearest
+// (most inside) disc wins; several materials meet at triple points.
+class RandomDiscs final : public MaterialField {
+public:
+    RandomDiscs(std::mt19937& rng, int n, double size) {
+        std::uniform_real_distribution<double> pos(0, size), rad(0, size / 3);
+        for (int m = 0; m < n; ++m) c_.push_back({pos(rng), pos(rng), rad(rng)});
+        size_ = size;
+    }
+    int count() const override { return static_cast<int>(c_.size()); }
+    std::int32_t tag(int m) const override { return 10 + m; }  // tags != material numbers on purpose
+    std::string name(int m) const override { return "disc_" + std::to_string(m); }
+    Box bounds() const override { return {0, 0, size_, size_}; }
+    std::string describe() const override { return "random discs"; }
+    double phi(int m, double x, double y) const override {
+        const auto& d = c_[static_cast<std::size_t>(m)];
+        return std::hypot(x - d[0], y - d[1]) - d[2];
+    }
+
+private:
+    std::vector<std::array<double, 3>> c_;
+    double size_ = 1;
+};
+
+Image random_label_image(std::mt19937& rng, int w, int h, int labels) {
+    Image img;
+    img.width = w, img.height = h, img.maxval = 255, img.source = "random";
+    img.pixels.resize(static_cast<std::size_t>(w * h));
+    // Blobs: a few seeds, each pixel takes the nearest seed's label (some 0).
+    std::uniform_int_distribution<int> lab(0, labels), px(0, w - 1), py(0, h - 1);
+    std::vector<std::array<int, 3>> seeds;
+    for (int k = 0; k < 2 + labels; ++k) seeds.push_back({px(rng), py(rng), lab(rng)});
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            int best = 1 << 30, l = 0;
+            for (const auto& s : seeds) {
+                const int d = (s[0] - c) * (s[0] - c) + (s[1] - r) * (s[1] - r);
+                if (d < best) best = d, l = s[2];
+            }
+            img.pixels[static_cast<std::size_t>(r * w + c)] = static_cast<std::uint16_t>(l);
+        }
+    return img;
+}
+
+// The properties every multi-material mesh must have:
+//  * conforming and counter-clockwise (check_mesh), interfaces exactly the
+//    interior edges between triangles of different regions (check_mesh);
+//  * no triangle with two unwarped corners of different materials, and every
+//    unwarped corner's material is its triangle's (checked from the mesh
+//    alone: a vertex exactly at a lattice point is taken as unwarped);
+//  * with the background kept, the only boundary is the lattice border.
+void check_material_mesh(const MaterialField& f, const Lattice& l, const MaterialResult& r, bool keep) {
+    const MeshCheck c = check_mesh(r.mesh);
+    BOOST_REQUIRE_MESSAGE(c.ok(), (c.messages.empty() ? std::string("?") : c.messages[0]));
+    BOOST_REQUIRE_EQUAL(r.mixed_triangles, 0);
+    std::map<std::int32_t, int> material_of_tag;
+    for (int m = 0; m < f.count(); ++m) material_of_tag[f.tag(m)] = m;
+    for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t)
+        for (const std::int32_t v : r.mesh.triangles[t]) {
+            const Vec2 x = r.mesh.vertices[static_cast<std::size_t>(v)];
+            const double fi = std::round((x.x - l.x0) / l.s), fj = std::round((x.y - l.y0) / l.s);
+            const Vec2 p = l.position(static_cast<std::int64_t>(fi), static_cast<std::int64_t>(fj));
+            if (p.x != x.x || p.y != x.y) continue;  // warped
+            // A lattice point where two materials tie is on the interface:
+            // it takes the larger material and warps by a zero-length slide.
+            std::vector<double> phi;
+            for (int m = 0; m < f.count(); ++m) phi.push_back(f.phi(m, p.x, p.y));
+            std::sort(phi.begin(), phi.end());
+            if (phi.size() > 1 && phi[0] == phi[1]) continue;
+            BOOST_REQUIRE_EQUAL(f.material_at(p.x, p.y), material_of_tag.at(r.mesh.region[t]));
+        }
+    if (keep) {
+        BOOST_REQUIRE_EQUAL(static_cast<std::int64_t>(r.mesh.boundary.size()), 2 * (l.nx + l.ny));
+        for (const auto tag : r.mesh.boundary_tag) BOOST_REQUIRE_EQUAL(tag, boundary_domain);
+        std::int64_t total = 0;
+        for (const auto& m : r.materials) total += m.triangles;
+        BOOST_REQUIRE_EQUAL(total, 2 * l.nx * l.ny);
+        BOOST_REQUIRE_EQUAL(static_cast<std::int64_t>(r.mesh.triangles.size()), total);
+    }
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(random_discs_give_conforming_meshes_without_mixed_triangles) {
+    const OneThread one;
+    std::mt19937 rng(15);
+    std::uniform_real_distribution<double> spacing(0.35, 1.3);
+    std::int64_t junctions = 0, centroid = 0, interfaces = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const RandomDiscs f(rng, 2 + trial % 5, 8);
+        const Lattice l = lattice_over(f.bounds(), spacing(rng));
+        const bool keep = trial % 2 == 0;
+        const MaterialResult r = mesh_materials(f, l, {keep, DiagonalRule::separating, {true, true, true}});
+        check_material_mesh(f, l, r, keep);
+        junctions += r.junction_squares;
+        centroid += r.centroid_triangles;
+        interfaces += static_cast<std::int64_t>(r.mesh.interfaces.size());
+    }
+    // The trials must have exercised what they test.
+    BOOST_TEST(junctions > 100);
+    BOOST_TEST(interfaces > 10000);
+    BOOST_TEST_MESSAGE("junction squares " << junctions << ", centroid-material triangles " << centroid);
+}
+
+BOOST_AUTO_TEST_CASE(random_label_images_give_conforming_meshes_without_mixed_triangles) {
+    const OneThread one;
+    std::mt19937 rng(1515);
+    const std::array<double, 4> spacings{1.0, 0.5, 0.37, 1.6};
+    std::int64_t junctions = 0;
+    for (int trial = 0; trial < 1500; ++trial) {
+        const Image img = random_label_image(rng, 5 + trial % 6, 4 + trial % 7, 2 + trial % 4);
+        std::unique_ptr<MaterialField> f;
+        try {
+            f = make_label_materials(img, "all");
+        } catch (const InputError&) {  // only label 0 drawn
+            continue;
+        }
+        const Lattice l = lattice_over(f->bounds(), spacings[static_cast<std::size_t>(trial % 4)]);
+        const bool keep = trial % 3 != 0;
+        const MaterialResult r = mesh_materials(*f, l, {keep, DiagonalRule::separating, {true, true, true}});
+        check_material_mesh(*f, l, r, keep);
+        junctions += r.junction_squares;
+    }
+    BOOST_TEST(junctions > 50);
+}
+
+// For two materials (one label and the background) the multi-material mesher
+// is today's label mode: same vertices, same triangles in the same order, same
+// tags, the same boundary (as a set) — the generalised rule reduces to the
+// certified two-material rule.  (Where a lattice point lies exactly on the
+// interface — label mode's zero-valued points, e.g. midway between pixel
+// centres at spacing 1/2 — the two differ by design: label mode keeps such a
+// point as an inside point, the materials give it the larger material and a
+// zero-length warp.  Spacings that put no point there are used.)
+BOOST_AUTO_TEST_CASE(two_materials_reproduce_label_mode_exactly) {
+    const OneThread one;
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 60; ++trial) {
+        Image img = random_label_image(rng, 12, 10, 1);
+        bool any = false;
+        for (auto v : img.pixels) any = any || v == 1;
+        if (!any) continue;
+        for (const double s : {1.0, 0.6180339887, 0.3819660113, 1.4142135623}) {
+            const auto f = make_label_materials(img, "1");
+            const auto g = make_image_levelset(img, label_options("1"));
+            const Lattice l = lattice_over(f->bounds(), s);
+            const MaterialResult a = mesh_materials(*f, l, {false, DiagonalRule::separating, {}});
+            const UniformResult b = mesh_uniform(*g, l, DiagonalRule::separating);
+            BOOST_REQUIRE_EQUAL(a.mesh.vertices.size(), b.mesh.vertices.size());
+            BOOST_REQUIRE_EQUAL(a.mesh.triangles.size(), b.mesh.triangles.size());
+            for (std::size_t k = 0; k < a.mesh.vertices.size(); ++k) {
+                BOOST_REQUIRE_EQUAL(a.mesh.vertices[k].x, b.mesh.vertices[k].x);
+                BOOST_REQUIRE_EQUAL(a.mesh.vertices[k].y, b.mesh.vertices[k].y);
+            }
+            for (std::size_t k = 0; k < a.mesh.triangles.size(); ++k) {
+                BOOST_REQUIRE(a.mesh.triangles[k] == b.mesh.triangles[k]);
+                BOOST_REQUIRE_EQUAL(a.mesh.region[k], b.mesh.region[k]);
+            }
+            auto edges = [](const Mesh& m) {
+                std::set<std::array<std::int32_t, 3>> e;
+                for (std::size_t k = 0; k < m.boundary.size(); ++k) e.insert({m.boundary[k][0], m.boundary[k][1], m.boundary_tag[k]});
+                return e;
+            };
+            BOOST_REQUIRE(edges(a.mesh) == edges(b.mesh));
+            BOOST_REQUIRE(a.mesh.interfaces.empty());
+        }
+    }
+}
+
+// ---- fidelity on analytic shapes ---------------------------------------------------
+// Circle 1: centre (0, 0), radius 10; circle 2 (later, wins): centre
+// (7.3, 0.9), radius 6.2 — placed so that the triple points, where the circles
+// cross, are not lattice points.  Interfaces: 1|0 the arc of circle 1 outside
+// circle 2; 2|0 the arc of circle 2 outside circle 1; 2|1 the arc of circle 2
+// inside circle 1.
+namespace fidelity {
+
+struct Arc {
+    double cx, cy, r, a0, a1;  // angles a0 .. a1 (radians, a0 < a1)
+    double distance(double x, double y) const {
+        double a = std::atan2(y - cy, x - cx);
+        while (a < a0) a += 2 * pi;
+        if (a <= a1) return std::abs(std::hypot(x - cx, y - cy) - r);
+        return std::min(std::hypot(x - cx - r * std::cos(a0), y - cy - r * std::sin(a0)),
+                        std::hypot(x - cx - r * std::cos(a1), y - cy - r * std::sin(a1)));
+    }
+    Vec2 at(double u) const { const double a = a0 + u * (a1 - a0); return {cx + r * std::cos(a), cy + r * std::sin(a)}; }
+};
+
+double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+    const double dx = b.x - a.x, dy = b.y - a.y, L = dx * dx + dy * dy;
+    const double u = L > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / L, 0.0, 1.0) : 0;
+    return std::hypot(p.x - a.x - u * dx, p.y - a.y - u * dy);
+}
+
+struct Row {
+    double s, area_err1, area_err2, hausdorff, hausdorff_smooth;
+};
+
+Row measure(double s) {
+    const auto f = parse_material_shapes("1=circle:0,0,10;2=circle:7.3,0.9,6.2");
+    const Lattice l = lattice_around(f->bounds(), s);
+    const MaterialResult r = mesh_materials(*f, l, {true, DiagonalRule::separating, {}});
+    BOOST_REQUIRE(check_mesh(r.mesh).ok());
+    const double cx = 7.3, cy = 0.9, d = std::hypot(cx, cy), r1 = 10, r2 = 6.2;
+    const double phi = std::atan2(cy, cx), b1 = std::acos((d * d + r1 * r1 - r2 * r2) / (2 * d * r1)),
+                 b2 = std::acos((d * d + r2 * r2 - r1 * r1) / (2 * d * r2)), psi = phi + pi;
+    const std::map<std::pair<int, int>, Arc> arcs{{{1, 0}, {0, 0, r1, phi + b1, phi + 2 * pi - b1}},
+                                                 {{2, 0}, {cx, cy, r2, psi + b2, psi + 2 * pi - b2}},
+                                                 {{2, 1}, {cx, cy, r2, psi - b2, psi + b2}}};
+    const std::array<Vec2, 2> triple{{{r1 * std::cos(phi + b1), r1 * std::sin(phi + b1)}, {r1 * std::cos(phi - b1), r1 * std::sin(phi - b1)}}};
+    // Exact areas: circle 2 whole; circle 1 minus the lens.
+    const double lens = r1 * r1 * std::acos((d * d + r1 * r1 - r2 * r2) / (2 * d * r1)) +
+                        r2 * r2 * std::acos((d * d + r2 * r2 - r1 * r1) / (2 * d * r2)) -
+                        0.5 * std::sqrt((-d + r1 + r2) * (d + r1 - r2) * (d - r1 + r2) * (d + r1 + r2));
+    Row row{s, std::abs(r.materials[1].area - (pi * r1 * r1 - lens)), std::abs(r.materials[2].area - pi * r2 * r2), 0, 0};
+    auto near_triple = [&](Vec2 p) {
+        return std::min(std::hypot(p.x - triple[0].x, p.y - triple[0].y), std::hypot(p.x - triple[1].x, p.y - triple[1].y)) < 3 * s;
+    };
+    for (const auto& [pair, arc] : arcs) {
+        std::vector<std::array<Vec2, 2>> segs;
+        for (std::size_t k = 0; k < r.mesh.interfaces.size(); ++k) {
+            const auto& lr = r.mesh.interface_regions[k];
+            if (std::minmax(lr[0], lr[1]) != std::minmax(pair.first, pair.second)) continue;
+            segs.push_back({r.mesh.vertices[static_cast<std::size_t>(r.mesh.interfaces[k][0])],
+                            r.mesh.vertices[static_cast<std::size_t>(r.mesh.interfaces[k][1])]});
+        }
+        BOOST_REQUIRE(!segs.empty());
+        for (const auto& e : segs)  // mesh → curve
+            for (int q = 0; q <= 4; ++q) {
+                const Vec2 p{e[0].x + q / 4.0 * (e[1].x - e[0].x), e[0].y + q / 4.0 * (e[1].y - e[0].y)};
+                const double dist = arc.distance(p.x, p.y);
+                row.hausdorff = std::max(row.hausdorff, dist);
+                if (!near_triple(p)) row.hausdorff_smooth = std::max(row.hausdorff_smooth, dist);
+            }
+        for (int q = 0; q <= 1500; ++q) {  // curve → mesh
+            const Vec2 p = arc.at(q / 1500.0);
+            double best = 1e300;
+            for (const auto& e : segs) best = std::min(best, segment_distance(p, e[0], e[1]));
+            row.hausdorff = std::max(row.hausdorff, best);
+            if (!near_triple(p)) row.hausdorff_smooth = std::max(row.hausdorff_smooth, best);
+        }
+    }
+    return row;
+}
+
+}  // namespace fidelity
+
+BOOST_AUTO_TEST_CASE(analytic_materials_converge) {
+    std::vector<fidelity::Row> rows;
+    for (const double s : {1.0, 0.5, 0.25, 0.125, 0.0625}) rows.push_back(fidelity::measure(s));
+    auto order = [&](double fidelity::Row::*field) {
+        return std::log((rows.front().*field) / (rows.back().*field)) / std::log(rows.front().s / rows.back().s);
+    };
+    BOOST_TEST_MESSAGE("| spacing | area error 1 | area error 2 | Hausdorff (all) | Hausdorff (>= 3 s from triple points) |");
+    char line[200];
+    for (const auto& r : rows) {
+        std::snprintf(line, sizeof line, "| %g | %.3g | %.3g | %.3g | %.3g |", r.s, r.area_err1, r.area_err2, r.hausdorff, r.hausdorff_smooth);
+        BOOST_TEST_MESSAGE(line);
+    }
+    std::snprintf(line, sizeof line, "| order | %.2f | %.2f | %.2f | %.2f |", order(&fidelity::Row::area_err1),
+                  order(&fidelity::Row::area_err2), order(&fidelity::Row::hausdorff), order(&fidelity::Row::hausdorff_smooth));
+    BOOST_TEST_MESSAGE(line);
+    // Two-material interfaces: vertices on the curve, chords between them: second order.
+    BOOST_TEST(order(&fidelity::Row::hausdorff_smooth) > 1.7);
+    // At the triple points the warped lattice only approximates the junction: first order.
+    BOOST_TEST(order(&fidelity::Row::hausdorff) > 0.8);
+    BOOST_TEST(rows.back().hausdorff < 0.1);
+    BOOST_TEST(order(&fidelity::Row::area_err2) > 1.5);
+    BOOST_TEST(order(&fidelity::Row::area_err1) > 1.5);
+}
+
+// Every square with at most two materials is looked up and verified; the
+// junction squares are counted, listed and claim no bound.
+BOOST_AUTO_TEST_CASE(two_material_squares_are_certified_and_junctions_are_reported) {
+    const auto f = parse_material_shapes("1=circle:0,0,10;2=circle:7.3,0.9,6.2");
+    const Lattice l = lattice_around(f->bounds(), 0.5);
+    const MaterialResult r = mesh_materials(*f, l, {false, DiagonalRule::separating, {true, true, true}});
+    if (!certified_table_available()) return;
+    BOOST_REQUIRE(r.certified.available);
+    BOOST_TEST(r.certified.verified);
+    BOOST_TEST(r.certified.keyed_squares > 100);
+    BOOST_TEST(r.junction_squares >= 1);  // where the three materials meet
+    BOOST_TEST(r.junction_examples.size() == static_cast<std::size_t>(std::min<std::int64_t>(r.junction_squares, 20)));
+    for (const auto& e : r.junction_examples) {
+        std::set<std::int32_t> tags(e.tags.begin(), e.tags.end());
+        BOOST_TEST(tags.size() >= 3u);
+        BOOST_TEST(e.pattern.size() == 8u);
+    }
+    // Junction triangles carry certified_min_angle 0 (no bound claimed); the others the key's bound.
+    const auto& cell = r.mesh.cell_data.at(0).second;
+    std::int64_t zero = 0;
+    for (std::size_t k = 0; k < cell.size(); ++k) zero += cell[k] == 0;
+    BOOST_TEST(zero >= 2);
+    BOOST_TEST(r.certified.min_deg > 0);
+}
+
+BOOST_AUTO_TEST_CASE(maxmin_is_refused_with_materials) {
+    const auto f = parse_material_shapes("1=circle:0,0,3");
+    const Lattice l = lattice_around(f->bounds(), 0.5);
+    BOOST_CHECK_THROW(mesh_materials(*f, l, {false, DiagonalRule::maxmin, {}}), InputError);
+}
+
+BOOST_AUTO_TEST_CASE(label_lists_are_checked) {
+    Image img;
+    img.width = 4, img.height = 3, img.maxval = 255, img.source = "tiny";
+    img.pixels = {0, 1, 1, 0, 0, 7, 7, 0, 0, 0, 0, 0};
+    BOOST_CHECK_THROW(make_label_materials(img, "1,9"), InputError);    // 9 absent
+    BOOST_CHECK_THROW(make_label_materials(img, "0,1"), InputError);    // 0 is the background
+    BOOST_CHECK_THROW(make_label_materials(img, "x"), InputError);
+    try {
+        make_label_materials(img, "1,9,12");
+        BOOST_FAIL("absent labels accepted");
+    } catch (const InputError& e) {
+        BOOST_TEST(std::string(e.what()).find("9, 12") != std::string::npos);
+    }
+    const auto f = make_label_materials(img, "all");
+    BOOST_TEST(f->count() == 3);
+    BOOST_TEST(f->tag(2) == 7);
+    BOOST_TEST(*f->reference_area(1) == 2.0);
+    BOOST_CHECK_THROW(parse_material_shapes("1=circle:0,0,1;1=circle:2,0,1"), InputError);
+    BOOST_CHECK_THROW(parse_material_shapes("0=circle:0,0,1"), InputError);
+    BOOST_CHECK_THROW(parse_material_shapes("circle:0,0,1"), InputError);
+    BOOST_CHECK_NO_THROW(parse_material_shapes("3=union(circle:0,0,1;circle:1,0,1);4=rect:0,0,1,1"));
+}
+
+// ---- the command line ----------------------------------------------------------------
+namespace {
+
+struct Run {
+    int code;
+    std::string out, err;
+};
+
+Run run(const std::string& args) {
+    const fs::path dir = fs::temp_directory_path() / ("wm_materials_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string cmd = "cd '" + dir.string() + "' && '" WARPMESH_EXE "' " + args + " > out.txt 2> err.txt";
+    const int status = std::system(cmd.c_str());
+    Run r{WEXITSTATUS(status), testing::slurp(dir / "out.txt"), testing::slurp(dir / "err.txt")};
+    return r;
+}
+
+fs::path write_pgm(const std::string& name, int w, int h, const std::vector<int>& px) {
+    const fs::path dir = fs::temp_directory_path() / ("wm_materials_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream o(dir / name);
+    o << "P2\n" << w << " " << h << "\n255\n";
+    for (int v : px) o << v << "\n";
+    return dir / name;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
+    std::vector<int> px(12 * 10, 0);
+    for (int r = 2; r < 8; ++r)
+        for (int c = 2; c < 10; ++c) px[static_cast<std::size_t>(r * 12 + c)] = c < 6 ? 3 : 5;
+    px[0] = 9;  // a one-pixel label in the corner: lost at spacing 4
+    const fs::path img = write_pgm("labels.pgm", 12, 10, px);
+    const std::string in = "'" + img.string() + "'";
+
+    Run r = run("mesh " + in + " --materials all -o m.vtu --report m.json");
+    BOOST_TEST_REQUIRE(r.code == 0, r.err);
+    BOOST_TEST(r.out.find("uncertified junction squares") != std::string::npos);
+    BOOST_TEST(r.out.find("label_5") != std::string::npos);
+    const std::string json = testing::slurp(img.parent_path() / "m.json");
+    BOOST_TEST(json.find("\"materials\": [") != std::string::npos);
+    BOOST_TEST(json.find("\"pixel_area\"") != std::string::npos);
+    BOOST_TEST(json.find("\"uncertified_junction_squares\"") != std::string::npos);
+
+    r = run("mesh " + in + " --materials all --spacing 4 -o m.vtu --quiet --report lost.json");
+    BOOST_TEST(r.code == 0);
+    BOOST_TEST(r.err.find("material 9 (label_9) got no triangle") != std::string::npos, r.err);
+    BOOST_TEST(testing::slurp(img.parent_path() / "lost.json").find("\"materials_without_triangles\": [9]") != std::string::npos);
+
+    auto refused = [&](const std::string& args, int code, const std::string& needle) {
+        const Run x = run(args);
+        BOOST_TEST(x.code == code, args << ": exit " << x.code);
+        BOOST_TEST(x.err.find(needle) != std::string::npos, args << ": " << x.err);
+    };
+    refused("mesh " + in + " --materials 3,4,6 -o m.vtu", 1, "not present in the image: 4, 6");
+    refused("mesh " + in + " --materials 0,3 -o m.vtu", 1, "label 0 is the background");
+    refused("mesh " + in + " --materials all --graded -o m.vtu", 2, "--graded does not mesh several materials");
+    refused("mesh " + in + " --materials all --diagonal maxmin -o m.vtu", 1, "--diagonal maxmin cannot mesh several materials");
+    refused("mesh " + in + " --materials all --label 3 -o m.vtu", 2, "--materials applies to a label image");
+    refused("mesh " + in + " --background keep -o m.vtu", 2, "--background applies to --materials");
+    refused("mesh --shapes '1=circle:0,0,3;1=circle:1,0,2' -o m.vtu", 1, "given twice");
+    refused("mesh --shapes '1=circle:0,0,3' --shape circle:0,0,1 -o m.vtu", 2, "exactly one of");
+    r = run("mesh --shapes '1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12' --background keep --spacing 0.5 -o s.msh");
+    BOOST_TEST(r.code == 0, r.err);
+    // Pictures coloured by region, interfaces drawn.
+    r = run("mesh --shapes '1=circle:0,0,10;2=circle:6,0,8' --spacing 0.5 --svg-color region -o s.svg --also s.png --quiet");
+    BOOST_TEST_REQUIRE(r.code == 0, r.err);
+    const std::string svg = testing::slurp(img.parent_path() / "s.svg");
+    BOOST_TEST(svg.find("<g id=\"interfaces\"") != std::string::npos);
+    std::set<std::string> fills;
+    for (std::size_t at = 0; (at = svg.find("<polygon", at)) != std::string::npos; ++at) {
+        const std::size_t f = svg.find("fill=\"#", at);
+        fills.insert(svg.substr(f, 14));
+    }
+    BOOST_TEST(fills.size() == 2u);  // the two materials (the background is dropped)
+}
