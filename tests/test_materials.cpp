@@ -24,7 +24,7 @@
 #include <omp.h>
 #endif
 
-#include "read_file.hpp"
+#include "support.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/materials.hpp"
