@@ -10,6 +10,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -72,7 +75,9 @@ MeshOptions mesh_options(const py::dict& kw) {
     return o;
 }
 
-MeshResult run(const LevelSet& f, const MeshOptions& o, std::optional<int> threads) {
+// f: a LevelSet, or a MaterialField (multi-material meshes).
+template <class Field>
+MeshResult run(const Field& f, const MeshOptions& o, std::optional<int> threads) {
     py::gil_scoped_release release;
 #ifdef _OPENMP
     // The thread count of this call only (OpenMP's setting is per calling thread).
@@ -81,6 +86,22 @@ MeshResult run(const LevelSet& f, const MeshOptions& o, std::optional<int> threa
     (void)threads;
 #endif
     return mesh(f, o);
+}
+
+using Pixels = py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>;
+
+// The samples of a 2D uint16 array as an Image (a copy: the level sets keep
+// their own fields anyway).
+Image to_image(const Pixels& pixels, int maxval, const std::string& source) {
+    if (pixels.ndim() != 2) throw InputError("the image must be a 2D array (rows, columns)");
+    Image img;
+    img.height = static_cast<int>(pixels.shape(0));
+    img.width = static_cast<int>(pixels.shape(1));
+    img.maxval = maxval;
+    img.source = source;
+    img.pixels.resize(static_cast<std::size_t>(pixels.size()));
+    if (pixels.size()) std::memcpy(img.pixels.data(), pixels.data(), img.pixels.size() * sizeof(std::uint16_t));
+    return img;
 }
 
 }  // namespace
@@ -121,17 +142,9 @@ PYBIND11_MODULE(_core, m) {
 
     m.def(
         "mesh_image",
-        [](py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast> pixels, int maxval,
-           std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels, bool nonzero,
+        [](const Pixels& pixels, int maxval, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels, bool nonzero,
            const std::string& source, std::optional<int> threads, const py::dict& kw) {
-            if (pixels.ndim() != 2) throw InputError("the image must be a 2D array (rows, columns)");
-            Image img;
-            img.height = static_cast<int>(pixels.shape(0));
-            img.width = static_cast<int>(pixels.shape(1));
-            img.maxval = maxval;
-            img.source = source;
-            img.pixels.resize(static_cast<std::size_t>(pixels.size()));
-            if (pixels.size()) std::memcpy(img.pixels.data(), pixels.data(), img.pixels.size() * sizeof(std::uint16_t));
+            const Image img = to_image(pixels, maxval, source);
             ImageLevelSetOptions io;
             if (labels || nonzero) {
                 io.mode = ImageMode::label;
@@ -155,18 +168,66 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("spec"), py::arg("threads"), py::arg("options"));
 
-    // (pixels, maxval): pixels an array that owns the decoded samples.
+    // Every label (spec "all") or the listed ones ("3,41,42"; the other pixels
+    // are the background, tag 0) in one conforming mesh (materials.hpp).
+    m.def(
+        "mesh_materials",
+        [](const Pixels& pixels, int maxval, const std::string& spec, bool keep_background, const std::string& source,
+           std::optional<int> threads, const py::dict& kw) {
+            const Image img = to_image(pixels, maxval, source);
+            const std::unique_ptr<MaterialField> field = make_label_materials(img, spec);
+            MeshOptions o = mesh_options(kw);
+            o.keep_background = keep_background;
+            return run(*field, o, threads);
+        },
+        py::arg("pixels"), py::arg("maxval"), py::arg("spec"), py::arg("keep_background"), py::arg("source"),
+        py::arg("threads"), py::arg("options"));
+
+    // (pixels, maxval): pixels an array that owns the decoded samples.  Any
+    // format the command line reads (read_volume: PGM, PNG, NRRD, NIfTI, TIFF);
+    // a volume needs `slice` ("k=60", as --slice).  The slice is returned as
+    // the command line meshes it in pixel units: its first in-plane index axis
+    // along the columns, its second upwards (row 0 at the top, y = rows-1-r).
+    // Samples must be integers in 0..65535 (label maps, 8/16-bit images).
     m.def(
         "read_image",
-        [](const std::string& path, std::uint64_t max_pixels) {
-            auto img = std::make_unique<Image>(read_image(path, max_pixels));
+        [](const std::string& path, std::optional<std::string> slice, std::uint64_t max_pixels) {
+            VolumeLimits limits;
+            limits.max_voxels = max_pixels;
+            const Volume v = read_volume(path, limits);
+            if (!slice && v.dims[2] != 1)
+                throw InputError(path + ": a volume of " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) +
+                                 " x " + std::to_string(v.dims[2]) + " voxels: choose a slice, e.g. slice=\"k=0\"");
+            const SliceSpec spec = slice ? parse_slice(*slice) : SliceSpec{2, 0};
+            const int n = spec.axis, a = n == 0 ? 1 : 0, b = n == 2 ? 1 : 2;
+            if (spec.index < 0 || spec.index >= v.dims[static_cast<std::size_t>(n)])
+                throw InputError(path + ": slice " + *slice + " is outside the volume");
+            const std::int64_t W = v.dims[static_cast<std::size_t>(a)], H = v.dims[static_cast<std::size_t>(b)];
+            auto img = std::make_unique<Image>();
+            img->width = static_cast<int>(W), img->height = static_cast<int>(H), img->source = path;
+            img->pixels.resize(static_cast<std::size_t>(W * H));
+            std::array<std::int64_t, 3> ijk{};
+            ijk[static_cast<std::size_t>(n)] = spec.index;
+            double top = 0;
+            for (std::int64_t r = 0; r < H; ++r)
+                for (std::int64_t c = 0; c < W; ++c) {
+                    ijk[static_cast<std::size_t>(a)] = c, ijk[static_cast<std::size_t>(b)] = H - 1 - r;
+                    const double x = v.at(ijk[0], ijk[1], ijk[2]);
+                    if (!(x >= 0 && x <= 65535 && x == std::floor(x)))
+                        throw InputError(path + ": value " + std::to_string(x) +
+                                         " is not an integer in 0..65535; read_image returns 16-bit images "
+                                         "(rescale the data, or mesh it with the command line)");
+                    img->pixels[static_cast<std::size_t>(r * W + c)] = static_cast<std::uint16_t>(x);
+                    top = std::max(top, x);
+                }
+            img->maxval = v.maxval >= 0 ? v.maxval : std::max(1, static_cast<int>(top));
             const int maxval = img->maxval;
             const std::array<py::ssize_t, 2> shape{img->height, img->width};
             std::uint16_t* data = img->pixels.data();
             py::capsule owner(img.release(), [](void* p) { delete static_cast<Image*>(p); });
             return py::make_tuple(py::array_t<std::uint16_t>(shape, data, owner), maxval);
         },
-        py::arg("path"), py::arg("max_pixels") = default_max_pixels);
+        py::arg("path"), py::arg("slice") = std::nullopt, py::arg("max_pixels") = default_max_pixels);
 
     m.def("png_supported", &png_supported);
     m.def("certified_table_available", &certified_table_available);

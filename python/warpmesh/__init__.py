@@ -48,16 +48,20 @@ class Image(np.ndarray):
 
 
 def read_image(path, *, slice=None, max_pixels=_MAX_PIXELS):
-    """Read a grayscale or label image the way the CLI does: PGM (P2/P5, 8 or
-    16 bits) and PNG (when built with libpng), recognised by content.
+    """Read an image, or one slice of a volume, the way the CLI reads it: PGM
+    (P2/P5, 8 or 16 bits), PNG (when built with libpng), NRRD, NIfTI-1/2 and
+    TIFF, recognised by content.
+
+    ``slice`` ("k=60"; axis i, j or k, as the CLI's --slice) is required for a
+    volume of more than one slice.  The slice comes in pixel units as the CLI
+    meshes it with ``--units pixels``: its first in-plane index axis along the
+    columns, its second upwards (row 0 at the top).  Samples must be integers
+    in 0..65535 (label maps, 8/16-bit images); anything else is refused.
 
     Returns an Image (a numpy uint16 array of shape (rows, columns) owning the
-    decoded samples, no copy) with ``maxval`` and ``source``.  ``slice``
-    selects a slice of a volume; the 2D formats have none (ValueError if
-    given).  Raises ValueError naming the file and the problem."""
-    if slice is not None:
-        raise ValueError(f"{path}: a 2D image has no slices (slice={slice!r})")
-    pixels, maxval = _core.read_image(str(path), int(max_pixels))
+    samples, no copy) with ``maxval`` and ``source``.  Raises ValueError
+    naming the file and the problem."""
+    pixels, maxval = _core.read_image(str(path), None if slice is None else str(slice), int(max_pixels))
     return Image(pixels, maxval, path)
 
 
@@ -191,9 +195,9 @@ def _labels(labels):
     return [int(v) for v in labels], False
 
 
-def mesh(image, *, iso=None, inside="above", labels=None, spacing=1.0, pixel_size=None, graded=False,
-         max_cell=0, rule="separating", guarantee=None, min_spacing=None, certify=True, verify=True,
-         max_squares=_MAX_SQUARES, threads=None):
+def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=1.0,
+         pixel_size=None, graded=False, max_cell=0, rule="separating", guarantee=None, min_spacing=None,
+         certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
 
     image       2D array of integers in 0..65535 or booleans (a uint8 image from
@@ -205,6 +209,11 @@ def mesh(image, *, iso=None, inside="above", labels=None, spacing=1.0, pixel_siz
     labels      label mode instead: an int, a list of ints, "51,52", "1-9" or
                 "nonzero"; the region is the pixels with one of these labels,
                 triangles are tagged with the nearest pixel's label
+    materials   multi-material instead: "all" (every label but 0) or a list of
+                labels, meshed together in one conforming mesh, regions = the
+                labels, interfaces between them as edges (Mesh.interfaces); the
+                other pixels are the background (tag 0), whose triangles are
+                kept only with background="keep".  Uniform, separating rule.
     spacing     lattice spacing in pixels; pixel_size scales the output
                 coordinates (square pixels: angles and bounds are unchanged)
     graded      graded mesh (quadtree, finest along the boundary); max_cell the
@@ -237,9 +246,20 @@ def mesh(image, *, iso=None, inside="above", labels=None, spacing=1.0, pixel_siz
         raise ValueError(f"inside must be 'above' or 'below', got {inside!r}")
     if labels is not None and iso is not None:
         raise ValueError("iso (threshold mode) and labels (label mode) exclude each other")
-    label_list, nonzero = _labels(labels)
     scale = _pixel_size(pixel_size)
     source = getattr(image, "source", "") or "<array>"
+    if materials is not None:
+        if labels is not None or iso is not None:
+            raise ValueError("materials (multi-material mode) excludes iso and labels")
+        if background not in ("drop", "keep"):
+            raise ValueError(f"background must be 'drop' or 'keep', got {background!r}")
+        spec = materials if isinstance(materials, str) else ",".join(str(int(m)) for m in np.atleast_1d(materials))
+        core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, background == "keep",
+                                    source, threads,
+                                    _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify,
+                                             verify, max_squares, source))
+        return _finish(core, scale)
+    label_list, nonzero = _labels(labels)
     core = _core.mesh_image(a.astype(np.uint16, copy=False), int(maxval),
                             None if iso is None else float(iso), inside == "above", label_list, nonzero,
                             source, threads,

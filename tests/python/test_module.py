@@ -134,6 +134,60 @@ def test_read_image_returns_the_pixels_with_maxval(root):
         warpmesh.read_image(root / BRAIN, slice=3)
 
 
+def write_nrrd(path, data):
+    """A raw little-endian uint16 NRRD of a (k, j, i) array (i fastest)."""
+    k, j, i = data.shape
+    with open(path, "wb") as f:
+        f.write(b"NRRD0004\ntype: unsigned short\ndimension: 3\nsizes: %d %d %d\nencoding: raw\nendian: little\n\n"
+                % (i, j, k))
+        f.write(np.ascontiguousarray(data, dtype="<u2").tobytes())
+
+
+def test_read_image_takes_a_slice_of_a_volume_as_the_cli_meshes_it(cli, tmp_path):
+    # A 3-slice label volume: slice k=1 comes back with i along the columns and
+    # j upwards, and meshes to exactly the CLI's `--slice k=1 --units pixels` mesh.
+    import meshio
+
+    yy, xx = np.mgrid[0:14, 0:17]
+    data = np.stack([((xx - 8) ** 2 + (yy - 6) ** 2 < r * r).astype(np.uint16) * (r - 2) for r in (3, 5, 6)])
+    vol = tmp_path / "v.nrrd"
+    write_nrrd(vol, data)
+    img = warpmesh.read_image(vol, slice="k=1")
+    assert img.shape == (14, 17) and np.array_equal(img, data[1, ::-1, :])
+    with pytest.raises(ValueError, match="choose a slice"):
+        warpmesh.read_image(vol)
+    with pytest.raises(ValueError, match="outside"):
+        warpmesh.read_image(vol, slice="k=3")
+    vtu = tmp_path / "s.vtu"
+    subprocess.run([cli, "mesh", str(vol), "--slice", "k=1", "--units", "pixels", "--label", "3",
+                    "-o", str(vtu), "--quiet"], check=True)
+    ref = meshio.read(vtu)
+    m = warpmesh.mesh(img, labels=[3])
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+
+
+def test_materials_mesh_is_the_cli_multi_material_mesh(cli, root, tmp_path):
+    import meshio
+
+    vtu = tmp_path / "mm.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--materials", "all", "--spacing", "2", "-o", str(vtu), "--quiet"],
+                   check=True, capture_output=True)
+    ref = meshio.read(vtu)
+    img = warpmesh.read_image(root / BRAIN)
+    m = warpmesh.mesh(img, materials="all", spacing=2)
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    assert len(np.unique(m.regions)) > 20 and 0 not in m.regions  # every label; background dropped
+    assert len(m.interfaces) > 0 and len(m.interface_regions) == len(m.interfaces)
+    kept = warpmesh.mesh(img, materials=[41, 43], background="keep", spacing=2)
+    assert set(np.unique(kept.regions)) == {0, 41, 43}
+    with pytest.raises(ValueError, match="12345"):
+        warpmesh.mesh(img, materials=[41, 12345], spacing=2)
+    with pytest.raises(ValueError, match="exclude"):
+        warpmesh.mesh(img, materials="all", labels=[41])
+
+
 def test_to_meshio_and_back_through_a_file(tmp_path):
     import meshio
 
