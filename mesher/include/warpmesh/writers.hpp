@@ -241,6 +241,11 @@ struct Colouring {
 };
 // A distinct colour per region tag (golden-angle hues), as 0xRRGGBB.
 std::uint32_t region_colour(std::int32_t tag);
+// The edge length, in picture pixels at `scale` pixels per mesh unit, of an
+// equilateral triangle of the mesh's mean triangle area: what the pictures
+// scale their line widths by.  10 for a mesh without triangles.
+double typical_edge_px(const Mesh& mesh, double scale);
+
 Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
                             const std::string& what);
 

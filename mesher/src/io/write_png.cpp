@@ -259,13 +259,7 @@ Image render(const Mesh& mesh, const PngOptions& options) {
     img.h = std::max(mesh_h, coloured ? bar_h + 2 * margin + 24 * k_font : 0);
     img.rgb.assign(static_cast<std::size_t>(img.w) * static_cast<std::size_t>(img.h) * 3, 255);
 
-    double area = 0;
-    for (const auto& t : mesh.triangles) {
-        const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
-                   &c = mesh.vertices[static_cast<std::size_t>(t[2])];
-        area += std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
-    }
-    const double h_px = nt ? std::sqrt(4 * area / (std::sqrt(3.0) * static_cast<double>(nt))) * s : 10;
+    const double h_px = detail::typical_edge_px(mesh, s);
     const double edge_w = std::clamp(0.08 * h_px, 0.6, 1.2);
     const double edge_alpha = options.draw_edges ? std::clamp((h_px - 2.0) / 4.0, 0.0, 0.85) : 0.0;
     const double boundary_w = std::max(std::clamp(0.25 * h_px, 1.6, 4.0), 2 * edge_w);

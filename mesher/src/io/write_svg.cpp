@@ -93,13 +93,7 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
     const double margin = 10, legend_w = coloured ? 110 : 0;
     const double width = (xmax - xmin) * s + 2 * margin + legend_w;
     const double height = std::max((ymax - ymin) * s + 2 * margin, coloured ? 240.0 : 0.0);
-    double area = 0;
-    for (const auto& t : mesh.triangles) {
-        const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
-                   &c = mesh.vertices[static_cast<std::size_t>(t[2])];
-        area += std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
-    }
-    const double h_px = nt ? std::sqrt(4 * area / (std::sqrt(3.0) * static_cast<double>(nt))) * s : 10;
+    const double h_px = detail::typical_edge_px(mesh, s);
     const double edge_w = std::clamp(0.06 * h_px, 0.02, 1.0);
     const double boundary_w = std::max(std::clamp(0.2 * h_px, 0.5, 3.0), 2 * edge_w);
 

@@ -206,6 +206,18 @@ std::string xdmf_facets_path(const std::string& path) {
     return path.substr(0, path.size() - ext.size()) + "_facets" + ext;
 }
 
+double typical_edge_px(const Mesh& mesh, double scale) {
+    const std::size_t nt = mesh.triangles.size();
+    if (!nt) return 10;
+    double area = 0;
+    for (const auto& t : mesh.triangles) {
+        const Vec2 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+                   &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+        area += std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
+    }
+    return std::sqrt(4 * area / (std::sqrt(3.0) * static_cast<double>(nt))) * scale;
+}
+
 }  // namespace detail
 
 namespace {
