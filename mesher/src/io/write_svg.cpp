@@ -72,7 +72,9 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
     detail::check_mesh_arrays(mesh, "<svg stream>");
     const std::size_t nt = mesh.triangles.size();
 
-    // Values to colour by, normalised to [0, 1].
+    // Values to colour by, normalised to [0, 1] (the same few lines open
+    // write_png.cpp's render: both name Colouring's fields for their drawing
+    // code; the colouring itself is computed once, in picture_colouring).
     detail::Colouring colouring =
         detail::picture_colouring(mesh, options.color_by_cell_data, options.color_by_min_angle, "SVG");
     const std::vector<double>& value = colouring.value;
