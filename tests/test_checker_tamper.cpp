@@ -64,8 +64,10 @@ std::size_t find_leaf(const std::vector<std::string>& l, char tag, int min_dims 
         std::string w, id, code, flat, m, qmin, qmax, leaves;
         ss >> w >> id >> code >> flat >> m >> qmin >> qmax >> leaves;
         if (std::stoi(m) < min_dims || std::stoi(leaves) < 2) continue;
-        for (std::size_t j = i + 1; j < l.size() && l[j].rfind("key ", 0) != 0; ++j)
-            if (tag == 0 || l[j][0] == tag) return j;
+        for (std::size_t j = i + 1; j < l.size() && l[j].rfind("key ", 0) != 0; ++j) {
+            const bool leaf = l[j].size() > 2 && l[j][1] == ' ' && std::string("ABXab").find(l[j][0]) != std::string::npos;
+            if (leaf && (tag == 0 || l[j][0] == tag)) return j;
+        }
     }
     BOOST_FAIL("no suitable leaf");
     return 0;
@@ -270,5 +272,52 @@ BOOST_AUTO_TEST_CASE(junction_key_bound_raised) {
     std::string msg;
     BOOST_TEST(run_checker(l, "junction_raised", &msg) != 0);
     BOOST_TEST(msg.find("key " + tok[2]) != std::string::npos, msg);
-    BOOST_TEST(msg.find("not verified") != std::string::npos, msg);
+    // Caught by its witness (the claimed bound is beyond the witness's exact
+    // value) or, were the witness moved too, by a leaf.
+    BOOST_TEST((msg.find("contradicted by its witness") != std::string::npos ||
+                msg.find("not verified") != std::string::npos),
+               msg);
+}
+
+// A key's claim made stronger than the key's true extreme by 1e-9: the min-angle
+// bound (cot) lowered to 1e-9 below the exact cot at the key's witness, and
+// separately the max-angle bound raised to 1e-9 above it.  The claims are tight
+// (within 0.01 deg resp. 0.1 deg of the witnesses), so 1e-9 beyond the witness
+// is a false claim: the checker must reject it (the witness contradicts it).
+BOOST_AUTO_TEST_CASE(key_bound_raised_by_1e_9_above_tight_value) {
+    using Q = boost::multiprecision::cpp_rational;
+    const auto full = cert();
+    for (int which : {0, 1}) {  // 0: min-angle bound, 1: max-angle bound
+        auto l = full;
+        bool done = false;
+        for (std::size_t i = 0; i + 2 < l.size() && !done; ++i) {
+            if (l[i].rfind("key ", 0) != 0) continue;
+            std::istringstream ss(l[i]);
+            std::vector<std::string> tok;
+            for (std::string t; ss >> t;) tok.push_back(t);
+            if (tok.size() != 8) continue;
+            const std::string& w = l[i + 1 + static_cast<std::size_t>(which)];
+            BOOST_REQUIRE(w.rfind(which ? "wmax " : "wmin ", 0) == 0);
+            const Q wit(w.substr(w.rfind(' ') + 1));
+            const Q bound(tok[5 + static_cast<std::size_t>(which)]);
+            // Only a key whose claim is tight: within 1e-3 of its witness in cot.
+            if (abs(bound - wit) > Q(1, 1000)) continue;
+            // Dyadic, as every claim: rounded further away from the witness (2^-64).
+            using Z = boost::multiprecision::cpp_int;
+            const Z scale = Z(1) << 64;
+            const Q r = (which ? wit + Q(1, 1000000000) : wit - Q(1, 1000000000)) * scale;
+            Z n = numerator(r) / denominator(r);  // truncates toward 0
+            if (which && Q(n) < r) n += 1;
+            if (!which && Q(n) > r) n -= 1;
+            tok[5 + static_cast<std::size_t>(which)] = Q(n, scale).str();
+            std::string s;
+            for (auto& t : tok) s += (s.empty() ? "" : " ") + t;
+            l[i] = s;
+            done = true;
+        }
+        BOOST_REQUIRE(done);
+        std::string msg;
+        BOOST_TEST(run_checker(l, which ? "key_max_raised" : "key_min_raised", &msg) != 0);
+        BOOST_TEST(msg.find("contradicted by its witness") != std::string::npos, msg);
+    }
 }

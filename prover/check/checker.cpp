@@ -445,6 +445,30 @@ std::string degs(const Q& cot) {
     return "[" + dec(r.lo, false) + ", " + dec(r.hi, true) + "] deg";
 }
 
+// ---- tightness of the key claims ----------------------------------------------------
+// Upper bound, in degrees, of the angle between the angles whose cotangents
+// are a and b: with a <= b these are arccot a >= arccot b, and
+// tan(arccot a - arccot b) = (b - a)/(1 + a b); atan x <= x for x >= 0, and
+// 180/pi < 180/(314159/100000).  Rational throughout; 180 if 1 + a b <= 0.
+Q gap_deg(const Q& a, const Q& b) {
+    const Q lo = a < b ? a : b, hi = a < b ? b : a;
+    if (1 + lo * hi <= 0) return 180;
+    return (hi - lo) / (1 + lo * hi) * Q(18000000, 314159);
+}
+struct Tightness {
+    Q target;
+    long keys = 0, within = 0, keys_flat = 0, within_flat = 0;
+    Q worst = 0;
+    std::string worst_key = "-";
+    std::array<long, 4> over{};  // gaps in (target, 1], (1, 5], (5, 20], > 20 deg
+    void add(const Q& g, const std::string& key, bool flat) {
+        ++keys, keys_flat += flat;
+        if (g <= target) ++within, within_flat += flat;
+        else ++over[g <= 1 ? 0 : g <= 5 ? 1 : g <= 20 ? 2 : 3];
+        if (g > worst) worst = g, worst_key = key;
+    }
+};
+
 // ---- certificate -----------------------------------------------------------------------
 struct Reader {
     std::vector<std::vector<std::string>> lines;
@@ -549,7 +573,7 @@ int check_file(const std::string& path) {
         if (l.empty() || l[0] != w || l.size() != n) fail("expected '" + w + "' line");
     };
     expect(rd.next("header"), "warpmesh-certificate", 2);
-    if (rd.lines[0][1] != "1") fail("unknown version");
+    if (rd.lines[0][1] != "2") fail("unknown version");
     const auto& rl = rd.next("rule");
     expect(rl, "rule", 2);
     if (rl[1] != "maxmin" && rl[1] != "separating") fail("unknown rule");
@@ -624,6 +648,7 @@ int check_file(const std::string& path) {
     }
     long total_leaves = 0, nflat = 0;
     std::set<std::string> verified;  // memo of verified keys (below)
+    Tightness tight[2] = {{Q(1, 100)}, {Q(1, 10)}};  // min angle: 0.01 deg, max angle: 0.1 deg
     for (std::size_t i = 0; i < keys.size(); ++i) {
         const auto& h = rd.next("key");
         if (h.size() < 6 || h[0] != "key") fail("expected key line");
@@ -645,7 +670,26 @@ int check_file(const std::string& path) {
         // agreement"): a diagonal the double evaluation wrongly deems valid has
         // quality above 2^40, far above every key's bound.
         if (parse_q(h[5]) > 256) fail("key " + code(k.s) + ": min-angle cot bound above 256");
-        Cover cv{k, sep, dyadic(parse_q(h[5])), dyadic(parse_q(h[6])), rd, small_int(h[7], 1, 50000000)};
+        // The key's witnesses: exact configurations whose extreme angles are
+        // within the key's claim (else the claim is false) and, measured, close
+        // to it (the tightness of the claim, reported below).
+        const Q kq[2] = {parse_q(h[5]), parse_q(h[6])};
+        for (int w = 0; w < 2; ++w) {
+            const auto& wl = rd.next("key witness");
+            if (wl.size() != k.vars.size() + 2 || wl[0] != (w ? "wmax" : "wmin"))
+                fail("key " + code(k.s) + ": expected '" + (w ? "wmax" : "wmin") + "' line");
+            std::vector<Q> t;
+            for (std::size_t j = 0; j < k.vars.size(); ++j) {
+                t.push_back(parse_q(wl[1 + j]));
+                if (t.back() < 0 || t.back() > Q(1, 2)) fail("key " + code(k.s) + ": witness t outside [0, 1/2]");
+            }
+            const PointVal p = at_point(k, sep, t);
+            const Q v = w ? p.qmax : p.qmin;
+            if (!p.valid || v != parse_q(wl.back())) fail("key " + code(k.s) + ": witness value differs from exact evaluation");
+            if (w ? v < kq[1] : v > kq[0]) fail("key " + code(k.s) + ": claim contradicted by its witness");
+            tight[w].add(gap_deg(v, kq[w]), code(k.s), fl);
+        }
+        Cover cv{k, sep, dyadic(kq[0]), dyadic(kq[1]), rd, small_int(h[7], 1, 50000000)};
         // Verification is a function of the warps, the forcing (separating
         // rule), the two bounds and the leaf lines only: a key whose text of
         // these equals that of a key verified before is verified by it.
@@ -684,6 +728,14 @@ int check_file(const std::string& path) {
                       << ", cot >= " << claim[c].qmax << "); both triangles positively oriented\n"
                       << "    rounded outward to 4 decimals: every angle in [" << dec(deg(claim[c].qmin).lo, false, 4)
                       << ", " << dec(deg(claim[c].qmax).hi, true, 4) << "] deg\n";
+    }
+    for (int w = 0; w < 2; ++w) {
+        const Tightness& t = tight[w];
+        std::cout << "  per-key " << (w ? "max" : "min") << " angle claims vs witnesses: gap <= " << dec(t.target, true, 2)
+                  << " deg on " << t.within << " of " << t.keys << " keys (flat: " << t.within_flat << " of "
+                  << t.keys_flat << "); largest gap <= " << dec(t.worst, true, 4) << " deg (key " << t.worst_key << ")\n"
+                  << "    keys above: gap <= 1 deg " << t.over[0] << ", <= 5 deg " << t.over[1] << ", <= 20 deg "
+                  << t.over[2] << ", > 20 deg " << t.over[3] << "\n";
     }
     for (const Wit& w : wits) {
         std::size_t i = 0;

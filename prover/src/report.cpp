@@ -67,6 +67,25 @@ struct Extreme {
     std::array<double, 4> t;  // indexed by corner
 };
 
+// Pattern search (coordinate steps of h, halved when nothing improves) that
+// maximises value(t) from e.
+template <class F>
+Extreme climb(const F& value, const std::vector<int>& vars, Extreme e, double h) {
+    const int m = static_cast<int>(vars.size());
+    while (h > 1e-13 && m > 0) {
+        bool improved = false;
+        for (int j = 0; j < m; ++j)
+            for (int s : {-1, 1}) {
+                std::array<double, 4> t = e.t;
+                t[vars[j]] = std::clamp(t[vars[j]] + s * h, 0.0, 0.5);
+                const double v = value(t);
+                if (v > e.value) e = {v, t}, improved = true;
+            }
+        if (!improved) h *= 0.5;
+    }
+    return e;
+}
+
 // Grid sampling, then pattern search from the best grid points.  `sense` = +1
 // maximises qmin, -1 minimises qmax.  Not part of the proof: it only picks targets.
 Extreme search(DiagonalRule rule, const Key& k, const std::vector<int>& vars, int sense, bool* invalid,
@@ -95,20 +114,23 @@ Extreme search(DiagonalRule rule, const Key& k, const std::vector<int>& vars, in
     best.resize(std::min<std::size_t>(best.size(), 4));
     Extreme top = best[0];
     for (Extreme e : best) {
-        double h = 0.5 / (n - 1);
-        while (h > 1e-13 && m > 0) {
-            bool improved = false;
-            for (int j = 0; j < m; ++j)
-                for (int s : {-1, 1}) {
-                    std::array<double, 4> t = e.t;
-                    t[vars[j]] = std::clamp(t[vars[j]] + s * h, 0.0, 0.5);
-                    const double v = value(t);
-                    if (v > e.value) e = {v, t}, improved = true;
-                }
-            if (!improved) h *= 0.5;
-        }
+        e = climb(value, vars, e, 0.5 / (n - 1));
         if (e.value > top.value) top = e;
     }
+    if (sense < 0) top.value = -top.value;
+    return top;
+}
+
+// Pattern search from the point t0 (used when a proof attempt finds a point
+// more extreme than the sampled one).
+Extreme search_from(DiagonalRule rule, const Key& k, const std::vector<int>& vars, int sense,
+                    const std::array<double, 4>& t0) {
+    auto value = [&](const std::array<double, 4>& t) {
+        const PointEval e = eval_double(rule, k, t);
+        if (!e.valid) return -1e300;
+        return sense > 0 ? e.qmin : -e.qmax;
+    };
+    Extreme top = climb(value, vars, Extreme{value(t0), t0}, 1.0 / 64);
     if (sense < 0) top.value = -top.value;
     return top;
 }
@@ -226,6 +248,7 @@ std::pair<std::array<Q, 4>, ExactEval> witness(DiagonalRule rule, const Key& k, 
                                                int sense) {
     const auto vars = key_vars(k);
     std::pair<std::array<Q, 4>, ExactEval> best{to_dyadic_t(t0), eval_exact(rule, k, to_dyadic_t(t0))};
+    if (best.second.valid && best.second.diag == eval_double(rule, k, t0).diag) return best;
     int combos = 1;
     for (std::size_t j = 0; j < vars.size(); ++j) combos *= 3;
     for (int cmb = 0; cmb < combos; ++cmb) {
@@ -249,7 +272,6 @@ std::array<Q, 4> to_dyadic_t(const std::array<double, 4>& t) {
     return r;
 }
 
-double round_up(double x, int bits) { return std::ldexp(std::ceil(std::ldexp(x, bits)), -bits); }
 double round_down(double x, int bits) { return std::ldexp(std::floor(std::ldexp(x, bits)), -bits); }
 double q_up(const Q& q, int bits) {  // smallest multiple of 2^-bits that is >= q
     const Q s = q * Q(boost::multiprecision::cpp_int(1) << bits);
@@ -258,6 +280,13 @@ double q_up(const Q& q, int bits) {  // smallest multiple of 2^-bits that is >= 
     return std::ldexp(n.convert_to<double>(), -bits);
 }
 double q_down(const Q& q, int bits) { return -q_up(-q, bits); }
+// Angle between the cotangents a <= b, in degrees (for the log only): the
+// angles are arccot a >= arccot b, and arccot a - arccot b = atan((b - a)/(1 + a b))
+// when 1 + a b > 0.
+double gap_deg(double a, double b) {
+    return (1 + a * b > 0 ? std::atan((b - a) / (1 + a * b)) : 3.14159265358979 - std::atan((b - a) / -(1 + a * b))) *
+           180 / 3.14159265358979;
+}
 
 }  // namespace
 
@@ -275,6 +304,9 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         bool flat = false, invalid = false, relaxed = false;
         std::array<double, 4> invalid_at{};
         Extreme emin{}, emax{};
+        // Exact witnesses of the key's extremes (rational t), and their values.
+        std::array<Q, 4> tmin{}, tmax{};
+        ExactEval wmin{}, wmax{};
         double qmin = 0, qmax = 0;
         KeyProof proof;
     };
@@ -295,16 +327,27 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         const auto vars = key_vars(k);
         f.emin = search(rule, k, vars, +1, &f.invalid, &f.invalid_at);
         f.emax = search(rule, k, vars, -1, nullptr, nullptr);
+        if (f.invalid) continue;
+        std::tie(f.tmin, f.wmin) = witness(rule, k, f.emin.t, 1);
+        std::tie(f.tmax, f.wmax) = witness(rule, k, f.emax.t, -1);
     }
     for (int i = 0; i < n; ++i)
         if (!computed(i)) info[static_cast<std::size_t>(i)] = info[static_cast<std::size_t>(rep[static_cast<std::size_t>(i)])];
-    // Targets: per category (0 = any, 1 = flat) the exact value at the rational
-    // witness nearest the sampled extreme, plus a small margin.
+    // Targets.  Per key: the exact value at its witness plus a margin worth
+    // `gap_min` degrees (min angle) resp. `gap_max` (max angle) at that cot:
+    // d(angle)/d(cot) = -1/(1+cot^2), and the margin moves the cot away from 0,
+    // so the angle gap is at most margin/(1+cot^2) radians.  Per category (0 =
+    // any, 1 = flat) the worst witness plus a tiny margin caps the keys close to
+    // it, so that the theorems U and F are tight.
+    const double deg = 3.14159265358979 / 180;
+    const double gap_min = 0.004, gap_max = std::getenv("WARPMESH_GAP_MAX") ? std::atof(std::getenv("WARPMESH_GAP_MAX")) : 0.04;
+    auto margin = [&](const Q& c, double gap) {
+        const double x = c.convert_to<double>();
+        return round_down(gap * deg * (1 + x * x), 40);
+    };
     struct Cat {
         int wmin = -1, wmax = -1, winv = -1;
-        ExactEval emin, emax;
-        std::array<Q, 4> tmin, tmax;
-        double qmin = 0, qmax = 0;
+        double qmin = 0, qmax = 0, qmax_loose = 0;
     } cat[2];
     for (int c = 0; c < (junctions ? 1 : 2); ++c) {
         for (int i = 0; i < n; ++i) {
@@ -314,75 +357,119 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
                 if (cat[c].winv < 0) cat[c].winv = i;
                 continue;
             }
-            if (cat[c].wmin < 0 || f.emin.value > info[static_cast<std::size_t>(cat[c].wmin)].emin.value) cat[c].wmin = i;
-            if (cat[c].wmax < 0 || f.emax.value < info[static_cast<std::size_t>(cat[c].wmax)].emax.value) cat[c].wmax = i;
+            if (cat[c].wmin < 0 || f.wmin.qmin > info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin) cat[c].wmin = i;
+            if (cat[c].wmax < 0 || f.wmax.qmax < info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax) cat[c].wmax = i;
         }
-        const int bits = c == 1 ? 33 : 24;  // min-angle margins: 2^-33 (F, < 1e-9 deg), 2^-24 (U, < 1e-6 deg)
-        // Max-angle margins: 2^-33 for F (flat keys: < 1e-8 deg at 135 and 143.13
-        // deg; the extremes sit at box corners, where the monotonicity reduction
-        // closes the boxes), 1/8 for U: tight max-angle bounds cost many leaves
-        // along the max-min switching surfaces.
-        const int mbits = c == 1 ? 33 : 3;
-        const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
-        std::tie(cat[c].tmin, cat[c].emin) = witness(rule, kmin, info[static_cast<std::size_t>(cat[c].wmin)].emin.t, 1);
-        cat[c].qmin = std::max(q_up(cat[c].emin.qmin, bits + 3), round_up(info[static_cast<std::size_t>(cat[c].wmin)].emin.value, bits + 3)) + std::ldexp(1.0, -bits);
-        const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
-        std::tie(cat[c].tmax, cat[c].emax) = witness(rule, kmax, info[static_cast<std::size_t>(cat[c].wmax)].emax.t, -1);
-        cat[c].qmax = std::min(q_down(cat[c].emax.qmax, bits + 3), round_down(info[static_cast<std::size_t>(cat[c].wmax)].emax.value, bits + 3)) - std::ldexp(1.0, -mbits);
+        if (cat[c].wmin < 0) continue;
+        // 2^-33 (F) resp. 2^-24 (U) above the worst min-angle witness: < 1e-9
+        // resp. 1e-6 deg; 2^-33 resp. 2^-20 below the worst max-angle witness.
+        const int bits = c == 1 ? 33 : 24, mbits = c == 1 ? 33 : 20;
+        cat[c].qmin = q_up(info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin, bits + 3) + std::ldexp(1.0, -bits);
+        cat[c].qmax = q_down(info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax, mbits + 3) - std::ldexp(1.0, -mbits);
+        cat[c].qmax_loose = c == 1 ? cat[c].qmax : q_down(info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax, 40) - 0.125;
     }
     for (int i = 0; i < n; ++i) {
         Info& f = info[static_cast<std::size_t>(i)];
+        if (f.invalid) continue;
         const Cat& c = cat[f.flat ? 1 : 0];
-        const double rel = 0.25 * (1 + std::fabs(f.emin.value));
-        f.qmin = std::min(round_up(f.emin.value + rel, 16), c.qmin);
-        f.qmax = std::max(round_down(f.emax.value - 0.25 * (1 + std::fabs(f.emax.value)), 16), c.qmax);
-        // Keys that are not flat-compatible: the max-angle claim is at least as
-        // loose as cot -3/2 (146.31 deg) — tight max-angle claims need too many leaves
-        // along the max-min switching surfaces (both diagonals must be bounded there).
-        if (!f.flat) f.qmax = std::min(f.qmax, std::getenv("WARPMESH_U_MAX_COT") ? std::atof(std::getenv("WARPMESH_U_MAX_COT")) : -1.5);
+        f.qmin = std::min(q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gap_min), c.qmin);
+        // First-pass max-angle claims: the previous loose ones (sample minus
+        // 0.25 (1 + |cot|), keys that are not flat-compatible at most cot -3/2).
+        const double v = f.wmax.qmax.convert_to<double>();
+        f.qmax = std::max(round_down(v - 0.25 * (1 + std::fabs(v)), 16), c.qmax_loose);
+        if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
     }
+    const double c_max_tight[2] = {cat[0].qmax, cat[1].qmax};
+    const double pass2_factor = std::getenv("WARPMESH_PASS2_FACTOR") ? std::atof(std::getenv("WARPMESH_PASS2_FACTOR")) : 3;
+    auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 200; };
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
     const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
     if (verbose)
         std::fprintf(stderr, "targets: U %.17g %.17g  F %.17g %.17g  (%.2f s)\n", cat[0].qmin, cat[0].qmax, cat[1].qmin,
                      cat[1].qmax, std::chrono::duration<double>(t1 - t0).count());
-    std::atomic<std::size_t> done{0};
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
         Info& f = info[static_cast<std::size_t>(i)];
         if (f.invalid || !computed(i)) continue;
         const auto k0 = std::chrono::steady_clock::now();
         const Key& key = all[static_cast<std::size_t>(ids[i])];
+        const auto vars = key_vars(key);
         // A claim that cannot be certified within the leaf budget is relaxed
-        // (and reported as such): the certificate only ever states what was proved.
-        for (int attempt = 0; attempt < 8; ++attempt) {
+        // (and reported as such): the certificate only ever states what was
+        // proved.  A failure at a point more extreme than the witness means the
+        // sampling missed the key's extreme: the witness moves there (pattern
+        // search from that point) and the target follows it.
+        double gmin = gap_min;
+        int attempts = 0;
+        for (int attempt = 0; attempt < 10; ++attempt) {
+            ++attempts;
             f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
             if (f.proof.ok) break;
             const PointEval e = eval_double(rule, key, f.proof.fail_point);
-            const double step = 1e-3 * std::pow(4.0, attempt);
-            if (f.proof.fail_kind == 1)
-                f.qmin = round_up(std::max(f.qmin, e.valid ? e.qmin : f.qmin) + step * (1 + std::fabs(f.qmin)), 24);
-            else if (f.proof.fail_kind == 2)
-                f.qmax = round_down(std::min(f.qmax, e.valid ? e.qmax : f.qmax) - step * (1 + std::fabs(f.qmax)), 24);
-            else
+            if (f.proof.fail_kind == 1) {
+                if (e.valid && e.qmin > f.wmin.qmin.convert_to<double>()) {
+                    const Extreme x = search_from(rule, key, vars, +1, f.proof.fail_point);
+                    const auto w = witness(rule, key, x.t, 1);
+                    if (w.second.valid && w.second.qmin > f.wmin.qmin) std::tie(f.tmin, f.wmin) = w;
+                }
+                if (!(e.valid && e.qmin > f.qmin)) gmin *= 4;
+                f.qmin = std::max(f.qmin, q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gmin));
+            } else if (f.proof.fail_kind == 2) {
+                if (e.valid && e.qmax < f.wmax.qmax.convert_to<double>()) {
+                    const Extreme x = search_from(rule, key, vars, -1, f.proof.fail_point);
+                    const auto w = witness(rule, key, x.t, -1);
+                    if (w.second.valid && w.second.qmax < f.wmax.qmax) std::tie(f.tmax, f.wmax) = w;
+                }
+                const double step = 1e-3 * std::pow(4.0, attempt);
+                f.qmax = round_down(std::min({f.qmax, e.valid ? e.qmax : f.qmax, f.wmax.qmax.convert_to<double>()}) -
+                                        step * (1 + std::fabs(f.qmax)), 24);
+            } else {
                 break;  // orientation cannot be certified: reported as a failure
+            }
             f.relaxed = true;
         }
+        // Second pass: tighter max-angle claims (witness minus gap_max, then
+        // minus 1 deg), each tried within a leaf budget proportional to the
+        // first proof's size, kept only if proved.  Tight max-angle claims are costly along
+        // the max-min switching surfaces (proofs/README.md, "Not done").
+        if (f.proof.ok)
+            for (double g : {gap_max, 1.0}) {
+                const double q = std::max(q_down(f.wmax.qmax, 40) - margin(f.wmax.qmax, g), c_max_tight[f.flat ? 1 : 0]);
+                if (q <= f.qmax) break;
+                KeyProof p = prove_key(rule, key, f.qmin, q, pass2_budget(f.proof.leaves.size()));
+                if (p.ok) {
+                    f.proof = std::move(p), f.qmax = q;
+                    break;
+                }
+                const PointEval e = eval_double(rule, key, p.fail_point);
+                if (p.fail_kind == 2 && e.valid && e.qmax < f.wmax.qmax.convert_to<double>()) {
+                    const Extreme x = search_from(rule, key, vars, -1, p.fail_point);
+                    const auto w = witness(rule, key, x.t, -1);
+                    if (w.second.valid && w.second.qmax < f.wmax.qmax) std::tie(f.tmax, f.wmax) = w;
+                }
+            }
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
-        if (verbose && (dt > 0.2 || f.relaxed))
-            std::fprintf(stderr, "key %d %s: %.2f s, %zu leaves, ok %d, targets %.12g %.12g (sampled %.12g %.12g)\n",
-                         ids[i], code_of(all[static_cast<std::size_t>(ids[i])]).c_str(), dt, f.proof.leaves.size(),
-                         f.proof.ok, f.qmin, f.qmax, f.emin.value, f.emax.value);
-        ++done;
+        if (verbose && (dt > 0.05 || f.relaxed))
+            std::fprintf(stderr, "key %d %s: %.2f s, %d attempts, %zu leaves, ok %d, targets %.12g %.12g (witnesses %.12g %.12g)\n",
+                         ids[i], code_of(key).c_str(), dt, attempts, f.proof.leaves.size(), f.proof.ok, f.qmin, f.qmax,
+                         f.wmin.qmin.convert_to<double>(), f.wmax.qmax.convert_to<double>());
     }
     for (int i = 0; i < n; ++i)
         if (!computed(i)) info[static_cast<std::size_t>(i)] = info[static_cast<std::size_t>(rep[static_cast<std::size_t>(i)])];
+    // The category witnesses, after any witness moved.
+    for (int c = 0; c < (junctions ? 1 : 2); ++c)
+        for (int i = 0; i < n; ++i) {
+            const Info& f = info[static_cast<std::size_t>(i)];
+            if (f.invalid || (c == 1 && !f.flat)) continue;
+            if (f.wmin.qmin > info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin) cat[c].wmin = i;
+            if (f.wmax.qmax < info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax) cat[c].wmax = i;
+        }
     const auto t2 = std::chrono::steady_clock::now();
 
     std::ostringstream o, lg;
     const char* rname = rule == DiagonalRule::maxmin ? "maxmin" : "separating";
-    o << "warpmesh-certificate 1\n"
+    o << "warpmesh-certificate 2\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
     if (junctions) o << "space junctions\n";
@@ -413,23 +500,30 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
                << code_of(all[static_cast<std::size_t>(ids[cat[c].winv])]) << "\n";
             continue;
         }
+        if (cat[c].wmin < 0) continue;  // a key subset without keys of this category
         o << "claim " << cn << " " << dstr(cq) << " " << dstr(cp) << "\n";
         const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
         const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
+        const Info& fmin = info[static_cast<std::size_t>(cat[c].wmin)];
+        const Info& fmax = info[static_cast<std::size_t>(cat[c].wmax)];
+        struct {
+            const ExactEval& emin;
+            const ExactEval& emax;
+        } cw{fmin.wmin, fmax.wmax};
         o << "witness " << cn << " min " << code_of(kmin);
-        for (int v : key_vars(kmin)) o << ' ' << qstr(cat[c].tmin[v]);
-        o << " " << qstr(cat[c].emin.qmin) << "\n";
+        for (int v : key_vars(kmin)) o << ' ' << qstr(fmin.tmin[v]);
+        o << " " << qstr(cw.emin.qmin) << "\n";
         o << "witness " << cn << " max " << code_of(kmax);
-        for (int v : key_vars(kmax)) o << ' ' << qstr(cat[c].tmax[v]);
-        o << " " << qstr(cat[c].emax.qmax) << "\n";
+        for (int v : key_vars(kmax)) o << ' ' << qstr(fmax.tmax[v]);
+        o << " " << qstr(cw.emax.qmax) << "\n";
         lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq)) << " (cot <= " << dstr(cq)
            << "), witness " << code_of(kmin) << " has cot " << std::setprecision(17)
-           << cat[c].emin.qmin.convert_to<double>() << " = " << deg_range(cat[c].emin.qmin) << "; gap in cot "
-           << (dyadic(cq) - cat[c].emin.qmin).convert_to<double>() << "\n";
+           << cw.emin.qmin.convert_to<double>() << " = " << deg_range(cw.emin.qmin) << "; gap in cot "
+           << (dyadic(cq) - cw.emin.qmin).convert_to<double>() << "\n";
         lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp)) << " (cot >= " << dstr(cp)
-           << "), witness " << code_of(kmax) << " has cot " << cat[c].emax.qmax.convert_to<double>() << " = "
-           << deg_range(cat[c].emax.qmax) << "; gap in cot "
-           << (cat[c].emax.qmax - dyadic(cp)).convert_to<double>() << "\n";
+           << "), witness " << code_of(kmax) << " has cot " << cw.emax.qmax.convert_to<double>() << " = "
+           << deg_range(cw.emax.qmax) << "; gap in cot "
+           << (cw.emax.qmax - dyadic(cp)).convert_to<double>() << "\n";
     }
     o << "keys " << n << "\n";
     for (int i = 0; i < n; ++i) {
@@ -442,6 +536,12 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         }
         o << "key " << ids[i] << ' ' << code_of(k) << ' ' << f.flat << ' ' << m << ' ' << dstr(f.qmin) << ' '
           << dstr(f.qmax) << ' ' << (f.proof.ok ? f.proof.leaves.size() : 0) << "\n";
+        // The key's witnesses: exact configurations close to its bounds.
+        o << "wmin";
+        for (int v : key_vars(k)) o << ' ' << qstr(f.tmin[v]);
+        o << ' ' << qstr(f.wmin.qmin) << "\nwmax";
+        for (int v : key_vars(k)) o << ' ' << qstr(f.tmax[v]);
+        o << ' ' << qstr(f.wmax.qmax) << "\n";
         if (!f.proof.ok) {
             lg << "FAILED key " << code_of(k) << " qmin " << f.qmin << " qmax " << f.qmax << " at";
             for (double x : f.proof.fail_point) lg << ' ' << x;
@@ -457,6 +557,25 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         }
     }
     o << "end\n";
+    {  // Per-key tightness (for the log; the checker recomputes it exactly).
+        std::vector<double> gmin, gmax;
+        for (const Info& f : info) {
+            if (f.invalid || !f.proof.ok) continue;
+            const double a = f.wmin.qmin.convert_to<double>(), b = f.wmax.qmax.convert_to<double>();
+            gmin.push_back(gap_deg(a, f.qmin));
+            gmax.push_back(gap_deg(f.qmax, b));
+        }
+        auto summary = [](std::vector<double> g, double tol) {
+            std::sort(g.begin(), g.end());
+            std::ostringstream s;
+            if (g.empty()) return std::string("none");
+            s << "median " << g[g.size() / 2] << " deg, max " << g.back() << " deg, "
+              << g.end() - std::upper_bound(g.begin(), g.end(), tol) << " keys above " << tol;
+            return s.str();
+        };
+        lg << rname << ": per-key gap to the witness, min angle: " << summary(gmin, 0.01)
+           << "; max angle: " << summary(gmax, 0.1) << "\n";
+    }
     lg << rname << ": " << n << " keys, " << leaves << " leaves, " << failed << " failed, " << inverted
        << " with inverted triangles; targets "
        << std::chrono::duration<double>(t1 - t0).count() << " s, branch and bound "
