@@ -121,7 +121,7 @@ def test_p2_is_capped_by_the_polygonal_boundary(errors):
 # the disc allows whatever the spacing, and the L² error stalls (issue 18:
 # 2.2e-3 from h = 0.05 down); --max-size proportional to the spacing (here
 # 4h: cells of 2h, since √2·2h <= 4h < √2·4h) restores P1's rate 2.
-GRADED_SPACINGS = [0.1, 0.05, 0.025, 0.0125]
+GRADED_SPACINGS = [0.05, 0.025, 0.0125, 0.00625]
 
 
 @pytest.fixture(scope="module")
