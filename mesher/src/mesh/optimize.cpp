@@ -10,7 +10,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <unordered_set>
-#include <cstdlib>
 
 #include "warpmesh/certified.hpp"
 #include "warpmesh/quality.hpp"
@@ -30,13 +29,13 @@ constexpr double big_angle_pivot = 140;
 // Angles whose quality lies within this many degrees of the star's worst
 // steer the ascent direction together (an ε-subgradient).
 constexpr double active_band_deg = 0.5;
-static int line_search_halvings = std::getenv("WM_H") ? std::atoi(std::getenv("WM_H")) : 8;
+constexpr int line_search_halvings = 8;
 // A star whose quality is at least this is left alone, and a move must gain
 // at least min_gain_deg.  (The lattice's right isosceles triangles score 45;
 // polishing stars between 42 and 45 as well costs 2-3 times the moves for
 // +0.5 deg of minimum angle.)
-static double good_star_deg = std::getenv("WM_G") ? std::atof(std::getenv("WM_G")) : 42;
-static double min_gain_deg = std::getenv("WM_M") ? std::atof(std::getenv("WM_M")) : 1e-3;
+constexpr double good_star_deg = 42;
+constexpr double min_gain_deg = 1e-3;
 
 Vec2 operator-(Vec2 p, Vec2 q) { return {p.x - q.x, p.y - q.y}; }
 Vec2 operator+(Vec2 p, Vec2 q) { return {p.x + q.x, p.y + q.y}; }
