@@ -300,6 +300,35 @@ void dense_codes(Quadtree& t) {
 // them, and the widening reaches n 2^l <= n T / 2 squares), none needs to;
 // returns the number of inactive inside tiles within reach of a widened node
 // (0, or the radius is wrong).
+// z: a (w + 2n) x (h + 2n) window of 0/1 flags, row-major; out[y w + x] = 1
+// iff a flag is set within max-norm distance n of window cell (x + n, y + n).
+// Separable, with running counts: O(window) work whatever n.
+void dilate(const std::vector<std::uint8_t>& z, std::int64_t w, std::int64_t h, std::int64_t n, std::vector<std::int32_t>& rows,
+            std::vector<std::uint8_t>& out) {
+    const std::int64_t W = w + 2 * n, H = h + 2 * n;
+    rows.assign(static_cast<std::size_t>(w * H), 0);  // rows[y w + x]: flags in row y, columns x .. x + 2n
+    for (std::int64_t y = 0; y < H; ++y) {
+        const std::uint8_t* r = z.data() + y * W;
+        std::int32_t c = 0;
+        for (std::int64_t d = 0; d < 2 * n; ++d) c += r[d];
+        for (std::int64_t x = 0; x < w; ++x) {
+            c += r[x + 2 * n];
+            rows[static_cast<std::size_t>(y * w + x)] = c;
+            c -= r[x];
+        }
+    }
+    out.assign(static_cast<std::size_t>(w * h), 0);
+    for (std::int64_t x = 0; x < w; ++x) {
+        std::int32_t c = 0;
+        for (std::int64_t d = 0; d < 2 * n; ++d) c += rows[static_cast<std::size_t>(d * w + x)];
+        for (std::int64_t y = 0; y < h; ++y) {
+            c += rows[static_cast<std::size_t>((y + 2 * n) * w + x)];
+            out[static_cast<std::size_t>(y * w + x)] = c > 0;
+            c -= rows[static_cast<std::size_t>(y * w + x)];
+        }
+    }
+}
+
 std::int64_t widen_codes(Quadtree& t, int n) {
     TileLevels& tl = t.tiled;
     const std::vector<CoarseningCode> before = tl.codes;  // pass 3's codes, read while tl.codes is written
@@ -307,52 +336,56 @@ std::int64_t widen_codes(Quadtree& t, int n) {
     std::int64_t unreachable = 0;
     for (int l = 1; l <= tl.top; ++l) {
         const std::size_t L = static_cast<std::size_t>(l);
-        const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], m = std::int64_t{1} << tl.nodes_log(l);
+        const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], m = std::int64_t{1} << tl.nodes_log(l), W = m + 2 * n;
         const std::int64_t reach = (n * (std::int64_t{1} << l) + T - 1) / T;  // in tiles
-        auto old = [&](std::int64_t I, std::int64_t J) {
+        // Whether node (I, J) of level l was non-coarsenable (nodes outside the lattice's nodes: no).
+        auto zero = [&](std::int64_t I, std::int64_t J) -> std::uint8_t {
+            if (I < 0 || J < 0 || I >= mx || J >= my) return 0;
             const std::int64_t k = tl.tile_of(l, I, J);
             const std::int32_t s = tl.slot_of_tile[static_cast<std::size_t>(k)];
-            return s < 0 ? tl.tile_code[static_cast<std::size_t>(k)] : before[static_cast<std::size_t>(tl.index(l, s, I, J))];
+            return (s < 0 ? tl.tile_code[static_cast<std::size_t>(k)] : before[static_cast<std::size_t>(tl.index(l, s, I, J))]) == 0;
         };
-#pragma omp parallel for schedule(dynamic, 16) reduction(+ : unreachable) if (tl.slots() >= parallel_min_tiles)
-        for (std::int64_t s = 0; s < tl.slots(); ++s) {
-            const std::int64_t k = tl.tile_of_slot[static_cast<std::size_t>(s)], TI = k % TX, TJ = k / TX;
-            bool has_zero = false;
-            for (std::int64_t y = 0; y < m; ++y)
-                for (std::int64_t x = 0; x < m; ++x) {
-                    const std::int64_t I = TI * m + x, J = TJ * m + y;
-                    if (I >= mx || J >= my) continue;
-                    const std::size_t at = static_cast<std::size_t>(tl.index(l, s, I, J));
-                    has_zero = has_zero || before[at] == 0;
-                    if (before[at] != -1) continue;
-                    bool zero = false;
-                    for (std::int64_t b = std::max<std::int64_t>(0, J - n); b <= std::min(my - 1, J + n) && !zero; ++b)
-                        for (std::int64_t a = std::max<std::int64_t>(0, I - n); a <= std::min(mx - 1, I + n) && !zero; ++a)
-                            zero = old(a, b) == 0;
-                    if (zero) tl.codes[at] = 0;
-                }
-            if (!has_zero) continue;
-            for (std::int64_t b = std::max<std::int64_t>(0, TJ - reach); b <= std::min(TY - 1, TJ + reach); ++b)
-                for (std::int64_t a = std::max<std::int64_t>(0, TI - reach); a <= std::min(TX - 1, TI + reach); ++a) {
-                    const std::size_t q = static_cast<std::size_t>(a + b * TX);
-                    unreachable += tl.slot_of_tile[q] < 0 && tl.tile_code[q] < 0;
-                }
+#pragma omp parallel if (tl.slots() >= parallel_min_tiles)
+        {
+            std::vector<std::uint8_t> window(static_cast<std::size_t>(W * W)), near;
+            std::vector<std::int32_t> rows;
+#pragma omp for schedule(dynamic, 16) reduction(+ : unreachable)
+            for (std::int64_t s = 0; s < tl.slots(); ++s) {
+                const std::int64_t k = tl.tile_of_slot[static_cast<std::size_t>(s)], TI = k % TX, TJ = k / TX;
+                for (std::int64_t y = 0; y < W; ++y)
+                    for (std::int64_t x = 0; x < W; ++x)
+                        window[static_cast<std::size_t>(y * W + x)] = zero(TI * m - n + x, TJ * m - n + y);
+                dilate(window, m, m, n, rows, near);
+                bool has_zero = false;
+                for (std::int64_t y = 0; y < m; ++y)
+                    for (std::int64_t x = 0; x < m; ++x) {
+                        const std::int64_t I = TI * m + x, J = TJ * m + y;
+                        if (I >= mx || J >= my) continue;
+                        const std::size_t at = static_cast<std::size_t>(tl.index(l, s, I, J));
+                        has_zero = has_zero || before[at] == 0;
+                        if (before[at] == -1 && near[static_cast<std::size_t>(y * m + x)]) tl.codes[at] = 0;
+                    }
+                if (!has_zero) continue;
+                for (std::int64_t b = std::max<std::int64_t>(0, TJ - reach); b <= std::min(TY - 1, TJ + reach); ++b)
+                    for (std::int64_t a = std::max<std::int64_t>(0, TI - reach); a <= std::min(TX - 1, TI + reach); ++a) {
+                        const std::size_t q = static_cast<std::size_t>(a + b * TX);
+                        unreachable += tl.slot_of_tile[q] < 0 && tl.tile_code[q] < 0;
+                    }
+            }
         }
     }
     for (int l = tl.top + 1; l <= t.top; ++l) {
         DenseLevel& level = t.dense[static_cast<std::size_t>(l)];
-        const std::vector<CoarseningCode> old = level.codes;
-        const std::int64_t mx = level.nodes_x, my = level.nodes_y;
-#pragma omp parallel for schedule(static) if (mx * my >= parallel_min)
+        const std::int64_t mx = level.nodes_x, my = level.nodes_y, W = mx + 2 * n;
+        std::vector<std::uint8_t> window(static_cast<std::size_t>(W * (my + 2 * n)), 0), near;
+        std::vector<std::int32_t> rows;
         for (std::int64_t J = 0; J < my; ++J)
-            for (std::int64_t I = 0; I < mx; ++I) {
-                if (old[level.index(I, J)] != -1) continue;
-                bool zero = false;
-                for (std::int64_t b = std::max<std::int64_t>(0, J - n); b <= std::min(my - 1, J + n) && !zero; ++b)
-                    for (std::int64_t a = std::max<std::int64_t>(0, I - n); a <= std::min(mx - 1, I + n) && !zero; ++a)
-                        zero = old[level.index(a, b)] == 0;
-                if (zero) level.codes[level.index(I, J)] = 0;
-            }
+            for (std::int64_t I = 0; I < mx; ++I)
+                window[static_cast<std::size_t>((J + n) * W + I + n)] = level.codes[level.index(I, J)] == 0;
+        dilate(window, mx, my, n, rows, near);
+        for (std::int64_t J = 0; J < my; ++J)
+            for (std::int64_t I = 0; I < mx; ++I)
+                if (level.codes[level.index(I, J)] == -1 && near[static_cast<std::size_t>(J * mx + I)]) level.codes[level.index(I, J)] = 0;
     }
     return unreachable;
 }
