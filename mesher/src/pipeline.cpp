@@ -261,6 +261,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     if (o.optimize) {
         OptimizeOptions oo;
         oo.spacing = res.lattice.s;
+        oo.max_edge = o.max_size;  // the pass keeps --max-size
         if (cert.available) oo.certified_floor = cert.min_deg;
         res.optimized = optimize_mesh(mesh, f, oo);
         phases.emplace_back("optimize", res.optimized->seconds);

@@ -60,7 +60,8 @@ struct MeshOptions {
     // least √5 spacing (the warped band's edges reach √5 s).  A graded mesh
     // takes as its largest cell the smaller of max_cell and
     // max_cell_for_size(H, s); a uniform one (and a multi-material one) is
-    // bounded by the spacing already: H is only checked.  grading G in
+    // bounded by the spacing already: H is only checked.  The optimisation
+    // pass keeps the bound (OptimizeOptions::max_edge).  grading G in
     // [1.1, 2] (graded only; 2 = plain 2:1 balance): sizes grow away from the
     // boundary by at most a factor 2^(1/n) <= G per leaf on average, n =
     // grading_buffer(G).

@@ -137,7 +137,7 @@ private:
                             std::vector<Vec2>* grads);
     // Smallest angle, quality and validity of v's star with v at p.
     struct StarQ {
-        double min_deg = inf, q = inf, shortest = inf;
+        double min_deg = inf, q = inf, shortest = inf, longest2 = 0;  // longest2: the longest edge, squared
         bool valid = true;
     };
     // q from the fast atan2; min_deg (triangle_angles) only if `exact_min`.
@@ -305,7 +305,9 @@ Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) cons
         }
         r.q = std::min(r.q, tri_q_fast(q[0], q[1], q[2]));
         if (exact_min) r.min_deg = std::min(r.min_deg, triangle_min_angle(q[0], q[1], q[2]));
-        r.shortest = std::min({r.shortest, norm2(q[1] - q[0]), norm2(q[2] - q[1]), norm2(q[0] - q[2])});
+        const double e0 = norm2(q[1] - q[0]), e1 = norm2(q[2] - q[1]), e2 = norm2(q[0] - q[2]);
+        r.shortest = std::min({r.shortest, e0, e1, e2});
+        r.longest2 = std::max({r.longest2, e0, e1, e2});
     }
     r.shortest = std::sqrt(r.shortest);
     return r;
@@ -437,6 +439,7 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
         const StarQ next = star_q(lv, q, false);
         if (!next.valid || !(next.q > now.q + min_gain_deg)) continue;
+        if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
         if (now_min == inf) now_min = star_q(lv, p, true).min_deg;
         if (star_q(lv, q, true).min_deg < now_min) continue;  // the monotone rule
         if (kind == Kind::levelset) {
@@ -495,6 +498,7 @@ bool Optimizer::try_flip(std::size_t t1, int k) {
     const auto P = [&](std::int32_t v) { return m_.vertices[static_cast<std::size_t>(v)]; };
     // New pair (c, a, d), (d, b, c): both counter-clockwise iff a-d-b-c is convex.
     if (!(cross(P(a) - P(c), P(d) - P(c)) > 0) || !(cross(P(b) - P(d), P(c) - P(d)) > 0)) return false;
+    if (o_.max_edge > 0 && norm2(P(d) - P(c)) > o_.max_edge * o_.max_edge) return false;  // the size bound
     // The fast quality first (most candidate flips gain nothing), then the rule
     // on the reported angles.
     if (std::min(tri_q_fast(P(c), P(a), P(d)), tri_q_fast(P(d), P(b), P(c))) <
