@@ -21,6 +21,13 @@ using namespace warpmesh;
 namespace {
 using warpmesh::testing::slurp;
 const char* rule_name(DiagonalRule r) { return r == DiagonalRule::maxmin ? "maxmin" : "separating"; }
+// A junction key code ("aRaUbscs") as letters and warps.
+std::array<MaterialCorner, 4> junction_from_code(const std::string& code) {
+    std::array<MaterialCorner, 4> m{};
+    for (std::size_t c = 0; c < 4; ++c)
+        m[c] = {static_cast<std::uint16_t>(code[2 * c] - 'a'), static_cast<Warp>(std::string("sRLUD").find(code[2 * c + 1]))};
+    return m;
+}
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(table_matches_certificates) {
@@ -64,6 +71,15 @@ BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
         BOOST_REQUIRE(ls);
         BOOST_REQUIRE((rule == "maxmin" || rule == "separating"));
         const DiagonalRule r = rule == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating;
+        if (code[0] >= 'a' && code[0] <= 'd') {  // a junction key (proofs/materials.cert)
+            BOOST_REQUIRE(r == DiagonalRule::separating);
+            const CertifiedBound* b = certified_junction_bound(junction_from_code(code));
+            BOOST_TEST_INFO(line);
+            BOOST_REQUIRE(b);
+            BOOST_TEST((b->max_cot == parse_rational(qmin) && b->min_cot == parse_rational(qmax) && flat == "any"));
+            ++lines;
+            continue;
+        }
         std::array<CornerState, 4> cs{};
         for (int c = 0; c < 4; ++c) {
             const char sc = code[static_cast<std::size_t>(2 * c)], wc = code[static_cast<std::size_t>(2 * c + 1)];
@@ -78,7 +94,68 @@ BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
                     b->flat_compatible == (flat == "flat")));
         ++lines;
     }
-    BOOST_TEST(lines == certified_key_count(DiagonalRule::maxmin) + certified_key_count(DiagonalRule::separating));
+    BOOST_TEST(lines == certified_key_count(DiagonalRule::maxmin) + certified_key_count(DiagonalRule::separating) +
+                            certified_junction_key_count());
+}
+
+// The junction keys (multi-material squares with 3 or 4 materials):
+// proofs/materials.cert compiled in, every key looks up to its own bound, and
+// the mesher's own lookup of a square's materials finds the key.
+BOOST_AUTO_TEST_CASE(junction_table_matches_certificate) {
+    const auto file = parse_cert_key_lines(slurp(std::string(WARPMESH_PROOFS_DIR) + "/materials.cert"));
+    const auto compiled = parse_cert_key_lines(certified_junction_table_text());
+    BOOST_TEST(file.size() == 2546u);  // proofs/README.md, "Junction keys"
+    const std::string diff = compare_cert_keys(file, compiled);
+    BOOST_TEST(diff.empty(), "materials: compiled table is stale (re-run cmake): " << diff);
+    BOOST_TEST(certified_junction_key_count() == file.size());
+    double worst_min = 180, worst_max = 0;
+    for (const auto& k : file) {
+        const auto letters = junction_from_code(k.code);
+        BOOST_TEST(junction_key_code(letters) == k.code);
+        BOOST_TEST(!k.flat);
+        const CertifiedBound* b = certified_junction_bound(letters);
+        BOOST_REQUIRE(b);
+        BOOST_TEST(b->max_cot == parse_rational(k.qmin));
+        BOOST_TEST(b->min_cot == parse_rational(k.qmax));
+        worst_min = std::min(worst_min, b->min_deg), worst_max = std::max(worst_max, b->max_deg);
+        // Any materials with the key's pattern give the key (letters in order of first appearance).
+        std::array<MaterialCorner, 4> mats{};
+        for (std::size_t c = 0; c < 4; ++c) mats[c] = {static_cast<std::uint16_t>(900 - 77 * letters[c].material), letters[c].warp};
+        BOOST_TEST(junction_key_code(junction_letters(mats)) == k.code);
+    }
+    const CertifiedTheorem th = certified_junction_theorem();
+    BOOST_TEST(th.min_deg_any == worst_min);
+    BOOST_TEST(th.max_deg_any == worst_max);
+    // Not junction keys: two materials (a sign key), a cut side with both ends
+    // staying, two corners sliding towards each other, an inward slide to the same material.
+    for (const char* bad : {"asbsbRaL", "asasbscs", "aRbLcsaU", "aRaUbDcs"}) {
+        BOOST_TEST_INFO(bad);
+        BOOST_TEST(!certified_junction_bound(junction_from_code(bad)));
+    }
+}
+
+// An unknown junction key is an internal error (std::logic_error), never a
+// silently unbounded square: a one-square mesh whose corners carry three
+// materials and do not move (inconsistent: its cut sides have no mover).
+BOOST_AUTO_TEST_CASE(unknown_junction_key_is_an_internal_error) {
+    Lattice l;
+    l.nx = l.ny = 1;
+    Mesh m;
+    m.vertices.resize(4);
+    m.vertices[0] = {0, 0}, m.vertices[1] = {1, 0}, m.vertices[2] = {0, 1}, m.vertices[3] = {1, 1};
+    m.triangles.resize(2);
+    m.triangles[0] = {0, 1, 3}, m.triangles[1] = {0, 3, 2};
+    const std::vector<KeyedSquare> keyed{{0, 0, 2}};
+    const auto junction = [](std::int64_t, std::int64_t, std::array<std::int8_t, 12>& st) {
+        st = {0, 0, 1, 2};  // letters a a b c
+        return false;
+    };
+    try {
+        certify_squares(m, l, junction, {}, DiagonalRule::separating, keyed, CertifyOptions{true, false, true});
+        BOOST_FAIL("no error for an unknown junction key");
+    } catch (const std::logic_error& e) {
+        BOOST_TEST(std::string(e.what()).find("asasbscs") != std::string::npos, e.what());
+    }
 }
 
 BOOST_AUTO_TEST_CASE(corrupted_copy_is_detected) {

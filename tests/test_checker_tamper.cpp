@@ -4,6 +4,7 @@
 #define BOOST_TEST_MODULE checker_tamper
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -187,4 +188,87 @@ BOOST_AUTO_TEST_CASE(threshold_without_double_agreement_margin) {
     }
     BOOST_TEST(run(hi, &msg) != 0);
     BOOST_TEST(msg.find("without the double-agreement margin") != std::string::npos, msg);
+}
+
+// ---- junction keys (proofs/materials.cert: multi-material squares with 3 or 4
+// materials).  Each tamper sits in the first keys, so that the checker rejects
+// early; the message shows which check caught it.
+namespace {
+std::vector<std::string> junction_cert() {
+    auto l = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "materials.cert");
+    BOOST_REQUIRE(l.size() > 100);
+    return l;
+}
+// Index of the key line of the first key with >= min_dims variables and >= 2 leaves.
+std::size_t find_key(const std::vector<std::string>& l, int min_dims) {
+    const std::size_t leaf = find_leaf(l, 0, min_dims);
+    std::size_t k = leaf;
+    while (l[k].rfind("key ", 0) != 0) --k;
+    return k;
+}
+std::vector<std::string> fields(const std::string& s) {
+    std::istringstream ss(s);
+    std::vector<std::string> tok;
+    for (std::string t; ss >> t;) tok.push_back(t);
+    return tok;
+}
+std::string join(const std::vector<std::string>& tok) {
+    std::string s;
+    for (const auto& t : tok) s += (s.empty() ? "" : " ") + t;
+    return s;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(junction_key_missing) {
+    auto l = junction_cert();
+    // Remove the first key with its leaves and lower the key count to match.
+    std::size_t k = 0;
+    while (l[k].rfind("key ", 0) != 0) ++k;
+    std::size_t end = k + 1;
+    while (end < l.size() && l[end].rfind("key ", 0) != 0) ++end;
+    l.erase(l.begin() + static_cast<long>(k), l.begin() + static_cast<long>(end));
+    for (auto& s : l)
+        if (s.rfind("keys ", 0) == 0) s = "keys " + std::to_string(std::stol(s.substr(5)) - 1);
+    std::string msg;
+    BOOST_TEST(run_checker(l, "junction_missing", &msg) != 0);
+    BOOST_TEST(msg.find("key count differs from the enumeration") != std::string::npos, msg);
+}
+
+BOOST_AUTO_TEST_CASE(junction_key_inconsistent) {
+    auto l = junction_cert();
+    // The first key renamed to an inconsistent one: corners A and B both stay
+    // with different materials (a cut side without a mover).
+    const std::size_t k = find_key(l, 1);
+    auto tok = fields(l[k]);
+    const std::string original = tok[2];
+    tok[2] = "asbs" + original.substr(4);
+    l[k] = join(tok);
+    std::string msg;
+    BOOST_TEST(run_checker(l, "junction_inconsistent", &msg) != 0);
+    BOOST_TEST(msg.find("is not " + original) != std::string::npos, msg);
+    // A junction certificate read as sign keys (the `space` line dropped).
+    auto s = junction_cert();
+    s.erase(std::find(s.begin(), s.end(), "space junctions"));
+    BOOST_TEST(run_checker(s, "junction_space_dropped") != 0);
+    // A flat claim added to the junction keys.
+    auto f = junction_cert();
+    const auto u = std::find_if(f.begin(), f.end(), [](const std::string& x) { return x.rfind("claim U ", 0) == 0; });
+    BOOST_REQUIRE(u != f.end());
+    f.insert(u + 1, "claim F" + u->substr(7));
+    BOOST_TEST(run_checker(f, "junction_flat_claim", &msg) != 0);
+    BOOST_TEST(msg.find("claim U only") != std::string::npos, msg);
+}
+
+BOOST_AUTO_TEST_CASE(junction_key_bound_raised) {
+    auto l = junction_cert();
+    // The first 2-dimensional key's min-angle bound raised to 60 deg (cot 1/2
+    // < cot 60 deg = 0.577): false on its box, so some leaf fails.
+    const std::size_t k = find_key(l, 2);
+    auto tok = fields(l[k]);
+    tok[5] = "1/2";
+    l[k] = join(tok);
+    std::string msg;
+    BOOST_TEST(run_checker(l, "junction_raised", &msg) != 0);
+    BOOST_TEST(msg.find("key " + tok[2]) != std::string::npos, msg);
+    BOOST_TEST(msg.find("not verified") != std::string::npos, msg);
 }

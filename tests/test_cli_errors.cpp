@@ -327,16 +327,31 @@ BOOST_AUTO_TEST_CASE(max_squares_and_max_pixels_limits) {
     sb.refuse({"mesh", huge_png, "-o", "m.vtu"}, 1, {"huge.png", "exceed the limit"});
 }
 
+namespace {
+// An input file that `warpmesh mesh FILE -o m.vtu` must refuse (exit 1,
+// "error: image 'FILE'", nothing written) with each of `needles` in the message.
+struct BrokenImage {
+    const char* name;
+    std::string bytes;
+    std::vector<std::string> needles;
+};
+void refuse_images(const Sandbox& sb, const std::vector<BrokenImage>& cases) {
+    for (const auto& c : cases) {
+        const std::string path = sb.input(c.name, c.bytes).string();
+        const Result r = sb.refuse({"mesh", path, "-o", "m.vtu"}, 1, {"error: image '" + path + "'"});
+        for (const auto& n : c.needles) {
+            BOOST_TEST_INFO(c.name << ": " << r.err << " expected to contain: " << n);
+            BOOST_TEST(r.err.find(n) != std::string::npos);
+        }
+    }
+}
+}  // namespace
+
 // --- broken PGM ---------------------------------------------------------------------
 
 BOOST_AUTO_TEST_CASE(malformed_and_truncated_pgm) {
     Sandbox sb;
-    struct Case {
-        const char* name;
-        std::string bytes;
-        std::vector<std::string> needles;
-    };
-    const std::vector<Case> cases = {
+    const std::vector<BrokenImage> cases = {
         {"empty.pgm", "", {"empty file"}},
         {"magic_only.pgm", "P5", {"malformed header"}},
         {"no_space.pgm", "P5x 2 2 255\n", {"no whitespace after the magic number"}},
@@ -362,14 +377,7 @@ BOOST_AUTO_TEST_CASE(malformed_and_truncated_pgm) {
         {"gif.pgm", "GIF89a....", {"unsupported format", "GIF"}},
         {"text.pgm", "hello, world\n", {"unsupported format", "expected PGM (P2/P5) or PNG"}},
     };
-    for (const auto& c : cases) {
-        const std::string path = sb.input(c.name, c.bytes).string();
-        const Result r = sb.refuse({"mesh", path, "-o", "m.vtu"}, 1, {"error: image '" + path + "'"});
-        for (const auto& n : c.needles) {
-            BOOST_TEST_INFO(c.name << ": " << r.err << " expected to contain: " << n);
-            BOOST_TEST(r.err.find(n) != std::string::npos);
-        }
-    }
+    refuse_images(sb, cases);
 }
 
 // --- broken PNG ---------------------------------------------------------------------
@@ -387,12 +395,7 @@ BOOST_AUTO_TEST_CASE(malformed_truncated_and_unsupported_png) {
     const std::string valid = png_gray8(6, 5);
     const std::string idat = png_chunk("IDAT", zlib_stored(std::string(5 * 7, '\0')));
     const std::string iend = png_chunk("IEND", "");
-    struct Case {
-        const char* name;
-        std::string bytes;
-        std::vector<std::string> needles;
-    };
-    const std::vector<Case> cases = {
+    const std::vector<BrokenImage> cases = {
         {"signature_only.png", png_signature, {"corrupt PNG"}},
         {"half_signature.png", png_signature.substr(0, 5), {"unsupported format"}},
         {"bad_ihdr_crc.png", png_signature + png_ihdr(6, 5, 8, 0, true) + idat + iend, {"corrupt PNG", "CRC"}},
@@ -410,14 +413,7 @@ BOOST_AUTO_TEST_CASE(malformed_truncated_and_unsupported_png) {
         {"garbage_idat.png", png_signature + png_ihdr(6, 5, 8, 0) + png_chunk("IDAT", "this is not zlib data") + iend,
          {"corrupt PNG"}},
     };
-    for (const auto& c : cases) {
-        const std::string path = sb.input(c.name, c.bytes).string();
-        const Result r = sb.refuse({"mesh", path, "-o", "m.vtu"}, 1, {"error: image '" + path + "'"});
-        for (const auto& n : c.needles) {
-            BOOST_TEST_INFO(c.name << ": " << r.err << " expected to contain: " << n);
-            BOOST_TEST(r.err.find(n) != std::string::npos);
-        }
-    }
+    refuse_images(sb, cases);
 }
 
 // --- images too small to mesh --------------------------------------------------------

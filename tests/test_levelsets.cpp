@@ -144,10 +144,18 @@ BOOST_AUTO_TEST_CASE(default_iso_and_validation) {
                                       "inconsistent"));
 }
 
+namespace {
+// n uniform random samples in 0..maxval, seeded: the same image every run.
+std::vector<std::uint16_t> random_pixels(std::size_t n, unsigned maxval, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::vector<std::uint16_t> px(n);
+    for (auto& v : px) v = static_cast<std::uint16_t>(rng() % (maxval + 1));
+    return px;
+}
+}  // namespace
+
 BOOST_AUTO_TEST_CASE(sample_matches_value_bitwise) {
-    std::mt19937 rng(3);
-    std::vector<std::uint16_t> big(17 * 13);
-    for (auto& v : big) v = static_cast<std::uint16_t>(rng() % 1000);
+    const std::vector<std::uint16_t> big = random_pixels(17 * 13, 999, 3);
     ImageLevelSetOptions o;
     o.iso = 437.25;
     const auto f = make_image_levelset(make_image(17, 13, big, 999), o);
@@ -223,9 +231,7 @@ BOOST_AUTO_TEST_CASE(cut_on_non_integer_spacing_is_exact) {
 }
 
 BOOST_AUTO_TEST_CASE(cut_exact_on_random_images_and_lattices) {
-    std::mt19937 rng(11);
-    std::vector<std::uint16_t> img(23 * 19);
-    for (auto& v : img) v = static_cast<std::uint16_t>(rng() % 256);
+    const std::vector<std::uint16_t> img = random_pixels(23 * 19, 255, 11);
     ImageLevelSetOptions o;
     o.iso = 127.5;
     const auto f = make_image_levelset(make_image(23, 19, img), o);

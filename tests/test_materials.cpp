@@ -320,29 +320,38 @@ BOOST_AUTO_TEST_CASE(analytic_materials_converge) {
     BOOST_TEST(order(&fidelity::Row::area_err1) > 1.5);
 }
 
-// Every square with at most two materials is looked up and verified; the
-// junction squares are counted, listed and claim no bound.
-BOOST_AUTO_TEST_CASE(two_material_squares_are_certified_and_junctions_are_reported) {
+// Every warped square is looked up and verified: those with at most two
+// materials by their sign keys, the junction squares (3 or 4 materials) by
+// their junction keys (proofs/materials.cert).  The mesh's certified floor
+// includes the junction squares, and no triangle is left without a bound.
+BOOST_AUTO_TEST_CASE(junction_squares_are_certified_and_verified) {
     const auto f = parse_material_shapes("1=circle:0,0,10;2=circle:7.3,0.9,6.2");
     const Lattice l = lattice_around(f->bounds(), 0.5);
     const MaterialResult r = mesh_materials(*f, l, {false, DiagonalRule::separating, {true, true, true}});
-    if (!certified_table_available()) return;
+    BOOST_REQUIRE(certified_table_available());
+    BOOST_REQUIRE(certified_junction_key_count() > 0);
     BOOST_REQUIRE(r.certified.available);
     BOOST_TEST(r.certified.verified);
     BOOST_TEST(r.certified.keyed_squares > 100);
     BOOST_TEST(r.junction_squares >= 1);  // where the three materials meet
+    BOOST_TEST(r.certified.junction_squares == r.junction_squares);
     BOOST_TEST(r.junction_examples.size() == static_cast<std::size_t>(std::min<std::int64_t>(r.junction_squares, 20)));
+    double junction_floor = 180;
     for (const auto& e : r.junction_examples) {
         std::set<std::int32_t> tags(e.tags.begin(), e.tags.end());
         BOOST_TEST(tags.size() >= 3u);
         BOOST_TEST(e.pattern.size() == 8u);
+        BOOST_TEST(e.min_deg > 14.99);
+        BOOST_TEST(e.max_deg < 180);
+        BOOST_TEST(e.min_deg >= certified_junction_theorem().min_deg_any);
+        junction_floor = std::min(junction_floor, e.min_deg);
     }
-    // Junction triangles carry certified_min_angle 0 (no bound claimed); the others the key's bound.
+    // Every triangle carries its square's bound (no 0 = "no bound"), and the
+    // mesh's floor is at most every junction square's.
     const auto& cell = r.mesh.cell_data.at(0).second;
-    std::int64_t zero = 0;
-    for (std::size_t k = 0; k < cell.size(); ++k) zero += cell[k] == 0;
-    BOOST_TEST(zero >= 2);
-    BOOST_TEST(r.certified.min_deg > 0);
+    for (std::size_t k = 0; k < cell.size(); ++k) BOOST_REQUIRE(cell[k] > 14.99);
+    BOOST_TEST(r.certified.min_deg <= junction_floor);
+    BOOST_TEST(r.certified.min_deg > 14.99);
 }
 
 BOOST_AUTO_TEST_CASE(maxmin_is_refused_with_materials) {
@@ -412,12 +421,25 @@ BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
 
     Run r = run("mesh " + in + " --materials all -o m.vtu --report m.json");
     BOOST_TEST_REQUIRE(r.code == 0, r.err);
-    BOOST_TEST(r.out.find("uncertified junction squares") != std::string::npos);
+    BOOST_TEST(r.out.find("junction squares") != std::string::npos);
+    BOOST_TEST(r.out.find("uncertified") == std::string::npos, r.out);
     BOOST_TEST(r.out.find("label_5") != std::string::npos);
     const std::string json = testing::slurp(img.parent_path() / "m.json");
     BOOST_TEST(json.find("\"materials\": [") != std::string::npos);
     BOOST_TEST(json.find("\"pixel_area\"") != std::string::npos);
-    BOOST_TEST(json.find("\"uncertified_junction_squares\"") != std::string::npos);
+    BOOST_TEST(json.find("\"junction_squares\": {") != std::string::npos);
+    BOOST_TEST(json.find("uncertified") == std::string::npos);
+
+    // The brain-atlas slice, every label: its triple junctions are certified and
+    // verified (--verify is the default; a violation or an unknown key exits 3).
+    r = run("mesh '" WARPMESH_SOURCE_DIR "/mesher/examples/brain_axial_s128_labels16.pgm' --materials all --spacing 1 "
+            "--verify -o brain.vtu --report brain.json");
+    BOOST_TEST_REQUIRE(r.code == 0, r.err);
+    const std::string brain = testing::slurp(img.parent_path() / "brain.json");
+    BOOST_TEST(brain.find("\"junction_squares\": {\"count\": 0") == std::string::npos);
+    BOOST_TEST(brain.find("\"certified\": true") != std::string::npos);
+    BOOST_TEST(brain.find("\"verified\": true") != std::string::npos);
+    BOOST_TEST(r.out.find("every triangle verified") != std::string::npos, r.out);
 
     r = run("mesh " + in + " --materials all --spacing 4 -o m.vtu --quiet --report lost.json");
     BOOST_TEST(r.code == 0);

@@ -6,6 +6,7 @@
 #include <boost/multiprecision/cpp_int.hpp>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "warpmesh/certified.hpp"
@@ -21,6 +22,61 @@ BOOST_AUTO_TEST_CASE(key_space) {
     int flat = 0;
     for (const auto& k : keys) flat += prover::flat_compatible(k);
     BOOST_TEST(flat == 383);
+}
+
+// The junction keys (proofs/README.md, "Junction keys"): 2546, per pattern as
+// stated there, each with >= 2 warped corners, letters in first-appearance order.
+BOOST_AUTO_TEST_CASE(junction_key_space) {
+    const auto keys = prover::junction_keys();
+    BOOST_TEST(keys.size() == 2546u);
+    std::map<std::string, int> per_pattern;
+    int forced = 0;
+    for (const auto& k : keys) {
+        BOOST_TEST(k.junction);
+        std::string pattern;
+        for (const auto& c : k.m) pattern += static_cast<char>('a' + c.material);
+        ++per_pattern[pattern];
+        BOOST_TEST(prover::key_vars(k).size() >= 2u);
+        BOOST_TEST(junction_key_code(junction_letters(k.m)) == prover::code_of(k));
+        Diagonal d{};
+        forced += separating_diagonal(k.m, d);
+    }
+    const std::map<std::string, int> expected{{"aabc", 299}, {"abac", 299}, {"abbc", 450}, {"abca", 450},
+                                              {"abcb", 299}, {"abcc", 299}, {"abcd", 450}};
+    BOOST_TEST((per_pattern == expected));
+    BOOST_TEST(forced == 160);
+}
+
+// Junction keys: the prover's decided leaves agree with the mesher's double
+// evaluation of the rule on material corners (choose_diagonal on MaterialCorner).
+BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys) {
+    const auto keys = prover::junction_keys();
+    int checked = 0;
+    for (std::size_t i = 0; i < keys.size(); i += 97) {
+        const auto& k = keys[i];
+        const auto vars = prover::key_vars(k);
+        const auto proof = prover::prove_key(DiagonalRule::separating, k, 1e6, -1e6, 20000);
+        BOOST_REQUIRE(proof.ok);
+        for (const auto& leaf : proof.leaves) {
+            if (leaf.diag == 3) continue;
+            for (int s = 0; s < 5; ++s) {
+                std::array<double, 4> t{};
+                std::array<Warp, 4> w{};
+                std::array<MaterialCorner, 4> mats{};  // real material numbers with the key's pattern
+                for (int c = 0; c < 4; ++c) w[c] = k.m[c].warp, mats[c] = {static_cast<std::uint16_t>(40 + 7 * k.m[c].material), w[c]};
+                for (std::size_t j = 0; j < vars.size(); ++j) {
+                    const double lo = std::ldexp(double(leaf.num[2 * j]), -leaf.k);
+                    const double hi = std::ldexp(double(leaf.num[2 * j + 1]), -leaf.k);
+                    const double u = s == 0 ? 0.5 : ((s + j) % 3) / 2.0;
+                    t[vars[j]] = lo + u * (hi - lo);
+                }
+                const Choice ch = choose_diagonal<double>(DiagonalRule::separating, generic_positions<double>(w, t), mats);
+                BOOST_TEST((ch.ad ? 1 : 2) == int(leaf.diag));
+                ++checked;
+            }
+        }
+    }
+    BOOST_TEST(checked > 100);
 }
 
 // For a spread of keys: prove loose bounds, then at sample points of every leaf
@@ -58,8 +114,8 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals) {
 // Witness lines of the committed certificates: exact re-evaluation with
 // rationals of the chosen diagonal's extreme cotangent.
 BOOST_AUTO_TEST_CASE(witnesses_exact) {
-    const auto keys = prover::consistent_keys();
-    for (const char* name : {"maxmin", "separating"}) {
+    for (const char* name : {"maxmin", "separating", "materials"}) {  // materials.cert: the junction keys
+        const auto keys = std::string(name) == "materials" ? prover::junction_keys() : prover::consistent_keys();
         std::ifstream in(std::filesystem::path(WARPMESH_PROOFS_DIR) / (std::string(name) + ".cert"));
         BOOST_REQUIRE(in.good());
         const DiagonalRule rule = std::string(name) == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating;
@@ -72,7 +128,7 @@ BOOST_AUTO_TEST_CASE(witnesses_exact) {
             if (tok[2] == "inverted") continue;
             const prover::Key* key = nullptr;
             for (const auto& k : keys)
-                if (key_code(k.s) == tok[3]) key = &k;
+                if (prover::code_of(k) == tok[3]) key = &k;
             BOOST_REQUIRE(key);
             const auto vars = prover::key_vars(*key);
             std::array<Q, 4> t{};
@@ -100,7 +156,9 @@ BOOST_AUTO_TEST_CASE(witnesses_exact) {
             const Q qa = quality(Diagonal::AD, va), qb = quality(Diagonal::BC, vb);
             Diagonal d = vb && (!va || qb < qa) ? Diagonal::BC : Diagonal::AD;
             Diagonal forced{};
-            if (rule == DiagonalRule::separating && separating_diagonal(key->s, forced)) d = forced;
+            if (rule == DiagonalRule::separating &&
+                (key->junction ? separating_diagonal(key->m, forced) : separating_diagonal(key->s, forced)))
+                d = forced;
             Q lo = 1000000, hi = -1000000;
             for (const auto& tri : diagonal_triangles(d)) {
                 const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);

@@ -28,7 +28,9 @@
 #include "support.hpp"
 #include "volume_fixtures.hpp"
 #include "warpmesh/image.hpp"
+#include "warpmesh/pipeline.hpp"
 #include "warpmesh/quality.hpp"
+#include "warpmesh/slices.hpp"
 #include "warpmesh/uniform.hpp"
 #include "warpmesh/graded.hpp"
 #include "warpmesh/volume.hpp"
@@ -549,6 +551,43 @@ Run run(const std::string& args, const fs::path& dir) {
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
 }
 }  // namespace
+
+// mesh_slices (slices.hpp): a slice that cannot be meshed for a reason of
+// its own is skipped and listed, an error of another kind (here an
+// OutputError thrown by the caller's writer) is not swallowed, and a range
+// beyond the volume is refused before anything is meshed.
+BOOST_AUTO_TEST_CASE(mesh_slices_skips_empty_slices_and_rethrows_other_errors) {
+    Volume v;
+    v.dims = {30, 20, 3};
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 20; ++j)
+            for (int i = 0; i < 30; ++i) v.values.push_back(k != 1 && (i - 15) * (i - 15) + (j - 10) * (j - 10) < 40 ? 7 : 0);
+    v.source = "mem", v.format = "NRRD";
+    SliceOptions so;
+    so.levelset.mode = ImageMode::label;
+    so.levelset.labels = std::vector<int>{7};
+    const auto mesh_one = [](const LoadedSlice& s) {
+        MeshOptions m;
+        return SliceMeshed{mesh(*s.f, m).report, "slice " + std::to_string(s.slice.index)};
+    };
+    const SliceBatch b = mesh_slices(v, SliceRange{2, 0, 3}, so, mesh_one);
+    BOOST_TEST_REQUIRE(b.slices.size() == 3u);
+    BOOST_TEST(b.meshed() == 2);
+    BOOST_TEST(!b.slices[1].report.has_value());
+    BOOST_TEST(!b.slices[1].skipped.empty());
+    BOOST_TEST(b.slices[2].outputs == "slice 2");
+    BOOST_TEST(b.triangles() == b.slices[0].report->triangles + b.slices[2].report->triangles);
+    BOOST_TEST(to_json(b).find("\"meshed\": 2, \"skipped\": 1") != std::string::npos, to_json(b));
+    BOOST_TEST(to_text(b).find("2 of 3 slices meshed") != std::string::npos);
+
+    BOOST_CHECK_THROW(mesh_slices(v, SliceRange{2, 0, 3}, so,
+                                  [](const LoadedSlice&) -> SliceMeshed { throw OutputError("disk full"); }),
+                      OutputError);
+    BOOST_TEST(error_of([&] { mesh_slices(v, SliceRange{2, 1, 4}, so, mesh_one); }).find("reaches beyond") !=
+               std::string::npos);
+    BOOST_TEST(error_of([&] { mesh_slices(v, SliceRange{2, 1, 2}, so, mesh_one); }).find("no slice could be meshed") !=
+               std::string::npos);
+}
 
 BOOST_AUTO_TEST_CASE(cli_slice_slices_units_and_points_3d) {
     Dir dir;

@@ -29,6 +29,7 @@
 #endif
 
 #include "warpmesh/materials.hpp"
+#include "warpmesh/slices.hpp"
 #include "warpmesh/volume.hpp"
 #include "warpmesh/warpmesh.hpp"
 #ifdef WARPMESH_HAVE_PROVER
@@ -428,11 +429,9 @@ int run_mesh(int argc, char** argv) {
     return 0;
 }
 
-// --slices AXIS=A:B: the volume is read once, its slices meshed in parallel
-// (one thread each; the pipeline inside runs serially), one output set per
-// slice from the %d patterns, one summary (stdout, --report).  A slice whose
-// region is empty, or that cannot be meshed for a reason of its own (an
-// InputError), is skipped and listed; the run fails if every slice is.
+// --slices AXIS=A:B: the volume is read once and its slices meshed in
+// parallel by mesh_slices (slices.hpp), one output set per slice from the %d
+// patterns, one summary (stdout, --report).
 int run_slices(const CliOptions& o) {
     const SliceRange range = parse_slice_range(*o.slices);
     auto name = [&](const std::string& pattern, std::int64_t k) {
@@ -447,78 +446,24 @@ int run_slices(const CliOptions& o) {
     if (!o.report.empty()) check_writable(o.report);
     const auto t0 = std::chrono::steady_clock::now();
     const Volume volume = read_input(o);
-    const std::int64_t size = volume.dims[static_cast<std::size_t>(range.axis)];
-    if (range.end > size)
-        throw InputError("--slices " + *o.slices + " reaches beyond '" + o.input + "' (" + "ijk"[range.axis] + " = 0.." +
-                         std::to_string(size - 1) + ")");
-    const double read_seconds = seconds_since(t0);
-
-    const std::int64_t n = range.end - range.first;
-    struct Done {
-        std::string outputs, skipped, plane;
-        std::optional<QualityReport> q;
-        std::exception_ptr error;
-    };
-    std::vector<Done> done(static_cast<std::size_t>(n));
     StagedOutputs staged;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (std::int64_t s = 0; s < n; ++s) {
-        Done& d = done[static_cast<std::size_t>(s)];
-        const std::int64_t k = range.first + s;
-        try {
+    const SliceBatch batch = mesh_slices(
+        volume, range, slice_options(o, std::nullopt),
+        [&](const LoadedSlice& input) {
+            const std::int64_t k = input.slice.index;
             CliOptions ok = o;
             ok.outputs.clear();
             for (const auto& out : o.outputs) ok.outputs.push_back(name(out, k));
             if (!o.points_3d.empty()) ok.points_3d = name(o.points_3d, k);
             ok.report.clear();
-            for (const auto& out : ok.outputs) d.outputs += (d.outputs.empty() ? "" : ", ") + out;
-            LoadedSlice input = load_slice(volume, slice_options(o, SliceSpec{range.axis, k}));
-            const std::unique_ptr<LevelSet> f = std::move(input.f);
-            for (const auto& [key, value] : slice_report_fields(input))
-                if (key == "plane") d.plane = value;
-            d.q = mesh_and_stage(ok, *f, &input, staged).report;
-        } catch (const InputError& e) {
-            d.skipped = e.what();
-        } catch (...) {
-            d.error = std::current_exception();
-        }
-    }
-    for (const Done& d : done)
-        if (d.error) std::rethrow_exception(d.error);
-    std::int64_t meshed = 0, triangles = 0;
-    std::string json = "{\"input\": " + json_string(o.input) + ", \"format\": " + json_string(volume.format) +
-                       ", \"axis\": \"" + "ijk"[range.axis] + "\", \"first\": " + std::to_string(range.first) +
-                       ", \"end\": " + std::to_string(range.end) + ", \"slices\": [";
-    std::ostringstream text;
-    for (std::int64_t s = 0; s < n; ++s) {
-        const Done& d = done[static_cast<std::size_t>(s)];
-        json += std::string(s ? ", " : "") + "{\"index\": " + std::to_string(range.first + s);
-        text << "ijk"[range.axis] << "=" << range.first + s << ": ";
-        if (d.q) {
-            ++meshed, triangles += d.q->triangles;
-            json += ", \"outputs\": " + json_string(d.outputs) + ", \"triangles\": " + std::to_string(d.q->triangles) +
-                    ", \"vertices\": " + std::to_string(d.q->vertices) + ", \"area\": " + json_number(d.q->area) +
-                    ", \"min_angle_deg\": " + json_number(d.q->min_angle_deg) + ", \"max_angle_deg\": " +
-                    json_number(d.q->max_angle_deg) + ", \"plane\": " + d.plane + "}";
-            text << d.q->triangles << " triangles, angles [" << d.q->min_angle_deg << ", " << d.q->max_angle_deg
-                 << "] deg, area " << d.q->area << " -> " << d.outputs << "\n";
-        } else {
-            json += ", \"skipped\": " + json_string(d.skipped) + "}";
-            text << "skipped: " << d.skipped << "\n";
-        }
-    }
-    if (meshed == 0)
-        throw InputError("--slices " + *o.slices + ": no slice could be meshed (" + done.front().skipped + "); nothing written");
-    const double seconds = seconds_since(t0);
-    json += "], \"meshed\": " + std::to_string(meshed) + ", \"skipped\": " + std::to_string(n - meshed) +
-            ", \"triangles\": " + std::to_string(triangles) + ", \"read_seconds\": " + json_number(read_seconds) +
-            ", \"total_seconds\": " + json_number(seconds) + "}\n";
-    if (!o.report.empty())
-        staged.write(o.report, [&](const std::string& path) { write_text_file(path, json); });
+            SliceMeshed m{mesh_and_stage(ok, *input.f, &input, staged).report, {}};
+            for (const auto& out : ok.outputs) m.outputs += (m.outputs.empty() ? "" : ", ") + out;
+            return m;
+        },
+        seconds_since(t0));
+    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_text_file(path, to_json(batch)); });
     staged.commit();
-    if (!o.quiet)
-        std::cout << text.str() << meshed << " of " << n << " slices meshed, " << triangles << " triangles in "
-                  << seconds << " s (reading " << read_seconds << " s)\n";
+    if (!o.quiet) std::cout << to_text(batch);
     return 0;
 }
 

@@ -4,13 +4,17 @@
 // keys and their flatness, rebuilds every key's bisection tree from the leaves,
 // re-verifies every leaf with exact rational interval arithmetic (including
 // the margins that make the mesher's double-precision diagonal choice agree),
-// checks the claims and witnesses, and prints the theorem table.  No global
+// checks the claims and witnesses, and prints the theorem table.  Junction
+// keys (proofs/materials.cert, `space junctions`: multi-material squares with
+// 3 or 4 materials) are enumerated and decided here too, from their own
+// rules (junction_consistent, forced).  No global
 // state: every operation gets what it needs.  Any failure: exit 1.
 // Format and semantics: proofs/README.md.
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -50,9 +54,12 @@ long small_int(const std::string& s, long lo, long hi) {
 }
 
 // ---- configurations ------------------------------------------------------------
-// Corner c at (c%2, c/2); warp 0 stay, 1 +x, 2 -x, 3 +y, 4 -y.
+// Corner c at (c%2, c/2); warp 0 stay, 1 +x, 2 -x, 3 +y, 4 -y.  Junction
+// keys (multi-material squares with 3 or 4 materials, `space junctions`):
+// letter = the corner's material class 0..3 (first appearance A..D), sign 0.
 struct St {
     int sign, warp;
+    int letter = -1;  // >= 0: a junction key
 };
 const int DX[5] = {0, 1, -1, 0, 0}, DY[5] = {0, 0, 0, 1, -1};
 const char WCH[5] = {'s', 'R', 'L', 'U', 'D'};
@@ -77,8 +84,29 @@ bool consistent(const std::array<St, 4>& k) {
 // (mesher/include/warpmesh/certified.hpp), used by the mesher and the prover.
 std::string code(const std::array<St, 4>& k) {
     std::string s;
-    for (auto& x : k) s += std::string(1, "-0+"[x.sign + 1]) + WCH[x.warp];
+    for (auto& x : k) s += std::string(1, x.letter >= 0 ? static_cast<char>('a' + x.letter) : "-0+"[x.sign + 1]) + WCH[x.warp];
     return s;
+}
+// Junction keys (proofs/README.md, "Junction keys"), from the multi-material
+// mesher: a side is cut iff its ends' letters differ; one cut point and one
+// mover per cut side; a corner slides only along a cut edge of its own (an
+// outward slide's neighbour is outside the key: free); every cut side has a
+// warped end.  Letters are in first-appearance order with >= 3 of them.
+bool junction_consistent(const std::array<St, 4>& k) {
+    int next = 0;
+    for (auto& x : k) {
+        if (x.letter > next) return false;
+        next += x.letter == next;
+    }
+    if (next < 3) return false;
+    for (int c = 0; c < 4; ++c) {
+        const int n = target_corner(c, k[c].warp);
+        if (n >= 0 && (k[n].letter == k[c].letter || target_corner(n, k[n].warp) == c)) return false;
+    }
+    const int E[4][2] = {{0, 1}, {1, 3}, {3, 2}, {2, 0}};
+    for (auto& e : E)
+        if (k[e[0]].letter != k[e[1]].letter && !k[e[0]].warp && !k[e[1]].warp) return false;
+    return true;
 }
 // Flat-compatible: some a x + b y + c has the corner signs and the opposite
 // sign at the outside neighbour of every outward slide.  By homogeneity, strict
@@ -120,6 +148,11 @@ bool flat(const std::array<St, 4>& k) {
 // Separating rule: opposite corners both staying with opposite non-zero signs
 // force the other diagonal.  Returns 0 none, 1 AD, 2 BC.
 int forced(const std::array<St, 4>& k) {
+    if (k[0].letter >= 0) {  // junction keys: both staying with different materials
+        if (!k[0].warp && !k[3].warp && k[0].letter != k[3].letter) return 2;
+        if (!k[1].warp && !k[2].warp && k[1].letter != k[2].letter) return 1;
+        return 0;
+    }
     auto ss = [&](int c) { return k[c].warp == 0 && k[c].sign != 0; };
     if (ss(0) && ss(3) && k[0].sign == -k[3].sign) return 2;
     if (ss(1) && ss(2) && k[1].sign == -k[2].sign) return 1;
@@ -521,10 +554,24 @@ int check_file(const std::string& path) {
     expect(rl, "rule", 2);
     if (rl[1] != "maxmin" && rl[1] != "separating") fail("unknown rule");
     const bool sep = rl[1] == "separating";
-    // Own enumeration of the consistent keys, in canonical order.
+    // `space junctions` (separating rule only): the junction keys, no flat category.
+    const bool junctions = rd.at < rd.lines.size() && rd.lines[rd.at][0] == "space";
+    if (junctions) {
+        const auto& sl = rd.next("space");
+        expect(sl, "space", 2);
+        if (sl[1] != "junctions" || !sep) fail("unknown key space (only 'junctions', separating rule)");
+    }
+    const int ncat = junctions ? 1 : 2;
+    // Own enumeration of the consistent keys, in canonical order (junction
+    // keys: a corner's state is letter * 5 + warp, corner A most significant).
     std::vector<std::array<St, 4>> keys;
-    for (int i = 0; i < 14641; ++i) {
+    for (int i = 0; i < (junctions ? 160000 : 14641); ++i) {
         std::array<St, 4> k;
+        if (junctions) {
+            for (int c = 3, r = i; c >= 0; --c, r /= 20) k[c] = St{0, r % 5, r % 20 / 5};
+            if (junction_consistent(k)) keys.push_back(k);
+            continue;
+        }
         for (int c = 3, r = i; c >= 0; --c, r /= 11) k[c] = r % 11 == 0 ? St{0, 0} : St{r % 11 <= 5 ? -1 : 1, (r % 11 - 1) % 5};
         if (consistent(k)) keys.push_back(k);
     }
@@ -559,7 +606,7 @@ int check_file(const std::string& path) {
             wits.push_back(w);
         }
     }
-    if (!claim[0].present || !claim[1].present) fail("missing claims");
+    if (!claim[0].present || claim[1].present != !junctions) fail(junctions ? "junction keys: claim U only" : "missing claims");
     const auto& kl = rd.next("keys");
     expect(kl, "keys", 2);
     if (small_int(kl[1], 0, 1000000) != static_cast<long>(keys.size())) fail("key count differs from the enumeration");
@@ -570,21 +617,22 @@ int check_file(const std::string& path) {
     for (std::size_t j = rd.at; j < rd.lines.size(); ++j) {
         const auto& h = rd.lines[j];
         if (h.size() != 8 || h[0] != "key") continue;
-        const int fl = h[3] == "1";
+        const int fl = h[3] == "1" && !junctions;
         for (int c = 0; c < 1 + fl; ++c)
             if (!claim[c].inverted && (parse_q(h[5]) > claim[c].qmin || parse_q(h[6]) < claim[c].qmax))
                 fail(std::string("claim ") + "UF"[c] + " does not follow from key " + h[2].substr(0, 8));
     }
     long total_leaves = 0, nflat = 0;
+    std::set<std::string> verified;  // memo of verified keys (below)
     for (std::size_t i = 0; i < keys.size(); ++i) {
         const auto& h = rd.next("key");
         if (h.size() < 6 || h[0] != "key") fail("expected key line");
         Key k{keys[i], {}, {}};
         for (int c = 0; c < 4; ++c)
             if (k.s[c].warp) k.vars.push_back(c);
-        if (small_int(h[1], 0, 14641) != static_cast<long>(i) || h[2] != code(k.s))
+        if (small_int(h[1], 0, 160000) != static_cast<long>(i) || h[2] != code(k.s))
             fail("key " + std::to_string(i) + " is not " + code(k.s));
-        const bool fl = flat(k.s);
+        const bool fl = !junctions && flat(k.s);
         nflat += fl;
         if (small_int(h[3], 0, 1) != fl) fail("key " + code(k.s) + ": flatness flag differs");
         if (small_int(h[4], 0, 4) != static_cast<long>(k.vars.size())) fail("key " + code(k.s) + ": dimension");
@@ -598,10 +646,24 @@ int check_file(const std::string& path) {
         // quality above 2^40, far above every key's bound.
         if (parse_q(h[5]) > 256) fail("key " + code(k.s) + ": min-angle cot bound above 256");
         Cover cv{k, sep, dyadic(parse_q(h[5])), dyadic(parse_q(h[6])), rd, small_int(h[7], 1, 50000000)};
-        Box root(k.vars.size(), R{N(0), N(Z(1), -1)});
-        cv.leaf_or_split(root, 0);
-        if (cv.remaining != 0) fail("key " + code(k.s) + ": extra leaves");
-        total_leaves += cv.leaves;
+        // Verification is a function of the warps, the forcing (separating
+        // rule), the two bounds and the leaf lines only: a key whose text of
+        // these equals that of a key verified before is verified by it.
+        std::string memo = std::to_string(sep ? forced(k.s) : 0) + " " + h[5] + " " + h[6] + " " + h[7] + ":";
+        for (int c = 0; c < 4; ++c) memo += WCH[k.s[c].warp];
+        for (long j = 0; j < cv.remaining && rd.at + static_cast<std::size_t>(j) < rd.lines.size(); ++j) {
+            memo += " |";
+            for (const std::string& t : rd.lines[rd.at + static_cast<std::size_t>(j)]) memo += " " + t;
+        }
+        if (verified.count(memo)) {
+            rd.at += static_cast<std::size_t>(cv.remaining), total_leaves += cv.remaining;
+        } else {
+            Box root(k.vars.size(), R{N(0), N(Z(1), -1)});
+            cv.leaf_or_split(root, 0);
+            if (cv.remaining != 0) fail("key " + code(k.s) + ": extra leaves");
+            total_leaves += cv.leaves;
+            verified.insert(memo);
+        }
         for (int c = 0; c < 1 + fl; ++c)
             agg_min[c] = std::max(agg_min[c], toQ(cv.qmin)), agg_max[c] = std::min(agg_max[c], toQ(cv.qmax));
     }
@@ -609,9 +671,9 @@ int check_file(const std::string& path) {
     expect(e, "end", 1);
     if (rd.at != rd.lines.size()) fail("data after end");
     const char* cname[2] = {"U (all consistent configurations)", "F (flat stencils)"};
-    std::cout << path << ": rule " << rl[1] << ", " << keys.size() << " keys (" << nflat << " flat-compatible), "
-              << total_leaves << " leaves verified\n";
-    for (int c = 0; c < 2; ++c) {
+    std::cout << path << ": rule " << rl[1] << (junctions ? " (junction keys)" : "") << ", " << keys.size() << " keys ("
+              << nflat << " flat-compatible), " << total_leaves << " leaves verified\n";
+    for (int c = 0; c < ncat; ++c) {
         if (claim[c].inverted != any_inv[c]) fail(std::string("claim ") + "UF"[c] + ": inverted status is wrong");
         if (!claim[c].inverted && (agg_min[c] > claim[c].qmin || agg_max[c] < claim[c].qmax))
             fail(std::string("claim ") + "UF"[c] + " does not follow from the key claims");
@@ -630,7 +692,7 @@ int check_file(const std::string& path) {
         Key k{keys[i], {}, {}};
         for (int c = 0; c < 4; ++c)
             if (k.s[c].warp) k.vars.push_back(c);
-        if (w.cat == 1 && !flat(k.s)) fail("flat witness on a key that is not flat-compatible");
+        if (w.cat == 1 && (junctions || !flat(k.s))) fail("flat witness on a key that is not flat-compatible");
         if (w.t.size() != k.vars.size()) fail("witness has the wrong number of t values");
         for (const Q& x : w.t)
             if (x < 0 || x > Q(1, 2)) fail("witness t outside [0, 1/2]");

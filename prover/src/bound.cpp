@@ -224,7 +224,7 @@ int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 
     Box b;
     b.m = static_cast<int>(vars.size());
     b.lo = lo, b.hi = hi;
-    const Choice ch = choose_diagonal<I>(rule, positions_i(key, vars, b), key.s);
+    const Choice ch = choose_key_diagonal<I>(rule, positions_i(key, vars, b), key);
     return (ch.ad ? 1 : 0) | (ch.bc ? 2 : 0);
 }
 
@@ -240,7 +240,7 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
     while (!stack.empty()) {
         const Box b = stack.back();
         stack.pop_back();
-        Choice ch = choose_diagonal<I>(rule, positions_i(key, vars, b), key.s);
+        Choice ch = choose_key_diagonal<I>(rule, positions_i(key, vars, b), key);
         double thr = 0;
         if (ch.ad && ch.bc) {
             if (threshold_decides(key, vars, b, Diagonal::BC, thr)) ch.ad = false;

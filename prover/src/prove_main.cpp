@@ -16,8 +16,8 @@ namespace warpmesh {
 
 int prove_main(int argc, char** argv) {
     std::string out = "proofs";
-    std::vector<int> subset;
-    bool use_subset = false;
+    std::vector<int> subset, jsubset;
+    bool use_subset = false, sign_subset = false, junction_subset = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "prove") continue;
@@ -28,23 +28,46 @@ int prove_main(int argc, char** argv) {
 #else
             ++i;
 #endif
-        } else if (a == "--keys" && i + 1 < argc) {
-            use_subset = true;
+        } else if (a == "--keys" && i + 1 < argc) {  // indices into prover::consistent_keys()
+            use_subset = sign_subset = true;
             std::stringstream ss(argv[++i]);
             std::string tok;
             while (std::getline(ss, tok, ',')) subset.push_back(std::atoi(tok.c_str()));
+        } else if (a == "--junction-keys" && i + 1 < argc) {  // indices into prover::junction_keys(), or "all"
+            use_subset = junction_subset = true;
+            std::stringstream ss(argv[++i]);
+            std::string tok;
+            while (std::getline(ss, tok, ','))
+                if (tok == "all")
+                    for (int k = 0; k < static_cast<int>(prover::junction_keys().size()); ++k) jsubset.push_back(k);
+                else jsubset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--keys I,J,...]\n");
+            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--keys I,J,...] [--junction-keys I,J,...]\n");
             return 2;
         }
     }
     std::filesystem::create_directories(out);
     int status = 0;
-    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+    // The two rules over the sign keys, then the separating rule over the
+    // junction keys (multi-material squares with 3 or 4 materials; the max-min
+    // rule is refused with materials): maxmin.cert, separating.cert, materials.cert.
+    struct Run {
+        DiagonalRule rule;
+        prover::KeySpace space;
+        const char* file;
+    };
+    for (const Run run : {Run{DiagonalRule::maxmin, prover::KeySpace::signs, "maxmin"},
+                          Run{DiagonalRule::separating, prover::KeySpace::signs, "separating"},
+                          Run{DiagonalRule::separating, prover::KeySpace::junctions, "materials"}}) {
+        const DiagonalRule r = run.rule;
+        // With --keys / --junction-keys only the runs asked for (a test's subset).
+        if (use_subset && !(run.space == prover::KeySpace::junctions ? junction_subset : sign_subset)) continue;
         std::string log;
-        const std::string cert = prover::run_proof(r, use_subset ? &subset : nullptr, &log);
+        const std::vector<int>* ids = run.space == prover::KeySpace::junctions ? (use_subset ? &jsubset : nullptr)
+                                                                               : (use_subset ? &subset : nullptr);
+        const std::string cert = prover::run_proof(r, ids, &log, run.space);
         const std::string name = r == DiagonalRule::maxmin ? "maxmin" : "separating";
-        const std::string path = out + "/" + name + ".cert";
+        const std::string path = out + "/" + run.file + ".cert";
         std::ofstream f(path + ".tmp", std::ios::binary);
         f << cert;
         f.close();

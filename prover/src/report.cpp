@@ -44,7 +44,7 @@ PointEval eval_double(DiagonalRule rule, const Key& k, const std::array<double, 
     std::array<Warp, 4> w{};
     for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp;
     const auto p = generic_positions<double>(w, t);
-    const Choice ch = choose_diagonal<double>(rule, p, k.s);
+    const Choice ch = choose_key_diagonal<double>(rule, p, k);
     PointEval e;
     const Diagonal d = ch.ad ? Diagonal::AD : Diagonal::BC;
     e.diag = ch.ad ? 1 : 2;
@@ -199,7 +199,7 @@ ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t)
     std::array<Warp, 4> w{};
     for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp;
     const auto p = generic_positions<Q>(w, t);
-    const Choice ch = choose_diagonal<Q>(rule, p, k.s);
+    const Choice ch = choose_key_diagonal<Q>(rule, p, k);
     ExactEval e;
     e.diag = ch.ad ? 1 : 2;
     bool first = true;
@@ -262,9 +262,10 @@ double q_down(const Q& q, int bits) { return -q_up(-q, bits); }
 }  // namespace
 
 // ---------------------------------------------------------------------------
-std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log) {
+std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log, KeySpace space) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto all = consistent_keys();
+    const bool junctions = space == KeySpace::junctions;  // no flat category (proofs/README.md, "Junction keys")
+    const auto all = junctions ? junction_keys() : consistent_keys();
     std::vector<int> ids;
     if (key_subset) ids = *key_subset;
     else
@@ -278,15 +279,25 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         KeyProof proof;
     };
     std::vector<Info> info(static_cast<std::size_t>(n));
+    // Junction keys with the same warps and the same forced diagonal (or none)
+    // have the same configurations and the same decisions — the rule sees the
+    // materials only through the forcing — hence the same targets and proof:
+    // each is computed once, for the first key of its class (`rep`), and
+    // copied; the output is the same as computing every key.
+    const std::vector<int> rep = junctions ? junction_classes(rule, all, ids) : std::vector<int>{};
+    const auto computed = [&](int i) { return !junctions || rep[static_cast<std::size_t>(i)] == i; };
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
+        if (!computed(i)) continue;
         const Key& k = all[static_cast<std::size_t>(ids[i])];
         Info& f = info[static_cast<std::size_t>(i)];
-        f.flat = flat_compatible(k);
+        f.flat = !junctions && flat_compatible(k);
         const auto vars = key_vars(k);
         f.emin = search(rule, k, vars, +1, &f.invalid, &f.invalid_at);
         f.emax = search(rule, k, vars, -1, nullptr, nullptr);
     }
+    for (int i = 0; i < n; ++i)
+        if (!computed(i)) info[static_cast<std::size_t>(i)] = info[static_cast<std::size_t>(rep[static_cast<std::size_t>(i)])];
     // Targets: per category (0 = any, 1 = flat) the exact value at the rational
     // witness nearest the sampled extreme, plus a small margin.
     struct Cat {
@@ -295,7 +306,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         std::array<Q, 4> tmin, tmax;
         double qmin = 0, qmax = 0;
     } cat[2];
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < (junctions ? 1 : 2); ++c) {
         for (int i = 0; i < n; ++i) {
             const Info& f = info[static_cast<std::size_t>(i)];
             if (c == 1 && !f.flat) continue;
@@ -340,7 +351,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
         Info& f = info[static_cast<std::size_t>(i)];
-        if (f.invalid) continue;
+        if (f.invalid || !computed(i)) continue;
         const auto k0 = std::chrono::steady_clock::now();
         const Key& key = all[static_cast<std::size_t>(ids[i])];
         // A claim that cannot be certified within the leaf budget is relaxed
@@ -361,10 +372,12 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
         if (verbose && (dt > 0.2 || f.relaxed))
             std::fprintf(stderr, "key %d %s: %.2f s, %zu leaves, ok %d, targets %.12g %.12g (sampled %.12g %.12g)\n",
-                         ids[i], key_code(all[static_cast<std::size_t>(ids[i])].s).c_str(), dt, f.proof.leaves.size(),
+                         ids[i], code_of(all[static_cast<std::size_t>(ids[i])]).c_str(), dt, f.proof.leaves.size(),
                          f.proof.ok, f.qmin, f.qmax, f.emin.value, f.emax.value);
         ++done;
     }
+    for (int i = 0; i < n; ++i)
+        if (!computed(i)) info[static_cast<std::size_t>(i)] = info[static_cast<std::size_t>(rep[static_cast<std::size_t>(i)])];
     const auto t2 = std::chrono::steady_clock::now();
 
     std::ostringstream o, lg;
@@ -372,11 +385,12 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
     o << "warpmesh-certificate 1\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
+    if (junctions) o << "space junctions\n";
     std::size_t leaves = 0, failed = 0, inverted = 0;
     for (const Info& f : info) leaves += f.proof.leaves.size(), failed += !f.invalid && !f.proof.ok,
                                 inverted += f.invalid;
     // Category claims: max/min of the key claims.
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < (junctions ? 1 : 2); ++c) {
         double cq = -1e300, cp = 1e300;
         bool any_inv = false;
         for (const Info& f : info) {
@@ -392,28 +406,28 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             const Info& f = info[static_cast<std::size_t>(cat[c].winv)];
             const auto t = to_dyadic_t(f.invalid_at);
             o << "claim " << cn << " inverted\n";
-            o << "witness " << cn << " inverted " << key_code(all[static_cast<std::size_t>(ids[cat[c].winv])].s);
+            o << "witness " << cn << " inverted " << code_of(all[static_cast<std::size_t>(ids[cat[c].winv])]);
             for (int v : key_vars(all[static_cast<std::size_t>(ids[cat[c].winv])])) o << ' ' << qstr(t[v]);
             o << "\n";
             lg << rname << " (" << cn << "): orientation FAILS, e.g. key "
-               << key_code(all[static_cast<std::size_t>(ids[cat[c].winv])].s) << "\n";
+               << code_of(all[static_cast<std::size_t>(ids[cat[c].winv])]) << "\n";
             continue;
         }
         o << "claim " << cn << " " << dstr(cq) << " " << dstr(cp) << "\n";
         const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
         const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
-        o << "witness " << cn << " min " << key_code(kmin.s);
+        o << "witness " << cn << " min " << code_of(kmin);
         for (int v : key_vars(kmin)) o << ' ' << qstr(cat[c].tmin[v]);
         o << " " << qstr(cat[c].emin.qmin) << "\n";
-        o << "witness " << cn << " max " << key_code(kmax.s);
+        o << "witness " << cn << " max " << code_of(kmax);
         for (int v : key_vars(kmax)) o << ' ' << qstr(cat[c].tmax[v]);
         o << " " << qstr(cat[c].emax.qmax) << "\n";
         lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq)) << " (cot <= " << dstr(cq)
-           << "), witness " << key_code(kmin.s) << " has cot " << std::setprecision(17)
+           << "), witness " << code_of(kmin) << " has cot " << std::setprecision(17)
            << cat[c].emin.qmin.convert_to<double>() << " = " << deg_range(cat[c].emin.qmin) << "; gap in cot "
            << (dyadic(cq) - cat[c].emin.qmin).convert_to<double>() << "\n";
         lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp)) << " (cot >= " << dstr(cp)
-           << "), witness " << key_code(kmax.s) << " has cot " << cat[c].emax.qmax.convert_to<double>() << " = "
+           << "), witness " << code_of(kmax) << " has cot " << cat[c].emax.qmax.convert_to<double>() << " = "
            << deg_range(cat[c].emax.qmax) << "; gap in cot "
            << (cat[c].emax.qmax - dyadic(cp)).convert_to<double>() << "\n";
     }
@@ -423,13 +437,13 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         const Key& k = all[static_cast<std::size_t>(ids[i])];
         const int m = static_cast<int>(key_vars(k).size());
         if (f.invalid) {
-            o << "key " << ids[i] << ' ' << key_code(k.s) << ' ' << f.flat << ' ' << m << " inverted\n";
+            o << "key " << ids[i] << ' ' << code_of(k) << ' ' << f.flat << ' ' << m << " inverted\n";
             continue;
         }
-        o << "key " << ids[i] << ' ' << key_code(k.s) << ' ' << f.flat << ' ' << m << ' ' << dstr(f.qmin) << ' '
+        o << "key " << ids[i] << ' ' << code_of(k) << ' ' << f.flat << ' ' << m << ' ' << dstr(f.qmin) << ' '
           << dstr(f.qmax) << ' ' << (f.proof.ok ? f.proof.leaves.size() : 0) << "\n";
         if (!f.proof.ok) {
-            lg << "FAILED key " << key_code(k.s) << " qmin " << f.qmin << " qmax " << f.qmax << " at";
+            lg << "FAILED key " << code_of(k) << " qmin " << f.qmin << " qmax " << f.qmax << " at";
             for (double x : f.proof.fail_point) lg << ' ' << x;
             const auto e = eval_double(rule, k, f.proof.fail_point);
             lg << " (there: qmin " << e.qmin << " qmax " << e.qmax << ")\n";

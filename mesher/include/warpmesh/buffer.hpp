@@ -60,6 +60,10 @@ using Buffer = std::vector<T, DefaultInitAllocator<T>>;
 // calloc is fresh pages the kernel zeroes on first use, and a sparse array
 // (the graded mesher's point bitsets, mostly empty away from the boundary)
 // costs only the pages it writes.
+//
+// Its rebind member and converting constructor repeat DefaultInitAllocator's:
+// the allocator requirements ask every allocator type for its own (rebind
+// must name ZeroAllocator<U>, not the base), so the pair is intended.
 template <class T>
 struct ZeroAllocator : DefaultInitAllocator<T> {
     static_assert(std::is_trivial_v<T>);

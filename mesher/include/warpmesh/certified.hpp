@@ -54,6 +54,21 @@ struct CertifiedTheorem {
 };
 CertifiedTheorem certified_theorem(DiagonalRule rule);
 
+// Junction keys (multi-material squares whose corners carry 3 or 4
+// materials; proofs/materials.cert, separating rule only): `corners[c].material`
+// is corner c's material class, the letters 0..3 in order of first appearance
+// A, B, C, D, and the code is letters and warps, e.g. "aRaUbscs".
+std::string junction_key_code(const std::array<MaterialCorner, 4>& corners);
+// The corners' material classes in first-appearance order (materials → 0..3),
+// warps kept: the key of a square with materials `corners`.
+std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 4>& corners);
+// The bound of a junction key (letters as junction_letters gives them), or
+// nullptr if it is not in the compiled-in table of proofs/materials.cert.
+const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters);
+std::size_t certified_junction_key_count();
+// The theorem over the junction keys (the *_flat members are unused: NaN).
+CertifiedTheorem certified_junction_theorem();
+
 // ---- the table as text, and its comparison with a certificate --------------
 // One parsed key line.
 struct CertKeyLine {
@@ -63,8 +78,10 @@ struct CertKeyLine {
     int m = 0;
     std::string qmin, qmax;  // the rationals as written
 };
-// The compiled-in `key ` lines of a rule (the generated file's text).
+// The compiled-in `key ` lines of a rule (the generated file's text), and
+// those of the junction keys (proofs/materials.cert).
 std::string_view certified_table_text(DiagonalRule rule);
+std::string_view certified_junction_table_text();
 // Parse `key ` lines (other lines are ignored); throws std::runtime_error on a
 // malformed key line.
 std::vector<CertKeyLine> parse_cert_key_lines(std::string_view text);
@@ -111,9 +128,10 @@ struct CertifiedSummary {
     std::vector<std::string> nonflat_keys;                     // their keys
     std::vector<std::array<double, 4>> nonflat_boxes;          // all of them (up to 10^5): {xmin, ymin, xmax, ymax}
     bool verified = false;
-    // Multi-material meshes: warped squares whose corners carry 3 or 4
-    // materials have no key yet.  They are excluded from every bound above
-    // (their triangles' certified_min_angle is 0: no bound claimed).
+    // Multi-material meshes: keyed squares whose corners carry 3 or 4
+    // materials ("junction squares"), certified by their junction keys
+    // (proofs/materials.cert) and included in every count and bound above
+    // (they count as non-flat).
     std::int64_t junction_squares = 0;
     std::vector<std::int64_t> junction_list;  // the first 20, as square indices i + j nx
     // Fidelity of the level-set boundary (filled by measure_fidelity).
@@ -136,8 +154,10 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
 // The general form behind certify_mesh.  `square_signs(i, j, signs)` fills
 // the signs the certificate sees at the 12 stencil points of square (i, j)
 // (stencil_offsets order: the corners first; off_lattice for a point outside
-// the lattice, which makes the stencil non-flat) and returns false for a
-// square that has no key (a junction square, see junction_squares).
+// the lattice, which makes the stencil non-flat) and returns true; for a
+// junction square (3 or 4 materials, see junction_squares) it returns false
+// with signs[0..3] = the corners' material classes (junction_letters: 0..3),
+// and the square is looked up among the junction keys.
 inline constexpr std::int8_t off_lattice = 9;
 using SquareSigns = std::function<bool(std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& signs)>;
 CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,

@@ -41,9 +41,18 @@
 // (0, 1/2] as in the proof, and both rules decide the same diagonal on the
 // square (the separating test only asks whether two corners differ).  So the
 // key's certified bound holds for the square's triangles, and --verify checks
-// it.  Squares with three or four materials ("junction squares") have no key
-// yet: they are counted and listed, excluded from the certified bounds, and
-// their triangles get certified_min_angle 0 (no bound claimed).
+// it.  Squares with three or four materials ("junction squares") have a
+// junction key instead (proofs/materials.cert, proofs/README.md "Junction
+// keys"): which corners share a material (letters in order of first
+// appearance) and the warps, e.g. "aRaUbscs".  The mesher's rules are the
+// key's: every point has a material, a side is cut iff its ends' materials
+// differ, it has one cut point and one mover (the closer end; at u = 1/2 the
+// larger material), a warped corner slid t in (0, 1/2] along a cut edge of its
+// own, every cut side has a warped end, and outward slides constrain only an
+// outside neighbour (not in the key).  The separating test reads the
+// materials only through "differ", which the letters preserve.  So junction
+// squares are looked up, bounded and verified like the others; an unknown
+// junction key is an internal error.
 #pragma once
 
 #include <cstdint>
@@ -139,7 +148,8 @@ struct MaterialStats {
 struct JunctionSquare {
     std::int64_t i, j;
     std::array<std::int32_t, 4> tags;  // corner materials A, B, C, D
-    std::string pattern;               // e.g. "aRaUbscs": corners' partition letters and warps
+    std::string pattern;               // its junction key, e.g. "aRaUbscs": corners' partition letters and warps
+    double min_deg = 0, max_deg = 0;   // the key's certified bounds (every angle of its triangles in between)
 };
 
 struct MaterialResult {
@@ -150,8 +160,8 @@ struct MaterialResult {
     std::int64_t mixed_triangles = 0;       // two staying corners of different materials: 0 (proved)
     std::int64_t centroid_triangles = 0;    // all corners moved: material at the centroid
     std::vector<MaterialStats> materials;   // index = material number
-    CertifiedSummary certified;             // junction squares excluded (see below)
-    std::int64_t junction_squares = 0;      // warped squares with 3 or 4 materials: uncertified
+    CertifiedSummary certified;             // junction squares included
+    std::int64_t junction_squares = 0;      // keyed squares with 3 or 4 materials (junction keys)
     std::vector<JunctionSquare> junction_examples;  // the first 20
 };
 

@@ -16,6 +16,10 @@
 // farthest points of the box (conics), the box's angular extent (flower), or
 // interval arithmetic on min / max (rectangle, CSG), widened well beyond the
 // rounding of value() (shapes.cpp).
+//
+// The shape classes below declare the same LevelSet overrides one after the
+// other (a repeated declaration block that `duplicates` lists): each is its
+// own closed-form geometry, and the repetition is the interface, not logic.
 #pragma once
 
 #include <memory>

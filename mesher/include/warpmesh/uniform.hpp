@@ -24,6 +24,10 @@ struct WarpedLattice {
 };
 WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice);
 
+// GradedResult (graded.hpp) starts with the same fields and adds the graded
+// path's own (sampled points, leaves per level, the invariant check); the two
+// stay separate types because their phase times differ (PhaseTimes against
+// GradedTimes) — `duplicates` lists the pair, on purpose.
 struct UniformResult {
     Mesh mesh;
     PhaseTimes times;

@@ -33,5 +33,6 @@
 #include "warpmesh/quality.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
+#include "warpmesh/slices.hpp"
 #include "warpmesh/volume.hpp"
 #include "warpmesh/writers.hpp"

@@ -238,6 +238,11 @@ struct Colouring {
     // cell_data_name "region" (with no cell data array of that name): each
     // triangle's region tag, to be coloured by region_colour (no legend).
     bool by_region = false;
+
+    // A value scale to draw beside the picture (not for regions).
+    bool legend() const { return !title.empty() && !by_region; }
+    // Triangle k's value mapped to [0, 1] over lo … hi.
+    double normalised(std::size_t k) const { return (value[k] - lo) / (hi > lo ? hi - lo : 1); }
 };
 // A distinct colour per region tag (golden-angle hues), as 0xRRGGBB.
 std::uint32_t region_colour(std::int32_t tag);

@@ -16,6 +16,7 @@ namespace warpmesh {
 namespace generated {
 extern const std::string_view certified_maxmin_keys;
 extern const std::string_view certified_separating_keys;
+extern const std::string_view certified_materials_keys;
 }  // namespace generated
 
 namespace {
@@ -78,6 +79,54 @@ Table build(std::string_view text) {
     return t;
 }
 
+// Junction keys: a corner's state is letter * 5 + warp (20 states), corner A
+// most significant (the prover's canonical order).
+constexpr int raw_junction_keys = 20 * 20 * 20 * 20;
+int raw_junction_index(const std::array<MaterialCorner, 4>& cs) {
+    int k = 0;
+    for (const MaterialCorner& c : cs) k = k * 20 + c.material * 5 + static_cast<int>(c.warp);
+    return k;
+}
+
+struct JunctionTable {
+    std::vector<CertifiedBound> bound = std::vector<CertifiedBound>(raw_junction_keys);
+    std::vector<std::uint8_t> known = std::vector<std::uint8_t>(raw_junction_keys, 0);
+    std::size_t count = 0;
+    CertifiedTheorem theorem{};
+};
+
+JunctionTable build_junctions(std::string_view text) {
+    JunctionTable t;
+    double max_any = -std::numeric_limits<double>::infinity(), min_any = std::numeric_limits<double>::infinity();
+    for (const CertKeyLine& k : parse_cert_key_lines(text)) {
+        std::array<MaterialCorner, 4> cs{};
+        bool ok = k.code.size() == 8 && !k.flat;
+        for (std::size_t c = 0; c < 4 && ok; ++c) {
+            const char l = k.code[2 * c];
+            const int w = char_warp(k.code[2 * c + 1]);
+            ok = l >= 'a' && l <= 'd' && w != 9;
+            if (ok) cs[c] = {static_cast<std::uint16_t>(l - 'a'), static_cast<Warp>(w)};
+        }
+        if (!ok || junction_letters(cs)[0].material != 0 || junction_key_code(junction_letters(cs)) != k.code)
+            throw std::runtime_error("certified table: bad junction key code " + k.code);
+        const double qmin = parse_rational(k.qmin), qmax = parse_rational(k.qmax);
+        const int idx = raw_junction_index(cs);
+        t.bound[static_cast<std::size_t>(idx)] = {arccot_deg(qmin), arccot_deg(qmax), qmax, qmin, false};
+        t.known[static_cast<std::size_t>(idx)] = 1;
+        ++t.count;
+        max_any = std::max(max_any, qmin);
+        min_any = std::min(min_any, qmax);
+    }
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    t.theorem = {arccot_deg(max_any), nan, max_any, nan, arccot_deg(min_any), nan};
+    return t;
+}
+
+const JunctionTable& junction_table() {
+    static const JunctionTable t = build_junctions(generated::certified_materials_keys);
+    return t;
+}
+
 const Table& table(DiagonalRule rule) {
     static const Table maxmin = build(generated::certified_maxmin_keys);
     static const Table separating = build(generated::certified_separating_keys);
@@ -89,6 +138,42 @@ const Table& table(DiagonalRule rule) {
 std::string_view certified_table_text(DiagonalRule rule) {
     return rule == DiagonalRule::maxmin ? generated::certified_maxmin_keys : generated::certified_separating_keys;
 }
+
+std::string_view certified_junction_table_text() { return generated::certified_materials_keys; }
+
+std::string junction_key_code(const std::array<MaterialCorner, 4>& cs) {
+    std::string s;
+    for (const auto& c : cs) {
+        s += static_cast<char>('a' + c.material);
+        s += warp_chars[static_cast<int>(c.warp)];
+    }
+    return s;
+}
+
+std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 4>& cs) {
+    std::array<MaterialCorner, 4> out{};
+    std::uint16_t next = 0;
+    for (std::size_t q = 0; q < 4; ++q) {
+        out[q] = {next, cs[q].warp};
+        for (std::size_t e = 0; e < q; ++e)
+            if (cs[e].material == cs[q].material) {
+                out[q].material = out[e].material;
+                break;
+            }
+        if (out[q].material == next) ++next;
+    }
+    return out;
+}
+
+const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters) {
+    for (const auto& c : letters)
+        if (c.material > 3 || static_cast<int>(c.warp) >= warp_count) return nullptr;
+    const JunctionTable& t = junction_table();
+    const int idx = raw_junction_index(letters);
+    return t.known[static_cast<std::size_t>(idx)] ? &t.bound[static_cast<std::size_t>(idx)] : nullptr;
+}
+std::size_t certified_junction_key_count() { return junction_table().count; }
+CertifiedTheorem certified_junction_theorem() { return junction_table().theorem; }
 
 double parse_rational(std::string_view text) {
     auto parse_int = [&](std::string_view s) -> __int128 {
@@ -252,28 +337,36 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         std::array<std::int8_t, 12> st{};
-        if (!square_signs(i, j, st)) {  // a junction square: no key, no bound claimed
-            ++junctions;
-            if (options.cell_data)
-                for (std::int64_t k = k0; k < k1; ++k) cell[static_cast<std::size_t>(k)] = 0;
-            std::lock_guard<std::mutex> lock(mu);
-            junction_list.push_back(sq);
-            continue;
-        }
+        const CertifiedBound* b = nullptr;
+        std::string code;  // the key code, computed only where reported
         std::array<CornerState, 4> cs{};
-        for (int c = 0; c < 4; ++c) {
-            cs[static_cast<std::size_t>(c)].sign = st[static_cast<std::size_t>(c)];
-            if (const WarpedPoint* w = warp_of(p[static_cast<std::size_t>(c)])) cs[static_cast<std::size_t>(c)].warp = w->dir;
+        std::array<MaterialCorner, 4> jm{};
+        const bool junction = !square_signs(i, j, st);
+        for (std::size_t c = 0; c < 4; ++c) {
+            const WarpedPoint* w = warp_of(p[c]);
+            cs[c] = {st[c], w ? w->dir : Warp::stay};
+            jm[c] = {static_cast<std::uint16_t>(st[c]), cs[c].warp};
         }
-        const CertifiedBound* b = certified_bound(rule, cs);
+        // A junction square (3 or 4 materials): st[0..3] are its corners'
+        // material classes; its key is in proofs/materials.cert (separating
+        // rule only: the max-min rule cannot mesh several materials).
+        if (junction) b = rule == DiagonalRule::separating ? certified_junction_bound(jm) : nullptr;
+        else b = certified_bound(rule, cs);
+        const auto key_of = [&] { return junction ? junction_key_code(jm) : key_code(cs); };
         if (!b) {
             std::lock_guard<std::mutex> lock(mu);
             if (failure.empty() || k0 < failure_tri) {
-                failure = "square (" + std::to_string(i) + ", " + std::to_string(j) + ") has key " + key_code(cs) +
-                          ", which is not in the certificate";
+                failure = std::string(junction ? "junction square (" : "square (") + std::to_string(i) + ", " +
+                          std::to_string(j) + ") has key " + key_of() + ", which is not in the certificate" +
+                          (junction ? " proofs/materials.cert" : "");
                 failure_tri = k0;
             }
             continue;
+        }
+        if (junction) {
+            ++junctions;
+            std::lock_guard<std::mutex> lock(mu);
+            junction_list.push_back(sq);
         }
         gmin = std::min(gmin, b->min_deg);
         kmin = std::min(kmin, b->min_deg);
@@ -299,7 +392,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
             if (!ok) {
                 std::ostringstream m;
                 m.precision(12);
-                m << "certificate violated: square (" << i << ", " << j << ") key " << key_code(cs) << ", triangle " << k
+                m << "certificate violated: square (" << i << ", " << j << ") key " << key_of() << ", triangle " << k
                   << " has angles";
                 for (int q = 0; q < 3; ++q)
                     m << ' ' << arccot_deg(f.dot[static_cast<std::size_t>(q)] / f.cross);
@@ -310,12 +403,13 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         }
         ++keyed;
         // Flatness of the 12-point stencil; a stencil leaving the lattice is not flat.
+        // Junction squares count as not flat: no flat theorem covers them.
         const bool inside = std::find(st.begin(), st.end(), off_lattice) == st.end();
-        if (inside && stencil_is_flat(st)) ++flat_count;
+        if (!junction && inside && stencil_is_flat(st)) ++flat_count;
         else {
             ++nonflat;
             std::lock_guard<std::mutex> lock(mu);
-            examples.emplace_back(sq, key_code(cs));
+            examples.emplace_back(sq, key_of());
         }
     }
     if (!failure.empty()) throw std::logic_error(failure);

@@ -119,6 +119,14 @@ Image read_pgm(std::span<const std::uint8_t> bytes, const std::string& name, std
     img.maxval = static_cast<int>(maxval);
     img.source = name;
     const std::size_t n = static_cast<std::size_t>(w * h);
+    // Sample k (row-major, top row first) of either encoding.
+    const auto store = [&](std::size_t k, std::uint64_t v) {
+        if (v > maxval)
+            fail(name, "sample " + std::to_string(k) + " (row " + std::to_string(k / w) + ", column " +
+                           std::to_string(k % w) + ") is " + std::to_string(v) + ", above maxval " +
+                           std::to_string(maxval));
+        img.pixels[k] = static_cast<std::uint16_t>(v);
+    };
 
     if (ascii) {
         img.pixels.resize(n);
@@ -126,12 +134,7 @@ Image read_pgm(std::span<const std::uint8_t> bytes, const std::string& name, std
             cur.skip_space_and_comments();
             if (cur.pos() >= bytes.size())
                 fail(name, "truncated data: expected " + std::to_string(n) + " samples, found " + std::to_string(k));
-            const std::uint64_t v = cur.number("a sample", 0xffffffffu, false);
-            if (v > maxval)
-                fail(name, "sample " + std::to_string(k) + " (row " + std::to_string(k / w) + ", column " +
-                               std::to_string(k % w) + ") is " + std::to_string(v) + ", above maxval " +
-                               std::to_string(maxval));
-            img.pixels[k] = static_cast<std::uint16_t>(v);
+            store(k, cur.number("a sample", 0xffffffffu, false));
         }
         return img;
     }
@@ -147,12 +150,7 @@ Image read_pgm(std::span<const std::uint8_t> bytes, const std::string& name, std
     img.pixels.resize(n);
     const std::uint8_t* p = bytes.data() + cur.pos();
     for (std::size_t k = 0; k < n; ++k) {
-        const unsigned v = bpp == 1 ? p[k] : (unsigned{p[2 * k]} << 8 | p[2 * k + 1]);
-        if (v > maxval)
-            fail(name, "sample " + std::to_string(k) + " (row " + std::to_string(k / w) + ", column " +
-                           std::to_string(k % w) + ") is " + std::to_string(v) + ", above maxval " +
-                           std::to_string(maxval));
-        img.pixels[k] = static_cast<std::uint16_t>(v);
+        store(k, bpp == 1 ? p[k] : (unsigned{p[2 * k]} << 8 | p[2 * k + 1]));
     }
     // Trailing bytes are allowed: a PGM file may hold several images; we take the first.
     return img;

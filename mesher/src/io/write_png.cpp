@@ -215,15 +215,14 @@ Image render(const Mesh& mesh, const PngOptions& options) {
     const std::vector<double>& value = colouring.value;
     const std::string& legend_title = colouring.title;
     const double lo = colouring.lo, hi = colouring.hi;
-    const bool coloured = !legend_title.empty() && !colouring.by_region;  // a legend
-    const double range = hi > lo ? hi - lo : 1;
+    const bool coloured = colouring.legend();
     std::vector<Rgb> tri_colour;
     if (coloured || colouring.by_region) {
         tri_colour.resize(nt);
         for (std::size_t k = 0; k < nt; ++k) {
             const std::uint32_t c = detail::region_colour(static_cast<std::int32_t>(value[k]));
             tri_colour[k] = colouring.by_region ? Rgb{static_cast<std::uint8_t>(c >> 16), static_cast<std::uint8_t>(c >> 8), static_cast<std::uint8_t>(c)}
-                                                : ramp((value[k] - lo) / range);
+                                                : ramp(colouring.normalised(k));
         }
     }
 

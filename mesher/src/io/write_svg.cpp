@@ -72,14 +72,15 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
     detail::check_mesh_arrays(mesh, "<svg stream>");
     const std::size_t nt = mesh.triangles.size();
 
-    // Values to colour by, normalised to [0, 1].
+    // Values to colour by, normalised to [0, 1] (the same few lines open
+    // write_png.cpp's render: both name Colouring's fields for their drawing
+    // code; the colouring itself is computed once, in picture_colouring).
     detail::Colouring colouring =
         detail::picture_colouring(mesh, options.color_by_cell_data, options.color_by_min_angle, "SVG");
     const std::vector<double>& value = colouring.value;
     const std::string& legend_title = colouring.title;
     const double lo = colouring.lo, hi = colouring.hi;
-    const bool coloured = !legend_title.empty() && !colouring.by_region;  // a legend
-    const double range = hi > lo ? hi - lo : 1;
+    const bool coloured = colouring.legend();
 
     // Geometry: bounding box, scale, typical edge length.
     double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
@@ -123,7 +124,7 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
         out << ' ';
         px(mesh.vertices[static_cast<std::size_t>(t[2])]);
         out << '"';
-        if (coloured) out << " fill=\"" << colour((value[k] - lo) / range) << '"';
+        if (coloured) out << " fill=\"" << colour(colouring.normalised(k)) << '"';
         if (colouring.by_region) {
             char hex[8];
             std::snprintf(hex, sizeof hex, "#%06x", static_cast<unsigned>(detail::region_colour(static_cast<std::int32_t>(value[k]))));

@@ -1,8 +1,10 @@
 // material_report.cpp — the multi-material part of the CLI's reports
 // (materials.hpp): per material its triangles, area, perimeter and reference
-// (pixel-count) area; the junction squares, which no certificate covers yet;
+// (pixel-count) area; the junction squares (3 or 4 materials) with their
+// junction keys and certified bounds (proofs/materials.cert);
 // the edges where a third material lies between a cut edge's two.
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "warpmesh/materials.hpp"
@@ -43,13 +45,16 @@ std::vector<std::pair<std::string, std::string>> material_report_json(const Mate
     out.emplace_back("third_material_edges", std::to_string(r.third_material_edges));
     out.emplace_back("centroid_material_triangles", std::to_string(r.centroid_triangles));
     out.emplace_back("mixed_triangles", std::to_string(r.mixed_triangles));
-    std::string j = "{\"count\": " + std::to_string(r.junction_squares) + ", \"certified\": false, \"examples\": [";
+    // Junction squares are certified when certification ran (certified.available).
+    std::string j = "{\"count\": " + std::to_string(r.junction_squares) +
+                    ", \"certified\": " + (r.certified.available ? "true" : "false") + ", \"examples\": [";
     for (std::size_t k = 0; k < r.junction_examples.size(); ++k) {
         const JunctionSquare& e = r.junction_examples[k];
         j += std::string(k ? ", " : "") + "{\"i\": " + std::to_string(e.i) + ", \"j\": " + std::to_string(e.j) +
-             ", \"materials\": " + tags_text(e.tags) + ", \"pattern\": " + json_string(e.pattern) + "}";
+             ", \"materials\": " + tags_text(e.tags) + ", \"key\": " + json_string(e.pattern) +
+             ", \"min_angle_deg\": " + json_number(e.min_deg) + ", \"max_angle_deg\": " + json_number(e.max_deg) + "}";
     }
-    out.emplace_back("uncertified_junction_squares", j + "]}");
+    out.emplace_back("junction_squares", j + "]}");
     return out;
 }
 
@@ -68,10 +73,12 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
     }
     t << "interface edges      " << r.mesh.interfaces.size() << "\n";
     t << "third-material edges " << r.third_material_edges << " (cut edges whose cut point lies in a third material)\n";
-    t << "uncertified junction squares " << r.junction_squares
-      << " (3 or 4 materials: no certificate yet, excluded from the certified angles)\n";
+    t << "junction squares     " << r.junction_squares
+      << (r.certified.available ? " (3 or 4 materials: junction keys, proofs/materials.cert)\n"
+                                : " (3 or 4 materials; not certified: certification off)\n");
     for (const JunctionSquare& e : r.junction_examples)
-        t << "  (" << e.i << ", " << e.j << ") materials " << tags_text(e.tags) << " pattern " << e.pattern << "\n";
+        t << "  (" << e.i << ", " << e.j << ") materials " << tags_text(e.tags) << " key " << e.pattern << " certified ["
+          << std::setprecision(10) << e.min_deg << ", " << e.max_deg << "] deg\n" << std::setprecision(6);
     if (r.junction_squares > static_cast<std::int64_t>(r.junction_examples.size())) t << "  ...\n";
     return t.str();
 }

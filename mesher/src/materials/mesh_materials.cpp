@@ -356,13 +356,20 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
         for (const auto& row : keyed_rows) keyed.insert(keyed.end(), row.begin(), row.end());
         // A square with one or two materials: its larger material is '-', every
         // other point of the stencil '+' (materials.hpp: why this is a key of the proof).
+        // A junction square (3 or 4 materials): its corners' material classes,
+        // for its junction key (certify_squares).
         const auto square_signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(pa)], mat[static_cast<std::size_t>(pa + 1)],
                                                  mat[static_cast<std::size_t>(pa + nxp)], mat[static_cast<std::size_t>(pa + nxp + 1)]};
             const std::uint16_t hi = *std::max_element(m.begin(), m.end()), lo = *std::min_element(m.begin(), m.end());
             for (const std::uint16_t v : m)
-                if (v != hi && v != lo) return false;
+                if (v != hi && v != lo) {
+                    const auto letters = junction_letters({MaterialCorner{m[0], Warp::stay}, MaterialCorner{m[1], Warp::stay},
+                                                           MaterialCorner{m[2], Warp::stay}, MaterialCorner{m[3], Warp::stay}});
+                    for (std::size_t q = 0; q < 4; ++q) st[q] = static_cast<std::int8_t>(letters[q].material);
+                    return false;
+                }
             for (std::size_t q = 0; q < 12; ++q) {
                 const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
                 st[q] = (x < 0 || y < 0 || x > nx || y > ny) ? off_lattice
@@ -376,18 +383,17 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
             JunctionSquare js{sq % nx, sq / nx, {}, {}};
             const std::int64_t pa = lattice.index(js.i, js.j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
-            std::array<int, 4> letter{-1, -1, -1, -1};
-            int next_letter = 0;
+            std::array<MaterialCorner, 4> mc{};
             for (std::size_t q = 0; q < 4; ++q) {
                 const std::uint16_t m = mat[static_cast<std::size_t>(p[q])];
                 js.tags[q] = tag[m];
-                for (std::size_t e = 0; e < q && letter[q] < 0; ++e)
-                    if (mat[static_cast<std::size_t>(p[e])] == m) letter[q] = letter[e];
-                if (letter[q] < 0) letter[q] = next_letter++;
-                constexpr char warp_chars[] = {'s', 'R', 'L', 'U', 'D'};
-                js.pattern += static_cast<char>('a' + letter[q]);
-                js.pattern += moved[static_cast<std::size_t>(p[q])] ? warp_chars[static_cast<int>(warp_of(p[q]).dir)] : 's';
+                mc[q] = {m, moved[static_cast<std::size_t>(p[q])] ? warp_of(p[q]).dir : Warp::stay};
             }
+            const auto letters = junction_letters(mc);
+            js.pattern = junction_key_code(letters);
+            const CertifiedBound* b = certified_junction_bound(letters);  // certify_squares found it
+            if (!b) throw std::logic_error("junction square (" + std::to_string(js.i) + ", " + std::to_string(js.j) + ") key " + js.pattern + " not in proofs/materials.cert");
+            js.min_deg = b->min_deg, js.max_deg = b->max_deg;
             r.junction_examples.push_back(std::move(js));
         }
         r.times.certify = seconds_since(t0);

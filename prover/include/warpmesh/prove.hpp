@@ -17,10 +17,40 @@ int prove_main(int argc, char** argv);
 
 namespace prover {
 
-// A configuration key: each corner's original sign and warp state.
+// A configuration key: each corner's original sign and warp state.  A
+// *junction key* (a multi-material square whose corners carry 3 or 4
+// materials; proofs/README.md, "Junction keys") has `junction` set and the
+// corners' material classes in `m` (letters 0..3 in order of first appearance
+// A, B, C, D); its warps are in both `s` and `m`, its signs `s[c].sign` are 0
+// and unused.
 struct Key {
     std::array<CornerState, 4> s;
+    bool junction = false;
+    std::array<MaterialCorner, 4> m{};
 };
+
+// The rule's choice for a key's corners: choose_diagonal of generic_square.hpp
+// with the signs, or for a junction key with the material classes (the
+// separating test only asks whether two staying corners' materials differ).
+template <class T>
+Choice choose_key_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Key& k) {
+    return k.junction ? choose_diagonal<T>(rule, p, k.m) : choose_diagonal<T>(rule, p, k.s);
+}
+
+// The key's code: key_code(s) (certified.hpp, e.g. "-R+U-L-R"), or for a
+// junction key its letters and warps (junction_key_code, e.g. "aRaUbscs").
+std::string code_of(const Key& k);
+
+// The set of keys a certificate covers.
+enum class KeySpace { signs, junctions };
+// All junction keys satisfying the material consistency rules of
+// proofs/README.md ("Junction keys"), in canonical order (corner A's state
+// most significant, a state being letter * 5 + warp).
+std::vector<Key> junction_keys();
+// For keys[ids[i]] (junction keys), the first i' <= i whose key has the same
+// warps and the same separating-rule forcing under `rule` (none, AD, BC): the
+// keys of a class have the same configurations and decisions.
+std::vector<int> junction_classes(DiagonalRule rule, const std::vector<Key>& keys, const std::vector<int>& ids);
 
 // A key's 8-character code is key_code(key.s) (certified.hpp).
 // All keys satisfying the consistency rules of proofs/README.md, in the
@@ -60,7 +90,10 @@ int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 
 // Runs the whole proof for a rule and returns the certificate text.  `key_subset`
 // (indices into consistent_keys()) restricts the run, for tests; the claims are
 // then over that subset only.  `log` receives a human summary.
-std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log);
+// `space` = junctions: the junction keys (separating rule only), no flat
+// category, the header line `space junctions` (proofs/materials.cert).
+std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log,
+                      KeySpace space = KeySpace::signs);
 
 }  // namespace prover
 }  // namespace warpmesh
