@@ -254,6 +254,12 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--iso", "nan", "-o", "m.vtu"}, 2, {"--iso expects a finite number"});
     sb.refuse({"mesh", img, "--iso", "inf", "-o", "m.vtu"}, 2, {"--iso expects a finite number"});
     sb.refuse({"mesh", img, "--max-cell", "3", "--graded", "-o", "m.vtu"}, 2, {"power of two"});
+    sb.refuse({"mesh", img, "--grading", "3", "--graded", "-o", "m.vtu"}, 2, {"--grading must be between 1.1 and 2"});
+    sb.refuse({"mesh", img, "--grading", "1", "--graded", "-o", "m.vtu"}, 2, {"--grading must be between 1.1 and 2"});
+    sb.refuse({"mesh", img, "--grading", "nan", "--graded", "-o", "m.vtu"}, 2, {"--grading"});
+    sb.refuse({"mesh", img, "--max-size", "-1", "--graded", "-o", "m.vtu"}, 2, {"--max-size must be positive"});
+    sb.refuse({"mesh", img, "--max-size", "2", "--graded", "-o", "m.vtu"}, 2, {"below sqrt(5) * spacing = 2.23607", "--spacing 0.894427 or less"});
+    sb.refuse({"mesh", img, "--max-size", "4", "--spacing", "2", "-o", "m.vtu"}, 2, {"below sqrt(5) * spacing"});
     sb.refuse({"mesh", img, "--max-pixels", "0", "-o", "m.vtu"}, 2, {"--max-pixels"});
     sb.refuse({"mesh", img, "--max-squares", "-5", "-o", "m.vtu"}, 2, {"--max-squares"});
     sb.refuse({"mesh", img, "--threads", "0", "-o", "m.vtu"}, 2, {"--threads"});

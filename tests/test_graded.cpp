@@ -77,13 +77,13 @@ struct Tree {
     Quadtree tree;
     Leaves leaves;
 };
-Tree rebuild(const LevelSet& f, const Lattice& l, std::int64_t K) {
+Tree rebuild(const LevelSet& f, const Lattice& l, std::int64_t K, int buffer = 0) {
     Tree t;
     const auto values = sample_values(f, l);
     const auto signs = compute_signs(values);
     t.signs = tile_signs(l, signs);  // every tile sampled, from the uniform front end
     const auto warped = warp_points(l, find_cut_edges(f, l, values, signs));
-    t.tree = build_quadtree(l, t.signs, warped, K);
+    t.tree = build_quadtree(l, t.signs, warped, K, buffer);
     t.leaves = quadtree_leaves(t.tree);
     return t;
 }
@@ -151,14 +151,14 @@ struct Compared {
 
 // The graded mesh against the uniform one on the same lattice.
 Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule rule, std::int64_t K,
-                              bool integer_coordinates = true) {
+                              bool integer_coordinates = true, int buffer = 0) {
     const UniformResult u = mesh_uniform(f, l, rule);
-    const GradedResult g = mesh_graded(f, l, rule, K);
+    const GradedResult g = mesh_graded(f, l, rule, K, CertifyOptions{false, false, false}, buffer);
     const MeshCheck chk = check_mesh(g.mesh);
     BOOST_TEST(chk.ok());
     for (const auto& msg : chk.messages) BOOST_TEST_MESSAGE(msg);
 
-    const Tree t = rebuild(f, l, K);
+    const Tree t = rebuild(f, l, K, buffer);
     const QuadtreeCheck q = check_quadtree(t.tree, t.signs);
     BOOST_TEST(q.ok());
     for (const auto& msg : q.messages) BOOST_TEST_MESSAGE(msg);
@@ -171,7 +171,7 @@ Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule 
     BOOST_TEST(leaves == finest + static_cast<std::int64_t>(t.leaves.coarse.size()));
     // The range bounds only skip work: the same mesh, bit for bit, as with
     // every tile sampled.
-    const GradedResult all = mesh_graded(testing::WithoutRange(f), l, rule, K);
+    const GradedResult all = mesh_graded(testing::WithoutRange(f), l, rule, K, CertifyOptions{false, false, false}, buffer);
     BOOST_TEST(testing::same_mesh(all.mesh, g.mesh));
     BOOST_TEST(all.sampled_points >= l.point_count());  // tiles share their border points
     BOOST_TEST(g.sampled_points <= all.sampled_points);
@@ -241,6 +241,128 @@ BOOST_AUTO_TEST_CASE(max_cell_one_is_the_uniform_mesh) {
         };
         BOOST_TEST((sorted(g.mesh.triangles) == sorted(u.mesh.triangles)));
     }
+}
+
+// --grading G (graded.hpp): the buffer n for G, and what it guarantees.
+BOOST_AUTO_TEST_CASE(grading_maps_to_a_buffer_and_bad_values_are_refused) {
+    BOOST_TEST(grading_buffer(2.0) == 0);
+    BOOST_TEST(grading_buffer(1.9) == 2);
+    BOOST_TEST(grading_buffer(1.5) == 2);
+    BOOST_TEST(grading_buffer(1.414) == 2);  // √2, as typed
+    BOOST_TEST(grading_buffer(1.41) == 3);
+    BOOST_TEST(grading_buffer(1.26) == 3);  // 2^(1/3)
+    BOOST_TEST(grading_buffer(1.1) == 8);
+    for (double bad : {1.09, 1.0, 0.5, 2.01, 4.0, std::nan(""), HUGE_VAL})
+        BOOST_CHECK_THROW(grading_buffer(bad), std::invalid_argument);
+    Lambda f(circle(8, 8, 5), {0, 0, 16, 16});
+    BOOST_CHECK_THROW(mesh_graded(f, integer_lattice(16, 16), DiagonalRule::separating, 0, {}, 9), std::invalid_argument);
+    BOOST_CHECK_THROW(mesh_graded(f, integer_lattice(16, 16), DiagonalRule::separating, 0, {}, -1), std::invalid_argument);
+}
+
+// Every coarse inside leaf of width w is farther than n w (max-norm) from
+// every critical point (zero-valued, or an endpoint of a cut edge) and from
+// the lattice border; the mesh stays conforming, with the uniform boundary,
+// template triangles inside; and a larger buffer never gives fewer triangles.
+BOOST_AUTO_TEST_CASE(grading_buffer_keeps_coarse_leaves_n_widths_from_the_boundary) {
+    Lambda f(subtract(unite(circle(70, 60, 52.5), ellipse(150, 50, 30, 12.3)), circle(60, 64, 9.7)), {0, 0, 190, 128});
+    const Lattice l = integer_lattice(190, 128);
+    std::size_t previous = 0;
+    for (const int n : {0, 2, 3, 5, 8}) {
+        BOOST_TEST_CONTEXT("buffer " << n) {
+            const Compared c = compare_with_uniform(f, l, DiagonalRule::separating, 0, true, n);
+            BOOST_TEST(c.graded_triangles >= previous);
+            BOOST_TEST(c.graded_triangles < c.uniform_triangles);
+            previous = c.graded_triangles;
+            const Tree t = rebuild(f, l, 0, n);
+            // Critical points, and a prefix-sum table of them.
+            const std::int64_t px = l.nx + 1, py = l.ny + 1;
+            std::vector<std::int64_t> sum(static_cast<std::size_t>((px + 1) * (py + 1)), 0);
+            auto S = [&](std::int64_t x, std::int64_t y) -> std::int64_t& { return sum[static_cast<std::size_t>(x + y * (px + 1))]; };
+            for (std::int64_t y = 0; y < py; ++y)
+                for (std::int64_t x = 0; x < px; ++x) {
+                    const int v = t.signs(x, y);
+                    bool crit = v == 0;
+                    for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                        const std::int64_t a = x + dx, b = y + dy;
+                        if (a >= 0 && b >= 0 && a < px && b < py) crit = crit || t.signs(a, b) == -v;
+                    }
+                    S(x + 1, y + 1) = S(x, y + 1) + S(x + 1, y) - S(x, y) + (crit ? 1 : 0);
+                }
+            auto count = [&](std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) {  // points in [x0, x1] x [y0, y1]
+                x0 = std::max<std::int64_t>(x0, 0), y0 = std::max<std::int64_t>(y0, 0);
+                x1 = std::min(x1, px - 1), y1 = std::min(y1, py - 1);
+                if (x0 > x1 || y0 > y1) return std::int64_t{0};
+                return S(x1 + 1, y1 + 1) - S(x0, y1 + 1) - S(x1 + 1, y0) + S(x0, y0);
+            };
+            std::int64_t near = 0, inside_leaves = 0, max_level = 0;
+            for (const Leaf& leaf : t.leaves.coarse) {
+                if (leaf.sign > 0) continue;
+                ++inside_leaves;
+                const std::int64_t w = std::int64_t{1} << leaf.level, r = n * w;
+                max_level = std::max<std::int64_t>(max_level, leaf.level);
+                near += count(leaf.i - r, leaf.j - r, leaf.i + w + r, leaf.j + w + r) > 0;
+            }
+            BOOST_TEST(inside_leaves > 0);
+            BOOST_TEST(max_level >= (n <= 3 ? 2 : 1));  // (the disc is 105 squares across: with n = 8 a leaf of 4 needs 32 all round)
+            if (n > 0) {
+                BOOST_TEST(near == 0);
+            }
+        }
+    }
+}
+
+// A region that fills the lattice: the inside border squares are critical for
+// the grading too, so leaves keep n widths from the lattice border.
+BOOST_AUTO_TEST_CASE(grading_buffer_keeps_leaves_off_the_lattice_border) {
+    Lambda f([](double, double) { return -1.0; }, {0, 0, 200, 150});
+    const Lattice l = integer_lattice(200, 150);
+    for (const int n : {2, 4}) {
+        compare_with_uniform(f, l, DiagonalRule::separating, 0, true, n);
+        const Tree t = rebuild(f, l, 0, n);
+        std::int64_t bad = 0;
+        for (const Leaf& leaf : t.leaves.coarse) {
+            const std::int64_t w = std::int64_t{1} << leaf.level, r = n * w;
+            // the border squares are finest: their inner sides lie 1 square in
+            bad += leaf.i - r < 1 || leaf.j - r < 1 || leaf.i + w + r > l.nx - 1 || leaf.j + w + r > l.ny - 1;
+        }
+        BOOST_TEST(bad == 0);
+    }
+}
+
+// max_cell_for_size: the largest power of two K with √2 K s <= H; H below
+// √5 s (the warped band's longest possible edge) refused.
+BOOST_AUTO_TEST_CASE(max_size_gives_the_largest_cell_whose_diagonal_fits) {
+    BOOST_TEST(max_cell_for_size(std::sqrt(5.0), 1) == 1);
+    BOOST_TEST(max_cell_for_size(2.9, 1) == 2);
+    BOOST_TEST(max_cell_for_size(4 * std::sqrt(2.0), 1) == 4);
+    BOOST_TEST(max_cell_for_size(0.4, 0.05) == 4);  // √2·4·0.05 = 0.283 <= 0.4 < 0.566
+    BOOST_TEST(max_cell_for_size(1e300, 1) == std::int64_t{1} << 30);
+    for (double bad : {2.2, 0.0, -1.0, std::nan(""), HUGE_VAL}) BOOST_CHECK_THROW(max_cell_for_size(bad, 1), std::invalid_argument);
+}
+
+// With max_cell_for_size(H, s) every triangle's longest edge is <= H: the
+// band's (<= √5 s) and the templates' (<= √2 K s).
+BOOST_AUTO_TEST_CASE(max_size_bounds_every_edge_of_the_graded_mesh) {
+    const auto flower = parse_shape("flower:0.3,-0.2,60,22,9");
+    const auto holes = parse_shape("diff(circle:0,0,70;union(rect:-20,-15,18,21;circle:40,10,9))");
+    for (const LevelSet* f : {flower.get(), holes.get()})
+        for (const double s : {1.0, 0.7})
+            for (const double H : {std::sqrt(5.0) * s, 3.5 * s, 12.0 * s})
+                for (const int n : {0, 3}) {
+                    const Lattice l = lattice_around(f->bounds(), s);
+                    const std::int64_t K = max_cell_for_size(H, s);
+                    const GradedResult g = mesh_graded(*f, l, DiagonalRule::separating, K, {}, n);
+                    BOOST_TEST(check_mesh(g.mesh).ok());
+                    BOOST_TEST(g.leaves_per_level.size() == static_cast<std::size_t>(std::countr_zero(static_cast<std::uint64_t>(K))) + 1);
+                    double longest = 0;
+                    for (const auto& t : g.mesh.triangles)
+                        for (int k = 0; k < 3; ++k) {
+                            const Vec2 a = g.mesh.vertices[static_cast<std::size_t>(t[k])], b = g.mesh.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
+                            longest = std::max(longest, std::hypot(a.x - b.x, a.y - b.y));
+                        }
+                    BOOST_TEST(longest <= H * (1 + 1e-12), "longest " << longest << " H " << H << " s " << s);
+                    BOOST_TEST(longest > H / 2.9);  // K is the largest that fits (coarsest leaves present)
+                }
 }
 
 BOOST_AUTO_TEST_CASE(fully_inside_lattice_keeps_a_finest_border_and_coarsens_inside) {
@@ -478,12 +600,15 @@ BOOST_AUTO_TEST_CASE(graded_mesh_does_not_depend_on_the_tile_size) {
         const LevelSet* f;
         double s;
         std::int64_t K;
+        int buffer = 0;  // grading
     };
-    for (const Case& c : {Case{flower.get(), 0.61, 0}, Case{holes.get(), 0.37, 0}, Case{holes.get(), 0.37, 8}, Case{image.get(), 0.13, 0}}) {
+    for (const Case& c : {Case{flower.get(), 0.61, 0}, Case{holes.get(), 0.37, 0}, Case{holes.get(), 0.37, 8},
+                          Case{image.get(), 0.13, 0}, Case{holes.get(), 0.37, 0, 3}, Case{flower.get(), 0.61, 16, 8},
+                          Case{image.get(), 0.13, 0, 2}}) {
         const Lattice l = lattice_around(c.f->bounds(), c.s);
         auto mesh = [&](int tile_log) {
             const TiledFront front = warp_tiles(*c.f, l, tile_log);
-            const Quadtree tree = build_quadtree(l, front.signs, front.warped, c.K);
+            const Quadtree tree = build_quadtree(l, front.signs, front.warped, c.K, c.buffer);
             const QuadtreeCheck chk = check_quadtree(tree, front.signs);
             BOOST_TEST(chk.ok());
             for (const auto& msg : chk.messages) BOOST_TEST_MESSAGE(msg);
@@ -494,7 +619,7 @@ BOOST_AUTO_TEST_CASE(graded_mesh_does_not_depend_on_the_tile_size) {
         const Canonical cw = canonical(want);
         BOOST_TEST(cw.triangles.size() > 1000u);
         for (const int tile_log : {2, 3, 5, 6, 7}) {
-            BOOST_TEST_CONTEXT("lattice " << l.nx << " x " << l.ny << " K " << c.K << " tile_log " << tile_log) {
+            BOOST_TEST_CONTEXT("lattice " << l.nx << " x " << l.ny << " K " << c.K << " buffer " << c.buffer << " tile_log " << tile_log) {
                 const Mesh got = mesh(tile_log);
                 BOOST_REQUIRE(got.vertices.size() == want.vertices.size());
                 std::int64_t moved = 0;

@@ -17,6 +17,7 @@
 #include "warpmesh/graded.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/optimize.hpp"
+#include "warpmesh/pipeline.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
@@ -221,4 +222,61 @@ BOOST_AUTO_TEST_CASE(optimised_benchmark_domains_reach_30_degrees_and_at_most_11
                     BOOST_TEST(r.boundary_distance_after <= r.boundary_distance_before);
                 }
             }
+}
+
+// --max-size with --optimize: the pass never makes an edge longer than the
+// bound (OptimizeOptions::max_edge), graded and uniform, and still lifts the
+// minimum angle.
+BOOST_AUTO_TEST_CASE(optimised_graded_mesh_keeps_the_max_size) {
+    const auto flower = parse_shape("flower:0,0,80,25,5");
+    for (const double H : {std::sqrt(5.0), 3.0, 6.0})
+        for (const bool graded : {true, false}) {
+            MeshOptions o;
+            o.graded = graded, o.max_size = H, o.optimize = true;
+            const MeshResult r = mesh(*flower, o);
+            double longest2 = 0;
+            for (const auto& t : r.mesh.triangles)
+                for (int k = 0; k < 3; ++k) {
+                    const Vec2 a = r.mesh.vertices[static_cast<std::size_t>(t[k])], b = r.mesh.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
+                    longest2 = std::max(longest2, (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y));
+                }
+            BOOST_TEST(longest2 <= H * H, "H " << H << " graded " << graded << " longest " << std::sqrt(longest2));
+            BOOST_REQUIRE(r.optimized);
+            BOOST_TEST(r.optimized->min_angle_after > r.optimized->min_angle_before + 5);
+        }
+}
+
+// OptimizeOptions::max_edge bites: with a bound below some of the band's
+// edges, the bounded pass creates no edge longer than it (stars with one are
+// frozen), while the unbounded pass does create some (so the bound is what
+// keeps --max-size).
+BOOST_AUTO_TEST_CASE(max_edge_stops_moves_and_flips_that_lengthen_an_edge) {
+    auto longer = [](const Mesh& m, double bound) {  // edges longer than bound (each counted from both sides)
+        std::int64_t n = 0;
+        for (const auto& t : m.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const Vec2 a = m.vertices[static_cast<std::size_t>(t[k])], b = m.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
+                n += (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) > bound * bound;
+            }
+        return n;
+    };
+    std::int64_t bitten = 0;
+    for (const char* spec : {"ellipse:0,0,30,18", "annulus:0,0,10,25", "flower:0,0,20,6,5"}) {
+        const auto f = parse_shape(spec);
+        const double s = 0.7, bound = 1.05 * std::sqrt(2.0) * s;  // above the lattice's diagonals, below some band edges
+        const Lattice lat = lattice_around(f->bounds(), s);
+        const Mesh m0 = mesh_uniform(*f, lat, DiagonalRule::separating).mesh;
+        Mesh free = m0, bounded = m0;
+        optimize_mesh(free, *f, at_spacing(s));
+        OptimizeOptions o = at_spacing(s);
+        o.max_edge = bound;
+        const OptimizeReport r = optimize_mesh(bounded, *f, o);
+        BOOST_TEST_CONTEXT(spec << ": before " << longer(m0, bound) << ", bounded " << longer(bounded, bound) << ", free " << longer(free, bound)) {
+            BOOST_TEST(longer(bounded, bound) <= longer(m0, bound));
+            BOOST_TEST(r.moves > 0);
+            BOOST_TEST(check_mesh(bounded).ok());
+        }
+        bitten += longer(free, bound) > longer(m0, bound);
+    }
+    BOOST_TEST(bitten > 0);
 }

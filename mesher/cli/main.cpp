@@ -92,6 +92,11 @@ lattice and algorithm:
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
                          default: as coarse as the domain allows)
+  --max-size H           every triangle's longest edge at most H (input units; H >= sqrt(5)
+                         * spacing); graded: caps the cells (the smaller of this and
+                         --max-cell wins); uniform: the spacing already bounds it (checked)
+  --grading G            graded, 1.1 <= G <= 2 (default 2: 2:1 balance): cell sizes grow
+                         away from the boundary by at most a factor G per cell on average
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
   --optimize             after meshing, move the boundary band's vertices (boundary ones
                          along the level set) and flip its interior edges to raise the
@@ -219,6 +224,8 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         } else if (a == "--graded") m.graded = true;
         else if (a == "--optimize") m.optimize = true;
         else if (a == "--max-cell") m.max_cell = parse_integer(a, value());
+        else if (a == "--max-size") m.max_size = parse_number(a, value());
+        else if (a == "--grading") m.grading = parse_number(a, value());
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
         else if (a == "--max-squares") m.max_squares = parse_integer(a, value());
         else if (a == "--msh-version") {

@@ -4,6 +4,8 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -141,6 +143,20 @@ void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool jun
 void validate(const MeshOptions& o) {
     if (!(o.spacing > 0) || o.spacing > 1e9) throw InputError("--spacing must be positive and at most 1e9");
     if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0) throw InputError("--max-cell must be a power of two");
+    if (o.max_size != 0) {
+        if (!(o.max_size > 0) || !std::isfinite(o.max_size)) throw InputError("--max-size must be positive and finite");
+        if (o.max_size < std::sqrt(5.0) * o.spacing) {
+            std::ostringstream m;
+            m << "--max-size " << o.max_size << " is below sqrt(5) * spacing = " << std::sqrt(5.0) * o.spacing
+              << ": triangles of the boundary band reach edges of sqrt(5) * spacing; use --spacing "
+              << o.max_size / std::sqrt(5.0) << " or less";
+            throw InputError(m.str());
+        }
+    }
+    if (!(o.grading >= min_grading && o.grading <= max_grading))
+        throw InputError("--grading must be between 1.1 and 2 (2: neighbouring cells differ by a factor 2 at most; "
+                         "G < 2: sizes grow by at most a factor G per cell on average; a quadtree's "
+                         "templates allow no more than 2)");
     if (o.min_spacing && !(*o.min_spacing > 0)) throw InputError("--min-spacing must be positive");
     if (o.guarantee == Guarantee::flat && !o.certify)
         throw InputError("--guarantee flat needs the certification (drop --no-certify)");
@@ -164,7 +180,14 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
         extra.clear();
         report_head(extra, o, f.describe(), spacing, lattice);
         if (o.graded) {
-            GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, o.max_cell, certify); });
+            std::int64_t max_cell = o.max_cell;
+            if (o.max_size != 0) {
+                const std::int64_t K = max_cell_for_size(o.max_size, lattice.s);
+                max_cell = max_cell == 0 ? K : std::min(max_cell, K);
+            }
+            const int buffer = grading_buffer(o.grading);
+            GradedResult r =
+                fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, max_cell, certify, buffer); });
             mesh = std::move(r.mesh);
             cert = std::move(r.certified);
             phases = {{"tiles", r.times.tiles},
@@ -177,6 +200,12 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
                 levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
             extra.emplace_back("graded", "true");
             extra.emplace_back("leaves_per_level", levels + "]");
+            if (o.max_size != 0 || o.grading != max_grading) {  // (only then: default reports unchanged)
+                extra.emplace_back("max_size", o.max_size != 0 ? json_number(o.max_size) : "null");
+                extra.emplace_back("max_cell", json_number(max_cell));
+                extra.emplace_back("grading", json_number(o.grading));
+                extra.emplace_back("grading_buffer", json_number(std::int64_t{buffer}));
+            }
             extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
             extra.emplace_back("warped_points", std::to_string(r.warped_points));
             extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
@@ -230,6 +259,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     if (o.optimize) {
         OptimizeOptions oo;
         oo.spacing = res.lattice.s;
+        oo.max_edge = o.max_size;  // the pass keeps --max-size
         if (cert.available) oo.certified_floor = cert.min_deg;
         res.optimized = optimize_mesh(mesh, f, oo);
         phases.emplace_back("optimize", res.optimized->seconds);

@@ -61,6 +61,8 @@ MeshOptions mesh_options(const py::dict& kw) {
     }
     if (kw.contains("graded")) o.graded = kw["graded"].cast<bool>();
     if (kw.contains("max_cell")) o.max_cell = kw["max_cell"].cast<std::int64_t>();
+    if (kw.contains("max_size")) o.max_size = kw["max_size"].cast<double>();
+    if (kw.contains("grading")) o.grading = kw["grading"].cast<double>();
     if (kw.contains("max_squares")) o.max_squares = kw["max_squares"].cast<std::int64_t>();
     if (kw.contains("certify")) o.certify = kw["certify"].cast<bool>();
     if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();

@@ -151,7 +151,8 @@ class Mesh:
         return f"<warpmesh.Mesh {len(self.points)} points, {len(self.triangles)} triangles{cert}>"
 
 
-def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input):
+def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input,
+             max_size=None, grading=2.0):
     if rule not in ("separating", "maxmin"):
         raise ValueError(f"rule must be 'separating' or 'maxmin', got {rule!r}")
     o = dict(spacing=float(spacing), rule=rule, graded=bool(graded), max_cell=int(max_cell),
@@ -159,6 +160,9 @@ def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, v
              guarantee="any" if guarantee is None else str(guarantee), input=input)
     if min_spacing is not None:
         o["min_spacing"] = float(min_spacing)
+    if max_size is not None:
+        o["max_size"] = float(max_size)
+    o["grading"] = float(grading)
     return o
 
 
@@ -196,8 +200,8 @@ def _labels(labels):
 
 
 def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=1.0,
-         pixel_size=None, graded=False, max_cell=0, rule="separating", guarantee=None, min_spacing=None,
-         certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
+         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating", guarantee=None,
+         min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
 
     image       2D array of integers in 0..65535 or booleans (a uint8 image from
@@ -218,6 +222,12 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 coordinates (square pixels: angles and bounds are unchanged)
     graded      graded mesh (quadtree, finest along the boundary); max_cell the
                 largest cell in lattice squares (power of two, 0 = no limit)
+    max_size    every triangle's longest edge at most this, in pixels (before
+                pixel_size; >= sqrt(5) * spacing; None = no bound); graded
+                meshes cap their cells with it, uniform ones are bounded by
+                the spacing already (checked)
+    grading     graded, in [1.1, 2]: cell sizes grow away from the boundary by
+                at most this factor per cell on average (2: 2:1 balance)
     rule        "separating" (the boundary follows the level set) or "maxmin"
     guarantee   None / "any", or "flat": halve the spacing (not below
                 min_spacing, default spacing / 16) until every warped square's
@@ -257,24 +267,24 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
         core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, background == "keep",
                                     source, threads,
                                     _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify,
-                                             verify, max_squares, source))
+                                             verify, max_squares, source, max_size, grading))
         return _finish(core, scale)
     label_list, nonzero = _labels(labels)
     core = _core.mesh_image(a.astype(np.uint16, copy=False), int(maxval),
                             None if iso is None else float(iso), inside == "above", label_list, nonzero,
                             source, threads,
                             _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, source))
+                                     max_squares, source, max_size, grading))
     return _finish(core, scale)
 
 
-def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, rule="separating", guarantee=None,
-               min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
+def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating",
+               guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
     """Mesh an analytic shape given as the CLI's --shape string:
     circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2  flower:cx,cy,a,b,k
     rect:x0,y0,x1,y1  union(S;S)  intersect(S;S)  diff(S;S).  Options as in
     mesh(); the report also gives the boundary fidelity."""
     core = _core.mesh_shape(str(spec), threads,
                             _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, str(spec)))
+                                     max_squares, str(spec), max_size, grading))
     return _finish(core)

@@ -61,6 +61,31 @@ def test_image_mesh_is_the_cli_mesh(cli, root, tmp_path):
     assert len(np.unique(m.regions)) > 5  # label tags kept
 
 
+def test_max_size_and_grading_are_the_cli_options(cli, tmp_path):
+    # The kwargs give the CLI's mesh; every edge is <= max_size; bad values
+    # raise ValueError with the CLI's message.
+    import meshio
+
+    vtu = tmp_path / "g.vtu"
+    subprocess.run([cli, "mesh", "--shape", "circle:0,0,40", "--graded", "--max-size", "6", "--grading", "1.5",
+                    "-o", str(vtu), "--quiet"], check=True)
+    ref = meshio.read(vtu)
+    m = warpmesh.mesh_shape("circle:0,0,40", graded=True, max_size=6, grading=1.5)
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    p = m.points[m.triangles]
+    longest = max(np.linalg.norm(p[:, k] - p[:, (k + 1) % 3], axis=1).max() for k in range(3))
+    assert longest <= 6
+    assert m.report["max_cell"] == 4 and m.report["grading_buffer"] == 2  # √2·4 <= 6 < √2·8
+    plain = warpmesh.mesh_shape("circle:0,0,40", graded=True)
+    assert len(plain.triangles) < len(m.triangles)
+    assert "max_cell" not in plain.report  # default reports unchanged
+    with pytest.raises(ValueError, match="--grading must be between 1.1 and 2"):
+        warpmesh.mesh_shape("circle:0,0,40", graded=True, grading=3)
+    with pytest.raises(ValueError, match="below sqrt\\(5\\) \\* spacing"):
+        warpmesh.mesh_shape("circle:0,0,40", max_size=1)
+
+
 def test_threshold_default_iso_is_half_maxval_like_the_cli(cli, root, tmp_path):
     path = root / "tests/data/horse_binary.pgm"
     rep = tmp_path / "r.json"

@@ -38,7 +38,10 @@
 //   (3) the star quality strictly increases (so the pass terminates),
 //   (4) for a boundary vertex, its boundary edges stay within the mesh's
 //       largest boundary distance to f = 0 before the pass (same measure as
-//       measure_fidelity): the boundary's Hausdorff distance never grows.
+//       measure_fidelity): the boundary's Hausdorff distance never grows;
+//   (5) with OptimizeOptions::max_edge > 0, no edge of the star is longer
+//       than it (nor a flipped pair's new diagonal): --max-size holds after
+//       the pass too.
 // A flip is accepted only if the smallest angle of the pair strictly
 // increases and the pair's quality does not decrease.  Hence the mesh's
 // minimum angle never decreases, and every triangle stays at or above the
@@ -96,6 +99,9 @@ struct OptimizeOptions {
     // The mesh's certified floor when it has no "certified_min_angle" cell
     // data (e.g. CertifiedSummary::min_deg); NaN: unknown.
     double certified_floor = std::numeric_limits<double>::quiet_NaN();
+    // > 0: no move or flip makes an edge longer than this (a mesh whose edges
+    // are all <= max_edge keeps them so: MeshOptions::max_size); 0: no bound.
+    double max_edge = 0;
     std::function<void(const Mesh&, const OptimizeEvent&)> observer;  // called after every accepted change
 };
 

@@ -55,6 +55,18 @@ struct MeshOptions {
     // two, 0 = as coarse as the domain allows).  Ignored when !graded.
     bool graded = false;
     std::int64_t max_cell = 0;
+    // Size control (graded.hpp).  max_size H > 0, in the level set's units:
+    // every triangle's longest edge is at most H; 0 = no bound.  H must be at
+    // least √5 spacing (the warped band's edges reach √5 s).  A graded mesh
+    // takes as its largest cell the smaller of max_cell and
+    // max_cell_for_size(H, s); a uniform one (and a multi-material one) is
+    // bounded by the spacing already: H is only checked.  The optimisation
+    // pass keeps the bound (OptimizeOptions::max_edge).  grading G in
+    // [1.1, 2] (graded only; 2 = plain 2:1 balance): sizes grow away from the
+    // boundary by at most a factor 2^(1/n) <= G per leaf on average, n =
+    // grading_buffer(G).
+    double max_size = 0;
+    double grading = 2;
     // Refuse lattices with more squares than this (InputError, before any
     // lattice-sized allocation).
     std::int64_t max_squares = std::int64_t{1} << 30;

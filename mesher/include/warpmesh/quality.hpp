@@ -28,6 +28,9 @@ struct TriangleAngles {
     double min_deg, max_deg;
 };
 TriangleAngles triangle_angles(Vec2 a, Vec2 b, Vec2 c);
+// triangle_angles(a, b, c).min_deg, bit for bit, with one atan2 and no square
+// root (the optimisation pass's monotone rule).
+double triangle_min_angle(Vec2 a, Vec2 b, Vec2 c);
 
 // Radius ratio normalised so that the equilateral triangle has 1:
 //   2 r_in / R_circ = 16 A² / ((a + b + c) a b c) = 4 cross² / ((a + b + c) a b c),

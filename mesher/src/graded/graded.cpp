@@ -1,7 +1,10 @@
 // graded.cpp — the graded mesher: the tiled front end (tiles.hpp), the
 // balanced quadtree and its triangulation, timed.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "warpmesh/graded.hpp"
 
@@ -11,8 +14,24 @@
 
 namespace warpmesh {
 
+int grading_buffer(double grading) {
+    if (!(grading >= min_grading && grading <= max_grading))
+        throw std::invalid_argument("grading must be between 1.1 and 2, got " + std::to_string(grading));
+    if (grading == max_grading) return 0;
+    const double n = std::ceil(1 / std::log2(grading) - 0.01);
+    return static_cast<int>(std::min<double>(max_grading_buffer, std::max(2.0, n)));
+}
+
+std::int64_t max_cell_for_size(double max_size, double spacing) {
+    if (!(spacing > 0) || !(max_size >= std::sqrt(5.0) * spacing) || !std::isfinite(max_size))
+        throw std::invalid_argument("max size must be finite and at least sqrt(5) * spacing");
+    std::int64_t K = 1;
+    while (K < (std::int64_t{1} << 30) && std::sqrt(2.0) * static_cast<double>(2 * K) * spacing <= max_size) K *= 2;
+    return K;
+}
+
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
-                         const CertifyOptions& certify) {
+                         const CertifyOptions& certify, int grading_buffer) {
     using clock = std::chrono::steady_clock;
     GradedResult r;
     const TiledFront front = warp_tiles(f, lattice);
@@ -25,7 +44,7 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     const auto& warped = front.warped;
 
     auto t0 = clock::now();
-    const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell);
+    const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell, grading_buffer);
     const Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/true);
     r.times.quadtree = seconds_since(t0);
     if (certify.verify) {  // the invariant the certificates rest on, from the leaf list

@@ -7,7 +7,9 @@
 //     (level 1 from the signs: a point is critical when f = 0 there or a
 //     4-neighbour has the strictly opposite sign — exactly the endpoints of
 //     cut edges; then each level from its children), dense_codes above;
-//  4. the split flags with 2:1 balance, level by level upward:
+//  4. with a grading buffer n >= 1 (--grading G < 2), widen_codes: the
+//     non-coarsenable inside nodes of each level widened by n nodes;
+//  5. the split flags with 2:1 balance, level by level upward:
 //     balance_tiled_level, balance_dense_level.
 //
 // The leaf list is leaves.cpp; the checks, check_quadtree.cpp.
@@ -48,6 +50,7 @@
 #include <string>
 
 #include "graded/quadtree.hpp"
+#include "warpmesh/graded.hpp"
 
 namespace warpmesh {
 namespace {
@@ -78,10 +81,11 @@ PointSet warped_points(const Lattice& lattice, std::span<const WarpedPoint> warp
 }
 
 // ---- 2. the active tiles -------------------------------------------------------
-// Seeds (sampled tiles and tiles on the lattice border), then their 3 x 3
-// dilation: along rows, then across.  Lays out the slots of the tiled levels
+// Seeds (sampled tiles and tiles on the lattice border), then their
+// (2 radius + 1)^2 dilation: along rows, then across (radius 1 without a
+// grading buffer, quadtree.hpp).  Lays out the slots of the tiled levels
 // 1 .. top and allocates them.
-void choose_active_tiles(TileLevels& tl, const TiledSigns& signs, int top) {
+void choose_active_tiles(TileLevels& tl, const TiledSigns& signs, int top, std::int64_t radius) {
     const std::int64_t TX = signs.tx, TY = signs.ty, ntiles = TX * TY, T = signs.size();
     tl.tile_log = signs.tile_log, tl.tiles_x = TX;
     tl.top = std::min(signs.tile_log - 1, top);
@@ -94,17 +98,21 @@ void choose_active_tiles(TileLevels& tl, const TiledSigns& signs, int top) {
     for (std::int64_t TJ = 0; TJ < TY; ++TJ) {
         const std::uint8_t* r = seed.data() + TJ * TX;
         std::uint8_t* o = wide.data() + TJ * TX;
-        for (std::int64_t TI = 0; TI < TX; ++TI) o[TI] = r[TI] | (TI > 0 ? r[TI - 1] : 0) | (TI + 1 < TX ? r[TI + 1] : 0);
+        for (std::int64_t TI = 0; TI < TX; ++TI) {
+            std::uint8_t v = 0;
+            for (std::int64_t d = std::max<std::int64_t>(0, TI - radius); d <= std::min(TX - 1, TI + radius); ++d) v |= r[d];
+            o[TI] = v;
+        }
     }
     tl.slot_of_tile.assign(static_cast<std::size_t>(ntiles), -1);
     tl.row_start.assign(static_cast<std::size_t>(TY) + 1, 0);
     for (std::int64_t TJ = 0; TJ < TY; ++TJ) {
         tl.row_start[static_cast<std::size_t>(TJ)] = tl.slots();
-        const std::uint8_t* mid = wide.data() + TJ * TX;
-        const std::uint8_t* below = TJ > 0 ? mid - TX : mid;
-        const std::uint8_t* above = TJ + 1 < TY ? mid + TX : mid;
+        const std::int64_t J0 = std::max<std::int64_t>(0, TJ - radius), J1 = std::min(TY - 1, TJ + radius);
         for (std::int64_t TI = 0; TI < TX; ++TI) {
-            if (!(below[TI] | mid[TI] | above[TI])) continue;
+            std::uint8_t v = 0;
+            for (std::int64_t d = J0; d <= J1; ++d) v |= wide[static_cast<std::size_t>(TI + d * TX)];
+            if (!v) continue;
             // An inactive tile is not sampled, so its σ is not 0 (tiles.hpp).
             tl.slot_of_tile[static_cast<std::size_t>(TI + TJ * TX)] = static_cast<std::int32_t>(tl.slots());
             tl.tile_of_slot.push_back(TI + TJ * TX);
@@ -272,7 +280,117 @@ void dense_codes(Quadtree& t) {
     }
 }
 
-// ---- 4. split nodes, with 2:1 balance ----------------------------------------
+// ---- 4. grading: the non-coarsenable set widened -----------------------------
+// With a buffer of n >= 1 nodes, an inside node (code -1) of level l becomes
+// non-coarsenable (code 0) when a node of level l at Chebyshev distance <= n
+// (in nodes of level l, nodes outside the lattice's nodes ignored) is not
+// coarsenable in the codes of pass 3.  Each level is widened from its own
+// codes of pass 3, so the codes stay a pyramid (a coarsenable node's
+// children are coarsenable with its sign): if a child's n-neighbourhood
+// holds a non-coarsenable node N, N's parent is non-coarsenable and lies in
+// the parent's n-neighbourhood.  Only zeros are added, so every coarse leaf
+// still contains only non-critical points of its sign (the proof's
+// invariant), and a coarse leaf of level l is farther than n 2^l squares
+// (max-norm) from every critical point and every inside border square.
+// Outside nodes (code +1) emit no triangle and are left as they are.
+//
+// The nodes of an inactive tile cannot change (they are not stored): with
+// the tiles activated up to radius grading_tile_radius(n) around the seeds
+// (non-coarsenable nodes of the tiled levels lie in seed tiles or next to
+// them, and the widening reaches n 2^l <= n T / 2 squares), none needs to;
+// returns the number of inactive inside tiles within reach of a widened node
+// (0, or the radius is wrong).
+// z: a (w + 2n) x (h + 2n) window of 0/1 flags, row-major; out[y w + x] = 1
+// iff a flag is set within max-norm distance n of window cell (x + n, y + n).
+// Separable, with running counts: O(window) work whatever n.
+void dilate(const std::vector<std::uint8_t>& z, std::int64_t w, std::int64_t h, std::int64_t n, std::vector<std::int32_t>& rows,
+            std::vector<std::uint8_t>& out) {
+    const std::int64_t W = w + 2 * n, H = h + 2 * n;
+    rows.assign(static_cast<std::size_t>(w * H), 0);  // rows[y w + x]: flags in row y, columns x .. x + 2n
+    for (std::int64_t y = 0; y < H; ++y) {
+        const std::uint8_t* r = z.data() + y * W;
+        std::int32_t c = 0;
+        for (std::int64_t d = 0; d < 2 * n; ++d) c += r[d];
+        for (std::int64_t x = 0; x < w; ++x) {
+            c += r[x + 2 * n];
+            rows[static_cast<std::size_t>(y * w + x)] = c;
+            c -= r[x];
+        }
+    }
+    out.assign(static_cast<std::size_t>(w * h), 0);
+    for (std::int64_t x = 0; x < w; ++x) {
+        std::int32_t c = 0;
+        for (std::int64_t d = 0; d < 2 * n; ++d) c += rows[static_cast<std::size_t>(d * w + x)];
+        for (std::int64_t y = 0; y < h; ++y) {
+            c += rows[static_cast<std::size_t>((y + 2 * n) * w + x)];
+            out[static_cast<std::size_t>(y * w + x)] = c > 0;
+            c -= rows[static_cast<std::size_t>(y * w + x)];
+        }
+    }
+}
+
+std::int64_t widen_codes(Quadtree& t, int n) {
+    TileLevels& tl = t.tiled;
+    const std::vector<CoarseningCode> before = tl.codes;  // pass 3's codes, read while tl.codes is written
+    const std::int64_t T = std::int64_t{1} << tl.tile_log, TX = tl.tiles_x, TY = TX ? static_cast<std::int64_t>(tl.slot_of_tile.size()) / TX : 0;
+    std::int64_t unreachable = 0;
+    for (int l = 1; l <= tl.top; ++l) {
+        const std::size_t L = static_cast<std::size_t>(l);
+        const std::int64_t mx = t.nodes_x[L], my = t.nodes_y[L], m = std::int64_t{1} << tl.nodes_log(l), W = m + 2 * n;
+        const std::int64_t reach = (n * (std::int64_t{1} << l) + T - 1) / T;  // in tiles
+        // Whether node (I, J) of level l was non-coarsenable (nodes outside the lattice's nodes: no).
+        auto zero = [&](std::int64_t I, std::int64_t J) -> std::uint8_t {
+            if (I < 0 || J < 0 || I >= mx || J >= my) return 0;
+            const std::int64_t k = tl.tile_of(l, I, J);
+            const std::int32_t s = tl.slot_of_tile[static_cast<std::size_t>(k)];
+            return (s < 0 ? tl.tile_code[static_cast<std::size_t>(k)] : before[static_cast<std::size_t>(tl.index(l, s, I, J))]) == 0;
+        };
+#pragma omp parallel if (tl.slots() >= parallel_min_tiles)
+        {
+            std::vector<std::uint8_t> window(static_cast<std::size_t>(W * W)), near;
+            std::vector<std::int32_t> rows;
+#pragma omp for schedule(dynamic, 16) reduction(+ : unreachable)
+            for (std::int64_t s = 0; s < tl.slots(); ++s) {
+                const std::int64_t k = tl.tile_of_slot[static_cast<std::size_t>(s)], TI = k % TX, TJ = k / TX;
+                for (std::int64_t y = 0; y < W; ++y)
+                    for (std::int64_t x = 0; x < W; ++x)
+                        window[static_cast<std::size_t>(y * W + x)] = zero(TI * m - n + x, TJ * m - n + y);
+                dilate(window, m, m, n, rows, near);
+                bool has_zero = false;
+                for (std::int64_t y = 0; y < m; ++y)
+                    for (std::int64_t x = 0; x < m; ++x) {
+                        const std::int64_t I = TI * m + x, J = TJ * m + y;
+                        if (I >= mx || J >= my) continue;
+                        const std::size_t at = static_cast<std::size_t>(tl.index(l, s, I, J));
+                        has_zero = has_zero || before[at] == 0;
+                        if (before[at] == -1 && near[static_cast<std::size_t>(y * m + x)]) tl.codes[at] = 0;
+                    }
+                if (!has_zero) continue;
+                for (std::int64_t b = std::max<std::int64_t>(0, TJ - reach); b <= std::min(TY - 1, TJ + reach); ++b)
+                    for (std::int64_t a = std::max<std::int64_t>(0, TI - reach); a <= std::min(TX - 1, TI + reach); ++a) {
+                        const std::size_t q = static_cast<std::size_t>(a + b * TX);
+                        unreachable += tl.slot_of_tile[q] < 0 && tl.tile_code[q] < 0;
+                    }
+            }
+        }
+    }
+    for (int l = tl.top + 1; l <= t.top; ++l) {
+        DenseLevel& level = t.dense[static_cast<std::size_t>(l)];
+        const std::int64_t mx = level.nodes_x, my = level.nodes_y, W = mx + 2 * n;
+        std::vector<std::uint8_t> window(static_cast<std::size_t>(W * (my + 2 * n)), 0), near;
+        std::vector<std::int32_t> rows;
+        for (std::int64_t J = 0; J < my; ++J)
+            for (std::int64_t I = 0; I < mx; ++I)
+                window[static_cast<std::size_t>((J + n) * W + I + n)] = level.codes[level.index(I, J)] == 0;
+        dilate(window, mx, my, n, rows, near);
+        for (std::int64_t J = 0; J < my; ++J)
+            for (std::int64_t I = 0; I < mx; ++I)
+                if (level.codes[level.index(I, J)] == -1 && near[static_cast<std::size_t>(J * mx + I)]) level.codes[level.index(I, J)] = 0;
+    }
+    return unreachable;
+}
+
+// ---- 5. split nodes, with 2:1 balance ----------------------------------------
 // A node of level l >= 2 is split if it is not coarsenable, or if a split
 // node of level l - 1 is its child or an edge neighbour of its child (the
 // rule above).  Level 1 needs no pass (split iff code 0).
@@ -370,10 +488,15 @@ void balance_dense_level(Quadtree& t, int l) {
 
 }  // namespace
 
+std::int64_t grading_tile_radius(int buffer) { return buffer == 0 ? 1 : 2 + (buffer + 1) / 2; }
+
 Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
-                        std::int64_t max_cell) {
+                        std::int64_t max_cell, int buffer) {
     if (max_cell < 0 || (max_cell != 0 && !std::has_single_bit(static_cast<std::uint64_t>(max_cell))))
         throw std::invalid_argument("max cell size must be 0 or a power of two, got " + std::to_string(max_cell));
+    if (buffer < 0 || buffer > max_grading_buffer)
+        throw std::invalid_argument("grading buffer must be 0 to " + std::to_string(max_grading_buffer) + ", got " +
+                                    std::to_string(buffer));
     if (lattice.nx >= INT32_MAX || lattice.ny >= INT32_MAX)
         throw std::length_error("lattice too large for the graded mesher");
     if (signs.tile_log > max_tile_log)
@@ -396,9 +519,11 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
 
     t.warped = warped_points(lattice, warped);
     if (t.top == 0) return t;
-    choose_active_tiles(t.tiled, signs, t.top);
+    choose_active_tiles(t.tiled, signs, t.top, grading_tile_radius(buffer));
     tiled_codes(t, signs);
     dense_codes(t);
+    if (buffer > 0 && widen_codes(t, buffer) != 0)
+        throw std::logic_error("quadtree: the grading buffer reached an inactive tile");
     std::int64_t outside_active = 0;
     for (int l = 2; l <= t.top; ++l) {  // level l is final once level l - 1 is
         if (t.is_tiled(l))

@@ -24,6 +24,17 @@
 // the uniform mesh.  Outside nodes (σ = +1) coarsen too; they emit nothing.
 // A node's *coarsening code* is σ if it is coarsenable, else 0.
 //
+// Grading (`--grading G < 2`, a buffer of n = grading_buffer(G) >= 2 nodes,
+// graded.hpp): an inside node of level l is coarsenable only if, in addition,
+// every node of level l within n nodes of it (max-norm) is coarsenable.  So a
+// coarse inside leaf of width w = 2^l squares is farther than n w from every
+// critical point, and on any straight path from the boundary to a leaf of
+// width 2w lie at least n leaves of width <= w: sizes grow by at most a
+// factor 2^(1/n) <= G per leaf on average.  Only zeros are added: the
+// invariant below is untouched, and the coarse leaves stay the same
+// templates.  n = 0 (G = 2) is the plain tree: 2:1 balance alone puts at
+// least one leaf of width w before one of width 2w.
+//
 // The invariant that makes the angle proof apply: every lattice square that
 // has a critical corner (in particular every square with a warped corner) is a
 // finest leaf with no split side.  Proof: a coarse leaf contains only
@@ -56,7 +67,11 @@
 //     node, all of which lie in tiles with sampled signs or on the border, and
 //     2:1 balance carries a split from level m to level m + 1 at most 2^(m+1)
 //     squares further, which sums to less than one tile (T = 2^tile_log)
-//     below the tiles' level (checked while balancing, not assumed).
+//     below the tiles' level (checked while balancing, not assumed).  A
+//     grading buffer of n nodes widens the non-coarsenable set by at most
+//     n T / 2 squares below the tiles' level, so the tiles are then activated
+//     up to grading_tile_radius(n) = 2 + ceil(n / 2) tiles around the seeds
+//     (also checked).
 //   * DenseLevel, levels tiled.top + 1 .. top: row-major arrays, at most one
 //     node per tile.
 //
@@ -228,14 +243,20 @@ struct Quadtree {
     bool is_finest(std::int64_t i, std::int64_t j) const { return is_split(1, i >> 1, j >> 1); }
 };
 
+// Tiles around the seeds whose levels are stored, for a grading buffer of n
+// nodes: 1 without (n = 0), 2 + ceil(n / 2) with.
+std::int64_t grading_tile_radius(int buffer);
+
 // Build the tree: the set of `warped` points, the active tiles, the
 // coarsening codes up to level log2(max_cell) (max_cell 0: as coarse as the
-// lattice allows), then 2:1 balance.  Throws std::invalid_argument if
-// max_cell is negative or not a power of two, or if the signs' tiles are
-// larger than 128 squares (tile_log > 7: a row of a tile's level-1 nodes is
-// one 64-bit word); std::length_error if the lattice has 2^31 squares a side.
+// lattice allows), widened by the grading buffer (0: none; above), then 2:1
+// balance.  Throws std::invalid_argument if max_cell is negative or not a
+// power of two, if buffer is not in 0 .. max_grading_buffer, or if the
+// signs' tiles are larger than 128 squares (tile_log > 7: a row of a tile's
+// level-1 nodes is one 64-bit word); std::length_error if the lattice has
+// 2^31 squares a side.
 Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
-                        std::int64_t max_cell);
+                        std::int64_t max_cell, int buffer = 0);
 
 // Sides of a leaf, as bits of Leaf::split_sides: bottom (A-B), right (B-D),
 // top (D-C), left (C-A).

@@ -137,7 +137,7 @@ private:
                             std::vector<Vec2>* grads);
     // Smallest angle, quality and validity of v's star with v at p.
     struct StarQ {
-        double min_deg = inf, q = inf, shortest = inf;
+        double min_deg = inf, q = inf, shortest = inf, longest2 = 0;  // longest2: the longest edge, squared
         bool valid = true;
     };
     // q from the fast atan2; min_deg (triangle_angles) only if `exact_min`.
@@ -155,6 +155,7 @@ private:
     std::vector<std::int32_t> act_;               // active vertices, increasing
     ZeroBuffer<std::int32_t> local1_;             // per mesh vertex: 1 + index in act_, or 0
     ZeroBuffer<std::uint8_t> tdirty_;             // per mesh triangle: edges to examine for flips
+    ZeroBuffer<std::uint8_t> moved_;              // per mesh vertex: 1 once moved
     std::vector<Kind> kind_;                      // per active vertex
     std::vector<std::vector<std::size_t>> star_;  // per active vertex: its triangles
     std::vector<std::array<std::int32_t, 2>> bnb_;  // level-set vertices: the two boundary neighbours
@@ -303,8 +304,10 @@ Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) cons
             return r;
         }
         r.q = std::min(r.q, tri_q_fast(q[0], q[1], q[2]));
-        if (exact_min) r.min_deg = std::min(r.min_deg, triangle_angles(q[0], q[1], q[2]).min_deg);
-        r.shortest = std::min({r.shortest, norm2(q[1] - q[0]), norm2(q[2] - q[1]), norm2(q[0] - q[2])});
+        if (exact_min) r.min_deg = std::min(r.min_deg, triangle_min_angle(q[0], q[1], q[2]));
+        const double e0 = norm2(q[1] - q[0]), e1 = norm2(q[2] - q[1]), e2 = norm2(q[0] - q[2]);
+        r.shortest = std::min({r.shortest, e0, e1, e2});
+        r.longest2 = std::max({r.longest2, e0, e1, e2});
     }
     r.shortest = std::sqrt(r.shortest);
     return r;
@@ -366,12 +369,12 @@ bool Optimizer::project_to_levelset(Vec2 p, Vec2 n, double reach, Vec2& out) con
 void Optimizer::lower_certified(std::span<const std::size_t> tris, double floor_before) {
     if (!cert_) return;
     for (const std::size_t t : tris) {
-        const auto& tri = m_.triangles[t];
-        const double mn = triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])], m_.vertices[static_cast<std::size_t>(tri[1])],
-                                          m_.vertices[static_cast<std::size_t>(tri[2])])
-                              .min_deg;
         double& c = (*cert_)[t];
-        if (mn < c) c = std::min(c, floor_before);
+        if (c <= floor_before) continue;  // min(c, floor_before) = c: nothing to lower
+        const auto& tri = m_.triangles[t];
+        const double mn = triangle_min_angle(m_.vertices[static_cast<std::size_t>(tri[0])], m_.vertices[static_cast<std::size_t>(tri[1])],
+                                             m_.vertices[static_cast<std::size_t>(tri[2])]);
+        if (mn < c) c = floor_before;
     }
 }
 
@@ -436,6 +439,7 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
         const StarQ next = star_q(lv, q, false);
         if (!next.valid || !(next.q > now.q + min_gain_deg)) continue;
+        if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
         if (now_min == inf) now_min = star_q(lv, p, true).min_deg;
         if (star_q(lv, q, true).min_deg < now_min) continue;  // the monotone rule
         if (kind == Kind::levelset) {
@@ -452,6 +456,7 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (cert_)
             for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) floor_before = std::min(floor_before, (*cert_)[t]);
         m_.vertices[static_cast<std::size_t>(g)] = q;
+        moved_[static_cast<std::size_t>(g)] = 1;
         lower_certified(star_[static_cast<std::size_t>(lv)], floor_before);
         for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
             touch(t);
@@ -493,6 +498,7 @@ bool Optimizer::try_flip(std::size_t t1, int k) {
     const auto P = [&](std::int32_t v) { return m_.vertices[static_cast<std::size_t>(v)]; };
     // New pair (c, a, d), (d, b, c): both counter-clockwise iff a-d-b-c is convex.
     if (!(cross(P(a) - P(c), P(d) - P(c)) > 0) || !(cross(P(b) - P(d), P(c) - P(d)) > 0)) return false;
+    if (o_.max_edge > 0 && norm2(P(d) - P(c)) > o_.max_edge * o_.max_edge) return false;  // the size bound
     // The fast quality first (most candidate flips gain nothing), then the rule
     // on the reported angles.
     if (std::min(tri_q_fast(P(c), P(a), P(d)), tri_q_fast(P(d), P(b), P(c))) <
@@ -553,7 +559,9 @@ OptimizeReport Optimizer::run() {
 
     // Statistics: the triangles outside the band are right isosceles.
     const std::int64_t outside = r.triangles - r.band_triangles;
-    auto stats = [&](double& mn, double& mx, double& mean) {
+    // (after the pass, check_certified: no triangle below its certified value)
+    constexpr double slack = 1e-7;
+    auto stats = [&](double& mn, double& mx, double& mean, bool check_certified) {
         mn = outside ? 45 : inf, mx = outside ? 90 : -inf;
         double sum = 45.0 * static_cast<double>(outside);
         for (const std::size_t t : band_) {
@@ -562,20 +570,30 @@ OptimizeReport Optimizer::run() {
                                                      m_.vertices[static_cast<std::size_t>(tri[1])],
                                                      m_.vertices[static_cast<std::size_t>(tri[2])]);
             mn = std::min(mn, a.min_deg), mx = std::max(mx, a.max_deg), sum += a.min_deg;
+            if (check_certified && cert_ && a.min_deg < (*cert_)[t] - slack)
+                throw std::logic_error("optimize: triangle " + std::to_string(t) + " has minimum angle " +
+                                       std::to_string(a.min_deg) + " below its certified value " + std::to_string((*cert_)[t]));
         }
         mean = r.triangles ? sum / static_cast<double>(r.triangles) : std::numeric_limits<double>::quiet_NaN();
     };
-    stats(r.min_angle_before, r.max_angle_before, r.mean_min_angle_before);
+    stats(r.min_angle_before, r.max_angle_before, r.mean_min_angle_before, false);
     r.certified_floor = cert_ ? *std::min_element(cert_->begin(), cert_->end()) : o_.certified_floor;
-    auto boundary_distance = [&] {
+    // Per level-set boundary edge its distance (-1: another tag); after the
+    // pass only the edges with a moved end are measured again.
+    std::vector<double> edge_distance(m_.boundary.size(), -1);
+    auto boundary_distance = [&](bool only_moved) {
         double worst = 0;
-        for (std::size_t e = 0; e < m_.boundary.size(); ++e)
-            if (m_.boundary_tag[e] == boundary_level_set)
-                worst = std::max(worst, edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(m_.boundary[e][0])],
-                                                                  m_.vertices[static_cast<std::size_t>(m_.boundary[e][1])], s_));
+        for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
+            if (m_.boundary_tag[e] != boundary_level_set) continue;
+            const auto [a, b] = m_.boundary[e];
+            if (!only_moved || moved_[static_cast<std::size_t>(a)] || moved_[static_cast<std::size_t>(b)])
+                edge_distance[e] = edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(a)], m_.vertices[static_cast<std::size_t>(b)], s_);
+            worst = std::max(worst, edge_distance[e]);
+        }
         return worst;
     };
-    dmax_ = r.boundary_distance_before = boundary_distance();
+    moved_.resize(m_.vertices.size());
+    dmax_ = r.boundary_distance_before = boundary_distance(false);
 
     dirty_.assign(act_.size(), 1);
     for (int sweep = 0; sweep < o_.max_sweeps; ++sweep) {
@@ -590,21 +608,11 @@ OptimizeReport Optimizer::run() {
         if (!changed) break;
     }
 
-    stats(r.min_angle_after, r.max_angle_after, r.mean_min_angle_after);
-    r.boundary_distance_after = boundary_distance();
-    r.moves = moves_, r.flips = flips_;
     // The rule's consequences, checked: no triangle below its (transferred)
-    // certified value, none below the floor, the minimum not lower.
-    constexpr double slack = 1e-7;
-    for (const std::size_t t : band_) {
-        const auto& tri = m_.triangles[t];
-        const double mn = triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])], m_.vertices[static_cast<std::size_t>(tri[1])],
-                                          m_.vertices[static_cast<std::size_t>(tri[2])])
-                              .min_deg;
-        if (cert_ && mn < (*cert_)[t] - slack)
-            throw std::logic_error("optimize: triangle " + std::to_string(t) + " has minimum angle " + std::to_string(mn) +
-                                   " below its certified value " + std::to_string((*cert_)[t]));
-    }
+    // certified value (in stats), none below the floor, the minimum not lower.
+    stats(r.min_angle_after, r.max_angle_after, r.mean_min_angle_after, true);
+    r.boundary_distance_after = boundary_distance(true);
+    r.moves = moves_, r.flips = flips_;
     if (r.min_angle_after < r.min_angle_before || r.min_angle_after < r.certified_floor - slack)
         throw std::logic_error("optimize: the minimum angle decreased from " + std::to_string(r.min_angle_before) + " to " +
                                std::to_string(r.min_angle_after));

@@ -98,6 +98,16 @@ Shape shape(Vec2 a, Vec2 b, Vec2 c) {
 
 TriangleAngles triangle_angles(Vec2 a, Vec2 b, Vec2 c) { return shape(a, b, c).angles; }
 
+double triangle_min_angle(Vec2 a, Vec2 b, Vec2 c) {  // shape()'s imin, and its angle
+    const Vec2 ab = b - a, bc = c - b, ca = a - c;
+    const double l[3] = {dot(bc, bc), dot(ca, ca), dot(ab, ab)};
+    const Vec2 p[3] = {a, b, c};
+    int imin = 0;
+    for (int i = 1; i < 3; ++i)
+        if (l[i] < l[imin]) imin = i;
+    return angle_at(p[imin], p[(imin + 1) % 3], p[(imin + 2) % 3]);
+}
+
 double radius_ratio(Vec2 a, Vec2 b, Vec2 c) { return shape(a, b, c).ratio; }
 
 std::string json_string(std::string_view s) {
