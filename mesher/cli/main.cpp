@@ -276,9 +276,6 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         throw UsageError("--materials applies to a label image and excludes --label and --iso");
     if (o.background_given && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
     if (o.materials || o.shapes) {
-        if (m.graded)
-            throw UsageError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
-                             "uniform lattice)");
         if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
         if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");
         if (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty())
