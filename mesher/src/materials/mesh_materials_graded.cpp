@@ -35,14 +35,21 @@
 // (2:1 edge balance, midpoints of split sides are vertices on both sides).
 //
 // Edges.  Every triangle's vertices are lattice points (warped or not), so
-// its edges are pairs of lattice points.  The half-edges of the full tiling
-// (background included) sorted by their endpoints pair up: a half-edge with
-// no twin lies on the lattice border (boundary_domain if its triangle is
-// output); two of them with different materials are an interface if both
-// triangles are output, else a boundary edge (boundary_level_set) of the
-// output one; different materials add the length to both perimeters.  Since
-// the finest band is the uniform mesh's, the interfaces and boundary edges
-// are the uniform mesh's, as vertex pairs.
+// its edges are pairs of lattice points.  An edge whose ends lie on one side
+// of the lattice border (both i = 0, both i = nx, both j = 0 or both j = ny)
+// is a side of a square or leaf on the border, held by that triangle alone:
+// a border edge (boundary_domain if the triangle is output).  Any other edge
+// can separate different materials only if both its triangles come from
+// warped squares (a square with a moved corner): an edge of a plain square
+// (no moved corner) or of a coarse leaf joins two unwarped points of one
+// material, and the triangle across it has those two staying corners, hence
+// that material too.  So only the warped squares' half-edges are sorted by
+// their endpoints and paired; one without a twin there has its twin in a
+// plain square or coarse leaf and separates nothing.  A pair of different
+// materials is an interface if both triangles are output, else a boundary
+// edge (boundary_level_set) of the output one, and adds its length to both
+// perimeters.  Since the finest band is the uniform mesh's, the interfaces
+// and boundary edges are the uniform mesh's, as vertex pairs.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -62,11 +69,12 @@ using clock = std::chrono::steady_clock;
 using namespace square_code;  // rule_bit, bc_bit, triangle_of
 
 // A triangle of the full tiling: its corners as lattice points (counter-
-// clockwise), its material, whether it is output.
+// clockwise), its material, whether it is output, whether it comes from a
+// warped square.
 struct FullTriangle {
     std::array<std::int64_t, 3> p;
     std::uint16_t m;
-    bool out;
+    bool out, warped;
 };
 
 // Half-edge p[k] → p[k + 1] of triangle `tri`, keyed by its endpoints in
@@ -130,9 +138,9 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     all.reserve(static_cast<std::size_t>(2 * leaves.finest + 6 * static_cast<std::int64_t>(leaves.coarse.size())));
     std::vector<KeyedSquare> keyed;
     std::int64_t nout = 0;
-    const auto add = [&](std::int64_t a, std::int64_t b, std::int64_t c, int m) {
+    const auto add = [&](std::int64_t a, std::int64_t b, std::int64_t c, int m, bool warped = false) {
         const bool out = !(drop && m == 0);
-        all.push_back({{a, b, c}, static_cast<std::uint16_t>(m), out});
+        all.push_back({{a, b, c}, static_cast<std::uint16_t>(m), out, warped});
         nout += out;
         return out;
     };
@@ -180,7 +188,7 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
                 m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
                 ++r.centroid_triangles;
             }
-            add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])], m);
+            add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])], m, true);
         }
         if (nout > first) keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(nout - first)});
     });
@@ -210,18 +218,23 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
 
     // Vertices: the points of output triangles, in lattice-point order.
     Mesh& mesh = r.mesh;
-    std::vector<std::int64_t> used;
-    used.reserve(static_cast<std::size_t>(3 * nout));
+    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
+    std::vector<std::uint8_t> used(npoints, 0);
     for (const FullTriangle& ft : all)
-        if (ft.out) used.insert(used.end(), ft.p.begin(), ft.p.end());
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
-    if (used.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit vertex indices");
-    const auto vid = [&](std::int64_t p) {
-        return static_cast<std::int32_t>(std::lower_bound(used.begin(), used.end(), p) - used.begin());
-    };
-    mesh.vertices.resize(used.size());
-    for (std::size_t v = 0; v < used.size(); ++v) mesh.vertices[v] = front.position(lattice, used[v]);
+        if (ft.out)
+            for (const std::int64_t q : ft.p) used[static_cast<std::size_t>(q)] = 1;
+    Buffer<std::int32_t> vid(npoints);  // written at the used points only, read only there
+    std::int64_t nverts = 0;
+    for (std::size_t q = 0; q < npoints; ++q)
+        if (used[q]) {
+            if (nverts == INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
+            vid[q] = static_cast<std::int32_t>(nverts++);
+        }
+    std::vector<std::uint8_t>().swap(used);
+    mesh.vertices.resize(static_cast<std::size_t>(nverts));
+    for (const FullTriangle& ft : all)
+        if (ft.out)
+            for (const std::int64_t q : ft.p) mesh.vertices[static_cast<std::size_t>(vid[static_cast<std::size_t>(q)])] = front.position(lattice, q);
 
     // Triangles, region tags; per-material counts and areas of the full tiling.
     std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
@@ -230,66 +243,72 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     std::vector<double> area2(static_cast<std::size_t>(nmat), 0.0), perim(static_cast<std::size_t>(nmat), 0.0);
     mesh.triangles.resize(static_cast<std::size_t>(nout));
     mesh.region.resize(static_cast<std::size_t>(nout));
+    const auto id = [&](std::int64_t q) { return vid[static_cast<std::size_t>(q)]; };
     std::size_t next = 0;
     for (const FullTriangle& ft : all) {
         const Vec2 a = front.position(lattice, ft.p[0]), b = front.position(lattice, ft.p[1]), e = front.position(lattice, ft.p[2]);
         ++count[ft.m];
         area2[ft.m] += (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x);
         if (!ft.out) continue;
-        mesh.triangles[next] = {vid(ft.p[0]), vid(ft.p[1]), vid(ft.p[2])};
+        mesh.triangles[next] = {id(ft.p[0]), id(ft.p[1]), id(ft.p[2])};
         mesh.region[next++] = tag[ft.m];
     }
 
-    // Interfaces, boundary, perimeters: the half-edges of the full tiling paired.
-    std::vector<HalfEdge> half(3 * all.size());
-    for (std::size_t t = 0; t < all.size(); ++t)
+    // Border edges; the warped squares' half-edges, paired (see the head comment).
+    const auto on_border = [&](std::int64_t a, std::int64_t b) {
+        const std::int64_t ia = a % nxp, ja = a / nxp, ib = b % nxp, jb = b / nxp;
+        return (ia == ib && (ia == 0 || ia == nx)) || (ja == jb && (ja == 0 || ja == lattice.ny));
+    };
+    const auto length = [&](std::int64_t a, std::int64_t b) {
+        const Vec2 x = front.position(lattice, a), y = front.position(lattice, b);
+        return std::hypot(y.x - x.x, y.y - x.y);
+    };
+    std::vector<HalfEdge> half;
+    for (std::size_t t = 0; t < all.size(); ++t) {
+        const FullTriangle& ft = all[t];
         for (int k = 0; k < 3; ++k) {
-            const std::int64_t a = all[t].p[static_cast<std::size_t>(k)], b = all[t].p[static_cast<std::size_t>((k + 1) % 3)];
-            half[3 * t + static_cast<std::size_t>(k)] = {std::min(a, b), std::max(a, b), static_cast<std::int32_t>(t), static_cast<std::int8_t>(k)};
+            const std::int64_t a = ft.p[static_cast<std::size_t>(k)], b = ft.p[static_cast<std::size_t>((k + 1) % 3)];
+            if (on_border(a, b)) {
+                perim[ft.m] += length(a, b);
+                if (ft.out) {
+                    mesh.boundary.push_back({id(a), id(b)});
+                    mesh.boundary_tag.push_back(boundary_domain);
+                }
+            } else if (ft.warped) {
+                half.push_back({std::min(a, b), std::max(a, b), static_cast<std::int32_t>(t), static_cast<std::int8_t>(k)});
+            }
         }
+    }
     std::sort(half.begin(), half.end());
     const auto ends = [&](const HalfEdge& h) {
         const FullTriangle& ft = all[static_cast<std::size_t>(h.tri)];
         return std::array<std::int64_t, 2>{ft.p[static_cast<std::size_t>(h.k)], ft.p[static_cast<std::size_t>((h.k + 1) % 3)]};
     };
-    const auto length = [&](const HalfEdge& h) {
-        const Vec2 a = front.position(lattice, h.lo), b = front.position(lattice, h.hi);
-        return std::hypot(b.x - a.x, b.y - a.y);
-    };
     for (std::size_t k = 0; k < half.size();) {
         const HalfEdge& h1 = half[k];
-        const FullTriangle& t1 = all[static_cast<std::size_t>(h1.tri)];
         const bool twin = k + 1 < half.size() && half[k + 1].lo == h1.lo && half[k + 1].hi == h1.hi;
-        if (twin && k + 2 < half.size() && half[k + 2].lo == h1.lo && half[k + 2].hi == h1.hi)
-            throw std::logic_error("graded multi-material mesh: an edge of more than two triangles");
-        if (!twin) {  // the lattice border
-            perim[t1.m] += length(h1);
-            if (t1.out) {
-                const auto e = ends(h1);
-                mesh.boundary.push_back({vid(e[0]), vid(e[1])});
-                mesh.boundary_tag.push_back(boundary_domain);
-            }
+        if (!twin) {  // its twin is in a plain square or a coarse leaf: one material
             k += 1;
             continue;
         }
+        if (k + 2 < half.size() && half[k + 2].lo == h1.lo && half[k + 2].hi == h1.hi)
+            throw std::logic_error("graded multi-material mesh: an edge of more than two triangles");
         const HalfEdge& h2 = half[k + 1];
-        const FullTriangle& t2 = all[static_cast<std::size_t>(h2.tri)];
         k += 2;
-        if (t1.m == t2.m && t1.out == t2.out) continue;
-        if (t1.m != t2.m) {
-            const double len = length(h1);
-            perim[t1.m] += len;
-            perim[t2.m] += len;
-        }
+        const FullTriangle &t1 = all[static_cast<std::size_t>(h1.tri)], &t2 = all[static_cast<std::size_t>(h2.tri)];
+        if (t1.m == t2.m) continue;  // then both output or both not
+        const double len = length(h1.lo, h1.hi);
+        perim[t1.m] += len;
+        perim[t2.m] += len;
         const auto e1 = ends(h1), e2 = ends(h2);
         if (t1.out && t2.out) {
-            mesh.interfaces.push_back({vid(e1[0]), vid(e1[1])});
+            mesh.interfaces.push_back({id(e1[0]), id(e1[1])});
             mesh.interface_regions.push_back({tag[t1.m], tag[t2.m]});
         } else if (t1.out) {
-            mesh.boundary.push_back({vid(e1[0]), vid(e1[1])});
+            mesh.boundary.push_back({id(e1[0]), id(e1[1])});
             mesh.boundary_tag.push_back(boundary_level_set);
-        } else {
-            mesh.boundary.push_back({vid(e2[0]), vid(e2[1])});
+        } else if (t2.out) {
+            mesh.boundary.push_back({id(e2[0]), id(e2[1])});
             mesh.boundary_tag.push_back(boundary_level_set);
         }
     }
