@@ -493,6 +493,47 @@ fs::path write_pgm(const std::string& name, int w, int h, const std::vector<int>
 
 }  // namespace
 
+// --materials with --slice: a slice of a label volume is meshed as the same
+// slice saved as a 2D label image (pixel units; y upwards along the volume's j).
+BOOST_AUTO_TEST_CASE(cli_meshes_materials_of_a_volume_slice_as_the_same_label_image) {
+    const int W = 13, H = 11, D = 3;
+    auto label = [](int i, int j, int k) {
+        const int d2 = (i - 6) * (i - 6) + (j - 4) * (j - 4);
+        return d2 < 4 + 3 * k ? 7 : d2 < 16 + 4 * k ? 3 : (i > 9 && k == 1) ? 12 : 0;
+    };
+    const fs::path dir = fs::temp_directory_path() / ("wm_materials_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    {
+        std::ofstream o(dir / "labels.nrrd", std::ios::binary);
+        o << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: " << W << " " << H << " " << D << "\nencoding: raw\n\n";
+        for (int k = 0; k < D; ++k)
+            for (int j = 0; j < H; ++j)
+                for (int i = 0; i < W; ++i) o.put(static_cast<char>(label(i, j, k)));
+    }
+    std::vector<int> px;  // slice k = 1, row 0 at the top: j = H - 1 - row
+    for (int r = 0; r < H; ++r)
+        for (int i = 0; i < W; ++i) px.push_back(label(i, H - 1 - r, 1));
+    const fs::path pgm = write_pgm("slice1.pgm", W, H, px);
+    for (const std::string graded : {"", " --graded"}) {
+        Run a = run("mesh '" + (dir / "labels.nrrd").string() + "' --slice k=1 --materials all --spacing 0.5" + graded +
+                    " --verify -o vol.node --quiet");
+        BOOST_TEST_REQUIRE(a.code == 0, a.err);
+        Run b = run("mesh '" + pgm.string() + "' --materials all --spacing 0.5" + graded + " --verify -o img.node --quiet");
+        BOOST_TEST_REQUIRE(b.code == 0, b.err);
+        for (const char* ext : {".node", ".ele", ".poly"}) {
+            const std::string va = testing::slurp(dir / (std::string("vol") + ext)), vb = testing::slurp(dir / (std::string("img") + ext));
+            BOOST_TEST(!va.empty());
+            BOOST_TEST((va == vb), ext << graded << " differs");
+        }
+    }
+    const Run r = run("mesh '" + (dir / "labels.nrrd").string() + "' --materials all -o m.vtu");
+    BOOST_TEST(r.code != 0);
+    BOOST_TEST(r.err.find("choose a slice") != std::string::npos, r.err);
+    const Run s = run("mesh '" + (dir / "labels.nrrd").string() + "' --slices k=0:2 --materials all -o m%d.vtu");
+    BOOST_TEST(s.code == 2);
+    BOOST_TEST(s.err.find("--slices") != std::string::npos, s.err);
+}
+
 BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
     std::vector<int> px(12 * 10, 0);
     for (int r = 2; r < 8; ++r)
