@@ -90,6 +90,7 @@ lattice and algorithm:
   --diagonal RULE        separating (default): the mesh boundary follows the level set;
                          maxmin: the paper's rule, the diagonal with the larger minimum angle
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
+                         (with --materials/--shapes: along every interface)
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
                          default: as coarse as the domain allows)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)

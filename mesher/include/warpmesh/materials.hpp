@@ -30,6 +30,11 @@
 //      staying corners of different materials by its diagonal: mesh_materials
 //      refuses it (InputError).
 //
+// Graded (mesh_materials_graded): the same steps 1 - 3; the graded mesher's
+// quadtree, finest on every square with a corner on a cut edge (those squares
+// then get exactly step 4's triangles), coarse 45-45-90 templates of one
+// material elsewhere.
+//
 // Certification.  A square whose corners carry one or two materials is a
 // square of the two-material proof: map its larger material to '-' and the
 // other to '+'.  The key is consistent in the prover's sense (prover.cpp,
