@@ -193,25 +193,18 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
         if (nout > first) keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(nout - first)});
     });
     for (const Leaf& leaf : leaves.coarse) {
-        const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
-        const int m = mat[static_cast<std::size_t>(lattice.index(i, j))];
-        // The ring A → [mid AB] → B → [mid BD] → D → [mid DC] → C → [mid CA], counter-clockwise.
+        const int m = mat[static_cast<std::size_t>(lattice.index(leaf.i, leaf.j))];
+        std::array<std::array<std::int64_t, 2>, 8> ij{};
+        std::array<std::int64_t, 2> mid{};
+        const int n = coarse_ring(leaf, ij, mid);
         std::array<std::int64_t, 8> ring{};
-        int n = 0;
-        ring[static_cast<std::size_t>(n++)] = lattice.index(i, j);
-        if (leaf.split_sides & side_bottom) ring[static_cast<std::size_t>(n++)] = lattice.index(i + h, j);
-        ring[static_cast<std::size_t>(n++)] = lattice.index(i + w, j);
-        if (leaf.split_sides & side_right) ring[static_cast<std::size_t>(n++)] = lattice.index(i + w, j + h);
-        ring[static_cast<std::size_t>(n++)] = lattice.index(i + w, j + w);
-        if (leaf.split_sides & side_top) ring[static_cast<std::size_t>(n++)] = lattice.index(i + h, j + w);
-        ring[static_cast<std::size_t>(n++)] = lattice.index(i, j + w);
-        if (leaf.split_sides & side_left) ring[static_cast<std::size_t>(n++)] = lattice.index(i, j + h);
+        for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) ring[k] = lattice.index(ij[k][0], ij[k][1]);
         if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
             add(ring[0], ring[1], ring[2], m);
             add(ring[0], ring[2], ring[3], m);
             continue;
         }
-        const std::int64_t centre = lattice.index(i + h, j + h);
+        const std::int64_t centre = lattice.index(mid[0], mid[1]);
         for (int k = 0; k < n; ++k) add(centre, ring[static_cast<std::size_t>(k)], ring[static_cast<std::size_t>((k + 1) % n)], m);
     }
     if (all.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit triangle indices");
