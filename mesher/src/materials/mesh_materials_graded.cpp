@@ -69,12 +69,14 @@ using clock = std::chrono::steady_clock;
 using namespace square_code;  // rule_bit, bc_bit, triangle_of
 
 // A triangle of the full tiling: its corners as lattice points (counter-
-// clockwise), its material, whether it is output, whether it comes from a
-// warped square.
+// clockwise), twice its area, its material, whether it is output, whether it
+// comes from a warped square, whether its square or leaf touches the lattice
+// border.
 struct FullTriangle {
     std::array<std::int64_t, 3> p;
+    double area2;
     std::uint16_t m;
-    bool out, warped;
+    bool out, warped, border;
 };
 
 // Half-edge p[k] → p[k + 1] of triangle `tri`, keyed by its endpoints in
@@ -138,22 +140,27 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     all.reserve(static_cast<std::size_t>(2 * leaves.finest + 6 * static_cast<std::int64_t>(leaves.coarse.size())));
     std::vector<KeyedSquare> keyed;
     std::int64_t nout = 0;
-    const auto add = [&](std::int64_t a, std::int64_t b, std::int64_t c, int m, bool warped = false) {
+    const double s2 = lattice.s * lattice.s;
+    const auto touches_border = [&](std::int64_t i, std::int64_t j, std::int64_t w) {
+        return i == 0 || j == 0 || i + w == nx || j + w == lattice.ny;
+    };
+    const auto add = [&](std::int64_t a, std::int64_t b, std::int64_t c, double area2, int m, bool warped, bool border) {
         const bool out = !(drop && m == 0);
-        all.push_back({{a, b, c}, static_cast<std::uint16_t>(m), out, warped});
+        all.push_back({{a, b, c}, area2, static_cast<std::uint16_t>(m), out, warped, border});
         nout += out;
-        return out;
     };
     for_each_finest(leaves, [&](std::int64_t i, std::int64_t j) {
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+        const bool border = touches_border(i, j, 1);
         if (!(moved[static_cast<std::size_t>(p[0])] | moved[static_cast<std::size_t>(p[1])] |
               moved[static_cast<std::size_t>(p[2])] | moved[static_cast<std::size_t>(p[3])])) {
             // No corner moved, so no side is cut: one material, diagonal AD.
             const int m = mat[static_cast<std::size_t>(pa)];
             for (int k = 0; k < 2; ++k) {
                 const auto tri = triangle_of(0, k);
-                add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])], m);
+                add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])], s2, m,
+                    false, border);
             }
             return;
         }
@@ -188,7 +195,8 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
                 m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
                 ++r.centroid_triangles;
             }
-            add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])], m, true);
+            add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
+                (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x), m, true, border);
         }
         if (nout > first) keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(nout - first)});
     });
@@ -199,13 +207,22 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
         const int n = coarse_ring(leaf, ij, mid);
         std::array<std::int64_t, 8> ring{};
         for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) ring[k] = lattice.index(ij[k][0], ij[k][1]);
+        const std::int64_t w = std::int64_t{1} << leaf.level;
+        const bool border = touches_border(leaf.i, leaf.j, w);
+        // Twice the area of the lattice triangle (u, v, q), from the indices (exact integers, times s^2).
+        const auto area2 = [&](const std::array<std::int64_t, 2>& u, const std::array<std::int64_t, 2>& v, const std::array<std::int64_t, 2>& q) {
+            return static_cast<double>((v[0] - u[0]) * (q[1] - u[1]) - (v[1] - u[1]) * (q[0] - u[0])) * s2;
+        };
         if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-            add(ring[0], ring[1], ring[2], m);
-            add(ring[0], ring[2], ring[3], m);
+            add(ring[0], ring[1], ring[2], area2(ij[0], ij[1], ij[2]), m, false, border);
+            add(ring[0], ring[2], ring[3], area2(ij[0], ij[2], ij[3]), m, false, border);
             continue;
         }
         const std::int64_t centre = lattice.index(mid[0], mid[1]);
-        for (int k = 0; k < n; ++k) add(centre, ring[static_cast<std::size_t>(k)], ring[static_cast<std::size_t>((k + 1) % n)], m);
+        for (int k = 0; k < n; ++k) {
+            const std::size_t k0 = static_cast<std::size_t>(k), k1 = static_cast<std::size_t>((k + 1) % n);
+            add(centre, ring[k0], ring[k1], area2(mid, ij[k0], ij[k1]), m, false, border);
+        }
     }
     if (all.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit triangle indices");
 
@@ -217,17 +234,15 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
         if (ft.out)
             for (const std::int64_t q : ft.p) used[static_cast<std::size_t>(q)] = 1;
     Buffer<std::int32_t> vid(npoints);  // written at the used points only, read only there
-    std::int64_t nverts = 0;
-    for (std::size_t q = 0; q < npoints; ++q)
-        if (used[q]) {
-            if (nverts == INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
-            vid[q] = static_cast<std::int32_t>(nverts++);
-        }
+    for (std::int64_t j = 0, q = 0; j <= lattice.ny; ++j)
+        for (std::int64_t i = 0; i < nxp; ++i, ++q)
+            if (used[static_cast<std::size_t>(q)]) {
+                if (mesh.vertices.size() == static_cast<std::size_t>(INT32_MAX))
+                    throw std::length_error("mesh too large for 32-bit vertex indices");
+                vid[static_cast<std::size_t>(q)] = static_cast<std::int32_t>(mesh.vertices.size());
+                mesh.vertices.push_back(front.position(lattice, q, i, j));
+            }
     std::vector<std::uint8_t>().swap(used);
-    mesh.vertices.resize(static_cast<std::size_t>(nverts));
-    for (const FullTriangle& ft : all)
-        if (ft.out)
-            for (const std::int64_t q : ft.p) mesh.vertices[static_cast<std::size_t>(vid[static_cast<std::size_t>(q)])] = front.position(lattice, q);
 
     // Triangles, region tags; per-material counts and areas of the full tiling.
     std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
@@ -239,9 +254,8 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     const auto id = [&](std::int64_t q) { return vid[static_cast<std::size_t>(q)]; };
     std::size_t next = 0;
     for (const FullTriangle& ft : all) {
-        const Vec2 a = front.position(lattice, ft.p[0]), b = front.position(lattice, ft.p[1]), e = front.position(lattice, ft.p[2]);
         ++count[ft.m];
-        area2[ft.m] += (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x);
+        area2[ft.m] += ft.area2;
         if (!ft.out) continue;
         mesh.triangles[next] = {id(ft.p[0]), id(ft.p[1]), id(ft.p[2])};
         mesh.region[next++] = tag[ft.m];
@@ -261,7 +275,7 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
         const FullTriangle& ft = all[t];
         for (int k = 0; k < 3; ++k) {
             const std::int64_t a = ft.p[static_cast<std::size_t>(k)], b = ft.p[static_cast<std::size_t>((k + 1) % 3)];
-            if (on_border(a, b)) {
+            if (ft.border && on_border(a, b)) {
                 perim[ft.m] += length(a, b);
                 if (ft.out) {
                     mesh.boundary.push_back({id(a), id(b)});
