@@ -80,6 +80,9 @@ for th in 1 2; do
     run_case "graded disc, 4096x4096 lattice" "$th" --shape circle:0,0,2047 --spacing 1 --graded --no-certify
     run_case "graded atlas upscaled, 4096x4096" "$th" "$brain" --label nonzero --spacing 0.062255859375 --graded --no-certify
     run_case "graded flower, 4096x4096 lattice" "$th" --shape flower:0,0,1500,500,40 --spacing 1 --graded --no-certify
+    # Multi-material graded: the finest band along every interface; the
+    # materials are sampled at every lattice point, as uniform.
+    run_case "graded atlas 4096^2, --materials all" "$th" "$brain" --materials all --spacing 0.062255859375 --graded --no-certify
     # 16 times the lattice area, 4 times the boundary: the graded mesher's
     # work follows the boundary (the uniform mesh would have 540 M triangles).
     run_case "graded disc, 16384x16384 lattice" "$th" --shape circle:0,0,8191 --spacing 1 --graded --no-certify

@@ -18,6 +18,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #ifdef _OPENMP
@@ -26,6 +27,7 @@
 
 #include "support.hpp"
 #include "warpmesh/errors.hpp"
+#include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/materials.hpp"
 #include "warpmesh/mesh_checks.hpp"
@@ -124,8 +126,63 @@ void check_material_mesh(const MaterialField& f, const Lattice& l, const Materia
         for (const auto tag : r.mesh.boundary_tag) BOOST_REQUIRE_EQUAL(tag, boundary_domain);
         std::int64_t total = 0;
         for (const auto& m : r.materials) total += m.triangles;
-        BOOST_REQUIRE_EQUAL(total, 2 * l.nx * l.ny);
+        if (!r.graded) BOOST_REQUIRE_EQUAL(total, 2 * l.nx * l.ny);  // graded: fewer, coarse leaves inside materials
         BOOST_REQUIRE_EQUAL(static_cast<std::int64_t>(r.mesh.triangles.size()), total);
+    }
+}
+
+// Edges as pairs of vertex positions: (a, b, left tag, right tag), a < b
+// (tags swapped with the direction); boundary edges (a, b, tag, -1) directed.
+using EdgeKey = std::tuple<double, double, double, double, std::int32_t, std::int32_t>;
+std::set<EdgeKey> interface_keys(const Mesh& m) {
+    std::set<EdgeKey> out;
+    for (std::size_t k = 0; k < m.interfaces.size(); ++k) {
+        Vec2 a = m.vertices[static_cast<std::size_t>(m.interfaces[k][0])], b = m.vertices[static_cast<std::size_t>(m.interfaces[k][1])];
+        std::int32_t l = m.interface_regions[k][0], r = m.interface_regions[k][1];
+        if (std::tie(b.x, b.y) < std::tie(a.x, a.y)) std::swap(a, b), std::swap(l, r);
+        out.insert({a.x, a.y, b.x, b.y, l, r});
+    }
+    return out;
+}
+std::set<EdgeKey> boundary_keys(const Mesh& m) {
+    std::set<EdgeKey> out;
+    for (std::size_t k = 0; k < m.boundary.size(); ++k) {
+        const Vec2 a = m.vertices[static_cast<std::size_t>(m.boundary[k][0])], b = m.vertices[static_cast<std::size_t>(m.boundary[k][1])];
+        out.insert({a.x, a.y, b.x, b.y, m.boundary_tag[k], -1});
+    }
+    return out;
+}
+
+// The graded multi-material mesh against the uniform one on the same lattice:
+// the properties of every multi-material mesh; the finest band is the
+// uniform mesh's (the same warped squares, diagonals overridden, junctions,
+// keyed squares and certified bounds; the same interface and boundary edges,
+// as vertex positions); the coarse leaves tile exactly the rest of each
+// material (the same per-material areas and perimeters, to rounding), with
+// no more triangles; and the band invariant was checked (verify).
+void check_graded_against_uniform(const MaterialField& f, const Lattice& l, const MaterialResult& g, const MaterialResult& u,
+                                  bool keep) {
+    BOOST_REQUIRE(g.graded);
+    check_material_mesh(f, l, g, keep);
+    BOOST_REQUIRE_GE(g.invariant_squares, 0);
+    BOOST_REQUIRE_EQUAL(g.warped_squares, u.warped_squares);
+    BOOST_REQUIRE_EQUAL(g.forced_diagonals, u.forced_diagonals);
+    BOOST_REQUIRE_EQUAL(g.centroid_triangles, u.centroid_triangles);
+    BOOST_REQUIRE_EQUAL(g.junction_squares, u.junction_squares);
+    BOOST_REQUIRE_EQUAL(g.certified.keyed_squares, u.certified.keyed_squares);
+    if (u.certified.available) {
+        BOOST_REQUIRE(g.certified.verified);
+        BOOST_REQUIRE_EQUAL(g.certified.min_deg, u.certified.min_deg);
+    }
+    BOOST_REQUIRE(interface_keys(g.mesh) == interface_keys(u.mesh));
+    BOOST_REQUIRE(boundary_keys(g.mesh) == boundary_keys(u.mesh));
+    BOOST_REQUIRE_LE(g.mesh.triangles.size(), u.mesh.triangles.size());
+    BOOST_REQUIRE(g.mesh.region_names == u.mesh.region_names);
+    const double scale = (l.nx * l.s) * (l.ny * l.s);
+    for (std::size_t m = 0; m < u.materials.size(); ++m) {
+        BOOST_REQUIRE_LE(g.materials[m].triangles, u.materials[m].triangles);
+        BOOST_REQUIRE_SMALL(g.materials[m].area - u.materials[m].area, 1e-9 * scale);
+        BOOST_REQUIRE_SMALL(g.materials[m].perimeter - u.materials[m].perimeter, 1e-9 * scale);
     }
 }
 
@@ -135,7 +192,7 @@ BOOST_AUTO_TEST_CASE(random_discs_give_conforming_meshes_without_mixed_triangles
     const OneThread one;
     std::mt19937 rng(15);
     std::uniform_real_distribution<double> spacing(0.35, 1.3);
-    std::int64_t junctions = 0, centroid = 0, interfaces = 0;
+    std::int64_t junctions = 0, centroid = 0, interfaces = 0, graded_tris = 0, uniform_tris = 0, coarse = 0;
     for (int trial = 0; trial < 3000; ++trial) {
         const RandomDiscs f(rng, 2 + trial % 5, 8);
         const Lattice l = lattice_over(f.bounds(), spacing(rng));
@@ -145,10 +202,19 @@ BOOST_AUTO_TEST_CASE(random_discs_give_conforming_meshes_without_mixed_triangles
         junctions += r.junction_squares;
         centroid += r.centroid_triangles;
         interfaces += static_cast<std::int64_t>(r.mesh.interfaces.size());
+        // The same field graded (max cell 0, 2, 4, 8 in turn).
+        const std::int64_t max_cell = trial % 4 ? std::int64_t{1} << (trial % 4) : 0;
+        const MaterialResult g = mesh_materials_graded(f, l, {keep, DiagonalRule::separating, {true, true, true}}, max_cell);
+        check_graded_against_uniform(f, l, g, r, keep);
+        graded_tris += static_cast<std::int64_t>(g.mesh.triangles.size());
+        uniform_tris += static_cast<std::int64_t>(r.mesh.triangles.size());
+        coarse += g.leaves_per_level.size() > 1 ? g.leaves_per_level[1] : 0;
     }
     // The trials must have exercised what they test.
     BOOST_TEST(junctions > 100);
     BOOST_TEST(interfaces > 10000);
+    BOOST_TEST(coarse > 1000);  // the graded meshes did coarsen
+    BOOST_TEST(graded_tris < uniform_tris);
     BOOST_TEST_MESSAGE("junction squares " << junctions << ", centroid-material triangles " << centroid);
 }
 
@@ -170,6 +236,8 @@ BOOST_AUTO_TEST_CASE(random_label_images_give_conforming_meshes_without_mixed_tr
         const MaterialResult r = mesh_materials(*f, l, {keep, DiagonalRule::separating, {true, true, true}});
         check_material_mesh(*f, l, r, keep);
         junctions += r.junction_squares;
+        const MaterialResult g = mesh_materials_graded(*f, l, {keep, DiagonalRule::separating, {true, true, true}}, 0);
+        check_graded_against_uniform(*f, l, g, r, keep);
     }
     BOOST_TEST(junctions > 50);
 }
@@ -354,10 +422,33 @@ BOOST_AUTO_TEST_CASE(junction_squares_are_certified_and_verified) {
     BOOST_TEST(r.certified.min_deg > 14.99);
 }
 
+// Every label of the brain-atlas slice, graded: the finest band along every
+// interface is the uniform mesh's, the materials' interiors are coarser.
+BOOST_AUTO_TEST_CASE(graded_atlas_slice_keeps_the_uniform_band_and_coarsens_inside) {
+    const Image img = read_image(WARPMESH_SOURCE_DIR "/mesher/examples/brain_axial_s128_labels16.pgm");
+    const auto f = make_label_materials(img, "all");
+    for (const double s : {1.0, 0.5}) {
+        const Lattice l = lattice_over(f->bounds(), s);
+        const MaterialResult u = mesh_materials(*f, l, {false, DiagonalRule::separating, {true, true, true}});
+        const MaterialResult g = mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {true, true, true}}, 0);
+        check_graded_against_uniform(*f, l, g, u, false);
+        BOOST_TEST_MESSAGE("atlas s = " << s << ": uniform " << u.mesh.triangles.size() << ", graded " << g.mesh.triangles.size()
+                                        << " triangles");
+        // Thin structures: little interior at s = 1 (28128 against 30590), more at s = 1/2 (93488 against 131060).
+        BOOST_TEST(g.mesh.triangles.size() < u.mesh.triangles.size());
+        if (s < 1) BOOST_TEST(g.mesh.triangles.size() * 5 < u.mesh.triangles.size() * 4);  // at least 20 % fewer
+        const MaterialResult gk = mesh_materials_graded(*f, l, {true, DiagonalRule::separating, {true, true, false}}, 8);
+        BOOST_TEST(gk.leaves_per_level.size() == 4u);  // max cell 8: levels 0 .. 3
+        check_material_mesh(*f, l, gk, true);
+    }
+}
+
 BOOST_AUTO_TEST_CASE(maxmin_is_refused_with_materials) {
     const auto f = parse_material_shapes("1=circle:0,0,3");
     const Lattice l = lattice_around(f->bounds(), 0.5);
     BOOST_CHECK_THROW(mesh_materials(*f, l, {false, DiagonalRule::maxmin, {}}), InputError);
+    BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::maxmin, {}}, 0), InputError);
+    BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {}}, 3), std::invalid_argument);
 }
 
 BOOST_AUTO_TEST_CASE(label_lists_are_checked) {
@@ -411,6 +502,47 @@ fs::path write_pgm(const std::string& name, int w, int h, const std::vector<int>
 
 }  // namespace
 
+// --materials with --slice: a slice of a label volume is meshed as the same
+// slice saved as a 2D label image (pixel units; y upwards along the volume's j).
+BOOST_AUTO_TEST_CASE(cli_meshes_materials_of_a_volume_slice_as_the_same_label_image) {
+    const int W = 13, H = 11, D = 3;
+    auto label = [](int i, int j, int k) {
+        const int d2 = (i - 6) * (i - 6) + (j - 4) * (j - 4);
+        return d2 < 4 + 3 * k ? 7 : d2 < 16 + 4 * k ? 3 : (i > 9 && k == 1) ? 12 : 0;
+    };
+    const fs::path dir = fs::temp_directory_path() / ("wm_materials_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    {
+        std::ofstream o(dir / "labels.nrrd", std::ios::binary);
+        o << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: " << W << " " << H << " " << D << "\nencoding: raw\n\n";
+        for (int k = 0; k < D; ++k)
+            for (int j = 0; j < H; ++j)
+                for (int i = 0; i < W; ++i) o.put(static_cast<char>(label(i, j, k)));
+    }
+    std::vector<int> px;  // slice k = 1, row 0 at the top: j = H - 1 - row
+    for (int r = 0; r < H; ++r)
+        for (int i = 0; i < W; ++i) px.push_back(label(i, H - 1 - r, 1));
+    const fs::path pgm = write_pgm("slice1.pgm", W, H, px);
+    for (const std::string graded : {"", " --graded"}) {
+        Run a = run("mesh '" + (dir / "labels.nrrd").string() + "' --slice k=1 --materials all --spacing 0.5" + graded +
+                    " --verify -o vol.node --quiet");
+        BOOST_TEST_REQUIRE(a.code == 0, a.err);
+        Run b = run("mesh '" + pgm.string() + "' --materials all --spacing 0.5" + graded + " --verify -o img.node --quiet");
+        BOOST_TEST_REQUIRE(b.code == 0, b.err);
+        for (const char* ext : {".node", ".ele", ".poly"}) {
+            const std::string va = testing::slurp(dir / (std::string("vol") + ext)), vb = testing::slurp(dir / (std::string("img") + ext));
+            BOOST_TEST(!va.empty());
+            BOOST_TEST((va == vb), ext << graded << " differs");
+        }
+    }
+    const Run r = run("mesh '" + (dir / "labels.nrrd").string() + "' --materials all -o m.vtu");
+    BOOST_TEST(r.code != 0);
+    BOOST_TEST(r.err.find("choose a slice") != std::string::npos, r.err);
+    const Run s = run("mesh '" + (dir / "labels.nrrd").string() + "' --slices k=0:2 --materials all -o m%d.vtu");
+    BOOST_TEST(s.code == 2);
+    BOOST_TEST(s.err.find("--slices") != std::string::npos, s.err);
+}
+
 BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
     std::vector<int> px(12 * 10, 0);
     for (int r = 2; r < 8; ++r)
@@ -453,7 +585,7 @@ BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
     };
     refused("mesh " + in + " --materials 3,4,6 -o m.vtu", 1, "not present in the image: 4, 6");
     refused("mesh " + in + " --materials 0,3 -o m.vtu", 1, "label 0 is the background");
-    refused("mesh " + in + " --materials all --graded -o m.vtu", 2, "--graded does not mesh several materials");
+    refused("mesh " + in + " --materials all --graded --max-cell 3 -o m.vtu", 2, "--max-cell must be a power of two");
     refused("mesh " + in + " --materials all --diagonal maxmin -o m.vtu", 1, "--diagonal maxmin cannot mesh several materials");
     refused("mesh " + in + " --materials all --label 3 -o m.vtu", 2, "--materials applies to a label image");
     refused("mesh " + in + " --background keep -o m.vtu", 2, "--background applies to --materials");
@@ -461,6 +593,14 @@ BOOST_AUTO_TEST_CASE(cli_meshes_materials_and_refuses_bad_input) {
     refused("mesh --shapes '1=circle:0,0,3' --shape circle:0,0,1 -o m.vtu", 2, "exactly one of");
     r = run("mesh --shapes '1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12' --background keep --spacing 0.5 -o s.msh");
     BOOST_TEST(r.code == 0, r.err);
+    // Graded, with the band invariant and every keyed triangle verified: the atlas slice, every label.
+    r = run("mesh '" WARPMESH_SOURCE_DIR "/mesher/examples/brain_axial_s128_labels16.pgm' --materials all --graded --verify "
+            "-o atlas.vtu --report atlas.json");
+    BOOST_TEST_REQUIRE(r.code == 0, r.err);
+    const std::string atlas = testing::slurp(img.parent_path() / "atlas.json");
+    BOOST_TEST(atlas.find("\"graded\": true") != std::string::npos);
+    BOOST_TEST(atlas.find("\"leaves_per_level\": [") != std::string::npos);
+    BOOST_TEST(atlas.find("\"verified\": true") != std::string::npos, atlas.substr(0, 2000));
     // Pictures coloured by region, interfaces drawn.
     r = run("mesh --shapes '1=circle:0,0,10;2=circle:6,0,8' --spacing 0.5 --svg-color region -o s.svg --also s.png --quiet");
     BOOST_TEST_REQUIRE(r.code == 0, r.err);

@@ -63,7 +63,8 @@ input (images):
   --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
                          background) or these labels, every other pixel one background
                          material; interfaces between materials are mesh edges
-                         (2D images only, in pixel units; not with --slice/--slices)
+                         (2D images, or one slice of a volume with --slice; in pixel
+                         units; not with --slices)
   --background drop|keep with --materials/--shapes: output the background's triangles
                          (keep) or not (drop, default; it still bounds the materials)
 
@@ -90,6 +91,7 @@ lattice and algorithm:
   --diagonal RULE        separating (default): the mesh boundary follows the level set;
                          maxmin: the paper's rule, the diagonal with the larger minimum angle
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
+                         (with --materials/--shapes: along every interface)
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
                          default: as coarse as the domain allows)
   --max-size H           every triangle's longest edge at most H (input units; H >= sqrt(5)
@@ -284,14 +286,13 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         throw UsageError("--materials applies to a label image and excludes --label and --iso");
     if (o.background_given && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
     if (o.materials || o.shapes) {
-        if (m.graded)
-            throw UsageError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
-                             "uniform lattice)");
         if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
         if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");
-        if (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty())
-            throw UsageError("--materials and --shapes mesh 2D label images in pixel units and analytic shapes: "
-                             "--slice, --slices, --pixel-size and --points-3d are not supported with them yet");
+        if (o.shapes && o.slice) throw UsageError("--slice applies to images and volumes, not to --shapes");
+        if (o.slices || !o.pixel_size.empty() || !o.points_3d.empty())
+            throw UsageError("--materials and --shapes mesh 2D label images and one slice of a volume (--slice) in pixel "
+                             "units, and analytic shapes: --slices, --pixel-size and --points-3d are not supported with "
+                             "them yet");
     }
     return o;
 }
@@ -401,12 +402,14 @@ int run_mesh(int argc, char** argv) {
     if (!o.points_3d.empty()) check_writable(o.points_3d);
 
     if (o.materials || o.shapes) {
-        // Multi-material: analytic shapes, or a 2D label image in pixel units.
+        // Multi-material: analytic shapes, or a label image (a 2D image, or
+        // with --slice a slice of a volume) in pixel units.
         std::unique_ptr<MaterialField> field;
         if (o.shapes) {
             field = parse_material_shapes(*o.shapes);
         } else {
-            field = make_label_materials(read_image(o.input, static_cast<std::uint64_t>(o.max_pixels)), *o.materials);
+            field = make_label_materials(
+                slice_image(read_input(o), o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt), *o.materials);
         }
         StagedOutputs staged;
         const MeshResult r = mesh_and_stage(o, *field, nullptr, staged);

@@ -279,9 +279,6 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
 
 MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     validate(o);
-    if (o.graded)
-        throw InputError("--graded does not mesh several materials yet: drop --graded (--materials/--shapes mesh the "
-                         "uniform lattice)");
     if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
     if (o.optimize) throw InputError("--optimize is not available with --materials/--shapes");
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
@@ -291,11 +288,19 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     std::vector<std::pair<std::string, std::string>> extra;
     report_head(extra, o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};
-    MaterialResult r = fastest_of(o.repeat, [&] { return mesh_materials(field, res.lattice, mo); });
-    std::vector<std::pair<std::string, double>> phases = {
-        {"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}, {"triangulate", r.times.triangulate}};
+    MaterialResult r = fastest_of(o.repeat, [&] {
+        return o.graded ? mesh_materials_graded(field, res.lattice, mo, o.max_cell) : mesh_materials(field, res.lattice, mo);
+    });
+    std::vector<std::pair<std::string, double>> phases = {{"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}};
+    if (o.graded) phases.emplace_back("quadtree", r.quadtree_seconds);
+    phases.emplace_back("triangulate", r.times.triangulate);
     if (o.certify) phases.emplace_back("certify", r.times.certify);
-    extra.emplace_back("graded", "false");
+    extra.emplace_back("graded", o.graded ? "true" : "false");
+    if (o.graded) {
+        std::string levels = "[";
+        for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k) levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
+        extra.emplace_back("leaves_per_level", levels + "]");
+    }
     extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
     extra.emplace_back("warped_points", std::to_string(r.warped_points));
     extra.emplace_back("warped_squares", std::to_string(r.warped_squares));

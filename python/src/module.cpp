@@ -200,29 +200,8 @@ PYBIND11_MODULE(_core, m) {
             if (!slice && v.dims[2] != 1)
                 throw InputError(path + ": a volume of " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) +
                                  " x " + std::to_string(v.dims[2]) + " voxels: choose a slice, e.g. slice=\"k=0\"");
-            const SliceSpec spec = slice ? parse_slice(*slice) : SliceSpec{2, 0};
-            const int n = spec.axis, a = n == 0 ? 1 : 0, b = n == 2 ? 1 : 2;
-            if (spec.index < 0 || spec.index >= v.dims[static_cast<std::size_t>(n)])
-                throw InputError(path + ": slice " + *slice + " is outside the volume");
-            const std::int64_t W = v.dims[static_cast<std::size_t>(a)], H = v.dims[static_cast<std::size_t>(b)];
-            auto img = std::make_unique<Image>();
-            img->width = static_cast<int>(W), img->height = static_cast<int>(H), img->source = path;
-            img->pixels.resize(static_cast<std::size_t>(W * H));
-            std::array<std::int64_t, 3> ijk{};
-            ijk[static_cast<std::size_t>(n)] = spec.index;
-            double top = 0;
-            for (std::int64_t r = 0; r < H; ++r)
-                for (std::int64_t c = 0; c < W; ++c) {
-                    ijk[static_cast<std::size_t>(a)] = c, ijk[static_cast<std::size_t>(b)] = H - 1 - r;
-                    const double x = v.at(ijk[0], ijk[1], ijk[2]);
-                    if (!(x >= 0 && x <= 65535 && x == std::floor(x)))
-                        throw InputError(path + ": value " + std::to_string(x) +
-                                         " is not an integer in 0..65535; read_image returns 16-bit images "
-                                         "(rescale the data, or mesh it with the command line)");
-                    img->pixels[static_cast<std::size_t>(r * W + c)] = static_cast<std::uint16_t>(x);
-                    top = std::max(top, x);
-                }
-            img->maxval = v.maxval >= 0 ? v.maxval : std::max(1, static_cast<int>(top));
+            // The slice as the command line meshes it in pixel units (slice_image, volume.hpp).
+            auto img = std::make_unique<Image>(slice_image(v, slice ? std::optional(parse_slice(*slice)) : std::nullopt));
             const int maxval = img->maxval;
             const std::array<py::ssize_t, 2> shape{img->height, img->width};
             std::uint16_t* data = img->pixels.data();

@@ -217,7 +217,8 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 labels, meshed together in one conforming mesh, regions = the
                 labels, interfaces between them as edges (Mesh.interfaces); the
                 other pixels are the background (tag 0), whose triangles are
-                kept only with background="keep".  Uniform, separating rule.
+                kept only with background="keep".  Uniform or graded (the finest
+                band follows every interface), separating rule.
     spacing     lattice spacing in pixels; pixel_size scales the output
                 coordinates (square pixels: angles and bounds are unchanged)
     graded      graded mesh (quadtree, finest along the boundary); max_cell the

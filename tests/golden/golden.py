@@ -17,6 +17,12 @@ text form, independent of vertex numbering and triangle order:
     orientation is kept: a flipped triangle is a change), then sorted, with
     the region tag;
   * boundary edges renumbered and sorted, with their tags (orientation kept);
+  * multi-material meshes only (a .poly with interface segments, tags >= 3):
+    the interface edges, each as its two renumbered vertices in increasing
+    order with the region tags on its left and on its right, read from the
+    two triangles that share it, sorted.  Reading them checks the segments:
+    each must be an edge of exactly two triangles of different regions, and
+    every edge between two triangles of different regions must be one;
   * the JSON report without timings, memory and the input path.  Report
     numbers are compared to a relative 1e-12 (sums such as the area may be
     reduced in a thread-dependent order); the mesh itself must match exactly.
@@ -76,6 +82,14 @@ CASES = {
                                      "--spacing", "2"],
     "three_shapes_materials": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
                                "--background", "keep", "--spacing", "0.75"],
+    # Graded multi-material meshes: the finest band along every interface,
+    # coarse leaves inside each material — every label of the brain slice
+    # (background dropped), and the three analytic materials with the
+    # background kept and a cell-size limit.
+    "brain_all_materials_graded_s2": [f"{EX}/brain_axial_s128_labels16.pgm", "--materials", "all", "--graded",
+                                      "--spacing", "2"],
+    "three_shapes_materials_graded": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
+                                      "--background", "keep", "--spacing", "0.5", "--graded", "--max-cell", "8"],
 }
 
 DROP = {"phase_seconds", "total_seconds", "peak_memory_mb", "input", "repeat"}
@@ -118,10 +132,11 @@ def canonical(stem, report_path):
     _, poly = rows(stem + ".poly")
     nseg = int(poly[0][0])
     # The boundary edges (tags 1 = level set, 2 = domain border); the .poly's
-    # interface segments of multi-material meshes (tags 3, ...) follow them
-    # and are not part of the canonical form.
+    # interface segments of multi-material meshes (tags 3, ...) follow them.
     edges = sorted((new[int(r[1]) - 1], new[int(r[2]) - 1], int(r[3])) for r in poly[1 : 1 + nseg]
                    if int(r[3]) in (1, 2))
+    segments = [(new[int(r[1]) - 1], new[int(r[2]) - 1]) for r in poly[1 : 1 + nseg] if int(r[3]) not in (1, 2)]
+    interfaces = interface_edges(tris, segments) if segments else None
     with open(report_path) as f:
         report = {k: v for k, v in json.load(f).items() if k not in DROP}
     out = ["report " + json.dumps(report, sort_keys=True), f"vertices {len(xy)}"]
@@ -130,7 +145,32 @@ def canonical(stem, report_path):
     out += [" ".join(map(str, t)) for t in tris]
     out.append(f"boundary {len(edges)}")
     out += [" ".join(map(str, e)) for e in edges]
+    if interfaces is not None:
+        out.append(f"interfaces {len(interfaces)}")
+        out += [" ".join(map(str, e)) for e in interfaces]
     return "\n".join(out) + "\n"
+
+
+def interface_edges(tris, segments):
+    """The interface segments as (a, b, left region, right region), a < b, sorted;
+    raises unless they are exactly the edges between triangles of different regions."""
+    side = {}  # directed edge (u, v) of a counter-clockwise triangle -> its region (on the left of u -> v)
+    for a, b, c, region in tris:
+        for u, v in ((a, b), (b, c), (c, a)):
+            if (u, v) in side:
+                raise RuntimeError(f"edge {u}-{v} in two triangles with the same orientation")
+            side[(u, v)] = region
+    between = {(u, v) for (u, v), r in side.items() if u < v and (v, u) in side and side[(v, u)] != r}
+    got = set()
+    for u, v in segments:
+        a, b = min(u, v), max(u, v)
+        if (a, b) not in between:
+            raise RuntimeError(f"interface segment {a}-{b} is not an edge between two triangles of different regions")
+        got.add((a, b, side[(a, b)], side[(b, a)]))
+    if len(got) != len(segments) or len(got) != len(between):
+        raise RuntimeError(f"{len(segments)} interface segments ({len(got)} distinct) for {len(between)} edges "
+                           "between triangles of different regions")
+    return sorted(got)
 
 
 def close(a, b):

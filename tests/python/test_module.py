@@ -213,6 +213,29 @@ def test_materials_mesh_is_the_cli_multi_material_mesh(cli, root, tmp_path):
         warpmesh.mesh(img, materials="all", labels=[41])
 
 
+def test_graded_materials_mesh_is_the_cli_graded_multi_material_mesh(cli, root, tmp_path):
+    import meshio
+
+    vtu = tmp_path / "mmg.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--materials", "all", "--graded", "--verify", "--spacing", "1",
+                    "-o", str(vtu), "--quiet"], check=True, capture_output=True)
+    ref = meshio.read(vtu)
+    img = warpmesh.read_image(root / BRAIN)
+    g = warpmesh.mesh(img, materials="all", graded=True, spacing=1)
+    u = warpmesh.mesh(img, materials="all", spacing=1)
+    assert np.array_equal(ref.points[:, :2], g.points)
+    assert np.array_equal(ref.cells_dict["triangle"], g.triangles)
+    assert len(g.triangles) < len(u.triangles)
+    # The same interfaces (as coordinate pairs, with the regions on either side).
+    def keyed(m):
+        out = set()
+        for (a, b), (l, r) in zip(m.interfaces, m.interface_regions):
+            pa, pb = tuple(m.points[a]), tuple(m.points[b])
+            out.add((pa, pb, int(l), int(r)) if pa < pb else (pb, pa, int(r), int(l)))
+        return out
+    assert keyed(g) == keyed(u) and len(keyed(g)) > 1000
+
+
 def test_to_meshio_and_back_through_a_file(tmp_path):
     import meshio
 

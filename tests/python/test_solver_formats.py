@@ -6,9 +6,10 @@ with the Triangle files (.node/.ele/.poly) that warpmesh wrote in the same run.
 
 Cases: the unit disc from --shape (one region, boundary tag 1), a thresholded
 image whose object is cut off by the image border (tags 1 and 2), and the
-hand-built two-region mesh with interfaces (tests/fixture_meshes.hpp; the CLI
-cannot make multi-material meshes yet), whose regions are 3 ("left material")
-and 8 (unnamed, "domain_8") and whose interface facets are tagged 3.
+hand-built two-region mesh with interfaces (tests/fixture_meshes.hpp), whose regions are 3 ("left material")
+and 8 (unnamed, "domain_8") and whose interface facets are tagged 3; and a
+graded multi-material mesh of two analytic materials from the CLI
+(--shapes ... --graded: interfaces tagged 3, coarse leaves inside).
 """
 import os
 import subprocess
@@ -31,6 +32,14 @@ CASES = {
         "args": ["cut.pgm", "--spacing", "1.5"],
         "regions": {1: "domain"},
         "facets": {1: "boundary", 2: "domain_border"},
+    },
+    # A graded multi-material mesh: a disc inside a disc (no triple point, so
+    # no junction square: every triangle has a certified bound), the
+    # background dropped; coarse leaves inside both materials.
+    "graded_materials": {
+        "args": ["--shapes", "1=circle:0,0,3;2=circle:0.5,0,1.5", "--graded", "--spacing", "0.125"],
+        "regions": {1: "material_1", 2: "material_2"},
+        "facets": {1: "boundary", 3: "interface_1_2"},
     },
     "two": {
         "regions": {3: "left material", 8: "domain_8"},

@@ -30,6 +30,11 @@
 //      staying corners of different materials by its diagonal: mesh_materials
 //      refuses it (InputError).
 //
+// Graded (mesh_materials_graded): the same steps 1 - 3; the graded mesher's
+// quadtree, finest on every square with a corner on a cut edge (those squares
+// then get exactly step 4's triangles), coarse 45-45-90 templates of one
+// material elsewhere.
+//
 // Certification.  A square whose corners carry one or two materials is a
 // square of the two-material proof: map its larger material to '-' and the
 // other to '+'.  The key is consistent in the prover's sense (prover.cpp,
@@ -163,11 +168,32 @@ struct MaterialResult {
     CertifiedSummary certified;             // junction squares included
     std::int64_t junction_squares = 0;      // keyed squares with 3 or 4 materials (junction keys)
     std::vector<JunctionSquare> junction_examples;  // the first 20
+    // mesh_materials_graded only:
+    bool graded = false;
+    std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, background included
+    std::int64_t invariant_squares = -1;         // squares check_critical_squares_finest checked (-1: not run)
+    double quadtree_seconds = 0;                 // signs, tiles, quadtree, leaves, invariant check
 };
 
 // The multi-material uniform mesher (see the top of this file).  Throws
 // InputError for --diagonal maxmin or more than 65536 materials.
 MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options);
+
+// The multi-material graded mesher (mesh_materials_graded.cpp): the graded
+// mesher's 2:1-balanced quadtree (graded.hpp), whose finest band now follows
+// every interface.  Every lattice square with a corner on a cut edge
+// between different materials (an endpoint of it: every warped point and
+// every tie) is a finest leaf with no split side, meshed exactly as by
+// mesh_materials (the same vertices, diagonal, triangles and materials), so
+// its certification is the uniform one; every other leaf lies inside one
+// material and is a 45-45-90 template of that material.  The interfaces and
+// boundary edges are the uniform mesh's; only the materials' interiors are
+// coarser.  max_cell as for mesh_graded (0: as coarse as the lattice allows;
+// std::invalid_argument if not a power of two).  With options.certify.verify
+// the band invariant is checked on the leaves (std::logic_error if violated).
+// Throws as mesh_materials.
+MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options,
+                                     std::int64_t max_cell);
 
 // ---- report --------------------------------------------------------------------
 // JSON members ("materials": [...], "junction_squares": ..., ...) and text

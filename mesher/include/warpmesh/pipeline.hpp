@@ -137,12 +137,13 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& options);
 // material in one conforming mesh whose interfaces are mesh edges
 // (Mesh::interfaces, interface_regions, region_names), region tag = the
 // material's tag; the background's triangles only with keep_background.  The
-// uniform lattice as for mesh(f): over the bounds for images, around them
-// for shapes.  The report adds the per-material figures, interface and
-// junction-square counts (material_report_json/_text); a material that got
-// no triangle is a warning.  Throws InputError as mesh(f), and for options
-// that do not apply to several materials (graded, Guarantee::flat,
-// optimize, DiagonalRule::maxmin).
+// lattice as for mesh(f): over the bounds for images, around them for
+// shapes; uniform, or with `graded` the quadtree whose finest band follows
+// every interface (mesh_materials_graded, materials.hpp).  The report adds
+// the per-material figures, interface and junction-square counts
+// (material_report_json/_text); a material that got no triangle is a
+// warning.  Throws InputError as mesh(f), and for options that do not apply
+// to several materials (Guarantee::flat, optimize, DiagonalRule::maxmin).
 MeshResult mesh(const MaterialField& field, const MeshOptions& options);
 
 // The report as one JSON object (what `warpmesh mesh --report` writes) and as

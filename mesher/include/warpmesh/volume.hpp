@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/levelset.hpp"
 
@@ -165,6 +166,15 @@ void write_points_3d(const Mesh& mesh, const SlicePlane& plane, const std::strin
 // integers in 0..65535, and whatever make_image_levelset refuses (e.g. an
 // empty region).
 LoadedSlice load_slice(const Volume& volume, const SliceOptions& options);
+
+// The slice as a 16-bit image in pixel units, placed as load_slice places
+// it with Units::pixels: its first in-plane index axis along the columns, its
+// second upwards (row 0 at the top, y = rows - 1 - row).  For label images
+// (multi-material meshes of a volume's slice; Python's read_image).  maxval:
+// the volume's, else the largest sample (at least 1).  Throws InputError as
+// load_slice for the slice, and for a sample that is not an integer in
+// 0..65535.
+Image slice_image(const Volume& volume, const std::optional<SliceSpec>& slice);
 
 // Replace a volume's spacing by a user-given pixel size (--pixel-size
 // SX[,SY[,SZ]]; missing entries repeat the last), making it physical (mm).

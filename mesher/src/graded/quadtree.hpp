@@ -272,6 +272,27 @@ struct Leaf {
     std::uint8_t split_sides;
 };
 
+// Ring of a coarse leaf (corner points and midpoints of split sides, counter-
+// clockwise from A: A → [mid AB] → B → [mid BD] → D → [mid DC] → C → [mid CA])
+// and its centre, as lattice points P{i, j}; returns the ring's length.  The
+// graded triangulations join the centre to the ring (or, with no split side,
+// take the diagonal AD of ring = A, B, D, C).
+template <class P>
+int coarse_ring(const Leaf& leaf, std::array<P, 8>& ring, P& centre) {
+    const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
+    centre = {i + h, j + h};
+    int n = 0;
+    ring[n++] = {i, j};
+    if (leaf.split_sides & side_bottom) ring[n++] = {i + h, j};
+    ring[n++] = {i + w, j};
+    if (leaf.split_sides & side_right) ring[n++] = {i + w, j + h};
+    ring[n++] = {i + w, j + w};
+    if (leaf.split_sides & side_top) ring[n++] = {i + h, j + w};
+    ring[n++] = {i, j + w};
+    if (leaf.split_sides & side_left) ring[n++] = {i, j + h};
+    return n;
+}
+
 // The leaves of the tree.  The finest leaves (level 0: lattice squares, with
 // no sign of their own and never a split side) are listed by their parents:
 // a square is a finest leaf iff its level-1 parent is split (level 0 is never

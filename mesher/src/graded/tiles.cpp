@@ -351,8 +351,19 @@ TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log) {
     return r;
 }
 
-TiledSigns tile_signs(const Lattice& lattice, std::span<const std::int8_t> signs, int tile_log) {
+TiledSigns tile_signs(const Lattice& lattice, std::span<const std::int8_t> signs, int tile_log, bool sample_every_tile) {
     TiledSigns t = empty_tiles(lattice, tile_log);
+    if (!sample_every_tile)  // a tile whose points all have one non-zero sign is uniform
+        for (std::int64_t k = 0; k < t.tx * t.ty; ++k) {
+            const PointBlock b = tile_points(t, k % t.tx, k / t.tx);
+            const std::int8_t first = signs[static_cast<std::size_t>(lattice.index(b.i0, b.j0))];
+            bool same = first != 0;
+            for (std::int64_t y = 0; y < b.nj && same; ++y) {
+                const std::int8_t* row = signs.data() + lattice.index(b.i0, b.j0 + y);
+                for (std::int64_t x = 0; x < b.ni; ++x) same &= row[x] == first;
+            }
+            t.uniform[static_cast<std::size_t>(k)] = same ? first : std::int8_t{0};
+        }
     const std::vector<std::int64_t> sampled = allocate_sampled(t);
     const std::int64_t S = t.stride();
     for (std::size_t s = 0; s < sampled.size(); ++s) {

@@ -102,7 +102,11 @@ struct TiledFront {
 // InputError if f is not finite at a sampled point.
 TiledFront warp_tiles(const LevelSet& f, const Lattice& lattice, int tile_log = default_tile_log);
 
-// The same tiles with every tile sampled, from the signs of all points (tests).
-TiledSigns tile_signs(const Lattice& lattice, std::span<const std::int8_t> signs, int tile_log = default_tile_log);
+// The same tiles from the signs of all points: every tile sampled (tests), or
+// (sample_every_tile false) only those whose points do not all share one
+// non-zero sign — the others uniform, as warp_tiles would make them
+// (multi-material graded meshes, whose signs are given per point).
+TiledSigns tile_signs(const Lattice& lattice, std::span<const std::int8_t> signs, int tile_log = default_tile_log,
+                      bool sample_every_tile = true);
 
 }  // namespace warpmesh

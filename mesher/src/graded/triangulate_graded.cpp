@@ -118,23 +118,6 @@ struct Pt {
     std::int64_t i, j;
 };
 
-// Ring of a coarse leaf (corner points and midpoints of split sides, counter-
-// clockwise from A) and its centre; returns the ring's length.
-inline int coarse_ring(const Leaf& leaf, std::array<Pt, 8>& ring, Pt& centre) {
-    const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
-    centre = {i + h, j + h};
-    int n = 0;
-    ring[n++] = {i, j};
-    if (leaf.split_sides & side_bottom) ring[n++] = {i + h, j};
-    ring[n++] = {i + w, j};
-    if (leaf.split_sides & side_right) ring[n++] = {i + w, j + h};
-    ring[n++] = {i + w, j + w};
-    if (leaf.split_sides & side_top) ring[n++] = {i + h, j + w};
-    ring[n++] = {i, j + w};
-    if (leaf.split_sides & side_left) ring[n++] = {i, j + h};
-    return n;
-}
-
 // Corners A, B, C, D of square (i, j).
 inline std::array<Pt, 4> square_corners(std::int64_t i, std::int64_t j) {
     return {Pt{i, j}, Pt{i + 1, j}, Pt{i, j + 1}, Pt{i + 1, j + 1}};

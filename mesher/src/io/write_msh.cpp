@@ -32,7 +32,8 @@
 //                  mesh.cell_data array: 1 string tag (the name), 1 real tag
 //                  (time 0), 3 integer tags (time step 0, 1 component, number
 //                  of values), then "elementTag value" for EVERY element, the
-//                  lines' value being nan.
+//                  lines' value being nan, triangles in the order $Elements
+//                  lists them (meshio reads the values in file order).
 //
 // MSH 2.2: $MeshFormat "2.2 0 8", the same $PhysicalNames, "$Nodes" as a count
 // then "tag x y z" lines, "$Elements" as a count then
@@ -180,10 +181,17 @@ void put_physical_names(detail::TextSink& out, const Layout& l) {
     out << "$EndPhysicalNames\n";
 }
 
-void put_element_data(detail::TextSink& out, const Mesh& mesh, const Layout& l) {
+// The triangles' values in the order $Elements lists the triangles (MSH 4.1:
+// region block by region block; 2.2: by tag).  Gmsh reads them by tag either
+// way, but meshio pairs them with the elements in file order, ignoring the
+// tags: in tag order, a mesh of several regions got its values shuffled.
+void put_element_data(detail::TextSink& out, const Mesh& mesh, const Layout& l, bool block_order) {
     for (const auto& [name, values] : mesh.cell_data) {
         out << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << l.ne << '\n';
-        for (std::uint64_t k = 0; k < l.nt; ++k) out << k + 1 << ' ' << values[k] << '\n';
+        for (std::uint64_t i = 0; i < l.nt; ++i) {
+            const std::uint64_t k = block_order ? static_cast<std::uint64_t>(l.by_region.member(static_cast<std::size_t>(i))) : i;
+            out << k + 1 << ' ' << values[k] << '\n';
+        }
         for (std::uint64_t k = l.nt; k < l.ne; ++k) out << k + 1 << " nan\n";
         out << "$EndElementData\n";
     }
@@ -274,7 +282,7 @@ void write_msh(const Mesh& mesh, std::ostream& os, const MshOptions& options) {
     detail::TextSink out(os);
     if (options.version == 41) write_msh41(mesh, layout, out);
     else write_msh22(mesh, layout, out);
-    if (options.cell_data) put_element_data(out, mesh, layout);
+    if (options.cell_data) put_element_data(out, mesh, layout, options.version == 41);
 }
 
 void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options) {

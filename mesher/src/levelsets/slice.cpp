@@ -1,5 +1,7 @@
 // slice.cpp — from a volume to the level set of one of its slices, in
 // millimetres or pixels (the conventions are in volume.hpp).
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -68,13 +70,24 @@ void set_pixel_size(Volume& volume, std::span<const double> size) {
     volume.physical = true;
 }
 
-LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
+namespace {
+
+// The slice a SliceOptions::slice names, checked: its normal axis n, in-plane
+// axes a < b, size W x H, and name for messages.
+struct CheckedSlice {
+    SliceSpec spec;
+    int n, a, b;
+    std::int64_t W, H;
+    std::string name;
+};
+
+CheckedSlice check_slice(const Volume& v, const std::optional<SliceSpec>& slice) {
     const bool one_slice = v.dims[2] == 1;
-    if (!options.slice && !one_slice)
+    if (!slice && !one_slice)
         throw InputError("'" + v.source + "' is a volume of " + std::to_string(v.dims[0]) + " x " +
                          std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) +
                          " voxels: choose a slice with --slice k=INDEX (or i=, j=), or several with --slices k=FIRST:END");
-    const SliceSpec spec = options.slice.value_or(SliceSpec{2, 0});
+    const SliceSpec spec = slice.value_or(SliceSpec{2, 0});
     const int n = spec.axis;
     if (n < 0 || n > 2) throw InputError("slice axis must be i, j or k");
     if (spec.index < 0 || spec.index >= v.dims[n])
@@ -82,11 +95,44 @@ LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
                          v.source + "' (" + axis_names[n] + " = 0.." + std::to_string(v.dims[n] - 1) + ")");
     const int a = n == 0 ? 1 : 0, b = n == 2 ? 1 : 2;  // in-plane axes, a < b
     const std::int64_t W = v.dims[a], H = v.dims[b];
-    const std::string name = options.slice ? v.source + " slice " + axis_names[n] + "=" + std::to_string(spec.index) : v.source;
+    const std::string name = slice ? v.source + " slice " + axis_names[n] + "=" + std::to_string(spec.index) : v.source;
     if (W < 2 || H < 2)
         throw InputError("'" + name + "': the slice is " + std::to_string(W) + " x " + std::to_string(H) +
                          " pixels; at least 2 x 2 are needed for one lattice square");
     if (W > 0x7fffffff || H > 0x7fffffff) throw InputError("'" + name + "': slice too large");
+    return {spec, n, a, b, W, H, name};
+}
+
+}  // namespace
+
+Image slice_image(const Volume& v, const std::optional<SliceSpec>& slice) {
+    const CheckedSlice c = check_slice(v, slice);
+    Image img;
+    img.width = static_cast<int>(c.W), img.height = static_cast<int>(c.H), img.source = c.name;
+    img.pixels.resize(static_cast<std::size_t>(c.W * c.H));
+    std::array<std::int64_t, 3> ijk{};
+    ijk[static_cast<std::size_t>(c.n)] = c.spec.index;
+    double top = 0;
+    for (std::int64_t r = 0; r < c.H; ++r)
+        for (std::int64_t col = 0; col < c.W; ++col) {
+            ijk[static_cast<std::size_t>(c.a)] = col, ijk[static_cast<std::size_t>(c.b)] = c.H - 1 - r;  // y upwards
+            const double x = v.at(ijk[0], ijk[1], ijk[2]);
+            if (!(x >= 0 && x <= 65535 && x == std::floor(x)))
+                throw InputError("'" + c.name + "': value " + std::to_string(x) +
+                                 " is not an integer in 0..65535 (a label image is needed here)");
+            img.pixels[static_cast<std::size_t>(r * c.W + col)] = static_cast<std::uint16_t>(x);
+            top = std::max(top, x);
+        }
+    img.maxval = v.maxval >= 0 ? v.maxval : std::max(1, static_cast<int>(top));
+    return img;
+}
+
+LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
+    const CheckedSlice c = check_slice(v, options.slice);
+    const SliceSpec spec = c.spec;
+    const int n = c.n, a = c.a, b = c.b;
+    const std::int64_t W = c.W, H = c.H;
+    const std::string& name = c.name;
 
     // The slice's values, y-up: pixel (ia, ib) at ia + W ib.
     std::vector<double> values(static_cast<std::size_t>(W * H));

@@ -25,6 +25,7 @@
 
 #include "square_code.hpp"
 #include "warpmesh/errors.hpp"
+#include "materials/material_front.hpp"
 #include "warpmesh/materials.hpp"
 
 namespace warpmesh {
@@ -48,6 +49,8 @@ int thread_count() {
 #endif
 }
 
+}  // namespace
+
 // The rule on a square's material corners, in the generic frame (the same
 // choose_diagonal the prover certifies; generic_square.hpp).
 [[gnu::flatten]] bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs,
@@ -61,24 +64,27 @@ int thread_count() {
     return ch.bc;
 }
 
-}  // namespace
-
-MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options) {
+void check_material_options(const MaterialField& field, const MaterialOptions& options) {
     if (options.rule == DiagonalRule::maxmin)
         throw InputError("--diagonal maxmin cannot mesh several materials: it can join two unwarped corners of different "
                          "materials by its diagonal, leaving a triangle with no single material; use the separating rule "
                          "(the default)");
     const int nmat = field.count();
     if (nmat < 1 || nmat > 65536) throw InputError("between 1 and 65536 materials are needed, not " + std::to_string(nmat));
-    MaterialResult r;
-    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+}
+
+MaterialFront material_front(const MaterialField& field, const Lattice& lattice, PhaseTimes& times) {
+    MaterialFront front;
+    const std::int64_t nxp = lattice.points_x(), ny = lattice.ny;
     const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
+    front.nxp = nxp;
 
     // ---- 1. materials per point --------------------------------------------------
     auto t0 = clock::now();
-    Buffer<std::uint16_t> mat(npoints);  // every element written by sample_block
+    front.mat = Buffer<std::uint16_t>(npoints);  // every element written by sample_block
+    Buffer<std::uint16_t>& mat = front.mat;
     field.sample_block(lattice, {0, 0, nxp, ny + 1}, mat);
-    r.times.sample = seconds_since(t0);
+    times.sample = seconds_since(t0);
 
     // ---- 2. cut edges --------------------------------------------------------------
     // sign: -1 when p has the larger material (it moves at a tie, u = 1/2).
@@ -111,36 +117,115 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
         cuts.reserve(total);
         for (auto& v : per_row) cuts.insert(cuts.end(), v.begin(), v.end()), std::vector<CutEdge>().swap(v);
     }
-    r.cut_edges = static_cast<std::int64_t>(cuts.size());
-    r.third_material_edges = third;
-    r.times.cut_points = seconds_since(t0);
+    front.cut_edges = static_cast<std::int64_t>(cuts.size());
+    front.third_material_edges = third;
+    times.cut_points = seconds_since(t0);
 
     // ---- 3. warp --------------------------------------------------------------------
     t0 = clock::now();
-    const std::vector<WarpedPoint> warped = warp_points(lattice, cuts);
+    front.warped = warp_points(lattice, cuts);
+    const std::vector<WarpedPoint>& warped = front.warped;
     std::vector<CutEdge>().swap(cuts);
-    r.warped_points = static_cast<std::int64_t>(warped.size());
-    Buffer<std::uint8_t> moved(npoints);
+    front.moved = Buffer<std::uint8_t>(npoints);
+    Buffer<std::uint8_t>& moved = front.moved;
 #pragma omp parallel for schedule(static)
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k) moved[static_cast<std::size_t>(k)] = 0;
     for (const WarpedPoint& w : warped) moved[static_cast<std::size_t>(w.p)] = 1;
-    r.times.warp = seconds_since(t0);
-    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& {
-        return *std::lower_bound(warped.begin(), warped.end(), p, [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
-    };
-    auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) {
-        Vec2 x = lattice.position(i, j);
-        if (moved[static_cast<std::size_t>(p)]) {
-            const WarpedPoint& wp = warp_of(p);
-            x.x += warp_dx(wp.dir) * wp.t * lattice.s;  // the same affine map as generic_positions, scaled by s
-            x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+    times.warp = seconds_since(t0);
+    return front;
+}
+
+void finish_materials(MaterialResult& r, const MaterialField& field, bool drop, std::span<const std::int64_t> triangles,
+                      std::span<const double> area2, std::span<const double> perimeter) {
+    const int nmat = field.count();
+    r.materials.resize(static_cast<std::size_t>(nmat));
+    for (int m = 0; m < nmat; ++m) {
+        const std::size_t k = static_cast<std::size_t>(m);
+        MaterialStats& st = r.materials[k];
+        st.tag = field.tag(m);
+        st.name = field.name(m);
+        st.output = !(drop && m == 0);
+        st.reference_area = field.reference_area(m);
+        st.triangles = triangles[k];
+        st.area = 0.5 * area2[k];
+        st.perimeter = perimeter[k];
+        if (st.output && st.triangles > 0) r.mesh.region_names.emplace_back(st.tag, st.name);
+    }
+}
+
+void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const MaterialFront& front,
+                           std::span<const KeyedSquare> keyed, const MaterialOptions& options, const MaterialField& field) {
+    const auto t0 = clock::now();
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const Buffer<std::uint16_t>& mat = front.mat;
+    const Buffer<std::uint8_t>& moved = front.moved;
+    const std::vector<WarpedPoint>& warped = front.warped;
+    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& { return front.warp_of(p); };
+    auto tag = [&](std::uint16_t m) { return field.tag(m); };
+    // A square with one or two materials: its larger material is '-', every
+    // other point of the stencil '+' (materials.hpp: why this is a key of the proof).
+    // A junction square (3 or 4 materials): its corners' material classes,
+    // for its junction key (certify_squares).
+    const auto square_signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
+        const std::int64_t pa = lattice.index(i, j);
+        const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(pa)], mat[static_cast<std::size_t>(pa + 1)],
+                                             mat[static_cast<std::size_t>(pa + nxp)], mat[static_cast<std::size_t>(pa + nxp + 1)]};
+        const std::uint16_t hi = *std::max_element(m.begin(), m.end()), lo = *std::min_element(m.begin(), m.end());
+        for (const std::uint16_t v : m)
+            if (v != hi && v != lo) {
+                const auto letters = junction_letters({MaterialCorner{m[0], Warp::stay}, MaterialCorner{m[1], Warp::stay},
+                                                       MaterialCorner{m[2], Warp::stay}, MaterialCorner{m[3], Warp::stay}});
+                for (std::size_t q = 0; q < 4; ++q) st[q] = static_cast<std::int8_t>(letters[q].material);
+                return false;
+            }
+        for (std::size_t q = 0; q < 12; ++q) {
+            const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
+            st[q] = (x < 0 || y < 0 || x > nx || y > ny) ? off_lattice
+                    : mat[static_cast<std::size_t>(lattice.index(x, y))] == hi ? std::int8_t{-1} : std::int8_t{1};
         }
-        return x;
+        return true;
     };
+    r.certified = certify_squares(r.mesh, lattice, square_signs, warped, options.rule, keyed, options.certify);
+    r.junction_squares = r.certified.junction_squares;
+    for (const std::int64_t sq : r.certified.junction_list) {
+        JunctionSquare js{sq % nx, sq / nx, {}, {}};
+        const std::int64_t pa = lattice.index(js.i, js.j);
+        const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+        std::array<MaterialCorner, 4> mc{};
+        for (std::size_t q = 0; q < 4; ++q) {
+            const std::uint16_t m = mat[static_cast<std::size_t>(p[q])];
+            js.tags[q] = tag(m);
+            mc[q] = {m, moved[static_cast<std::size_t>(p[q])] ? warp_of(p[q]).dir : Warp::stay};
+        }
+        const auto letters = junction_letters(mc);
+        js.pattern = junction_key_code(letters);
+        const CertifiedBound* b = certified_junction_bound(letters);  // certify_squares found it
+        if (!b)
+            throw std::logic_error("junction square (" + std::to_string(js.i) + ", " + std::to_string(js.j) + ") key " +
+                                   js.pattern + " not in proofs/materials.cert");
+        js.min_deg = b->min_deg, js.max_deg = b->max_deg;
+        r.junction_examples.push_back(std::move(js));
+    }
+    r.times.certify = seconds_since(t0);
+}
+
+MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options) {
+    check_material_options(field, options);
+    const int nmat = field.count();
+    MaterialResult r;
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const MaterialFront front = material_front(field, lattice, r.times);
+    const Buffer<std::uint16_t>& mat = front.mat;
+    const Buffer<std::uint8_t>& moved = front.moved;
+    r.cut_edges = front.cut_edges;
+    r.third_material_edges = front.third_material_edges;
+    r.warped_points = static_cast<std::int64_t>(front.warped.size());
+    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& { return front.warp_of(p); };
+    auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) { return front.position(lattice, p, i, j); };
     auto position = [&](std::int64_t p) { return position_ij(p, p % nxp, p / nxp); };
 
     // ---- 4. triangulate ---------------------------------------------------------------
-    t0 = clock::now();
+    auto t0 = clock::now();
     const bool drop = !options.keep_background;
     Buffer<std::uint8_t> code(static_cast<std::size_t>(nx * ny));
     Buffer<std::array<std::uint16_t, 2>> tmat(static_cast<std::size_t>(nx * ny));  // materials of triangles 0, 1
@@ -334,69 +419,23 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     r.times.triangulate = seconds_since(t0);
 
     // Per-material statistics and names.
-    r.materials.resize(static_cast<std::size_t>(nmat));
-    for (int m = 0; m < nmat; ++m) {
-        MaterialStats& st = r.materials[static_cast<std::size_t>(m)];
-        st.tag = tag[static_cast<std::size_t>(m)];
-        st.name = field.name(m);
-        st.output = !(drop && m == 0);
-        st.reference_area = field.reference_area(m);
-        for (int t = 0; t < nthreads; ++t) {
-            st.triangles += tri_count[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
-            st.area += 0.5 * area2[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
-            st.perimeter += perim[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
-        }
-        if (st.output && st.triangles > 0) mesh.region_names.emplace_back(st.tag, st.name);
+    {
+        std::vector<std::int64_t> count(static_cast<std::size_t>(nmat), 0);
+        std::vector<double> area(static_cast<std::size_t>(nmat), 0.0), per(static_cast<std::size_t>(nmat), 0.0);
+        for (int m = 0; m < nmat; ++m)
+            for (int t = 0; t < nthreads; ++t) {
+                count[static_cast<std::size_t>(m)] += tri_count[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+                area[static_cast<std::size_t>(m)] += area2[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+                per[static_cast<std::size_t>(m)] += perim[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+            }
+        finish_materials(r, field, drop, count, area, per);
     }
 
     // ---- 5. certify ------------------------------------------------------------------
     if (options.certify.enabled) {
-        t0 = clock::now();
         std::vector<KeyedSquare> keyed;
         for (const auto& row : keyed_rows) keyed.insert(keyed.end(), row.begin(), row.end());
-        // A square with one or two materials: its larger material is '-', every
-        // other point of the stencil '+' (materials.hpp: why this is a key of the proof).
-        // A junction square (3 or 4 materials): its corners' material classes,
-        // for its junction key (certify_squares).
-        const auto square_signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
-            const std::int64_t pa = lattice.index(i, j);
-            const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(pa)], mat[static_cast<std::size_t>(pa + 1)],
-                                                 mat[static_cast<std::size_t>(pa + nxp)], mat[static_cast<std::size_t>(pa + nxp + 1)]};
-            const std::uint16_t hi = *std::max_element(m.begin(), m.end()), lo = *std::min_element(m.begin(), m.end());
-            for (const std::uint16_t v : m)
-                if (v != hi && v != lo) {
-                    const auto letters = junction_letters({MaterialCorner{m[0], Warp::stay}, MaterialCorner{m[1], Warp::stay},
-                                                           MaterialCorner{m[2], Warp::stay}, MaterialCorner{m[3], Warp::stay}});
-                    for (std::size_t q = 0; q < 4; ++q) st[q] = static_cast<std::int8_t>(letters[q].material);
-                    return false;
-                }
-            for (std::size_t q = 0; q < 12; ++q) {
-                const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
-                st[q] = (x < 0 || y < 0 || x > nx || y > ny) ? off_lattice
-                        : mat[static_cast<std::size_t>(lattice.index(x, y))] == hi ? std::int8_t{-1} : std::int8_t{1};
-            }
-            return true;
-        };
-        r.certified = certify_squares(mesh, lattice, square_signs, warped, options.rule, keyed, options.certify);
-        r.junction_squares = r.certified.junction_squares;
-        for (const std::int64_t sq : r.certified.junction_list) {
-            JunctionSquare js{sq % nx, sq / nx, {}, {}};
-            const std::int64_t pa = lattice.index(js.i, js.j);
-            const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
-            std::array<MaterialCorner, 4> mc{};
-            for (std::size_t q = 0; q < 4; ++q) {
-                const std::uint16_t m = mat[static_cast<std::size_t>(p[q])];
-                js.tags[q] = tag[m];
-                mc[q] = {m, moved[static_cast<std::size_t>(p[q])] ? warp_of(p[q]).dir : Warp::stay};
-            }
-            const auto letters = junction_letters(mc);
-            js.pattern = junction_key_code(letters);
-            const CertifiedBound* b = certified_junction_bound(letters);  // certify_squares found it
-            if (!b) throw std::logic_error("junction square (" + std::to_string(js.i) + ", " + std::to_string(js.j) + ") key " + js.pattern + " not in proofs/materials.cert");
-            js.min_deg = b->min_deg, js.max_deg = b->max_deg;
-            r.junction_examples.push_back(std::move(js));
-        }
-        r.times.certify = seconds_since(t0);
+        certify_material_mesh(r, lattice, front, keyed, options, field);
     }
     return r;
 }
