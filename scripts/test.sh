@@ -9,14 +9,17 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"
+# Each stage is announced with the wall seconds elapsed since the start.
+stage() { echo "== [$SECONDS s] $*"; }
 "$root/scripts/setup.sh"
+stage "build (Release)"
 "$root/scripts/build.sh"
 
-echo "== unit and property tests"
+stage "unit and property tests"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 
 if [ -x "$build/prover/warpmesh-check" ]; then
-  echo "== rerun the proof and compare with proofs/"
+  stage "rerun the proof and compare with proofs/"
   fresh="$(mktemp -d)"
   trap 'rm -rf "$fresh"' EXIT
   "$build/mesher/warpmesh" prove --out "$fresh" --threads "$(nproc)"
@@ -28,7 +31,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     fi
   done
   [ "$status" -eq 0 ] || exit 1
-  echo "== independent checker on the committed certificates (one process per certificate)"
+  stage "independent checker on the committed certificates (one process per certificate)"
   pids=()
   for cert in "$root"/proofs/*.cert; do
     "$build/prover/warpmesh-check" "$cert" >"$fresh/$(basename "$cert").check" 2>&1 &
@@ -39,7 +42,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   done
   cat "$fresh"/*.check
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
-  echo "== README's table of certified bounds is the checker's"
+  stage "README's table of certified bounds is the checker's"
   cat "$fresh"/*.check | "$root/scripts/bounds-table.sh" >"$fresh/table.md"
   sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/README.md" | sed '1d;$d' >"$fresh/readme.md"
   if ! cmp -s "$fresh/table.md" "$fresh/readme.md"; then
@@ -50,9 +53,9 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   fi
 fi
 
-echo "== the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+stage "the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 "$root/scripts/sanitize.sh"
 
-echo "== fuzzing"
+stage "fuzzing"
 "$root/scripts/fuzz.sh" "${WARPMESH_FUZZ_SECONDS:-60}"
-echo "test: all passed"
+echo "test: all passed in $SECONDS s"
