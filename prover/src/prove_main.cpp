@@ -18,6 +18,7 @@ int prove_main(int argc, char** argv) {
     std::string out = "proofs";
     std::vector<int> subset;
     bool use_subset = false;
+    std::vector<DiagonalRule> rules{DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan};
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "prove") continue;
@@ -28,30 +29,37 @@ int prove_main(int argc, char** argv) {
 #else
             ++i;
 #endif
+        } else if (a == "--rule" && i + 1 < argc) {  // one rule only (development; key_table.txt then holds it alone)
+            const std::string r = argv[++i];
+            if (r != "maxmin" && r != "separating" && r != "fan") {
+                std::fprintf(stderr, "warpmesh prove: --rule expects maxmin, separating or fan\n");
+                return 2;
+            }
+            rules = {r == "maxmin" ? DiagonalRule::maxmin : r == "separating" ? DiagonalRule::separating : DiagonalRule::fan};
         } else if (a == "--keys" && i + 1 < argc) {
             use_subset = true;
             std::stringstream ss(argv[++i]);
             std::string tok;
             while (std::getline(ss, tok, ',')) subset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--keys I,J,...]\n");
+            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--rule R] [--keys I,J,...]\n");
             return 2;
         }
     }
     std::filesystem::create_directories(out);
     int status = 0;
-    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+    for (DiagonalRule r : rules) {
         std::string log;
         const std::string cert = prover::run_proof(r, use_subset ? &subset : nullptr, &log);
-        const std::string name = r == DiagonalRule::maxmin ? "maxmin" : "separating";
+        const std::string name = prover::rule_name(r);
         const std::string path = out + "/" + name + ".cert";
         std::ofstream f(path + ".tmp", std::ios::binary);
         f << cert;
         f.close();
         std::filesystem::rename(path + ".tmp", path);
         // The key table: one line per key.
-        std::ofstream tab(out + "/key_table.txt", r == DiagonalRule::maxmin ? std::ios::trunc : std::ios::app);
-        if (r == DiagonalRule::maxmin)
+        std::ofstream tab(out + "/key_table.txt", r == rules.front() ? std::ios::trunc : std::ios::app);
+        if (r == rules.front())
             tab << "# rule key flat min_cot max_cot   (see proofs/README.md; every angle a of the chosen triangles\n"
                 << "# of every configuration of the key has max_cot <= cot(a) <= min_cot)\n";
         std::istringstream cs(cert);

@@ -47,9 +47,15 @@ PointEval eval_double(DiagonalRule rule, const Key& k, const std::array<double, 
     const Choice ch = choose_diagonal<double>(rule, p, k.s);
     PointEval e;
     const Diagonal d = ch.ad ? Diagonal::AD : Diagonal::BC;
-    e.diag = ch.ad ? 1 : 2;
-    for (const auto& tri : diagonal_triangles(d)) {
-        const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+    e.diag = ch.fan ? 4 : ch.ad ? 1 : 2;
+    const auto fp = fan_points(p);
+    std::vector<std::array<Point<double>, 3>> tris;
+    if (ch.fan)
+        for (const auto& tri : fan_triangles) tris.push_back({fp[tri[0]], fp[tri[1]], fp[tri[2]]});
+    else
+        for (const auto& tri : diagonal_triangles(d)) tris.push_back({p[tri[0]], p[tri[1]], p[tri[2]]});
+    for (const auto& tri : tris) {
+        const auto f = triangle_forms(tri[0], tri[1], tri[2]);
         if (!(f.cross > 0)) {
             e.valid = false;
             continue;
@@ -201,10 +207,17 @@ ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t)
     const auto p = generic_positions<Q>(w, t);
     const Choice ch = choose_diagonal<Q>(rule, p, k.s);
     ExactEval e;
-    e.diag = ch.ad ? 1 : 2;
+    e.diag = ch.fan ? 4 : ch.ad ? 1 : 2;
     bool first = true;
-    for (const auto& tri : diagonal_triangles(ch.ad ? Diagonal::AD : Diagonal::BC)) {
-        const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+    const auto fp = fan_points(p);
+    std::vector<std::array<Point<Q>, 3>> tris;
+    if (ch.fan)
+        for (const auto& tri : fan_triangles) tris.push_back({fp[tri[0]], fp[tri[1]], fp[tri[2]]});
+    else
+        for (const auto& tri : diagonal_triangles(ch.ad ? Diagonal::AD : Diagonal::BC))
+            tris.push_back({p[tri[0]], p[tri[1]], p[tri[2]]});
+    for (const auto& tri : tris) {
+        const auto f = triangle_forms(tri[0], tri[1], tri[2]);
         if (f.cross <= 0) e.valid = false;
         for (const Q& dot : f.dot) {
             if (f.cross == 0) continue;
@@ -318,6 +331,9 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
         std::tie(cat[c].tmax, cat[c].emax) = witness(rule, kmax, info[static_cast<std::size_t>(cat[c].wmax)].emax.t, -1);
         cat[c].qmax = std::min(q_down(cat[c].emax.qmax, bits + 3), round_down(info[static_cast<std::size_t>(cat[c].wmax)].emax.value, bits + 3)) - std::ldexp(1.0, -mbits);
+        // The fan rule: where the rule may take either the fan or a diagonal
+        // (leaf Y), a taken diagonal is only known to have q <= fan_taken_cot.
+        if (rule == DiagonalRule::fan) cat[c].qmin = std::max(cat[c].qmin, fan_taken_cot);
     }
     for (int i = 0; i < n; ++i) {
         Info& f = info[static_cast<std::size_t>(i)];
@@ -348,6 +364,13 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         for (int attempt = 0; attempt < 8; ++attempt) {
             f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
             if (f.proof.ok) break;
+            // Fan rule, a square that may take the fan: undecided leaves (Y) need
+            // qmin >= fan_taken_cot; try that before relaxing further.
+            if (rule == DiagonalRule::fan && all_inside(key.s) && f.qmin < fan_taken_cot) {
+                f.qmin = fan_taken_cot;
+                f.relaxed = true;
+                continue;
+            }
             const PointEval e = eval_double(rule, key, f.proof.fail_point);
             const double step = 1e-3 * std::pow(4.0, attempt);
             if (f.proof.fail_kind == 1)
@@ -368,7 +391,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
     const auto t2 = std::chrono::steady_clock::now();
 
     std::ostringstream o, lg;
-    const char* rname = rule == DiagonalRule::maxmin ? "maxmin" : "separating";
+    const char* rname = rule_name(rule);
     o << "warpmesh-certificate 1\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
@@ -436,7 +459,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             continue;
         }
         for (const Leaf& l : f.proof.leaves) {
-            o << (l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
+            o << (l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
             for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
             if (l.threshold != 0) o << ' ' << dstr(l.threshold);
             o << "\n";

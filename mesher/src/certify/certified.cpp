@@ -16,6 +16,7 @@ namespace warpmesh {
 namespace generated {
 extern const std::string_view certified_maxmin_keys;
 extern const std::string_view certified_separating_keys;
+extern const std::string_view certified_fan_keys;
 }  // namespace generated
 
 namespace {
@@ -81,13 +82,16 @@ Table build(std::string_view text) {
 const Table& table(DiagonalRule rule) {
     static const Table maxmin = build(generated::certified_maxmin_keys);
     static const Table separating = build(generated::certified_separating_keys);
-    return rule == DiagonalRule::maxmin ? maxmin : separating;
+    static const Table fan = build(generated::certified_fan_keys);
+    return rule == DiagonalRule::maxmin ? maxmin : rule == DiagonalRule::separating ? separating : fan;
 }
 
 }  // namespace
 
 std::string_view certified_table_text(DiagonalRule rule) {
-    return rule == DiagonalRule::maxmin ? generated::certified_maxmin_keys : generated::certified_separating_keys;
+    return rule == DiagonalRule::maxmin       ? generated::certified_maxmin_keys
+           : rule == DiagonalRule::separating ? generated::certified_separating_keys
+                                              : generated::certified_fan_keys;
 }
 
 double parse_rational(std::string_view text) {
