@@ -198,4 +198,5 @@ def threshold_study(n, H0=3.0 + 2**-20):
     for cls in sorted(worst):
         qq, kk, tt = worst[cls]
         print(f'  class {cls} inside: worst {cot2deg(qq):8.4f} at {code(kk)} t={np.round(tt,4)}')
-    print(f'  fan where taken: worst {cot2deg(fanw[0]):8.4f} at {code(fanw[1])} t={np.round(fanw[2],4)}')
+    if fanw[1] is None: print('  no fan taken')
+    else: print(f'  fan where taken: worst {cot2deg(fanw[0]):8.4f} at {code(fanw[1])} t={np.round(fanw[2],4)}')
