@@ -20,7 +20,9 @@ using namespace warpmesh;
 
 namespace {
 using warpmesh::testing::slurp;
-const char* rule_name(DiagonalRule r) { return r == DiagonalRule::maxmin ? "maxmin" : "separating"; }
+const char* rule_name(DiagonalRule r) {
+    return r == DiagonalRule::maxmin ? "maxmin" : r == DiagonalRule::separating ? "separating" : "fan";
+}
 // A junction key code ("aRaUbscs") as letters and warps.
 std::array<MaterialCorner, 4> junction_from_code(const std::string& code) {
     std::array<MaterialCorner, 4> m{};
@@ -32,7 +34,7 @@ std::array<MaterialCorner, 4> junction_from_code(const std::string& code) {
 
 BOOST_AUTO_TEST_CASE(table_matches_certificates) {
     BOOST_REQUIRE(certified_table_available());
-    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan}) {
         const auto file = parse_cert_key_lines(slurp(std::string(WARPMESH_PROOFS_DIR) + "/" + rule_name(r) + ".cert"));
         const auto compiled = parse_cert_key_lines(certified_table_text(r));
         BOOST_TEST(file.size() == 5095u);
@@ -69,8 +71,8 @@ BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
         std::string rule, code, flat, qmin, qmax;
         ls >> rule >> code >> flat >> qmin >> qmax;
         BOOST_REQUIRE(ls);
-        BOOST_REQUIRE((rule == "maxmin" || rule == "separating"));
-        const DiagonalRule r = rule == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating;
+        BOOST_REQUIRE((rule == "maxmin" || rule == "separating" || rule == "fan"));
+        const DiagonalRule r = rule == "maxmin" ? DiagonalRule::maxmin : rule == "separating" ? DiagonalRule::separating : DiagonalRule::fan;
         if (code[0] >= 'a' && code[0] <= 'd') {  // a junction key (proofs/materials.cert)
             BOOST_REQUIRE(r == DiagonalRule::separating);
             const CertifiedBound* b = certified_junction_bound(junction_from_code(code));
@@ -95,7 +97,7 @@ BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
         ++lines;
     }
     BOOST_TEST(lines == certified_key_count(DiagonalRule::maxmin) + certified_key_count(DiagonalRule::separating) +
-                            certified_junction_key_count());
+                            certified_key_count(DiagonalRule::fan) + certified_junction_key_count());
 }
 
 // The junction keys (multi-material squares with 3 or 4 materials):
@@ -178,11 +180,17 @@ BOOST_AUTO_TEST_CASE(theorems_from_table) {
         BOOST_TEST(th.min_deg_flat > 18.4349488);
         BOOST_TEST(th.min_deg_flat < 18.4349489);
     }
+    // The fan rule: the unconditional floor is arccot(3 + 17 2^-24), within 6e-6 deg of atan(1/3).
+    const CertifiedTheorem fan = certified_theorem(DiagonalRule::fan);
+    BOOST_TEST(fan.min_deg_any > 18.4349);
+    BOOST_TEST(fan.min_deg_any < 18.4349489);
+    BOOST_TEST(fan.min_deg_flat > 18.4349);
     // The theorem lines of the certificates are what the compiled table implies:
     // the min-angle side exactly (the claim is the largest key cot bound), and
     // the max-angle side equal to arccot of the claim's least cot bound.
-    for (const char* rule : {"maxmin", "separating"}) {
-        const CertifiedTheorem th = certified_theorem(std::string(rule) == "maxmin" ? DiagonalRule::maxmin : DiagonalRule::separating);
+    for (const char* rule : {"maxmin", "separating", "fan"}) {
+        const std::string rn(rule);
+        const CertifiedTheorem th = certified_theorem(rn == "maxmin" ? DiagonalRule::maxmin : rn == "separating" ? DiagonalRule::separating : DiagonalRule::fan);
         std::ifstream in(std::string(WARPMESH_PROOFS_DIR) + "/" + rule + ".cert");
         int claims = 0;
         for (std::string line; std::getline(in, line) && line.rfind("keys ", 0) != 0;) {

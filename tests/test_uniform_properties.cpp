@@ -28,6 +28,11 @@ namespace {
 // per triangle, against each square's key, in test_certified_mesh.
 constexpr double maxmin_min_deg = 15.0, maxmin_max_deg = 135.0;
 constexpr double sep_min_deg = 15.0, sep_max_deg = 143.1301023542;  // 180 - 2 atan(1/3)
+// The fan rule: every angle >= arccot(3 + 2^-20) (proofs/fan.cert: arccot(H0 (1 + 2^-30)) and above).
+constexpr double fan_min_deg = 18.4349433;
+double min_deg(DiagonalRule rule) {
+    return rule == DiagonalRule::maxmin ? maxmin_min_deg : rule == DiagonalRule::fan ? fan_min_deg : sep_min_deg;
+}
 constexpr double angle_slack = 1e-7;                                 // degrees, round-off
 
 using Angles = testing::AngleRange;
@@ -135,24 +140,30 @@ BoundaryReport boundary_report(const LevelSet& f, const Run& r) {
 
 BOOST_AUTO_TEST_CASE(random_shapes_give_valid_meshes_within_the_angle_bounds) {
     std::mt19937 rng(20261122);
-    std::int64_t maxmin_off = 0, maxmin_edges = 0, sep_off = 0;
+    std::int64_t maxmin_off = 0, maxmin_edges = 0, sep_off = 0, fans = 0;
     for (int trial = 0; trial < 120; ++trial) {
         const std::string spec = random_shape(rng);
         const auto f = parse_shape(spec);
         const double s = std::exp(std::uniform_real_distribution<double>(std::log(0.08), std::log(1.5))(rng));
-        for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+        std::size_t sep_vertices = 0;
+        for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan}) {
             BOOST_TEST_CONTEXT(spec << " s=" << s << " rule=" << int(rule)) {
                 const Run r = run(*f, padded_lattice(*f, s), rule);
                 const MeshCheck chk = check_mesh(r.mesh);
                 BOOST_TEST(chk.ok(), (chk.messages.empty() ? "" : chk.messages.front()));
+                if (rule == DiagonalRule::separating) sep_vertices = r.mesh.vertices.size();
+                // The fan rule differs from the separating rule only by fan centres.
+                if (rule == DiagonalRule::fan) fans += static_cast<std::int64_t>(r.mesh.vertices.size() - sep_vertices);
                 if (r.mesh.triangles.empty()) continue;
                 const Angles a = angles(r.mesh);
-                BOOST_TEST(a.min >= (rule == DiagonalRule::maxmin ? maxmin_min_deg : sep_min_deg) - angle_slack);
+                BOOST_TEST(a.min >= min_deg(rule) - angle_slack);
                 BOOST_TEST(a.max <= (rule == DiagonalRule::maxmin ? maxmin_max_deg : sep_max_deg) + angle_slack);
                 // Padded lattice: the region never reaches the lattice border.
                 for (auto tag : r.mesh.boundary_tag) BOOST_TEST(tag == boundary_level_set);
                 const BoundaryReport b = boundary_report(*f, r);
-                if (rule == DiagonalRule::separating) {
+                if (rule == DiagonalRule::fan) {
+                    BOOST_TEST(b.unexplained == 0);  // fan centres are never boundary vertices
+                } else if (rule == DiagonalRule::separating) {
                     BOOST_TEST(b.unexplained == 0);
                     sep_off += b.off_level_set;
                 } else {
@@ -164,7 +175,9 @@ BOOST_AUTO_TEST_CASE(random_shapes_give_valid_meshes_within_the_angle_bounds) {
     }
     BOOST_TEST_MESSAGE("max-min: " << maxmin_off << " of " << maxmin_edges
                                    << " boundary edges leave the level set; separating: " << sep_off
-                                   << " (all at orphan cut edges)");
+                                   << " (all at orphan cut edges); fan rule: " << fans << " centroid fans");
+    // (Smooth random shapes rarely produce a square below atan(1/3): test_fan_rule
+    // meshes the image that realises the 15 deg witness, where a fan is certain.)
 }
 
 BOOST_AUTO_TEST_CASE(separating_boundary_lies_on_the_level_set_at_fine_spacing) {
@@ -215,16 +228,17 @@ std::filesystem::path data(const char* name) { return std::filesystem::path(WARP
 void check_image_case(const std::string& file, ImageLevelSetOptions opts, double s) {
     const Image img = read_image(data(file.c_str()).string());
     const auto f = make_image_levelset(img, opts);
-    for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+    for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan}) {
         BOOST_TEST_CONTEXT(file << " s=" << s << " rule=" << int(rule)) {
             const Run r = run(*f, lattice_over(f->bounds(), s), rule);
             BOOST_TEST(!r.mesh.triangles.empty());
             const MeshCheck chk = check_mesh(r.mesh);
             BOOST_TEST(chk.ok(), (chk.messages.empty() ? "" : chk.messages.front()));
             const Angles a = angles(r.mesh);
-            BOOST_TEST(a.min >= 15.0 - angle_slack);
+            BOOST_TEST(a.min >= std::min(15.0, min_deg(rule)) - angle_slack);
+            if (rule == DiagonalRule::fan) BOOST_TEST(a.min >= fan_min_deg - angle_slack);
             BOOST_TEST(a.max <= (rule == DiagonalRule::maxmin ? maxmin_max_deg : sep_max_deg) + angle_slack);
-            if (rule == DiagonalRule::separating) BOOST_TEST(boundary_report(*f, r).unexplained == 0);
+            if (rule != DiagonalRule::maxmin) BOOST_TEST(boundary_report(*f, r).unexplained == 0);
         }
     }
 }

@@ -48,7 +48,9 @@ double peak_memory_mb() {
     return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
-const char* rule_name(DiagonalRule rule) { return rule == DiagonalRule::maxmin ? "maxmin" : "separating"; }
+const char* rule_name(DiagonalRule rule) {
+    return rule == DiagonalRule::maxmin ? "maxmin" : rule == DiagonalRule::separating ? "separating" : "fan";
+}
 
 // The lattice of this spacing over the bounds b (domain: images) or around
 // them (shapes), within options.max_squares.

@@ -24,6 +24,11 @@
 namespace warpmesh::square_code {
 
 constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
+// Bit 5: the square is the centroid fan (DiagonalRule::fan; its four corners
+// are inside, so both bits 0 and 1 are set too and it covers its four sides
+// as a diagonal's two triangles do; it emits 4 triangles and one centre
+// vertex).  Bit 4 is the graded triangulation's interior_bit.
+constexpr std::uint8_t fan_bit = 32;
 
 // Corners of triangle k (0 or 1) of the code's diagonal.
 constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
@@ -56,7 +61,8 @@ constexpr bool diagonal_matters(int inside_mask) {
 
 // bc_bit if the rule takes BC on the square whose corners A, B, C, D have these
 // signs and warps — record(q): corner q's warp record, null if it stays — as
-// the generic square the prover certifies (warped_square_diagonal); else 0.
+// the generic square the prover certifies (warped_square_split); fan_bit if it
+// takes the centroid fan; else 0.
 template <class Record>
 std::uint8_t rule_diagonal(DiagonalRule rule, const std::array<std::int8_t, 4>& sign, Record&& record, bool* forced) {
     std::array<CornerState, 4> cs{};
@@ -65,7 +71,8 @@ std::uint8_t rule_diagonal(DiagonalRule rule, const std::array<std::int8_t, 4>& 
         cs[q].sign = sign[q];
         if (const WarpedPoint* w = record(static_cast<int>(q))) cs[q].warp = w->dir, t[q] = w->t;
     }
-    return warped_square_diagonal(rule, cs, t, forced) == Diagonal::BC ? bc_bit : 0;
+    const SquareSplit s = warped_square_split(rule, cs, t, forced);
+    return s == SquareSplit::bc ? bc_bit : s == SquareSplit::fan ? fan_bit : 0;
 }
 
 // Whether the emitted triangles of a square with this code use corner c, as a

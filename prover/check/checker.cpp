@@ -267,11 +267,24 @@ struct Key {
             if (DY[s[c].warp]) pos[c][1] = pos[c][1] + cst(DY[s[c].warp]) * t;
         }
     }
+    // diag 0 AD, 1 BC (triangle k = 0, 1); diag 2 the fan rule's centroid fan
+    // (k = 0..3), computed on the corners scaled by 4 and the centre
+    // A + B + C + D (cotangents are scale-invariant; no division needed).
     Tri tri(int diag, int k) const {
-        const int* v = TRI[diag][k];
+        std::array<std::array<D, 2>, 5> P;
+        for (int c = 0; c < 4; ++c) P[c] = pos[c];
+        int v[3];
+        if (diag == 2) {
+            for (int c = 0; c < 4; ++c) P[c] = {cst(4) * pos[c][0], cst(4) * pos[c][1]};
+            for (int a = 0; a < 2; ++a) P[4][a] = pos[0][a] + pos[1][a] + pos[2][a] + pos[3][a];
+            const int ring[4] = {0, 1, 3, 2};  // A B D C, counter-clockwise
+            v[0] = ring[k], v[1] = ring[(k + 1) % 4], v[2] = 4;
+        } else {
+            for (int i = 0; i < 3; ++i) v[i] = TRI[diag][k][i];
+        }
         Tri t;
         for (int i = 0; i < 3; ++i) {
-            const auto &o = pos[v[i]], &q = pos[v[(i + 1) % 3]], &r = pos[v[(i + 2) % 3]];
+            const auto &o = P[v[i]], &q = P[v[(i + 1) % 3]], &r = P[v[(i + 2) % 3]];
             const D ux = q[0] - o[0], uy = q[1] - o[1], vx = r[0] - o[0], vy = r[1] - o[1];
             t.dot[i] = ux * vx + uy * vy;
             if (i == 0) t.cross = ux * vy - uy * vx;
@@ -373,12 +386,35 @@ Decision decided(Key& k, int win, bool threshold, const N& h) {
     return qb.hi + margin() < qa.lo ? decided_with_margin : without_margin;
 }
 
+// The fan rule (proofs/README.md, "The fan rule"): H0 = 3 + 2^-20; a diagonal
+// excluded at H0 (1 + 2^-28) does not qualify, in exact or double arithmetic;
+// one verified at H0 (1 - 2^-28) qualifies in both; one the mesher lets
+// qualify has exact q <= H0 (1 + 2^-30).
+N fan_h0() { return N(3) + N(Z(1), -20); }
+N fan_scaled(int sign, int e) { return fan_h0() + N(sign) * fan_h0() * N(Z(1), -e); }
+// Every corner inside (sign <= 0, or warped onto the level set): the squares
+// on which the fan rule may take the fan.
+bool all_inside(const std::array<St, 4>& k) {
+    for (auto& c : k)
+        if (c.warp == 0 && c.sign > 0) return false;
+    return true;
+}
+// Diagonal d does not qualify anywhere on the box: some dot_i - h cross > 0.
+bool excluded(Key& k, int d, const N& h) {
+    for (int t = 0; t < 2; ++t) {
+        const Tri tr = k.tri(d, t);
+        for (auto& dt : tr.dot)
+            if ((dt.v - R{h, h} * tr.cross.v).lo > 0) return true;
+    }
+    return false;
+}
+
 // ---- exact point evaluation (witnesses) -------------------------------------------
 struct PointVal {
     bool valid;
     Q qmin, qmax;  // largest and smallest cot of the chosen triangles' angles
 };
-PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
+PointVal at_point(Key& k, bool separating, bool fanrule, const std::vector<Q>& t) {
     Box b;
     for (auto& x : t) b.push_back(R{dyadic(x), dyadic(x)});
     k.positions(b, false);
@@ -387,10 +423,12 @@ PointVal at_point(Key& k, bool separating, const std::vector<Q>& t) {
         RQ qa, qb;
         const bool va = valid_q(k, 0, qa), vb = valid_q(k, 1, qb);
         diag = vb && (!va || qb.lo < qa.lo) ? 1 : 0;
+        const Q h = toQ(fan_h0());
+        if (fanrule && all_inside(k.s) && !(va && qa.lo <= h) && !(vb && qb.lo <= h)) diag = 2;  // the fan
     }
     PointVal p{true, 0, 0};
     bool first = true;
-    for (int t = 0; t < 2; ++t) {
+    for (int t = 0; t < (diag == 2 ? 4 : 2); ++t) {
         const Tri tr = k.tri(diag, t);
         if (tr.cross.v.lo <= 0) {
             p.valid = false;
@@ -482,6 +520,7 @@ struct Reader {
 struct Cover {  // rebuilds the bisection tree: widest side first (lowest index on ties), halves in order
     Key& k;
     bool sep;
+    bool fan;  // fan rule and every corner inside
     N qmin, qmax;
     Reader& rd;
     long remaining;
@@ -522,10 +561,39 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         const std::size_t m = k.vars.size();
         const bool thr = c == 'a' || c == 'b';
         if (L.size() != 2 + 2 * m + (thr ? 1 : 0)) fail("key " + code(k.s) + ": malformed leaf");
-        if (c != 'A' && c != 'B' && c != 'X' && !thr) fail("key " + code(k.s) + ": bad diagonal tag");
+        if (c != 'A' && c != 'B' && c != 'X' && !thr && !(fan && (c == 'F' || c == 'Y')))
+            fail("key " + code(k.s) + ": bad diagonal tag");
         const std::string where = "key " + code(k.s) + " leaf " + std::to_string(leaves) + ": ";
         const int f = sep ? forced(k.s) : 0;
         k.positions(b, false);
+        if (fan && (c == 'F' || c == 'Y')) {
+            auto fan_forms = [&](int diag, int ntri, int f0, int f1) {
+                for (int t = 0; t < ntri; ++t) {
+                    k.positions(b, false);
+                    const Tri tr = k.tri(diag, t);
+                    for (int form = f0; form < f1; ++form)
+                        if (!verify_form(k, b, diag, t, form, qmin, qmax, &tr)) return false;
+                }
+                return true;
+            };
+            if (c == 'F') {  // both diagonals excluded: the rule takes the fan
+                const N h = fan_scaled(1, 28);
+                if (!excluded(k, 0, h) || !excluded(k, 1, h)) fail(where + "fan not decided on the box");
+            } else {  // the fan or a qualifying diagonal (q <= H0 (1 + 2^-30)); the max angle
+                      // on each diagonal not excluded on the box (an excluded one never qualifies,
+                      // and the max-min pick qualifies whenever some diagonal does)
+                if (qmin < fan_scaled(1, 30)) fail(where + "undecided fan leaf needs qmin >= H0 (1 + 2^-30)");
+                const N h = fan_scaled(1, 28);
+                for (int d = 0; d < 2; ++d)
+                    if (!excluded(k, d, h) && !fan_forms(d, 2, 4, 7)) fail(where + "max-angle inequality not verified");
+            }
+            if (!fan_forms(2, 4, 0, 7)) fail(where + "fan angle or orientation inequality not verified");
+            return;
+        }
+        // On a fan square a diagonal leaf also shows that the fan is not taken:
+        // the diagonal's min-angle forms hold with H0 (1 - 2^-28) (it qualifies).
+        const N keep = fan_scaled(-1, 28);
+        const N dmin = fan && keep < qmin ? keep : qmin;
         if (f && !(c == "?AB"[f])) fail(where + "separating rule forces the other diagonal");
         if (!f && c != 'X') {
             const Decision d = decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? dyadic(parse_q(L.back())) : N(0));
@@ -537,7 +605,7 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
                 k.positions(b, false);
                 const Tri tr = k.tri(diag, t);
                 for (int form = f0; form < f1; ++form)
-                    if (!verify_form(k, b, diag, t, form, qmin, qmax, &tr)) return false;
+                    if (!verify_form(k, b, diag, t, form, dmin, qmax, &tr)) return false;
             }
             return true;
         };
@@ -576,14 +644,15 @@ int check_file(const std::string& path) {
     if (rd.lines[0][1] != "2") fail("unknown version");
     const auto& rl = rd.next("rule");
     expect(rl, "rule", 2);
-    if (rl[1] != "maxmin" && rl[1] != "separating") fail("unknown rule");
-    const bool sep = rl[1] == "separating";
+    if (rl[1] != "maxmin" && rl[1] != "separating" && rl[1] != "fan") fail("unknown rule");
+    const bool fanrule = rl[1] == "fan";
+    const bool sep = rl[1] == "separating" || fanrule;  // the fan rule forces as the separating rule does
     // `space junctions` (separating rule only): the junction keys, no flat category.
     const bool junctions = rd.at < rd.lines.size() && rd.lines[rd.at][0] == "space";
     if (junctions) {
         const auto& sl = rd.next("space");
         expect(sl, "space", 2);
-        if (sl[1] != "junctions" || !sep) fail("unknown key space (only 'junctions', separating rule)");
+        if (sl[1] != "junctions" || rl[1] != "separating") fail("unknown key space (only 'junctions', separating rule)");
     }
     const int ncat = junctions ? 1 : 2;
     // Own enumeration of the consistent keys, in canonical order (junction
@@ -683,17 +752,20 @@ int check_file(const std::string& path) {
                 t.push_back(parse_q(wl[1 + j]));
                 if (t.back() < 0 || t.back() > Q(1, 2)) fail("key " + code(k.s) + ": witness t outside [0, 1/2]");
             }
-            const PointVal p = at_point(k, sep, t);
+            const PointVal p = at_point(k, sep, fanrule, t);
             const Q v = w ? p.qmax : p.qmin;
             if (!p.valid || v != parse_q(wl.back())) fail("key " + code(k.s) + ": witness value differs from exact evaluation");
             if (w ? v < kq[1] : v > kq[0]) fail("key " + code(k.s) + ": claim contradicted by its witness");
             tight[w].add(gap_deg(v, kq[w]), code(k.s), fl);
         }
-        Cover cv{k, sep, dyadic(kq[0]), dyadic(kq[1]), rd, small_int(h[7], 1, 50000000)};
-        // Verification is a function of the warps, the forcing (separating
-        // rule), the two bounds and the leaf lines only: a key whose text of
-        // these equals that of a key verified before is verified by it.
-        std::string memo = std::to_string(sep ? forced(k.s) : 0) + " " + h[5] + " " + h[6] + " " + h[7] + ":";
+        // The fan rule applies its fan on squares whose corners are all inside.
+        const bool fan = fanrule && all_inside(k.s);
+        Cover cv{k, sep, fan, dyadic(kq[0]), dyadic(kq[1]), rd, small_int(h[7], 1, 50000000)};
+        // Verification is a function of the rule, the warps, the forcing
+        // (separating and fan rules), whether the fan may be taken (fan rule,
+        // every corner inside), the two bounds and the leaf lines only: a key
+        // whose text of these equals that of a key verified before is verified by it.
+        std::string memo = rl[1] + " " + std::to_string(sep ? forced(k.s) : 0) + " " + (fan ? "fan" : "nofan") + " " + h[5] + " " + h[6] + " " + h[7] + ":";
         for (int c = 0; c < 4; ++c) memo += WCH[k.s[c].warp];
         for (long j = 0; j < cv.remaining && rd.at + static_cast<std::size_t>(j) < rd.lines.size(); ++j) {
             memo += " |";
@@ -725,7 +797,9 @@ int check_file(const std::string& path) {
         else
             std::cout << "  " << cname[c] << ": every angle >= " << dec(deg(claim[c].qmin).lo, false)
                       << " deg and <= " << dec(deg(claim[c].qmax).hi, true) << " deg (cot <= " << claim[c].qmin
-                      << ", cot >= " << claim[c].qmax << "); both triangles positively oriented\n"
+                      << ", cot >= " << claim[c].qmax << "); "
+                      << (fanrule ? "every chosen triangle (a diagonal's two, or the fan's four)" : "both triangles")
+                      << " positively oriented\n"
                       << "    rounded outward to 4 decimals: every angle in [" << dec(deg(claim[c].qmin).lo, false, 4)
                       << ", " << dec(deg(claim[c].qmax).hi, true, 4) << "] deg\n";
     }
@@ -748,7 +822,7 @@ int check_file(const std::string& path) {
         if (w.t.size() != k.vars.size()) fail("witness has the wrong number of t values");
         for (const Q& x : w.t)
             if (x < 0 || x > Q(1, 2)) fail("witness t outside [0, 1/2]");
-        const PointVal p = at_point(k, sep, w.t);
+        const PointVal p = at_point(k, sep, fanrule, w.t);
         std::cout << "  witness " << "UF"[w.cat] << " " << w.kind << " " << w.code << ": ";
         if (w.kind == "inverted") {
             if (p.valid) fail("inverted witness is not inverted");

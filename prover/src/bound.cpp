@@ -136,8 +136,9 @@ bool form_ok(const DI& g, int f) { return f == 0 ? g.v.lower() > 0 : g.v.lower()
 // the end where the form is smallest (all fixed at once: each segment stays in
 // the box), and the form is re-evaluated on the smaller box.  The checker
 // applies the identical procedure with exact rational intervals.
+// `fan`: tri indexes fan_points (the centroid fan, scaled by 4) instead of the corners.
 bool verify_form(const Key& k, const std::vector<int>& vars, Box b, const std::array<int, 3>& tri, int f,
-                 double qmin, double qmax, DI g) {
+                 double qmin, double qmax, DI g, bool fan = false) {
     for (;;) {
         if (form_ok(g, f)) return true;
         bool fixed = false;
@@ -148,8 +149,28 @@ bool verify_form(const Key& k, const std::vector<int>& vars, Box b, const std::a
         }
         if (!fixed) return false;
         const auto p = positions_d(k, vars, b);
-        g = form(triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]), f, qmin, qmax);
+        if (fan) {
+            const auto q = fan_points(p);
+            g = form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]), f, qmin, qmax);
+        } else {
+            g = form(triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]), f, qmin, qmax);
+        }
     }
+}
+
+// Forms f0 <= f < f1 of the four triangles of the centroid fan.
+bool verify_fan(const Key& k, const std::vector<int>& vars, const Box& b, double qmin, double qmax, int* fail_kind,
+                int f0 = 0, int f1 = 7) {
+    const auto q = fan_points(positions_d(k, vars, b));
+    for (const auto& tri : fan_triangles) {
+        const TriangleForms<DI> tf = triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]);
+        for (int f = f0; f < f1; ++f)
+            if (!verify_form(k, vars, b, tri, f, qmin, qmax, form(tf, f, qmin, qmax), true)) {
+                *fail_kind = f == 0 ? 0 : f <= 3 ? 1 : 2;
+                return false;
+            }
+    }
+    return true;
 }
 
 // Forms f0 <= f < f1 of both triangles of diagonal d.
@@ -205,6 +226,20 @@ bool threshold_decides(const Key& k, const std::vector<int>& vars, const Box& b,
     return false;
 }
 
+// The fan rule's exclusion of diagonal d on the whole box: for some triangle T
+// of d and vertex i, dot_i(T) - h cross(T) > 0 (h = fan_exclusion_cot below):
+// where cross(T) > 0, q(d) > h; elsewhere d is invalid.  Either way d does not
+// qualify (q <= H0), also in the mesher's double evaluation (margin 2^-28).
+bool excludes(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, double h) {
+    const auto p = positions_i(k, vars, b);
+    for (const auto& tri : diagonal_triangles(d)) {
+        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        for (const I& dot : tf.dot)
+            if ((dot - I(h) * tf.cross).lower() > 0) return true;
+    }
+    return false;
+}
+
 Leaf make_leaf(const Box& b, int diag) {
     Leaf l;
     l.diag = static_cast<std::uint8_t>(diag);
@@ -245,11 +280,43 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
     for (int j = 0; j < root.m; ++j) root.lo[j] = 0, root.hi[j] = 0.5;
     // Depth-first, left half first: the checker rebuilds the same bisection tree
     // (split the widest side, the first one on ties, at its midpoint).
+    // The fan rule on a square whose corners are all inside (generic_square.hpp):
+    // leaves `F` (fan decided: both diagonals excluded), `Y` (undecided between
+    // the fan and a diagonal), or diagonal leaves whose diagonal is verified
+    // with q <= fan_keep_cot (so it qualifies and the fan is not taken).
+    const bool fan_key = rule == DiagonalRule::fan && !key.junction && all_inside(key.s);
     std::vector<Box> stack{root};
+    auto split_or_fail = [&](const Box& b, int kind) {
+        int s = -1;
+        for (int j = 0; j < b.m; ++j)
+            if (s < 0 || b.hi[j] - b.lo[j] > b.hi[s] - b.lo[s]) s = j;
+        if (s < 0 || b.hi[s] - b.lo[s] < std::ldexp(1.0, -44) || out.leaves.size() > max_leaves) {
+            for (int j = 0; j < b.m; ++j) out.fail_point[vars[j]] = 0.5 * (b.lo[j] + b.hi[j]);
+            out.fail_kind = kind;
+            return false;
+        }
+        const double mid = 0.5 * (b.lo[s] + b.hi[s]);
+        Box l = b, r = b;
+        l.hi[s] = mid, r.lo[s] = mid;
+        stack.push_back(r);
+        stack.push_back(l);
+        return true;
+    };
     while (!stack.empty()) {
         const Box b = stack.back();
         stack.pop_back();
-        Choice ch = choose_key_diagonal<I>(rule, positions_i(key, vars, b), key);
+        if (fan_key && excludes(key, vars, b, Diagonal::AD, fan_exclusion_cot) &&
+            excludes(key, vars, b, Diagonal::BC, fan_exclusion_cot)) {
+            int kind = 0;
+            if (verify_fan(key, vars, b, qmin, qmax, &kind)) {
+                out.leaves.push_back(make_leaf(b, 4));
+                continue;
+            }
+            if (!split_or_fail(b, kind)) return out;
+            continue;
+        }
+        const double dmin = fan_key ? std::min(qmin, fan_keep_cot) : qmin;
+        Choice ch = choose_key_diagonal<I>(fan_key ? DiagonalRule::maxmin : rule, positions_i(key, vars, b), key);
         double thr = 0;
         if (ch.ad && ch.bc) {
             if (threshold_decides(key, vars, b, Diagonal::BC, thr)) ch.ad = false;
@@ -262,33 +329,37 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
             // on the box, the rule takes a valid diagonal Y with q(Y) <= q(X) at
             // every point, so orientation and the min angle hold; the max angle is
             // needed on both diagonals (the one taken is valid there).
-            ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind, 0, 4) ||
-                 verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind, 0, 4);
+            ok = verify_diag(key, vars, b, Diagonal::AD, dmin, qmax, &kind, 0, 4) ||
+                 verify_diag(key, vars, b, Diagonal::BC, dmin, qmax, &kind, 0, 4);
             ok = ok && verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind, 4, 7) &&
                  verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind, 4, 7);
         } else if (ch.ad) {
-            ok = verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &kind);
+            ok = verify_diag(key, vars, b, Diagonal::AD, dmin, qmax, &kind);
         } else {
-            ok = verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &kind);
+            ok = verify_diag(key, vars, b, Diagonal::BC, dmin, qmax, &kind);
         }
         if (ok) {
             out.leaves.push_back(make_leaf(b, (ch.ad ? 1 : 0) | (ch.bc ? 2 : 0)));
             out.leaves.back().threshold = (ch.ad && ch.bc) ? 0 : thr;
             continue;
         }
-        int s = -1;
-        for (int j = 0; j < b.m; ++j)
-            if (s < 0 || b.hi[j] - b.lo[j] > b.hi[s] - b.lo[s]) s = j;
-        if (s < 0 || b.hi[s] - b.lo[s] < std::ldexp(1.0, -44) || out.leaves.size() > max_leaves) {
-            for (int j = 0; j < b.m; ++j) out.fail_point[vars[j]] = 0.5 * (b.lo[j] + b.hi[j]);
-            out.fail_kind = kind;
-            return out;
+        // Fan rule, undecided between the fan and a diagonal: the fan verified
+        // whole; a diagonal the rule takes here qualifies (q <= H0; the max-min
+        // pick among the diagonals qualifies whenever one does), which the claim
+        // covers: qmin >= fan_taken_cot; the max-angle forms on each diagonal
+        // that is not excluded on the box (an excluded one never qualifies).
+        if (fan_key && qmin >= fan_taken_cot) {
+            int k2 = 0;
+            if (verify_fan(key, vars, b, qmin, qmax, &k2) &&
+                (excludes(key, vars, b, Diagonal::AD, fan_exclusion_cot) ||
+                 verify_diag(key, vars, b, Diagonal::AD, qmin, qmax, &k2, 4, 7)) &&
+                (excludes(key, vars, b, Diagonal::BC, fan_exclusion_cot) ||
+                 verify_diag(key, vars, b, Diagonal::BC, qmin, qmax, &k2, 4, 7))) {
+                out.leaves.push_back(make_leaf(b, 5));
+                continue;
+            }
         }
-        const double mid = 0.5 * (b.lo[s] + b.hi[s]);
-        Box l = b, r = b;
-        l.hi[s] = mid, r.lo[s] = mid;
-        stack.push_back(r);
-        stack.push_back(l);
+        if (!split_or_fail(b, kind)) return out;
     }
     out.ok = true;
     return out;

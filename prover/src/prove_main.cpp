@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -18,6 +19,7 @@ int prove_main(int argc, char** argv) {
     std::string out = "proofs";
     std::vector<int> subset, jsubset;
     bool use_subset = false, sign_subset = false, junction_subset = false;
+    std::vector<DiagonalRule> rules{DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan};
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "prove") continue;
@@ -28,6 +30,13 @@ int prove_main(int argc, char** argv) {
 #else
             ++i;
 #endif
+        } else if (a == "--rule" && i + 1 < argc) {  // one rule only (development; key_table.txt then holds it alone)
+            const std::string r = argv[++i];
+            if (r != "maxmin" && r != "separating" && r != "fan") {
+                std::fprintf(stderr, "warpmesh prove: --rule expects maxmin, separating or fan\n");
+                return 2;
+            }
+            rules = {r == "maxmin" ? DiagonalRule::maxmin : r == "separating" ? DiagonalRule::separating : DiagonalRule::fan};
         } else if (a == "--keys" && i + 1 < argc) {  // indices into prover::consistent_keys()
             use_subset = sign_subset = true;
             std::stringstream ss(argv[++i]);
@@ -42,15 +51,17 @@ int prove_main(int argc, char** argv) {
                     for (int k = 0; k < static_cast<int>(prover::junction_keys().size()); ++k) jsubset.push_back(k);
                 else jsubset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--keys I,J,...] [--junction-keys I,J,...]\n");
+            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--rule R] [--keys I,J,...] [--junction-keys I,J,...]\n");
             return 2;
         }
     }
     std::filesystem::create_directories(out);
     int status = 0;
-    // The two rules over the sign keys, then the separating rule over the
-    // junction keys (multi-material squares with 3 or 4 materials; the max-min
-    // rule is refused with materials): maxmin.cert, separating.cert, materials.cert.
+    bool first = true;  // the first run truncates key_table.txt
+    // The two diagonal rules over the sign keys, then the separating rule over
+    // the junction keys (multi-material squares with 3 or 4 materials; the
+    // max-min and fan rules are refused with materials), then the fan rule over
+    // the sign keys: maxmin.cert, separating.cert, materials.cert, fan.cert.
     struct Run {
         DiagonalRule rule;
         prover::KeySpace space;
@@ -58,23 +69,26 @@ int prove_main(int argc, char** argv) {
     };
     for (const Run run : {Run{DiagonalRule::maxmin, prover::KeySpace::signs, "maxmin"},
                           Run{DiagonalRule::separating, prover::KeySpace::signs, "separating"},
-                          Run{DiagonalRule::separating, prover::KeySpace::junctions, "materials"}}) {
+                          Run{DiagonalRule::separating, prover::KeySpace::junctions, "materials"},
+                          Run{DiagonalRule::fan, prover::KeySpace::signs, "fan"}}) {
         const DiagonalRule r = run.rule;
+        // With --rule only that rule's runs.
+        if (std::find(rules.begin(), rules.end(), r) == rules.end()) continue;
         // With --keys / --junction-keys only the runs asked for (a test's subset).
         if (use_subset && !(run.space == prover::KeySpace::junctions ? junction_subset : sign_subset)) continue;
         std::string log;
         const std::vector<int>* ids = run.space == prover::KeySpace::junctions ? (use_subset ? &jsubset : nullptr)
                                                                                : (use_subset ? &subset : nullptr);
         const std::string cert = prover::run_proof(r, ids, &log, run.space);
-        const std::string name = r == DiagonalRule::maxmin ? "maxmin" : "separating";
+        const std::string name = prover::rule_name(r);
         const std::string path = out + "/" + run.file + ".cert";
         std::ofstream f(path + ".tmp", std::ios::binary);
         f << cert;
         f.close();
         std::filesystem::rename(path + ".tmp", path);
         // The key table: one line per key.
-        std::ofstream tab(out + "/key_table.txt", r == DiagonalRule::maxmin ? std::ios::trunc : std::ios::app);
-        if (r == DiagonalRule::maxmin)
+        std::ofstream tab(out + "/key_table.txt", first ? std::ios::trunc : std::ios::app);
+        if (std::exchange(first, false))
             tab << "# rule key flat min_cot max_cot   (see proofs/README.md; every angle a of the chosen triangles\n"
                 << "# of every configuration of the key has max_cot <= cot(a) <= min_cot)\n";
         std::istringstream cs(cert);

@@ -47,9 +47,15 @@ PointEval eval_double(DiagonalRule rule, const Key& k, const std::array<double, 
     const Choice ch = choose_key_diagonal<double>(rule, p, k);
     PointEval e;
     const Diagonal d = ch.ad ? Diagonal::AD : Diagonal::BC;
-    e.diag = ch.ad ? 1 : 2;
-    for (const auto& tri : diagonal_triangles(d)) {
-        const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+    e.diag = ch.fan ? 4 : ch.ad ? 1 : 2;
+    const auto fp = fan_points(p);
+    std::vector<std::array<Point<double>, 3>> tris;
+    if (ch.fan)
+        for (const auto& tri : fan_triangles) tris.push_back({fp[tri[0]], fp[tri[1]], fp[tri[2]]});
+    else
+        for (const auto& tri : diagonal_triangles(d)) tris.push_back({p[tri[0]], p[tri[1]], p[tri[2]]});
+    for (const auto& tri : tris) {
+        const auto f = triangle_forms(tri[0], tri[1], tri[2]);
         if (!(f.cross > 0)) {
             e.valid = false;
             continue;
@@ -223,10 +229,17 @@ ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t)
     const auto p = generic_positions<Q>(w, t);
     const Choice ch = choose_key_diagonal<Q>(rule, p, k);
     ExactEval e;
-    e.diag = ch.ad ? 1 : 2;
+    e.diag = ch.fan ? 4 : ch.ad ? 1 : 2;
     bool first = true;
-    for (const auto& tri : diagonal_triangles(ch.ad ? Diagonal::AD : Diagonal::BC)) {
-        const auto f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+    const auto fp = fan_points(p);
+    std::vector<std::array<Point<Q>, 3>> tris;
+    if (ch.fan)
+        for (const auto& tri : fan_triangles) tris.push_back({fp[tri[0]], fp[tri[1]], fp[tri[2]]});
+    else
+        for (const auto& tri : diagonal_triangles(ch.ad ? Diagonal::AD : Diagonal::BC))
+            tris.push_back({p[tri[0]], p[tri[1]], p[tri[2]]});
+    for (const auto& tri : tris) {
+        const auto f = triangle_forms(tri[0], tri[1], tri[2]);
         if (f.cross <= 0) e.valid = false;
         for (const Q& dot : f.dot) {
             if (f.cross == 0) continue;
@@ -367,6 +380,9 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         cat[c].qmin = q_up(info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin, bits + 3) + std::ldexp(1.0, -bits);
         cat[c].qmax = q_down(info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax, mbits + 3) - std::ldexp(1.0, -mbits);
         cat[c].qmax_loose = c == 1 ? cat[c].qmax : q_down(info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax, 40) - 0.125;
+        // The fan rule: where the rule may take either the fan or a diagonal
+        // (leaf Y), a taken diagonal is only known to have q <= fan_taken_cot.
+        if (rule == DiagonalRule::fan) cat[c].qmin = std::max(cat[c].qmin, fan_taken_cot);
     }
     for (int i = 0; i < n; ++i) {
         Info& f = info[static_cast<std::size_t>(i)];
@@ -406,6 +422,13 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             ++attempts;
             f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
             if (f.proof.ok) break;
+            // Fan rule, a square that may take the fan: undecided leaves (Y) need
+            // qmin >= fan_taken_cot; try that before relaxing further.
+            if (rule == DiagonalRule::fan && !key.junction && all_inside(key.s) && f.qmin < fan_taken_cot) {
+                f.qmin = fan_taken_cot;
+                f.relaxed = true;
+                continue;
+            }
             const PointEval e = eval_double(rule, key, f.proof.fail_point);
             if (f.proof.fail_kind == 1) {
                 if (e.valid && e.qmin > f.wmin.qmin.convert_to<double>()) {
@@ -468,7 +491,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
     const auto t2 = std::chrono::steady_clock::now();
 
     std::ostringstream o, lg;
-    const char* rname = rule == DiagonalRule::maxmin ? "maxmin" : "separating";
+    const char* rname = rule_name(rule);
     o << "warpmesh-certificate 2\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
@@ -550,7 +573,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             continue;
         }
         for (const Leaf& l : f.proof.leaves) {
-            o << (l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
+            o << (l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
             for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
             if (l.threshold != 0) o << ' ' << dstr(l.threshold);
             o << "\n";

@@ -57,7 +57,8 @@ MeshOptions mesh_options(const py::dict& kw) {
         const auto r = kw["rule"].cast<std::string>();
         if (r == "separating") o.rule = DiagonalRule::separating;
         else if (r == "maxmin") o.rule = DiagonalRule::maxmin;
-        else throw InputError("rule must be 'separating' or 'maxmin', got '" + r + "'");
+        else if (r == "fan") o.rule = DiagonalRule::fan;
+        else throw InputError("rule must be 'separating', 'maxmin' or 'fan', got '" + r + "'");
     }
     if (kw.contains("graded")) o.graded = kw["graded"].cast<bool>();
     if (kw.contains("max_cell")) o.max_cell = kw["max_cell"].cast<std::int64_t>();

@@ -222,6 +222,15 @@ inline bool run_pipeline_case(const PipelineCase& c) {
     const CertifyOptions verify{true, true, true};
     const UniformResult u = mesh_uniform(*f, lattice, c.rule, verify);
     check_mesh_invariants(u.mesh, lattice, c.rule, "uniform");
+    if (c.rule == DiagonalRule::separating) {
+        // The fan rule: within its own (unconditional) certified bounds, every
+        // square verified against its key, and the separating rule's boundary
+        // (a fan's centre is never a boundary vertex).
+        const UniformResult fan = mesh_uniform(*f, lattice, DiagonalRule::fan, verify);
+        check_mesh_invariants(fan.mesh, lattice, DiagonalRule::fan, "uniform fan");
+        if (boundary_coords(u.mesh) != boundary_coords(fan.mesh)) violation("fan and separating boundaries differ");
+        if (fan.mesh.triangles.size() < u.mesh.triangles.size()) violation("fan rule lost triangles");
+    }
     if (c.graded) {
         const GradedResult g = mesh_graded(*f, lattice, c.rule, c.max_cell, verify);
         check_mesh_invariants(g.mesh, lattice, c.rule, "graded");

@@ -91,7 +91,12 @@ constexpr bool warp_is_inward(int c, Warp w) {
 }
 
 enum class Diagonal : std::uint8_t { AD = 0, BC = 1 };
-enum class DiagonalRule : std::uint8_t { maxmin = 0, separating = 1 };
+// maxmin and separating: one diagonal per square.  fan: the separating rule,
+// except that a square whose four corners are all inside (corner_inside) and
+// in which neither diagonal reaches the minimum angle atan(1/3) — precisely:
+// no diagonal is valid with worst cotangent <= fan_threshold_cot — is split
+// into four triangles around the centroid of its corners (choose_diagonal).
+enum class DiagonalRule : std::uint8_t { maxmin = 0, separating = 1, fan = 2 };
 
 // The two triangles of each diagonal, counter-clockwise on the unwarped square.
 inline constexpr std::array<std::array<int, 3>, 2> diagonal_triangles(Diagonal d) {
@@ -117,6 +122,39 @@ Point<T> warped_corner(int c, Warp w, const T& t) {
 // A corner counts as inside the region for output when its value is <= 0:
 // a warped corner lies on the level set, so it counts as 0.
 constexpr bool corner_inside(int sign, Warp w) { return w != Warp::stay || sign <= 0; }
+
+// ---------------------------------------------------------------------------
+// The centroid fan (DiagonalRule::fan).  Its centre is M = (A + B + C + D) / 4,
+// joined to the four corners: the triangles (A, B, M), (B, D, M), (D, C, M),
+// (C, A, M), counter-clockwise on the unwarped square.  Since the angle forms
+// are homogeneous (dot and cross both scale by k^2 when every point is scaled
+// by k), the fan's forms are computed on the points scaled by 4 —
+// fan_points() = {4A, 4B, 4C, 4D, A + B + C + D}, index 4 the centre — which
+// needs no division, so intervals, dual numbers and rationals evaluate it as
+// they evaluate the corners.  The mesher places the vertex at the centroid
+// itself.
+inline constexpr int fan_centre = 4;
+inline constexpr std::array<std::array<int, 3>, 4> fan_triangles{
+    {{A, B, fan_centre}, {B, D, fan_centre}, {D, C, fan_centre}, {C, A, fan_centre}}};
+
+template <class T>
+std::array<Point<T>, 5> fan_points(const std::array<Point<T>, 4>& p) {
+    const T four = ScalarOps<T>::from_int(4);
+    return {Point<T>{four * p[A].x, four * p[A].y}, Point<T>{four * p[B].x, four * p[B].y},
+            Point<T>{four * p[C].x, four * p[C].y}, Point<T>{four * p[D].x, four * p[D].y},
+            Point<T>{p[A].x + p[B].x + p[C].x + p[D].x, p[A].y + p[B].y + p[C].y + p[D].y}};
+}
+
+// The fan rule's threshold H0 = 3 + 2^-20 on a diagonal's worst cotangent:
+// a diagonal with q <= H0 keeps every angle >= arccot(H0), 5.5e-6 deg below
+// atan(1/3) = 18.4349488 deg (the slack lets the prover certify squares whose
+// best diagonal is exactly atan(1/3), with the double-agreement margins of
+// proofs/README.md).  Exactly representable in binary floating point.
+template <class T>
+T fan_threshold_cot() {
+    using O = ScalarOps<T>;
+    return O::from_int(3) + O::from_int(1) / O::from_int(1 << 20);
+}
 
 // ---------------------------------------------------------------------------
 // Angle forms of one triangle.  dot[i] = u_i . v_i at vertex i, cross = u x v
@@ -253,14 +291,37 @@ constexpr bool separating_diagonal(const std::array<MaterialCorner, 4>& s, Diago
 struct Choice {
     bool ad = false;
     bool bc = false;
+    bool fan = false;  // DiagonalRule::fan only: the centroid fan (fan_triangles)
 };
 
 // `Corners` is std::array<CornerState, 4> (the certified two-material rule)
 // or std::array<MaterialCorner, 4> (multi-material meshes): the same rule, the
 // separating test reading signs or materials (separating_diagonal above).
+//
+// The fan rule: the separating rule's forced diagonal if a pair qualifies
+// (then some corner stays outside, so the square is not all inside); else, on
+// a square whose four corners are inside,
+//
+//        the fan is taken  <=>  not (some diagonal is valid with q <= H0),
+//
+// H0 = fan_threshold_cot; otherwise the max-min diagonal.  Where a diagonal
+// qualifies, the max-min one qualifies too (it is valid and at least as good),
+// so the rule never takes a diagonal with an angle below arccot(H0) when the
+// fan is available.  The fan is only for squares whose four corners are
+// inside: all its triangles are emitted, so its centre is never a boundary
+// vertex and the square's sides are covered exactly as by a diagonal — the
+// neighbours see the same four corners and the same sides (conforming).
+inline bool all_inside(const std::array<CornerState, 4>& s) {
+    for (const CornerState& c : s)
+        if (!corner_inside(c.sign, c.warp)) return false;
+    return true;
+}
+// Multi-material squares never take the fan (mesh_materials refuses the rule).
+inline bool all_inside(const std::array<MaterialCorner, 4>&) { return false; }
+
 template <class T, class Corners>
 Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s) {
-    if (rule == DiagonalRule::separating) {
+    if (rule == DiagonalRule::separating || rule == DiagonalRule::fan) {
         Diagonal forced{};
         if (separating_diagonal(s, forced)) return Choice{forced == Diagonal::AD, forced == Diagonal::BC};
     }
@@ -269,7 +330,17 @@ Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, cons
     Truth better = Truth::no;  // "q(BC) < q(AD)", evaluated only where it matters
     if (bc.valid != Truth::no && ad.valid != Truth::no) better = ScalarOps<T>::less(bc.worst_cot, ad.worst_cot);
     const Truth take_bc = bc.valid && (!ad.valid || better);
-    return Choice{take_bc != Truth::yes, take_bc != Truth::no};
+    Choice ch{take_bc != Truth::yes, take_bc != Truth::no};
+    if (rule == DiagonalRule::fan && all_inside(s)) {
+        const T h = fan_threshold_cot<T>();
+        // "q <= H0" is "not (H0 < q)"; evaluated only where the diagonal may be valid.
+        const Truth ok_ad = ad.valid == Truth::no ? Truth::no : ad.valid && !ScalarOps<T>::less(h, ad.worst_cot);
+        const Truth ok_bc = bc.valid == Truth::no ? Truth::no : bc.valid && !ScalarOps<T>::less(h, bc.worst_cot);
+        const Truth take_diagonal = ok_ad || ok_bc;
+        if (take_diagonal == Truth::no) return Choice{false, false, true};
+        ch.fan = take_diagonal == Truth::maybe;
+    }
+    return ch;
 }
 
 // The corner positions of a square of the mesher in the unit square's frame.

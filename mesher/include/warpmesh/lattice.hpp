@@ -117,8 +117,16 @@ std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const Cut
 Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& corners,
                                 const std::array<double, 4>& t, bool* forced = nullptr);
 
+// How such a square is triangulated: one of its diagonals, or (DiagonalRule::
+// fan only, on a square whose four corners are inside) the centroid fan of
+// generic_square.hpp.  warped_square_diagonal is this with the fan reported as
+// AD; the meshers use this one.
+enum class SquareSplit : std::uint8_t { ad, bc, fan };
+SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& corners,
+                                const std::array<double, 4>& t, bool* forced = nullptr);
+
 // A finest lattice square i + j nx whose diagonal went through the rule, and
-// its output triangles first .. first + count - 1 (count 1 or 2).
+// its output triangles first .. first + count - 1 (count 1 or 2; 4 for a fan).
 struct KeyedSquare {
     std::int64_t square;
     std::int64_t first;

@@ -17,6 +17,7 @@ namespace generated {
 extern const std::string_view certified_maxmin_keys;
 extern const std::string_view certified_separating_keys;
 extern const std::string_view certified_materials_keys;
+extern const std::string_view certified_fan_keys;
 }  // namespace generated
 
 namespace {
@@ -130,13 +131,16 @@ const JunctionTable& junction_table() {
 const Table& table(DiagonalRule rule) {
     static const Table maxmin = build(generated::certified_maxmin_keys);
     static const Table separating = build(generated::certified_separating_keys);
-    return rule == DiagonalRule::maxmin ? maxmin : separating;
+    static const Table fan = build(generated::certified_fan_keys);
+    return rule == DiagonalRule::maxmin ? maxmin : rule == DiagonalRule::separating ? separating : fan;
 }
 
 }  // namespace
 
 std::string_view certified_table_text(DiagonalRule rule) {
-    return rule == DiagonalRule::maxmin ? generated::certified_maxmin_keys : generated::certified_separating_keys;
+    return rule == DiagonalRule::maxmin       ? generated::certified_maxmin_keys
+           : rule == DiagonalRule::separating ? generated::certified_separating_keys
+                                              : generated::certified_fan_keys;
 }
 
 std::string_view certified_junction_table_text() { return generated::certified_materials_keys; }

@@ -65,6 +65,9 @@ int thread_count() {
 }
 
 void check_material_options(const MaterialField& field, const MaterialOptions& options) {
+    if (options.rule == DiagonalRule::fan)
+        throw InputError("--diagonal fan cannot mesh several materials yet (its fan is certified for two phases only); "
+                         "use the separating rule (the default)");
     if (options.rule == DiagonalRule::maxmin)
         throw InputError("--diagonal maxmin cannot mesh several materials: it can join two unwarped corners of different "
                          "materials by its diagonal, leaving a triangle with no single material; use the separating rule "

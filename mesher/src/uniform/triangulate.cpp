@@ -2,7 +2,10 @@
 // compacted vertices and the boundary.
 //
 // Each square emits the triangles of its chosen diagonal whose three corners
-// are inside (sign <= 0, or warped: a warped point lies on f = 0).  A square
+// are inside (sign <= 0, or warped: a warped point lies on f = 0); under
+// DiagonalRule::fan a square whose four corners are inside may instead emit
+// the four triangles of its centroid fan, with a new vertex at the centroid
+// (numbered after the lattice vertices, in square order).  A square
 // with no warped and no zero-valued corner is the unit square in the generic
 // frame with no separating pair on the level set, where both diagonals tie at
 // 45 degrees and the rule takes AD; the fast path below takes AD without
@@ -45,7 +48,7 @@ using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corne
 // (about a third of the rule's time on this machine).  Inlining changes no
 // operation and no order of operations: the same doubles come out.  The
 // prover's interval instantiation is compiled as before.
-[[gnu::flatten]] Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& cs,
+[[gnu::flatten]] SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& cs,
                                                  const std::array<double, 4>& t, bool* forced) {
     std::array<Warp, 4> w{};
     for (int k = 0; k < 4; ++k) w[static_cast<std::size_t>(k)] = cs[static_cast<std::size_t>(k)].warp;
@@ -53,12 +56,17 @@ using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corne
     if (forced) {
         Diagonal forced_d{};
         *forced = false;
-        if (rule == DiagonalRule::separating && separating_diagonal(cs, forced_d)) {
+        if (rule != DiagonalRule::maxmin && separating_diagonal(cs, forced_d)) {
             const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs);
             *forced = free.bc != ch.bc;
         }
     }
-    return ch.bc ? Diagonal::BC : Diagonal::AD;
+    return ch.fan ? SquareSplit::fan : ch.bc ? SquareSplit::bc : SquareSplit::ad;
+}
+
+Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& cs, const std::array<double, 4>& t,
+                                bool* forced) {
+    return warped_square_split(rule, cs, t, forced) == SquareSplit::bc ? Diagonal::BC : Diagonal::AD;
 }
 
 Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
@@ -82,10 +90,11 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     // ---- pass 1: square codes ------------------------------------------------
     Buffer<std::uint8_t> code(static_cast<std::size_t>(nx * ny));  // every element written by pass 1
     std::vector<std::int64_t> row_tris(static_cast<std::size_t>(ny) + 1, 0);
+    std::vector<std::int64_t> row_fans(static_cast<std::size_t>(ny) + 1, 0);  // centroid fans (DiagonalRule::fan)
     std::int64_t warped_squares = 0, forced = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : warped_squares, forced)
     for (std::int64_t j = 0; j < ny; ++j) {
-        std::int64_t tris = 0;
+        std::int64_t tris = 0, fans = 0;
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
@@ -112,12 +121,15 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             }
             const std::uint8_t e = emitted[(c & bc_bit) != 0][inside];
             c |= e;
-            tris += (e & 1) + (e >> 1);
+            tris += (c & fan_bit) ? 4 : (e & 1) + (e >> 1);
+            fans += (c & fan_bit) != 0;
             code[static_cast<std::size_t>(i + j * nx)] = c;
         }
         row_tris[static_cast<std::size_t>(j) + 1] = tris;
+        row_fans[static_cast<std::size_t>(j) + 1] = fans;
     }
     std::partial_sum(row_tris.begin(), row_tris.end(), row_tris.begin());
+    std::partial_sum(row_fans.begin(), row_fans.end(), row_fans.begin());
 
     // ---- pass 2: compact vertex ids (inside points used by an emitted triangle) --
     auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
@@ -139,6 +151,10 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             return x;
         },
         vid, mesh);
+    // Fan centres follow the lattice vertices, in square order.
+    const std::int64_t lattice_vertices = static_cast<std::int64_t>(mesh.vertices.size());
+    if (lattice_vertices + row_fans.back() > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
+    mesh.vertices.resize(static_cast<std::size_t>(lattice_vertices + row_fans.back()));  // centres written in pass 3
 
     // ---- pass 3: triangles -----------------------------------------------------
     // Squares through the rule, for the certification: per row, then joined.
@@ -147,11 +163,27 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j < ny; ++j) {
         std::int64_t next = row_tris[static_cast<std::size_t>(j)];
+        std::int64_t next_centre = lattice_vertices + row_fans[static_cast<std::size_t>(j)];
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::uint8_t c = code[static_cast<std::size_t>(i + j * nx)];
             if (!(c & (tri0_bit | tri1_bit))) continue;
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            if (c & fan_bit) {
+                // The centroid fan: the centre at the mean of the four corners.
+                if (want_keyed) keyed_rows[static_cast<std::size_t>(j)].push_back({i + j * nx, next, 4});
+                const auto m = static_cast<std::int32_t>(next_centre++);
+                Vec2 x{0, 0};
+                for (std::int64_t q : p) {
+                    const Vec2& v = mesh.vertices[static_cast<std::size_t>(vid[static_cast<std::size_t>(q)])];
+                    x.x += v.x, x.y += v.y;
+                }
+                mesh.vertices[static_cast<std::size_t>(m)] = {0.25 * x.x, 0.25 * x.y};
+                for (const auto& tri : fan_triangles)
+                    mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[static_cast<std::size_t>(tri[0])])],
+                                                                        vid[static_cast<std::size_t>(p[static_cast<std::size_t>(tri[1])])], m};
+                continue;
+            }
             if (want_keyed && (c & rule_bit))
                 keyed_rows[static_cast<std::size_t>(j)].push_back(
                     {i + j * nx, next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});

@@ -17,6 +17,17 @@ int prove_main(int argc, char** argv);
 
 namespace prover {
 
+// The fan rule's thresholds (generic_square.hpp: H0 = fan_threshold_cot =
+// 3 + 2^-20), exact doubles.  A diagonal excluded with fan_exclusion_cot =
+// H0 (1 + 2^-28) does not qualify in the mesher's double evaluation either; one
+// verified with q <= fan_keep_cot = H0 (1 - 2^-28) qualifies there too; a
+// diagonal the mesher lets qualify has exact q <= H0 (1 + 2^-33) <
+// fan_taken_cot = H0 (1 + 2^-30) (proofs/README.md, "The fan rule").
+inline constexpr double fan_h0 = 3.0 + 0x1p-20;
+inline constexpr double fan_exclusion_cot = 3.0 + 0x1p-20 + 3 * 0x1p-28 + 0x1p-48;
+inline constexpr double fan_keep_cot = 3.0 + 0x1p-20 - 3 * 0x1p-28 - 0x1p-48;
+inline constexpr double fan_taken_cot = 3.0 + 0x1p-20 + 3 * 0x1p-30 + 0x1p-50;
+
 // A configuration key: each corner's original sign and warp state.  A
 // *junction key* (a multi-material square whose corners carry 3 or 4
 // materials; proofs/README.md, "Junction keys") has `junction` set and the
@@ -62,7 +73,8 @@ bool flat_compatible(const Key& k);
 // The warped corners, in order: the variables t_0.. of the key's box [0,1/2]^m.
 std::vector<int> key_vars(const Key& k);
 
-// One leaf box: dimension i is [num[2i], num[2i+1]] / 2^k; diag bit 1 = AD, 2 = BC.
+// One leaf box: dimension i is [num[2i], num[2i+1]] / 2^k; diag bit 1 = AD, 2 = BC;
+// fan rule: 4 = the fan decided (tag F), 5 = undecided between the fan and a diagonal (tag Y).
 struct Leaf {
     std::uint8_t diag = 0;
     int k = 0;
@@ -86,6 +98,11 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double min_cot, double max
 // through generic_square.hpp (bit 1 = AD may be taken, bit 2 = BC).
 int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 4>& lo,
                     const std::array<double, 4>& hi);
+
+// "maxmin", "separating" or "fan": the certificate's rule line and file name.
+inline const char* rule_name(DiagonalRule r) {
+    return r == DiagonalRule::maxmin ? "maxmin" : r == DiagonalRule::separating ? "separating" : "fan";
+}
 
 // Runs the whole proof for a rule and returns the certificate text.  `key_subset`
 // (indices into consistent_keys()) restricts the run, for tests; the claims are

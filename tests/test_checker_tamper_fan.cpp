@@ -1,0 +1,166 @@
+// The independent checker rejects tampered certificates of the fan rule
+// (proofs/fan.cert): the leaves and claims that are new with the rule — fan
+// leaves (F), undecided fan/diagonal leaves (Y), the fan only on squares whose
+// corners are all inside, and the qualifying threshold of diagonal leaves.
+// Each test changes one leaf or key line, cuts the certificate after that key
+// (the checker stops at the first error, so the run stays cheap) and asserts
+// the checker's message names the tampered leaf, not the truncation.
+#define BOOST_TEST_MODULE checker_tamper_fan
+#include <boost/test/unit_test.hpp>
+
+#include <boost/multiprecision/cpp_int.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef WARPMESH_CHECK_EXE
+#error "tests/CMakeLists.txt must define WARPMESH_CHECK_EXE"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> cert() {
+    std::ifstream in(fs::path(WARPMESH_PROOFS_DIR) / "fan.cert");
+    std::vector<std::string> out;
+    for (std::string l; std::getline(in, l);) out.push_back(l);
+    BOOST_REQUIRE(out.size() > 100);
+    return out;
+}
+
+std::string run_checker(const std::vector<std::string>& lines, const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_tamper_fan_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path f = dir / (name + ".cert");
+    {
+        std::ofstream out(f);
+        for (const auto& l : lines) out << l << "\n";
+    }
+    const std::string cmd = std::string("\"") + WARPMESH_CHECK_EXE + "\" \"" + f.string() + "\" >/dev/null 2>" +
+                            (dir / (name + ".err")).string();
+    const int rc = std::system(cmd.c_str());
+    std::ifstream err(dir / (name + ".err"));
+    std::stringstream ss;
+    ss << err.rdbuf();
+    fs::remove_all(dir);
+    BOOST_TEST_MESSAGE(name << ": " << ss.str());
+    BOOST_TEST(rc != 0);
+    return ss.str();
+}
+
+// The key line of key `code` is "key <i> <code> <flat> <m> <qmin> <qmax> <leaves>".
+std::vector<std::string> fields(const std::string& line) {
+    std::istringstream ss(line);
+    std::vector<std::string> t;
+    for (std::string w; ss >> w;) t.push_back(w);
+    return t;
+}
+
+bool all_inside(const std::string& code) {  // no corner stays outside ("+s")
+    for (std::size_t c = 0; c < 4; ++c)
+        if (code[2 * c] == '+' && code[2 * c + 1] == 's') return false;
+    return true;
+}
+
+// First key satisfying `want(code)` having a leaf tagged `tag` (and, if
+// `also`, a leaf tagged `also` too): returns (key line, leaf line).
+std::pair<std::size_t, std::size_t> find(const std::vector<std::string>& l, bool (*want)(const std::string&), char tag,
+                                         char also = 0) {
+    for (std::size_t i = 0; i < l.size(); ++i) {
+        if (l[i].rfind("key ", 0) != 0) continue;
+        const auto f = fields(l[i]);
+        if (f.size() != 8 || !want(f[2])) continue;
+        std::size_t leaf = 0;
+        bool has_also = also == 0;
+        for (std::size_t j = i + 1; j < l.size() && l[j].rfind("key ", 0) != 0 && l[j] != "end"; ++j) {
+            if (!leaf && l[j][0] == tag) leaf = j;
+            has_also = has_also || l[j][0] == also;
+        }
+        if (leaf && has_also) return {i, leaf};
+    }
+    BOOST_FAIL("no suitable key");
+    return {0, 0};
+}
+
+// The certificate up to the end of the key whose line is at `key`.
+std::vector<std::string> cut_after(const std::vector<std::string>& l, std::size_t key) {
+    std::size_t end = key + 1;
+    while (end < l.size() && l[end].rfind("key ", 0) != 0 && l[end] != "end") ++end;
+    return {l.begin(), l.begin() + static_cast<long>(end)};
+}
+
+bool names_a_leaf(const std::string& msg) {
+    return msg.find(" leaf ") != std::string::npos && msg.find("truncated") == std::string::npos;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(fan_certificate_has_undecided_fan_leaves) {
+    // (The committed proof has no F leaf: wherever the fan is taken, the Y leaf
+    // — the fan verified whole, the claim covering a qualifying diagonal — holds
+    // on boxes at least as large as those that decide the exclusion.)
+    const auto l = cert();
+    BOOST_TEST(l[2].find("fan") != std::string::npos);
+    find(l, all_inside, 'Y');
+}
+
+BOOST_AUTO_TEST_CASE(fan_leaf_relabelled_as_a_diagonal) {
+    const auto l = cert();
+    const auto [key, leaf] = find(l, all_inside, 'Y');
+    auto t = cut_after(l, key);
+    t[leaf][0] = 'A';
+    const std::string msg = run_checker(t, "fan_as_diagonal");
+    BOOST_TEST(names_a_leaf(msg), msg);
+}
+
+BOOST_AUTO_TEST_CASE(diagonal_leaf_relabelled_as_the_fan) {
+    // Where the diagonal qualifies (q <= H0), the rule does not take the fan.
+    const auto l = cert();
+    const auto [key, leaf] = find(l, all_inside, 'A', 'Y');
+    auto t = cut_after(l, key);
+    t[leaf][0] = 'F';
+    const std::string msg = run_checker(t, "diagonal_as_fan");
+    BOOST_TEST(msg.find("fan not decided") != std::string::npos, msg);
+}
+
+BOOST_AUTO_TEST_CASE(fan_on_a_square_with_an_outside_corner) {
+    // The fan's centre would be a boundary vertex off the level set: refused.
+    const auto l = cert();
+    const auto [key, leaf] = find(l, [](const std::string& c) { return !all_inside(c); }, 'A');
+    auto t = cut_after(l, key);
+    t[leaf][0] = 'F';
+    const std::string msg = run_checker(t, "fan_outside");
+    BOOST_TEST(msg.find("bad diagonal tag") != std::string::npos, msg);
+}
+
+BOOST_AUTO_TEST_CASE(undecided_leaf_with_a_claim_below_the_threshold) {
+    // A Y leaf may take a diagonal with q up to H0 (1 + 2^-30): a key claim of
+    // cot <= 3 (exactly atan(1/3)) does not cover it.  The key is one whose
+    // min-angle witness (format 2: the `wmin` line after the key line) has
+    // cot <= 3, so that the witness does not already contradict the lowered
+    // claim and the checker reaches the leaf.
+    const auto l = cert();
+    std::size_t key = 0;
+    for (std::size_t i = 0; i < l.size() && !key; ++i) {
+        if (l[i].rfind("key ", 0) != 0) continue;
+        const auto f = fields(l[i]);
+        if (f.size() != 8 || !all_inside(f[2]) || i + 1 >= l.size() || l[i + 1].rfind("wmin ", 0) != 0) continue;
+        if (boost::multiprecision::cpp_rational(fields(l[i + 1]).back()) > 3) continue;
+        for (std::size_t j = i + 1; j < l.size() && l[j].rfind("key ", 0) != 0 && l[j] != "end"; ++j)
+            if (l[j][0] == 'Y') key = i;
+    }
+    BOOST_REQUIRE(key);
+    auto t = cut_after(l, key);
+    auto f = fields(t[key]);
+    f[5] = "3";
+    std::string s;
+    for (auto& w : f) s += (s.empty() ? "" : " ") + w;
+    t[key] = s;
+    const std::string msg = run_checker(t, "undecided_low_claim");
+    BOOST_TEST(names_a_leaf(msg), msg);
+}
