@@ -3,7 +3,6 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
 
 #include "graded/quadtree.hpp"
@@ -14,9 +13,6 @@ namespace warpmesh {
 
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
                          const CertifyOptions& certify) {
-    if (rule == DiagonalRule::fan)
-        throw InputError("--graded does not implement --diagonal fan yet (its finest leaves would need the fan's "
-                         "centre vertices): use the uniform mesher for the fan rule, or --diagonal separating");
     using clock = std::chrono::steady_clock;
     GradedResult r;
     const TiledFront front = warp_tiles(f, lattice);
