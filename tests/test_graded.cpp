@@ -808,3 +808,31 @@ BOOST_AUTO_TEST_CASE(fan_centres_do_not_depend_on_the_thread_count) {
     BOOST_TEST((a.mesh.boundary == b.mesh.boundary));
 }
 #endif
+
+BOOST_AUTO_TEST_CASE(fan_centres_do_not_depend_on_the_tile_size) {
+    // Nor on the tiles of the front end and the quadtree: the same vertices
+    // (fan centres included) and triangles for tiles of 4 to 128 squares.
+    std::mt19937 rng(11);
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    const auto f = make_image_levelset(witness_disc(rng, 300, 260), o);
+    const Lattice l = lattice_over(f->bounds(), 1.0);
+    auto mesh = [&](int tile_log) {
+        const TiledFront front = warp_tiles(*f, l, tile_log);
+        const Quadtree tree = build_quadtree(l, front.signs, front.warped, 0);
+        return triangulate_graded(*f, l, front.signs, tree, quadtree_leaves(tree, nullptr, true), front.warped,
+                                  DiagonalRule::fan);
+    };
+    const Mesh want = mesh(default_tile_log);
+    BOOST_TEST(want.vertices.size() > mesh_graded(*f, l, DiagonalRule::separating, 0).mesh.vertices.size() + 50);  // fans
+    for (const int tile_log : {2, 3, 5, 7}) {
+        const Mesh got = mesh(tile_log);
+        BOOST_REQUIRE(got.vertices.size() == want.vertices.size());
+        std::int64_t moved = 0;
+        for (std::size_t k = 0; k < want.vertices.size(); ++k)
+            moved += got.vertices[k].x != want.vertices[k].x || got.vertices[k].y != want.vertices[k].y;
+        BOOST_TEST(moved == 0, "tile_log " << tile_log);
+        BOOST_TEST((band_triangles(got) == band_triangles(want)), "tile_log " << tile_log);
+    }
+}
