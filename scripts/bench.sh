@@ -89,11 +89,11 @@ done
 echo "== the fan rule (--diagonal fan) against the separating rule (certified floor 18.4349 deg against 15 deg)"
 for th in 1 2; do
   for rule in separating fan; do
-    run_case "atlas slice 256x256, s=1, $rule" "$th" "$brain" --label nonzero --spacing 1 --diagonal "$rule" --no-certify
-    run_case "graded atlas slice 256x256, $rule" "$th" "$brain" --label nonzero --spacing 1 --graded --diagonal "$rule" --no-certify
+    run_case "atlas slice s=1, $rule" "$th" "$brain" --label nonzero --spacing 1 --diagonal "$rule" --no-certify
+    run_case "graded atlas slice, $rule" "$th" "$brain" --label nonzero --spacing 1 --graded --diagonal "$rule" --no-certify
     if [ "$quick" = 0 ]; then
-      run_case "atlas upscaled, 4096^2, $rule" "$th" "$brain" --label nonzero --spacing 0.062255859375 --diagonal "$rule" --no-certify
-      run_case "graded atlas upscaled, 4096^2, $rule" "$th" "$brain" --label nonzero --spacing 0.062255859375 --graded --diagonal "$rule" --no-certify
+      run_case "atlas 4096^2, $rule" "$th" "$brain" --label nonzero --spacing 0.062255859375 --diagonal "$rule" --no-certify
+      run_case "graded atlas 4096^2, $rule" "$th" "$brain" --label nonzero --spacing 0.062255859375 --graded --diagonal "$rule" --no-certify
     fi
   done
 done
