@@ -8,8 +8,9 @@
 # per output triangle.  No mesh file is written (the cost of .vtu/.msh output
 # is a separate, I/O-bound matter).
 #
-#   scripts/bench.sh            all cases: uniform, graded, cost of certification
-#   scripts/bench.sh --quick    the atlas slice only
+#   scripts/bench.sh            all cases: uniform, graded, the fan rule against
+#                               the separating rule, cost of certification
+#   scripts/bench.sh --quick    the atlas slice only (with each rule)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
@@ -88,6 +89,18 @@ for th in 1 2; do
     run_case "graded disc, 16384x16384 lattice" "$th" --shape circle:0,0,8191 --spacing 1 --graded --no-certify
   fi
 done
+echo "== the fan rule (--diagonal fan) against the separating rule (certified floor 18.4349 deg against 15 deg)"
+for th in 1 2; do
+  for rule in separating fan; do
+    run_case "atlas slice s=1, $rule" "$th" "$brain" --label nonzero --spacing 1 --diagonal "$rule" --no-certify
+    run_case "graded atlas slice, $rule" "$th" "$brain" --label nonzero --spacing 1 --graded --diagonal "$rule" --no-certify
+    if [ "$quick" = 0 ]; then
+      run_case "atlas 4096^2, $rule" "$th" "$brain" --label nonzero --spacing 0.062255859375 --diagonal "$rule" --no-certify
+      run_case "graded atlas 4096^2, $rule" "$th" "$brain" --label nonzero --spacing 0.062255859375 --graded --diagonal "$rule" --no-certify
+    fi
+  done
+done
+
 if [ "$quick" = 0 ]; then
   # The same meshing repeated in one process (library use): memory freed by
   # one run is reused by the next, so these exclude the first-touch page

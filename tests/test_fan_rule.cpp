@@ -2,7 +2,9 @@
 // witness of the separating rule (key -R+U-L-R, see test_certified_mesh.cpp,
 // which builds the same image): the witness square gets the centroid fan, the
 // mesh keeps every angle at or above atan(1/3) up to 5.5e-6 deg (the certified
-// floor, fan.cert), and --verify checks every triangle against its key.
+// floor, fan.cert), and --verify checks every triangle against its key; the
+// graded mesher gives the same fan (test_graded.cpp compares graded and
+// uniform fan meshes on random level sets).
 #define BOOST_TEST_MODULE fan_rule
 #include <boost/test/unit_test.hpp>
 
@@ -119,21 +121,56 @@ BOOST_AUTO_TEST_CASE(fan_mesh_is_conforming_with_its_boundary_on_the_level_set) 
     fs::remove_all(dir);
 }
 
-BOOST_AUTO_TEST_CASE(fan_rule_refused_where_not_implemented) {
-    // --graded and several materials: a clear error and a non-zero exit, no file.
-    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_refuse_" + std::to_string(::getpid()));
+// The graded mesher takes the fan rule too (the fan square is a finest leaf,
+// triangulated as in the uniform mesh): on the witness image, through the
+// CLI with --verify (every triangle against its key of fan.cert, and the
+// graded invariant), the same fan and the same floor as the uniform mesh.
+BOOST_AUTO_TEST_CASE(graded_mesh_takes_the_fan_rule_on_the_witness_image) {
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_graded_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const fs::path img = dir / "witness.pgm";
     write_witness_image(img);
-    const fs::path out = dir / "graded.vtu";
-    const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + img.string() +
-                            " --iso 30000 --inside below --graded --diagonal fan -o " + out.string() + " 2>" +
-                            (dir / "graded.err").string();
+    auto run = [&](const std::string& name, const std::string& args) {
+        const std::string report = (dir / (name + ".json")).string();
+        const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + img.string() +
+                                " --iso 30000 --inside below --verify --quiet " + args + " --report " + report +
+                                " -o " + (dir / (name + ".vtu")).string() + " 2>" + (dir / (name + ".err")).string();
+        BOOST_REQUIRE_MESSAGE(std::system(cmd.c_str()) == 0, cmd);
+        std::ifstream in(report);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    };
+    const std::string gsep = run("graded_sep", "--graded --diagonal separating");
+    const std::string gfan = run("graded_fan", "--graded --diagonal fan");
+    const std::string ufan = run("uniform_fan", "--diagonal fan");
+    BOOST_TEST(number(gsep, "min_angle_deg") < 15.01);  // the witness, in the graded mesh too
+    BOOST_TEST(number(gfan, "min_angle_deg") >= certified_theorem(DiagonalRule::fan).min_deg_any);
+    BOOST_TEST(number(gfan, "min_angle_deg") >= 18.4349);
+    BOOST_TEST(number(gfan, "min_angle_deg") == number(ufan, "min_angle_deg"));  // the fan's own angle
+    const auto cert = gfan.substr(gfan.find("\"certified\": {"));
+    BOOST_TEST(number(cert, "min_angle_deg") >= 18.4349);
+    BOOST_TEST(cert.find("\"verified\": true") != std::string::npos);
+    BOOST_TEST(number(gfan, "triangles") == number(gsep, "triangles") + 2);  // one fan: 4 triangles for 2
+    BOOST_TEST(number(gfan, "vertices") == number(gsep, "vertices") + 1);   // and its centre
+    fs::remove_all(dir);
+}
+
+BOOST_AUTO_TEST_CASE(fan_rule_refused_for_several_materials) {
+    // Multi-material meshes: the fan is certified for two phases only — a
+    // clear error naming the rule and a non-zero exit, no file.
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_refuse_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path out = dir / "materials.vtu";
+    const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + WARPMESH_TEST_DATA +
+                            "/abdomen_axial_z024_labels16.pgm --materials all --diagonal fan -o " + out.string() +
+                            " 2>" + (dir / "materials.err").string();
     BOOST_TEST(std::system(cmd.c_str()) != 0);
     BOOST_TEST(!fs::exists(out));
-    std::ifstream err(dir / "graded.err");
+    std::ifstream err(dir / "materials.err");
     std::stringstream ss;
     ss << err.rdbuf();
     BOOST_TEST(ss.str().find("--diagonal fan") != std::string::npos, ss.str());
+    BOOST_TEST(ss.str().find("materials") != std::string::npos, ss.str());
     fs::remove_all(dir);
 }

@@ -783,3 +783,181 @@ BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
         BOOST_TEST(absent == 0);
     }
 }
+
+// ---------------------------------------------------------------------------
+// The fan rule (--diagonal fan) in the graded mesher.  A fan square has four
+// inside corners and a warped one, so it is a finest leaf and gets the
+// uniform mesh's centroid fan.  Random 16-bit discs holding perturbed copies
+// of the 15-degree witness (fan squares) and a noisy rim; the disc's inside
+// coarsens between them.
+namespace {
+
+// A disc (inside: darker than 30000) with a noisy rim, holding copies of the
+// separating rule's 15-degree witness (the 16-bit pattern of test_fan_rule.cpp
+// and test_certified_mesh.cpp, key -R+U-L-R with t = (1/2, 0.134, 1/2, 1/2)),
+// each perturbed by a few percent, flipped and transposed at random: squares
+// whose diagonals both fall below atan(1/3), where the fan rule takes the fan.
+Image witness_disc(std::mt19937& rng, int W, int H) {
+    std::uniform_real_distribution<double> U(0, 1);
+    constexpr int iso = 30000;
+    const double cx = W * (0.45 + 0.1 * U(rng)), cy = H * (0.45 + 0.1 * U(rng)), R = std::min(W, H) * (0.38 + 0.08 * U(rng));
+    std::vector<double> v(static_cast<std::size_t>(W) * static_cast<std::size_t>(H));
+    std::vector<bool> pattern(v.size(), false);
+    auto at = [&](int c, int r) -> double& { return v[static_cast<std::size_t>(r * W + c)]; };
+    for (int r = 0; r < H; ++r)
+        for (int c = 0; c < W; ++c) at(c, r) = iso + std::clamp(2000 * (std::hypot(c - cx, r - cy) - R), -10000.0, 10000.0);
+    constexpr int step = 7;
+    for (int oy = 0; oy + step <= H; oy += step)
+        for (int ox = 0; ox + step <= W; ox += step) {
+            if (std::hypot(ox + step / 2.0 - cx, oy + step / 2.0 - cy) > R - 6 || U(rng) < 0.3) continue;
+            auto jiggle = [&](int x) { return static_cast<int>(std::lround(x * (0.98 + 0.04 * U(rng)))); };
+            const int a = jiggle(2680), d = jiggle(17324), c = jiggle(5000);
+            const bool fx = U(rng) < 0.5, fy = U(rng) < 0.5, tr = U(rng) < 0.5;
+            auto put = [&](int x, int y, int f) {  // pattern coordinates 1 .. 4
+                if (tr) std::swap(x, y);
+                if (fx) x = 5 - x;
+                if (fy) y = 5 - y;
+                at(ox + x, oy + y) = iso + f;
+            };
+            for (int y = 0; y < 6; ++y)
+                for (int x = 0; x < 6; ++x) at(ox + x, oy + y) = iso - 10000, pattern[static_cast<std::size_t>((oy + y) * W + ox + x)] = true;
+            put(2, 2, -a), put(3, 2, +a), put(2, 3, -c), put(3, 3, -d);
+            put(1, 3, +c), put(4, 3, +d);
+            put(1, 2, -a), put(2, 1, -a), put(2, 4, -c), put(3, 4, -d), put(4, 2, +a), put(3, 1, +a);
+        }
+    Image img;
+    img.width = W, img.height = H, img.maxval = 65535, img.source = "witness disc";
+    img.pixels.resize(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k) {
+        const double noise = pattern[k] ? 0 : 3000 * (2 * U(rng) - 1);
+        img.pixels[k] = static_cast<std::uint16_t>(std::clamp(v[k] + noise, 0.0, 65535.0));
+    }
+    return img;
+}
+
+// The triangles with a vertex off the integer lattice (warped points, fan
+// centres: the boundary band's triangles), by coordinates, each rotated to
+// its smallest vertex, sorted.
+std::vector<std::array<double, 6>> band_triangles(const Mesh& m) {
+    std::vector<std::array<double, 6>> out;
+    for (const auto& tri : m.triangles) {
+        std::array<std::pair<double, double>, 3> v;
+        bool band = false;
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 p = m.vertices[static_cast<std::size_t>(tri[k])];
+            v[static_cast<std::size_t>(k)] = {p.x, p.y};
+            band = band || !is_integer(p.x) || !is_integer(p.y);
+        }
+        if (!band) continue;
+        std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
+        out.push_back({v[0].first, v[0].second, v[1].first, v[1].second, v[2].first, v[2].second});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+double min_angle(const Mesh& m) {
+    double a = 180;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (double x : angles(m, t)) a = std::min(a, x);
+    return a;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(fan_rule_graded_mesh_has_the_uniform_fans) {
+    std::mt19937 rng(20261202);
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    std::int64_t total_fans = 0;
+    for (int seed = 0; seed < 12; ++seed) {
+        const int W = 40 + static_cast<int>(rng() % 90), H = 40 + static_cast<int>(rng() % 90);
+        const auto f = make_image_levelset(witness_disc(rng, W, H), o);
+        const Lattice l = lattice_over(f->bounds(), 1.0);  // pixel centres: integer lattice points
+        const std::int64_t K = seed % 3 == 0 ? 4 : 0;
+        BOOST_TEST_CONTEXT("seed " << seed << " image " << W << "x" << H << " K " << K) {
+            // Conformity, no hanging vertex, the quadtree, the same boundary
+            // and area as the uniform fan mesh, angles within the fan theorem.
+            compare_with_uniform(*f, l, DiagonalRule::fan, K);
+            const UniformResult u = mesh_uniform(*f, l, DiagonalRule::fan);
+            const UniformResult usep = mesh_uniform(*f, l, DiagonalRule::separating);
+            const GradedResult g = mesh_graded(*f, l, DiagonalRule::fan, K, CertifyOptions{true, true, true});
+            const GradedResult gsep = mesh_graded(*f, l, DiagonalRule::separating, K);
+            // The same fans: as many centres, and the same band triangles.
+            const std::int64_t fans = static_cast<std::int64_t>(u.mesh.vertices.size() - usep.mesh.vertices.size());
+            BOOST_TEST(static_cast<std::int64_t>(g.mesh.vertices.size() - gsep.mesh.vertices.size()) == fans);
+            BOOST_TEST(static_cast<std::int64_t>(g.mesh.triangles.size() - gsep.mesh.triangles.size()) == 2 * fans);
+            total_fans += fans;
+            BOOST_TEST((band_triangles(g.mesh) == band_triangles(u.mesh)));
+            // --verify: every keyed square's triangles (4 for a fan) checked
+            // against its key of fan.cert, the graded invariant checked.
+            BOOST_TEST(g.certified.verified);
+            BOOST_TEST(g.invariant_squares > 0);
+            BOOST_TEST(g.certified.min_deg >= certified_theorem(DiagonalRule::fan).min_deg_any);
+            BOOST_TEST(g.certified.min_deg >= 18.4349);
+            BOOST_TEST(min_angle(g.mesh) >= 18.4349);
+            BOOST_TEST(min_angle(g.mesh) == min_angle(u.mesh));
+            // Without the fans the same images fall below atan(1/3).
+            if (fans > 0) BOOST_TEST(min_angle(gsep.mesh) < 18.4349);
+        }
+    }
+    BOOST_TEST_MESSAGE("fan squares over the witness discs: " << total_fans);
+    BOOST_TEST(total_fans >= 50);  // the test exercises the fan, many times
+}
+
+#ifdef _OPENMP
+BOOST_AUTO_TEST_CASE(fan_centres_do_not_depend_on_the_thread_count) {
+    // The fan centres are numbered in the leaves' canonical order, after the
+    // lattice points' vertices: the same mesh with 1 and 2 threads.
+    std::mt19937 rng(7);
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    const auto f = make_image_levelset(witness_disc(rng, 600, 520), o);
+    const Lattice l = lattice_over(f->bounds(), 1.0);
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const auto a = mesh_graded(*f, l, DiagonalRule::fan, 0);
+    omp_set_num_threads(std::max(2, saved));
+    const auto b = mesh_graded(*f, l, DiagonalRule::fan, 0);
+    omp_set_num_threads(saved);
+    const auto sep = mesh_graded(*f, l, DiagonalRule::separating, 0);
+    BOOST_TEST(a.mesh.vertices.size() > sep.mesh.vertices.size() + 100);  // many fans
+    BOOST_REQUIRE(a.mesh.vertices.size() == b.mesh.vertices.size());
+    std::int64_t moved = 0;
+    for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v)
+        moved += a.mesh.vertices[v].x != b.mesh.vertices[v].x || a.mesh.vertices[v].y != b.mesh.vertices[v].y;
+    BOOST_TEST(moved == 0);
+    BOOST_TEST((a.mesh.triangles == b.mesh.triangles));
+    BOOST_TEST((a.mesh.boundary == b.mesh.boundary));
+}
+#endif
+
+BOOST_AUTO_TEST_CASE(fan_centres_do_not_depend_on_the_tile_size) {
+    // Nor on the tiles of the front end and the quadtree: the same vertices
+    // (fan centres included) and triangles for tiles of 4 to 128 squares.
+    std::mt19937 rng(11);
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    const auto f = make_image_levelset(witness_disc(rng, 300, 260), o);
+    const Lattice l = lattice_over(f->bounds(), 1.0);
+    auto mesh = [&](int tile_log) {
+        const TiledFront front = warp_tiles(*f, l, tile_log);
+        const Quadtree tree = build_quadtree(l, front.signs, front.warped, 0);
+        return triangulate_graded(*f, l, front.signs, tree, quadtree_leaves(tree, nullptr, true), front.warped,
+                                  DiagonalRule::fan);
+    };
+    const Mesh want = mesh(default_tile_log);
+    BOOST_TEST(want.vertices.size() > mesh_graded(*f, l, DiagonalRule::separating, 0).mesh.vertices.size() + 50);  // fans
+    for (const int tile_log : {2, 3, 5, 7}) {
+        const Mesh got = mesh(tile_log);
+        BOOST_REQUIRE(got.vertices.size() == want.vertices.size());
+        std::int64_t moved = 0;
+        for (std::size_t k = 0; k < want.vertices.size(); ++k)
+            moved += got.vertices[k].x != want.vertices[k].x || got.vertices[k].y != want.vertices[k].y;
+        BOOST_TEST(moved == 0, "tile_log " << tile_log);
+        BOOST_TEST((band_triangles(got) == band_triangles(want)), "tile_log " << tile_log);
+    }
+}

@@ -93,7 +93,8 @@ lattice and algorithm:
                          fan: separating, but a square whose corners are all inside and
                          whose diagonals both have an angle below atan(1/3) = 18.43 deg
                          gets 4 triangles around its centroid: certified minimum angle
-                         18.4349 deg on every input (uniform meshes, two phases)
+                         18.4349 deg on every input (uniform and --graded
+                         meshes of two phases; not with several materials)
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
                          (with --materials/--shapes: along every interface)
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;

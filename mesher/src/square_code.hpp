@@ -30,6 +30,15 @@ constexpr std::uint8_t tri0_bit = 1, tri1_bit = 2, bc_bit = 4, rule_bit = 8;
 // vertex).  Bit 4 is the graded triangulation's interior_bit.
 constexpr std::uint8_t fan_bit = 32;
 
+// The position of a fan's centre vertex: the centroid of its (warped) corner
+// positions x[A], x[B], x[C], x[D], summed in that order — one expression for
+// the uniform and graded triangulations, so that their centres agree to the bit.
+inline Vec2 fan_centre_position(const std::array<Vec2, 4>& x) {
+    Vec2 m{0, 0};
+    for (const Vec2& v : x) m.x += v.x, m.y += v.y;
+    return {0.25 * m.x, 0.25 * m.y};
+}
+
 // Corners of triangle k (0 or 1) of the code's diagonal.
 constexpr std::array<int, 3> triangle_of(std::uint8_t code, int k) {
     return diagonal_triangles((code & bc_bit) ? Diagonal::BC : Diagonal::AD)[static_cast<std::size_t>(k)];

@@ -16,8 +16,9 @@
 //   graded.cpp              → the driver, timed
 //
 // Every square with a warped or zero-valued corner is a finest leaf,
-// triangulated exactly as in the uniform mesh, so the certified angle bounds
-// hold; coarse leaves are exact 45-45-90 templates.  The graded mesh covers
+// triangulated exactly as in the uniform mesh (a fan square of
+// DiagonalRule::fan too: its centroid fan, the centre a new vertex), so the
+// certified angle bounds hold; coarse leaves are exact 45-45-90 templates.  The graded mesh covers
 // the uniform mesh's region with the same boundary edges.  The work follows
 // the boundary, not the lattice's area.
 #pragma once

@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
 
 #include "graded/quadtree.hpp"
@@ -33,9 +32,6 @@ std::int64_t max_cell_for_size(double max_size, double spacing) {
 
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
                          const CertifyOptions& certify, int grading_buffer) {
-    if (rule == DiagonalRule::fan)
-        throw InputError("--graded does not implement --diagonal fan yet (its finest leaves would need the fan's "
-                         "centre vertices): use the uniform mesher for the fan rule, or --diagonal separating");
     using clock = std::chrono::steady_clock;
     GradedResult r;
     const TiledFront front = warp_tiles(f, lattice);

@@ -2,12 +2,17 @@
 // vertices and the boundary (triangulate_graded.hpp).
 //
 // Finest leaves are lattice squares and are triangulated exactly as the
-// uniform mesher does: the diagonal by the rule (warped_square_diagonal, the
+// uniform mesher does: the diagonal by the rule (warped_square_split, the
 // code the prover certifies, wherever a corner is warped or zero-valued; AD on
 // the plain unit square, where both diagonals tie), and the triangles whose three
-// corners are inside.  By the quadtree's invariant (quadtree.hpp) every square
-// with a warped corner is such a leaf, so every warped triangle of the graded
-// mesh is a triangle of a generic square of the proof.
+// corners are inside — or, under DiagonalRule::fan, the centroid fan of a
+// square whose four corners are inside (fan_triangles: four triangles around
+// a new vertex at the centroid of its corners, fan_centre_position).  By the
+// quadtree's invariant (quadtree.hpp) every square with a warped corner is
+// such a leaf, so every warped triangle of the graded mesh is a triangle of a
+// generic square of the proof.  A fan square covers its four sides as a
+// diagonal's two triangles do and its centre is interior to it, so the
+// conformity and boundary arguments below see it as a full square.
 //
 // Coarse leaves (level l >= 1, side w = 2^l) are unwarped and, by the
 // quadtree's construction, entirely inside (σ = -1: all their points have f < 0)
@@ -51,8 +56,11 @@
 //      once; count_and_mark_used: per chunk the triangle count, and the used
 //      points;
 //   2. place_vertices: compact vertex ids in lattice-point order (a point
-//      set with ranks) and their positions;
-//   3. emit_triangles: triangles at chunk offsets, region tags;
+//      set with ranks) and their positions; the fan centres follow, numbered
+//      in chunk order (the finest leaves' canonical order), so the vertex
+//      order does not depend on the thread count or the tile size;
+//   3. emit_triangles: triangles at chunk offsets, fan centres' positions,
+//      region tags;
 //   4. boundary_edges: the boundary edges of the finest leaves.
 #include <algorithm>
 #include <atomic>
@@ -84,7 +92,7 @@ constexpr std::int64_t chunk_size = 2048;
 // two corners are inside too — an outside one, unwarped with f > 0, would
 // make a cut edge with a shared corner, and one of the two would warp.
 constexpr std::uint8_t interior_bit = 16;
-static_assert((interior_bit & (tri0_bit | tri1_bit | bc_bit | rule_bit)) == 0);
+static_assert((interior_bit & (tri0_bit | tri1_bit | bc_bit | rule_bit | fan_bit)) == 0);
 
 constexpr std::uint8_t both_triangles = tri0_bit | tri1_bit;
 
@@ -170,12 +178,13 @@ struct GradedTriangulation {
 
     // Pass 1: per parent k, the codes of its squares (2P + c, 2R + r) at
     // code[k][2r + c] (0, emitting nothing, for a child outside the lattice);
-    // statistics; per chunk the triangle count, then (prefix sum) the first
-    // triangle of each chunk; the used points.
+    // statistics; per chunk the triangle and fan counts, then (prefix sums)
+    // the first triangle and the first fan of each chunk; the used points.
     std::vector<std::array<std::uint8_t, 4>> code;
     std::int64_t warped_squares = 0, forced = 0;
-    std::vector<std::int64_t> chunk_tris;
+    std::vector<std::int64_t> chunk_tris, chunk_fans;
     PointSet used;
+    std::int64_t lattice_vertices = 0;  // the used points' count: the first fan centre's id (pass 2)
     // Passes 2 - 4.
     Mesh mesh;
 
@@ -195,6 +204,7 @@ struct GradedTriangulation {
           parallel(false),
           code(leaves_.parents.size(), std::array<std::uint8_t, 4>{}),
           chunk_tris(static_cast<std::size_t>(chunks.count) + 1, 0),
+          chunk_fans(static_cast<std::size_t>(chunks.count) + 1, 0),
           used(nxp, ny + 1) {
 #ifdef _OPENMP
         parallel = chunks.count > 1 && omp_get_max_threads() > 1;
@@ -237,7 +247,7 @@ struct GradedTriangulation {
     }
 
     // The code of finest square (i, j), as in triangulate.cpp: its diagonal
-    // and emitted triangles.  `sg`, `wp`: the signs and warped flags of its
+    // (or fan) and emitted triangles.  `sg`, `wp`: the signs and warped flags of its
     // corners A, B, C, D.  `warped_corner` / `forced_diag` report, for the
     // stats, whether a corner is warped and whether the separating rule
     // overrode max-min (asked only where the diagonal matters).
@@ -332,23 +342,30 @@ struct GradedTriangulation {
             used.insert_bits<false>(i, j, rel);
     }
 
-    // Per chunk, its triangle count and its leaves' used points; then the
-    // chunks' first triangles.
+    // Per chunk, its triangle and fan counts and its leaves' used points;
+    // then the chunks' first triangles and first fans.
     void count_and_mark_used() {
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
         for (std::int64_t ch = 0; ch < chunks.count; ++ch)
-            chunk_tris[static_cast<std::size_t>(ch) + 1] = ch < chunks.finest ? mark_finest_chunk(ch) : mark_coarse_chunk(ch);
+            chunk_tris[static_cast<std::size_t>(ch) + 1] =
+                ch < chunks.finest ? mark_finest_chunk(ch, chunk_fans[static_cast<std::size_t>(ch) + 1]) : mark_coarse_chunk(ch);
         std::partial_sum(chunk_tris.begin(), chunk_tris.end(), chunk_tris.begin());
+        std::partial_sum(chunk_fans.begin(), chunk_fans.end(), chunk_fans.begin());
     }
     // A parent's used corners (corner_mask: bit q for corner q = A, B, C, D of
-    // a square) as its three rows of three points.
-    std::int64_t mark_finest_chunk(std::int64_t ch) {
+    // a square; a fan square has both triangle bits, so all four) as its three
+    // rows of three points.  Returns the chunk's triangles (4 per fan), its
+    // fans in `fans`.
+    std::int64_t mark_finest_chunk(std::int64_t ch, std::int64_t& fans) {
         std::int64_t tris = 0;
+        fans = 0;
         for_each_parent(ch, [&](std::int64_t k, std::int64_t i, std::int64_t j, int, int) {
             const auto& q = code[static_cast<std::size_t>(k)];
             std::array<unsigned, 4> m{};
             for (std::size_t s = 0; s < 4; ++s) {
-                tris += (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
+                const bool fan = q[s] & fan_bit;
+                tris += fan ? 4 : (q[s] & tri0_bit ? 1 : 0) + (q[s] & tri1_bit ? 1 : 0);
+                fans += fan;
                 m[s] = corner_mask[q[s] & 7];
             }
             mark_used(i, j, (m[0] & 3) | (m[1] & 3) << 1);
@@ -388,10 +405,12 @@ struct GradedTriangulation {
     // are the vertex ids; positions by rows in parallel, word by word: `used`
     // and the tree's warped set have the same dimensions, hence the same word
     // layout, so a word's warped members are one AND away and their records
-    // at the warped set's ranks (no per-point lookups).
+    // at the warped set's ranks (no per-point lookups).  The fan centres get
+    // the ids after them (positions written by pass 3).
     void place_vertices() {
         used.finish();
-        const std::int64_t nverts = used.count, ntris = chunk_tris.back();
+        lattice_vertices = used.count;
+        const std::int64_t nverts = used.count + chunk_fans.back(), ntris = chunk_tris.back();
         if (nverts > INT32_MAX || ntris > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex and triangle indices");
         mesh.vertices.resize(static_cast<std::size_t>(nverts));
         mesh.triangles.resize(static_cast<std::size_t>(ntris));
@@ -419,11 +438,14 @@ struct GradedTriangulation {
     // corners read back from the vertices of pass 2, a coarse leaf's
     // (unwarped) as lattice positions, the same doubles as pass 2's.  Warped
     // corners stay in their square (they slide along its sides), so its box
-    // holds every centroid.  The finest leaves through the rule are collected
-    // per chunk in `keyed`, if asked (for the certification).
+    // holds every centroid (a fan's centre too: the centroid of its corners).
+    // A fan square's centre is placed here, at the chunk's next fan id.  The
+    // finest leaves through the rule are collected per chunk in `keyed`, if
+    // asked (for the certification).
     struct Emitter {
         GradedTriangulation& g;
-        std::int64_t next;  // the next triangle
+        std::int64_t next;         // the next triangle
+        std::int64_t next_centre;  // the next fan centre's vertex id
         RegionTagger tagger;
         bool tags;
 
@@ -444,16 +466,18 @@ struct GradedTriangulation {
         mesh.region.resize(mesh.triangles.size());  // every element written below
 #pragma omp parallel for schedule(dynamic, 1) if (chunks.count > 1)
         for (std::int64_t ch = 0; ch < chunks.count; ++ch) {
-            Emitter e{*this, chunk_tris[static_cast<std::size_t>(ch)], RegionTagger{f}, tags};
+            Emitter e{*this, chunk_tris[static_cast<std::size_t>(ch)],
+                      lattice_vertices + chunk_fans[static_cast<std::size_t>(ch)], RegionTagger{f}, tags};
             if (ch < chunks.finest)
                 emit_finest_chunk(ch, e, keyed ? &(*keyed)[static_cast<std::size_t>(ch)] : nullptr);
             else
                 emit_coarse_chunk(ch, e);
             assert(e.next == chunk_tris[static_cast<std::size_t>(ch) + 1]);
+            assert(e.next_centre == lattice_vertices + chunk_fans[static_cast<std::size_t>(ch) + 1]);
         }
     }
     // Vertex ids and positions are looked up once per parent, not per triangle.
-    void emit_finest_chunk(std::int64_t ch, Emitter& e, std::vector<KeyedSquare>* keyed) const {
+    void emit_finest_chunk(std::int64_t ch, Emitter& e, std::vector<KeyedSquare>* keyed) {
         for_each_parent(ch, [&](std::int64_t k, std::int64_t i0, std::int64_t j0, int cols, int rows) {
             const auto& q4 = code[static_cast<std::size_t>(k)];
             if (!((q4[0] | q4[1] | q4[2] | q4[3]) & both_triangles)) return;
@@ -465,7 +489,8 @@ struct GradedTriangulation {
                     if (!(c & both_triangles)) continue;
                     const std::int64_t i = i0 + cc, j = j0 + r;
                     if (keyed && (c & rule_bit))
-                        keyed->push_back({i + j * nx, e.next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
+                        keyed->push_back({i + j * nx, e.next,
+                                          static_cast<std::int32_t>((c & fan_bit) ? 4 : (c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
                     const std::size_t R0 = static_cast<std::size_t>(r), C0 = static_cast<std::size_t>(cc);
                     const std::array<std::int32_t, 4> v{id[R0][C0], id[R0][C0 + 1], id[R0 + 1][C0], id[R0 + 1][C0 + 1]};
 #ifndef NDEBUG
@@ -476,6 +501,17 @@ struct GradedTriangulation {
 #endif
                     const std::optional<std::int32_t> one = all ? all : e.region_of_box(i, j, 1, 1);
                     std::array<Vec2, 4> x{};
+                    if (c & fan_bit) {  // the centroid fan (its four corners are used)
+                        for (std::size_t q = 0; q < 4; ++q) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];
+                        const auto m = static_cast<std::int32_t>(e.next_centre++);
+                        const Vec2 xm = fan_centre_position(x);
+                        mesh.vertices[static_cast<std::size_t>(m)] = xm;
+                        for (const auto& tri : fan_triangles) {
+                            const std::size_t a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]);
+                            e.emit(v[a], v[b], m, one ? *one : e.tagger.of_triangle(x[a], x[b], xm));
+                        }
+                        continue;
+                    }
                     if (!one)
                         for (std::size_t q = 0; q < 4; ++q)
                             if (uses_corner(c, static_cast<int>(q))) x[q] = mesh.vertices[static_cast<std::size_t>(v[q])];

@@ -12,9 +12,10 @@
 namespace warpmesh {
 
 // Triangles of the leaves.  Finest leaves: the square's diagonal by `rule`
-// exactly as the uniform triangulation (warped_square_diagonal where a corner
+// exactly as the uniform triangulation (warped_square_split where a corner
 // is warped or zero-valued, AD otherwise) and the triangles with three inside
-// corners.  Coarse inside leaves: AD if no side is split; otherwise the centre
+// corners; or the centroid fan (DiagonalRule::fan), whose centres are
+// numbered after the lattice points' vertices, in the leaves' canonical order.  Coarse inside leaves: AD if no side is split; otherwise the centre
 // template (centre joined to the corners and to the split sides' midpoints).
 // Vertices compacted in lattice-point order, boundary edges oriented with the
 // region on their left, region tags as in the uniform mesh.  `leaves` as

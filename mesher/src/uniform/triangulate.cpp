@@ -173,12 +173,9 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                 // The centroid fan: the centre at the mean of the four corners.
                 if (want_keyed) keyed_rows[static_cast<std::size_t>(j)].push_back({i + j * nx, next, 4});
                 const auto m = static_cast<std::int32_t>(next_centre++);
-                Vec2 x{0, 0};
-                for (std::int64_t q : p) {
-                    const Vec2& v = mesh.vertices[static_cast<std::size_t>(vid[static_cast<std::size_t>(q)])];
-                    x.x += v.x, x.y += v.y;
-                }
-                mesh.vertices[static_cast<std::size_t>(m)] = {0.25 * x.x, 0.25 * x.y};
+                std::array<Vec2, 4> x{};
+                for (std::size_t q = 0; q < 4; ++q) x[q] = mesh.vertices[static_cast<std::size_t>(vid[static_cast<std::size_t>(p[q])])];
+                mesh.vertices[static_cast<std::size_t>(m)] = fan_centre_position(x);
                 for (const auto& tri : fan_triangles)
                     mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[static_cast<std::size_t>(tri[0])])],
                                                                         vid[static_cast<std::size_t>(p[static_cast<std::size_t>(tri[1])])], m};
