@@ -6,6 +6,8 @@
 //                      (materials.hpp, steps 1 - 3);
 //   material_diagonal  a warped square's diagonal by the rule the prover
 //                      certifies, on its material corners;
+//   warped_square      a warped square's diagonal, its two triangles'
+//                      materials and areas (both meshers' inner loop);
 //   material_squares   the certification post-pass: the keyed squares with
 //                      one or two materials looked up, junction squares listed;
 //   finish_materials   per-material statistics and region names.
@@ -19,6 +21,8 @@
 
 #include "warpmesh/buffer.hpp"
 #include "warpmesh/materials.hpp"
+
+#include "square_code.hpp"
 
 namespace warpmesh {
 
@@ -57,6 +61,56 @@ MaterialFront material_front(const MaterialField& field, const Lattice& lattice,
 // Whether the rule takes BC on the warped square with these material corners
 // and slide lengths; `forced`: the separating rule overrode max-min.
 bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced);
+
+// A warped square (corners p = A, B, C, D; A at lattice (i, j)): its code
+// (rule_bit, and bc_bit when the rule takes BC), each triangle's material —
+// the common material of its unwarped corners (materials.hpp: the separating
+// rule leaves no triangle with two unwarped corners of different materials;
+// `mixed` counts violations, which must be none), or the material at its
+// centroid when all three corners moved (`by_centroid`) — and twice each
+// triangle's signed area.
+struct WarpedSquare {
+    std::uint8_t code = square_code::rule_bit;
+    bool forced = false;  // the separating rule overrode max-min
+    std::array<int, 2> material{};
+    std::array<double, 2> area2{};
+    int mixed = 0, by_centroid = 0;
+};
+inline WarpedSquare warped_square(const MaterialFront& front, const Lattice& lattice, const MaterialField& field,
+                                  DiagonalRule rule, const std::array<std::int64_t, 4>& p, std::int64_t i, std::int64_t j) {
+    WarpedSquare w;
+    std::array<MaterialCorner, 4> cs{};
+    std::array<double, 4> t{};
+    std::array<Vec2, 4> x{};
+    for (std::size_t q = 0; q < 4; ++q) {
+        cs[q].material = front.mat[static_cast<std::size_t>(p[q])];
+        if (front.moved[static_cast<std::size_t>(p[q])]) {
+            const WarpedPoint& wp = front.warp_of(p[q]);
+            cs[q].warp = wp.dir, t[q] = wp.t;
+        }
+        x[q] = front.position(lattice, p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
+    }
+    if (material_diagonal_bc(rule, cs, t, w.forced)) w.code |= square_code::bc_bit;
+    for (int k = 0; k < 2; ++k) {
+        const auto tri = square_code::triangle_of(w.code, k);
+        int m = -1;
+        for (int v : tri) {
+            const MaterialCorner& mc = cs[static_cast<std::size_t>(v)];
+            if (mc.warp != Warp::stay) continue;
+            if (m >= 0 && m != mc.material) ++w.mixed;
+            m = mc.material;
+        }
+        const Vec2 &a = x[static_cast<std::size_t>(tri[0])], &b = x[static_cast<std::size_t>(tri[1])],
+                   &e = x[static_cast<std::size_t>(tri[2])];
+        if (m < 0) {
+            m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
+            ++w.by_centroid;
+        }
+        w.material[static_cast<std::size_t>(k)] = m;
+        w.area2[static_cast<std::size_t>(k)] = (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x);
+    }
+    return w;
+}
 
 // The certification post-pass (materials.hpp, "Certification") on r.mesh:
 // fills r.certified, r.junction_squares, r.junction_examples, r.times.certify.

@@ -223,7 +223,6 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     r.cut_edges = front.cut_edges;
     r.third_material_edges = front.third_material_edges;
     r.warped_points = static_cast<std::int64_t>(front.warped.size());
-    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& { return front.warp_of(p); };
     auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) { return front.position(lattice, p, i, j); };
     auto position = [&](std::int64_t p) { return position_ij(p, p % nxp, p / nxp); };
 
@@ -258,39 +257,14 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
                 area[m] += 2 * s2;  // twice the areas of both halves
             } else {
                 ++warped_squares;
-                c = rule_bit;
-                std::array<MaterialCorner, 4> cs{};
-                std::array<double, 4> t{};
-                std::array<Vec2, 4> x{};
-                for (std::size_t q = 0; q < 4; ++q) {
-                    cs[q].material = mat[static_cast<std::size_t>(p[q])];
-                    if (moved[static_cast<std::size_t>(p[q])]) {
-                        const WarpedPoint& wp = warp_of(p[q]);
-                        cs[q].warp = wp.dir, t[q] = wp.t;
-                    }
-                    x[q] = position_ij(p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
-                }
-                bool was_forced = false;
-                if (material_diagonal_bc(options.rule, cs, t, was_forced)) c |= bc_bit;
-                forced += was_forced;
-                for (int k = 0; k < 2; ++k) {
-                    const auto tri = triangle_of(c, k);
-                    int m = -1;
-                    for (int v : tri) {
-                        const MaterialCorner& mc = cs[static_cast<std::size_t>(v)];
-                        if (mc.warp != Warp::stay) continue;
-                        if (m >= 0 && m != mc.material) ++mixed;  // impossible by separating_pair's proof
-                        m = mc.material;
-                    }
-                    const Vec2 &a = x[static_cast<std::size_t>(tri[0])], &b = x[static_cast<std::size_t>(tri[1])],
-                               &e = x[static_cast<std::size_t>(tri[2])];
-                    if (m < 0) {
-                        m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
-                        ++centroid;
-                    }
-                    tm[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(m);
-                    ++count[static_cast<std::size_t>(m)];
-                    area[static_cast<std::size_t>(m)] += (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x);
+                const WarpedSquare w = warped_square(front, lattice, field, options.rule, p, i, j);
+                c = w.code;
+                forced += w.forced, mixed += w.mixed, centroid += w.by_centroid;
+                for (std::size_t k = 0; k < 2; ++k) {
+                    const auto m = static_cast<std::size_t>(w.material[k]);
+                    tm[k] = static_cast<std::uint16_t>(m);
+                    ++count[m];
+                    area[m] += w.area2[k];
                 }
             }
             for (int k = 0; k < 2; ++k)

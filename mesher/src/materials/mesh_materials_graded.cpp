@@ -165,38 +165,15 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
             return;
         }
         ++r.warped_squares;
-        std::uint8_t c = rule_bit;
-        std::array<MaterialCorner, 4> cs{};
-        std::array<double, 4> t{};
-        std::array<Vec2, 4> x{};
-        for (std::size_t q = 0; q < 4; ++q) {
-            cs[q].material = mat[static_cast<std::size_t>(p[q])];
-            if (moved[static_cast<std::size_t>(p[q])]) {
-                const WarpedPoint& wp = front.warp_of(p[q]);
-                cs[q].warp = wp.dir, t[q] = wp.t;
-            }
-            x[q] = front.position(lattice, p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
-        }
-        bool was_forced = false;
-        if (material_diagonal_bc(options.rule, cs, t, was_forced)) c |= bc_bit;
-        r.forced_diagonals += was_forced;
+        const WarpedSquare w = warped_square(front, lattice, field, options.rule, p, i, j);
+        const std::uint8_t c = w.code;
+        r.forced_diagonals += w.forced;
+        r.mixed_triangles += w.mixed, r.centroid_triangles += w.by_centroid;
         const std::int64_t first = nout;
         for (int k = 0; k < 2; ++k) {
             const auto tri = triangle_of(c, k);
-            int m = -1;
-            for (int v : tri) {
-                const MaterialCorner& mc = cs[static_cast<std::size_t>(v)];
-                if (mc.warp != Warp::stay) continue;
-                if (m >= 0 && m != mc.material) ++r.mixed_triangles;  // impossible by separating_pair's proof
-                m = mc.material;
-            }
-            const Vec2 &a = x[static_cast<std::size_t>(tri[0])], &b = x[static_cast<std::size_t>(tri[1])], &e = x[static_cast<std::size_t>(tri[2])];
-            if (m < 0) {
-                m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
-                ++r.centroid_triangles;
-            }
             add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
-                (b.x - a.x) * (e.y - a.y) - (b.y - a.y) * (e.x - a.x), m, true, border);
+                w.area2[static_cast<std::size_t>(k)], w.material[static_cast<std::size_t>(k)], true, border);
         }
         if (nout > first) keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(nout - first)});
     });
