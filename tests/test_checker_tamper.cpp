@@ -14,40 +14,16 @@
 
 #include <boost/multiprecision/cpp_int.hpp>
 
+#include "checker_run.hpp"
+
 #ifndef WARPMESH_CHECK_EXE
 #error "tests/CMakeLists.txt must define WARPMESH_CHECK_EXE"
 #endif
 
 namespace fs = std::filesystem;
+using namespace warpmesh::testing;
 
 namespace {
-
-std::vector<std::string> read_lines(const fs::path& p) {
-    std::ifstream in(p);
-    std::vector<std::string> out;
-    for (std::string l; std::getline(in, l);) out.push_back(l);
-    return out;
-}
-
-int run_checker(const std::vector<std::string>& lines, const std::string& name, std::string* message = nullptr) {
-    const fs::path dir = fs::temp_directory_path() / ("warpmesh_tamper_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path f = dir / (name + ".cert");
-    {
-        std::ofstream out(f);
-        for (const auto& l : lines) out << l << "\n";
-    }
-    const std::string cmd = std::string("\"") + WARPMESH_CHECK_EXE + "\" \"" + f.string() + "\" >/dev/null 2>" +
-                            (dir / (name + ".err")).string();
-    const int rc = std::system(cmd.c_str());
-    std::ifstream err(dir / (name + ".err"));
-    std::stringstream ss;
-    ss << err.rdbuf();
-    BOOST_TEST_MESSAGE(name << ": " << ss.str());
-    if (message) *message = ss.str();
-    fs::remove_all(dir);
-    return rc;
-}
 
 std::vector<std::string> cert() {
     auto l = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "maxmin.cert");
@@ -207,12 +183,6 @@ std::size_t find_key(const std::vector<std::string>& l, int min_dims) {
     std::size_t k = leaf;
     while (l[k].rfind("key ", 0) != 0) --k;
     return k;
-}
-std::vector<std::string> fields(const std::string& s) {
-    std::istringstream ss(s);
-    std::vector<std::string> tok;
-    for (std::string t; ss >> t;) tok.push_back(t);
-    return tok;
 }
 std::string join(const std::vector<std::string>& tok) {
     std::string s;

@@ -10,6 +10,8 @@
 
 #include <boost/multiprecision/cpp_int.hpp>
 
+#include "checker_run.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,43 +24,22 @@
 #endif
 
 namespace fs = std::filesystem;
+using warpmesh::testing::fields;
+using warpmesh::testing::read_lines;
 
 namespace {
 
 std::vector<std::string> cert() {
-    std::ifstream in(fs::path(WARPMESH_PROOFS_DIR) / "fan.cert");
-    std::vector<std::string> out;
-    for (std::string l; std::getline(in, l);) out.push_back(l);
+    auto out = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "fan.cert");
     BOOST_REQUIRE(out.size() > 100);
     return out;
 }
 
+// The checker's message on a tampered copy, which it must reject.
 std::string run_checker(const std::vector<std::string>& lines, const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("warpmesh_tamper_fan_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path f = dir / (name + ".cert");
-    {
-        std::ofstream out(f);
-        for (const auto& l : lines) out << l << "\n";
-    }
-    const std::string cmd = std::string("\"") + WARPMESH_CHECK_EXE + "\" \"" + f.string() + "\" >/dev/null 2>" +
-                            (dir / (name + ".err")).string();
-    const int rc = std::system(cmd.c_str());
-    std::ifstream err(dir / (name + ".err"));
-    std::stringstream ss;
-    ss << err.rdbuf();
-    fs::remove_all(dir);
-    BOOST_TEST_MESSAGE(name << ": " << ss.str());
-    BOOST_TEST(rc != 0);
-    return ss.str();
-}
-
-// The key line of key `code` is "key <i> <code> <flat> <m> <qmin> <qmax> <leaves>".
-std::vector<std::string> fields(const std::string& line) {
-    std::istringstream ss(line);
-    std::vector<std::string> t;
-    for (std::string w; ss >> w;) t.push_back(w);
-    return t;
+    std::string msg;
+    BOOST_TEST(warpmesh::testing::run_checker(lines, name, &msg) != 0);
+    return msg;
 }
 
 bool all_inside(const std::string& code) {  // no corner stays outside ("+s")
