@@ -47,12 +47,16 @@ int raw_index(const std::array<CornerState, 4>& cs) {
     return k;
 }
 
-struct Table {
-    std::vector<CertifiedBound> bound = std::vector<CertifiedBound>(raw_keys);
-    std::vector<std::uint8_t> known = std::vector<std::uint8_t>(raw_keys, 0);
+// A compiled-in key table over `raw` raw key indices (sign keys: raw_index;
+// junction keys: raw_junction_index).
+template <int raw>
+struct KeyTable {
+    std::vector<CertifiedBound> bound = std::vector<CertifiedBound>(raw);
+    std::vector<std::uint8_t> known = std::vector<std::uint8_t>(raw, 0);
     std::size_t count = 0;
     CertifiedTheorem theorem{};
 };
+using Table = KeyTable<raw_keys>;
 
 Table build(std::string_view text) {
     Table t;
@@ -89,12 +93,7 @@ int raw_junction_index(const std::array<MaterialCorner, 4>& cs) {
     return k;
 }
 
-struct JunctionTable {
-    std::vector<CertifiedBound> bound = std::vector<CertifiedBound>(raw_junction_keys);
-    std::vector<std::uint8_t> known = std::vector<std::uint8_t>(raw_junction_keys, 0);
-    std::size_t count = 0;
-    CertifiedTheorem theorem{};
-};
+using JunctionTable = KeyTable<raw_junction_keys>;
 
 JunctionTable build_junctions(std::string_view text) {
     JunctionTable t;
