@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "witness_image.hpp"
 #include "warpmesh/certified.hpp"
 #include "warpmesh/graded.hpp"
 #include "warpmesh/shapes.hpp"
@@ -145,24 +146,8 @@ BOOST_AUTO_TEST_CASE(witness_image_below_atan_one_third_and_guarantee_flat) {
     namespace fs = std::filesystem;
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_witness_" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    constexpr int W = 8, H = 8, iso = 30000, a = 2680, d = 17324, c = 5000;
-    std::vector<std::vector<int>> v(H, std::vector<int>(W, iso - 10000));  // v[y][x], inside by default
-    auto put = [&](int x, int y, int f) { v[static_cast<std::size_t>(y)][static_cast<std::size_t>(x)] = iso + f; };
-    put(2, 2, -a), put(3, 2, +a), put(2, 3, -c), put(3, 3, -d);
-    put(1, 3, +c), put(4, 3, +d);
-    put(1, 2, -a), put(2, 1, -a), put(2, 4, -c), put(3, 4, -d), put(4, 2, +a), put(3, 1, +a);
-    for (auto& row : v)
-        for (int x = 5; x < W; ++x) row[static_cast<std::size_t>(x)] = iso + 10000;
     const fs::path img = dir / "witness.pgm";
-    {
-        std::ofstream out(img, std::ios::binary);
-        out << "P5\n" << W << " " << H << "\n65535\n";
-        for (int r = 0; r < H; ++r)
-            for (int x = 0; x < W; ++x) {
-                const int p = v[static_cast<std::size_t>(H - 1 - r)][static_cast<std::size_t>(x)];
-                out.put(static_cast<char>(p >> 8)).put(static_cast<char>(p & 255));
-            }
-    }
+    warpmesh::testing::write_witness_image(img);
     auto run = [&](const std::string& extra, const std::string& name) {
         const std::string report = (dir / (name + ".json")).string();
         const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + img.string() +

@@ -17,6 +17,7 @@
 
 #include <unistd.h>
 
+#include "witness_image.hpp"
 #include "warpmesh/certified.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
@@ -28,27 +29,6 @@ namespace fs = std::filesystem;
 using namespace warpmesh;
 
 namespace {
-
-// The 16-bit witness image of test_certified_mesh.cpp: f = pixel - 30000,
-// inside below; lattice square (2, 2) is the key -R+U-L-R at t = (1/2,
-// a/(a+d) ~ 0.13397, 1/2, 1/2), where both diagonals have a 15.0000° angle.
-void write_witness_image(const fs::path& img) {
-    constexpr int W = 8, H = 8, iso = 30000, a = 2680, d = 17324, c = 5000;
-    std::vector<std::vector<int>> v(H, std::vector<int>(W, iso - 10000));  // v[y][x]
-    auto put = [&](int x, int y, int f) { v[static_cast<std::size_t>(y)][static_cast<std::size_t>(x)] = iso + f; };
-    put(2, 2, -a), put(3, 2, +a), put(2, 3, -c), put(3, 3, -d);
-    put(1, 3, +c), put(4, 3, +d);
-    put(1, 2, -a), put(2, 1, -a), put(2, 4, -c), put(3, 4, -d), put(4, 2, +a), put(3, 1, +a);
-    for (auto& row : v)
-        for (int x = 5; x < W; ++x) row[static_cast<std::size_t>(x)] = iso + 10000;
-    std::ofstream out(img, std::ios::binary);
-    out << "P5\n" << W << " " << H << "\n65535\n";
-    for (int r = 0; r < H; ++r)
-        for (int x = 0; x < W; ++x) {
-            const int p = v[static_cast<std::size_t>(H - 1 - r)][static_cast<std::size_t>(x)];
-            out.put(static_cast<char>(p >> 8)).put(static_cast<char>(p & 255));
-        }
-}
 
 double number(const std::string& j, const std::string& key) {
     const auto at = j.find("\"" + key + "\": ");
@@ -62,7 +42,7 @@ BOOST_AUTO_TEST_CASE(witness_image_keeps_atan_one_third_with_the_fan_rule) {
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const fs::path img = dir / "witness.pgm";
-    write_witness_image(img);
+    warpmesh::testing::write_witness_image(img);
     auto run = [&](const std::string& rule) {
         const std::string report = (dir / (rule + ".json")).string();
         const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + img.string() +
@@ -96,7 +76,7 @@ BOOST_AUTO_TEST_CASE(fan_mesh_is_conforming_with_its_boundary_on_the_level_set) 
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_lib_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const fs::path img = dir / "witness.pgm";
-    write_witness_image(img);
+    warpmesh::testing::write_witness_image(img);
     ImageLevelSetOptions o;
     o.iso = 30000;
     o.inside_above = false;
@@ -129,7 +109,7 @@ BOOST_AUTO_TEST_CASE(graded_mesh_takes_the_fan_rule_on_the_witness_image) {
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_graded_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const fs::path img = dir / "witness.pgm";
-    write_witness_image(img);
+    warpmesh::testing::write_witness_image(img);
     auto run = [&](const std::string& name, const std::string& args) {
         const std::string report = (dir / (name + ".json")).string();
         const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + img.string() +
