@@ -5,7 +5,7 @@
 # again under ASan + UBSan (scripts/sanitize.sh) and the five libFuzzer
 # targets for WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a
 # time; scripts/fuzz.sh splits it).
-# Measured on the idle 2-core VM from a clean clone: 1683 s (README, "Quick start").
+# Measured on the idle 2-core VM from a clean clone: 1683 s (README, "Two commands on a fresh machine").
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"
