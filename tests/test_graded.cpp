@@ -863,17 +863,22 @@ double min_angle(const Mesh& m) {
     return a;
 }
 
+// The level set of witness_disc: f = pixel - 30000, inside below.
+std::unique_ptr<LevelSet> witness_levelset(std::mt19937& rng, int W, int H) {
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    return make_image_levelset(witness_disc(rng, W, H), o);
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(fan_rule_graded_mesh_has_the_uniform_fans) {
     std::mt19937 rng(20261202);
-    ImageLevelSetOptions o;
-    o.iso = 30000;
-    o.inside_above = false;
     std::int64_t total_fans = 0;
     for (int seed = 0; seed < 12; ++seed) {
         const int W = 40 + static_cast<int>(rng() % 90), H = 40 + static_cast<int>(rng() % 90);
-        const auto f = make_image_levelset(witness_disc(rng, W, H), o);
+        const auto f = witness_levelset(rng, W, H);
         const Lattice l = lattice_over(f->bounds(), 1.0);  // pixel centres: integer lattice points
         const std::int64_t K = seed % 3 == 0 ? 4 : 0;
         BOOST_TEST_CONTEXT("seed " << seed << " image " << W << "x" << H << " K " << K) {
@@ -911,10 +916,7 @@ BOOST_AUTO_TEST_CASE(fan_centres_do_not_depend_on_the_thread_count) {
     // The fan centres are numbered in the leaves' canonical order, after the
     // lattice points' vertices: the same mesh with 1 and 2 threads.
     std::mt19937 rng(7);
-    ImageLevelSetOptions o;
-    o.iso = 30000;
-    o.inside_above = false;
-    const auto f = make_image_levelset(witness_disc(rng, 600, 520), o);
+    const auto f = witness_levelset(rng, 600, 520);
     const Lattice l = lattice_over(f->bounds(), 1.0);
     const int saved = omp_get_max_threads();
     omp_set_num_threads(1);
@@ -938,10 +940,7 @@ BOOST_AUTO_TEST_CASE(fan_centres_do_not_depend_on_the_tile_size) {
     // Nor on the tiles of the front end and the quadtree: the same vertices
     // (fan centres included) and triangles for tiles of 4 to 128 squares.
     std::mt19937 rng(11);
-    ImageLevelSetOptions o;
-    o.iso = 30000;
-    o.inside_above = false;
-    const auto f = make_image_levelset(witness_disc(rng, 300, 260), o);
+    const auto f = witness_levelset(rng, 300, 260);
     const Lattice l = lattice_over(f->bounds(), 1.0);
     auto mesh = [&](int tile_log) {
         const TiledFront front = warp_tiles(*f, l, tile_log);

@@ -55,8 +55,9 @@ struct MaterialFront {
 // Throws InputError for DiagonalRule::maxmin or a material count outside 1 .. 65536.
 void check_material_options(const MaterialField& field, const MaterialOptions& options);
 
-// Steps 1 - 3 of materials.hpp, timed into times.sample, .cut_points, .warp.
-MaterialFront material_front(const MaterialField& field, const Lattice& lattice, PhaseTimes& times);
+// Steps 1 - 3 of materials.hpp, timed into r.times.sample, .cut_points,
+// .warp; also sets r.cut_edges, r.third_material_edges, r.warped_points.
+MaterialFront material_front(const MaterialField& field, const Lattice& lattice, MaterialResult& r);
 
 // Whether the rule takes BC on the warped square with these material corners
 // and slide lengths; `forced`: the separating rule overrode max-min.

@@ -76,7 +76,8 @@ void check_material_options(const MaterialField& field, const MaterialOptions& o
     if (nmat < 1 || nmat > 65536) throw InputError("between 1 and 65536 materials are needed, not " + std::to_string(nmat));
 }
 
-MaterialFront material_front(const MaterialField& field, const Lattice& lattice, PhaseTimes& times) {
+MaterialFront material_front(const MaterialField& field, const Lattice& lattice, MaterialResult& r) {
+    PhaseTimes& times = r.times;
     MaterialFront front;
     const std::int64_t nxp = lattice.points_x(), ny = lattice.ny;
     const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
@@ -135,6 +136,9 @@ MaterialFront material_front(const MaterialField& field, const Lattice& lattice,
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k) moved[static_cast<std::size_t>(k)] = 0;
     for (const WarpedPoint& w : warped) moved[static_cast<std::size_t>(w.p)] = 1;
     times.warp = seconds_since(t0);
+    r.cut_edges = front.cut_edges;
+    r.third_material_edges = front.third_material_edges;
+    r.warped_points = static_cast<std::int64_t>(front.warped.size());
     return front;
 }
 
@@ -217,12 +221,9 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     const int nmat = field.count();
     MaterialResult r;
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
-    const MaterialFront front = material_front(field, lattice, r.times);
+    const MaterialFront front = material_front(field, lattice, r);
     const Buffer<std::uint16_t>& mat = front.mat;
     const Buffer<std::uint8_t>& moved = front.moved;
-    r.cut_edges = front.cut_edges;
-    r.third_material_edges = front.third_material_edges;
-    r.warped_points = static_cast<std::int64_t>(front.warped.size());
     auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) { return front.position(lattice, p, i, j); };
     auto position = [&](std::int64_t p) { return position_ij(p, p % nxp, p / nxp); };
 

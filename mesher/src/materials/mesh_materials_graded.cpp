@@ -115,12 +115,9 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     MaterialResult r;
     r.graded = true;
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx;
-    const MaterialFront front = material_front(field, lattice, r.times);
+    const MaterialFront front = material_front(field, lattice, r);
     const Buffer<std::uint16_t>& mat = front.mat;
     const Buffer<std::uint8_t>& moved = front.moved;
-    r.cut_edges = front.cut_edges;
-    r.third_material_edges = front.third_material_edges;
-    r.warped_points = static_cast<std::int64_t>(front.warped.size());
 
     // ---- quadtree ----------------------------------------------------------------
     auto t0 = clock::now();
