@@ -80,16 +80,20 @@ def grid(m, n):
     g = np.linspace(0, ALPHA, n)
     return np.array(list(itertools.product(g, repeat=m))) if m else np.zeros((1, 0))
 
+def sampled(k, n):
+    """Key k's square on the grid of its warped corners' t: T (N,4), positions (N,4,2)
+    and which corners are inside (sign <= 0 or warped)."""
+    vars_ = [c for c in range(4) if k[c][1] != 0]
+    G = grid(len(vars_), n)
+    T = np.zeros((G.shape[0], 4))
+    for j, c in enumerate(vars_): T[:, c] = G[:, j]
+    return T, positions(k, T), [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
+
 def evaluate(rule, n):
     worst = (np.inf, None, None)
     per_class = {}
     for k in KEYS:
-        vars_ = [c for c in range(4) if k[c][1] != 0]
-        G = grid(len(vars_), n)
-        T = np.zeros((G.shape[0], 4))
-        for j, c in enumerate(vars_): T[:, c] = G[:, j]
-        P = positions(k, T)
-        inside = [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
+        T, P, inside = sampled(k, n)
         q = rule(k, P, inside)
         if q is None: continue
         i = int(np.argmax(q))
@@ -176,12 +180,7 @@ def threshold_study(n, H0=3.0 + 2**-20):
     worst = {}
     fanw = (-np.inf, None, None)
     for k in KEYS:
-        vars_ = [c for c in range(4) if k[c][1] != 0]
-        G = grid(len(vars_), n)
-        T = np.zeros((G.shape[0], 4))
-        for j, c in enumerate(vars_): T[:, c] = G[:, j]
-        P = positions(k, T)
-        inside = [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
+        T, P, inside = sampled(k, n)
         f = sep_forced(k)
         qa, qb = diag_q(P, 'AD'), diag_q(P, 'BC')
         q = rule_separating_all(k, P, inside)
