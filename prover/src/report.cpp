@@ -353,7 +353,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
     // any, 1 = flat) the worst witness plus a tiny margin caps the keys close to
     // it, so that the theorems U and F are tight.
     const double deg = 3.14159265358979 / 180;
-    const double gap_min = 0.004, gap_max = std::getenv("WARPMESH_GAP_MAX") ? std::atof(std::getenv("WARPMESH_GAP_MAX")) : 0.04;
+    const double gap_min = 0.004, gap_max = 0.04;
     auto margin = [&](const Q& c, double gap) {
         const double x = c.convert_to<double>();
         return round_down(gap * deg * (1 + x * x), 40);
@@ -396,7 +396,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
     }
     const double c_max_tight[2] = {cat[0].qmax, cat[1].qmax};
-    const double pass2_factor = std::getenv("WARPMESH_PASS2_FACTOR") ? std::atof(std::getenv("WARPMESH_PASS2_FACTOR")) : 3;
+    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves
     auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 200; };
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
