@@ -102,6 +102,10 @@ lattice and algorithm:
   --max-size H           every triangle's longest edge at most H (input units; H >= sqrt(5)
                          * spacing); graded: caps the cells (the smaller of this and
                          --max-cell wins); uniform: the spacing already bounds it (checked)
+  --max-size-of T=H      with --materials/--shapes: the triangles of material T (its label
+                         or tag) have their longest edge at most H (rules as --max-size;
+                         the smaller of the two wins; repeatable, each T once; graded:
+                         caps that material's cells; uniform: checked)
   --grading G            graded, 1.1 <= G <= 2 (default 2: 2:1 balance): cell sizes grow
                          away from the boundary by at most a factor G per cell on average
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
@@ -234,6 +238,14 @@ CliOptions parse_mesh_options(int argc, char** argv) {
         else if (a == "--max-cell") m.max_cell = parse_integer(a, value());
         else if (a == "--max-size") m.max_size = parse_number(a, value());
         else if (a == "--grading") m.grading = parse_number(a, value());
+        else if (a == "--max-size-of") {
+            const std::string v = value();
+            const std::size_t eq = v.find('=');
+            if (eq == std::string::npos) throw UsageError("--max-size-of expects T=H (a material's tag and a size), got '" + v + "'");
+            const std::int64_t tag = parse_integer(a + " T", v.substr(0, eq));
+            if (tag < 0 || tag > 65535) throw UsageError("--max-size-of T=H: T must be a label or tag 0..65535, got " + std::to_string(tag));
+            m.max_size_of.emplace_back(static_cast<std::int32_t>(tag), parse_number(a + " H", v.substr(eq + 1)));
+        }
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
         else if (a == "--max-squares") m.max_squares = parse_integer(a, value());
         else if (a == "--msh-version") {
@@ -291,6 +303,8 @@ CliOptions parse_mesh_options(int argc, char** argv) {
     if (o.materials && (o.labels || o.iso || o.input.empty()))
         throw UsageError("--materials applies to a label image and excludes --label and --iso");
     if (o.background_given && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
+    if (!m.max_size_of.empty() && !o.materials && !o.shapes)
+        throw UsageError("--max-size-of applies to --materials and --shapes (one region: use --max-size)");
     if (o.materials || o.shapes) {
         if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
         if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");

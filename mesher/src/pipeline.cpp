@@ -145,15 +145,24 @@ void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool jun
 void validate(const MeshOptions& o) {
     if (!(o.spacing > 0) || o.spacing > 1e9) throw InputError("--spacing must be positive and at most 1e9");
     if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0) throw InputError("--max-cell must be a power of two");
-    if (o.max_size != 0) {
-        if (!(o.max_size > 0) || !std::isfinite(o.max_size)) throw InputError("--max-size must be positive and finite");
-        if (o.max_size < std::sqrt(5.0) * o.spacing) {
+    // A size bound H (--max-size, --max-size-of T=H; `what` names it).
+    const auto check_size = [&](double h, const std::string& what) {
+        if (!(h > 0) || !std::isfinite(h)) throw InputError(what + " must be positive and finite");
+        if (h < std::sqrt(5.0) * o.spacing) {
             std::ostringstream m;
-            m << "--max-size " << o.max_size << " is below sqrt(5) * spacing = " << std::sqrt(5.0) * o.spacing
+            m << what << " " << h << " is below sqrt(5) * spacing = " << std::sqrt(5.0) * o.spacing
               << ": triangles of the boundary band reach edges of sqrt(5) * spacing; use --spacing "
-              << o.max_size / std::sqrt(5.0) << " or less";
+              << h / std::sqrt(5.0) << " or less";
             throw InputError(m.str());
         }
+    };
+    if (o.max_size != 0) check_size(o.max_size, "--max-size");
+    for (std::size_t k = 0; k < o.max_size_of.size(); ++k) {
+        const std::int32_t tag = o.max_size_of[k].first;
+        check_size(o.max_size_of[k].second, "--max-size-of " + std::to_string(tag) + "=H: H");
+        for (std::size_t q = 0; q < k; ++q)
+            if (o.max_size_of[q].first == tag)
+                throw InputError("--max-size-of: material " + std::to_string(tag) + " is given twice");
     }
     if (!(o.grading >= min_grading && o.grading <= max_grading))
         throw InputError("--grading must be between 1.1 and 2 (2: neighbouring cells differ by a factor 2 at most; "
@@ -168,6 +177,8 @@ void validate(const MeshOptions& o) {
 
 MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     validate(o);
+    if (!o.max_size_of.empty())
+        throw InputError("--max-size-of applies to multi-material meshes (--materials/--shapes); use --max-size");
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
     MeshResult res;
     Mesh& mesh = res.mesh;
@@ -290,9 +301,42 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     std::vector<std::pair<std::string, std::string>> extra;
     report_head(extra, o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};
+    // Size control (graded: the cells; uniform: bounded by the spacing).
+    std::int64_t max_cell = o.max_cell;
+    if (o.max_size != 0) {
+        const std::int64_t K = max_cell_for_size(o.max_size, res.lattice.s);
+        max_cell = max_cell == 0 ? K : std::min(max_cell, K);
+    }
+    const int buffer = grading_buffer(o.grading);
+    std::vector<std::int64_t> max_cell_of;  // per material number (mesh_materials_graded)
+    std::vector<std::optional<double>> cap(static_cast<std::size_t>(field.count()));
+    std::string caps = "[";
+    for (const auto& [tag, h] : o.max_size_of) {
+        int m = 0;
+        while (m < field.count() && field.tag(m) != tag) ++m;
+        if (m == field.count()) {
+            std::string known;
+            for (int q = 1; q < field.count(); ++q) known += (q > 1 ? ", " : "") + std::to_string(field.tag(q));
+            throw InputError("--max-size-of " + std::to_string(tag) + "=H: no material has tag " + std::to_string(tag) +
+                             " (the materials: " + known + ")");
+        }
+        if (m == 0 && !o.keep_background)
+            throw InputError("--max-size-of 0=H: the background (tag 0) is not output; add --background keep to mesh it");
+        if (max_cell_of.empty()) max_cell_of.assign(static_cast<std::size_t>(field.count()), 0);
+        const std::int64_t K = max_cell_for_size(h, res.lattice.s);
+        max_cell_of[static_cast<std::size_t>(m)] = K;
+        cap[static_cast<std::size_t>(m)] = h;
+        caps += std::string(caps.size() > 1 ? ", " : "") + "{\"tag\": " + std::to_string(tag) + ", \"max_size\": " + json_number(h) +
+                ", \"max_cell\": " + (o.graded ? json_number(max_cell == 0 ? K : std::min(K, max_cell)) : std::string("null")) + "}";
+    }
     MaterialResult r = fastest_of(o.repeat, [&] {
-        return o.graded ? mesh_materials_graded(field, res.lattice, mo, o.max_cell) : mesh_materials(field, res.lattice, mo);
+        return o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, max_cell_of)
+                        : mesh_materials(field, res.lattice, mo);
     });
+    if (!o.max_size_of.empty()) {
+        for (std::size_t m = 0; m < r.materials.size(); ++m) r.materials[m].max_size = cap[m];
+        measure_longest_edges(r);
+    }
     std::vector<std::pair<std::string, double>> phases = {{"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}};
     if (o.graded) phases.emplace_back("quadtree", r.quadtree_seconds);
     phases.emplace_back("triangulate", r.times.triangulate);
@@ -302,7 +346,14 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
         std::string levels = "[";
         for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k) levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
         extra.emplace_back("leaves_per_level", levels + "]");
+        if (o.max_size != 0 || o.grading != max_grading) {  // as for one region (only then: default reports unchanged)
+            extra.emplace_back("max_size", o.max_size != 0 ? json_number(o.max_size) : "null");
+            extra.emplace_back("max_cell", json_number(max_cell));
+            extra.emplace_back("grading", json_number(o.grading));
+            extra.emplace_back("grading_buffer", json_number(std::int64_t{buffer}));
+        }
     }
+    if (!o.max_size_of.empty()) extra.emplace_back("max_size_of", caps + "]");
     extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
     extra.emplace_back("warped_points", std::to_string(r.warped_points));
     extra.emplace_back("warped_squares", std::to_string(r.warped_squares));

@@ -148,6 +148,11 @@ struct MaterialStats {
     double area = 0;               // of those triangles
     double perimeter = 0;          // length of its interfaces, boundary and domain border
     std::optional<double> reference_area;
+    // Size caps (mesh(const MaterialField&, ...) with MeshOptions::max_size_of):
+    // its cap, if it has one; the longest edge of its output triangles, once
+    // measure_longest_edges ran.  Reported only when some material has a cap.
+    std::optional<double> max_size;
+    double longest_edge = 0;
 };
 
 struct JunctionSquare {
@@ -188,18 +193,33 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
 // its certification is the uniform one; every other leaf lies inside one
 // material and is a 45-45-90 template of that material.  The interfaces and
 // boundary edges are the uniform mesh's; only the materials' interiors are
-// coarser.  max_cell as for mesh_graded (0: as coarse as the lattice allows;
-// std::invalid_argument if not a power of two).  With options.certify.verify
-// the band invariant is checked on the leaves (std::logic_error if violated).
-// Throws as mesh_materials.
+// coarser.  Size control (graded.hpp): max_cell and grading_buffer as for
+// mesh_graded (0: as coarse as the lattice allows; 0: plain 2:1 balance);
+// max_cell_of, empty or one entry per material number, that material's own
+// largest cell (a power of two; 0: max_cell only) — the smaller of it and
+// max_cell wins; nothing else changes (the band, interfaces and boundary
+// are the same).  std::invalid_argument if a cell size is not 0 or a power
+// of two, max_cell_of's size is wrong or the buffer is out of
+// 0 .. max_grading_buffer.  With options.certify.verify the band invariant
+// is checked on the leaves (std::logic_error if violated).  Throws as
+// mesh_materials.
 MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options,
-                                     std::int64_t max_cell);
+                                     std::int64_t max_cell, int grading_buffer = 0,
+                                     std::span<const std::int64_t> max_cell_of = {});
 
 // ---- report --------------------------------------------------------------------
 // JSON members ("materials": [...], "junction_squares": ..., ...) and text
 // lines for the CLI's reports; `warnings` receives one line per material that
 // got no triangle (it is lost at this spacing).
+// With a cap on some material (MaterialStats::max_size), each material's
+// entry adds "max_size" (null without) and "longest_edge", its text line
+// "longest edge L (max size H)".
 std::vector<std::pair<std::string, std::string>> material_report_json(const MaterialResult& r);
 std::string material_report_text(const MaterialResult& r, std::vector<std::string>* warnings = nullptr);
+
+// MaterialStats::longest_edge of every material: the longest edge of its
+// triangles in r.mesh (by region tag; 0 for a material without output
+// triangles).
+void measure_longest_edges(MaterialResult& r);
 
 }  // namespace warpmesh

@@ -58,15 +58,24 @@ struct MeshOptions {
     // Size control (graded.hpp).  max_size H > 0, in the level set's units:
     // every triangle's longest edge is at most H; 0 = no bound.  H must be at
     // least √5 spacing (the warped band's edges reach √5 s).  A graded mesh
-    // takes as its largest cell the smaller of max_cell and
-    // max_cell_for_size(H, s); a uniform one (and a multi-material one) is
+    // (single region or multi-material) takes as its largest cell the
+    // smaller of max_cell and max_cell_for_size(H, s); a uniform one is
     // bounded by the spacing already: H is only checked.  The optimisation
     // pass keeps the bound (OptimizeOptions::max_edge).  grading G in
     // [1.1, 2] (graded only; 2 = plain 2:1 balance): sizes grow away from the
-    // boundary by at most a factor 2^(1/n) <= G per leaf on average, n =
-    // grading_buffer(G).
+    // boundary (and the interfaces) by at most a factor 2^(1/n) <= G per
+    // leaf on average, n = grading_buffer(G).
     double max_size = 0;
     double grading = 2;
+    // Per-material maximum sizes (multi-material meshes only): pairs (tag T,
+    // H_T), each tag once, H_T as max_size (> 0, >= √5 spacing): every
+    // triangle of material T has its longest edge at most H_T (and at most
+    // max_size).  Graded: the material's cells are capped at
+    // max_cell_for_size(H_T, s) (mesh_materials_graded's max_cell_of);
+    // uniform: bounded by the spacing already, only checked.  The report
+    // gives each material's cap and its longest edge.  Tag 0 (the
+    // background) only with keep_background.
+    std::vector<std::pair<std::int32_t, double>> max_size_of;
     // Refuse lattices with more squares than this (InputError, before any
     // lattice-sized allocation).
     std::int64_t max_squares = std::int64_t{1} << 30;
@@ -98,7 +107,9 @@ struct MeshOptions {
 };
 
 // Throws InputError naming the option (with the command line's spelling) if
-// an option is out of range or options contradict each other.  mesh() calls it.
+// an option is out of range or options contradict each other (max_size_of:
+// a size out of range or a tag given twice; its tags are checked against the
+// materials by mesh()).  mesh() calls it.
 void validate(const MeshOptions& options);
 
 struct MeshResult {
@@ -114,7 +125,7 @@ struct MeshResult {
     std::vector<std::string> warnings;  // e.g. Guarantee::flat stopped at min_spacing; no certificates in this build
 };
 
-// Mesh the region {f <= 0}.
+// Mesh the region {f <= 0}.  (max_size_of is refused: InputError.)
 //
 // The lattice: if f.bounds() is the domain (images, LevelSet::bounds_are_domain),
 // the lattice of the given spacing over it (lattice_over: the mesh may reach the
@@ -142,8 +153,9 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& options);
 // every interface (mesh_materials_graded, materials.hpp).  The report adds
 // the per-material figures, interface and junction-square counts
 // (material_report_json/_text); a material that got no triangle is a
-// warning.  Throws InputError as mesh(f), and for options that do not apply
-// to several materials (Guarantee::flat, optimize, DiagonalRule::maxmin).
+// warning.  Throws InputError as mesh(f), for options that do not apply to
+// several materials (Guarantee::flat, optimize, DiagonalRule::maxmin), and
+// for a max_size_of tag that is no material (or the dropped background).
 MeshResult mesh(const MaterialField& field, const MeshOptions& options);
 
 // The report as one JSON object (what `warpmesh mesh --report` writes) and as

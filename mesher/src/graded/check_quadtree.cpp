@@ -44,6 +44,11 @@ QuadtreeCheck check_quadtree(const Quadtree& t, const TiledSigns& signs) {
         bool good = leaf.level >= 1 && leaf.sign != 0;
         for (std::int64_t j = leaf.j; j <= leaf.j + w; ++j)
             for (std::int64_t i = leaf.i; i <= leaf.i + w; ++i) good = good && sgn(i, j) == leaf.sign;
+        if (leaf.level > cap_level(leaf.sign)) {
+            ++r.over_cap;
+            note("coarse leaf at (" + std::to_string(leaf.i) + ", " + std::to_string(leaf.j) + ") of level " +
+                 std::to_string(leaf.level) + " is above its class's level " + std::to_string(cap_level(leaf.sign)));
+        }
         if (!good) {
             ++r.bad_sign;
             note("coarse leaf at (" + std::to_string(leaf.i) + ", " + std::to_string(leaf.j) + ") has a point of another sign");

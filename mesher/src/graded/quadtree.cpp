@@ -7,9 +7,11 @@
 //     (level 1 from the signs: a point is critical when f = 0 there or a
 //     4-neighbour has the strictly opposite sign — exactly the endpoints of
 //     cut edges; then each level from its children), dense_codes above;
-//  4. with a grading buffer n >= 1 (--grading G < 2), widen_codes: the
+//  4. with inside classes (per-material size caps), cap_codes: the nodes of a
+//     class above its level made non-coarsenable;
+//  5. with a grading buffer n >= 1 (--grading G < 2), widen_codes: the
 //     non-coarsenable inside nodes of each level widened by n nodes;
-//  5. the split flags with 2:1 balance, level by level upward:
+//  6. the split flags with 2:1 balance, level by level upward:
 //     balance_tiled_level, balance_dense_level.
 //
 // The leaf list is leaves.cpp; the checks, check_quadtree.cpp.
@@ -81,9 +83,10 @@ PointSet warped_points(const Lattice& lattice, std::span<const WarpedPoint> warp
 }
 
 // ---- 2. the active tiles -------------------------------------------------------
-// Seeds (sampled tiles and tiles on the lattice border), then their
-// (2 radius + 1)^2 dilation: along rows, then across (radius 1 without a
-// grading buffer, quadtree.hpp).  Lays out the slots of the tiled levels
+// Seeds (sampled tiles, tiles on the lattice border, and tiles of an inside
+// class whose level is below the tiles' level), then their (2 radius + 1)^2
+// dilation: along rows, then across (radius 1 without a grading buffer,
+// quadtree.hpp).  Lays out the slots of the tiled levels
 // 1 .. top and allocates them.
 void choose_active_tiles(TileLevels& tl, const TiledSigns& signs, int top, std::int64_t radius) {
     const std::int64_t TX = signs.tx, TY = signs.ty, ntiles = TX * TY, T = signs.size();
@@ -93,8 +96,9 @@ void choose_active_tiles(TileLevels& tl, const TiledSigns& signs, int top, std::
     std::vector<std::uint8_t> seed(static_cast<std::size_t>(ntiles)), wide(static_cast<std::size_t>(ntiles));
     for (std::int64_t TJ = 0; TJ < TY; ++TJ)
         for (std::int64_t TI = 0; TI < TX; ++TI)
-            seed[static_cast<std::size_t>(TI + TJ * TX)] =
-                signs.slot[static_cast<std::size_t>(TI + TJ * TX)] >= 0 || TI == 0 || TJ == 0 || TI == TX - 1 || TJ == TY - 1;
+            seed[static_cast<std::size_t>(TI + TJ * TX)] = signs.slot[static_cast<std::size_t>(TI + TJ * TX)] >= 0 || TI == 0 ||
+                                                           TJ == 0 || TI == TX - 1 || TJ == TY - 1 ||
+                                                           cap_level(signs.uniform[static_cast<std::size_t>(TI + TJ * TX)]) < tl.top;
     for (std::int64_t TJ = 0; TJ < TY; ++TJ) {
         const std::uint8_t* r = seed.data() + TJ * TX;
         std::uint8_t* o = wide.data() + TJ * TX;
@@ -128,7 +132,7 @@ void choose_active_tiles(TileLevels& tl, const TiledSigns& signs, int top, std::
     }
     tl.level1_nodes = tl.top >= 1 ? (T >> 1) * (T >> 1) : 0;
     tl.codes.resize(static_cast<std::size_t>(tl.slots() * tl.slot_nodes));
-    tl.split.resize(static_cast<std::size_t>(tl.slots() * (tl.slot_nodes - tl.level1_nodes)));  // written in pass 4
+    tl.split.resize(static_cast<std::size_t>(tl.slots() * (tl.slot_nodes - tl.level1_nodes)));  // written in pass 6
 }
 
 // ---- 3. coarsening codes -------------------------------------------------------
@@ -280,11 +284,34 @@ void dense_codes(Quadtree& t) {
     }
 }
 
-// ---- 4. grading: the non-coarsenable set widened -----------------------------
-// With a buffer of n >= 1 nodes, an inside node (code -1) of level l becomes
-// non-coarsenable (code 0) when a node of level l at Chebyshev distance <= n
-// (in nodes of level l, nodes outside the lattice's nodes ignored) is not
-// coarsenable in the codes of pass 3.  Each level is widened from its own
+// ---- 4. inside classes: a class's nodes above its level -------------------------
+// A node of level l with code c, cap_level(c) < l, becomes non-coarsenable
+// (quadtree.hpp: the pyramid is kept).  Only active tiles are visited: an
+// inactive tile's class has cap_level >= tiled.top (choose_active_tiles), so
+// none of its stored levels is above it.
+void cap_codes(Quadtree& t) {
+    TileLevels& tl = t.tiled;
+    const std::int64_t nslots = tl.slots();
+#pragma omp parallel for schedule(static) if (nslots >= parallel_min_tiles)
+    for (std::int64_t s = 0; s < nslots; ++s)
+        for (int l = 1; l <= tl.top; ++l) {
+            const std::int64_t n = std::int64_t{1} << tl.nodes_log(l);
+            CoarseningCode* c = tl.codes.data() + s * tl.slot_nodes + tl.level_offset[static_cast<std::size_t>(l)];
+            for (std::int64_t q = 0; q < n * n; ++q)
+                if (cap_level(c[q]) < l) c[q] = 0;
+        }
+    for (int l = tl.top + 1; l <= t.top; ++l)
+        for (CoarseningCode& c : t.dense[static_cast<std::size_t>(l)].codes)
+            if (cap_level(c) < l) c = 0;
+}
+
+// ---- 5. grading: the non-coarsenable set widened -----------------------------
+// With a buffer of n >= 1 nodes, an inside node (code -1, or an inside
+// class) of level l becomes non-coarsenable (code 0) when a node of level l
+// at Chebyshev distance <= n (in nodes of level l, nodes outside the
+// lattice's nodes ignored) is not coarsenable in the codes of passes 3 and 4
+// (a capped class's zeros included: sizes grow by at most G away from a
+// capped material's small cells too).  Each level is widened from its own
 // codes of pass 3, so the codes stay a pyramid (a coarsenable node's
 // children are coarsenable with its sign): if a child's n-neighbourhood
 // holds a non-coarsenable node N, N's parent is non-coarsenable and lies in
@@ -363,7 +390,7 @@ std::int64_t widen_codes(Quadtree& t, int n) {
                         if (I >= mx || J >= my) continue;
                         const std::size_t at = static_cast<std::size_t>(tl.index(l, s, I, J));
                         has_zero = has_zero || before[at] == 0;
-                        if (before[at] == -1 && near[static_cast<std::size_t>(y * m + x)]) tl.codes[at] = 0;
+                        if (before[at] < 0 && near[static_cast<std::size_t>(y * m + x)]) tl.codes[at] = 0;
                     }
                 if (!has_zero) continue;
                 for (std::int64_t b = std::max<std::int64_t>(0, TJ - reach); b <= std::min(TY - 1, TJ + reach); ++b)
@@ -385,12 +412,12 @@ std::int64_t widen_codes(Quadtree& t, int n) {
         dilate(window, mx, my, n, rows, near);
         for (std::int64_t J = 0; J < my; ++J)
             for (std::int64_t I = 0; I < mx; ++I)
-                if (level.codes[level.index(I, J)] == -1 && near[static_cast<std::size_t>(J * mx + I)]) level.codes[level.index(I, J)] = 0;
+                if (level.codes[level.index(I, J)] < 0 && near[static_cast<std::size_t>(J * mx + I)]) level.codes[level.index(I, J)] = 0;
     }
     return unreachable;
 }
 
-// ---- 5. split nodes, with 2:1 balance ----------------------------------------
+// ---- 6. split nodes, with 2:1 balance ----------------------------------------
 // A node of level l >= 2 is split if it is not coarsenable, or if a split
 // node of level l - 1 is its child or an edge neighbour of its child (the
 // rule above).  Level 1 needs no pass (split iff code 0).
@@ -491,7 +518,7 @@ void balance_dense_level(Quadtree& t, int l) {
 std::int64_t grading_tile_radius(int buffer) { return buffer == 0 ? 1 : 2 + (buffer + 1) / 2; }
 
 Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
-                        std::int64_t max_cell, int buffer) {
+                        std::int64_t max_cell, int buffer, bool classes) {
     if (max_cell < 0 || (max_cell != 0 && !std::has_single_bit(static_cast<std::uint64_t>(max_cell))))
         throw std::invalid_argument("max cell size must be 0 or a power of two, got " + std::to_string(max_cell));
     if (buffer < 0 || buffer > max_grading_buffer)
@@ -522,6 +549,7 @@ Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::sp
     choose_active_tiles(t.tiled, signs, t.top, grading_tile_radius(buffer));
     tiled_codes(t, signs);
     dense_codes(t);
+    if (classes) cap_codes(t);
     if (buffer > 0 && widen_codes(t, buffer) != 0)
         throw std::logic_error("quadtree: the grading buffer reached an inactive tile");
     std::int64_t outside_active = 0;

@@ -35,6 +35,23 @@
 // templates.  n = 0 (G = 2) is the plain tree: 2:1 balance alone puts at
 // least one leaf of width w before one of width 2w.
 //
+// Inside classes (per-material size caps, `--max-size-of`): the signs may
+// also carry codes -2 - L (L >= 0), inside points whose cells are at most 2^L
+// squares wide (cap_level; plain inside points, -1, only obey the roots'
+// level).  A class is coarsenable like -1 — every point of the node
+// non-critical with that same code — and in addition only up to its level L:
+// cap_codes zeroes every node of level > L with code -2 - L, after the
+// pyramid is built.  That keeps the pyramid (a node of level l > L of the
+// class has a parent of level l + 1 > L of it, zeroed too), adds only zeros
+// (the invariant below is untouched, coarse leaves stay the same templates),
+// and a coarse leaf of a class is at most 2^L squares wide.  A tile whose
+// points all carry a class of level L < tiled.top is active (a seed), since
+// an inactive tile's nodes are all coarsenable up to the tiles' level;
+// balance and the grading buffer then spread from its zeros as from any
+// seed's.  Classes are distinct from the material numbers: the multi-material
+// mesher gives every capped material the class of its own largest cell
+// (mesh_materials_graded.cpp), so materials with the same cap share one.
+//
 // The invariant that makes the angle proof apply: every lattice square that
 // has a critical corner (in particular every square with a warped corner) is a
 // finest leaf with no split side.  Proof: a coarse leaf contains only
@@ -100,6 +117,13 @@ namespace warpmesh {
 
 // σ in {-1, +1} if the node is coarsenable with sign σ, 0 if it is not.
 using CoarseningCode = std::int8_t;
+
+// The largest level of a coarse leaf with code c: L for an inside class
+// c = -2 - L, else no limit (no_cap_level); inside_class(L) is the code.
+inline constexpr int no_cap_level = 127;
+constexpr int cap_level(CoarseningCode c) { return c < -1 ? -2 - c : no_cap_level; }
+constexpr CoarseningCode inside_class(int level) { return static_cast<CoarseningCode>(-2 - level); }
+inline constexpr int max_class_level = 62;  // inside_class(62) = -64: a 2^62-square cell exceeds any lattice
 
 // A level stored densely: nodes_x x nodes_y nodes, row-major.
 struct DenseLevel {
@@ -249,14 +273,15 @@ std::int64_t grading_tile_radius(int buffer);
 
 // Build the tree: the set of `warped` points, the active tiles, the
 // coarsening codes up to level log2(max_cell) (max_cell 0: as coarse as the
-// lattice allows), widened by the grading buffer (0: none; above), then 2:1
-// balance.  Throws std::invalid_argument if max_cell is negative or not a
-// power of two, if buffer is not in 0 .. max_grading_buffer, or if the
-// signs' tiles are larger than 128 squares (tile_log > 7: a row of a tile's
-// level-1 nodes is one 64-bit word); std::length_error if the lattice has
-// 2^31 squares a side.
+// lattice allows), capped per inside class if `classes` (the signs may hold
+// codes -2 - L; without it they are -1, 0, +1 and the pass is skipped),
+// widened by the grading buffer (0: none; above), then 2:1 balance.  Throws
+// std::invalid_argument if max_cell is negative or not a power of two, if
+// buffer is not in 0 .. max_grading_buffer, or if the signs' tiles are larger
+// than 128 squares (tile_log > 7: a row of a tile's level-1 nodes is one
+// 64-bit word); std::length_error if the lattice has 2^31 squares a side.
 Quadtree build_quadtree(const Lattice& lattice, const TiledSigns& signs, std::span<const WarpedPoint> warped,
-                        std::int64_t max_cell, int buffer = 0);
+                        std::int64_t max_cell, int buffer = 0, bool classes = false);
 
 // Sides of a leaf, as bits of Leaf::split_sides: bottom (A-B), right (B-D),
 // top (D-C), left (C-A).
@@ -341,15 +366,19 @@ Leaves quadtree_leaves(const Quadtree& tree, std::vector<std::int64_t>* leaves_p
 // level; every square with a critical corner (zero-valued, or an endpoint of a
 // cut edge of `signs`) is a finest leaf; every square on the lattice border
 // with an inside corner is a finest leaf; every coarse leaf's points all have
-// its sign, non-zero.  Used by the tests, and asserted in debug builds.
+// its sign, non-zero; no coarse leaf of an inside class is above its level.  Used by the
+// tests, and asserted in debug builds.
 struct QuadtreeCheck {
     std::int64_t untiled = 0;            // squares covered by no leaf or by several
     std::int64_t unbalanced = 0;         // adjacent squares whose leaves differ by >= 2 levels
     std::int64_t coarse_critical = 0;    // squares with a critical corner inside a coarse leaf
     std::int64_t coarse_border = 0;      // inside border squares inside a coarse leaf
     std::int64_t bad_sign = 0;           // coarse leaves with a point of another sign
+    std::int64_t over_cap = 0;           // coarse leaves of an inside class above its level (cap_level)
     std::vector<std::string> messages;
-    bool ok() const { return untiled == 0 && unbalanced == 0 && coarse_critical == 0 && coarse_border == 0 && bad_sign == 0; }
+    bool ok() const {
+        return untiled == 0 && unbalanced == 0 && coarse_critical == 0 && coarse_border == 0 && bad_sign == 0 && over_cap == 0;
+    }
 };
 QuadtreeCheck check_quadtree(const Quadtree& tree, const TiledSigns& signs);
 

@@ -3,8 +3,10 @@
 // (pixel-count) area; the junction squares (3 or 4 materials) with their
 // junction keys and certified bounds (proofs/materials.cert);
 // the edges where a third material lies between a cut edge's two.
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <vector>
 #include <sstream>
 
 #include "warpmesh/materials.hpp"
@@ -19,6 +21,10 @@ bool lost_material(const MaterialStats& s) {
     return (s.tag != 0 || s.output) && s.triangles == 0 && (!s.reference_area || *s.reference_area > 0);
 }
 
+bool any_cap(const MaterialResult& r) {
+    return std::any_of(r.materials.begin(), r.materials.end(), [](const MaterialStats& s) { return s.max_size.has_value(); });
+}
+
 std::string tags_text(const std::array<std::int32_t, 4>& t) {
     return "[" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ", " + std::to_string(t[3]) + "]";
 }
@@ -26,6 +32,7 @@ std::string tags_text(const std::array<std::int32_t, 4>& t) {
 
 std::vector<std::pair<std::string, std::string>> material_report_json(const MaterialResult& r) {
     std::vector<std::pair<std::string, std::string>> out;
+    const bool capped = any_cap(r);
     std::string m = "[";
     for (std::size_t k = 0; k < r.materials.size(); ++k) {
         const MaterialStats& s = r.materials[k];
@@ -34,6 +41,9 @@ std::vector<std::pair<std::string, std::string>> material_report_json(const Mate
              ", \"area\": " + json_number(s.area) + ", \"perimeter\": " + json_number(s.perimeter);
         if (s.reference_area)
             m += ", \"pixel_area\": " + json_number(*s.reference_area) + ", \"area_minus_pixel_area\": " + json_number(s.area - *s.reference_area);
+        if (capped)  // (not output: no triangle to measure)
+            m += ", \"max_size\": " + (s.max_size ? json_number(*s.max_size) : std::string("null")) +
+                 ", \"longest_edge\": " + (s.output ? json_number(s.longest_edge) : std::string("null"));
         m += "}";
     }
     out.emplace_back("materials", m + "]");
@@ -61,11 +71,17 @@ std::vector<std::pair<std::string, std::string>> material_report_json(const Mate
 std::string material_report_text(const MaterialResult& r, std::vector<std::string>* warnings) {
     std::ostringstream t;
     t.precision(6);
-    t << "materials            " << r.materials.size() << " (tag, triangles, area, perimeter, pixel area)\n";
+    const bool capped = any_cap(r);
+    t << "materials            " << r.materials.size() << " (tag, triangles, area, perimeter, pixel area"
+      << (capped ? ", longest edge" : "") << ")\n";
     for (const MaterialStats& s : r.materials) {
         t << "  " << s.tag << " " << s.name << (s.output ? "" : " (not output)") << ": " << s.triangles << " triangles, area "
           << s.area << ", perimeter " << s.perimeter;
         if (s.reference_area) t << ", pixel area " << *s.reference_area;
+        if (capped && s.output) {
+            t << ", longest edge " << s.longest_edge;
+            if (s.max_size) t << " (max size " << *s.max_size << ")";
+        }
         t << "\n";
         if (warnings && lost_material(s))
             warnings->push_back("material " + std::to_string(s.tag) + " (" + s.name +
@@ -81,6 +97,23 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
           << std::setprecision(10) << e.min_deg << ", " << e.max_deg << "] deg\n" << std::setprecision(6);
     if (r.junction_squares > static_cast<std::int64_t>(r.junction_examples.size())) t << "  ...\n";
     return t.str();
+}
+
+void measure_longest_edges(MaterialResult& r) {
+    const Mesh& m = r.mesh;
+    std::int32_t top = 0;  // region tags are material tags, 0 .. 65535
+    for (const std::int32_t t : m.region) top = std::max(top, t);
+    std::vector<double> longest2(static_cast<std::size_t>(top) + 1, 0.0);  // squared, per region tag
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        double& l2 = longest2[static_cast<std::size_t>(m.region[t])];
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
+            const Vec2 b = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
+            l2 = std::max(l2, (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+        }
+    }
+    for (MaterialStats& s : r.materials)
+        s.longest_edge = s.output && s.tag >= 0 && s.tag <= top ? std::sqrt(longest2[static_cast<std::size_t>(s.tag)]) : 0.0;
 }
 
 }  // namespace warpmesh

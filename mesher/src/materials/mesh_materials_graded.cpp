@@ -23,6 +23,16 @@
 // uniform mesh.  Tiles whose points all share one sign are uniform
 // (tile_signs), so the quadtree's work outside the band follows the band.
 //
+// Size control.  max_cell and the grading buffer are the single-region
+// mesher's (graded.hpp).  A material m with its own largest cell K_m (a power
+// of two below max_cell, or any with max_cell 0) gives its non-critical
+// points the inside class of level log2 K_m (quadtree.hpp: code -2 - L)
+// instead of -1: its coarse leaves are at most K_m squares wide, so their
+// triangles' longest edges at most √2 K_m s; its finest squares' at most
+// √5 s, as everywhere.  A class is still "inside, non-critical": the
+// critical points, hence the band, its squares and the interfaces, do not
+// change, and a coarse leaf still holds the points of one material.
+//
 // Triangles, in order: the finest leaves in canonical order (for_each_finest)
 // as mesh_materials does a lattice square (no moved corner: diagonal AD, the
 // square's material; else the rule on the material corners, each triangle
@@ -51,9 +61,12 @@
 // perimeters.  Since the finest band is the uniform mesh's, the interfaces
 // and boundary edges are the uniform mesh's, as vertex pairs.
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <stdexcept>
+#include <string>
 
 #include "graded/quadtree.hpp"
 #include "graded/tiles.hpp"
@@ -88,8 +101,10 @@ struct HalfEdge {
     bool operator<(const HalfEdge& o) const { return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : tri < o.tri; }
 };
 
-// The signs the quadtree is built from (see the head comment), per point.
-std::vector<std::int8_t> material_signs(const Lattice& lattice, const Buffer<std::uint16_t>& mat, bool drop) {
+// The signs the quadtree is built from (see the head comment), per point:
+// 0 at a critical point, else `code` of its material (+1 the dropped
+// background, -1 or an inside class).
+std::vector<std::int8_t> material_signs(const Lattice& lattice, const Buffer<std::uint16_t>& mat, std::span<const std::int8_t> code) {
     const std::int64_t nxp = lattice.points_x(), nyp = lattice.ny + 1;
     std::vector<std::int8_t> sg(static_cast<std::size_t>(nxp * nyp));
 #pragma omp parallel for schedule(static)
@@ -99,7 +114,7 @@ std::vector<std::int8_t> material_signs(const Lattice& lattice, const Buffer<std
             const std::uint16_t m = row[i];
             const bool critical = (i > 0 && row[i - 1] != m) || (i + 1 < nxp && row[i + 1] != m) ||
                                   (j > 0 && row[i - nxp] != m) || (j + 1 < nyp && row[i + nxp] != m);
-            sg[static_cast<std::size_t>(i + j * nxp)] = critical ? std::int8_t{0} : (drop && m == 0) ? std::int8_t{1} : std::int8_t{-1};
+            sg[static_cast<std::size_t>(i + j * nxp)] = critical ? std::int8_t{0} : code[m];
         }
     }
     return sg;
@@ -108,10 +123,25 @@ std::vector<std::int8_t> material_signs(const Lattice& lattice, const Buffer<std
 }  // namespace
 
 MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options,
-                                     std::int64_t max_cell) {
+                                     std::int64_t max_cell, int grading_buffer, std::span<const std::int64_t> max_cell_of) {
     check_material_options(field, options);
     const int nmat = field.count();
     const bool drop = !options.keep_background;
+    if (!max_cell_of.empty() && max_cell_of.size() != static_cast<std::size_t>(nmat))
+        throw std::invalid_argument("max_cell_of needs one entry per material (" + std::to_string(nmat) + "), got " +
+                                    std::to_string(max_cell_of.size()));
+    // Each material's sign code (head comment); classes: some material has one.
+    std::vector<std::int8_t> code(static_cast<std::size_t>(nmat), -1);
+    if (drop) code[0] = 1;
+    bool classes = false;
+    for (std::size_t m = 0; m < max_cell_of.size(); ++m) {
+        const std::int64_t K = max_cell_of[m];
+        if (K < 0 || (K & (K - 1)) != 0)
+            throw std::invalid_argument("a material's max cell size must be 0 or a power of two, got " + std::to_string(K));
+        if (K == 0 || (max_cell != 0 && K >= max_cell) || code[m] > 0) continue;
+        code[m] = inside_class(std::countr_zero(static_cast<std::uint64_t>(K)));
+        classes = true;
+    }
     MaterialResult r;
     r.graded = true;
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx;
@@ -121,8 +151,8 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
 
     // ---- quadtree ----------------------------------------------------------------
     auto t0 = clock::now();
-    const TiledSigns signs = tile_signs(lattice, material_signs(lattice, mat, drop), default_tile_log, /*sample_every_tile=*/false);
-    const Quadtree tree = build_quadtree(lattice, signs, front.warped, max_cell);
+    const TiledSigns signs = tile_signs(lattice, material_signs(lattice, mat, code), default_tile_log, /*sample_every_tile=*/false);
+    const Quadtree tree = build_quadtree(lattice, signs, front.warped, max_cell, grading_buffer, classes);
     const Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/false);
     if (options.certify.verify) {  // the invariant the certificates rest on, from the leaf list
         const CriticalSquaresCheck inv = check_critical_squares_finest(leaves, signs, front.warped);
