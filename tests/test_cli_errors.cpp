@@ -268,6 +268,48 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--msh-version", "4", "-o", "m.msh"}, 2, {"--msh-version expects '4.1' or '2.2', got '4'"});
 }
 
+// --max-size-of T=H (per-material maximum sizes): refused with a message naming
+// the problem, before anything is written.  With a uniform mesh it is only
+// checked, as --max-size is (every triangle is within the lattice spacing).
+BOOST_AUTO_TEST_CASE(max_size_of_refusals) {
+    Sandbox sb;
+    const std::string img = sb.input("disc.pgm", disc_pgm(16, 12)).string();  // labels 0 and 255
+    const std::string shapes = "1=circle:0,0,4;2=circle:3,0,3";
+    sb.refuse({"mesh", img, "--max-size-of", "255=4", "--graded", "-o", "m.vtu"}, 2,
+              {"--max-size-of applies to --materials and --shapes", "use --max-size"});
+    sb.refuse({"mesh", "--shape", "circle:0,0,4", "--max-size-of", "1=4", "-o", "m.vtu"}, 2, {"--max-size-of applies to --materials"});
+    sb.refuse({"mesh", img, "--materials", "all", "--max-size-of", "255", "-o", "m.vtu"}, 2, {"--max-size-of expects T=H", "'255'"});
+    sb.refuse({"mesh", img, "--materials", "all", "--max-size-of", "x=4", "-o", "m.vtu"}, 2, {"--max-size-of T expects an integer, got 'x'"});
+    sb.refuse({"mesh", img, "--materials", "all", "--max-size-of", "255=abc", "-o", "m.vtu"}, 2,
+              {"--max-size-of H expects a finite number, got 'abc'"});
+    sb.refuse({"mesh", img, "--materials", "all", "--max-size-of", "255=nan", "-o", "m.vtu"}, 2, {"--max-size-of H expects a finite number"});
+    sb.refuse({"mesh", img, "--materials", "all", "--max-size-of", "-3=4", "-o", "m.vtu"}, 2, {"T must be a label or tag 0..65535"});
+    for (const char* h : {"0", "-1"})
+        sb.refuse({"mesh", img, "--materials", "all", "--graded", "--max-size-of", std::string("255=") + h, "-o", "m.vtu"}, 2,
+                  {"--max-size-of 255=H: H must be positive and finite"});
+    sb.refuse({"mesh", img, "--materials", "all", "--graded", "--max-size-of", "255=2", "-o", "m.vtu"}, 2,
+              {"--max-size-of 255=H: H 2 is below sqrt(5) * spacing = 2.23607", "--spacing 0.894427 or less"});
+    sb.refuse({"mesh", img, "--materials", "all", "--max-size-of", "255=4", "--spacing", "2", "-o", "m.vtu"}, 2,
+              {"below sqrt(5) * spacing"});  // uniform: checked all the same
+    sb.refuse({"mesh", img, "--materials", "all", "--graded", "--max-size-of", "255=4", "--max-size-of", "255=8", "-o", "m.vtu"}, 2,
+              {"--max-size-of: material 255 is given twice"});
+    sb.refuse({"mesh", img, "--materials", "all", "--graded", "--max-size-of", "7=4", "-o", "m.vtu"}, 1,
+              {"--max-size-of 7=H: no material has tag 7 (the materials: 255)"});
+    sb.refuse({"mesh", "--shapes", shapes, "--graded", "--max-size-of", "3=4", "-o", "m.vtu"}, 1,
+              {"no material has tag 3 (the materials: 1, 2)"});
+    sb.refuse({"mesh", "--shapes", shapes, "--graded", "--max-size-of", "0=4", "-o", "m.vtu"}, 1,
+              {"the background (tag 0) is not output", "--background keep"});
+    // Accepted: the background kept and capped; a uniform mesh (checked only).
+    for (const std::vector<std::string>& ok : {std::vector<std::string>{"--graded", "--background", "keep", "--max-size-of", "0=4"},
+                                               std::vector<std::string>{"--max-size-of", "1=4"}}) {
+        std::vector<std::string> args{"mesh", "--shapes", shapes, "-o", "m.vtu", "--quiet"};
+        args.insert(args.end(), ok.begin(), ok.end());
+        const Result r = sb.run(args);
+        BOOST_TEST_INFO(r.err);
+        BOOST_TEST(r.code == 0);
+    }
+}
+
 // --repeat (benchmarks) meshes several times in one process: the files are
 // those of a single run, byte for byte, and the report says it was repeated.
 BOOST_AUTO_TEST_CASE(repeat_writes_the_mesh_of_one_run) {

@@ -365,6 +365,79 @@ BOOST_AUTO_TEST_CASE(max_size_bounds_every_edge_of_the_graded_mesh) {
                 }
 }
 
+// Inside classes (quadtree.hpp; the per-material size caps of the
+// multi-material mesher): random Voronoi "materials" on the lattice points,
+// each with the code +1 (outside), -1 (inside) or an inside class -2 - L
+// (L = 0 .. 5), and 0 at every point with a 4-neighbour of another material.
+// Whatever the grading buffer, max cell and tile size, check_quadtree holds
+// (no coarse leaf of a class above its level, critical squares finest, 2:1
+// balance, each coarse leaf of one code), the leaves do not depend on the
+// tile size (tiled and dense storage agree; the tiles of a class below the
+// tiles' level are activated), and the classes do coarsen up to their level.
+BOOST_AUTO_TEST_CASE(inside_classes_cap_their_leaves_whatever_the_tiles) {
+    std::mt19937 rng(1818);
+    std::int64_t at_cap = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+        const Lattice l = integer_lattice(90 + 37 * (trial % 5), 70 + 23 * (trial % 3));
+        const std::int64_t nxp = l.nx + 1, nyp = l.ny + 1;
+        std::uniform_real_distribution<double> px(0, static_cast<double>(l.nx)), py(0, static_cast<double>(l.ny));
+        std::uniform_int_distribution<int> kind(-1, 6);  // -1: outside, 0: inside, 1 .. 6: class L = kind - 1
+        std::vector<std::array<double, 2>> seeds(static_cast<std::size_t>(3 + trial % 6));
+        std::vector<std::int8_t> code(seeds.size());
+        for (std::size_t k = 0; k < seeds.size(); ++k) {
+            seeds[k] = {px(rng), py(rng)};
+            const int c = kind(rng);
+            code[k] = c < 0 ? std::int8_t{1} : c == 0 ? std::int8_t{-1} : inside_class(c - 1);
+        }
+        std::vector<int> mat(static_cast<std::size_t>(nxp * nyp));
+        for (std::int64_t j = 0; j < nyp; ++j)
+            for (std::int64_t i = 0; i < nxp; ++i) {
+                double best = 1e300;
+                for (std::size_t k = 0; k < seeds.size(); ++k) {
+                    const double d = std::hypot(static_cast<double>(i) - seeds[k][0], static_cast<double>(j) - seeds[k][1]);
+                    if (d < best) best = d, mat[static_cast<std::size_t>(i + j * nxp)] = static_cast<int>(k);
+                }
+            }
+        std::vector<std::int8_t> sg(mat.size());
+        for (std::int64_t j = 0; j < nyp; ++j)
+            for (std::int64_t i = 0; i < nxp; ++i) {
+                const int m = mat[static_cast<std::size_t>(i + j * nxp)];
+                const auto other = [&](std::int64_t a, std::int64_t b) {
+                    return a >= 0 && b >= 0 && a < nxp && b < nyp && mat[static_cast<std::size_t>(a + b * nxp)] != m;
+                };
+                const bool critical = other(i - 1, j) || other(i + 1, j) || other(i, j - 1) || other(i, j + 1);
+                sg[static_cast<std::size_t>(i + j * nxp)] = critical ? std::int8_t{0} : code[static_cast<std::size_t>(m)];
+            }
+        const std::int64_t K = trial % 3 == 0 ? 0 : std::int64_t{1} << (3 + trial % 4);
+        const int buffer = std::array<int, 3>{0, 2, 5}[static_cast<std::size_t>(trial % 3)];
+        using Key = std::tuple<std::int32_t, std::int32_t, int, int>;
+        std::vector<Key> first;
+        for (const int tile_log : {2, 3, 4, 5, 7}) {
+            BOOST_TEST_CONTEXT("trial " << trial << " lattice " << l.nx << " x " << l.ny << " K " << K << " buffer " << buffer
+                                        << " tile_log " << tile_log) {
+                const TiledSigns signs = tile_signs(l, sg, tile_log, /*sample_every_tile=*/false);
+                const Quadtree tree = build_quadtree(l, signs, {}, K, buffer, /*classes=*/true);
+                const QuadtreeCheck chk = check_quadtree(tree, signs);
+                BOOST_TEST(chk.ok());
+                for (const auto& msg : chk.messages) BOOST_TEST_MESSAGE(msg);
+                const Leaves leaves = quadtree_leaves(tree);
+                std::vector<Key> keys;
+                for (const Leaf& leaf : leaves.coarse) {
+                    keys.emplace_back(leaf.i, leaf.j, leaf.level, leaf.sign);
+                    at_cap += tile_log == 4 && leaf.level == cap_level(leaf.sign);
+                }
+                for_each_finest(leaves, [&](std::int64_t i, std::int64_t j) {
+                    keys.emplace_back(static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), 0, 0);
+                });
+                std::sort(keys.begin(), keys.end());
+                if (first.empty()) first = keys;
+                BOOST_TEST((keys == first));
+            }
+        }
+    }
+    BOOST_TEST(at_cap > 100);  // the classes' leaves reach their level
+}
+
 BOOST_AUTO_TEST_CASE(fully_inside_lattice_keeps_a_finest_border_and_coarsens_inside) {
     Lambda f([](double, double) { return -1.0; }, {0, 0, 64, 64});
     const Lattice l = integer_lattice(64, 64);

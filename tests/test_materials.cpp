@@ -27,10 +27,13 @@
 
 #include "support.hpp"
 #include "warpmesh/errors.hpp"
+#include "warpmesh/graded.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/materials.hpp"
 #include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/pipeline.hpp"
+#include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
 
 using namespace warpmesh;
@@ -184,6 +187,19 @@ void check_graded_against_uniform(const MaterialField& f, const Lattice& l, cons
         BOOST_REQUIRE_SMALL(g.materials[m].area - u.materials[m].area, 1e-9 * scale);
         BOOST_REQUIRE_SMALL(g.materials[m].perimeter - u.materials[m].perimeter, 1e-9 * scale);
     }
+}
+
+// The longest edge of each region tag's triangles.
+std::map<std::int32_t, double> longest_edge_per_tag(const Mesh& m) {
+    std::map<std::int32_t, double> out;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
+            const Vec2 b = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
+            double& l = out[m.region[t]];
+            l = std::max(l, std::hypot(b.x - a.x, b.y - a.y));
+        }
+    return out;
 }
 
 }  // namespace
@@ -443,12 +459,119 @@ BOOST_AUTO_TEST_CASE(graded_atlas_slice_keeps_the_uniform_band_and_coarsens_insi
     }
 }
 
+// Size control of graded multi-material meshes on random fields: a global
+// max cell K, a grading buffer n and per-material caps K_m (max_cell_of).
+// Every mesh has the properties of a graded multi-material mesh against the
+// uniform one (check_graded_against_uniform: conforming, no mixed triangle,
+// the band invariant checked, the same interfaces and boundary edges as
+// vertex positions — the caps add no critical point, so the band is
+// unchanged); every triangle of material m has its longest edge at most
+// max(√2 min(K_m, K) s, √5 s), every triangle at most max(√2 K s, √5 s); a
+// capped material has at least the uncapped mesh's triangles (the capped
+// tree refines the uncapped one).
+BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_the_band) {
+    const OneThread one;
+    std::mt19937 rng(18);
+    std::uniform_real_distribution<double> spacing(0.2, 0.9);
+    std::int64_t refined = 0, capped_materials = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const RandomDiscs f(rng, 2 + trial % 4, 16);
+        const Lattice l = lattice_over(f.bounds(), spacing(rng));
+        const bool keep = trial % 3 == 0;
+        const MaterialOptions o{keep, DiagonalRule::separating, {true, true, true}};
+        const std::int64_t K = trial % 5 ? std::int64_t{1} << (2 + trial % 4) : 0;  // 0, 8, 16, 32, 4
+        const int buffer = std::array<int, 4>{0, 2, 3, 8}[static_cast<std::size_t>(trial % 4)];
+        std::vector<std::int64_t> caps(static_cast<std::size_t>(f.count()));
+        std::uniform_int_distribution<int> pick(0, 4);
+        for (std::size_t m = keep ? 0 : 1; m < caps.size(); ++m) {
+            const int c = pick(rng);
+            caps[m] = c == 0 ? 0 : std::int64_t{1} << (c - 1);  // 0 (none), 1, 2, 4, 8
+        }
+        BOOST_TEST_CONTEXT("trial " << trial << " s " << l.s << " K " << K << " buffer " << buffer) {
+            const MaterialResult u = mesh_materials(f, l, o);
+            const MaterialResult g0 = mesh_materials_graded(f, l, o, K, buffer);
+            const MaterialResult g = mesh_materials_graded(f, l, o, K, buffer, caps);
+            check_graded_against_uniform(f, l, g0, u, keep);
+            check_graded_against_uniform(f, l, g, u, keep);
+            const auto longest = longest_edge_per_tag(g.mesh);
+            const double band = std::sqrt(5.0) * l.s * (1 + 1e-12);
+            for (int m = keep ? 0 : 1; m < f.count(); ++m) {
+                const auto it = longest.find(f.tag(m));
+                if (it == longest.end()) continue;
+                const std::int64_t Km = caps[static_cast<std::size_t>(m)] == 0 ? K
+                                        : K == 0                           ? caps[static_cast<std::size_t>(m)]
+                                                                           : std::min(K, caps[static_cast<std::size_t>(m)]);
+                if (Km != 0) BOOST_REQUIRE_LE(it->second, std::max(std::sqrt(2.0) * static_cast<double>(Km) * l.s * (1 + 1e-12), band));
+                if (caps[static_cast<std::size_t>(m)] != 0) {
+                    ++capped_materials;
+                    BOOST_REQUIRE_GE(g.materials[static_cast<std::size_t>(m)].triangles, g0.materials[static_cast<std::size_t>(m)].triangles);
+                    refined += g.materials[static_cast<std::size_t>(m)].triangles > g0.materials[static_cast<std::size_t>(m)].triangles;
+                }
+            }
+        }
+    }
+    BOOST_TEST(capped_materials > 300);
+    BOOST_TEST(refined > 100);  // the caps did refine
+}
+
+// Issue 18: --max-size and --grading were silently ignored by graded
+// multi-material meshes (mesh(MaterialField) dropped them).  Now every
+// triangle's longest edge is at most max_size there, a grading below 2 adds
+// triangles, the report names them, and max_size_of caps one material.
+BOOST_AUTO_TEST_CASE(graded_materials_honour_max_size_grading_and_max_size_of) {
+    const auto f = parse_material_shapes("1=circle:0,0,30;2=circle:20,0,14;3=rect:-6,-6,6,40");
+    MeshOptions o;
+    o.spacing = 0.5, o.graded = true;
+    const MeshResult plain = mesh(*f, o);
+    const auto longest_plain = longest_edge_per_tag(plain.mesh);
+    double top = 0;
+    for (const auto& [tag, l] : longest_plain) top = std::max(top, l);
+    BOOST_TEST(top > 8.0);  // without a bound the interiors coarsen far beyond it
+    o.max_size = 3;
+    const MeshResult sized = mesh(*f, o);
+    for (const auto& [tag, l] : longest_edge_per_tag(sized.mesh)) BOOST_TEST(l <= 3 * (1 + 1e-12), "tag " << tag << ": " << l);
+    BOOST_TEST(to_json(sized).find("\"max_size\": 3") != std::string::npos);
+    o.max_size = 0, o.grading = 1.2;
+    const MeshResult graded = mesh(*f, o);
+    BOOST_TEST(graded.mesh.triangles.size() > plain.mesh.triangles.size());
+    BOOST_TEST(to_json(graded).find("\"grading_buffer\": 4") != std::string::npos);
+    o.grading = 2, o.max_size_of = {{1, 2.5}};
+    const MeshResult capped = mesh(*f, o);
+    const auto longest = longest_edge_per_tag(capped.mesh);
+    BOOST_TEST(longest.at(1) <= 2.5);
+    BOOST_TEST(longest.at(2) <= longest_plain.at(2));  // the capped tree refines the plain one
+    BOOST_TEST(interface_keys(capped.mesh) == interface_keys(plain.mesh));
+    BOOST_TEST(boundary_keys(capped.mesh) == boundary_keys(plain.mesh));
+    const std::string json = to_json(capped);
+    BOOST_TEST(json.find("\"max_size_of\": [{\"tag\": 1, \"max_size\": 2.5, \"max_cell\": 2}]") != std::string::npos, json.substr(0, 600));
+    BOOST_TEST(json.find("\"longest_edge\": ") != std::string::npos);
+    BOOST_TEST(to_text(capped).find("(max size 2.5)") != std::string::npos);
+    BOOST_TEST(to_json(plain).find("longest_edge") == std::string::npos);  // default reports unchanged
+    // Refusals: a tag that is no material, the dropped background, one region.
+    o.max_size_of = {{4, 3}};
+    BOOST_CHECK_THROW(mesh(*f, o), InputError);
+    o.max_size_of = {{0, 3}};
+    BOOST_CHECK_THROW(mesh(*f, o), InputError);
+    o.keep_background = true;
+    BOOST_TEST(mesh(*f, o).mesh.triangles.size() > 0u);
+    o.max_size_of = {{1, 3}, {1, 4}};
+    BOOST_CHECK_THROW(validate(o), InputError);
+    o.max_size_of = {{1, 1}};  // below √5 spacing
+    BOOST_CHECK_THROW(validate(o), InputError);
+    o.max_size_of = {{1, 3}};
+    BOOST_CHECK_THROW(mesh(*parse_shape("circle:0,0,3"), o), InputError);
+}
+
 BOOST_AUTO_TEST_CASE(maxmin_is_refused_with_materials) {
     const auto f = parse_material_shapes("1=circle:0,0,3");
     const Lattice l = lattice_around(f->bounds(), 0.5);
     BOOST_CHECK_THROW(mesh_materials(*f, l, {false, DiagonalRule::maxmin, {}}), InputError);
     BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::maxmin, {}}, 0), InputError);
     BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {}}, 3), std::invalid_argument);
+    const std::vector<std::int64_t> bad_cap{0, 3}, short_caps{0};
+    BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {}}, 0, 0, bad_cap), std::invalid_argument);
+    BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {}}, 0, 0, short_caps), std::invalid_argument);
+    BOOST_CHECK_THROW(mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {}}, 0, 9), std::invalid_argument);
 }
 
 BOOST_AUTO_TEST_CASE(label_lists_are_checked) {

@@ -64,6 +64,9 @@ MeshOptions mesh_options(const py::dict& kw) {
     if (kw.contains("max_cell")) o.max_cell = kw["max_cell"].cast<std::int64_t>();
     if (kw.contains("max_size")) o.max_size = kw["max_size"].cast<double>();
     if (kw.contains("grading")) o.grading = kw["grading"].cast<double>();
+    if (kw.contains("max_size_of"))  // {label: size}
+        for (const auto& [tag, size] : kw["max_size_of"].cast<py::dict>())
+            o.max_size_of.emplace_back(tag.cast<std::int32_t>(), size.cast<double>());
     if (kw.contains("max_squares")) o.max_squares = kw["max_squares"].cast<std::int64_t>();
     if (kw.contains("certify")) o.certify = kw["certify"].cast<bool>();
     if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();

@@ -152,7 +152,7 @@ class Mesh:
 
 
 def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input,
-             max_size=None, grading=2.0):
+             max_size=None, grading=2.0, max_size_of=None):
     if rule not in ("separating", "maxmin"):
         raise ValueError(f"rule must be 'separating' or 'maxmin', got {rule!r}")
     o = dict(spacing=float(spacing), rule=rule, graded=bool(graded), max_cell=int(max_cell),
@@ -163,6 +163,10 @@ def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, v
     if max_size is not None:
         o["max_size"] = float(max_size)
     o["grading"] = float(grading)
+    if max_size_of is not None:
+        if not isinstance(max_size_of, dict):
+            raise TypeError(f"max_size_of must be a dict {{label: size}}, got {type(max_size_of).__name__}")
+        o["max_size_of"] = {int(k): float(v) for k, v in max_size_of.items()}
     return o
 
 
@@ -200,8 +204,8 @@ def _labels(labels):
 
 
 def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=1.0,
-         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating", guarantee=None,
-         min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
+         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule="separating",
+         guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
 
     image       2D array of integers in 0..65535 or booleans (a uint8 image from
@@ -229,6 +233,11 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 the spacing already (checked)
     grading     graded, in [1.1, 2]: cell sizes grow away from the boundary by
                 at most this factor per cell on average (2: 2:1 balance)
+    max_size_of materials only: {label: size}, the longest edge of that
+                label's triangles at most size (pixels; as max_size, the
+                smaller of the two wins; graded meshes cap the label's cells);
+                the report's "materials" then give each label's "max_size"
+                and measured "longest_edge"
     rule        "separating" (the boundary follows the level set) or "maxmin"
     guarantee   None / "any", or "flat": halve the spacing (not below
                 min_spacing, default spacing / 16) until every warped square's
@@ -268,8 +277,10 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
         core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, background == "keep",
                                     source, threads,
                                     _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify,
-                                             verify, max_squares, source, max_size, grading))
+                                             verify, max_squares, source, max_size, grading, max_size_of))
         return _finish(core, scale)
+    if max_size_of is not None:
+        raise ValueError("max_size_of applies to multi-material meshes (materials=...); use max_size")
     label_list, nonzero = _labels(labels)
     core = _core.mesh_image(a.astype(np.uint16, copy=False), int(maxval),
                             None if iso is None else float(iso), inside == "above", label_list, nonzero,

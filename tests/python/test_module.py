@@ -236,6 +236,36 @@ def test_graded_materials_mesh_is_the_cli_graded_multi_material_mesh(cli, root, 
     assert keyed(g) == keyed(u) and len(keyed(g)) > 1000
 
 
+def test_max_size_of_caps_one_label_like_the_cli(cli, root, tmp_path):
+    # max_size_of={label: size} is --max-size-of label=size: the CLI's mesh,
+    # read back by meshio; that label's edges are <= size, the report gives
+    # its cap and longest edge; a label that is no material is a ValueError.
+    import meshio
+
+    vtu = tmp_path / "cap.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--materials", "all", "--graded", "--spacing", "1",
+                    "--max-size-of", "41=3", "--grading", "1.5", "-o", str(vtu), "--quiet"], check=True,
+                   capture_output=True)
+    ref = meshio.read(vtu)
+    img = warpmesh.read_image(root / BRAIN)
+    m = warpmesh.mesh(img, materials="all", graded=True, spacing=1, max_size_of={41: 3}, grading=1.5)
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    p = m.points[m.triangles[m.regions == 41]]
+    longest = max(np.linalg.norm(p[:, k] - p[:, (k + 1) % 3], axis=1).max() for k in range(3))
+    assert longest <= 3
+    entry = next(e for e in m.report["materials"] if e["tag"] == 41)
+    assert entry["max_size"] == 3 and entry["longest_edge"] == pytest.approx(longest, rel=1e-12)
+    assert m.report["max_size_of"] == [{"tag": 41, "max_size": 3, "max_cell": 2}]  # √2·2 <= 3 < √2·4
+    plain = warpmesh.mesh(img, materials="all", graded=True, spacing=1, grading=1.5)
+    assert (plain.regions == 41).sum() < (m.regions == 41).sum()
+    assert "max_size_of" not in plain.report
+    with pytest.raises(ValueError, match="no material has tag 12345"):
+        warpmesh.mesh(img, materials="all", graded=True, max_size_of={12345: 3})
+    with pytest.raises(ValueError, match="max_size_of applies to multi-material meshes"):
+        warpmesh.mesh(img, labels="nonzero", graded=True, max_size_of={41: 3})
+
+
 def test_to_meshio_and_back_through_a_file(tmp_path):
     import meshio
 
