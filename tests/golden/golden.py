@@ -90,6 +90,13 @@ CASES = {
                                       "--spacing", "2"],
     "three_shapes_materials_graded": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
                                       "--background", "keep", "--spacing", "0.5", "--graded", "--max-cell", "8"],
+    # Size control of graded multi-material meshes (issue 18: --max-size was
+    # ignored there): a global bound (cells of at most 2 squares; 4 without)
+    # and a per-material cap (material 1 all finest squares), the background
+    # kept.
+    "three_shapes_materials_graded_sizes": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
+                                            "--background", "keep", "--spacing", "0.5", "--graded", "--max-size", "2.5",
+                                            "--max-size-of", "1=1.2"],
 }
 
 DROP = {"phase_seconds", "total_seconds", "peak_memory_mb", "input", "repeat"}
