@@ -482,10 +482,10 @@ BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_th
         const std::int64_t K = trial % 5 ? std::int64_t{1} << (2 + trial % 4) : 0;  // 0, 8, 16, 32, 4
         const int buffer = std::array<int, 4>{0, 2, 3, 8}[static_cast<std::size_t>(trial % 4)];
         std::vector<std::int64_t> caps(static_cast<std::size_t>(f.count()));
-        std::uniform_int_distribution<int> pick(0, 4);
+        std::uniform_int_distribution<int> pick(0, 3);
         for (std::size_t m = keep ? 0 : 1; m < caps.size(); ++m) {
             const int c = pick(rng);
-            caps[m] = c == 0 ? 0 : std::int64_t{1} << (c - 1);  // 0 (none), 1, 2, 4, 8
+            caps[m] = c == 0 ? 0 : std::int64_t{1} << (c - 1);  // 0 (none), 1, 2, 4
         }
         BOOST_TEST_CONTEXT("trial " << trial << " s " << l.s << " K " << K << " buffer " << buffer) {
             const MaterialResult u = mesh_materials(f, l, o);
@@ -510,8 +510,9 @@ BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_th
             }
         }
     }
+    BOOST_TEST_MESSAGE("capped materials " << capped_materials << ", of which refined by their cap " << refined);
     BOOST_TEST(capped_materials > 300);
-    BOOST_TEST(refined > 100);  // the caps did refine
+    BOOST_TEST(refined * 4 > capped_materials);  // the caps did refine
 }
 
 // Issue 18: --max-size and --grading were silently ignored by graded
@@ -526,7 +527,7 @@ BOOST_AUTO_TEST_CASE(graded_materials_honour_max_size_grading_and_max_size_of) {
     const auto longest_plain = longest_edge_per_tag(plain.mesh);
     double top = 0;
     for (const auto& [tag, l] : longest_plain) top = std::max(top, l);
-    BOOST_TEST(top > 8.0);  // without a bound the interiors coarsen far beyond it
+    BOOST_TEST(top > 5.0);  // without a bound the interiors coarsen beyond it (cells of 8 squares)
     o.max_size = 3;
     const MeshResult sized = mesh(*f, o);
     for (const auto& [tag, l] : longest_edge_per_tag(sized.mesh)) BOOST_TEST(l <= 3 * (1 + 1e-12), "tag " << tag << ": " << l);

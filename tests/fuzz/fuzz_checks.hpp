@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <span>
+#include <array>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -29,6 +30,7 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
+#include "warpmesh/materials.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/uniform.hpp"
 #include "../without_range.hpp"
@@ -133,7 +135,16 @@ inline void check_image_reader(std::span<const std::uint8_t> bytes) {
 //            bit 6 iso + 1/2, bit 7 lattice_around instead of lattice_over
 //   byte 4   threshold: iso = b (+ 1/2); label mode: label b % 4, or, with
 //            bit 7 set, "nonzero"
+//   byte 5   size control of the graded meshes: bits 0-1 grading (2, 1.5,
+//            1.26, 1.1: buffer 0, 2, 3, 8), bits 2-3 max size (none, or
+//            √5 s times 1, 1.5, 3: the cell max_cell_for_size gives, the
+//            smaller of it and bits 4-5 of byte 3 wins); bit 4 (label mode)
+//            also every label as a material (labels 1..3; the background
+//            kept if bit 3 of byte 3), graded, label m capped at cell 2^(m-1)
+//            if bit 4 + m is set (bits 5, 6, 7)
 //   rest     pixels, row-major, cycled (all 0 when empty); label mode: b % 4
+// (Byte 5 came with the size options; the seeds got a 0 there, which meshes
+// as before.)
 struct PipelineCase {
     Image image;
     ImageLevelSetOptions options;
@@ -142,10 +153,14 @@ struct PipelineCase {
     bool graded = false;
     std::int64_t max_cell = 0;
     bool around = false;
+    int grading_buffer = 0;
+    double max_size = 0;  // 0: none (max_cell then as byte 3 says)
+    bool materials = false, keep_background = false;
+    std::array<std::int64_t, 4> max_cell_of{};  // per material number (0: background), 0 = no cap
 };
 
 inline bool decode_pipeline_case(std::span<const std::uint8_t> d, PipelineCase& c) {
-    if (d.size() < 5) return false;
+    if (d.size() < 6) return false;
     const int w = 2 + d[0] % 23, h = 2 + d[1] % 23;
     static constexpr double table[8] = {1, 0.5, 0.25, 2, 3, 1.5, 0.75, 0.3};
     c.spacing = d[2] < 128 ? table[d[2] % 8] : 0.4 + (d[2] - 128) * 4.6 / 127;
@@ -155,8 +170,19 @@ inline bool decode_pipeline_case(std::span<const std::uint8_t> d, PipelineCase& 
     c.graded = flags & 4;
     c.max_cell = std::int64_t{1} << ((flags >> 4) & 3) >> 1;  // 0, 1, 2, 4
     c.around = flags & 128;
+    const std::uint8_t sizes = d[5];
+    c.grading_buffer = std::array<int, 4>{0, 2, 3, 8}[sizes & 3];
+    if ((sizes >> 2) & 3) {
+        c.max_size = std::sqrt(5.0) * c.spacing * std::array<double, 3>{1, 1.5, 3}[((sizes >> 2) & 3) - 1];
+        const std::int64_t K = max_cell_for_size(c.max_size, c.spacing);
+        c.max_cell = c.max_cell == 0 ? K : std::min(c.max_cell, K);
+    }
+    c.materials = label && (sizes & 16);
+    c.keep_background = flags & 8;
+    for (int m = 1; m <= 3; ++m)
+        c.max_cell_of[static_cast<std::size_t>(m)] = (sizes >> (4 + m)) & 1 ? std::int64_t{1} << (m - 1) : 0;
     c.image.width = w, c.image.height = h, c.image.maxval = 255, c.image.source = "fuzz-pipeline";
-    const auto px = d.subspan(5);
+    const auto px = d.subspan(6);
     c.image.pixels.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     for (std::size_t k = 0; k < c.image.pixels.size(); ++k) {
         const std::uint8_t b = px.empty() ? 0 : px[k % px.size()];
@@ -209,6 +235,65 @@ inline void check_mesh_invariants(const Mesh& m, const Lattice& lattice, Diagona
 
 using testing::boundary_coords;
 
+// Interface edges as coordinate pairs with the regions on either side,
+// direction-independent, sorted.
+inline std::vector<std::tuple<double, double, double, double, std::int32_t, std::int32_t>> interface_coords(const Mesh& m) {
+    std::vector<std::tuple<double, double, double, double, std::int32_t, std::int32_t>> e;
+    for (std::size_t k = 0; k < m.interfaces.size(); ++k) {
+        Vec2 a = m.vertices[static_cast<std::size_t>(m.interfaces[k][0])], b = m.vertices[static_cast<std::size_t>(m.interfaces[k][1])];
+        std::int32_t l = m.interface_regions[k][0], r = m.interface_regions[k][1];
+        if (std::tie(b.x, b.y) < std::tie(a.x, a.y)) std::swap(a, b), std::swap(l, r);
+        e.emplace_back(a.x, a.y, b.x, b.y, l, r);
+    }
+    std::sort(e.begin(), e.end());
+    return e;
+}
+
+// Every label of the image as a material, uniform and graded with the case's
+// size control: the graded mesh conforms, has no mixed triangle, passed the
+// band invariant and every keyed triangle's verification, has the uniform
+// mesh's interfaces and boundary and areas, and every triangle of material
+// m has its longest edge at most max(√2 min(K_m, K) s, √5 s) (K the global
+// cell, K_m the material's cap; 0 = none).
+inline void run_materials_case(const PipelineCase& c, const Lattice& lattice) {
+    std::unique_ptr<MaterialField> f;
+    try {
+        f = make_label_materials(c.image, "all");
+    } catch (const InputError&) {  // no label but 0
+        return;
+    }
+    const MaterialOptions o{c.keep_background, DiagonalRule::separating, {true, true, true}};
+    const MaterialResult u = mesh_materials(*f, lattice, o);
+    std::vector<std::int64_t> caps(static_cast<std::size_t>(f->count()), 0);
+    for (int m = 1; m < f->count(); ++m) {
+        const std::int32_t tag = f->tag(m);  // a label 1..3
+        caps[static_cast<std::size_t>(m)] = c.max_cell_of[static_cast<std::size_t>(tag)];
+    }
+    const MaterialResult g = mesh_materials_graded(*f, lattice, o, c.max_cell, c.grading_buffer, caps);
+    const MeshCheck mc = check_mesh(g.mesh);
+    if (!mc.ok()) violation("graded materials: check_mesh failed: " + (mc.messages.empty() ? std::string() : mc.messages[0]));
+    if (g.mixed_triangles != 0) violation("graded materials: a mixed triangle");
+    if (g.invariant_squares < 0) violation("graded materials: the band invariant was not checked");
+    if (interface_coords(g.mesh) != interface_coords(u.mesh)) violation("graded and uniform interfaces differ");
+    if (boundary_coords(g.mesh) != boundary_coords(u.mesh)) violation("graded and uniform material boundaries differ");
+    const double au = mesh_area(u.mesh), ag = mesh_area(g.mesh);
+    if (std::abs(au - ag) > 1e-9 * std::max(1.0, au)) violation("graded and uniform material areas differ");
+    const double band = std::sqrt(5.0) * lattice.s * (1 + 1e-12);
+    for (std::size_t t = 0; t < g.mesh.triangles.size(); ++t) {
+        int m = 0;
+        while (m < f->count() && f->tag(m) != g.mesh.region[t]) ++m;
+        const std::int64_t Km = caps[static_cast<std::size_t>(m)], K = c.max_cell;
+        const std::int64_t cell = Km == 0 ? K : K == 0 ? Km : std::min(K, Km);
+        if (cell == 0) continue;
+        const double bound = std::max(std::sqrt(2.0) * static_cast<double>(cell) * lattice.s * (1 + 1e-12), band);
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = g.mesh.vertices[static_cast<std::size_t>(g.mesh.triangles[t][k])];
+            const Vec2 b = g.mesh.vertices[static_cast<std::size_t>(g.mesh.triangles[t][(k + 1) % 3])];
+            if (std::hypot(b.x - a.x, b.y - a.y) > bound) violation("graded materials: an edge longer than its material's cap");
+        }
+    }
+}
+
 // Runs the case; returns false if it was refused with an InputError (e.g. a
 // label that is not in the image).  Any violated invariant aborts.
 inline bool run_pipeline_case(const PipelineCase& c) {
@@ -232,8 +317,15 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         if (fan.mesh.triangles.size() < u.mesh.triangles.size()) violation("fan rule lost triangles");
     }
     if (c.graded) {
-        const GradedResult g = mesh_graded(*f, lattice, c.rule, c.max_cell, verify);
+        const GradedResult g = mesh_graded(*f, lattice, c.rule, c.max_cell, verify, c.grading_buffer);
         check_mesh_invariants(g.mesh, lattice, c.rule, "graded");
+        if (c.max_size != 0)
+            for (std::size_t t = 0; t < g.mesh.triangles.size(); ++t)
+                for (int k = 0; k < 3; ++k) {
+                    const Vec2 a = g.mesh.vertices[static_cast<std::size_t>(g.mesh.triangles[t][k])];
+                    const Vec2 b = g.mesh.vertices[static_cast<std::size_t>(g.mesh.triangles[t][(k + 1) % 3])];
+                    if (std::hypot(b.x - a.x, b.y - a.y) > c.max_size * (1 + 1e-12)) violation("graded: an edge longer than max_size");
+                }
         const double au = mesh_area(u.mesh), ag = mesh_area(g.mesh);
         if (std::abs(au - ag) > 1e-9 * std::max(1.0, au)) violation("graded and uniform areas differ");
         if (boundary_coords(u.mesh) != boundary_coords(g.mesh)) violation("graded and uniform boundaries differ");
@@ -243,14 +335,15 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         const auto cuts = find_cut_edges(*f, lattice, values, signs);
         const auto warped = warp_points(lattice, cuts);
         const TiledSigns tiles = tile_signs(lattice, signs);
-        const Quadtree tree = build_quadtree(lattice, tiles, warped, c.max_cell);
+        const Quadtree tree = build_quadtree(lattice, tiles, warped, c.max_cell, c.grading_buffer);
         const QuadtreeCheck qc = check_quadtree(tree, tiles);
         if (!qc.ok()) violation("check_quadtree failed: " + (qc.messages.empty() ? std::string() : qc.messages[0]));
         // The range bounds skip tiles but change nothing: the same mesh as
         // with every tile sampled.
-        const GradedResult all = mesh_graded(testing::WithoutRange(*f), lattice, c.rule, c.max_cell, verify);
+        const GradedResult all = mesh_graded(testing::WithoutRange(*f), lattice, c.rule, c.max_cell, verify, c.grading_buffer);
         if (!testing::same_mesh(all.mesh, g.mesh)) violation("graded mesh differs from the one with every tile sampled");
     }
+    if (c.materials) run_materials_case(c, lattice);
     return true;
 }
 
