@@ -244,19 +244,19 @@ def test_max_size_of_caps_one_label_like_the_cli(cli, root, tmp_path):
 
     vtu = tmp_path / "cap.vtu"
     subprocess.run([cli, "mesh", str(root / BRAIN), "--materials", "all", "--graded", "--spacing", "1",
-                    "--max-size-of", "41=3", "--grading", "1.5", "-o", str(vtu), "--quiet"], check=True,
+                    "--max-size-of", "41=2.5", "--grading", "1.5", "-o", str(vtu), "--quiet"], check=True,
                    capture_output=True)
     ref = meshio.read(vtu)
     img = warpmesh.read_image(root / BRAIN)
-    m = warpmesh.mesh(img, materials="all", graded=True, spacing=1, max_size_of={41: 3}, grading=1.5)
+    m = warpmesh.mesh(img, materials="all", graded=True, spacing=1, max_size_of={41: 2.5}, grading=1.5)
     assert np.array_equal(ref.points[:, :2], m.points)
     assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
     p = m.points[m.triangles[m.regions == 41]]
     longest = max(np.linalg.norm(p[:, k] - p[:, (k + 1) % 3], axis=1).max() for k in range(3))
-    assert longest <= 3
+    assert longest <= 2.5
     entry = next(e for e in m.report["materials"] if e["tag"] == 41)
-    assert entry["max_size"] == 3 and entry["longest_edge"] == pytest.approx(longest, rel=1e-12)
-    assert m.report["max_size_of"] == [{"tag": 41, "max_size": 3, "max_cell": 2}]  # √2·2 <= 3 < √2·4
+    assert entry["max_size"] == 2.5 and entry["longest_edge"] == pytest.approx(longest, rel=1e-12)
+    assert m.report["max_size_of"] == [{"tag": 41, "max_size": 2.5, "max_cell": 1}]  # √2 <= 2.5 < √2·2
     plain = warpmesh.mesh(img, materials="all", graded=True, spacing=1, grading=1.5)
     assert (plain.regions == 41).sum() < (m.regions == 41).sum()
     assert "max_size_of" not in plain.report
