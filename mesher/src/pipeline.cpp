@@ -315,8 +315,9 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
         int m = 0;
         while (m < field.count() && field.tag(m) != tag) ++m;
         if (m == field.count()) {
-            std::string known;
-            for (int q = 1; q < field.count(); ++q) known += (q > 1 ? ", " : "") + std::to_string(field.tag(q));
+            std::string known;  // the first 20
+            for (int q = 1; q < field.count() && q <= 20; ++q) known += (q > 1 ? ", " : "") + std::to_string(field.tag(q));
+            if (field.count() > 21) known += ", ...";
             throw InputError("--max-size-of " + std::to_string(tag) + "=H: no material has tag " + std::to_string(tag) +
                              " (the materials: " + known + ")");
         }
