@@ -119,11 +119,11 @@ namespace warpmesh {
 using CoarseningCode = std::int8_t;
 
 // The largest level of a coarse leaf with code c: L for an inside class
-// c = -2 - L, else no limit (no_cap_level); inside_class(L) is the code.
+// c = -2 - L, else no limit (no_cap_level); inside_class(L) is the code
+// (0 <= L <= 62, the levels of 64-bit cell widths: codes down to -64).
 inline constexpr int no_cap_level = 127;
 constexpr int cap_level(CoarseningCode c) { return c < -1 ? -2 - c : no_cap_level; }
 constexpr CoarseningCode inside_class(int level) { return static_cast<CoarseningCode>(-2 - level); }
-inline constexpr int max_class_level = 62;  // inside_class(62) = -64: a 2^62-square cell exceeds any lattice
 
 // A level stored densely: nodes_x x nodes_y nodes, row-major.
 struct DenseLevel {
