@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets with clang (ASan + UBSan) into build-fuzz/ and
-# runs them for SECONDS (default 60) of wall time in all, two at a time (one
-# core each; see "run" below for how the time is split).
+# Runs the libFuzzer targets for SECONDS (default 60) of wall time in all,
+# two at a time (one core each; see "run" below for how the time is split).
+# They are built in the sanitizer build (build-asan/, clang, ASan + UBSan +
+# coverage; scripts/sanitize.sh), which this script brings up to date first.
 #
 #   scripts/fuzz.sh [SECONDS]
 #
@@ -10,45 +11,18 @@
 # invariants and the angle bounds), and the volume readers fuzz_nrrd_reader,
 # fuzz_nifti_reader, fuzz_tiff_reader (fuzz_volume_checks.hpp).  Each starts from the committed seeds
 # (tests/fuzz/corpus/NAME, NAME = the target without fuzz_) and the crash regressions
-# (tests/fuzz/regressions/NAME); new inputs go to build-fuzz/corpus/TARGET,
-# crashes to build-fuzz/artifacts/.  Exit status 1 if any target found a
+# (tests/fuzz/regressions/NAME); new inputs go to build-asan/fuzz/corpus/TARGET,
+# crashes to build-asan/fuzz/artifacts/.  Exit status 1 if any target found a
 # crash: copy the artifact into tests/fuzz/regressions/NAME/ (the tests
-# replay it) and fix the bug.  Installs clang and its sanitizer/fuzzer
-# runtimes (Debian: clang-14, libclang-rt-14-dev) if missing.
+# replay it) and fix the bug.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
-build="${WARPMESH_FUZZ_BUILD_DIR:-$root/build-fuzz}"
-jobs="${WARPMESH_JOBS:-$(nproc)}"
-
-# --- dependencies ------------------------------------------------------------
-have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-need=()
-for pkg in cmake make libpng-dev zlib1g-dev libtiff-dev libboost-dev; do have_pkg "$pkg" || need+=("$pkg"); done
-cxx=""
-for c in clang++-14 clang++; do
-  if command -v "$c" >/dev/null; then cxx="$(command -v "$c")"; break; fi
-done
-[ -n "$cxx" ] || need+=(clang-14)
-# libFuzzer and the sanitizer runtimes: libclang-rt-14-dev on bookworm.
-if ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
-  need+=(libclang-rt-14-dev)
-fi
-if ((${#need[@]})); then
-  echo "fuzz: installing ${need[*]}"
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}"
-  [ -n "$cxx" ] || cxx="$(command -v clang++-14 || command -v clang++)"
-fi
-
-# --- build --------------------------------------------------------------------
-t0=$SECONDS
-cmake -S "$root/tests/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$build" -j "$jobs" >/dev/null
-echo "fuzz: built in $((SECONDS - t0)) s with $cxx"
+asan="${WARPMESH_ASAN_BUILD_DIR:-$root/build-asan}"
+"$root/scripts/sanitize.sh" build
+build="$asan/fuzz"
+mkdir -p "$build"
+bin="$asan/tests/fuzz"
 
 # --- run ----------------------------------------------------------------------
 # Five targets share the two cores for SECONDS of wall time, in two lanes:
@@ -56,6 +30,8 @@ echo "fuzz: built in $((SECONDS - t0)) s with $cxx"
 # runs fuzz_image_reader, fuzz_nifti_reader and fuzz_tiff_reader (a third
 # each).  So the whole run takes about SECONDS, as with two targets before.
 mkdir -p "$build/artifacts"
+# One thread per target: the two lanes already use both cores.
+export OMP_NUM_THREADS=1
 declare -A max_len=([fuzz_image_reader]=4096 [fuzz_pipeline]=700 [fuzz_nrrd_reader]=4096 [fuzz_nifti_reader]=4096 [fuzz_tiff_reader]=4096)
 half=$(( (seconds + 1) / 2 )); third=$(( (seconds + 2) / 3 ))
 declare -A budget=([fuzz_pipeline]=$half [fuzz_nrrd_reader]=$half [fuzz_image_reader]=$third [fuzz_nifti_reader]=$third [fuzz_tiff_reader]=$third)
@@ -72,7 +48,7 @@ run_target() {
     [ -d "$d" ] && seeds+=("$d")
   done
   local rc=0
-  "$build/$t" "$build/corpus/$t" "${seeds[@]}" \
+  "$bin/$t" "$build/corpus/$t" "${seeds[@]}" \
     -max_total_time="${budget[$t]}" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" "${extra[@]}" \
     >"$build/$t.log" 2>&1 || rc=$?

@@ -2,10 +2,11 @@
 # Fresh machine → every test and the proof re-checked.  Installs, builds, runs
 # the CTest suites, reruns the prover and compares with the committed
 # certificates, runs the independent checker on them, then the whole suite
-# again under ASan + UBSan (scripts/sanitize.sh) and the five libFuzzer
-# targets for WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a
-# time; scripts/fuzz.sh splits it).
-# Measured on the idle 2-core VM from a clean clone: 1683 s (README, "Two commands on a fresh machine").
+# again under ASan + UBSan in one clang build that also holds the five
+# libFuzzer targets (scripts/sanitize.sh), and runs those for
+# WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a time;
+# scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed; README,
+# "Two commands on a fresh machine", gives a measured run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"

@@ -7,6 +7,9 @@
 
 #include <stdlib.h>
 
+#include <algorithm>
+#include <cstdlib>
+
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -73,6 +76,23 @@ bool throws_containing(F&& f, const std::string& needle) {
 template <class F>
 bool input_error_containing(F&& f, const std::string& needle) {
     return throws_containing<InputError>(std::forward<F>(f), needle);
+}
+
+// How many cases a randomised test runs: n scaled by the environment variable
+// WARPMESH_TEST_SCALE (a number in (0, 1]; unset, empty or invalid: 1), at
+// least 1.  scripts/sanitize.sh runs the suite with a quarter of the cases,
+// since each costs several times more under the sanitizers; the Release run
+// runs them all.  A test's "the trials exercised what they test" thresholds
+// scale the same way.
+inline int scaled(int n) {
+    const char* env = std::getenv("WARPMESH_TEST_SCALE");
+    double f = 1;
+    if (env && *env) {
+        char* end = nullptr;
+        const double v = std::strtod(env, &end);
+        if (end && *end == '\0' && v > 0 && v <= 1) f = v;
+    }
+    return std::max(1, static_cast<int>(n * f + 0.5));
 }
 
 }  // namespace warpmesh::testing

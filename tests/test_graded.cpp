@@ -797,7 +797,8 @@ BOOST_AUTO_TEST_CASE(a_range_bound_that_is_not_conservative_is_caught) {
 // 256 points x 128 rows, against a plain sorted list.
 BOOST_AUTO_TEST_CASE(point_set_ranks_follow_point_order_across_blocks) {
     std::mt19937 rng(3);
-    for (const auto& [w, h] : {std::pair<std::int64_t, std::int64_t>{1, 1}, {64, 3}, {257, 129}, {1000, 700}, {3, 1000}}) {
+    for (const auto& size : {std::pair<std::int64_t, std::int64_t>{1, 1}, {64, 3}, {257, 129}, {1000, 700}, {3, 1000}}) {
+        const std::int64_t w = size.first, h = size.second;  // not a structured binding: lambdas below capture them
         PointSet set(w, h);
         std::vector<std::int64_t> members;  // i + j w
         for (int k = 0; k < 3000; ++k) {

@@ -662,7 +662,8 @@ BOOST_AUTO_TEST_CASE(parse_errors) {
         {"union(circle:0,0,1;)", "empty shape"},
         {"intersect(circle:0,0,1;circle:5,5,1)", "empty"},
     };
-    for (const auto& [spec, needle] : cases) {
+    for (const auto& c : cases) {
+        const std::string spec = c.first, needle = c.second;  // captured below: not a structured binding (clang 14)
         BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, needle), "spec '" << spec << "'");
         BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, "shape '" + spec + "'"), "spec '" << spec << "'");
     }

@@ -38,6 +38,7 @@
 
 using namespace warpmesh;
 namespace fs = std::filesystem;
+using warpmesh::testing::scaled;
 
 namespace {
 
@@ -116,13 +117,17 @@ void check_material_mesh(const MaterialField& f, const Lattice& l, const Materia
             const double fi = std::round((x.x - l.x0) / l.s), fj = std::round((x.y - l.y0) / l.s);
             const Vec2 p = l.position(static_cast<std::int64_t>(fi), static_cast<std::int64_t>(fj));
             if (p.x != x.x || p.y != x.y) continue;  // warped
+            const int want = material_of_tag.at(r.mesh.region[t]);
+            if (f.material_at(p.x, p.y) == want) continue;
             // A lattice point where two materials tie is on the interface:
             // it takes the larger material and warps by a zero-length slide.
+            // (Looked for only on a mismatch: every material's phi at every
+            // vertex would dominate the run time on the atlas.)
             std::vector<double> phi;
             for (int m = 0; m < f.count(); ++m) phi.push_back(f.phi(m, p.x, p.y));
             std::sort(phi.begin(), phi.end());
             if (phi.size() > 1 && phi[0] == phi[1]) continue;
-            BOOST_REQUIRE_EQUAL(f.material_at(p.x, p.y), material_of_tag.at(r.mesh.region[t]));
+            BOOST_REQUIRE_EQUAL(f.material_at(p.x, p.y), want);
         }
     if (keep) {
         BOOST_REQUIRE_EQUAL(static_cast<std::int64_t>(r.mesh.boundary.size()), 2 * (l.nx + l.ny));
@@ -209,7 +214,7 @@ BOOST_AUTO_TEST_CASE(random_discs_give_conforming_meshes_without_mixed_triangles
     std::mt19937 rng(15);
     std::uniform_real_distribution<double> spacing(0.35, 1.3);
     std::int64_t junctions = 0, centroid = 0, interfaces = 0, graded_tris = 0, uniform_tris = 0, coarse = 0;
-    for (int trial = 0; trial < 3000; ++trial) {
+    for (int trial = 0; trial < scaled(3000); ++trial) {
         const RandomDiscs f(rng, 2 + trial % 5, 8);
         const Lattice l = lattice_over(f.bounds(), spacing(rng));
         const bool keep = trial % 2 == 0;
@@ -227,9 +232,9 @@ BOOST_AUTO_TEST_CASE(random_discs_give_conforming_meshes_without_mixed_triangles
         coarse += g.leaves_per_level.size() > 1 ? g.leaves_per_level[1] : 0;
     }
     // The trials must have exercised what they test.
-    BOOST_TEST(junctions > 100);
-    BOOST_TEST(interfaces > 10000);
-    BOOST_TEST(coarse > 1000);  // the graded meshes did coarsen
+    BOOST_TEST(junctions > scaled(100));
+    BOOST_TEST(interfaces > scaled(10000));
+    BOOST_TEST(coarse > scaled(1000));  // the graded meshes did coarsen
     BOOST_TEST(graded_tris < uniform_tris);
     BOOST_TEST_MESSAGE("junction squares " << junctions << ", centroid-material triangles " << centroid);
 }
@@ -239,7 +244,7 @@ BOOST_AUTO_TEST_CASE(random_label_images_give_conforming_meshes_without_mixed_tr
     std::mt19937 rng(1515);
     const std::array<double, 4> spacings{1.0, 0.5, 0.37, 1.6};
     std::int64_t junctions = 0;
-    for (int trial = 0; trial < 1500; ++trial) {
+    for (int trial = 0; trial < scaled(1500); ++trial) {
         const Image img = random_label_image(rng, 5 + trial % 6, 4 + trial % 7, 2 + trial % 4);
         std::unique_ptr<MaterialField> f;
         try {
@@ -255,7 +260,7 @@ BOOST_AUTO_TEST_CASE(random_label_images_give_conforming_meshes_without_mixed_tr
         const MaterialResult g = mesh_materials_graded(*f, l, {keep, DiagonalRule::separating, {true, true, true}}, 0);
         check_graded_against_uniform(*f, l, g, r, keep);
     }
-    BOOST_TEST(junctions > 50);
+    BOOST_TEST(junctions > scaled(50));
 }
 
 // For two materials (one label and the background) the multi-material mesher
@@ -269,7 +274,7 @@ BOOST_AUTO_TEST_CASE(random_label_images_give_conforming_meshes_without_mixed_tr
 BOOST_AUTO_TEST_CASE(two_materials_reproduce_label_mode_exactly) {
     const OneThread one;
     std::mt19937 rng(7);
-    for (int trial = 0; trial < 60; ++trial) {
+    for (int trial = 0; trial < scaled(60); ++trial) {
         Image img = random_label_image(rng, 12, 10, 1);
         bool any = false;
         for (auto v : img.pixels) any = any || v == 1;

@@ -83,8 +83,9 @@ void write_vtu(const Mesh& mesh, std::ostream& os) {
            "        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
     put_values(out, nt, [&](std::size_t i) { out << mesh.region[i]; });
     out << "        </DataArray>\n";
-    for (const auto& [name, values] : mesh.cell_data) {
-        out << "        <DataArray type=\"Float64\" Name=\"" << detail::xml_escape(name) << "\" format=\"ascii\">\n";
+    for (const auto& field : mesh.cell_data) {
+        const auto& values = field.second;
+        out << "        <DataArray type=\"Float64\" Name=\"" << detail::xml_escape(field.first) << "\" format=\"ascii\">\n";
         put_values(out, nt, [&](std::size_t i) { out << values[i]; });
         out << "        </DataArray>\n";
     }
