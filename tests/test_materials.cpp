@@ -479,7 +479,7 @@ BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_th
     std::mt19937 rng(18);
     std::uniform_real_distribution<double> spacing(0.2, 0.9);
     std::int64_t refined = 0, capped_materials = 0;
-    for (int trial = 0; trial < 300; ++trial) {
+    for (int trial = 0; trial < scaled(300); ++trial) {
         const RandomDiscs f(rng, 2 + trial % 4, 16);
         const Lattice l = lattice_over(f.bounds(), spacing(rng));
         const bool keep = trial % 3 == 0;
@@ -516,8 +516,8 @@ BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_th
         }
     }
     BOOST_TEST_MESSAGE("capped materials " << capped_materials << ", of which refined by their cap " << refined);
-    BOOST_TEST(capped_materials > 300);
-    BOOST_TEST(refined > 50);  // the caps did refine (many random materials are too thin for their cap to bind)
+    BOOST_TEST(capped_materials > scaled(300));
+    BOOST_TEST(refined > scaled(50));  // the caps did refine (many random materials are too thin for their cap to bind)
 }
 
 // Issue 18: --max-size and --grading were silently ignored by graded
