@@ -588,9 +588,11 @@ void Optimizer::refine(OptimizeReport& r) {
         if (rr.touched.empty()) return;
         r.refined_triangles += rr.refined_triangles, r.inserted_vertices += rr.inserted_vertices;
         r.boundary_splits += rr.boundary_splits;
-        // New vertices count as moved: their boundary edges are measured again.
+        // The rewritten triangles' vertices (new or moved) count as moved:
+        // their boundary edges are measured again.
         moved_.resize(m_.vertices.size());
-        for (std::size_t v = m_.vertices.size() - static_cast<std::size_t>(rr.inserted_vertices); v < m_.vertices.size(); ++v) moved_[v] = 1;
+        for (const std::size_t t : rr.touched)
+            for (const std::int32_t v : m_.triangles[t]) moved_[static_cast<std::size_t>(v)] = 1;
         find_band(&rr.touched);
         classify();
         changed_ = merged(merged(changed_, rr.touched), band_);
