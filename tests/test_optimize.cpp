@@ -343,7 +343,7 @@ BOOST_AUTO_TEST_CASE(refinement_lifts_one_pixel_atlas_slices_above_28_degrees_an
                 const OptimizeReport r = optimize_mesh(m, *f, o);
                 BOOST_TEST(violations == 0);
                 BOOST_TEST(r.inserted_vertices > 0);
-                BOOST_TEST(r.refined_triangles == r.inserted_vertices);
+                BOOST_TEST(r.refined_triangles <= r.inserted_vertices);
                 BOOST_TEST(m.vertices.size() == before.vertices.size() + static_cast<std::size_t>(r.inserted_vertices));
                 const QualityReport q = compute_quality(m);
                 BOOST_TEST(q.min_angle_deg >= 28);
@@ -360,7 +360,9 @@ BOOST_AUTO_TEST_CASE(refinement_lifts_one_pixel_atlas_slices_above_28_degrees_an
                 for (std::size_t t = 0; t < m.triangles.size(); ++t)
                     below += tri_min(m, m.triangles[t]) < cert[t] - 1e-7 || cert[t] < floor;
                 BOOST_TEST(below == 0);
-                BOOST_TEST(std::all_of(m.region.begin(), m.region.end(), [&](std::int32_t g) { return g == before.region[0]; }));
+                BOOST_TEST(std::equal(before.region.begin(), before.region.end(), m.region.begin()));
+                BOOST_TEST(std::all_of(m.region.begin() + static_cast<std::ptrdiff_t>(before.region.size()), m.region.end(),
+                                       [&](std::int32_t g) { return std::find(before.region.begin(), before.region.end(), g) != before.region.end(); }));
                 // No old vertex with more than two boundary edges (a pinch) or on
                 // a border corner moved; new boundary vertices lie on f = 0 (tag 1)
                 // and have exactly two boundary edges.
@@ -420,19 +422,22 @@ BOOST_AUTO_TEST_CASE(refinement_gives_the_same_mesh_for_any_thread_count) {
 #endif
 }
 
-// A pinch: two blocks of a 10 x 9 label image touching at one pixel corner.
-// The vertex there has four boundary edges and must not move (only a vertex
-// with exactly two boundary edges slides along the boundary), with or
-// without refinement.
-BOOST_AUTO_TEST_CASE(a_pinch_vertex_of_a_label_image_stays_put) {
+// A pinch: two bars of a 10 x 9 image (threshold 128) joined by one pixel of
+// value 128 whose neighbours above and below are inside, left and right
+// outside — a saddle of the bilinear image on f = 0, so the mesh's vertex
+// there has four boundary edges.  It must not move (only a vertex with
+// exactly two boundary edges slides along the boundary), with or without
+// refinement.
+BOOST_AUTO_TEST_CASE(a_pinch_vertex_of_an_image_stays_put) {
     Image img;
     img.width = 10, img.height = 9, img.maxval = 255, img.source = "pinch";
     img.pixels.assign(90, 0);
-    for (int y = 1; y <= 4; ++y)
-        for (int x = 1; x <= 4; ++x) img.pixels[static_cast<std::size_t>(y * 10 + x)] = 7;
-    for (int y = 5; y <= 7; ++y)
-        for (int x = 5; x <= 8; ++x) img.pixels[static_cast<std::size_t>(y * 10 + x)] = 7;
-    const auto f = make_image_levelset(img, label_options("nonzero"));
+    for (const int y : {1, 2, 3, 5, 6, 7})
+        for (int x = 2; x <= 7; ++x) img.pixels[static_cast<std::size_t>(y * 10 + x)] = 255;
+    img.pixels[4 * 10 + 4] = 128;
+    ImageLevelSetOptions io;
+    io.mode = ImageMode::threshold, io.iso = 128;
+    const auto f = make_image_levelset(img, io);
     for (const bool refine : {false, true}) {
         BOOST_TEST_CONTEXT((refine ? "refining" : "no refinement")) {
             double floor = 0;

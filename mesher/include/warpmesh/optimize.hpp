@@ -62,27 +62,30 @@
 // cannot lift a triangle whose three vertices are fixed or can only slide
 // along f = 0 — one-pixel strips of label images, where the worst triangles
 // stay at atan(1/2) = 26.57°.  After the sweeps, each triangle below the
-// threshold (worst first) gets a patch (its region's triangles up to three
-// edges away, never across an interface) and a few candidate Steiner points:
-// its circumcentre, or, when that lies in a boundary edge's diametral circle,
-// a split of that edge (Ruppert); splits of its own and nearby boundary
-// edges; the midpoint of its longest interior edge; its centroid.  A
-// level-set edge is split at a point on f = 0 found by the level set's own
-// cut_parameter, so boundary vertices stay on the level set; a border edge at
-// its midpoint.  The patch is re-triangulated by max-min flips that never
-// touch a boundary, interface or patch-border edge.  The best candidate is
-// kept only if every new triangle is positive, the patch's smallest angle
-// strictly rises, its largest stays <= max(old patch max, mesh max, 110°),
-// new level-set edges stay within the boundary distance of rule (4), and new
-// edges within max_edge (rule (5)).  Then the rewritten triangles' band is
-// swept again under the rule above; three such rounds at most.  So the
-// monotone rule still reads: the mesh's minimum angle never decreases, and
-// every triangle stays >= the certified floor.  New triangles get, as
-// "certified_min_angle", the least value of the old patch (a lower bound:
-// the patch's old minimum was >= it and the new minimum is larger); the
-// patch keeps its region, a split boundary edge's two halves its tag (the
-// second half is appended to Mesh::boundary), vertices are only appended,
-// and interface edges are never split or flipped.
+// threshold (worst first) gets a patch (its region's triangles up to five
+// edges away, never across an interface) and up to six greedy Steiner
+// insertions, each the best of a few candidates: the worst triangle's
+// circumcentre, or, when that lies in a boundary edge's diametral circle, a
+// split of that edge (Ruppert); splits of its own and nearby boundary edges;
+// the midpoint of its longest interior edge; its centroid.  A level-set edge
+// is split at a point on f = 0 found by the level set's own cut_parameter, so
+// boundary vertices stay on the level set; a border edge at its midpoint.
+// Each insertion is followed by max-min flips that never touch a boundary,
+// interface or patch-border edge, and by smoothing of the patch vertices whose
+// whole star lies in the patch (moving as above; corners and pinch vertices
+// stay put).  The new patch replaces the old one only if every new triangle
+// is positive, the patch's smallest angle strictly rises, its largest stays
+// <= max(old patch max, mesh max, 110°), level-set edges at new or moved
+// vertices stay within the boundary distance of rule (4), and new edges within
+// max_edge (rule (5)).  Then the rewritten triangles' band is swept again
+// under the rule above; three such rounds at most.  So the monotone rule
+// still reads: the mesh's minimum angle never decreases, and every triangle
+// stays >= the certified floor.  Every triangle of a new patch gets, as
+// "certified_min_angle", the least value of the old patch (a lower bound: the
+// patch's old minimum was >= it and the new minimum is larger); the patch
+// keeps its region, a split boundary edge's two halves its tag (the second
+// half is appended to Mesh::boundary), vertices are only appended, and
+// interface edges are never split or flipped (details: src/mesh/refine.hpp).
 //
 // Determinism.  Vertices are visited Gauss-Seidel in increasing index order,
 // flips in increasing triangle order, with no dependence on the thread count

@@ -25,7 +25,7 @@ using Tri = std::array<std::int32_t, 3>;
 constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double max_angle_target = 110;  // rule (3): a larger maximum only if the mesh or patch had one
 constexpr std::size_t max_candidates = 8;
-constexpr int max_insertions = 4;        // Steiner points per patch
+constexpr int max_insertions = 6;        // Steiner points per patch
 constexpr int max_lawson_passes = 64;
 constexpr double min_gain_deg = 1e-9;    // "strictly increases", above rounding
 // Local smoothing of a trial: sweeps, step halvings, least gain per move.

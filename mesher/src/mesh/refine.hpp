@@ -4,39 +4,48 @@
 // For each triangle T whose minimum angle is below `below_deg` (worst first,
 // ties by index), take its patch: the triangles reachable from T across at
 // most `patch_rings` edges, within `eligible` triangles, of T's region, never
-// across an interface edge.  Try a few Steiner points:
-//  * T's circumcentre, if it lies inside the patch and within no boundary
+// across an interface edge.  Then, greedily, up to a few times: for the
+// patch's current worst triangle W try a few Steiner points —
+//  * W's circumcentre, if it lies inside the patch and within no boundary
 //    edge's diametral circle; otherwise (Ruppert) split every boundary edge of
 //    the patch whose diametral circle it enters;
-//  * T's own boundary edges, and the patch's boundary edges at T's vertices;
-//  * the midpoint of T's longest interior edge; T's centroid.
+//  * W's own boundary edges, and the patch's boundary edges at W's vertices;
+//  * the midpoint of W's longest interior edge; W's centroid —
+// each re-triangulated by Lawson flips under the max-min rule (a flip when the
+// pair's smallest angle strictly rises) of edges inside the patch only (never
+// a boundary edge, an interface edge or the patch border), then smoothed:
+// every patch vertex none of whose edges is on the patch border moves to raise
+// its star's least quality min(θmin, 140° − θmax) (interior vertices freely,
+// level-set vertices with exactly two boundary edges along f = 0 and back
+// onto it by cut_parameter, border vertices along their line; corners and
+// pinch vertices — more than two boundary edges — stay put), and flipped
+// again.  The best of them (within the angle cap of rule (3) first, then the
+// largest minimum) is kept and the next insertion starts from it; the patch is
+// replaced as soon as it meets the acceptance rule.
 // A level-set boundary edge (tag 1) is split at a point on f = 0, found by
 // the level set's own cut_parameter on a segment across the edge's midpoint
 // (the root finder that placed the cut points); a lattice-border edge (tag 2)
 // at its midpoint, which stays on the border line.  Other edges (interfaces,
-// other tags) are never split.  After the insertion the patch is
-// re-triangulated by Lawson flips under the max-min rule (a flip when the
-// pair's smallest angle strictly rises) of edges inside the patch only: never
-// a boundary edge, an interface edge or the patch border.
+// other tags) are never split.
 //
-// The acceptance rule.  The candidate giving the largest patch minimum is
-// kept if
+// The acceptance rule.  The new patch replaces the old one only if
 //   (1) every new triangle is counter-clockwise with positive area,
 //   (2) the patch's smallest angle strictly increases,
 //   (3) the patch's largest angle stays <= max(old patch max, max_angle, 110°),
-//   (4) every new level-set boundary edge is within `boundary_distance` of
-//       f = 0 (measure of edge_distance_to_levelset), and its new vertex has
-//       |f| <= 1e-10 spacing,
+//   (4) every level-set boundary edge at a new or moved vertex is within
+//       `boundary_distance` of f = 0 (measure of edge_distance_to_levelset),
+//       and those vertices have |f| <= 1e-10 spacing,
 //   (5) with max_edge > 0, no new edge is longer than max_edge.
-// Triangles outside the patch are unchanged, so the mesh's minimum angle
-// never decreases.  The patch's triangles keep their slots (the extra ones
-// are appended) and the region; every cell data array gets, on each new
-// triangle, the least value over the old patch — for "certified_min_angle"
-// a valid lower bound, since every old triangle was >= its value, so the old
-// patch minimum is >= the least value and the new patch minimum exceeds it.
-// A split boundary edge a-b becomes a-m in place plus m-b appended to
-// Mesh::boundary with the same tag and orientation.  Vertices are only
-// appended; no existing vertex moves.  Deterministic and sequential.
+// Triangles outside the patch are unchanged (a moved vertex has all its
+// triangles in the patch), so the mesh's minimum angle never decreases.  The
+// patch's triangles keep their slots (the extra ones are appended) and the
+// region; every cell data array gets, on each triangle of the new patch, the
+// least value over the old patch — for "certified_min_angle" a valid lower
+// bound, since every old triangle was >= its value, so the old patch minimum
+// is >= the least value and the new patch minimum exceeds it.  A split
+// boundary edge a-b becomes a-m in place plus m-b appended to Mesh::boundary
+// with the same tag and orientation.  Vertices are appended, never removed.
+// Deterministic and sequential.
 #pragma once
 
 #include <cstdint>
@@ -56,7 +65,7 @@ struct RefineParams {
     double max_edge = 0;           // > 0: no new edge longer than this
     double boundary_distance = 0;  // the largest allowed distance of a new level-set edge to f = 0
     double max_angle = 0;          // the mesh's largest angle (rule (3))
-    int patch_rings = 3;
+    int patch_rings = 5;           // a one-pixel strip needs this many for room to insert
     const std::unordered_set<std::uint64_t>* interfaces = nullptr;  // edge_key of every interface edge
 };
 
