@@ -573,18 +573,22 @@ std::vector<std::size_t> merged(const std::vector<std::size_t>& a, const std::ve
 
 // Rounds of local refinement (refine.hpp), each followed by sweeps over the
 // band of the rewritten triangles.
+// A later round looks only at the band the previous round's sweeps went over:
+// elsewhere nothing changed, and a patch that could not be improved then
+// cannot be now.
 void Optimizer::refine(OptimizeReport& r) {
+    std::vector<std::size_t> scope = changed_;
     for (int round = 0; round < refine_rounds; ++round) {
         RefineParams rp;
         rp.below_deg = o_.refine_below_deg, rp.spacing = s_, rp.max_edge = o_.max_edge;
         rp.boundary_distance = dmax_, rp.interfaces = &interfaces_;
-        for (const std::size_t t : changed_) {
+        for (const std::size_t t : changed_) {  // the mesh's largest angle (outside: 90°)
             const auto& tri = m_.triangles[t];
             rp.max_angle = std::max(rp.max_angle, triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])],
                                                                   m_.vertices[static_cast<std::size_t>(tri[1])],
                                                                   m_.vertices[static_cast<std::size_t>(tri[2])]).max_deg);
         }
-        const RefineResult rr = refine_bad_triangles(m_, f_, changed_, rp);
+        const RefineResult rr = refine_bad_triangles(m_, f_, scope, rp);
         if (rr.touched.empty()) return;
         r.refined_triangles += rr.refined_triangles, r.inserted_vertices += rr.inserted_vertices;
         r.boundary_splits += rr.boundary_splits;
@@ -597,6 +601,7 @@ void Optimizer::refine(OptimizeReport& r) {
         classify();
         changed_ = merged(merged(changed_, rr.touched), band_);
         r.sweeps += sweeps();
+        scope = merged(rr.touched, band_);
     }
 }
 

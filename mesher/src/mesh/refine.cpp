@@ -29,8 +29,8 @@ constexpr int max_insertions = 6;        // Steiner points per patch
 constexpr int max_lawson_passes = 64;
 constexpr double min_gain_deg = 1e-9;    // "strictly increases", above rounding
 // Local smoothing of a trial: sweeps, step halvings, least gain per move.
-constexpr int smooth_sweeps = 4;
-constexpr int smooth_halvings = 5;
+constexpr int smooth_sweeps = 3;
+constexpr int smooth_halvings = 3;
 constexpr double smooth_min_gain_deg = 1e-3;
 
 // The quality of the optimisation pass, g = min(θmin, 140° − θmax) (optimize.hpp).
