@@ -67,7 +67,7 @@
 // insertions, each the best of a few candidates: the worst triangle's
 // circumcentre, or, when that lies in a boundary edge's diametral circle, a
 // split of that edge (Ruppert); splits of its own and nearby boundary edges;
-// the midpoint of its longest interior edge; its centroid.  A level-set edge
+// the midpoints of its interior edges; its centroid.  A level-set edge
 // is split at a point on f = 0 found by the level set's own cut_parameter, so
 // boundary vertices stay on the level set; a border edge at its midpoint.
 // Each insertion is followed by max-min flips that never touch a boundary,

@@ -435,12 +435,17 @@ private:
             if (at_T(e.a) && at_T(e.b)) split_boundary(e);
         for (const BEdge& e : t.bedges)
             if (at_T(e.a) || at_T(e.b)) split_boundary(e);
-        int longest = 0;
-        for (int k = 1; k < 3; ++k)
-            if (norm2(pos(t, T[(k + 1) % 3]) - pos(t, T[k])) > norm2(pos(t, T[(longest + 1) % 3]) - pos(t, T[longest]))) longest = k;
-        if (const std::int32_t a = T[longest], b = T[(longest + 1) % 3]; !bedge(t, a, b) && !interface(a, b))
-            add({0.5 * (pos(t, a) + pos(t, b)), a, b, 0});
-        add({(1.0 / 3) * (pos(t, T[0]) + pos(t, T[1]) + pos(t, T[2]))});
+        // W's interior edges' midpoints, longest first (ties: edge order).
+        std::array<int, 3> by_length{0, 1, 2};
+        const auto length2 = [&](int k) { return norm2(pos(t, T[(k + 1) % 3]) - pos(t, T[k])); };
+        std::stable_sort(by_length.begin(), by_length.end(), [&](int i, int j) { return length2(i) > length2(j); });
+        const Candidate centroid{(1.0 / 3) * (pos(t, T[0]) + pos(t, T[1]) + pos(t, T[2]))};
+        for (const int k : by_length)
+            if (const std::int32_t a = T[k], b = T[(k + 1) % 3]; !bedge(t, a, b) && !interface(a, b)) {
+                if (out.size() + 1 == max_candidates) break;  // room for the centroid
+                add({0.5 * (pos(t, a) + pos(t, b)), a, b, 0});
+            }
+        add(centroid);
         return out;
     }
 

@@ -10,7 +10,7 @@
 //    edge's diametral circle; otherwise (Ruppert) split every boundary edge of
 //    the patch whose diametral circle it enters;
 //  * W's own boundary edges, and the patch's boundary edges at W's vertices;
-//  * the midpoint of W's longest interior edge; W's centroid —
+//  * the midpoints of W's interior edges, longest first; W's centroid —
 // each re-triangulated by Lawson flips under the max-min rule (a flip when the
 // pair's smallest angle strictly rises) of edges inside the patch only (never
 // a boundary edge, an interface edge or the patch border), then smoothed:
