@@ -25,10 +25,7 @@ namespace warpmesh {
 
 namespace {
 
-constexpr double deg_per_rad = 180.0 / std::numbers::pi;
 constexpr double inf = std::numeric_limits<double>::infinity();
-// g(θ) = min(θ, big_angle_pivot − θ): 30° and 110° score alike.
-constexpr double big_angle_pivot = 140;
 // Angles whose quality lies within this many degrees of the star's worst
 // steer the ascent direction together (an ε-subgradient).
 constexpr double active_band_deg = 0.5;
@@ -43,31 +40,6 @@ constexpr double min_gain_deg = 1e-3;
 constexpr int refine_rounds = 3;
 
 using namespace plane;
-
-// atan2 for y >= 0 in degrees, to about 1e-5 degrees: a minimax polynomial
-// for atan on [0, 1] and the identities atan x = 90° − atan(1/x),
-// atan2(y, −x) = 180° − atan2(y, x).  Used for the search's objective only;
-// the monotone rule compares triangle_angles (quality.hpp), the reported ones.
-double fast_atan2_deg(double y, double x) {
-    const double ax = std::abs(x);
-    const bool swap = y > ax;
-    const double r = swap ? ax / y : (ax > 0 ? y / ax : 0);
-    const double r2 = r * r;
-    double a = r * (0.99997726 + r2 * (-0.33262347 + r2 * (0.19354346 + r2 * (-0.11643287 + r2 * (0.05265332 + r2 * -0.01172120)))));
-    a *= deg_per_rad;
-    if (swap) a = 90 - a;
-    return x < 0 ? 180 - a : a;
-}
-
-// A triangle's quality min(θmin, pivot − θmax) (g is a tent, so the middle
-// angle never scores below the two extremes), from the fast atan2.
-double tri_q_fast(Vec2 a, Vec2 b, Vec2 c) {
-    const Vec2 ab = b - a, bc = c - b, ca = a - c;
-    const double x = std::abs(cross(ab, c - a));
-    const double ta = fast_atan2_deg(x, -dot(ab, ca)), tb = fast_atan2_deg(x, -dot(bc, ab));
-    const double tc = 180 - ta - tb;
-    return std::min(std::min({ta, tb, tc}), big_angle_pivot - std::max({ta, tb, tc}));
-}
 
 // A triangle's smallest angle and quality, as reported (triangle_angles).
 struct TriQ {

@@ -33,12 +33,6 @@ constexpr int smooth_sweeps = 3;
 constexpr int smooth_halvings = 3;
 constexpr double smooth_min_gain_deg = 1e-3;
 
-// The quality of the optimisation pass, g = min(θmin, 140° − θmax) (optimize.hpp).
-double quality(Vec2 a, Vec2 b, Vec2 c) {
-    const TriangleAngles t = triangle_angles(a, b, c);
-    return std::min(t.min_deg, 140 - t.max_deg);
-}
-
 Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c) {
     const Vec2 u = b - a, v = c - a;
     const double d = 2 * cross(u, v);
@@ -283,7 +277,7 @@ private:
                         Vec2 x[3];
                         for (int k = 0; k < 3; ++k) x[k] = t.tris[i][k] == v ? q : pos(t, t.tris[i][k]);
                         if (!(cross(x[1] - x[0], x[2] - x[0]) > 0)) return -inf;
-                        worst = std::min(worst, quality(x[0], x[1], x[2]));
+                        worst = std::min(worst, tri_q_fast(x[0], x[1], x[2]));
                     }
                     return worst;
                 };
