@@ -71,20 +71,20 @@ struct Candidate {
 class Refiner {
 public:
     Refiner(Mesh& mesh, const LevelSet& f, std::span<const std::size_t> eligible, const RefineParams& p)
-        : m_(mesh), f_(f), p_(p), order_(eligible.begin(), eligible.end()) {
+        : m_(mesh), f_(f), p_(p), order_(eligible.begin(), eligible.end()) {}
+
+    RefineResult run() {
+        std::vector<std::pair<double, std::size_t>> bad;
+        for (const std::size_t t : order_)
+            if (const double mn = min_angle(m_.triangles[t]); mn < p_.below_deg) bad.emplace_back(mn, t);
+        if (bad.empty()) return {};
+        std::sort(bad.begin(), bad.end());
         for (const std::size_t t : order_) add_edges(t);
         bdeg_.assign(m_.vertices.size(), 0);
         for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
             boundary_[edge_key(m_.boundary[e][0], m_.boundary[e][1])] = e;
             for (const std::int32_t v : m_.boundary[e]) ++bdeg_[static_cast<std::size_t>(v)];
         }
-    }
-
-    RefineResult run() {
-        std::vector<std::pair<double, std::size_t>> bad;
-        for (const std::size_t t : order_)
-            if (const double mn = min_angle(m_.triangles[t]); mn < p_.below_deg) bad.emplace_back(mn, t);
-        std::sort(bad.begin(), bad.end());
         for (const auto& [mn, t] : bad)
             if (min_angle(m_.triangles[t]) < p_.below_deg) refine(t);  // its slot may have been rewritten
         std::sort(r_.touched.begin(), r_.touched.end());
