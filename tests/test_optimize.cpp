@@ -500,3 +500,26 @@ BOOST_AUTO_TEST_CASE(refinement_splits_boundary_edges_on_the_level_set) {
     BOOST_TEST(m.boundary.size() == before.boundary.size() + static_cast<std::size_t>(r.boundary_splits));
     BOOST_TEST(m.boundary_tag.size() == m.boundary.size());
 }
+
+// --max-size with refinement: a 1 px atlas slice (uniform and graded) under
+// a size bound just above the warped band's sqrt(5) px still reaches 28 deg,
+// and no edge is longer than the bound.
+BOOST_AUTO_TEST_CASE(refinement_keeps_the_max_size) {
+    const auto f = atlas_slice("brain_axial_s128_labels16.pgm");
+    const double H = 2.3;
+    for (const bool graded : {false, true}) {
+        MeshOptions o;
+        o.graded = graded, o.max_size = H, o.optimize = true;
+        const MeshResult r = mesh(*f, o);
+        BOOST_REQUIRE(r.optimized);
+        BOOST_TEST(r.optimized->inserted_vertices > 0);
+        BOOST_TEST(r.optimized->min_angle_after >= 28);
+        double longest2 = 0;
+        for (const auto& t : r.mesh.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const Vec2 a = r.mesh.vertices[static_cast<std::size_t>(t[k])], b = r.mesh.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
+                longest2 = std::max(longest2, (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y));
+            }
+        BOOST_TEST(longest2 <= H * H, "graded " << graded << " longest " << std::sqrt(longest2));
+    }
+}

@@ -76,9 +76,9 @@
 // stay put).  The new patch replaces the old one only if every new triangle
 // is positive, the patch's smallest angle strictly rises, its largest stays
 // <= max(old patch max, mesh max, 110°), level-set edges at new or moved
-// vertices stay within the boundary distance of rule (4), and new edges within
-// max_edge (rule (5)).  Then the rewritten triangles' band is swept again
-// under the rule above; three such rounds at most.  So the monotone rule
+// vertices stay within the boundary distance of rule (4), and new or moved
+// edges within max_edge (rule (5)).  Then the rewritten triangles' band is
+// swept again under the rule above; three such rounds at most.  So the monotone rule
 // still reads: the mesh's minimum angle never decreases, and every triangle
 // stays >= the certified floor.  Every triangle of a new patch gets, as
 // "certified_min_angle", the least value of the old patch (a lower bound: the

@@ -384,11 +384,13 @@ private:
             if (!(cross(b - a, d - a) > 0)) return std::nullopt;  // (1)
             const TriangleAngles ang = triangle_angles(a, b, d);
             t.min_deg = std::min(t.min_deg, ang.min_deg), t.max_deg = std::max(t.max_deg, ang.max_deg);
-            if (p_.max_edge > 0)  // (5), on the new edges
-                for (int k = 0; k < 3; ++k)
-                    if (!std::binary_search(old_edges.begin(), old_edges.end(), edge_key(T[k], T[(k + 1) % 3])) &&
-                        norm2(pos(t, T[(k + 1) % 3]) - pos(t, T[k])) > p_.max_edge * p_.max_edge)
-                        return std::nullopt;
+            if (p_.max_edge > 0)  // (5), on the new edges and those at new or moved vertices
+                for (int k = 0; k < 3; ++k) {
+                    const std::int32_t u = T[k], v = T[(k + 1) % 3];
+                    const bool changed = !std::binary_search(old_edges.begin(), old_edges.end(), edge_key(u, v)) ||
+                                         std::any_of(t.at.begin(), t.at.end(), [&](const auto& w) { return w.first == u || w.first == v; });
+                    if (changed && norm2(pos(t, v) - pos(t, u)) > p_.max_edge * p_.max_edge) return std::nullopt;
+                }
         }
         for (const auto& [v, q] : t.at)  // (4), the level-set edges at every new or moved vertex
             for (const BEdge& e : t.bedges)

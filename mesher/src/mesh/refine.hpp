@@ -35,7 +35,8 @@
 //   (4) every level-set boundary edge at a new or moved vertex is within
 //       `boundary_distance` of f = 0 (measure of edge_distance_to_levelset),
 //       and those vertices have |f| <= 1e-10 spacing,
-//   (5) with max_edge > 0, no new edge is longer than max_edge.
+//   (5) with max_edge > 0, no new edge, nor one at a new or moved vertex,
+//       is longer than max_edge.
 // Triangles outside the patch are unchanged (a moved vertex has all its
 // triangles in the patch), so the mesh's minimum angle never decreases.  The
 // patch's triangles keep their slots (the extra ones are appended) and the
