@@ -64,7 +64,8 @@
 // stay at atan(1/2) = 26.57°.  After the sweeps, each triangle below the
 // threshold (worst first) gets a patch (its region's triangles up to five
 // edges away, never across an interface) and up to six greedy Steiner
-// insertions, each the best of a few candidates: the worst triangle's
+// insertions, each the first of a few candidates to reach the threshold (else
+// the best of them): the worst triangle's
 // circumcentre, or, when that lies in a boundary edge's diametral circle, a
 // split of that edge (Ruppert); splits of its own and nearby boundary edges;
 // the midpoints of its interior edges; its centroid.  A level-set edge

@@ -475,6 +475,7 @@ private:
                 if (!trial) continue;
                 const auto key = [&](const Trial& x) { return std::pair{x.max_deg <= max_allowed, x.min_deg}; };
                 if (!best || key(*trial) > key(*best)) best = std::move(trial);
+                if (best->min_deg >= p_.below_deg && best->max_deg <= max_allowed) break;  // good enough: stop looking
             }
             if (!best) return;
             if (best->min_deg > old_min + min_gain_deg && best->max_deg <= max_allowed) {  // (2), (3)

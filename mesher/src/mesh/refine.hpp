@@ -19,8 +19,9 @@
 // level-set vertices with exactly two boundary edges along f = 0 and back
 // onto it by cut_parameter, border vertices along their line; corners and
 // pinch vertices — more than two boundary edges — stay put), and flipped
-// again.  The best of them (within the angle cap of rule (3) first, then the
-// largest minimum) is kept and the next insertion starts from it; the patch is
+// again.  The first candidate whose patch reaches `below_deg` within the
+// angle cap of rule (3) is kept, else the best (within the cap first, then the
+// largest minimum), and the next insertion starts from it; the patch is
 // replaced as soon as it meets the acceptance rule.
 // A level-set boundary edge (tag 1) is split at a point on f = 0, found by
 // the level set's own cut_parameter on a segment across the edge's midpoint
