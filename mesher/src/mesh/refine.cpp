@@ -56,7 +56,6 @@ struct Trial {
     std::vector<BEdge> bedges;
     std::vector<Split> splits;
     std::int32_t next_vertex = 0;
-    int inserted = 0;
     double min_deg = inf, max_deg = 0;
 };
 
@@ -339,7 +338,6 @@ private:
     std::optional<Trial> insert(const Trial& base, const Candidate& c, std::span<const std::uint64_t> old_edges) const {
         Trial t = base;
         const std::int32_t nv = t.next_vertex++;
-        ++t.inserted;
         t.at.emplace_back(nv, c.p);
         if (c.a < 0) {
             std::size_t hit = t.tris.size();
