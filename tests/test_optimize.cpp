@@ -9,12 +9,16 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
+#include <string>
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
 #include "warpmesh/graded.hpp"
+#include "warpmesh/image.hpp"
+#include "warpmesh/image_levelset.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/optimize.hpp"
 #include "warpmesh/pipeline.hpp"
@@ -279,4 +283,243 @@ BOOST_AUTO_TEST_CASE(max_edge_stops_moves_and_flips_that_lengthen_an_edge) {
         bitten += longer(free, bound) > longer(m0, bound);
     }
     BOOST_TEST(bitten > 0);
+}
+
+// --- local refinement (OptimizeOptions::refine_below_deg) ------------------------
+
+namespace {
+
+std::unique_ptr<LevelSet> atlas_slice(const char* name) {
+    return make_image_levelset(read_image(std::string(WARPMESH_SOURCE_DIR "/mesher/examples/") + name), label_options("nonzero"));
+}
+
+// The pipeline's unoptimised mesh at spacing 1 (certified, with cell data)
+// and its certified floor.
+Mesh plain_mesh(const LevelSet& f, bool graded, double& floor) {
+    MeshOptions o;
+    o.graded = graded;
+    MeshResult r = mesh(f, o);
+    floor = *std::min_element(certified(r.mesh)->begin(), certified(r.mesh)->end());
+    return std::move(r.mesh);
+}
+
+OptimizeOptions refining(double floor) {
+    OptimizeOptions o = at_spacing(1);
+    o.refine_below_deg = 30, o.certified_floor = floor;
+    return o;
+}
+
+// Per vertex, its number of boundary edges.
+std::vector<int> boundary_degree(const Mesh& m) {
+    std::vector<int> d(m.vertices.size(), 0);
+    for (const auto& e : m.boundary) ++d[static_cast<std::size_t>(e[0])], ++d[static_cast<std::size_t>(e[1])];
+    return d;
+}
+
+}  // namespace
+
+// The 1 px atlas slices, where moves and flips stop at 26.6-27.5 deg (one-pixel
+// strips of boundary-only triangles): refinement lifts them to >= 28 deg and
+// keeps every promise of the pass.
+BOOST_AUTO_TEST_CASE(refinement_lifts_one_pixel_atlas_slices_above_28_degrees_and_keeps_the_mesh_valid) {
+    for (const char* slice : {"brain_axial_s128_labels16.pgm", "abdomen_axial_z040_labels16.pgm"})
+        for (const bool graded : {false, true}) {
+            BOOST_TEST_CONTEXT(slice << (graded ? " graded" : " uniform")) {
+                const auto f = atlas_slice(slice);
+                double floor = 0;
+                const Mesh before = plain_mesh(*f, graded, floor);
+                Mesh m = before;
+                OptimizeOptions o = refining(floor);
+                std::int64_t violations = 0;  // moves of the refinement's sweeps too
+                o.observer = [&](const Mesh& after, const OptimizeEvent& e) {
+                    if (e.flip) return;
+                    double was = 1e9, now = 1e9;
+                    for (const std::size_t t : e.star) {
+                        Vec2 p[3];
+                        for (int k = 0; k < 3; ++k) {
+                            const std::int32_t v = after.triangles[t][static_cast<std::size_t>(k)];
+                            p[k] = v == e.vertex ? e.from : after.vertices[static_cast<std::size_t>(v)];
+                        }
+                        was = std::min(was, triangle_angles(p[0], p[1], p[2]).min_deg);
+                        now = std::min(now, tri_min(after, after.triangles[t]));
+                    }
+                    violations += now < was;
+                };
+                const OptimizeReport r = optimize_mesh(m, *f, o);
+                BOOST_TEST(violations == 0);
+                BOOST_TEST(r.inserted_vertices > 0);
+                BOOST_TEST(r.refined_triangles <= r.inserted_vertices);
+                BOOST_TEST(m.vertices.size() == before.vertices.size() + static_cast<std::size_t>(r.inserted_vertices));
+                const QualityReport q = compute_quality(m);
+                BOOST_TEST(q.min_angle_deg >= 28);
+                BOOST_TEST(q.min_angle_deg == r.min_angle_after);
+                BOOST_TEST(r.min_angle_after > r.min_angle_before);
+                BOOST_TEST(q.max_angle_deg <= std::max(110.0, r.max_angle_before));
+                const MeshCheck c = check_mesh(m);
+                BOOST_TEST(c.ok(), (c.messages.empty() ? "" : c.messages[0]));
+                // Every triangle at or above its certified value, and that at or
+                // above the floor; one region.
+                const Buffer<double>& cert = *certified(m);
+                BOOST_REQUIRE(cert.size() == m.triangles.size());
+                std::int64_t below = 0;
+                for (std::size_t t = 0; t < m.triangles.size(); ++t)
+                    below += tri_min(m, m.triangles[t]) < cert[t] - 1e-7 || cert[t] < floor;
+                BOOST_TEST(below == 0);
+                BOOST_TEST(std::equal(before.region.begin(), before.region.end(), m.region.begin()));
+                BOOST_TEST(std::all_of(m.region.begin() + static_cast<std::ptrdiff_t>(before.region.size()), m.region.end(),
+                                       [&](std::int32_t g) { return std::find(before.region.begin(), before.region.end(), g) != before.region.end(); }));
+                // No old vertex with more than two boundary edges (a pinch) or on
+                // a border corner moved; new boundary vertices lie on f = 0 (tag 1)
+                // and have exactly two boundary edges.
+                const std::vector<int> deg0 = boundary_degree(before), deg = boundary_degree(m);
+                std::int64_t pinch_moved = 0, new_off = 0, new_boundary = 0;
+                for (std::size_t v = 0; v < before.vertices.size(); ++v)
+                    pinch_moved += deg0[v] > 2 && (m.vertices[v].x != before.vertices[v].x || m.vertices[v].y != before.vertices[v].y);
+                for (std::size_t e = 0; e < m.boundary.size(); ++e)
+                    for (const std::int32_t v : m.boundary[e]) {
+                        if (static_cast<std::size_t>(v) < before.vertices.size()) continue;
+                        ++new_boundary;
+                        const Vec2 p = m.vertices[static_cast<std::size_t>(v)];
+                        new_off += deg[static_cast<std::size_t>(v)] != 2 ||
+                                   (m.boundary_tag[e] == boundary_level_set && std::abs(f->value(p.x, p.y)) > 1e-9);
+                    }
+                BOOST_TEST(pinch_moved == 0);
+                BOOST_TEST(new_boundary == 2 * r.boundary_splits);
+                BOOST_TEST(new_off == 0);
+                // The boundary: as many edges per tag as before plus one per split
+                // (each split edge's halves keep its tag), and the same length of
+                // border (tag 2) edges.
+                BOOST_TEST(m.boundary.size() == before.boundary.size() + static_cast<std::size_t>(r.boundary_splits));
+                BOOST_TEST(m.boundary_tag.size() == m.boundary.size());
+                auto border_length = [](const Mesh& x) {
+                    double l = 0;
+                    for (std::size_t e = 0; e < x.boundary.size(); ++e)
+                        if (x.boundary_tag[e] == boundary_domain) {
+                            const Vec2 a = x.vertices[static_cast<std::size_t>(x.boundary[e][0])], b = x.vertices[static_cast<std::size_t>(x.boundary[e][1])];
+                            l += std::hypot(a.x - b.x, a.y - b.y);
+                        }
+                    return l;
+                };
+                BOOST_TEST(border_length(m) == border_length(before), boost::test_tools::tolerance(1e-12));
+                BOOST_TEST(r.boundary_distance_after <= r.boundary_distance_before);
+            }
+        }
+}
+
+BOOST_AUTO_TEST_CASE(refinement_gives_the_same_mesh_for_any_thread_count) {
+#ifdef _OPENMP
+    const auto f = atlas_slice("brain_axial_s128_labels16.pgm");
+    auto run = [&](int threads) {
+        omp_set_num_threads(threads);
+        double floor = 0;
+        Mesh m = plain_mesh(*f, false, floor);
+        optimize_mesh(m, *f, refining(floor));
+        return m;
+    };
+    const Mesh a = run(1), b = run(2);
+    omp_set_num_threads(omp_get_num_procs());
+    BOOST_TEST(b.vertices.size() == a.vertices.size());
+    BOOST_TEST(std::equal(a.vertices.begin(), a.vertices.end(), b.vertices.begin(), b.vertices.end(),
+                          [](Vec2 p, Vec2 q) { return p.x == q.x && p.y == q.y; }));
+    BOOST_TEST((b.triangles == a.triangles));
+    BOOST_TEST((b.boundary == a.boundary));
+    BOOST_TEST((b.cell_data[0].second == a.cell_data[0].second));
+#endif
+}
+
+// A pinch: two bars of a 10 x 9 image (threshold 128) joined by one pixel of
+// value 128 whose neighbours above and below are inside, left and right
+// outside — a saddle of the bilinear image on f = 0, so the mesh's vertex
+// there has four boundary edges.  It must not move (only a vertex with
+// exactly two boundary edges slides along the boundary), with or without
+// refinement.
+BOOST_AUTO_TEST_CASE(a_pinch_vertex_of_an_image_stays_put) {
+    Image img;
+    img.width = 10, img.height = 9, img.maxval = 255, img.source = "pinch";
+    img.pixels.assign(90, 0);
+    for (const int y : {1, 2, 3, 5, 6, 7})
+        for (int x = 2; x <= 7; ++x) img.pixels[static_cast<std::size_t>(y * 10 + x)] = 255;
+    img.pixels[4 * 10 + 4] = 128;
+    ImageLevelSetOptions io;
+    io.mode = ImageMode::threshold, io.iso = 128;
+    const auto f = make_image_levelset(img, io);
+    for (const bool refine : {false, true}) {
+        BOOST_TEST_CONTEXT((refine ? "refining" : "no refinement")) {
+            double floor = 0;
+            const Mesh before = plain_mesh(*f, false, floor);
+            const std::vector<int> deg0 = boundary_degree(before);
+            std::size_t pinches = 0;
+            for (const int d : deg0) pinches += d > 2;
+            BOOST_REQUIRE(pinches >= 1);
+            Mesh m = before;
+            OptimizeOptions o = refining(floor);
+            if (!refine) o.refine_below_deg = 0;
+            const OptimizeReport r = optimize_mesh(m, *f, o);
+            BOOST_TEST(r.moves > 0);
+            BOOST_TEST(check_mesh(m).ok());
+            for (std::size_t v = 0; v < before.vertices.size(); ++v)
+                if (deg0[v] > 2) {
+                    BOOST_TEST(m.vertices[v].x == before.vertices[v].x);
+                    BOOST_TEST(m.vertices[v].y == before.vertices[v].y);
+                }
+        }
+    }
+}
+
+// Refinement asked for more than the sweeps reach (a threshold of 44 deg on a
+// disc cut by the lattice border at x = -6): boundary
+// edges are split at points on f = 0 (a new vertex on a border edge would
+// have to stay at x = -6), and the mesh stays valid, every triangle at or
+// above its certified value, the boundary no farther from f = 0 than before.
+BOOST_AUTO_TEST_CASE(refinement_splits_boundary_edges_on_the_level_set) {
+    const Circle f(0, 0, 10);
+    const double s = 0.7;
+    const Mesh before = mesh_uniform(f, lattice_over(Box{-6, -12, 12, 12}, s), DiagonalRule::separating, with_cells).mesh;
+    Mesh m = before;
+    OptimizeOptions o = at_spacing(s);
+    o.refine_below_deg = 44;
+    const OptimizeReport r = optimize_mesh(m, f, o);
+    BOOST_TEST(check_mesh(m).ok());
+    BOOST_TEST(r.boundary_splits > 0);
+    BOOST_TEST(r.inserted_vertices > r.boundary_splits);
+    BOOST_TEST(r.min_angle_after >= r.min_angle_before);
+    BOOST_TEST(r.boundary_distance_after <= r.boundary_distance_before);
+    const Buffer<double>& cert = *certified(m);
+    std::int64_t below = 0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) below += tri_min(m, m.triangles[t]) < cert[t] - 1e-7;
+    BOOST_TEST(below == 0);
+    std::int64_t off = 0;
+    for (std::size_t e = 0; e < m.boundary.size(); ++e)
+        for (const std::int32_t v : m.boundary[e]) {
+            if (static_cast<std::size_t>(v) < before.vertices.size()) continue;
+            const Vec2 p = m.vertices[static_cast<std::size_t>(v)];
+            if (m.boundary_tag[e] == boundary_level_set) off += std::abs(f.value(p.x, p.y)) > 1e-9 * s;
+            if (m.boundary_tag[e] == boundary_domain) off += p.x != -6;
+        }
+    BOOST_TEST(off == 0);
+    BOOST_TEST(m.boundary.size() == before.boundary.size() + static_cast<std::size_t>(r.boundary_splits));
+    BOOST_TEST(m.boundary_tag.size() == m.boundary.size());
+}
+
+// --max-size with refinement: a 1 px atlas slice (uniform and graded) under
+// a size bound just above the warped band's sqrt(5) px still reaches 28 deg,
+// and no edge is longer than the bound.
+BOOST_AUTO_TEST_CASE(refinement_keeps_the_max_size) {
+    const auto f = atlas_slice("brain_axial_s128_labels16.pgm");
+    const double H = 2.3;
+    for (const bool graded : {false, true}) {
+        MeshOptions o;
+        o.graded = graded, o.max_size = H, o.optimize = true;
+        const MeshResult r = mesh(*f, o);
+        BOOST_REQUIRE(r.optimized);
+        BOOST_TEST(r.optimized->inserted_vertices > 0);
+        BOOST_TEST(r.optimized->min_angle_after >= 28);
+        double longest2 = 0;
+        for (const auto& t : r.mesh.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const Vec2 a = r.mesh.vertices[static_cast<std::size_t>(t[k])], b = r.mesh.vertices[static_cast<std::size_t>(t[(k + 1) % 3])];
+                longest2 = std::max(longest2, (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y));
+            }
+        BOOST_TEST(longest2 <= H * H, "graded " << graded << " longest " << std::sqrt(longest2));
+    }
 }

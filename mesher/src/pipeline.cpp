@@ -273,6 +273,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
         OptimizeOptions oo;
         oo.spacing = res.lattice.s;
         oo.max_edge = o.max_size;  // the pass keeps --max-size
+        oo.refine_below_deg = 30;  // Steiner points where moves and flips leave a triangle below 30°
         if (cert.available) oo.certified_floor = cert.min_deg;
         res.optimized = optimize_mesh(mesh, f, oo);
         phases.emplace_back("optimize", res.optimized->seconds);

@@ -58,6 +58,36 @@
 // every triangle is >= its value and >= the floor (std::logic_error if not:
 // a bug).
 //
+// Local refinement (OptimizeOptions::refine_below_deg > 0).  Moves and flips
+// cannot lift a triangle whose three vertices are fixed or can only slide
+// along f = 0 — one-pixel strips of label images, where the worst triangles
+// stay at atan(1/2) = 26.57°.  After the sweeps, each triangle below the
+// threshold (worst first) gets a patch (its region's triangles up to five
+// edges away, never across an interface) and up to six greedy Steiner
+// insertions, each the first of a few candidates to reach the threshold (else
+// the best of them): the worst triangle's
+// circumcentre, or, when that lies in a boundary edge's diametral circle, a
+// split of that edge (Ruppert); splits of its own and nearby boundary edges;
+// the midpoints of its interior edges; its centroid.  A level-set edge
+// is split at a point on f = 0 found by the level set's own cut_parameter, so
+// boundary vertices stay on the level set; a border edge at its midpoint.
+// Each insertion is followed by max-min flips that never touch a boundary,
+// interface or patch-border edge, and by smoothing of the patch vertices whose
+// whole star lies in the patch (moving as above; corners and pinch vertices
+// stay put).  The new patch replaces the old one only if every new triangle
+// is positive, the patch's smallest angle strictly rises, its largest stays
+// <= max(old patch max, mesh max, 110°), level-set edges at new or moved
+// vertices stay within the boundary distance of rule (4), and new or moved
+// edges within max_edge (rule (5)).  Then the rewritten triangles' band is
+// swept again under the rule above; three such rounds at most.  So the monotone rule
+// still reads: the mesh's minimum angle never decreases, and every triangle
+// stays >= the certified floor.  Every triangle of a new patch gets, as
+// "certified_min_angle", the least value of the old patch (a lower bound: the
+// patch's old minimum was >= it and the new minimum is larger); the patch
+// keeps its region, a split boundary edge's two halves its tag (the second
+// half is appended to Mesh::boundary), vertices are only appended, and
+// interface edges are never split or flipped (details: src/mesh/refine.hpp).
+//
 // Determinism.  Vertices are visited Gauss-Seidel in increasing index order,
 // flips in increasing triangle order, with no dependence on the thread count
 // (only the read-only passes that find the band run in parallel, and they
@@ -102,6 +132,10 @@ struct OptimizeOptions {
     // > 0: no move or flip makes an edge longer than this (a mesh whose edges
     // are all <= max_edge keeps them so: MeshOptions::max_size); 0: no bound.
     double max_edge = 0;
+    // > 0: after the sweeps, refine locally (Steiner points, below) around the
+    // triangles whose minimum angle is below this many degrees; 0: off.  The
+    // pipeline's --optimize uses 30.
+    double refine_below_deg = 0;
     std::function<void(const Mesh&, const OptimizeEvent&)> observer;  // called after every accepted change
 };
 
@@ -110,7 +144,10 @@ struct OptimizeReport {
     std::int64_t band_triangles = 0;   // triangles with an active vertex
     std::int64_t active_vertices = 0;  // of which fixed: not counted
     std::int64_t moves = 0, flips = 0;
-    int sweeps = 0;
+    int sweeps = 0;  // refinement's sweeps included
+    // Refinement: bad triangles whose patch was re-triangulated, the vertices
+    // it inserted, of which on boundary edges.
+    std::int64_t refined_triangles = 0, inserted_vertices = 0, boundary_splits = 0;
     // Over all triangles of the mesh, degrees.
     double min_angle_before = 0, min_angle_after = 0;
     double max_angle_before = 0, max_angle_after = 0;

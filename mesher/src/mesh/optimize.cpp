@@ -9,10 +9,13 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <iterator>
 #include <unordered_set>
 
 #include "warpmesh/certified.hpp"
 #include "warpmesh/quality.hpp"
+#include "plane.hpp"
+#include "refine.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -22,10 +25,7 @@ namespace warpmesh {
 
 namespace {
 
-constexpr double deg_per_rad = 180.0 / std::numbers::pi;
 constexpr double inf = std::numeric_limits<double>::infinity();
-// g(θ) = min(θ, big_angle_pivot − θ): 30° and 110° score alike.
-constexpr double big_angle_pivot = 140;
 // Angles whose quality lies within this many degrees of the star's worst
 // steer the ascent direction together (an ε-subgradient).
 constexpr double active_band_deg = 0.5;
@@ -36,39 +36,10 @@ constexpr int line_search_halvings = 8;
 // +0.5 deg of minimum angle.)
 constexpr double good_star_deg = 42;
 constexpr double min_gain_deg = 1e-3;
+// Refinement (OptimizeOptions::refine_below_deg): rounds of refine-then-sweep.
+constexpr int refine_rounds = 3;
 
-Vec2 operator-(Vec2 p, Vec2 q) { return {p.x - q.x, p.y - q.y}; }
-Vec2 operator+(Vec2 p, Vec2 q) { return {p.x + q.x, p.y + q.y}; }
-Vec2 operator*(double a, Vec2 p) { return {a * p.x, a * p.y}; }
-double dot(Vec2 u, Vec2 v) { return u.x * v.x + u.y * v.y; }
-double cross(Vec2 u, Vec2 v) { return u.x * v.y - u.y * v.x; }
-double norm2(Vec2 u) { return dot(u, u); }
-Vec2 perp(Vec2 u) { return {-u.y, u.x}; }
-
-// atan2 for y >= 0 in degrees, to about 1e-5 degrees: a minimax polynomial
-// for atan on [0, 1] and the identities atan x = 90° − atan(1/x),
-// atan2(y, −x) = 180° − atan2(y, x).  Used for the search's objective only;
-// the monotone rule compares triangle_angles (quality.hpp), the reported ones.
-double fast_atan2_deg(double y, double x) {
-    const double ax = std::abs(x);
-    const bool swap = y > ax;
-    const double r = swap ? ax / y : (ax > 0 ? y / ax : 0);
-    const double r2 = r * r;
-    double a = r * (0.99997726 + r2 * (-0.33262347 + r2 * (0.19354346 + r2 * (-0.11643287 + r2 * (0.05265332 + r2 * -0.01172120)))));
-    a *= deg_per_rad;
-    if (swap) a = 90 - a;
-    return x < 0 ? 180 - a : a;
-}
-
-// A triangle's quality min(θmin, pivot − θmax) (g is a tent, so the middle
-// angle never scores below the two extremes), from the fast atan2.
-double tri_q_fast(Vec2 a, Vec2 b, Vec2 c) {
-    const Vec2 ab = b - a, bc = c - b, ca = a - c;
-    const double x = std::abs(cross(ab, c - a));
-    const double ta = fast_atan2_deg(x, -dot(ab, ca)), tb = fast_atan2_deg(x, -dot(bc, ab));
-    const double tc = 180 - ta - tb;
-    return std::min(std::min({ta, tb, tc}), big_angle_pivot - std::max({ta, tb, tc}));
-}
+using namespace plane;
 
 // A triangle's smallest angle and quality, as reported (triangle_angles).
 struct TriQ {
@@ -128,8 +99,12 @@ private:
     std::int32_t local(std::int32_t v) const { return local1_[static_cast<std::size_t>(v)] - 1; }
     // A moved vertex's star and a flipped pair need their edges re-examined.
     void touch(std::size_t t) { tdirty_[t] = 1; }
-    void find_band();
+    // The band (optimize.hpp) from the vertices of the triangles that are not
+    // right isosceles, or of `seeds`; resets the per-vertex state.
+    void find_band(const std::vector<std::size_t>* seeds);
     void classify();
+    int sweeps();  // Gauss-Seidel sweeps and flips until nothing changes; how many
+    void refine(OptimizeReport& r);
     bool try_move(std::int32_t lv);
     int flip_pass();
     bool try_flip(std::size_t t1, int k);
@@ -152,6 +127,7 @@ private:
     Buffer<double>* cert_ = nullptr;
 
     std::vector<std::size_t> band_;               // triangles with an active vertex, increasing
+    std::vector<std::size_t> changed_;            // every triangle the pass may have changed, increasing
     std::vector<std::int32_t> act_;               // active vertices, increasing
     ZeroBuffer<std::int32_t> local1_;             // per mesh vertex: 1 + index in act_, or 0
     ZeroBuffer<std::uint8_t> tdirty_;             // per mesh triangle: edges to examine for flips
@@ -166,11 +142,6 @@ private:
     std::vector<double> values_, slope_;
     std::int64_t moves_ = 0, flips_ = 0;
 };
-
-std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 // Triangles (in increasing order) for which `pick` holds: a parallel scan in
 // contiguous chunks, concatenated in chunk order.
@@ -201,15 +172,16 @@ std::vector<std::size_t> scan_triangles(const Mesh& m, Pick&& pick) {
     return all;
 }
 
-void Optimizer::find_band() {
+void Optimizer::find_band(const std::vector<std::size_t>* seeds) {
     const auto& V = m_.vertices;
     // Seeds: the vertices of triangles that are not right isosceles.
-    const auto odd = scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
+    const auto odd = seeds ? std::vector<std::size_t>{} : scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
         return !right_isosceles(V[static_cast<std::size_t>(t[0])], V[static_cast<std::size_t>(t[1])],
                                 V[static_cast<std::size_t>(t[2])]);
     });
+    act_.clear();
     ZeroBuffer<std::uint8_t> mark(V.size());
-    for (const std::size_t t : odd)
+    for (const std::size_t t : seeds ? *seeds : odd)
         for (const std::int32_t v : m_.triangles[t]) mark[static_cast<std::size_t>(v)] = 1;
     // Active: the seeds and their neighbours.
     const auto ring = scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
@@ -223,14 +195,14 @@ void Optimizer::find_band() {
             mv |= 2;
         }
     std::sort(act_.begin(), act_.end());
-    local1_.resize(V.size());
+    local1_ = ZeroBuffer<std::int32_t>(V.size());
     for (std::size_t l = 0; l < act_.size(); ++l) local1_[static_cast<std::size_t>(act_[l])] = static_cast<std::int32_t>(l + 1);
     band_ = scan_triangles(m_, [&](const std::array<std::int32_t, 3>& t, std::size_t) {
         return (mark[static_cast<std::size_t>(t[0])] | mark[static_cast<std::size_t>(t[1])] |
                 mark[static_cast<std::size_t>(t[2])]) & 2;
     });
     star_.assign(act_.size(), {});
-    tdirty_.resize(m_.triangles.size());
+    tdirty_ = ZeroBuffer<std::uint8_t>(m_.triangles.size());
     for (const std::size_t t : band_) touch(t);
     for (const std::size_t t : band_)
         for (const std::int32_t v : m_.triangles[t]) {
@@ -548,23 +520,80 @@ int Optimizer::flip_pass() {
     return n;
 }
 
+int Optimizer::sweeps() {
+    dirty_.assign(act_.size(), 1);
+    int sweep = 0;
+    while (sweep < o_.max_sweeps) {
+        bool changed = false;
+        for (std::size_t l = 0; l < act_.size(); ++l) {
+            if (!dirty_[l] || kind_[l] == Kind::fixed) continue;
+            dirty_[l] = 0;
+            changed = try_move(static_cast<std::int32_t>(l)) || changed;
+        }
+        if (o_.flips) changed = flip_pass() > 0 || changed;
+        ++sweep;
+        if (!changed) break;
+    }
+    return sweep;
+}
+
+std::vector<std::size_t> merged(const std::vector<std::size_t>& a, const std::vector<std::size_t>& b) {
+    std::vector<std::size_t> out;
+    std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+    return out;
+}
+
+// Rounds of local refinement (refine.hpp), each followed by sweeps over the
+// band of the rewritten triangles.
+// A later round looks only at the band the previous round's sweeps went over:
+// elsewhere nothing changed, and a patch that could not be improved then
+// cannot be now.
+void Optimizer::refine(OptimizeReport& r) {
+    std::vector<std::size_t> scope = changed_;
+    for (int round = 0; round < refine_rounds; ++round) {
+        RefineParams rp;
+        rp.below_deg = o_.refine_below_deg, rp.spacing = s_, rp.max_edge = o_.max_edge;
+        rp.boundary_distance = dmax_, rp.interfaces = &interfaces_;
+        for (const std::size_t t : changed_) {  // the mesh's largest angle (outside: 90°)
+            const auto& tri = m_.triangles[t];
+            rp.max_angle = std::max(rp.max_angle, triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])],
+                                                                  m_.vertices[static_cast<std::size_t>(tri[1])],
+                                                                  m_.vertices[static_cast<std::size_t>(tri[2])]).max_deg);
+        }
+        const RefineResult rr = refine_bad_triangles(m_, f_, scope, rp);
+        if (rr.touched.empty()) return;
+        r.refined_triangles += rr.refined_triangles, r.inserted_vertices += rr.inserted_vertices;
+        r.boundary_splits += rr.boundary_splits;
+        // The rewritten triangles' vertices (new or moved) count as moved:
+        // their boundary edges are measured again.
+        moved_.resize(m_.vertices.size());
+        for (const std::size_t t : rr.touched)
+            for (const std::int32_t v : m_.triangles[t]) moved_[static_cast<std::size_t>(v)] = 1;
+        find_band(&rr.touched);
+        classify();
+        changed_ = merged(merged(changed_, rr.touched), band_);
+        r.sweeps += sweeps();
+        scope = merged(rr.touched, band_);
+    }
+}
+
 OptimizeReport Optimizer::run() {
     const auto start = std::chrono::steady_clock::now();
     OptimizeReport r;
-    r.triangles = static_cast<std::int64_t>(m_.triangles.size());
-    find_band();
+    find_band(nullptr);
     classify();
     r.band_triangles = static_cast<std::int64_t>(band_.size());
     for (const Kind k : kind_) r.active_vertices += k != Kind::fixed;
+    changed_ = band_;
 
-    // Statistics: the triangles outside the band are right isosceles.
-    const std::int64_t outside = r.triangles - r.band_triangles;
+    // Statistics: the triangles outside changed_ are right isosceles.
     // (after the pass, check_certified: no triangle below its certified value)
     constexpr double slack = 1e-7;
     auto stats = [&](double& mn, double& mx, double& mean, bool check_certified) {
+        const std::size_t outside = m_.triangles.size() - changed_.size();
         mn = outside ? 45 : inf, mx = outside ? 90 : -inf;
         double sum = 45.0 * static_cast<double>(outside);
-        for (const std::size_t t : band_) {
+        for (const std::size_t t : changed_) {
             const auto& tri = m_.triangles[t];
             const TriangleAngles a = triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])],
                                                      m_.vertices[static_cast<std::size_t>(tri[1])],
@@ -574,17 +603,19 @@ OptimizeReport Optimizer::run() {
                 throw std::logic_error("optimize: triangle " + std::to_string(t) + " has minimum angle " +
                                        std::to_string(a.min_deg) + " below its certified value " + std::to_string((*cert_)[t]));
         }
-        mean = r.triangles ? sum / static_cast<double>(r.triangles) : std::numeric_limits<double>::quiet_NaN();
+        mean = m_.triangles.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(m_.triangles.size());
     };
     stats(r.min_angle_before, r.max_angle_before, r.mean_min_angle_before, false);
     r.certified_floor = cert_ ? *std::min_element(cert_->begin(), cert_->end()) : o_.certified_floor;
-    // Per level-set boundary edge its distance (-1: another tag); after the
-    // pass only the edges with a moved end are measured again.
-    std::vector<double> edge_distance(m_.boundary.size(), -1);
+    // Per level-set boundary edge its distance (-1: another tag, or not yet
+    // measured); after the pass only the edges with a moved end are measured
+    // again.
+    std::vector<double> edge_distance;
     auto boundary_distance = [&](bool only_moved) {
+        edge_distance.resize(m_.boundary.size(), -1);
         double worst = 0;
         for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
-            if (m_.boundary_tag[e] != boundary_level_set) continue;
+            if (e >= m_.boundary_tag.size() || m_.boundary_tag[e] != boundary_level_set) continue;
             const auto [a, b] = m_.boundary[e];
             if (!only_moved || moved_[static_cast<std::size_t>(a)] || moved_[static_cast<std::size_t>(b)])
                 edge_distance[e] = edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(a)], m_.vertices[static_cast<std::size_t>(b)], s_);
@@ -595,21 +626,12 @@ OptimizeReport Optimizer::run() {
     moved_.resize(m_.vertices.size());
     dmax_ = r.boundary_distance_before = boundary_distance(false);
 
-    dirty_.assign(act_.size(), 1);
-    for (int sweep = 0; sweep < o_.max_sweeps; ++sweep) {
-        bool changed = false;
-        for (std::size_t l = 0; l < act_.size(); ++l) {
-            if (!dirty_[l] || kind_[l] == Kind::fixed) continue;
-            dirty_[l] = 0;
-            changed = try_move(static_cast<std::int32_t>(l)) || changed;
-        }
-        if (o_.flips) changed = flip_pass() > 0 || changed;
-        r.sweeps = sweep + 1;
-        if (!changed) break;
-    }
+    r.sweeps = sweeps();
+    if (o_.refine_below_deg > 0) refine(r);
 
     // The rule's consequences, checked: no triangle below its (transferred)
     // certified value (in stats), none below the floor, the minimum not lower.
+    r.triangles = static_cast<std::int64_t>(m_.triangles.size());
     stats(r.min_angle_after, r.max_angle_after, r.mean_min_angle_after, true);
     r.boundary_distance_after = boundary_distance(true);
     r.moves = moves_, r.flips = flips_;
@@ -646,6 +668,9 @@ std::string optimize_text(const OptimizeReport& r) {
     o << "                     " << r.moves << " moves, " << r.flips << " flips, " << r.sweeps << " sweeps over "
       << r.active_vertices << " movable vertices of " << r.band_triangles << " band triangles, " << fmt(r.seconds)
       << " s\n";
+    if (r.inserted_vertices)
+        o << "                     refinement: " << r.refined_triangles << " bad triangles re-triangulated, "
+          << r.inserted_vertices << " vertices inserted (" << r.boundary_splits << " on boundary edges)\n";
     o << "                     certified floor " << fmt(r.certified_floor)
       << " deg (every triangle stays above it: monotone rule); boundary distance to f = 0 "
       << fmt(r.boundary_distance_before) << " -> " << fmt(r.boundary_distance_after) << "\n";
@@ -663,7 +688,10 @@ std::string optimize_json(const OptimizeReport& r) {
            ", \"moves\": " + json_number(r.moves) + ", \"flips\": " + json_number(r.flips) +
            ", \"sweeps\": " + json_number(static_cast<std::int64_t>(r.sweeps)) +
            ", \"movable_vertices\": " + json_number(r.active_vertices) +
-           ", \"band_triangles\": " + json_number(r.band_triangles) + ", \"seconds\": " + n(r.seconds) + "}";
+           ", \"band_triangles\": " + json_number(r.band_triangles) +
+           ", \"refined_triangles\": " + json_number(r.refined_triangles) +
+           ", \"inserted_vertices\": " + json_number(r.inserted_vertices) +
+           ", \"boundary_splits\": " + json_number(r.boundary_splits) + ", \"seconds\": " + n(r.seconds) + "}";
 }
 
 }  // namespace warpmesh
