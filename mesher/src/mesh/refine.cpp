@@ -259,7 +259,9 @@ private:
         }
         for (int sweep = 0; sweep < smooth_sweeps; ++sweep) {
             bool any = false;
-            for (const auto& [v, how] : movers) {
+            for (const auto& mover : movers) {
+                const auto v = mover.first;  // captured by star_quality: not a structured binding (clang 14)
+                const auto how = mover.second;
                 std::vector<std::size_t> star;
                 double shortest2 = inf;
                 for (std::size_t i = 0; i < t.tris.size(); ++i)
