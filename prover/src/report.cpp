@@ -396,8 +396,8 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
     }
     const double c_max_tight[2] = {cat[0].qmax, cat[1].qmax};
-    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves
-    auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 200; };
+    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves + 3000
+    auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 3000; };
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
     const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
@@ -492,7 +492,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
 
     std::ostringstream o, lg;
     const char* rname = rule_name(rule);
-    o << "warpmesh-certificate 2\n"
+    o << "warpmesh-certificate 3\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
     if (junctions) o << "space junctions\n";
@@ -573,9 +573,24 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             continue;
         }
         for (const Leaf& l : f.proof.leaves) {
-            o << (l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
+            o << (l.sw >= 0 ? 'S' : l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
             for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
             if (l.threshold != 0) o << ' ' << dstr(l.threshold);
+            if (l.sw >= 0) {  // the switching certificate, per diagonal: k J and six multipliers
+                const Switch& sw = f.proof.switches[static_cast<std::size_t>(l.sw)];
+                for (int d = 0; d < 2; ++d) {
+                    if (sw.k[d] < 0) {
+                        o << " - - - - - - - -";
+                        continue;
+                    }
+                    o << ' ' << int{sw.k[d]} << ' ' << int{sw.j[d]};
+                    for (int x = 0; x < 6; ++x) {
+                        const double lam = sw.lambda[static_cast<std::size_t>(6 * d + x)];
+                        if (lam < 0) o << " -";
+                        else o << ' ' << dstr(lam);
+                    }
+                }
+            }
             o << "\n";
         }
     }
