@@ -42,16 +42,16 @@ SwitchLeaf first_switch_leaf() {
     for (std::size_t i = 0; i < full.size(); ++i) {
         if (full[i].rfind("S ", 0) != 0) continue;
         const auto tok = fields(full[i]);
-        const std::size_t m = (tok.size() - 18) / 2;  // S k lo_1 hi_1 .. lo_m hi_m, then 2 x 8 fields
+        const std::size_t m = (tok.size() - 32) / 2;  // S k lo_1 hi_1 .. lo_m hi_m, then 2 x 15 fields
         for (std::size_t d = 0; d < 2; ++d) {
-            const std::size_t at = 2 + 2 * m + 8 * d;
+            const std::size_t at = 2 + 2 * m + 15 * d;  // k J J2, then the multipliers
             if (tok[at] == "-") continue;
-            for (std::size_t x = 0; x < 6; ++x)
-                if (tok[at + 2 + x] != "-") {
+            for (std::size_t x = 0; x < 12; ++x)
+                if (tok[at + 3 + x] != "-") {
                     std::size_t end = i + 1;
                     while (end < full.size() && full[end].rfind("key ", 0) != 0 && full[end] != "end") ++end;
                     return {std::vector<std::string>(full.begin(), full.begin() + static_cast<long>(end)), i,
-                            at + 2 + x, at};
+                            at + 3 + x, at};
                 }
         }
     }

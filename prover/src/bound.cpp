@@ -211,11 +211,13 @@ bool verify_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diago
 // exactly valid on the box) q(d) <= E q(o), E = 1 + 2^-30, for the exact rule
 // and for the mesher's double evaluation ("Double agreement", item 6).  For a
 // ratio r_k = dot_k / cross of d (index 3 t + i: vertex i of d's triangle t)
-// and the ratios s_j of o: r_k <= q(d) <= E max_j s_j, so some
-// h_j = E dot_j(o) cross_k(d) - dot_k(d) cross_j(o) >= 0.  The leaf names k and
-// J such that h_j < 0 on the box for every j != J; then h_J >= 0 wherever d is
-// taken, and each max-angle form g of d is verified either outright or as
-// g - lambda h_J >= 0 with a dyadic lambda >= 0 (so g >= lambda h_J >= 0 there).
+// and the six ratios s_j of o: r_k <= q(d) <= E max_j s_j, so some
+// h_j = E dot_j(o) cross(d, t) - dot_k(d) cross(o, j / 3) >= 0.  The leaf
+// names k and at most two ratios J of o such that h_j < 0 on the box for every
+// other j; then wherever d is taken some named h_J >= 0, and each max-angle
+// form g of d is verified outright or, for each named J, as g - lambda h_J >= 0
+// with a dyadic lambda >= 0 (so g >= lambda h_J >= 0 where h_J >= 0).  With no
+// J named, d is never taken on the box.
 constexpr double switch_slack = 1 + 0x1p-30;  // E
 
 DI ratio_h(const std::array<Point<DI>, 4>& p, Diagonal d, int k, int j) {
@@ -236,81 +238,103 @@ double dyadic12(double x) {
     return std::ldexp(std::floor(std::ldexp(x, 12 - e)), e - 12);
 }
 
-// The switching certificate of diagonal d on box b (see above), into sw.
-bool switch_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, double qmax, Switch& sw) {
-    const int di = d == Diagonal::AD ? 0 : 1;
-    const Diagonal o = d == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
-    const auto pi = positions_i(k, vars, b);
-    for (const auto& tri : diagonal_triangles(o))
-        if (!(triangle_forms(pi[tri[0]], pi[tri[1]], pi[tri[2]]).cross.lower() > 0)) return false;
-    // k and J: the largest ratios of d and of o at the centre of the box.
+// A multiplier lambda >= 0 with g - lambda h >= 0 on box b (g: max-angle form
+// f of triangle tri, h = ratio_h(d, kd, jo)), or -1.  Candidates: the
+// projection of g's gradient on h's (weighted by the half-widths) and the
+// per-variable ratios of the partials; the one with the best approximate
+// mean-value lower bound is verified.
+double find_lambda(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, int kd, int jo,
+                   const std::array<int, 3>& tri, int f, double qmax) {
+    auto combined = [&](const Box& bx, double lam) {
+        const auto q = positions_d(k, vars, bx);
+        DI lc = ScalarOps<DI>::from_int(0);
+        lc.v = I(lam);
+        return form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]), f, 0, qmax) - lc * ratio_h(q, d, kd, jo);
+    };
     Box c = b;
     for (int j = 0; j < b.m; ++j) c.lo[j] = c.hi[j] = 0.5 * (b.lo[j] + b.hi[j]);
-    const auto pc = positions_i(k, vars, c);
-    auto argmax = [&](Diagonal x, int& best) {
-        double top = -1e300;
-        for (int t = 0; t < 2; ++t) {
-            const auto tri = diagonal_triangles(x)[static_cast<std::size_t>(t)];
-            const auto tf = triangle_forms(pc[tri[0]], pc[tri[1]], pc[tri[2]]);
-            if (!(tf.cross.lower() > 0)) return false;
-            for (int i = 0; i < 3; ++i) {
-                const double r = boost::numeric::median(tf.dot[i]) / boost::numeric::median(tf.cross);
-                if (r > top) top = r, best = 3 * t + i;
-            }
-        }
-        return true;
-    };
-    int kd = 0, jo = 0;
-    if (!argmax(d, kd) || !argmax(o, jo)) return false;
+    const DI g = combined(b, 0), gc = combined(c, 0);
+    const auto pb = positions_d(k, vars, b), pc = positions_d(k, vars, c);
+    const DI h = ratio_h(pb, d, kd, jo), hc = ratio_h(pc, d, kd, jo);
+    std::vector<double> cand;
+    double num = 0, den = 0;
+    for (int j = 0; j < b.m; ++j) {
+        const double r = 0.5 * (b.hi[j] - b.lo[j]), gd = boost::numeric::median(g.d[j]),
+                     hd = boost::numeric::median(h.d[j]);
+        num += gd * hd * r * r, den += hd * hd * r * r;
+        if (hd != 0 && gd / hd > 0) cand.push_back(gd / hd);
+    }
+    if (den > 0 && num / den > 0) cand.push_back(num / den);
+    double best = -1e300, best_lam = -1;
+    for (double l : cand) {
+        l = dyadic12(l);
+        if (!(l > 0) || !std::isfinite(l)) continue;
+        double est = boost::numeric::median(gc.v) - l * boost::numeric::median(hc.v);
+        for (int j = 0; j < b.m; ++j)
+            est -= 0.5 * (b.hi[j] - b.lo[j]) * boost::numeric::norm(g.d[j] - I(l) * h.d[j]);
+        if (est > best) best = est, best_lam = l;
+    }
+    if (best_lam <= 0) return -1;
+    const auto eval = [&](const Box& bx) { return combined(bx, best_lam); };
+    return verify_poly(b, eval(b), false, eval) ? best_lam : -1;
+}
+
+// The switching certificate of diagonal d on box b with reference ratio kd
+// (see above), into sw.
+bool switch_diag_with(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, int kd, double qmax,
+                      Switch& sw) {
+    const int di = d == Diagonal::AD ? 0 : 1;
+    // The ratios of o not excluded on the box: at most two.
     const auto pd = positions_d(k, vars, b);
+    std::vector<int> named;
     for (int j = 0; j < 6; ++j)
-        if (j != jo && !(ratio_h(pd, d, kd, j).v.upper() < 0)) return false;
-    sw.k[di] = static_cast<std::int8_t>(kd), sw.j[di] = static_cast<std::int8_t>(jo);
-    const DI h = ratio_h(pd, d, kd, jo);
-    const I hc = ratio_h(positions_d(k, vars, c), d, kd, jo).v;  // h at the centre
+        if (!(ratio_h(pd, d, kd, j).v.upper() < 0)) named.push_back(j);
+    if (named.size() > 2) return false;
+    sw.k[di] = static_cast<std::int8_t>(kd);
+    for (std::size_t n = 0; n < 2; ++n) sw.j[2 * di + n] = static_cast<std::int8_t>(n < named.size() ? named[n] : -1);
     for (int t = 0; t < 2; ++t) {
         const auto tri = diagonal_triangles(d)[static_cast<std::size_t>(t)];
         const TriangleForms<DI> tf = triangle_forms(pd[tri[0]], pd[tri[1]], pd[tri[2]]);
         for (int i = 0; i < 3; ++i) {
-            double& lam = sw.lambda[static_cast<std::size_t>(6 * di + 3 * t + i)];
-            const DI g = form(tf, 4 + i, 0, qmax);
-            lam = -1;  // '-': the form holds outright
-            if (verify_form(k, vars, b, tri, 4 + i, 0, qmax, g)) continue;
-            // lambda: the candidate with the best (approximate) mean-value lower
-            // bound of g - lambda h: the projection of g's gradient on h's
-            // (weighted by the half-widths) and the per-variable ratios.
-            const auto qc = positions_d(k, vars, c);
-            const I gc = form(triangle_forms(qc[tri[0]], qc[tri[1]], qc[tri[2]]), 4 + i, 0, qmax).v;
-            std::vector<double> cand;
-            double num = 0, den = 0;
-            for (int j = 0; j < b.m; ++j) {
-                const double r = 0.5 * (b.hi[j] - b.lo[j]), gd = boost::numeric::median(g.d[j]),
-                             hd = boost::numeric::median(h.d[j]);
-                num += gd * hd * r * r, den += hd * hd * r * r;
-                if (hd != 0 && gd / hd > 0) cand.push_back(gd / hd);
+            for (std::size_t n = 0; n < 2; ++n) sw.lambda[12 * di + 6 * n + 3 * t + i] = -1;  // '-'
+            if (named.empty() || verify_form(k, vars, b, tri, 4 + i, 0, qmax, form(tf, 4 + i, 0, qmax))) continue;
+            for (std::size_t n = 0; n < named.size(); ++n) {
+                const double lam = find_lambda(k, vars, b, d, kd, named[n], tri, 4 + i, qmax);
+                if (lam < 0) return false;
+                sw.lambda[12 * di + 6 * n + 3 * t + i] = lam;
             }
-            if (den > 0 && num / den > 0) cand.push_back(num / den);
-            double best = -1e300, best_lam = -1;
-            for (double l : cand) {
-                l = dyadic12(l);
-                if (!(l > 0) || !std::isfinite(l)) continue;
-                double est = boost::numeric::median(gc) - l * boost::numeric::median(hc);
-                for (int j = 0; j < b.m; ++j)
-                    est -= 0.5 * (b.hi[j] - b.lo[j]) * boost::numeric::norm(g.d[j] - I(l) * h.d[j]);
-                if (est > best) best = est, best_lam = l;
-            }
-            if (best_lam <= 0) return false;
-            auto combined = [&](const Box& bx) {
-                const auto q = positions_d(k, vars, bx);
-                DI lc = ScalarOps<DI>::from_int(0);
-                lc.v = I(best_lam);
-                return form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]), 4 + i, 0, qmax) - lc * ratio_h(q, d, kd, jo);
-            };
-            if (!verify_poly(b, combined(b), false, combined)) return false;
-            lam = best_lam;
         }
     }
     return true;
+}
+
+// The switching certificate of diagonal d on box b: requires the other
+// diagonal valid on the box; the reference ratio k is tried among d's largest
+// ratios at the centre of the box (near the switching surface d's largest
+// ratio may change, and k must be the largest where d is not taken).
+bool switch_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, double qmax, Switch& sw) {
+    const Diagonal o = d == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
+    const auto pi = positions_i(k, vars, b);
+    for (const auto& tri : diagonal_triangles(o))
+        if (!(triangle_forms(pi[tri[0]], pi[tri[1]], pi[tri[2]]).cross.lower() > 0)) return false;
+    Box c = b;
+    for (int j = 0; j < b.m; ++j) c.lo[j] = c.hi[j] = 0.5 * (b.lo[j] + b.hi[j]);
+    const auto pc = positions_i(k, vars, c);
+    std::array<std::pair<double, int>, 6> r;
+    for (int t = 0; t < 2; ++t) {
+        const auto tri = diagonal_triangles(d)[static_cast<std::size_t>(t)];
+        const auto tf = triangle_forms(pc[tri[0]], pc[tri[1]], pc[tri[2]]);
+        if (!(tf.cross.lower() > 0)) return false;
+        for (int i = 0; i < 3; ++i)
+            r[static_cast<std::size_t>(3 * t + i)] = {
+                -boost::numeric::median(tf.dot[i]) / boost::numeric::median(tf.cross), 3 * t + i};
+    }
+    std::sort(r.begin(), r.end());  // largest ratio first
+    for (std::size_t n = 0; n < 3; ++n) {
+        if (n > 0 && -r[n].first < -r[0].first - 0.125 * (1 + std::fabs(r[0].first))) break;
+        if (switch_diag_with(k, vars, b, d, r[n].second, qmax, sw)) return true;
+    }
+    return false;
 }
 
 // A second, division-free decision of the max-min rule, used where the header's

@@ -74,13 +74,15 @@ bool flat_compatible(const Key& k);
 std::vector<int> key_vars(const Key& k);
 
 // The switching certificate of an undecided leaf (tag S, bound.cpp): per
-// diagonal d (0 AD, 1 BC), k[d] / j[d] the reference ratios of d and of the
-// other diagonal (index 3 t + i, vertex i of triangle t; -1: every max-angle
-// form of d holds outright), and per max-angle form 3 t + i of d its
-// multiplier lambda[6 d + 3 t + i] (< 0: the form holds outright).
+// diagonal d (0 AD, 1 BC), k[d] the reference ratio of d (index 3 t + i,
+// vertex i of triangle t; -1: every max-angle form of d holds outright), j[2 d],
+// j[2 d + 1] the named ratios of the other diagonal (-1: none), and per named
+// ratio n and max-angle form 3 t + i of d its multiplier
+// lambda[12 d + 6 n + 3 t + i] (< 0: the form holds outright).
 struct Switch {
-    std::array<std::int8_t, 2> k{-1, -1}, j{-1, -1};
-    std::array<double, 12> lambda{};
+    std::array<std::int8_t, 2> k{-1, -1};
+    std::array<std::int8_t, 4> j{-1, -1, -1, -1};
+    std::array<double, 24> lambda{};
 };
 
 // One leaf box: dimension i is [num[2i], num[2i+1]] / 2^k; diag bit 1 = AD, 2 = BC;
