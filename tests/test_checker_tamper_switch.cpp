@@ -80,7 +80,8 @@ BOOST_AUTO_TEST_CASE(switching_leaf_untouched_passes_up_to_its_key) {
 BOOST_AUTO_TEST_CASE(switching_leaf_wrong_lambda) {
     const SwitchLeaf s = first_switch_leaf();
     const Q lam(fields(s.lines[s.leaf])[s.lambda]);
-    for (const Q& wrong : {lam * 65536, lam / 65536}) {
+    const Q wrongs[2] = {Q(lam * 65536), Q(lam / 65536)};
+    for (const Q& wrong : wrongs) {
         std::string msg;
         BOOST_TEST(run_with(s, wrong.str(), "switch_wrong_lambda", &msg) != 0);
         BOOST_TEST(msg.find("not verified where the diagonal is taken") != std::string::npos, msg);

@@ -347,7 +347,7 @@ bool verify_form(Key& k, const Box& b, int diag, int tri, int f, const N& qmin, 
 }
 // Switching leaves (tag S): for ratio k of diagonal d (3 t + i: vertex i of
 // its triangle t) and ratio j of the other diagonal o,
-// h = E dot_j(o) cross(d, t) - dot_k(d) cross(o, j / 3), E = 1 + 2^-30: where
+// h = kappa dot_j(o) cross(d, t) - dot_k(d) cross(o, j / 3), kappa = 1 + 2^-30: where
 // d is taken and o is valid, some h_j >= 0 (proofs/README.md, "Double
 // agreement", item 6).  Positions must be set.
 D ratio_h(const Key& k, int d, int kk, int j) {
@@ -619,8 +619,10 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
                       // and the max-min pick qualifies whenever some diagonal does)
                 if (qmin < fan_scaled(1, 30)) fail(where + "undecided fan leaf needs qmin >= H0 (1 + 2^-30)");
                 const N h = fan_scaled(1, 28);
-                for (int d = 0; d < 2; ++d)
+                for (int d = 0; d < 2; ++d) {
+                    k.positions(b, false);  // verify_form leaves the positions of a face or a point
                     if (!excluded(k, d, h) && !fan_forms(d, 2, 4, 7)) fail(where + "max-angle inequality not verified");
+                }
             }
             if (!fan_forms(2, 4, 0, 7)) fail(where + "fan angle or orientation inequality not verified");
             return;

@@ -208,17 +208,17 @@ bool verify_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diago
 // ---- switching leaves (tag S; proofs/README.md, "Certificate format") -------
 // On a box where the max-min choice is undecided, diagonal d's max-angle forms
 // need to hold only where d is taken.  There (with the other diagonal o
-// exactly valid on the box) q(d) <= E q(o), E = 1 + 2^-30, for the exact rule
+// exactly valid on the box) q(d) <= kappa q(o), kappa = 1 + 2^-30, for the exact rule
 // and for the mesher's double evaluation ("Double agreement", item 6).  For a
 // ratio r_k = dot_k / cross of d (index 3 t + i: vertex i of d's triangle t)
-// and the six ratios s_j of o: r_k <= q(d) <= E max_j s_j, so some
-// h_j = E dot_j(o) cross(d, t) - dot_k(d) cross(o, j / 3) >= 0.  The leaf
+// and the six ratios s_j of o: r_k <= q(d) <= kappa max_j s_j, so some
+// h_j = kappa dot_j(o) cross(d, t) - dot_k(d) cross(o, j / 3) >= 0.  The leaf
 // names k and at most two ratios J of o such that h_j < 0 on the box for every
 // other j; then wherever d is taken some named h_J >= 0, and each max-angle
 // form g of d is verified outright or, for each named J, as g - lambda h_J >= 0
 // with a dyadic lambda >= 0 (so g >= lambda h_J >= 0 where h_J >= 0).  With no
 // J named, d is never taken on the box.
-constexpr double switch_slack = 1 + 0x1p-30;  // E
+constexpr double switch_slack = 1 + 0x1p-30;  // kappa
 
 DI ratio_h(const std::array<Point<DI>, 4>& p, Diagonal d, int k, int j) {
     const Diagonal o = d == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
