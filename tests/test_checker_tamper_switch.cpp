@@ -7,6 +7,7 @@
 #define BOOST_TEST_MODULE checker_tamper_switch
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -31,28 +32,23 @@ struct SwitchLeaf {
     std::vector<std::string> lines;  // the certificate up to the end of the leaf's key
     std::size_t leaf = 0;            // the S leaf's line
     std::size_t lambda = 0;          // the field of its first multiplier
-    std::size_t ref = 0;             // the field of that diagonal's reference index k
+    std::size_t ref = 0;             // the field k:J:J2:mask of that diagonal
 };
 
-// The first S leaf with a multiplier (a field that is neither '-' nor a
-// reference index) and the certificate cut after its key.
+// The first S leaf with a multiplier (a diagonal group k:J:J2:mask with a
+// non-zero mask and a named J) and the certificate cut after its key.
 SwitchLeaf first_switch_leaf() {
     const auto full = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "maxmin.cert");
     BOOST_REQUIRE(full.size() > 100);
     for (std::size_t i = 0; i < full.size(); ++i) {
         if (full[i].rfind("S ", 0) != 0) continue;
         const auto tok = fields(full[i]);
-        const std::size_t m = (tok.size() - 32) / 2;  // S k lo_1 hi_1 .. lo_m hi_m, then 2 x 15 fields
-        for (std::size_t d = 0; d < 2; ++d) {
-            const std::size_t at = 2 + 2 * m + 15 * d;  // k J J2, then the multipliers
-            if (tok[at] == "-") continue;
-            for (std::size_t x = 0; x < 12; ++x)
-                if (tok[at + 3 + x] != "-") {
-                    std::size_t end = i + 1;
-                    while (end < full.size() && full[end].rfind("key ", 0) != 0 && full[end] != "end") ++end;
-                    return {std::vector<std::string>(full.begin(), full.begin() + static_cast<long>(end)), i,
-                            at + 3 + x, at};
-                }
+        for (std::size_t at = 2; at < tok.size(); ++at) {
+            const auto& g = tok[at];
+            if (std::count(g.begin(), g.end(), ':') != 3 || g.substr(g.rfind(':') + 1) == "0" || g[2] == '-') continue;
+            std::size_t end = i + 1;
+            while (end < full.size() && full[end].rfind("key ", 0) != 0 && full[end] != "end") ++end;
+            return {std::vector<std::string>(full.begin(), full.begin() + static_cast<long>(end)), i, at + 1, at};
         }
     }
     BOOST_FAIL("no switching leaf with a multiplier in maxmin.cert");
@@ -89,11 +85,22 @@ BOOST_AUTO_TEST_CASE(switching_leaf_wrong_lambda) {
 }
 
 BOOST_AUTO_TEST_CASE(switching_leaf_false_outright) {
-    // '-' claims the form holds on the whole box, which it does not (hence the multiplier).
+    // The diagonal marked '-' (its max-angle forms hold on the whole box),
+    // which they do not (hence the multipliers): the group and its
+    // multipliers replaced by '-'.
     const SwitchLeaf s = first_switch_leaf();
+    auto l = s.lines;
+    auto tok = fields(l[s.leaf]);
+    const std::string group = tok[s.ref];
+    const int mask = std::stoi(group.substr(group.rfind(':') + 1));
+    const int named = group.find(":-:") == std::string::npos ? 2 : 1;
+    tok.erase(tok.begin() + static_cast<long>(s.lambda),
+              tok.begin() + static_cast<long>(s.lambda) + named * __builtin_popcount(static_cast<unsigned>(mask)));
+    tok[s.ref] = "-";
+    l[s.leaf] = join(tok);
     std::string msg;
-    BOOST_TEST(run_with(s, "-", "switch_false_dash", &msg) != 0);
-    BOOST_TEST(msg.find("not verified") != std::string::npos, msg);
+    BOOST_TEST(run_checker(l, "switch_false_dash", &msg) != 0);
+    BOOST_TEST(msg.find("max-angle inequality not verified") != std::string::npos, msg);
 }
 
 BOOST_AUTO_TEST_CASE(switching_leaf_negative_or_malformed_lambda) {
@@ -105,18 +112,22 @@ BOOST_AUTO_TEST_CASE(switching_leaf_negative_or_malformed_lambda) {
     BOOST_TEST(msg.find("not dyadic") != std::string::npos, msg);
     BOOST_TEST(run_with(s, "x", "switch_garbage", &msg) != 0);
     BOOST_TEST(msg.find("bad integer") != std::string::npos, msg);
-    // A reference index out of range, and a diagonal half-marked outright.
+    // A reference index out of range, a malformed group, a missing multiplier.
     auto l = s.lines;
     auto tok = fields(l[s.leaf]);
-    const std::size_t at = s.ref;
-    tok[at] = "6";
+    const std::string group = tok[s.ref];
+    tok[s.ref] = "6" + group.substr(group.find(':'));
     l[s.leaf] = join(tok);
     BOOST_TEST(run_checker(l, "switch_index", &msg) != 0);
     BOOST_TEST(msg.find("out of range") != std::string::npos, msg);
-    tok[at] = "-";
+    tok[s.ref] = group.substr(0, group.rfind(':'));
     l[s.leaf] = join(tok);
-    BOOST_TEST(run_checker(l, "switch_half_dash", &msg) != 0);
+    BOOST_TEST(run_checker(l, "switch_group", &msg) != 0);
     BOOST_TEST(msg.find("malformed switching certificate") != std::string::npos, msg);
+    tok[s.ref] = group;
+    tok.erase(tok.begin() + static_cast<long>(s.lambda));
+    l[s.leaf] = join(tok);
+    BOOST_TEST(run_checker(l, "switch_missing_lambda", &msg) != 0);
 }
 
 // Theorem U's max-angle claim (cot, lower bound) raised by 1e-9 above the

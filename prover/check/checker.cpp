@@ -595,7 +595,7 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         const char c = L[0][0];
         const std::size_t m = k.vars.size();
         const bool thr = c == 'a' || c == 'b';
-        if (L.size() != 2 + 2 * m + (thr ? 1 : 0) + (c == 'S' ? 30 : 0)) fail("key " + code(k.s) + ": malformed leaf");
+        if (c == 'S' ? L.size() < 4 + 2 * m : L.size() != 2 + 2 * m + (thr ? 1 : 0)) fail("key " + code(k.s) + ": malformed leaf");
         if (c != 'A' && c != 'B' && c != 'X' && c != 'S' && !thr && !(fan && (c == 'F' || c == 'Y')))
             fail("key " + code(k.s) + ": bad diagonal tag");
         const std::string where = "key " + code(k.s) + " leaf " + std::to_string(leaves) + ": ";
@@ -651,52 +651,54 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
                                      // (S: on each diagonal where it is taken)
             if (sep && f) fail(where + "undecided leaf on a forced key");
             if (!forms(0, 0, 4) && !forms(1, 0, 4)) fail(where + "orientation/min-angle not verified");
-            for (int d = 0; d < 2; ++d) {  // S: per diagonal k, J, J2, then lambda per (J, form)
-                const std::size_t at = 2 + 2 * m + 15 * static_cast<std::size_t>(d);
-                auto dash = [&](std::size_t x) { return L[at + x] == "-"; };
-                if (c == 'X' || dash(0)) {
-                    for (std::size_t x = 1; c == 'S' && x < 15; ++x)
-                        if (!dash(x)) fail(where + "malformed switching certificate");
+            std::size_t at = 2 + 2 * m;  // S: per diagonal `-`, or k:J:J2:mask and the multipliers
+            for (int d = 0; d < 2; ++d) {
+                if (c == 'S' && at >= L.size()) fail(where + "malformed switching certificate");
+                if (c == 'X' || L[at] == "-") {
+                    at += c == 'S';
                     if (!forms(d, 4, 7)) fail(where + "max-angle inequality not verified");
                     continue;
                 }
-                const int kk = static_cast<int>(small_int(L[at], 0, 5));
+                std::vector<std::string> g(1);
+                for (char ch : L[at]) {
+                    if (ch == ':') g.emplace_back();
+                    else g.back().push_back(ch);
+                }
+                if (g.size() != 4 || (g[1] == "-" && g[2] != "-")) fail(where + "malformed switching certificate");
+                ++at;
+                const int kk = static_cast<int>(small_int(g[0], 0, 5)), mask = static_cast<int>(small_int(g[3], 0, 63));
                 std::vector<int> named;
-                for (std::size_t n = 0; n < 2; ++n)
-                    if (!dash(1 + n)) named.push_back(static_cast<int>(small_int(L[at + 1 + n], 0, 5)));
-                if (dash(1) && !dash(2)) fail(where + "malformed switching certificate");
+                for (int n = 1; n <= 2; ++n)
+                    if (g[static_cast<std::size_t>(n)] != "-") named.push_back(static_cast<int>(small_int(g[static_cast<std::size_t>(n)], 0, 5)));
                 k.positions(b, false);
                 if (!(k.tri(1 - d, 0).cross.v.lo > 0) || !(k.tri(1 - d, 1).cross.v.lo > 0))
                     fail(where + "switching leaf: the other diagonal is not valid on the box");
                 for (int j = 0; j < 6; ++j)
                     if (std::find(named.begin(), named.end(), j) == named.end() && !(ratio_h(k, d, kk, j).v.hi < 0))
                         fail(where + "switching leaf: ratio " + std::to_string(j) + " not excluded");
-                for (std::size_t n = 0; n < 2; ++n)
-                    for (std::size_t x = 0; x < 6; ++x) {
-                        const std::string& lt = L[at + 3 + 6 * n + x];
-                        if (n >= named.size()) {
-                            if (lt != "-") fail(where + "malformed switching certificate");
-                            continue;
-                        }
-                        if (lt == "-" && n == 1 && L[at + 3 + x] == "-") continue;  // verified outright for J
-                        const int t = static_cast<int>(x / 3), f = 4 + static_cast<int>(x % 3);
-                        bool ok;
-                        if (lt == "-") {
-                            k.positions(b, false);
-                            const Tri tr = k.tri(d, t);
-                            ok = verify_form(k, b, d, t, f, dmin, qmax, &tr);
-                        } else {
-                            const Q lq = parse_q(lt);
-                            if (lq < 0) fail(where + "negative multiplier");
-                            const N lam = dyadic(lq);
-                            const int jj = named[n];
-                            ok = verify_poly(k, b, false, [&](Key& kq) {
+                if (named.empty() && mask != 0) fail(where + "malformed switching certificate");
+                for (int x = 0; x < 6 && !named.empty(); ++x) {  // forms outside the mask: outright
+                    const int t = x / 3, f = 4 + x % 3;
+                    k.positions(b, false);
+                    const Tri tr = k.tri(d, t);
+                    if (!(mask >> x & 1) && !verify_form(k, b, d, t, f, dmin, qmax, &tr))
+                        fail(where + "max-angle inequality not verified");
+                }
+                for (const int jj : named)
+                    for (int x = 0; x < 6; ++x) {
+                        if (!(mask >> x & 1)) continue;
+                        if (at >= L.size()) fail(where + "malformed switching certificate");
+                        const Q lq = parse_q(L[at++]);
+                        if (lq < 0) fail(where + "negative multiplier");
+                        const N lam = dyadic(lq);
+                        const int t = x / 3, f = 4 + x % 3;
+                        if (!verify_poly(k, b, false, [&](Key& kq) {
                                 return form(kq.tri(d, t), f, dmin, qmax) - cst(lam) * ratio_h(kq, d, kk, jj);
-                            });
-                        }
-                        if (!ok) fail(where + "max-angle inequality not verified where the diagonal is taken");
+                            }))
+                            fail(where + "max-angle inequality not verified where the diagonal is taken");
                     }
             }
+            if (at != L.size()) fail(where + "malformed switching certificate");
         } else if (!forms((c == 'B' || c == 'b') ? 1 : 0, 0, 7)) {
             fail(where + "angle or orientation inequality not verified");
         }

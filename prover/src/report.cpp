@@ -583,16 +583,22 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             o << (l.sw >= 0 ? 'S' : l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
             for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
             if (l.threshold != 0) o << ' ' << dstr(l.threshold);
-            if (l.sw >= 0) {  // the switching certificate, per diagonal: k, J, J2 and 2 x 6 multipliers
+            if (l.sw >= 0) {  // the switching certificate, per diagonal: - or k:J:J2:mask and the multipliers
                 const Switch& sw = f.proof.switches[static_cast<std::size_t>(l.sw)];
                 for (int d = 0; d < 2; ++d) {
-                    auto idx = [&](int v) { return v < 0 ? std::string("-") : std::to_string(v); };
-                    o << ' ' << idx(sw.k[d]) << ' ' << idx(sw.j[2 * d]) << ' ' << idx(sw.j[2 * d + 1]);
-                    for (int x = 0; x < 12; ++x) {
-                        const double lam = sw.lambda[static_cast<std::size_t>(12 * d + x)];
-                        if (sw.k[d] < 0 || lam < 0) o << " -";
-                        else o << ' ' << dstr(lam);
+                    if (sw.k[d] < 0) {
+                        o << " -";
+                        continue;
                     }
+                    auto idx = [&](int v) { return v < 0 ? std::string("-") : std::to_string(v); };
+                    int mask = 0;
+                    for (int x = 0; x < 6; ++x)
+                        if (sw.lambda[static_cast<std::size_t>(12 * d + x)] >= 0 && sw.j[2 * d] >= 0) mask |= 1 << x;
+                    o << ' ' << int{sw.k[d]} << ':' << idx(sw.j[2 * d]) << ':' << idx(sw.j[2 * d + 1]) << ':' << mask;
+                    for (int n = 0; n < 2; ++n)
+                        for (int x = 0; x < 6; ++x)
+                            if (sw.j[2 * d + n] >= 0 && (mask >> x & 1))
+                                o << ' ' << dstr(sw.lambda[static_cast<std::size_t>(12 * d + 6 * n + x)]);
                 }
             }
             o << "\n";
