@@ -396,8 +396,8 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
     }
     const double c_max_tight[2] = {cat[0].qmax, cat[1].qmax};
-    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves + 400
-    auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 400; };
+    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves + 200
+    auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 200; };
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
     const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
