@@ -459,15 +459,20 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         // and for keys whose witness is at the cap, the witness minus 0.25 deg
         // and minus 1 deg.  Along the max-min switching surfaces these need
         // switching leaves (bound.cpp).
+        // Keys at the cap first try 0.02, 0.05 and 0.1 deg below their witness
+        // (with a larger budget: their maximum may lie on a curve, where the
+        // boxes must be about sqrt(margin) wide along it).
         std::vector<double> tried;
         if (f.proof.ok)
-            for (double g : {gap_max, 1.0, -1.0, -0.25, -1.0 - 1e-9}) {
+            for (double g : {gap_max, 1.0, -1.0, -0.02, -0.05, -0.1, -0.25, -1.0 - 1e-9}) {
                 const double cap = c_max_tight[f.flat ? 1 : 0], w = q_down(f.wmax.qmax, 40);
                 const double q = g == -1.0 ? cap : g < 0 ? w - margin(f.wmax.qmax, -g) : std::max(w - margin(f.wmax.qmax, g), cap);
                 if (q <= f.qmax) break;
+                const bool near_cap = g < 0 && g > -0.25 && g != -1.0;
+                if (near_cap && q >= cap) continue;
                 if (std::find(tried.begin(), tried.end(), q) != tried.end()) continue;
                 tried.push_back(q);
-                KeyProof p = prove_key(rule, key, f.qmin, q, pass2_budget(f.proof.leaves.size()));
+                KeyProof p = prove_key(rule, key, f.qmin, q, pass2_budget(f.proof.leaves.size()) + (near_cap ? 2000 : 0));
                 if (p.ok) {
                     f.proof = std::move(p), f.qmax = q;
                     break;
