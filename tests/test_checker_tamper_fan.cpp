@@ -122,7 +122,7 @@ BOOST_AUTO_TEST_CASE(fan_on_a_square_with_an_outside_corner) {
 BOOST_AUTO_TEST_CASE(undecided_leaf_with_a_claim_below_the_threshold) {
     // A Y leaf may take a diagonal with q up to H0 (1 + 2^-30): a key claim of
     // cot <= 3 (exactly atan(1/3)) does not cover it.  The key is one whose
-    // min-angle witness (format 2: the `wmin` line after the key line) has
+    // min-angle witness (since format 2: the `wmin` line after the key line) has
     // cot <= 3, so that the witness does not already contradict the lowered
     // claim and the checker reaches the leaf.
     const auto l = cert();

@@ -16,6 +16,25 @@
 using namespace warpmesh;
 using Q = boost::multiprecision::cpp_rational;
 
+
+namespace {
+// The claims (min_cot, max_cot) of every key of a committed certificate, by index.
+std::map<int, std::pair<double, double>> key_claims(const std::string& name) {
+    std::ifstream in(std::filesystem::path(WARPMESH_PROOFS_DIR) / (name + ".cert"));
+    BOOST_REQUIRE(in.good());
+    std::map<int, std::pair<double, double>> out;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("key ", 0) != 0) continue;
+        std::istringstream ss(line);
+        std::string w, id, code, flat, m, qmin, qmax;
+        ss >> w >> id >> code >> flat >> m >> qmin >> qmax;
+        if (qmax.empty()) continue;  // an inverted key
+        out[std::stoi(id)] = {Q(qmin).convert_to<double>(), Q(qmax).convert_to<double>()};
+    }
+    return out;
+}
+}  // namespace
+
 BOOST_AUTO_TEST_CASE(key_space) {
     const auto keys = prover::consistent_keys();
     BOOST_TEST(keys.size() == 5095u);
@@ -51,11 +70,13 @@ BOOST_AUTO_TEST_CASE(junction_key_space) {
 // evaluation of the rule on material corners (choose_diagonal on MaterialCorner).
 BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys) {
     const auto keys = prover::junction_keys();
+    const auto claims = key_claims("materials");
     int checked = 0;
     for (std::size_t i = 0; i < keys.size(); i += 97) {
         const auto& k = keys[i];
         const auto vars = prover::key_vars(k);
-        const auto proof = prover::prove_key(DiagonalRule::separating, k, 1e6, -1e6, 20000);
+        const auto [qmin, qmax] = claims.at(static_cast<int>(i));
+        const auto proof = prover::prove_key(DiagonalRule::separating, k, qmin, qmax, 20000);
         BOOST_REQUIRE(proof.ok);
         for (const auto& leaf : proof.leaves) {
             if (leaf.diag == 3) continue;
@@ -79,16 +100,22 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys) {
     BOOST_TEST(checked > 100);
 }
 
-// For a spread of keys: prove loose bounds, then at sample points of every leaf
-// whose diagonal is decided, choose_diagonal<double> takes that diagonal.
+// For a spread of keys: prove the key's committed claims (loose claims are
+// proved on undecided boxes, with switching leaves and the mean-value form:
+// nothing left to sample), then at sample points of every leaf whose diagonal
+// is decided, choose_diagonal<double> takes that diagonal.
 BOOST_AUTO_TEST_CASE(double_agrees_with_intervals) {
     const auto keys = prover::consistent_keys();
     int checked = 0;
+    const std::map<int, std::pair<double, double>> claims[2] = {key_claims("maxmin"), key_claims("separating")};
     for (std::size_t i = 0; i < keys.size(); i += 173) {
         for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating}) {
             const auto& k = keys[i];
             const auto vars = prover::key_vars(k);
-            const auto proof = prover::prove_key(rule, k, 1e6, -1e6, 20000);
+            const auto it = claims[rule == DiagonalRule::separating].find(static_cast<int>(i));
+            if (it == claims[rule == DiagonalRule::separating].end()) continue;
+            const auto proof = prover::prove_key(rule, k, it->second.first, it->second.second, 20000);
+            BOOST_TEST(proof.ok);
             for (const auto& leaf : proof.leaves) {
                 if (leaf.diag == 3) continue;
                 for (int s = 0; s < 5; ++s) {

@@ -10,6 +10,7 @@
 // rules (junction_consistent, forced).  No global
 // state: every operation gets what it needs.  Any failure: exit 1.
 // Format and semantics: proofs/README.md.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -299,17 +300,33 @@ D form(const Tri& t, int f, const N& qmin, const N& qmax) {
     if (f <= 3) return cst(qmin) * t.cross - t.dot[f - 1];
     return t.dot[f - 4] - cst(qmax) * t.cross;
 }
-// The form holds on the box: evaluate; while undecided, fix every variable with
-// a sign-definite partial derivative at the end where the form is smallest.
-bool verify_form(Key& k, Box b, int diag, int tri, int f, const N& qmin, const N& qmax, const Tri* first) {
-    if (first) {  // value-only pass on the whole box
-        const D g = form(*first, f, qmin, qmax);
-        if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
-    }
+// g >= 0 (strict: g > 0) on box b, where g = eval(k) once k.positions is set.
+// Tried in turn: the natural interval extension on b, and the mean-value form
+// around the centre c of b, g(b) in g(c) + sum_j d_j g(b) [-r_j, r_j] (r_j the
+// half-widths; mean-value theorem on the segment from c).  While neither
+// proves it, every variable with a sign-definite partial derivative is fixed at
+// the end where g is smallest, and both are tried on that face.
+template <class F>
+bool verify_poly(Key& k, Box b, bool strict, const F& eval) {
     for (;;) {
         k.positions(b, true);
-        const D g = form(k.tri(diag, tri), f, qmin, qmax);
-        if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
+        const D g = eval(k);
+        if (strict ? g.v.lo > 0 : g.v.lo >= 0) return true;
+        Box c = b;
+        for (R& x : c) {
+            N mid = x.lo + x.hi;
+            mid.e -= 1;
+            x = R{mid, mid};
+        }
+        k.positions(c, false);
+        N lo = eval(k).v.lo;
+        for (std::size_t j = 0; j < b.size(); ++j) {
+            N r = b[j].hi - b[j].lo;
+            r.e -= 1;
+            const N mag = -g.d[j].lo > g.d[j].hi ? -g.d[j].lo : g.d[j].hi;
+            if (r.m != 0) lo = lo - r * mag;
+        }
+        if (strict ? lo > 0 : lo >= 0) return true;
         bool fixed = false;
         for (std::size_t j = 0; j < b.size(); ++j) {
             if (b[j].lo == b[j].hi) continue;
@@ -318,6 +335,24 @@ bool verify_form(Key& k, Box b, int diag, int tri, int f, const N& qmin, const N
         }
         if (!fixed) return false;
     }
+}
+// Form f of triangle `tri` of `diag` on the box; `first`: its value on the
+// whole box, already computed (a cheap first test without partials).
+bool verify_form(Key& k, const Box& b, int diag, int tri, int f, const N& qmin, const N& qmax, const Tri* first) {
+    if (first) {
+        const D g = form(*first, f, qmin, qmax);
+        if (f == 0 ? g.v.lo > 0 : g.v.lo >= 0) return true;
+    }
+    return verify_poly(k, b, f == 0, [&](Key& kk) { return form(kk.tri(diag, tri), f, qmin, qmax); });
+}
+// Switching leaves (tag S): for ratio k of diagonal d (3 t + i: vertex i of
+// its triangle t) and ratio j of the other diagonal o,
+// h = kappa dot_j(o) cross(d, t) - dot_k(d) cross(o, j / 3), kappa = 1 + 2^-30: where
+// d is taken and o is valid, some h_j >= 0 (proofs/README.md, "Double
+// agreement", item 6).  Positions must be set.
+D ratio_h(const Key& k, int d, int kk, int j) {
+    const Tri td = k.tri(d, kk / 3), to = k.tri(1 - d, j / 3);
+    return cst(N(1) + N(Z(1), -30)) * to.dot[j % 3] * td.cross - td.dot[kk % 3] * to.cross;
 }
 // q(diag) = max over its triangles of max_i dot_i / cross (crosses > 0 required).
 bool valid_q(Key& k, int diag, RQ& q) {
@@ -560,8 +595,8 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         const char c = L[0][0];
         const std::size_t m = k.vars.size();
         const bool thr = c == 'a' || c == 'b';
-        if (L.size() != 2 + 2 * m + (thr ? 1 : 0)) fail("key " + code(k.s) + ": malformed leaf");
-        if (c != 'A' && c != 'B' && c != 'X' && !thr && !(fan && (c == 'F' || c == 'Y')))
+        if (c == 'S' ? L.size() < 4 + 2 * m : L.size() != 2 + 2 * m + (thr ? 1 : 0)) fail("key " + code(k.s) + ": malformed leaf");
+        if (c != 'A' && c != 'B' && c != 'X' && c != 'S' && !thr && !(fan && (c == 'F' || c == 'Y')))
             fail("key " + code(k.s) + ": bad diagonal tag");
         const std::string where = "key " + code(k.s) + " leaf " + std::to_string(leaves) + ": ";
         const int f = sep ? forced(k.s) : 0;
@@ -584,8 +619,10 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
                       // and the max-min pick qualifies whenever some diagonal does)
                 if (qmin < fan_scaled(1, 30)) fail(where + "undecided fan leaf needs qmin >= H0 (1 + 2^-30)");
                 const N h = fan_scaled(1, 28);
-                for (int d = 0; d < 2; ++d)
+                for (int d = 0; d < 2; ++d) {
+                    k.positions(b, false);  // verify_form leaves the positions of a face or a point
                     if (!excluded(k, d, h) && !fan_forms(d, 2, 4, 7)) fail(where + "max-angle inequality not verified");
+                }
             }
             if (!fan_forms(2, 4, 0, 7)) fail(where + "fan angle or orientation inequality not verified");
             return;
@@ -595,7 +632,7 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         const N keep = fan_scaled(-1, 28);
         const N dmin = fan && keep < qmin ? keep : qmin;
         if (f && !(c == "?AB"[f])) fail(where + "separating rule forces the other diagonal");
-        if (!f && c != 'X') {
+        if (!f && c != 'X' && c != 'S') {
             const Decision d = decided(k, (c == 'B' || c == 'b') ? 1 : 0, thr, thr ? dyadic(parse_q(L.back())) : N(0));
             if (d == undecided) fail(where + "claimed diagonal is not decided on the box");
             if (d == without_margin) fail(where + "diagonal decided without the double-agreement margin");
@@ -609,11 +646,59 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
             }
             return true;
         };
-        if (c == 'X') {  // undecided: one diagonal valid with the min-angle bound (the rule takes
-                         // a valid one at least as good), the max-angle bound on both
+        if (c == 'X' || c == 'S') {  // undecided: one diagonal valid with the min-angle bound (the rule
+                                     // takes a valid one at least as good), the max-angle bound on both
+                                     // (S: on each diagonal where it is taken)
             if (sep && f) fail(where + "undecided leaf on a forced key");
             if (!forms(0, 0, 4) && !forms(1, 0, 4)) fail(where + "orientation/min-angle not verified");
-            if (!forms(0, 4, 7) || !forms(1, 4, 7)) fail(where + "max-angle inequality not verified");
+            std::size_t at = 2 + 2 * m;  // S: per diagonal `-`, or k:J:J2:mask and the multipliers
+            for (int d = 0; d < 2; ++d) {
+                if (c == 'S' && at >= L.size()) fail(where + "malformed switching certificate");
+                if (c == 'X' || L[at] == "-") {
+                    at += c == 'S';
+                    if (!forms(d, 4, 7)) fail(where + "max-angle inequality not verified");
+                    continue;
+                }
+                std::vector<std::string> g(1);
+                for (char ch : L[at]) {
+                    if (ch == ':') g.emplace_back();
+                    else g.back().push_back(ch);
+                }
+                if (g.size() != 4 || (g[1] == "-" && g[2] != "-")) fail(where + "malformed switching certificate");
+                ++at;
+                const int kk = static_cast<int>(small_int(g[0], 0, 5)), mask = static_cast<int>(small_int(g[3], 0, 63));
+                std::vector<int> named;
+                for (int n = 1; n <= 2; ++n)
+                    if (g[static_cast<std::size_t>(n)] != "-") named.push_back(static_cast<int>(small_int(g[static_cast<std::size_t>(n)], 0, 5)));
+                k.positions(b, false);
+                if (!(k.tri(1 - d, 0).cross.v.lo > 0) || !(k.tri(1 - d, 1).cross.v.lo > 0))
+                    fail(where + "switching leaf: the other diagonal is not valid on the box");
+                for (int j = 0; j < 6; ++j)
+                    if (std::find(named.begin(), named.end(), j) == named.end() && !(ratio_h(k, d, kk, j).v.hi < 0))
+                        fail(where + "switching leaf: ratio " + std::to_string(j) + " not excluded");
+                if (named.empty() && mask != 0) fail(where + "malformed switching certificate");
+                for (int x = 0; x < 6 && !named.empty(); ++x) {  // forms outside the mask: outright
+                    const int t = x / 3, f = 4 + x % 3;
+                    k.positions(b, false);
+                    const Tri tr = k.tri(d, t);
+                    if (!(mask >> x & 1) && !verify_form(k, b, d, t, f, dmin, qmax, &tr))
+                        fail(where + "max-angle inequality not verified");
+                }
+                for (const int jj : named)
+                    for (int x = 0; x < 6; ++x) {
+                        if (!(mask >> x & 1)) continue;
+                        if (at >= L.size()) fail(where + "malformed switching certificate");
+                        const Q lq = parse_q(L[at++]);
+                        if (lq < 0) fail(where + "negative multiplier");
+                        const N lam = dyadic(lq);
+                        const int t = x / 3, f = 4 + x % 3;
+                        if (!verify_poly(k, b, false, [&](Key& kq) {
+                                return form(kq.tri(d, t), f, dmin, qmax) - cst(lam) * ratio_h(kq, d, kk, jj);
+                            }))
+                            fail(where + "max-angle inequality not verified where the diagonal is taken");
+                    }
+            }
+            if (at != L.size()) fail(where + "malformed switching certificate");
         } else if (!forms((c == 'B' || c == 'b') ? 1 : 0, 0, 7)) {
             fail(where + "angle or orientation inequality not verified");
         }
@@ -641,7 +726,7 @@ int check_file(const std::string& path) {
         if (l.empty() || l[0] != w || l.size() != n) fail("expected '" + w + "' line");
     };
     expect(rd.next("header"), "warpmesh-certificate", 2);
-    if (rd.lines[0][1] != "2") fail("unknown version");
+    if (rd.lines[0][1] != "3") fail("unknown version");
     const auto& rl = rd.next("rule");
     expect(rl, "rule", 2);
     if (rl[1] != "maxmin" && rl[1] != "separating" && rl[1] != "fan") fail("unknown rule");

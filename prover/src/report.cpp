@@ -353,7 +353,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
     // any, 1 = flat) the worst witness plus a tiny margin caps the keys close to
     // it, so that the theorems U and F are tight.
     const double deg = 3.14159265358979 / 180;
-    const double gap_min = 0.004, gap_max = 0.04;
+    const double gap_min = 0.004, gap_max = 0.08;
     auto margin = [&](const Q& c, double gap) {
         const double x = c.convert_to<double>();
         return round_down(gap * deg * (1 + x * x), 40);
@@ -396,7 +396,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
     }
     const double c_max_tight[2] = {cat[0].qmax, cat[1].qmax};
-    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves
+    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves + 200
     auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 200; };
     const auto t1 = std::chrono::steady_clock::now();
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
@@ -452,15 +452,27 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             }
             f.relaxed = true;
         }
-        // Second pass: tighter max-angle claims (witness minus gap_max, then
-        // minus 1 deg), each tried within a leaf budget proportional to the
-        // first proof's size, kept only if proved.  Tight max-angle claims are costly along
-        // the max-min switching surfaces (proofs/README.md, "Not done").
+        // Second pass: tighter max-angle claims, each tried within a leaf
+        // budget proportional to the first proof's size, the first proved kept:
+        // the witness minus gap_max, then minus 1 deg (neither tighter than the
+        // category's tight cap, which keeps the theorem tight), the cap itself,
+        // and for keys whose witness is at the cap, the witness minus 0.25 deg
+        // and minus 1 deg.  Along the max-min switching surfaces these need
+        // switching leaves (bound.cpp).
+        // Keys at the cap first try 0.02, 0.05 and 0.1 deg below their witness
+        // (with a larger budget: their maximum may lie on a curve, where the
+        // boxes must be about sqrt(margin) wide along it).
+        std::vector<double> tried;
         if (f.proof.ok)
-            for (double g : {gap_max, 1.0}) {
-                const double q = std::max(q_down(f.wmax.qmax, 40) - margin(f.wmax.qmax, g), c_max_tight[f.flat ? 1 : 0]);
+            for (double g : {gap_max, 1.0, -1.0, -0.02, -0.05, -0.1, -0.25, -1.0 - 1e-9}) {
+                const double cap = c_max_tight[f.flat ? 1 : 0], w = q_down(f.wmax.qmax, 40);
+                const double q = g == -1.0 ? cap : g < 0 ? w - margin(f.wmax.qmax, -g) : std::max(w - margin(f.wmax.qmax, g), cap);
                 if (q <= f.qmax) break;
-                KeyProof p = prove_key(rule, key, f.qmin, q, pass2_budget(f.proof.leaves.size()));
+                const bool near_cap = g < 0 && g > -0.25 && g != -1.0;
+                if (near_cap && q >= cap) continue;
+                if (std::find(tried.begin(), tried.end(), q) != tried.end()) continue;
+                tried.push_back(q);
+                KeyProof p = prove_key(rule, key, f.qmin, q, pass2_budget(f.proof.leaves.size()) + (near_cap ? 2000 : 0));
                 if (p.ok) {
                     f.proof = std::move(p), f.qmax = q;
                     break;
@@ -492,7 +504,7 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
 
     std::ostringstream o, lg;
     const char* rname = rule_name(rule);
-    o << "warpmesh-certificate 2\n"
+    o << "warpmesh-certificate 3\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
     if (junctions) o << "space junctions\n";
@@ -573,9 +585,27 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
             continue;
         }
         for (const Leaf& l : f.proof.leaves) {
-            o << (l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
+            o << (l.sw >= 0 ? 'S' : l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
             for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
             if (l.threshold != 0) o << ' ' << dstr(l.threshold);
+            if (l.sw >= 0) {  // the switching certificate, per diagonal: - or k:J:J2:mask and the multipliers
+                const Switch& sw = f.proof.switches[static_cast<std::size_t>(l.sw)];
+                for (int d = 0; d < 2; ++d) {
+                    if (sw.k[d] < 0) {
+                        o << " -";
+                        continue;
+                    }
+                    auto idx = [&](int v) { return v < 0 ? std::string("-") : std::to_string(v); };
+                    int mask = 0;
+                    for (int x = 0; x < 6; ++x)
+                        if (sw.lambda[static_cast<std::size_t>(12 * d + x)] >= 0 && sw.j[2 * d] >= 0) mask |= 1 << x;
+                    o << ' ' << int{sw.k[d]} << ':' << idx(sw.j[2 * d]) << ':' << idx(sw.j[2 * d + 1]) << ':' << mask;
+                    for (int n = 0; n < 2; ++n)
+                        for (int x = 0; x < 6; ++x)
+                            if (sw.j[2 * d + n] >= 0 && (mask >> x & 1))
+                                o << ' ' << dstr(sw.lambda[static_cast<std::size_t>(12 * d + 6 * n + x)]);
+                }
+            }
             o << "\n";
         }
     }

@@ -73,6 +73,18 @@ bool flat_compatible(const Key& k);
 // The warped corners, in order: the variables t_0.. of the key's box [0,1/2]^m.
 std::vector<int> key_vars(const Key& k);
 
+// The switching certificate of an undecided leaf (tag S, bound.cpp): per
+// diagonal d (0 AD, 1 BC), k[d] the reference ratio of d (index 3 t + i,
+// vertex i of triangle t; -1: every max-angle form of d holds outright), j[2 d],
+// j[2 d + 1] the named ratios of the other diagonal (-1: none), and per named
+// ratio n and max-angle form 3 t + i of d its multiplier
+// lambda[12 d + 6 n + 3 t + i] (< 0: the form holds outright).
+struct Switch {
+    std::array<std::int8_t, 2> k{-1, -1};
+    std::array<std::int8_t, 4> j{-1, -1, -1, -1};
+    std::array<double, 24> lambda{};
+};
+
 // One leaf box: dimension i is [num[2i], num[2i+1]] / 2^k; diag bit 1 = AD, 2 = BC;
 // fan rule: 4 = the fan decided (tag F), 5 = undecided between the fan and a diagonal (tag Y).
 struct Leaf {
@@ -80,11 +92,13 @@ struct Leaf {
     int k = 0;
     std::array<std::int64_t, 8> num{};
     double threshold = 0;  // non-zero: the diagonal was decided by the threshold test (see bound.cpp)
+    int sw = -1;           // diag 3 with a switching certificate: its index in KeyProof::switches
 };
 
 struct KeyProof {
     bool ok = false;
     std::vector<Leaf> leaves;
+    std::vector<Switch> switches;
     std::array<double, 4> fail_point{};  // centre of a box that could not be certified
     int fail_kind = 0;                   // what failed there: 0 orientation, 1 min angle, 2 max angle
 };
