@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "support.hpp"  // full_scale_only
+
 #ifndef WARPMESH_CHECK_EXE
 #error "tests/CMakeLists.txt must define WARPMESH_CHECK_EXE"
 #endif

@@ -78,21 +78,32 @@ bool input_error_containing(F&& f, const std::string& needle) {
     return throws_containing<InputError>(std::forward<F>(f), needle);
 }
 
-// How many cases a randomised test runs: n scaled by the environment variable
-// WARPMESH_TEST_SCALE (a number in (0, 1]; unset, empty or invalid: 1), at
-// least 1.  scripts/sanitize.sh runs the suite with a quarter of the cases,
-// since each costs several times more under the sanitizers; the Release run
-// runs them all.  A test's "the trials exercised what they test" thresholds
-// scale the same way.
-inline int scaled(int n) {
+// The environment variable WARPMESH_TEST_SCALE: a number in (0, 1] (unset,
+// empty or invalid: 1).  scripts/sanitize.sh sets 0.25, since under the
+// sanitizers every case costs several times more; the Release run
+// (scripts/test.sh) runs everything at scale 1.
+inline double test_scale() {
     const char* env = std::getenv("WARPMESH_TEST_SCALE");
-    double f = 1;
-    if (env && *env) {
-        char* end = nullptr;
-        const double v = std::strtod(env, &end);
-        if (end && *end == '\0' && v > 0 && v <= 1) f = v;
-    }
-    return std::max(1, static_cast<int>(n * f + 0.5));
+    if (!env || !*env) return 1;
+    char* end = nullptr;
+    const double v = std::strtod(env, &end);
+    return end && *end == '\0' && v > 0 && v <= 1 ? v : 1;
 }
+
+// How many cases a randomised test runs: n scaled by test_scale(), at least
+// 1.  A test's "the trials exercised what they test" thresholds scale the
+// same way.
+inline int scaled(int n) { return std::max(1, static_cast<int>(n * test_scale() + 0.5)); }
+
+// A test case decorator, *full_scale_only(): the case runs only at scale 1
+// and is reported as skipped otherwise.  For cases whose cost is many runs of
+// a whole program on large inputs (the checker on long certificate prefixes),
+// which the Release run covers and the sanitizer run cannot afford.
+inline boost::test_tools::assertion_result at_full_scale(boost::unit_test::test_unit_id) {
+    boost::test_tools::assertion_result r(test_scale() == 1);
+    if (!r) r.message() << "WARPMESH_TEST_SCALE < 1: left to the full-scale run";
+    return r;
+}
+inline boost::unit_test::decorator::precondition full_scale_only() { return boost::unit_test::precondition(&at_full_scale); }
 
 }  // namespace warpmesh::testing

@@ -137,7 +137,7 @@ BOOST_AUTO_TEST_CASE(garbage_and_truncation) {
 // margin.  H is moved down by bisection (on certificates cut after the leaf's
 // key, so that each run stops at the leaf) to just above the least H the
 // exact test accepts, i.e. within 2^-40 of the winner's quality.
-BOOST_AUTO_TEST_CASE(threshold_without_double_agreement_margin) {
+BOOST_AUTO_TEST_CASE(threshold_without_double_agreement_margin, *warpmesh::testing::full_scale_only()) {
     using Z = boost::multiprecision::cpp_int;
     const auto full = cert();
     const std::size_t i = find_leaf(full, 'a', 1);

@@ -90,7 +90,7 @@ BOOST_AUTO_TEST_CASE(fan_certificate_has_undecided_fan_leaves) {
     find(l, all_inside, 'Y');
 }
 
-BOOST_AUTO_TEST_CASE(fan_leaf_relabelled_as_a_diagonal) {
+BOOST_AUTO_TEST_CASE(fan_leaf_relabelled_as_a_diagonal, *warpmesh::testing::full_scale_only()) {
     const auto l = cert();
     const auto [key, leaf] = find(l, all_inside, 'Y');
     auto t = cut_after(l, key);
@@ -99,7 +99,7 @@ BOOST_AUTO_TEST_CASE(fan_leaf_relabelled_as_a_diagonal) {
     BOOST_TEST(names_a_leaf(msg), msg);
 }
 
-BOOST_AUTO_TEST_CASE(diagonal_leaf_relabelled_as_the_fan) {
+BOOST_AUTO_TEST_CASE(diagonal_leaf_relabelled_as_the_fan, *warpmesh::testing::full_scale_only()) {
     // Where the diagonal qualifies (q <= H0), the rule does not take the fan.
     const auto l = cert();
     const auto [key, leaf] = find(l, all_inside, 'A', 'Y');
@@ -119,7 +119,7 @@ BOOST_AUTO_TEST_CASE(fan_on_a_square_with_an_outside_corner) {
     BOOST_TEST(msg.find("bad diagonal tag") != std::string::npos, msg);
 }
 
-BOOST_AUTO_TEST_CASE(undecided_leaf_with_a_claim_below_the_threshold) {
+BOOST_AUTO_TEST_CASE(undecided_leaf_with_a_claim_below_the_threshold, *warpmesh::testing::full_scale_only()) {
     // A Y leaf may take a diagonal with q up to H0 (1 + 2^-30): a key claim of
     // cot <= 3 (exactly atan(1/3)) does not cover it.  The key is one whose
     // min-angle witness (since format 2: the `wmin` line after the key line) has
