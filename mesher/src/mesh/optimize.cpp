@@ -140,6 +140,7 @@ private:
     double dmax_ = 0;  // largest boundary distance before the pass
     std::vector<Vec2> active_, grads_;  // scratch of gradient_direction / try_move
     std::vector<double> values_, slope_;
+    mutable std::vector<double> fast_min_;  // scratch of star_q
     std::int64_t moves_ = 0, flips_ = 0;
 };
 
@@ -265,23 +266,40 @@ void Optimizer::classify() {
 Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) const {
     StarQ r;
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
-    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
-        Vec2 q[3];
+    const auto& star = star_[static_cast<std::size_t>(lv)];
+    auto corners = [&](std::size_t t, Vec2 (&q)[3]) {
         for (int k = 0; k < 3; ++k) {
             const std::int32_t v = m_.triangles[t][static_cast<std::size_t>(k)];
             q[k] = v == g ? p : m_.vertices[static_cast<std::size_t>(v)];
         }
+    };
+    fast_min_.resize(star.size());
+    double least_fast = inf;
+    for (std::size_t i = 0; i < star.size(); ++i) {
+        Vec2 q[3];
+        corners(star[i], q);
         if (!(cross(q[1] - q[0], q[2] - q[0]) > 0)) {
             r.valid = false;
             return r;
         }
-        r.q = std::min(r.q, tri_q_fast(q[0], q[1], q[2]));
-        if (exact_min) r.min_deg = std::min(r.min_deg, triangle_min_angle(q[0], q[1], q[2]));
+        const FastQ f = tri_fast(q[0], q[1], q[2]);
+        r.q = std::min(r.q, f.q);
+        fast_min_[i] = f.min_deg, least_fast = std::min(least_fast, f.min_deg);
         const double e0 = norm2(q[1] - q[0]), e1 = norm2(q[2] - q[1]), e2 = norm2(q[0] - q[2]);
         r.shortest = std::min({r.shortest, e0, e1, e2});
         r.longest2 = std::max({r.longest2, e0, e1, e2});
     }
     r.shortest = std::sqrt(r.shortest);
+    // The reported smallest angle lies among the triangles whose fast one is
+    // within twice its error of the least fast one (both err by at most
+    // 3·fast_atan2_error_deg); the others cannot hold it.
+    if (exact_min)
+        for (std::size_t i = 0; i < star.size(); ++i) {
+            if (fast_min_[i] > least_fast + 6 * fast_atan2_error_deg + 1e-9) continue;
+            Vec2 q[3];
+            corners(star[i], q);
+            r.min_deg = std::min(r.min_deg, triangle_min_angle(q[0], q[1], q[2]));
+        }
     return r;
 }
 
@@ -305,8 +323,8 @@ Vec2 Optimizer::gradient_direction(std::int32_t lv, double q, Vec2 axis, bool on
         // Angles at a and b (ccw triangle p, a, b) and their gradients in p:
         // θa = arg(p − a) − arg(b − a), θb = arg(a − b) − arg(p − b), θp = π − θa − θb.
         const Vec2 pa = p - a, pb = p - b;
-        const double ta = std::atan2(std::abs(cross(b - a, pa)), dot(b - a, pa)) * deg_per_rad;
-        const double tb = std::atan2(std::abs(cross(a - b, pb)), dot(a - b, pb)) * deg_per_rad;
+        const double ta = fast_atan2_deg(std::abs(cross(b - a, pa)), dot(b - a, pa));
+        const double tb = fast_atan2_deg(std::abs(cross(a - b, pb)), dot(a - b, pb));
         const double tp = 180 - ta - tb;
         const Vec2 ga = (deg_per_rad / norm2(pa)) * perp(pa), gb = (-deg_per_rad / norm2(pb)) * perp(pb);
         const Vec2 gp = -1.0 * (ga + gb);
@@ -471,6 +489,12 @@ bool Optimizer::try_flip(std::size_t t1, int k) {
     // New pair (c, a, d), (d, b, c): both counter-clockwise iff a-d-b-c is convex.
     if (!(cross(P(a) - P(c), P(d) - P(c)) > 0) || !(cross(P(b) - P(d), P(c) - P(d)) > 0)) return false;
     if (o_.max_edge > 0 && norm2(P(d) - P(c)) > o_.max_edge * o_.max_edge) return false;  // the size bound
+    // Of the two triangulations of a convex quadrilateral the Delaunay one has
+    // the larger smallest angle (Lawson), equal when the four points are
+    // cocircular: the smallest angle can rise only if d lies strictly inside
+    // the circumcircle of a, b, c.  (Rounding decides only near-cocircular
+    // quadrilaterals, whose gain is far below the rule's 1e-9 degrees.)
+    if (!(incircle(P(a), P(b), P(c), P(d)) > 0)) return false;
     // The fast quality first (most candidate flips gain nothing), then the rule
     // on the reported angles.
     if (std::min(tri_q_fast(P(c), P(a), P(d)), tri_q_fast(P(d), P(b), P(c))) <
