@@ -108,8 +108,8 @@ private:
     bool try_move(std::int32_t lv);
     int flip_pass();
     bool try_flip(std::size_t t1, int k);
-    Vec2 gradient_direction(std::int32_t lv, double q, Vec2 axis, bool one_dimensional, std::vector<double>* slopes_c,
-                            std::vector<Vec2>* grads);
+    double angle_models(std::int32_t lv, double& shortest);
+    Vec2 ascent_direction(double q, Vec2 axis, bool one_dimensional);
     // Smallest angle, quality and validity of v's star with v at p.
     struct StarQ {
         double min_deg = inf, q = inf, shortest = inf, longest2 = 0;  // longest2: the longest edge, squared
@@ -138,7 +138,7 @@ private:
     std::vector<char> dirty_;
     std::unordered_set<std::uint64_t> interfaces_;
     double dmax_ = 0;  // largest boundary distance before the pass
-    std::vector<Vec2> active_, grads_;  // scratch of gradient_direction / try_move
+    std::vector<Vec2> active_, grads_;  // scratch of angle_models, ascent_direction, try_move
     std::vector<double> values_, slope_;
     mutable std::vector<double> fast_min_;  // scratch of star_q
     std::int64_t moves_ = 0, flips_ = 0;
@@ -303,43 +303,52 @@ Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) cons
     return r;
 }
 
-// The ascent direction of the star quality at the vertex's position, restricted
-// to `axis` when one_dimensional; the linear models (value, gradient) of every
-// angle's quality are returned for the step prediction.
-Vec2 Optimizer::gradient_direction(std::int32_t lv, double q, Vec2 axis, bool one_dimensional,
-                                   std::vector<double>* values, std::vector<Vec2>* grads) {
+// The linear models of the qualities of the star's angles at the vertex's
+// position: values_[i] = g(θi) and grads_[i] its gradient in the vertex.
+// Returns the star quality (the least value; NaN if a triangle is not
+// counter-clockwise) and sets `shortest` to the star's shortest edge.
+double Optimizer::angle_models(std::int32_t lv, double& shortest) {
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
-    values->clear();
-    grads->clear();
-    std::vector<Vec2>& active = active_;
-    active.clear();
+    const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
+    values_.clear();
+    grads_.clear();
+    double q = inf, shortest2 = inf;
     for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
         const auto& tri = m_.triangles[t];
         int k = 0;
         while (tri[static_cast<std::size_t>(k)] != g) ++k;
-        const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
         const Vec2 a = m_.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 1) % 3)])];
         const Vec2 b = m_.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 2) % 3)])];
         // Angles at a and b (ccw triangle p, a, b) and their gradients in p:
         // θa = arg(p − a) − arg(b − a), θb = arg(a − b) − arg(p − b), θp = π − θa − θb.
         const Vec2 pa = p - a, pb = p - b;
-        const double ta = fast_atan2_deg(std::abs(cross(b - a, pa)), dot(b - a, pa));
-        const double tb = fast_atan2_deg(std::abs(cross(a - b, pb)), dot(a - b, pb));
+        const double area2 = cross(b - a, pa);
+        if (!(area2 > 0)) return std::numeric_limits<double>::quiet_NaN();
+        const double ta = fast_atan2_deg(area2, dot(b - a, pa));
+        const double tb = fast_atan2_deg(area2, dot(a - b, pb));
         const double tp = 180 - ta - tb;
         const Vec2 ga = (deg_per_rad / norm2(pa)) * perp(pa), gb = (-deg_per_rad / norm2(pb)) * perp(pb);
         const Vec2 gp = -1.0 * (ga + gb);
         for (const auto& [theta, grad] : {std::pair{ta, ga}, std::pair{tb, gb}, std::pair{tp, gp}}) {
             const bool rising = theta <= big_angle_pivot / 2;
-            const double value = rising ? theta : big_angle_pivot - theta;
-            Vec2 gq = rising ? grad : -1.0 * grad;
-            if (one_dimensional) gq = dot(gq, axis) * axis;
-            values->push_back(value);
-            grads->push_back(gq);
-            if (value <= q + active_band_deg) active.push_back(gq);
+            values_.push_back(rising ? theta : big_angle_pivot - theta);
+            grads_.push_back(rising ? grad : -1.0 * grad);
+            q = std::min(q, values_.back());
         }
+        shortest2 = std::min({shortest2, norm2(pa), norm2(pb), norm2(b - a)});
     }
-    if (active.empty()) return {0, 0};
-    return min_norm_point(active);
+    shortest = std::sqrt(shortest2);
+    return q;
+}
+
+// The ascent direction of the star quality q: the minimum-norm element of the
+// convex hull of the gradients of the angles within active_band_deg of q,
+// restricted to `axis` when one_dimensional.
+Vec2 Optimizer::ascent_direction(double q, Vec2 axis, bool one_dimensional) {
+    active_.clear();
+    for (std::size_t i = 0; i < values_.size(); ++i)
+        if (values_[i] <= q + active_band_deg) active_.push_back(one_dimensional ? dot(grads_[i], axis) * axis : grads_[i]);
+    return active_.empty() ? Vec2{0, 0} : min_norm_point(active_);
 }
 
 bool Optimizer::project_to_levelset(Vec2 p, Vec2 n, double reach, Vec2& out) const {
@@ -372,8 +381,9 @@ bool Optimizer::try_move(std::int32_t lv) {
     const Kind kind = kind_[static_cast<std::size_t>(lv)];
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
     const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
-    const StarQ now = star_q(lv, p, false);
-    if (!now.valid || now.q >= good_star_deg) return false;
+    double shortest = 0;
+    const double now_q = angle_models(lv, shortest);  // NaN: an inverted star, left alone
+    if (!(now_q < good_star_deg)) return false;
     double now_min = inf;  // the star's smallest angle, computed once needed
 
     Vec2 axis{0, 0}, normal{0, 0};
@@ -389,17 +399,17 @@ bool Optimizer::try_move(std::int32_t lv) {
         normal = (1 / len) * grad;
         axis = perp(normal);
     }
-    std::vector<double>& values = values_;
-    std::vector<Vec2>& grads = grads_;
-    const Vec2 d = gradient_direction(lv, now.q, axis, one_d, &values, &grads);
+    const std::vector<double>& values = values_;
+    const std::vector<Vec2>& grads = grads_;
+    const Vec2 d = ascent_direction(now_q, axis, one_d);
     const double dn = std::sqrt(norm2(d));
     // Stationary (degrees per star size: scale-free); no step can gain min_gain_deg.
-    if (!(dn * now.shortest > 1e-9)) return false;
+    if (!(dn * shortest > 1e-9)) return false;
     const Vec2 dir = (1 / dn) * d;
 
     // Predicted best step: follow the lowest linear model min_i (c_i + α s_i)
     // from α = 0 until a line with slope <= 0 takes over.
-    double alpha = 0.5 * now.shortest;
+    double alpha = 0.5 * shortest;
     {
         std::vector<double>& slope = slope_;
         slope.resize(values.size());
@@ -428,7 +438,7 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (kind == Kind::line_y) q.x = p.x;
         if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
         const StarQ next = star_q(lv, q, false);
-        if (!next.valid || !(next.q > now.q + min_gain_deg)) continue;
+        if (!next.valid || !(next.q > now_q + min_gain_deg)) continue;
         if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
         if (now_min == inf) now_min = star_q(lv, p, true).min_deg;
         if (star_q(lv, q, true).min_deg < now_min) continue;  // the monotone rule
