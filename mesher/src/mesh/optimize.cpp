@@ -110,13 +110,16 @@ private:
     bool try_flip(std::size_t t1, int k);
     double angle_models(std::int32_t lv, double& shortest);
     Vec2 ascent_direction(double q, Vec2 axis, bool one_dimensional);
-    // Smallest angle, quality and validity of v's star with v at p.
+    // Quality (fast atan2) and validity of v's star with v at p; the fast
+    // smallest angle of each of its triangles goes to fast_min.
     struct StarQ {
-        double min_deg = inf, q = inf, shortest = inf, longest2 = 0;  // longest2: the longest edge, squared
+        double q = inf, longest2 = 0;  // longest2: the longest edge, squared
         bool valid = true;
     };
-    // q from the fast atan2; min_deg (triangle_angles) only if `exact_min`.
-    StarQ star_q(std::int32_t lv, Vec2 p, bool exact_min) const;
+    StarQ star_q(std::int32_t lv, Vec2 p, std::vector<double>& fast_min) const;
+    // The smallest reported angle (triangle_min_angle) of v's star with v at
+    // p, given the fast smallest angle of each of its triangles there.
+    double exact_min(std::int32_t lv, Vec2 p, std::span<const double> fast_min) const;
     bool project_to_levelset(Vec2 p, Vec2 normal, double reach, Vec2& out) const;
     void lower_certified(std::span<const std::size_t> tris, double floor_before);
 
@@ -140,7 +143,7 @@ private:
     double dmax_ = 0;  // largest boundary distance before the pass
     std::vector<Vec2> active_, grads_;  // scratch of angle_models, ascent_direction, try_move
     std::vector<double> values_, slope_;
-    mutable std::vector<double> fast_min_;  // scratch of star_q
+    std::vector<double> model_min_, trial_min_;  // per star triangle: fast smallest angle (angle_models; a trial position)
     std::int64_t moves_ = 0, flips_ = 0;
 };
 
@@ -263,48 +266,51 @@ void Optimizer::classify() {
     }
 }
 
-Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) const {
+Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, std::vector<double>& fast_min) const {
     StarQ r;
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
-    const auto& star = star_[static_cast<std::size_t>(lv)];
-    auto corners = [&](std::size_t t, Vec2 (&q)[3]) {
+    fast_min.clear();
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        Vec2 q[3];
         for (int k = 0; k < 3; ++k) {
             const std::int32_t v = m_.triangles[t][static_cast<std::size_t>(k)];
             q[k] = v == g ? p : m_.vertices[static_cast<std::size_t>(v)];
         }
-    };
-    fast_min_.resize(star.size());
-    double least_fast = inf;
-    for (std::size_t i = 0; i < star.size(); ++i) {
-        Vec2 q[3];
-        corners(star[i], q);
         if (!(cross(q[1] - q[0], q[2] - q[0]) > 0)) {
             r.valid = false;
             return r;
         }
         const FastQ f = tri_fast(q[0], q[1], q[2]);
         r.q = std::min(r.q, f.q);
-        fast_min_[i] = f.min_deg, least_fast = std::min(least_fast, f.min_deg);
-        const double e0 = norm2(q[1] - q[0]), e1 = norm2(q[2] - q[1]), e2 = norm2(q[0] - q[2]);
-        r.shortest = std::min({r.shortest, e0, e1, e2});
-        r.longest2 = std::max({r.longest2, e0, e1, e2});
+        fast_min.push_back(f.min_deg);
+        r.longest2 = std::max({r.longest2, norm2(q[1] - q[0]), norm2(q[2] - q[1]), norm2(q[0] - q[2])});
     }
-    r.shortest = std::sqrt(r.shortest);
-    // The reported smallest angle lies among the triangles whose fast one is
-    // within twice its error of the least fast one (both err by at most
-    // 3·fast_atan2_error_deg); the others cannot hold it.
-    if (exact_min)
-        for (std::size_t i = 0; i < star.size(); ++i) {
-            if (fast_min_[i] > least_fast + 6 * fast_atan2_error_deg + 1e-9) continue;
-            Vec2 q[3];
-            corners(star[i], q);
-            r.min_deg = std::min(r.min_deg, triangle_min_angle(q[0], q[1], q[2]));
-        }
     return r;
 }
 
+// The reported smallest angle lies among the triangles whose fast one is
+// within twice its error of the least fast one (each errs by at most
+// 3·fast_atan2_error_deg); the others cannot hold it, and are not evaluated.
+double Optimizer::exact_min(std::int32_t lv, Vec2 p, std::span<const double> fast_min) const {
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    const auto& star = star_[static_cast<std::size_t>(lv)];
+    const double bound = *std::min_element(fast_min.begin(), fast_min.end()) + 6 * fast_atan2_error_deg + 1e-9;
+    double mn = inf;
+    for (std::size_t i = 0; i < star.size(); ++i) {
+        if (fast_min[i] > bound) continue;
+        Vec2 q[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::int32_t v = m_.triangles[star[i]][static_cast<std::size_t>(k)];
+            q[k] = v == g ? p : m_.vertices[static_cast<std::size_t>(v)];
+        }
+        mn = std::min(mn, triangle_min_angle(q[0], q[1], q[2]));
+    }
+    return mn;
+}
+
 // The linear models of the qualities of the star's angles at the vertex's
-// position: values_[i] = g(θi) and grads_[i] its gradient in the vertex.
+// position: values_[i] = g(θi) and grads_[i] its gradient in the vertex
+// (and model_min_: each triangle's fast smallest angle, for exact_min).
 // Returns the star quality (the least value; NaN if a triangle is not
 // counter-clockwise) and sets `shortest` to the star's shortest edge.
 double Optimizer::angle_models(std::int32_t lv, double& shortest) {
@@ -312,6 +318,7 @@ double Optimizer::angle_models(std::int32_t lv, double& shortest) {
     const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
     values_.clear();
     grads_.clear();
+    model_min_.clear();
     double q = inf, shortest2 = inf;
     for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
         const auto& tri = m_.triangles[t];
@@ -327,6 +334,7 @@ double Optimizer::angle_models(std::int32_t lv, double& shortest) {
         const double ta = fast_atan2_deg(area2, dot(b - a, pa));
         const double tb = fast_atan2_deg(area2, dot(a - b, pb));
         const double tp = 180 - ta - tb;
+        model_min_.push_back(std::min({ta, tb, tp}));
         const Vec2 ga = (deg_per_rad / norm2(pa)) * perp(pa), gb = (-deg_per_rad / norm2(pb)) * perp(pb);
         const Vec2 gp = -1.0 * (ga + gb);
         for (const auto& [theta, grad] : {std::pair{ta, ga}, std::pair{tb, gb}, std::pair{tp, gp}}) {
@@ -437,11 +445,11 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (kind == Kind::line_x) q.y = p.y;
         if (kind == Kind::line_y) q.x = p.x;
         if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
-        const StarQ next = star_q(lv, q, false);
+        const StarQ next = star_q(lv, q, trial_min_);
         if (!next.valid || !(next.q > now_q + min_gain_deg)) continue;
         if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
-        if (now_min == inf) now_min = star_q(lv, p, true).min_deg;
-        if (star_q(lv, q, true).min_deg < now_min) continue;  // the monotone rule
+        if (now_min == inf) now_min = exact_min(lv, p, model_min_);
+        if (exact_min(lv, q, trial_min_) < now_min) continue;  // the monotone rule
         if (kind == Kind::levelset) {
             const auto nb = bnb_[static_cast<std::size_t>(lv)];
             bool close = true;
