@@ -594,13 +594,19 @@ void Optimizer::refine(OptimizeReport& r) {
     std::vector<std::size_t> scope = changed_;
     for (int round = 0; round < refine_rounds; ++round) {
         RefineParams rp;
+        rp.max_angle = 90;
         rp.below_deg = o_.refine_below_deg, rp.spacing = s_, rp.max_edge = o_.max_edge;
         rp.boundary_distance = dmax_, rp.interfaces = &interfaces_;
-        for (const std::size_t t : changed_) {  // the mesh's largest angle (outside: 90°)
+        // The mesh's largest angle as reported, from 90° (the right isosceles
+        // triangles outside changed_; the rule's cap is >= 110° anyway); a
+        // triangle whose fast largest angle is below the running maximum by
+        // more than twice its error cannot raise it and is not evaluated.
+        for (const std::size_t t : changed_) {
             const auto& tri = m_.triangles[t];
-            rp.max_angle = std::max(rp.max_angle, triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])],
-                                                                  m_.vertices[static_cast<std::size_t>(tri[1])],
-                                                                  m_.vertices[static_cast<std::size_t>(tri[2])]).max_deg);
+            const Vec2 a = m_.vertices[static_cast<std::size_t>(tri[0])], b = m_.vertices[static_cast<std::size_t>(tri[1])],
+                       c = m_.vertices[static_cast<std::size_t>(tri[2])];
+            if (tri_fast(a, b, c).max_deg < rp.max_angle - 6 * fast_atan2_error_deg) continue;
+            rp.max_angle = std::max(rp.max_angle, triangle_angles(a, b, c).max_deg);
         }
         const RefineResult rr = refine_bad_triangles(m_, f_, scope, rp);
         if (rr.touched.empty()) return;

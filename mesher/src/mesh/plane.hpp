@@ -55,19 +55,19 @@ inline double fast_atan2_deg(double y, double x) {
     return x < 0 ? 180 - a : a;
 }
 
-// A triangle's smallest angle and quality min(θmin, pivot − θmax) (g is a
-// tent, so the middle angle never scores below the two extremes), from the
-// fast atan2: each within 3·fast_atan2_error_deg (θc = 180° − θa − θb).
+// A triangle's smallest and largest angle and quality min(θmin, pivot − θmax)
+// (g is a tent, so the middle angle never scores below the two extremes),
+// from the fast atan2: each within 3·fast_atan2_error_deg (θc = 180° − θa − θb).
 struct FastQ {
-    double min_deg, q;
+    double min_deg, max_deg, q;
 };
 inline FastQ tri_fast(Vec2 a, Vec2 b, Vec2 c) {
     const Vec2 ab = b - a, bc = c - b, ca = a - c;
     const double x = std::abs(cross(ab, c - a));
     const double ta = fast_atan2_deg(x, -dot(ab, ca)), tb = fast_atan2_deg(x, -dot(bc, ab));
     const double tc = 180 - ta - tb;
-    const double mn = std::min({ta, tb, tc});
-    return {mn, std::min(mn, big_angle_pivot - std::max({ta, tb, tc}))};
+    const double mn = std::min({ta, tb, tc}), mx = std::max({ta, tb, tc});
+    return {mn, mx, std::min(mn, big_angle_pivot - mx)};
 }
 inline double tri_q_fast(Vec2 a, Vec2 b, Vec2 c) { return tri_fast(a, b, c).q; }
 
