@@ -10,6 +10,8 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <numbers>
+#include <random>
 #include <string>
 
 #ifdef _OPENMP
@@ -26,6 +28,7 @@
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
+#include "mesh/plane.hpp"
 
 using namespace warpmesh;
 
@@ -59,6 +62,40 @@ double twice_area(const Mesh& m, const std::array<std::int32_t, 3>& t) {
 }
 
 }  // namespace
+
+// The pass evaluates the reported (exact) angles only on the triangles whose
+// fast angle is within 3·fast_atan2_error_deg of the extreme one, and examines
+// a flip only if the in-circle test says the opposite vertex is inside: both
+// shortcuts rest on these bounds.
+BOOST_AUTO_TEST_CASE(fast_angles_stay_within_their_stated_error_and_incircle_matches_the_max_min_flip) {
+    using namespace plane;
+    const double deg = 180 / std::numbers::pi;
+    for (int i = 0; i <= 200000; ++i) {
+        const double t = std::numbers::pi * i / 200000.0, y = std::sin(t), x = std::cos(t);
+        BOOST_TEST_REQUIRE(std::abs(fast_atan2_deg(std::abs(y), x) - std::atan2(std::abs(y), x) * deg) <= fast_atan2_error_deg);
+    }
+    std::mt19937 rng(18);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int flips_seen = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Vec2 a{u(rng), u(rng)}, b{u(rng), u(rng)}, c{u(rng), u(rng)}, d{u(rng), u(rng)};
+        if (cross(b - a, c - a) < 0) std::swap(b, c);
+        if (!(cross(b - a, c - a) > 1e-3)) continue;
+        const FastQ f = tri_fast(a, b, c);
+        const TriangleAngles e = triangle_angles(a, b, c);
+        BOOST_TEST_REQUIRE(std::abs(f.min_deg - e.min_deg) <= 3 * fast_atan2_error_deg);
+        BOOST_TEST_REQUIRE(std::abs(f.max_deg - e.max_deg) <= 3 * fast_atan2_error_deg);
+        // d beyond the edge a-b, quadrilateral a-d-b-c convex: the flip of a-b
+        // raises the pair's smallest angle iff d is inside the circumcircle.
+        if (!(cross(a - b, d - b) > 1e-3) || !(cross(a - c, d - c) > 1e-3) || !(cross(b - d, c - d) > 1e-3)) continue;
+        const double old_min = std::min(e.min_deg, triangle_angles(b, a, d).min_deg);
+        const double new_min = std::min(triangle_angles(c, a, d).min_deg, triangle_angles(d, b, c).min_deg);
+        if (std::abs(new_min - old_min) < 1e-6) continue;
+        BOOST_TEST_REQUIRE((incircle(a, b, c, d) > 0) == (new_min > old_min));
+        ++flips_seen;
+    }
+    BOOST_TEST(flips_seen > 1000);
+}
 
 BOOST_AUTO_TEST_CASE(no_accepted_move_or_flip_lowers_its_stars_smallest_angle) {
     const auto f = parse_shape("flower:0,0,20,6,5");

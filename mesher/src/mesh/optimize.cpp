@@ -108,15 +108,18 @@ private:
     bool try_move(std::int32_t lv);
     int flip_pass();
     bool try_flip(std::size_t t1, int k);
-    Vec2 gradient_direction(std::int32_t lv, double q, Vec2 axis, bool one_dimensional, std::vector<double>* slopes_c,
-                            std::vector<Vec2>* grads);
-    // Smallest angle, quality and validity of v's star with v at p.
+    double angle_models(std::int32_t lv, double& shortest);
+    Vec2 ascent_direction(double q, Vec2 axis, bool one_dimensional);
+    // Quality (fast atan2) and validity of v's star with v at p; the fast
+    // smallest angle of each of its triangles goes to fast_min.
     struct StarQ {
-        double min_deg = inf, q = inf, shortest = inf, longest2 = 0;  // longest2: the longest edge, squared
+        double q = inf, longest2 = 0;  // longest2: the longest edge, squared
         bool valid = true;
     };
-    // q from the fast atan2; min_deg (triangle_angles) only if `exact_min`.
-    StarQ star_q(std::int32_t lv, Vec2 p, bool exact_min) const;
+    StarQ star_q(std::int32_t lv, Vec2 p, std::vector<double>& fast_min) const;
+    // The smallest reported angle (triangle_min_angle) of v's star with v at
+    // p, given the fast smallest angle of each of its triangles there.
+    double exact_min(std::int32_t lv, Vec2 p, std::span<const double> fast_min) const;
     bool project_to_levelset(Vec2 p, Vec2 normal, double reach, Vec2& out) const;
     void lower_certified(std::span<const std::size_t> tris, double floor_before);
 
@@ -138,8 +141,9 @@ private:
     std::vector<char> dirty_;
     std::unordered_set<std::uint64_t> interfaces_;
     double dmax_ = 0;  // largest boundary distance before the pass
-    std::vector<Vec2> active_, grads_;  // scratch of gradient_direction / try_move
+    std::vector<Vec2> active_, grads_;  // scratch of angle_models, ascent_direction, try_move
     std::vector<double> values_, slope_;
+    std::vector<double> model_min_, trial_min_;  // per star triangle: fast smallest angle (angle_models; a trial position)
     std::int64_t moves_ = 0, flips_ = 0;
 };
 
@@ -262,9 +266,10 @@ void Optimizer::classify() {
     }
 }
 
-Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) const {
+Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, std::vector<double>& fast_min) const {
     StarQ r;
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    fast_min.clear();
     for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
         Vec2 q[3];
         for (int k = 0; k < 3; ++k) {
@@ -275,53 +280,83 @@ Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, bool exact_min) cons
             r.valid = false;
             return r;
         }
-        r.q = std::min(r.q, tri_q_fast(q[0], q[1], q[2]));
-        if (exact_min) r.min_deg = std::min(r.min_deg, triangle_min_angle(q[0], q[1], q[2]));
-        const double e0 = norm2(q[1] - q[0]), e1 = norm2(q[2] - q[1]), e2 = norm2(q[0] - q[2]);
-        r.shortest = std::min({r.shortest, e0, e1, e2});
-        r.longest2 = std::max({r.longest2, e0, e1, e2});
+        const FastQ f = tri_fast(q[0], q[1], q[2]);
+        r.q = std::min(r.q, f.q);
+        fast_min.push_back(f.min_deg);
+        r.longest2 = std::max({r.longest2, norm2(q[1] - q[0]), norm2(q[2] - q[1]), norm2(q[0] - q[2])});
     }
-    r.shortest = std::sqrt(r.shortest);
     return r;
 }
 
-// The ascent direction of the star quality at the vertex's position, restricted
-// to `axis` when one_dimensional; the linear models (value, gradient) of every
-// angle's quality are returned for the step prediction.
-Vec2 Optimizer::gradient_direction(std::int32_t lv, double q, Vec2 axis, bool one_dimensional,
-                                   std::vector<double>* values, std::vector<Vec2>* grads) {
+// The reported smallest angle lies among the triangles whose fast one is
+// within twice its error of the least fast one (each errs by at most
+// 3·fast_atan2_error_deg); the others cannot hold it, and are not evaluated.
+double Optimizer::exact_min(std::int32_t lv, Vec2 p, std::span<const double> fast_min) const {
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
-    values->clear();
-    grads->clear();
-    std::vector<Vec2>& active = active_;
-    active.clear();
+    const auto& star = star_[static_cast<std::size_t>(lv)];
+    const double bound = *std::min_element(fast_min.begin(), fast_min.end()) + 6 * fast_atan2_error_deg + 1e-9;
+    double mn = inf;
+    for (std::size_t i = 0; i < star.size(); ++i) {
+        if (fast_min[i] > bound) continue;
+        Vec2 q[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::int32_t v = m_.triangles[star[i]][static_cast<std::size_t>(k)];
+            q[k] = v == g ? p : m_.vertices[static_cast<std::size_t>(v)];
+        }
+        mn = std::min(mn, triangle_min_angle(q[0], q[1], q[2]));
+    }
+    return mn;
+}
+
+// The linear models of the qualities of the star's angles at the vertex's
+// position: values_[i] = g(θi) and grads_[i] its gradient in the vertex
+// (and model_min_: each triangle's fast smallest angle, for exact_min).
+// Returns the star quality (the least value; NaN if a triangle is not
+// counter-clockwise) and sets `shortest` to the star's shortest edge.
+double Optimizer::angle_models(std::int32_t lv, double& shortest) {
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
+    values_.clear();
+    grads_.clear();
+    model_min_.clear();
+    double q = inf, shortest2 = inf;
     for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
         const auto& tri = m_.triangles[t];
         int k = 0;
         while (tri[static_cast<std::size_t>(k)] != g) ++k;
-        const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
         const Vec2 a = m_.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 1) % 3)])];
         const Vec2 b = m_.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>((k + 2) % 3)])];
         // Angles at a and b (ccw triangle p, a, b) and their gradients in p:
         // θa = arg(p − a) − arg(b − a), θb = arg(a − b) − arg(p − b), θp = π − θa − θb.
         const Vec2 pa = p - a, pb = p - b;
-        const double ta = std::atan2(std::abs(cross(b - a, pa)), dot(b - a, pa)) * deg_per_rad;
-        const double tb = std::atan2(std::abs(cross(a - b, pb)), dot(a - b, pb)) * deg_per_rad;
+        const double area2 = cross(b - a, pa);
+        if (!(area2 > 0)) return std::numeric_limits<double>::quiet_NaN();
+        const double ta = fast_atan2_deg(area2, dot(b - a, pa));
+        const double tb = fast_atan2_deg(area2, dot(a - b, pb));
         const double tp = 180 - ta - tb;
+        model_min_.push_back(std::min({ta, tb, tp}));
         const Vec2 ga = (deg_per_rad / norm2(pa)) * perp(pa), gb = (-deg_per_rad / norm2(pb)) * perp(pb);
         const Vec2 gp = -1.0 * (ga + gb);
         for (const auto& [theta, grad] : {std::pair{ta, ga}, std::pair{tb, gb}, std::pair{tp, gp}}) {
             const bool rising = theta <= big_angle_pivot / 2;
-            const double value = rising ? theta : big_angle_pivot - theta;
-            Vec2 gq = rising ? grad : -1.0 * grad;
-            if (one_dimensional) gq = dot(gq, axis) * axis;
-            values->push_back(value);
-            grads->push_back(gq);
-            if (value <= q + active_band_deg) active.push_back(gq);
+            values_.push_back(rising ? theta : big_angle_pivot - theta);
+            grads_.push_back(rising ? grad : -1.0 * grad);
+            q = std::min(q, values_.back());
         }
+        shortest2 = std::min({shortest2, norm2(pa), norm2(pb), norm2(b - a)});
     }
-    if (active.empty()) return {0, 0};
-    return min_norm_point(active);
+    shortest = std::sqrt(shortest2);
+    return q;
+}
+
+// The ascent direction of the star quality q: the minimum-norm element of the
+// convex hull of the gradients of the angles within active_band_deg of q,
+// restricted to `axis` when one_dimensional.
+Vec2 Optimizer::ascent_direction(double q, Vec2 axis, bool one_dimensional) {
+    active_.clear();
+    for (std::size_t i = 0; i < values_.size(); ++i)
+        if (values_[i] <= q + active_band_deg) active_.push_back(one_dimensional ? dot(grads_[i], axis) * axis : grads_[i]);
+    return active_.empty() ? Vec2{0, 0} : min_norm_point(active_);
 }
 
 bool Optimizer::project_to_levelset(Vec2 p, Vec2 n, double reach, Vec2& out) const {
@@ -354,8 +389,9 @@ bool Optimizer::try_move(std::int32_t lv) {
     const Kind kind = kind_[static_cast<std::size_t>(lv)];
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
     const Vec2 p = m_.vertices[static_cast<std::size_t>(g)];
-    const StarQ now = star_q(lv, p, false);
-    if (!now.valid || now.q >= good_star_deg) return false;
+    double shortest = 0;
+    const double now_q = angle_models(lv, shortest);  // NaN: an inverted star, left alone
+    if (!(now_q < good_star_deg)) return false;
     double now_min = inf;  // the star's smallest angle, computed once needed
 
     Vec2 axis{0, 0}, normal{0, 0};
@@ -371,17 +407,17 @@ bool Optimizer::try_move(std::int32_t lv) {
         normal = (1 / len) * grad;
         axis = perp(normal);
     }
-    std::vector<double>& values = values_;
-    std::vector<Vec2>& grads = grads_;
-    const Vec2 d = gradient_direction(lv, now.q, axis, one_d, &values, &grads);
+    const std::vector<double>& values = values_;
+    const std::vector<Vec2>& grads = grads_;
+    const Vec2 d = ascent_direction(now_q, axis, one_d);
     const double dn = std::sqrt(norm2(d));
     // Stationary (degrees per star size: scale-free); no step can gain min_gain_deg.
-    if (!(dn * now.shortest > 1e-9)) return false;
+    if (!(dn * shortest > 1e-9)) return false;
     const Vec2 dir = (1 / dn) * d;
 
     // Predicted best step: follow the lowest linear model min_i (c_i + α s_i)
     // from α = 0 until a line with slope <= 0 takes over.
-    double alpha = 0.5 * now.shortest;
+    double alpha = 0.5 * shortest;
     {
         std::vector<double>& slope = slope_;
         slope.resize(values.size());
@@ -409,11 +445,11 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (kind == Kind::line_x) q.y = p.y;
         if (kind == Kind::line_y) q.x = p.x;
         if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
-        const StarQ next = star_q(lv, q, false);
-        if (!next.valid || !(next.q > now.q + min_gain_deg)) continue;
+        const StarQ next = star_q(lv, q, trial_min_);
+        if (!next.valid || !(next.q > now_q + min_gain_deg)) continue;
         if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
-        if (now_min == inf) now_min = star_q(lv, p, true).min_deg;
-        if (star_q(lv, q, true).min_deg < now_min) continue;  // the monotone rule
+        if (now_min == inf) now_min = exact_min(lv, p, model_min_);
+        if (exact_min(lv, q, trial_min_) < now_min) continue;  // the monotone rule
         if (kind == Kind::levelset) {
             const auto nb = bnb_[static_cast<std::size_t>(lv)];
             bool close = true;
@@ -471,6 +507,12 @@ bool Optimizer::try_flip(std::size_t t1, int k) {
     // New pair (c, a, d), (d, b, c): both counter-clockwise iff a-d-b-c is convex.
     if (!(cross(P(a) - P(c), P(d) - P(c)) > 0) || !(cross(P(b) - P(d), P(c) - P(d)) > 0)) return false;
     if (o_.max_edge > 0 && norm2(P(d) - P(c)) > o_.max_edge * o_.max_edge) return false;  // the size bound
+    // Of the two triangulations of a convex quadrilateral the Delaunay one has
+    // the larger smallest angle (Lawson), equal when the four points are
+    // cocircular: the smallest angle can rise only if d lies strictly inside
+    // the circumcircle of a, b, c.  (Rounding decides only near-cocircular
+    // quadrilaterals, whose gain is far below the rule's 1e-9 degrees.)
+    if (!(incircle(P(a), P(b), P(c), P(d)) > 0)) return false;
     // The fast quality first (most candidate flips gain nothing), then the rule
     // on the reported angles.
     if (std::min(tri_q_fast(P(c), P(a), P(d)), tri_q_fast(P(d), P(b), P(c))) <
@@ -552,13 +594,19 @@ void Optimizer::refine(OptimizeReport& r) {
     std::vector<std::size_t> scope = changed_;
     for (int round = 0; round < refine_rounds; ++round) {
         RefineParams rp;
+        rp.max_angle = 90;
         rp.below_deg = o_.refine_below_deg, rp.spacing = s_, rp.max_edge = o_.max_edge;
         rp.boundary_distance = dmax_, rp.interfaces = &interfaces_;
-        for (const std::size_t t : changed_) {  // the mesh's largest angle (outside: 90°)
+        // The mesh's largest angle as reported, from 90° (the right isosceles
+        // triangles outside changed_; the rule's cap is >= 110° anyway); a
+        // triangle whose fast largest angle is below the running maximum by
+        // more than twice its error cannot raise it and is not evaluated.
+        for (const std::size_t t : changed_) {
             const auto& tri = m_.triangles[t];
-            rp.max_angle = std::max(rp.max_angle, triangle_angles(m_.vertices[static_cast<std::size_t>(tri[0])],
-                                                                  m_.vertices[static_cast<std::size_t>(tri[1])],
-                                                                  m_.vertices[static_cast<std::size_t>(tri[2])]).max_deg);
+            const Vec2 a = m_.vertices[static_cast<std::size_t>(tri[0])], b = m_.vertices[static_cast<std::size_t>(tri[1])],
+                       c = m_.vertices[static_cast<std::size_t>(tri[2])];
+            if (tri_fast(a, b, c).max_deg < rp.max_angle - 6 * fast_atan2_error_deg) continue;
+            rp.max_angle = std::max(rp.max_angle, triangle_angles(a, b, c).max_deg);
         }
         const RefineResult rr = refine_bad_triangles(m_, f_, scope, rp);
         if (rr.touched.empty()) return;
