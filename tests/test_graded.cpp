@@ -377,7 +377,7 @@ BOOST_AUTO_TEST_CASE(max_size_bounds_every_edge_of_the_graded_mesh) {
 BOOST_AUTO_TEST_CASE(inside_classes_cap_their_leaves_whatever_the_tiles) {
     std::mt19937 rng(1818);
     std::int64_t at_cap = 0;
-    for (int trial = 0; trial < 24; ++trial) {
+    for (int trial = 0; trial < warpmesh::testing::scaled(24); ++trial) {
         const Lattice l = integer_lattice(90 + 37 * (trial % 5), 70 + 23 * (trial % 3));
         const std::int64_t nxp = l.nx + 1, nyp = l.ny + 1;
         std::uniform_real_distribution<double> px(0, static_cast<double>(l.nx)), py(0, static_cast<double>(l.ny));

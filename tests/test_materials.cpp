@@ -449,6 +449,7 @@ BOOST_AUTO_TEST_CASE(graded_atlas_slice_keeps_the_uniform_band_and_coarsens_insi
     const Image img = read_image(WARPMESH_SOURCE_DIR "/mesher/examples/brain_axial_s128_labels16.pgm");
     const auto f = make_label_materials(img, "all");
     for (const double s : {1.0, 0.5}) {
+        if (s < 1 && warpmesh::testing::test_scale() < 1) continue;  // the finer lattice only at full scale
         const Lattice l = lattice_over(f->bounds(), s);
         const MaterialResult u = mesh_materials(*f, l, {false, DiagonalRule::separating, {true, true, true}});
         const MaterialResult g = mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {true, true, true}}, 0);
