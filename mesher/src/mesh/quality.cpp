@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "plane.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -19,15 +19,15 @@ namespace warpmesh {
 
 namespace {
 
-constexpr double deg_per_rad = 180.0 / std::numbers::pi;
+using plane::deg_per_rad;
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 // Lattice meshes are full of exact right angles; atan2 may return them as
 // 90.00000000000001°.  Counts "over 90°/120°" ignore such rounding.
 constexpr double angle_slack_deg = 1e-9;
 
-double cross(Vec2 u, Vec2 v) { return u.x * v.y - u.y * v.x; }
-double dot(Vec2 u, Vec2 v) { return u.x * v.x + u.y * v.y; }
-Vec2 operator-(Vec2 p, Vec2 q) { return {p.x - q.x, p.y - q.y}; }
+using plane::cross;  // the vector operations the optimisation pass uses too (plane.hpp)
+using plane::dot;
+using plane::operator-;
 
 // Angle at p between p→q and p→r, in degrees, in [0, 180].
 double angle_at(Vec2 p, Vec2 q, Vec2 r) {
