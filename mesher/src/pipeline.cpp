@@ -142,6 +142,18 @@ void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool jun
 
 }  // namespace
 
+namespace {
+
+// The largest cell the quadtree may keep: max_cell (0: none) and the cell the
+// size bound H allows (max_cell_for_size; H = 0: none), the smaller.
+std::int64_t largest_cell(std::int64_t max_cell, double max_size, double spacing) {
+    if (max_size == 0) return max_cell;
+    const std::int64_t K = max_cell_for_size(max_size, spacing);
+    return max_cell == 0 ? K : std::min(max_cell, K);
+}
+
+}  // namespace
+
 void validate(const MeshOptions& o) {
     if (!(o.spacing > 0) || o.spacing > 1e9) throw InputError("--spacing must be positive and at most 1e9");
     if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0) throw InputError("--max-cell must be a power of two");
@@ -193,11 +205,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
         extra.clear();
         report_head(extra, o, f.describe(), spacing, lattice);
         if (o.graded) {
-            std::int64_t max_cell = o.max_cell;
-            if (o.max_size != 0) {
-                const std::int64_t K = max_cell_for_size(o.max_size, lattice.s);
-                max_cell = max_cell == 0 ? K : std::min(max_cell, K);
-            }
+            const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, lattice.s);
             const int buffer = grading_buffer(o.grading);
             GradedResult r =
                 fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, max_cell, certify, buffer); });
@@ -303,11 +311,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     report_head(extra, o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};
     // Size control (graded: the cells; uniform: bounded by the spacing).
-    std::int64_t max_cell = o.max_cell;
-    if (o.max_size != 0) {
-        const std::int64_t K = max_cell_for_size(o.max_size, res.lattice.s);
-        max_cell = max_cell == 0 ? K : std::min(max_cell, K);
-    }
+    const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, res.lattice.s);
     const int buffer = grading_buffer(o.grading);
     std::vector<std::int64_t> max_cell_of;  // per material number (mesh_materials_graded)
     std::vector<std::optional<double>> cap(static_cast<std::size_t>(field.count()));
@@ -329,7 +333,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
         max_cell_of[static_cast<std::size_t>(m)] = K;
         cap[static_cast<std::size_t>(m)] = h;
         caps += std::string(caps.size() > 1 ? ", " : "") + "{\"tag\": " + std::to_string(tag) + ", \"max_size\": " + json_number(h) +
-                ", \"max_cell\": " + (o.graded ? json_number(max_cell == 0 ? K : std::min(K, max_cell)) : std::string("null")) + "}";
+                ", \"max_cell\": " + (o.graded ? json_number(largest_cell(max_cell, h, res.lattice.s)) : std::string("null")) + "}";
     }
     MaterialResult r = fastest_of(o.repeat, [&] {
         return o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, max_cell_of)
