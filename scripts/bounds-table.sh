@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The README's table of certified angle bounds, made from what the independent
+# The table of certified angle bounds (README.md, docs/guarantees.md), made from what the independent
 # checker printed — never typed by hand.
 #
 #   build/prover/warpmesh-check proofs/*.cert | scripts/bounds-table.sh
 #
 # scripts/test.sh runs the checker, pipes its output through this script and
-# fails if README.md does not contain the result verbatim (between the markers
+# fails if README.md or docs/guarantees.md does not contain the result verbatim (between the markers
 # <!-- certified-bounds:begin --> and <!-- certified-bounds:end -->).
 set -euo pipefail
 awk '

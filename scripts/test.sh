@@ -5,8 +5,8 @@
 # again under ASan + UBSan in one clang build that also holds the five
 # libFuzzer targets (scripts/sanitize.sh), and runs those for
 # WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a time;
-# scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed; README,
-# "Two commands on a fresh machine", gives a measured run.
+# scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed;
+# docs/performance.md, "The test suite", gives a measured run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"
@@ -43,15 +43,17 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   done
   cat "$fresh"/*.check
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
-  stage "README's table of certified bounds is the checker's"
+  stage "the tables of certified bounds (README.md, docs/guarantees.md) are the checker's"
   cat "$fresh"/*.check | "$root/scripts/bounds-table.sh" >"$fresh/table.md"
-  sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/README.md" | sed '1d;$d' >"$fresh/readme.md"
-  if ! cmp -s "$fresh/table.md" "$fresh/readme.md"; then
-    echo "test: README.md's certified-bounds table differs from the checker's output; regenerate it with" >&2
-    echo "      build/prover/warpmesh-check proofs/*.cert | scripts/bounds-table.sh" >&2
-    diff "$fresh/readme.md" "$fresh/table.md" >&2 || true
-    exit 1
-  fi
+  for page in README.md docs/guarantees.md; do
+    sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
+    if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
+      echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
+      echo "      build/prover/warpmesh-check proofs/*.cert | scripts/bounds-table.sh" >&2
+      diff "$fresh/page.md" "$fresh/table.md" >&2 || true
+      exit 1
+    fi
+  done
 fi
 
 stage "the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
