@@ -302,3 +302,14 @@ def test_meshing_releases_the_gil():
     elapsed = time.perf_counter() - t0
     assert elapsed > 0.05, "the meshing was too quick to tell"
     assert ticks > 100, f"the main thread ran {ticks} times in {elapsed:.3f} s"
+
+
+def test_fan_rule_is_accepted_like_the_cli_python_wrapper_refused_it():
+    # The wrapper once accepted only "separating" and "maxmin", although the
+    # C++ module and the CLI take --diagonal fan: its certified floor is
+    # atan(1/3) on every input.
+    m = warpmesh.mesh_shape("circle:0,0,1", spacing=0.05, rule="fan")
+    assert m.report["rule"] == "fan"
+    assert m.certified[0] > 18.4349
+    with pytest.raises(ValueError, match="'separating', 'maxmin' or 'fan'"):
+        warpmesh.mesh_shape("circle:0,0,1", rule="delaunay")
