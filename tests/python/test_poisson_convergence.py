@@ -42,7 +42,7 @@ SPACINGS = [0.2, 0.1, 0.05, 0.025]
 
 def read_xdmf(path):
     """(mesh, cell tags, facet tags) from warpmesh's PATH.xdmf and
-    PATH_facets.xdmf, as the README tells users to read them."""
+    PATH_facets.xdmf, as docs/outputs.md tells users to read them."""
     require("dolfinx", "python3-dolfinx")
     from dolfinx.io import XDMFFile
     from mpi4py import MPI
