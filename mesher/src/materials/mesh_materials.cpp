@@ -160,6 +160,23 @@ void finish_materials(MaterialResult& r, const MaterialField& field, bool drop, 
     }
 }
 
+void measure_longest_edges(MaterialResult& r) {
+    const Mesh& m = r.mesh;
+    std::int32_t top = 0;  // region tags are material tags, 0 .. 65535
+    for (const std::int32_t t : m.region) top = std::max(top, t);
+    std::vector<double> longest2(static_cast<std::size_t>(top) + 1, 0.0);  // squared, per region tag
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        double& l2 = longest2[static_cast<std::size_t>(m.region[t])];
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
+            const Vec2 b = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
+            l2 = std::max(l2, (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+        }
+    }
+    for (MaterialStats& s : r.materials)
+        s.longest_edge = s.output && s.tag >= 0 && s.tag <= top ? std::sqrt(longest2[static_cast<std::size_t>(s.tag)]) : 0.0;
+}
+
 void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const MaterialFront& front,
                            std::span<const KeyedSquare> keyed, const MaterialOptions& options, const MaterialField& field) {
     const auto t0 = clock::now();
