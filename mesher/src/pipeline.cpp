@@ -12,6 +12,7 @@
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
 #include "warpmesh/materials.hpp"
+#include "warpmesh/report.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/uniform.hpp"
 
@@ -48,10 +49,6 @@ double peak_memory_mb() {
     return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
-const char* rule_name(DiagonalRule rule) {
-    return rule == DiagonalRule::maxmin ? "maxmin" : rule == DiagonalRule::separating ? "separating" : "fan";
-}
-
 // The lattice of this spacing over the bounds b (domain: images) or around
 // them (shapes), within options.max_squares.
 Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOptions& o) {
@@ -70,53 +67,7 @@ Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOption
     return lattice_over(b, spacing);
 }
 
-// The "certified" object of the JSON report and the certification's lines of
-// the text report.
-// Multi-material meshes (junctions) also count the junction squares (3 or 4
-// materials), certified by their junction keys (proofs/materials.cert).
-std::pair<std::string, std::string> certified_report(const CertifiedSummary& cert, DiagonalRule rule,
-                                                      bool junctions) {
-    const CertifiedTheorem th = certified_theorem(rule);
-    std::string j = "{\"min_angle_deg\": " + json_number(cert.min_deg) +
-                    ", \"max_angle_deg\": " + json_number(cert.max_deg) +
-                    ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
-                    ", \"warped_squares\": " + std::to_string(cert.keyed_squares) +
-                    ", \"flat_squares\": " + std::to_string(cert.flat_squares) +
-                    ", \"nonflat_squares\": " + std::to_string(cert.nonflat_squares) +
-                    (junctions ? ", \"junction_squares\": " + std::to_string(cert.junction_squares) : std::string()) +
-                    ", \"nonflat\": [";
-    for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
-        j += std::string(e ? ", " : "") + "{\"i\": " + std::to_string(cert.nonflat_examples[e][0]) +
-             ", \"j\": " + std::to_string(cert.nonflat_examples[e][1]) + ", \"key\": " +
-             json_string(cert.nonflat_keys[e]) + "}";
-    j += "], \"verified\": " + std::string(cert.verified ? "true" : "false") +
-         ", \"theorem_any_deg\": " + json_number(th.min_deg_any) +
-         ", \"theorem_flat_deg\": " + json_number(th.min_deg_flat);
-    if (cert.has_fidelity)
-        j += ", \"max_boundary_distance\": " + json_number(cert.max_boundary_distance) +
-             ", \"boundary_edges_off_levelset\": " + std::to_string(cert.boundary_edges_off_levelset);
-    j += "}";
-    std::ostringstream t;
-    t.precision(10);
-    t << "certified angles     [" << cert.min_deg << ", " << cert.max_deg << "] deg (proofs/" << rule_name(rule)
-      << ".cert" << (cert.junction_squares ? " and proofs/materials.cert" : "")
-      << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
-    t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "
-      << cert.nonflat_squares << " not flat)\n";
-    if (cert.nonflat_squares) {
-        t << "not flat (i, j)     ";
-        for (std::size_t e = 0; e < cert.nonflat_examples.size(); ++e)
-            t << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1] << ")";
-        if (cert.nonflat_squares > static_cast<std::int64_t>(cert.nonflat_examples.size())) t << " ...";
-        t << "\n";
-    }
-    if (cert.has_fidelity)
-        t << "boundary fidelity    max distance to level set " << cert.max_boundary_distance << ", "
-          << cert.boundary_edges_off_levelset << " boundary edges off it\n";
-    return {j, t.str()};
-}
-
-using Extra = std::vector<std::pair<std::string, std::string>>;
+using Extra = ReportFields;
 
 // The report's first fields: input, level set (or material field), rule,
 // spacing, repeat, lattice.
@@ -135,9 +86,8 @@ void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool jun
         extra.emplace_back("certified", "null");
         return;
     }
-    auto [json, text] = certified_report(res.certified, rule, junctions);
-    extra.emplace_back("certified", std::move(json));
-    res.certified_text = std::move(text);
+    extra.emplace_back("certified", certified_json(res.certified, rule, junctions));
+    res.certified_text = certified_text(res.certified, rule);
 }
 
 }  // namespace
@@ -196,7 +146,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     Mesh& mesh = res.mesh;
     CertifiedSummary& cert = res.certified;
     std::vector<std::pair<std::string, double>> phases;
-    std::vector<std::pair<std::string, std::string>> extra;
+    ReportFields extra;
     double spacing = o.spacing;
     const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
     for (;;) {
@@ -307,7 +257,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     MeshResult res;
     res.spacing = o.spacing;
     res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
-    std::vector<std::pair<std::string, std::string>> extra;
+    ReportFields extra;
     report_head(extra, o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};
     // Size control (graded: the cells; uniform: bounded by the spacing).
@@ -379,13 +329,6 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     if (o.certify) report_certified(extra, res, o.rule, true);
     res.report.extra = std::move(extra);
     return res;
-}
-
-std::string to_json(const MeshResult& r) { return quality_json(r.report); }
-
-std::string to_text(const MeshResult& r) {
-    return quality_text(r.report) + r.certified_text + r.materials_text +
-           (r.optimized ? optimize_text(*r.optimized) : "");
 }
 
 WriteOptions write_options(const MeshResult& r, bool color_min_angle, bool color_certified) {

@@ -7,6 +7,7 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/lattice.hpp"
+#include "warpmesh/report.hpp"
 
 namespace warpmesh {
 

@@ -207,16 +207,6 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
                                      std::int64_t max_cell, int grading_buffer = 0,
                                      std::span<const std::int64_t> max_cell_of = {});
 
-// ---- report --------------------------------------------------------------------
-// JSON members ("materials": [...], "junction_squares": ..., ...) and text
-// lines for the CLI's reports; `warnings` receives one line per material that
-// got no triangle (it is lost at this spacing).
-// With a cap on some material (MaterialStats::max_size), each material's
-// entry adds "max_size" (null without) and "longest_edge", its text line
-// "longest edge L (max size H)".
-std::vector<std::pair<std::string, std::string>> material_report_json(const MaterialResult& r);
-std::string material_report_text(const MaterialResult& r, std::vector<std::string>* warnings = nullptr);
-
 // MaterialStats::longest_edge of every material: the longest edge of its
 // triangles in r.mesh (by region tag; 0 for a material without output
 // triangles).

@@ -6,7 +6,7 @@
 //   o.spacing = 0.05;
 //   warpmesh::MeshResult r = warpmesh::mesh(*f, o);
 //   // r.mesh.vertices, r.mesh.triangles, r.mesh.region, r.mesh.boundary, ...
-//   std::cout << warpmesh::to_text(r);
+//   std::cout << warpmesh::to_text(r);  // report.hpp: to_text, to_json
 //
 // Images: read_image (image.hpp), then image_levelset (below) gives the level
 // set; the rest is the same.
@@ -34,6 +34,7 @@
 #include "warpmesh/mesh.hpp"
 #include "warpmesh/optimize.hpp"
 #include "warpmesh/quality.hpp"
+#include "warpmesh/report.hpp"  // to_json, to_text of a MeshResult
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
@@ -152,16 +153,11 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& options);
 // shapes; uniform, or with `graded` the quadtree whose finest band follows
 // every interface (mesh_materials_graded, materials.hpp).  The report adds
 // the per-material figures, interface and junction-square counts
-// (material_report_json/_text); a material that got no triangle is a
+// (report.hpp: material_report_json/_text); a material that got no triangle is a
 // warning.  Throws InputError as mesh(f), for options that do not apply to
 // several materials (Guarantee::flat, optimize, DiagonalRule::maxmin), and
 // for a max_size_of tag that is no material (or the dropped background).
 MeshResult mesh(const MaterialField& field, const MeshOptions& options);
-
-// The report as one JSON object (what `warpmesh mesh --report` writes) and as
-// text (what the command line prints).
-std::string to_json(const MeshResult& result);
-std::string to_text(const MeshResult& result);
 
 // Write options for pictures of this result: the warped squares whose stencil
 // is not flat outlined in SVGs, with a note; with color_certified, pictures

@@ -1,4 +1,5 @@
-// quality.hpp — a quality report of a mesh (for stdout and --report FILE).
+// quality.hpp — a quality report of a mesh: its measurement.  Its text and
+// JSON (quality_text, quality_json, the JSON values) are report.hpp's.
 //
 // This is the *reporting* path: angles are computed in floating point with
 // std::atan2 and are not part of any proof.  compute_quality is one parallel
@@ -10,11 +11,13 @@
 #include <cstdint>
 #include <map>
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
 #include "warpmesh/mesh.hpp"
+// The report's formatting, declared there; included here for the clients that
+// took json_number and quality_json from this header before report.hpp.
+#include "warpmesh/report.hpp"
 
 namespace warpmesh {
 
@@ -37,12 +40,6 @@ double triangle_min_angle(Vec2 a, Vec2 b, Vec2 c);
 // using r_in = 2A / (a + b + c), R_circ = a b c / (4A) and cross = 2A.  It lies
 // in [0, 1]; 0 for degenerate triangles.
 double radius_ratio(Vec2 a, Vec2 b, Vec2 c);
-
-// JSON-ready "extra" values: a quoted, escaped string / a number (null when
-// not finite) / an integer.
-std::string json_string(std::string_view s);
-std::string json_number(double x);
-std::string json_number(std::int64_t i);
 
 struct QualityReport {
     static constexpr int histogram_bin_deg = 2;
@@ -72,21 +69,11 @@ struct QualityReport {
     // Wall time per pipeline phase, in order, as passed to compute_quality.
     std::vector<std::pair<std::string, double>> phase_seconds;
 
-    // Further JSON fields the caller appends: key → JSON-ready value text, e.g.
-    // {"lattice", "[1024, 768]"}, {"rule", json_string("max-min")}.
-    std::vector<std::pair<std::string, std::string>> extra;
+    // Further JSON fields the caller appends (report.hpp: ReportFields), after
+    // the fields above, in order.
+    ReportFields extra;
 };
 
 QualityReport compute_quality(const Mesh& mesh, std::vector<std::pair<std::string, double>> phase_seconds = {});
-
-// Human-readable summary, several lines, ends with a newline.
-std::string quality_text(const QualityReport& report);
-
-// One JSON object: every field above, then report.extra, then `extra`.
-std::string quality_json(const QualityReport& report, const std::vector<std::pair<std::string, std::string>>& extra = {});
-
-// quality_json written atomically to `path` (throws OutputError).
-void write_quality_json(const std::string& path, const QualityReport& report,
-                        const std::vector<std::pair<std::string, std::string>>& extra = {});
 
 }  // namespace warpmesh

@@ -8,7 +8,8 @@
 //   materials.hpp       multi-material fields (label images, shapes) for mesh(field, options)
 //   mesh.hpp            the mesh: vertices, triangles, regions, boundary, interfaces
 //   certified.hpp       the proofs' angle bounds and the certification summary
-//   quality.hpp         the quality report (angles, histogram), JSON and text
+//   quality.hpp         the quality report: angles, histogram, radius ratio, area
+//   report.hpp          the reports as text and JSON (to_text, to_json, --report)
 //   writers.hpp         .vtu .msh .node/.ele .svg .png (warpmesh::io)
 //   mesh_checks.hpp     the mesh invariants, checked from scratch
 //   optimize.hpp        the monotone optimisation pass (MeshOptions::optimize)
@@ -31,6 +32,7 @@
 #include "warpmesh/optimize.hpp"
 #include "warpmesh/pipeline.hpp"
 #include "warpmesh/quality.hpp"
+#include "warpmesh/report.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/slices.hpp"

@@ -293,6 +293,116 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
     return certify_squares(mesh, lattice, signs, warped, rule, keyed_squares, options);
 }
 
+namespace {
+
+constexpr double lattice_deg = 45.0;  // plain lattice squares and graded templates: 45°, 45°, 90°
+
+// The key of a keyed square: its corners' states from the stencil signs st
+// (sign keys) or, when square_signs said so, its corners' material classes
+// (a junction square, 3 or 4 materials: st[0..3]), with its corners' warps;
+// and the key's certified bound, null if the certificate lacks the key.  A
+// junction key is in proofs/materials.cert (separating rule only: the
+// max-min rule cannot mesh several materials).
+struct SquareKey {
+    std::array<CornerState, 4> cs{};
+    std::array<MaterialCorner, 4> jm{};
+    bool junction = false;
+    const CertifiedBound* bound = nullptr;
+
+    std::string code() const { return junction ? junction_key_code(jm) : key_code(cs); }  // only where reported
+};
+
+template <class WarpOf>
+SquareKey square_key(const std::array<std::int8_t, 12>& st, bool junction, const std::array<std::int64_t, 4>& p, WarpOf&& warp_of,
+                     DiagonalRule rule) {
+    SquareKey key;
+    key.junction = junction;
+    for (std::size_t c = 0; c < 4; ++c) {
+        const WarpedPoint* w = warp_of(p[c]);
+        key.cs[c] = {st[c], w ? w->dir : Warp::stay};
+        key.jm[c] = {static_cast<std::uint16_t>(st[c]), key.cs[c].warp};
+    }
+    if (junction) key.bound = rule == DiagonalRule::separating ? certified_junction_bound(key.jm) : nullptr;
+    else key.bound = certified_bound(rule, key.cs);
+    return key;
+}
+
+// The cotangent forms of triangle `tri` in the frame of square (i, j) (cot
+// is invariant under translation and scaling), and whether they lie in
+// bound b: counter-clockwise, every angle's cot in [min_cot, max_cot] up to a
+// relative 1e-9.
+TriangleForms<double> square_frame_forms(const Mesh& mesh, const Lattice& lattice, std::int64_t i, std::int64_t j,
+                                         const std::array<std::int32_t, 3>& tri) {
+    std::array<Point<double>, 3> v{};
+    const Vec2 o = lattice.position(i, j);
+    for (int q = 0; q < 3; ++q) {
+        const Vec2& x = mesh.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>(q)])];
+        v[static_cast<std::size_t>(q)] = {(x.x - o.x) / lattice.s, (x.y - o.y) / lattice.s};
+    }
+    return triangle_forms(v[0], v[1], v[2]);
+}
+
+bool within_bound(const TriangleForms<double>& f, const CertifiedBound& b) {
+    bool ok = f.cross > 0;
+    for (int q = 0; q < 3 && ok; ++q) {
+        const double d = f.dot[static_cast<std::size_t>(q)];
+        const double tol = 1e-9 * (std::abs(d) + f.cross * std::max({1.0, std::abs(b.max_cot), std::abs(b.min_cot)}));
+        ok = d <= b.max_cot * f.cross + tol && d >= b.min_cot * f.cross - tol;
+    }
+    return ok;
+}
+
+// The message of a triangle outside its key's bound.
+std::string violation(std::int64_t i, std::int64_t j, const std::string& key, std::int64_t k, const TriangleForms<double>& f,
+                      const CertifiedBound& b) {
+    std::ostringstream m;
+    m.precision(12);
+    m << "certificate violated: square (" << i << ", " << j << ") key " << key << ", triangle " << k << " has angles";
+    for (int q = 0; q < 3; ++q) m << ' ' << arccot_deg(f.dot[static_cast<std::size_t>(q)] / f.cross);
+    m << " deg (cross " << f.cross << "), certified [" << b.min_deg << ", " << b.max_deg << "] deg";
+    return m.str();
+}
+
+// The keyed squares' totals of certify_squares' pass.
+struct KeyedTotals {
+    double gmin, gmax, kmin;  // the bounds' least min_deg and largest max_deg; kmin: keyed squares only
+    std::int64_t keyed, flat, nonflat, junctions, keyed_tris;
+};
+
+// The summary's fields from the pass's totals: the bounds (a triangle of no
+// keyed square is a lattice template: 45°, 45°, 90°), the counts, the first
+// 20 junction squares, the not-flat squares' boxes (the first 100000) and
+// the first 20 with their keys; examples are (square, key) pairs.
+void fill_summary(CertifiedSummary& sum, const Lattice& lattice, const KeyedTotals& t, std::int64_t ntris,
+                  std::vector<std::int64_t> junction_list, std::vector<std::pair<std::int64_t, std::string>> examples,
+                  bool verified) {
+    const std::int64_t nx = lattice.nx;
+    double gmin = t.gmin, gmax = t.gmax;
+    sum.junction_squares = t.junctions;
+    std::sort(junction_list.begin(), junction_list.end());
+    if (junction_list.size() > 20) junction_list.resize(20);
+    sum.junction_list = std::move(junction_list);
+    if (t.keyed_tris < ntris) gmin = std::min(gmin, lattice_deg), gmax = std::max(gmax, 90.0);
+    sum.min_deg = gmin;
+    sum.max_deg = gmax;
+    sum.keyed_min_deg = t.keyed ? t.kmin : std::numeric_limits<double>::quiet_NaN();
+    sum.keyed_squares = t.keyed;
+    sum.flat_squares = t.flat;
+    sum.nonflat_squares = t.nonflat;
+    sum.verified = verified;
+    std::sort(examples.begin(), examples.end());
+    for (std::size_t e = 0; e < examples.size() && e < 100000; ++e) {
+        const Vec2 lo = lattice.position(examples[e].first % nx, examples[e].first / nx);
+        sum.nonflat_boxes.push_back({lo.x, lo.y, lo.x + lattice.s, lo.y + lattice.s});
+    }
+    for (std::size_t e = 0; e < examples.size() && e < 20; ++e) {
+        sum.nonflat_examples.push_back({examples[e].first % nx, examples[e].first / nx});
+        sum.nonflat_keys.push_back(examples[e].second);
+    }
+}
+
+}  // namespace
+
 CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,
                                  std::span<const WarpedPoint> warped, DiagonalRule rule,
                                  std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
@@ -306,10 +416,8 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
                                    [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
         return (it != warped.end() && it->p == p) ? &*it : nullptr;
     };
-    constexpr double lattice_deg = 45.0;  // plain lattice squares and graded templates: 45°, 45°, 90°
     Buffer<double> cell;  // every element written: lattice_deg first, then the keyed squares' bounds
     double gmin = std::numeric_limits<double>::infinity(), gmax = -gmin, kmin = gmin;
-    bool any_plain = false;
     if (options.cell_data) cell.resize(static_cast<std::size_t>(ntris));
     std::int64_t keyed = 0, flat_count = 0, nonflat = 0, junctions = 0;
     std::mutex mu;
@@ -340,27 +448,14 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         std::array<std::int8_t, 12> st{};
-        const CertifiedBound* b = nullptr;
-        std::string code;  // the key code, computed only where reported
-        std::array<CornerState, 4> cs{};
-        std::array<MaterialCorner, 4> jm{};
         const bool junction = !square_signs(i, j, st);
-        for (std::size_t c = 0; c < 4; ++c) {
-            const WarpedPoint* w = warp_of(p[c]);
-            cs[c] = {st[c], w ? w->dir : Warp::stay};
-            jm[c] = {static_cast<std::uint16_t>(st[c]), cs[c].warp};
-        }
-        // A junction square (3 or 4 materials): st[0..3] are its corners'
-        // material classes; its key is in proofs/materials.cert (separating
-        // rule only: the max-min rule cannot mesh several materials).
-        if (junction) b = rule == DiagonalRule::separating ? certified_junction_bound(jm) : nullptr;
-        else b = certified_bound(rule, cs);
-        const auto key_of = [&] { return junction ? junction_key_code(jm) : key_code(cs); };
+        const SquareKey key = square_key(st, junction, p, warp_of, rule);
+        const CertifiedBound* b = key.bound;
         if (!b) {
             std::lock_guard<std::mutex> lock(mu);
             if (failure.empty() || k0 < failure_tri) {
                 failure = std::string(junction ? "junction square (" : "square (") + std::to_string(i) + ", " +
-                          std::to_string(j) + ") has key " + key_of() + ", which is not in the certificate" +
+                          std::to_string(j) + ") has key " + key.code() + ", which is not in the certificate" +
                           (junction ? " proofs/materials.cert" : "");
                 failure_tri = k0;
             }
@@ -377,31 +472,11 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         for (std::int64_t k = k0; k < k1; ++k) {
             if (options.cell_data) cell[static_cast<std::size_t>(k)] = b->min_deg;
             if (!options.verify) continue;
-            const auto& tri = mesh.triangles[static_cast<std::size_t>(k)];
-            std::array<Point<double>, 3> v{};
-            // In the square's frame (cot is invariant under translation and scaling).
-            const Vec2 o = lattice.position(i, j);
-            for (int q = 0; q < 3; ++q) {
-                const Vec2& x = mesh.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>(q)])];
-                v[static_cast<std::size_t>(q)] = {(x.x - o.x) / lattice.s, (x.y - o.y) / lattice.s};
-            }
-            const TriangleForms<double> f = triangle_forms(v[0], v[1], v[2]);
-            bool ok = f.cross > 0;
-            for (int q = 0; q < 3 && ok; ++q) {
-                const double d = f.dot[static_cast<std::size_t>(q)];
-                const double tol = 1e-9 * (std::abs(d) + f.cross * std::max({1.0, std::abs(b->max_cot), std::abs(b->min_cot)}));
-                ok = d <= b->max_cot * f.cross + tol && d >= b->min_cot * f.cross - tol;
-            }
-            if (!ok) {
-                std::ostringstream m;
-                m.precision(12);
-                m << "certificate violated: square (" << i << ", " << j << ") key " << key_of() << ", triangle " << k
-                  << " has angles";
-                for (int q = 0; q < 3; ++q)
-                    m << ' ' << arccot_deg(f.dot[static_cast<std::size_t>(q)] / f.cross);
-                m << " deg (cross " << f.cross << "), certified [" << b->min_deg << ", " << b->max_deg << "] deg";
+            const TriangleForms<double> f = square_frame_forms(mesh, lattice, i, j, mesh.triangles[static_cast<std::size_t>(k)]);
+            if (!within_bound(f, *b)) {
+                const std::string m = violation(i, j, key.code(), k, f, *b);
                 std::lock_guard<std::mutex> lock(mu);
-                if (failure.empty() || k < failure_tri) failure = m.str(), failure_tri = k;
+                if (failure.empty() || k < failure_tri) failure = m, failure_tri = k;
             }
         }
         ++keyed;
@@ -412,32 +487,12 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         else {
             ++nonflat;
             std::lock_guard<std::mutex> lock(mu);
-            examples.emplace_back(sq, key_of());
+            examples.emplace_back(sq, key.code());
         }
     }
     if (!failure.empty()) throw std::logic_error(failure);
-    any_plain = keyed_tris < ntris;
-    sum.junction_squares = junctions;
-    std::sort(junction_list.begin(), junction_list.end());
-    if (junction_list.size() > 20) junction_list.resize(20);
-    sum.junction_list = std::move(junction_list);
-    if (any_plain) gmin = std::min(gmin, lattice_deg), gmax = std::max(gmax, 90.0);
-    sum.min_deg = gmin;
-    sum.max_deg = gmax;
-    sum.keyed_min_deg = keyed ? kmin : std::numeric_limits<double>::quiet_NaN();
-    sum.keyed_squares = keyed;
-    sum.flat_squares = flat_count;
-    sum.nonflat_squares = nonflat;
-    sum.verified = options.verify;
-    std::sort(examples.begin(), examples.end());
-    for (std::size_t e = 0; e < examples.size() && e < 100000; ++e) {
-        const Vec2 lo = lattice.position(examples[e].first % nx, examples[e].first / nx);
-        sum.nonflat_boxes.push_back({lo.x, lo.y, lo.x + lattice.s, lo.y + lattice.s});
-    }
-    for (std::size_t e = 0; e < examples.size() && e < 20; ++e) {
-        sum.nonflat_examples.push_back({examples[e].first % nx, examples[e].first / nx});
-        sum.nonflat_keys.push_back(examples[e].second);
-    }
+    fill_summary(sum, lattice, {gmin, gmax, kmin, keyed, flat_count, nonflat, junctions, keyed_tris}, ntris,
+                 std::move(junction_list), std::move(examples), options.verify);
     if (options.cell_data) mesh.cell_data.emplace_back("certified_min_angle", std::move(cell));
     return sum;
 }

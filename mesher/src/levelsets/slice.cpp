@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "warpmesh/errors.hpp"
-#include "warpmesh/quality.hpp"
+#include "warpmesh/report.hpp"
 #include "warpmesh/volume.hpp"
 
 namespace warpmesh {

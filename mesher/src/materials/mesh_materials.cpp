@@ -160,6 +160,23 @@ void finish_materials(MaterialResult& r, const MaterialField& field, bool drop, 
     }
 }
 
+void measure_longest_edges(MaterialResult& r) {
+    const Mesh& m = r.mesh;
+    std::int32_t top = 0;  // region tags are material tags, 0 .. 65535
+    for (const std::int32_t t : m.region) top = std::max(top, t);
+    std::vector<double> longest2(static_cast<std::size_t>(top) + 1, 0.0);  // squared, per region tag
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        double& l2 = longest2[static_cast<std::size_t>(m.region[t])];
+        for (int k = 0; k < 3; ++k) {
+            const Vec2 a = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
+            const Vec2 b = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
+            l2 = std::max(l2, (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+        }
+    }
+    for (MaterialStats& s : r.materials)
+        s.longest_edge = s.output && s.tag >= 0 && s.tag <= top ? std::sqrt(longest2[static_cast<std::size_t>(s.tag)]) : 0.0;
+}
+
 void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const MaterialFront& front,
                            std::span<const KeyedSquare> keyed, const MaterialOptions& options, const MaterialField& field) {
     const auto t0 = clock::now();
@@ -216,32 +233,44 @@ void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const Mate
     r.times.certify = seconds_since(t0);
 }
 
-MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options) {
-    check_material_options(field, options);
+namespace {
+
+// Pass 1's results (head comment): per square its code (diagonal, rule bit;
+// bit k: its triangle k is output) and its two triangles' materials; per
+// row the output triangles, prefix-summed (row_tris[j]: row j's first
+// triangle, row_tris[ny]: all); per thread, per material the triangles and
+// twice their area over the full tiling.
+struct SquarePass {
+    Buffer<std::uint8_t> code;
+    Buffer<std::array<std::uint16_t, 2>> tmat;  // materials of triangles 0, 1
+    std::vector<std::int64_t> row_tris;
+    std::vector<std::vector<std::int64_t>> tri_count;
+    std::vector<std::vector<double>> area2;
+};
+
+// Pass 1 over nthreads threads; also sets r.warped_squares,
+// .forced_diagonals, .mixed_triangles, .centroid_triangles.
+SquarePass classify_squares(const MaterialField& field, const Lattice& lattice, const MaterialFront& front,
+                            const MaterialOptions& options, int nthreads, MaterialResult& r) {
     const int nmat = field.count();
-    MaterialResult r;
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
-    const MaterialFront front = material_front(field, lattice, r);
     const Buffer<std::uint16_t>& mat = front.mat;
     const Buffer<std::uint8_t>& moved = front.moved;
-    auto position_ij = [&](std::int64_t p, std::int64_t i, std::int64_t j) { return front.position(lattice, p, i, j); };
-    auto position = [&](std::int64_t p) { return position_ij(p, p % nxp, p / nxp); };
-
-    // ---- 4. triangulate ---------------------------------------------------------------
-    auto t0 = clock::now();
     const bool drop = !options.keep_background;
-    Buffer<std::uint8_t> code(static_cast<std::size_t>(nx * ny));
-    Buffer<std::array<std::uint16_t, 2>> tmat(static_cast<std::size_t>(nx * ny));  // materials of triangles 0, 1
-    std::vector<std::int64_t> row_tris(static_cast<std::size_t>(ny) + 1, 0);
-    const int nthreads = thread_count();
-    std::vector<std::vector<std::int64_t>> tri_count(static_cast<std::size_t>(nthreads), std::vector<std::int64_t>(static_cast<std::size_t>(nmat), 0));
-    std::vector<std::vector<double>> area2(static_cast<std::size_t>(nthreads), std::vector<double>(static_cast<std::size_t>(nmat), 0.0));
+    SquarePass pass{Buffer<std::uint8_t>(static_cast<std::size_t>(nx * ny)),
+                    Buffer<std::array<std::uint16_t, 2>>(static_cast<std::size_t>(nx * ny)),
+                    std::vector<std::int64_t>(static_cast<std::size_t>(ny) + 1, 0),
+                    std::vector<std::vector<std::int64_t>>(static_cast<std::size_t>(nthreads), std::vector<std::int64_t>(static_cast<std::size_t>(nmat), 0)),
+                    std::vector<std::vector<double>>(static_cast<std::size_t>(nthreads), std::vector<double>(static_cast<std::size_t>(nmat), 0.0))};
+    Buffer<std::uint8_t>& code = pass.code;
+    Buffer<std::array<std::uint16_t, 2>>& tmat = pass.tmat;
+    std::vector<std::int64_t>& row_tris = pass.row_tris;
     std::int64_t warped_squares = 0, forced = 0, mixed = 0, centroid = 0;
     const double s2 = lattice.s * lattice.s;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : warped_squares, forced, mixed, centroid)
     for (std::int64_t j = 0; j < ny; ++j) {
-        auto& count = tri_count[static_cast<std::size_t>(thread_id())];
-        auto& area = area2[static_cast<std::size_t>(thread_id())];
+        auto& count = pass.tri_count[static_cast<std::size_t>(thread_id())];
+        auto& area = pass.area2[static_cast<std::size_t>(thread_id())];
         std::int64_t tris = 0;
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::int64_t pa = lattice.index(i, j);
@@ -280,24 +309,21 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     r.forced_diagonals = forced;
     r.mixed_triangles = mixed;
     r.centroid_triangles = centroid;
+    return pass;
+}
 
-    // Pass 2: compact vertex ids (points used by an output triangle).
-    Mesh& mesh = r.mesh;
-    Buffer<std::int32_t> vid;
-    const std::int64_t ntris = row_tris.back();
-    compact_vertices(
-        lattice, code, ntris, [](std::int64_t) { return true; },
-        position_ij, vid, mesh);
-    mesh.region.resize(static_cast<std::size_t>(ntris));
-
-    // Pass 3: triangles, region tags, keyed squares.
-    std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
-    for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
-    const bool want_keyed = options.certify.enabled;
+// Pass 3: the triangles and their region tags (tag[m] of material m) at
+// their rows' offsets, into mesh (its triangles sized by compact_vertices);
+// with want_keyed, per row the squares through the rule with their
+// triangles.
+std::vector<std::vector<KeyedSquare>> fill_triangles(const Lattice& lattice, const SquarePass& pass, const Buffer<std::int32_t>& vid,
+                                                     std::span<const std::int32_t> tag, bool want_keyed, Mesh& mesh) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const Buffer<std::uint8_t>& code = pass.code;
     std::vector<std::vector<KeyedSquare>> keyed_rows(want_keyed ? static_cast<std::size_t>(ny) : 0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j < ny; ++j) {
-        std::int64_t next = row_tris[static_cast<std::size_t>(j)];
+        std::int64_t next = pass.row_tris[static_cast<std::size_t>(j)];
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::size_t sq = static_cast<std::size_t>(i + j * nx);
             const std::uint8_t c = code[sq];
@@ -310,21 +336,33 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
             for (int k = 0; k < 2; ++k) {
                 if (!(c & (1 << k))) continue;
                 const auto tri = triangle_of(c, k);
-                mesh.region[static_cast<std::size_t>(next)] = tag[tmat[sq][static_cast<std::size_t>(k)]];
+                mesh.region[static_cast<std::size_t>(next)] = tag[pass.tmat[sq][static_cast<std::size_t>(k)]];
                 mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[tri[0]])],
                                                                     vid[static_cast<std::size_t>(p[tri[1]])],
                                                                     vid[static_cast<std::size_t>(p[tri[2]])]};
             }
         }
     }
+    return keyed_rows;
+}
 
-    // Pass 4: boundary, interfaces, perimeters.
+// Pass 4: the boundary edges and interfaces, in square order, into mesh.
+// Returns per thread (of nthreads), per material the length of its edges
+// against other materials and the lattice border (its perimeter's parts).
+std::vector<std::vector<double>> material_edges(const Lattice& lattice, const MaterialFront& front, const SquarePass& pass,
+                                                const Buffer<std::int32_t>& vid, std::span<const std::int32_t> tag, int nthreads,
+                                                Mesh& mesh) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const Buffer<std::uint8_t>& code = pass.code;
+    const Buffer<std::array<std::uint16_t, 2>>& tmat = pass.tmat;
+    const std::size_t nmat = tag.size();
+    auto position = [&](std::int64_t p) { return front.position(lattice, p, p % nxp, p / nxp); };
     struct Edge {
         std::int32_t a, b;
         std::int32_t tag_or_left, right;  // boundary: tag, -1; interface: left, right region tags
     };
     std::vector<std::vector<Edge>> edge_rows(static_cast<std::size_t>(ny));
-    std::vector<std::vector<double>> perim(static_cast<std::size_t>(nthreads), std::vector<double>(static_cast<std::size_t>(nmat), 0.0));
+    std::vector<std::vector<double>> perim(static_cast<std::size_t>(nthreads), std::vector<double>(nmat, 0.0));
 #pragma omp parallel for schedule(dynamic, 16)
     for (std::int64_t j = 0; j < ny; ++j) {
         auto& out = edge_rows[static_cast<std::size_t>(j)];
@@ -394,6 +432,36 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
                 mesh.interface_regions.push_back({e.tag_or_left, e.right});
             }
         }
+    return perim;
+}
+
+}  // namespace
+
+MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options) {
+    check_material_options(field, options);
+    const int nmat = field.count();
+    MaterialResult r;
+    const MaterialFront front = material_front(field, lattice, r);
+
+    // ---- 4. triangulate ---------------------------------------------------------------
+    const auto t0 = clock::now();
+    const bool drop = !options.keep_background;
+    const int nthreads = thread_count();
+    const SquarePass pass = classify_squares(field, lattice, front, options, nthreads, r);
+
+    // Pass 2: compact vertex ids (points used by an output triangle).
+    Mesh& mesh = r.mesh;
+    Buffer<std::int32_t> vid;
+    const std::int64_t ntris = pass.row_tris.back();
+    compact_vertices(
+        lattice, pass.code, ntris, [](std::int64_t) { return true; },
+        [&](std::int64_t p, std::int64_t i, std::int64_t j) { return front.position(lattice, p, i, j); }, vid, mesh);
+    mesh.region.resize(static_cast<std::size_t>(ntris));
+
+    std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
+    for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
+    const std::vector<std::vector<KeyedSquare>> keyed_rows = fill_triangles(lattice, pass, vid, tag, options.certify.enabled, mesh);
+    const std::vector<std::vector<double>> perim = material_edges(lattice, front, pass, vid, tag, nthreads, mesh);
     r.times.triangulate = seconds_since(t0);
 
     // Per-material statistics and names.
@@ -402,8 +470,8 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
         std::vector<double> area(static_cast<std::size_t>(nmat), 0.0), per(static_cast<std::size_t>(nmat), 0.0);
         for (int m = 0; m < nmat; ++m)
             for (int t = 0; t < nthreads; ++t) {
-                count[static_cast<std::size_t>(m)] += tri_count[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
-                area[static_cast<std::size_t>(m)] += area2[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+                count[static_cast<std::size_t>(m)] += pass.tri_count[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
+                area[static_cast<std::size_t>(m)] += pass.area2[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
                 per[static_cast<std::size_t>(m)] += perim[static_cast<std::size_t>(t)][static_cast<std::size_t>(m)];
             }
         finish_materials(r, field, drop, count, area, per);

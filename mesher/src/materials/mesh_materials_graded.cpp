@@ -120,124 +120,154 @@ std::vector<std::int8_t> material_signs(const Lattice& lattice, const Buffer<std
     return sg;
 }
 
-}  // namespace
+// Each material's sign code (head comment) and whether some material has an
+// inside class of its own (a largest cell K_m below max_cell).  Throws
+// std::invalid_argument for a max_cell_of of the wrong size or an entry that
+// is not 0 or a power of two.
+struct MaterialCodes {
+    std::vector<std::int8_t> code;
+    bool classes = false;
+};
 
-MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options,
-                                     std::int64_t max_cell, int grading_buffer, std::span<const std::int64_t> max_cell_of) {
-    check_material_options(field, options);
-    const int nmat = field.count();
-    const bool drop = !options.keep_background;
+MaterialCodes material_codes(int nmat, bool drop, std::int64_t max_cell, std::span<const std::int64_t> max_cell_of) {
     if (!max_cell_of.empty() && max_cell_of.size() != static_cast<std::size_t>(nmat))
         throw std::invalid_argument("max_cell_of needs one entry per material (" + std::to_string(nmat) + "), got " +
                                     std::to_string(max_cell_of.size()));
-    // Each material's sign code (head comment); classes: some material has one.
-    std::vector<std::int8_t> code(static_cast<std::size_t>(nmat), -1);
-    if (drop) code[0] = 1;
-    bool classes = false;
+    MaterialCodes c{std::vector<std::int8_t>(static_cast<std::size_t>(nmat), -1), false};
+    if (drop) c.code[0] = 1;
     for (std::size_t m = 0; m < max_cell_of.size(); ++m) {
         const std::int64_t K = max_cell_of[m];
         if (K < 0 || (K & (K - 1)) != 0)
             throw std::invalid_argument("a material's max cell size must be 0 or a power of two, got " + std::to_string(K));
-        if (K == 0 || (max_cell != 0 && K >= max_cell) || code[m] > 0) continue;
-        code[m] = inside_class(std::countr_zero(static_cast<std::uint64_t>(K)));
-        classes = true;
+        if (K == 0 || (max_cell != 0 && K >= max_cell) || c.code[m] > 0) continue;
+        c.code[m] = inside_class(std::countr_zero(static_cast<std::uint64_t>(K)));
+        c.classes = true;
     }
-    MaterialResult r;
-    r.graded = true;
-    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx;
-    const MaterialFront front = material_front(field, lattice, r);
-    const Buffer<std::uint16_t>& mat = front.mat;
-    const Buffer<std::uint8_t>& moved = front.moved;
+    return c;
+}
 
-    // ---- quadtree ----------------------------------------------------------------
-    auto t0 = clock::now();
-    const TiledSigns signs = tile_signs(lattice, material_signs(lattice, mat, code), default_tile_log, /*sample_every_tile=*/false);
-    const Quadtree tree = build_quadtree(lattice, signs, front.warped, max_cell, grading_buffer, classes);
-    const Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/false);
-    if (options.certify.verify) {  // the invariant the certificates rest on, from the leaf list
+// The balanced quadtree of the material signs and its leaves, background
+// included; sets r.leaves_per_level, r.quadtree_seconds and, with `verify`,
+// r.invariant_squares after checking the band invariant on the leaves
+// (std::logic_error if violated).
+Leaves material_leaves(const Lattice& lattice, const MaterialFront& front, const MaterialCodes& codes, std::int64_t max_cell,
+                       int grading_buffer, bool verify, MaterialResult& r) {
+    const auto t0 = clock::now();
+    const TiledSigns signs =
+        tile_signs(lattice, material_signs(lattice, front.mat, codes.code), default_tile_log, /*sample_every_tile=*/false);
+    const Quadtree tree = build_quadtree(lattice, signs, front.warped, max_cell, grading_buffer, codes.classes);
+    Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/false);
+    if (verify) {  // the invariant the certificates rest on, from the leaf list
         const CriticalSquaresCheck inv = check_critical_squares_finest(leaves, signs, front.warped);
         if (!inv.ok()) throw std::logic_error(inv.first);
         r.invariant_squares = inv.squares;
     }
     r.quadtree_seconds = seconds_since(t0);
+    return leaves;
+}
 
-    // ---- triangles of the leaves --------------------------------------------------
-    t0 = clock::now();
+// The full tiling (head comment: Triangles): every triangle of every leaf,
+// the dropped background's too; the squares through the rule with their
+// output triangles (for the certification); the count of output triangles.
+struct Tiling {
     std::vector<FullTriangle> all;
-    all.reserve(static_cast<std::size_t>(2 * leaves.finest + 6 * static_cast<std::int64_t>(leaves.coarse.size())));
     std::vector<KeyedSquare> keyed;
     std::int64_t nout = 0;
-    const double s2 = lattice.s * lattice.s;
-    const auto touches_border = [&](std::int64_t i, std::int64_t j, std::int64_t w) {
-        return i == 0 || j == 0 || i + w == nx || j + w == lattice.ny;
-    };
-    const auto add = [&](std::int64_t a, std::int64_t b, std::int64_t c, double area2, int m, bool warped, bool border) {
+    bool drop = false;
+
+    void add(std::int64_t a, std::int64_t b, std::int64_t c, double area2, int m, bool warped, bool border) {
         const bool out = !(drop && m == 0);
         all.push_back({{a, b, c}, area2, static_cast<std::uint16_t>(m), out, warped, border});
         nout += out;
-    };
+    }
+};
+
+// Whether the square or leaf of width w at (i, j) touches the lattice border.
+bool touches_border(const Lattice& lattice, std::int64_t i, std::int64_t j, std::int64_t w) {
+    return i == 0 || j == 0 || i + w == lattice.nx || j + w == lattice.ny;
+}
+
+// The finest leaves' triangles, in canonical order, as mesh_materials makes
+// a lattice square's; counts r.warped_squares, .forced_diagonals,
+// .mixed_triangles, .centroid_triangles.
+void tile_finest(const Leaves& leaves, const Lattice& lattice, const MaterialFront& front, const MaterialField& field,
+                 DiagonalRule rule, Tiling& tiling, MaterialResult& r) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx;
+    const double s2 = lattice.s * lattice.s;
+    const Buffer<std::uint16_t>& mat = front.mat;
+    const Buffer<std::uint8_t>& moved = front.moved;
     for_each_finest(leaves, [&](std::int64_t i, std::int64_t j) {
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
-        const bool border = touches_border(i, j, 1);
+        const bool border = touches_border(lattice, i, j, 1);
         if (!(moved[static_cast<std::size_t>(p[0])] | moved[static_cast<std::size_t>(p[1])] |
               moved[static_cast<std::size_t>(p[2])] | moved[static_cast<std::size_t>(p[3])])) {
             // No corner moved, so no side is cut: one material, diagonal AD.
             const int m = mat[static_cast<std::size_t>(pa)];
             for (int k = 0; k < 2; ++k) {
                 const auto tri = triangle_of(0, k);
-                add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])], s2, m,
-                    false, border);
+                tiling.add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
+                           s2, m, false, border);
             }
             return;
         }
         ++r.warped_squares;
-        const WarpedSquare w = warped_square(front, lattice, field, options.rule, p, i, j);
+        const WarpedSquare w = warped_square(front, lattice, field, rule, p, i, j);
         const std::uint8_t c = w.code;
         r.forced_diagonals += w.forced;
         r.mixed_triangles += w.mixed, r.centroid_triangles += w.by_centroid;
-        const std::int64_t first = nout;
+        const std::int64_t first = tiling.nout;
         for (int k = 0; k < 2; ++k) {
             const auto tri = triangle_of(c, k);
-            add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
-                w.area2[static_cast<std::size_t>(k)], w.material[static_cast<std::size_t>(k)], true, border);
+            tiling.add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
+                       w.area2[static_cast<std::size_t>(k)], w.material[static_cast<std::size_t>(k)], true, border);
         }
-        if (nout > first) keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(nout - first)});
+        if (tiling.nout > first) tiling.keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(tiling.nout - first)});
     });
+}
+
+// The coarse leaves' triangles, by the graded templates, all of the leaf's
+// material.
+void tile_coarse(const Leaves& leaves, const Lattice& lattice, const MaterialFront& front, Tiling& tiling) {
+    const double s2 = lattice.s * lattice.s;
     for (const Leaf& leaf : leaves.coarse) {
-        const int m = mat[static_cast<std::size_t>(lattice.index(leaf.i, leaf.j))];
+        const int m = front.mat[static_cast<std::size_t>(lattice.index(leaf.i, leaf.j))];
         std::array<std::array<std::int64_t, 2>, 8> ij{};
         std::array<std::int64_t, 2> mid{};
         const int n = coarse_ring(leaf, ij, mid);
         std::array<std::int64_t, 8> ring{};
         for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) ring[k] = lattice.index(ij[k][0], ij[k][1]);
         const std::int64_t w = std::int64_t{1} << leaf.level;
-        const bool border = touches_border(leaf.i, leaf.j, w);
+        const bool border = touches_border(lattice, leaf.i, leaf.j, w);
         // Twice the area of the lattice triangle (u, v, q), from the indices (exact integers, times s^2).
         const auto area2 = [&](const std::array<std::int64_t, 2>& u, const std::array<std::int64_t, 2>& v, const std::array<std::int64_t, 2>& q) {
             return static_cast<double>((v[0] - u[0]) * (q[1] - u[1]) - (v[1] - u[1]) * (q[0] - u[0])) * s2;
         };
         if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-            add(ring[0], ring[1], ring[2], area2(ij[0], ij[1], ij[2]), m, false, border);
-            add(ring[0], ring[2], ring[3], area2(ij[0], ij[2], ij[3]), m, false, border);
+            tiling.add(ring[0], ring[1], ring[2], area2(ij[0], ij[1], ij[2]), m, false, border);
+            tiling.add(ring[0], ring[2], ring[3], area2(ij[0], ij[2], ij[3]), m, false, border);
             continue;
         }
         const std::int64_t centre = lattice.index(mid[0], mid[1]);
         for (int k = 0; k < n; ++k) {
             const std::size_t k0 = static_cast<std::size_t>(k), k1 = static_cast<std::size_t>((k + 1) % n);
-            add(centre, ring[k0], ring[k1], area2(mid, ij[k0], ij[k1]), m, false, border);
+            tiling.add(centre, ring[k0], ring[k1], area2(mid, ij[k0], ij[k1]), m, false, border);
         }
     }
-    if (all.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit triangle indices");
+}
 
-    // Vertices: the points of output triangles, in lattice-point order.
-    Mesh& mesh = r.mesh;
+// The vertices: the points of output triangles, in lattice-point order, into
+// mesh.vertices.  Returns each point's vertex id (written at those points
+// only, read only there).
+Buffer<std::int32_t> place_vertices(const Lattice& lattice, const MaterialFront& front, std::span<const FullTriangle> all,
+                                    Mesh& mesh) {
+    const std::int64_t nxp = lattice.points_x();
     const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
     std::vector<std::uint8_t> used(npoints, 0);
     for (const FullTriangle& ft : all)
         if (ft.out)
             for (const std::int64_t q : ft.p) used[static_cast<std::size_t>(q)] = 1;
-    Buffer<std::int32_t> vid(npoints);  // written at the used points only, read only there
+    Buffer<std::int32_t> vid(npoints);
     for (std::int64_t j = 0, q = 0; j <= lattice.ny; ++j)
         for (std::int64_t i = 0; i < nxp; ++i, ++q)
             if (used[static_cast<std::size_t>(q)]) {
@@ -246,26 +276,35 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
                 vid[static_cast<std::size_t>(q)] = static_cast<std::int32_t>(mesh.vertices.size());
                 mesh.vertices.push_back(front.position(lattice, q, i, j));
             }
-    std::vector<std::uint8_t>().swap(used);
+    return vid;
+}
 
-    // Triangles, region tags; per-material counts and areas of the full tiling.
-    std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
-    for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
-    std::vector<std::int64_t> count(static_cast<std::size_t>(nmat), 0);
-    std::vector<double> area2(static_cast<std::size_t>(nmat), 0.0), perim(static_cast<std::size_t>(nmat), 0.0);
-    mesh.triangles.resize(static_cast<std::size_t>(nout));
-    mesh.region.resize(static_cast<std::size_t>(nout));
+// The output triangles and their region tags (tag[m] of material m), into
+// mesh; per material, the count and twice the area of its triangles of the
+// full tiling, added to count and area2.
+void emit_triangles(const Tiling& tiling, const Buffer<std::int32_t>& vid, std::span<const std::int32_t> tag,
+                    std::span<std::int64_t> count, std::span<double> area2, Mesh& mesh) {
+    mesh.triangles.resize(static_cast<std::size_t>(tiling.nout));
+    mesh.region.resize(static_cast<std::size_t>(tiling.nout));
     const auto id = [&](std::int64_t q) { return vid[static_cast<std::size_t>(q)]; };
     std::size_t next = 0;
-    for (const FullTriangle& ft : all) {
+    for (const FullTriangle& ft : tiling.all) {
         ++count[ft.m];
         area2[ft.m] += ft.area2;
         if (!ft.out) continue;
         mesh.triangles[next] = {id(ft.p[0]), id(ft.p[1]), id(ft.p[2])};
         mesh.region[next++] = tag[ft.m];
     }
+}
 
-    // Border edges; the warped squares' half-edges, paired (see the head comment).
+// The border edges, then the warped squares' half-edges paired (head
+// comment: Edges): interfaces and level-set boundary edges into mesh, each
+// edge's length added to perim of the materials it bounds.  std::logic_error
+// for an edge of more than two triangles.
+void material_edges(const Lattice& lattice, const MaterialFront& front, std::span<const FullTriangle> all,
+                    const Buffer<std::int32_t>& vid, std::span<const std::int32_t> tag, std::span<double> perim, Mesh& mesh) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx;
+    const auto id = [&](std::int64_t q) { return vid[static_cast<std::size_t>(q)]; };
     const auto on_border = [&](std::int64_t a, std::int64_t b) {
         const std::int64_t ia = a % nxp, ja = a / nxp, ib = b % nxp, jb = b / nxp;
         return (ia == ib && (ia == 0 || ia == nx)) || (ja == jb && (ja == 0 || ja == lattice.ny));
@@ -323,10 +362,42 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
             mesh.boundary_tag.push_back(boundary_level_set);
         }
     }
+}
+
+}  // namespace
+
+MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options,
+                                     std::int64_t max_cell, int grading_buffer, std::span<const std::int64_t> max_cell_of) {
+    check_material_options(field, options);
+    const int nmat = field.count();
+    const bool drop = !options.keep_background;
+    const MaterialCodes codes = material_codes(nmat, drop, max_cell, max_cell_of);
+    MaterialResult r;
+    r.graded = true;
+    const MaterialFront front = material_front(field, lattice, r);
+    const Leaves leaves = material_leaves(lattice, front, codes, max_cell, grading_buffer, options.certify.verify, r);
+
+    // ---- triangles of the leaves --------------------------------------------------
+    const auto t0 = clock::now();
+    Tiling tiling;
+    tiling.drop = drop;
+    tiling.all.reserve(static_cast<std::size_t>(2 * leaves.finest + 6 * static_cast<std::int64_t>(leaves.coarse.size())));
+    tile_finest(leaves, lattice, front, field, options.rule, tiling, r);
+    tile_coarse(leaves, lattice, front, tiling);
+    if (tiling.all.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit triangle indices");
+
+    Mesh& mesh = r.mesh;
+    const Buffer<std::int32_t> vid = place_vertices(lattice, front, tiling.all, mesh);
+    std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
+    for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
+    std::vector<std::int64_t> count(static_cast<std::size_t>(nmat), 0);
+    std::vector<double> area2(static_cast<std::size_t>(nmat), 0.0), perim(static_cast<std::size_t>(nmat), 0.0);
+    emit_triangles(tiling, vid, tag, count, area2, mesh);
+    material_edges(lattice, front, tiling.all, vid, tag, perim, mesh);
     r.times.triangulate = seconds_since(t0);
     finish_materials(r, field, drop, count, area2, perim);
 
-    if (options.certify.enabled) certify_material_mesh(r, lattice, front, keyed, options, field);
+    if (options.certify.enabled) certify_material_mesh(r, lattice, front, tiling.keyed, options, field);
     return r;
 }
 

@@ -69,11 +69,11 @@ Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState,
     return warped_square_split(rule, cs, t, forced) == SquareSplit::bc ? Diagonal::BC : Diagonal::AD;
 }
 
-Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
-                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats) {
-    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
-    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
+namespace {
 
+// Each point's state bits: inside (sign <= 0, or warped), warped, zero.
+Buffer<std::uint8_t> point_states(const Lattice& lattice, std::span<const std::int8_t> signs, std::span<const WarpedPoint> warped) {
+    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
     Buffer<std::uint8_t> state(npoints);  // every element written by the loop below
 #pragma omp parallel for schedule(static)
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(npoints); ++k)
@@ -81,16 +81,33 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                                              : signs[static_cast<std::size_t>(k)] == 0 ? inside_bit | zero_bit
                                                                                        : 0;
     for (const WarpedPoint& w : warped) state[static_cast<std::size_t>(w.p)] = inside_bit | warped_bit;
+    return state;
+}
 
-    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& {
-        return *std::lower_bound(warped.begin(), warped.end(), p,
-                                 [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
-    };
+// The warp record of warped point p (warped: sorted by point).
+const WarpedPoint& warp_of(std::span<const WarpedPoint> warped, std::int64_t p) {
+    return *std::lower_bound(warped.begin(), warped.end(), p, [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
+}
 
-    // ---- pass 1: square codes ------------------------------------------------
-    Buffer<std::uint8_t> code(static_cast<std::size_t>(nx * ny));  // every element written by pass 1
-    std::vector<std::int64_t> row_tris(static_cast<std::size_t>(ny) + 1, 0);
-    std::vector<std::int64_t> row_fans(static_cast<std::size_t>(ny) + 1, 0);  // centroid fans (DiagonalRule::fan)
+// Pass 1's results: a code per square; per row its triangles and its centroid
+// fans (DiagonalRule::fan), prefix-summed (row j's first, [ny]: all); the
+// warped squares and the diagonals the separating rule forced.
+struct SquareCodes {
+    Buffer<std::uint8_t> code;
+    std::vector<std::int64_t> row_tris, row_fans;
+    std::int64_t warped_squares = 0, forced = 0;
+};
+
+// Pass 1: a code per square — its diagonal and which of its triangles it emits.
+SquareCodes square_codes(const Lattice& lattice, std::span<const std::int8_t> signs, const Buffer<std::uint8_t>& state,
+                         std::span<const WarpedPoint> warped, DiagonalRule rule) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    SquareCodes sc{Buffer<std::uint8_t>(static_cast<std::size_t>(nx * ny)),  // every element written below
+                   std::vector<std::int64_t>(static_cast<std::size_t>(ny) + 1, 0),
+                   std::vector<std::int64_t>(static_cast<std::size_t>(ny) + 1, 0), 0, 0};
+    Buffer<std::uint8_t>& code = sc.code;
+    std::vector<std::int64_t>& row_tris = sc.row_tris;
+    std::vector<std::int64_t>& row_fans = sc.row_fans;
     std::int64_t warped_squares = 0, forced = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : warped_squares, forced)
     for (std::int64_t j = 0; j < ny; ++j) {
@@ -114,7 +131,7 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                                                         signs[static_cast<std::size_t>(p[2])], signs[static_cast<std::size_t>(p[3])]};
                     bool was_forced = false;
                     c |= rule_diagonal(rule, sg, [&](int k) {
-                        return st[static_cast<std::size_t>(k)] & warped_bit ? &warp_of(p[static_cast<std::size_t>(k)]) : nullptr;
+                        return st[static_cast<std::size_t>(k)] & warped_bit ? &warp_of(warped, p[static_cast<std::size_t>(k)]) : nullptr;
                     }, &was_forced);
                     forced += was_forced;
                 }
@@ -130,40 +147,24 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
     }
     std::partial_sum(row_tris.begin(), row_tris.end(), row_tris.begin());
     std::partial_sum(row_fans.begin(), row_fans.end(), row_fans.begin());
+    sc.warped_squares = warped_squares;
+    sc.forced = forced;
+    return sc;
+}
 
-    // ---- pass 2: compact vertex ids (inside points used by an emitted triangle) --
-    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
-        return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
-    };
-    Mesh mesh;
-    Buffer<std::int32_t> vid;
-    const std::int64_t ntris = row_tris.back();
-    compact_vertices(
-        lattice, code, ntris, [&](std::int64_t p) { return (state[static_cast<std::size_t>(p)] & inside_bit) != 0; },
-        [&](std::int64_t p, std::int64_t i, std::int64_t j) {
-            Vec2 x = lattice.position(i, j);
-            if (state[static_cast<std::size_t>(p)] & warped_bit) {
-                const WarpedPoint& wp = warp_of(p);
-                // The same affine map as generic_positions, scaled by s.
-                x.x += warp_dx(wp.dir) * wp.t * lattice.s;
-                x.y += warp_dy(wp.dir) * wp.t * lattice.s;
-            }
-            return x;
-        },
-        vid, mesh);
-    // Fan centres follow the lattice vertices, in square order.
-    const std::int64_t lattice_vertices = static_cast<std::int64_t>(mesh.vertices.size());
-    if (lattice_vertices + row_fans.back() > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
-    mesh.vertices.resize(static_cast<std::size_t>(lattice_vertices + row_fans.back()));  // centres written in pass 3
-
-    // ---- pass 3: triangles -----------------------------------------------------
-    // Squares through the rule, for the certification: per row, then joined.
-    const bool want_keyed = stats && stats->keyed_squares;
+// Pass 3: the triangles at their rows' offsets into mesh (sized by
+// compact_vertices), the centroid fans' centres numbered from
+// lattice_vertices on; with want_keyed, per row the squares through the rule
+// with their triangles.
+std::vector<std::vector<KeyedSquare>> fill_triangles(const Lattice& lattice, const SquareCodes& sc, const Buffer<std::int32_t>& vid,
+                                                     std::int64_t lattice_vertices, bool want_keyed, Mesh& mesh) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    const Buffer<std::uint8_t>& code = sc.code;
     std::vector<std::vector<KeyedSquare>> keyed_rows(want_keyed ? static_cast<std::size_t>(ny) : 0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j < ny; ++j) {
-        std::int64_t next = row_tris[static_cast<std::size_t>(j)];
-        std::int64_t next_centre = lattice_vertices + row_fans[static_cast<std::size_t>(j)];
+        std::int64_t next = sc.row_tris[static_cast<std::size_t>(j)];
+        std::int64_t next_centre = lattice_vertices + sc.row_fans[static_cast<std::size_t>(j)];
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::uint8_t c = code[static_cast<std::size_t>(i + j * nx)];
             if (!(c & (tri0_bit | tri1_bit))) continue;
@@ -193,6 +194,12 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
             }
         }
     }
+    return keyed_rows;
+}
+
+// Each triangle's region: f.region_at its centroid if f tags regions, else 1.
+void tag_regions(const LevelSet& f, Mesh& mesh) {
+    const std::int64_t ntris = static_cast<std::int64_t>(mesh.triangles.size());
     mesh.region.resize(mesh.triangles.size());  // every element written below
     const bool tags = f.tags_regions();
 #pragma omp parallel for schedule(static)
@@ -206,14 +213,21 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                    &c = mesh.vertices[static_cast<std::size_t>(t[2])];
         mesh.region[static_cast<std::size_t>(k)] = f.region_at((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3);
     }
+}
 
-    // ---- pass 4: boundary --------------------------------------------------------
-    // A side of square (i, j) is covered when the triangle of the chosen
-    // diagonal that holds it is emitted.  It is a boundary edge when exactly
-    // one of the two squares sharing it covers it (the lattice's outer border
-    // has one square only), a diagonal when exactly one of the square's two
-    // triangles is emitted: square_boundary_edges (square_code.hpp), shared
-    // with the graded triangulation.
+// Pass 4: the boundary edges, per row {from, to, tag}.
+// A side of square (i, j) is covered when the triangle of the chosen
+// diagonal that holds it is emitted.  It is a boundary edge when exactly
+// one of the two squares sharing it covers it (the lattice's outer border
+// has one square only), a diagonal when exactly one of the square's two
+// triangles is emitted: square_boundary_edges (square_code.hpp), shared
+// with the graded triangulation.
+std::vector<std::vector<std::array<std::int32_t, 3>>> boundary_edges(const Lattice& lattice, const Buffer<std::uint8_t>& code,
+                                                                     const Buffer<std::int32_t>& vid) {
+    const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
+    auto square_code = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
+        return (i < 0 || j < 0 || i >= nx || j >= ny) ? 0 : code[static_cast<std::size_t>(i + j * nx)];
+    };
     std::vector<std::vector<std::array<std::int32_t, 3>>> per_row(static_cast<std::size_t>(ny));
 #pragma omp parallel for schedule(dynamic, 16)
     for (std::int64_t j = 0; j < ny; ++j) {
@@ -243,8 +257,44 @@ Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std:
                 edge);
         }
     }
-    append_boundary(mesh, per_row);
-    record_stats(stats, warped_squares, forced, keyed_rows);
+    return per_row;
+}
+
+}  // namespace
+
+Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
+                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats) {
+    const Buffer<std::uint8_t> state = point_states(lattice, signs, warped);
+    const SquareCodes sc = square_codes(lattice, signs, state, warped, rule);
+
+    // ---- pass 2: compact vertex ids (inside points used by an emitted triangle) --
+    Mesh mesh;
+    Buffer<std::int32_t> vid;
+    const std::int64_t ntris = sc.row_tris.back();
+    compact_vertices(
+        lattice, sc.code, ntris, [&](std::int64_t p) { return (state[static_cast<std::size_t>(p)] & inside_bit) != 0; },
+        [&](std::int64_t p, std::int64_t i, std::int64_t j) {
+            Vec2 x = lattice.position(i, j);
+            if (state[static_cast<std::size_t>(p)] & warped_bit) {
+                const WarpedPoint& wp = warp_of(warped, p);
+                // The same affine map as generic_positions, scaled by s.
+                x.x += warp_dx(wp.dir) * wp.t * lattice.s;
+                x.y += warp_dy(wp.dir) * wp.t * lattice.s;
+            }
+            return x;
+        },
+        vid, mesh);
+    // Fan centres follow the lattice vertices, in square order.
+    const std::int64_t lattice_vertices = static_cast<std::int64_t>(mesh.vertices.size());
+    if (lattice_vertices + sc.row_fans.back() > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
+    mesh.vertices.resize(static_cast<std::size_t>(lattice_vertices + sc.row_fans.back()));  // centres written in pass 3
+
+    // ---- pass 3: triangles, regions; pass 4: boundary --------------------------------
+    // Squares through the rule, for the certification: per row, then joined.
+    const auto keyed_rows = fill_triangles(lattice, sc, vid, lattice_vertices, stats && stats->keyed_squares, mesh);
+    tag_regions(f, mesh);
+    append_boundary(mesh, boundary_edges(lattice, sc.code, vid));
+    record_stats(stats, sc.warped_squares, sc.forced, keyed_rows);
     return mesh;
 }
 

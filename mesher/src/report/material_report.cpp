@@ -1,5 +1,5 @@
-// material_report.cpp — the multi-material part of the CLI's reports
-// (materials.hpp): per material its triangles, area, perimeter and reference
+// material_report.cpp — the multi-material part of the reports
+// (report.hpp; the figures are MaterialResult's, materials.hpp): per material its triangles, area, perimeter and reference
 // (pixel-count) area; the junction squares (3 or 4 materials) with their
 // junction keys and certified bounds (proofs/materials.cert);
 // the edges where a third material lies between a cut edge's two.
@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "warpmesh/materials.hpp"
-#include "warpmesh/quality.hpp"
+#include "warpmesh/report.hpp"
 
 namespace warpmesh {
 
@@ -97,23 +97,6 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
           << std::setprecision(10) << e.min_deg << ", " << e.max_deg << "] deg\n" << std::setprecision(6);
     if (r.junction_squares > static_cast<std::int64_t>(r.junction_examples.size())) t << "  ...\n";
     return t.str();
-}
-
-void measure_longest_edges(MaterialResult& r) {
-    const Mesh& m = r.mesh;
-    std::int32_t top = 0;  // region tags are material tags, 0 .. 65535
-    for (const std::int32_t t : m.region) top = std::max(top, t);
-    std::vector<double> longest2(static_cast<std::size_t>(top) + 1, 0.0);  // squared, per region tag
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        double& l2 = longest2[static_cast<std::size_t>(m.region[t])];
-        for (int k = 0; k < 3; ++k) {
-            const Vec2 a = m.vertices[static_cast<std::size_t>(m.triangles[t][k])];
-            const Vec2 b = m.vertices[static_cast<std::size_t>(m.triangles[t][(k + 1) % 3])];
-            l2 = std::max(l2, (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
-        }
-    }
-    for (MaterialStats& s : r.materials)
-        s.longest_edge = s.output && s.tag >= 0 && s.tag <= top ? std::sqrt(longest2[static_cast<std::size_t>(s.tag)]) : 0.0;
 }
 
 }  // namespace warpmesh
