@@ -126,15 +126,17 @@ BOOST_AUTO_TEST_CASE(nifti_permuted_sform_materials_are_placed_in_millimetres) {
         std::map<std::int32_t, std::int64_t> pixels;
         for (int ib = 0; ib < s.height; ++ib)
             for (int ia = 0; ia < s.width; ++ia) {
-                std::array<std::int64_t, 3> ijk{};
-                ijk[static_cast<std::size_t>(axis)] = m, ijk[static_cast<std::size_t>(a)] = ia,
-                                                ijk[static_cast<std::size_t>(b)] = ib;
-                Vec3 want;  // the sform applied to (i, j, k)
-                for (int r = 0; r < 3; ++r)
-                    want[r] = n.srow[r][0] * ijk[0] + n.srow[r][1] * ijk[1] + n.srow[r][2] * ijk[2] + n.srow[r][3];
+                std::array<std::int64_t, 3> ijk{m, m, m};
+                ijk[static_cast<std::size_t>(a)] = ia, ijk[static_cast<std::size_t>(b)] = ib;
+                // The pixel centre in the slice's frame, back in 3D, against
+                // the sform applied to (i, j, k).
                 const double x = g.x0 + ia * g.sx, y = g.y0 + ib * g.sy;
                 const Vec3 p = s.plane.point(x, y);
-                for (int r = 0; r < 3; ++r) worst = std::max(worst, std::abs(p[r] - want[r]));
+                for (int r = 0; r < 3; ++r) {
+                    const auto& row = n.srow[static_cast<std::size_t>(r)];
+                    const double want = row[0] * ijk[0] + row[1] * ijk[1] + row[2] * ijk[2] + row[3];
+                    worst = std::max(worst, std::abs(p[r] - want));
+                }
                 const auto label = static_cast<std::int32_t>(v.at(ijk[0], ijk[1], ijk[2]));
                 wrong += s.materials->tag(s.materials->material_at(x, y)) != label;
                 ++pixels[label];

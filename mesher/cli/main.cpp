@@ -64,8 +64,8 @@ input (images):
   --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
                          background) or these labels, every other pixel one background
                          material; interfaces between materials are mesh edges
-                         (2D images, or one slice of a volume with --slice; in pixel
-                         units; not with --slices)
+                         (2D images and volume slices, in the units below, as for one
+                         region)
   --background drop|keep with --materials/--shapes: output the background's triangles
                          (keep) or not (drop, default; it still bounds the materials)
 
@@ -75,6 +75,8 @@ input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
                          --also need a %d field (out_%03d.vtu); --report is a summary
   --units mm|pixels      mesh in the file's physical coordinates (mm, default for NRRD
                          and NIfTI) or in pixels (default for PGM, PNG and TIFF)
+                         (--units, --pixel-size, --slice, --slices and --points-3d apply
+                         to --label, --iso and --materials alike)
   --pixel-size SX[,SY[,SZ]]  pixel (voxel) size in mm, for any input; implies mm
   --points-3d FILE       also write the mesh's vertices at their 3D positions (CSV x,y,z,
                          in vertex order; with --slices a %d pattern)
@@ -82,7 +84,8 @@ input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
 input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
                          flower:cx,cy,a,b,k  rect:x0,y0,x1,y1
-                         union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
+                         union(S;S)  intersect(S;S)  diff(S;S)   (nestable; an intersection
+                         of shapes with disjoint bounding boxes is the empty set)
   --shapes T=S;T=S...    analytic materials, region tag T for shape S; a later shape wins
                          where they overlap; outside all: background (tag 0)
 
@@ -109,6 +112,8 @@ lattice and algorithm:
                          caps that material's cells; uniform: checked)
   --grading G            graded, 1.1 <= G <= 2 (default 2: 2:1 balance): cell sizes grow
                          away from the boundary by at most a factor G per cell on average
+                         (--grading and --max-cell need --graded; --max-size and --max-cell
+                         need a positive value: leave them out for no bound)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
   --optimize             after meshing, move the boundary band's vertices (boundary ones
                          along the level set) and flip its interior edges to raise the
