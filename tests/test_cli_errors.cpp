@@ -293,10 +293,13 @@ BOOST_AUTO_TEST_CASE(options_without_effect_are_refused_not_ignored) {
     sb.refuse({"mesh", "--shape", "circle:0,0,3", "--units", "mm", "-o", "m.vtu"}, 2, {"--units", "not to --shape"});
     sb.refuse({"mesh", "--shapes", "1=circle:0,0,3", "--units", "pixels", "-o", "m.vtu"}, 2, {"--units", "not to --shape"});
     sb.refuse({"mesh", "--shapes", "1=circle:0,0,3", "--inside", "below", "-o", "m.vtu"}, 2, {"apply to images"});
+    // --units mm on an image without a physical pixel size was meshed in pixels.
+    sb.refuse({"mesh", img, "--units", "mm", "-o", "m.vtu"}, 1, {"--units mm", "PGM", "no physical pixel size", "--pixel-size"});
     for (const std::vector<std::string>& ok :
          {std::vector<std::string>{"--graded", "--max-cell", "4", "--grading", "1.5", "--max-size", "8"},
           std::vector<std::string>{"--guarantee", "flat", "--min-spacing", "0.5"},
-          std::vector<std::string>{"--iso", "100", "--inside", "below"}}) {
+          std::vector<std::string>{"--iso", "100", "--inside", "below"},
+          std::vector<std::string>{"--units", "mm", "--pixel-size", "0.5"}}) {
         std::vector<std::string> args{"mesh", img, "-o", "m.vtu", "--quiet"};
         args.insert(args.end(), ok.begin(), ok.end());
         const Result r = sb.run(args);
@@ -312,7 +315,7 @@ BOOST_AUTO_TEST_CASE(options_without_effect_are_refused_not_ignored) {
 BOOST_AUTO_TEST_CASE(csg_with_an_empty_part_is_meshed_only_an_empty_whole_refused) {
     Sandbox sb;
     const std::string empty = "intersect(circle:20,0,1;circle:-20,0,1)";
-    for (const std::string shape : {"union(circle:0,0,5;" + empty + ")", "diff(circle:0,0,5;" + empty + ")"}) {
+    for (const std::string& shape : {"union(circle:0,0,5;" + empty + ")", "diff(circle:0,0,5;" + empty + ")"}) {
         const Result r = sb.run({"mesh", "--shape", shape, "-o", "m.vtu", "--quiet"});
         BOOST_TEST(r.code == 0, shape << ": " << r.err);
         BOOST_TEST(fs::exists(sb.out / "m.vtu"));

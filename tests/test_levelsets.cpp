@@ -682,7 +682,7 @@ BOOST_AUTO_TEST_CASE(csg_with_an_empty_part_is_not_refused_as_disjoint) {
     MeshOptions o;
     o.spacing = 0.5;
     const MeshResult circle = mesh(*parse_shape("circle:0,0,5"), o);
-    for (const std::string spec : {"union(circle:0,0,5;" + empty + ")", "union(" + empty + ";circle:0,0,5)",
+    for (const std::string& spec : {"union(circle:0,0,5;" + empty + ")", "union(" + empty + ";circle:0,0,5)",
                                    "diff(circle:0,0,5;" + empty + ")", "union(circle:0,0,5;diff(" + empty + ";circle:0,0,1))",
                                    "union(circle:0,0,5;intersect(" + empty + ";circle:0,0,1))"}) {
         const auto s = parse_shape(spec);
@@ -695,7 +695,7 @@ BOOST_AUTO_TEST_CASE(csg_with_an_empty_part_is_not_refused_as_disjoint) {
     BOOST_TEST(parse_shape("diff(union(rect:0,0,4,4;" + empty + ");circle:2,2,1)")->describe() ==
                "diff(rect:0,0,4,4;circle:2,2,1)");
     // Empty wholes: refused with "the region is empty", naming the empty part.
-    for (const std::string spec : {empty, "intersect(circle:0,0,5;" + empty + ")", "diff(" + empty + ";circle:0,0,5)",
+    for (const std::string& spec : {empty, "intersect(circle:0,0,5;" + empty + ")", "diff(" + empty + ";circle:0,0,5)",
                                    "union(" + empty + ";" + empty + ")"}) {
         BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, "the region is empty"), spec);
         BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, empty + " is empty"), spec);

@@ -414,6 +414,9 @@ private:
 Volume read_input(const CliOptions& o) {
     Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
     if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
+    if (o.has("--units") && !o.units_pixels && !v.physical)
+        throw InputError("--units mm: '" + o.input + "' (" + v.format +
+                         ") gives no physical pixel size; give one with --pixel-size SX[,SY]");
     return v;
 }
 

@@ -223,6 +223,9 @@ void bind_read_image(py::module_& m) {
                                  " x " + std::to_string(v.dims[2]) + " voxels: choose a slice, e.g. slice=\"k=0\"");
             const std::optional<SliceSpec> spec = slice ? std::optional(parse_slice(*slice)) : std::nullopt;
             const SlicePlacement at = place_slice(v, spec, units == "pixels" ? Units::pixels : Units::physical);
+            if (units == "mm" && !at.physical)
+                throw InputError(path + " (" + v.format + ") gives no physical pixel size: read it in pixels "
+                                 "(units=None or \"pixels\") and scale with mesh(..., pixel_size=...)");
             py::object placement = py::none();
             if (at.placed) {
                 const PixelGeometry& g = at.geometry;

@@ -1,5 +1,6 @@
 """The Python module: numpy arrays, the report, meshio, errors, and the same
 meshes as the command line."""
+import pathlib
 import subprocess
 import threading
 import time
@@ -10,6 +11,7 @@ import pytest
 import warpmesh
 
 BRAIN = "mesher/examples/brain_axial_s128_labels16.pgm"
+BRAIN_PATH = str(pathlib.Path(__file__).resolve().parents[2] / BRAIN)
 
 
 def test_shape_mesh_has_typed_arrays_and_certified_bounds():
@@ -192,6 +194,7 @@ BAD_INPUTS = [
     ("shape spacing", lambda: warpmesh.mesh_shape("circle:0,0,1", spacing=None)),
     ("read_image missing file", lambda: warpmesh.read_image("/nonexistent.pgm")),
     ("read_image units", lambda: warpmesh.read_image("/nonexistent.pgm", units="inch")),
+    ("read_image mm without a pixel size", lambda: warpmesh.read_image(BRAIN_PATH, units="mm")),
     ("read_image max_pixels", lambda: warpmesh.read_image("/nonexistent.pgm", max_pixels="lots")),
 ]
 
