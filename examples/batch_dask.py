@@ -17,6 +17,15 @@ never the same twice) goes to timings.csv and the printed table.
 Each task meshes one slice with one OpenMP thread: the parallelism is across
 slices, and warpmesh releases the GIL while meshing, so thread workers
 (processes=False) mesh in parallel too.
+
+Where the files go: the workers mesh and send each mesh's bytes back; the
+client writes every file into the output directory, relative to its own
+working directory.  So workers need no shared file system, and may run in
+any directory or on other machines.  Image files given as inputs are read by
+the workers, by absolute path (a shared file system for those, or a .npy
+volume, which the client sends).  A slice warpmesh refuses (an empty slice)
+gets a row with the reason and no file; a slice that fails otherwise gets a
+row with the error, the batch goes on, and the script exits with status 1.
 """
 import argparse
 import csv
@@ -31,48 +40,77 @@ import warpmesh
 SUMMARY_FIELDS = ["slice", "file", "triangles", "vertices", "certified_min_deg", "certified_max_deg", "note"]
 
 
-def mesh_slice(index, pixels, out_dir, options):
-    """Mesh one slice (a 2D array, or a path to an image) and write
-    slice_NNNN.vtu; return its summary row and the seconds it took.  A slice
-    warpmesh refuses (no region in it, e.g. an empty slice of an organ's
-    labels) gets a row with 0 triangles, no file and the reason in "note"."""
+def mesh_slice(index, pixels, options):
+    """Mesh one slice (a 2D array, or a path to an image) on a worker; return
+    its summary row, the bytes of its slice_NNNN.vtu (None without a mesh)
+    and the seconds it took.  A slice warpmesh refuses (no region in it, e.g.
+    an empty slice of an organ's labels) gets a row with 0 triangles, no file
+    and the reason in "note"; any other failure of the slice (an unreadable
+    file, out of memory) a row with "error: ..." in "note"."""
+    import tempfile
+
     t0 = time.perf_counter()
     name = f"slice_{index:04d}.vtu"
     row = {"slice": index, "file": "", "triangles": 0, "vertices": 0,
            "certified_min_deg": "", "certified_max_deg": "", "note": ""}
+    data = None
     try:
         image = warpmesh.read_image(pixels) if isinstance(pixels, (str, os.PathLike)) else pixels
         m = warpmesh.mesh(image, threads=1, **options)
+        # Written on the worker into a private temporary directory, sent back
+        # as bytes.
+        with tempfile.TemporaryDirectory(prefix="warpmesh-slice-") as tmp:
+            path = os.path.join(tmp, name)
+            m.write(path)
+            with open(path, "rb") as f:
+                data = f.read()
     except warpmesh.InputError as e:
         row["note"] = str(e)
+    except Exception as e:  # noqa: BLE001 - reported per slice, the batch goes on
+        row["note"] = f"error: {type(e).__name__}: {e}"
     else:
-        m.write(os.path.join(out_dir, name))
         lo, hi = m.certified or ("", "")
         row.update(file=name, triangles=len(m.triangles), vertices=len(m.points),
                    certified_min_deg=repr(lo), certified_max_deg=repr(hi))
-    return row, time.perf_counter() - t0
+    return row, data, time.perf_counter() - t0
+
+
+def write_atomically(path, data, mode="wb"):
+    """Write `data` to `path` through a temporary file in the same directory."""
+    tmp = f"{path}.tmp-{os.getpid()}"
+    with open(tmp, mode, **({} if "b" in mode else {"newline": ""})) as f:
+        f.write(data)
+    os.replace(tmp, path)
 
 
 def mesh_volume(client, slices, out_dir, **options):
     """Mesh each slice on the cluster of `client` (dask.distributed.Client);
-    write the meshes, summary.csv and timings.csv into out_dir.  `slices` is
-    a sequence of 2D arrays or image paths; `options` are warpmesh.mesh()'s.
-    Returns the rows in slice order, each with its "seconds"."""
+    write the meshes, summary.csv and timings.csv into out_dir (relative to
+    this process's working directory: the client writes every file).
+    `slices` is a sequence of 2D arrays or image paths (relative paths are
+    made absolute here); `options` are warpmesh.mesh()'s.  Returns the rows
+    in slice order, each with its "seconds"."""
+    import io
+
     os.makedirs(out_dir, exist_ok=True)
-    futures = [client.submit(mesh_slice, k, s, out_dir, options, pure=False) for k, s in enumerate(slices)]
-    results = client.gather(futures)  # in submission order: slice order
+    slices = [os.path.abspath(s) if isinstance(s, (str, os.PathLike)) else s for s in slices]
+    futures = [client.submit(mesh_slice, k, s, options, pure=False) for k, s in enumerate(slices)]
     rows = []
-    with open(os.path.join(out_dir, "summary.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=SUMMARY_FIELDS, lineterminator="\n")
-        w.writeheader()
-        for row, _ in results:
-            w.writerow(row)
-    with open(os.path.join(out_dir, "timings.csv"), "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(["slice", "seconds"])
-        for row, seconds in results:
-            w.writerow([row["slice"], f"{seconds:.6f}"])
-            rows.append(dict(row, seconds=seconds))
+    summary, timings = io.StringIO(), io.StringIO()
+    w_summary = csv.DictWriter(summary, fieldnames=SUMMARY_FIELDS, lineterminator="\n")
+    w_summary.writeheader()
+    w_timings = csv.writer(timings, lineterminator="\n")
+    w_timings.writerow(["slice", "seconds"])
+    for future in futures:  # in submission order: slice order
+        row, data, seconds = future.result()
+        future.release()  # the mesh's bytes are not kept on the cluster
+        if data is not None:
+            write_atomically(os.path.join(out_dir, row["file"]), data)
+        w_summary.writerow(row)
+        w_timings.writerow([row["slice"], f"{seconds:.6f}"])
+        rows.append(dict(row, seconds=seconds))
+    write_atomically(os.path.join(out_dir, "summary.csv"), summary.getvalue(), "w")
+    write_atomically(os.path.join(out_dir, "timings.csv"), timings.getvalue(), "w")
     return rows
 
 
@@ -110,7 +148,10 @@ def main(argv=None):
         bounds = f"[{float(r['certified_min_deg']):.4g}, {float(r['certified_max_deg']):.4g}]" if r["file"] else "(none)"
         print(f"{r['slice']:>5}  {r['triangles']:>10}  {bounds:>26}  {r['seconds']:>8.3f}")
     print(f"{len(rows)} slices in {wall:.2f} s; meshes, summary.csv and timings.csv in {a.out}")
-    return 0
+    failed = [r for r in rows if r["note"].startswith("error: ")]
+    for r in failed:
+        print(f"slice {r['slice']}: {r['note']}", file=sys.stderr)
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -268,6 +268,64 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--msh-version", "4", "-o", "m.msh"}, 2, {"--msh-version expects '4.1' or '2.2', got '4'"});
 }
 
+// Issue 27 item 6: options that did nothing were accepted silently —
+// --max-size 0 gave the unbounded mesh (while -1 was refused), --max-cell 0
+// the default cells, and --grading / --max-cell without --graded,
+// --min-spacing without --guarantee flat, --inside in label or materials
+// mode and --units with a shape were ignored.  Each is now a usage error
+// (exit 2, nothing written) saying what to do; the same options where they
+// apply are accepted.
+BOOST_AUTO_TEST_CASE(options_without_effect_are_refused_not_ignored) {
+    Sandbox sb;
+    const std::string img = sb.input("disc.pgm", disc_pgm(32, 32)).string();
+    sb.refuse({"mesh", img, "--max-size", "0", "-o", "m.vtu"}, 2, {"--max-size must be positive", "leave it out for no size bound"});
+    sb.refuse({"mesh", img, "--max-size", "0", "--graded", "-o", "m.vtu"}, 2, {"--max-size must be positive"});
+    sb.refuse({"mesh", img, "--max-size", "-1", "-o", "m.vtu"}, 2, {"--max-size must be positive"});
+    sb.refuse({"mesh", img, "--max-cell", "0", "--graded", "-o", "m.vtu"}, 2,
+              {"--max-cell must be a power of two >= 1", "leave it out"});
+    sb.refuse({"mesh", img, "--max-cell", "-4", "--graded", "-o", "m.vtu"}, 2, {"--max-cell must be a power of two"});
+    for (const char* g : {"1.5", "2"})
+        sb.refuse({"mesh", img, "--grading", g, "-o", "m.vtu"}, 2, {"--grading applies to graded meshes: add --graded"});
+    sb.refuse({"mesh", img, "--max-cell", "4", "-o", "m.vtu"}, 2, {"--max-cell applies to graded meshes: add --graded"});
+    sb.refuse({"mesh", img, "--min-spacing", "0.5", "-o", "m.vtu"}, 2, {"--min-spacing applies to --guarantee flat"});
+    sb.refuse({"mesh", img, "--label", "255", "--inside", "below", "-o", "m.vtu"}, 2, {"--inside applies to threshold mode"});
+    sb.refuse({"mesh", img, "--materials", "all", "--inside", "below", "-o", "m.vtu"}, 2, {"--materials", "--inside"});
+    sb.refuse({"mesh", "--shape", "circle:0,0,3", "--units", "mm", "-o", "m.vtu"}, 2, {"--units", "not to --shape"});
+    sb.refuse({"mesh", "--shapes", "1=circle:0,0,3", "--units", "pixels", "-o", "m.vtu"}, 2, {"--units", "not to --shape"});
+    sb.refuse({"mesh", "--shapes", "1=circle:0,0,3", "--inside", "below", "-o", "m.vtu"}, 2, {"apply to images"});
+    // --units mm on an image without a physical pixel size was meshed in pixels.
+    sb.refuse({"mesh", img, "--units", "mm", "-o", "m.vtu"}, 1, {"--units mm", "PGM", "no physical pixel size", "--pixel-size"});
+    for (const std::vector<std::string>& ok :
+         {std::vector<std::string>{"--graded", "--max-cell", "4", "--grading", "1.5", "--max-size", "8"},
+          std::vector<std::string>{"--guarantee", "flat", "--min-spacing", "0.5"},
+          std::vector<std::string>{"--iso", "100", "--inside", "below"},
+          std::vector<std::string>{"--units", "mm", "--pixel-size", "0.5"}}) {
+        std::vector<std::string> args{"mesh", img, "-o", "m.vtu", "--quiet"};
+        args.insert(args.end(), ok.begin(), ok.end());
+        const Result r = sb.run(args);
+        BOOST_TEST(r.code == 0, r.err);
+        fs::remove(sb.out / "m.vtu");
+    }
+}
+
+// Issue 27 item 4: a CSG shape with an empty part (an intersection of shapes
+// whose bounding boxes are disjoint) was refused as "bounding boxes are
+// disjoint" though it is the rest of the shape; only an empty whole is
+// refused, as "the region is empty".
+BOOST_AUTO_TEST_CASE(csg_with_an_empty_part_is_meshed_only_an_empty_whole_refused) {
+    Sandbox sb;
+    const std::string empty = "intersect(circle:20,0,1;circle:-20,0,1)";
+    for (const std::string& shape : {"union(circle:0,0,5;" + empty + ")", "diff(circle:0,0,5;" + empty + ")"}) {
+        const Result r = sb.run({"mesh", "--shape", shape, "-o", "m.vtu", "--quiet"});
+        BOOST_TEST(r.code == 0, shape << ": " << r.err);
+        BOOST_TEST(fs::exists(sb.out / "m.vtu"));
+        fs::remove(sb.out / "m.vtu");
+    }
+    sb.refuse({"mesh", "--shape", "intersect(circle:0,0,5;" + empty + ")", "-o", "m.vtu"}, 1,
+              {"the region is empty", empty + " is empty", "bounding boxes of its shapes are disjoint"});
+    sb.refuse({"mesh", "--shapes", "1=circle:0,0,5;2=" + empty, "-o", "m.vtu"}, 1, {"the region is empty"});
+}
+
 // --max-size-of T=H (per-material maximum sizes): refused with a message naming
 // the problem, before anything is written.  With a uniform mesh it is only
 // checked, as --max-size is (every triangle is within the lattice spacing).

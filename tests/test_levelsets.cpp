@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <optional>
 #include <random>
@@ -13,8 +14,10 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
+#include "warpmesh/pipeline.hpp"
 #include "warpmesh/shapes.hpp"
 #include "support.hpp"
+#include "without_range.hpp"
 
 using namespace warpmesh;
 namespace tt = boost::test_tools;
@@ -667,6 +670,129 @@ BOOST_AUTO_TEST_CASE(parse_errors) {
         BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, needle), "spec '" << spec << "'");
         BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, "shape '" + spec + "'"), "spec '" << spec << "'");
     }
+}
+
+// Issue 27 item 4: union(circle:0,0,5;intersect(circle:20,0,1;circle:-20,0,1))
+// was refused ("bounding boxes are disjoint") though it is the circle.  An
+// empty sub-expression is the empty set: union and diff with it give the
+// other operand (the very same mesh as the circle alone); only a shape that
+// is empty as a whole is refused, as "the region is empty".
+BOOST_AUTO_TEST_CASE(csg_with_an_empty_part_is_not_refused_as_disjoint) {
+    const std::string empty = "intersect(circle:20,0,1;circle:-20,0,1)";
+    MeshOptions o;
+    o.spacing = 0.5;
+    const MeshResult circle = mesh(*parse_shape("circle:0,0,5"), o);
+    for (const std::string& spec : {"union(circle:0,0,5;" + empty + ")", "union(" + empty + ";circle:0,0,5)",
+                                   "diff(circle:0,0,5;" + empty + ")", "union(circle:0,0,5;diff(" + empty + ";circle:0,0,1))",
+                                   "union(circle:0,0,5;intersect(" + empty + ";circle:0,0,1))"}) {
+        const auto s = parse_shape(spec);
+        BOOST_TEST(s->describe() == "circle:0,0,5", spec);
+        BOOST_TEST(*s->exact_area() == 25 * pi, spec);
+        const MeshResult r = mesh(*s, o);
+        BOOST_TEST(warpmesh::testing::same_mesh(r.mesh, circle.mesh), spec);
+    }
+    // An empty part inside a larger expression is dropped, the rest kept.
+    BOOST_TEST(parse_shape("diff(union(rect:0,0,4,4;" + empty + ");circle:2,2,1)")->describe() ==
+               "diff(rect:0,0,4,4;circle:2,2,1)");
+    // Empty wholes: refused with "the region is empty", naming the empty part.
+    for (const std::string& spec : {empty, "intersect(circle:0,0,5;" + empty + ")", "diff(" + empty + ";circle:0,0,5)",
+                                   "union(" + empty + ";" + empty + ")"}) {
+        BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, "the region is empty"), spec);
+        BOOST_TEST(input_error_containing([&] { parse_shape(spec); }, empty + " is empty"), spec);
+    }
+    // Touching boxes are not disjoint: the (degenerate) intersection stays a
+    // shape, as before.
+    BOOST_TEST(parse_shape("intersect(rect:0,0,1,1;rect:1,0,2,1)")->describe() == "intersect(rect:0,0,1,1;rect:1,0,2,1)");
+}
+
+namespace {
+
+// A random CSG tree over circles and rectangles with integer parameters (so
+// that the spec is its own describe()), and an independent membership test:
+// set operations on the primitives' exact interiors.
+struct CsgTree {
+    std::string spec;
+    std::function<bool(double, double)> inside;
+};
+
+CsgTree random_csg(std::mt19937& rng, int depth) {
+    std::uniform_int_distribution<int> centre(-20, 20), size(1, 8), coin(0, 2);
+    if (depth == 0 || coin(rng) == 0) {
+        const int x = centre(rng), y = centre(rng), r = size(rng);
+        if (coin(rng) == 0) {
+            const int w = size(rng);
+            return {"rect:" + std::to_string(x) + "," + std::to_string(y) + "," + std::to_string(x + w) + "," +
+                        std::to_string(y + r),
+                    [=](double px, double py) { return px > x && px < x + w && py > y && py < y + r; }};
+        }
+        return {"circle:" + std::to_string(x) + "," + std::to_string(y) + "," + std::to_string(r),
+                [=](double px, double py) { return (px - x) * (px - x) + (py - y) * (py - y) < r * r; }};
+    }
+    const CsgTree a = random_csg(rng, depth - 1), b = random_csg(rng, depth - 1);
+    switch (coin(rng)) {
+        case 0: return {"union(" + a.spec + ";" + b.spec + ")", [=](double x, double y) { return a.inside(x, y) || b.inside(x, y); }};
+        case 1:
+            return {"intersect(" + a.spec + ";" + b.spec + ")",
+                    [=](double x, double y) { return a.inside(x, y) && b.inside(x, y); }};
+        default: return {"diff(" + a.spec + ";" + b.spec + ")", [=](double x, double y) { return a.inside(x, y) && !b.inside(x, y); }};
+    }
+}
+
+}  // namespace
+
+// Random CSG trees, many with empty parts: parse_shape refuses exactly the
+// shapes whose set is empty (with "the region is empty", never "disjoint"),
+// and an accepted shape's f is negative exactly at the points of the set
+// (away from the boundary) and its bounds contain them; mesh() meshes it or
+// finds it empty at this spacing, and never refuses it as disjoint.
+BOOST_AUTO_TEST_CASE(random_csg_with_empty_parts_is_the_set_it_names) {
+    std::mt19937 rng(27);
+    const int trials = warpmesh::testing::scaled(400);
+    int simplified = 0, refused = 0, meshed = 0;
+    for (int t = 0; t < trials; ++t) {
+        const CsgTree tree = random_csg(rng, 3);
+        std::vector<Vec2> in;  // grid points (off the integers) inside the set
+        for (double y = -29.93; y < 30; y += 0.61)
+            for (double x = -29.97; x < 30; x += 0.59)
+                if (tree.inside(x, y)) in.push_back({x, y});
+        std::unique_ptr<Shape> s;
+        try {
+            s = parse_shape(tree.spec);
+        } catch (const InputError& e) {
+            const std::string m = e.what();
+            BOOST_TEST(m.find("the region is empty") != std::string::npos, tree.spec << ": " << m);
+            BOOST_TEST(in.empty(), tree.spec << ": refused, but " << in.size() << " grid points are inside");
+            ++refused;
+            continue;
+        }
+        simplified += s->describe() != tree.spec;
+        const Box b = s->bounds();
+        BOOST_TEST_REQUIRE((b.xmin <= b.xmax && b.ymin <= b.ymax), tree.spec);
+        int wrong = 0, outside_bounds = 0;
+        for (double y = -29.93; y < 30; y += 0.61)
+            for (double x = -29.97; x < 30; x += 0.59) {
+                const double f = s->value(x, y);
+                if (std::abs(f) > 1e-9) wrong += (f < 0) != tree.inside(x, y);
+            }
+        for (const Vec2 p : in) outside_bounds += p.x < b.xmin || p.x > b.xmax || p.y < b.ymin || p.y > b.ymax;
+        BOOST_TEST(wrong == 0, tree.spec);
+        BOOST_TEST(outside_bounds == 0, tree.spec);
+        if (t % 8 == 0) {
+            MeshOptions o;
+            o.spacing = 0.5;
+            o.verify = false;
+            try {
+                meshed += !mesh(*s, o).mesh.triangles.empty();
+            } catch (const InputError& e) {
+                BOOST_TEST(std::string(e.what()).find("region is empty at this spacing") != std::string::npos,
+                           tree.spec << ": " << e.what());
+            }
+        }
+    }
+    // The trials exercised what they test.
+    BOOST_TEST(simplified > trials / 10, simplified << " of " << trials << " trees had an empty part dropped");
+    BOOST_TEST(refused > trials / 40, refused << " of " << trials << " trees were empty as a whole");
+    BOOST_TEST(meshed > trials / 40, meshed << " meshed");
 }
 
 BOOST_AUTO_TEST_SUITE_END()

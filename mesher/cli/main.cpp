@@ -20,6 +20,7 @@
 #include <iostream>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -63,8 +64,8 @@ input (images):
   --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
                          background) or these labels, every other pixel one background
                          material; interfaces between materials are mesh edges
-                         (2D images, or one slice of a volume with --slice; in pixel
-                         units; not with --slices)
+                         (2D images and volume slices, in the units below, as for one
+                         region)
   --background drop|keep with --materials/--shapes: output the background's triangles
                          (keep) or not (drop, default; it still bounds the materials)
 
@@ -74,6 +75,8 @@ input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
                          --also need a %d field (out_%03d.vtu); --report is a summary
   --units mm|pixels      mesh in the file's physical coordinates (mm, default for NRRD
                          and NIfTI) or in pixels (default for PGM, PNG and TIFF)
+                         (--units, --pixel-size, --slice, --slices and --points-3d apply
+                         to --label, --iso and --materials alike)
   --pixel-size SX[,SY[,SZ]]  pixel (voxel) size in mm, for any input; implies mm
   --points-3d FILE       also write the mesh's vertices at their 3D positions (CSV x,y,z,
                          in vertex order; with --slices a %d pattern)
@@ -81,7 +84,8 @@ input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
 input (shapes):
   --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
                          flower:cx,cy,a,b,k  rect:x0,y0,x1,y1
-                         union(S;S)  intersect(S;S)  diff(S;S)   (nestable)
+                         union(S;S)  intersect(S;S)  diff(S;S)   (nestable; an intersection
+                         of shapes with disjoint bounding boxes is the empty set)
   --shapes T=S;T=S...    analytic materials, region tag T for shape S; a later shape wins
                          where they overlap; outside all: background (tag 0)
 
@@ -108,6 +112,8 @@ lattice and algorithm:
                          caps that material's cells; uniform: checked)
   --grading G            graded, 1.1 <= G <= 2 (default 2: 2:1 balance): cell sizes grow
                          away from the boundary by at most a factor G per cell on average
+                         (--grading and --max-cell need --graded; --max-size and --max-cell
+                         need a positive value: leave them out for no bound)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
   --optimize             after meshing, move the boundary band's vertices (boundary ones
                          along the level set) and flip its interior edges to raise the
@@ -161,6 +167,18 @@ std::int64_t parse_integer(const std::string& opt, const std::string& text) {
     return v;
 }
 
+// The value of an option with a fixed set of words: its index in `words`.
+std::size_t parse_choice(const std::string& opt, const std::string& v, std::initializer_list<const char*> words) {
+    std::string list;
+    std::size_t k = 0;
+    for (const char* w : words) {
+        if (v == w) return k;
+        list += std::string(k == 0 ? "" : k + 1 == words.size() ? " or " : ", ") + "'" + w + "'";
+        ++k;
+    }
+    throw UsageError(opt + " expects " + list + ", got '" + v + "'");
+}
+
 // The command line's options: the library's MeshOptions (pipeline.hpp) and
 // what concerns input and output.
 struct CliOptions {
@@ -172,7 +190,6 @@ struct CliOptions {
     bool inside_above = true;
     std::optional<std::string> labels;
     std::optional<std::string> materials, shapes;  // multi-material input (materials.hpp)
-    bool background_given = false;                 // --background (into mesh.keep_background)
     std::int64_t max_pixels = std::int64_t{1} << 28;
     MshOptions msh;
     bool svg_min_angle = false;
@@ -181,139 +198,170 @@ struct CliOptions {
     bool quiet = false;
     // Volumes and units (volume.hpp).
     std::optional<std::string> slice, slices;
-    bool units_pixels = false, spacing_given = false;
+    bool units_pixels = false;
     std::vector<double> pixel_size;
     std::string points_3d;
+    // Every option given (for the checks of combinations, e.g. --grading
+    // without --graded).
+    std::set<std::string> given;
+    bool has(const char* option) const { return given.count(option) != 0; }
 };
 
-CliOptions parse_mesh_options(int argc, char** argv) {
-    CliOptions o;
-    MeshOptions& m = o.mesh;
-    for (int i = 0; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw UsageError(a + " needs a value");
-            return argv[++i];
-        };
-        if (a == "-o" || a == "--output") o.outputs.insert(o.outputs.begin(), value());
-        else if (a == "--also") o.outputs.push_back(value());
-        else if (a == "--report") o.report = value();
-        else if (a == "--shape") o.shape = value();
-        else if (a == "--spacing") m.spacing = parse_number(a, value()), o.spacing_given = true;
-        else if (a == "--slice") o.slice = value();
-        else if (a == "--slices") o.slices = value();
-        else if (a == "--points-3d") o.points_3d = value();
-        else if (a == "--units") {
-            const std::string v = value();
-            if (v != "mm" && v != "pixels") throw UsageError("--units expects 'mm' or 'pixels', got '" + v + "'");
-            o.units_pixels = v == "pixels";
-        } else if (a == "--pixel-size") {
-            std::stringstream list(value());
-            o.pixel_size.clear();
-            for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(parse_number(a, item));
-            if (o.pixel_size.empty() || o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
-        }
-        else if (a == "--iso") o.iso = parse_number(a, value());
-        else if (a == "--inside") {
-            const std::string v = value();
-            if (v != "above" && v != "below") throw UsageError("--inside expects 'above' or 'below', got '" + v + "'");
-            o.inside_above = v == "above";
-        } else if (a == "--label") o.labels = value();
-        else if (a == "--materials") o.materials = value();
-        else if (a == "--shapes") o.shapes = value();
-        else if (a == "--background") {
-            const std::string v = value();
-            if (v != "drop" && v != "keep") throw UsageError("--background expects 'drop' or 'keep', got '" + v + "'");
-            m.keep_background = v == "keep";
-            o.background_given = true;
-        }
-        else if (a == "--diagonal") {
-            const std::string v = value();
-            if (v == "maxmin") m.rule = DiagonalRule::maxmin;
-            else if (v == "separating") m.rule = DiagonalRule::separating;
-            else if (v == "fan") m.rule = DiagonalRule::fan;
-            else throw UsageError("--diagonal expects 'maxmin', 'separating' or 'fan', got '" + v + "'");
-        } else if (a == "--graded") m.graded = true;
-        else if (a == "--optimize") m.optimize = true;
-        else if (a == "--max-cell") m.max_cell = parse_integer(a, value());
-        else if (a == "--max-size") m.max_size = parse_number(a, value());
-        else if (a == "--grading") m.grading = parse_number(a, value());
-        else if (a == "--max-size-of") {
-            const std::string v = value();
-            const std::size_t eq = v.find('=');
-            if (eq == std::string::npos) throw UsageError("--max-size-of expects T=H (a material's tag and a size), got '" + v + "'");
-            const std::int64_t tag = parse_integer(a + " T", v.substr(0, eq));
-            if (tag < 0 || tag > 65535) throw UsageError("--max-size-of T=H: T must be a label or tag 0..65535, got " + std::to_string(tag));
-            m.max_size_of.emplace_back(static_cast<std::int32_t>(tag), parse_number(a + " H", v.substr(eq + 1)));
-        }
-        else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
-        else if (a == "--max-squares") m.max_squares = parse_integer(a, value());
-        else if (a == "--msh-version") {
-            const std::string v = value();
-            if (v != "4.1" && v != "2.2") throw UsageError("--msh-version expects '4.1' or '2.2', got '" + v + "'");
-            o.msh.version = v == "4.1" ? 41 : 22;
-        } else if (a == "--msh-cell-data") o.msh.cell_data = true;
-        else if (a == "--svg-color") {
-            const std::string v = value();
-            if (v == "minangle") o.svg_min_angle = true;
-            else if (v == "certified") o.svg_certified = true;
-            else if (v == "region") o.svg_region = true;
-            else throw UsageError("--svg-color expects 'minangle', 'certified' or 'region', got '" + v + "'");
-        } else if (a == "--verify") m.verify = true;
-        else if (a == "--no-verify") m.verify = false;
-        else if (a == "--no-certify") m.certify = false;
-        else if (a == "--min-spacing") m.min_spacing = parse_number(a, value());
-        else if (a == "--guarantee") {
-            const std::string v = value();
-            if (v == "flat") m.guarantee = Guarantee::flat;
-            else if (v == "any") m.guarantee = Guarantee::any;
-            else throw UsageError("--guarantee expects 'flat' or 'any', got '" + v + "'");
-        } else if (a == "--quiet") o.quiet = true;
-        else if (a == "--repeat") {
-            m.repeat = parse_integer(a, value());
-            if (m.repeat < 1 || m.repeat > 1000) throw UsageError("--repeat expects 1 to 1000");
-        }
-        else if (a == "--threads") {
-            const std::int64_t n = parse_integer(a, value());
-            if (n < 1 || n > 1024) throw UsageError("--threads expects 1 to 1024");
-#ifdef _OPENMP
-            omp_set_num_threads(static_cast<int>(n));
-#endif
-        } else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "'");
-        else if (o.input.empty()) o.input = a;
-        else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
+// The arguments, one at a time; value() takes the current option's value.
+struct Args {
+    int argc;
+    char** argv;
+    int i = 0;
+    std::string value(const std::string& opt) {
+        if (i + 1 >= argc) throw UsageError(opt + " needs a value");
+        return argv[++i];
     }
-    if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
-        throw UsageError("give exactly one of an input image or --shape SPEC (or --shapes SPEC)");
-    if (o.outputs.empty() && o.report.empty() && o.quiet)
-        throw UsageError("nothing to do: no -o, no --report and --quiet");
+};
+
+// Each parse_*_option reads option `a` (and its value) into `o` and returns
+// true, or returns false when `a` is none of its options.
+
+// Inputs: images, volumes and units, shapes, materials.
+bool parse_input_option(const std::string& a, Args& args, CliOptions& o) {
+    if (a == "--shape") o.shape = args.value(a);
+    else if (a == "--shapes") o.shapes = args.value(a);
+    else if (a == "--slice") o.slice = args.value(a);
+    else if (a == "--slices") o.slices = args.value(a);
+    else if (a == "--units") o.units_pixels = parse_choice(a, args.value(a), {"mm", "pixels"}) == 1;
+    else if (a == "--pixel-size") {
+        std::stringstream list(args.value(a));
+        o.pixel_size.clear();
+        for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(parse_number(a, item));
+        if (o.pixel_size.empty() || o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
+    } else if (a == "--iso") o.iso = parse_number(a, args.value(a));
+    else if (a == "--inside") o.inside_above = parse_choice(a, args.value(a), {"above", "below"}) == 0;
+    else if (a == "--label") o.labels = args.value(a);
+    else if (a == "--materials") o.materials = args.value(a);
+    else if (a == "--background") o.mesh.keep_background = parse_choice(a, args.value(a), {"drop", "keep"}) == 1;
+    else if (a == "--max-pixels") o.max_pixels = parse_integer(a, args.value(a));
+    else return false;
+    return true;
+}
+
+// The lattice, the algorithm, size control and the certificates.
+bool parse_mesher_option(const std::string& a, Args& args, CliOptions& o) {
+    MeshOptions& m = o.mesh;
+    if (a == "--spacing") m.spacing = parse_number(a, args.value(a));
+    else if (a == "--diagonal") {
+        constexpr DiagonalRule rules[] = {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan};
+        m.rule = rules[parse_choice(a, args.value(a), {"maxmin", "separating", "fan"})];
+    } else if (a == "--graded") m.graded = true;
+    else if (a == "--optimize") m.optimize = true;
+    else if (a == "--max-cell") m.max_cell = parse_integer(a, args.value(a));
+    else if (a == "--max-size") m.max_size = parse_number(a, args.value(a));
+    else if (a == "--grading") m.grading = parse_number(a, args.value(a));
+    else if (a == "--max-size-of") {
+        const std::string v = args.value(a);
+        const std::size_t eq = v.find('=');
+        if (eq == std::string::npos) throw UsageError("--max-size-of expects T=H (a material's tag and a size), got '" + v + "'");
+        const std::int64_t tag = parse_integer(a + " T", v.substr(0, eq));
+        if (tag < 0 || tag > 65535) throw UsageError("--max-size-of T=H: T must be a label or tag 0..65535, got " + std::to_string(tag));
+        m.max_size_of.emplace_back(static_cast<std::int32_t>(tag), parse_number(a + " H", v.substr(eq + 1)));
+    } else if (a == "--max-squares") m.max_squares = parse_integer(a, args.value(a));
+    else if (a == "--verify") m.verify = true;
+    else if (a == "--no-verify") m.verify = false;
+    else if (a == "--no-certify") m.certify = false;
+    else if (a == "--min-spacing") m.min_spacing = parse_number(a, args.value(a));
+    else if (a == "--guarantee") m.guarantee = parse_choice(a, args.value(a), {"flat", "any"}) == 0 ? Guarantee::flat : Guarantee::any;
+    else return false;
+    return true;
+}
+
+// Outputs, formats, the report, and how the run goes.
+bool parse_output_option(const std::string& a, Args& args, CliOptions& o) {
+    if (a == "-o" || a == "--output") o.outputs.insert(o.outputs.begin(), args.value(a));
+    else if (a == "--also") o.outputs.push_back(args.value(a));
+    else if (a == "--report") o.report = args.value(a);
+    else if (a == "--points-3d") o.points_3d = args.value(a);
+    else if (a == "--msh-version") o.msh.version = parse_choice(a, args.value(a), {"4.1", "2.2"}) == 0 ? 41 : 22;
+    else if (a == "--msh-cell-data") o.msh.cell_data = true;
+    else if (a == "--svg-color") {
+        const std::size_t c = parse_choice(a, args.value(a), {"minangle", "certified", "region"});
+        (c == 0 ? o.svg_min_angle : c == 1 ? o.svg_certified : o.svg_region) = true;
+    } else if (a == "--quiet") o.quiet = true;
+    else if (a == "--repeat") {
+        o.mesh.repeat = parse_integer(a, args.value(a));
+        if (o.mesh.repeat < 1 || o.mesh.repeat > 1000) throw UsageError("--repeat expects 1 to 1000");
+    } else if (a == "--threads") {
+        const std::int64_t n = parse_integer(a, args.value(a));
+        if (n < 1 || n > 1024) throw UsageError("--threads expects 1 to 1024");
+#ifdef _OPENMP
+        omp_set_num_threads(static_cast<int>(n));
+#endif
+    } else return false;
+    return true;
+}
+
+// Options that have no effect in this combination are refused rather than
+// silently ignored; so are values that only look like sizes (--max-size 0,
+// --max-cell 0: the library's "no bound", which the user gets by leaving the
+// option out).
+void check_mesher_options(const CliOptions& o) {
+    const MeshOptions& m = o.mesh;
     try {
         validate(m);
     } catch (const InputError& e) {
         throw UsageError(e.what());
     }
+    if (o.has("--max-size") && !(m.max_size > 0))
+        throw UsageError("--max-size must be positive and finite (leave it out for no size bound)");
+    if (o.has("--max-cell") && m.max_cell < 1)
+        throw UsageError("--max-cell must be a power of two >= 1, in lattice squares (leave it out for cells as coarse "
+                         "as the domain allows)");
+    for (const char* option : {"--grading", "--max-cell"})
+        if (o.has(option) && !m.graded)
+            throw UsageError(std::string(option) + " applies to graded meshes: add --graded (a uniform mesh's size is its spacing)");
+    if (o.has("--min-spacing") && m.guarantee != Guarantee::flat)
+        throw UsageError("--min-spacing applies to --guarantee flat");
     if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
-    if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
-    if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
-    if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
-    if (!o.shape.empty() && (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty()))
-        throw UsageError("--slice, --slices, --pixel-size and --points-3d apply to images and volumes, not to --shape");
-    if (o.slice && o.slices) throw UsageError("--slice and --slices exclude each other");
     if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
-    if (o.materials && (o.labels || o.iso || o.input.empty()))
-        throw UsageError("--materials applies to a label image and excludes --label and --iso");
-    if (o.background_given && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
+}
+
+void check_input_options(const CliOptions& o) {
+    const MeshOptions& m = o.mesh;
+    if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
+        throw UsageError("give exactly one of an input image or --shape SPEC (or --shapes SPEC)");
+    if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
+    const bool analytic = !o.shape.empty() || o.shapes;
+    if (analytic && (o.iso || o.labels || o.has("--inside")))
+        throw UsageError("--iso, --inside and --label apply to images, not to --shape/--shapes");
+    if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    if (analytic && (o.slice || o.slices || o.has("--units") || !o.pixel_size.empty() || !o.points_3d.empty()))
+        throw UsageError("--slice, --slices, --units, --pixel-size and --points-3d apply to images and volumes, not to "
+                         "--shape/--shapes");
+    if (o.slice && o.slices) throw UsageError("--slice and --slices exclude each other");
+    if (o.materials && (o.labels || o.iso || o.has("--inside") || o.input.empty()))
+        throw UsageError("--materials applies to a label image and excludes --label, --iso and --inside");
+    if (o.labels && o.has("--inside")) throw UsageError("--inside applies to threshold mode (--iso), not to --label");
+    if (o.has("--background") && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
     if (!m.max_size_of.empty() && !o.materials && !o.shapes)
         throw UsageError("--max-size-of applies to --materials and --shapes (one region: use --max-size)");
     if (o.materials || o.shapes) {
         if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
         if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");
-        if (o.shapes && o.slice) throw UsageError("--slice applies to images and volumes, not to --shapes");
-        if (o.slices || !o.pixel_size.empty() || !o.points_3d.empty())
-            throw UsageError("--materials and --shapes mesh 2D label images and one slice of a volume (--slice) in pixel "
-                             "units, and analytic shapes: --slices, --pixel-size and --points-3d are not supported with "
-                             "them yet");
     }
+}
+
+CliOptions parse_mesh_options(int argc, char** argv) {
+    CliOptions o;
+    Args args{argc, argv};
+    for (; args.i < argc; ++args.i) {
+        const std::string a = argv[args.i];
+        if (parse_input_option(a, args, o) || parse_mesher_option(a, args, o) || parse_output_option(a, args, o))
+            o.given.insert(a);
+        else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "'");
+        else if (o.input.empty()) o.input = a;
+        else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
+    }
+    if (o.outputs.empty() && o.report.empty() && o.quiet)
+        throw UsageError("nothing to do: no -o, no --report and --quiet");
+    check_input_options(o);
+    check_mesher_options(o);
     return o;
 }
 
@@ -366,6 +414,9 @@ private:
 Volume read_input(const CliOptions& o) {
     Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
     if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
+    if (o.has("--units") && !o.units_pixels && !v.physical)
+        throw InputError("--units mm: '" + o.input + "' (" + v.format +
+                         ") gives no physical pixel size; give one with --pixel-size SX[,SY]");
     return v;
 }
 
@@ -373,6 +424,7 @@ SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) 
     SliceOptions so;
     so.slice = slice;
     so.units = o.units_pixels ? Units::pixels : Units::physical;
+    so.materials = o.materials;
     if (o.labels) {
         so.levelset = label_options(*o.labels);
     } else {
@@ -384,7 +436,7 @@ SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) 
 
 // Mesh one input (a LevelSet, or a MaterialField for --materials/--shapes)
 // and stage its outputs (meshes, --points-3d, report); the slice's placement
-// goes into the report.
+// goes into the report.  The warnings are returned, not printed.
 template <class Field>
 MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice* input, StagedOutputs& staged) {
     // The per-triangle array certified_min_angle (8 bytes a triangle) only when
@@ -395,11 +447,10 @@ MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice
     formats.msh = o.msh;
     for (const auto& out : o.outputs) m.cell_data = m.cell_data || format_carries_cell_data(out, formats);
     m.input = o.shapes ? *o.shapes : o.shape.empty() ? o.input : o.shape;
-    if (input && !o.spacing_given) m.spacing = input->pixel_min;  // mm inputs: the smaller pixel size
+    if (input && !o.has("--spacing")) m.spacing = input->pixel_min;  // mm inputs: the smaller pixel size
     MeshResult r = mesh(f, m);
     if (input)
         for (auto& field : slice_report_fields(*input)) r.report.extra.push_back(std::move(field));
-    for (const auto& w : r.warnings) std::cerr << "warpmesh: warning: " << w << "\n";
     WriteOptions wo = write_options(r, o.svg_min_angle, o.svg_certified);
     if (o.svg_region && !o.svg_certified) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
     wo.msh = o.msh;
@@ -409,6 +460,15 @@ MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice
         staged.write(o.points_3d, [&](const std::string& path) { write_points_3d(r.mesh, input->plane, path); });
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, r.report); });
     return r;
+}
+
+// A loaded slice: its level set, or its materials.
+MeshResult mesh_and_stage(const CliOptions& o, const LoadedSlice& input, StagedOutputs& staged) {
+    return input.materials ? mesh_and_stage(o, *input.materials, &input, staged) : mesh_and_stage(o, *input.f, &input, staged);
+}
+
+void print_warnings(const std::vector<std::string>& warnings) {
+    for (const auto& w : warnings) std::cerr << "warpmesh: warning: " << w << "\n";
 }
 
 int run_slices(const CliOptions& o);
@@ -421,32 +481,19 @@ int run_mesh(int argc, char** argv) {
     if (!o.report.empty()) check_writable(o.report);
     if (!o.points_3d.empty()) check_writable(o.points_3d);
 
-    if (o.materials || o.shapes) {
-        // Multi-material: analytic shapes, or a label image (a 2D image, or
-        // with --slice a slice of a volume) in pixel units.
-        std::unique_ptr<MaterialField> field;
-        if (o.shapes) {
-            field = parse_material_shapes(*o.shapes);
-        } else {
-            field = make_label_materials(
-                slice_image(read_input(o), o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt), *o.materials);
-        }
-        StagedOutputs staged;
-        const MeshResult r = mesh_and_stage(o, *field, nullptr, staged);
-        staged.commit();
-        if (!o.quiet) std::cout << to_text(r);
-        return 0;
-    }
-    std::unique_ptr<LevelSet> f;
-    std::optional<LoadedSlice> input;
-    if (!o.shape.empty()) {
-        f = parse_shape(o.shape);
-    } else {
-        input = load_slice(read_input(o), slice_options(o, o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt));
-        f = std::move(input->f);
-    }
     StagedOutputs staged;
-    const MeshResult r = mesh_and_stage(o, *f, input ? &*input : nullptr, staged);
+    MeshResult r;
+    if (!o.shape.empty() || o.shapes) {
+        if (o.shapes) r = mesh_and_stage(o, *parse_material_shapes(*o.shapes), nullptr, staged);
+        else r = mesh_and_stage(o, *parse_shape(o.shape), nullptr, staged);
+    } else {
+        // An image or a slice of a volume: one region, or with --materials
+        // every material of its labels.
+        const LoadedSlice input =
+            load_slice(read_input(o), slice_options(o, o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt));
+        r = mesh_and_stage(o, input, staged);
+    }
+    print_warnings(r.warnings);
     staged.commit();
     if (!o.quiet) std::cout << to_text(r);
     return 0;
@@ -454,7 +501,8 @@ int run_mesh(int argc, char** argv) {
 
 // --slices AXIS=A:B: the volume is read once and its slices meshed in
 // parallel by mesh_slices (slices.hpp), one output set per slice from the %d
-// patterns, one summary (stdout, --report).
+// patterns, one summary (stdout, --report); the slices' warnings are printed
+// after the batch, each naming its slices.
 int run_slices(const CliOptions& o) {
     const SliceRange range = parse_slice_range(*o.slices);
     auto name = [&](const std::string& pattern, std::int64_t k) {
@@ -479,11 +527,13 @@ int run_slices(const CliOptions& o) {
             for (const auto& out : o.outputs) ok.outputs.push_back(name(out, k));
             if (!o.points_3d.empty()) ok.points_3d = name(o.points_3d, k);
             ok.report.clear();
-            SliceMeshed m{mesh_and_stage(ok, *input.f, &input, staged).report, {}};
+            MeshResult r = mesh_and_stage(ok, input, staged);
+            SliceMeshed m{std::move(r.report), {}, std::move(r.warnings)};
             for (const auto& out : ok.outputs) m.outputs += (m.outputs.empty() ? "" : ", ") + out;
             return m;
         },
         seconds_since(t0));
+    print_warnings(batch_warnings(batch));
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_text_file(path, to_json(batch)); });
     staged.commit();
     if (!o.quiet) std::cout << to_text(batch);

@@ -130,6 +130,11 @@ void validate(const MeshOptions& o) {
         throw InputError("--grading must be between 1.1 and 2 (2: neighbouring cells differ by a factor 2 at most; "
                          "G < 2: sizes grow by at most a factor G per cell on average; a quadtree's "
                          "templates allow no more than 2)");
+    // Graded-only options are refused for a uniform mesh, not ignored.
+    if (!o.graded && o.grading != max_grading)
+        throw InputError("--grading applies to graded meshes: add --graded (a uniform mesh's size is its spacing)");
+    if (!o.graded && o.max_cell != 0)
+        throw InputError("--max-cell applies to graded meshes: add --graded (a uniform mesh's size is its spacing)");
     if (o.min_spacing && !(*o.min_spacing > 0)) throw InputError("--min-spacing must be positive");
     if (o.guarantee == Guarantee::flat && !o.certify)
         throw InputError("--guarantee flat needs the certification (drop --no-certify)");

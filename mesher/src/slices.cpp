@@ -1,6 +1,7 @@
 // slices.cpp — meshing a range of slices of one volume (slices.hpp).
 #include "warpmesh/slices.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <sstream>
@@ -25,6 +26,14 @@ std::int64_t SliceBatch::triangles() const {
 }
 
 namespace {
+// ", \"warnings\": [...]", or nothing for a slice without warnings.
+std::string warnings_json(const std::vector<std::string>& warnings) {
+    if (warnings.empty()) return {};
+    std::string j = ", \"warnings\": [";
+    for (std::size_t k = 0; k < warnings.size(); ++k) j += (k ? ", " : "") + json_string(warnings[k]);
+    return j + "]";
+}
+
 std::string range_text(const SliceRange& r) {
     return std::string(1, "ijk"[r.axis]) + "=" + std::to_string(r.first) + ":" + std::to_string(r.end);
 }
@@ -57,6 +66,7 @@ SliceBatch mesh_slices(const Volume& volume, const SliceRange& range, const Slic
             SliceMeshed m = mesh_one(input);
             out.report = std::move(m.report);
             out.outputs = std::move(m.outputs);
+            out.warnings = std::move(m.warnings);
         } catch (const InputError& e) {
             out.skipped = e.what();
         } catch (...) {
@@ -84,7 +94,8 @@ std::string to_json(const SliceBatch& b) {
             json += ", \"outputs\": " + json_string(d.outputs) + ", \"triangles\": " + std::to_string(d.report->triangles) +
                     ", \"vertices\": " + std::to_string(d.report->vertices) + ", \"area\": " + json_number(d.report->area) +
                     ", \"min_angle_deg\": " + json_number(d.report->min_angle_deg) + ", \"max_angle_deg\": " +
-                    json_number(d.report->max_angle_deg) + ", \"plane\": " + (d.plane.empty() ? "null" : d.plane) + "}";
+                    json_number(d.report->max_angle_deg) + ", \"plane\": " + (d.plane.empty() ? "null" : d.plane) +
+                    warnings_json(d.warnings) + "}";
         else
             json += ", \"skipped\": " + json_string(d.skipped) + "}";
     }
@@ -108,6 +119,28 @@ std::string to_text(const SliceBatch& b) {
     text << b.meshed() << " of " << b.slices.size() << " slices meshed, " << b.triangles() << " triangles in "
          << b.total_seconds << " s (reading " << b.read_seconds << " s)\n";
     return text.str();
+}
+
+std::vector<std::string> batch_warnings(const SliceBatch& b) {
+    std::vector<std::pair<std::string, std::vector<std::int64_t>>> groups;  // warning, its slices
+    for (const SliceOutcome& d : b.slices)
+        for (const std::string& w : d.warnings) {
+            auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& e) { return e.first == w; });
+            if (g == groups.end()) g = groups.insert(groups.end(), {w, {}});
+            if (g->second.empty() || g->second.back() != d.index) g->second.push_back(d.index);
+        }
+    std::vector<std::string> lines;
+    for (const auto& [w, indices] : groups) {
+        // Runs of consecutive slices as "first..last".
+        std::string which = std::string(indices.size() > 1 ? "slices " : "slice ") + "ijk"[b.range.axis] + "=";
+        for (std::size_t k = 0, end; k < indices.size(); k = end) {
+            for (end = k + 1; end < indices.size() && indices[end] == indices[end - 1] + 1;) ++end;
+            which += (k ? ", " : "") + std::to_string(indices[k]);
+            if (end - k > 1) which += (end - k > 2 ? ".." : ", ") + std::to_string(indices[end - 1]);
+        }
+        lines.push_back(which + ": " + w);
+    }
+    return lines;
 }
 
 }  // namespace warpmesh

@@ -95,6 +95,13 @@ MeshResult run(const Field& f, const MeshOptions& o, std::optional<int> threads)
 }
 
 using Pixels = py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>;
+// Where the pixel centres lie (x0, y0, sx, sy): image_levelset.hpp's
+// PixelGeometry; none: pixel units.
+using Geometry = std::optional<std::array<double, 4>>;
+
+PixelGeometry pixel_geometry(const Geometry& g) {
+    return g ? PixelGeometry{(*g)[0], (*g)[1], (*g)[2], (*g)[3]} : PixelGeometry{};
+}
 
 // The samples of a 2D uint16 array as an Image (a copy: the level sets keep
 // their own fields anyway).
@@ -110,13 +117,8 @@ Image to_image(const Pixels& pixels, int maxval, const std::string& source) {
     return img;
 }
 
-}  // namespace
-
-PYBIND11_MODULE(_core, m) {
-    m.doc() = "warpmesh C++ core (use the `warpmesh` package)";
-    py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
-    py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
-
+// MeshResult: the mesh's arrays as numpy views, the report, write().
+void bind_result(py::module_& m) {
     py::class_<MeshResult> result(m, "MeshResult");
     def_view<double>(result, "points", 2, [](const MeshResult& r) -> const auto& { return r.mesh.vertices; });
     def_view<std::int32_t>(result, "triangles", 3, [](const MeshResult& r) -> const auto& { return r.mesh.triangles; });
@@ -145,13 +147,18 @@ PYBIND11_MODULE(_core, m) {
             py::gil_scoped_release release;
             write_mesh(r.mesh, path, wo);
         });
+}
 
+// mesh_image, mesh_shape, mesh_materials: the warpmesh.mesh*() of
+// python/warpmesh/__init__.py, which checks and converts their arguments.
+void bind_meshing(py::module_& m) {
     m.def(
         "mesh_image",
         [](const Pixels& pixels, int maxval, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels, bool nonzero,
-           const std::string& source, std::optional<int> threads, const py::dict& kw) {
+           const std::string& source, const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
             const Image img = to_image(pixels, maxval, source);
             ImageLevelSetOptions io;
+            io.geometry = pixel_geometry(geometry);
             if (labels || nonzero) {
                 io.mode = ImageMode::label;
                 io.label_nonzero = nonzero;
@@ -164,7 +171,7 @@ PYBIND11_MODULE(_core, m) {
             return run(*f, mesh_options(kw), threads);
         },
         py::arg("pixels"), py::arg("maxval"), py::arg("iso"), py::arg("inside_above"), py::arg("labels"),
-        py::arg("nonzero"), py::arg("source"), py::arg("threads"), py::arg("options"));
+        py::arg("nonzero"), py::arg("source"), py::arg("geometry"), py::arg("threads"), py::arg("options"));
 
     m.def(
         "mesh_shape",
@@ -179,41 +186,76 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "mesh_materials",
         [](const Pixels& pixels, int maxval, const std::string& spec, bool keep_background, const std::string& source,
-           std::optional<int> threads, const py::dict& kw) {
+           const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
             const Image img = to_image(pixels, maxval, source);
-            const std::unique_ptr<MaterialField> field = make_label_materials(img, spec);
+            const std::unique_ptr<MaterialField> field = make_label_materials(img, spec, pixel_geometry(geometry));
             MeshOptions o = mesh_options(kw);
             o.keep_background = keep_background;
             return run(*field, o, threads);
         },
         py::arg("pixels"), py::arg("maxval"), py::arg("spec"), py::arg("keep_background"), py::arg("source"),
-        py::arg("threads"), py::arg("options"));
+        py::arg("geometry"), py::arg("threads"), py::arg("options"));
+}
 
-    // (pixels, maxval): pixels an array that owns the decoded samples.  Any
-    // format the command line reads (read_volume: PGM, PNG, NRRD, NIfTI, TIFF);
-    // a volume needs `slice` ("k=60", as --slice).  The slice is returned as
-    // the command line meshes it in pixel units: its first in-plane index axis
-    // along the columns, its second upwards (row 0 at the top, y = rows-1-r).
-    // Samples must be integers in 0..65535 (label maps, 8/16-bit images).
+void bind_read_image(py::module_& m) {
+    // (pixels, maxval, placement): pixels an array that owns the decoded
+    // samples.  Any format the command line reads (read_volume: PGM, PNG,
+    // NRRD, NIfTI, TIFF); a volume needs `slice` ("k=60", as --slice).  The
+    // rows and columns are the slice as the command line meshes it: its first
+    // in-plane index axis along the columns, its second upwards (row 0 at the
+    // top, y = rows-1-r).  Samples must be integers in 0..65535 (label maps,
+    // 8/16-bit images).  placement: where the pixels lie in `units` ("mm",
+    // "pixels", or None: millimetres when the file gives a physical geometry,
+    // as the command line's default), place_slice (volume.hpp): a dict with
+    // "units", "geometry" (x0, y0, sx, sy) and the plane's "origin",
+    // "x_axis", "y_axis", "normal"; None for a plain image in pixels.
     m.def(
         "read_image",
-        [](const std::string& path, std::optional<std::string> slice, std::uint64_t max_pixels) {
+        [](const std::string& path, std::optional<std::string> slice, std::optional<std::string> units,
+           std::uint64_t max_pixels) {
+            if (units && *units != "mm" && *units != "pixels")
+                throw InputError("units must be None, 'mm' or 'pixels', got '" + *units + "'");
             VolumeLimits limits;
             limits.max_voxels = max_pixels;
             const Volume v = read_volume(path, limits);
             if (!slice && v.dims[2] != 1)
                 throw InputError(path + ": a volume of " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) +
                                  " x " + std::to_string(v.dims[2]) + " voxels: choose a slice, e.g. slice=\"k=0\"");
-            // The slice as the command line meshes it in pixel units (slice_image, volume.hpp).
-            auto img = std::make_unique<Image>(slice_image(v, slice ? std::optional(parse_slice(*slice)) : std::nullopt));
+            const std::optional<SliceSpec> spec = slice ? std::optional(parse_slice(*slice)) : std::nullopt;
+            const SlicePlacement at = place_slice(v, spec, units == "pixels" ? Units::pixels : Units::physical);
+            if (units == "mm" && !at.physical)
+                throw InputError(path + " (" + v.format + ") gives no physical pixel size: read it in pixels "
+                                 "(units=None or \"pixels\") and scale with mesh(..., pixel_size=...)");
+            py::object placement = py::none();
+            if (at.placed) {
+                const PixelGeometry& g = at.geometry;
+                py::dict d;
+                d["units"] = at.units;
+                d["geometry"] = py::make_tuple(g.x0, g.y0, g.sx, g.sy);
+                d["origin"] = at.plane.origin, d["x_axis"] = at.plane.x_axis, d["y_axis"] = at.plane.y_axis;
+                d["normal"] = at.plane.normal;
+                placement = d;
+            }
+            auto img = std::make_unique<Image>(slice_image(v, spec));
             const int maxval = img->maxval;
             const std::array<py::ssize_t, 2> shape{img->height, img->width};
             std::uint16_t* data = img->pixels.data();
             py::capsule owner(img.release(), [](void* p) { delete static_cast<Image*>(p); });
-            return py::make_tuple(py::array_t<std::uint16_t>(shape, data, owner), maxval);
+            return py::make_tuple(py::array_t<std::uint16_t>(shape, data, owner), maxval, placement);
         },
-        py::arg("path"), py::arg("slice") = std::nullopt, py::arg("max_pixels") = default_max_pixels);
+        py::arg("path"), py::arg("slice") = std::nullopt, py::arg("units") = std::nullopt,
+        py::arg("max_pixels") = default_max_pixels);
+}
 
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+    m.doc() = "warpmesh C++ core (use the `warpmesh` package)";
+    py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+    py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
+    bind_result(m);
+    bind_meshing(m);
+    bind_read_image(m);
     m.def("png_supported", &png_supported);
     m.def("certified_table_available", &certified_table_available);
 }

@@ -11,9 +11,10 @@ with certified angle bounds.
     >>> d = warpmesh.mesh_shape("circle:0,0,1", spacing=0.05, graded=True)
 
 The functions release the GIL while meshing (threads can mesh in parallel; the
-mesher itself uses OpenMP threads, `threads=` per call).  Bad input raises
-ValueError (warpmesh.InputError), an output that cannot be written OSError
-(warpmesh.OutputError).
+mesher itself uses OpenMP threads, `threads=` per call).  Every bad input
+(an argument of the wrong type or value, an image warpmesh cannot mesh, a
+file it cannot read) raises warpmesh.InputError, a subclass of ValueError; an
+output that cannot be written raises OSError (warpmesh.OutputError).
 """
 import json
 import warnings
@@ -34,42 +35,69 @@ _MAX_PIXELS = 1 << 28
 class Image(np.ndarray):
     """A 2D uint16 array of samples (row 0 at the top) as read from a file, with
     ``maxval`` (the file's largest possible sample: the default threshold is
-    half of it) and ``source`` (the path)."""
+    half of it), ``source`` (the path) and where its pixels lie:
 
-    def __new__(cls, pixels, maxval, source=""):
+      units      "mm" or "pixels"
+      geometry   (x0, y0, sx, sy) in millimetres: the pixel in column c and
+                 row r is centred at (x0 + c sx, y0 + (rows - 1 - r) sy); None
+                 in pixel units.  mesh() meshes such an image in millimetres.
+      plane      where the slice's 2D point (x, y) lies in 3D: origin + x
+                 x_axis + y y_axis (a dict of "origin", "x_axis", "y_axis",
+                 "normal"; None for a plain image)."""
+
+    def __new__(cls, pixels, maxval, source="", placement=None):
         obj = np.asarray(pixels).view(cls)
         obj.maxval = int(maxval)
         obj.source = str(source)
+        placement = placement or {}
+        obj.units = placement.get("units", "pixels")
+        obj.geometry = tuple(placement["geometry"]) if obj.units == "mm" else None
+        obj.plane = {k: tuple(placement[k]) for k in ("origin", "x_axis", "y_axis", "normal")} if placement else None
         return obj
 
     def __array_finalize__(self, obj):
         self.maxval = getattr(obj, "maxval", None)
         self.source = getattr(obj, "source", "")
+        # A view keeps the placement only if it has all the pixels.
+        same = obj is not None and getattr(obj, "shape", None) == self.shape
+        self.units = getattr(obj, "units", "pixels") if same else "pixels"
+        self.geometry = getattr(obj, "geometry", None) if same else None
+        self.plane = getattr(obj, "plane", None) if same else None
 
 
-def read_image(path, *, slice=None, max_pixels=_MAX_PIXELS):
+def read_image(path, *, slice=None, units=None, max_pixels=_MAX_PIXELS):
     """Read an image, or one slice of a volume, the way the CLI reads it: PGM
     (P2/P5, 8 or 16 bits), PNG (when built with libpng), NRRD, NIfTI-1/2 and
     TIFF, recognised by content.
 
     ``slice`` ("k=60"; axis i, j or k, as the CLI's --slice) is required for a
-    volume of more than one slice.  The slice comes in pixel units as the CLI
-    meshes it with ``--units pixels``: its first in-plane index axis along the
-    columns, its second upwards (row 0 at the top).  Samples must be integers
-    in 0..65535 (label maps, 8/16-bit images); anything else is refused.
+    volume of more than one slice.  The rows and columns are the slice as the
+    CLI meshes it: its first in-plane index axis along the columns, its second
+    upwards (row 0 at the top).  Samples must be integers in 0..65535 (label
+    maps, 8/16-bit images); anything else is refused.
+
+    ``units`` as the CLI's --units: None (default) gives millimetres when the
+    file has a physical geometry (NRRD, NIfTI) and pixels otherwise; "mm" or
+    "pixels" choose.  In millimetres the Image's ``geometry`` holds the pixel
+    sizes (anisotropic pixels are fine) and the origin, and mesh() meshes it
+    there: the points are the CLI's `--slice ... --units mm` points.
 
     Returns an Image (a numpy uint16 array of shape (rows, columns) owning the
-    samples, no copy) with ``maxval`` and ``source``.  Raises ValueError
-    naming the file and the problem."""
-    pixels, maxval = _core.read_image(str(path), None if slice is None else str(slice), int(max_pixels))
-    return Image(pixels, maxval, path)
+    samples, no copy) with ``maxval``, ``source``, ``units``, ``geometry``
+    and ``plane``.  Raises InputError naming the file and the problem."""
+    if units not in (None, "mm", "pixels"):
+        raise InputError(f"units must be None, 'mm' or 'pixels', got {units!r}")
+    pixels, maxval, placement = _core.read_image(str(path), None if slice is None else str(slice), units,
+                                                 _integer("max_pixels", max_pixels, 1))
+    return Image(pixels, maxval, path, placement)
 
 
 class Mesh:
     """The result of mesh() / mesh_shape().
 
     Arrays (numpy views of the C++ mesh, read-only, kept alive by this object):
-      points            (n, 2) float64   vertex coordinates (pixel units × pixel_size)
+      points            (n, 2) float64   vertex coordinates (pixel units × pixel_size, or
+                                         millimetres for an Image read_image placed in mm)
       triangles         (t, 3) int32     counter-clockwise vertex indices
       regions           (t,)   int32     region tag per triangle (label images: the label; else 1)
       boundary_edges    (b, 2) int32     edges of one triangle, region on the left
@@ -121,7 +149,8 @@ class Mesh:
 
     def write(self, path):
         """Write the mesh with warpmesh's own writers, chosen by extension:
-        .vtu, .msh, .node/.ele, .svg, .png (in pixel units; atomic)."""
+        .vtu, .msh, .node/.ele, .svg, .png (atomic; in the mesher's units: pixels
+        before pixel_size, or millimetres for an Image placed in mm)."""
         self._core.write(str(path))
 
     def to_meshio(self, boundary=False):
@@ -151,31 +180,73 @@ class Mesh:
         return f"<warpmesh.Mesh {len(self.points)} points, {len(self.triangles)} triangles{cert}>"
 
 
+def _number(name, value, low=None):
+    """A finite float (at least `low`), else InputError."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    if not np.isfinite(v) or (low is not None and v < low):
+        raise InputError(f"{name} must be a finite number{'' if low is None else f' >= {low}'}, got {value!r}")
+    return v
+
+
+def _integer(name, value, low=None):
+    """An int (integral numbers only, at least `low`), else InputError."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer, float, np.floating)) \
+            or value != np.floor(value) or not np.isfinite(value):
+        raise InputError(f"{name} must be an integer, got {value!r}")
+    if low is not None and value < low:
+        raise InputError(f"{name} must be at least {low}, got {value!r}")
+    return int(value)
+
+
+def _choice(name, value, choices):
+    if not isinstance(value, str) or value not in choices:
+        raise InputError(f"{name} must be " + ", ".join(repr(c) for c in choices[:-1]) +
+                         f" or {choices[-1]!r}, got {value!r}")
+    return value
+
+
 def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input,
              max_size=None, grading=2.0, max_size_of=None):
-    if rule not in ("separating", "maxmin", "fan"):
-        raise ValueError(f"rule must be 'separating', 'maxmin' or 'fan', got {rule!r}")
-    o = dict(spacing=float(spacing), rule=rule, graded=bool(graded), max_cell=int(max_cell),
-             max_squares=int(max_squares), certify=bool(certify), verify=bool(verify),
-             guarantee="any" if guarantee is None else str(guarantee), input=input)
+    _choice("rule", rule, ("separating", "maxmin", "fan"))
+    if guarantee is not None:
+        _choice("guarantee", guarantee, ("any", "flat"))
+    o = dict(spacing=_number("spacing", spacing), rule=rule, graded=bool(graded),
+             max_cell=_integer("max_cell", max_cell, 0), max_squares=_integer("max_squares", max_squares),
+             certify=bool(certify), verify=bool(verify), guarantee="any" if guarantee is None else guarantee,
+             input=input)
     if min_spacing is not None:
-        o["min_spacing"] = float(min_spacing)
+        o["min_spacing"] = _number("min_spacing", min_spacing)
     if max_size is not None:
-        o["max_size"] = float(max_size)
-    o["grading"] = float(grading)
+        # None is "no bound"; 0 is not a size (the CLI refuses --max-size 0 too).
+        o["max_size"] = _number("max_size", max_size)
+        if not o["max_size"] > 0:
+            raise InputError("max_size must be positive and finite (None for no size bound)")
+    o["grading"] = _number("grading", grading)
     if max_size_of is not None:
         if not isinstance(max_size_of, dict):
-            raise TypeError(f"max_size_of must be a dict {{label: size}}, got {type(max_size_of).__name__}")
-        o["max_size_of"] = {int(k): float(v) for k, v in max_size_of.items()}
+            raise InputError(f"max_size_of must be a dict {{label: size}}, got {type(max_size_of).__name__}")
+        o["max_size_of"] = {_integer("max_size_of label", k): _number("max_size_of size", v)
+                            for k, v in max_size_of.items()}
     return o
+
+
+def _threads(threads):
+    return None if threads is None else _integer("threads", threads, 1)
 
 
 def _pixel_size(pixel_size):
     if pixel_size is None:
         return None
-    s = np.broadcast_to(np.asarray(pixel_size, dtype=float), (2,))
-    if s[0] != s[1] or not (s[0] > 0) or not np.isfinite(s[0]):
-        raise ValueError(f"pixel_size must be one positive number (square pixels), got {pixel_size!r}")
+    try:
+        s = np.broadcast_to(np.asarray(pixel_size, dtype=float), (2,))
+    except (TypeError, ValueError):
+        s = None
+    if s is None or s[0] != s[1] or not (s[0] > 0) or not np.isfinite(s[0]):
+        raise InputError(f"pixel_size must be one positive number (square pixels), got {pixel_size!r}"
+                         " (anisotropic pixels: read_image a NRRD/NIfTI file, whose pixel sizes mesh() uses)")
     return float(s[0])
 
 
@@ -184,6 +255,10 @@ def _finish(core, pixel_size=None):
     for w in m.warnings:
         warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=3)
     return m
+
+
+def _label_value(v):
+    return _integer("label", v, 0)
 
 
 def _labels(labels):
@@ -196,14 +271,41 @@ def _labels(labels):
         out = []
         for part in labels.split(","):
             lo, _, hi = part.strip().partition("-")
-            out.extend(range(int(lo), int(hi or lo) + 1))
+            try:
+                out.extend(range(int(lo), int(hi or lo) + 1))
+            except ValueError:
+                raise InputError(f"bad label list {labels!r}: expected e.g. 3, \"51,52\", \"1-9\" or \"nonzero\"") \
+                    from None
         return out, False
     if np.isscalar(labels):
-        return [int(labels)], False
-    return [int(v) for v in labels], False
+        return [_label_value(labels)], False
+    try:
+        return [_label_value(v) for v in labels], False
+    except TypeError:
+        raise InputError(f"labels must be an int, a list of ints or a string, got {labels!r}") from None
 
 
-def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=1.0,
+def _pixels(image):
+    """The image as a 2D array and its default maxval, or InputError."""
+    try:
+        a = np.asarray(image)
+    except Exception as e:  # e.g. ragged nested lists
+        raise InputError(f"the image must be a 2D array: {e}") from None
+    if a.ndim != 2:
+        raise InputError(f"the image must be 2D (rows, columns), got shape {a.shape}")
+    if a.dtype == bool:
+        maxval = 1
+    elif np.issubdtype(a.dtype, np.integer):
+        if a.size and (a.min() < 0 or a.max() > 65535):
+            raise InputError("image values must lie in 0..65535")
+        maxval = {np.dtype(np.uint8): 255, np.dtype(np.uint16): 65535}.get(a.dtype, int(a.max(initial=0)))
+    else:
+        raise InputError(f"image dtype {a.dtype} is not supported: give integers in 0..65535 or booleans "
+                         "(e.g. (img * 255).astype(np.uint8) for a float image in [0, 1])")
+    return a, getattr(image, "maxval", None) or max(maxval, 1)
+
+
+def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=None,
          pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule="separating",
          guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
@@ -223,8 +325,12 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 other pixels are the background (tag 0), whose triangles are
                 kept only with background="keep".  Uniform or graded (the finest
                 band follows every interface), separating rule.
-    spacing     lattice spacing in pixels; pixel_size scales the output
-                coordinates (square pixels: angles and bounds are unchanged)
+    spacing     lattice spacing in the image's units: pixels (default 1), or
+                millimetres for an Image read_image placed in mm (default its
+                smaller pixel size; anisotropic pixels are meshed as the CLI
+                meshes them).  pixel_size scales the output coordinates of an
+                image in pixels (square pixels: angles and bounds are
+                unchanged)
     graded      graded mesh (quadtree, finest along the boundary); max_cell the
                 largest cell in lattice squares (power of two, 0 = no limit)
     max_size    every triangle's longest edge at most this, in pixels (before
@@ -238,8 +344,10 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 smaller of the two wins; graded meshes cap the label's cells);
                 the report's "materials" then give each label's "max_size"
                 and measured "longest_edge"
-    rule        "separating" (the boundary follows the level set), "maxmin" (the paper's) or
-                "fan" (certified 18.43 deg on every input; two phases only)
+    rule        "separating" (the boundary follows the level set), "maxmin",
+                or "fan" (separating, with the centroid fan on interior
+                squares: certified minimum angle 18.4349 deg on every input),
+                as the CLI's --diagonal
     guarantee   None / "any", or "flat": halve the spacing (not below
                 min_spacing, default spacing / 16) until every warped square's
                 stencil is flat, so that the flat theorem's bound applies
@@ -247,45 +355,40 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 verify checks every triangle against them
     threads     OpenMP threads for this call (default: all cores)
 
-    Returns a Mesh.  Raises ValueError (InputError) for bad input: an empty
-    region, a lattice over max_squares, labels absent from the image, ...
+    Returns a Mesh.  Raises InputError (a ValueError) for every bad input:
+    an argument of the wrong type or value, an empty region, a lattice over
+    max_squares, labels absent from the image, ...
     """
-    a = np.asarray(image)
-    if a.ndim != 2:
-        raise ValueError(f"the image must be 2D (rows, columns), got shape {a.shape}")
-    if a.dtype == bool:
-        maxval = 1
-    elif np.issubdtype(a.dtype, np.integer):
-        if a.size and (a.min() < 0 or a.max() > 65535):
-            raise ValueError("image values must lie in 0..65535")
-        maxval = {np.dtype(np.uint8): 255, np.dtype(np.uint16): 65535}.get(a.dtype, int(a.max(initial=0)))
-    else:
-        raise TypeError(f"image dtype {a.dtype} is not supported: give integers in 0..65535 or booleans "
-                        "(e.g. (img * 255).astype(np.uint8) for a float image in [0, 1])")
-    maxval = getattr(image, "maxval", None) or max(maxval, 1)
-    if inside not in ("above", "below"):
-        raise ValueError(f"inside must be 'above' or 'below', got {inside!r}")
+    a, maxval = _pixels(image)
+    _choice("inside", inside, ("above", "below"))
     if labels is not None and iso is not None:
-        raise ValueError("iso (threshold mode) and labels (label mode) exclude each other")
+        raise InputError("iso (threshold mode) and labels (label mode) exclude each other")
+    geometry = getattr(image, "geometry", None)
+    if geometry is not None and pixel_size is not None:
+        raise InputError("pixel_size scales an image in pixels; this Image is placed in millimetres by read_image "
+                         "(read it with units=\"pixels\" to scale it yourself)")
     scale = _pixel_size(pixel_size)
+    if spacing is None:
+        spacing = 1.0 if geometry is None else min(geometry[2], geometry[3])
     source = getattr(image, "source", "") or "<array>"
+    threads = _threads(threads)
     if materials is not None:
         if labels is not None or iso is not None:
-            raise ValueError("materials (multi-material mode) excludes iso and labels")
-        if background not in ("drop", "keep"):
-            raise ValueError(f"background must be 'drop' or 'keep', got {background!r}")
-        spec = materials if isinstance(materials, str) else ",".join(str(int(m)) for m in np.atleast_1d(materials))
+            raise InputError("materials (multi-material mode) excludes iso and labels")
+        _choice("background", background, ("drop", "keep"))
+        spec = materials if isinstance(materials, str) else \
+            ",".join(str(_label_value(m)) for m in np.atleast_1d(np.asarray(materials, dtype=object)))
         core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, background == "keep",
-                                    source, threads,
+                                    source, geometry, threads,
                                     _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify,
                                              verify, max_squares, source, max_size, grading, max_size_of))
         return _finish(core, scale)
     if max_size_of is not None:
-        raise ValueError("max_size_of applies to multi-material meshes (materials=...); use max_size")
+        raise InputError("max_size_of applies to multi-material meshes (materials=...); use max_size")
     label_list, nonzero = _labels(labels)
     core = _core.mesh_image(a.astype(np.uint16, copy=False), int(maxval),
-                            None if iso is None else float(iso), inside == "above", label_list, nonzero,
-                            source, threads,
+                            None if iso is None else _number("iso", iso), inside == "above", label_list, nonzero,
+                            source, geometry, threads,
                             _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
                                      max_squares, source, max_size, grading))
     return _finish(core, scale)
@@ -297,7 +400,9 @@ def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, gr
     circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2  flower:cx,cy,a,b,k
     rect:x0,y0,x1,y1  union(S;S)  intersect(S;S)  diff(S;S).  Options as in
     mesh(); the report also gives the boundary fidelity."""
-    core = _core.mesh_shape(str(spec), threads,
+    if not isinstance(spec, str):
+        raise InputError(f"the shape must be a string such as \"circle:0,0,1\", got {spec!r}")
+    core = _core.mesh_shape(spec, _threads(threads),
                             _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, str(spec), max_size, grading))
+                                     max_squares, spec, max_size, grading))
     return _finish(core)

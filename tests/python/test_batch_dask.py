@@ -65,3 +65,36 @@ def test_slices_given_as_image_files(root, tmp_path):
              str(root / "mesher/examples/abdomen_axial_z040_labels16.pgm")]
     rows = run(mod, 2, files, tmp_path)
     assert [r["triangles"] > 1000 for r in rows] == [True, True]
+
+
+def test_relative_output_directory_with_workers_running_elsewhere(root, tmp_path, monkeypatch):
+    # Issue 27: `batch_dask.py -o out/` failed when the workers ran in another
+    # directory (the client made out/ in its own directory, the workers wrote
+    # into theirs).  Now the client writes every file: a real process-based
+    # LocalCluster whose workers moved to another directory leaves nothing
+    # there, and out/ (relative to the client) gets the same files as a
+    # thread cluster in the client's directory.
+    mod = load_example(root)
+    stack = label_stack(4)
+    client_dir, worker_dir = tmp_path / "client", tmp_path / "workers"
+    client_dir.mkdir()
+    worker_dir.mkdir()
+    monkeypatch.chdir(client_dir)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        client.run(os.chdir, str(worker_dir))
+        assert set(client.run(os.getcwd).values()) == {str(worker_dir)}
+        rows = mod.mesh_volume(client, list(stack), "out", labels="nonzero", spacing=1.0, graded=True)
+        # A slice that fails for a reason other than InputError (here an
+        # option mesh() does not take) is a row with the error, not a crash.
+        bad = mod.mesh_volume(client, [stack[2]], "bad", labels="nonzero", colour="red")
+    assert os.listdir(worker_dir) == []
+    assert [r["triangles"] > 0 for r in rows] == [False, True, True, True]
+    names = sorted(os.listdir(client_dir / "out"))
+    assert names == sorted(["summary.csv", "timings.csv"] + [f"slice_{k:04d}.vtu" for k in (1, 2, 3)])
+    ref = run(mod, 1, list(stack), tmp_path / "threads")
+    assert [r["triangles"] for r in ref] == [r["triangles"] for r in rows]
+    for name in names:
+        if name != "timings.csv":
+            assert (client_dir / "out" / name).read_bytes() == (tmp_path / "threads" / name).read_bytes(), name
+    assert bad[0]["file"] == "" and bad[0]["note"].startswith("error: TypeError"), bad[0]["note"]

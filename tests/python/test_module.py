@@ -1,5 +1,6 @@
 """The Python module: numpy arrays, the report, meshio, errors, and the same
 meshes as the command line."""
+import pathlib
 import subprocess
 import threading
 import time
@@ -10,6 +11,7 @@ import pytest
 import warpmesh
 
 BRAIN = "mesher/examples/brain_axial_s128_labels16.pgm"
+BRAIN_PATH = str(pathlib.Path(__file__).resolve().parents[2] / BRAIN)
 
 
 def test_shape_mesh_has_typed_arrays_and_certified_bounds():
@@ -137,10 +139,148 @@ def test_bad_input_raises_value_error_naming_the_problem():
         warpmesh.mesh_shape("circle:0,0,10", spacing=-1)
     with pytest.raises(ValueError, match="circle"):
         warpmesh.mesh_shape("circle:0,0")
-    with pytest.raises(TypeError, match="float"):
+    with pytest.raises(warpmesh.InputError, match="float"):
         warpmesh.mesh(np.zeros((5, 5)))
     with pytest.raises(warpmesh.InputError):
         warpmesh.read_image("/nonexistent.pgm")
+
+
+IMG = np.zeros((20, 20), np.uint8)
+IMG[5:15, 5:15] = 200
+
+# Issue 27: warpmesh.mesh(float_image) raised TypeError where the README
+# promises ValueError / warpmesh.InputError.  Every bad input, of any kind
+# (wrong type, wrong value, contradictory options), raises InputError.
+BAD_INPUTS = [
+    ("float image", lambda: warpmesh.mesh(np.zeros((5, 5)))),
+    ("complex image", lambda: warpmesh.mesh(np.zeros((5, 5), complex))),
+    ("object image", lambda: warpmesh.mesh(np.array([[None, 1], [2, 3]], dtype=object))),
+    ("string image", lambda: warpmesh.mesh("picture.png")),
+    ("ragged image", lambda: warpmesh.mesh([[1, 2], [3]])),
+    ("3D image", lambda: warpmesh.mesh(np.zeros((3, 4, 5), np.uint8))),
+    ("negative values", lambda: warpmesh.mesh(np.full((5, 5), -1))),
+    ("values over 65535", lambda: warpmesh.mesh(np.full((5, 5), 70000))),
+    ("inside", lambda: warpmesh.mesh(IMG, inside="up")),
+    ("iso and labels", lambda: warpmesh.mesh(IMG, iso=3, labels=1)),
+    ("iso not a number", lambda: warpmesh.mesh(IMG, iso="half")),
+    ("labels not integers", lambda: warpmesh.mesh(IMG, labels=[1.5])),
+    ("labels bad string", lambda: warpmesh.mesh(IMG, labels="a-b")),
+    ("labels object", lambda: warpmesh.mesh(IMG, labels=object())),
+    ("materials not integers", lambda: warpmesh.mesh(IMG, materials=[200.5])),
+    ("materials and labels", lambda: warpmesh.mesh(IMG, materials="all", labels=200)),
+    ("background", lambda: warpmesh.mesh(IMG, materials="all", background="hide")),
+    ("spacing not a number", lambda: warpmesh.mesh(IMG, spacing="fine")),
+    ("spacing nan", lambda: warpmesh.mesh(IMG, spacing=float("nan"))),
+    ("spacing negative", lambda: warpmesh.mesh(IMG, spacing=-1)),
+    ("pixel_size", lambda: warpmesh.mesh(IMG, pixel_size="big")),
+    ("pixel_size anisotropic", lambda: warpmesh.mesh(IMG, pixel_size=(0.5, 1.0))),
+    ("max_cell not an integer", lambda: warpmesh.mesh(IMG, graded=True, max_cell=1.5)),
+    ("max_cell not a power of two", lambda: warpmesh.mesh(IMG, graded=True, max_cell=3)),
+    ("max_cell without graded", lambda: warpmesh.mesh(IMG, max_cell=4)),
+    ("grading without graded", lambda: warpmesh.mesh(IMG, grading=1.5)),
+    ("grading out of range", lambda: warpmesh.mesh(IMG, graded=True, grading=3)),
+    ("max_size 0", lambda: warpmesh.mesh(IMG, max_size=0)),
+    ("max_size not a number", lambda: warpmesh.mesh(IMG, max_size=[3])),
+    ("max_size_of not a dict", lambda: warpmesh.mesh(IMG, materials="all", max_size_of=[(200, 3)])),
+    ("max_size_of bad size", lambda: warpmesh.mesh(IMG, materials="all", max_size_of={200: "big"})),
+    ("rule", lambda: warpmesh.mesh(IMG, rule="delaunay")),
+    ("guarantee", lambda: warpmesh.mesh(IMG, guarantee="always")),
+    ("max_squares not an integer", lambda: warpmesh.mesh(IMG, max_squares="many")),
+    ("threads zero", lambda: warpmesh.mesh(IMG, threads=0)),
+    ("threads not an integer", lambda: warpmesh.mesh(IMG, threads="all")),
+    ("empty region", lambda: warpmesh.mesh(IMG, iso=250)),
+    ("shape not a string", lambda: warpmesh.mesh_shape(3)),
+    ("bad shape", lambda: warpmesh.mesh_shape("circle:0,0")),
+    ("shape spacing", lambda: warpmesh.mesh_shape("circle:0,0,1", spacing=None)),
+    ("read_image missing file", lambda: warpmesh.read_image("/nonexistent.pgm")),
+    ("read_image units", lambda: warpmesh.read_image("/nonexistent.pgm", units="inch")),
+    ("read_image mm without a pixel size", lambda: warpmesh.read_image(BRAIN_PATH, units="mm")),
+    ("read_image max_pixels", lambda: warpmesh.read_image("/nonexistent.pgm", max_pixels="lots")),
+]
+
+
+@pytest.mark.parametrize("what, call", BAD_INPUTS, ids=[b[0] for b in BAD_INPUTS])
+def test_every_bad_input_raises_input_error(what, call):
+    with pytest.raises(warpmesh.InputError) as e:
+        call()
+    assert issubclass(e.type, ValueError) and str(e.value), what
+
+
+def test_fan_rule_is_the_cli_diagonal_fan(cli, root, tmp_path):
+    # Issue 27: rule="fan" was refused by the module although the CLI has
+    # --diagonal fan.  The same mesh, point for point, and its certificate.
+    import meshio
+
+    vtu = tmp_path / "fan.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--label", "nonzero", "--diagonal", "fan", "--spacing", "2",
+                    "-o", str(vtu), "--quiet"], check=True)
+    ref = meshio.read(vtu)
+    m = warpmesh.mesh(warpmesh.read_image(root / BRAIN), labels="nonzero", rule="fan", spacing=2)
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    assert m.report["rule"] == "fan" and m.certified[0] >= 18.4349
+    s = warpmesh.mesh_shape("circle:0,0,20", rule="fan", graded=True)
+    assert s.certified[0] >= 18.4349
+
+
+def write_nrrd_mm(path, data, directions, origin):
+    """A raw uint16 NRRD of a (k, j, i) array with space directions (one
+    3-vector per index axis i, j, k) and origin, in millimetres."""
+    k, j, i = data.shape
+    fmt = lambda v: "(" + ",".join(repr(float(x)) for x in v) + ")"
+    with open(path, "wb") as f:
+        f.write(b"NRRD0004\ntype: unsigned short\ndimension: 3\nsizes: %d %d %d\nencoding: raw\nendian: little\n"
+                % (i, j, k))
+        f.write(("space: left-posterior-superior\nspace directions: " + " ".join(map(fmt, directions)) +
+                 "\nspace origin: " + fmt(origin) + "\n\n").encode())
+        f.write(np.ascontiguousarray(data, dtype="<u2").tobytes())
+
+
+def test_read_image_slice_in_millimetres_meshes_like_the_cli(cli, tmp_path):
+    # Issue 28: read_image(..., slice=...) of a volume with anisotropic
+    # pixels in physical units.  A permuted NRRD (i along y at 0.5 mm, j along
+    # x at 1.5 mm): the Image's geometry is the CLI's, mesh() gives the CLI's
+    # `--slice k=1` mesh in millimetres point for point (one region and
+    # materials), per-label areas are pixel counts x 0.75 mm^2 within the
+    # discretisation error, and units="pixels" gives the pixel-unit mesh.
+    import meshio
+
+    yy, xx = np.mgrid[0:40, 0:48]
+    data = np.zeros((3, 40, 48), np.uint16)
+    for k in range(3):
+        data[k][((xx - 20) / 12.0) ** 2 + ((yy - 20) / 9.0) ** 2 < 1] = 2
+        data[k][(xx - 20) ** 2 + (yy - 20) ** 2 < 16 + 4 * k] = 7
+        data[k][(xx > 36) & (xx < 45) & (yy > 5) & (yy < 30)] = 40
+    vol = tmp_path / "v.nrrd"
+    write_nrrd_mm(vol, data, [(0, 0.5, 0), (1.5, 0, 0), (0, 0, 2)], (10, -20, 5))
+    img = warpmesh.read_image(vol, slice="k=1")
+    assert img.units == "mm"
+    assert img.geometry == (-20.0, 10.0, 0.5, 1.5)  # origin . y, origin . x; the pixel sizes
+    assert img.plane["origin"] == (0.0, 0.0, 7.0) and img.plane["x_axis"] == (0.0, 1.0, 0.0)
+    for kwargs, args in ((dict(labels=[2, 7]), ["--label", "2,7"]), (dict(materials="all"), ["--materials", "all"])):
+        vtu = tmp_path / "ref.vtu"
+        subprocess.run([cli, "mesh", str(vol), "--slice", "k=1", *args, "-o", str(vtu), "--quiet"], check=True)
+        ref = meshio.read(vtu)
+        m = warpmesh.mesh(img, **kwargs)
+        assert np.array_equal(ref.points[:, :2], m.points), args
+        assert np.array_equal(ref.cells_dict["triangle"], m.triangles), args
+        assert m.spacing == 0.5  # the smaller pixel size, as the CLI's default
+    m = warpmesh.mesh(img, materials="all")
+    p = m.points[m.triangles]
+    area = 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+    for label in (2, 7, 40):
+        want = (img == label).sum() * 0.75
+        assert abs(area[m.regions == label].sum() - want) < 0.05 * want, label
+    entry = {e["tag"]: e for e in m.report["materials"]}
+    assert entry[40]["pixel_area"] == (img == 40).sum() * 0.75
+    px = warpmesh.read_image(vol, slice="k=1", units="pixels")
+    assert px.units == "pixels" and px.geometry is None and np.array_equal(px, img)
+    vtu = tmp_path / "px.vtu"
+    subprocess.run([cli, "mesh", str(vol), "--slice", "k=1", "--units", "pixels", "--materials", "all",
+                    "-o", str(vtu), "--quiet"], check=True)
+    assert np.array_equal(meshio.read(vtu).points[:, :2], warpmesh.mesh(px, materials="all").points)
+    with pytest.raises(warpmesh.InputError, match="pixel_size"):
+        warpmesh.mesh(img, pixel_size=2)
 
 
 def test_guarantee_flat_refines_and_warns_when_it_stops(root):

@@ -46,6 +46,9 @@ struct PixelGeometry {
     bool is_pixels() const { return x0 == 0 && y0 == 0 && sx == 1 && sy == 1; }
 };
 
+// ", pixel SX x SY, origin (X0, Y0)" for descriptions, "" in pixel units.
+std::string pixel_geometry_text(const PixelGeometry& geometry);
+
 struct ImageLevelSetOptions {
     ImageMode mode = ImageMode::threshold;
     // threshold mode
@@ -157,6 +160,20 @@ std::unique_ptr<LevelSet> make_image_levelset(const Image& image, const ImageLev
 std::unique_ptr<LevelSet> make_raster_levelset(int w, int h, const std::vector<double>& values_y_up,
                                                const std::string& source, const ImageLevelSetOptions& options,
                                                int maxval = -1);
+
+// Per-pixel values (y-up: index c + w y) as a 16-bit label image (row 0 at
+// the top), maxval the largest label (at least 1): what label mode and the
+// label-image materials mesh.  Throws InputError naming `source`, `what`
+// needs it ("label mode", "--materials"), the first pixel (c, y) whose value
+// is not an integer in 0..65535 and whether it is out of range or not an
+// integer.
+Image label_image(int w, int h, const std::vector<double>& values_y_up, const std::string& source,
+                  const std::string& what);
+
+// Throws InputError unless the pixel sizes are positive and finite and the
+// origin lies within 2^24 pixels of a w x h image (the coordinates' rounding
+// must stay far below a pixel); the default geometry always passes.
+void check_pixel_geometry(const PixelGeometry& geometry, int w, int h);
 
 // "3", "51,52", "1000-1035,2000" → the labels (sorted, without duplicates),
 // each in 0..65535.  Throws InputError on anything else.

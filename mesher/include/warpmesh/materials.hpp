@@ -69,6 +69,7 @@
 
 #include "warpmesh/certified.hpp"
 #include "warpmesh/image.hpp"
+#include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/mesh.hpp"
@@ -102,7 +103,7 @@ public:
     virtual double cut_parameter(Vec2 a, Vec2 b, int ma, int mb) const;
 
     // The area the material should have, where known (label images: its
-    // pixel count, one unit per pixel), for the report.
+    // pixel count times the pixel area), for the report.
     virtual std::optional<double> reference_area(int /*m*/) const { return std::nullopt; }
 };
 
@@ -121,9 +122,18 @@ public:
 // points are exact zeros of the piecewise-linear phi_a - phi_b (exact for
 // spacings up to 2 pixels; beyond, segments farther than 3 pixels from a
 // material see the cap).
+// Coordinates as image_levelset.hpp's: pixel (c, y) at (x0 + c sx, y0 + y
+// sy) for the PixelGeometry given (default: pixel units, x = c, y = H - 1 -
+// row).  As in label mode, phi stays a distance in pixels, so that
+// interfaces pass midway between 4-adjacent pixels along both axes whatever
+// the pixel sizes; every computation is done in pixel coordinates ((x - x0)
+// / sx, (y - y0) / sy, the identity bit for bit in pixel units), and a
+// material's reference area is its pixel count times sx sy.
 // Throws InputError: label 0 in the list (it is the background), labels absent
-// from the image (named), no label at all, more than 65535 labels.
-std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec);
+// from the image (named), no label at all, more than 65535 labels, a
+// geometry check_pixel_geometry refuses.
+std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec,
+                                                    const PixelGeometry& geometry = {});
 
 // Analytic materials: "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12"
 // (shapes.hpp syntax after '='; tags 1..65535, each once).  A later shape wins

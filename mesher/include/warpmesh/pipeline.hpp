@@ -53,7 +53,8 @@ struct MeshOptions {
     DiagonalRule rule = DiagonalRule::separating;
     // Graded mesh on a 2:1-balanced quadtree (graded.hpp), finest along the
     // boundary; max_cell is the largest cell in lattice squares (a power of
-    // two, 0 = as coarse as the domain allows).  Ignored when !graded.
+    // two, 0 = as coarse as the domain allows); a non-zero max_cell without
+    // graded is refused (validate).
     bool graded = false;
     std::int64_t max_cell = 0;
     // Size control (graded.hpp).  max_size H > 0, in the level set's units:
@@ -65,7 +66,8 @@ struct MeshOptions {
     // pass keeps the bound (OptimizeOptions::max_edge).  grading G in
     // [1.1, 2] (graded only; 2 = plain 2:1 balance): sizes grow away from the
     // boundary (and the interfaces) by at most a factor 2^(1/n) <= G per
-    // leaf on average, n = grading_buffer(G).
+    // leaf on average, n = grading_buffer(G); G other than 2 without graded
+    // is refused (validate).
     double max_size = 0;
     double grading = 2;
     // Per-material maximum sizes (multi-material meshes only): pairs (tag T,

@@ -122,6 +122,9 @@ enum class CsgOp { union_, intersection, difference };
 // union: min(f1, f2); intersection: max(f1, f2); difference: max(f1, -f2).
 // The exact area is known only in the trivial case of operands with disjoint
 // bounding boxes (then union = A1 + A2, intersection = 0, difference = A1).
+// Both operands are shapes, and an intersection's operands have overlapping
+// (or touching) bounding boxes: InputError otherwise.  make_csg (below)
+// takes the empty set too.
 class Csg final : public Shape {
 public:
     Csg(CsgOp op, std::unique_ptr<Shape> first, std::unique_ptr<Shape> second);
@@ -137,12 +140,28 @@ private:
     std::unique_ptr<Shape> a_, b_;
 };
 
+// A CSG operation on shapes that may be the empty set (nullptr), with the
+// empty set's algebra: union(A; {}) = union({}; A) = A, intersect(A; {}) =
+// intersect({}; A) = {}, diff(A; {}) = A, diff({}; B) = {}; and an
+// intersection of shapes whose bounding boxes are disjoint (not merely
+// touching) is {}.  Returns nullptr for the empty set, else a Csg (or the one
+// non-empty operand).  `why`, if given and still empty, receives the reason
+// of the first empty intersection met ("intersect(A;B) is empty: ...").
+// The empty set is only recognised this way; a Csg can still have an empty
+// region (diff(A; B) with B covering A), which mesh() reports as empty.
+std::unique_ptr<Shape> make_csg(CsgOp op, std::unique_ptr<Shape> a, std::unique_ptr<Shape> b,
+                                std::string* why = nullptr);
+
 // Parse a shape:
 //   circle:cx,cy,r   ellipse:cx,cy,a,b   annulus:cx,cy,r1,r2
 //   flower:cx,cy,a,b,k   rect:x0,y0,x1,y1
 //   union(S;S[;S...])   intersect(S;S[;S...])   diff(S;S[;S...])   (nestable;
 //   diff(A;B;C) = (A - B) - C)
-// Throws InputError naming the string and the problem.
+// Sub-expressions are combined by make_csg: an empty part (an intersection
+// of shapes with disjoint bounding boxes) is the empty set, e.g.
+// union(circle:0,0,5;intersect(circle:20,0,1;circle:-20,0,1)) is the circle.
+// Throws InputError naming the string and the problem; a shape that is
+// empty as a whole is refused ("the region is empty (...)").
 std::unique_ptr<Shape> parse_shape(const std::string& spec);
 
 }  // namespace warpmesh

@@ -27,7 +27,8 @@ namespace warpmesh {
 // What the caller reports for one meshed slice.
 struct SliceMeshed {
     QualityReport report;
-    std::string outputs;  // e.g. "out_060.vtu, out_060.msh" (for the summary), may be empty
+    std::string outputs;                // e.g. "out_060.vtu, out_060.msh" (for the summary), may be empty
+    std::vector<std::string> warnings;  // the slice's (MeshResult::warnings), not printed by mesh_one
 };
 
 struct SliceOutcome {
@@ -36,6 +37,7 @@ struct SliceOutcome {
     std::string outputs;                  // the caller's SliceMeshed::outputs
     std::string skipped;                  // why the slice was skipped (iff no report)
     std::string plane;                    // the slice's placement, JSON (see slice_report_fields)
+    std::vector<std::string> warnings;    // the caller's SliceMeshed::warnings
 };
 
 struct SliceBatch {
@@ -57,9 +59,14 @@ SliceBatch mesh_slices(const Volume& volume, const SliceRange& range, const Slic
 
 // The batch summary: JSON (one object: input, format, axis, first, end,
 // slices [{index, outputs, triangles, vertices, area, min_angle_deg,
-// max_angle_deg, plane} or {index, skipped}], meshed, skipped, triangles,
+// max_angle_deg, plane[, warnings]} or {index, skipped}], meshed, skipped, triangles,
 // read_seconds, total_seconds) and text (one line per slice and a total).
 std::string to_json(const SliceBatch& batch);
 std::string to_text(const SliceBatch& batch);
+
+// The slices' warnings, each once with the slices that gave it, in the order
+// of their first slice: "slice k=4: W" or "slices k=3, 4, 7: W" (a warning
+// repeated word for word by many slices is one line).
+std::vector<std::string> batch_warnings(const SliceBatch& batch);
 
 }  // namespace warpmesh

@@ -35,6 +35,7 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/levelset.hpp"
+#include "warpmesh/materials.hpp"
 
 namespace warpmesh {
 
@@ -127,22 +128,39 @@ struct SliceOptions {
     // image, refused for a volume of several slices.
     std::optional<SliceSpec> slice;
     Units units = Units::physical;           // pixels: x = ia, y = ib
-    ImageLevelSetOptions levelset;           // threshold or label mode
+    ImageLevelSetOptions levelset;           // threshold or label mode (its geometry is replaced)
+    // Multi-material instead of one level set: the label image's materials
+    // ("all" or a label list, as make_label_materials reads it), placed in
+    // the same units.
+    std::optional<std::string> materials;
 };
 
-// A slice ready to mesh: the level set in the slice's 2D coordinates, and
-// where it is.
-struct LoadedSlice {
-    std::unique_ptr<LevelSet> f;
-    SlicePlane plane;
+// Where a slice lies in the chosen units.
+struct SlicePlacement {
+    // Pixel (ia, ib) of the slice at (x0 + ia sx, y0 + ib sy): the physical
+    // pixel sizes and the origin's in-plane components in millimetres, the
+    // identity (pixel units) otherwise.
+    PixelGeometry geometry;
+    SlicePlane plane;           // the 2D point (x, y) at plane.point(x, y) in 3D
     bool physical = false;      // coordinates in mm (else pixels)
     double pixel_min = 1;       // the smaller in-plane pixel size, in the slice's units
-    int width = 0, height = 0;  // pixels along x and y
     std::string units;          // "mm" or "pixels"
-    SliceSpec slice;            // which slice (k = 0 for an image)
     // Whether a report should say where the slice is: false for a plain
     // image in pixel units (its report stays what it always was).
     bool placed = false;
+};
+
+// The placement of a slice as load_slice places it (no values are read).
+// Throws InputError as load_slice for the slice.
+SlicePlacement place_slice(const Volume& volume, const std::optional<SliceSpec>& slice, Units units);
+
+// A slice ready to mesh: the level set (or with SliceOptions::materials the
+// material field) in the slice's 2D coordinates, and where it is.
+struct LoadedSlice : SlicePlacement {
+    std::unique_ptr<LevelSet> f;                // one region (null with materials)
+    std::unique_ptr<MaterialField> materials;   // multi-material (null without)
+    int width = 0, height = 0;  // pixels along x and y
+    SliceSpec slice;            // which slice (k = 0 for an image)
     std::string format;         // of the file read
 };
 
@@ -161,16 +179,17 @@ std::string slice_file_name(const std::string& pattern, std::int64_t index);
 // order of every mesh file written).  Written atomically; throws OutputError.
 void write_points_3d(const Mesh& mesh, const SlicePlane& plane, const std::string& path);
 
-// The level set of one slice.  Throws InputError for an index outside the
-// volume, a slice less than 2 x 2 pixels, label mode on values that are not
-// integers in 0..65535, and whatever make_image_levelset refuses (e.g. an
-// empty region).
+// The level set (or the materials) of one slice.  Throws InputError for an
+// index outside the volume, a slice less than 2 x 2 pixels, label mode or
+// materials on values that are not integers in 0..65535, and whatever
+// make_image_levelset (make_label_materials) refuses (e.g. an empty region,
+// labels absent from the slice).
 LoadedSlice load_slice(const Volume& volume, const SliceOptions& options);
 
 // The slice as a 16-bit image in pixel units, placed as load_slice places
 // it with Units::pixels: its first in-plane index axis along the columns, its
 // second upwards (row 0 at the top, y = rows - 1 - row).  For label images
-// (multi-material meshes of a volume's slice; Python's read_image).  maxval:
+// (Python's read_image; place_slice gives where its pixels lie).  maxval:
 // the volume's, else the largest sample (at least 1).  Throws InputError as
 // load_slice for the slice, and for a sample that is not an integer in
 // 0..65535.

@@ -61,10 +61,12 @@ Box ImageField::bounds() const {
     return {g_.x0, g_.y0, g_.x0 + static_cast<double>(w_ - 1) * g_.sx, g_.y0 + static_cast<double>(h_ - 1) * g_.sy};
 }
 
-std::string ImageField::describe_geometry() const {
-    if (g_.is_pixels()) return {};
+std::string ImageField::describe_geometry() const { return pixel_geometry_text(g_); }
+
+std::string pixel_geometry_text(const PixelGeometry& g) {
+    if (g.is_pixels()) return {};
     char buf[160];
-    std::snprintf(buf, sizeof buf, ", pixel %.6g x %.6g, origin (%.6g, %.6g)", g_.sx, g_.sy, g_.x0, g_.y0);
+    std::snprintf(buf, sizeof buf, ", pixel %.6g x %.6g, origin (%.6g, %.6g)", g.sx, g.sy, g.x0, g.y0);
     return buf;
 }
 
@@ -306,9 +308,11 @@ std::string format_number(double v) {
     return os.str();
 }
 
+}  // namespace
+
 // Pixel sizes positive and finite, and the origin within 2^24 pixels (see
 // region_in: the coordinates' rounding must stay far below a pixel).
-void check_geometry(const PixelGeometry& g, int w, int h) {
+void check_pixel_geometry(const PixelGeometry& g, int w, int h) {
     if (g.is_pixels()) return;
     if (!(g.sx > 0 && g.sy > 0 && std::isfinite(g.sx) && std::isfinite(g.sy) && g.sx < 1e100 && g.sy < 1e100 &&
           g.sx > 1e-100 && g.sy > 1e-100))
@@ -319,7 +323,6 @@ void check_geometry(const PixelGeometry& g, int w, int h) {
         throw InputError("origin (" + format_number(g.x0) + ", " + format_number(g.y0) + ") lies more than 2^24 pixels " +
                          "from the image; coordinates would lose precision");
 }
-}  // namespace
 
 ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside_above, PixelGeometry geometry)
     : ImageField(image.width, image.height, threshold_field(image, iso, inside_above), geometry),
@@ -604,7 +607,7 @@ std::unique_ptr<LevelSet> make_image_levelset(const Image& image, const ImageLev
     if (image.width <= 0 || image.height <= 0 ||
         image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
         throw InputError("image '" + image.source + "': empty or inconsistent image");
-    check_geometry(options.geometry, image.width, image.height);
+    check_pixel_geometry(options.geometry, image.width, image.height);
     if (options.mode == ImageMode::threshold) {
         const double iso = options.iso.value_or(image.maxval / 2.0);
         if (!std::isfinite(iso)) throw InputError("iso value must be a finite number");
@@ -620,14 +623,19 @@ std::unique_ptr<LevelSet> make_raster_levelset(int w, int h, const std::vector<d
     if (w <= 0 || h <= 0 || values.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
         throw InputError("'" + source + "': empty or inconsistent slice");
     if (options.mode == ImageMode::threshold) {
-        check_geometry(options.geometry, w, h);
+        check_pixel_geometry(options.geometry, w, h);
         const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
         const double iso = options.iso.value_or(maxval >= 0 ? maxval / 2.0 : *lo / 2 + *hi / 2);
         if (!std::isfinite(iso)) throw InputError("iso value must be a finite number");
         return std::make_unique<ThresholdLevelSet>(w, h, values, iso, options.inside_above, source, options.geometry,
                                                    maxval);
     }
-    // Label mode: the values as a 16-bit image, row 0 at the top.
+    return make_image_levelset(label_image(w, h, values, source, "label mode"), options);
+}
+
+Image label_image(int w, int h, const std::vector<double>& values, const std::string& source, const std::string& what) {
+    if (w <= 0 || h <= 0 || values.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
+        throw InputError("'" + source + "': empty or inconsistent slice");
     Image img;
     img.width = w, img.height = h, img.source = source, img.maxval = 1;
     img.pixels.resize(values.size());
@@ -635,14 +643,15 @@ std::unique_ptr<LevelSet> make_raster_levelset(int w, int h, const std::vector<d
         for (int c = 0; c < w; ++c) {
             const double v = values[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)];
             if (!(v >= 0 && v <= 65535 && v == std::floor(v)))
-                throw InputError("'" + source + "': label mode needs integer values in 0..65535, but pixel (" +
+                throw InputError("'" + source + "': " + what + " needs integer values in 0..65535, but pixel (" +
                                  std::to_string(c) + ", " + std::to_string(y) + ") is " + format_number(v) +
-                                 " (use --iso for a threshold instead)");
+                                 (v == std::floor(v) ? " (out of range)" : std::isfinite(v) ? " (not an integer)" : "") +
+                                 (what == "label mode" ? " (use --iso for a threshold instead)" : ""));
             const auto u = static_cast<std::uint16_t>(v);
             img.pixels[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)] = u;
             img.maxval = std::max<int>(img.maxval, u);
         }
-    return make_image_levelset(img, options);
+    return img;
 }
 
 std::vector<int> parse_label_list(const std::string& list) {

@@ -269,13 +269,42 @@ std::string Rectangle::describe() const {
 // ---------------------------------------------------------------------------
 // CSG
 
+namespace {
+// An intersection is known to be empty when its operands' bounding boxes are
+// disjoint; boxes that touch give a valid (if degenerate) box and stay a Csg.
+bool empty_intersection(const Shape& a, const Shape& b) {
+    const Box i = box_intersection(a.bounds(), b.bounds());
+    return !(i.xmin <= i.xmax && i.ymin <= i.ymax);
+}
+}  // namespace
+
 Csg::Csg(CsgOp op, std::unique_ptr<Shape> first, std::unique_ptr<Shape> second)
     : op_(op), a_(std::move(first)), b_(std::move(second)) {
-    if (op_ == CsgOp::intersection) {
-        const Box i = box_intersection(a_->bounds(), b_->bounds());
-        require(i.xmin <= i.xmax && i.ymin <= i.ymax,
-                "intersect: the shapes' bounding boxes are disjoint, so the intersection is empty");
+    require(a_ && b_, "a CSG operation needs two shapes (make_csg takes empty ones)");
+    require(op_ != CsgOp::intersection || !empty_intersection(*a_, *b_),
+            "intersect: the shapes' bounding boxes are disjoint, so the intersection is empty (make_csg takes it)");
+}
+
+std::unique_ptr<Shape> make_csg(CsgOp op, std::unique_ptr<Shape> a, std::unique_ptr<Shape> b, std::string* why) {
+    switch (op) {
+        case CsgOp::union_:
+            if (!a) return b;
+            if (!b) return a;
+            break;
+        case CsgOp::intersection:
+            if (!a || !b) return nullptr;
+            if (empty_intersection(*a, *b)) {
+                if (why && why->empty())
+                    *why = "intersect(" + a->describe() + ";" + b->describe() +
+                           ") is empty: the bounding boxes of its shapes are disjoint";
+                return nullptr;
+            }
+            break;
+        case CsgOp::difference:
+            if (!a || !b) return a;
+            break;
     }
+    return std::make_unique<Csg>(op, std::move(a), std::move(b));
 }
 double Csg::value(double x, double y) const {
     const double fa = a_->value(x, y), fb = b_->value(x, y);
@@ -345,7 +374,8 @@ double parse_number(std::string_view s, std::string_view shape) {
     return v;
 }
 
-std::unique_ptr<Shape> parse(std::string_view s);
+struct Emptiness;
+std::unique_ptr<Shape> parse(std::string_view s, Emptiness& empty);
 
 std::unique_ptr<Shape> parse_primitive(std::string_view name, std::string_view args) {
     struct Kind {
@@ -384,7 +414,13 @@ std::unique_ptr<Shape> parse_primitive(std::string_view name, std::string_view a
     return std::make_unique<Rectangle>(v[0], v[1], v[2], v[3]);
 }
 
-std::unique_ptr<Shape> parse_csg(CsgOp op, std::string_view name, std::string_view inner) {
+// Why the first empty sub-expression met is empty (for the message when the
+// whole shape turns out empty).
+struct Emptiness {
+    std::string why;
+};
+
+std::unique_ptr<Shape> parse_csg(CsgOp op, std::string_view name, std::string_view inner, Emptiness& empty) {
     // Split at the ';' that are not nested inside parentheses.
     std::vector<std::string_view> parts;
     int depth = 0;
@@ -397,12 +433,14 @@ std::unique_ptr<Shape> parse_csg(CsgOp op, std::string_view name, std::string_vi
     parts.push_back(inner.substr(start));
     if (parts.size() < 2)
         throw InputError(std::string(name) + " needs at least two shapes separated by ';'");
-    std::unique_ptr<Shape> acc = parse(parts[0]);
-    for (std::size_t i = 1; i < parts.size(); ++i) acc = std::make_unique<Csg>(op, std::move(acc), parse(parts[i]));
+    // Every part is parsed (and checked) even when the result is already known
+    // to be empty.
+    std::unique_ptr<Shape> acc = parse(parts[0], empty);
+    for (std::size_t i = 1; i < parts.size(); ++i) acc = make_csg(op, std::move(acc), parse(parts[i], empty), &empty.why);
     return acc;
 }
 
-std::unique_ptr<Shape> parse(std::string_view s) {
+std::unique_ptr<Shape> parse(std::string_view s, Emptiness& empty) {
     s = trim(s);
     if (s.empty()) throw InputError("empty shape");
     const std::size_t paren = s.find('('), colon = s.find(':');
@@ -419,9 +457,9 @@ std::unique_ptr<Shape> parse(std::string_view s) {
         }
         if (depth != 0) throw InputError("unbalanced parentheses in '" + std::string(s) + "'");
         const std::string_view inner = s.substr(paren + 1, s.size() - paren - 2);
-        if (name == "union") return parse_csg(CsgOp::union_, name, inner);
-        if (name == "intersect" || name == "intersection") return parse_csg(CsgOp::intersection, name, inner);
-        if (name == "diff" || name == "difference") return parse_csg(CsgOp::difference, name, inner);
+        if (name == "union") return parse_csg(CsgOp::union_, name, inner, empty);
+        if (name == "intersect" || name == "intersection") return parse_csg(CsgOp::intersection, name, inner, empty);
+        if (name == "diff" || name == "difference") return parse_csg(CsgOp::difference, name, inner, empty);
         throw InputError("unknown operation '" + std::string(name) + "' (expected union, intersect or diff)");
     }
     if (colon == std::string_view::npos)
@@ -433,7 +471,11 @@ std::unique_ptr<Shape> parse(std::string_view s) {
 
 std::unique_ptr<Shape> parse_shape(const std::string& spec) {
     try {
-        return parse(spec);
+        Emptiness empty;
+        std::unique_ptr<Shape> shape = parse(spec, empty);
+        if (!shape)
+            throw InputError("the region is empty (" + empty.why + "); nothing to mesh");
+        return shape;
     } catch (const InputError& e) {
         throw InputError("shape '" + spec + "': " + e.what());
     }

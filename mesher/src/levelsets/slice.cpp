@@ -8,6 +8,8 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/report.hpp"
+#include "warpmesh/materials.hpp"
+#include "warpmesh/quality.hpp"
 #include "warpmesh/volume.hpp"
 
 namespace warpmesh {
@@ -105,70 +107,79 @@ CheckedSlice check_slice(const Volume& v, const std::optional<SliceSpec>& slice)
 
 }  // namespace
 
-Image slice_image(const Volume& v, const std::optional<SliceSpec>& slice) {
-    const CheckedSlice c = check_slice(v, slice);
-    Image img;
-    img.width = static_cast<int>(c.W), img.height = static_cast<int>(c.H), img.source = c.name;
-    img.pixels.resize(static_cast<std::size_t>(c.W * c.H));
+namespace {
+
+// The slice's values, y-up: pixel (ia, ib) at ia + W ib.
+std::vector<double> slice_values(const Volume& v, const CheckedSlice& c) {
+    std::vector<double> values(static_cast<std::size_t>(c.W * c.H));
     std::array<std::int64_t, 3> ijk{};
     ijk[static_cast<std::size_t>(c.n)] = c.spec.index;
-    double top = 0;
-    for (std::int64_t r = 0; r < c.H; ++r)
-        for (std::int64_t col = 0; col < c.W; ++col) {
-            ijk[static_cast<std::size_t>(c.a)] = col, ijk[static_cast<std::size_t>(c.b)] = c.H - 1 - r;  // y upwards
-            const double x = v.at(ijk[0], ijk[1], ijk[2]);
-            if (!(x >= 0 && x <= 65535 && x == std::floor(x)))
-                throw InputError("'" + c.name + "': value " + std::to_string(x) +
-                                 " is not an integer in 0..65535 (a label image is needed here)");
-            img.pixels[static_cast<std::size_t>(r * c.W + col)] = static_cast<std::uint16_t>(x);
-            top = std::max(top, x);
+    for (std::int64_t ib = 0; ib < c.H; ++ib)
+        for (std::int64_t ia = 0; ia < c.W; ++ia) {
+            ijk[static_cast<std::size_t>(c.a)] = ia, ijk[static_cast<std::size_t>(c.b)] = ib;
+            values[static_cast<std::size_t>(ia + c.W * ib)] = v.at(ijk[0], ijk[1], ijk[2]);
         }
-    img.maxval = v.maxval >= 0 ? v.maxval : std::max(1, static_cast<int>(top));
-    return img;
+    return values;
 }
 
-LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
-    const CheckedSlice c = check_slice(v, options.slice);
-    const SliceSpec spec = c.spec;
-    const int n = c.n, a = c.a, b = c.b;
-    const std::int64_t W = c.W, H = c.H;
-    const std::string& name = c.name;
-
-    // The slice's values, y-up: pixel (ia, ib) at ia + W ib.
-    std::vector<double> values(static_cast<std::size_t>(W * H));
-    std::array<std::int64_t, 3> ijk{};
-    ijk[static_cast<std::size_t>(n)] = spec.index;
-    for (std::int64_t ib = 0; ib < H; ++ib)
-        for (std::int64_t ia = 0; ia < W; ++ia) {
-            ijk[static_cast<std::size_t>(a)] = ia, ijk[static_cast<std::size_t>(b)] = ib;
-            values[static_cast<std::size_t>(ia + W * ib)] = v.at(ijk[0], ijk[1], ijk[2]);
-        }
-
-    LoadedSlice out;
-    out.physical = options.units == Units::physical && v.physical;
+// Where the checked slice lies (volume.hpp): in millimetres, pixel (ia, ib)
+// at (x0 + ia sa, y0 + ib sb), x0 and y0 the origin's components along the
+// in-plane axes, and the plane's origin the 3D point of (0, 0); in pixels,
+// at (ia, ib), the plane's axes scaled by the pixel sizes.
+SlicePlacement placement(const Volume& v, const CheckedSlice& c, Units units, bool slice_given) {
+    SlicePlacement out;
+    out.physical = units == Units::physical && v.physical;
     out.units = out.physical ? "mm" : "pixels";
-    out.width = static_cast<int>(W), out.height = static_cast<int>(H);
-    out.slice = spec;
-    out.format = v.format;
-    out.placed = options.slice.has_value() || out.physical || !(v.format == "PGM" || v.format == "PNG");
-    const Vec3 &da = v.axes[static_cast<std::size_t>(a)], &db = v.axes[static_cast<std::size_t>(b)],
-               &dn = v.axes[static_cast<std::size_t>(n)];
-    const double sa = v.spacing[static_cast<std::size_t>(a)], sb = v.spacing[static_cast<std::size_t>(b)],
-                 sn = v.spacing[static_cast<std::size_t>(n)];
-    const double depth = static_cast<double>(spec.index) * sn;
-    ImageLevelSetOptions lo = options.levelset;
+    out.placed = slice_given || out.physical || !(v.format == "PGM" || v.format == "PNG");
+    const Vec3 &da = v.axes[static_cast<std::size_t>(c.a)], &db = v.axes[static_cast<std::size_t>(c.b)],
+               &dn = v.axes[static_cast<std::size_t>(c.n)];
+    const double sa = v.spacing[static_cast<std::size_t>(c.a)], sb = v.spacing[static_cast<std::size_t>(c.b)],
+                 sn = v.spacing[static_cast<std::size_t>(c.n)];
+    const double depth = static_cast<double>(c.spec.index) * sn;
     Vec3 base;
-    for (int c = 0; c < 3; ++c) base[c] = v.origin[c] + depth * dn[c];
+    for (int k = 0; k < 3; ++k) base[k] = v.origin[k] + depth * dn[k];
     if (out.physical) {
-        lo.geometry = {dot(v.origin, da), dot(v.origin, db), sa, sb};
-        for (int c = 0; c < 3; ++c) base[c] -= lo.geometry.x0 * da[c] + lo.geometry.y0 * db[c];
+        out.geometry = {dot(v.origin, da), dot(v.origin, db), sa, sb};
+        for (int k = 0; k < 3; ++k) base[k] -= out.geometry.x0 * da[k] + out.geometry.y0 * db[k];
         out.plane = {base, da, db, cross(da, db)};
         out.pixel_min = std::min(sa, sb);
     } else {
         out.plane = {base, {sa * da[0], sa * da[1], sa * da[2]}, {sb * db[0], sb * db[1], sb * db[2]}, cross(da, db)};
         out.pixel_min = 1;
     }
-    out.f = make_raster_levelset(out.width, out.height, values, name, lo, v.maxval);
+    return out;
+}
+
+}  // namespace
+
+SlicePlacement place_slice(const Volume& v, const std::optional<SliceSpec>& slice, Units units) {
+    return placement(v, check_slice(v, slice), units, slice.has_value());
+}
+
+Image slice_image(const Volume& v, const std::optional<SliceSpec>& slice) {
+    const CheckedSlice c = check_slice(v, slice);
+    Image img = label_image(static_cast<int>(c.W), static_cast<int>(c.H), slice_values(v, c), c.name, "a label slice");
+    if (v.maxval >= 0) img.maxval = v.maxval;
+    return img;
+}
+
+LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
+    const CheckedSlice c = check_slice(v, options.slice);
+    LoadedSlice out;
+    static_cast<SlicePlacement&>(out) = placement(v, c, options.units, options.slice.has_value());
+    out.width = static_cast<int>(c.W), out.height = static_cast<int>(c.H);
+    out.slice = c.spec;
+    out.format = v.format;
+    const std::vector<double> values = slice_values(v, c);
+    if (options.materials) {
+        Image img = label_image(out.width, out.height, values, c.name, "--materials");
+        if (v.maxval >= 0) img.maxval = v.maxval;
+        out.materials = make_label_materials(img, *options.materials, out.geometry);
+    } else {
+        ImageLevelSetOptions lo = options.levelset;
+        lo.geometry = out.geometry;
+        out.f = make_raster_levelset(out.width, out.height, values, c.name, lo, v.maxval);
+    }
     return out;
 }
 

@@ -1,7 +1,11 @@
 // label_materials.cpp — the materials of a label image (materials.hpp).
 //
 // Coordinates as in image_levelset.hpp: pixel (column c, row r) is centred at
-// (c, H - 1 - r); the lattice covers the pixel-centre box.  Per pixel centre
+// (x0 + c sx, y0 + (H - 1 - r) sy), by default (c, H - 1 - r); the lattice
+// covers the pixel-centre box.  Everything below happens in pixel coordinates
+// ((x - x0) / sx, (y - y0) / sy: monotone in each coordinate, affine along a
+// lattice edge so that an edge's parameter u is the same in both, and the
+// identity bit for bit in pixel units).  Per pixel centre
 // and material m, phi_m is label mode's field for the region "label m",
 // -(d_out - 1/2) on m's pixels and d_in - 1/2 elsewhere, the distances between
 // pixel centres capped at `cap` pixels; between centres it is bilinear.
@@ -66,23 +70,30 @@ struct Mixed {
 
 class LabelMaterials final : public MaterialField {
 public:
-    LabelMaterials(const Image& image, const std::string& spec);
+    LabelMaterials(const Image& image, const std::string& spec, const PixelGeometry& geometry);
     int count() const override { return static_cast<int>(tags_.size()); }
     std::int32_t tag(int m) const override { return tags_[static_cast<std::size_t>(m)]; }
     std::string name(int m) const override { return m == 0 ? "background" : "label_" + std::to_string(tag(m)); }
-    Box bounds() const override { return {0.0, 0.0, static_cast<double>(w_ - 1), static_cast<double>(h_ - 1)}; }
+    Box bounds() const override {
+        return {g_.x0, g_.y0, g_.x0 + static_cast<double>(w_ - 1) * g_.sx, g_.y0 + static_cast<double>(h_ - 1) * g_.sy};
+    }
     bool bounds_are_domain() const override { return true; }
     std::string describe() const override;
     double phi(int m, double x, double y) const override;
     int material_at(double x, double y) const override;
     void sample_block(const Lattice& lattice, const PointBlock& block, std::span<std::uint16_t> out) const override;
     double cut_parameter(Vec2 a, Vec2 b, int ma, int mb) const override;
-    std::optional<double> reference_area(int m) const override { return static_cast<double>(pixels_[static_cast<std::size_t>(m)]); }
+    std::optional<double> reference_area(int m) const override {
+        return static_cast<double>(pixels_[static_cast<std::size_t>(m)]) * g_.sx * g_.sy;
+    }
 
 private:
     std::size_t index(int c, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(w_) + static_cast<std::size_t>(c); }
     std::uint16_t mat(int c, int y) const { return mat_[index(c, y)]; }
     double pixel_phi(int m, int c, int y) const;
+    double phi_px(int m, double x, double y) const;  // phi at pixel coordinates
+    double px(double x) const { return (x - g_.x0) / g_.sx; }
+    double py(double y) const { return (y - g_.y0) / g_.sy; }
     int in_cell(std::uint32_t cell, double fx, double fy) const {
         if (!(cell & mixed_bit)) return static_cast<int>(cell);
         const Mixed& e = mixed_[cell & ~mixed_bit];
@@ -96,6 +107,7 @@ private:
     }
 
     int w_, h_;
+    PixelGeometry g_;
     std::string source_, spec_;
     std::vector<std::int32_t> tags_;
     std::vector<std::int64_t> pixels_;
@@ -111,10 +123,11 @@ std::string list_some(const std::vector<int>& v, std::size_t limit = 12) {
     return s;
 }
 
-LabelMaterials::LabelMaterials(const Image& image, const std::string& spec)
-    : w_(image.width), h_(image.height), source_(image.source), spec_(spec) {
+LabelMaterials::LabelMaterials(const Image& image, const std::string& spec, const PixelGeometry& geometry)
+    : w_(image.width), h_(image.height), g_(geometry), source_(image.source), spec_(spec) {
     if (w_ < 2 || h_ < 2 || image.pixels.size() != static_cast<std::size_t>(w_) * static_cast<std::size_t>(h_))
         throw InputError("image '" + source_ + "': multi-material meshing needs at least 2 x 2 pixels");
+    check_pixel_geometry(g_, w_, h_);
     std::vector<std::int64_t> hist(65536, 0);
     for (const std::uint16_t v : image.pixels) ++hist[v];
     std::vector<int> present;
@@ -194,7 +207,9 @@ double LabelMaterials::pixel_phi(int m, int c, int y) const {
     return in ? -(d - 0.5) : d - 0.5;
 }
 
-double LabelMaterials::phi(int m, double x, double y) const {
+double LabelMaterials::phi(int m, double x, double y) const { return phi_px(m, px(x), py(y)); }
+
+double LabelMaterials::phi_px(int m, double x, double y) const {
     int c = 0, r = 0;
     double fx = 0, fy = 0;
     locate_cell(x, w_, c, fx);
@@ -212,8 +227,8 @@ int LabelMaterials::material_at(double x, double y) const {
     if (!std::isfinite(x) || !std::isfinite(y)) return 0;
     int c = 0, r = 0;
     double fx = 0, fy = 0;
-    locate_cell(x, w_, c, fx);
-    locate_cell(y, h_, r, fy);
+    locate_cell(px(x), w_, c, fx);
+    locate_cell(py(y), h_, r, fy);
     return in_cell(cells_[static_cast<std::size_t>(r) * static_cast<std::size_t>(w_ - 1) + static_cast<std::size_t>(c)], fx, fy);
 }
 
@@ -225,13 +240,13 @@ void LabelMaterials::sample_block(const Lattice& lattice, const PointBlock& b, s
     for (std::size_t i = 0; i < ni; ++i) {
         const double x = lattice.position(b.i0 + static_cast<std::int64_t>(i), 0).x;
         if (!std::isfinite(x)) return MaterialField::sample_block(lattice, b, out);
-        locate_cell(x, w_, col[i], colf[i]);
+        locate_cell(px(x), w_, col[i], colf[i]);
     }
 #pragma omp parallel for schedule(static) if (b.ni * b.nj >= 4096)
     for (std::int64_t j = 0; j < b.nj; ++j) {
         int r = 0;
         double fy = 0;
-        locate_cell(lattice.position(0, b.j0 + j).y, h_, r, fy);
+        locate_cell(py(lattice.position(0, b.j0 + j).y), h_, r, fy);
         const std::uint32_t* cells = cells_.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(w_ - 1);
         std::uint16_t* o = out.data() + j * b.ni;
         for (std::size_t i = 0; i < ni; ++i) {
@@ -242,31 +257,34 @@ void LabelMaterials::sample_block(const Lattice& lattice, const PointBlock& b, s
 }
 
 // g = phi_ma - phi_mb is piecewise linear along an axis-aligned edge, with
-// knots at the integers: its exact zero (knot_walk.hpp).  g(a) <= 0 <= g(b)
-// since ma wins at a and mb at b; an exact 0 at an end (a tie) puts the cut
-// point at that end (clamped into the open interval).
+// knots at the integers of pixel coordinates: its exact zero (knot_walk.hpp),
+// found in pixel coordinates (the parameter u is the same).  g(a) <= 0 <=
+// g(b) since ma wins at a and mb at b; an exact 0 at an end (a tie) puts the
+// cut point at that end (clamped into the open interval).
 double LabelMaterials::cut_parameter(Vec2 a, Vec2 b, int ma, int mb) const {
-    const auto g = [&](double x, double y) { return phi(ma, x, y) - phi(mb, x, y); };
-    const double ga = g(a.x, a.y), gb = g(b.x, b.y);
-    if (!(ga < 0)) return knots::open_unit(0);
-    if (!(gb > 0)) return knots::open_unit(1);
     int axis = -1;
     if (a.y == b.y && a.x != b.x) axis = 0;
     if (a.x == b.x && a.y != b.y) axis = 1;
+    const Vec2 pa{px(a.x), py(a.y)}, pb{px(b.x), py(b.y)};
+    const auto g = [&](double x, double y) { return phi_px(ma, x, y) - phi_px(mb, x, y); };
+    const double ga = g(pa.x, pa.y), gb = g(pb.x, pb.y);
+    if (!(ga < 0)) return knots::open_unit(0);
+    if (!(gb > 0)) return knots::open_unit(1);
     if (axis < 0) return MaterialField::cut_parameter(a, b, ma, mb);
-    return knots::zero_on_edge(a, b, axis, axis == 0 ? w_ : h_, ga, gb, g);
+    return knots::zero_on_edge(pa, pb, axis, axis == 0 ? w_ : h_, ga, gb, g);
 }
 
 std::string LabelMaterials::describe() const {
-    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + "), materials " + spec_ + ": " +
+    return "image '" + source_ + "' (" + std::to_string(w_) + " x " + std::to_string(h_) + pixel_geometry_text(g_) + "), materials " + spec_ + ": " +
            std::to_string(count() - 1) + " label(s) and the background; phi = bilinear signed distance between pixel "
            "centres (capped at " + std::to_string(cap) + "), minus 1/2";
 }
 
 }  // namespace
 
-std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec) {
-    return std::make_unique<LabelMaterials>(image, spec);
+std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec,
+                                                    const PixelGeometry& geometry) {
+    return std::make_unique<LabelMaterials>(image, spec, geometry);
 }
 
 }  // namespace warpmesh
