@@ -8,7 +8,10 @@
 // keys (proofs/materials.cert, `space junctions`: multi-material squares with
 // 3 or 4 materials) are enumerated and decided here too, from their own
 // rules (junction_consistent, forced).  No global
-// state: every operation gets what it needs.  Any failure: exit 1.
+// state: every operation gets what it needs.  Exit status: 0 every
+// certificate verified and every theorem an angle bound; 1 a certificate
+// rejected (any failure); 3 verified, but a theorem states no bound (a key
+// `inverted`, with an exact witness: a counter-example, not a proof); 2 usage.
 // Format and semantics: proofs/README.md.
 #include <algorithm>
 #include <array>
@@ -552,6 +555,7 @@ struct Reader {
     }
 };
 
+// ---- leaves ------------------------------------------------------------------------------
 struct Cover {  // rebuilds the bisection tree: widest side first (lowest index on ties), halves in order
     Key& k;
     bool sep;
@@ -591,6 +595,17 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         leaf_or_split(l, depth + 1);
         leaf_or_split(r, depth + 1);
     }
+    // Forms f0..f1-1 of the first `ntri` triangles of `diag` on box b, with the
+    // min-angle bound `qmn`.
+    bool forms_hold(const Box& b, int diag, int ntri, int f0, int f1, const N& qmn) {
+        for (int t = 0; t < ntri; ++t) {
+            k.positions(b, false);  // verify_form leaves the positions of a face or a point
+            const Tri tr = k.tri(diag, t);
+            for (int form = f0; form < f1; ++form)
+                if (!verify_form(k, b, diag, t, form, qmn, qmax, &tr)) return false;
+        }
+        return true;
+    }
     void verify_leaf(const std::vector<std::string>& L, const Box& b) {
         const char c = L[0][0];
         const std::size_t m = k.vars.size();
@@ -601,32 +616,7 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
         const std::string where = "key " + code(k.s) + " leaf " + std::to_string(leaves) + ": ";
         const int f = sep ? forced(k.s) : 0;
         k.positions(b, false);
-        if (fan && (c == 'F' || c == 'Y')) {
-            auto fan_forms = [&](int diag, int ntri, int f0, int f1) {
-                for (int t = 0; t < ntri; ++t) {
-                    k.positions(b, false);
-                    const Tri tr = k.tri(diag, t);
-                    for (int form = f0; form < f1; ++form)
-                        if (!verify_form(k, b, diag, t, form, qmin, qmax, &tr)) return false;
-                }
-                return true;
-            };
-            if (c == 'F') {  // both diagonals excluded: the rule takes the fan
-                const N h = fan_scaled(1, 28);
-                if (!excluded(k, 0, h) || !excluded(k, 1, h)) fail(where + "fan not decided on the box");
-            } else {  // the fan or a qualifying diagonal (q <= H0 (1 + 2^-30)); the max angle
-                      // on each diagonal not excluded on the box (an excluded one never qualifies,
-                      // and the max-min pick qualifies whenever some diagonal does)
-                if (qmin < fan_scaled(1, 30)) fail(where + "undecided fan leaf needs qmin >= H0 (1 + 2^-30)");
-                const N h = fan_scaled(1, 28);
-                for (int d = 0; d < 2; ++d) {
-                    k.positions(b, false);  // verify_form leaves the positions of a face or a point
-                    if (!excluded(k, d, h) && !fan_forms(d, 2, 4, 7)) fail(where + "max-angle inequality not verified");
-                }
-            }
-            if (!fan_forms(2, 4, 0, 7)) fail(where + "fan angle or orientation inequality not verified");
-            return;
-        }
+        if (fan && (c == 'F' || c == 'Y')) return verify_fan_leaf(c, b, where);
         // On a fan square a diagonal leaf also shows that the fan is not taken:
         // the diagonal's min-angle forms hold with H0 (1 - 2^-28) (it qualifies).
         const N keep = fan_scaled(-1, 28);
@@ -637,75 +627,98 @@ struct Cover {  // rebuilds the bisection tree: widest side first (lowest index 
             if (d == undecided) fail(where + "claimed diagonal is not decided on the box");
             if (d == without_margin) fail(where + "diagonal decided without the double-agreement margin");
         }
-        auto forms = [&](int diag, int f0, int f1) {
-            for (int t = 0; t < 2; ++t) {
-                k.positions(b, false);
-                const Tri tr = k.tri(diag, t);
-                for (int form = f0; form < f1; ++form)
-                    if (!verify_form(k, b, diag, t, form, dmin, qmax, &tr)) return false;
-            }
-            return true;
-        };
-        if (c == 'X' || c == 'S') {  // undecided: one diagonal valid with the min-angle bound (the rule
-                                     // takes a valid one at least as good), the max-angle bound on both
-                                     // (S: on each diagonal where it is taken)
-            if (sep && f) fail(where + "undecided leaf on a forced key");
-            if (!forms(0, 0, 4) && !forms(1, 0, 4)) fail(where + "orientation/min-angle not verified");
-            std::size_t at = 2 + 2 * m;  // S: per diagonal `-`, or k:J:J2:mask and the multipliers
-            for (int d = 0; d < 2; ++d) {
-                if (c == 'S' && at >= L.size()) fail(where + "malformed switching certificate");
-                if (c == 'X' || L[at] == "-") {
-                    at += c == 'S';
-                    if (!forms(d, 4, 7)) fail(where + "max-angle inequality not verified");
-                    continue;
-                }
-                std::vector<std::string> g(1);
-                for (char ch : L[at]) {
-                    if (ch == ':') g.emplace_back();
-                    else g.back().push_back(ch);
-                }
-                if (g.size() != 4 || (g[1] == "-" && g[2] != "-")) fail(where + "malformed switching certificate");
-                ++at;
-                const int kk = static_cast<int>(small_int(g[0], 0, 5)), mask = static_cast<int>(small_int(g[3], 0, 63));
-                std::vector<int> named;
-                for (int n = 1; n <= 2; ++n)
-                    if (g[static_cast<std::size_t>(n)] != "-") named.push_back(static_cast<int>(small_int(g[static_cast<std::size_t>(n)], 0, 5)));
-                k.positions(b, false);
-                if (!(k.tri(1 - d, 0).cross.v.lo > 0) || !(k.tri(1 - d, 1).cross.v.lo > 0))
-                    fail(where + "switching leaf: the other diagonal is not valid on the box");
-                for (int j = 0; j < 6; ++j)
-                    if (std::find(named.begin(), named.end(), j) == named.end() && !(ratio_h(k, d, kk, j).v.hi < 0))
-                        fail(where + "switching leaf: ratio " + std::to_string(j) + " not excluded");
-                if (named.empty() && mask != 0) fail(where + "malformed switching certificate");
-                for (int x = 0; x < 6 && !named.empty(); ++x) {  // forms outside the mask: outright
-                    const int t = x / 3, f = 4 + x % 3;
-                    k.positions(b, false);
-                    const Tri tr = k.tri(d, t);
-                    if (!(mask >> x & 1) && !verify_form(k, b, d, t, f, dmin, qmax, &tr))
-                        fail(where + "max-angle inequality not verified");
-                }
-                for (const int jj : named)
-                    for (int x = 0; x < 6; ++x) {
-                        if (!(mask >> x & 1)) continue;
-                        if (at >= L.size()) fail(where + "malformed switching certificate");
-                        const Q lq = parse_q(L[at++]);
-                        if (lq < 0) fail(where + "negative multiplier");
-                        const N lam = dyadic(lq);
-                        const int t = x / 3, f = 4 + x % 3;
-                        if (!verify_poly(k, b, false, [&](Key& kq) {
-                                return form(kq.tri(d, t), f, dmin, qmax) - cst(lam) * ratio_h(kq, d, kk, jj);
-                            }))
-                            fail(where + "max-angle inequality not verified where the diagonal is taken");
-                    }
-            }
-            if (at != L.size()) fail(where + "malformed switching certificate");
-        } else if (!forms((c == 'B' || c == 'b') ? 1 : 0, 0, 7)) {
+        if (c == 'X' || c == 'S') return verify_undecided_leaf(L, b, where, dmin);
+        if (!forms_hold(b, (c == 'B' || c == 'b') ? 1 : 0, 2, 0, 7, dmin))
             fail(where + "angle or orientation inequality not verified");
+    }
+    // `F`: both diagonals excluded, the rule takes the fan.  `Y`: the fan or a
+    // qualifying diagonal (q <= H0 (1 + 2^-30)); the max angle on each diagonal
+    // not excluded on the box (an excluded one never qualifies, and the max-min
+    // pick qualifies whenever some diagonal does).  Both: the fan whole.
+    void verify_fan_leaf(char c, const Box& b, const std::string& where) {
+        const N h = fan_scaled(1, 28);
+        if (c == 'F') {
+            if (!excluded(k, 0, h) || !excluded(k, 1, h)) fail(where + "fan not decided on the box");
+        } else {
+            if (qmin < fan_scaled(1, 30)) fail(where + "undecided fan leaf needs qmin >= H0 (1 + 2^-30)");
+            for (int d = 0; d < 2; ++d) {
+                k.positions(b, false);
+                if (!excluded(k, d, h) && !forms_hold(b, d, 2, 4, 7, qmin)) fail(where + "max-angle inequality not verified");
+            }
         }
+        if (!forms_hold(b, 2, 4, 0, 7, qmin)) fail(where + "fan angle or orientation inequality not verified");
+    }
+    // `X` / `S`, undecided: one diagonal valid with the min-angle bound (the
+    // rule takes a valid one at least as good), the max-angle bound on both
+    // (S: on each diagonal where it is taken; per diagonal `-`, or
+    // k:J:J2:mask and the multipliers).
+    void verify_undecided_leaf(const std::vector<std::string>& L, const Box& b, const std::string& where, const N& dmin) {
+        const char c = L[0][0];
+        if (sep && forced(k.s)) fail(where + "undecided leaf on a forced key");
+        if (!forms_hold(b, 0, 2, 0, 4, dmin) && !forms_hold(b, 1, 2, 0, 4, dmin))
+            fail(where + "orientation/min-angle not verified");
+        std::size_t at = 2 + 2 * k.vars.size();
+        for (int d = 0; d < 2; ++d) {
+            if (c == 'S' && at >= L.size()) fail(where + "malformed switching certificate");
+            if (c == 'X' || L[at] == "-") {
+                at += c == 'S';
+                if (!forms_hold(b, d, 2, 4, 7, dmin)) fail(where + "max-angle inequality not verified");
+                continue;
+            }
+            at = verify_switch(L, at, d, b, where, dmin);
+        }
+        if (at != L.size()) fail(where + "malformed switching certificate");
+    }
+    // One diagonal d's group `k:J:J2:mask` λ... of an `S` leaf at field `at`
+    // (proofs/README.md, "Certificate format"); returns the field after it.
+    std::size_t verify_switch(const std::vector<std::string>& L, std::size_t at, int d, const Box& b,
+                              const std::string& where, const N& dmin) {
+        std::vector<std::string> g(1);
+        for (char ch : L[at]) {
+            if (ch == ':') g.emplace_back();
+            else g.back().push_back(ch);
+        }
+        if (g.size() != 4 || (g[1] == "-" && g[2] != "-")) fail(where + "malformed switching certificate");
+        ++at;
+        const int kk = static_cast<int>(small_int(g[0], 0, 5)), mask = static_cast<int>(small_int(g[3], 0, 63));
+        std::vector<int> named;
+        for (std::size_t n = 1; n <= 2; ++n)
+            if (g[n] != "-") named.push_back(static_cast<int>(small_int(g[n], 0, 5)));
+        k.positions(b, false);
+        if (!(k.tri(1 - d, 0).cross.v.lo > 0) || !(k.tri(1 - d, 1).cross.v.lo > 0))
+            fail(where + "switching leaf: the other diagonal is not valid on the box");
+        for (int j = 0; j < 6; ++j)
+            if (std::find(named.begin(), named.end(), j) == named.end() && !(ratio_h(k, d, kk, j).v.hi < 0))
+                fail(where + "switching leaf: ratio " + std::to_string(j) + " not excluded");
+        if (named.empty() && mask != 0) fail(where + "malformed switching certificate");
+        for (int x = 0; x < 6 && !named.empty(); ++x) {  // forms outside the mask: outright
+            const int t = x / 3, f = 4 + x % 3;
+            k.positions(b, false);
+            const Tri tr = k.tri(d, t);
+            if (!(mask >> x & 1) && !verify_form(k, b, d, t, f, dmin, qmax, &tr))
+                fail(where + "max-angle inequality not verified");
+        }
+        for (const int jj : named)
+            for (int x = 0; x < 6; ++x) {
+                if (!(mask >> x & 1)) continue;
+                if (at >= L.size()) fail(where + "malformed switching certificate");
+                const Q lq = parse_q(L[at++]);
+                if (lq < 0) fail(where + "negative multiplier");
+                const N lam = dyadic(lq);
+                const int t = x / 3, f = 4 + x % 3;
+                if (!verify_poly(k, b, false, [&](Key& kq) {
+                        return form(kq.tri(d, t), f, dmin, qmax) - cst(lam) * ratio_h(kq, d, kk, jj);
+                    }))
+                    fail(where + "max-angle inequality not verified where the diagonal is taken");
+            }
+        return at;
     }
 };
 
-int check_file(const std::string& path) {
+// ---- the certificate's lines, by kind ----------------------------------------------------
+// The lines as whitespace-separated fields ('#' comments and blank lines
+// dropped).  Hostile input is bounded: 256 MB, 4096 bytes and 40 fields a line.
+Reader read_certificate(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail("cannot read " + path);
     Reader rd;
@@ -722,26 +735,42 @@ int check_file(const std::string& path) {
         if (tok.empty()) continue;
         rd.lines.push_back(tok);
     }
-    auto expect = [&](const std::vector<std::string>& l, const std::string& w, std::size_t n) {
-        if (l.empty() || l[0] != w || l.size() != n) fail("expected '" + w + "' line");
-    };
+    if (rd.lines.empty()) fail("empty certificate");
+    return rd;
+}
+void expect(const std::vector<std::string>& l, const std::string& w, std::size_t n) {
+    if (l.empty() || l[0] != w || l.size() != n) fail("expected '" + w + "' line");
+}
+
+// `warpmesh-certificate 3`, `rule maxmin|separating|fan` and, for the
+// junction keys, `space junctions` (separating rule only; no flat category).
+struct Header {
+    std::string rule;
+    bool fanrule = false, sep = false, junctions = false;
+    int ncat() const { return junctions ? 1 : 2; }  // U, and F on sign keys
+};
+Header read_header(Reader& rd) {
     expect(rd.next("header"), "warpmesh-certificate", 2);
     if (rd.lines[0][1] != "3") fail("unknown version");
     const auto& rl = rd.next("rule");
     expect(rl, "rule", 2);
-    if (rl[1] != "maxmin" && rl[1] != "separating" && rl[1] != "fan") fail("unknown rule");
-    const bool fanrule = rl[1] == "fan";
-    const bool sep = rl[1] == "separating" || fanrule;  // the fan rule forces as the separating rule does
-    // `space junctions` (separating rule only): the junction keys, no flat category.
-    const bool junctions = rd.at < rd.lines.size() && rd.lines[rd.at][0] == "space";
-    if (junctions) {
+    Header h;
+    h.rule = rl[1];
+    if (h.rule != "maxmin" && h.rule != "separating" && h.rule != "fan") fail("unknown rule");
+    h.fanrule = h.rule == "fan";
+    h.sep = h.rule == "separating" || h.fanrule;  // the fan rule forces as the separating rule does
+    h.junctions = rd.at < rd.lines.size() && rd.lines[rd.at][0] == "space";
+    if (h.junctions) {
         const auto& sl = rd.next("space");
         expect(sl, "space", 2);
-        if (sl[1] != "junctions" || rl[1] != "separating") fail("unknown key space (only 'junctions', separating rule)");
+        if (sl[1] != "junctions" || h.rule != "separating") fail("unknown key space (only 'junctions', separating rule)");
     }
-    const int ncat = junctions ? 1 : 2;
-    // Own enumeration of the consistent keys, in canonical order (junction
-    // keys: a corner's state is letter * 5 + warp, corner A most significant).
+    return h;
+}
+
+// Own enumeration of the consistent keys, in canonical order (junction keys:
+// a corner's state is letter * 5 + warp, corner A most significant).
+std::vector<std::array<St, 4>> enumerate_keys(bool junctions) {
     std::vector<std::array<St, 4>> keys;
     for (int i = 0; i < (junctions ? 160000 : 14641); ++i) {
         std::array<St, 4> k;
@@ -753,176 +782,313 @@ int check_file(const std::string& path) {
         for (int c = 3, r = i; c >= 0; --c, r /= 11) k[c] = r % 11 == 0 ? St{0, 0} : St{r % 11 <= 5 ? -1 : 1, (r % 11 - 1) % 5};
         if (consistent(k)) keys.push_back(k);
     }
-    struct Claim {
-        bool present = false, inverted = false;
-        Q qmin, qmax;
-    } claim[2];
-    struct Wit {
-        int cat;
-        std::string kind, code;
-        std::vector<Q> t;
-        Q value;
-    };
+    return keys;
+}
+Key make_key(const std::array<St, 4>& s) {
+    Key k{s, {}, {}};
+    for (int c = 0; c < 4; ++c)
+        if (k.s[c].warp) k.vars.push_back(c);
+    return k;
+}
+// A configuration of key k: one dyadic t in [0, 1/2] per warped corner, the
+// fields [from, from + m) of l.
+std::vector<Q> read_t(const std::vector<std::string>& l, std::size_t from, const Key& k, const std::string& what) {
+    if (l.size() < from + k.vars.size()) fail(what + ": wrong number of t values");
+    std::vector<Q> t;
+    for (std::size_t j = 0; j < k.vars.size(); ++j) {
+        t.push_back(parse_q(l[from + j]));
+        if (t.back() < 0 || t.back() > Q(1, 2)) fail(what + ": witness t outside [0, 1/2]");
+    }
+    return t;
+}
+
+// `claim C <qmin> <qmax>` (a bound: qmax <= cot a <= qmin for every angle a
+// of the category C's chosen triangles, all positively oriented) or
+// `claim C inverted` (no bound: some configuration of C has a chosen triangle
+// with cross <= 0), then the category's witnesses, `witness C min|max <key>
+// <t...> <value>` or `witness C inverted <key> <t...>`.
+struct Claim {
+    bool present = false, inverted = false;
+    Q qmin, qmax;
+};
+struct Wit {
+    int cat;
+    std::string kind, code;
+    std::vector<std::string> fields;  // the witness line
+};
+struct Claims {
+    Claim claim[2];
     std::vector<Wit> wits;
+};
+Claims read_claims(Reader& rd, const Header& hd) {
+    Claims cl;
     while (rd.at < rd.lines.size() && (rd.lines[rd.at][0] == "claim" || rd.lines[rd.at][0] == "witness")) {
         const auto& l = rd.next("claim");
         if (l.size() < 3 || (l[1] != "U" && l[1] != "F")) fail("bad claim/witness line");
         const int c = l[1] == "F";
-        if (l[0] == "claim") {
-            if (claim[c].present) fail("duplicate claim");
-            claim[c].present = true;
-            if (l.size() == 3 && l[2] == "inverted") claim[c].inverted = true;
-            else if (l.size() == 4) claim[c].qmin = parse_q(l[2]), claim[c].qmax = parse_q(l[3]);
-            else fail("bad claim line");
-        } else {
-            if (l.size() < 4 || l.size() > 9) fail("bad witness line");
-            Wit w{c, l[2], l[3], {}, 0};
-            if (w.kind != "inverted" && l.size() < 5) fail("bad witness line");
-            const std::size_t nt = l.size() - 4 - (w.kind == "inverted" ? 0 : 1);
-            for (std::size_t j = 0; j < nt; ++j) w.t.push_back(parse_q(l[4 + j]));
-            if (w.kind != "inverted") w.value = parse_q(l.back());
-            wits.push_back(w);
-        }
-    }
-    if (!claim[0].present || claim[1].present != !junctions) fail(junctions ? "junction keys: claim U only" : "missing claims");
-    const auto& kl = rd.next("keys");
-    expect(kl, "keys", 2);
-    if (small_int(kl[1], 0, 1000000) != static_cast<long>(keys.size())) fail("key count differs from the enumeration");
-    Q agg_min[2] = {-1000000, -1000000}, agg_max[2] = {1000000, 1000000};
-    bool any_inv[2] = {false, false};
-    // Cheap pre-pass: the claims must follow from the key claims (re-checked
-    // below against the keys as verified); rejects a tampered claim at once.
-    for (std::size_t j = rd.at; j < rd.lines.size(); ++j) {
-        const auto& h = rd.lines[j];
-        if (h.size() != 8 || h[0] != "key") continue;
-        const int fl = h[3] == "1" && !junctions;
-        for (int c = 0; c < 1 + fl; ++c)
-            if (!claim[c].inverted && (parse_q(h[5]) > claim[c].qmin || parse_q(h[6]) < claim[c].qmax))
-                fail(std::string("claim ") + "UF"[c] + " does not follow from key " + h[2].substr(0, 8));
-    }
-    long total_leaves = 0, nflat = 0;
-    std::set<std::string> verified;  // memo of verified keys (below)
-    Tightness tight[2] = {{Q(1, 100)}, {Q(1, 10)}};  // min angle: 0.01 deg, max angle: 0.1 deg
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-        const auto& h = rd.next("key");
-        if (h.size() < 6 || h[0] != "key") fail("expected key line");
-        Key k{keys[i], {}, {}};
-        for (int c = 0; c < 4; ++c)
-            if (k.s[c].warp) k.vars.push_back(c);
-        if (small_int(h[1], 0, 160000) != static_cast<long>(i) || h[2] != code(k.s))
-            fail("key " + std::to_string(i) + " is not " + code(k.s));
-        const bool fl = !junctions && flat(k.s);
-        nflat += fl;
-        if (small_int(h[3], 0, 1) != fl) fail("key " + code(k.s) + ": flatness flag differs");
-        if (small_int(h[4], 0, 4) != static_cast<long>(k.vars.size())) fail("key " + code(k.s) + ": dimension");
-        if (h.size() == 6 && h[5] == "inverted") {
-            any_inv[0] = true, any_inv[1] = any_inv[1] || fl;
+        if (l[0] == "witness") {
+            if (l.size() < 4 || (l[2] != "min" && l[2] != "max" && l[2] != "inverted")) fail("bad witness line");
+            cl.wits.push_back(Wit{c, l[2], l[3], l});
             continue;
         }
-        if (h.size() != 8) fail("malformed key line");
-        // Premise of the double-agreement argument (proofs/README.md, "Double
-        // agreement"): a diagonal the double evaluation wrongly deems valid has
-        // quality above 2^40, far above every key's bound.
-        if (parse_q(h[5]) > 256) fail("key " + code(k.s) + ": min-angle cot bound above 256");
-        // The key's witnesses: exact configurations whose extreme angles are
-        // within the key's claim (else the claim is false) and, measured, close
-        // to it (the tightness of the claim, reported below).
-        const Q kq[2] = {parse_q(h[5]), parse_q(h[6])};
-        for (int w = 0; w < 2; ++w) {
-            const auto& wl = rd.next("key witness");
-            if (wl.size() != k.vars.size() + 2 || wl[0] != (w ? "wmax" : "wmin"))
-                fail("key " + code(k.s) + ": expected '" + (w ? "wmax" : "wmin") + "' line");
-            std::vector<Q> t;
-            for (std::size_t j = 0; j < k.vars.size(); ++j) {
-                t.push_back(parse_q(wl[1 + j]));
-                if (t.back() < 0 || t.back() > Q(1, 2)) fail("key " + code(k.s) + ": witness t outside [0, 1/2]");
-            }
-            const PointVal p = at_point(k, sep, fanrule, t);
-            const Q v = w ? p.qmax : p.qmin;
-            if (!p.valid || v != parse_q(wl.back())) fail("key " + code(k.s) + ": witness value differs from exact evaluation");
-            if (w ? v < kq[1] : v > kq[0]) fail("key " + code(k.s) + ": claim contradicted by its witness");
-            tight[w].add(gap_deg(v, kq[w]), code(k.s), fl);
-        }
-        // The fan rule applies its fan on squares whose corners are all inside.
-        const bool fan = fanrule && all_inside(k.s);
-        Cover cv{k, sep, fan, dyadic(kq[0]), dyadic(kq[1]), rd, small_int(h[7], 1, 50000000)};
-        // Verification is a function of the rule, the warps, the forcing
-        // (separating and fan rules), whether the fan may be taken (fan rule,
-        // every corner inside), the two bounds and the leaf lines only: a key
-        // whose text of these equals that of a key verified before is verified by it.
-        std::string memo = rl[1] + " " + std::to_string(sep ? forced(k.s) : 0) + " " + (fan ? "fan" : "nofan") + " " + h[5] + " " + h[6] + " " + h[7] + ":";
-        for (int c = 0; c < 4; ++c) memo += WCH[k.s[c].warp];
-        for (long j = 0; j < cv.remaining && rd.at + static_cast<std::size_t>(j) < rd.lines.size(); ++j) {
-            memo += " |";
-            for (const std::string& t : rd.lines[rd.at + static_cast<std::size_t>(j)]) memo += " " + t;
-        }
-        if (verified.count(memo)) {
-            rd.at += static_cast<std::size_t>(cv.remaining), total_leaves += cv.remaining;
-        } else {
-            Box root(k.vars.size(), R{N(0), N(Z(1), -1)});
-            cv.leaf_or_split(root, 0);
-            if (cv.remaining != 0) fail("key " + code(k.s) + ": extra leaves");
-            total_leaves += cv.leaves;
-            verified.insert(memo);
-        }
-        for (int c = 0; c < 1 + fl; ++c)
-            agg_min[c] = std::max(agg_min[c], toQ(cv.qmin)), agg_max[c] = std::min(agg_max[c], toQ(cv.qmax));
+        Claim& k = cl.claim[c];
+        if (k.present) fail("duplicate claim");
+        k.present = true;
+        if (l.size() == 3 && l[2] == "inverted") k.inverted = true;
+        else if (l.size() == 4) k.qmin = parse_q(l[2]), k.qmax = parse_q(l[3]);
+        else fail("bad claim line");
     }
-    const auto& e = rd.next("end");
-    expect(e, "end", 1);
-    if (rd.at != rd.lines.size()) fail("data after end");
-    const char* cname[2] = {"U (all consistent configurations)", "F (flat stencils)"};
-    std::cout << path << ": rule " << rl[1] << (junctions ? " (junction keys)" : "") << ", " << keys.size() << " keys ("
-              << nflat << " flat-compatible), " << total_leaves << " leaves verified\n";
-    for (int c = 0; c < ncat; ++c) {
-        if (claim[c].inverted != any_inv[c]) fail(std::string("claim ") + "UF"[c] + ": inverted status is wrong");
-        if (!claim[c].inverted && (agg_min[c] > claim[c].qmin || agg_max[c] < claim[c].qmax))
-            fail(std::string("claim ") + "UF"[c] + " does not follow from the key claims");
-        if (claim[c].inverted) std::cout << "  " << cname[c] << ": NOT all triangles positively oriented\n";
-        else
-            std::cout << "  " << cname[c] << ": every angle >= " << dec(deg(claim[c].qmin).lo, false)
-                      << " deg and <= " << dec(deg(claim[c].qmax).hi, true) << " deg (cot <= " << claim[c].qmin
-                      << ", cot >= " << claim[c].qmax << "); "
-                      << (fanrule ? "every chosen triangle (a diagonal's two, or the fan's four)" : "both triangles")
-                      << " positively oriented\n"
-                      << "    rounded outward to 4 decimals: every angle in [" << dec(deg(claim[c].qmin).lo, false, 4)
-                      << ", " << dec(deg(claim[c].qmax).hi, true, 4) << "] deg\n";
+    if (!cl.claim[0].present || cl.claim[1].present != !hd.junctions)
+        fail(hd.junctions ? "junction keys: claim U only" : "missing claims");
+    return cl;
+}
+
+// A key line's claim: `key <i> <code> <flat> <m> <qmin> <qmax> <leaves>` (a
+// bound) or `key <i> <code> <flat> <m> inverted`.
+struct KeyClaim {
+    std::string code;
+    bool flat = false, inverted = false;
+    Q qmin, qmax;
+};
+// The fields every key line has: the enumeration's i-th key (none missing,
+// none repeated), its flatness and its dimension.
+void check_key_head(const std::vector<std::string>& h, const std::array<St, 4>& s, std::size_t i, const Header& hd) {
+    if (h.size() < 6 || h[0] != "key") fail("expected key line");
+    if (small_int(h[1], 0, 160000) != static_cast<long>(i) || h[2] != code(s)) fail("key " + std::to_string(i) + " is not " + code(s));
+    if (small_int(h[3], 0, 1) != (!hd.junctions && flat(s))) fail("key " + code(s) + ": flatness flag differs");
+    if (small_int(h[4], 0, 4) != static_cast<long>(make_key(s).vars.size())) fail("key " + code(s) + ": dimension");
+}
+// An inverted key's witness line `winv <t_1> ... <t_m>` (wl, null if the
+// certificate ends): a configuration of the key's box at which a chosen
+// triangle has cross <= 0, in exact arithmetic.
+void check_inverted_key(const std::vector<std::string>* wl, const std::array<St, 4>& s, const Header& hd) {
+    Key k = make_key(s);
+    const std::string name = "key " + code(s);
+    if (!wl || (*wl)[0] != "winv") fail(name + ": inverted without its exact witness ('winv' line)");
+    if (wl->size() != k.vars.size() + 1) fail(name + ": 'winv' has the wrong number of t values");
+    if (at_point(k, hd.sep, hd.fanrule, read_t(*wl, 1, k, name)).valid)
+        fail(name + ": inverted witness is not inverted (exact evaluation: every chosen triangle has cross > 0)");
+}
+// The claims of the key lines from rd.at on, read ahead of their verification
+// (no leaf is looked at) so that a claim contradicting them is rejected at
+// once; inverted keys (no leaves) are checked here whole.  Malformed key lines
+// are skipped here and rejected by read_key.
+std::vector<KeyClaim> scan_key_lines(const Reader& rd, const std::vector<std::array<St, 4>>& keys, const Header& hd) {
+    std::vector<KeyClaim> out;
+    for (std::size_t j = rd.at; j < rd.lines.size(); ++j) {
+        const auto& h = rd.lines[j];
+        if (h[0] != "key" || h.size() < 6 || !digits(h[1], 0) || Z(h[1]) >= keys.size()) continue;
+        const std::array<St, 4>& s = keys[Z(h[1]).convert_to<std::size_t>()];
+        const bool fl = !hd.junctions && flat(s);
+        if (h.size() == 6 && h[5] == "inverted") {
+            check_key_head(h, s, Z(h[1]).convert_to<std::size_t>(), hd);
+            check_inverted_key(j + 1 < rd.lines.size() ? &rd.lines[j + 1] : nullptr, s, hd);
+            out.push_back({h[2], fl, true, 0, 0});
+        } else if (h.size() == 8) {
+            out.push_back({h[2], fl, false, parse_q(h[5]), parse_q(h[6])});
+        }
     }
-    for (int w = 0; w < 2; ++w) {
-        const Tightness& t = tight[w];
-        std::cout << "  per-key " << (w ? "max" : "min") << " angle claims vs witnesses: gap <= " << dec(t.target, true, 2)
-                  << " deg on " << t.within << " of " << t.keys << " keys (flat: " << t.within_flat << " of "
-                  << t.keys_flat << "); largest gap <= " << dec(t.worst, true, 4) << " deg (key " << t.worst_key << ")\n"
-                  << "    keys above: gap <= 1 deg " << t.over[0] << ", <= 5 deg " << t.over[1] << ", <= 20 deg "
-                  << t.over[2] << ", > 20 deg " << t.over[3] << "\n";
+    return out;
+}
+
+// The claims against the keys: a category's claim is `inverted` iff one of its
+// keys is, and a bound follows from its keys' claims (no key has a larger
+// qmin or a smaller qmax: else the theorem would be false) and, once all keys
+// are in (`complete`), is exactly their aggregate (no weaker theorem than the
+// one the keys prove).
+void check_claims(const Claims& cl, const std::vector<KeyClaim>& keys, const Header& hd, bool complete) {
+    for (int c = 0; c < hd.ncat(); ++c) {
+        bool any = false, inv = false;
+        Q qmin, qmax;
+        for (const KeyClaim& e : keys) {
+            if (c == 1 && !e.flat) continue;
+            inv = inv || e.inverted;
+            if (e.inverted) continue;
+            qmin = any ? std::max(qmin, e.qmin) : e.qmin, qmax = any ? std::min(qmax, e.qmax) : e.qmax, any = true;
+        }
+        const std::string name = std::string("claim ") + "UF"[c];
+        if (cl.claim[c].inverted != inv && (complete || inv))
+            fail(name + (inv ? " is a bound, but a key is inverted" : " is 'inverted', but no key is inverted"));
+        if (inv || !any) continue;
+        if (cl.claim[c].qmin < qmin || cl.claim[c].qmax > qmax) fail(name + " does not follow from the key claims");
+        if (complete && (cl.claim[c].qmin != qmin || cl.claim[c].qmax != qmax)) fail(name + " is weaker than its keys give");
     }
-    for (const Wit& w : wits) {
-        std::size_t i = 0;
-        while (i < keys.size() && code(keys[i]) != w.code) ++i;
-        if (i == keys.size()) fail("witness key " + w.code.substr(0, 20) + " is not a consistent key");
-        Key k{keys[i], {}, {}};
-        for (int c = 0; c < 4; ++c)
-            if (k.s[c].warp) k.vars.push_back(c);
-        if (w.cat == 1 && (junctions || !flat(k.s))) fail("flat witness on a key that is not flat-compatible");
-        if (w.t.size() != k.vars.size()) fail("witness has the wrong number of t values");
-        for (const Q& x : w.t)
-            if (x < 0 || x > Q(1, 2)) fail("witness t outside [0, 1/2]");
-        const PointVal p = at_point(k, sep, fanrule, w.t);
-        std::cout << "  witness " << "UF"[w.cat] << " " << w.kind << " " << w.code << ": ";
-        if (w.kind == "inverted") {
-            if (p.valid) fail("inverted witness is not inverted");
-            std::cout << "the chosen diagonal has a triangle with cross <= 0 (exact)\n";
+}
+
+// The category witnesses: for a bound, one `min` and one `max` witness (exact
+// configurations near the claim: its tightness); for `inverted`, one
+// `inverted` witness on a key marked inverted.  Returns the report's lines.
+std::string check_theorem_witnesses(const Claims& cl, const std::vector<std::array<St, 4>>& keys,
+                                    const std::vector<KeyClaim>& lines, const Header& hd) {
+    for (int c = 0; c < hd.ncat(); ++c)
+        for (const std::string kind : {"min", "max", "inverted"}) {
+            const long n = std::count_if(cl.wits.begin(), cl.wits.end(), [&](const Wit& w) { return w.cat == c && w.kind == kind; });
+            if (n != ((kind == "inverted") == cl.claim[c].inverted ? 1 : 0))
+                fail(std::string("claim ") + "UF"[c] + (cl.claim[c].inverted ? " inverted" : " (a bound)") + ": has " +
+                     std::to_string(n) + " '" + kind + "' witnesses");
+        }
+    std::ostringstream out;
+    for (const Wit& w : cl.wits) {
+        const auto it = std::find_if(keys.begin(), keys.end(), [&](const std::array<St, 4>& s) { return code(s) == w.code; });
+        if (it == keys.end()) fail("witness key " + w.code.substr(0, 20) + " is not a consistent key");
+        if (w.cat == 1 && (hd.junctions || !flat(*it))) fail("flat witness on a key that is not flat-compatible");
+        Key k = make_key(*it);
+        const bool inv = w.kind == "inverted";
+        if (w.fields.size() != 4 + k.vars.size() + (inv ? 0 : 1)) fail("witness has the wrong number of t values");
+        const PointVal p = at_point(k, hd.sep, hd.fanrule, read_t(w.fields, 4, k, "witness " + w.code));
+        out << "  witness " << "UF"[w.cat] << " " << w.kind << " " << w.code << ": ";
+        if (inv) {
+            const bool marked = std::any_of(lines.begin(), lines.end(), [&](const KeyClaim& e) { return e.code == w.code && e.inverted; });
+            if (p.valid || !marked) fail("inverted witness is not inverted");
+            out << "the chosen diagonal has a triangle with cross <= 0 (exact)\n";
             continue;
         }
         if (!p.valid) fail("witness is inverted");
         const Q v = w.kind == "min" ? p.qmin : p.qmax;
-        if (v != w.value || (w.kind != "min" && w.kind != "max")) fail("witness value differs from exact evaluation");
-        const Q bound = w.kind == "min" ? claim[w.cat].qmin : claim[w.cat].qmax;
+        if (v != parse_q(w.fields.back())) fail("witness value differs from exact evaluation");
+        const Q bound = w.kind == "min" ? cl.claim[w.cat].qmin : cl.claim[w.cat].qmax;
         const RQ a = deg(v), bd = deg(bound);
-        std::cout << "angle " << degs(v) << " (cot " << v.convert_to<double>() << "), claim " << degs(bound)
-                  << ", gap <= " << dec(w.kind == "min" ? a.hi - bd.lo : bd.hi - a.lo, true) << " deg\n";
+        out << "angle " << degs(v) << " (cot " << v.convert_to<double>() << "), claim " << degs(bound)
+            << ", gap <= " << dec(w.kind == "min" ? a.hi - bd.lo : bd.hi - a.lo, true) << " deg\n";
     }
-    return 0;
+    return out.str();
+}
+
+// One key line and its witnesses (its leaves follow; verify_leaves):
+//   key <i> <code> <flat> <m> <qmin> <qmax> <leaves>, `wmin`, `wmax`; or
+//   key <i> <code> <flat> <m> inverted, then `winv <t_1> ... <t_m>`: an exact
+//   configuration of the key's box at which a chosen triangle has cross <= 0.
+// Checked: index and code (the enumeration's i-th key: none missing, none
+// repeated), flatness flag, dimension, the witnesses' exact values against the
+// key's claim (their tightness goes to `tight`).
+KeyClaim read_key(Reader& rd, const Header& hd, const std::array<St, 4>& s, std::size_t i, Tightness tight[2]) {
+    const auto& h = rd.next("key");
+    check_key_head(h, s, i, hd);
+    KeyClaim e{code(s), !hd.junctions && flat(s), false, 0, 0};
+    Key k = make_key(s);
+    const std::string name = "key " + e.code;
+    if (h.size() == 6 && h[5] == "inverted") {
+        e.inverted = true;
+        check_inverted_key(rd.at < rd.lines.size() ? &rd.next("winv") : nullptr, s, hd);
+        return e;
+    }
+    if (h.size() != 8) fail("malformed key line");
+    e.qmin = parse_q(h[5]), e.qmax = parse_q(h[6]);
+    // Premise of the double-agreement argument (proofs/README.md, "Double
+    // agreement"): a diagonal the double evaluation wrongly deems valid has
+    // quality above 2^40, far above every key's bound.
+    if (e.qmin > 256) fail(name + ": min-angle cot bound above 256");
+    // The key's witnesses: exact configurations whose extreme angles are
+    // within the key's claim (else the claim is false) and, measured, close
+    // to it (the tightness of the claim, reported).
+    for (int w = 0; w < 2; ++w) {
+        const auto& wl = rd.next("key witness");
+        if (wl.size() != k.vars.size() + 2 || wl[0] != (w ? "wmax" : "wmin"))
+            fail(name + ": expected '" + (w ? "wmax" : "wmin") + "' line");
+        const PointVal p = at_point(k, hd.sep, hd.fanrule, read_t(wl, 1, k, name));
+        const Q v = w ? p.qmax : p.qmin;
+        if (!p.valid || v != parse_q(wl.back())) fail(name + ": witness value differs from exact evaluation");
+        if (w ? v < e.qmax : v > e.qmin) fail(name + ": claim contradicted by its witness");
+        tight[w].add(gap_deg(v, w ? e.qmax : e.qmin), e.code, e.flat);
+    }
+    return e;
+}
+
+// The leaves of a bounded key (line h, at rd.at): the bisection tree rebuilt
+// and every leaf verified (Cover).  Verification is a function of the rule,
+// the warps, the forcing (separating and fan rules), whether the fan may be
+// taken (fan rule, every corner inside), the two bounds and the leaf lines
+// only: a key whose text of these equals that of a key verified before is
+// verified by it (`verified`, the memo).  Returns the number of leaves.
+long verify_leaves(Reader& rd, const Header& hd, const std::array<St, 4>& s, const std::vector<std::string>& h,
+                   std::set<std::string>& verified) {
+    Key k = make_key(s);
+    const bool fan = hd.fanrule && all_inside(s);  // the fan rule's fan needs every corner inside
+    Cover cv{k, hd.sep, fan, dyadic(parse_q(h[5])), dyadic(parse_q(h[6])), rd, small_int(h[7], 1, 50000000)};
+    std::string memo = hd.rule + " " + std::to_string(hd.sep ? forced(s) : 0) + " " + (fan ? "fan" : "nofan") + " " + h[5] +
+                       " " + h[6] + " " + h[7] + ":";
+    for (int c = 0; c < 4; ++c) memo += WCH[s[c].warp];
+    for (long j = 0; j < cv.remaining && rd.at + static_cast<std::size_t>(j) < rd.lines.size(); ++j) {
+        memo += " |";
+        for (const std::string& t : rd.lines[rd.at + static_cast<std::size_t>(j)]) memo += " " + t;
+    }
+    if (verified.count(memo)) {
+        rd.at += static_cast<std::size_t>(cv.remaining);
+        return cv.remaining;
+    }
+    Box root(k.vars.size(), R{N(0), N(Z(1), -1)});
+    cv.leaf_or_split(root, 0);
+    if (cv.remaining != 0) fail("key " + code(s) + ": extra leaves");
+    verified.insert(memo);
+    return cv.leaves;
+}
+
+// What was proved, per category: the bound (rigorous degrees), or no bound.
+std::string theorem_text(const Claims& cl, const Header& hd) {
+    const char* cname[2] = {"U (all consistent configurations)", "F (flat stencils)"};
+    std::ostringstream out;
+    for (int c = 0; c < hd.ncat(); ++c) {
+        const Claim& k = cl.claim[c];
+        if (k.inverted) {
+            out << "  " << cname[c] << ": NO BOUND: NOT all triangles positively oriented (exact counter-example below)\n";
+            continue;
+        }
+        out << "  " << cname[c] << ": every angle >= " << dec(deg(k.qmin).lo, false) << " deg and <= " << dec(deg(k.qmax).hi, true)
+            << " deg (cot <= " << k.qmin << ", cot >= " << k.qmax << "); "
+            << (hd.fanrule ? "every chosen triangle (a diagonal's two, or the fan's four)" : "both triangles")
+            << " positively oriented\n"
+            << "    rounded outward to 4 decimals: every angle in [" << dec(deg(k.qmin).lo, false, 4) << ", "
+            << dec(deg(k.qmax).hi, true, 4) << "] deg\n";
+    }
+    return out.str();
+}
+std::string tightness_text(const Tightness tight[2]) {
+    std::ostringstream out;
+    for (int w = 0; w < 2; ++w) {
+        const Tightness& t = tight[w];
+        out << "  per-key " << (w ? "max" : "min") << " angle claims vs witnesses: gap <= " << dec(t.target, true, 2) << " deg on "
+            << t.within << " of " << t.keys << " keys (flat: " << t.within_flat << " of " << t.keys_flat
+            << "); largest gap <= " << dec(t.worst, true, 4) << " deg (key " << t.worst_key << ")\n"
+            << "    keys above: gap <= 1 deg " << t.over[0] << ", <= 5 deg " << t.over[1] << ", <= 20 deg " << t.over[2]
+            << ", > 20 deg " << t.over[3] << "\n";
+    }
+    return out.str();
+}
+
+// Checks one certificate; prints what it proves.  Returns true if every
+// category's theorem is an angle bound, false if a category states no bound
+// (an exact counter-example to orientation, verified); throws Fail if the
+// certificate is wrong.  The claims are checked against the key lines and the
+// category witnesses first (cheap), then every key in order with its leaves,
+// then the claims against the keys as verified.
+bool check_file(const std::string& path) {
+    Reader rd = read_certificate(path);
+    const Header hd = read_header(rd);
+    const Claims cl = read_claims(rd, hd);
+    const auto keys = enumerate_keys(hd.junctions);
+    const auto& kl = rd.next("keys");
+    expect(kl, "keys", 2);
+    if (small_int(kl[1], 0, 1000000) != static_cast<long>(keys.size())) fail("key count differs from the enumeration");
+    const std::vector<KeyClaim> ahead = scan_key_lines(rd, keys, hd);
+    check_claims(cl, ahead, hd, ahead.size() == keys.size());
+    const std::string witnesses = check_theorem_witnesses(cl, keys, ahead, hd);
+    Tightness tight[2] = {{Q(1, 100)}, {Q(1, 10)}};  // min angle: 0.01 deg, max angle: 0.1 deg
+    std::vector<KeyClaim> verified_keys;
+    std::set<std::string> memo;
+    long leaves = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const auto& h = rd.lines[std::min(rd.at, rd.lines.size() - 1)];
+        verified_keys.push_back(read_key(rd, hd, keys[i], i, tight));
+        if (!verified_keys.back().inverted) leaves += verify_leaves(rd, hd, keys[i], h, memo);
+    }
+    expect(rd.next("end"), "end", 1);
+    if (rd.at != rd.lines.size()) fail("data after end");
+    check_claims(cl, verified_keys, hd, true);
+    const long nflat = std::count_if(verified_keys.begin(), verified_keys.end(), [](const KeyClaim& e) { return e.flat; });
+    std::cout << path << ": rule " << hd.rule << (hd.junctions ? " (junction keys)" : "") << ", " << keys.size() << " keys ("
+              << nflat << " flat-compatible), " << leaves << " leaves verified\n"
+              << theorem_text(cl, hd) << tightness_text(tight) << witnesses;
+    return !cl.claim[0].inverted && !cl.claim[1].inverted;
 }
 
 // ---- graded-mesh templates (not in the certificates: a finite, exact check) --
@@ -980,18 +1146,26 @@ int main(int argc, char** argv) {
         std::cerr << "REJECTED: " << f.msg << "\n";
         return 1;
     }
-    int status = 0;
+    // Exit status: 0 every certificate verified and every theorem an angle
+    // bound; 1 a certificate rejected; 3 all verified, but some category
+    // states no bound (an exact counter-example to orientation): not a proof.
+    bool rejected = false;
+    std::vector<std::string> no_bound;
     for (int i = 1; i < argc; ++i) {
         try {
-            check_file(argv[i]);
+            if (!check_file(argv[i])) no_bound.push_back(argv[i]);
         } catch (const Fail& f) {
             std::cerr << argv[i] << ": REJECTED: " << f.msg << "\n";
-            status = 1;
+            rejected = true;
         } catch (const std::exception& e) {
             std::cerr << argv[i] << ": REJECTED: " << e.what() << "\n";
-            status = 1;
+            rejected = true;
         }
     }
-    if (status == 0) std::cout << "all certificates verified\n";
-    return status;
+    for (const std::string& p : no_bound)
+        std::cerr << p << ": NO BOUND: verified, but a theorem is a counter-example (an inverted or degenerate triangle), not an angle bound\n";
+    if (rejected) return 1;
+    if (!no_bound.empty()) return 3;
+    std::cout << "all certificates verified\n";
+    return 0;
 }

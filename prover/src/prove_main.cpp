@@ -102,7 +102,11 @@ int prove_main(int argc, char** argv) {
         }
         std::fputs(log.c_str(), stdout);
         std::fflush(stdout);
+        // Exit 1: a key not proved (the certificate is incomplete; the checker
+        // rejects it).  Exit 3: a category has an inverted configuration — the
+        // certificate states a counter-example, not a bound (the checker's 3).
         if (log.find("FAILED") != std::string::npos) status = 1;
+        else if (status == 0 && log.find("orientation FAILS") != std::string::npos) status = 3;
     }
     return status;
 }

@@ -1,7 +1,9 @@
 // report.cpp — the targets (sampled extremes, not part of the proof), the
 // exact rational witnesses, rigorous degrees for the log, and the certificate
 // text: run_proof drives key enumeration (keys.cpp) and branch and bound
-// (bound.cpp) and writes what they proved (format: proofs/README.md).
+// (bound.cpp) in passes — sample_keys, set_targets, prove_keys (first_pass,
+// second_pass per key) — and writes what they proved (write_claim,
+// write_key, write_leaf; format: proofs/README.md).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -253,17 +255,11 @@ ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t)
 }
 
 std::array<Q, 4> to_dyadic_t(const std::array<double, 4>& t);
-ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t);
-// The rational witness: the dyadic point (2^-40 grid) nearest the sampled
-// extreme, or a neighbour at distance 2^-30 per coordinate if the rule's exact
-// choice there gives a more extreme value (the extreme may sit on a switch).
-std::pair<std::array<Q, 4>, ExactEval> witness(DiagonalRule rule, const Key& k, const std::array<double, 4>& t0,
-                                               int sense) {
-    const auto vars = key_vars(k);
-    std::pair<std::array<Q, 4>, ExactEval> best{to_dyadic_t(t0), eval_exact(rule, k, to_dyadic_t(t0))};
-    if (best.second.valid && best.second.diag == eval_double(rule, k, t0).diag) return best;
+// The 3^m points t0 + {-1, 0, 1} 2^-30 per variable (clamped to [0, 1/2]).
+std::vector<std::array<double, 4>> neighbours(const std::array<double, 4>& t0, const std::vector<int>& vars) {
     int combos = 1;
     for (std::size_t j = 0; j < vars.size(); ++j) combos *= 3;
+    std::vector<std::array<double, 4>> out;
     for (int cmb = 0; cmb < combos; ++cmb) {
         std::array<double, 4> t = t0;
         int r = cmb;
@@ -271,12 +267,38 @@ std::pair<std::array<Q, 4>, ExactEval> witness(DiagonalRule rule, const Key& k, 
             t[v] = std::clamp(t[v] + (r % 3 - 1) * std::ldexp(1.0, -30), 0.0, 0.5);
             r /= 3;
         }
+        out.push_back(t);
+    }
+    return out;
+}
+// The rational witness: the dyadic point (2^-40 grid) nearest the sampled
+// extreme, or a neighbour at distance 2^-30 per coordinate if the rule's exact
+// choice there gives a more extreme value (the extreme may sit on a switch).
+std::pair<std::array<Q, 4>, ExactEval> witness(DiagonalRule rule, const Key& k, const std::array<double, 4>& t0,
+                                               int sense) {
+    std::pair<std::array<Q, 4>, ExactEval> best{to_dyadic_t(t0), eval_exact(rule, k, to_dyadic_t(t0))};
+    if (best.second.valid && best.second.diag == eval_double(rule, k, t0).diag) return best;
+    for (const auto& t : neighbours(t0, key_vars(k))) {
         const auto tq = to_dyadic_t(t);
         const ExactEval e = eval_exact(rule, k, tq);
         if (!e.valid) continue;
         if ((sense > 0 && e.qmin > best.second.qmin) || (sense < 0 && e.qmax < best.second.qmax)) best = {tq, e};
     }
     return best;
+}
+// An exact witness of an inverted or degenerate chosen triangle (cross <= 0)
+// near the double point t0 where sampling met one: the 2^-40 grid point
+// nearest t0, or a neighbour at 2^-30 per coordinate.  False if none is
+// exactly inverted (then the key is a failure, not a counter-example).
+bool inverted_witness(DiagonalRule rule, const Key& k, const std::array<double, 4>& t0, std::array<Q, 4>& out) {
+    std::vector<std::array<double, 4>> pts{t0};
+    for (const auto& t : neighbours(t0, key_vars(k))) pts.push_back(t);
+    for (const auto& t : pts)
+        if (!eval_exact(rule, k, to_dyadic_t(t)).valid) {
+            out = to_dyadic_t(t);
+            return true;
+        }
+    return false;
 }
 
 std::array<Q, 4> to_dyadic_t(const std::array<double, 4>& t) {
@@ -301,93 +323,114 @@ double gap_deg(double a, double b) {
            180 / 3.14159265358979;
 }
 
-}  // namespace
+// ---- the proof driver: its passes -------------------------------------------------
+// One key's state through the passes.
+struct Info {
+    bool flat = false, invalid = false, relaxed = false;
+    std::array<double, 4> invalid_at{};  // where sampling met an inverted triangle (double)
+    bool inverted_exact = false;         // and an exact witness of it, at tinv
+    std::array<Q, 4> tinv{};
+    Extreme emin{}, emax{};
+    // Exact witnesses of the key's extremes (rational t), and their values.
+    std::array<Q, 4> tmin{}, tmax{};
+    ExactEval wmin{}, wmax{};
+    double qmin = 0, qmax = 0;  // the key's claim (targets until proved)
+    KeyProof proof;
+};
+// Per category (0 = U any, 1 = F flat): the keys of the extreme witnesses and
+// of the first inverted triangle, and the category's targets.
+struct Cat {
+    int wmin = -1, wmax = -1, winv = -1;
+    double qmin = 0, qmax = 0, qmax_loose = 0;
+};
+// One proof: the rule over the keys all[ids[i]].  Junction keys with the same
+// warps and the same forced diagonal (or none) have the same configurations and
+// the same decisions — the rule sees the materials only through the forcing —
+// hence the same targets and proof: each is computed once, for the first key of
+// its class (rep), and copied; the output is the same as computing every key.
+struct Proof {
+    DiagonalRule rule;
+    bool junctions;  // no flat category (proofs/README.md, "Junction keys")
+    std::vector<Key> all;
+    std::vector<int> ids, rep;
+    std::vector<Info> info;
+    Cat cat[2];
+    int n() const { return static_cast<int>(ids.size()); }
+    int ncat() const { return junctions ? 1 : 2; }
+    const Key& key(int i) const { return all[static_cast<std::size_t>(ids[static_cast<std::size_t>(i)])]; }
+    Info& at(int i) { return info[static_cast<std::size_t>(i)]; }
+    const Info& at(int i) const { return info[static_cast<std::size_t>(i)]; }
+    bool computed(int i) const { return !junctions || rep[static_cast<std::size_t>(i)] == i; }
+    void copy_classes() {
+        for (int i = 0; i < n(); ++i)
+            if (!computed(i)) at(i) = at(rep[static_cast<std::size_t>(i)]);
+    }
+};
 
-// ---------------------------------------------------------------------------
-std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log, KeySpace space) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const bool junctions = space == KeySpace::junctions;  // no flat category (proofs/README.md, "Junction keys")
-    const auto all = junctions ? junction_keys() : consistent_keys();
-    std::vector<int> ids;
-    if (key_subset) ids = *key_subset;
-    else
-        for (int i = 0; i < static_cast<int>(all.size()); ++i) ids.push_back(i);
-    const int n = static_cast<int>(ids.size());
-    struct Info {
-        bool flat = false, invalid = false, relaxed = false;
-        std::array<double, 4> invalid_at{};
-        Extreme emin{}, emax{};
-        // Exact witnesses of the key's extremes (rational t), and their values.
-        std::array<Q, 4> tmin{}, tmax{};
-        ExactEval wmin{}, wmax{};
-        double qmin = 0, qmax = 0;
-        KeyProof proof;
-    };
-    std::vector<Info> info(static_cast<std::size_t>(n));
-    // Junction keys with the same warps and the same forced diagonal (or none)
-    // have the same configurations and the same decisions — the rule sees the
-    // materials only through the forcing — hence the same targets and proof:
-    // each is computed once, for the first key of its class (`rep`), and
-    // copied; the output is the same as computing every key.
-    const std::vector<int> rep = junctions ? junction_classes(rule, all, ids) : std::vector<int>{};
-    const auto computed = [&](int i) { return !junctions || rep[static_cast<std::size_t>(i)] == i; };
+// Targets.  Per key: the exact value at its witness plus a margin worth `gap`
+// degrees at that cot: d(angle)/d(cot) = -1/(1+cot^2), and the margin moves
+// the cot away from 0, so the angle gap is at most margin/(1+cot^2) radians.
+constexpr double gap_min = 0.004, gap_max = 0.08;  // min angle, max angle (deg)
+double margin(const Q& c, double gap) {
+    const double x = c.convert_to<double>();
+    return round_down(gap * (3.14159265358979 / 180) * (1 + x * x), 40);
+}
+
+// Pass 1 (not part of the proof): each key's sampled extremes and their exact
+// witnesses; a key on which sampling meets an inverted triangle gets an exact
+// witness of it instead, if there is one.
+void sample_keys(Proof& p) {
+    const int n = p.n();
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
-        if (!computed(i)) continue;
-        const Key& k = all[static_cast<std::size_t>(ids[i])];
-        Info& f = info[static_cast<std::size_t>(i)];
-        f.flat = !junctions && flat_compatible(k);
+        if (!p.computed(i)) continue;
+        const Key& k = p.key(i);
+        Info& f = p.at(i);
+        f.flat = !p.junctions && flat_compatible(k);
         const auto vars = key_vars(k);
-        f.emin = search(rule, k, vars, +1, &f.invalid, &f.invalid_at);
-        f.emax = search(rule, k, vars, -1, nullptr, nullptr);
-        if (f.invalid) continue;
-        std::tie(f.tmin, f.wmin) = witness(rule, k, f.emin.t, 1);
-        std::tie(f.tmax, f.wmax) = witness(rule, k, f.emax.t, -1);
+        f.emin = search(p.rule, k, vars, +1, &f.invalid, &f.invalid_at);
+        f.emax = search(p.rule, k, vars, -1, nullptr, nullptr);
+        if (f.invalid) {
+            f.inverted_exact = inverted_witness(p.rule, k, f.invalid_at, f.tinv);
+            continue;
+        }
+        std::tie(f.tmin, f.wmin) = witness(p.rule, k, f.emin.t, 1);
+        std::tie(f.tmax, f.wmax) = witness(p.rule, k, f.emax.t, -1);
     }
-    for (int i = 0; i < n; ++i)
-        if (!computed(i)) info[static_cast<std::size_t>(i)] = info[static_cast<std::size_t>(rep[static_cast<std::size_t>(i)])];
-    // Targets.  Per key: the exact value at its witness plus a margin worth
-    // `gap_min` degrees (min angle) resp. `gap_max` (max angle) at that cot:
-    // d(angle)/d(cot) = -1/(1+cot^2), and the margin moves the cot away from 0,
-    // so the angle gap is at most margin/(1+cot^2) radians.  Per category (0 =
-    // any, 1 = flat) the worst witness plus a tiny margin caps the keys close to
-    // it, so that the theorems U and F are tight.
-    const double deg = 3.14159265358979 / 180;
-    const double gap_min = 0.004, gap_max = 0.08;
-    auto margin = [&](const Q& c, double gap) {
-        const double x = c.convert_to<double>();
-        return round_down(gap * deg * (1 + x * x), 40);
-    };
-    struct Cat {
-        int wmin = -1, wmax = -1, winv = -1;
-        double qmin = 0, qmax = 0, qmax_loose = 0;
-    } cat[2];
-    for (int c = 0; c < (junctions ? 1 : 2); ++c) {
-        for (int i = 0; i < n; ++i) {
-            const Info& f = info[static_cast<std::size_t>(i)];
+    p.copy_classes();
+}
+
+// Pass 2: the category targets — the worst witness plus a tiny margin caps the
+// keys close to it, so that the theorems U and F are tight — and each key's
+// first targets.
+void set_targets(Proof& p) {
+    for (int c = 0; c < p.ncat(); ++c) {
+        Cat& cat = p.cat[c];
+        for (int i = 0; i < p.n(); ++i) {
+            const Info& f = p.at(i);
             if (c == 1 && !f.flat) continue;
             if (f.invalid) {
-                if (cat[c].winv < 0) cat[c].winv = i;
+                if (cat.winv < 0 && f.inverted_exact) cat.winv = i;
                 continue;
             }
-            if (cat[c].wmin < 0 || f.wmin.qmin > info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin) cat[c].wmin = i;
-            if (cat[c].wmax < 0 || f.wmax.qmax < info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax) cat[c].wmax = i;
+            if (cat.wmin < 0 || f.wmin.qmin > p.at(cat.wmin).wmin.qmin) cat.wmin = i;
+            if (cat.wmax < 0 || f.wmax.qmax < p.at(cat.wmax).wmax.qmax) cat.wmax = i;
         }
-        if (cat[c].wmin < 0) continue;
+        if (cat.wmin < 0) continue;
         // 2^-33 (F) resp. 2^-24 (U) above the worst min-angle witness: < 1e-9
         // resp. 1e-6 deg; 2^-33 resp. 2^-20 below the worst max-angle witness.
         const int bits = c == 1 ? 33 : 24, mbits = c == 1 ? 33 : 20;
-        cat[c].qmin = q_up(info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin, bits + 3) + std::ldexp(1.0, -bits);
-        cat[c].qmax = q_down(info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax, mbits + 3) - std::ldexp(1.0, -mbits);
-        cat[c].qmax_loose = c == 1 ? cat[c].qmax : q_down(info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax, 40) - 0.125;
+        cat.qmin = q_up(p.at(cat.wmin).wmin.qmin, bits + 3) + std::ldexp(1.0, -bits);
+        cat.qmax = q_down(p.at(cat.wmax).wmax.qmax, mbits + 3) - std::ldexp(1.0, -mbits);
+        cat.qmax_loose = c == 1 ? cat.qmax : q_down(p.at(cat.wmax).wmax.qmax, 40) - 0.125;
         // The fan rule: where the rule may take either the fan or a diagonal
         // (leaf Y), a taken diagonal is only known to have q <= fan_taken_cot.
-        if (rule == DiagonalRule::fan) cat[c].qmin = std::max(cat[c].qmin, fan_taken_cot);
+        if (p.rule == DiagonalRule::fan) cat.qmin = std::max(cat.qmin, fan_taken_cot);
     }
-    for (int i = 0; i < n; ++i) {
-        Info& f = info[static_cast<std::size_t>(i)];
+    for (int i = 0; i < p.n(); ++i) {
+        Info& f = p.at(i);
         if (f.invalid) continue;
-        const Cat& c = cat[f.flat ? 1 : 0];
+        const Cat& c = p.cat[f.flat ? 1 : 0];
         f.qmin = std::min(q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gap_min), c.qmin);
         // First-pass max-angle claims: the previous loose ones (sample minus
         // 0.25 (1 + |cot|), keys that are not flat-compatible at most cot -3/2).
@@ -395,111 +438,270 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
         f.qmax = std::max(round_down(v - 0.25 * (1 + std::fabs(v)), 16), c.qmax_loose);
         if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
     }
-    const double c_max_tight[2] = {cat[0].qmax, cat[1].qmax};
-    const double pass2_factor = 3;  // second-pass leaf budget: 3x the first proof's leaves + 200
-    auto pass2_budget = [&](std::size_t leaves) { return static_cast<std::size_t>(pass2_factor * static_cast<double>(leaves)) + 200; };
-    const auto t1 = std::chrono::steady_clock::now();
+}
+
+// A proof attempt failed on the max angle at `at`: if that point is more
+// extreme than the key's witness, the witness moves to the extreme found by a
+// pattern search from it.
+void move_max_witness(DiagonalRule rule, const Key& key, Info& f, const std::array<double, 4>& at) {
+    const PointEval e = eval_double(rule, key, at);
+    if (!(e.valid && e.qmax < f.wmax.qmax.convert_to<double>())) return;
+    const Extreme x = search_from(rule, key, key_vars(key), -1, at);
+    const auto w = witness(rule, key, x.t, -1);
+    if (w.second.valid && w.second.qmax < f.wmax.qmax) std::tie(f.tmax, f.wmax) = w;
+}
+
+// Pass 3a, one key: prove its targets.  A claim that cannot be certified
+// within the leaf budget is relaxed (and reported as such): the certificate
+// only ever states what was proved.  A failure at a point more extreme than
+// the witness means the sampling missed the key's extreme: the witness moves
+// there (pattern search from that point) and the target follows it.  Returns
+// the number of attempts.
+int first_pass(DiagonalRule rule, const Key& key, Info& f, std::size_t leaf_budget) {
+    const auto vars = key_vars(key);
+    double gmin = gap_min;
+    int attempts = 0;
+    for (int attempt = 0; attempt < 10; ++attempt) {
+        ++attempts;
+        f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
+        if (f.proof.ok) break;
+        // Fan rule, a square that may take the fan: undecided leaves (Y) need
+        // qmin >= fan_taken_cot; try that before relaxing further.
+        if (rule == DiagonalRule::fan && !key.junction && all_inside(key.s) && f.qmin < fan_taken_cot) {
+            f.qmin = fan_taken_cot;
+            f.relaxed = true;
+            continue;
+        }
+        const PointEval e = eval_double(rule, key, f.proof.fail_point);
+        if (f.proof.fail_kind == 1) {
+            if (e.valid && e.qmin > f.wmin.qmin.convert_to<double>()) {
+                const Extreme x = search_from(rule, key, vars, +1, f.proof.fail_point);
+                const auto w = witness(rule, key, x.t, 1);
+                if (w.second.valid && w.second.qmin > f.wmin.qmin) std::tie(f.tmin, f.wmin) = w;
+            }
+            if (!(e.valid && e.qmin > f.qmin)) gmin *= 4;
+            f.qmin = std::max(f.qmin, q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gmin));
+        } else if (f.proof.fail_kind == 2) {
+            move_max_witness(rule, key, f, f.proof.fail_point);
+            const double step = 1e-3 * std::pow(4.0, attempt);
+            f.qmax = round_down(std::min({f.qmax, e.valid ? e.qmax : f.qmax, f.wmax.qmax.convert_to<double>()}) -
+                                    step * (1 + std::fabs(f.qmax)),
+                                24);
+        } else {
+            break;  // orientation cannot be certified: reported as a failure
+        }
+        f.relaxed = true;
+    }
+    return attempts;
+}
+
+// Pass 3b, one proved key: tighter max-angle claims, each tried within a leaf
+// budget of 3x the first proof's leaves + 200, the first proved kept: the
+// witness minus gap_max, then minus 1 deg (neither tighter than the category's
+// tight cap `cap`, which keeps the theorem tight), the cap itself, and for
+// keys whose witness is at the cap, the witness minus 0.25 deg and minus 1 deg.
+// Along the max-min switching surfaces these need switching leaves (bound.cpp).
+// Keys at the cap first try 0.02, 0.05 and 0.1 deg below their witness (with a
+// larger budget: their maximum may lie on a curve, where the boxes must be
+// about sqrt(margin) wide along it).
+void second_pass(DiagonalRule rule, const Key& key, Info& f, double cap) {
+    const std::size_t budget = static_cast<std::size_t>(3.0 * static_cast<double>(f.proof.leaves.size())) + 200;
+    std::vector<double> tried;
+    for (double g : {gap_max, 1.0, -1.0, -0.02, -0.05, -0.1, -0.25, -1.0 - 1e-9}) {
+        const double w = q_down(f.wmax.qmax, 40);
+        const double q = g == -1.0 ? cap : g < 0 ? w - margin(f.wmax.qmax, -g) : std::max(w - margin(f.wmax.qmax, g), cap);
+        if (q <= f.qmax) break;
+        const bool near_cap = g < 0 && g > -0.25 && g != -1.0;
+        if (near_cap && q >= cap) continue;
+        if (std::find(tried.begin(), tried.end(), q) != tried.end()) continue;
+        tried.push_back(q);
+        KeyProof p = prove_key(rule, key, f.qmin, q, budget + (near_cap ? 2000 : 0));
+        if (p.ok) {
+            f.proof = std::move(p), f.qmax = q;
+            return;
+        }
+        if (p.fail_kind == 2) move_max_witness(rule, key, f, p.fail_point);
+    }
+}
+
+// Pass 3, every key (the branch and bound): first and second pass.
+void prove_keys(Proof& p) {
+    const double cap[2] = {p.cat[0].qmax, p.cat[1].qmax};
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
     const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
-    if (verbose)
-        std::fprintf(stderr, "targets: U %.17g %.17g  F %.17g %.17g  (%.2f s)\n", cat[0].qmin, cat[0].qmax, cat[1].qmin,
-                     cat[1].qmax, std::chrono::duration<double>(t1 - t0).count());
+    const int n = p.n();
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
-        Info& f = info[static_cast<std::size_t>(i)];
-        if (f.invalid || !computed(i)) continue;
+        Info& f = p.at(i);
+        if (f.invalid || !p.computed(i)) continue;
         const auto k0 = std::chrono::steady_clock::now();
-        const Key& key = all[static_cast<std::size_t>(ids[i])];
-        const auto vars = key_vars(key);
-        // A claim that cannot be certified within the leaf budget is relaxed
-        // (and reported as such): the certificate only ever states what was
-        // proved.  A failure at a point more extreme than the witness means the
-        // sampling missed the key's extreme: the witness moves there (pattern
-        // search from that point) and the target follows it.
-        double gmin = gap_min;
-        int attempts = 0;
-        for (int attempt = 0; attempt < 10; ++attempt) {
-            ++attempts;
-            f.proof = prove_key(rule, key, f.qmin, f.qmax, leaf_budget);
-            if (f.proof.ok) break;
-            // Fan rule, a square that may take the fan: undecided leaves (Y) need
-            // qmin >= fan_taken_cot; try that before relaxing further.
-            if (rule == DiagonalRule::fan && !key.junction && all_inside(key.s) && f.qmin < fan_taken_cot) {
-                f.qmin = fan_taken_cot;
-                f.relaxed = true;
-                continue;
-            }
-            const PointEval e = eval_double(rule, key, f.proof.fail_point);
-            if (f.proof.fail_kind == 1) {
-                if (e.valid && e.qmin > f.wmin.qmin.convert_to<double>()) {
-                    const Extreme x = search_from(rule, key, vars, +1, f.proof.fail_point);
-                    const auto w = witness(rule, key, x.t, 1);
-                    if (w.second.valid && w.second.qmin > f.wmin.qmin) std::tie(f.tmin, f.wmin) = w;
-                }
-                if (!(e.valid && e.qmin > f.qmin)) gmin *= 4;
-                f.qmin = std::max(f.qmin, q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gmin));
-            } else if (f.proof.fail_kind == 2) {
-                if (e.valid && e.qmax < f.wmax.qmax.convert_to<double>()) {
-                    const Extreme x = search_from(rule, key, vars, -1, f.proof.fail_point);
-                    const auto w = witness(rule, key, x.t, -1);
-                    if (w.second.valid && w.second.qmax < f.wmax.qmax) std::tie(f.tmax, f.wmax) = w;
-                }
-                const double step = 1e-3 * std::pow(4.0, attempt);
-                f.qmax = round_down(std::min({f.qmax, e.valid ? e.qmax : f.qmax, f.wmax.qmax.convert_to<double>()}) -
-                                        step * (1 + std::fabs(f.qmax)), 24);
-            } else {
-                break;  // orientation cannot be certified: reported as a failure
-            }
-            f.relaxed = true;
-        }
-        // Second pass: tighter max-angle claims, each tried within a leaf
-        // budget proportional to the first proof's size, the first proved kept:
-        // the witness minus gap_max, then minus 1 deg (neither tighter than the
-        // category's tight cap, which keeps the theorem tight), the cap itself,
-        // and for keys whose witness is at the cap, the witness minus 0.25 deg
-        // and minus 1 deg.  Along the max-min switching surfaces these need
-        // switching leaves (bound.cpp).
-        // Keys at the cap first try 0.02, 0.05 and 0.1 deg below their witness
-        // (with a larger budget: their maximum may lie on a curve, where the
-        // boxes must be about sqrt(margin) wide along it).
-        std::vector<double> tried;
-        if (f.proof.ok)
-            for (double g : {gap_max, 1.0, -1.0, -0.02, -0.05, -0.1, -0.25, -1.0 - 1e-9}) {
-                const double cap = c_max_tight[f.flat ? 1 : 0], w = q_down(f.wmax.qmax, 40);
-                const double q = g == -1.0 ? cap : g < 0 ? w - margin(f.wmax.qmax, -g) : std::max(w - margin(f.wmax.qmax, g), cap);
-                if (q <= f.qmax) break;
-                const bool near_cap = g < 0 && g > -0.25 && g != -1.0;
-                if (near_cap && q >= cap) continue;
-                if (std::find(tried.begin(), tried.end(), q) != tried.end()) continue;
-                tried.push_back(q);
-                KeyProof p = prove_key(rule, key, f.qmin, q, pass2_budget(f.proof.leaves.size()) + (near_cap ? 2000 : 0));
-                if (p.ok) {
-                    f.proof = std::move(p), f.qmax = q;
-                    break;
-                }
-                const PointEval e = eval_double(rule, key, p.fail_point);
-                if (p.fail_kind == 2 && e.valid && e.qmax < f.wmax.qmax.convert_to<double>()) {
-                    const Extreme x = search_from(rule, key, vars, -1, p.fail_point);
-                    const auto w = witness(rule, key, x.t, -1);
-                    if (w.second.valid && w.second.qmax < f.wmax.qmax) std::tie(f.tmax, f.wmax) = w;
-                }
-            }
+        const Key& key = p.key(i);
+        const int attempts = first_pass(p.rule, key, f, leaf_budget);
+        if (f.proof.ok) second_pass(p.rule, key, f, cap[f.flat ? 1 : 0]);
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
         if (verbose && (dt > 0.05 || f.relaxed))
             std::fprintf(stderr, "key %d %s: %.2f s, %d attempts, %zu leaves, ok %d, targets %.12g %.12g (witnesses %.12g %.12g)\n",
-                         ids[i], code_of(key).c_str(), dt, attempts, f.proof.leaves.size(), f.proof.ok, f.qmin, f.qmax,
-                         f.wmin.qmin.convert_to<double>(), f.wmax.qmax.convert_to<double>());
+                         p.ids[static_cast<std::size_t>(i)], code_of(key).c_str(), dt, attempts, f.proof.leaves.size(),
+                         f.proof.ok, f.qmin, f.qmax, f.wmin.qmin.convert_to<double>(), f.wmax.qmax.convert_to<double>());
     }
-    for (int i = 0; i < n; ++i)
-        if (!computed(i)) info[static_cast<std::size_t>(i)] = info[static_cast<std::size_t>(rep[static_cast<std::size_t>(i)])];
+    p.copy_classes();
     // The category witnesses, after any witness moved.
-    for (int c = 0; c < (junctions ? 1 : 2); ++c)
-        for (int i = 0; i < n; ++i) {
-            const Info& f = info[static_cast<std::size_t>(i)];
+    for (int c = 0; c < p.ncat(); ++c)
+        for (int i = 0; i < p.n(); ++i) {
+            const Info& f = p.at(i);
             if (f.invalid || (c == 1 && !f.flat)) continue;
-            if (f.wmin.qmin > info[static_cast<std::size_t>(cat[c].wmin)].wmin.qmin) cat[c].wmin = i;
-            if (f.wmax.qmax < info[static_cast<std::size_t>(cat[c].wmax)].wmax.qmax) cat[c].wmax = i;
+            if (f.wmin.qmin > p.at(p.cat[c].wmin).wmin.qmin) p.cat[c].wmin = i;
+            if (f.wmax.qmax < p.at(p.cat[c].wmax).wmax.qmax) p.cat[c].wmax = i;
         }
+}
+
+// ---- the certificate text -------------------------------------------------------------
+void write_t(std::ostream& o, const Key& k, const std::array<Q, 4>& t) {
+    for (int v : key_vars(k)) o << ' ' << qstr(t[v]);
+}
+// Category c's claim — the extremes of its keys' claims, or `inverted` with an
+// exact witness — and its witnesses; the log states it in degrees.
+void write_claim(const Proof& p, int c, std::ostream& o, std::ostream& lg) {
+    const char* rname = rule_name(p.rule);
+    double cq = -1e300, cp = 1e300;
+    bool any_inv = false;
+    for (const Info& f : p.info) {
+        if (c == 1 && !f.flat) continue;
+        if (f.invalid) {
+            any_inv = true;
+            continue;
+        }
+        cq = std::max(cq, f.qmin), cp = std::min(cp, f.qmax);
+    }
+    const char* cn = c ? "F" : "U";
+    const Cat& cat = p.cat[c];
+    if (any_inv) {
+        o << "claim " << cn << " inverted\n";
+        if (cat.winv >= 0) {
+            o << "witness " << cn << " inverted " << code_of(p.key(cat.winv));
+            write_t(o, p.key(cat.winv), p.at(cat.winv).tinv);
+            o << "\n";
+        }
+        lg << rname << " (" << cn << "): orientation FAILS"
+           << (cat.winv >= 0 ? ", e.g. key " + code_of(p.key(cat.winv)) : std::string(" (no exact witness)")) << "\n";
+        return;
+    }
+    if (cat.wmin < 0) return;  // a key subset without keys of this category
+    o << "claim " << cn << " " << dstr(cq) << " " << dstr(cp) << "\n";
+    const Key &kmin = p.key(cat.wmin), &kmax = p.key(cat.wmax);
+    const Info &fmin = p.at(cat.wmin), &fmax = p.at(cat.wmax);
+    o << "witness " << cn << " min " << code_of(kmin);
+    write_t(o, kmin, fmin.tmin);
+    o << " " << qstr(fmin.wmin.qmin) << "\n";
+    o << "witness " << cn << " max " << code_of(kmax);
+    write_t(o, kmax, fmax.tmax);
+    o << " " << qstr(fmax.wmax.qmax) << "\n";
+    lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq)) << " (cot <= " << dstr(cq) << "), witness "
+       << code_of(kmin) << " has cot " << std::setprecision(17) << fmin.wmin.qmin.convert_to<double>() << " = "
+       << deg_range(fmin.wmin.qmin) << "; gap in cot " << (dyadic(cq) - fmin.wmin.qmin).convert_to<double>() << "\n";
+    lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp)) << " (cot >= " << dstr(cp) << "), witness "
+       << code_of(kmax) << " has cot " << fmax.wmax.qmax.convert_to<double>() << " = " << deg_range(fmax.wmax.qmax)
+       << "; gap in cot " << (fmax.wmax.qmax - dyadic(cp)).convert_to<double>() << "\n";
+}
+// One leaf line: tag, k, the box, a threshold's H, a switching certificate.
+void write_leaf(std::ostream& o, const Leaf& l, const KeyProof& proof, int m) {
+    o << (l.sw >= 0 ? 'S' : l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
+    for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
+    if (l.threshold != 0) o << ' ' << dstr(l.threshold);
+    if (l.sw >= 0) {  // the switching certificate, per diagonal: - or k:J:J2:mask and the multipliers
+        const Switch& sw = proof.switches[static_cast<std::size_t>(l.sw)];
+        for (int d = 0; d < 2; ++d) {
+            if (sw.k[d] < 0) {
+                o << " -";
+                continue;
+            }
+            auto idx = [&](int v) { return v < 0 ? std::string("-") : std::to_string(v); };
+            int mask = 0;
+            for (int x = 0; x < 6; ++x)
+                if (sw.lambda[static_cast<std::size_t>(12 * d + x)] >= 0 && sw.j[2 * d] >= 0) mask |= 1 << x;
+            o << ' ' << int{sw.k[d]} << ':' << idx(sw.j[2 * d]) << ':' << idx(sw.j[2 * d + 1]) << ':' << mask;
+            for (int n = 0; n < 2; ++n)
+                for (int x = 0; x < 6; ++x)
+                    if (sw.j[2 * d + n] >= 0 && (mask >> x & 1)) o << ' ' << dstr(sw.lambda[static_cast<std::size_t>(12 * d + 6 * n + x)]);
+        }
+    }
+    o << "\n";
+}
+// Key i: its line, its witnesses and its leaves; or `inverted` and its exact
+// witness `winv`.  A key without a proof (or an inverted one without an exact
+// witness) is written as such and logged FAILED: the checker rejects it.
+void write_key(const Proof& p, int i, std::ostream& o, std::ostream& lg) {
+    const Info& f = p.at(i);
+    const Key& k = p.key(i);
+    const int m = static_cast<int>(key_vars(k).size());
+    o << "key " << p.ids[static_cast<std::size_t>(i)] << ' ' << code_of(k) << ' ' << f.flat << ' ' << m;
+    if (f.invalid) {
+        o << " inverted\n";
+        if (f.inverted_exact) {
+            o << "winv";
+            write_t(o, k, f.tinv);
+            o << "\n";
+        } else {
+            lg << "FAILED key " << code_of(k) << ": an inverted triangle sampled in double, no exact witness\n";
+        }
+        return;
+    }
+    o << ' ' << dstr(f.qmin) << ' ' << dstr(f.qmax) << ' ' << (f.proof.ok ? f.proof.leaves.size() : 0) << "\n";
+    // The key's witnesses: exact configurations close to its bounds.
+    o << "wmin";
+    write_t(o, k, f.tmin);
+    o << ' ' << qstr(f.wmin.qmin) << "\nwmax";
+    write_t(o, k, f.tmax);
+    o << ' ' << qstr(f.wmax.qmax) << "\n";
+    if (!f.proof.ok) {
+        lg << "FAILED key " << code_of(k) << " qmin " << f.qmin << " qmax " << f.qmax << " at";
+        for (double x : f.proof.fail_point) lg << ' ' << x;
+        const auto e = eval_double(p.rule, k, f.proof.fail_point);
+        lg << " (there: qmin " << e.qmin << " qmax " << e.qmax << ")\n";
+        return;
+    }
+    for (const Leaf& l : f.proof.leaves) write_leaf(o, l, f.proof, m);
+}
+// Per-key tightness (for the log; the checker recomputes it exactly).
+std::string tightness_log(const Proof& p) {
+    std::vector<double> gmin, gmax;
+    for (const Info& f : p.info) {
+        if (f.invalid || !f.proof.ok) continue;
+        const double a = f.wmin.qmin.convert_to<double>(), b = f.wmax.qmax.convert_to<double>();
+        gmin.push_back(gap_deg(a, f.qmin));
+        gmax.push_back(gap_deg(f.qmax, b));
+    }
+    auto summary = [](std::vector<double> g, double tol) {
+        std::sort(g.begin(), g.end());
+        std::ostringstream s;
+        if (g.empty()) return std::string("none");
+        s << "median " << g[g.size() / 2] << " deg, max " << g.back() << " deg, "
+          << g.end() - std::upper_bound(g.begin(), g.end(), tol) << " keys above " << tol;
+        return s.str();
+    };
+    return std::string(rule_name(p.rule)) + ": per-key gap to the witness, min angle: " + summary(gmin, 0.01) +
+           "; max angle: " + summary(gmax, 0.1) + "\n";
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log, KeySpace space) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Proof p{rule, space == KeySpace::junctions, {}, {}, {}, {}, {}};
+    p.all = p.junctions ? junction_keys() : consistent_keys();
+    if (key_subset) p.ids = *key_subset;
+    else
+        for (int i = 0; i < static_cast<int>(p.all.size()); ++i) p.ids.push_back(i);
+    p.info.resize(p.ids.size());
+    if (p.junctions) p.rep = junction_classes(rule, p.all, p.ids);
+    sample_keys(p);
+    set_targets(p);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (std::getenv("WARPMESH_PROVE_VERBOSE"))
+        std::fprintf(stderr, "targets: U %.17g %.17g  F %.17g %.17g  (%.2f s)\n", p.cat[0].qmin, p.cat[0].qmax, p.cat[1].qmin,
+                     p.cat[1].qmax, std::chrono::duration<double>(t1 - t0).count());
+    prove_keys(p);
     const auto t2 = std::chrono::steady_clock::now();
 
     std::ostringstream o, lg;
@@ -507,131 +709,16 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
     o << "warpmesh-certificate 3\n"
       << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
       << "rule " << rname << "\n";
-    if (junctions) o << "space junctions\n";
-    std::size_t leaves = 0, failed = 0, inverted = 0;
-    for (const Info& f : info) leaves += f.proof.leaves.size(), failed += !f.invalid && !f.proof.ok,
-                                inverted += f.invalid;
-    // Category claims: max/min of the key claims.
-    for (int c = 0; c < (junctions ? 1 : 2); ++c) {
-        double cq = -1e300, cp = 1e300;
-        bool any_inv = false;
-        for (const Info& f : info) {
-            if (c == 1 && !f.flat) continue;
-            if (f.invalid) {
-                any_inv = true;
-                continue;
-            }
-            cq = std::max(cq, f.qmin), cp = std::min(cp, f.qmax);
-        }
-        const char* cn = c ? "F" : "U";
-        if (any_inv) {
-            const Info& f = info[static_cast<std::size_t>(cat[c].winv)];
-            const auto t = to_dyadic_t(f.invalid_at);
-            o << "claim " << cn << " inverted\n";
-            o << "witness " << cn << " inverted " << code_of(all[static_cast<std::size_t>(ids[cat[c].winv])]);
-            for (int v : key_vars(all[static_cast<std::size_t>(ids[cat[c].winv])])) o << ' ' << qstr(t[v]);
-            o << "\n";
-            lg << rname << " (" << cn << "): orientation FAILS, e.g. key "
-               << code_of(all[static_cast<std::size_t>(ids[cat[c].winv])]) << "\n";
-            continue;
-        }
-        if (cat[c].wmin < 0) continue;  // a key subset without keys of this category
-        o << "claim " << cn << " " << dstr(cq) << " " << dstr(cp) << "\n";
-        const Key& kmin = all[static_cast<std::size_t>(ids[cat[c].wmin])];
-        const Key& kmax = all[static_cast<std::size_t>(ids[cat[c].wmax])];
-        const Info& fmin = info[static_cast<std::size_t>(cat[c].wmin)];
-        const Info& fmax = info[static_cast<std::size_t>(cat[c].wmax)];
-        struct {
-            const ExactEval& emin;
-            const ExactEval& emax;
-        } cw{fmin.wmin, fmax.wmax};
-        o << "witness " << cn << " min " << code_of(kmin);
-        for (int v : key_vars(kmin)) o << ' ' << qstr(fmin.tmin[v]);
-        o << " " << qstr(cw.emin.qmin) << "\n";
-        o << "witness " << cn << " max " << code_of(kmax);
-        for (int v : key_vars(kmax)) o << ' ' << qstr(fmax.tmax[v]);
-        o << " " << qstr(cw.emax.qmax) << "\n";
-        lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq)) << " (cot <= " << dstr(cq)
-           << "), witness " << code_of(kmin) << " has cot " << std::setprecision(17)
-           << cw.emin.qmin.convert_to<double>() << " = " << deg_range(cw.emin.qmin) << "; gap in cot "
-           << (dyadic(cq) - cw.emin.qmin).convert_to<double>() << "\n";
-        lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp)) << " (cot >= " << dstr(cp)
-           << "), witness " << code_of(kmax) << " has cot " << cw.emax.qmax.convert_to<double>() << " = "
-           << deg_range(cw.emax.qmax) << "; gap in cot "
-           << (cw.emax.qmax - dyadic(cp)).convert_to<double>() << "\n";
-    }
-    o << "keys " << n << "\n";
-    for (int i = 0; i < n; ++i) {
-        const Info& f = info[static_cast<std::size_t>(i)];
-        const Key& k = all[static_cast<std::size_t>(ids[i])];
-        const int m = static_cast<int>(key_vars(k).size());
-        if (f.invalid) {
-            o << "key " << ids[i] << ' ' << code_of(k) << ' ' << f.flat << ' ' << m << " inverted\n";
-            continue;
-        }
-        o << "key " << ids[i] << ' ' << code_of(k) << ' ' << f.flat << ' ' << m << ' ' << dstr(f.qmin) << ' '
-          << dstr(f.qmax) << ' ' << (f.proof.ok ? f.proof.leaves.size() : 0) << "\n";
-        // The key's witnesses: exact configurations close to its bounds.
-        o << "wmin";
-        for (int v : key_vars(k)) o << ' ' << qstr(f.tmin[v]);
-        o << ' ' << qstr(f.wmin.qmin) << "\nwmax";
-        for (int v : key_vars(k)) o << ' ' << qstr(f.tmax[v]);
-        o << ' ' << qstr(f.wmax.qmax) << "\n";
-        if (!f.proof.ok) {
-            lg << "FAILED key " << code_of(k) << " qmin " << f.qmin << " qmax " << f.qmax << " at";
-            for (double x : f.proof.fail_point) lg << ' ' << x;
-            const auto e = eval_double(rule, k, f.proof.fail_point);
-            lg << " (there: qmin " << e.qmin << " qmax " << e.qmax << ")\n";
-            continue;
-        }
-        for (const Leaf& l : f.proof.leaves) {
-            o << (l.sw >= 0 ? 'S' : l.diag == 4 ? 'F' : l.diag == 5 ? 'Y' : l.threshold != 0 ? "ab"[l.diag - 1] : "ABX"[l.diag - 1]) << ' ' << l.k;
-            for (int j = 0; j < 2 * m; ++j) o << ' ' << l.num[static_cast<std::size_t>(j)];
-            if (l.threshold != 0) o << ' ' << dstr(l.threshold);
-            if (l.sw >= 0) {  // the switching certificate, per diagonal: - or k:J:J2:mask and the multipliers
-                const Switch& sw = f.proof.switches[static_cast<std::size_t>(l.sw)];
-                for (int d = 0; d < 2; ++d) {
-                    if (sw.k[d] < 0) {
-                        o << " -";
-                        continue;
-                    }
-                    auto idx = [&](int v) { return v < 0 ? std::string("-") : std::to_string(v); };
-                    int mask = 0;
-                    for (int x = 0; x < 6; ++x)
-                        if (sw.lambda[static_cast<std::size_t>(12 * d + x)] >= 0 && sw.j[2 * d] >= 0) mask |= 1 << x;
-                    o << ' ' << int{sw.k[d]} << ':' << idx(sw.j[2 * d]) << ':' << idx(sw.j[2 * d + 1]) << ':' << mask;
-                    for (int n = 0; n < 2; ++n)
-                        for (int x = 0; x < 6; ++x)
-                            if (sw.j[2 * d + n] >= 0 && (mask >> x & 1))
-                                o << ' ' << dstr(sw.lambda[static_cast<std::size_t>(12 * d + 6 * n + x)]);
-                }
-            }
-            o << "\n";
-        }
-    }
+    if (p.junctions) o << "space junctions\n";
+    for (int c = 0; c < p.ncat(); ++c) write_claim(p, c, o, lg);
+    o << "keys " << p.n() << "\n";
+    for (int i = 0; i < p.n(); ++i) write_key(p, i, o, lg);
     o << "end\n";
-    {  // Per-key tightness (for the log; the checker recomputes it exactly).
-        std::vector<double> gmin, gmax;
-        for (const Info& f : info) {
-            if (f.invalid || !f.proof.ok) continue;
-            const double a = f.wmin.qmin.convert_to<double>(), b = f.wmax.qmax.convert_to<double>();
-            gmin.push_back(gap_deg(a, f.qmin));
-            gmax.push_back(gap_deg(f.qmax, b));
-        }
-        auto summary = [](std::vector<double> g, double tol) {
-            std::sort(g.begin(), g.end());
-            std::ostringstream s;
-            if (g.empty()) return std::string("none");
-            s << "median " << g[g.size() / 2] << " deg, max " << g.back() << " deg, "
-              << g.end() - std::upper_bound(g.begin(), g.end(), tol) << " keys above " << tol;
-            return s.str();
-        };
-        lg << rname << ": per-key gap to the witness, min angle: " << summary(gmin, 0.01)
-           << "; max angle: " << summary(gmax, 0.1) << "\n";
-    }
-    lg << rname << ": " << n << " keys, " << leaves << " leaves, " << failed << " failed, " << inverted
-       << " with inverted triangles; targets "
-       << std::chrono::duration<double>(t1 - t0).count() << " s, branch and bound "
+    lg << tightness_log(p);
+    std::size_t leaves = 0, failed = 0, inverted = 0;
+    for (const Info& f : p.info) leaves += f.proof.leaves.size(), failed += !f.invalid && !f.proof.ok, inverted += f.invalid;
+    lg << rname << ": " << p.n() << " keys, " << leaves << " leaves, " << failed << " failed, " << inverted
+       << " with inverted triangles; targets " << std::chrono::duration<double>(t1 - t0).count() << " s, branch and bound "
        << std::chrono::duration<double>(t2 - t1).count() << " s\n";
     if (log) *log += lg.str();
     return o.str();
