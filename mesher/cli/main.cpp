@@ -60,6 +60,8 @@ input (images):
                          region's boundary, interpolated bilinearly
   --max-pixels N         refuse images and volumes with more pixels (voxels) than N
                          (default 268435456)
+  --max-memory MB        refuse, before the work, inputs whose reading or meshing would
+                         take more than about MB megabytes (default 2048)
   --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
                          background) or these labels, every other pixel one background
                          material; interfaces between materials are mesh edges
@@ -174,6 +176,7 @@ struct CliOptions {
     std::optional<std::string> materials, shapes;  // multi-material input (materials.hpp)
     bool background_given = false;                 // --background (into mesh.keep_background)
     std::int64_t max_pixels = std::int64_t{1} << 28;
+    std::int64_t max_memory_mb = static_cast<std::int64_t>(default_max_memory >> 20);
     MshOptions msh;
     bool svg_min_angle = false;
     bool svg_certified = false;
@@ -247,6 +250,7 @@ CliOptions parse_mesh_options(int argc, char** argv) {
             m.max_size_of.emplace_back(static_cast<std::int32_t>(tag), parse_number(a + " H", v.substr(eq + 1)));
         }
         else if (a == "--max-pixels") o.max_pixels = parse_integer(a, value());
+        else if (a == "--max-memory") o.max_memory_mb = parse_integer(a, value());
         else if (a == "--max-squares") m.max_squares = parse_integer(a, value());
         else if (a == "--msh-version") {
             const std::string v = value();
@@ -294,6 +298,9 @@ CliOptions parse_mesh_options(int argc, char** argv) {
     }
     if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
     if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
+    if (o.max_memory_mb < 1 || o.max_memory_mb > (std::int64_t{1} << 40))
+        throw UsageError("--max-memory expects megabytes, 1 to 2^40");
+    m.max_memory = static_cast<std::uint64_t>(o.max_memory_mb) << 20;
     if (!o.shape.empty() && (o.iso || o.labels)) throw UsageError("--iso and --label apply to images, not to --shape");
     if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
     if (!o.shape.empty() && (o.slice || o.slices || !o.pixel_size.empty() || !o.points_3d.empty()))
@@ -364,7 +371,8 @@ private:
 
 // The input file as a volume (images are one slice), with --pixel-size.
 Volume read_input(const CliOptions& o) {
-    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
+    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels), o.mesh.max_memory});
+    for (const auto& w : v.warnings) std::cerr << "warpmesh: warning: " << w << "\n";
     if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
     return v;
 }
@@ -373,6 +381,7 @@ SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) 
     SliceOptions so;
     so.slice = slice;
     so.units = o.units_pixels ? Units::pixels : Units::physical;
+    so.max_memory = o.mesh.max_memory;
     if (o.labels) {
         so.levelset = label_options(*o.labels);
     } else {
@@ -429,7 +438,8 @@ int run_mesh(int argc, char** argv) {
             field = parse_material_shapes(*o.shapes);
         } else {
             field = make_label_materials(
-                slice_image(read_input(o), o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt), *o.materials);
+                slice_image(read_input(o), o.slice ? std::optional(parse_slice(*o.slice)) : std::nullopt), *o.materials,
+                o.mesh.max_memory);
         }
         StagedOutputs staged;
         const MeshResult r = mesh_and_stage(o, *field, nullptr, staged);
@@ -548,7 +558,9 @@ int main(int argc, char** argv) {
         std::cerr << "warpmesh: error: " << e.what() << "\n";
         return 1;
     } catch (const std::bad_alloc&) {
-        std::cerr << "warpmesh: error: out of memory (try a larger --spacing)\n";
+        std::cerr << "warpmesh: error: out of memory: an allocation failed although the estimate was within the "
+                     "--max-memory limit (this machine or a ulimit allows less): lower --max-memory to what is "
+                     "available, or use a larger --spacing or a smaller input\n";
         return 1;
     } catch (const std::exception& e) {
         std::cerr << "warpmesh: internal error: " << e.what() << "\n";

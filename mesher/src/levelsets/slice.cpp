@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "warpmesh/errors.hpp"
+#include "warpmesh/memory.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/volume.hpp"
 
@@ -118,8 +119,7 @@ Image slice_image(const Volume& v, const std::optional<SliceSpec>& slice) {
             ijk[static_cast<std::size_t>(c.a)] = col, ijk[static_cast<std::size_t>(c.b)] = c.H - 1 - r;  // y upwards
             const double x = v.at(ijk[0], ijk[1], ijk[2]);
             if (!(x >= 0 && x <= 65535 && x == std::floor(x)))
-                throw InputError("'" + c.name + "': value " + std::to_string(x) +
-                                 " is not an integer in 0..65535 (a label image is needed here)");
+                throw InputError("'" + c.name + "': " + label_value_problem(x) + " (a label image is needed here)");
             img.pixels[static_cast<std::size_t>(r * c.W + col)] = static_cast<std::uint16_t>(x);
             top = std::max(top, x);
         }
@@ -133,6 +133,12 @@ LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
     const int n = c.n, a = c.a, b = c.b;
     const std::int64_t W = c.W, H = c.H;
     const std::string& name = c.name;
+    const FieldKind kind = options.levelset.mode == ImageMode::label ? FieldKind::label : FieldKind::threshold;
+    check_memory(static_cast<std::uint64_t>(W * H) * field_bytes_per_pixel(kind), options.max_memory,
+                 "the level set of '" + name + "'",
+                 std::to_string(W) + " x " + std::to_string(H) + " pixels at " +
+                     std::to_string(field_bytes_per_pixel(kind)) + " bytes each",
+                 "crop or downsample the image");
 
     // The slice's values, y-up: pixel (ia, ib) at ia + W ib.
     std::vector<double> values(static_cast<std::size_t>(W * H));
