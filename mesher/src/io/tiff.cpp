@@ -96,16 +96,42 @@ struct Handles {
     }
 };
 
+// The PhotometricInterpretation stored in the current directory, read from
+// the file itself: libtiff replaces a palette without its colour map by
+// min-is-black, silently.  Classic TIFF: 12-byte entries after a 2-byte
+// count; BigTIFF: 20-byte entries after an 8-byte count.  -1 if absent.
+int stored_photometric(TIFF* tif, std::span<const std::uint8_t> b) {
+    const bool big = TIFFIsBigTIFF(tif), little = b.size() > 1 && b[0] == 'I';
+    auto get = [&](std::uint64_t at, int n) -> std::uint64_t {
+        std::uint64_t v = 0;
+        if (at > b.size() || static_cast<std::uint64_t>(n) > b.size() - at) return UINT64_MAX;
+        for (int q = 0; q < n; ++q) v |= std::uint64_t{b[at + static_cast<std::uint64_t>(little ? q : n - 1 - q)]} << (8 * q);
+        return v;
+    };
+    const std::uint64_t dir = TIFFCurrentDirOffset(tif), entries = get(dir, big ? 8 : 2);
+    const std::uint64_t first = dir + (big ? 8 : 2), size = big ? 20 : 12;
+    for (std::uint64_t e = 0; e < entries && e < 4096; ++e) {
+        const std::uint64_t at = first + e * size;
+        const std::uint64_t tag = get(at, 2);
+        if (tag == UINT64_MAX) return -1;
+        if (tag == TIFFTAG_PHOTOMETRIC) {
+            const std::uint64_t v = get(at + (big ? 12 : 8), 2);
+            return v == UINT64_MAX ? -1 : static_cast<int>(v);
+        }
+    }
+    return -1;
+}
+
 // The current page's strips (or tiles) must lie within the file: libtiff
 // would otherwise read a strip byte count past the end as a short strip, or
 // replace it by an estimate.  A palette image without its colour map, which
-// libtiff reads as gray with a warning, is refused like any palette image.
+// libtiff reads as gray, is refused like any palette image.
 void check_page_data(TIFF* tif, const MemoryFile& mf, const std::string& page,
                      const std::function<void(const std::string&)>& bad) {
-    if (mf.warning.find("Palette") != std::string::npos || mf.warning.find("Colormap") != std::string::npos ||
-        mf.warning.find("colormap") != std::string::npos)
-        bad(page + "a palette image without a colour map (" + mf.warning +
-            "); only 8- and 16-bit grayscale TIFF is read");
+    std::uint16_t *red = nullptr, *green = nullptr, *blue = nullptr;
+    if (stored_photometric(tif, mf.bytes) == PHOTOMETRIC_PALETTE && !TIFFGetField(tif, TIFFTAG_COLORMAP, &red, &green, &blue))
+        bad(page + "a palette image without a colour map (its pixels are indices into a missing palette); only 8- "
+                   "and 16-bit grayscale TIFF is read");
     if (mf.warning.find("StripByteCounts") != std::string::npos || mf.warning.find("TileByteCounts") != std::string::npos)
         bad(page + "its strip byte counts do not fit the file (" + mf.warning + ")");
     const std::uint32_t strips = TIFFNumberOfStrips(tif);
