@@ -19,9 +19,10 @@ std::uint64_t resident_bytes() {
     return got == 2 && page > 0 ? resident * static_cast<std::uint64_t>(page) : 0;
 }
 
-// The costs are the peaks measured on 2048 x 2048 images of random labels
-// (every lattice square warped), divided by the pixels or squares and
-// rounded up; docs/performance.md gives the runs.
+// The costs: peaks measured on 2048 x 2048 images of random labels (every
+// lattice square warped) and on full rectangles with every output option,
+// less what was resident before the stage, divided by the pixels or squares
+// and rounded up (the runs are in docs/performance.md).
 std::uint64_t field_bytes_per_pixel(FieldKind kind) {
     switch (kind) {
         case FieldKind::threshold: return 32;
@@ -33,7 +34,7 @@ std::uint64_t field_bytes_per_pixel(FieldKind kind) {
 
 std::uint64_t mesh_bytes_per_square(bool materials, bool graded) {
     if (!materials) return 112;
-    return graded ? 480 : 240;
+    return graded ? 360 : 128;  // above the material field, which is resident already
 }
 
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
