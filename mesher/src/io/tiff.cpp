@@ -68,22 +68,19 @@ extern "C" toff_t mem_size(thandle_t h) { return static_cast<MemoryFile*>(h)->by
 extern "C" int mem_map(thandle_t, tdata_t*, toff_t*) { return 0; }
 extern "C" void mem_unmap(thandle_t, tdata_t, toff_t) {}
 
+// libtiff's first message of a kind, kept for ours.
+void keep_first(std::string& into, const char* module, const char* fmt, va_list ap) {
+    if (!into.empty()) return;
+    char buf[512];
+    std::vsnprintf(buf, sizeof buf, fmt, ap);
+    into = std::string(module ? module : "libtiff") + ": " + buf;
+}
 extern "C" int on_error(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
-    auto* f = static_cast<MemoryFile*>(user);
-    if (f->error.empty()) {
-        char buf[512];
-        std::vsnprintf(buf, sizeof buf, fmt, ap);
-        f->error = std::string(module ? module : "libtiff") + ": " + buf;
-    }
+    keep_first(static_cast<MemoryFile*>(user)->error, module, fmt, ap);
     return 1;
 }
 extern "C" int on_warning(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
-    auto* f = static_cast<MemoryFile*>(user);
-    if (f->warning.empty()) {
-        char buf[512];
-        std::vsnprintf(buf, sizeof buf, fmt, ap);
-        f->warning = std::string(module ? module : "libtiff") + ": " + buf;
-    }
+    keep_first(static_cast<MemoryFile*>(user)->warning, module, fmt, ap);
     return 1;
 }
 
