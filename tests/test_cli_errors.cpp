@@ -748,3 +748,33 @@ BOOST_AUTO_TEST_CASE(lattice_over_the_memory_bound_is_refused_before_meshing) {
     BOOST_TEST(sb.run({"mesh", disc, "--spacing", "0.02", "-o", "m.vtu", "--quiet"}).code == 0);
     sb.refuse({"mesh", disc, "--max-memory", "0", "-o", "x.vtu"}, 2, {"--max-memory"});
 }
+
+// Under a memory limit the machine imposes (here ulimit -v) below
+// --max-memory, an allocation fails: the message says that the machine
+// allows less than --max-memory (it used to say "try a larger --spacing"),
+// and a --max-memory within the machine's limit refuses cleanly instead.
+// Not under AddressSanitizer, which reserves more address space than any
+// such limit.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define WARPMESH_TEST_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define WARPMESH_TEST_ASAN 1
+#endif
+BOOST_AUTO_TEST_CASE(out_of_memory_under_a_ulimit_says_to_lower_max_memory) {
+#ifndef WARPMESH_TEST_ASAN
+    Sandbox sb;
+    const std::string img = std::string(WARPMESH_SOURCE_DIR) + "/mesher/examples/brain_axial_s128_labels16.pgm";
+    const std::vector<std::string> args = {"mesh", img, "--label", "4", "--spacing", "0.04", "--threads", "1", "-o", "m.vtu"};
+    auto with = [&](const std::string& mb) {
+        auto a = args;
+        a.insert(a.end(), {"--max-memory", mb});
+        return a;
+    };
+    one_line_below_the_bound(sb.refuse(with("8192"), 1, {"out of memory", "lower --max-memory"}, "ulimit -v 200000;"));
+    one_line_below_the_bound(sb.refuse(with("100"), 1, {"meshing needs about", "--max-memory limit of 100 MB"},
+                                       "ulimit -v 200000;"));
+#endif
+}
