@@ -37,6 +37,8 @@ std::uint64_t mesh_bytes_per_square(bool materials, bool graded) {
     return graded ? 360 : 128;  // above the material field, which is resident already
 }
 
+std::uint64_t mesh_bytes_per_material() { return 1536; }
+
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
                   const std::string& advice) {
     const std::uint64_t now = resident_bytes();

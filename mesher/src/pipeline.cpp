@@ -74,13 +74,17 @@ Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOption
 // The admission check before a lattice-sized allocation (memory.hpp):
 // graded meshes of analytic shapes (not domain-bounded) are sized by their
 // boundary, not their squares, and are not estimated.
-void check_lattice_memory(const Lattice& lattice, bool domain, bool materials, const MeshOptions& o) {
+// materials: their count (0: one region).
+void check_lattice_memory(const Lattice& lattice, bool domain, int materials, const MeshOptions& o) {
     if (o.graded && !domain) return;
     const std::uint64_t squares = static_cast<std::uint64_t>(lattice.nx) * static_cast<std::uint64_t>(lattice.ny);
-    const std::uint64_t per = mesh_bytes_per_square(materials, o.graded);
-    check_memory(squares * per, o.max_memory, "meshing",
+    const std::uint64_t per = mesh_bytes_per_square(materials > 0, o.graded);
+    const std::uint64_t per_material = mesh_bytes_per_material();
+    check_memory(squares * per + static_cast<std::uint64_t>(materials) * per_material, o.max_memory, "meshing",
                  std::to_string(lattice.nx) + " x " + std::to_string(lattice.ny) + " lattice squares at " +
-                     std::to_string(per) + " bytes each",
+                     std::to_string(per) + " bytes each" +
+                     (materials > 0 ? ", " + std::to_string(materials) + " materials at " + std::to_string(per_material) + " bytes each"
+                                    : std::string()),
                  "use a larger --spacing");
 }
 
@@ -216,7 +220,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     for (;;) {
         res.lattice = make_lattice(f.bounds(), f.bounds_are_domain(), spacing, o);
         const Lattice& lattice = res.lattice;
-        check_lattice_memory(lattice, f.bounds_are_domain(), false, o);
+        check_lattice_memory(lattice, f.bounds_are_domain(), 0, o);
         extra.clear();
         report_head(extra, o, f.describe(), spacing, lattice);
         if (o.graded) {
@@ -322,7 +326,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     MeshResult res;
     res.spacing = o.spacing;
     res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
-    check_lattice_memory(res.lattice, field.bounds_are_domain(), true, o);
+    check_lattice_memory(res.lattice, field.bounds_are_domain(), field.count(), o);
     std::vector<std::pair<std::string, std::string>> extra;
     report_head(extra, o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};

@@ -16,7 +16,8 @@
 //                        (volume_detail.hpp: checked_voxels; image_io.cpp)
 //   a slice's field      field_bytes_per_pixel(kind) a pixel of the slice
 //                        (load_slice, make_label_materials)
-//   meshing              mesh_bytes_per_square(...) a lattice square
+//   meshing              mesh_bytes_per_square(...) a lattice square, plus
+//                        mesh_bytes_per_material() a material
 //                        (mesh(); analytic shapes with --graded excepted:
 //                        their memory follows the boundary's length, which
 //                        the shape string does not bound in advance)
@@ -39,6 +40,8 @@ std::uint64_t field_bytes_per_pixel(FieldKind kind);
 // What meshing costs a lattice square at most, with everything written
 // (cell data, pictures): one region or several materials, uniform or graded.
 std::uint64_t mesh_bytes_per_square(bool materials, bool graded);
+// And a material (its report, names and tables), on top: at most 65 536.
+std::uint64_t mesh_bytes_per_material();
 
 // Throws InputError "<what> needs about N MB (<how>), more than the
 // --max-memory limit of L MB; raise --max-memory ..., or <advice>" when
