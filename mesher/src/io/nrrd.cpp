@@ -195,11 +195,12 @@ Layout parse_layout(const Header& h, const std::string& name, const VolumeLimits
         bad(name, "unsupported type '" + type_text +
                       "' (read: 8-, 16- and 32-bit signed and unsigned integers, float, double)");
     L.b = sample_bytes(L.type);
-    L.n = checked_voxels("NRRD", name, L.sizes, L.b, limits, held);
     const std::string encoding = lower(h.need(name, "encoding"));
     if (encoding == "gzip" || encoding == "gz") L.encoding = Encoding::gzip;
     else if (encoding == "ascii" || encoding == "text" || encoding == "txt") L.encoding = Encoding::ascii;
     else if (encoding != "raw") bad(name, "unsupported encoding '" + encoding + "' (read: raw, gzip, ascii)");
+    // ascii: the text is copied once more to parse it.
+    L.n = checked_voxels("NRRD", name, L.sizes, L.b, limits, L.encoding == Encoding::ascii ? 2 * held : held);
     if (L.b > 1 && L.encoding != Encoding::ascii) {
         const auto endian = h.get({"endian"});
         if (!endian) bad(name, "malformed header: no 'endian' field for a " + std::to_string(L.b) + "-byte type");
