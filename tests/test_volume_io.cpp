@@ -17,6 +17,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -171,8 +173,88 @@ BOOST_AUTO_TEST_CASE(nrrd_detached_header_reads_its_data_file) {
     // From memory the detached file cannot be looked up: refused, not guessed.
     BOOST_TEST(refused_with(text(nrrd_header(n)), "detached data file"));
     r.extra = "data file: missing.raw\n";
-    BOOST_TEST(error_of([&] { read_volume(dir.write("m.nhdr", text(nrrd_header(r))).string()); }).find("cannot open data file") !=
-               std::string::npos);
+    const std::string missing = error_of([&] { read_volume(dir.write("m.nhdr", text(nrrd_header(r))).string()); });
+    BOOST_TEST(missing.find("data file") != std::string::npos);
+    BOOST_TEST(missing.find("cannot open") != std::string::npos);
+}
+
+// Issue 27 item 3: a detached data file on a device was read without end
+// (11.7 GB resident at 60 s on /dev/zero).  Now only regular files of the
+// size the header implies are read.
+BOOST_AUTO_TEST_CASE(nrrd_detached_data_file_on_a_device_fifo_or_of_the_wrong_size_is_refused) {
+    Dir dir;
+    Nrrd r;
+    r.type = T::u8, r.sizes = {4, 4, 1};
+    r.values = std::vector<double>(16, 3);
+    auto refused = [&](const std::string& extra, std::initializer_list<const char*> words) {
+        r.extra = extra;
+        const std::string m = error_of([&] { read_volume(dir.write("d.nhdr", text(nrrd_header(r))).string()); });
+        BOOST_TEST_INFO("message: " << m);
+        BOOST_TEST(!m.empty());
+        for (const char* w : words) BOOST_TEST(m.find(w) != std::string::npos, "'" << w << "' in '" << m << "'");
+    };
+    refused("data file: /dev/zero\n", {"/dev/zero", "is a device, not a regular file"});
+    refused("data file: /dev/urandom\n", {"/dev/urandom", "is a device"});
+    const fs::path fifo = dir.path / "pipe";
+    BOOST_REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    refused("data file: pipe\n", {"pipe", "FIFO"});  // never opened: opening a FIFO would block
+    dir.write("long.raw", Bytes(17, 3));
+    refused("data file: long.raw\n", {"long.raw", "17 bytes, more than the 16"});
+    dir.write("short.raw", Bytes(15, 3));
+    refused("data file: short.raw\n", {"short.raw", "truncated", "15 bytes"});
+    // The right size is read, and so is a longer file with byte skip -1 (its last 16 bytes).
+    dir.write("ok.raw", Bytes(16, 3));
+    r.extra = "data file: ok.raw\n";
+    BOOST_TEST(same_values(read_volume(dir.write("ok.nhdr", text(nrrd_header(r))).string()), r.values));
+    // gzip data that inflates to more than the header implies: refused, attached or detached.
+    Nrrd g = r;
+    g.encoding = "gzip", g.extra = "";
+    g.values.push_back(3);
+    g.sizes = {17, 1, 1};
+    const Bytes longer = gzip(samples(T::u8, g.values, false));
+    g.sizes = {4, 4, 1};
+    BOOST_TEST(refused_with(text(nrrd_header(g) + "\n") + longer, "inflates to more than the 16 bytes"));
+    dir.write("long.raw.gz", longer);
+    g.extra = "data file: long.raw.gz\n";
+    BOOST_TEST(error_of([&] { read_volume(dir.write("g.nhdr", text(nrrd_header(g))).string()); })
+                   .find("inflates to more than") != std::string::npos);
+    // The file named on the command line must be a regular file too.
+    BOOST_TEST(error_of([] { read_volume("/dev/zero"); }).find("is a device") != std::string::npos);
+}
+
+// Issue 27 item 6: 'spacings: nan' was read as 1 mm.  All nan: no physical
+// size (pixels, as a TIFF); a mix: refused, naming the axis.
+BOOST_AUTO_TEST_CASE(nrrd_spacings_nan_is_no_physical_size_not_1_mm) {
+    Nrrd n;
+    n.type = T::u8, n.sizes = {2, 2, 2};
+    n.values = std::vector<double>(8, 1);
+    n.extra = "spacings: nan nan nan\n";
+    const Volume v = decode(nrrd(n));
+    BOOST_TEST(!v.physical);
+    n.extra = "spacings: NaN NaN NaN\n";
+    BOOST_TEST(!decode(nrrd(n)).physical);
+    n.extra = "spacings: 0.5 0.5 nan\n";
+    BOOST_TEST(refused_with(nrrd(n), "axis 2 has no spacing (nan)"));
+    n.extra = "spacings: 0.5 0.5 2\n";
+    BOOST_TEST(decode(nrrd(n)).physical);
+}
+
+// Issue 27 item 6: a 32-bit label 70 000 was reported as "not an integer in
+// 0..65535"; it is an integer, out of range, and the message says so.
+BOOST_AUTO_TEST_CASE(label_70000_is_reported_out_of_range_not_as_a_non_integer) {
+    Nrrd n;
+    n.type = T::u32, n.sizes = {2, 2, 1};
+    n.values = {0, 1, 70000, 1};
+    const Volume v = decode(nrrd(n));
+    const std::string m = error_of([&] { slice_image(v, std::nullopt); });
+    BOOST_TEST(m.find("label 70000, out of range: labels are 0..65535") != std::string::npos, m);
+    BOOST_TEST(m.find("not an integer") == std::string::npos, m);
+    SliceOptions so;
+    so.levelset = label_options("1");
+    const std::string l = error_of([&] { load_slice(v, so); });
+    BOOST_TEST(l.find("label 70000, out of range") != std::string::npos, l);
+    n.type = T::f32, n.values = {0, 1, 2.5, 1};
+    BOOST_TEST(error_of([&] { slice_image(decode(nrrd(n)), std::nullopt); }).find("2.5, not an integer") != std::string::npos);
 }
 
 BOOST_AUTO_TEST_CASE(nrrd_oblique_unsupported_and_truncated_inputs_are_refused) {
@@ -257,6 +339,43 @@ BOOST_AUTO_TEST_CASE(nifti_scl_slope_and_inter_scale_the_values) {
     BOOST_TEST(!v.integer_valued);
     n.slope = 0;  // 0 means "no scaling"
     BOOST_TEST(same_values(decode(nifti(n)), n.values));
+}
+
+// Issue 27 item 6: a NaN or infinite scl_slope was silently read as no
+// scaling.  It still is (as nibabel reads it), with a warning; a valid slope
+// beside a non-finite scl_inter is refused.
+BOOST_AUTO_TEST_CASE(nifti_scl_slope_nan_or_inf_warns_and_scl_inter_nan_is_refused) {
+    Nifti n;
+    n.type = T::i16, n.dim = {2, 3, 2, 1, 1, 1, 1, 1};
+    n.values = {0, 1, 2, 3, 4, -5};
+    for (const double slope : {std::nan(""), HUGE_VAL, -HUGE_VAL})
+        for (const int version : {1, 2}) {
+            n.version = version, n.slope = slope, n.inter = 3;
+            const Volume v = decode(nifti(n));
+            BOOST_TEST(same_values(v, n.values));
+            BOOST_REQUIRE(v.warnings.size() == 1u);
+            BOOST_TEST(v.warnings[0].find("scl_slope is") != std::string::npos);
+            BOOST_TEST(v.warnings[0].find("no scaling") != std::string::npos);
+        }
+    n.version = 1, n.slope = 2;
+    n.inter = std::nan("");
+    BOOST_TEST(refused_with(nifti(n), "scl_inter is NaN"));
+    n.inter = HUGE_VAL;
+    BOOST_TEST(refused_with(nifti(n), "scl_inter is infinite"));
+    n.slope = 1, n.inter = 0;
+    BOOST_TEST(decode(nifti(n)).warnings.empty());
+}
+
+// Issue 27 item 3: gzip data is inflated only up to the size the header
+// implies; a longer stream is refused.
+BOOST_AUTO_TEST_CASE(nifti_gzip_that_inflates_to_more_than_the_header_implies_is_refused) {
+    Nifti n;
+    n.type = T::u8, n.dim = {2, 3, 2, 1, 1, 1, 1, 1};
+    n.values = {0, 1, 2, 3, 4, 5};
+    Bytes raw = nifti(n);
+    BOOST_TEST(same_values(decode(gzip(raw)), n.values));
+    raw.push_back(7);
+    BOOST_TEST(refused_with(gzip(raw), "inflates to more than"));
 }
 
 BOOST_AUTO_TEST_CASE(nifti_permuted_flipped_sform_is_read_and_sliced_in_place) {
@@ -418,6 +537,48 @@ BOOST_AUTO_TEST_CASE(tiff_colour_mixed_pages_and_truncated_files_are_refused) {
     const Bytes good = tiff_file(t, dir.path / "g.tif");
     BOOST_TEST(!error_of([&] { decode(Bytes(good.begin(), good.begin() + 900)); }).empty());
     BOOST_TEST(refused_with(Bytes(good.begin(), good.begin() + 6), "TIFF"));
+}
+
+// A one-strip 8-bit 4 x 4 grayscale little-endian TIFF with the value of a
+// one-valued tag of its first directory replaced (classic TIFF: 12-byte
+// entries; SHORT values in the first two bytes of the value field).
+Bytes tiff_with_tag(const fs::path& path, std::uint16_t tag, std::uint32_t value) {
+    TIFF* tif = TIFFOpen(path.c_str(), "w");
+    TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, 4);
+    TIFFSetField(tif, TIFFTAG_IMAGELENGTH, 4);
+    TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 8);
+    TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
+    TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, 4);
+    TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+    std::vector<std::uint8_t> row(4, 9);
+    for (std::uint32_t r = 0; r < 4; ++r) TIFFWriteScanline(tif, row.data(), r, 0);
+    TIFFClose(tif);
+    std::ifstream in(path, std::ios::binary);
+    Bytes b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    BOOST_REQUIRE(b.size() > 8 && b[0] == 'I');
+    auto u16 = [&](std::size_t at) { return static_cast<std::uint32_t>(b[at] | b[at + 1] << 8); };
+    const std::size_t ifd = u16(4) | u16(6) << 16;
+    for (std::size_t e = 0; e < u16(ifd); ++e) {
+        const std::size_t at = ifd + 2 + 12 * e;
+        if (u16(at) != tag) continue;
+        BOOST_REQUIRE(u16(at + 4) == 1u);  // one value
+        for (int q = 0; q < (u16(at + 2) == 3 ? 2 : 4); ++q) b[at + 8 + static_cast<std::size_t>(q)] = static_cast<std::uint8_t>(value >> (8 * q));
+        return b;
+    }
+    BOOST_FAIL("tag not found");
+    return b;
+}
+
+// Issue 27 item 6: a palette image without a colour map was read as gray
+// (libtiff repairs the tag with a warning); a strip byte count beyond the
+// end of the file was accepted.  Both are refused, naming the problem.
+BOOST_AUTO_TEST_CASE(tiff_palette_without_colour_map_and_strip_beyond_the_file_are_refused) {
+    Dir dir;
+    BOOST_TEST(same_values(decode(tiff_with_tag(dir.path / "ok.tif", TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK)),
+                           std::vector<double>(16, 9)));
+    BOOST_TEST(refused_with(tiff_with_tag(dir.path / "p.tif", TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_PALETTE),
+                            "palette image without a colour map"));
+    BOOST_TEST(refused_with(tiff_with_tag(dir.path / "s.tif", TIFFTAG_STRIPBYTECOUNTS, 1000000), "strip"));
 }
 
 // --- geometry of image level sets and slices ------------------------------------------------

@@ -61,6 +61,8 @@ input (images):
                          region's boundary, interpolated bilinearly
   --max-pixels N         refuse images and volumes with more pixels (voxels) than N
                          (default 268435456)
+  --max-memory MB        refuse, before the work, inputs whose reading or meshing would
+                         take more than about MB megabytes (default 2048)
   --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
                          background) or these labels, every other pixel one background
                          material; interfaces between materials are mesh edges
@@ -239,7 +241,11 @@ bool parse_input_option(const std::string& a, Args& args, CliOptions& o) {
     else if (a == "--materials") o.materials = args.value(a);
     else if (a == "--background") o.mesh.keep_background = parse_choice(a, args.value(a), {"drop", "keep"}) == 1;
     else if (a == "--max-pixels") o.max_pixels = parse_integer(a, args.value(a));
-    else return false;
+    else if (a == "--max-memory") {
+        const std::int64_t mb = parse_integer(a, args.value(a));
+        if (mb < 1 || mb > (std::int64_t{1} << 40)) throw UsageError("--max-memory expects megabytes, 1 to 2^40");
+        o.mesh.max_memory = static_cast<std::uint64_t>(mb) << 20;
+    } else return false;
     return true;
 }
 
@@ -412,7 +418,8 @@ private:
 
 // The input file as a volume (images are one slice), with --pixel-size.
 Volume read_input(const CliOptions& o) {
-    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels)});
+    Volume v = read_volume(o.input, {static_cast<std::uint64_t>(o.max_pixels), o.mesh.max_memory});
+    for (const auto& w : v.warnings) std::cerr << "warpmesh: warning: " << w << "\n";
     if (!o.pixel_size.empty()) set_pixel_size(v, o.pixel_size);
     if (o.has("--units") && !o.units_pixels && !v.physical)
         throw InputError("--units mm: '" + o.input + "' (" + v.format +
@@ -425,6 +432,7 @@ SliceOptions slice_options(const CliOptions& o, std::optional<SliceSpec> slice) 
     so.slice = slice;
     so.units = o.units_pixels ? Units::pixels : Units::physical;
     so.materials = o.materials;
+    so.max_memory = o.mesh.max_memory;
     if (o.labels) {
         so.levelset = label_options(*o.labels);
     } else {
@@ -598,7 +606,9 @@ int main(int argc, char** argv) {
         std::cerr << "warpmesh: error: " << e.what() << "\n";
         return 1;
     } catch (const std::bad_alloc&) {
-        std::cerr << "warpmesh: error: out of memory (try a larger --spacing)\n";
+        std::cerr << "warpmesh: error: out of memory: an allocation failed although the estimate was within the "
+                     "--max-memory limit (this machine or a ulimit allows less): lower --max-memory to what is "
+                     "available, or use a larger --spacing or a smaller input\n";
         return 1;
     } catch (const std::exception& e) {
         std::cerr << "warpmesh: internal error: " << e.what() << "\n";

@@ -13,6 +13,7 @@
 #include "warpmesh/graded.hpp"
 #include "warpmesh/materials.hpp"
 #include "warpmesh/report.hpp"
+#include "warpmesh/memory.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/uniform.hpp"
 
@@ -65,6 +66,23 @@ Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOption
         throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
                          " lattice squares, more than --max-squares " + std::to_string(o.max_squares));
     return lattice_over(b, spacing);
+}
+
+// The admission check before a lattice-sized allocation (memory.hpp):
+// graded meshes of analytic shapes (not domain-bounded) are sized by their
+// boundary, not their squares, and are not estimated.
+// materials: their count (0: one region).
+void check_lattice_memory(const Lattice& lattice, bool domain, int materials, const MeshOptions& o) {
+    if (o.graded && !domain) return;
+    const std::uint64_t squares = static_cast<std::uint64_t>(lattice.nx) * static_cast<std::uint64_t>(lattice.ny);
+    const std::uint64_t per = mesh_bytes_per_square(materials > 0, o.graded);
+    const std::uint64_t per_material = mesh_bytes_per_material();
+    check_memory(squares * per + static_cast<std::uint64_t>(materials) * per_material, o.max_memory, "meshing",
+                 std::to_string(lattice.nx) + " x " + std::to_string(lattice.ny) + " lattice squares at " +
+                     std::to_string(per) + " bytes each" +
+                     (materials > 0 ? ", " + std::to_string(materials) + " materials at " + std::to_string(per_material) + " bytes each"
+                                    : std::string()),
+                 "use a larger --spacing");
 }
 
 using Extra = ReportFields;
@@ -157,6 +175,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     for (;;) {
         res.lattice = make_lattice(f.bounds(), f.bounds_are_domain(), spacing, o);
         const Lattice& lattice = res.lattice;
+        check_lattice_memory(lattice, f.bounds_are_domain(), 0, o);
         extra.clear();
         report_head(extra, o, f.describe(), spacing, lattice);
         if (o.graded) {
@@ -262,6 +281,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     MeshResult res;
     res.spacing = o.spacing;
     res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
+    check_lattice_memory(res.lattice, field.bounds_are_domain(), field.count(), o);
     ReportFields extra;
     report_head(extra, o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};

@@ -43,16 +43,27 @@ struct Image {
 // allocated (2^28 pixels: 512 MiB of 16-bit samples).
 inline constexpr std::uint64_t default_max_pixels = std::uint64_t{1} << 28;
 
+// The memory the readers and the pipeline may use by default (the command
+// line's --max-memory): 2 GiB.  Readers refuse a file larger than this, and
+// a volume whose decoding would hold more (volume.hpp: VolumeLimits); mesh()
+// refuses a lattice whose estimated peak is above it (pipeline.hpp:
+// MeshOptions::max_memory).
+inline constexpr std::uint64_t default_max_memory = std::uint64_t{1} << 31;
+
 // Read a PGM (P2 ASCII or P5 binary, 8- or 16-bit) or — when built with
 // libpng (WARPMESH_HAVE_PNG) — a PNG, recognised by its magic bytes, not its
-// name.  Throws InputError naming the file and the problem: unreadable,
-// unsupported format, malformed header, maxval 0 or > 65535, a sample above
-// maxval, too many pixels, truncated data, corrupt PNG.
-Image read_image(const std::string& path, std::uint64_t max_pixels = default_max_pixels);
+// name.  Throws InputError naming the file and the problem: unreadable, not a
+// regular file (a device, a FIFO), larger than max_bytes, unsupported
+// format, malformed header, maxval 0 or > 65535, a sample above maxval, too
+// many pixels, truncated data, corrupt PNG.
+Image read_image(const std::string& path, std::uint64_t max_pixels = default_max_pixels,
+                 std::uint64_t max_bytes = default_max_memory);
 
 // The same from bytes in memory; `name` is used in messages and as `source`.
+// max_bytes bounds the bytes held while decoding: `bytes` and the decoded
+// samples (and PNG's raw rows).
 Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name,
-                   std::uint64_t max_pixels = default_max_pixels);
+                   std::uint64_t max_pixels = default_max_pixels, std::uint64_t max_bytes = default_max_memory);
 
 // True when this build can read PNG files.
 bool png_supported();

@@ -179,6 +179,11 @@ void check_pixel_geometry(const PixelGeometry& geometry, int w, int h);
 // each in 0..65535.  Throws InputError on anything else.
 std::vector<int> parse_label_list(const std::string& list);
 
+// Why a sample value is no label, for messages: "label 70000, out of range:
+// labels are 0..65535 (16-bit); ..." or "value 2.5, not an integer ...".
+// (For a value that is not an integer in 0..65535.)
+std::string label_value_problem(double value);
+
 // Label-mode options from a --label argument: "nonzero" or a label list.
 ImageLevelSetOptions label_options(const std::string& spec);
 

@@ -132,8 +132,11 @@ public:
 // Throws InputError: label 0 in the list (it is the background), labels absent
 // from the image (named), no label at all, more than 65535 labels, a
 // geometry check_pixel_geometry refuses.
+// Refuses (InputError naming --max-memory) an image whose field would take
+// the resident memory above max_memory (memory.hpp).
 std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec,
-                                                    const PixelGeometry& geometry = {});
+                                                    const PixelGeometry& geometry = {},
+                                                    std::uint64_t max_memory = default_max_memory);
 
 // Analytic materials: "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12"
 // (shapes.hpp syntax after '='; tags 1..65535, each once).  A later shape wins

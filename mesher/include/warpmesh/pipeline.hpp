@@ -82,6 +82,12 @@ struct MeshOptions {
     // Refuse lattices with more squares than this (InputError, before any
     // lattice-sized allocation).
     std::int64_t max_squares = std::int64_t{1} << 30;
+    // Refuse, before any lattice-sized allocation, a mesh whose estimated
+    // peak memory is above this many bytes (InputError naming --max-memory):
+    // the process's resident memory when mesh() starts (the input and its
+    // level set or material field) plus the pipeline's bytes a lattice
+    // square (memory_per_square).
+    std::uint64_t max_memory = default_max_memory;
     // Certification (certified.hpp): the per-square bounds and the summary;
     // cell_data adds the per-triangle array "certified_min_angle" to the mesh
     // (8 bytes a triangle); verify checks every keyed triangle against its

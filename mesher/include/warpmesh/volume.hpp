@@ -53,6 +53,9 @@ struct Volume {
     std::string format;                         // "NRRD", "NIfTI-1", "NIfTI-2", "TIFF", "PGM", "PNG"
     std::string space;                          // the file's space or coordinate code, if any
     std::string source;                         // file name, for messages
+    // What the reader accepted but a user should hear about (e.g. a NIfTI
+    // scl_slope that is NaN, read as no scaling), one line each.
+    std::vector<std::string> warnings;
 
     std::int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
     double at(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -60,11 +63,14 @@ struct Volume {
     }
 };
 
-// Volumes with more voxels than max_voxels, or whose decoded data would take
-// more bytes than max_bytes, are refused before anything is allocated.
+// Volumes with more voxels than max_voxels (the command line's
+// --max-pixels) are refused before anything is allocated, and so are those
+// whose reading would hold more than max_bytes (--max-memory): the file's
+// bytes, its inflated data (gzip) and the decoded doubles (8 bytes a voxel)
+// together.  Only regular files are read, and none larger than max_bytes.
 struct VolumeLimits {
     std::uint64_t max_voxels = std::uint64_t{1} << 28;
-    std::uint64_t max_bytes = std::uint64_t{1} << 31;
+    std::uint64_t max_bytes = default_max_memory;
 };
 
 // Read a volume or image, recognised by its content (NRRD magic, NIfTI
@@ -89,6 +95,10 @@ bool tiff_supported();
 // gzip/zlib data, inflated to at most max_out bytes (stops there: callers ask
 // for what they need).  Throws InputError naming `name` on corrupt data.
 std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t max_out, const std::string& name);
+// The same, for data whose size a header gives: inflates at most `expected`
+// bytes (fewer: the caller reports the truncation) and throws InputError if
+// the stream holds more.
+std::vector<std::uint8_t> gunzip_exact(std::span<const std::uint8_t> in, std::size_t expected, const std::string& name);
 
 // Axis-aligned directions: the unit vector +-e_p nearest to d, if d is
 // within 1e-6 (relative) of it; else nullopt (oblique).
@@ -133,6 +143,10 @@ struct SliceOptions {
     // ("all" or a label list, as make_label_materials reads it), placed in
     // the same units.
     std::optional<std::string> materials;
+    // load_slice refuses (InputError naming --max-memory) a slice whose
+    // level set or material field would take the resident memory above this
+    // (memory.hpp).
+    std::uint64_t max_memory = default_max_memory;
 };
 
 // Where a slice lies in the chosen units.

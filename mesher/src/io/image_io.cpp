@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "volume_detail.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/image.hpp"
 
@@ -31,13 +32,25 @@ namespace {
     throw InputError("image '" + name + "': " + what);
 }
 
-void check_pixel_count(const std::string& name, std::uint64_t w, std::uint64_t h, std::uint64_t max_pixels) {
+// The limits of one decoding: pixels (--max-pixels), and memory
+// (--max-memory): the file's bytes, held while decoding, plus per_pixel
+// bytes a pixel (the 16-bit samples and any raw rows) within max_bytes.
+struct Limits {
+    std::uint64_t max_pixels, max_bytes, held;
+};
+
+void check_pixel_count(const std::string& name, std::uint64_t w, std::uint64_t h, const Limits& limits,
+                       std::uint64_t per_pixel) {
     if (w == 0 || h == 0)
         fail(name, "malformed header: zero width or height (" + std::to_string(w) + " x " + std::to_string(h) + ")");
     // w, h < 2^32 each, so the product cannot overflow 64 bits.
-    if (w > 0x7fffffffu || h > 0x7fffffffu || w * h > max_pixels)
+    if (w > 0x7fffffffu || h > 0x7fffffffu || w * h > limits.max_pixels)
         fail(name, "dimensions " + std::to_string(w) + " x " + std::to_string(h) + " exceed the limit of " +
-                       std::to_string(max_pixels) + " pixels");
+                       std::to_string(limits.max_pixels) + " pixels (--max-pixels raises it)");
+    if (limits.held > limits.max_bytes || w * h > (limits.max_bytes - limits.held) / per_pixel)
+        fail(name, "dimensions " + std::to_string(w) + " x " + std::to_string(h) + " need about " +
+                       std::to_string((limits.held + w * h * per_pixel) >> 20) + " MB to read, more than the "
+                       "--max-memory limit of " + std::to_string(limits.max_bytes >> 20) + " MB");
 }
 
 // ---------------------------------------------------------------------------
@@ -103,7 +116,7 @@ private:
     std::size_t pos_ = 2;  // after the magic
 };
 
-Image read_pgm(std::span<const std::uint8_t> bytes, const std::string& name, std::uint64_t max_pixels) {
+Image read_pgm(std::span<const std::uint8_t> bytes, const std::string& name, const Limits& limits) {
     const bool ascii = bytes[1] == '2';
     PgmCursor cur(bytes, name);
     const std::uint64_t w = cur.number("width", 0xffffffffu, true);
@@ -111,7 +124,7 @@ Image read_pgm(std::span<const std::uint8_t> bytes, const std::string& name, std
     const std::uint64_t maxval = cur.number("maxval", 0xffffffffu, true);
     if (maxval == 0 || maxval > 65535)
         fail(name, "malformed header: maxval " + std::to_string(maxval) + " is not in 1..65535");
-    check_pixel_count(name, w, h, max_pixels);
+    check_pixel_count(name, w, h, limits, sizeof(std::uint16_t));
 
     Image img;
     img.width = static_cast<int>(w);
@@ -264,7 +277,7 @@ struct PngHandles {
     }
 };
 
-Image read_png(std::span<const std::uint8_t> bytes, const std::string& name, std::uint64_t max_pixels) {
+Image read_png(std::span<const std::uint8_t> bytes, const std::string& name, const Limits& limits) {
     PngSource src{bytes.data(), bytes.size(), 0, {}, {}};
     PngHandles hd;
     hd.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &src, png_error_to_jmp, png_ignore_warning);
@@ -278,7 +291,8 @@ Image read_png(std::span<const std::uint8_t> bytes, const std::string& name, std
 
     PngHeader h{};
     if (!png_read_header(hd.png, hd.info, &h)) fail(name, std::string("corrupt PNG: ") + src.error);
-    check_pixel_count(name, h.width, h.height, max_pixels);
+    // The 16-bit samples and the raw rows (up to 8 bytes a pixel: RGBA, 16-bit).
+    check_pixel_count(name, h.width, h.height, limits, sizeof(std::uint16_t) + 8);
     if (!png_read_extras(hd.png, hd.info, &h)) fail(name, std::string("corrupt PNG: ") + src.error);
     if (!png_prepare(hd.png, hd.info, &h)) fail(name, std::string("corrupt PNG: ") + src.error);
 
@@ -370,16 +384,18 @@ bool png_supported() {
 #endif
 }
 
-Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name, std::uint64_t max_pixels) {
+Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name, std::uint64_t max_pixels,
+                   std::uint64_t max_bytes) {
     if (bytes.empty()) fail(name, "empty file");
+    const Limits limits{max_pixels, max_bytes, bytes.size()};
     if (starts_with(bytes, "P2") || starts_with(bytes, "P5")) {
         if (bytes.size() < 3 || (!PgmCursor::space(bytes[2]) && bytes[2] != '#'))
             fail(name, "malformed header: no whitespace after the magic number");
-        return read_pgm(bytes, name, max_pixels);
+        return read_pgm(bytes, name, limits);
     }
     if (starts_with(bytes, "\x89PNG\r\n\x1a\n")) {
 #ifdef WARPMESH_HAVE_PNG
-        return read_png(bytes, name, max_pixels);
+        return read_png(bytes, name, limits);
 #else
         fail(name, "PNG support was not compiled in (libpng was not found at build time); convert to PGM");
 #endif
@@ -396,19 +412,10 @@ Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name,
                    "; expected PGM (P2/P5) or PNG");
 }
 
-Image read_image(const std::string& path, std::uint64_t max_pixels) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) fail(path, "cannot read: is a directory");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path, std::string("cannot open: ") + std::strerror(errno));
-    std::vector<std::uint8_t> bytes;
-    std::array<char, 1 << 16> buf;
-    while (in) {
-        in.read(buf.data(), buf.size());
-        bytes.insert(bytes.end(), buf.data(), buf.data() + in.gcount());
-    }
-    if (in.bad()) fail(path, "read error");
-    return decode_image(bytes, path, max_pixels);
+Image read_image(const std::string& path, std::uint64_t max_pixels, std::uint64_t max_bytes) {
+    const std::vector<std::uint8_t> bytes = volume_detail::read_regular_file(
+        "image '" + path + "'", path, max_bytes, volume_detail::memory_limit_text(max_bytes));
+    return decode_image(bytes, path, max_pixels, max_bytes);
 }
 
 }  // namespace warpmesh

@@ -4,14 +4,16 @@
 // Read: 8- and 16-bit samples, unsigned or signed, one sample per pixel,
 // min-is-black or min-is-white (inverted, so that bright stays high),
 // stripped or tiled, any compression libtiff decodes; all pages of one size.
-// Refused with a message: colour, palette, several samples per pixel, other
-// bit depths and float samples, pages of different sizes, and whatever
+// Refused with a message: colour, palette (with or without its colour map),
+// several samples per pixel, other bit depths and float samples, pages of
+// different sizes, strips or tiles beyond the end of the file, and whatever
 // libtiff refuses (its message is passed on).  The unit is the pixel
 // (--pixel-size gives physical sizes): TIFF resolution tags are too often
 // absent or meaningless to mesh in their units.
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 
 #include "volume_detail.hpp"
 
@@ -41,7 +43,8 @@ using namespace volume_detail;
 struct MemoryFile {
     std::span<const std::uint8_t> bytes;
     toff_t pos = 0;
-    std::string error;  // libtiff's first error message
+    std::string error;    // libtiff's first error message
+    std::string warning;  // and its first warning (it repairs some tags it finds wrong, and says so)
 };
 
 extern "C" tsize_t mem_read(thandle_t h, tdata_t buf, tsize_t n) {
@@ -65,16 +68,21 @@ extern "C" toff_t mem_size(thandle_t h) { return static_cast<MemoryFile*>(h)->by
 extern "C" int mem_map(thandle_t, tdata_t*, toff_t*) { return 0; }
 extern "C" void mem_unmap(thandle_t, tdata_t, toff_t) {}
 
+// libtiff's first message of a kind, kept for ours.
+void keep_first(std::string& into, const char* module, const char* fmt, va_list ap) {
+    if (!into.empty()) return;
+    char buf[512];
+    std::vsnprintf(buf, sizeof buf, fmt, ap);
+    into = std::string(module ? module : "libtiff") + ": " + buf;
+}
 extern "C" int on_error(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
-    auto* f = static_cast<MemoryFile*>(user);
-    if (f->error.empty()) {
-        char buf[512];
-        std::vsnprintf(buf, sizeof buf, fmt, ap);
-        f->error = std::string(module ? module : "libtiff") + ": " + buf;
-    }
+    keep_first(static_cast<MemoryFile*>(user)->error, module, fmt, ap);
     return 1;
 }
-extern "C" int on_warning(TIFF*, void*, const char*, const char*, va_list) { return 1; }
+extern "C" int on_warning(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
+    keep_first(static_cast<MemoryFile*>(user)->warning, module, fmt, ap);
+    return 1;
+}
 
 struct Handles {
     TIFFOpenOptions* opts = nullptr;
@@ -85,10 +93,60 @@ struct Handles {
     }
 };
 
+// The PhotometricInterpretation stored in the current directory, read from
+// the file itself: libtiff replaces a palette without its colour map by
+// min-is-black, silently.  Classic TIFF: 12-byte entries after a 2-byte
+// count; BigTIFF: 20-byte entries after an 8-byte count.  -1 if absent.
+int stored_photometric(TIFF* tif, std::span<const std::uint8_t> b) {
+    const bool big = TIFFIsBigTIFF(tif), little = b.size() > 1 && b[0] == 'I';
+    auto get = [&](std::uint64_t at, int n) -> std::uint64_t {
+        std::uint64_t v = 0;
+        if (at > b.size() || static_cast<std::uint64_t>(n) > b.size() - at) return UINT64_MAX;
+        for (int q = 0; q < n; ++q) v |= std::uint64_t{b[at + static_cast<std::uint64_t>(little ? q : n - 1 - q)]} << (8 * q);
+        return v;
+    };
+    const std::uint64_t dir = TIFFCurrentDirOffset(tif), entries = get(dir, big ? 8 : 2);
+    const std::uint64_t first = dir + (big ? 8 : 2), size = big ? 20 : 12;
+    for (std::uint64_t e = 0; e < entries && e < 4096; ++e) {
+        const std::uint64_t at = first + e * size;
+        const std::uint64_t tag = get(at, 2);
+        if (tag == UINT64_MAX) return -1;
+        if (tag == TIFFTAG_PHOTOMETRIC) {
+            const std::uint64_t v = get(at + (big ? 12 : 8), 2);
+            return v == UINT64_MAX ? -1 : static_cast<int>(v);
+        }
+    }
+    return -1;
+}
+
+// The current page's strips (or tiles) must lie within the file: libtiff
+// would otherwise read a strip byte count past the end as a short strip, or
+// replace it by an estimate.  A palette image without its colour map, which
+// libtiff reads as gray, is refused like any palette image.
+void check_page_data(TIFF* tif, const MemoryFile& mf, const std::string& page,
+                     const std::function<void(const std::string&)>& bad) {
+    std::uint16_t *red = nullptr, *green = nullptr, *blue = nullptr;
+    if (stored_photometric(tif, mf.bytes) == PHOTOMETRIC_PALETTE && !TIFFGetField(tif, TIFFTAG_COLORMAP, &red, &green, &blue))
+        bad(page + "a palette image without a colour map (its pixels are indices into a missing palette); only 8- "
+                   "and 16-bit grayscale TIFF is read");
+    if (mf.warning.find("StripByteCounts") != std::string::npos || mf.warning.find("TileByteCounts") != std::string::npos)
+        bad(page + "its strip byte counts do not fit the file (" + mf.warning + ")");
+    const std::uint32_t strips = TIFFNumberOfStrips(tif);
+    for (std::uint32_t k = 0; k < strips; ++k) {
+        int err = 0;
+        const std::uint64_t off = TIFFGetStrileOffsetWithErr(tif, k, &err);
+        const std::uint64_t count = TIFFGetStrileByteCountWithErr(tif, k, &err);
+        if (err || off > mf.bytes.size() || count > mf.bytes.size() - off)
+            bad(page + (TIFFIsTiled(tif) ? "tile " : "strip ") + std::to_string(k) + " at byte " + std::to_string(off) +
+                " has a byte count of " + std::to_string(count) + ", beyond the end of the file (" +
+                std::to_string(mf.bytes.size()) + " bytes): truncated or corrupt");
+    }
+}
+
 }  // namespace
 
 Volume decode_tiff(std::span<const std::uint8_t> bytes, const std::string& name, const VolumeLimits& limits) {
-    MemoryFile mf{bytes, 0, {}};
+    MemoryFile mf{bytes, 0, {}, {}};
     auto bad = [&](const std::string& what) {
         fail("TIFF", name, what + (mf.error.empty() ? std::string() : " (" + mf.error + ")"));
     };
@@ -98,6 +156,7 @@ Volume decode_tiff(std::span<const std::uint8_t> bytes, const std::string& name,
     TIFFOpenOptionsSetErrorHandlerExtR(h.opts, on_error, &mf);
     TIFFOpenOptionsSetWarningHandlerExtR(h.opts, on_warning, &mf);
     TIFFOpenOptionsSetMaxSingleMemAlloc(h.opts, static_cast<tmsize_t>(std::min<std::uint64_t>(limits.max_bytes, 1u << 30)));
+    const std::uint64_t held = bytes.size();  // the file, in memory while decoding
     h.tif = TIFFClientOpenExt(name.c_str(), "rm", &mf, mem_read, mem_write, mem_seek, mem_close, mem_size, mem_map,
                               mem_unmap, h.opts);
     if (!h.tif) bad("corrupt or unsupported TIFF");
@@ -118,6 +177,7 @@ Volume decode_tiff(std::span<const std::uint8_t> bytes, const std::string& name,
         TIFFGetFieldDefaulted(tif, TIFFTAG_PLANARCONFIG, &planar);
         if (!TIFFGetField(tif, TIFFTAG_PHOTOMETRIC, &photo)) photo = PHOTOMETRIC_MINISBLACK;
         const std::string page = "page " + std::to_string(pages) + ": ";
+        check_page_data(tif, mf, page, bad);
         if (spp != 1 || (photo != PHOTOMETRIC_MINISBLACK && photo != PHOTOMETRIC_MINISWHITE))
             bad(page + "not grayscale (" + std::to_string(spp) + " samples per pixel, photometric " +
                 std::to_string(photo) + "); only 8- and 16-bit grayscale TIFF is read");
@@ -131,7 +191,7 @@ Volume decode_tiff(std::span<const std::uint8_t> bytes, const std::string& name,
                 " bits): a multi-page TIFF is read as a volume of equal pages");
         ++pages;
         const std::uint64_t dims[3] = {W, H, pages};
-        checked_voxels("TIFF", name, dims, bits / 8, limits);
+        checked_voxels("TIFF", name, dims, bits / 8, limits, held);
     } while (TIFFReadDirectory(tif));
     if (!mf.error.empty()) bad("corrupt TIFF directory after page " + std::to_string(pages - 1));
 

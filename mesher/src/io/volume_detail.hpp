@@ -1,6 +1,7 @@
 // volume_detail.hpp — what the volume readers (nrrd.cpp, nifti.cpp,
-// tiff.cpp, volume_io.cpp) share: size checks before allocating, and raw
-// samples of the eight supported types to doubles.
+// tiff.cpp, volume_io.cpp, image_io.cpp) share: bounded reads of regular
+// files, size checks before allocating, and raw samples of the eight
+// supported types to doubles.
 #pragma once
 
 #include <algorithm>
@@ -20,6 +21,19 @@ namespace warpmesh::volume_detail {
     throw InputError(format + " '" + name + "': " + what);
 }
 
+// The bytes of the regular file `path`, at most max_bytes of them.  Refused
+// (InputError "<prefix>: ...", prefix e.g. "'a.nii'" or "image 'a.pgm'"): a
+// directory, and anything that is not a regular file (a device such as
+// /dev/zero, a FIFO, a socket: they may never end); a file larger than
+// max_bytes, with `limit` (e.g. "--max-memory 2048 MB") naming the limit.
+// Never reads more than max_bytes + 1 bytes, even if the file grows.
+std::vector<std::uint8_t> read_regular_file(const std::string& prefix, const std::string& path,
+                                            std::uint64_t max_bytes, const std::string& limit);
+
+// The memory limit as the command line names it, for messages: "the
+// --max-memory limit of 2048 MB".
+std::string memory_limit_text(std::uint64_t max_bytes);
+
 enum class Sample { i8, u8, i16, u16, i32, u32, f32, f64 };
 
 inline std::size_t sample_bytes(Sample t) {
@@ -32,12 +46,13 @@ inline std::size_t sample_bytes(Sample t) {
     return 1;
 }
 
-// The voxel count of `dims` (each >= 1), refused above the limits — voxels,
-// and the bytes of the decoded doubles and of the raw samples — with the
-// products computed without overflow.
+// The voxel count of `dims` (each >= 1), refused above the limits — voxels
+// (--max-pixels), and memory (--max-memory): the `held` bytes the reader
+// already holds (the file, its inflated data) plus the decoded doubles and
+// the raw samples — with the products computed without overflow.
 inline std::uint64_t checked_voxels(const std::string& format, const std::string& name,
                                     std::span<const std::uint64_t> dims, std::size_t raw_bytes_per_voxel,
-                                    const VolumeLimits& limits) {
+                                    const VolumeLimits& limits, std::uint64_t held = 0) {
     std::uint64_t n = 1;
     std::string shown;
     bool over = false;
@@ -48,11 +63,13 @@ inline std::uint64_t checked_voxels(const std::string& format, const std::string
         if (!over) n *= d;
     }
     if (over || n > limits.max_voxels)
-        fail(format, name, "dimensions " + shown + " exceed the limit of " + std::to_string(limits.max_voxels) + " voxels");
-    const std::uint64_t per = std::max<std::uint64_t>(raw_bytes_per_voxel, sizeof(double));
-    if (n > limits.max_bytes / per)
-        fail(format, name, "dimensions " + shown + " need more than the limit of " + std::to_string(limits.max_bytes) +
-                               " bytes");
+        fail(format, name, "dimensions " + shown + " exceed the limit of " + std::to_string(limits.max_voxels) +
+                               " voxels (--max-pixels raises it)");
+    // Decoded doubles, and the raw samples beside them while decoding.
+    const std::uint64_t per = raw_bytes_per_voxel + sizeof(double);
+    if (held > limits.max_bytes || n > (limits.max_bytes - held) / per)
+        fail(format, name, "dimensions " + shown + " need about " + std::to_string((held + n * per) >> 20) +
+                               " MB to read, more than " + memory_limit_text(limits.max_bytes));
     return n;
 }
 

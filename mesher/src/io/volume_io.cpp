@@ -47,6 +47,48 @@ Volume image_volume(const Image& img, const char* format) {
 
 }  // namespace
 
+namespace volume_detail {
+
+std::string memory_limit_text(std::uint64_t max_bytes) {
+    return "the --max-memory limit of " + std::to_string(max_bytes >> 20) + " MB";
+}
+
+std::vector<std::uint8_t> read_regular_file(const std::string& prefix, const std::string& path,
+                                            std::uint64_t max_bytes, const std::string& limit) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (ec && st.type() != fs::file_type::not_found)
+        throw InputError(prefix + ": cannot read: " + ec.message());
+    if (st.type() == fs::file_type::directory) throw InputError(prefix + ": cannot read: is a directory");
+    if (st.type() != fs::file_type::regular && st.type() != fs::file_type::not_found) {
+        const char* kind = st.type() == fs::file_type::character || st.type() == fs::file_type::block ? "a device"
+                           : st.type() == fs::file_type::fifo                                         ? "a FIFO (pipe)"
+                           : st.type() == fs::file_type::socket                                       ? "a socket"
+                                                                                                      : "not a regular file";
+        throw InputError(prefix + ": cannot read: is " + kind + ", not a regular file (it may never end; copy the data "
+                                  "into a file)");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(prefix + ": cannot open: " + std::strerror(errno));
+    const std::uint64_t size = fs::file_size(path, ec);
+    if (!ec && size > max_bytes)
+        throw InputError(prefix + ": the file has " + std::to_string(size) + " bytes, more than " + limit);
+    std::vector<std::uint8_t> bytes;
+    bytes.reserve(static_cast<std::size_t>(ec ? 0 : size));
+    std::array<char, 1 << 16> buf;
+    while (in && bytes.size() <= max_bytes) {
+        in.read(buf.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(buf.size(), max_bytes + 1 - bytes.size())));
+        bytes.insert(bytes.end(), buf.data(), buf.data() + in.gcount());
+    }
+    if (in.bad()) throw InputError(prefix + ": read error");
+    if (bytes.size() > max_bytes)
+        throw InputError(prefix + ": the file has more than " + std::to_string(max_bytes) + " bytes, more than " + limit);
+    return bytes;
+}
+
+}  // namespace volume_detail
+
 std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t max_out, const std::string& name) {
     std::vector<std::uint8_t> out;
     z_stream zs{};
@@ -86,6 +128,14 @@ std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t m
     return out;
 }
 
+std::vector<std::uint8_t> gunzip_exact(std::span<const std::uint8_t> in, std::size_t expected, const std::string& name) {
+    std::vector<std::uint8_t> out = gunzip(in, expected + 1, name);  // one byte more tells a longer stream
+    if (out.size() > expected)
+        throw InputError("'" + name + "': the gzip data inflates to more than the " + std::to_string(expected) +
+                         " bytes the header implies");
+    return out;
+}
+
 std::optional<Vec3> axis_aligned(const Vec3& d) {
     const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(n > 0) || !std::isfinite(n)) return std::nullopt;
@@ -110,7 +160,10 @@ Volume decode_volume(std::span<const std::uint8_t> bytes, const std::string& nam
     // Everything else is an image (or refused by the image reader, whose
     // messages name what the bytes look like).
     try {
-        const Image img = decode_image(bytes, name, limits.max_voxels);  // not empty once decoded
+        const Image img = decode_image(bytes, name, limits.max_voxels, limits.max_bytes);  // not empty once decoded
+        const std::uint64_t dims[2] = {static_cast<std::uint64_t>(img.width), static_cast<std::uint64_t>(img.height)};
+        volume_detail::checked_voxels(bytes[0] == 'P' ? "PGM" : "PNG", name, dims, sizeof(std::uint16_t), limits,
+                                      bytes.size());  // the image's samples beside their doubles
         return image_volume(img, bytes[0] == 'P' ? "PGM" : "PNG");
     } catch (const InputError& e) {
         const std::string m = e.what();
@@ -120,17 +173,8 @@ Volume decode_volume(std::span<const std::uint8_t> bytes, const std::string& nam
 }
 
 Volume read_volume(const std::string& path, const VolumeLimits& limits) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw InputError("'" + path + "': cannot read: is a directory");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError("'" + path + "': cannot open: " + std::strerror(errno));
-    std::vector<std::uint8_t> bytes;
-    std::array<char, 1 << 16> buf;
-    while (in) {
-        in.read(buf.data(), buf.size());
-        bytes.insert(bytes.end(), buf.data(), buf.data() + in.gcount());
-    }
-    if (in.bad()) throw InputError("'" + path + "': read error");
+    const std::vector<std::uint8_t> bytes =
+        volume_detail::read_regular_file("'" + path + "'", path, limits.max_bytes, volume_detail::memory_limit_text(limits.max_bytes));
     const std::string dir = std::filesystem::path(path).parent_path().string();
     return decode_volume(bytes, path, limits, dir.empty() ? "." : dir);
 }

@@ -324,6 +324,12 @@ void check_pixel_geometry(const PixelGeometry& g, int w, int h) {
                          "from the image; coordinates would lose precision");
 }
 
+std::string label_value_problem(double v) {
+    if (v != std::floor(v) || !std::isfinite(v)) return "value " + format_number(v) + ", not an integer (labels are integers 0..65535)";
+    if (v > 65535) return "label " + format_number(v) + ", out of range: labels are 0..65535 (16-bit); relabel the image";
+    return "label " + format_number(v) + ", out of range: labels are 0..65535 (no negative labels); relabel the image";
+}
+
 ThresholdLevelSet::ThresholdLevelSet(const Image& image, double iso, bool inside_above, PixelGeometry geometry)
     : ImageField(image.width, image.height, threshold_field(image, iso, inside_above), geometry),
       iso_(iso),
@@ -644,8 +650,7 @@ Image label_image(int w, int h, const std::vector<double>& values, const std::st
             const double v = values[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)];
             if (!(v >= 0 && v <= 65535 && v == std::floor(v)))
                 throw InputError("'" + source + "': " + what + " needs integer values in 0..65535, but pixel (" +
-                                 std::to_string(c) + ", " + std::to_string(y) + ") is " + format_number(v) +
-                                 (v == std::floor(v) ? " (out of range)" : std::isfinite(v) ? " (not an integer)" : "") +
+                                 std::to_string(c) + ", " + std::to_string(y) + ") has " + label_value_problem(v) +
                                  (what == "label mode" ? " (use --iso for a threshold instead)" : ""));
             const auto u = static_cast<std::uint16_t>(v);
             img.pixels[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(c)] = u;

@@ -37,6 +37,7 @@
 #include "warpmesh/errors.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/materials.hpp"
+#include "warpmesh/memory.hpp"
 
 namespace warpmesh {
 namespace {
@@ -283,7 +284,12 @@ std::string LabelMaterials::describe() const {
 }  // namespace
 
 std::unique_ptr<MaterialField> make_label_materials(const Image& image, const std::string& spec,
-                                                    const PixelGeometry& geometry) {
+                                                    const PixelGeometry& geometry, std::uint64_t max_memory) {
+    const std::uint64_t per = field_bytes_per_pixel(FieldKind::materials);
+    check_memory(image.pixels.size() * per, max_memory, "the material field of '" + image.source + "'",
+                 std::to_string(image.width) + " x " + std::to_string(image.height) + " pixels at " +
+                     std::to_string(per) + " bytes each",
+                 "crop or downsample the image");
     return std::make_unique<LabelMaterials>(image, spec, geometry);
 }
 

@@ -1,0 +1,52 @@
+// memory.hpp — the memory bound: admission checks made before each
+// input-sized stage starts, so that an input over the limit is refused with
+// a message instead of exhausting the machine.
+//
+// The bound.  A run's peak resident memory is at most (about) the limit L
+// (the command line's --max-memory, default_max_memory = 2 GiB), because
+// every stage that allocates in proportion to the input first checks
+//
+//     resident memory now + (its bytes a unit) x (its units)  <=  L
+//
+// and throws InputError naming --max-memory otherwise.  The stages and their
+// costs (worst cases: an image of random noise, every square on the
+// boundary; measured with /usr/bin/time -v, see docs):
+//
+//   reading a file       the file's bytes, inflated data and 8 bytes a voxel
+//                        (volume_detail.hpp: checked_voxels; image_io.cpp)
+//   a slice's field      field_bytes_per_pixel(kind) a pixel of the slice
+//                        (load_slice, make_label_materials)
+//   meshing              mesh_bytes_per_square(...) a lattice square, plus
+//                        mesh_bytes_per_material() a material
+//                        (mesh(); analytic shapes with --graded excepted:
+//                        their memory follows the boundary's length, which
+//                        the shape string does not bound in advance)
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace warpmesh {
+
+// The process's resident memory now, in bytes (Linux: /proc/self/statm;
+// 0 where it cannot be read).
+std::uint64_t resident_bytes();
+
+// What a slice's level set or material field costs a pixel while it is built
+// and held.
+enum class FieldKind { threshold, label, materials };
+std::uint64_t field_bytes_per_pixel(FieldKind kind);
+
+// What meshing costs a lattice square at most, with everything written
+// (cell data, pictures): one region or several materials, uniform or graded.
+std::uint64_t mesh_bytes_per_square(bool materials, bool graded);
+// And a material (its report, names and tables), on top: at most 65 536.
+std::uint64_t mesh_bytes_per_material();
+
+// Throws InputError "<what> needs about N MB (<how>), more than the
+// --max-memory limit of L MB; raise --max-memory ..., or <advice>" when
+// resident_bytes() + need > max_memory.
+void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
+                  const std::string& advice);
+
+}  // namespace warpmesh
