@@ -34,6 +34,7 @@
 #include <unordered_map>
 
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
@@ -75,12 +76,12 @@ void put_ids(detail::TextSink& out, const std::vector<std::uint64_t>& ids) {
 // reads back to x when it fits (any |x| in [1e-5, 1e15) with up to 17
 // significant digits does), else the most significant digits that fit (at
 // least 13, a relative rounding of at most 5e-14).
-std::string inp_number(double x) {
+void put_inp_number(detail::TextBuf& out, double x) {
     char buf[64];
     auto r = std::to_chars(buf, buf + sizeof buf, x);
     for (int digits = 16; r.ptr - buf > 20 && digits >= 1; --digits)
         r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
-    return std::string(buf, r.ptr);
+    out << std::string_view(buf, static_cast<std::size_t>(r.ptr - buf));
 }
 
 std::uint64_t edge_key(std::int32_t u, std::int32_t v) {
@@ -105,8 +106,12 @@ void write_inp(const Mesh& mesh, std::ostream& os) {
         for (std::size_t i = 0; i < groups[g].edges.size(); ++i)
             wanted[edge_key(groups[g].edges[i][0], groups[g].edges[i][1])] = {g, i};
     }
-    if (!wanted.empty())
-        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    // Read-only lookups in parallel; each grouped edge is the side of one
+    // triangle only in a conforming mesh, so the writes do not collide.
+    const auto nt = static_cast<std::int64_t>(wanted.empty() ? 0 : mesh.triangles.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t kk = 0; kk < nt; ++kk) {
+            const auto k = static_cast<std::size_t>(kk);
             const auto& t = mesh.triangles[k];
             for (int s = 0; s < 3; ++s) {
                 const auto it = wanted.find(edge_key(t[static_cast<std::size_t>(s)], t[static_cast<std::size_t>((s + 1) % 3)]));
@@ -130,16 +135,21 @@ void write_inp(const Mesh& mesh, std::ostream& os) {
            "** node sets and surfaces.  *INCLUDE it in a deck that adds sections, materials and steps, e.g.\n"
            "**   *SOLID SECTION, ELSET=<region>, MATERIAL=<material>\n"
            "*NODE\n";
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-        out << static_cast<std::uint64_t>(i + 1) << ", " << inp_number(mesh.vertices[i].x) << ", "
-            << inp_number(mesh.vertices[i].y) << '\n';
-    if (!mesh.triangles.empty()) {
-        out << "*ELEMENT, TYPE=CPS3\n";
-        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-            const auto& t = mesh.triangles[k];
-            out << static_cast<std::uint64_t>(k + 1) << ", " << t[0] + std::int64_t{1} << ", " << t[1] + std::int64_t{1}
-                << ", " << t[2] + std::int64_t{1} << '\n';
-        }
+    detail::write_text_parallel(out.stream(), mesh.vertices.size(), [&](detail::TextBuf& b, std::size_t i) {
+        b << static_cast<std::uint64_t>(i + 1) << ", ";
+        put_inp_number(b, mesh.vertices[i].x);
+        b << ", ";
+        put_inp_number(b, mesh.vertices[i].y);
+        b << '\n';
+    });
+    const detail::Cells cells = detail::cells_of(mesh);
+    if (cells.size()) {
+        out << "*ELEMENT, TYPE=" << cells.kind.abaqus << '\n';
+        detail::write_text_parallel(out.stream(), cells.size(), [&](detail::TextBuf& b, std::size_t k) {
+            b << static_cast<std::uint64_t>(k + 1);
+            for (const std::int32_t v : cells[k]) b << ", " << v + std::int64_t{1};
+            b << '\n';
+        });
     }
 
     std::set<std::string> used;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"
 
