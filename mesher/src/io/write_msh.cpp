@@ -64,7 +64,10 @@
 // (padded with nan) only on request (warpmesh --msh-cell-data).
 //
 // Numbering (all 1-based): node tag = vertex index + 1; triangle k has element
-// tag k + 1 (so element data follow triangle order whatever the blocks are);
+// tag k + 1 (so element data follow triangle order whatever the blocks are) —
+// except in binary 4.1, where the triangles are numbered in the order the
+// region blocks list them (one region: the same), because meshio's binary
+// reader requires the $ElementData tags to be 1, 2, … in file order;
 // boundary edge e has element tag T + e + 1 and interface edge i tag
 // T + B + i + 1.
 //
@@ -347,7 +350,8 @@ void put_elements41(std::ostream& os, const Layout& l) {
     for (const Group& g : regions) {
         Record(os, l.binary)(std::int32_t{l.cells.kind.dim})(g.entity)(l.cells.kind.gmsh)(static_cast<std::uint64_t>(g.end - g.begin));
         put_element_block41(
-            os, l, g.end - g.begin, per, [&](std::size_t i) { return static_cast<std::uint64_t>(l.by_region.member(g.begin + i) + 1); },
+            os, l, g.end - g.begin, per,
+            [&](std::size_t i) { return static_cast<std::uint64_t>((l.binary ? g.begin + i : l.by_region.member(g.begin + i)) + 1); },
             [&](std::size_t i) { return l.cells[l.by_region.member(g.begin + i)]; });
     }
     for (const auto& c : l.curves) {
@@ -434,11 +438,15 @@ void put_element_data(std::ostream& os, const Mesh& mesh, const Layout& l, bool 
         TextBuf head;
         head << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << l.ne << '\n';
         detail::write_bytes(os, head.data(), head.size());
+        // Binary 4.1 numbers the cells in block order, so tags and file order agree.
+        const bool renumbered = block_order && l.binary;
         auto tag = [&](std::size_t i) {
-            if (i >= l.nt) return i;
+            if (i >= l.nt || renumbered) return i;
             return block_order ? l.by_region.member(i) : i;
         };
-        auto value = [&](std::size_t i) { return i >= l.nt ? std::numeric_limits<double>::quiet_NaN() : values[tag(i)]; };
+        auto value = [&](std::size_t i) {
+            return i >= l.nt ? std::numeric_limits<double>::quiet_NaN() : values[block_order ? l.by_region.member(i) : i];
+        };
         put_items(
             os, l.binary, l.ne, 12, [&](TextBuf& b, std::size_t i) { b << static_cast<std::uint64_t>(tag(i) + 1) << ' ' << value(i) << '\n'; },
             [&](std::byte* dst, std::size_t first, std::size_t n) {

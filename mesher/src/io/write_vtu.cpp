@@ -114,7 +114,7 @@ Sections arrays_of(const Mesh& mesh, const std::vector<std::int32_t>& markers) {
                             }
                         },
                         [&mesh](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0"; }});
-    s.cells.push_back(direct("Int32", "connectivity", cells.kind.nodes, nt, cells.nodes.data()));
+    s.cells.push_back(direct("Int32", "connectivity", 1, cells.nodes.size(), cells.nodes.data()));
     auto offset = [per](std::size_t i) { return per * static_cast<std::int64_t>(i + 1); };
     if (per * static_cast<std::int64_t>(nt) <= std::numeric_limits<std::int32_t>::max())
         s.cells.push_back(scalars<std::int32_t>("Int32", "offsets", nt, [offset](std::size_t i) { return static_cast<std::int32_t>(offset(i)); }));
