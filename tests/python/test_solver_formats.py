@@ -17,7 +17,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import (Reference, require, run_warpmesh, tagged_cells, tagged_edges, write_pgm)
+from conftest import (Reference, executable, require, run_warpmesh, tagged_cells, tagged_edges, write_pgm)
 
 # Files of one case: STEM.node/.ele/.poly (the reference), STEM.msh (4.1),
 # STEM-22.msh (2.2), STEM-data.msh (4.1 with cell data), STEM.vtu,
@@ -486,3 +486,26 @@ def test_background_keep_tags_are_the_labels_in_every_format(tmp_path):
     inp = (tmp_path / "k.inp").read_text()
     for name in ["background", "label_5", "label_7"]:
         assert f"*ELSET, ELSET={name}\n" in inp
+
+
+def test_slices_write_hdf5_xdmf_in_parallel(tmp_path):
+    """--slices writes its outputs from several threads; the serial HDF5
+    library is not thread-safe, so write_xdmf serialises its .h5 writes.  Each
+    slice's four files appear, named by the final names, and read back."""
+    meshio = require("meshio", "python3-meshio")
+    z, y, x = np.mgrid[0:6, 0:40, 0:40]
+    v = ((((x - 20) ** 2 + (y - 20) ** 2) < (10 + z) ** 2) * 200).astype("<u2")
+    (tmp_path / "v.nrrd").write_bytes(b"NRRD0004\ntype: unsigned short\ndimension: 3\nsizes: 40 40 6\n"
+                                      b"encoding: raw\nendian: little\n\n" + v.tobytes())
+    r = subprocess.run([executable("WARPMESH_EXE"), "mesh", "v.nrrd", "--slices", "k=0:6", "--iso", "100",
+                        "--spacing", "0.5", "--units", "pixels", "-o", "s%d.xdmf", "--threads", "2", "--quiet"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=120, env={**os.environ, "OMP_NUM_THREADS": "2"})
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []
+    counts = []
+    for i in range(6):
+        assert (tmp_path / f"s{i}.h5").exists() and (tmp_path / f"s{i}_facets.h5").exists()
+        assert f">s{i}.h5:/mesh/topology<" in (tmp_path / f"s{i}.xdmf").read_text()
+        counts.append(len(meshio.read(tmp_path / f"s{i}.xdmf").cells[0]))
+        assert len(meshio.read(tmp_path / f"s{i}_facets.xdmf").cells[0]) > 0
+    assert counts == sorted(counts) and counts[0] < counts[-1]  # the disc grows with k
