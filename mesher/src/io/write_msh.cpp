@@ -434,7 +434,9 @@ void write_msh22(std::ostream& os, const Mesh& mesh, const Layout& l) {
 // but meshio pairs them with the elements in file order, ignoring the tags:
 // in tag order, a mesh of several regions got its values shuffled.
 void put_element_data(std::ostream& os, const Mesh& mesh, const Layout& l, bool block_order) {
-    for (const auto& [name, values] : mesh.cell_data) {
+    for (const auto& field : mesh.cell_data) {
+        const std::string& name = field.first;
+        const auto& values = field.second;  // (not a structured binding: lambdas capture it)
         TextBuf head;
         head << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << l.ne << '\n';
         detail::write_bytes(os, head.data(), head.size());
