@@ -26,4 +26,13 @@ if grep -q 'png\|hdf5' "$tmp/consumer/CMakeFiles/consumer.dir/link.txt"; then
   exit 1
 fi
 "$tmp/consumer/consumer"
+# warpmesh::io from the installed package: the writers with HDF5 (found by
+# the package config for the io component).
+if [ -x "$tmp/consumer/consumer_io" ]; then
+  mkdir "$tmp/out"
+  "$tmp/consumer/consumer_io" "$tmp/out"
+  for f in disc.xdmf disc.h5 disc_facets.xdmf disc_facets.h5; do
+    [ -s "$tmp/out/$f" ] || { echo "test-install: consumer_io did not write $f" >&2; exit 1; }
+  done
+fi
 echo "test-install: ok"
