@@ -167,8 +167,9 @@ void write_msh(const Mesh& mesh, std::ostream& out, const MshOptions& options = 
 // "mesh": triangles, XY points, cell attribute "region") and STEM_facets.xdmf
 // the tagged edges (grid "facets": boundary and interface lines, attribute
 // "facet_tags" = detail::edge_groups' tags); heavy data in STEM.h5 and
-// STEM_facets.h5 or inline; see write_xdmf.cpp.  All files appear together
-// or none does.
+// STEM_facets.h5 or inline; see write_xdmf.cpp.  Every file is complete
+// under a temporary name before any is renamed into place (the .h5 files
+// first), so a failed write leaves none of them.
 void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& options = {});
 // The inline-XML documents (XdmfOptions::hdf5 false).
 void write_xdmf_mesh(const Mesh& mesh, std::ostream& out);
