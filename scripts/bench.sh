@@ -11,6 +11,9 @@
 #   scripts/bench.sh            all cases: uniform, graded, the fan rule against
 #                               the separating rule, cost of certification
 #   scripts/bench.sh --quick    the atlas slice only (with each rule)
+#   scripts/bench.sh --writers  end to end with file output (issue 32's targets):
+#                               whole-process wall time and peak RSS from
+#                               /usr/bin/time -v against the meshing time, per format
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
@@ -57,6 +60,50 @@ print_case() {  # name threads, from $tmp/r.json
     printf "%-34s %2d  %11d  %8.3f  %8.2f  %9.1f  %6.1f\n", n, th, t, s, t / s / 1e6, m, m * 1048576 / t }'
   sed -n 's/^  "phase_seconds": /      phases: /p' "$tmp/r.json"
 }
+
+# One whole-process run writing `out`: file size (all files it makes), wall
+# time and peak RSS (/usr/bin/time -v), the meshing time (the report's
+# total_seconds) and wall / meshing; the fastest wall time of three runs.
+write_case() {  # name threads out args...
+  local name="$1" threads="$2" out="$3"
+  shift 3
+  local best="" w
+  for _ in 1 2 3; do
+    rm -rf "$tmp/o" && mkdir "$tmp/o"
+    /usr/bin/time -v "$exe" mesh "$@" --threads "$threads" -o "$tmp/o/$out" --quiet --report "$tmp/w.json" 2>"$tmp/time.txt"
+    w=$(sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$tmp/time.txt" | awk -F: '{ print ($1 * 60) + $2 }')
+    if [ -z "$best" ] || awk -v a="$w" -v b="$best" 'BEGIN { exit !(a < b) }'; then
+      best="$w"
+      cp "$tmp/w.json" "$tmp/wb.json"
+      cp "$tmp/time.txt" "$tmp/timeb.txt"
+      du -cb "$tmp"/o/* | tail -1 | cut -f1 >"$tmp/size.txt"
+    fi
+  done
+  local mesh rss size
+  mesh=$(field total_seconds "$tmp/wb.json")
+  rss=$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$tmp/timeb.txt")
+  size=$(cat "$tmp/size.txt")
+  awk -v n="$name" -v th="$threads" -v s="$size" -v w="$best" -v m="$mesh" -v r="$rss" 'BEGIN {
+    printf "| %s | %d | %.2f GB | %.2f s | %.2f s | %.1fx | %.0f MB |\n", n, th, s / 1e9, w, m, w / m, r / 1024 }'
+}
+
+if [ "${1:-}" = "--writers" ]; then
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "| output | threads | files | wall | meshing | wall / meshing | peak RSS |"
+  echo "|---|---:|---:|---:|---:|---:|---:|"
+  disc=(--shape circle:0,0,2047 --spacing 1)
+  write_case "disc 4096², binary .vtu" 1 d.vtu "${disc[@]}"
+  write_case "disc 4096², zlib .vtu (--compress)" 1 d.vtu "${disc[@]}" --compress
+  write_case "disc 4096², binary .msh 4.1" 1 d.msh "${disc[@]}"
+  write_case "disc 4096², .xdmf + .h5" 1 d.xdmf "${disc[@]}"
+  write_case "disc 4096², ASCII .vtu (--ascii)" 1 d.vtu "${disc[@]}" --ascii
+  write_case "disc 4096², ASCII .inp" 2 d.inp "${disc[@]}"
+  write_case "disc 4096², ASCII .node/.ele" 2 d.node "${disc[@]}"
+  write_case "brain slice ¼ px, every label, binary .vtu" 1 b.vtu "$brain" --materials all --spacing 0.25
+  write_case "brain slice ¼ px, every label, binary .vtu" 2 b.vtu "$brain" --materials all --spacing 0.25
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
 
 echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)"
 echo "time = sum of the pipeline phases (no file output); certification off (--no-certify) unless stated"

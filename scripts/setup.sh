@@ -8,7 +8,8 @@ have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok
 # The Python module and its tests (WARPMESH_PYTHON, scripts/build.sh): pybind11,
 # the interpreter's headers, numpy, pytest, meshio (to_meshio), and dask's
 # distributed scheduler (examples/batch_dask.py and its test).
-for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev zlib1g-dev libtiff-dev pkg-config python3 \
+# libhdf5-dev: the XDMF writer's .h5 heavy data (serial HDF5, warpmesh::io).
+for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev zlib1g-dev libtiff-dev libhdf5-dev pkg-config python3 \
            pybind11-dev python3-dev python3-numpy python3-pytest python3-meshio python3-distributed; do
   have_pkg "$pkg" || need+=("$pkg")
 done
@@ -16,8 +17,9 @@ done
 # pytest and numpy; meshio (its XDMF reader imports h5py even for inline XML);
 # gmsh's command line and Python API (also what dolfinx.io.gmshio uses);
 # FEniCSx 0.5 for the round trips and the Poisson convergence test; CalculiX
-# (an Abaqus-format solver) for the .inp.
-for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx calculix-ccx; do
+# (an Abaqus-format solver) for the .inp; VTK's own Python reader for the binary
+# and zlib .vtu (python3-vtk9).
+for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx calculix-ccx python3-vtk9; do
   have_pkg "$pkg" || need+=("$pkg")
 done
 # libgomp ships with g++ (OpenMP); Boost.Interval and Boost.Multiprecision are

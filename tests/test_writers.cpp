@@ -563,12 +563,16 @@ void check_inp(const Mesh& mesh, const std::string& path) {
 
 void round_trip(const Mesh& mesh, const std::string& label) {
     TempDir dir;
-    write_mesh(mesh, dir.file(label + ".vtu"), {});
-    write_mesh(mesh, dir.file(label + ".msh"), {});
-    WriteOptions with_data;
+    // The readers below parse text: every format as ASCII.  The binary forms
+    // are read by the real clients (tests/python/test_solver_formats.py).
+    WriteOptions text;
+    text.ascii = true;
+    write_mesh(mesh, dir.file(label + ".vtu"), text);
+    write_mesh(mesh, dir.file(label + ".msh"), text);
+    WriteOptions with_data = text;
     with_data.msh.cell_data = true;
     write_mesh(mesh, dir.file(label + "-data.msh"), with_data);
-    write_mesh(mesh, dir.file(label + ".xdmf"), {});
+    write_mesh(mesh, dir.file(label + ".xdmf"), text);
     write_mesh(mesh, dir.file(label + ".inp"), {});
     write_mesh(mesh, dir.file(label + ".ele"), {});
     write_mesh(mesh, dir.file(label + ".svg"), {});
@@ -615,6 +619,7 @@ BOOST_AUTO_TEST_CASE(msh_22_carries_the_same_groups) {
     TempDir dir;
     WriteOptions o;
     o.msh.version = 22;
+    o.ascii = true;
     write_mesh(m, dir.file("old.msh"), o);
     std::istringstream in(slurp(dir.file("old.msh")));
     std::string line;
@@ -657,18 +662,70 @@ BOOST_AUTO_TEST_CASE(msh_22_carries_the_same_groups) {
     BOOST_CHECK_THROW(write_mesh(m, dir.file("bad.msh"), o), OutputError);
 }
 
+// Issue 27 item 5: with --background keep, .msh renumbered every region
+// (background 1, label_5 2, …) while the other formats kept the labels.
+BOOST_AUTO_TEST_CASE(msh_tags_are_the_labels_with_the_background_kept) {
+    Mesh m = grid_mesh(3, 2);
+    for (std::size_t k = 0; k < m.region.size(); ++k) m.region[k] = k % 3 == 0 ? 0 : k % 3 == 1 ? 5 : 7;
+    m.region_names = {{0, "background"}, {5, "label_5"}, {7, "label_7"}};
+    TempDir dir;
+    for (const bool binary : {false, true}) {
+        MshOptions o;
+        o.binary = binary;
+        write_msh(m, dir.file("keep.msh"), o);
+        const std::string s = slurp(dir.file("keep.msh"));
+        // $PhysicalNames is text in both encodings.
+        for (const std::string name : {"2 5 \"label_5\"", "2 7 \"label_7\"", "2 8 \"background\""})
+            BOOST_TEST(s.find(name) != std::string::npos, name << (binary ? " (binary)" : " (ASCII)"));
+    }
+}
+
+BOOST_AUTO_TEST_CASE(xdmf_with_hdf5_writes_four_files_together) {
+    const Mesh m = two_region_mesh();
+    TempDir dir;
+#ifdef WARPMESH_HAVE_HDF5
+    write_mesh(m, dir.file("x.xdmf"));
+    BOOST_TEST(dir.entries() == (std::vector<std::string>{"x.h5", "x.xdmf", "x_facets.h5", "x_facets.xdmf"}),
+               boost::test_tools::per_element());
+    const std::string xml = slurp(dir.file("x_facets.xdmf"));
+    BOOST_TEST(xml.find(">x_facets.h5:/facets/topology<") != std::string::npos);
+    BOOST_TEST(xml.find(">x.h5:/mesh/geometry<") != std::string::npos);
+    // A failure on the way (here: the .h5 name is taken by a directory)
+    // leaves none of the four files.
+    TempDir blocked;
+    fs::create_directory(blocked.file("y.h5"));
+    BOOST_CHECK_THROW(write_mesh(m, blocked.file("y.xdmf")), OutputError);
+    BOOST_TEST(blocked.entries() == std::vector<std::string>{"y.h5"}, boost::test_tools::per_element());
+    // A staged name (the CLI's) refers to the final .h5 names.
+    WriteOptions o;
+    o.xdmf.final_path = dir.file("final.xdmf");
+    write_mesh(m, dir.file(".staged.xdmf"), o);
+    BOOST_TEST(slurp(dir.file(".staged.xdmf")).find(">final.h5:/mesh/topology<") != std::string::npos);
+    BOOST_TEST(output_files(dir.file("z.xdmf")).size() == 4u);
+#else
+    BOOST_CHECK_THROW(write_mesh(m, dir.file("x.xdmf")), OutputError);
+    BOOST_TEST(dir.entries().empty());
+#endif
+    WriteOptions text;
+    text.ascii = true;
+    BOOST_TEST(output_files(dir.file("z.xdmf"), text).size() == 2u);
+}
+
 BOOST_AUTO_TEST_CASE(negative_region_tags_get_positive_physicals) {
     Mesh m = grid_mesh(2, 2);
     for (auto& r : m.region) r = r == 3 ? -5 : 0;
     TempDir dir;
-    write_msh(m, dir.file("neg.msh"));
+    MshOptions text;
+    text.binary = false;
+    write_msh(m, dir.file("neg.msh"), text);
     const Msh msh = read_msh(dir.file("neg.msh"));
-    std::set<std::string> names;
+    std::map<std::int32_t, std::string> names;
     for (const auto& [key, name] : msh.physical_names) {
         BOOST_TEST(key.second >= 1);
-        if (key.first == 2) names.insert(name);
+        if (key.first == 2) names[key.second] = name;
     }
-    BOOST_TEST((names == std::set<std::string>{"domain_-5", "domain_0"}));
+    // Non-positive tags after the largest region tag (0 here): -5 → 1, 0 → 2.
+    BOOST_TEST((names == std::map<std::int32_t, std::string>{{1, "domain_-5"}, {2, "domain_0"}}));
     // Abaqus names: letters, digits and '_' only.
     write_inp(m, dir.file("neg.inp"));
     const std::string inp = slurp(dir.file("neg.inp"));
@@ -696,8 +753,11 @@ BOOST_AUTO_TEST_CASE(svg_coloured_by_cell_data) {
 BOOST_AUTO_TEST_CASE(empty_mesh_writes_valid_files) {
     const Mesh m;
     TempDir dir;
+    WriteOptions text;
+    text.ascii = true;
     for (const std::string name : {"e.vtu", "e.msh", "e.xdmf", "e.inp", "e.node", "e.svg"})
-        BOOST_CHECK_NO_THROW(write_mesh(m, dir.file(name)));
+        BOOST_CHECK_NO_THROW(write_mesh(m, dir.file(name), text));
+    for (const std::string name : {"b.vtu", "b.msh", "b.xdmf"}) BOOST_CHECK_NO_THROW(write_mesh(m, dir.file(name)));
     const Msh msh = read_msh(dir.file("e.msh"));
     BOOST_TEST(msh.elements.empty());
     std::string why;

@@ -136,6 +136,9 @@ output:
                          .vtu (VTK XML), .msh (Gmsh), .xdmf (FEniCSx; + _facets.xdmf),
                          .inp (Abaqus/CalculiX), .node/.ele (Triangle), .svg or .png
   --msh-version V        .msh format version: 4.1 (default) or 2.2
+  --ascii                every output as text (.vtu, .msh, .xdmf are binary by default)
+  --compress             .vtu: zlib-compressed appended binary (default: raw binary)
+  --xdmf-inline          .xdmf: heavy data inline as XML, no .h5 (for tiny meshes)
   --msh-cell-data        also write per-triangle data (certified_min_angle) into .msh
   --also FILE            write the mesh to another file as well (repeatable)
   --svg-color minangle   colour SVG/PNG triangles by their minimum angle
@@ -194,6 +197,7 @@ struct CliOptions {
     std::optional<std::string> materials, shapes;  // multi-material input (materials.hpp)
     std::int64_t max_pixels = std::int64_t{1} << 28;
     MshOptions msh;
+    WriteOptions formats;  // --ascii, --compress, --xdmf-inline (and msh, copied in)
     bool svg_min_angle = false;
     bool svg_certified = false;
     bool svg_region = false;
@@ -286,6 +290,9 @@ bool parse_output_option(const std::string& a, Args& args, CliOptions& o) {
     else if (a == "--points-3d") o.points_3d = args.value(a);
     else if (a == "--msh-version") o.msh.version = parse_choice(a, args.value(a), {"4.1", "2.2"}) == 0 ? 41 : 22;
     else if (a == "--msh-cell-data") o.msh.cell_data = true;
+    else if (a == "--ascii") o.formats.ascii = true;
+    else if (a == "--compress") o.formats.vtu.encoding = VtuOptions::Encoding::zlib;
+    else if (a == "--xdmf-inline") o.formats.xdmf.hdf5 = false;
     else if (a == "--svg-color") {
         const std::size_t c = parse_choice(a, args.value(a), {"minangle", "certified", "region"});
         (c == 0 ? o.svg_min_angle : c == 1 ? o.svg_certified : o.svg_region) = true;
@@ -381,15 +388,16 @@ class StagedOutputs {
 public:
     // Calls write(staged name) for `path`; remembers to rename it later.  An
     // OutputError's message names the requested path, not the staged one.
+    // `options`: which files a mesh output makes (output_files).
     template <class Write>
-    void write(const std::string& path, Write&& write) {
+    void write(const std::string& path, Write&& write, const WriteOptions& options = {}) {
         namespace fs = std::filesystem;
         const fs::path p(path);
         std::unique_lock lock(mutex_);  // --slices writes from several threads
         const std::string tag = ".warpmesh-" + std::to_string(::getpid()) + "-" + std::to_string(renames_.size());
         // Keep the extension last: the writers choose the format by it.
         const fs::path staged = p.parent_path() / ("." + p.stem().string() + tag + p.extension().string());
-        const auto real = output_files(p.string()), tmp = output_files(staged.string());
+        const auto real = output_files(p.string(), options), tmp = output_files(staged.string(), options);
         for (std::size_t k = 0; k < real.size(); ++k) renames_.emplace_back(tmp[k], real[k]);
         lock.unlock();
         try {
@@ -462,8 +470,11 @@ MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice
     WriteOptions wo = write_options(r, o.svg_min_angle, o.svg_certified);
     if (o.svg_region && !o.svg_certified) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
     wo.msh = o.msh;
-    for (const auto& out : o.outputs)
-        staged.write(out, [&](const std::string& path) { write_mesh(r.mesh, path, wo); });
+    wo.ascii = o.formats.ascii, wo.vtu = o.formats.vtu, wo.xdmf = o.formats.xdmf;
+    for (const auto& out : o.outputs) {
+        wo.xdmf.final_path = out;  // the staged .xdmf names its .h5 by the final name
+        staged.write(out, [&](const std::string& path) { write_mesh(r.mesh, path, wo); }, wo);
+    }
     if (!o.points_3d.empty())
         staged.write(o.points_3d, [&](const std::string& path) { write_points_3d(r.mesh, input->plane, path); });
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, r.report); });

@@ -142,11 +142,17 @@ void bind_result(py::module_& m) {
         .def_property_readonly("refinements", [](const MeshResult& r) { return r.refinements; })
         .def("to_json", [](const MeshResult& r) { return to_json(r); })
         .def("to_text", [](const MeshResult& r) { return to_text(r); })
-        .def("write", [](const MeshResult& r, const std::string& path) {
-            const WriteOptions wo = write_options(r);
-            py::gil_scoped_release release;
-            write_mesh(r.mesh, path, wo);
-        });
+        .def(
+            "write",
+            [](const MeshResult& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
+                WriteOptions wo = write_options(r);
+                wo.ascii = ascii;
+                if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
+                wo.xdmf.hdf5 = !xdmf_inline;
+                py::gil_scoped_release release;
+                write_mesh(r.mesh, path, wo);
+            },
+            py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
 }
 
 // mesh_image, mesh_shape, mesh_materials: the warpmesh.mesh*() of

@@ -24,7 +24,7 @@ import numpy as np
 from . import _core
 from ._core import InputError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "read_image", "Mesh", "Image", "InputError", "OutputError",
+__all__ = ["mesh", "mesh_shape", "read_image", "write", "Mesh", "Image", "InputError", "OutputError",
            "png_supported", "certified_table_available"]
 
 # The CLI's --max-squares and --max-pixels defaults.
@@ -147,11 +147,12 @@ class Mesh:
         """The CLI's text report."""
         return self._core.to_text()
 
-    def write(self, path):
+    def write(self, path, *, ascii=False, compress=False, xdmf_inline=False):
         """Write the mesh with warpmesh's own writers, chosen by extension:
-        .vtu, .msh, .node/.ele, .svg, .png (atomic; in the mesher's units: pixels
-        before pixel_size, or millimetres for an Image placed in mm)."""
-        self._core.write(str(path))
+        .vtu, .msh, .xdmf, .inp, .node/.ele, .svg, .png (atomic; in the mesher's
+        units: pixels before pixel_size, or millimetres for an Image placed in
+        mm); see write()."""
+        self._core.write(str(path), ascii, compress, xdmf_inline)
 
     def to_meshio(self, boundary=False):
         """A meshio.Mesh: the triangles with cell data "region" (int32) and,
@@ -206,6 +207,16 @@ def _choice(name, value, choices):
         raise InputError(f"{name} must be " + ", ".join(repr(c) for c in choices[:-1]) +
                          f" or {choices[-1]!r}, got {value!r}")
     return value
+
+
+def write(result, path, *, ascii=False, compress=False, xdmf_inline=False):
+    """Writes `result` (a Mesh) to `path` with the CLI's writers, the format
+    chosen by the extension: .vtu (appended raw binary; zlib with
+    compress=True), .msh (Gmsh 4.1 binary), .xdmf (+ _facets.xdmf, heavy data
+    in .h5 files beside them; inline XML with xdmf_inline=True), .inp,
+    .node/.ele, .svg, .png.  ascii=True writes every format as text.  The
+    files appear complete or not at all; failures raise OutputError."""
+    result.write(path, ascii=ascii, compress=compress, xdmf_inline=xdmf_inline)
 
 
 def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input,

@@ -453,3 +453,27 @@ def test_fan_rule_is_accepted_like_the_cli_python_wrapper_refused_it():
     assert m.certified[0] > 18.4349
     with pytest.raises(ValueError, match="'separating', 'maxmin' or 'fan'"):
         warpmesh.mesh_shape("circle:0,0,1", rule="delaunay")
+
+
+def test_write_uses_the_fast_writers_in_every_form(tmp_path):
+    """warpmesh.write(result, path, ...) writes with the CLI's writers: binary
+    by default, zlib .vtu, text with ascii=True, inline XDMF; meshio reads
+    every form back to the same mesh; to_meshio() is unchanged."""
+    import meshio
+
+    m = warpmesh.mesh_shape("annulus:0,0,1,2", spacing=0.1)
+    forms = {"raw.vtu": {}, "zlib.vtu": {"compress": True}, "text.vtu": {"ascii": True}, "bin.msh": {},
+             "text.msh": {"ascii": True}, "h5.xdmf": {}, "inline.xdmf": {"xdmf_inline": True}}
+    for name, kw in forms.items():
+        warpmesh.write(m, tmp_path / name, **kw)
+        back = meshio.read(tmp_path / name)
+        assert np.array_equal(back.points[:, :2], m.points), name
+        assert np.array_equal(back.cells_dict["triangle"], m.triangles), name
+    assert (tmp_path / "h5.h5").exists() and (tmp_path / "h5_facets.h5").exists()
+    assert not (tmp_path / "inline.h5").exists()
+    assert b"appended" in (tmp_path / "raw.vtu").read_bytes()[:2000]
+    assert b"vtkZLibDataCompressor" in (tmp_path / "zlib.vtu").read_bytes()[:2000]
+    assert (tmp_path / "bin.msh").read_bytes().startswith(b"$MeshFormat\n4.1 1 8\n")
+    assert (tmp_path / "text.msh").read_bytes().startswith(b"$MeshFormat\n4.1 0 8\n")
+    with pytest.raises(warpmesh.OutputError):
+        warpmesh.write(m, tmp_path / "no-such-dir" / "x.vtu")

@@ -17,11 +17,14 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import (Reference, require, run_warpmesh, tagged_cells, tagged_edges, write_pgm)
+from conftest import (Reference, executable, require, run_warpmesh, tagged_cells, tagged_edges, write_pgm)
 
 # Files of one case: STEM.node/.ele/.poly (the reference), STEM.msh (4.1),
 # STEM-22.msh (2.2), STEM-data.msh (4.1 with cell data), STEM.vtu,
-# STEM.xdmf (+ STEM_facets.xdmf), STEM.inp.
+# STEM.xdmf (+ STEM_facets.xdmf, heavy data in STEM.h5 and STEM_facets.h5),
+# STEM.inp: binary where the format has it (the default); STEM-ascii.msh,
+# STEM-22-ascii.msh, STEM-ascii.vtu, STEM-ascii.xdmf (inline XML): --ascii;
+# STEM-z.vtu: --compress (zlib).
 CASES = {
     "disc": {
         "args": ["--shape", "circle:0,0,1", "--spacing", "0.15"],
@@ -65,6 +68,11 @@ def case(request, tmp_path_factory, two_region):
     run_warpmesh([*args, "-o", stem + ".node", "--also", stem + ".msh", "--also", stem + ".vtu",
                   "--also", stem + ".xdmf", "--also", stem + ".inp"], d)
     run_warpmesh([*args, "-o", stem + "-22.msh", "--msh-version", "2.2"], d)
+    # The text forms of the binary formats (--ascii) and the zlib .vtu.
+    run_warpmesh([*args, "-o", stem + "-ascii.msh", "--also", stem + "-ascii.vtu", "--also", stem + "-ascii.xdmf",
+                  "--ascii"], d)
+    run_warpmesh([*args, "-o", stem + "-22-ascii.msh", "--msh-version", "2.2", "--ascii"], d)
+    run_warpmesh([*args, "-o", stem + "-z.vtu", "--compress"], d)
     run_warpmesh([*args, "-o", stem + "-data.msh", "--msh-cell-data", "--also", stem + "-data.vtu"], d)
     return name, stem, spec
 
@@ -122,7 +130,10 @@ def meshio_blocks(m, cell_type, key):
     return np.concatenate(cells), np.concatenate(tags)
 
 
-@pytest.mark.parametrize("suffix", ["", "-22", "-data"])
+MSH_FORMS = ["", "-22", "-data", "-ascii", "-22-ascii"]
+
+
+@pytest.mark.parametrize("suffix", MSH_FORMS)
 def test_meshio_reads_msh_with_named_physical_groups(case, suffix):
     meshio = require("meshio", "python3-meshio")
     name, stem, spec = case
@@ -165,21 +176,24 @@ def test_meshio_reads_msh_cell_data_on_every_element(case):
     assert all(want[tuple(t)] == v for t, v in zip(tri.tolist(), tri_values))
 
 
-def test_meshio_reads_vtu(case):
+@pytest.mark.parametrize("suffix", ["", "-z", "-ascii"])
+def test_meshio_reads_vtu(case, suffix):
     meshio = require("meshio", "python3-meshio")
     name, stem, spec = case
     ref = Reference(stem)
-    m = meshio.read(stem + ".vtu")
+    m = meshio.read(stem + suffix + ".vtu")
     check_triangle_mesh(m, ref)
     assert np.array_equal(m.cell_data["region"][0], ref.region)
     assert np.array_equal(m.point_data["boundary_marker"], ref.markers)
 
 
-def test_meshio_reads_xdmf_mesh_and_facets(case):
+@pytest.mark.parametrize("suffix", ["", "-ascii"])
+def test_meshio_reads_xdmf_mesh_and_facets(case, suffix):
     meshio = require("meshio", "python3-meshio")
     require("h5py", "python3-h5py")  # meshio's XDMF reader imports it even for inline XML
     name, stem, spec = case
     ref = Reference(stem)
+    stem = stem + suffix
     m = meshio.read(stem + ".xdmf")
     check_triangle_mesh(m, ref)
     assert np.array_equal(m.cell_data["region"][0], ref.region)
@@ -225,7 +239,7 @@ def test_meshio_reads_abaqus_inp_with_sets(case):
 
 # ---- gmsh ----------------------------------------------------------------------
 
-@pytest.mark.parametrize("suffix", ["", "-22", "-data"])
+@pytest.mark.parametrize("suffix", MSH_FORMS)
 def test_gmsh_check_accepts_msh(case, suffix):
     name, stem, spec = case
     r = subprocess.run(["gmsh", "-check", stem + suffix + ".msh"], capture_output=True, text=True, timeout=60)
@@ -236,7 +250,7 @@ def test_gmsh_check_accepts_msh(case, suffix):
     assert f"{len(ref.points)} nodes" in out, out
 
 
-@pytest.mark.parametrize("suffix", ["", "-22"])
+@pytest.mark.parametrize("suffix", ["", "-22", "-ascii", "-22-ascii"])
 def test_gmsh_api_reads_named_physical_groups(case, suffix):
     gmsh = require("gmsh", "python3-gmsh")
     name, stem, spec = case
@@ -297,18 +311,22 @@ def check_dolfinx(mesh, cell_tags, facet_tags, ref):
     assert dolfinx_tags(mesh, facet_tags, ref) == ref.tagged_edges()
 
 
-def test_dolfinx_reads_xdmf_mesh_cell_and_facet_tags(case):
+@pytest.mark.parametrize("suffix", ["", "-ascii"])
+def test_dolfinx_reads_xdmf_mesh_cell_and_facet_tags(case, suffix):
+    """The HDF5 form (the default, as dolfinx itself writes XDMF) and the
+    inline-XML form (--ascii)."""
     require("dolfinx", "python3-dolfinx")
     from mpi4py import MPI
     from dolfinx.io import XDMFFile
     name, stem, spec = case
     ref = Reference(stem)
-    with XDMFFile(MPI.COMM_WORLD, stem + ".xdmf", "r", encoding=XDMFFile.Encoding.ASCII) as f:
+    encoding = XDMFFile.Encoding.ASCII if suffix else XDMFFile.Encoding.HDF5
+    with XDMFFile(MPI.COMM_WORLD, stem + suffix + ".xdmf", "r", encoding=encoding) as f:
         mesh = f.read_mesh(name="mesh")
         cell_tags = f.read_meshtags(mesh, name="mesh")
     assert mesh.geometry.dim == 2 and mesh.topology.dim == 2
     mesh.topology.create_connectivity(1, 2)
-    with XDMFFile(MPI.COMM_WORLD, stem + "_facets.xdmf", "r", encoding=XDMFFile.Encoding.ASCII) as f:
+    with XDMFFile(MPI.COMM_WORLD, stem + suffix + "_facets.xdmf", "r", encoding=encoding) as f:
         facet_tags = f.read_meshtags(mesh, name="facets")
     check_dolfinx(mesh, cell_tags, facet_tags, ref)
 
@@ -331,6 +349,29 @@ def test_dolfinx_gmshio_reads_msh(case, suffix):
     finally:
         gmsh.finalize()
     check_dolfinx(mesh, cell_tags, facet_tags, ref)
+
+
+# ---- VTK -----------------------------------------------------------------------
+
+@pytest.mark.parametrize("suffix", ["", "-z", "-ascii"])
+def test_vtk_reads_binary_zlib_and_ascii_vtu(case, suffix):
+    """VTK's own XML reader (not meshio's parser) on the appended raw binary,
+    the zlib-compressed and the ASCII .vtu."""
+    vtk = require("vtk", "python3-vtk9")
+    from vtk.util.numpy_support import vtk_to_numpy
+    name, stem, spec = case
+    ref = Reference(stem)
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(stem + suffix + ".vtu")
+    r.Update()
+    assert r.GetErrorCode() == 0
+    g = r.GetOutput()
+    assert np.array_equal(vtk_to_numpy(g.GetPoints().GetData())[:, :2], ref.points)
+    assert np.array_equal(vtk_to_numpy(g.GetCellTypesArray()), np.full(len(ref.triangles), 5))
+    conn = vtk_to_numpy(g.GetCells().GetConnectivityArray()).reshape(-1, 3)
+    assert np.array_equal(conn, ref.triangles)
+    assert np.array_equal(vtk_to_numpy(g.GetCellData().GetArray("region")), ref.region)
+    assert np.array_equal(vtk_to_numpy(g.GetPointData().GetArray("boundary_marker")), ref.markers)
 
 
 # ---- Triangle ------------------------------------------------------------------
@@ -410,3 +451,61 @@ def test_calculix_solves_with_the_inp_sets_and_surfaces(two_region, tmp_path):
     bottom = min(interface, key=lambda v: ref.points[v, 1])
     top = max(interface, key=lambda v: ref.points[v, 1])
     assert interface[bottom][1] > 0 > interface[top][1]
+
+
+# ---- region tags across formats (issue 27 item 5) ------------------------------
+
+def test_background_keep_tags_are_the_labels_in_every_format(tmp_path):
+    """With --background keep, .msh renumbered the regions (background 1,
+    label_5 2, …) while the other formats kept the labels.  Now every format
+    tags a label's triangles with the label value; the background is 0, and in
+    .msh (whose tags must be positive) the largest label + 1, named
+    "background"."""
+    meshio = require("meshio", "python3-meshio")
+    pixels = np.zeros((12, 12), dtype=np.uint8)
+    pixels[2:7, 2:9] = 5
+    pixels[6:10, 4:8] = 7
+    write_pgm(tmp_path / "l.pgm", pixels)
+    outs = ["k.msh", "k.vtu", "k.xdmf", "k.ele", "k-ascii.msh", "k.inp"]
+    run_warpmesh(["l.pgm", "--materials", "all", "--background", "keep", "--spacing", "0.5", "-o", "k.vtu",
+                  *[a for o in outs if o != "k.vtu" and o != "k-ascii.msh" for a in ("--also", o)]], tmp_path)
+    run_warpmesh(["l.pgm", "--materials", "all", "--background", "keep", "--spacing", "0.5", "-o", "k-ascii.msh",
+                  "--ascii"], tmp_path)
+    ref = Reference(str(tmp_path / "k"))
+    assert set(np.unique(ref.region)) == {0, 5, 7}
+    for f in ["k.vtu", "k.xdmf"]:
+        m = meshio.read(tmp_path / f)
+        assert np.array_equal(m.cell_data["region"][0], ref.region), f
+    for f in ["k.msh", "k-ascii.msh"]:
+        m = meshio.read(tmp_path / f)
+        tri, tags = meshio_blocks(m, "triangle", "gmsh:physical")
+        want = {k: (8 if v == 0 else v) for k, v in ref.tagged_triangles().items()}
+        assert tagged_cells(tri, tags) == want, f
+        names = field_names(m)
+        assert names["label_5"] == [5, 2] and names["label_7"] == [7, 2] and names["background"] == [8, 2], f
+    inp = (tmp_path / "k.inp").read_text()
+    for name in ["background", "label_5", "label_7"]:
+        assert f"*ELSET, ELSET={name}\n" in inp
+
+
+def test_slices_write_hdf5_xdmf_in_parallel(tmp_path):
+    """--slices writes its outputs from several threads; the serial HDF5
+    library is not thread-safe, so write_xdmf serialises its .h5 writes.  Each
+    slice's four files appear, named by the final names, and read back."""
+    meshio = require("meshio", "python3-meshio")
+    z, y, x = np.mgrid[0:6, 0:40, 0:40]
+    v = ((((x - 20) ** 2 + (y - 20) ** 2) < (10 + z) ** 2) * 200).astype("<u2")
+    (tmp_path / "v.nrrd").write_bytes(b"NRRD0004\ntype: unsigned short\ndimension: 3\nsizes: 40 40 6\n"
+                                      b"encoding: raw\nendian: little\n\n" + v.tobytes())
+    r = subprocess.run([executable("WARPMESH_EXE"), "mesh", "v.nrrd", "--slices", "k=0:6", "--iso", "100",
+                        "--spacing", "0.5", "--units", "pixels", "-o", "s%d.xdmf", "--threads", "2", "--quiet"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=120, env={**os.environ, "OMP_NUM_THREADS": "2"})
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []
+    counts = []
+    for i in range(6):
+        assert (tmp_path / f"s{i}.h5").exists() and (tmp_path / f"s{i}_facets.h5").exists()
+        assert f">s{i}.h5:/mesh/topology<" in (tmp_path / f"s{i}.xdmf").read_text()
+        counts.append(len(meshio.read(tmp_path / f"s{i}.xdmf").cells[0]))
+        assert len(meshio.read(tmp_path / f"s{i}_facets.xdmf").cells[0]) > 0
+    assert counts == sorted(counts) and counts[0] < counts[-1]  # the disc grows with k

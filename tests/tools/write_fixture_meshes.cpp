@@ -30,6 +30,14 @@ int main(int argc, char** argv) {
         write_mesh(m, dir + "two-22.msh", v22);
         write_mesh(m, dir + "two-data.msh", data);
         for (const char* ext : {".vtu", ".xdmf", ".inp", ".node"}) write_mesh(m, dir + "two" + ext);
+        // The text forms (--ascii), 2.2 binary and zlib .vtu (--compress).
+        WriteOptions text, v22_text, zlib;
+        text.ascii = v22_text.ascii = true;
+        v22_text.msh.version = 22;
+        zlib.vtu.encoding = VtuOptions::Encoding::zlib;
+        for (const char* ext : {".vtu", ".msh", ".xdmf"}) write_mesh(m, dir + "two-ascii" + ext, text);
+        write_mesh(m, dir + "two-22-ascii.msh", v22_text);
+        write_mesh(m, dir + "two-z.vtu", zlib);
     } catch (const std::exception& e) {
         std::cerr << "write_fixture_meshes: " << e.what() << '\n';
         return 1;

@@ -1,8 +1,10 @@
 // writers.hpp — mesh output formats.
 //
-//   write_vtu.cpp      → VTK XML UnstructuredGrid (.vtu), ASCII inline
-//   write_msh.cpp      → Gmsh MSH 4.1 or 2.2 ASCII (.msh)
-//   write_xdmf.cpp     → XDMF 3 (.xdmf + _facets.xdmf), heavy data inline XML
+//   write_vtu.cpp      → VTK XML UnstructuredGrid (.vtu): appended raw binary,
+//                        zlib-compressed appended binary, or ASCII inline
+//   write_msh.cpp      → Gmsh MSH 4.1 or 2.2 (.msh), binary or ASCII
+//   write_xdmf.cpp     → XDMF 3 (.xdmf + _facets.xdmf), heavy data in HDF5
+//                        (.h5 + _facets.h5) or inline XML
 //   write_inp.cpp      → Abaqus/CalculiX input (.inp): nodes, CPS3, sets, surfaces
 //   write_triangle.cpp → Triangle's .node/.ele (+ .poly with the boundary)
 //   write_svg.cpp      → an SVG picture
@@ -11,8 +13,12 @@
 // Every file is written atomically (src/io/atomic_file.hpp): on failure nothing
 // appears under the requested name and OutputError (errors.hpp) names the
 // path and the reason.
-// Coordinates and cell data are printed as the shortest decimal that reads back
-// to the same double (std::to_chars), so text formats round-trip exactly.
+// Binary by default where the format has it (WriteOptions::ascii for text);
+// .inp and .node/.ele are ASCII by specification.  Text prints coordinates and
+// cell data as the shortest decimal that reads back to the same double
+// (std::to_chars), so text formats round-trip exactly, and is formatted in
+// parallel blocks (OpenMP threads).  No writer holds the whole file in
+// memory: each streams its file through bounded buffers (src/io/output.hpp).
 #pragma once
 
 #include <array>
@@ -73,14 +79,40 @@ struct MshOptions {
     // MSH file format version: 41 (4.1, Gmsh's current) or 22 (2.2, the one many
     // solvers' importers still expect).  Anything else is an OutputError.
     int version = 41;
+    // Binary (file-type 1, little-endian, sizeof(size_t) = 8) or ASCII.
+    bool binary = true;
     // Write mesh.cell_data as $ElementData views.  Off by default: a .msh is a
     // solver's input, and its readers (meshio) require a data value for every
     // element, boundary lines included (see write_msh.cpp).
     bool cell_data = false;
 };
 
+struct VtuOptions {
+    // raw: appended raw binary (VTK's and ParaView's fastest); zlib: appended
+    // binary, each array compressed in blocks with zlib; ascii: inline text.
+    enum class Encoding { raw, zlib, ascii };
+    Encoding encoding = Encoding::raw;
+};
+
+struct XdmfOptions {
+    // Heavy data in HDF5 files beside the XDMF files (STEM.h5, STEM_facets.h5),
+    // as dolfinx writes it; false: inline XML text, each file self-contained
+    // (for tiny meshes).  HDF5 needs the build to have found libhdf5
+    // (WARPMESH_HAVE_HDF5), else it is an OutputError.
+    bool hdf5 = true;
+    // The path the .xdmf file will finally have, when it is written under a
+    // temporary name and renamed afterwards (the CLI stages its outputs): the
+    // XDMF files name their .h5 files by it.  Empty: the path written.
+    std::string final_path;
+};
+
 struct WriteOptions {
+    // Every output as text: .vtu inline ASCII, .msh ASCII, .xdmf inline XML
+    // (the CLI's --ascii).  Overrides vtu.encoding, msh.binary, xdmf.hdf5.
+    bool ascii = false;
+    VtuOptions vtu;
     MshOptions msh;
+    XdmfOptions xdmf;
     SvgOptions svg;
     // .png pictures.  The dispatcher also colours the PNG by minimum angle when
     // svg.color_by_min_angle is set (the CLI's --svg-color minangle), so that
@@ -89,7 +121,8 @@ struct WriteOptions {
 };
 
 // Chooses the format by the (case-insensitive) extension of `path`: .vtu,
-// .msh, .xdmf (plus STEM_facets.xdmf), .inp, .node or .ele (both are written,
+// .msh, .xdmf (plus STEM_facets.xdmf, and with HDF5 STEM.h5 and
+// STEM_facets.h5), .inp, .node or .ele (both are written,
 // plus .poly, with the same stem), .svg, .png.
 // Anything else is an OutputError listing the supported extensions.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
@@ -110,29 +143,35 @@ void write_text_file(const std::string& path, std::string_view text);
 // not a directory, and its directory exists and is writable.  Throws OutputError.
 void check_writable(const std::string& path);
 
-// The files that write_mesh(mesh, path) creates: `path` itself, for XDMF
-// also STEM_facets.xdmf, for the Triangle format the stem's .node, .ele and
-// .poly.
-std::vector<std::string> output_files(const std::string& path);
+// The files that write_mesh(mesh, path, options) creates: `path` itself, for
+// XDMF also STEM_facets.xdmf (and with HDF5 STEM.h5, STEM_facets.h5), for the
+// Triangle format the stem's .node, .ele and .poly.
+std::vector<std::string> output_files(const std::string& path, const WriteOptions& options = {});
 
-// VTK XML UnstructuredGrid, ASCII.  Points are 3D with z = 0; cells are the
-// triangles only (VTK_TRIANGLE = 5; boundary edges are not written — use .msh
-// or .poly for them); CellData: "region" (Int32) and every mesh.cell_data
-// array (Float64); PointData: "boundary_marker" (Int32, detail::vertex_markers,
-// the same markers as the .node file).
-void write_vtu(const Mesh& mesh, const std::string& path);
-void write_vtu(const Mesh& mesh, std::ostream& out);
+// VTK XML UnstructuredGrid (version 1.0, header UInt64, LittleEndian).
+// Points are 3D with z = 0; cells are the triangles only (VTK_TRIANGLE = 5;
+// boundary edges are not written — use .msh or .poly for them); CellData:
+// "region" (Int32) and every mesh.cell_data array (Float64); PointData:
+// "boundary_marker" (Int32, detail::vertex_markers, the same markers as the
+// .node file).  See write_vtu.cpp for the appended layouts.
+void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& options = {});
+void write_vtu(const Mesh& mesh, std::ostream& out, const VtuOptions& options = {});
 
-// Gmsh MSH 4.1 or 2.2 ASCII; see write_msh.cpp for the entity/physical layout:
-// one named physical group per region, per boundary tag and per interface.
+// Gmsh MSH 4.1 or 2.2, binary or ASCII; see write_msh.cpp for the
+// entity/physical layout: one named physical group per region, per boundary
+// tag and per interface.
 void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options = {});
 void write_msh(const Mesh& mesh, std::ostream& out, const MshOptions& options = {});
 
 // XDMF 3 for FEniCSx (and meshio, ParaView): `path` holds the mesh (grid
 // "mesh": triangles, XY points, cell attribute "region") and STEM_facets.xdmf
 // the tagged edges (grid "facets": boundary and interface lines, attribute
-// "facet_tags" = detail::edge_groups' tags); see write_xdmf.cpp.
-void write_xdmf(const Mesh& mesh, const std::string& path);
+// "facet_tags" = detail::edge_groups' tags); heavy data in STEM.h5 and
+// STEM_facets.h5 or inline; see write_xdmf.cpp.  Every file is complete
+// under a temporary name before any is renamed into place (the .h5 files
+// first), so a failed write leaves none of them.
+void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& options = {});
+// The inline-XML documents (XdmfOptions::hdf5 false).
 void write_xdmf_mesh(const Mesh& mesh, std::ostream& out);
 void write_xdmf_facets(const Mesh& mesh, std::ostream& out);
 
@@ -169,58 +208,6 @@ void write_png(const Mesh& mesh, const std::string& path, const PngOptions& opti
 void write_png(const Mesh& mesh, std::ostream& out, const PngOptions& options = {});
 
 namespace detail {
-
-// A growing text buffer written out to a stream in ~1 MiB pieces: formatting
-// with std::to_chars into it is several times faster than ostream << double,
-// which matters at tens of millions of triangles.
-class TextSink {
-public:
-    explicit TextSink(std::ostream& out) : out_(out) { buf_.reserve(chunk + 256); }
-    ~TextSink() { flush(); }
-    TextSink(const TextSink&) = delete;
-    TextSink& operator=(const TextSink&) = delete;
-
-    TextSink& operator<<(std::string_view s) {
-        buf_.append(s);
-        return maybe_flush();
-    }
-    TextSink& operator<<(char c) {
-        buf_.push_back(c);
-        return maybe_flush();
-    }
-    // Shortest representation that parses back to exactly x.
-    TextSink& operator<<(double x) { return put(x); }
-    TextSink& operator<<(std::int32_t i) { return put(i); }
-    TextSink& operator<<(std::int64_t i) { return put(i); }
-    TextSink& operator<<(std::uint64_t i) { return put(i); }
-    // Fixed notation with `digits` decimals (SVG coordinates).
-    TextSink& fixed(double x, int digits) {
-        char tmp[64];
-        const auto r = std::to_chars(tmp, tmp + sizeof tmp, x, std::chars_format::fixed, digits);
-        buf_.append(tmp, r.ptr);
-        return maybe_flush();
-    }
-    void flush() {
-        if (!buf_.empty()) out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
-        buf_.clear();
-    }
-
-private:
-    static constexpr std::size_t chunk = std::size_t{1} << 20;
-    template <class T>
-    TextSink& put(T x) {
-        char tmp[64];
-        const auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
-        buf_.append(tmp, r.ptr);
-        return maybe_flush();
-    }
-    TextSink& maybe_flush() {
-        if (buf_.size() >= chunk) flush();
-        return *this;
-    }
-    std::ostream& out_;
-    std::string buf_;
-};
 
 // Throws OutputError unless every per-triangle array of `mesh` (region,
 // cell_data) has one entry per triangle, boundary_tag one per boundary edge,
@@ -264,6 +251,8 @@ std::string xml_escape(std::string_view s);
 // The facet-tag file written beside the XDMF file `path`: STEM_facets.xdmf
 // (the extension keeps its case).
 std::string xdmf_facets_path(const std::string& path);
+// The HDF5 file of the XDMF file `path`: STEM.h5.
+std::string xdmf_h5_path(const std::string& path);
 
 // ---- named groups, shared by the formats that tag or name them ------------------
 //

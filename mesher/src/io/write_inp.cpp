@@ -34,6 +34,7 @@
 #include <unordered_map>
 
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
@@ -62,12 +63,48 @@ std::string abaqus_name(const std::string& name, std::int32_t tag, std::set<std:
     return r;
 }
 
-// 1-based ids, 16 per line.
+// The 1-based ids id(0) … id(count-1), 16 per line, formatted in parallel.
+template <class Id>
+void put_ids(detail::TextSink& out, std::size_t count, Id&& id) {
+    detail::write_text_parallel(out.stream(), (count + 15) / 16, [&](detail::TextBuf& b, std::size_t line) {
+        const std::size_t end = std::min(count, 16 * line + 16);
+        for (std::size_t i = 16 * line; i < end; ++i) b << static_cast<std::uint64_t>(id(i)) << (i + 1 == end ? "\n" : ", ");
+    });
+}
 void put_ids(detail::TextSink& out, const std::vector<std::uint64_t>& ids) {
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-        out << ids[i];
-        out << (i % 16 == 15 || i + 1 == ids.size() ? std::string_view("\n") : std::string_view(", "));
+    put_ids(out, ids.size(), [&](std::size_t i) { return ids[i]; });
+}
+
+// The triangles of each region tag, as positions [begin, end) of `order`
+// (triangle indices grouped by tag, in mesh order within a tag; empty order
+// = the identity, for a single region).
+struct RegionRuns {
+    std::map<std::int32_t, std::pair<std::size_t, std::size_t>> range;
+    std::vector<std::uint32_t> order;
+    std::size_t at(std::size_t i) const { return order.empty() ? i : order[i]; }
+};
+
+RegionRuns region_runs(const Mesh& mesh) {
+    RegionRuns r;
+    std::map<std::int32_t, std::size_t> count;
+    auto last = count.end();
+    for (const std::int32_t t : mesh.region) {
+        if (last == count.end() || last->first != t) last = count.try_emplace(t, 0).first;
+        ++last->second;
     }
+    std::size_t begin = 0;
+    for (const auto& [t, n] : count) r.range[t] = {begin, begin + n}, begin += n;
+    if (count.size() > 1) {
+        r.order.resize(mesh.region.size());
+        std::map<std::int32_t, std::size_t> next;
+        for (const auto& [t, range] : r.range) next[t] = range.first;
+        auto it = next.end();
+        for (std::size_t k = 0; k < mesh.region.size(); ++k) {
+            if (it == next.end() || it->first != mesh.region[k]) it = next.find(mesh.region[k]);
+            r.order[it->second++] = static_cast<std::uint32_t>(k);
+        }
+    }
+    return r;
 }
 
 // `x` in at most 20 characters, the width of CalculiX's number fields (a
@@ -75,12 +112,12 @@ void put_ids(detail::TextSink& out, const std::vector<std::uint64_t>& ids) {
 // reads back to x when it fits (any |x| in [1e-5, 1e15) with up to 17
 // significant digits does), else the most significant digits that fit (at
 // least 13, a relative rounding of at most 5e-14).
-std::string inp_number(double x) {
+void put_inp_number(detail::TextBuf& out, double x) {
     char buf[64];
     auto r = std::to_chars(buf, buf + sizeof buf, x);
     for (int digits = 16; r.ptr - buf > 20 && digits >= 1; --digits)
         r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
-    return std::string(buf, r.ptr);
+    out << std::string_view(buf, static_cast<std::size_t>(r.ptr - buf));
 }
 
 std::uint64_t edge_key(std::int32_t u, std::int32_t v) {
@@ -105,8 +142,12 @@ void write_inp(const Mesh& mesh, std::ostream& os) {
         for (std::size_t i = 0; i < groups[g].edges.size(); ++i)
             wanted[edge_key(groups[g].edges[i][0], groups[g].edges[i][1])] = {g, i};
     }
-    if (!wanted.empty())
-        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    // Read-only lookups in parallel; each grouped edge is the side of one
+    // triangle only in a conforming mesh, so the writes do not collide.
+    const auto nt = static_cast<std::int64_t>(wanted.empty() ? 0 : mesh.triangles.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t kk = 0; kk < nt; ++kk) {
+            const auto k = static_cast<std::size_t>(kk);
             const auto& t = mesh.triangles[k];
             for (int s = 0; s < 3; ++s) {
                 const auto it = wanted.find(edge_key(t[static_cast<std::size_t>(s)], t[static_cast<std::size_t>((s + 1) % 3)]));
@@ -130,30 +171,30 @@ void write_inp(const Mesh& mesh, std::ostream& os) {
            "** node sets and surfaces.  *INCLUDE it in a deck that adds sections, materials and steps, e.g.\n"
            "**   *SOLID SECTION, ELSET=<region>, MATERIAL=<material>\n"
            "*NODE\n";
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-        out << static_cast<std::uint64_t>(i + 1) << ", " << inp_number(mesh.vertices[i].x) << ", "
-            << inp_number(mesh.vertices[i].y) << '\n';
-    if (!mesh.triangles.empty()) {
-        out << "*ELEMENT, TYPE=CPS3\n";
-        for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-            const auto& t = mesh.triangles[k];
-            out << static_cast<std::uint64_t>(k + 1) << ", " << t[0] + std::int64_t{1} << ", " << t[1] + std::int64_t{1}
-                << ", " << t[2] + std::int64_t{1} << '\n';
-        }
+    detail::write_text_parallel(out.stream(), mesh.vertices.size(), [&](detail::TextBuf& b, std::size_t i) {
+        b << static_cast<std::uint64_t>(i + 1) << ", ";
+        put_inp_number(b, mesh.vertices[i].x);
+        b << ", ";
+        put_inp_number(b, mesh.vertices[i].y);
+        b << '\n';
+    });
+    const detail::Cells cells = detail::cells_of(mesh);
+    if (cells.size()) {
+        out << "*ELEMENT, TYPE=" << cells.kind.abaqus << '\n';
+        detail::write_text_parallel(out.stream(), cells.size(), [&](detail::TextBuf& b, std::size_t k) {
+            b << static_cast<std::uint64_t>(k + 1);
+            for (const std::int32_t v : cells[k]) b << ", " << v + std::int64_t{1};
+            b << '\n';
+        });
     }
 
     std::set<std::string> used;
-    std::map<std::int32_t, std::vector<std::uint64_t>> region_elements;
-    auto last = region_elements.end();
-    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-        if (last == region_elements.end() || last->first != mesh.region[k])
-            last = region_elements.try_emplace(mesh.region[k]).first;
-        last->second.push_back(k + 1);
-    }
-    for (const auto& [tag, ids] : region_elements) {
-        out << "*ELSET, ELSET=" << abaqus_name(detail::region_name(mesh, tag, region_elements.size() == 1), tag, used)
-            << '\n';
-        put_ids(out, ids);
+    // Element sets per region, streamed (4 bytes a triangle of order when
+    // there are several regions, none for one).
+    const RegionRuns runs = region_runs(mesh);
+    for (const auto& [tag, range] : runs.range) {
+        out << "*ELSET, ELSET=" << abaqus_name(detail::region_name(mesh, tag, runs.range.size() == 1), tag, used) << '\n';
+        put_ids(out, range.second - range.first, [&, first = range.first](std::size_t i) { return runs.at(first + i) + 1; });
     }
     for (std::size_t g = 0; g < groups.size(); ++g) {
         const auto& group = groups[g];

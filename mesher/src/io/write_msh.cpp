@@ -1,4 +1,4 @@
-// write_msh.cpp — Gmsh MSH 4.1 and 2.2, ASCII.
+// write_msh.cpp — Gmsh MSH 4.1 and 2.2, binary (the default) or ASCII.
 //
 // Groups (both versions): one physical surface per region tag, named by
 // detail::region_name ("domain", "domain_<tag>" or mesh.region_names), and
@@ -10,7 +10,9 @@
 // MSH 4.1 sections, in the order the format requires (Gmsh manual, "MSH file
 // format"):
 //
-//   $MeshFormat    "4.1 0 8": version 4.1, ASCII (0), sizeof(size_t) = 8.
+//   $MeshFormat    "4.1 F 8": version 4.1, ASCII (F = 0) or binary (F = 1,
+//                  followed by the int 1 so that readers see the byte order),
+//                  sizeof(size_t) = 8.
 //   $PhysicalNames numPhysicalNames, then "dim physicalTag \"name\"" lines.
 //   $Entities      "numPoints numCurves numSurfaces numVolumes" (0 C R 0), then
 //                  per curve:   "tag minX minY minZ maxX maxY maxZ
@@ -35,10 +37,21 @@
 //                  lines' value being nan, triangles in the order $Elements
 //                  lists them (meshio reads the values in file order).
 //
-// MSH 2.2: $MeshFormat "2.2 0 8", the same $PhysicalNames, "$Nodes" as a count
+// Binary 4.1 (Gmsh manual, "MSH file format", binary): the same sections and
+// the same numbers in the same order, as little-endian int (4 bytes), size_t
+// (8) and double (8) — every count, node and element tag a size_t, entity
+// dimensions, tags and types an int — with no separators; each section's
+// binary part is followed by "\n" before its $End line.  $PhysicalNames and
+// the $ElementData headers stay text; the data lines are (int elementTag,
+// double value) pairs.
+//
+// MSH 2.2: $MeshFormat "2.2 F 8", the same $PhysicalNames, "$Nodes" as a count
 // then "tag x y z" lines, "$Elements" as a count then
 // "tag type 2 physicalTag entityTag node…" lines (triangles first, in mesh
-// order, then the lines), and the same $ElementData.
+// order, then the lines), and the same $ElementData.  Binary 2.2: nodes as
+// (int tag, 3 doubles); elements in blocks of one type, each an int header
+// (type, count, 2 tags) then per element the ints (tag, physical, entity,
+// nodes…).
 //
 // Why cell data stays out of .msh unless asked: a view in Gmsh may cover a
 // subset of the elements, but meshio (the hub through which most Python FEM
@@ -51,22 +64,36 @@
 // (padded with nan) only on request (warpmesh --msh-cell-data).
 //
 // Numbering (all 1-based): node tag = vertex index + 1; triangle k has element
-// tag k + 1 (so element data follow triangle order whatever the blocks are);
+// tag k + 1 (so element data follow triangle order whatever the blocks are) —
+// except in binary 4.1, where the triangles are numbered in the order the
+// region blocks list them (one region: the same), because meshio's binary
+// reader requires the $ElementData tags to be 1, 2, … in file order;
 // boundary edge e has element tag T + e + 1 and interface edge i tag
-// T + B + i + 1.  Entity and physical tags of a region tag t are t itself when
-// all region tags are >= 1, else the 1-based rank of t among the distinct tags.
+// T + B + i + 1.
+//
+// Region tags: the entity and physical tag of region tag t is t itself — the
+// label value, as in every other format — when t >= 1.  Gmsh's tags must be
+// positive (gmsh drops the name of a physical group 0), so a region tag
+// t <= 0 — the background 0 of `--background keep` — gets the tag
+// max(largest region tag, 0) + 1 + the rank of t among the non-positive tags:
+// the background of labels 1 … 9 is physical surface 10, named "background".
 #include <algorithm>
-#include <span>
+#include <limits>
 #include <map>
+#include <span>
 #include <string_view>
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
 
 namespace {
+
+using detail::TextBuf;
+using detail::write_value;
 
 struct Bbox {
     double xmin = 0, ymin = 0, xmax = 0, ymax = 0;
@@ -98,6 +125,16 @@ struct Grouping {
     std::size_t member(std::size_t i) const { return order.empty() ? i : static_cast<std::size_t>(order[i]); }
 };
 
+// The file's tag of each region tag (see the header comment: t itself when
+// t >= 1, else after the largest).
+std::map<std::int32_t, std::int32_t> entity_tags(const std::map<std::int32_t, std::size_t>& count) {
+    std::map<std::int32_t, std::int32_t> entity;
+    const std::int32_t top = count.empty() ? 0 : std::max(0, count.rbegin()->first);
+    std::int32_t next = top;
+    for (const auto& [t, n] : count) entity[t] = t >= 1 ? t : ++next;
+    return entity;
+}
+
 Grouping group_by_tag(std::span<const std::int32_t> tags) {
     // Count per tag (tags come in long runs, so cache the last map lookup).
     std::map<std::int32_t, std::size_t> count;
@@ -107,12 +144,12 @@ Grouping group_by_tag(std::span<const std::int32_t> tags) {
         ++last->second;
     }
     Grouping g;
-    const bool all_positive = count.empty() || count.begin()->first >= 1;
+    const auto entity = entity_tags(count);
     std::map<std::int32_t, std::size_t> slot;  // tag → group index
     std::size_t begin = 0;
     for (const auto& [t, n] : count) {
         slot[t] = g.groups.size();
-        g.groups.push_back({t, all_positive ? t : static_cast<std::int32_t>(g.groups.size() + 1), begin, begin + n, {}});
+        g.groups.push_back({t, entity.at(t), begin, begin + n, {}});
         begin += n;
     }
     if (g.groups.size() > 1) {
@@ -136,28 +173,28 @@ std::string quoted(std::string_view s) {
     return r + "\"";
 }
 
-void put_entity(detail::TextSink& out, std::int32_t tag, const Bbox& box) {
-    out << tag << ' ' << box.xmin << ' ' << box.ymin << " 0 " << box.xmax << ' ' << box.ymax << " 0 1 " << tag << " 0\n";
-}
-
 // What both versions write: the region groups (with their bounding boxes) and
 // the edge groups.
 struct Layout {
+    detail::Cells cells;
     Grouping by_region;
     std::vector<std::string> region_names;  // per region group
     std::vector<detail::EdgeGroup> curves;
     std::vector<Bbox> curve_box;
-    std::uint64_t nt = 0, nb = 0, ne = 0;  // triangles, boundary edges, elements
+    std::uint64_t nt = 0, nb = 0, ne = 0;  // cells, boundary edges, elements
+    bool binary = true;
 
-    explicit Layout(const Mesh& mesh)
-        : by_region(group_by_tag(mesh.region)),
+    Layout(const Mesh& mesh, bool bin)
+        : cells(detail::cells_of(mesh)),
+          by_region(group_by_tag(mesh.region)),
           curves(detail::edge_groups(mesh)),
-          nt(mesh.triangles.size()),
+          nt(cells.size()),
           nb(mesh.boundary.size()),
-          ne(nt + nb + mesh.interfaces.size()) {
+          ne(nt + nb + mesh.interfaces.size()),
+          binary(bin) {
         for (Group& g : by_region.groups) {
             for (std::size_t i = g.begin; i < g.end; ++i)
-                for (const std::int32_t v : mesh.triangles[by_region.member(i)]) g.box.add(mesh.vertices[static_cast<std::size_t>(v)]);
+                for (const std::int32_t v : cells[by_region.member(i)]) g.box.add(mesh.vertices[static_cast<std::size_t>(v)]);
             region_names.push_back(detail::region_name(mesh, g.tag, by_region.groups.size() == 1));
         }
         for (const detail::EdgeGroup& c : curves) {
@@ -172,103 +209,258 @@ struct Layout {
     }
 };
 
-void put_physical_names(detail::TextSink& out, const Layout& l) {
+// Numbers of one record: text separated by spaces, or binary.
+struct Record {
+    Record(std::ostream& out, bool bin) : os(out), binary(bin) {}
+    Record(const Record&) = delete;
+    Record& operator=(const Record&) = delete;
+    ~Record() { end_line(); }
+    std::ostream& os;
+    bool binary;
+    TextBuf text;
+    bool first = true;
+    template <class T>
+    Record& operator()(T x) {
+        if (binary) return write_value(os, x), *this;
+        if (!first) text << ' ';
+        first = false;
+        text << x;
+        return *this;
+    }
+    void end_line() {
+        if (binary || first) return;
+        text << '\n';
+        os.write(text.data(), static_cast<std::streamsize>(text.size()));
+        text.clear();
+        first = true;
+    }
+};
+
+void put_text(std::ostream& os, std::string_view s) { detail::write_bytes(os, s.data(), s.size()); }
+
+// The end of a section: binary data are followed by a newline.
+void end_section(std::ostream& os, bool binary, std::string_view end) {
+    if (binary) put_text(os, "\n");
+    put_text(os, end);
+}
+
+void put_format(std::ostream& os, std::string_view version, bool binary) {
+    put_text(os, "$MeshFormat\n");
+    put_text(os, version);
+    put_text(os, binary ? " 1 8\n" : " 0 8\n");
+    if (binary) write_value(os, std::int32_t{1});
+    end_section(os, binary, "$EndMeshFormat\n");
+}
+
+void put_physical_names(std::ostream& os, const Layout& l) {
     const auto& regions = l.by_region.groups;
+    TextBuf out;
     out << "$PhysicalNames\n" << static_cast<std::uint64_t>(regions.size() + l.curves.size()) << '\n';
     for (const auto& c : l.curves) out << "1 " << c.tag << ' ' << quoted(c.name) << '\n';
     for (std::size_t r = 0; r < regions.size(); ++r)
         out << "2 " << regions[r].entity << ' ' << quoted(l.region_names[r]) << '\n';
     out << "$EndPhysicalNames\n";
+    detail::write_bytes(os, out.data(), out.size());
 }
 
-// The triangles' values in the order $Elements lists the triangles (MSH 4.1:
-// region block by region block; 2.2: by tag).  Gmsh reads them by tag either
-// way, but meshio pairs them with the elements in file order, ignoring the
-// tags: in tag order, a mesh of several regions got its values shuffled.
-void put_element_data(detail::TextSink& out, const Mesh& mesh, const Layout& l, bool block_order) {
-    for (const auto& [name, values] : mesh.cell_data) {
-        out << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << l.ne << '\n';
-        for (std::uint64_t i = 0; i < l.nt; ++i) {
-            const std::uint64_t k = block_order ? static_cast<std::uint64_t>(l.by_region.member(static_cast<std::size_t>(i))) : i;
-            out << k + 1 << ' ' << values[k] << '\n';
-        }
-        for (std::uint64_t k = l.nt; k < l.ne; ++k) out << k + 1 << " nan\n";
-        out << "$EndElementData\n";
-    }
-}
-
-void write_msh41(const Mesh& mesh, const Layout& l, detail::TextSink& out) {
-    const auto nv = static_cast<std::uint64_t>(mesh.vertices.size());
+void put_entities(std::ostream& os, const Layout& l) {
     const auto& regions = l.by_region.groups;
-    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
-    put_physical_names(out, l);
-
-    out << "$Entities\n0 " << static_cast<std::uint64_t>(l.curves.size()) << ' '
-        << static_cast<std::uint64_t>(regions.size()) << " 0\n";
-    for (std::size_t c = 0; c < l.curves.size(); ++c) put_entity(out, l.curves[c].tag, l.curve_box[c]);
-    for (const Group& g : regions) put_entity(out, g.entity, g.box);
-    out << "$EndEntities\n";
-
-    // Nodes: one block on the first surface (a mesh without triangles has no
-    // surface and so no nodes block; its vertices are not written).
-    const bool have_nodes = !regions.empty() && nv > 0;
-    out << "$Nodes\n";
-    if (have_nodes) {
-        out << "1 " << nv << " 1 " << nv << '\n' << "2 " << regions.front().entity << " 0 " << nv << '\n';
-        for (std::uint64_t i = 1; i <= nv; ++i) out << i << '\n';
-        for (const Vec2& v : mesh.vertices) out << v.x << ' ' << v.y << " 0\n";
-    } else {
-        out << "0 0 0 0\n";
+    put_text(os, "$Entities\n");
+    auto entity = [&](std::int32_t tag, const Bbox& b) {
+        Record r{os, l.binary};
+        r(tag)(b.xmin)(b.ymin)(0.0)(b.xmax)(b.ymax)(0.0)(std::uint64_t{1})(tag)(std::uint64_t{0});
+    };
+    {
+        Record r{os, l.binary};
+        r(std::uint64_t{0})(static_cast<std::uint64_t>(l.curves.size()))(static_cast<std::uint64_t>(regions.size()))(std::uint64_t{0});
     }
-    out << "$EndNodes\n";
+    for (std::size_t c = 0; c < l.curves.size(); ++c) entity(l.curves[c].tag, l.curve_box[c]);
+    for (const Group& g : regions) entity(g.entity, g.box);
+    end_section(os, l.binary, "$EndEntities\n");
+}
 
-    out << "$Elements\n"
-        << static_cast<std::uint64_t>(regions.size() + l.curves.size()) << ' ' << l.ne << ' ' << (l.ne ? 1 : 0) << ' '
-        << l.ne << '\n';
+// Items 0 … count-1 as text (format(buf, i)) or binary (fill(dst, first, n),
+// `bytes` each).
+template <class Format, class Fill>
+void put_items(std::ostream& os, bool binary, std::size_t count, std::size_t bytes, Format&& format, Fill&& fill) {
+    if (binary) detail::write_binary(os, count, bytes, fill);
+    else detail::write_text_parallel(os, count, format);
+}
+
+void put_nodes41(std::ostream& os, const Mesh& mesh, const Layout& l) {
+    const auto nv = static_cast<std::uint64_t>(mesh.vertices.size());
+    put_text(os, "$Nodes\n");
+    // One block on the first surface (a mesh without cells has no surface and
+    // so no nodes block; its vertices are not written).
+    if (!l.by_region.groups.empty()) {
+        Record(os, l.binary)(std::uint64_t{1})(nv)(std::uint64_t{1})(nv).end_line();
+        Record(os, l.binary)(std::int32_t{l.cells.kind.dim})(l.by_region.groups.front().entity)(std::int32_t{0})(nv);
+        put_items(
+            os, l.binary, nv, 8, [](TextBuf& b, std::size_t i) { b << static_cast<std::uint64_t>(i + 1) << '\n'; },
+            [](std::byte* dst, std::size_t first, std::size_t n) {
+                for (std::size_t i = 0; i < n; ++i) {
+                    const auto tag = static_cast<std::uint64_t>(first + i + 1);
+                    std::memcpy(dst + 8 * i, &tag, 8);
+                }
+            });
+        put_items(
+            os, l.binary, nv, 24, [&](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0\n"; },
+            [&](std::byte* dst, std::size_t first, std::size_t n) {
+                for (std::size_t i = 0; i < n; ++i) {
+                    const double p[3] = {mesh.vertices[first + i].x, mesh.vertices[first + i].y, 0.0};
+                    std::memcpy(dst + 24 * i, p, 24);
+                }
+            });
+    } else {
+        Record(os, l.binary)(std::uint64_t{0})(std::uint64_t{0})(std::uint64_t{0})(std::uint64_t{0});
+    }
+    end_section(os, l.binary, "$EndNodes\n");
+}
+
+// A block of `count` elements: element i has tag tag(i) and vertices
+// nodes(i) (a span of `per` 0-based indices), written as size_t.
+template <class Tag, class Nodes>
+void put_element_block41(std::ostream& os, const Layout& l, std::size_t count, std::size_t per, Tag&& tag, Nodes&& nodes) {
+    put_items(
+        os, l.binary, count, 8 * (per + 1),
+        [&](TextBuf& b, std::size_t i) {
+            b << tag(i);
+            for (const std::int32_t v : nodes(i)) b << ' ' << v + std::int64_t{1};
+            b << '\n';
+        },
+        [&](std::byte* dst, std::size_t first, std::size_t n) {
+            for (std::size_t i = 0; i < n; ++i, dst += 8 * (per + 1)) {
+                const std::uint64_t t = tag(first + i);
+                std::memcpy(dst, &t, 8);
+                std::size_t k = 1;
+                for (const std::int32_t v : nodes(first + i)) {
+                    const auto u = static_cast<std::uint64_t>(v) + 1;
+                    std::memcpy(dst + 8 * k++, &u, 8);
+                }
+            }
+        });
+}
+
+void put_elements41(std::ostream& os, const Layout& l) {
+    const auto& regions = l.by_region.groups;
+    put_text(os, "$Elements\n");
+    Record(os, l.binary)(static_cast<std::uint64_t>(regions.size() + l.curves.size()))(l.ne)(std::uint64_t{l.ne ? 1u : 0u})(l.ne)
+        .end_line();
+    const auto per = static_cast<std::size_t>(l.cells.kind.nodes);
     for (const Group& g : regions) {
-        out << "2 " << g.entity << " 2 " << static_cast<std::uint64_t>(g.end - g.begin) << '\n';
-        for (std::size_t i = g.begin; i < g.end; ++i) {
-            const std::size_t k = l.by_region.member(i);
-            const auto& t = mesh.triangles[k];
-            out << static_cast<std::uint64_t>(k + 1) << ' ' << t[0] + std::int64_t{1} << ' ' << t[1] + std::int64_t{1}
-                << ' ' << t[2] + std::int64_t{1} << '\n';
-        }
+        Record(os, l.binary)(std::int32_t{l.cells.kind.dim})(g.entity)(l.cells.kind.gmsh)(static_cast<std::uint64_t>(g.end - g.begin));
+        put_element_block41(
+            os, l, g.end - g.begin, per,
+            [&](std::size_t i) { return static_cast<std::uint64_t>((l.binary ? g.begin + i : l.by_region.member(g.begin + i)) + 1); },
+            [&](std::size_t i) { return l.cells[l.by_region.member(g.begin + i)]; });
     }
     for (const auto& c : l.curves) {
-        out << "1 " << c.tag << " 1 " << static_cast<std::uint64_t>(c.edges.size()) << '\n';
-        for (std::size_t i = 0; i < c.edges.size(); ++i)
-            out << l.line_tag(c, i) << ' ' << c.edges[i][0] + std::int64_t{1} << ' ' << c.edges[i][1] + std::int64_t{1}
-                << '\n';
+        Record(os, l.binary)(std::int32_t{1})(c.tag)(detail::line_cells.gmsh)(static_cast<std::uint64_t>(c.edges.size()));
+        put_element_block41(
+            os, l, c.edges.size(), 2, [&](std::size_t i) { return l.line_tag(c, i); },
+            [&](std::size_t i) { return std::span<const std::int32_t>(c.edges[i]); });
     }
-    out << "$EndElements\n";
+    end_section(os, l.binary, "$EndElements\n");
 }
 
-void write_msh22(const Mesh& mesh, const Layout& l, detail::TextSink& out) {
-    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
-    put_physical_names(out, l);
-    out << "$Nodes\n" << static_cast<std::uint64_t>(mesh.vertices.size()) << '\n';
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-        out << static_cast<std::uint64_t>(i + 1) << ' ' << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0\n";
-    out << "$EndNodes\n";
+void put_nodes22(std::ostream& os, const Mesh& mesh, const Layout& l) {
+    put_text(os, "$Nodes\n");
+    Record(os, false)(static_cast<std::uint64_t>(mesh.vertices.size()));
+    put_items(
+        os, l.binary, mesh.vertices.size(), 28,
+        [&](TextBuf& b, std::size_t i) {
+            b << static_cast<std::uint64_t>(i + 1) << ' ' << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0\n";
+        },
+        [&](std::byte* dst, std::size_t first, std::size_t n) {
+            for (std::size_t i = 0; i < n; ++i, dst += 28) {
+                const auto tag = static_cast<std::int32_t>(first + i + 1);
+                const double p[3] = {mesh.vertices[first + i].x, mesh.vertices[first + i].y, 0.0};
+                std::memcpy(dst, &tag, 4);
+                std::memcpy(dst + 4, p, 24);
+            }
+        });
+    end_section(os, l.binary, "$EndNodes\n");
+}
 
-    // Physical (= entity) tag of each triangle, by region group.
-    std::vector<std::int32_t> entity(mesh.triangles.size());
+// MSH 2.2 elements of one type: element i has tag tag(i), physical = entity
+// tag phys(i) and vertices nodes(i).
+template <class Tag, class Phys, class Nodes>
+void put_elements22(std::ostream& os, const Layout& l, std::int32_t type, std::size_t count, std::size_t per, Tag&& tag,
+                    Phys&& phys, Nodes&& nodes) {
+    if (l.binary && count) Record(os, true)(type)(static_cast<std::int32_t>(count))(std::int32_t{2});
+    put_items(
+        os, l.binary, count, 4 * (3 + per),
+        [&](TextBuf& b, std::size_t i) {
+            b << tag(i) << ' ' << type << " 2 " << phys(i) << ' ' << phys(i);
+            for (const std::int32_t v : nodes(i)) b << ' ' << v + std::int64_t{1};
+            b << '\n';
+        },
+        [&](std::byte* dst, std::size_t first, std::size_t n) {
+            for (std::size_t i = 0; i < n; ++i, dst += 4 * (3 + per)) {
+                std::int32_t rec[8] = {static_cast<std::int32_t>(tag(first + i)), phys(first + i), phys(first + i)};
+                std::size_t k = 3;
+                for (const std::int32_t v : nodes(first + i)) rec[k++] = v + 1;
+                std::memcpy(dst, rec, 4 * (3 + per));
+            }
+        });
+}
+
+void write_msh22(std::ostream& os, const Mesh& mesh, const Layout& l) {
+    put_format(os, "2.2", l.binary);
+    put_physical_names(os, l);
+    put_nodes22(os, mesh, l);
+    // Physical (= entity) tag of each cell, by region group.
+    std::vector<std::int32_t> entity(l.nt);
     for (const Group& g : l.by_region.groups)
         for (std::size_t i = g.begin; i < g.end; ++i) entity[l.by_region.member(i)] = g.entity;
-    out << "$Elements\n" << l.ne << '\n';
-    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
-        const auto& t = mesh.triangles[k];
-        out << static_cast<std::uint64_t>(k + 1) << " 2 2 " << entity[k] << ' ' << entity[k] << ' ' << t[0] + std::int64_t{1}
-            << ' ' << t[1] + std::int64_t{1} << ' ' << t[2] + std::int64_t{1} << '\n';
-    }
+    put_text(os, "$Elements\n");
+    Record(os, false)(l.ne);
+    put_elements22(
+        os, l, l.cells.kind.gmsh, l.nt, static_cast<std::size_t>(l.cells.kind.nodes), [](std::size_t k) { return static_cast<std::uint64_t>(k + 1); },
+        [&](std::size_t k) { return entity[k]; }, [&](std::size_t k) { return l.cells[k]; });
     // Lines in element-tag order: boundary edges, then interface edges.
     std::vector<std::pair<const detail::EdgeGroup*, std::size_t>> lines(l.ne - l.nt);
     for (const auto& c : l.curves)
         for (std::size_t i = 0; i < c.edges.size(); ++i) lines[l.line_tag(c, i) - l.nt - 1] = {&c, i};
-    for (const auto& [c, i] : lines)
-        out << l.line_tag(*c, i) << " 1 2 " << c->tag << ' ' << c->tag << ' ' << c->edges[i][0] + std::int64_t{1} << ' '
-            << c->edges[i][1] + std::int64_t{1} << '\n';
-    out << "$EndElements\n";
+    put_elements22(
+        os, l, detail::line_cells.gmsh, lines.size(), 2, [&](std::size_t k) { return l.nt + k + 1; },
+        [&](std::size_t k) { return lines[k].first->tag; },
+        [&](std::size_t k) { return std::span<const std::int32_t>(lines[k].first->edges[lines[k].second]); });
+    end_section(os, l.binary, "$EndElements\n");
+}
+
+// The cells' values in the order $Elements lists the cells (MSH 4.1: region
+// block by region block; 2.2: by tag).  Gmsh reads them by tag either way,
+// but meshio pairs them with the elements in file order, ignoring the tags:
+// in tag order, a mesh of several regions got its values shuffled.
+void put_element_data(std::ostream& os, const Mesh& mesh, const Layout& l, bool block_order) {
+    for (const auto& field : mesh.cell_data) {
+        const std::string& name = field.first;
+        const auto& values = field.second;  // (not a structured binding: lambdas capture it)
+        TextBuf head;
+        head << "$ElementData\n1\n" << quoted(name) << "\n1\n0\n3\n0\n1\n" << l.ne << '\n';
+        detail::write_bytes(os, head.data(), head.size());
+        // Binary 4.1 numbers the cells in block order, so tags and file order agree.
+        const bool renumbered = block_order && l.binary;
+        auto tag = [&](std::size_t i) {
+            if (i >= l.nt || renumbered) return i;
+            return block_order ? l.by_region.member(i) : i;
+        };
+        auto value = [&](std::size_t i) {
+            return i >= l.nt ? std::numeric_limits<double>::quiet_NaN() : values[block_order ? l.by_region.member(i) : i];
+        };
+        put_items(
+            os, l.binary, l.ne, 12, [&](TextBuf& b, std::size_t i) { b << static_cast<std::uint64_t>(tag(i) + 1) << ' ' << value(i) << '\n'; },
+            [&](std::byte* dst, std::size_t first, std::size_t n) {
+                for (std::size_t i = 0; i < n; ++i, dst += 12) {
+                    const auto t = static_cast<std::int32_t>(tag(first + i) + 1);
+                    const double v = value(first + i);
+                    std::memcpy(dst, &t, 4);
+                    std::memcpy(dst + 4, &v, 8);
+                }
+            });
+        end_section(os, l.binary, "$EndElementData\n");
+    }
 }
 
 }  // namespace
@@ -278,11 +470,17 @@ void write_msh(const Mesh& mesh, std::ostream& os, const MshOptions& options) {
     if (options.version != 41 && options.version != 22)
         throw OutputError("unsupported MSH version " + std::to_string(options.version / 10) + "." +
                           std::to_string(options.version % 10) + " (supported: 4.1, 2.2)");
-    const Layout layout(mesh);
-    detail::TextSink out(os);
-    if (options.version == 41) write_msh41(mesh, layout, out);
-    else write_msh22(mesh, layout, out);
-    if (options.cell_data) put_element_data(out, mesh, layout, options.version == 41);
+    const Layout layout(mesh, options.binary);
+    if (options.version == 41) {
+        put_format(os, "4.1", layout.binary);
+        put_physical_names(os, layout);
+        put_entities(os, layout);
+        put_nodes41(os, mesh, layout);
+        put_elements41(os, layout);
+    } else {
+        write_msh22(os, mesh, layout);
+    }
+    if (options.cell_data) put_element_data(os, mesh, layout, options.version == 41);
 }
 
 void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options) {

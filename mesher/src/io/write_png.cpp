@@ -202,225 +202,283 @@ void stroke(const Segment& s, float hw, std::int64_t band_y0, std::int64_t band_
     }
 }
 
-Image render(const Mesh& mesh, const PngOptions& options) {
+// Each triangle's fill colour when the picture is coloured (by value or by
+// region); empty: the plain fill colour.
+std::vector<Rgb> triangle_colours(const detail::Colouring& colouring, std::size_t nt) {
+    std::vector<Rgb> tri_colour;
+    if (!colouring.legend() && !colouring.by_region) return tri_colour;
+    tri_colour.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+        const std::uint32_t c = detail::region_colour(static_cast<std::int32_t>(colouring.value[k]));
+        tri_colour[k] = colouring.by_region ? Rgb{static_cast<std::uint8_t>(c >> 16), static_cast<std::uint8_t>(c >> 8), static_cast<std::uint8_t>(c)}
+                                            : ramp(colouring.normalised(k));
+    }
+    return tri_colour;
+}
+
+// Where the mesh goes in the picture: its bounding box, the scale s (pixels
+// per mesh unit), the margin and the mesh part's size in pixels.
+struct Frame {
+    double xmin = 0, xmax = 1, ymin = 0, ymax = 1, s = 1;
+    int k_font = 1, margin = 6, mesh_w = 0, mesh_h = 0;
+};
+
+Frame frame_of(const Mesh& mesh, int L) {
+    Frame f;
+    if (!mesh.vertices.empty()) {
+        f.xmin = f.xmax = mesh.vertices[0].x, f.ymin = f.ymax = mesh.vertices[0].y;
+        for (const Vec2& v : mesh.vertices)
+            f.xmin = std::min(f.xmin, v.x), f.xmax = std::max(f.xmax, v.x), f.ymin = std::min(f.ymin, v.y), f.ymax = std::max(f.ymax, v.y);
+    }
+    if (!std::isfinite(f.xmin) || !std::isfinite(f.xmax) || !std::isfinite(f.ymin) || !std::isfinite(f.ymax))
+        throw OutputError("the mesh has non-finite coordinates");
+    f.k_font = std::max(1, static_cast<int>(std::lround(L / 800.0)));  // glyph pixel size
+    f.margin = std::max(6, static_cast<int>(std::lround(0.015 * L)));
+    const double long_extent = std::max(f.xmax - f.xmin, f.ymax - f.ymin);
+    f.s = long_extent > 0 ? (L - 2.0 * f.margin) / long_extent : 1;
+    f.mesh_w = static_cast<int>(std::ceil((f.xmax - f.xmin) * f.s - 1e-6)) + 2 * f.margin;
+    f.mesh_h = static_cast<int>(std::ceil((f.ymax - f.ymin) * f.s - 1e-6)) + 2 * f.margin;
+    return f;
+}
+
+constexpr int band_rows = 16;
+
+// The primitives in sample coordinates, bucketed by bands of output rows.
+struct Scene {
+    int ss = 1, nbands = 0;
+    std::int64_t sw = 0;  // samples per row
+    std::vector<std::array<float, 2>> P;
+    std::vector<Segment> edges, bedges;
+    float ehw = 0, bhw = 0;
+    double edge_alpha = 0;
+    std::vector<std::vector<std::uint32_t>> tri_bands, edge_bands, bedge_bands;
+};
+
+// Each primitive k of `count` goes to every band its row range yrange(k) touches.
+template <class Range>
+std::vector<std::vector<std::uint32_t>> bucket(int nbands, std::size_t count, Range&& yrange) {
+    std::vector<std::vector<std::uint32_t>> b(static_cast<std::size_t>(nbands));
+    for (std::size_t k = 0; k < count; ++k) {
+        const auto r = yrange(k);
+        const int b0 = std::max(0, r[0] / band_rows), b1 = std::min(nbands - 1, r[1] / band_rows);
+        for (int i = b0; i <= b1; ++i) b[static_cast<std::size_t>(i)].push_back(static_cast<std::uint32_t>(k));
+    }
+    return b;
+}
+
+Scene scene_of(const Mesh& mesh, const PngOptions& options, const Frame& f) {
+    Scene sc;
     const std::size_t nt = mesh.triangles.size();
+    const double h_px = detail::typical_edge_px(mesh, f.s);
+    const double edge_w = std::clamp(0.08 * h_px, 0.6, 1.2);
+    sc.edge_alpha = options.draw_edges ? std::clamp((h_px - 2.0) / 4.0, 0.0, 0.85) : 0.0;
+    const double boundary_w = std::max(std::clamp(0.25 * h_px, 1.6, 4.0), 2 * edge_w);
+    // Sample coordinates of the vertices.
+    const int ss = sc.ss = options.supersample;
+    sc.P.resize(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+        sc.P[i] = {static_cast<float>((f.margin + (mesh.vertices[i].x - f.xmin) * f.s) * ss),
+                   static_cast<float>((f.margin + (f.ymax - mesh.vertices[i].y) * f.s) * ss)};
+    auto segment = [&](std::int32_t a, std::int32_t b) {
+        const auto& p = sc.P[static_cast<std::size_t>(a)];
+        const auto& q = sc.P[static_cast<std::size_t>(b)];
+        return Segment{p[0], p[1], q[0], q[1]};
+    };
+    // Interior edges, once each: an interior edge appears in its two triangles
+    // in opposite directions, so "a < b" picks it once; boundary edges, which
+    // this may skip, are drawn over by the boundary layer anyway.
+    if (sc.edge_alpha > 0) {
+        sc.edges.reserve(nt * 3 / 2 + 1);
+        for (const auto& t : mesh.triangles)
+            for (int e = 0; e < 3; ++e)
+                if (t[static_cast<std::size_t>(e)] < t[static_cast<std::size_t>((e + 1) % 3)])
+                    sc.edges.push_back(segment(t[static_cast<std::size_t>(e)], t[static_cast<std::size_t>((e + 1) % 3)]));
+    }
+    // Boundary edges, then the interfaces between regions (drawn like a third boundary tag).
+    sc.bedges.resize(mesh.boundary.size() + mesh.interfaces.size());
+    for (std::size_t k = 0; k < mesh.boundary.size(); ++k) sc.bedges[k] = segment(mesh.boundary[k][0], mesh.boundary[k][1]);
+    for (std::size_t k = 0; k < mesh.interfaces.size(); ++k)
+        sc.bedges[mesh.boundary.size() + k] = segment(mesh.interfaces[k][0], mesh.interfaces[k][1]);
+
+    // Per-primitive y ranges (in output rows) so that bands skip quickly.
+    auto rows_of = [ss](float y0, float y1, float pad) {
+        return std::array<int, 2>{static_cast<int>(std::floor((std::min(y0, y1) - pad) / static_cast<float>(ss))),
+                                  static_cast<int>(std::floor((std::max(y0, y1) + pad) / static_cast<float>(ss)))};
+    };
+    sc.ehw = static_cast<float>(edge_w * ss / 2), sc.bhw = static_cast<float>(boundary_w * ss / 2);
+    sc.nbands = (f.mesh_h + band_rows - 1) / band_rows;
+    sc.sw = static_cast<std::int64_t>(f.mesh_w) * ss;
+    const auto& P = sc.P;
+    sc.tri_bands = bucket(sc.nbands, nt, [&](std::size_t k) {
+        const auto& t = mesh.triangles[k];
+        const float y0 = P[static_cast<std::size_t>(t[0])][1], y1 = P[static_cast<std::size_t>(t[1])][1], y2 = P[static_cast<std::size_t>(t[2])][1];
+        return rows_of(std::min(y0, std::min(y1, y2)), std::max(y0, std::max(y1, y2)), 1);
+    });
+    sc.edge_bands = bucket(sc.nbands, sc.edges.size(), [&](std::size_t k) { return rows_of(sc.edges[k].y0, sc.edges[k].y1, sc.ehw + 1); });
+    sc.bedge_bands = bucket(sc.nbands, sc.bedges.size(), [&](std::size_t k) { return rows_of(sc.bedges[k].y0, sc.bedges[k].y1, sc.bhw + 1); });
+    return sc;
+}
+
+// Fills the samples of rows [sy0, sy1) inside triangle abc with `col`.
+void fill_triangle(std::vector<std::uint8_t>& buf, const std::array<float, 2>& a, const std::array<float, 2>& b,
+                   const std::array<float, 2>& c, Rgb col, std::int64_t sy0, std::int64_t sy1, std::int64_t sw) {
+    const float fxmin = std::min(a[0], std::min(b[0], c[0])), fxmax = std::max(a[0], std::max(b[0], c[0]));
+    const float fymin = std::min(a[1], std::min(b[1], c[1])), fymax = std::max(a[1], std::max(b[1], c[1]));
+    const std::int64_t r0 = std::max<std::int64_t>(sy0, static_cast<std::int64_t>(std::ceil(fymin - 0.5f)));
+    const std::int64_t r1 = std::min<std::int64_t>(sy1 - 1, static_cast<std::int64_t>(std::floor(fymax - 0.5f)));
+    const std::int64_t c0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil(fxmin - 0.5f)));
+    const std::int64_t c1 = std::min<std::int64_t>(sw - 1, static_cast<std::int64_t>(std::floor(fxmax - 0.5f)));
+    // Edge functions; either orientation (the y flip reverses it).
+    const float area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if (area2 == 0) return;
+    const float sgn = area2 > 0 ? 1.0f : -1.0f;
+    for (std::int64_t r = r0; r <= r1; ++r) {
+        const float py = static_cast<float>(r) + 0.5f;
+        for (std::int64_t cc = c0; cc <= c1; ++cc) {
+            const float px = static_cast<float>(cc) + 0.5f;
+            const float w0 = sgn * ((b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]));
+            const float w1 = sgn * ((c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]));
+            const float w2 = sgn * ((a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]));
+            if (w0 >= 0 && w1 >= 0 && w2 >= 0) {
+                std::uint8_t* p = &buf[3 * static_cast<std::size_t>((r - sy0) * sw + cc)];
+                p[0] = col[0], p[1] = col[1], p[2] = col[2];
+            }
+        }
+    }
+}
+
+// One band's samples: fills, interior-edge mask, boundary mask (0: none,
+// else 1 + index into the tag colours).
+struct BandSamples {
+    std::vector<std::uint8_t> buf, emask, bmask;
+};
+
+// Composites band samples (edges blended, boundaries opaque) and box-filters
+// them down into output rows [row0, row1).
+void composite_band(Image& img, const BandSamples& bs, const Scene& sc, int row0, int row1, int mesh_w) {
+    const int ss = sc.ss;
+    const std::int64_t sw = sc.sw;
+    const std::uint8_t er = edge_colour[0], eg = edge_colour[1], eb = edge_colour[2];
+    const Rgb bcol[4] = {white, boundary_colour(boundary_level_set), boundary_colour(boundary_domain), boundary_colour(3)};
+    const float ea = static_cast<float>(sc.edge_alpha);
+    const float norm = 1.0f / static_cast<float>(ss * ss);
+    for (int row = row0; row < row1; ++row)
+        for (int col = 0; col < mesh_w; ++col) {
+            float acc[3] = {0, 0, 0};
+            for (int dy = 0; dy < ss; ++dy) {
+                const std::size_t base = static_cast<std::size_t>((static_cast<std::int64_t>(row - row0) * ss + dy) * sw +
+                                                                  static_cast<std::int64_t>(col) * ss);
+                for (int dx = 0; dx < ss; ++dx) {
+                    const std::size_t i = base + static_cast<std::size_t>(dx);
+                    float r = bs.buf[3 * i], g = bs.buf[3 * i + 1], b = bs.buf[3 * i + 2];
+                    if (bs.emask[i]) r += ea * (er - r), g += ea * (eg - g), b += ea * (eb - b);
+                    if (bs.bmask[i]) {
+                        const Rgb& bc = bcol[bs.bmask[i]];
+                        r = bc[0], g = bc[1], b = bc[2];
+                    }
+                    acc[0] += r, acc[1] += g, acc[2] += b;
+                }
+            }
+            std::uint8_t* p = &img.rgb[3 * (static_cast<std::size_t>(row) * static_cast<std::size_t>(img.w) + static_cast<std::size_t>(col))];
+            for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(std::lround(std::clamp(acc[c] * norm, 0.0f, 255.0f)));
+        }
+}
+
+// Draws band `band` of the mesh part into img.
+void render_band(Image& img, BandSamples& bs, const Mesh& mesh, const Scene& sc, const std::vector<Rgb>& tri_colour,
+                 const Frame& f, int band) {
+    const int ss = sc.ss;
+    const std::int64_t sw = sc.sw;
+    const int row0 = band * band_rows, row1 = std::min(f.mesh_h, row0 + band_rows);
+    const std::int64_t sy0 = static_cast<std::int64_t>(row0) * ss, sy1 = static_cast<std::int64_t>(row1) * ss;
+    const std::size_t nsamples = static_cast<std::size_t>((sy1 - sy0) * sw);
+    bs.buf.assign(nsamples * 3, 255);
+    bs.emask.assign(nsamples, 0);
+    bs.bmask.assign(nsamples, 0);
+    const auto b = static_cast<std::size_t>(band);
+    // 1. fills
+    for (const std::uint32_t k : sc.tri_bands[b]) {
+        const auto& t = mesh.triangles[k];
+        fill_triangle(bs.buf, sc.P[static_cast<std::size_t>(t[0])], sc.P[static_cast<std::size_t>(t[1])],
+                      sc.P[static_cast<std::size_t>(t[2])], tri_colour.empty() ? fill_colour : tri_colour[k], sy0, sy1, sw);
+    }
+    // 2. interior edges
+    for (const std::uint32_t k : sc.edge_bands[b])
+        stroke(sc.edges[k], sc.ehw, sy0, sy1, sw, [&](std::int64_t r, std::int64_t c) { bs.emask[static_cast<std::size_t>(r * sw + c)] = 1; });
+    // 3. boundary edges
+    for (const std::uint32_t k : sc.bedge_bands[b]) {
+        const std::int32_t tag = k < mesh.boundary.size() ? mesh.boundary_tag[k] : 0;
+        const std::uint8_t code = tag == boundary_level_set ? 1 : tag == boundary_domain ? 2 : 3;
+        stroke(sc.bedges[k], sc.bhw, sy0, sy1, sw, [&](std::int64_t r, std::int64_t c) {
+            std::uint8_t& m = bs.bmask[static_cast<std::size_t>(r * sw + c)];
+            m = std::max(m, code);  // deterministic where tags overlap
+        });
+    }
+    composite_band(img, bs, sc, row0, row1, f.mesh_w);
+}
+
+// A vertical colour bar right of the mesh, low at the bottom, with a title
+// and three labels.
+void draw_legend(Image& img, const Frame& f, const PngOptions& options, const std::string& title,
+                 const std::array<std::string, 3>& labels, int bar_w, int bar_h) {
+    const int k_font = f.k_font, margin = f.margin;
+    const int x0 = f.mesh_w + margin, y0 = margin + 12 * k_font;
+    if (options.legend_labels) img.text(f.mesh_w + margin / 2, margin, title, k_font, text_colour);
+    for (int y = 0; y < bar_h; ++y) {
+        const Rgb c = ramp(1.0 - (y + 0.5) / bar_h);
+        img.rect(x0, y0 + y, x0 + bar_w, y0 + y + 1, c);
+    }
+    // Frame.
+    img.rect(x0 - 1, y0 - 1, x0 + bar_w + 1, y0, text_colour);
+    img.rect(x0 - 1, y0 + bar_h, x0 + bar_w + 1, y0 + bar_h + 1, text_colour);
+    img.rect(x0 - 1, y0, x0, y0 + bar_h, text_colour);
+    img.rect(x0 + bar_w, y0, x0 + bar_w + 1, y0 + bar_h, text_colour);
+    if (options.legend_labels)
+        for (int i = 0; i <= 2; ++i) {
+            const int yc = y0 + bar_h - bar_h * i / 2;
+            img.rect(x0 + bar_w, yc, x0 + bar_w + 3 * k_font, yc + std::max(1, k_font / 2), text_colour);
+            img.text(x0 + bar_w + 5 * k_font, yc - 3 * k_font, labels[static_cast<std::size_t>(i)], k_font, text_colour);
+        }
+}
+
+Image render(const Mesh& mesh, const PngOptions& options) {
     if (options.long_side_px < 16 || options.long_side_px > 20000)
         throw OutputError("PNG long side must be 16 to 20000 px, got " + std::to_string(options.long_side_px));
     if (options.supersample < 1 || options.supersample > 8)
         throw OutputError("PNG supersampling must be 1 to 8, got " + std::to_string(options.supersample));
 
     // Values to colour by, normalised to [0, 1].
-    detail::Colouring colouring =
+    const detail::Colouring colouring =
         detail::picture_colouring(mesh, options.color_by_cell_data, options.color_by_min_angle, "PNG");
-    const std::vector<double>& value = colouring.value;
-    const std::string& legend_title = colouring.title;
-    const double lo = colouring.lo, hi = colouring.hi;
     const bool coloured = colouring.legend();
-    std::vector<Rgb> tri_colour;
-    if (coloured || colouring.by_region) {
-        tri_colour.resize(nt);
-        for (std::size_t k = 0; k < nt; ++k) {
-            const std::uint32_t c = detail::region_colour(static_cast<std::int32_t>(value[k]));
-            tri_colour[k] = colouring.by_region ? Rgb{static_cast<std::uint8_t>(c >> 16), static_cast<std::uint8_t>(c >> 8), static_cast<std::uint8_t>(c)}
-                                                : ramp(colouring.normalised(k));
-        }
-    }
-
-    // Geometry: bounding box, scale, typical edge length.
-    double xmin = 0, xmax = 1, ymin = 0, ymax = 1;
-    if (!mesh.vertices.empty()) {
-        xmin = xmax = mesh.vertices[0].x, ymin = ymax = mesh.vertices[0].y;
-        for (const Vec2& v : mesh.vertices)
-            xmin = std::min(xmin, v.x), xmax = std::max(xmax, v.x), ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
-    }
-    if (!std::isfinite(xmin) || !std::isfinite(xmax) || !std::isfinite(ymin) || !std::isfinite(ymax))
-        throw OutputError("the mesh has non-finite coordinates");
-    const int L = options.long_side_px;
-    const int k_font = std::max(1, static_cast<int>(std::lround(L / 800.0)));  // glyph pixel size
-    const int margin = std::max(6, static_cast<int>(std::lround(0.015 * L)));
-    const double long_extent = std::max(xmax - xmin, ymax - ymin);
-    const double s = long_extent > 0 ? (L - 2.0 * margin) / long_extent : 1;
-    const int mesh_w = static_cast<int>(std::ceil((xmax - xmin) * s - 1e-6)) + 2 * margin;
-    const int mesh_h = static_cast<int>(std::ceil((ymax - ymin) * s - 1e-6)) + 2 * margin;
+    const std::vector<Rgb> tri_colour = triangle_colours(colouring, mesh.triangles.size());
+    const Frame f = frame_of(mesh, options.long_side_px);
 
     // Legend geometry.
-    const int bar_w = 14 * k_font, bar_h = std::max(60, std::min(mesh_h - 2 * margin - 24 * k_font, 240 * k_font));
+    const int k_font = f.k_font, margin = f.margin;
+    const int bar_w = 14 * k_font, bar_h = std::max(60, std::min(f.mesh_h - 2 * margin - 24 * k_font, 240 * k_font));
     int legend_w = 0;
-    std::array<std::string, 3> labels{number_label(lo), number_label((lo + hi) / 2), number_label(hi)};
+    const double lo = colouring.lo, hi = colouring.hi;
+    const std::array<std::string, 3> labels{number_label(lo), number_label((lo + hi) / 2), number_label(hi)};
     if (coloured) {
         int lw = 0;
         for (const auto& l : labels) lw = std::max(lw, text_width(l, k_font));
         legend_w = 2 * margin + bar_w + (options.legend_labels ? 5 * k_font + lw : 0);
-        if (options.legend_labels) legend_w = std::max(legend_w, text_width(legend_title, k_font) + margin);
+        if (options.legend_labels) legend_w = std::max(legend_w, text_width(colouring.title, k_font) + margin);
     }
     Image img;
-    img.w = mesh_w + legend_w;
-    img.h = std::max(mesh_h, coloured ? bar_h + 2 * margin + 24 * k_font : 0);
+    img.w = f.mesh_w + legend_w;
+    img.h = std::max(f.mesh_h, coloured ? bar_h + 2 * margin + 24 * k_font : 0);
     img.rgb.assign(static_cast<std::size_t>(img.w) * static_cast<std::size_t>(img.h) * 3, 255);
 
-    const double h_px = detail::typical_edge_px(mesh, s);
-    const double edge_w = std::clamp(0.08 * h_px, 0.6, 1.2);
-    const double edge_alpha = options.draw_edges ? std::clamp((h_px - 2.0) / 4.0, 0.0, 0.85) : 0.0;
-    const double boundary_w = std::max(std::clamp(0.25 * h_px, 1.6, 4.0), 2 * edge_w);
-
-    // Sample coordinates of the vertices.
-    const int ss = options.supersample;
-    std::vector<std::array<float, 2>> P(mesh.vertices.size());
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-        P[i] = {static_cast<float>((margin + (mesh.vertices[i].x - xmin) * s) * ss),
-                static_cast<float>((margin + (ymax - mesh.vertices[i].y) * s) * ss)};
-    auto segment = [&](std::int32_t a, std::int32_t b) {
-        const auto& p = P[static_cast<std::size_t>(a)];
-        const auto& q = P[static_cast<std::size_t>(b)];
-        return Segment{p[0], p[1], q[0], q[1]};
-    };
-    // Interior edges, once each: an interior edge appears in its two triangles
-    // in opposite directions, so "a < b" picks it once; boundary edges, which
-    // this may skip, are drawn over by the boundary layer anyway.
-    std::vector<Segment> edges;
-    if (edge_alpha > 0) {
-        edges.reserve(nt * 3 / 2 + 1);
-        for (const auto& t : mesh.triangles)
-            for (int e = 0; e < 3; ++e)
-                if (t[static_cast<std::size_t>(e)] < t[static_cast<std::size_t>((e + 1) % 3)])
-                    edges.push_back(segment(t[static_cast<std::size_t>(e)], t[static_cast<std::size_t>((e + 1) % 3)]));
-    }
-    // Boundary edges, then the interfaces between regions (drawn like a third boundary tag).
-    std::vector<Segment> bedges(mesh.boundary.size() + mesh.interfaces.size());
-    for (std::size_t k = 0; k < mesh.boundary.size(); ++k) bedges[k] = segment(mesh.boundary[k][0], mesh.boundary[k][1]);
-    for (std::size_t k = 0; k < mesh.interfaces.size(); ++k)
-        bedges[mesh.boundary.size() + k] = segment(mesh.interfaces[k][0], mesh.interfaces[k][1]);
-
-    // Per-primitive y ranges (in output rows) so that bands skip quickly.
-    auto rows_of = [&](float y0, float y1, float pad) {
-        return std::array<int, 2>{static_cast<int>(std::floor((std::min(y0, y1) - pad) / static_cast<float>(ss))),
-                                  static_cast<int>(std::floor((std::max(y0, y1) + pad) / static_cast<float>(ss)))};
-    };
-    const float ehw = static_cast<float>(edge_w * ss / 2), bhw = static_cast<float>(boundary_w * ss / 2);
-
-    constexpr int band_rows = 16;
-    const int nbands = (mesh_h + band_rows - 1) / band_rows;
-    const std::int64_t sw = static_cast<std::int64_t>(mesh_w) * ss;
-    const std::uint8_t er = edge_colour[0], eg = edge_colour[1], eb = edge_colour[2];
-
-    // Bucket the primitives by band: each primitive goes to every band its
-    // y range touches.
-    auto bucket = [&](auto count, auto yrange) {
-        std::vector<std::vector<std::uint32_t>> b(static_cast<std::size_t>(nbands));
-        for (std::size_t k = 0; k < count; ++k) {
-            const auto r = yrange(k);
-            const int b0 = std::max(0, r[0] / band_rows), b1 = std::min(nbands - 1, r[1] / band_rows);
-            for (int i = b0; i <= b1; ++i) b[static_cast<std::size_t>(i)].push_back(static_cast<std::uint32_t>(k));
-        }
-        return b;
-    };
-    const auto tri_bands = bucket(nt, [&](std::size_t k) {
-        const auto& t = mesh.triangles[k];
-        const float y0 = P[static_cast<std::size_t>(t[0])][1], y1 = P[static_cast<std::size_t>(t[1])][1], y2 = P[static_cast<std::size_t>(t[2])][1];
-        return rows_of(std::min(y0, std::min(y1, y2)), std::max(y0, std::max(y1, y2)), 1);
-    });
-    const auto edge_bands = bucket(edges.size(), [&](std::size_t k) { return rows_of(edges[k].y0, edges[k].y1, ehw + 1); });
-    const auto bedge_bands = bucket(bedges.size(), [&](std::size_t k) { return rows_of(bedges[k].y0, bedges[k].y1, bhw + 1); });
-
+    const Scene sc = scene_of(mesh, options, f);
 #pragma omp parallel
     {
-        std::vector<std::uint8_t> buf, emask, bmask;
+        BandSamples bs;
 #pragma omp for schedule(dynamic, 1)
-        for (int band = 0; band < nbands; ++band) {
-            const int row0 = band * band_rows, row1 = std::min(mesh_h, row0 + band_rows);
-            const std::int64_t sy0 = static_cast<std::int64_t>(row0) * ss, sy1 = static_cast<std::int64_t>(row1) * ss;
-            const std::size_t nsamples = static_cast<std::size_t>((sy1 - sy0) * sw);
-            buf.assign(nsamples * 3, 255);
-            emask.assign(nsamples, 0);
-            bmask.assign(nsamples, 0);  // 0: none, else 1 + index into the tag colours
-            // 1. fills
-            for (const std::uint32_t k : tri_bands[static_cast<std::size_t>(band)]) {
-                const auto& t = mesh.triangles[k];
-                const auto &a = P[static_cast<std::size_t>(t[0])], &b = P[static_cast<std::size_t>(t[1])], &c = P[static_cast<std::size_t>(t[2])];
-                const Rgb col = tri_colour.empty() ? fill_colour : tri_colour[k];
-                const float fxmin = std::min(a[0], std::min(b[0], c[0])), fxmax = std::max(a[0], std::max(b[0], c[0]));
-                const float fymin = std::min(a[1], std::min(b[1], c[1])), fymax = std::max(a[1], std::max(b[1], c[1]));
-                const std::int64_t r0 = std::max<std::int64_t>(sy0, static_cast<std::int64_t>(std::ceil(fymin - 0.5f)));
-                const std::int64_t r1 = std::min<std::int64_t>(sy1 - 1, static_cast<std::int64_t>(std::floor(fymax - 0.5f)));
-                const std::int64_t c0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil(fxmin - 0.5f)));
-                const std::int64_t c1 = std::min<std::int64_t>(sw - 1, static_cast<std::int64_t>(std::floor(fxmax - 0.5f)));
-                // Edge functions; either orientation (the y flip reverses it).
-                const float area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-                if (area2 == 0) continue;
-                const float sgn = area2 > 0 ? 1.0f : -1.0f;
-                for (std::int64_t r = r0; r <= r1; ++r) {
-                    const float py = static_cast<float>(r) + 0.5f;
-                    for (std::int64_t cc = c0; cc <= c1; ++cc) {
-                        const float px = static_cast<float>(cc) + 0.5f;
-                        const float w0 = sgn * ((b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]));
-                        const float w1 = sgn * ((c[0] - b[0]) * (py - b[1]) - (c[1] - b[1]) * (px - b[0]));
-                        const float w2 = sgn * ((a[0] - c[0]) * (py - c[1]) - (a[1] - c[1]) * (px - c[0]));
-                        if (w0 >= 0 && w1 >= 0 && w2 >= 0) {
-                            std::uint8_t* p = &buf[3 * static_cast<std::size_t>((r - sy0) * sw + cc)];
-                            p[0] = col[0], p[1] = col[1], p[2] = col[2];
-                        }
-                    }
-                }
-            }
-            // 2. interior edges
-            for (const std::uint32_t k : edge_bands[static_cast<std::size_t>(band)])
-                stroke(edges[k], ehw, sy0, sy1, sw, [&](std::int64_t r, std::int64_t c) { emask[static_cast<std::size_t>(r * sw + c)] = 1; });
-            // 3. boundary edges
-            for (const std::uint32_t k : bedge_bands[static_cast<std::size_t>(band)]) {
-                const std::int32_t tag = k < mesh.boundary.size() ? mesh.boundary_tag[k] : 0;
-                const std::uint8_t code = tag == boundary_level_set ? 1 : tag == boundary_domain ? 2 : 3;
-                stroke(bedges[k], bhw, sy0, sy1, sw, [&](std::int64_t r, std::int64_t c) {
-                    std::uint8_t& m = bmask[static_cast<std::size_t>(r * sw + c)];
-                    m = std::max(m, code);  // deterministic where tags overlap
-                });
-            }
-            // Composite and box-filter down.
-            const Rgb bcol[4] = {white, boundary_colour(boundary_level_set), boundary_colour(boundary_domain), boundary_colour(3)};
-            const float ea = static_cast<float>(edge_alpha);
-            const float norm = 1.0f / static_cast<float>(ss * ss);
-            for (int row = row0; row < row1; ++row)
-                for (int col = 0; col < mesh_w; ++col) {
-                    float acc[3] = {0, 0, 0};
-                    for (int dy = 0; dy < ss; ++dy) {
-                        const std::size_t base = static_cast<std::size_t>((static_cast<std::int64_t>(row - row0) * ss + dy) * sw +
-                                                                          static_cast<std::int64_t>(col) * ss);
-                        for (int dx = 0; dx < ss; ++dx) {
-                            const std::size_t i = base + static_cast<std::size_t>(dx);
-                            float r = buf[3 * i], g = buf[3 * i + 1], b = buf[3 * i + 2];
-                            if (emask[i]) r += ea * (er - r), g += ea * (eg - g), b += ea * (eb - b);
-                            if (bmask[i]) {
-                                const Rgb& bc = bcol[bmask[i]];
-                                r = bc[0], g = bc[1], b = bc[2];
-                            }
-                            acc[0] += r, acc[1] += g, acc[2] += b;
-                        }
-                    }
-                    std::uint8_t* p = &img.rgb[3 * (static_cast<std::size_t>(row) * static_cast<std::size_t>(img.w) + static_cast<std::size_t>(col))];
-                    for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(std::lround(std::clamp(acc[c] * norm, 0.0f, 255.0f)));
-                }
-        }
+        for (int band = 0; band < sc.nbands; ++band) render_band(img, bs, mesh, sc, tri_colour, f, band);
     }
-
-    if (coloured) {
-        // A vertical colour bar, low at the bottom, with a title and three labels.
-        const int x0 = mesh_w + margin, y0 = margin + 12 * k_font;
-        if (options.legend_labels) img.text(mesh_w + margin / 2, margin, legend_title, k_font, text_colour);
-        for (int y = 0; y < bar_h; ++y) {
-            const Rgb c = ramp(1.0 - (y + 0.5) / bar_h);
-            img.rect(x0, y0 + y, x0 + bar_w, y0 + y + 1, c);
-        }
-        // Frame.
-        img.rect(x0 - 1, y0 - 1, x0 + bar_w + 1, y0, text_colour);
-        img.rect(x0 - 1, y0 + bar_h, x0 + bar_w + 1, y0 + bar_h + 1, text_colour);
-        img.rect(x0 - 1, y0, x0, y0 + bar_h, text_colour);
-        img.rect(x0 + bar_w, y0, x0 + bar_w + 1, y0 + bar_h, text_colour);
-        if (options.legend_labels)
-            for (int i = 0; i <= 2; ++i) {
-                const int yc = y0 + bar_h - bar_h * i / 2;
-                img.rect(x0 + bar_w, yc, x0 + bar_w + 3 * k_font, yc + std::max(1, k_font / 2), text_colour);
-                img.text(x0 + bar_w + 5 * k_font, yc - 3 * k_font, labels[static_cast<std::size_t>(i)], k_font, text_colour);
-            }
-    }
+    if (coloured) draw_legend(img, f, options, colouring.title, labels, bar_w, bar_h);
     return img;
 }
 

@@ -1,14 +1,18 @@
-// write_vtu.cpp — VTK XML UnstructuredGrid, ASCII inline data.
+// write_vtu.cpp — VTK XML UnstructuredGrid: appended raw binary, appended
+// zlib-compressed binary, or inline ASCII.
 //
-// Layout (VTK "XML File Formats", UnstructuredGrid):
+// Layout (VTK "XML File Formats", UnstructuredGrid, version 1.0):
 //
-//   <VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+//   <VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian"
+//            header_type="UInt64" [compressor="vtkZLibDataCompressor"]>
 //     <UnstructuredGrid>
 //       <Piece NumberOfPoints="N" NumberOfCells="T">
 //         <Points>    one Float64 DataArray, 3 components (x y 0)     </Points>
-//         <Cells>     "connectivity" (Int32, 3 per cell, 0-based point ids),
-//                     "offsets" (Int64: end of each cell in connectivity = 3, 6, …),
-//                     "types" (UInt8: 5 = VTK_TRIANGLE)                </Cells>
+//         <Cells>     "connectivity" (Int32, nodes per cell, 0-based point ids),
+//                     "offsets" (Int32, or Int64 beyond 2^31 - 1: end of each
+//                     cell in connectivity = 3, 6, …),
+//                     "types" (UInt8: the cell kind's VTK type, 5 = triangle)
+//         </Cells>
 //         <PointData Scalars="boundary_marker">
 //                     "boundary_marker" (Int32): detail::vertex_markers, as in .node
 //         </PointData>
@@ -17,87 +21,266 @@
 //         </CellData>
 //       </Piece>
 //     </UnstructuredGrid>
+//     [<AppendedData encoding="raw">_ARRAYS</AppendedData>]
 //   </VTKFile>
+//
+// Appended (format="appended" offset="K"): after the underscore, each array in
+// document order; its offset K counts bytes from just after the underscore.
+//   raw:  a UInt64 byte count, then the array's bytes.
+//   zlib: a UInt64 header [number of blocks b, uncompressed block size,
+//         uncompressed size of the last block, compressed size of block 1 …
+//         block b], then the b blocks, each compressed on its own (zlib
+//         compress2, level 1: writing speed first).  Blocks are compressed in
+//         parallel; since the offsets in the XML come before the data and
+//         depend on the compressed sizes, the compressed blocks go to an
+//         anonymous temporary file first and are copied after the XML.
+// ASCII (format="ascii"): one tuple per line, formatted in parallel.
 //
 // Only the triangles are cells: mixing line cells for the boundary edges in
 // would give them region/cell-data values too and confuse filters; the .msh and
-// .poly outputs carry the boundary.  Values are written 6 per line.  Non-finite
-// cell data are written as "nan"/"inf", which VTK's ASCII reader may reject.
+// .poly outputs carry the boundary.  Non-finite cell data are written as
+// "nan"/"inf" in ASCII, which VTK's ASCII reader may reject (binary is exact).
+#include <zlib.h>
+
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <memory>
 #include <string_view>
 
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
 
 namespace {
 
-// `count` values produced by value(i), six per line, each line indented.
-template <class F>
-void put_values(detail::TextSink& out, std::size_t count, F&& value) {
-    for (std::size_t i = 0; i < count; ++i) {
-        out << (i % 6 == 0 ? std::string_view("          ") : std::string_view(" "));
-        value(i);
-        if (i % 6 == 5 || i + 1 == count) out << '\n';
+using detail::TextBuf;
+
+// One DataArray: `count` tuples of `components` values of type `type`.
+struct Array {
+    std::string_view type;
+    std::string name;
+    int components;
+    std::size_t count, tuple_bytes;
+    std::function<void(std::byte*, std::size_t, std::size_t)> fill;  // tuples first … first+n-1
+    std::function<void(TextBuf&, std::size_t)> text;                // one tuple's values
+    std::size_t bytes() const { return count * tuple_bytes; }
+};
+
+// An array of `count` scalars of type T, value(i).
+template <class T, class Value>
+Array scalars(std::string_view type, std::string name, std::size_t count, Value value) {
+    return {type, std::move(name), 1, count, sizeof(T),
+            [value](std::byte* dst, std::size_t first, std::size_t n) {
+                for (std::size_t i = 0; i < n; ++i) {
+                    const T v = static_cast<T>(value(first + i));
+                    std::memcpy(dst + i * sizeof(T), &v, sizeof(T));
+                }
+            },
+            [value](TextBuf& b, std::size_t i) {
+                if constexpr (sizeof(T) == 1) b << static_cast<std::int32_t>(value(i));
+                else b << value(i);
+            }};
+}
+
+// An array that is `count` contiguous scalars at `data` (copied as they are).
+template <class T>
+Array direct(std::string_view type, std::string name, int components, std::size_t count, const T* data) {
+    const auto c = static_cast<std::size_t>(components);
+    return {type, std::move(name), components, count, c * sizeof(T),
+            [data, c](std::byte* dst, std::size_t first, std::size_t n) { std::memcpy(dst, data + first * c, n * c * sizeof(T)); },
+            [data, c](TextBuf& b, std::size_t i) {
+                for (std::size_t k = 0; k < c; ++k) (k ? b << ' ' : b) << data[i * c + k];
+            }};
+}
+
+struct Sections {
+    std::vector<Array> points, cells, point_data, cell_data;
+};
+
+Sections arrays_of(const Mesh& mesh, const std::vector<std::int32_t>& markers) {
+    const detail::Cells cells = detail::cells_of(mesh);
+    const std::size_t nv = mesh.vertices.size(), nt = cells.size();
+    const auto per = static_cast<std::int64_t>(cells.kind.nodes);
+    const std::uint8_t vtk_type = cells.kind.vtk;
+    Sections s;
+    s.points.push_back({"Float64", "Points", 3, nv, 24,
+                        [&mesh](std::byte* dst, std::size_t first, std::size_t n) {
+                            for (std::size_t i = 0; i < n; ++i) {
+                                const double p[3] = {mesh.vertices[first + i].x, mesh.vertices[first + i].y, 0.0};
+                                std::memcpy(dst + 24 * i, p, 24);
+                            }
+                        },
+                        [&mesh](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0"; }});
+    s.cells.push_back(direct("Int32", "connectivity", 1, cells.nodes.size(), cells.nodes.data()));
+    auto offset = [per](std::size_t i) { return per * static_cast<std::int64_t>(i + 1); };
+    if (per * static_cast<std::int64_t>(nt) <= std::numeric_limits<std::int32_t>::max())
+        s.cells.push_back(scalars<std::int32_t>("Int32", "offsets", nt, [offset](std::size_t i) { return static_cast<std::int32_t>(offset(i)); }));
+    else
+        s.cells.push_back(scalars<std::int64_t>("Int64", "offsets", nt, offset));
+    s.cells.push_back(scalars<std::uint8_t>("UInt8", "types", nt, [vtk_type](std::size_t) { return vtk_type; }));
+    s.point_data.push_back(direct("Int32", "boundary_marker", 1, nv, markers.data()));
+    s.cell_data.push_back(direct("Int32", "region", 1, nt, mesh.region.data()));
+    for (const auto& [name, values] : mesh.cell_data) s.cell_data.push_back(direct("Float64", name, 1, nt, values.data()));
+    return s;
+}
+
+// The XML of one array: inline ASCII text, or a reference to the appended data.
+void put_array(std::ostream& os, const Array& a, VtuOptions::Encoding enc, std::uint64_t offset) {
+    detail::TextSink out(os);
+    out << "        <DataArray type=\"" << a.type << "\" Name=\"" << detail::xml_escape(a.name) << '"';
+    if (a.components != 1) out << " NumberOfComponents=\"" << static_cast<std::int32_t>(a.components) << '"';
+    if (enc != VtuOptions::Encoding::ascii) {
+        out << " format=\"appended\" offset=\"" << offset << "\"/>\n";
+        return;
     }
+    out << " format=\"ascii\">\n";
+    detail::write_text_parallel(out.stream(), a.count, [&a](TextBuf& b, std::size_t i) { a.text(b, i), b << '\n'; });
+    out << "        </DataArray>\n";
+}
+
+// The XML document; `offsets[k]` is the appended offset of the k-th array.
+void put_xml(std::ostream& os, const Mesh& mesh, const Sections& s, VtuOptions::Encoding enc,
+             const std::vector<std::uint64_t>& offsets) {
+    std::size_t k = 0;
+    auto section = [&](std::string_view open, std::string_view close, const std::vector<Array>& arrays) {
+        detail::write_bytes(os, open.data(), open.size());
+        for (const Array& a : arrays) put_array(os, a, enc, offsets.empty() ? 0 : offsets[k++]);
+        detail::write_bytes(os, close.data(), close.size());
+    };
+    {
+        detail::TextSink out(os);
+        out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+               "header_type=\"UInt64\""
+            << (enc == VtuOptions::Encoding::zlib ? std::string_view(" compressor=\"vtkZLibDataCompressor\"") : "")
+            << ">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << static_cast<std::uint64_t>(mesh.vertices.size())
+            << "\" NumberOfCells=\"" << static_cast<std::uint64_t>(mesh.triangles.size()) << "\">\n";
+    }
+    section("      <Points>\n", "      </Points>\n", s.points);
+    section("      <Cells>\n", "      </Cells>\n", s.cells);
+    section("      <PointData Scalars=\"boundary_marker\">\n", "      </PointData>\n", s.point_data);
+    section("      <CellData Scalars=\"region\">\n", "      </CellData>\n", s.cell_data);
+    const std::string_view end = "    </Piece>\n  </UnstructuredGrid>\n";
+    detail::write_bytes(os, end.data(), end.size());
+}
+
+std::vector<const Array*> all_arrays(const Sections& s) {
+    std::vector<const Array*> r;
+    for (const auto* v : {&s.points, &s.cells, &s.point_data, &s.cell_data})
+        for (const Array& a : *v) r.push_back(&a);
+    return r;
+}
+
+void write_raw(std::ostream& os, const Mesh& mesh, const Sections& s) {
+    const auto arrays = all_arrays(s);
+    std::vector<std::uint64_t> offsets;
+    std::uint64_t at = 0;
+    for (const Array* a : arrays) offsets.push_back(at), at += 8 + a->bytes();
+    put_xml(os, mesh, s, VtuOptions::Encoding::raw, offsets);
+    os << "  <AppendedData encoding=\"raw\">\n   _";
+    for (const Array* a : arrays) {
+        detail::write_value(os, static_cast<std::uint64_t>(a->bytes()));
+        detail::write_binary(os, a->count, a->tuple_bytes, a->fill);
+    }
+    os << "\n  </AppendedData>\n</VTKFile>\n";
+}
+
+// ---- zlib ----------------------------------------------------------------------
+
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using TempFile = std::unique_ptr<std::FILE, FileCloser>;
+
+struct Compressed {
+    std::vector<std::uint64_t> header;  // b, block size, last block size, sizes…
+    std::uint64_t bytes() const {
+        std::uint64_t n = 8 * header.size();
+        for (std::size_t k = 3; k < header.size(); ++k) n += header[k];
+        return n;
+    }
+};
+
+struct Block {
+    std::vector<std::byte> raw;
+    std::vector<Bytef> packed;
+    uLongf packed_size = 0;
+};
+
+// Compresses `a` block by block (in parallel, in order) into `tmp`.
+Compressed compress_array(const Array& a, std::FILE* tmp) {
+    const std::size_t per = std::max<std::size_t>(1, (std::size_t{1} << 18) / a.tuple_bytes);  // tuples a block
+    const std::size_t blocks = (a.count + per - 1) / per;
+    Compressed c;
+    c.header = {blocks, per * a.tuple_bytes, blocks ? (a.count - (blocks - 1) * per) * a.tuple_bytes : 0};
+    detail::ordered_blocks<Block>(
+        blocks,
+        [&](std::size_t b, Block& blk) {
+            const std::size_t first = b * per, n = std::min(per, a.count - first);
+            blk.raw.resize(n * a.tuple_bytes);
+            a.fill(blk.raw.data(), first, n);
+            blk.packed.resize(compressBound(static_cast<uLong>(blk.raw.size())));
+            blk.packed_size = static_cast<uLongf>(blk.packed.size());
+            if (compress2(blk.packed.data(), &blk.packed_size, reinterpret_cast<const Bytef*>(blk.raw.data()),
+                          static_cast<uLong>(blk.raw.size()), 1) != Z_OK)
+                throw OutputError("zlib compression failed");
+        },
+        [&](const Block& blk) {
+            if (std::fwrite(blk.packed.data(), 1, blk.packed_size, tmp) != blk.packed_size)
+                throw OutputError("cannot write the temporary file of compressed data");
+            c.header.push_back(blk.packed_size);
+        });
+    return c;
+}
+
+void write_zlib(std::ostream& os, const Mesh& mesh, const Sections& s) {
+    const auto arrays = all_arrays(s);
+    const TempFile tmp(std::tmpfile());
+    if (!tmp) throw OutputError("cannot create a temporary file for the compressed data");
+    std::vector<Compressed> packed;
+    std::vector<std::uint64_t> offsets;
+    std::uint64_t at = 0;
+    for (const Array* a : arrays) {
+        packed.push_back(compress_array(*a, tmp.get()));
+        offsets.push_back(at), at += packed.back().bytes();
+    }
+    put_xml(os, mesh, s, VtuOptions::Encoding::zlib, offsets);
+    os << "  <AppendedData encoding=\"raw\">\n   _";
+    std::rewind(tmp.get());
+    std::vector<char> buf(std::size_t{1} << 20);
+    for (const Compressed& c : packed) {
+        detail::write_bytes(os, c.header.data(), 8 * c.header.size());
+        for (std::uint64_t left = c.bytes() - 8 * c.header.size(); left > 0;) {
+            const std::size_t n = std::fread(buf.data(), 1, std::min<std::uint64_t>(left, buf.size()), tmp.get());
+            if (n == 0) throw OutputError("cannot read back the temporary file of compressed data");
+            detail::write_bytes(os, buf.data(), n);
+            left -= n;
+        }
+    }
+    os << "\n  </AppendedData>\n</VTKFile>\n";
 }
 
 }  // namespace
 
-void write_vtu(const Mesh& mesh, std::ostream& os) {
+void write_vtu(const Mesh& mesh, std::ostream& os, const VtuOptions& options) {
     detail::check_mesh_arrays(mesh, "<vtu stream>");
-    const std::size_t nv = mesh.vertices.size(), nt = mesh.triangles.size();
-    detail::TextSink out(os);
-    out << "<?xml version=\"1.0\"?>\n"
-           "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-           "  <UnstructuredGrid>\n"
-           "    <Piece NumberOfPoints=\""
-        << static_cast<std::uint64_t>(nv) << "\" NumberOfCells=\"" << static_cast<std::uint64_t>(nt) << "\">\n";
-
-    out << "      <Points>\n"
-           "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const Vec2& v : mesh.vertices) out << "          " << v.x << ' ' << v.y << " 0\n";
-    out << "        </DataArray>\n"
-           "      </Points>\n";
-
-    out << "      <Cells>\n"
-           "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const auto& t : mesh.triangles) out << "          " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-    out << "        </DataArray>\n"
-           "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    put_values(out, nt, [&](std::size_t i) { out << static_cast<std::int64_t>(3 * (i + 1)); });
-    out << "        </DataArray>\n"
-           "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    put_values(out, nt, [&](std::size_t) { out << '5'; });
-    out << "        </DataArray>\n"
-           "      </Cells>\n";
-
-    out << "      <PointData Scalars=\"boundary_marker\">\n"
-           "        <DataArray type=\"Int32\" Name=\"boundary_marker\" format=\"ascii\">\n";
     const auto markers = detail::vertex_markers(mesh, detail::edge_groups(mesh));
-    put_values(out, nv, [&](std::size_t i) { out << markers[i]; });
-    out << "        </DataArray>\n"
-           "      </PointData>\n";
-
-    out << "      <CellData Scalars=\"region\">\n"
-           "        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
-    put_values(out, nt, [&](std::size_t i) { out << mesh.region[i]; });
-    out << "        </DataArray>\n";
-    for (const auto& field : mesh.cell_data) {
-        const auto& values = field.second;
-        out << "        <DataArray type=\"Float64\" Name=\"" << detail::xml_escape(field.first) << "\" format=\"ascii\">\n";
-        put_values(out, nt, [&](std::size_t i) { out << values[i]; });
-        out << "        </DataArray>\n";
+    const Sections s = arrays_of(mesh, markers);
+    switch (options.encoding) {
+        case VtuOptions::Encoding::raw: write_raw(os, mesh, s); break;
+        case VtuOptions::Encoding::zlib: write_zlib(os, mesh, s); break;
+        case VtuOptions::Encoding::ascii:
+            put_xml(os, mesh, s, options.encoding, {});
+            os << "</VTKFile>\n";
+            break;
     }
-    out << "      </CellData>\n"
-           "    </Piece>\n"
-           "  </UnstructuredGrid>\n"
-           "</VTKFile>\n";
 }
 
-void write_vtu(const Mesh& mesh, const std::string& path) {
+void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& options) {
     detail::check_mesh_arrays(mesh, path);
-    write_file_atomically(path, [&](std::ostream& os) { write_vtu(mesh, os); });
+    write_file_atomically(path, [&](std::ostream& os) { write_vtu(mesh, os, options); });
 }
 
 }  // namespace warpmesh

@@ -1,49 +1,68 @@
 // write_xdmf.cpp — XDMF 3 for FEniCSx (dolfinx), meshio and ParaView.
 //
-// Two self-contained files, heavy data inline as XML text:
+// Two XDMF files, each with its heavy data either in an HDF5 file beside it
+// (the default, as dolfinx writes XDMF) or inline as XML text (tiny meshes,
+// --ascii):
 //
-//   PATH (e.g. out.xdmf), grid "mesh":
-//     <Topology TopologyType="Triangle">  T x 3 vertex indices (0-based)
-//     <Geometry GeometryType="XY">        N x 2 coordinates
-//     <Attribute Name="region" Center="Cell">  the region tag of each triangle
+//   PATH (e.g. out.xdmf), grid "mesh", heavy data in out.h5:
+//     <Topology TopologyType="Triangle">  T x 3 vertex indices (0-based)   /mesh/topology
+//     <Geometry GeometryType="XY">        N x 2 coordinates                /mesh/geometry
+//     <Attribute Name="region" Center="Cell">  the region tag of each cell /mesh/region
 //     <Information Name="Information">    meshio's field_data: region names
 //
-//   STEM_facets.xdmf (detail::xdmf_facets_path), grid "facets":
+//   STEM_facets.xdmf (detail::xdmf_facets_path), grid "facets", heavy data
+//   in STEM_facets.h5:
 //     <Topology TopologyType="Polyline" NodesPerElement="2">  the boundary
 //              edges, then the interface edges, as detail::edge_groups orders
-//              and orients them (vertex indices into the same points)
-//     <Geometry GeometryType="XY">        the same N points again
-//     <Attribute Name="facet_tags" Center="Cell">  the edge group's tag
+//              and orients them (vertex indices into the same points)  /facets/topology
+//     <Geometry GeometryType="XY">        the same N points: a reference to
+//                                         out.h5:/mesh/geometry (no copy)
+//     <Attribute Name="facet_tags" Center="Cell">  the edge group's tag   /facets/facet_tags
 //     <Information Name="Information">    the group names (dim 1)
 //
-// dolfinx 0.5 reads them as (ASCII: the heavy data are in the file, no .h5)
-//     ascii = XDMFFile.Encoding.ASCII
-//     mesh = XDMFFile(comm, "out.xdmf", "r", encoding=ascii).read_mesh(name="mesh")
+// Why two .h5 files: dolfinx's XDMFFile reads every HDF DataItem from the one
+// HDF5 file named after the XDMF file (STEM.h5 for STEM.xdmf), whatever file
+// the item names, so the facet tags must be in STEM_facets.h5; its
+// read_meshtags reads only the Topology and the Attribute, while meshio
+// (one grid per file, hence two files) follows the Geometry's reference.
+// The DataItems name the .h5 files without a directory: they are beside the
+// XDMF file, which may be moved with them.
+//
+// dolfinx 0.5 reads them as
+//     mesh = XDMFFile(comm, "out.xdmf", "r").read_mesh(name="mesh")
 //     cell_tags = ….read_meshtags(mesh, name="mesh")        # region
 //     mesh.topology.create_connectivity(1, 2)
-//     facet_tags = XDMFFile(comm, "out_facets.xdmf", "r", encoding=ascii).read_meshtags(mesh, name="facets")
-// (read_meshtags takes the grid's Topology and its first Attribute; the
-// entity vertex indices refer to the mesh file's point order, which is the
-// facet file's too), and meshio reads each file as one mesh (its XDMF reader
-// takes one grid per file, hence two files).
+//     facet_tags = XDMFFile(comm, "out_facets.xdmf", "r").read_meshtags(mesh, name="facets")
+// (inline XML: XDMFFile(…, encoding=XDMFFile.Encoding.ASCII); read_meshtags
+// takes the grid's Topology and its first Attribute; the entity vertex
+// indices refer to the mesh file's point order).
 //
-// Why inline XML and not HDF5: no HDF5 dependency for warpmesh (writing HDF5
-// needs libhdf5), each file is complete on its own — nothing to keep beside
-// it, nothing to break when it is renamed (the CLI stages outputs under
-// temporary names) — and dolfinx reads XML DataItems itself (pugixml).  The
-// price is size and parse time: text is ~2-3x larger than binary and is
-// parsed on one rank, so for meshes of millions of triangles prefer .msh
-// through dolfinx.io.gmshio, or convert once with meshio.
+// Atomicity: the four files are written under temporary names and renamed
+// only when all are complete, the .h5 files first, so an .xdmf never appears
+// without its heavy data.  The serial HDF5 library is not thread-safe: HDF5
+// writes are serialised by a mutex (the CLI writes --slices in parallel).
 //
-// Numbers: Float precision 8 (meshio reads Precision="4" as float32) with the
-// shortest round-trip decimal, Int precision 4; values separated by spaces and
-// newlines only (dolfinx splits on those two characters).
+// Numbers: Float precision 8 (meshio reads Precision="4" as float32), Int
+// precision 4; inline text is the shortest round-trip decimal, values
+// separated by spaces and newlines only (dolfinx splits on those two).
+#include <filesystem>
+#include <functional>
+#include <mutex>
+
+#ifdef WARPMESH_HAVE_HDF5
+#include <hdf5.h>
+#endif
+
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/writers.hpp"
 
 namespace warpmesh {
 
 namespace {
+
+using detail::TextBuf;
+using detail::TextSink;
 
 // One named group for meshio's field_data: <map key="NAME" dim="D">TAG</map>.
 struct FieldName {
@@ -52,115 +71,202 @@ struct FieldName {
     std::int32_t tag;
 };
 
-void put_header(detail::TextSink& out, std::string_view grid) {
-    out << "<?xml version=\"1.0\"?>\n"
-           "<Xdmf Version=\"3.0\">\n"
-           "  <Domain>\n"
-           "    <Grid Name=\""
-        << grid << "\" GridType=\"Uniform\">\n";
+// A DataItem: `rows` rows of `cols` values, inline (row(buf, i) appends row
+// i's text) or in an HDF5 dataset ("FILE.h5:/path").
+struct Item {
+    std::size_t rows, cols;
+    bool is_float;
+    std::string hdf;  // empty: inline
+    std::function<void(TextBuf&, std::size_t)> row;
+};
+
+void put_item(TextSink& out, const Item& item) {
+    out << "        <DataItem Dimensions=\"" << static_cast<std::uint64_t>(item.rows);
+    if (item.cols > 1) out << ' ' << static_cast<std::uint64_t>(item.cols);
+    out << "\" NumberType=\"" << (item.is_float ? "Float\" Precision=\"8" : "Int\" Precision=\"4") << "\" Format=\""
+        << (item.hdf.empty() ? "XML" : "HDF") << "\">";
+    if (!item.hdf.empty()) {
+        out << detail::xml_escape(item.hdf) << "</DataItem>\n";
+        return;
+    }
+    out << '\n';
+    detail::write_text_parallel(out.stream(), item.rows, [&](TextBuf& b, std::size_t i) { item.row(b, i), b << '\n'; });
+    out << "        </DataItem>\n";
 }
 
-void put_footer(detail::TextSink& out, const std::vector<FieldName>& names) {
+// The whole XDMF document of one grid.
+void put_grid(std::ostream& os, std::string_view grid, const detail::CellKind& kind, const Item& topology,
+              const Item& geometry, std::string_view attribute, const Item& values, const std::vector<FieldName>& names) {
+    TextSink out(os);
+    out << "<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"" << grid
+        << "\" GridType=\"Uniform\">\n      <Topology TopologyType=\"" << kind.xdmf << "\" NumberOfElements=\""
+        << static_cast<std::uint64_t>(topology.rows) << "\" NodesPerElement=\"" << static_cast<std::int32_t>(kind.nodes)
+        << "\">\n";
+    put_item(out, topology);
+    out << "      </Topology>\n      <Geometry GeometryType=\"XY\">\n";
+    put_item(out, geometry);
+    out << "      </Geometry>\n      <Attribute Name=\"" << attribute << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+    put_item(out, values);
     // meshio parses the text of <Information> as XML: the CDATA holds
     // <main><map key=… dim=…>tag</map>…</main>, names escaped for XML (which
     // also keeps "]]>" out of the CDATA).
-    out << "      <Information Name=\"Information\" Value=\"" << static_cast<std::uint64_t>(names.size())
+    out << "      </Attribute>\n      <Information Name=\"Information\" Value=\"" << static_cast<std::uint64_t>(names.size())
         << "\"><![CDATA[<main>";
     for (const auto& n : names)
         out << "<map key=\"" << detail::xml_escape(n.name) << "\" dim=\"" << static_cast<std::int32_t>(n.dim) << "\">"
             << n.tag << "</map>";
-    out << "</main>]]></Information>\n"
-           "    </Grid>\n"
-           "  </Domain>\n"
-           "</Xdmf>\n";
+    out << "</main>]]></Information>\n    </Grid>\n  </Domain>\n</Xdmf>\n";
 }
 
-void put_geometry(detail::TextSink& out, const Mesh& mesh) {
-    out << "      <Geometry GeometryType=\"XY\">\n"
-           "        <DataItem Dimensions=\""
-        << static_cast<std::uint64_t>(mesh.vertices.size())
-        << " 2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">\n";
-    for (const Vec2& v : mesh.vertices) out << "          " << v.x << ' ' << v.y << '\n';
-    out << "        </DataItem>\n"
-           "      </Geometry>\n";
-}
-
-// <Topology> of `count` cells with `per` vertices each, given by cell(i, out).
-template <class Cell>
-void put_topology(detail::TextSink& out, std::string_view type, std::size_t count, int per, Cell&& cell) {
-    const auto n = static_cast<std::uint64_t>(count);
-    out << "      <Topology TopologyType=\"" << type << "\" NumberOfElements=\"" << n << "\" NodesPerElement=\""
-        << static_cast<std::int32_t>(per) << "\">\n"
-        << "        <DataItem Dimensions=\"" << n << ' ' << static_cast<std::int32_t>(per)
-        << "\" NumberType=\"Int\" Precision=\"4\" Format=\"XML\">\n";
-    for (std::size_t i = 0; i < count; ++i) {
-        out << "          ";
-        cell(i);
-        out << '\n';
+// What the facet file holds: the grouped edges, their tags and names.
+struct Facets {
+    std::vector<std::array<std::int32_t, 2>> edges;
+    std::vector<std::int32_t> tags;
+    std::vector<FieldName> names;
+    explicit Facets(const Mesh& mesh) {
+        for (const auto& g : detail::edge_groups(mesh)) {
+            edges.insert(edges.end(), g.edges.begin(), g.edges.end());
+            tags.insert(tags.end(), g.edges.size(), g.tag);
+            names.push_back({g.name, 1, g.tag});
+        }
     }
-    out << "        </DataItem>\n"
-           "      </Topology>\n";
+};
+
+std::vector<FieldName> region_field_names(const Mesh& mesh) {
+    std::vector<FieldName> names;
+    const auto tags = detail::region_tags(mesh);
+    for (const std::int32_t t : tags) names.push_back({detail::region_name(mesh, t, tags.size() == 1), 2, t});
+    return names;
 }
 
-// <Attribute> of one Int32 per cell, given by value(i), 10 per line.
-template <class Value>
-void put_cell_attribute(detail::TextSink& out, std::string_view name, std::size_t count, Value&& value) {
-    out << "      <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-        << "        <DataItem Dimensions=\"" << static_cast<std::uint64_t>(count)
-        << "\" NumberType=\"Int\" Precision=\"4\" Format=\"XML\">\n";
-    for (std::size_t i = 0; i < count; ++i) {
-        out << (i % 10 == 0 ? std::string_view("          ") : std::string_view(" ")) << value(i);
-        if (i % 10 == 9 || i + 1 == count) out << '\n';
-    }
-    out << "        </DataItem>\n"
-           "      </Attribute>\n";
+// The DataItems of the two grids; `mesh_h5`/`facets_h5` empty: inline.
+Item geometry_item(const Mesh& mesh, const std::string& mesh_h5) {
+    return {mesh.vertices.size(), 2, true, mesh_h5.empty() ? "" : mesh_h5 + ":/mesh/geometry",
+            [&mesh](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y; }};
 }
+
+void put_mesh_document(std::ostream& os, const Mesh& mesh, const std::string& h5) {
+    const detail::Cells cells = detail::cells_of(mesh);
+    const Item topology{cells.size(), static_cast<std::size_t>(cells.kind.nodes), false, h5.empty() ? "" : h5 + ":/mesh/topology",
+                        [cells](TextBuf& b, std::size_t i) {
+                            bool first = true;
+                            for (const std::int32_t v : cells[i]) (first ? b : b << ' ') << v, first = false;
+                        }};
+    const Item region{mesh.region.size(), 1, false, h5.empty() ? "" : h5 + ":/mesh/region",
+                      [&mesh](TextBuf& b, std::size_t i) { b << mesh.region[i]; }};
+    put_grid(os, "mesh", cells.kind, topology, geometry_item(mesh, h5), "region", region, region_field_names(mesh));
+}
+
+void put_facets_document(std::ostream& os, const Mesh& mesh, const Facets& f, const std::string& mesh_h5,
+                         const std::string& facets_h5) {
+    const Item topology{f.edges.size(), 2, false, facets_h5.empty() ? "" : facets_h5 + ":/facets/topology",
+                        [&f](TextBuf& b, std::size_t i) { b << f.edges[i][0] << ' ' << f.edges[i][1]; }};
+    const Item tags{f.tags.size(), 1, false, facets_h5.empty() ? "" : facets_h5 + ":/facets/facet_tags",
+                    [&f](TextBuf& b, std::size_t i) { b << f.tags[i]; }};
+    put_grid(os, "facets", detail::line_cells, topology, geometry_item(mesh, mesh_h5), "facet_tags", tags, f.names);
+}
+
+#ifdef WARPMESH_HAVE_HDF5
+std::mutex hdf5_mutex;
+
+// An HDF5 file being written; every failure is an OutputError naming `path`.
+class H5Writer {
+public:
+    H5Writer(const std::string& temp, std::string path) : path_(std::move(path)) {
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported here, not printed
+        id_ = H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+        if (id_ < 0) fail("cannot create the HDF5 file");
+    }
+    ~H5Writer() {
+        if (id_ >= 0) H5Fclose(id_);
+    }
+    H5Writer(const H5Writer&) = delete;
+    H5Writer& operator=(const H5Writer&) = delete;
+
+    // Dataset `name` ("/group/name", groups created) of rows x cols values at `data`.
+    void dataset(const char* name, hid_t type, std::size_t rows, std::size_t cols, const void* data) {
+        const hsize_t dims[2] = {rows, cols};
+        const hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, nullptr);
+        const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+        H5Pset_create_intermediate_group(lcpl, 1);
+        const hid_t set = H5Dcreate2(id_, name, type, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+        const bool ok = set >= 0 && (rows * cols == 0 || H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
+        if (set >= 0) H5Dclose(set);
+        H5Pclose(lcpl);
+        H5Sclose(space);
+        if (!ok) fail(std::string("cannot write the dataset ") + name);
+    }
+    void close() {
+        const herr_t r = H5Fclose(id_);
+        id_ = -1;
+        if (r < 0) fail("cannot close the HDF5 file (write error)");
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& what) { throw OutputError("cannot write '" + path_ + "': " + what); }
+    std::string path_;
+    hid_t id_ = -1;
+};
+
+void write_h5(AtomicFile& mesh_file, AtomicFile& facets_file, const Mesh& mesh, const Facets& f) {
+    const std::lock_guard lock(hdf5_mutex);
+    const detail::Cells cells = detail::cells_of(mesh);
+    mesh_file.close();  // only its name is used: HDF5 writes the file itself
+    H5Writer m(mesh_file.temp_path(), mesh_file.path());
+    m.dataset("/mesh/topology", H5T_NATIVE_INT32, cells.size(), static_cast<std::size_t>(cells.kind.nodes), cells.nodes.data());
+    static_assert(sizeof(Vec2) == 2 * sizeof(double));
+    m.dataset("/mesh/geometry", H5T_NATIVE_DOUBLE, mesh.vertices.size(), 2, mesh.vertices.data());
+    m.dataset("/mesh/region", H5T_NATIVE_INT32, mesh.region.size(), 1, mesh.region.data());
+    m.close();
+    facets_file.close();
+    H5Writer g(facets_file.temp_path(), facets_file.path());
+    g.dataset("/facets/topology", H5T_NATIVE_INT32, f.edges.size(), 2, f.edges.data());
+    g.dataset("/facets/facet_tags", H5T_NATIVE_INT32, f.tags.size(), 1, f.tags.data());
+    g.close();
+}
+#endif
 
 }  // namespace
 
 void write_xdmf_mesh(const Mesh& mesh, std::ostream& os) {
     detail::check_mesh_arrays(mesh, "<xdmf stream>");
-    detail::TextSink out(os);
-    put_header(out, "mesh");
-    put_topology(out, "Triangle", mesh.triangles.size(), 3, [&](std::size_t k) {
-        const auto& t = mesh.triangles[k];
-        out << t[0] << ' ' << t[1] << ' ' << t[2];
-    });
-    put_geometry(out, mesh);
-    put_cell_attribute(out, "region", mesh.triangles.size(), [&](std::size_t k) { return mesh.region[k]; });
-    std::vector<FieldName> names;
-    const auto tags = detail::region_tags(mesh);
-    for (const std::int32_t t : tags) names.push_back({detail::region_name(mesh, t, tags.size() == 1), 2, t});
-    put_footer(out, names);
+    put_mesh_document(os, mesh, "");
 }
 
 void write_xdmf_facets(const Mesh& mesh, std::ostream& os) {
     detail::check_mesh_arrays(mesh, "<xdmf stream>");
-    const auto groups = detail::edge_groups(mesh);
-    std::vector<std::array<std::int32_t, 2>> edges;
-    std::vector<std::int32_t> tags;
-    std::vector<FieldName> names;
-    for (const auto& g : groups) {
-        edges.insert(edges.end(), g.edges.begin(), g.edges.end());
-        tags.insert(tags.end(), g.edges.size(), g.tag);
-        names.push_back({g.name, 1, g.tag});
-    }
-    detail::TextSink out(os);
-    put_header(out, "facets");
-    put_topology(out, "Polyline", edges.size(), 2, [&](std::size_t k) { out << edges[k][0] << ' ' << edges[k][1]; });
-    put_geometry(out, mesh);
-    put_cell_attribute(out, "facet_tags", edges.size(), [&](std::size_t k) { return tags[k]; });
-    put_footer(out, names);
+    put_facets_document(os, mesh, Facets(mesh), "", "");
 }
 
-void write_xdmf(const Mesh& mesh, const std::string& path) {
+void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& options) {
     detail::check_mesh_arrays(mesh, path);
-    // Both files complete before either is renamed into place.
     AtomicFile main(path), facets(detail::xdmf_facets_path(path));
-    detail::fill_atomic_file(main, [&](std::ostream& os) { write_xdmf_mesh(mesh, os); });
-    detail::fill_atomic_file(facets, [&](std::ostream& os) { write_xdmf_facets(mesh, os); });
+    if (!options.hdf5) {
+        // Both files complete before either is renamed into place.
+        detail::fill_atomic_file(main, [&](std::ostream& os) { write_xdmf_mesh(mesh, os); });
+        detail::fill_atomic_file(facets, [&](std::ostream& os) { write_xdmf_facets(mesh, os); });
+        main.commit();
+        facets.commit();
+        return;
+    }
+#ifdef WARPMESH_HAVE_HDF5
+    const std::string final_path = options.final_path.empty() ? path : options.final_path;
+    auto file_name = [](const std::string& p) { return std::filesystem::path(p).filename().string(); };
+    const std::string mesh_h5 = file_name(detail::xdmf_h5_path(final_path));
+    const std::string facets_h5 = file_name(detail::xdmf_h5_path(detail::xdmf_facets_path(final_path)));
+    AtomicFile main_h5(detail::xdmf_h5_path(path)), facets_h5_file(detail::xdmf_h5_path(detail::xdmf_facets_path(path)));
+    const Facets f(mesh);
+    write_h5(main_h5, facets_h5_file, mesh, f);
+    detail::fill_atomic_file(main, [&](std::ostream& os) { put_mesh_document(os, mesh, mesh_h5); });
+    detail::fill_atomic_file(facets, [&](std::ostream& os) { put_facets_document(os, mesh, f, mesh_h5, facets_h5); });
+    main_h5.commit();
+    facets_h5_file.commit();
     main.commit();
     facets.commit();
+#else
+    throw OutputError("cannot write '" + path + "': XDMF with HDF5 heavy data needs libhdf5, which was not found at build "
+                      "time (write inline XML instead: --ascii, or XdmfOptions::hdf5 = false)");
+#endif
 }
 
 }  // namespace warpmesh

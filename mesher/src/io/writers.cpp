@@ -206,6 +206,11 @@ std::string xdmf_facets_path(const std::string& path) {
     return path.substr(0, path.size() - ext.size()) + "_facets" + ext;
 }
 
+std::string xdmf_h5_path(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return path.substr(0, path.size() - ext.size()) + ".h5";
+}
+
 double typical_edge_px(const Mesh& mesh, double scale) {
     const std::size_t nt = mesh.triangles.size();
     if (!nt) return 10;
@@ -270,8 +275,12 @@ void check_output_path(const std::string& path) {
     check_writable(path);
 }
 
-std::vector<std::string> output_files(const std::string& path) {
-    if (detail::lower_extension(path) == ".xdmf") return {path, detail::xdmf_facets_path(path)};
+std::vector<std::string> output_files(const std::string& path, const WriteOptions& options) {
+    if (detail::lower_extension(path) == ".xdmf") {
+        const std::string facets = detail::xdmf_facets_path(path);
+        if (options.ascii || !options.xdmf.hdf5) return {path, facets};
+        return {path, facets, detail::xdmf_h5_path(path), detail::xdmf_h5_path(facets)};
+    }
     const std::string stem = detail::triangle_stem(path);
     if (stem == path) return {path};
     return {stem + ".node", stem + ".ele", stem + ".poly"};
@@ -279,9 +288,24 @@ std::vector<std::string> output_files(const std::string& path) {
 
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
     switch (output_format(path)) {
-        case Format::vtu: write_vtu(mesh, path); break;
-        case Format::msh: write_msh(mesh, path, options.msh); break;
-        case Format::xdmf: write_xdmf(mesh, path); break;
+        case Format::vtu: {
+            VtuOptions vtu = options.vtu;
+            if (options.ascii) vtu.encoding = VtuOptions::Encoding::ascii;
+            write_vtu(mesh, path, vtu);
+            break;
+        }
+        case Format::msh: {
+            MshOptions msh = options.msh;
+            msh.binary = msh.binary && !options.ascii;
+            write_msh(mesh, path, msh);
+            break;
+        }
+        case Format::xdmf: {
+            XdmfOptions xdmf = options.xdmf;
+            xdmf.hdf5 = xdmf.hdf5 && !options.ascii;
+            write_xdmf(mesh, path, xdmf);
+            break;
+        }
         case Format::inp: write_inp(mesh, path); break;
         case Format::triangle: write_triangle(mesh, path); break;
         case Format::svg: write_svg(mesh, path, options.svg); break;
