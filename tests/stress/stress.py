@@ -531,7 +531,7 @@ def one_case(warpmesh, rng, work, i):
     code, err = run(warpmesh, argv, out, rep)
     if code != 0:
         if code in (1, 2) and e["may_refuse"] and err.strip() and not os.path.exists(out):
-            return "refused", argv, []
+            return "refused", argv, [err.strip().splitlines()[-1][:90]]
         return "fail", argv, [f"exit {code}: {err.strip()[:300]}"]
     report = json.load(open(rep))
     P, T, R, cert = read_vtu(out)
@@ -572,12 +572,15 @@ def main():
         return 0 if status != "fail" else 1
     rng = random.Random(seed)
     counts = {"ok": 0, "refused": 0, "fail": 0}
+    reasons = {}  # refusal message -> count
     work = tempfile.mkdtemp(prefix="warpmesh-stress-")
     try:
         for i in range(n):
             case_seed = rng.randrange(1 << 30)
             status, argv, errs = one_case(warpmesh, random.Random(case_seed), work, i)
             counts[status] += 1
+            if status == "refused":
+                reasons[errs[0]] = reasons.get(errs[0], 0) + 1
             if status == "fail":
                 print(f"FAIL case {i} (seed {case_seed}): warpmesh mesh {' '.join(argv)}", flush=True)
                 for m in errs:
@@ -590,6 +593,8 @@ def main():
                 print(f"{i + 1} cases: {counts}", flush=True)
     finally:
         shutil.rmtree(work, ignore_errors=True)
+    for why, k in sorted(reasons.items(), key=lambda x: -x[1])[:8]:
+        print(f"  refused {k:5d}: {why}")
     print(f"stress: {n} cases, seed {seed}: {counts['ok']} valid, {counts['refused']} refused cleanly, "
           f"{counts['fail']} failures", flush=True)
     return 1 if counts["fail"] else 0

@@ -749,9 +749,9 @@ OptimizeReport Optimizer::run() {
     // (mesh_checks.hpp: orientation, manifold edges, closed and simple
     // boundary loops, no folds).  A failure is a bug of this pass.
     if (const MeshCheck c = check_mesh(m_); !c.ok()) {
-        std::string msg = "optimize: internal error: the optimised mesh is not valid";
+        std::string msg = "optimize: the optimised mesh is not valid";
         for (const std::string& m : c.messages) msg += "; " + m;
-        throw std::logic_error(msg + " (please report this input)");
+        throw std::logic_error(msg + " (a bug of the pass: nothing written; please report the input)");
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
