@@ -2,10 +2,12 @@
 """Random stress of the warpmesh command with an independent validator.
 
 usage: stress.py WARPMESH N SEED [--scaled] [--keep-failures DIR] [--quiet] [--case CASE_SEED]
+                 [--focus-optimize]
 
 --scaled multiplies N by WARPMESH_TEST_SCALE (CTest: a quarter under the
 sanitizers); --case reruns the one case of that seed (printed with a failure)
-and keeps its files in the current directory.
+and keeps its files in the current directory; --focus-optimize draws only
+label images with --optimize (saddles; where the optimiser's folds were).
 
 Draws N random inputs over every option of `warpmesh mesh` (label images with
 --label or --materials, grayscale fields with --iso, analytic shapes and CSG,
@@ -68,7 +70,7 @@ def random_labels(rng, w, h):
         cx, cy = rng.uniform(0, w), rng.uniform(0, h)
         rx, ry = rng.uniform(1.5, w / 1.5), rng.uniform(1.5, h / 1.5)
         img[((xx - cx) / rx) ** 2 + ((yy - cy) / ry) ** 2 <= 1] = rng.randint(1, nlab)
-    salt = rng.choice([0, 0, 0.03, 0.1])
+    salt = rng.choice([0.03, 0.1, 0.2] if FOCUS else [0, 0, 0.03, 0.1])
     if salt:
         m = np.array([[rng.random() < salt for _ in range(w)] for _ in range(h)])
         img[m] = [rng.randint(0, nlab) for _ in range(int(m.sum()))]
@@ -224,9 +226,14 @@ def graded_opts(rng, s, materials):
     return args, ms, mso
 
 
+FOCUS = None  # --focus-optimize: label images with --optimize only (where folds were found)
+
+
 def make_case(rng, work):
     """(argv after the input, expectation dict)."""
     kind = rng.choices(["label", "materials", "gray", "shape", "shapes"], [30, 15, 15, 30, 10])[0]
+    if FOCUS:
+        kind = "label"
     e = {"kind": kind, "may_refuse": True}
     argv = []
     if kind in ("label", "materials", "gray"):
@@ -269,7 +276,7 @@ def make_case(rng, work):
                 e["tags"] = set(chosen) | ({0} if keep else set())
                 e["materials"] = True
             e["domain"] = (0, 0, w - 1, h - 1)
-        s = spacing_of(rng, 0.35, 1.6)
+        s = 1.0 if FOCUS and rng.random() < 0.5 else spacing_of(rng, 0.35, 1.6)
     elif kind == "shape":
         sh = random_shape(rng)
         argv = ["--shape", sh.spec()]
@@ -313,7 +320,7 @@ def make_case(rng, work):
         e["max_size_of"] = {t: h}
     rule = rng.choices(["separating", "maxmin", "fan"], [60, 20, 20])[0]
     argv += ["--diagonal", rule]
-    if rng.random() < (0.05 if e.get("materials") else 0.5):  # refused with materials (for now)
+    if FOCUS or rng.random() < (0.05 if e.get("materials") else 0.5):  # refused with materials (for now)
         argv.append("--optimize")
         e["optimize"] = True
     return argv, e
@@ -563,6 +570,8 @@ def main():
         n = max(1, int(n * (scale if 0 < scale <= 1 else 1.0) + 0.5))
     keep = args[args.index("--keep-failures") + 1] if "--keep-failures" in args else None
     quiet = "--quiet" in args
+    global FOCUS
+    FOCUS = "--focus-optimize" in args
     if "--case" in args:  # one case, its files kept here
         case_seed = int(args[args.index("--case") + 1])
         status, argv, errs = one_case(warpmesh, random.Random(case_seed), os.getcwd(), 0)
