@@ -12,6 +12,7 @@
 #include <memory>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 
 #ifdef _OPENMP
@@ -29,8 +30,11 @@
 #include "warpmesh/shapes.hpp"
 #include "warpmesh/uniform.hpp"
 #include "mesh/plane.hpp"
+#include "warpmesh/errors.hpp"
+#include "support.hpp"
 
 using namespace warpmesh;
+using warpmesh::testing::scaled;
 
 namespace {
 
@@ -558,5 +562,162 @@ BOOST_AUTO_TEST_CASE(refinement_keeps_the_max_size) {
                 longest2 = std::max(longest2, (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y));
             }
         BOOST_TEST(longest2 <= H * H, "graded " << graded << " longest " << std::sqrt(longest2));
+    }
+}
+
+// --- issue 27: the pass never folds the mesh, and keeps the certified maximum ------
+
+namespace {
+
+// The mesh before and after the pipeline's --optimize (certified, verified).
+MeshResult optimised(const LevelSet& f, MeshOptions o) {
+    o.optimize = true;
+    return mesh(f, o);
+}
+
+// The largest and smallest angle over a mesh's triangles.
+std::pair<double, double> extreme_angles(const Mesh& m) {
+    double mn = 180, mx = 0;
+    for (const auto& t : m.triangles) {
+        const TriangleAngles a = triangle_angles(m.vertices[static_cast<std::size_t>(t[0])], m.vertices[static_cast<std::size_t>(t[1])],
+                                                 m.vertices[static_cast<std::size_t>(t[2])]);
+        mn = std::min(mn, a.min_deg), mx = std::max(mx, a.max_deg);
+    }
+    return {mn, mx};
+}
+
+// A random label image over labels 0..2 with blobs, salt and a checkerboard
+// patch (saddles, where two boundary chains pass close by).
+Image random_label_image(std::mt19937& rng) {
+    std::uniform_int_distribution<int> side(6, 22), lab(0, 2), coin(0, 9);
+    Image img;
+    img.width = side(rng), img.height = side(rng), img.maxval = 2, img.source = "random labels";
+    img.pixels.assign(static_cast<std::size_t>(img.width * img.height), 1);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            if (coin(rng) < 2) img.pixels[static_cast<std::size_t>(y * img.width + x)] = static_cast<std::uint16_t>(lab(rng));
+    std::uniform_int_distribution<int> px(0, img.width - 4), py(0, img.height - 4);
+    const int x0 = px(rng), y0 = py(rng);
+    for (int y = y0; y < y0 + 4; ++y)
+        for (int x = x0; x < x0 + 4; ++x) img.pixels[static_cast<std::size_t>(y * img.width + x)] = (x + y) % 2 ? 1 : 0;
+    return img;
+}
+
+}  // namespace
+
+// The issue's 10x12 label image: at the checkerboard saddle by x = 7.5 two
+// boundary vertices on different boundary chains slid along f = 0 past each
+// other (y 3 -> 3.6486 and 4 -> 3.6375), and one ended inside a triangle not
+// in its star: every move was checked against its own star only.  Now a
+// boundary vertex's move must keep the embedding, and the mesh is valid after
+// every accepted move and flip, not only at the end.
+BOOST_AUTO_TEST_CASE(issue27_optimize_saddle_fold_the_optimiser_never_folds_the_mesh) {
+    const auto f = make_image_levelset(read_image(WARPMESH_TEST_DATA "/issue27_optimize_saddle_fold.pgm"), label_options("6"));
+    double floor = 0;
+    Mesh m = plain_mesh(*f, false, floor);
+    BOOST_REQUIRE(check_mesh(m).ok());
+    std::int64_t events = 0, invalid = 0;
+    OptimizeOptions o = refining(floor);
+    o.observer = [&](const Mesh& now, const OptimizeEvent&) {
+        ++events;
+        invalid += !check_mesh(now).ok();
+    };
+    const OptimizeReport r = optimize_mesh(m, *f, o);
+    BOOST_TEST(events > 50);
+    BOOST_TEST(invalid == 0);
+    const MeshCheck c = check_mesh(m);
+    BOOST_TEST(c.ok(), (c.messages.empty() ? std::string() : c.messages[0]));
+    BOOST_TEST(r.min_angle_after > r.min_angle_before);
+    // The command line's path: the pipeline's --optimize, certified.
+    MeshOptions mo;
+    const MeshResult res = optimised(*f, mo);
+    BOOST_TEST(check_mesh(res.mesh).ok());
+}
+
+// check_mesh sees folds that orientation and conformity alone miss: a
+// boundary vertex of one square moved into another square (every triangle
+// still counter-clockwise, every edge still in one or two triangles).
+BOOST_AUTO_TEST_CASE(check_mesh_finds_a_boundary_vertex_slid_into_another_part_of_the_mesh) {
+    Mesh m;
+    m.vertices = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {1.5, 0}, {2.5, 0}, {2.5, 1}, {1.5, 1}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+    m.region = {1, 1, 1, 1};
+    m.boundary = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}};
+    m.boundary_tag.assign(8, boundary_level_set);
+    BOOST_REQUIRE(check_mesh(m).ok());
+    m.vertices[1] = {2, 0.2};  // inside triangle (4, 5, 6)
+    const MeshCheck c = check_mesh(m);
+    BOOST_TEST(c.non_ccw == 0);
+    BOOST_TEST(c.overfull_edges == 0);
+    BOOST_TEST(!c.ok());
+    BOOST_TEST(c.overlaps > 0);
+    BOOST_TEST(c.crossing_boundary_edges > 0);
+}
+
+// Random label images with saddles, uniform and graded (with --grading and
+// --max-size), through the pipeline's --optimize: every optimised mesh passes
+// check_mesh (no fold), and no triangle leaves the certified [min, max].
+BOOST_AUTO_TEST_CASE(random_label_images_with_saddles_optimise_to_valid_meshes_within_the_certified_bounds) {
+    std::mt19937 rng(27);
+    std::uniform_real_distribution<double> spacing(0.45, 1.6), grading(1.1, 2.0), size(2.3, 12);
+    std::int64_t folded = 0, out_of_bounds = 0, meshes = 0;
+    for (int i = 0; i < scaled(60); ++i) {
+        const Image img = random_label_image(rng);
+        const auto f = make_image_levelset(img, label_options(i % 2 ? "1" : "nonzero"));
+        MeshOptions o;
+        o.spacing = spacing(rng);
+        o.graded = i % 3 == 0;
+        if (o.graded) o.grading = grading(rng), o.max_size = size(rng) * o.spacing;
+        MeshResult r;
+        try {
+            r = optimised(*f, o);
+        } catch (const InputError&) {
+            continue;  // an empty region at this spacing
+        }
+        ++meshes;
+        const MeshCheck c = check_mesh(r.mesh);
+        folded += !c.ok();
+        BOOST_TEST(c.ok(), "image " << i << ": " << (c.messages.empty() ? std::string() : c.messages[0]));
+        const auto [mn, mx] = extreme_angles(r.mesh);
+        const bool in = mn >= r.certified.min_deg - 1e-9 && mx <= r.certified.max_deg + 1e-9;
+        out_of_bounds += !in;
+        BOOST_TEST(in, "image " << i << ": angles [" << mn << ", " << mx << "], certified [" << r.certified.min_deg << ", "
+                                << r.certified.max_deg << "]");
+    }
+    BOOST_TEST(meshes >= scaled(60) / 2);
+    BOOST_TEST(folded == 0);
+    BOOST_TEST(out_of_bounds == 0);
+}
+
+// The issue's rectangle: the report certified a maximum of 91.00 deg and the
+// optimised file had 93.77 deg.  The pass now keeps every triangle's largest
+// angle at or below the certified maximum (rule (6)), on random rectangles,
+// circles and ellipses at random non-dyadic spacings too.
+BOOST_AUTO_TEST_CASE(issue27_optimised_mesh_keeps_the_certified_max_angle) {
+    std::mt19937 rng(91);
+    std::uniform_real_distribution<double> c(-10, 10), len(3, 15), spacing(0.2, 0.9);
+    std::vector<std::pair<std::string, double>> cases{{"rect:-3.24713,10.227,11.1126,15.5342", 0.6103}};
+    for (int i = 0; i < scaled(40); ++i) {
+        const double x = c(rng), y = c(rng);
+        std::ostringstream s;
+        s.precision(6);
+        if (i % 3 == 0) s << "rect:" << x << "," << y << "," << x + len(rng) << "," << y + len(rng);
+        else if (i % 3 == 1) s << "circle:" << x << "," << y << "," << 0.5 * len(rng);
+        else s << "ellipse:" << x << "," << y << "," << 0.5 * len(rng) << "," << 0.5 * len(rng);
+        cases.emplace_back(s.str(), spacing(rng));
+    }
+    for (const auto& [spec, s] : cases) {
+        BOOST_TEST_CONTEXT(spec << " --spacing " << s) {
+            const auto f = parse_shape(spec);
+            MeshOptions o;
+            o.spacing = s;
+            const MeshResult r = optimised(*f, o);
+            const auto [mn, mx] = extreme_angles(r.mesh);
+            BOOST_TEST(mx <= r.certified.max_deg);
+            BOOST_TEST(mn >= r.certified.min_deg);
+            BOOST_TEST(check_mesh(r.mesh).ok());
+            BOOST_REQUIRE(r.optimized);
+            BOOST_TEST(r.optimized->max_angle_after <= r.certified.max_deg);
+        }
     }
 }

@@ -256,7 +256,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
         oo.spacing = res.lattice.s;
         oo.max_edge = o.max_size;  // the pass keeps --max-size
         oo.refine_below_deg = 30;  // Steiner points where moves and flips leave a triangle below 30°
-        if (cert.available) oo.certified_floor = cert.min_deg;
+        if (cert.available) oo.certified_floor = cert.min_deg, oo.certified_max = cert.max_deg;
         res.optimized = optimize_mesh(mesh, f, oo);
         phases.emplace_back("optimize", res.optimized->seconds);
         extra.emplace_back("optimize", optimize_json(*res.optimized));

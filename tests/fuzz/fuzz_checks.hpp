@@ -32,6 +32,8 @@
 #include "warpmesh/lattice.hpp"
 #include "warpmesh/materials.hpp"
 #include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/pipeline.hpp"
+#include "warpmesh/quality.hpp"
 #include "warpmesh/uniform.hpp"
 #include "../without_range.hpp"
 
@@ -144,7 +146,8 @@ inline void check_image_reader(std::span<const std::uint8_t> bytes) {
 //            if bit 4 + m is set (bits 5, 6, 7)
 //   rest     pixels, row-major, cycled (all 0 when empty); label mode: b % 4
 // (Byte 5 came with the size options; the seeds got a 0 there, which meshes
-// as before.)
+// as before.)  Every case also runs the pipeline with --optimize
+// (run_optimize_case); multi-material cases are selected by bit 4 of byte 5.
 struct PipelineCase {
     Image image;
     ImageLevelSetOptions options;
@@ -294,6 +297,41 @@ inline void run_materials_case(const PipelineCase& c, const Lattice& lattice) {
     }
 }
 
+// --optimize, on every case: the pipeline's mesh (uniform, or graded with the
+// case's grading and max size) with and without the pass.  The optimised mesh
+// passes check_mesh (no fold), every angle stays within the certified
+// [min, max] reported for it, and its minimum angle is not below the
+// unoptimised one; the pass's own internal errors (std::logic_error) abort.
+inline void run_optimize_case(const PipelineCase& c, const LevelSet& f) {
+    MeshOptions o;
+    o.spacing = c.spacing, o.rule = c.rule, o.graded = c.graded, o.max_cell = c.max_cell;
+    if (c.graded) o.grading = std::array<double, 4>{2, 1.5, 1.26, 1.1}[static_cast<std::size_t>(c.grading_buffer == 0 ? 0 : c.grading_buffer == 2 ? 1 : c.grading_buffer == 3 ? 2 : 3)];
+    o.max_size = c.max_size;
+    MeshResult plain, opt;
+    try {
+        plain = mesh(f, o);
+        o.optimize = true;
+        opt = mesh(f, o);
+    } catch (const InputError&) {
+        return;  // an empty region, a size bound below the band's
+    }
+    const MeshCheck mc = check_mesh(opt.mesh);
+    if (!mc.ok()) violation("optimised: check_mesh failed: " + (mc.messages.empty() ? std::string() : mc.messages[0]));
+    const auto angles = [](const Mesh& m, const std::array<std::int32_t, 3>& t) {
+        return triangle_angles(m.vertices[static_cast<std::size_t>(t[0])], m.vertices[static_cast<std::size_t>(t[1])],
+                               m.vertices[static_cast<std::size_t>(t[2])]);
+    };
+    double before = 180, after = 180, largest = 0;
+    for (const auto& t : plain.mesh.triangles) before = std::min(before, angles(plain.mesh, t).min_deg);
+    for (const auto& t : opt.mesh.triangles) {
+        after = std::min(after, angles(opt.mesh, t).min_deg);
+        largest = std::max(largest, angles(opt.mesh, t).max_deg);
+    }
+    if (after < before) violation("optimised: the minimum angle decreased");
+    if (opt.certified.available && (after < opt.certified.min_deg - 1e-9 || largest > opt.certified.max_deg + 1e-9))
+        violation("optimised: an angle outside the certified bounds reported for the mesh");
+}
+
 // Runs the case; returns false if it was refused with an InputError (e.g. a
 // label that is not in the image).  Any violated invariant aborts.
 inline bool run_pipeline_case(const PipelineCase& c) {
@@ -344,6 +382,7 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         if (!testing::same_mesh(all.mesh, g.mesh)) violation("graded mesh differs from the one with every tile sampled");
     }
     if (c.materials) run_materials_case(c, lattice);
+    run_optimize_case(c, *f);
     return true;
 }
 

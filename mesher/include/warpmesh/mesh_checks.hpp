@@ -24,12 +24,19 @@ struct MeshCheck {
     // each once, oriented with interface_regions[k][0] on its left.
     std::int64_t interface_mismatch = 0;
     std::int64_t interface_edges = 0;
+    // The embedding, checked when everything above holds (the mesh covers each
+    // point at most once): boundary edges that meet other than at a shared
+    // endpoint, and folds (a vertex's angles not summing to 360° — at most
+    // 360° on the boundary — or a boundary vertex inside a triangle that does
+    // not have it).
+    std::int64_t crossing_boundary_edges = 0;
+    std::int64_t overlaps = 0;
     std::vector<std::string> messages;   // the first few problems, for humans
 
     bool ok() const {
         return non_ccw == 0 && bad_indices == 0 && unused_vertices == 0 && overfull_edges == 0 &&
                misoriented_edges == 0 && boundary_mismatch == 0 && open_loop_vertices == 0 &&
-               interface_mismatch == 0;
+               interface_mismatch == 0 && crossing_boundary_edges == 0 && overlaps == 0;
     }
 };
 

@@ -41,9 +41,20 @@
 //       measure_fidelity): the boundary's Hausdorff distance never grows;
 //   (5) with OptimizeOptions::max_edge > 0, no edge of the star is longer
 //       than it (nor a flipped pair's new diagonal): --max-size holds after
-//       the pass too.
+//       the pass too;
+//   (6) with OptimizeOptions::certified_max finite, no triangle of the star
+//       gets a largest angle above it (nor a flipped pair, nor a refined
+//       patch): the certified maximum holds after the pass too;
+//   (7) for a boundary vertex, the mesh stays a valid embedding: its two
+//       boundary edges meet no other boundary edge nor its link, and no
+//       boundary vertex lies in its new star (embedding.hpp) — so a vertex
+//       sliding along its curve stays between its neighbours on it, and does
+//       not slide past another part of the boundary.
 // A flip is accepted only if the smallest angle of the pair strictly
-// increases and the pair's quality does not decrease.  Hence the mesh's
+// increases and the pair's quality does not decrease (a flip of a convex
+// quadrilateral keeps the embedding).  After the pass the whole mesh is
+// checked (check_mesh, mesh_checks.hpp: orientation, manifold edges, closed
+// and simple boundary loops, no folds); a failure throws std::logic_error.  Hence the mesh's
 // minimum angle never decreases, and every triangle stays at or above the
 // mesh's certified floor (the least certified_min_angle).
 //
@@ -129,6 +140,11 @@ struct OptimizeOptions {
     // The mesh's certified floor when it has no "certified_min_angle" cell
     // data (e.g. CertifiedSummary::min_deg); NaN: unknown.
     double certified_floor = std::numeric_limits<double>::quiet_NaN();
+    // The mesh's certified maximum angle (CertifiedSummary::max_deg); when
+    // finite, no move, flip or refinement makes a triangle's largest angle
+    // exceed it, so the report's certified maximum holds after the pass too
+    // (rule (6)).  NaN: no cap beyond the rule's own.
+    double certified_max = std::numeric_limits<double>::quiet_NaN();
     // > 0: no move or flip makes an edge longer than this (a mesh whose edges
     // are all <= max_edge keeps them so: MeshOptions::max_size); 0: no bound.
     double max_edge = 0;

@@ -13,7 +13,9 @@
 #include <unordered_set>
 
 #include "warpmesh/certified.hpp"
+#include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/quality.hpp"
+#include "embedding.hpp"
 #include "plane.hpp"
 #include "refine.hpp"
 
@@ -43,11 +45,11 @@ using namespace plane;
 
 // A triangle's smallest angle and quality, as reported (triangle_angles).
 struct TriQ {
-    double min_deg, q;
+    double min_deg, max_deg, q;
 };
 TriQ tri_q(Vec2 a, Vec2 b, Vec2 c) {
     const TriangleAngles t = triangle_angles(a, b, c);
-    return {t.min_deg, std::min(t.min_deg, big_angle_pivot - t.max_deg)};
+    return {t.min_deg, t.max_deg, std::min(t.min_deg, big_angle_pivot - t.max_deg)};
 }
 
 // The lattice's and the graded templates' triangles (45°, 45°, 90°), to a
@@ -91,6 +93,7 @@ public:
     Optimizer(Mesh& mesh, const LevelSet& f, const OptimizeOptions& o) : m_(mesh), f_(f), o_(o), s_(o.spacing) {
         for (auto& [name, data] : m_.cell_data)
             if (name == "certified_min_angle" && data.size() == m_.triangles.size()) cert_ = &data;
+        if (std::isfinite(o.certified_max)) cap_ = o.certified_max;
     }
 
     OptimizeReport run();
@@ -122,6 +125,12 @@ private:
     double exact_min(std::int32_t lv, Vec2 p, std::span<const double> fast_min) const;
     bool project_to_levelset(Vec2 p, Vec2 normal, double reach, Vec2& out) const;
     void lower_certified(std::span<const std::size_t> tris, double floor_before);
+    // Would moving boundary vertex lv to q keep the mesh an embedding
+    // (embedding.hpp: its two boundary edges against the other boundary
+    // edges and its link, no boundary vertex inside its new star)?
+    bool embeds(std::int32_t lv, Vec2 q) const;
+    // Would a triangle of v's star with v at q have a largest angle > cap_?
+    bool exceeds_cap(std::int32_t lv, Vec2 q) const;
 
     Mesh& m_;
     const LevelSet& f_;
@@ -138,9 +147,12 @@ private:
     std::vector<Kind> kind_;                      // per active vertex
     std::vector<std::vector<std::size_t>> star_;  // per active vertex: its triangles
     std::vector<std::array<std::int32_t, 2>> bnb_;  // level-set vertices: the two boundary neighbours
+    std::vector<std::array<std::int32_t, 2>> bedge_;  // boundary vertices that move: their two edges in Mesh::boundary
+    BoundaryIndex index_;                             // the boundary edges, for embeds()
     std::vector<char> dirty_;
     std::unordered_set<std::uint64_t> interfaces_;
     double dmax_ = 0;  // largest boundary distance before the pass
+    double cap_ = std::numeric_limits<double>::infinity();  // rule (6): certified_max, or none
     std::vector<Vec2> active_, grads_;  // scratch of angle_models, ascent_direction, try_move
     std::vector<double> values_, slope_;
     std::vector<double> model_min_, trial_min_;  // per star triangle: fast smallest angle (angle_models; a trial position)
@@ -219,7 +231,7 @@ void Optimizer::classify() {
     struct Count {
         int n1 = 0, n2 = 0, other = 0;
         bool horizontal = true, vertical = true;
-        std::array<std::int32_t, 2> nb{-1, -1};
+        std::array<std::int32_t, 2> nb{-1, -1}, edges{-1, -1};
     };
     std::vector<Count> c(act_.size());
     for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
@@ -230,6 +242,7 @@ void Optimizer::classify() {
             const std::int32_t l = local(end ? b : a);
             if (l < 0) continue;
             Count& k = c[static_cast<std::size_t>(l)];
+            k.edges[static_cast<std::size_t>(end)] = static_cast<std::int32_t>(e);
             if (tag == boundary_level_set) {
                 k.nb[static_cast<std::size_t>(end)] = end ? a : b;  // end 0: a's successor b; end 1: b's predecessor a
                 ++k.n1;
@@ -249,6 +262,7 @@ void Optimizer::classify() {
     }
     kind_.assign(act_.size(), Kind::interior);
     bnb_.assign(act_.size(), {-1, -1});
+    bedge_.assign(act_.size(), {-1, -1});
     for (std::size_t l = 0; l < act_.size(); ++l) {
         const Count& k = c[l];
         Kind& kd = kind_[l];
@@ -263,6 +277,7 @@ void Optimizer::classify() {
         } else if (k.n1 + k.n2 != 0) {
             kd = Kind::fixed;
         }
+        if (kd != Kind::interior && kd != Kind::fixed) bedge_[l] = k.edges;
     }
 }
 
@@ -385,6 +400,40 @@ void Optimizer::lower_certified(std::span<const std::size_t> tris, double floor_
     }
 }
 
+bool Optimizer::exceeds_cap(std::int32_t lv, Vec2 q) const {
+    if (!std::isfinite(cap_)) return false;
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        Vec2 x[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::int32_t v = m_.triangles[t][static_cast<std::size_t>(k)];
+            x[k] = v == g ? q : m_.vertices[static_cast<std::size_t>(v)];
+        }
+        // The fast largest angle errs by at most 3·fast_atan2_error_deg.
+        if (tri_fast(x[0], x[1], x[2]).max_deg < cap_ - 6 * fast_atan2_error_deg) continue;
+        if (triangle_angles(x[0], x[1], x[2]).max_deg > cap_) return true;
+    }
+    return false;
+}
+
+bool Optimizer::embeds(std::int32_t lv, Vec2 q) const {
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    const auto [e0, e1] = bedge_[static_cast<std::size_t>(lv)];
+    if (e0 < 0 || e1 < 0) return false;
+    const EdgeIds changed[2] = {m_.boundary[static_cast<std::size_t>(e0)], m_.boundary[static_cast<std::size_t>(e1)]};
+    std::vector<EdgeIds> link;
+    std::vector<std::array<std::int32_t, 3>> tris;
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        const auto& T = m_.triangles[t];
+        tris.push_back(T);
+        for (int k = 0; k < 3; ++k)
+            if (T[static_cast<std::size_t>(k)] == g) link.push_back({T[static_cast<std::size_t>((k + 1) % 3)], T[static_cast<std::size_t>((k + 2) % 3)]});
+    }
+    const auto pos = [&](std::int32_t v) { return v == g ? q : m_.vertices[static_cast<std::size_t>(v)]; };
+    const auto replaced = [&](std::size_t e) { return e == static_cast<std::size_t>(e0) || e == static_cast<std::size_t>(e1); };
+    return change_embeds(m_, index_, changed, link, tris, pos, replaced);
+}
+
 bool Optimizer::try_move(std::int32_t lv) {
     const Kind kind = kind_[static_cast<std::size_t>(lv)];
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
@@ -450,6 +499,7 @@ bool Optimizer::try_move(std::int32_t lv) {
         if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
         if (now_min == inf) now_min = exact_min(lv, p, model_min_);
         if (exact_min(lv, q, trial_min_) < now_min) continue;  // the monotone rule
+        if (exceeds_cap(lv, q)) continue;                         // rule (6)
         if (kind == Kind::levelset) {
             const auto nb = bnb_[static_cast<std::size_t>(lv)];
             bool close = true;
@@ -457,6 +507,7 @@ bool Optimizer::try_move(std::int32_t lv) {
                 close = close && edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(w)], q, s_) <= dmax_;
             if (!close) continue;
         }
+        if (kind != Kind::interior && !embeds(lv, q)) continue;
         // Accept: the least certified value of the star bounds every triangle
         // of it from now on (each was >= it before, so the star's old minimum
         // angle is >= it, and the new star's minimum is not smaller).
@@ -465,6 +516,8 @@ bool Optimizer::try_move(std::int32_t lv) {
             for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) floor_before = std::min(floor_before, (*cert_)[t]);
         m_.vertices[static_cast<std::size_t>(g)] = q;
         moved_[static_cast<std::size_t>(g)] = 1;
+        for (const std::int32_t e : bedge_[static_cast<std::size_t>(lv)])
+            if (e >= 0) index_.add(m_, static_cast<std::size_t>(e));
         lower_certified(star_[static_cast<std::size_t>(lv)], floor_before);
         for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
             touch(t);
@@ -522,6 +575,7 @@ bool Optimizer::try_flip(std::size_t t1, int k) {
     const TriQ n1 = tri_q(P(c), P(a), P(d)), n2 = tri_q(P(d), P(b), P(c));
     const double old_min = std::min(o1.min_deg, o2.min_deg), new_min = std::min(n1.min_deg, n2.min_deg);
     if (!(new_min > old_min + 1e-9) || std::min(n1.q, n2.q) < std::min(o1.q, o2.q)) return false;
+    if (std::max(n1.max_deg, n2.max_deg) > cap_) return false;  // rule (6)
 
     const std::array<std::array<std::int32_t, 3>, 2> before{T1, T2};
     m_.triangles[t1] = {c, a, d};
@@ -596,7 +650,8 @@ void Optimizer::refine(OptimizeReport& r) {
         RefineParams rp;
         rp.max_angle = 90;
         rp.below_deg = o_.refine_below_deg, rp.spacing = s_, rp.max_edge = o_.max_edge;
-        rp.boundary_distance = dmax_, rp.interfaces = &interfaces_;
+        rp.boundary_distance = dmax_, rp.interfaces = &interfaces_, rp.index = &index_;
+        rp.max_angle_cap = cap_;
         // The mesh's largest angle as reported, from 90° (the right isosceles
         // triangles outside changed_; the rule's cap is >= 110° anyway); a
         // triangle whose fast largest angle is below the running maximum by
@@ -630,6 +685,7 @@ OptimizeReport Optimizer::run() {
     OptimizeReport r;
     find_band(nullptr);
     classify();
+    index_ = BoundaryIndex(m_, s_);
     r.band_triangles = static_cast<std::int64_t>(band_.size());
     for (const Kind k : kind_) r.active_vertices += k != Kind::fixed;
     changed_ = band_;
@@ -686,6 +742,17 @@ OptimizeReport Optimizer::run() {
     if (r.min_angle_after < r.min_angle_before || r.min_angle_after < r.certified_floor - slack)
         throw std::logic_error("optimize: the minimum angle decreased from " + std::to_string(r.min_angle_before) + " to " +
                                std::to_string(r.min_angle_after));
+    if (r.max_angle_after > std::max(cap_, r.max_angle_before))  // rule (6)
+        throw std::logic_error("optimize: the maximum angle rose to " + std::to_string(r.max_angle_after) +
+                               ", above the certified maximum " + std::to_string(cap_));
+    // The post-condition, always: the whole mesh is still a valid embedding
+    // (mesh_checks.hpp: orientation, manifold edges, closed and simple
+    // boundary loops, no folds).  A failure is a bug of this pass.
+    if (const MeshCheck c = check_mesh(m_); !c.ok()) {
+        std::string msg = "optimize: the optimised mesh is not valid";
+        for (const std::string& m : c.messages) msg += "; " + m;
+        throw std::logic_error(msg + " (a bug of the pass: nothing written; please report the input)");
+    }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }

@@ -465,7 +465,7 @@ private:
             }
         }
         std::sort(old_edges.begin(), old_edges.end());
-        const double max_allowed = std::max({old_max, p_.max_angle, max_angle_target});
+        const double max_allowed = std::min(std::max({old_max, p_.max_angle, max_angle_target}), p_.max_angle_cap);
         // Greedy: insert the best candidate (within the angle cap first, then
         // the largest minimum) until the patch's minimum has risen.
         for (int step = 0; step < max_insertions; ++step) {
@@ -479,11 +479,41 @@ private:
             }
             if (!best) return;
             if (best->min_deg > old_min + min_gain_deg && best->max_deg <= max_allowed) {  // (2), (3)
-                apply(pt, *best, m_.region[t]);
+                if (embeds(*best, pt)) apply(pt, *best, m_.region[t]);  // (6)
                 return;
             }
             base = std::move(*best);
         }
+    }
+
+    // Rule (6) for the trial replacing patch pt (embedding.hpp).
+    bool embeds(const Trial& trial, std::span<const std::size_t> pt) const {
+        if (!p_.index) return true;
+        std::vector<std::uint64_t> replaced;  // the patch's boundary edges in the mesh
+        for (const std::size_t i : pt)
+            for (int k = 0; k < 3; ++k)
+                if (const std::uint64_t key = edge_key(m_.triangles[i][k], m_.triangles[i][(k + 1) % 3]); boundary_.count(key))
+                    replaced.push_back(key);
+        std::sort(replaced.begin(), replaced.end());
+        const auto moved = [&](std::int32_t v) {
+            return std::any_of(trial.at.begin(), trial.at.end(), [&](const auto& w) { return w.first == v; });
+        };
+        std::vector<EdgeIds> changed, local;
+        for (const BEdge& e : trial.bedges) (moved(e.a) || moved(e.b) ? changed : local).push_back({e.a, e.b});
+        std::vector<std::uint64_t> all;  // the trial's border: edges of one trial triangle, not boundary edges
+        for (const Tri& T : trial.tris)
+            for (int k = 0; k < 3; ++k) all.push_back(edge_key(T[k], T[(k + 1) % 3]));
+        std::sort(all.begin(), all.end());
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if ((i == 0 || all[i] != all[i - 1]) && (i + 1 == all.size() || all[i] != all[i + 1])) {
+                const auto a = static_cast<std::int32_t>(all[i] >> 32), b = static_cast<std::int32_t>(all[i] & 0xffffffffu);
+                if (!bedge(trial, a, b)) local.push_back({a, b});
+            }
+        const auto pos_of = [&](std::int32_t v) { return pos(trial, v); };
+        const auto is_replaced = [&](std::size_t e) {
+            return std::binary_search(replaced.begin(), replaced.end(), edge_key(m_.boundary[e][0], m_.boundary[e][1]));
+        };
+        return change_embeds(m_, *p_.index, changed, local, trial.tris, pos_of, is_replaced);
     }
 
     void apply(std::span<const std::size_t> pt, const Trial& trial, std::int32_t region) {
@@ -532,6 +562,8 @@ private:
             for (const std::size_t i : pt) data[i] = low[d];
             data.resize(m_.triangles.size(), low[d]);
         }
+        if (p_.index)
+            for (const BEdge& e : trial.bedges) p_.index->add(m_, boundary_.at(edge_key(e.a, e.b)));
         ++r_.refined_triangles;
         r_.inserted_vertices += static_cast<std::int64_t>(m_.vertices.size() - nv0);
         r_.boundary_splits += static_cast<std::int64_t>(trial.splits.size());

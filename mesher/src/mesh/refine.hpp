@@ -32,12 +32,16 @@
 // The acceptance rule.  The new patch replaces the old one only if
 //   (1) every new triangle is counter-clockwise with positive area,
 //   (2) the patch's smallest angle strictly increases,
-//   (3) the patch's largest angle stays <= max(old patch max, max_angle, 110°),
+//   (3) the patch's largest angle stays <= max(old patch max, max_angle, 110°)
+//       and <= max_angle_cap,
 //   (4) every level-set boundary edge at a new or moved vertex is within
 //       `boundary_distance` of f = 0 (measure of edge_distance_to_levelset),
 //       and those vertices have |f| <= 1e-10 spacing,
 //   (5) with max_edge > 0, no new edge, nor one at a new or moved vertex,
-//       is longer than max_edge.
+//       is longer than max_edge,
+//   (6) the mesh stays a valid embedding (embedding.hpp): the boundary edges
+//       at new or moved vertices meet no other boundary edge nor the patch
+//       border, and no boundary vertex lies inside a new triangle.
 // Triangles outside the patch are unchanged (a moved vertex has all its
 // triangles in the patch), so the mesh's minimum angle never decreases.  The
 // patch's triangles keep their slots (the extra ones are appended) and the
@@ -51,6 +55,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <unordered_set>
 #include <vector>
@@ -58,6 +63,7 @@
 #include "warpmesh/buffer.hpp"
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/mesh.hpp"
+#include "embedding.hpp"
 
 namespace warpmesh {
 
@@ -67,8 +73,14 @@ struct RefineParams {
     double max_edge = 0;           // > 0: no new edge longer than this
     double boundary_distance = 0;  // the largest allowed distance of a new level-set edge to f = 0
     double max_angle = 0;          // the mesh's largest angle (rule (3))
+    // Rule (3) never allows a largest angle above this (the mesh's certified
+    // maximum; infinity: no cap).
+    double max_angle_cap = std::numeric_limits<double>::infinity();
     int patch_rings = 5;           // a one-pixel strip needs this many for room to insert
     const std::unordered_set<std::uint64_t>* interfaces = nullptr;  // edge_key of every interface edge
+    // The mesh's boundary edges (embedding.hpp), kept up to date: a patch is
+    // replaced only if the change is an embedding (rule (6)).
+    BoundaryIndex* index = nullptr;
 };
 
 struct RefineResult {
