@@ -49,10 +49,37 @@ std::vector<Key> enumerate_keys(bool all_zero = false);
 
 // The key's parameters: per warped vertex its t in [0, α_e], per (-, +) edge
 // its u in [α_e, 1 − α_e]; `index` says which (0..3: t of vertex, 4 + e: u of edge e).
+// lo, hi: the exact box's ends as doubles (nearest); root_lo, root_hi: the
+// prover's root box, dyadic multiples of 2^-20 containing the exact box.
 struct Param {
     int index;
-    double lo, hi;  // the box, from the rational alphas (rounded outward by the caller if needed)
+    double lo, hi;
+    double root_lo, root_hi;
 };
 std::vector<Param> key_params(const Key& k, const bcc::Alphas& al);
+
+// ---- the proof ---------------------------------------------------------------
+// The claim: every dihedral angle θ has cos θ <= 0 or cos²θ <= cmin (θ >=
+// arccos √cmin), and cos θ >= 0 or cos²θ <= cmax (θ <= 180° − arccos √cmax);
+// cmin, cmax dyadic doubles (exact rationals in the certificate).
+struct Claim {
+    double cmin, cmax;
+};
+struct Box {
+    int m = 0;
+    std::array<double, 4> lo{}, hi{};
+};
+struct KeyProof {
+    bool ok = false;
+    Box root;
+    std::string splits;  // preorder: '1' split, '0' verified leaf
+    long leaves = 0;
+    int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum
+    std::array<double, 4> fail_point{};
+};
+// Branch and bound over the key's root box (bound.cpp).
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40);
+// `warpmesh-prove-bcc` (prove.cpp).
+int prove_bcc_main(int argc, char** argv);
 
 }  // namespace warpmesh::bcc_prover
