@@ -148,9 +148,13 @@ bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const 
     };
     for (int j = 0; j < static_cast<int>(fb.size()); ++j) {
         if (!ok(j, 0, true)) return *fail = 0, false;
+        // Either alternative proves a bound; the one matching the sign of d at
+        // the centre is tried first (only the cost depends on the order).
         for (int e = 0; e < 6; ++e) {
-            if (!ok(j, 1 + 2 * e, false) && !ok(j, 2 + 2 * e, false)) return *fail = 1, false;
-            if (!ok(j, 13 + 2 * e, false) && !ok(j, 14 + 2 * e, false)) return *fail = 2, false;
+            const bool acute = fm[static_cast<std::size_t>(j)].dot[static_cast<std::size_t>(e)].v.lower() > 0;
+            const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
+            if (!(acute ? ok(j, q1, false) || ok(j, s1, false) : ok(j, s1, false) || ok(j, q1, false))) return *fail = 1, false;
+            if (!(acute ? ok(j, s2, false) || ok(j, q2, false) : ok(j, q2, false) || ok(j, s2, false))) return *fail = 2, false;
         }
     }
     return true;
