@@ -79,6 +79,9 @@ struct KeyProof {
 };
 // Branch and bound over the key's root box (bound.cpp).
 KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40);
+// The key's line of the certificate: "key CODE m lo hi ... SPLITS" (root box
+// ends as multiples of 2^-20).
+std::string certificate_line(const Key& k, const KeyProof& p);
 // `warpmesh-prove-bcc` (prove.cpp).
 int prove_bcc_main(int argc, char** argv);
 

@@ -5,6 +5,7 @@
 // "The BCC certificate").
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include <boost/numeric/interval.hpp>
 
@@ -209,6 +210,16 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
     }
     out.ok = true;
     return out;
+}
+
+std::string certificate_line(const Key& k, const KeyProof& p) {
+    std::ostringstream o;
+    o << "key " << code_of(k) << " " << p.root.m;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j)
+        o << " " << static_cast<long long>(std::ldexp(p.root.lo[j], 20)) << "/1048576 "
+          << static_cast<long long>(std::ldexp(p.root.hi[j], 20)) << "/1048576";
+    o << " " << p.splits;
+    return o.str();
 }
 
 }  // namespace bcc_prover

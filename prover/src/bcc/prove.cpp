@@ -32,11 +32,6 @@ std::string dyadic40(double x) {
     o << static_cast<long long>(std::ldexp(x, 40)) << "/1099511627776";
     return o.str();
 }
-std::string dyadic20(double x) {
-    std::ostringstream o;
-    o << static_cast<long long>(std::ldexp(x, 20)) << "/1048576";
-    return o.str();
-}
 
 // cos² of an angle in degrees, rounded to a multiple of 2^-40 (the claim is
 // stated by this number; the degrees are only its name).
@@ -109,10 +104,7 @@ int prove_bcc_main(int argc, char** argv) {
             std::fprintf(stderr, "\n");
             continue;
         }
-        cert << "key " << code_of(keys[i]) << " " << p.root.m;
-        for (int j = 0; j < p.root.m; ++j)
-            cert << " " << dyadic20(p.root.lo[static_cast<std::size_t>(j)]) << " " << dyadic20(p.root.hi[static_cast<std::size_t>(j)]);
-        cert << " " << p.splits << "\n";
+        cert << certificate_line(keys[i], p) << "\n";
     }
     std::fprintf(stderr, "warpmesh-prove-bcc: alphas %s %s, claim [%.4f, %.4f] deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
                  la.c_str(), sa.c_str(), std::acos(std::sqrt(claim.cmin)) * 180 / M_PI,
