@@ -9,7 +9,9 @@ have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok
 # the interpreter's headers, numpy, pytest, meshio (to_meshio), and dask's
 # distributed scheduler (examples/batch_dask.py and its test).
 # libhdf5-dev: the XDMF writer's .h5 heavy data (serial HDF5, warpmesh::io).
-for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev zlib1g-dev libtiff-dev libhdf5-dev pkg-config python3 \
+# libgmp-dev: the 3D checker warpmesh-check-bcc (exact arithmetic on
+# 300-500-bit numbers).
+for pkg in cmake g++ make libboost-dev libboost-test-dev libpng-dev zlib1g-dev libtiff-dev libhdf5-dev libgmp-dev pkg-config python3 \
            pybind11-dev python3-dev python3-numpy python3-pytest python3-meshio python3-distributed; do
   have_pkg "$pkg" || need+=("$pkg")
 done

@@ -25,7 +25,10 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   trap 'rm -rf "$fresh"' EXIT
   "$build/mesher/warpmesh" prove --out "$fresh" --threads "$(nproc)"
   status=0
-  for cert in "$root"/proofs/*.cert "$root"/proofs/key_table.txt; do
+  # The 2D certificates (the 3D proofs/bcc.cert is rerun on a sample of its
+  # keys by test_bcc_prover in CTest).
+  certs2d=("$root"/proofs/{maxmin,separating,materials,fan}.cert)
+  for cert in "${certs2d[@]}" "$root"/proofs/key_table.txt; do
     if ! cmp -s "$cert" "$fresh/$(basename "$cert")"; then
       echo "test: $(basename "$cert") differs from the prover's fresh output" >&2
       status=1
@@ -34,7 +37,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   [ "$status" -eq 0 ] || exit 1
   stage "independent checker on the committed certificates (one process per certificate)"
   pids=()
-  for cert in "$root"/proofs/*.cert; do
+  for cert in "${certs2d[@]}"; do
     "$build/prover/warpmesh-check" "$cert" >"$fresh/$(basename "$cert").check" 2>&1 &
     pids+=($!)
   done
@@ -49,7 +52,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
     if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
       echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
-      echo "      build/prover/warpmesh-check proofs/*.cert | scripts/bounds-table.sh" >&2
+      echo "      build/prover/warpmesh-check proofs/{fan,materials,maxmin,separating}.cert | scripts/bounds-table.sh" >&2
       diff "$fresh/page.md" "$fresh/table.md" >&2 || true
       exit 1
     fi

@@ -28,9 +28,11 @@ inline std::vector<std::string> read_lines(const std::filesystem::path& p) {
     return out;
 }
 
-// Writes `lines` as <tmp>/<name>.cert, runs warpmesh-check on it and returns
-// its exit status; its stderr goes to *message (and the test log).
-inline int run_checker(const std::vector<std::string>& lines, const std::string& name, std::string* message = nullptr) {
+// Writes `lines` as <tmp>/<name>.cert, runs warpmesh-check (or the checker
+// `exe`) on it and returns its exit status; its stderr goes to *message (and
+// the test log).
+inline int run_checker(const std::vector<std::string>& lines, const std::string& name, std::string* message = nullptr,
+                       const std::string& exe = WARPMESH_CHECK_EXE) {
     namespace fs = std::filesystem;
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_tamper_" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -39,7 +41,7 @@ inline int run_checker(const std::vector<std::string>& lines, const std::string&
         std::ofstream out(f);
         for (const auto& l : lines) out << l << "\n";
     }
-    const std::string cmd = std::string("\"") + WARPMESH_CHECK_EXE + "\" \"" + f.string() + "\" >/dev/null 2>" +
+    const std::string cmd = "\"" + exe + "\" \"" + f.string() + "\" >/dev/null 2>" +
                             (dir / (name + ".err")).string();
     const int rc = std::system(cmd.c_str());
     std::ifstream err(dir / (name + ".err"));

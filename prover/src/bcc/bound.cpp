@@ -1,0 +1,226 @@
+// bound.cpp — branch and bound over a BCC key's parameter box: evaluates
+// generic_bcc.hpp's own points, stencil and dihedral forms with
+// outward-rounded intervals and verifies, box by box, positive orientation
+// and both angle bounds of every output tetrahedron (proofs/README.md,
+// "The BCC certificate").
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <boost/numeric/interval.hpp>
+
+#include "warpmesh/prove_bcc.hpp"
+
+namespace warpmesh {
+
+namespace bia = boost::numeric::interval_lib;
+// Outward rounding as in the 2D prover (bound.cpp): the FPU stays in upward
+// mode inside a RoundUp guard and lower bounds are computed as -((-x) op y).
+// checking_no_nan: a type of its own (the 2D prover specialises ScalarOps for
+// its interval type); no NaN can arise (no division but by the alphas'
+// denominators).
+using BI = boost::numeric::interval<
+    double, bia::policies<bia::save_state_nothing<bia::rounded_arith_opp<double>>, bia::checking_no_nan<double>>>;
+using BRoundUp = bia::save_state<bia::rounded_arith_opp<double>>;
+
+template <>
+struct ScalarOps<BI> {
+    static BI from_int(int v) { return BI(static_cast<double>(v)); }
+};
+
+namespace bcc_prover {
+namespace {
+
+// Forward-mode dual numbers over intervals: value and the partial
+// derivatives in the (at most 4) parameters.  Points are affine in the
+// parameters, the forms polynomials; only + - * are needed.
+struct DI {
+    BI v;
+    std::array<BI, 4> d;
+};
+DI operator+(const DI& a, const DI& b) {
+    DI r{a.v + b.v, {}};
+    for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] + b.d[i];
+    return r;
+}
+DI operator-(const DI& a, const DI& b) {
+    DI r{a.v - b.v, {}};
+    for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] - b.d[i];
+    return r;
+}
+DI operator*(const DI& a, const DI& b) {
+    DI r{a.v * b.v, {}};
+    for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    return r;
+}
+
+}  // namespace
+}  // namespace bcc_prover
+
+template <>
+struct ScalarOps<bcc_prover::DI> {
+    static bcc_prover::DI from_int(int v) { return {BI(static_cast<double>(v)), {BI(0.), BI(0.), BI(0.), BI(0.)}}; }
+};
+
+namespace bcc_prover {
+namespace {
+
+// The dihedral forms of the key's output tetrahedra on box b, with partials.
+std::vector<bcc::DihedralForms<DI>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b) {
+    const DI zero = ScalarOps<DI>::from_int(0);
+    std::array<DI, 4> t{zero, zero, zero, zero};
+    std::array<DI, 6> u{zero, zero, zero, zero, zero, zero};
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        DI x = zero;
+        x.v = BI(b.lo[i], b.hi[i]);
+        x.d[i] = BI(1.);
+        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x;
+        else u[static_cast<std::size_t>(ps[i].index - 4)] = x;
+    }
+    const auto pts = bcc::generic_points<DI>(k, t, u);
+    const bcc::Stencil st = bcc::stencil(k.sign, k.parity, true);
+    std::vector<bcc::DihedralForms<DI>> out;
+    for (int j = 0; j < st.count; ++j) {
+        std::array<bcc::Vec<DI>, 4> p{};
+        for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
+        out.push_back(bcc::dihedral_forms(p));
+    }
+    return out;
+}
+
+// Form f of one tetrahedron's forms: f = 0: 6·volume; f = 1 + 2e: -d_e;
+// 2 + 2e: C_min N_e - d_e²; f = 13 + 2e: d_e; 14 + 2e: C_max N_e - d_e²
+// (d = n_c·n_d, N = |n_c|²|n_d|²).
+DI form_of(const bcc::DihedralForms<DI>& df, int f, const Claim& c) {
+    const DI zero = ScalarOps<DI>::from_int(0);
+    if (f == 0) return df.volume6;
+    const int g = (f - 1) % 12, e = g / 2;
+    const DI& d = df.dot[static_cast<std::size_t>(e)];
+    if (g % 2 == 0) return f < 13 ? zero - d : d;
+    DI cc = zero;
+    cc.v = BI(f < 13 ? c.cmin : c.cmax);
+    return cc * df.nn[static_cast<std::size_t>(e)] - d * d;
+}
+
+// g >= 0 (strict: > 0) on box b.  Tests, in turn, the natural enclosure g(b)
+// and the mean-value form around the centre m of b, g(m) + sum_j g_j(b)
+// [-r_j, r_j]; while neither proves it, every variable whose partial has a
+// decided sign on the box is fixed at the end where g is smaller (all at
+// once), and both tests are repeated on that face.  The 2D prover's
+// procedure (bound.cpp, verify_poly); the checker applies it exactly.
+// `g` is the form on b, `mid` its value at the centre (both precomputed for
+// all forms of the box).
+bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, int j, int f, const Claim& c, bool strict, DI g,
+                 BI mid) {
+    for (bool first = true;; first = false) {
+        if (strict ? g.v.lower() > 0 : g.v.lower() >= 0) return true;
+        Box m = b;
+        for (int i = 0; i < b.m; ++i) m.lo[static_cast<std::size_t>(i)] = m.hi[static_cast<std::size_t>(i)] = 0.5 * (b.lo[static_cast<std::size_t>(i)] + b.hi[static_cast<std::size_t>(i)]);
+        BI mv = first ? mid : form_of(all_forms(k, ps, m)[static_cast<std::size_t>(j)], f, c).v;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i)
+            if (b.lo[i] != b.hi[i]) {
+                const double r = 0.5 * (b.hi[i] - b.lo[i]);
+                mv = mv + g.d[i] * BI(-r, r);
+            }
+        if (strict ? mv.lower() > 0 : mv.lower() >= 0) return true;
+        bool fixed = false;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) {
+            if (b.lo[i] == b.hi[i]) continue;
+            if (g.d[i].lower() >= 0) b.hi[i] = b.lo[i], fixed = true;
+            else if (g.d[i].upper() <= 0) b.lo[i] = b.hi[i], fixed = true;
+        }
+        if (!fixed) return false;
+        g = form_of(all_forms(k, ps, b)[static_cast<std::size_t>(j)], f, c);
+    }
+}
+
+// Whether every output tetrahedron of key k is positively oriented with all
+// dihedral angles in the claim on the box; `fail` gets what failed (0
+// orientation, 1 minimum, 2 maximum).  Per edge: minimum holds if -d >= 0 on
+// the box or C_min N - d² >= 0; maximum if d >= 0 or C_max N - d² >= 0
+// (generic_bcc.hpp, "Angle forms").
+bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, int* fail) {
+    Box m = b;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) m.lo[i] = m.hi[i] = 0.5 * (b.lo[i] + b.hi[i]);
+    const auto fb = all_forms(k, ps, b), fm = all_forms(k, ps, m);
+    const auto ok = [&](int j, int f, bool strict) {
+        const auto J = static_cast<std::size_t>(j);
+        return verify_form(k, ps, b, j, f, c, strict, form_of(fb[J], f, c), form_of(fm[J], f, c).v);
+    };
+    for (int j = 0; j < static_cast<int>(fb.size()); ++j) {
+        if (!ok(j, 0, true)) return *fail = 0, false;
+        // Either alternative proves a bound; the one matching the sign of d at
+        // the centre is tried first (only the cost depends on the order).
+        for (int e = 0; e < 6; ++e) {
+            const bool acute = fm[static_cast<std::size_t>(j)].dot[static_cast<std::size_t>(e)].v.lower() > 0;
+            const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
+            if (!(acute ? ok(j, q1, false) || ok(j, s1, false) : ok(j, s1, false) || ok(j, q1, false))) return *fail = 1, false;
+            if (!(acute ? ok(j, s2, false) || ok(j, q2, false) : ok(j, q2, false) || ok(j, s2, false))) return *fail = 2, false;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth) {
+    const BRoundUp guard;
+    KeyProof out;
+    const std::vector<Param> ps = key_params(k, al);
+    Box root;
+    root.m = static_cast<int>(ps.size());
+    for (std::size_t i = 0; i < ps.size(); ++i) root.lo[i] = ps[i].root_lo, root.hi[i] = ps[i].root_hi;
+    out.root = root;
+    // Depth first, lower half first; split the widest side (the first on
+    // ties) at its midpoint.  The split string: '1' split, '0' verified leaf.
+    struct Item {
+        Box b;
+        int depth;
+    };
+    std::vector<Item> stack{{root, 0}};
+    while (!stack.empty()) {
+        const Item it = stack.back();
+        stack.pop_back();
+        int fail = 0;
+        if (verify_box(k, ps, it.b, c, &fail)) {
+            out.splits += '0';
+            ++out.leaves;
+            continue;
+        }
+        int s = -1;
+        for (int j = 0; j < it.b.m; ++j)
+            if (s < 0 || it.b.hi[static_cast<std::size_t>(j)] - it.b.lo[static_cast<std::size_t>(j)] >
+                             it.b.hi[static_cast<std::size_t>(s)] - it.b.lo[static_cast<std::size_t>(s)])
+                s = j;
+        if (s < 0 || it.depth >= max_depth) {
+            out.ok = false;
+            out.fail_kind = fail;
+            for (int j = 0; j < it.b.m; ++j)
+                out.fail_point[static_cast<std::size_t>(j)] = 0.5 * (it.b.lo[static_cast<std::size_t>(j)] + it.b.hi[static_cast<std::size_t>(j)]);
+            return out;
+        }
+        out.splits += '1';
+        const auto ss = static_cast<std::size_t>(s);
+        const double mid = 0.5 * (it.b.lo[ss] + it.b.hi[ss]);
+        Item lo = it, hi = it;
+        lo.b.hi[ss] = mid, hi.b.lo[ss] = mid;
+        lo.depth = hi.depth = it.depth + 1;
+        stack.push_back(hi);
+        stack.push_back(lo);
+    }
+    out.ok = true;
+    return out;
+}
+
+std::string certificate_line(const Key& k, const KeyProof& p) {
+    std::ostringstream o;
+    o << "key " << code_of(k) << " " << p.root.m;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j)
+        o << " " << static_cast<long long>(std::ldexp(p.root.lo[j], 20)) << "/1048576 "
+          << static_cast<long long>(std::ldexp(p.root.hi[j], 20)) << "/1048576";
+    o << " " << p.splits;
+    return o.str();
+}
+
+}  // namespace bcc_prover
+}  // namespace warpmesh

@@ -1,0 +1,124 @@
+// prove.cpp — `warpmesh-prove-bcc`: runs the branch and bound over every key
+// and writes the certificate (format: proofs/README.md, "The BCC
+// certificate").
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "warpmesh/prove_bcc.hpp"
+
+namespace warpmesh::bcc_prover {
+namespace {
+
+// "0.24999" -> 24999 / 100000 (at most 5 decimals).
+bool parse_alpha(const std::string& s, std::int64_t& num) {
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (end == s.c_str() || *end != '\0' || !(x > 0 && x < 0.5)) return false;
+    num = std::llround(x * 100000);
+    return std::fabs(static_cast<double>(num) - x * 100000) < 1e-6;
+}
+
+// A dyadic p / 2^40 as text.
+std::string dyadic40(double x) {
+    std::ostringstream o;
+    o << static_cast<long long>(std::ldexp(x, 40)) << "/1099511627776";
+    return o.str();
+}
+
+// cos² of an angle in degrees, rounded to a multiple of 2^-40 (the claim is
+// stated by this number; the degrees are only its name).
+double cos2_dyadic(double deg) {
+    const double c = std::cos(deg * M_PI / 180);
+    return std::round(std::ldexp(c * c, 40)) / 1099511627776.0;
+}
+
+}  // namespace
+
+int prove_bcc_main(int argc, char** argv) {
+    std::string out = "proofs/bcc.cert", la = "0.24999", sa = "0.41189";
+    double min_deg = 9.3, max_deg = 161.7;
+    std::vector<int> subset;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool more = i + 1 < argc;
+        if (a == "--out" && more) out = argv[++i];
+        else if (a == "--alphas" && i + 2 < argc) la = argv[++i], sa = argv[++i];
+        else if (a == "--min-deg" && more) min_deg = std::atof(argv[++i]);
+        else if (a == "--max-deg" && more) max_deg = std::atof(argv[++i]);
+        else if (a == "--threads" && more) {
+#ifdef _OPENMP
+            omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
+#else
+            ++i;
+#endif
+        } else if (a == "--keys" && more) {
+            std::stringstream ss(argv[++i]);
+            for (std::string tok; std::getline(ss, tok, ',');) subset.push_back(std::atoi(tok.c_str()));
+        } else {
+            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--min-deg D] [--max-deg D] [--threads N] [--keys I,J,..]\n");
+            return 2;
+        }
+    }
+    bcc::Alphas al{0, 100000, 0, 100000};
+    if (!parse_alpha(la, al.long_num) || !parse_alpha(sa, al.short_num) || !(min_deg > 0 && min_deg < 90) ||
+        !(max_deg > 90 && max_deg < 180)) {
+        std::fprintf(stderr, "warpmesh-prove-bcc: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < min-deg < 90 < max-deg < 180\n");
+        return 2;
+    }
+    const Claim claim{cos2_dyadic(min_deg), cos2_dyadic(max_deg)};
+    const std::vector<Key> all = enumerate_keys();
+    std::vector<Key> keys;
+    if (subset.empty()) keys = all;
+    else
+        for (int k : subset)
+            if (k >= 0 && k < static_cast<int>(all.size())) keys.push_back(all[static_cast<std::size_t>(k)]);
+    std::vector<KeyProof> proofs(keys.size());
+    const auto t0 = std::chrono::steady_clock::now();
+#pragma omp parallel for schedule(dynamic, 4)
+    for (long i = 0; i < static_cast<long>(keys.size()); ++i)
+        proofs[static_cast<std::size_t>(i)] = prove_key(keys[static_cast<std::size_t>(i)], al, claim);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    long leaves = 0;
+    int failed = 0;
+    std::ostringstream cert;
+    cert << "warpmesh-bcc-certificate 1\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
+    cert << "alphas " << al.long_num << "/100000 " << al.short_num << "/100000\n";
+    cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << "\n";
+    cert << "keys " << keys.size() << "\n";
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const KeyProof& p = proofs[i];
+        leaves += p.leaves;
+        if (!p.ok) {
+            ++failed;
+            std::fprintf(stderr, "key %s: not proved (%s) near", code_of(keys[i]).c_str(),
+                         p.fail_kind == 0 ? "orientation" : p.fail_kind == 1 ? "minimum" : "maximum");
+            for (int j = 0; j < p.root.m; ++j) std::fprintf(stderr, " %.6f", p.fail_point[static_cast<std::size_t>(j)]);
+            std::fprintf(stderr, "\n");
+            continue;
+        }
+        cert << certificate_line(keys[i], p) << "\n";
+    }
+    std::fprintf(stderr, "warpmesh-prove-bcc: alphas %s %s, claim [%.4f, %.4f] deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
+                 la.c_str(), sa.c_str(), std::acos(std::sqrt(claim.cmin)) * 180 / M_PI,
+                 180 - std::acos(std::sqrt(claim.cmax)) * 180 / M_PI, keys.size(), failed, leaves, secs);
+    if (failed) return 1;
+    std::ofstream f(out, std::ios::binary);
+    f << cert.str();
+    if (!f) {
+        std::fprintf(stderr, "warpmesh-prove-bcc: cannot write %s\n", out.c_str());
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace warpmesh::bcc_prover
+
+int main(int argc, char** argv) { return warpmesh::bcc_prover::prove_bcc_main(argc, argv); }

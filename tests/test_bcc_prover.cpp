@@ -1,0 +1,84 @@
+// The 3D prover reproduces proofs/bcc.cert byte for byte on a deterministic
+// sample of keys (every 97th canonical key, plus the pyramid and the
+// three-warp key that carry the minimum), with the certificate's own alphas
+// and claim; and a claim above the space's minimum is refused.
+#define BOOST_TEST_MODULE bcc_prover
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "support.hpp"
+#include "warpmesh/prove_bcc.hpp"
+
+using namespace warpmesh;
+namespace bp = warpmesh::bcc_prover;
+
+namespace {
+
+struct Cert {
+    bcc::Alphas al{};
+    bp::Claim claim{};
+    std::map<std::string, std::string> lines;  // code -> key line
+};
+
+// "p/q" with q = 100000 or a power of two.
+double ratio(const std::string& s, std::int64_t* num = nullptr) {
+    const auto slash = s.find('/');
+    const double n = std::stod(s.substr(0, slash)), d = std::stod(s.substr(slash + 1));
+    if (num) *num = std::stoll(s.substr(0, slash));
+    return n / d;  // exact for the claim's dyadics (n < 2^53, d a power of two)
+}
+
+Cert read_cert() {
+    std::ifstream in(std::filesystem::path(WARPMESH_PROOFS_DIR) / "bcc.cert");
+    BOOST_REQUIRE(in);
+    Cert c;
+    for (std::string line; std::getline(in, line);) {
+        std::istringstream ss(line);
+        std::string w, a, b;
+        ss >> w;
+        if (w == "alphas") {
+            ss >> a >> b;
+            ratio(a, &c.al.long_num), ratio(b, &c.al.short_num);
+            c.al.long_den = c.al.short_den = 100000;
+        } else if (w == "claim") {
+            ss >> a >> b;
+            c.claim = {ratio(a), ratio(b)};
+        } else if (w == "key") {
+            ss >> a;
+            c.lines[a] = line;
+        }
+    }
+    return c;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(sampled_keys_reproduce_the_certificate_byte_for_byte) {
+    const Cert c = read_cert();
+    const auto keys = bp::enumerate_keys();
+    BOOST_REQUIRE(keys.size() == c.lines.size());
+    int checked = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const std::string code = bp::code_of(keys[i]);
+        if (i % 97 != 0 && code != "-,0h,+,-/0" && code != "-,0h,0m,0i/0") continue;
+        const bp::KeyProof p = bp::prove_key(keys[i], c.al, c.claim);
+        BOOST_TEST(p.ok, code);
+        BOOST_TEST(bp::certificate_line(keys[i], p) == c.lines.at(code), code);
+        ++checked;
+    }
+    BOOST_TEST(checked >= 25);
+}
+
+BOOST_AUTO_TEST_CASE(a_claim_above_the_minimum_is_refused) {
+    const Cert c = read_cert();
+    for (const auto& k : bp::enumerate_keys()) {
+        if (bp::code_of(k) != "-,0h,+,-/0") continue;
+        const double c95 = std::cos(9.5 * M_PI / 180);  // the key reaches 9.3171 deg
+        const bp::KeyProof p = bp::prove_key(k, c.al, {std::round(std::ldexp(c95 * c95, 40)) / 1099511627776.0, c.claim.cmax}, 16);
+        BOOST_TEST(!p.ok);
+        BOOST_TEST(p.fail_kind == 1);
+    }
+}
