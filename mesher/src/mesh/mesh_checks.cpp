@@ -199,7 +199,7 @@ void Checker::embedding() {
         }
     const BoundaryIndex index(mesh, length / static_cast<double>(mesh.boundary.size()));
     for (std::size_t e = 0; e < mesh.boundary.size(); ++e) {
-        const auto [a, b] = mesh.boundary[e];
+        const std::int32_t a = mesh.boundary[e][0], b = mesh.boundary[e][1];  // not a structured binding: clang 14 cannot capture one
         const Vec2 pa = mesh.vertices[static_cast<std::size_t>(a)], pb = mesh.vertices[static_cast<std::size_t>(b)];
         index.near({std::min(pa.x, pb.x), std::min(pa.y, pb.y)}, {std::max(pa.x, pb.x), std::max(pa.y, pb.y)}, [&](std::size_t o) {
             const auto [c, d] = mesh.boundary[o];
