@@ -418,7 +418,8 @@ bool Optimizer::exceeds_cap(std::int32_t lv, Vec2 q) const {
 
 bool Optimizer::embeds(std::int32_t lv, Vec2 q) const {
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
-    const auto [e0, e1] = bedge_[static_cast<std::size_t>(lv)];
+    // Not a structured binding: clang 14 cannot capture one in a lambda.
+    const auto e0 = bedge_[static_cast<std::size_t>(lv)][0], e1 = bedge_[static_cast<std::size_t>(lv)][1];
     if (e0 < 0 || e1 < 0) return false;
     const EdgeIds changed[2] = {m_.boundary[static_cast<std::size_t>(e0)], m_.boundary[static_cast<std::size_t>(e1)]};
     std::vector<EdgeIds> link;
