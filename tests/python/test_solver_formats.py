@@ -509,3 +509,25 @@ def test_slices_write_hdf5_xdmf_in_parallel(tmp_path):
         counts.append(len(meshio.read(tmp_path / f"s{i}.xdmf").cells[0]))
         assert len(meshio.read(tmp_path / f"s{i}_facets.xdmf").cells[0]) > 0
     assert counts == sorted(counts) and counts[0] < counts[-1]  # the disc grows with k
+
+
+@pytest.mark.parametrize("extra", [[], ["--compress"]])
+def test_issue32_meshio_offset_shadow(tmp_path, extra):
+    """meshio 5 reads appended .vtu data by rewriting each DataArray's offset
+    as it goes and finding the next array by offset in document order; with
+    the arrays appended in document order, this 5-point mesh's rewritten
+    connectivity offset (172) shadowed the raw offset of "offsets" (172) and
+    meshio raised ReadError (found by scripts/stress.sh).  The writer appends
+    the arrays in reverse document order; meshio and VTK read both forms."""
+    import meshio
+    vtk = require("vtk", "python3-vtk9")
+    data = os.path.join(os.path.dirname(__file__), "..", "data", "issue32_meshio_offset_shadow.pgm")
+    out = tmp_path / "out.vtu"
+    run_warpmesh([data, "--iso", "209.201", "--spacing", "1.3489", "--graded", "--max-size", "4.559",
+                  "--diagonal", "fan", "-o", out, *extra], tmp_path)
+    m = meshio.read(out)
+    assert len(m.points) == 5 and len(m.cells_dict["triangle"]) == 3
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(str(out))
+    r.Update()
+    assert r.GetErrorCode() == 0 and r.GetOutput().GetNumberOfCells() == 3

@@ -25,7 +25,8 @@
 //   </VTKFile>
 //
 // Appended (format="appended" offset="K"): after the underscore, each array in
-// document order; its offset K counts bytes from just after the underscore.
+// the reverse of document order (write_raw says why); its offset K counts
+// bytes from just after the underscore.
 //   raw:  a UInt64 byte count, then the array's bytes.
 //   zlib: a UInt64 header [number of blocks b, uncompressed block size,
 //         uncompressed size of the last block, compressed size of block 1 …
@@ -173,14 +174,23 @@ std::vector<const Array*> all_arrays(const Sections& s) {
     return r;
 }
 
+// The appended data holds the arrays in the REVERSE of document order (any
+// order is valid VTK).  meshio 5 reads raw and zlib appended data by
+// rewriting each array's offset attribute as it goes and finding the next
+// array with find(".//DataArray[@offset='K']"), the first match in document
+// order: in document order, an array already rewritten could shadow a later
+// one whose raw offset equals the rewritten value (a 5-point mesh did, see
+// tests/python/test_solver_formats.py).  In reverse order every array still
+// to be found precedes, in the document, every array already rewritten.
 void write_raw(std::ostream& os, const Mesh& mesh, const Sections& s) {
     const auto arrays = all_arrays(s);
-    std::vector<std::uint64_t> offsets;
+    std::vector<std::uint64_t> offsets(arrays.size());
     std::uint64_t at = 0;
-    for (const Array* a : arrays) offsets.push_back(at), at += 8 + a->bytes();
+    for (std::size_t k = arrays.size(); k-- > 0;) offsets[k] = at, at += 8 + arrays[k]->bytes();
     put_xml(os, mesh, s, VtuOptions::Encoding::raw, offsets);
     os << "  <AppendedData encoding=\"raw\">\n   _";
-    for (const Array* a : arrays) {
+    for (std::size_t k = arrays.size(); k-- > 0;) {
+        const Array* a = arrays[k];
         detail::write_value(os, static_cast<std::uint64_t>(a->bytes()));
         detail::write_binary(os, a->count, a->tuple_bytes, a->fill);
     }
@@ -239,12 +249,13 @@ void write_zlib(std::ostream& os, const Mesh& mesh, const Sections& s) {
     const auto arrays = all_arrays(s);
     const TempFile tmp(std::tmpfile());
     if (!tmp) throw OutputError("cannot create a temporary file for the compressed data");
+    // Compressed and written in reverse document order, as write_raw.
     std::vector<Compressed> packed;
-    std::vector<std::uint64_t> offsets;
+    std::vector<std::uint64_t> offsets(arrays.size());
     std::uint64_t at = 0;
-    for (const Array* a : arrays) {
-        packed.push_back(compress_array(*a, tmp.get()));
-        offsets.push_back(at), at += packed.back().bytes();
+    for (std::size_t k = arrays.size(); k-- > 0;) {
+        packed.push_back(compress_array(*arrays[k], tmp.get()));
+        offsets[k] = at, at += packed.back().bytes();
     }
     put_xml(os, mesh, s, VtuOptions::Encoding::zlib, offsets);
     os << "  <AppendedData encoding=\"raw\">\n   _";
