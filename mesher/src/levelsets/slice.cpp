@@ -166,14 +166,15 @@ Image slice_image(const Volume& v, const std::optional<SliceSpec>& slice) {
 
 LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
     const CheckedSlice c = check_slice(v, options.slice);
-    const FieldKind kind = options.materials                             ? FieldKind::materials
-                           : options.levelset.mode == ImageMode::label ? FieldKind::label
-                                                                       : FieldKind::threshold;
-    check_memory(static_cast<std::uint64_t>(c.W * c.H) * field_bytes_per_pixel(kind), options.max_memory,
-                 "the level set of '" + c.name + "'",
-                 std::to_string(c.W) + " x " + std::to_string(c.H) + " pixels at " +
-                     std::to_string(field_bytes_per_pixel(kind)) + " bytes each",
-                 "crop or downsample the image");
+    // Materials: make_label_materials makes the same admission check.
+    if (!options.materials) {
+        const FieldKind kind = options.levelset.mode == ImageMode::label ? FieldKind::label : FieldKind::threshold;
+        check_memory(static_cast<std::uint64_t>(c.W * c.H) * field_bytes_per_pixel(kind), options.max_memory,
+                     "the level set of '" + c.name + "'",
+                     std::to_string(c.W) + " x " + std::to_string(c.H) + " pixels at " +
+                         std::to_string(field_bytes_per_pixel(kind)) + " bytes each",
+                     "crop or downsample the image");
+    }
     LoadedSlice out;
     static_cast<SlicePlacement&>(out) = placement(v, c, options.units, options.slice.has_value());
     out.width = static_cast<int>(c.W), out.height = static_cast<int>(c.H);
