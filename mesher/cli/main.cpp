@@ -118,8 +118,10 @@ lattice and algorithm:
                          need a positive value: leave them out for no bound)
   --max-squares N        refuse lattices with more than N squares (default 1073741824)
   --optimize             after meshing, move the boundary band's vertices (boundary ones
-                         along the level set) and flip its interior edges to raise the
-                         worst angles; no triangle's star gets a smaller minimum angle
+                         along the level set, interface ones along their interface) and
+                         flip its interior edges to raise the worst angles; no triangle's
+                         star gets a smaller minimum angle (materials: no label's area
+                         error grows, junctions stay put)
 
 certificates (proofs/*.cert, compiled in):
   --verify / --no-verify check every triangle of a warped square against its key's
@@ -356,7 +358,6 @@ void check_input_options(const CliOptions& o) {
         throw UsageError("--max-size-of applies to --materials and --shapes (one region: use --max-size)");
     if (o.materials || o.shapes) {
         if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
-        if (m.optimize) throw UsageError("--optimize is not available with --materials/--shapes");
     }
 }
 

@@ -273,10 +273,31 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
     return res;
 }
 
+namespace {
+
+// The optimisation pass on a multi-material mesh (optimize.hpp) after
+// certification, with the material figures updated.  --max-size and every
+// --max-size-of cap hold after it: the smallest of them bounds the edges the
+// pass makes.
+OptimizeReport optimize_materials(MaterialResult& r, const MaterialField& field, double spacing, const MeshOptions& o) {
+    OptimizeOptions oo;
+    oo.spacing = spacing;
+    oo.max_edge = o.max_size;
+    for (const auto& [tag, h] : o.max_size_of) oo.max_edge = oo.max_edge > 0 ? std::min(oo.max_edge, h) : h;
+    oo.refine_below_deg = 30;  // as for one region
+    if (r.certified.available) oo.certified_floor = r.certified.min_deg, oo.certified_max = r.certified.max_deg;
+    const RegionMeasures before = measure_regions(r.mesh);
+    OptimizeReport report = optimize_mesh(r.mesh, field, oo);
+    update_material_stats(r, before, measure_regions(r.mesh));
+    if (!o.max_size_of.empty()) measure_longest_edges(r);
+    return report;
+}
+
+}  // namespace
+
 MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     validate(o);
     if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
-    if (o.optimize) throw InputError("--optimize is not available with --materials/--shapes");
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
     MeshResult res;
     res.spacing = o.spacing;
@@ -339,6 +360,11 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     extra.emplace_back("warped_points", std::to_string(r.warped_points));
     extra.emplace_back("warped_squares", std::to_string(r.warped_squares));
     extra.emplace_back("separating_overrides", std::to_string(r.forced_diagonals));
+    if (o.optimize) {
+        res.optimized = optimize_materials(r, field, res.lattice.s, o);
+        phases.emplace_back("optimize", res.optimized->seconds);
+        extra.emplace_back("optimize", optimize_json(*res.optimized));
+    }
     for (auto& e : material_report_json(r)) extra.push_back(std::move(e));
     res.materials_text = material_report_text(r, &res.warnings);
     res.mesh = std::move(r.mesh);

@@ -78,6 +78,8 @@ MeshOptions mesh_options(const py::dict& kw) {
     }
     if (kw.contains("min_spacing")) o.min_spacing = kw["min_spacing"].cast<double>();
     if (kw.contains("input")) o.input = kw["input"].cast<std::string>();
+    if (kw.contains("optimize")) o.optimize = kw["optimize"].cast<bool>();
+    if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();  // bytes
     return o;
 }
 
@@ -194,13 +196,23 @@ void bind_meshing(py::module_& m) {
         [](const Pixels& pixels, int maxval, const std::string& spec, bool keep_background, const std::string& source,
            const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
             const Image img = to_image(pixels, maxval, source);
-            const std::unique_ptr<MaterialField> field = make_label_materials(img, spec, pixel_geometry(geometry));
             MeshOptions o = mesh_options(kw);
             o.keep_background = keep_background;
+            const std::unique_ptr<MaterialField> field = make_label_materials(img, spec, pixel_geometry(geometry), o.max_memory);
             return run(*field, o, threads);
         },
         py::arg("pixels"), py::arg("maxval"), py::arg("spec"), py::arg("keep_background"), py::arg("source"),
         py::arg("geometry"), py::arg("threads"), py::arg("options"));
+
+    m.def(
+        "mesh_shapes",
+        [](const std::string& spec, bool keep_background, std::optional<int> threads, const py::dict& kw) {
+            const std::unique_ptr<MaterialField> field = parse_material_shapes(spec);
+            MeshOptions o = mesh_options(kw);
+            o.keep_background = keep_background;
+            return run(*field, o, threads);
+        },
+        py::arg("spec"), py::arg("keep_background"), py::arg("threads"), py::arg("options"));
 }
 
 void bind_read_image(py::module_& m) {
@@ -218,11 +230,12 @@ void bind_read_image(py::module_& m) {
     m.def(
         "read_image",
         [](const std::string& path, std::optional<std::string> slice, std::optional<std::string> units,
-           std::uint64_t max_pixels) {
+           std::uint64_t max_pixels, std::uint64_t max_memory) {
             if (units && *units != "mm" && *units != "pixels")
                 throw InputError("units must be None, 'mm' or 'pixels', got '" + *units + "'");
             VolumeLimits limits;
             limits.max_voxels = max_pixels;
+            limits.max_bytes = max_memory;
             const Volume v = read_volume(path, limits);
             if (!slice && v.dims[2] != 1)
                 throw InputError(path + ": a volume of " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) +
@@ -250,7 +263,7 @@ void bind_read_image(py::module_& m) {
             return py::make_tuple(py::array_t<std::uint16_t>(shape, data, owner), maxval, placement);
         },
         py::arg("path"), py::arg("slice") = std::nullopt, py::arg("units") = std::nullopt,
-        py::arg("max_pixels") = default_max_pixels);
+        py::arg("max_pixels") = default_max_pixels, py::arg("max_memory") = default_max_memory);
 }
 
 }  // namespace

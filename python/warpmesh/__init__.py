@@ -24,12 +24,13 @@ import numpy as np
 from . import _core
 from ._core import InputError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "read_image", "write", "Mesh", "Image", "InputError", "OutputError",
+__all__ = ["mesh", "mesh_shape", "mesh_shapes", "read_image", "write", "Mesh", "Image", "InputError", "OutputError",
            "png_supported", "certified_table_available"]
 
 # The CLI's --max-squares and --max-pixels defaults.
 _MAX_SQUARES = 1 << 30
 _MAX_PIXELS = 1 << 28
+_MAX_MEMORY_MB = 2048  # the CLI's --max-memory default
 
 
 class Image(np.ndarray):
@@ -65,7 +66,12 @@ class Image(np.ndarray):
         self.plane = getattr(obj, "plane", None) if same else None
 
 
-def read_image(path, *, slice=None, units=None, max_pixels=_MAX_PIXELS):
+def _max_memory(mb):
+    """max_memory= in megabytes (as the CLI's --max-memory) -> bytes."""
+    return _integer("max_memory", mb, 1) << 20
+
+
+def read_image(path, *, slice=None, units=None, max_pixels=_MAX_PIXELS, max_memory=_MAX_MEMORY_MB):
     """Read an image, or one slice of a volume, the way the CLI reads it: PGM
     (P2/P5, 8 or 16 bits), PNG (when built with libpng), NRRD, NIfTI-1/2 and
     TIFF, recognised by content.
@@ -84,11 +90,13 @@ def read_image(path, *, slice=None, units=None, max_pixels=_MAX_PIXELS):
 
     Returns an Image (a numpy uint16 array of shape (rows, columns) owning the
     samples, no copy) with ``maxval``, ``source``, ``units``, ``geometry``
-    and ``plane``.  Raises InputError naming the file and the problem."""
+    and ``plane``.  ``max_memory`` (megabytes, as the CLI's --max-memory)
+    refuses, before reading, a file whose samples would not fit.  Raises
+    InputError naming the file and the problem."""
     if units not in (None, "mm", "pixels"):
         raise InputError(f"units must be None, 'mm' or 'pixels', got {units!r}")
     pixels, maxval, placement = _core.read_image(str(path), None if slice is None else str(slice), units,
-                                                 _integer("max_pixels", max_pixels, 1))
+                                                 _integer("max_pixels", max_pixels, 1), _max_memory(max_memory))
     return Image(pixels, maxval, path, placement)
 
 
@@ -220,14 +228,14 @@ def write(result, path, *, ascii=False, compress=False, xdmf_inline=False):
 
 
 def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input,
-             max_size=None, grading=2.0, max_size_of=None):
+             max_size=None, grading=2.0, max_size_of=None, optimize=False, max_memory=_MAX_MEMORY_MB):
     _choice("rule", rule, ("separating", "maxmin", "fan"))
     if guarantee is not None:
         _choice("guarantee", guarantee, ("any", "flat"))
     o = dict(spacing=_number("spacing", spacing), rule=rule, graded=bool(graded),
              max_cell=_integer("max_cell", max_cell, 0), max_squares=_integer("max_squares", max_squares),
              certify=bool(certify), verify=bool(verify), guarantee="any" if guarantee is None else guarantee,
-             input=input)
+             input=input, optimize=bool(optimize), max_memory=_max_memory(max_memory))
     if min_spacing is not None:
         o["min_spacing"] = _number("min_spacing", min_spacing)
     if max_size is not None:
@@ -318,7 +326,8 @@ def _pixels(image):
 
 def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=None,
          pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule="separating",
-         guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
+         guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None,
+         optimize=False, max_memory=_MAX_MEMORY_MB):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
 
     image       2D array of integers in 0..65535 or booleans (a uint8 image from
@@ -365,6 +374,14 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
     certify     per-triangle certified bounds from the compiled-in proofs;
                 verify checks every triangle against them
     threads     OpenMP threads for this call (default: all cores)
+    optimize    the CLI's --optimize: after meshing, a monotone pass raises the
+                worst angles (no star's minimum angle falls, the certified
+                bounds hold); with materials, interface vertices slide along
+                their interface, junctions stay put, no label's area error
+                grows (docs/optimisation.md)
+    max_memory  megabytes, as the CLI's --max-memory (default 2048): inputs
+                whose meshing would take the resident memory above it are
+                refused before the work
 
     Returns a Mesh.  Raises InputError (a ValueError) for every bad input:
     an argument of the wrong type or value, an empty region, a lattice over
@@ -392,7 +409,8 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
         core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, background == "keep",
                                     source, geometry, threads,
                                     _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify,
-                                             verify, max_squares, source, max_size, grading, max_size_of))
+                                             verify, max_squares, source, max_size, grading, max_size_of, optimize,
+                                             max_memory))
         return _finish(core, scale)
     if max_size_of is not None:
         raise InputError("max_size_of applies to multi-material meshes (materials=...); use max_size")
@@ -401,12 +419,13 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                             None if iso is None else _number("iso", iso), inside == "above", label_list, nonzero,
                             source, geometry, threads,
                             _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, source, max_size, grading))
+                                     max_squares, source, max_size, grading, None, optimize, max_memory))
     return _finish(core, scale)
 
 
 def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating",
-               guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None):
+               guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None,
+               optimize=False, max_memory=_MAX_MEMORY_MB):
     """Mesh an analytic shape given as the CLI's --shape string:
     circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2  flower:cx,cy,a,b,k
     rect:x0,y0,x1,y1  union(S;S)  intersect(S;S)  diff(S;S).  Options as in
@@ -415,5 +434,23 @@ def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, gr
         raise InputError(f"the shape must be a string such as \"circle:0,0,1\", got {spec!r}")
     core = _core.mesh_shape(spec, _threads(threads),
                             _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, spec, max_size, grading))
+                                     max_squares, spec, max_size, grading, None, optimize, max_memory))
+    return _finish(core)
+
+
+def mesh_shapes(spec, *, background="drop", spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0,
+                max_size_of=None, rule="separating", certify=True, verify=True, max_squares=_MAX_SQUARES,
+                threads=None, optimize=False, max_memory=_MAX_MEMORY_MB):
+    """Mesh analytic materials given as the CLI's --shapes string,
+    "TAG=SHAPE;TAG=SHAPE;..." (e.g. "1=circle:0,0,10;2=circle:6,0,8"; a later
+    shape wins where shapes overlap; outside them the background, tag 0, kept
+    with background="keep"), in one conforming mesh whose regions are the tags
+    and whose interfaces are mesh edges.  Options as in mesh() with materials
+    (the separating rule; guarantee="flat" does not apply)."""
+    if not isinstance(spec, str):
+        raise InputError(f"the shapes must be a string such as \"1=circle:0,0,1;2=circle:1,0,1\", got {spec!r}")
+    _choice("background", background, ("drop", "keep"))
+    core = _core.mesh_shapes(spec, background == "keep", _threads(threads),
+                             _options(spacing, rule, graded, max_cell, None, None, certify, verify, max_squares, spec,
+                                      max_size, grading, max_size_of, optimize, max_memory))
     return _finish(core)

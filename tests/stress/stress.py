@@ -2,12 +2,14 @@
 """Random stress of the warpmesh command with an independent validator.
 
 usage: stress.py WARPMESH N SEED [--scaled] [--keep-failures DIR] [--quiet] [--case CASE_SEED]
-                 [--focus-optimize]
+                 [--focus-optimize | --focus-materials]
 
 --scaled multiplies N by WARPMESH_TEST_SCALE (CTest: a quarter under the
 sanitizers); --case reruns the one case of that seed (printed with a failure)
 and keeps its files in the current directory; --focus-optimize draws only
-label images with --optimize (saddles; where the optimiser's folds were).
+label images with --optimize (saddles; where the optimiser's folds were);
+--focus-materials draws only multi-material inputs (--materials, --shapes)
+with --optimize.
 
 Draws N random inputs over every option of `warpmesh mesh` (label images with
 --label or --materials, grayscale fields with --iso, analytic shapes and CSG,
@@ -31,11 +33,13 @@ own (nothing here comes from the mesher):
   * sizes: longest edge <= --max-size, and per tag <= --max-size-of;
   * angles: every triangle's measured angles within the report's
     certified [min_angle_deg, max_angle_deg], and >= its certified_min_angle;
-  * --optimize: the measured minimum angle is >= the unoptimised mesh's.
+  * --optimize: the measured minimum angle is >= the unoptimised mesh's;
+    with --materials, no label's area error against its pixel count is
+    larger than the unoptimised mesh's.
 
 A refusal (exit 1, a message on stderr, no output file) is accepted for
 inputs the generator knows may be refused (empty regions, a --max-size below
-sqrt(5) spacing, --optimize with materials); any other exit is a failure.
+sqrt(5) spacing); any other exit is a failure.
 Exit status: 0 when every case passes, 1 otherwise; one line per failure.
 """
 import json
@@ -227,6 +231,7 @@ def graded_opts(rng, s, materials):
 
 
 FOCUS = None  # --focus-optimize: label images with --optimize only (where folds were found)
+FOCUS_MATERIALS = None  # --focus-materials: --materials and --shapes with --optimize only
 
 
 def make_case(rng, work):
@@ -234,6 +239,8 @@ def make_case(rng, work):
     kind = rng.choices(["label", "materials", "gray", "shape", "shapes"], [30, 15, 15, 30, 10])[0]
     if FOCUS:
         kind = "label"
+    if FOCUS_MATERIALS:
+        kind = rng.choices(["materials", "shapes"], [75, 25])[0]
     e = {"kind": kind, "may_refuse": True}
     argv = []
     if kind in ("label", "materials", "gray"):
@@ -276,7 +283,7 @@ def make_case(rng, work):
                 e["tags"] = set(chosen) | ({0} if keep else set())
                 e["materials"] = True
             e["domain"] = (0, 0, w - 1, h - 1)
-        s = 1.0 if FOCUS and rng.random() < 0.5 else spacing_of(rng, 0.35, 1.6)
+        s = 1.0 if (FOCUS or FOCUS_MATERIALS) and rng.random() < 0.5 else spacing_of(rng, 0.35, 1.6)
     elif kind == "shape":
         sh = random_shape(rng)
         argv = ["--shape", sh.spec()]
@@ -320,7 +327,7 @@ def make_case(rng, work):
         e["max_size_of"] = {t: h}
     rule = rng.choices(["separating", "maxmin", "fan"], [60, 20, 20])[0]
     argv += ["--diagonal", rule]
-    if FOCUS or rng.random() < (0.05 if e.get("materials") else 0.5):  # refused with materials (for now)
+    if FOCUS or FOCUS_MATERIALS or rng.random() < 0.5:
         argv.append("--optimize")
         e["optimize"] = True
     return argv, e
@@ -345,6 +352,11 @@ def read_vtu(path):
     if "certified_min_angle" in m.cell_data:
         cert = np.concatenate(m.cell_data["certified_min_angle"]).astype(float)
     return m.points[:, :2].astype(float), tri.astype(np.int64), region, cert
+
+
+def tri_areas(P, T):
+    a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
 
 
 def angles_deg(P, T):
@@ -547,10 +559,16 @@ def one_case(warpmesh, rng, work, i):
         plain = [a for a in argv if a != "--optimize"]
         code2, err2 = run(warpmesh, plain, out, rep)
         if code2 == 0:
-            P2, T2, _, _ = read_vtu(out)
+            P2, T2, R2, _ = read_vtu(out)
             before, after = angles_deg(P2, T2).min(), angles_deg(P, T).min()
             if after < before - 1e-9:
                 errs.append(f"--optimize lowered the minimum angle {before:.6f} -> {after:.6f}")
+            if e["kind"] == "materials":  # no label's area error grows (pixel counts)
+                for lab, want in e["areas"].items():
+                    err_before = abs(tri_areas(P2, T2)[R2 == lab].sum() - want)
+                    err_after = abs(tri_areas(P, T)[R == lab].sum() - want)
+                    if err_after > err_before + 1e-9 * max(want, 1):
+                        errs.append(f"--optimize made label {lab}'s area error {err_before:.6g} -> {err_after:.6g}")
         else:
             errs.append(f"without --optimize: exit {code2}: {err2.strip()[:200]}")
     return ("fail" if errs else "ok"), argv, errs
@@ -570,8 +588,9 @@ def main():
         n = max(1, int(n * (scale if 0 < scale <= 1 else 1.0) + 0.5))
     keep = args[args.index("--keep-failures") + 1] if "--keep-failures" in args else None
     quiet = "--quiet" in args
-    global FOCUS
+    global FOCUS, FOCUS_MATERIALS
     FOCUS = "--focus-optimize" in args
+    FOCUS_MATERIALS = "--focus-materials" in args
     if "--case" in args:  # one case, its files kept here
         case_seed = int(args[args.index("--case") + 1])
         status, argv, errs = one_case(warpmesh, random.Random(case_seed), os.getcwd(), 0)

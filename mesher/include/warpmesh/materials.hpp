@@ -225,4 +225,23 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
 // triangles).
 void measure_longest_edges(MaterialResult& r);
 
+// Per region tag (index) of a mesh: its triangles, area, and perimeter (the
+// length of its interface edges and of the boundary edges of its triangles);
+// and the total length of the level-set boundary edges (tag 1) and of the
+// lattice-border edges (tag 2).
+struct RegionMeasures {
+    std::vector<std::int64_t> triangles;
+    std::vector<double> area, perimeter;
+    double level_set_length = 0, border_length = 0;
+};
+RegionMeasures measure_regions(const Mesh& mesh);
+
+// After a pass that changed r.mesh (optimize_mesh): each output material's
+// triangles, area and perimeter change by after - before; a dropped
+// background's area by minus the output materials' total change (the tiling
+// covers the same lattice), its perimeter by the level-set boundary's change
+// minus the border's (what the materials gained along the lattice border, it
+// lost).
+void update_material_stats(MaterialResult& r, const RegionMeasures& before, const RegionMeasures& after);
+
 }  // namespace warpmesh

@@ -122,6 +122,8 @@
 
 namespace warpmesh {
 
+class MaterialField;
+
 // One accepted change, for observers (tests): a moved vertex with its old and
 // new position and the triangles of its star, or a flip with the old and new
 // triangle pair.  The mesh is the state after the change.
@@ -177,6 +179,33 @@ struct OptimizeReport {
 };
 
 OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOptions& options = {});
+
+// Multi-material meshes (mesh(const MaterialField&, ...), mesh_materials,
+// mesh_materials_graded): region tags are the field's material tags.  The
+// same pass and rule, with the curves of the materials instead of f = 0
+// (src/mesh/curves.hpp):
+//  * a vertex with exactly two interface edges, both between the same two
+//    materials a and b, no boundary edge and phi_a = phi_b there (to 1e-9
+//    spacing) slides along that interface: a tangent step, then back onto
+//    phi_a = phi_b by the field's cut_parameter on a segment along the normal
+//    (its star is closed, so no embedding test is needed);
+//  * a level-set boundary vertex (two tag-1 edges: its material m against
+//    the dropped background) slides along phi_m = phi_0, as a boundary vertex
+//    along f = 0 (embedding test included); lattice-border vertices as above;
+//  * junctions (three or more materials, the dropped background counted),
+//    vertices where an interface meets the boundary and pinches are fixed;
+//  * rule (4) bounds every moved boundary or interface edge by the largest
+//    distance of the band's boundary and interface edges to their curves
+//    before the pass;
+//  * (8) with reference areas (label images: pixel count x pixel area), a
+//    move or refined patch is accepted only if every region it changes keeps
+//    |area - reference| at or below its value before the pass: no label's
+//    area error grows (checked again at the end, std::logic_error if not).
+// Flips never cross an interface and refinement never crosses or splits one
+// (it may split a material's level-set boundary edge, at a point on its
+// curve), so Mesh::interfaces stays exactly the edges between different
+// regions, with the same regions on their sides.
+OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
 // The report as text lines (for stdout) and as a JSON object (the report's
 // "optimize" field).

@@ -162,8 +162,11 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& options);
 // every interface (mesh_materials_graded, materials.hpp).  The report adds
 // the per-material figures, interface and junction-square counts
 // (report.hpp: material_report_json/_text); a material that got no triangle is a
-// warning.  Throws InputError as mesh(f), for options that do not apply to
-// several materials (Guarantee::flat, optimize, DiagonalRule::maxmin), and
+// warning.  With optimize, the pass for materials (optimize_mesh(Mesh&, const
+// MaterialField&, ...)) runs after certification, as for one region, and the
+// per-material figures are those of the optimised mesh.  Throws InputError as
+// mesh(f), for options that do not apply to several materials
+// (Guarantee::flat, DiagonalRule::maxmin), and
 // for a max_size_of tag that is no material (or the dropped background).
 MeshResult mesh(const MaterialField& field, const MeshOptions& options);
 

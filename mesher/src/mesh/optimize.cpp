@@ -15,6 +15,7 @@
 #include "warpmesh/certified.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/quality.hpp"
+#include "curves.hpp"
 #include "embedding.hpp"
 #include "plane.hpp"
 #include "refine.hpp"
@@ -86,11 +87,15 @@ Vec2 min_norm_point(const std::vector<Vec2>& g) {
     return best;
 }
 
-enum class Kind : std::uint8_t { interior, levelset, line_x, line_y, fixed };
+// levelset: on a boundary curve (curves.hpp) with its two boundary edges;
+// interface: on an interface curve with its two interface edges and a closed
+// star (both sides are output triangles).
+enum class Kind : std::uint8_t { interior, levelset, interface, line_x, line_y, fixed };
 
 class Optimizer {
 public:
-    Optimizer(Mesh& mesh, const LevelSet& f, const OptimizeOptions& o) : m_(mesh), f_(f), o_(o), s_(o.spacing) {
+    Optimizer(Mesh& mesh, const SlideCurves& curves, const OptimizeOptions& o)
+        : m_(mesh), curves_(curves), o_(o), s_(o.spacing), areas_(mesh, curves) {
         for (auto& [name, data] : m_.cell_data)
             if (name == "certified_min_angle" && data.size() == m_.triangles.size()) cert_ = &data;
         if (std::isfinite(o.certified_max)) cap_ = o.certified_max;
@@ -123,7 +128,15 @@ private:
     // The smallest reported angle (triangle_min_angle) of v's star with v at
     // p, given the fast smallest angle of each of its triangles there.
     double exact_min(std::int32_t lv, Vec2 p, std::span<const double> fast_min) const;
-    bool project_to_levelset(Vec2 p, Vec2 normal, double reach, Vec2& out) const;
+    bool project_to_levelset(const LevelSet& f, Vec2 p, Vec2 normal, double reach, Vec2& out) const;
+    // The curves of the boundary edges of `tris` (materials: by the region
+    // on their left) into bcurve_.
+    void assign_boundary_curves(std::span<const std::size_t> tris);
+    // The largest distance of a boundary or interface edge to its curve
+    // (only_moved: measure again only the edges with a moved end).
+    double boundary_distance(bool only_moved);
+    // The regions' area change if v moves to q (empty without reference areas).
+    AreaChange area_change(std::int32_t lv, Vec2 q) const;
     void lower_certified(std::span<const std::size_t> tris, double floor_before);
     // Would moving boundary vertex lv to q keep the mesh an embedding
     // (embedding.hpp: its two boundary edges against the other boundary
@@ -133,9 +146,13 @@ private:
     bool exceeds_cap(std::int32_t lv, Vec2 q) const;
 
     Mesh& m_;
-    const LevelSet& f_;
+    const SlideCurves& curves_;
     const OptimizeOptions& o_;
     double s_;
+    AreaBudget areas_;
+    std::vector<std::int32_t> curve_;   // per active vertex: its curve (levelset, interface), else none
+    std::vector<std::int32_t> bcurve_;  // per boundary edge: its curve, none if not known (materials: outside the band)
+    std::vector<double> edge_distance_, iface_distance_;  // per boundary / interface edge: distance to its curve, -1: not measured
     Buffer<double>* cert_ = nullptr;
 
     std::vector<std::size_t> band_;               // triangles with an active vertex, increasing
@@ -227,11 +244,22 @@ void Optimizer::find_band(const std::vector<std::size_t>* seeds) {
         }
 }
 
+// Which vertices move and how (optimize.hpp): a vertex with exactly two
+// boundary or interface edges on one curve (curves.hpp) and on it slides along
+// it, one with two lattice-border edges on one line along that line; one with
+// no such edge is interior; every other vertex (junctions of three or more
+// materials, where two kinds of edge meet, pinches, interface ends of one
+// region's tagged label mode) is fixed.
 void Optimizer::classify() {
     struct Count {
-        int n1 = 0, n2 = 0, other = 0;
-        bool horizontal = true, vertical = true;
-        std::array<std::int32_t, 2> nb{-1, -1}, edges{-1, -1};
+        int n1 = 0, n2 = 0, ni = 0, other = 0;
+        bool horizontal = true, vertical = true, one_curve = true;
+        std::int32_t curve = SlideCurves::none;
+        std::array<std::int32_t, 2> nb{-1, -1}, edges{-1, -1}, inb{-1, -1};
+        void on_curve(std::int32_t c) {
+            if (n1 + ni == 0) curve = c;
+            else one_curve = one_curve && curve == c;
+        }
     };
     std::vector<Count> c(act_.size());
     for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
@@ -244,6 +272,7 @@ void Optimizer::classify() {
             Count& k = c[static_cast<std::size_t>(l)];
             k.edges[static_cast<std::size_t>(end)] = static_cast<std::int32_t>(e);
             if (tag == boundary_level_set) {
+                k.on_curve(bcurve_[e]);
                 k.nb[static_cast<std::size_t>(end)] = end ? a : b;  // end 0: a's successor b; end 1: b's predecessor a
                 ++k.n1;
             } else if (tag == boundary_domain) {
@@ -255,30 +284,105 @@ void Optimizer::classify() {
             }
         }
     }
-    for (const auto& e : m_.interfaces) {
+    for (std::size_t i = 0; i < m_.interfaces.size(); ++i) {
+        const auto& e = m_.interfaces[i];
         interfaces_.insert(edge_key(e[0], e[1]));
-        for (const std::int32_t v : e)
-            if (const std::int32_t l = local(v); l >= 0) c[static_cast<std::size_t>(l)].other = 1;
+        const std::int32_t curve = i < m_.interface_regions.size()
+                                       ? curves_.interface_curve(m_.interface_regions[i][0], m_.interface_regions[i][1])
+                                       : SlideCurves::none;
+        for (int end = 0; end < 2; ++end)
+            if (const std::int32_t l = local(e[static_cast<std::size_t>(end)]); l >= 0) {
+                Count& k = c[static_cast<std::size_t>(l)];
+                if (curve == SlideCurves::none) k.other = 1;  // one region's tagged label mode: fixed
+                k.on_curve(curve);
+                if (k.ni < 2) k.inb[static_cast<std::size_t>(k.ni)] = e[static_cast<std::size_t>(1 - end)];
+                ++k.ni;
+            }
     }
     kind_.assign(act_.size(), Kind::interior);
     bnb_.assign(act_.size(), {-1, -1});
     bedge_.assign(act_.size(), {-1, -1});
+    curve_.assign(act_.size(), SlideCurves::none);
     for (std::size_t l = 0; l < act_.size(); ++l) {
         const Count& k = c[l];
         Kind& kd = kind_[l];
-        if (k.other || k.n1 + k.n2 > 2 || (k.n1 && k.n2)) {
+        const Vec2 p = m_.vertices[static_cast<std::size_t>(act_[l])];
+        const auto on = [&] { return k.curve != SlideCurves::none && std::abs(curves_.curve(k.curve).value(p.x, p.y)) <= 1e-9 * s_; };
+        if (k.other || k.n1 + k.n2 > 2 || (k.n1 && k.n2) || (k.ni && k.n1 + k.n2) || k.ni > 2 || !k.one_curve) {
             kd = Kind::fixed;
         } else if (k.n1 == 2) {
-            const Vec2 p = m_.vertices[static_cast<std::size_t>(act_[l])];
-            kd = std::abs(f_.value(p.x, p.y)) <= 1e-9 * s_ ? Kind::levelset : Kind::fixed;
+            kd = on() ? Kind::levelset : Kind::fixed;
             bnb_[l] = k.nb;
+        } else if (k.ni == 2) {
+            kd = on() ? Kind::interface : Kind::fixed;
+            bnb_[l] = k.inb;
         } else if (k.n2 == 2) {
             kd = k.horizontal ? Kind::line_x : k.vertical ? Kind::line_y : Kind::fixed;
-        } else if (k.n1 + k.n2 != 0) {
+        } else if (k.n1 + k.n2 + k.ni != 0) {
             kd = Kind::fixed;
         }
-        if (kd != Kind::interior && kd != Kind::fixed) bedge_[l] = k.edges;
+        if (kd == Kind::levelset || kd == Kind::interface) curve_[l] = k.curve;
+        if (kd == Kind::levelset || kd == Kind::line_x || kd == Kind::line_y) bedge_[l] = k.edges;
     }
+}
+
+void Optimizer::assign_boundary_curves(std::span<const std::size_t> tris) {
+    bcurve_.resize(m_.boundary.size(), SlideCurves::none);
+    if (!curves_.materials()) {
+        std::fill(bcurve_.begin(), bcurve_.end(), curves_.boundary_curve(0));
+        return;
+    }
+    const auto directed = [](std::int32_t a, std::int32_t b) {
+        return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+    };
+    std::unordered_map<std::uint64_t, std::size_t> level;  // level-set edges without a curve yet
+    for (std::size_t e = 0; e < m_.boundary.size(); ++e)
+        if (e < m_.boundary_tag.size() && m_.boundary_tag[e] == boundary_level_set && bcurve_[e] == SlideCurves::none)
+            level[directed(m_.boundary[e][0], m_.boundary[e][1])] = e;
+    if (level.empty()) return;
+    for (const std::size_t t : tris)
+        for (int k = 0; k < 3; ++k) {
+            const auto& T = m_.triangles[t];
+            if (const auto it = level.find(directed(T[static_cast<std::size_t>(k)], T[static_cast<std::size_t>((k + 1) % 3)])); it != level.end())
+                bcurve_[it->second] = curves_.boundary_curve(m_.region[t]);
+        }
+}
+
+double Optimizer::boundary_distance(bool only_moved) {
+    double worst = 0;
+    const auto measure = [&](double& d, std::int32_t curve, std::int32_t a, std::int32_t b) {
+        if (curve == SlideCurves::none) return;
+        if (!only_moved || moved_[static_cast<std::size_t>(a)] || moved_[static_cast<std::size_t>(b)])
+            d = edge_distance_to_levelset(curves_.curve(curve), m_.vertices[static_cast<std::size_t>(a)],
+                                          m_.vertices[static_cast<std::size_t>(b)], s_);
+        worst = std::max(worst, d);
+    };
+    edge_distance_.resize(m_.boundary.size(), -1);
+    for (std::size_t e = 0; e < m_.boundary.size(); ++e)
+        if (e < m_.boundary_tag.size() && m_.boundary_tag[e] == boundary_level_set)
+            measure(edge_distance_[e], bcurve_[e], m_.boundary[e][0], m_.boundary[e][1]);
+    if (!curves_.materials()) return worst;
+    iface_distance_.resize(m_.interfaces.size(), -1);
+    for (std::size_t i = 0; i < m_.interfaces.size() && i < m_.interface_regions.size(); ++i)
+        measure(iface_distance_[i], curves_.interface_curve(m_.interface_regions[i][0], m_.interface_regions[i][1]),
+                m_.interfaces[i][0], m_.interfaces[i][1]);
+    return worst;
+}
+
+AreaChange Optimizer::area_change(std::int32_t lv, Vec2 q) const {
+    AreaChange change;
+    if (!areas_.active()) return change;
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        const auto& T = m_.triangles[t];
+        Vec2 x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            x[k] = m_.vertices[static_cast<std::size_t>(T[static_cast<std::size_t>(k)])];
+            y[k] = T[static_cast<std::size_t>(k)] == g ? q : x[k];
+        }
+        add_area(change, m_.region[t], 0.5 * (cross(y[1] - y[0], y[2] - y[0]) - cross(x[1] - x[0], x[2] - x[0])));
+    }
+    return change;
 }
 
 Optimizer::StarQ Optimizer::star_q(std::int32_t lv, Vec2 p, std::vector<double>& fast_min) const {
@@ -374,18 +478,18 @@ Vec2 Optimizer::ascent_direction(double q, Vec2 axis, bool one_dimensional) {
     return active_.empty() ? Vec2{0, 0} : min_norm_point(active_);
 }
 
-bool Optimizer::project_to_levelset(Vec2 p, Vec2 n, double reach, Vec2& out) const {
-    const double f0 = f_.value(p.x, p.y);
+bool Optimizer::project_to_levelset(const LevelSet& f, Vec2 p, Vec2 n, double reach, Vec2& out) const {
+    const double f0 = f.value(p.x, p.y);
     if (f0 == 0) {
         out = p;
         return true;
     }
     const Vec2 a = p - reach * n, b = p + reach * n;
-    const double fa = f_.value(a.x, a.y), fb = f_.value(b.x, b.y);
+    const double fa = f.value(a.x, a.y), fb = f.value(b.x, b.y);
     if (!(fa < 0 && fb > 0)) return false;
-    const double u = f_.cut_parameter(a, b, fa, fb);
+    const double u = f.cut_parameter(a, b, fa, fb);
     out = a + u * (b - a);
-    return std::abs(f_.value(out.x, out.y)) <= 1e-10 * s_;
+    return std::abs(f.value(out.x, out.y)) <= 1e-10 * s_;
 }
 
 void Optimizer::lower_certified(std::span<const std::size_t> tris, double floor_before) {
@@ -448,10 +552,12 @@ bool Optimizer::try_move(std::int32_t lv) {
     bool one_d = kind != Kind::interior;
     if (kind == Kind::line_x) axis = {1, 0};
     if (kind == Kind::line_y) axis = {0, 1};
-    if (kind == Kind::levelset) {
+    const bool on_curve = kind == Kind::levelset || kind == Kind::interface;
+    const LevelSet* f = on_curve ? &curves_.curve(curve_[static_cast<std::size_t>(lv)]) : nullptr;
+    if (on_curve) {
         const double h = 1e-6 * s_;
-        const Vec2 grad{(f_.value(p.x + h, p.y) - f_.value(p.x - h, p.y)) / (2 * h),
-                        (f_.value(p.x, p.y + h) - f_.value(p.x, p.y - h)) / (2 * h)};
+        const Vec2 grad{(f->value(p.x + h, p.y) - f->value(p.x - h, p.y)) / (2 * h),
+                        (f->value(p.x, p.y + h) - f->value(p.x, p.y - h)) / (2 * h)};
         const double len = std::sqrt(norm2(grad));
         if (!(len > 0) || !std::isfinite(len)) return false;
         normal = (1 / len) * grad;
@@ -494,21 +600,25 @@ bool Optimizer::try_move(std::int32_t lv) {
         Vec2 q = p + alpha * dir;
         if (kind == Kind::line_x) q.y = p.y;
         if (kind == Kind::line_y) q.x = p.x;
-        if (kind == Kind::levelset && !project_to_levelset(q, normal, alpha + 0.05 * s_, q)) continue;
+        if (on_curve && !project_to_levelset(*f, q, normal, alpha + 0.05 * s_, q)) continue;
         const StarQ next = star_q(lv, q, trial_min_);
         if (!next.valid || !(next.q > now_q + min_gain_deg)) continue;
         if (o_.max_edge > 0 && next.longest2 > o_.max_edge * o_.max_edge) continue;  // the size bound
         if (now_min == inf) now_min = exact_min(lv, p, model_min_);
         if (exact_min(lv, q, trial_min_) < now_min) continue;  // the monotone rule
         if (exceeds_cap(lv, q)) continue;                         // rule (6)
-        if (kind == Kind::levelset) {
+        if (on_curve) {
             const auto nb = bnb_[static_cast<std::size_t>(lv)];
             bool close = true;
             for (const std::int32_t w : nb)
-                close = close && edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(w)], q, s_) <= dmax_;
+                close = close && edge_distance_to_levelset(*f, m_.vertices[static_cast<std::size_t>(w)], q, s_) <= dmax_;
             if (!close) continue;
         }
-        if (kind != Kind::interior && !embeds(lv, q)) continue;
+        // A closed star (interior and interface vertices) needs no embedding test.
+        if (kind != Kind::interior && kind != Kind::interface && !embeds(lv, q)) continue;
+        const AreaChange area = area_change(lv, q);  // the area budget (curves.hpp)
+        if (!areas_.allows(area)) continue;
+        areas_.apply(area);
         // Accept: the least certified value of the star bounds every triangle
         // of it from now on (each was >= it before, so the star's old minimum
         // angle is >= it, and the new star's minimum is not smaller).
@@ -653,6 +763,7 @@ void Optimizer::refine(OptimizeReport& r) {
         rp.below_deg = o_.refine_below_deg, rp.spacing = s_, rp.max_edge = o_.max_edge;
         rp.boundary_distance = dmax_, rp.interfaces = &interfaces_, rp.index = &index_;
         rp.max_angle_cap = cap_;
+        rp.areas = areas_.active() ? &areas_ : nullptr;
         // The mesh's largest angle as reported, from 90° (the right isosceles
         // triangles outside changed_; the rule's cap is >= 110° anyway); a
         // triangle whose fast largest angle is below the running maximum by
@@ -664,7 +775,7 @@ void Optimizer::refine(OptimizeReport& r) {
             if (tri_fast(a, b, c).max_deg < rp.max_angle - 6 * fast_atan2_error_deg) continue;
             rp.max_angle = std::max(rp.max_angle, triangle_angles(a, b, c).max_deg);
         }
-        const RefineResult rr = refine_bad_triangles(m_, f_, scope, rp);
+        const RefineResult rr = refine_bad_triangles(m_, curves_, scope, rp);
         if (rr.touched.empty()) return;
         r.refined_triangles += rr.refined_triangles, r.inserted_vertices += rr.inserted_vertices;
         r.boundary_splits += rr.boundary_splits;
@@ -674,6 +785,7 @@ void Optimizer::refine(OptimizeReport& r) {
         for (const std::size_t t : rr.touched)
             for (const std::int32_t v : m_.triangles[t]) moved_[static_cast<std::size_t>(v)] = 1;
         find_band(&rr.touched);
+        assign_boundary_curves(band_);
         classify();
         changed_ = merged(merged(changed_, rr.touched), band_);
         r.sweeps += sweeps();
@@ -685,6 +797,7 @@ OptimizeReport Optimizer::run() {
     const auto start = std::chrono::steady_clock::now();
     OptimizeReport r;
     find_band(nullptr);
+    assign_boundary_curves(band_);
     classify();
     index_ = BoundaryIndex(m_, s_);
     r.band_triangles = static_cast<std::int64_t>(band_.size());
@@ -712,22 +825,6 @@ OptimizeReport Optimizer::run() {
     };
     stats(r.min_angle_before, r.max_angle_before, r.mean_min_angle_before, false);
     r.certified_floor = cert_ ? *std::min_element(cert_->begin(), cert_->end()) : o_.certified_floor;
-    // Per level-set boundary edge its distance (-1: another tag, or not yet
-    // measured); after the pass only the edges with a moved end are measured
-    // again.
-    std::vector<double> edge_distance;
-    auto boundary_distance = [&](bool only_moved) {
-        edge_distance.resize(m_.boundary.size(), -1);
-        double worst = 0;
-        for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
-            if (e >= m_.boundary_tag.size() || m_.boundary_tag[e] != boundary_level_set) continue;
-            const auto [a, b] = m_.boundary[e];
-            if (!only_moved || moved_[static_cast<std::size_t>(a)] || moved_[static_cast<std::size_t>(b)])
-                edge_distance[e] = edge_distance_to_levelset(f_, m_.vertices[static_cast<std::size_t>(a)], m_.vertices[static_cast<std::size_t>(b)], s_);
-            worst = std::max(worst, edge_distance[e]);
-        }
-        return worst;
-    };
     moved_.resize(m_.vertices.size());
     dmax_ = r.boundary_distance_before = boundary_distance(false);
 
@@ -749,6 +846,8 @@ OptimizeReport Optimizer::run() {
     // The post-condition, always: the whole mesh is still a valid embedding
     // (mesh_checks.hpp: orientation, manifold edges, closed and simple
     // boundary loops, no folds).  A failure is a bug of this pass.
+    if (const std::string worse = areas_.worse(AreaBudget(m_, curves_)); !worse.empty())
+        throw std::logic_error("optimize: " + worse);
     if (const MeshCheck c = check_mesh(m_); !c.ok()) {
         std::string msg = "optimize: the optimised mesh is not valid";
         for (const std::string& m : c.messages) msg += "; " + m;
@@ -766,14 +865,22 @@ std::string fmt(double x) {
     return o.str();
 }
 
-}  // namespace
-
-OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOptions& options) {
+OptimizeReport optimize(Mesh& mesh, const SlideCurves& curves, const OptimizeOptions& options) {
     if (!(options.spacing > 0) || !std::isfinite(options.spacing))
         throw std::invalid_argument("optimize_mesh: the spacing must be positive and finite");
     if (options.max_sweeps < 0) throw std::invalid_argument("optimize_mesh: max_sweeps must be >= 0");
     if (mesh.triangles.empty()) return {};
-    return Optimizer(mesh, f, options).run();
+    return Optimizer(mesh, curves, options).run();
+}
+
+}  // namespace
+
+OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOptions& options) {
+    return optimize(mesh, SlideCurves(f), options);
+}
+
+OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options) {
+    return optimize(mesh, SlideCurves(field), options);
 }
 
 std::string optimize_text(const OptimizeReport& r) {

@@ -69,8 +69,8 @@ struct Candidate {
 
 class Refiner {
 public:
-    Refiner(Mesh& mesh, const LevelSet& f, std::span<const std::size_t> eligible, const RefineParams& p)
-        : m_(mesh), f_(f), p_(p), order_(eligible.begin(), eligible.end()) {}
+    Refiner(Mesh& mesh, const SlideCurves& curves, std::span<const std::size_t> eligible, const RefineParams& p)
+        : m_(mesh), curves_(curves), p_(p), order_(eligible.begin(), eligible.end()) {}
 
     RefineResult run() {
         std::vector<std::pair<double, std::size_t>> bad;
@@ -167,15 +167,15 @@ private:
     std::optional<Vec2> boundary_point(const Trial& t, const BEdge& e) const {
         const Vec2 pa = pos(t, e.a), pb = pos(t, e.b), mid = 0.5 * (pa + pb);
         if (e.tag == boundary_domain) return mid;
-        if (e.tag != boundary_level_set) return std::nullopt;
-        if (f_.value(mid.x, mid.y) == 0) return mid;
+        if (e.tag != boundary_level_set || !f_) return std::nullopt;
+        if (f_->value(mid.x, mid.y) == 0) return mid;
         const Vec2 inward = perp(pb - pa);  // |inward| = |ab|: f < 0 on this side
         for (const double r : {0.05, 0.15, 0.5}) {
             const Vec2 in = mid + r * inward, out = mid - r * inward;
-            const double fi = f_.value(in.x, in.y), fo = f_.value(out.x, out.y);
+            const double fi = f_->value(in.x, in.y), fo = f_->value(out.x, out.y);
             if (!(fi < 0 && fo > 0)) continue;
-            const Vec2 q = in + f_.cut_parameter(in, out, fi, fo) * (out - in);
-            if (std::abs(f_.value(q.x, q.y)) <= 1e-10 * p_.spacing) return q;
+            const Vec2 q = in + f_->cut_parameter(in, out, fi, fo) * (out - in);
+            if (std::abs(f_->value(q.x, q.y)) <= 1e-10 * p_.spacing) return q;
             return std::nullopt;
         }
         return std::nullopt;
@@ -250,7 +250,7 @@ private:
             if (nb.size() != 2 || deg != 2) continue;  // corners, pinches
             const std::int32_t tg0 = bedge(t, v, nb[0])->tag, tg1 = bedge(t, v, nb[1])->tag;
             const Vec2 p = pos(t, v), q0 = pos(t, nb[0]), q1 = pos(t, nb[1]);
-            if (tg0 == boundary_level_set && tg1 == boundary_level_set && std::abs(f_.value(p.x, p.y)) <= 1e-9 * p_.spacing)
+            if (tg0 == boundary_level_set && tg1 == boundary_level_set && f_ && std::abs(f_->value(p.x, p.y)) <= 1e-9 * p_.spacing)
                 movers.emplace_back(v, Move::levelset);
             else if (tg0 == boundary_domain && tg1 == boundary_domain && p.y == q0.y && p.y == q1.y)
                 movers.emplace_back(v, Move::along_x);
@@ -292,8 +292,8 @@ private:
                     dirs = {{0, 1}, {0, -1}};
                 } else {
                     const double h = 1e-6 * p_.spacing;
-                    const Vec2 g{(f_.value(p.x + h, p.y) - f_.value(p.x - h, p.y)) / (2 * h),
-                                 (f_.value(p.x, p.y + h) - f_.value(p.x, p.y - h)) / (2 * h)};
+                    const Vec2 g{(f_->value(p.x + h, p.y) - f_->value(p.x - h, p.y)) / (2 * h),
+                                 (f_->value(p.x, p.y + h) - f_->value(p.x, p.y - h)) / (2 * h)};
                     const double len = std::sqrt(norm2(g));
                     if (!(len > 0) || !std::isfinite(len)) continue;
                     normal = (1 / len) * g;
@@ -309,10 +309,10 @@ private:
                         if (how == Move::levelset) {
                             const double reach = step + 0.05 * p_.spacing;
                             const Vec2 a = q - reach * normal, b = q + reach * normal;
-                            const double fa = f_.value(a.x, a.y), fb = f_.value(b.x, b.y);
+                            const double fa = f_->value(a.x, a.y), fb = f_->value(b.x, b.y);
                             if (!(fa < 0 && fb > 0)) continue;
-                            q = a + f_.cut_parameter(a, b, fa, fb) * (b - a);
-                            if (!(std::abs(f_.value(q.x, q.y)) <= 1e-10 * p_.spacing)) continue;
+                            q = a + f_->cut_parameter(a, b, fa, fb) * (b - a);
+                            if (!(std::abs(f_->value(q.x, q.y)) <= 1e-10 * p_.spacing)) continue;
                         }
                         if (const double sq = star_quality(q); sq > best) best = sq, to = q;
                     }
@@ -395,7 +395,7 @@ private:
         for (const auto& [v, q] : t.at)  // (4), the level-set edges at every new or moved vertex
             for (const BEdge& e : t.bedges)
                 if ((e.a == v || e.b == v) && e.tag == boundary_level_set &&
-                    !(edge_distance_to_levelset(f_, pos(t, e.a), pos(t, e.b), p_.spacing) <= p_.boundary_distance))
+                    !(f_ && edge_distance_to_levelset(*f_, pos(t, e.a), pos(t, e.b), p_.spacing) <= p_.boundary_distance))
                     return std::nullopt;
         return t;
     }
@@ -446,6 +446,10 @@ private:
     }
 
     void refine(std::size_t t) {
+        // A kept background has no level-set edges (its edges to the materials
+        // are interfaces): no curve.
+        const std::int32_t curve = curves_.boundary_curve(m_.region[t]);
+        f_ = curve == SlideCurves::none ? nullptr : &curves_.curve(curve);
         const std::vector<std::size_t> pt = patch(t);
         Trial base;
         base.next_vertex = static_cast<std::int32_t>(m_.vertices.size());
@@ -479,11 +483,24 @@ private:
             }
             if (!best) return;
             if (best->min_deg > old_min + min_gain_deg && best->max_deg <= max_allowed) {  // (2), (3)
-                if (embeds(*best, pt)) apply(pt, *best, m_.region[t]);  // (6)
+                if (embeds(*best, pt) && within_budget(*best, pt, m_.region[t])) apply(pt, *best, m_.region[t]);  // (6), (7)
                 return;
             }
             base = std::move(*best);
         }
+    }
+
+    // Rule (7): the region's area error within its budget (curves.hpp); the
+    // budget is charged.
+    bool within_budget(const Trial& trial, std::span<const std::size_t> pt, std::int32_t region) const {
+        if (!p_.areas) return true;
+        double change = 0;
+        for (const Tri& T : trial.tris) change += 0.5 * cross(pos(trial, T[1]) - pos(trial, T[0]), pos(trial, T[2]) - pos(trial, T[0]));
+        for (const std::size_t i : pt) change -= 0.5 * cross(P(m_.triangles[i][1]) - P(m_.triangles[i][0]), P(m_.triangles[i][2]) - P(m_.triangles[i][0]));
+        const AreaChange c{{region, change}};
+        if (!p_.areas->allows(c)) return false;
+        p_.areas->apply(c);
+        return true;
     }
 
     // Rule (6) for the trial replacing patch pt (embedding.hpp).
@@ -570,7 +587,8 @@ private:
     }
 
     Mesh& m_;
-    const LevelSet& f_;
+    const SlideCurves& curves_;
+    const LevelSet* f_ = nullptr;  // the current patch's boundary curve
     const RefineParams& p_;
     std::vector<std::size_t> order_;                                       // the eligible triangles, increasing
     std::unordered_map<std::uint64_t, std::array<std::int64_t, 2>> edges_;  // eligible triangles by edge
@@ -581,10 +599,10 @@ private:
 
 }  // namespace
 
-RefineResult refine_bad_triangles(Mesh& mesh, const LevelSet& f, std::span<const std::size_t> eligible,
+RefineResult refine_bad_triangles(Mesh& mesh, const SlideCurves& curves, std::span<const std::size_t> eligible,
                                   const RefineParams& params) {
     if (!(params.below_deg > 0) || mesh.triangles.empty()) return {};
-    return Refiner(mesh, f, eligible, params).run();
+    return Refiner(mesh, curves, eligible, params).run();
 }
 
 }  // namespace warpmesh

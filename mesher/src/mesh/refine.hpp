@@ -41,7 +41,9 @@
 //       is longer than max_edge,
 //   (6) the mesh stays a valid embedding (embedding.hpp): the boundary edges
 //       at new or moved vertices meet no other boundary edge nor the patch
-//       border, and no boundary vertex lies inside a new triangle.
+//       border, and no boundary vertex lies inside a new triangle;
+//   (7) with an area budget (materials with reference areas), the region's
+//       area error stays within it.
 // Triangles outside the patch are unchanged (a moved vertex has all its
 // triangles in the patch), so the mesh's minimum angle never decreases.  The
 // patch's triangles keep their slots (the extra ones are appended) and the
@@ -63,6 +65,7 @@
 #include "warpmesh/buffer.hpp"
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/mesh.hpp"
+#include "curves.hpp"
 #include "embedding.hpp"
 
 namespace warpmesh {
@@ -81,6 +84,9 @@ struct RefineParams {
     // The mesh's boundary edges (embedding.hpp), kept up to date: a patch is
     // replaced only if the change is an embedding (rule (6)).
     BoundaryIndex* index = nullptr;
+    // With reference areas (materials): a patch is replaced only if its
+    // region's area error stays within its budget (curves.hpp), rule (7).
+    AreaBudget* areas = nullptr;
 };
 
 struct RefineResult {
@@ -91,8 +97,9 @@ struct RefineResult {
 };
 
 // One pass over the triangles of `eligible` (increasing; the triangles of the
-// mesh that may be bad or belong to a patch).
-RefineResult refine_bad_triangles(Mesh& mesh, const LevelSet& f, std::span<const std::size_t> eligible,
+// mesh that may be bad or belong to a patch).  A patch's level-set boundary
+// edges lie on the curve curves.boundary_curve(its region) ("f" above).
+RefineResult refine_bad_triangles(Mesh& mesh, const SlideCurves& curves, std::span<const std::size_t> eligible,
                                   const RefineParams& params);
 
 }  // namespace warpmesh
