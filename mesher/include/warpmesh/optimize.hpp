@@ -166,6 +166,7 @@ struct OptimizeReport {
     // Refinement: bad triangles whose patch was re-triangulated, the vertices
     // it inserted, of which on boundary edges.
     std::int64_t refined_triangles = 0, inserted_vertices = 0, boundary_splits = 0;
+    std::int64_t interface_splits = 0;  // inserted on interfaces (materials)
     // Over all triangles of the mesh, degrees.
     double min_angle_before = 0, min_angle_after = 0;
     double max_angle_before = 0, max_angle_after = 0;

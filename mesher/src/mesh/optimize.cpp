@@ -778,7 +778,7 @@ void Optimizer::refine(OptimizeReport& r) {
         const RefineResult rr = refine_bad_triangles(m_, curves_, scope, rp);
         if (rr.touched.empty()) return;
         r.refined_triangles += rr.refined_triangles, r.inserted_vertices += rr.inserted_vertices;
-        r.boundary_splits += rr.boundary_splits;
+        r.boundary_splits += rr.boundary_splits, r.interface_splits += rr.interface_splits;
         // The rewritten triangles' vertices (new or moved) count as moved:
         // their boundary edges are measured again.
         moved_.resize(m_.vertices.size());
@@ -893,7 +893,8 @@ std::string optimize_text(const OptimizeReport& r) {
       << " s\n";
     if (r.inserted_vertices)
         o << "                     refinement: " << r.refined_triangles << " bad triangles re-triangulated, "
-          << r.inserted_vertices << " vertices inserted (" << r.boundary_splits << " on boundary edges)\n";
+          << r.inserted_vertices << " vertices inserted (" << r.boundary_splits << " on boundary edges"
+          << (r.interface_splits ? ", " + std::to_string(r.interface_splits) + " on interfaces" : std::string()) << ")\n";
     o << "                     certified floor " << fmt(r.certified_floor)
       << " deg (every triangle stays above it: monotone rule); boundary distance to f = 0 "
       << fmt(r.boundary_distance_before) << " -> " << fmt(r.boundary_distance_after) << "\n";
@@ -914,7 +915,8 @@ std::string optimize_json(const OptimizeReport& r) {
            ", \"band_triangles\": " + json_number(r.band_triangles) +
            ", \"refined_triangles\": " + json_number(r.refined_triangles) +
            ", \"inserted_vertices\": " + json_number(r.inserted_vertices) +
-           ", \"boundary_splits\": " + json_number(r.boundary_splits) + ", \"seconds\": " + n(r.seconds) + "}";
+           ", \"boundary_splits\": " + json_number(r.boundary_splits) + ", \"interface_splits\": " +
+           json_number(r.interface_splits) + ", \"seconds\": " + n(r.seconds) + "}";
 }
 
 }  // namespace warpmesh

@@ -48,10 +48,15 @@ struct Split {
     std::int32_t a, b, m;
 };
 
-// A patch being re-triangulated: its triangles, the positions of its new and
-// moved vertices, its boundary edges, the splits made, and its extreme angles.
+// A patch being re-triangulated: its triangles and their regions, the mesh
+// triangles it replaces (the patch, then the other sides of split
+// interfaces), the positions of its new and moved vertices, its boundary
+// edges, the boundary and interface splits made, and its extreme angles.
 struct Trial {
     std::vector<Tri> tris;
+    std::vector<std::int32_t> reg;
+    std::vector<std::size_t> slots;
+    std::vector<Split> isplits;
     std::vector<std::pair<std::int32_t, Vec2>> at;
     std::vector<BEdge> bedges;
     std::vector<Split> splits;
@@ -60,11 +65,13 @@ struct Trial {
 };
 
 // A Steiner point: free (a < 0: inside a trial triangle) or on the edge a-b,
-// a boundary edge when tag != 0.
+// a boundary edge when tag != 0, an interface when iface.
 struct Candidate {
     Vec2 p;
     std::int32_t a = -1, b = -1;
     std::int32_t tag = 0;
+    bool iface = false;
+    std::int32_t curve = -1;  // an interface's curve (curves.hpp)
 };
 
 class Refiner {
@@ -79,6 +86,8 @@ public:
         if (bad.empty()) return {};
         std::sort(bad.begin(), bad.end());
         for (const std::size_t t : order_) add_edges(t);
+        for (std::size_t k = 0; k < m_.interfaces.size() && k < m_.interface_regions.size(); ++k)
+            iface_at_[edge_key(m_.interfaces[k][0], m_.interfaces[k][1])] = k;
         bdeg_.assign(m_.vertices.size(), 0);
         for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
             boundary_[edge_key(m_.boundary[e][0], m_.boundary[e][1])] = e;
@@ -181,6 +190,68 @@ private:
         return std::nullopt;
     }
 
+    // The region on the other side of the trial's edge a -> b (a triangle of
+    // the trial with b -> a, else the eligible mesh triangle), or -1.
+    std::int32_t other_region(const Trial& t, std::int32_t a, std::int32_t b, std::int64_t* slot = nullptr) const {
+        for (std::size_t i = 0; i < t.tris.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                if (t.tris[i][k] == b && t.tris[i][(k + 1) % 3] == a) return t.reg[i];
+        const auto it = edges_.find(edge_key(a, b));
+        if (it == edges_.end()) return -1;
+        for (const std::int64_t u : it->second)
+            if (u >= 0 && std::find(t.slots.begin(), t.slots.end(), static_cast<std::size_t>(u)) == t.slots.end()) {
+                if (slot) *slot = u;
+                return m_.region[static_cast<std::size_t>(u)];
+            }
+        return -1;
+    }
+    // Is a - b an edge between two trial triangles of different regions?
+    bool split_interface(const Trial& t, std::int32_t a, std::int32_t b) const {
+        const std::int32_t r = own_region(t, b, a);
+        return r >= 0 && r != own_region(t, a, b);
+    }
+    // The region of the trial triangle with the edge a -> b, or -1.
+    std::int32_t own_region(const Trial& t, std::int32_t a, std::int32_t b) const {
+        for (std::size_t i = 0; i < t.tris.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                if (t.tris[i][k] == a && t.tris[i][(k + 1) % 3] == b) return t.reg[i];
+        return -1;
+    }
+    // Adds the mesh triangle across the interface a -> b to the trial (if it
+    // is not in it already); false if there is none.
+    bool add_other_side(Trial& t, std::int32_t a, std::int32_t b) const {
+        std::int64_t slot = -1;
+        if (own_region(t, b, a) >= 0) return true;
+        if (other_region(t, a, b, &slot) < 0 || slot < 0) return false;
+        t.tris.push_back(m_.triangles[static_cast<std::size_t>(slot)]);
+        t.reg.push_back(m_.region[static_cast<std::size_t>(slot)]);
+        t.slots.push_back(static_cast<std::size_t>(slot));
+        return true;
+    }
+    // A Steiner point on the interface a -> b of the trial (materials): on
+    // the curve of its two regions, found by its cut_parameter on a segment
+    // across the edge's midpoint.
+    std::optional<Candidate> interface_point(const Trial& t, std::int32_t a, std::int32_t b) const {
+        const std::int32_t left = own_region(t, a, b), right = other_region(t, a, b);
+        if (left < 0 || right < 0 || left == right) return std::nullopt;
+        const std::int32_t curve = curves_.interface_curve(left, right);
+        if (curve == SlideCurves::none) return std::nullopt;
+        const LevelSet& g = curves_.curve(curve);
+        const Vec2 pa = pos(t, a), pb = pos(t, b), mid = 0.5 * (pa + pb), across = perp(pb - pa);
+        Candidate c{mid, a, b, 0, true, curve};
+        if (g.value(mid.x, mid.y) == 0) return c;
+        for (const double r : {0.05, 0.15, 0.5}) {
+            Vec2 lo = mid + r * across, hi = mid - r * across;
+            double glo = g.value(lo.x, lo.y), ghi = g.value(hi.x, hi.y);
+            if (glo > 0) std::swap(lo, hi), std::swap(glo, ghi);
+            if (!(glo < 0 && ghi > 0)) continue;
+            c.p = lo + g.cut_parameter(lo, hi, glo, ghi) * (hi - lo);
+            if (std::abs(g.value(c.p.x, c.p.y)) <= 1e-10 * p_.spacing) return c;
+            return std::nullopt;
+        }
+        return std::nullopt;
+    }
+
     // Lawson flips of the edges inside the trial (both triangles in it, not a
     // boundary or an interface edge) while a pair's minimum rises.
     void lawson(Trial& t) const {
@@ -196,7 +267,7 @@ private:
                     for (std::size_t u = 0; u < tris.size() && k2 < 0; ++u)
                         for (int q = 0; q < 3; ++q)
                             if (tris[u][q] == b && tris[u][(q + 1) % 3] == a) j = u, k2 = q;
-                    if (k2 < 0) continue;  // the patch border
+                    if (k2 < 0 || t.reg[i] != t.reg[j]) continue;  // the patch border, a split interface
                     const std::int32_t d = tris[j][(k2 + 2) % 3];
                     const Vec2 A = pos(t, a), B = pos(t, b), C = pos(t, c), D = pos(t, d);
                     if (!(cross(A - C, D - C) > 0) || !(cross(B - D, C - D) > 0)) continue;  // not convex
@@ -231,6 +302,16 @@ private:
         for (const Tri& T : t.tris) verts.insert(verts.end(), T.begin(), T.end());
         std::sort(verts.begin(), verts.end());
         verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+        // Vertices on an edge between two regions of the trial (a split
+        // interface) stay put.
+        std::vector<std::int32_t> pinned;
+        for (std::size_t i = 0; i < t.tris.size(); ++i)
+            for (std::size_t j = i + 1; j < t.tris.size(); ++j)
+                if (t.reg[i] != t.reg[j])
+                    for (int k = 0; k < 3; ++k)
+                        for (int q = 0; q < 3; ++q)
+                            if (t.tris[i][k] == t.tris[j][(q + 1) % 3] && t.tris[i][(k + 1) % 3] == t.tris[j][q])
+                                pinned.push_back(t.tris[i][k]), pinned.push_back(t.tris[j][q]);
         enum class Move { free, levelset, along_x, along_y };
         std::vector<std::pair<std::int32_t, Move>> movers;
         for (const std::int32_t v : verts) {
@@ -239,7 +320,7 @@ private:
                 const auto a = static_cast<std::int32_t>(e >> 32), b = static_cast<std::int32_t>(e & 0xffffffffu);
                 fixed = fixed || ((a == v || b == v) && !bedge(t, a, b));
             }
-            if (fixed) continue;
+            if (fixed || std::find(pinned.begin(), pinned.end(), v) != pinned.end()) continue;
             const std::vector<std::int32_t> nb = boundary_neighbours(t, v);
             // An old vertex's boundary edges in the whole mesh; a new one has only the trial's.
             const std::size_t deg = static_cast<std::size_t>(v) < bdeg_.size() ? static_cast<std::size_t>(bdeg_[static_cast<std::size_t>(v)]) : nb.size();
@@ -353,7 +434,9 @@ private:
             t.tris[hit] = {T[0], T[1], nv};
             t.tris.push_back({T[1], T[2], nv});
             t.tris.push_back({T[2], T[0], nv});
+            t.reg.push_back(t.reg[hit]), t.reg.push_back(t.reg[hit]);
         } else {
+            if (c.iface && !add_other_side(t, c.a, c.b)) return std::nullopt;
             int found = 0;
             const std::size_t n = t.tris.size();
             for (std::size_t i = 0; i < n; ++i)
@@ -362,6 +445,7 @@ private:
                     if (!((u == c.a && v == c.b) || (u == c.b && v == c.a))) continue;
                     t.tris[i] = {u, nv, w};
                     t.tris.push_back({nv, v, w});
+                    t.reg.push_back(t.reg[i]);
                     ++found;
                     break;
                 }
@@ -373,6 +457,12 @@ private:
                 *e = {old.a, nv, old.tag};
                 t.bedges.push_back({nv, old.b, old.tag});
                 t.splits.push_back({old.a, old.b, nv});
+            }
+            if (c.iface) {  // rule (4) for the two halves, on the interface's curve
+                const LevelSet& g = curves_.curve(c.curve);
+                for (const std::int32_t end : {c.a, c.b})
+                    if (!(edge_distance_to_levelset(g, pos(t, end), c.p, p_.spacing) <= p_.boundary_distance)) return std::nullopt;
+                t.isplits.push_back({c.a, c.b, nv});
             }
         }
         lawson(t);
@@ -431,13 +521,16 @@ private:
             if (at_T(e.a) && at_T(e.b)) split_boundary(e);
         for (const BEdge& e : t.bedges)
             if (at_T(e.a) || at_T(e.b)) split_boundary(e);
+        if (curves_.materials())  // W's interfaces (materials): a point on their curve
+            for (int k = 0; k < 3; ++k)
+                if (const auto q = interface_point(t, T[k], T[(k + 1) % 3]); q && out.size() + 2 < max_candidates) add(*q);
         // W's interior edges' midpoints, longest first (ties: edge order).
         std::array<int, 3> by_length{0, 1, 2};
         const auto length2 = [&](int k) { return norm2(pos(t, T[(k + 1) % 3]) - pos(t, T[k])); };
         std::stable_sort(by_length.begin(), by_length.end(), [&](int i, int j) { return length2(i) > length2(j); });
         const Candidate centroid{(1.0 / 3) * (pos(t, T[0]) + pos(t, T[1]) + pos(t, T[2]))};
         for (const int k : by_length)
-            if (const std::int32_t a = T[k], b = T[(k + 1) % 3]; !bedge(t, a, b) && !interface(a, b)) {
+            if (const std::int32_t a = T[k], b = T[(k + 1) % 3]; !bedge(t, a, b) && !interface(a, b) && !split_interface(t, a, b)) {
                 if (out.size() + 1 == max_candidates) break;  // room for the centroid
                 add({0.5 * (pos(t, a) + pos(t, b)), a, b, 0});
             }
@@ -455,9 +548,11 @@ private:
         base.next_vertex = static_cast<std::int32_t>(m_.vertices.size());
         double old_min = inf, old_max = 0;
         std::vector<std::uint64_t> old_edges;
+        base.slots = pt;
         for (const std::size_t i : pt) {
             const Tri& U = m_.triangles[i];
             base.tris.push_back(U);
+            base.reg.push_back(m_.region[i]);
             const TriangleAngles a = triangle_angles(P(U[0]), P(U[1]), P(U[2]));
             old_min = std::min(old_min, a.min_deg), old_max = std::max(old_max, a.max_deg);
             for (int k = 0; k < 3; ++k) {
@@ -482,8 +577,16 @@ private:
                 if (best->min_deg >= p_.below_deg && best->max_deg <= max_allowed) break;  // good enough: stop looking
             }
             if (!best) return;
-            if (best->min_deg > old_min + min_gain_deg && best->max_deg <= max_allowed) {  // (2), (3)
-                if (embeds(*best, pt) && within_budget(*best, pt, m_.region[t])) apply(pt, *best, m_.region[t]);  // (6), (7)
+            // The other sides of split interfaces count in the old patch too.
+            double omin = old_min, omax = old_max;
+            for (std::size_t k = pt.size(); k < best->slots.size(); ++k) {
+                const Tri& U = m_.triangles[best->slots[k]];
+                const TriangleAngles a = triangle_angles(P(U[0]), P(U[1]), P(U[2]));
+                omin = std::min(omin, a.min_deg), omax = std::max(omax, a.max_deg);
+            }
+            const double allowed = std::min(std::max({omax, p_.max_angle, max_angle_target}), p_.max_angle_cap);
+            if (best->min_deg > omin + min_gain_deg && best->max_deg <= allowed) {  // (2), (3)
+                if (embeds(*best) && within_budget(*best)) apply(*best);  // (6), (7)
                 return;
             }
             base = std::move(*best);
@@ -492,19 +595,23 @@ private:
 
     // Rule (7): the region's area error within its budget (curves.hpp); the
     // budget is charged.
-    bool within_budget(const Trial& trial, std::span<const std::size_t> pt, std::int32_t region) const {
+    bool within_budget(const Trial& trial) const {
         if (!p_.areas) return true;
-        double change = 0;
-        for (const Tri& T : trial.tris) change += 0.5 * cross(pos(trial, T[1]) - pos(trial, T[0]), pos(trial, T[2]) - pos(trial, T[0]));
-        for (const std::size_t i : pt) change -= 0.5 * cross(P(m_.triangles[i][1]) - P(m_.triangles[i][0]), P(m_.triangles[i][2]) - P(m_.triangles[i][0]));
-        const AreaChange c{{region, change}};
+        AreaChange c;
+        for (std::size_t k = 0; k < trial.tris.size(); ++k) {
+            const Tri& T = trial.tris[k];
+            add_area(c, trial.reg[k], 0.5 * cross(pos(trial, T[1]) - pos(trial, T[0]), pos(trial, T[2]) - pos(trial, T[0])));
+        }
+        for (const std::size_t i : trial.slots)
+            add_area(c, m_.region[i], -0.5 * cross(P(m_.triangles[i][1]) - P(m_.triangles[i][0]), P(m_.triangles[i][2]) - P(m_.triangles[i][0])));
         if (!p_.areas->allows(c)) return false;
         p_.areas->apply(c);
         return true;
     }
 
-    // Rule (6) for the trial replacing patch pt (embedding.hpp).
-    bool embeds(const Trial& trial, std::span<const std::size_t> pt) const {
+    // Rule (6) for the trial replacing its slots (embedding.hpp).
+    bool embeds(const Trial& trial) const {
+        const std::vector<std::size_t>& pt = trial.slots;
         if (!p_.index) return true;
         std::vector<std::uint64_t> replaced;  // the patch's boundary edges in the mesh
         for (const std::size_t i : pt)
@@ -533,7 +640,27 @@ private:
         return change_embeds(m_, *p_.index, changed, local, trial.tris, pos_of, is_replaced);
     }
 
-    void apply(std::span<const std::size_t> pt, const Trial& trial, std::int32_t region) {
+    // A split interface a-b (its entry a'-b' in Mesh::interfaces, either
+    // way round) becomes a'-m in place plus m-b' appended, same regions.
+    void split_interface_entry(const Split& s) {
+        const auto it = iface_at_.find(edge_key(s.a, s.b));
+        if (it == iface_at_.end()) return;
+        const std::size_t k = it->second;
+        const auto [x, y] = m_.interfaces[k];
+        iface_at_.erase(it);
+        m_.interfaces[k] = {x, s.m};
+        m_.interfaces.push_back({s.m, y});
+        m_.interface_regions.push_back(m_.interface_regions[k]);
+        iface_at_[edge_key(x, s.m)] = k;
+        iface_at_[edge_key(s.m, y)] = m_.interfaces.size() - 1;
+        if (p_.interfaces) {
+            p_.interfaces->erase(edge_key(s.a, s.b));
+            p_.interfaces->insert(edge_key(x, s.m)), p_.interfaces->insert(edge_key(s.m, y));
+        }
+    }
+
+    void apply(const Trial& trial) {
+        const std::vector<std::size_t>& pt = trial.slots;
         const std::size_t nv0 = m_.vertices.size();
         m_.vertices.resize(static_cast<std::size_t>(trial.next_vertex));
         for (const auto& [v, q] : trial.at) m_.vertices[static_cast<std::size_t>(v)] = q;
@@ -564,11 +691,11 @@ private:
             if (k < pt.size()) {
                 slot = pt[k];
                 m_.triangles[slot] = trial.tris[k];
-                m_.region[slot] = region;
+                m_.region[slot] = trial.reg[k];
             } else {
                 slot = m_.triangles.size();
                 m_.triangles.push_back(trial.tris[k]);
-                m_.region.push_back(region);
+                m_.region.push_back(trial.reg[k]);
             }
             r_.touched.push_back(slot);
             add_edges(slot);
@@ -581,9 +708,11 @@ private:
         }
         if (p_.index)
             for (const BEdge& e : trial.bedges) p_.index->add(m_, boundary_.at(edge_key(e.a, e.b)));
+        for (const Split& s : trial.isplits) split_interface_entry(s);
         ++r_.refined_triangles;
         r_.inserted_vertices += static_cast<std::int64_t>(m_.vertices.size() - nv0);
         r_.boundary_splits += static_cast<std::int64_t>(trial.splits.size());
+        r_.interface_splits += static_cast<std::int64_t>(trial.isplits.size());
     }
 
     Mesh& m_;
@@ -594,6 +723,7 @@ private:
     std::unordered_map<std::uint64_t, std::array<std::int64_t, 2>> edges_;  // eligible triangles by edge
     std::unordered_map<std::uint64_t, std::size_t> boundary_;              // boundary edge -> index in Mesh::boundary
     std::vector<std::int32_t> bdeg_;                                       // per vertex: its number of boundary edges
+    std::unordered_map<std::uint64_t, std::size_t> iface_at_;              // interface edge -> index in Mesh::interfaces
     RefineResult r_;
 };
 

@@ -80,7 +80,7 @@ struct RefineParams {
     // maximum; infinity: no cap).
     double max_angle_cap = std::numeric_limits<double>::infinity();
     int patch_rings = 5;           // a one-pixel strip needs this many for room to insert
-    const std::unordered_set<std::uint64_t>* interfaces = nullptr;  // edge_key of every interface edge
+    std::unordered_set<std::uint64_t>* interfaces = nullptr;  // edge_key of every interface edge (kept up to date)
     // The mesh's boundary edges (embedding.hpp), kept up to date: a patch is
     // replaced only if the change is an embedding (rule (6)).
     BoundaryIndex* index = nullptr;
@@ -93,6 +93,7 @@ struct RefineResult {
     std::int64_t refined_triangles = 0;  // bad triangles whose patch was replaced
     std::int64_t inserted_vertices = 0;  // of which on boundary edges: boundary_splits
     std::int64_t boundary_splits = 0;
+    std::int64_t interface_splits = 0;  // of which on interfaces (materials)
     std::vector<std::size_t> touched;  // the triangles rewritten or appended, increasing
 };
 
