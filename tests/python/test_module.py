@@ -196,6 +196,14 @@ BAD_INPUTS = [
     ("read_image units", lambda: warpmesh.read_image("/nonexistent.pgm", units="inch")),
     ("read_image mm without a pixel size", lambda: warpmesh.read_image(BRAIN_PATH, units="mm")),
     ("read_image max_pixels", lambda: warpmesh.read_image("/nonexistent.pgm", max_pixels="lots")),
+    ("max_memory not an integer", lambda: warpmesh.mesh(IMG, max_memory="lots")),
+    ("max_memory zero", lambda: warpmesh.mesh(IMG, materials="all", max_memory=0)),
+    ("max_memory too small for the lattice", lambda: warpmesh.mesh_shape("circle:0,0,1", spacing=1e-4, max_memory=1)),
+    ("read_image max_memory", lambda: warpmesh.read_image(BRAIN_PATH, max_memory=-1)),
+    ("shapes not a string", lambda: warpmesh.mesh_shapes(["1=circle:0,0,1"])),
+    ("bad shapes", lambda: warpmesh.mesh_shapes("1=circle:0,0")),
+    ("shapes background", lambda: warpmesh.mesh_shapes("1=circle:0,0,1", background="hide")),
+    ("shapes max_memory", lambda: warpmesh.mesh_shapes("1=circle:0,0,1", spacing=1e-4, max_memory=1)),
 ]
 
 
@@ -477,3 +485,59 @@ def test_write_uses_the_fast_writers_in_every_form(tmp_path):
     assert (tmp_path / "text.msh").read_bytes().startswith(b"$MeshFormat\n4.1 0 8\n")
     with pytest.raises(warpmesh.OutputError):
         warpmesh.write(m, tmp_path / "no-such-dir" / "x.vtu")
+
+
+# Issue 28: --optimize with materials and --shapes from Python, point for
+# point the CLI's mesh; max_memory on every entry point.
+@pytest.mark.parametrize("graded", [False, True])
+def test_optimize_with_materials_is_the_cli_optimize(cli, root, tmp_path, graded):
+    import meshio
+
+    vtu = tmp_path / "mo.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--materials", "all", "--spacing", "2", "--optimize",
+                    *(["--graded"] if graded else []), "-o", str(vtu), "--quiet"], check=True, capture_output=True)
+    ref = meshio.read(vtu)
+    img = warpmesh.read_image(root / BRAIN)
+    m = warpmesh.mesh(img, materials="all", spacing=2, graded=graded, optimize=True)
+    plain = warpmesh.mesh(img, materials="all", spacing=2, graded=graded)
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    o = m.report["optimize"]
+    assert o["min_angle_after_deg"] > o["min_angle_before_deg"] == plain.report["min_angle_deg"]
+    assert o["max_angle_after_deg"] <= o["max_angle_before_deg"]
+    # No label's area error against its pixel count grew.
+    before = {x["tag"]: abs(x["area_minus_pixel_area"]) for x in plain.report["materials"] if x["output"]}
+    for x in m.report["materials"]:
+        if x["output"]:
+            assert abs(x["area_minus_pixel_area"]) <= before[x["tag"]] + 1e-9 * x["pixel_area"], x
+    assert "optimize" not in plain.report
+
+
+def test_mesh_shapes_is_the_cli_shapes_mesh_with_and_without_optimize(cli, tmp_path):
+    import meshio
+
+    spec = "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12"
+    for extra, kw in (([], {}), (["--optimize", "--background", "keep"], dict(optimize=True, background="keep"))):
+        vtu = tmp_path / "s.vtu"
+        subprocess.run([cli, "mesh", "--shapes", spec, "--spacing", "0.5", *extra, "-o", str(vtu), "--quiet"],
+                       check=True, capture_output=True)
+        ref = meshio.read(vtu)
+        m = warpmesh.mesh_shapes(spec, spacing=0.5, **kw)
+        assert np.array_equal(ref.points[:, :2], m.points)
+        assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+        assert set(np.unique(m.regions)) == ({0, 1, 2, 3} if kw else {1, 2, 3})
+        assert len(m.interfaces) > 0
+    assert m.report["optimize"]["min_angle_after_deg"] > 30
+
+
+def test_optimize_on_one_region_and_max_memory_everywhere(root):
+    a = warpmesh.mesh_shape("flower:0,0,80,25,5", spacing=1, optimize=True)
+    assert a.report["optimize"]["min_angle_after_deg"] > 35
+    img = warpmesh.read_image(root / BRAIN, max_memory=64)
+    assert warpmesh.mesh(img, labels="nonzero", spacing=2, optimize=True).report["optimize"]["min_angle_after_deg"] > 35
+    for call in (lambda: warpmesh.mesh(img, materials="all", spacing=0.01, max_memory=16),
+                 lambda: warpmesh.mesh(img, labels="nonzero", spacing=0.01, max_memory=16),
+                 lambda: warpmesh.mesh_shape("circle:0,0,100", spacing=0.01, max_memory=16),
+                 lambda: warpmesh.mesh_shapes("1=circle:0,0,100", spacing=0.01, max_memory=16)):
+        with pytest.raises(warpmesh.InputError, match="max-memory|memory"):
+            call()
