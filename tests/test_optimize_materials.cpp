@@ -29,6 +29,7 @@
 #include "warpmesh/optimize.hpp"
 #include "warpmesh/pipeline.hpp"
 #include "warpmesh/quality.hpp"
+#include "label_images.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;
@@ -46,17 +47,8 @@ Image blank(int w, int h) {
 // Nearest-seed blobs of labels 0..labels, with salt (single pixels: saddles
 // and one-pixel materials) and now and then a checkerboard patch.
 Image random_labels(std::mt19937& rng, int w, int h, int labels) {
-    Image img = blank(w, h);
+    Image img = warpmesh::testing::random_label_image(rng, w, h, labels);
     std::uniform_int_distribution<int> lab(0, labels), px(0, w - 1), py(0, h - 1);
-    std::vector<std::array<int, 3>> seeds;
-    for (int k = 0; k < 2 + labels; ++k) seeds.push_back({px(rng), py(rng), lab(rng)});
-    for (int r = 0; r < h; ++r)
-        for (int c = 0; c < w; ++c) {
-            int best = 1 << 30, l = 0;
-            for (const auto& s : seeds)
-                if (const int d = (s[0] - c) * (s[0] - c) + (s[1] - r) * (s[1] - r); d < best) best = d, l = s[2];
-            img.pixels[static_cast<std::size_t>(r * w + c)] = static_cast<std::uint16_t>(l);
-        }
     std::uniform_real_distribution<double> u(0, 1);
     for (auto& p : img.pixels)
         if (u(rng) < 0.04) p = static_cast<std::uint16_t>(lab(rng));

@@ -136,3 +136,19 @@ def root():
 def cli():
     """The warpmesh command line (CTest passes it in WARPMESH_EXE)."""
     return executable("WARPMESH_EXE")
+
+
+def read_xdmf(path):
+    """(mesh, cell tags, facet tags) from warpmesh's PATH.xdmf and
+    PATH_facets.xdmf (heavy data in PATH.h5 and PATH_facets.h5, the default),
+    as the docs tell users to read them."""
+    require("dolfinx", "python3-dolfinx")
+    from dolfinx.io import XDMFFile
+    from mpi4py import MPI
+    with XDMFFile(MPI.COMM_WORLD, path + ".xdmf", "r") as f:
+        mesh = f.read_mesh(name="mesh")
+        cells = f.read_meshtags(mesh, name="mesh")
+    mesh.topology.create_connectivity(1, 2)
+    with XDMFFile(MPI.COMM_WORLD, path + "_facets.xdmf", "r") as f:
+        facets = f.read_meshtags(mesh, name="facets")
+    return mesh, cells, facets

@@ -35,25 +35,9 @@ sides, interface).
 import numpy as np
 import pytest
 
-from conftest import Reference, require, run_warpmesh
+from conftest import Reference, read_xdmf, require, run_warpmesh
 
 SPACINGS = [0.2, 0.1, 0.05, 0.025]
-
-
-def read_xdmf(path):
-    """(mesh, cell tags, facet tags) from warpmesh's PATH.xdmf and
-    PATH_facets.xdmf (heavy data in PATH.h5 and PATH_facets.h5, the default),
-    as the docs tell users to read them."""
-    require("dolfinx", "python3-dolfinx")
-    from dolfinx.io import XDMFFile
-    from mpi4py import MPI
-    with XDMFFile(MPI.COMM_WORLD, path + ".xdmf", "r") as f:
-        mesh = f.read_mesh(name="mesh")
-        cells = f.read_meshtags(mesh, name="mesh")
-    mesh.topology.create_connectivity(1, 2)
-    with XDMFFile(MPI.COMM_WORLD, path + "_facets.xdmf", "r") as f:
-        facets = f.read_meshtags(mesh, name="facets")
-    return mesh, cells, facets
 
 
 def solve_disc(path, degree):

@@ -22,7 +22,7 @@ asserted here.)
 import numpy as np
 import pytest
 
-from conftest import require, run_warpmesh
+from conftest import read_xdmf, require, run_warpmesh
 
 SPACINGS = [0.1, 0.05, 0.025, 0.0125]
 SHAPES = "1=circle:0,0,1;2=circle:0,0,0.5"
@@ -35,16 +35,9 @@ def solve(stem):
     import ufl
     from dolfinx import fem
     from dolfinx.fem.petsc import LinearProblem
-    from dolfinx.io import XDMFFile
-    from mpi4py import MPI
     from petsc4py import PETSc
 
-    with XDMFFile(MPI.COMM_WORLD, stem + ".xdmf", "r") as f:
-        mesh = f.read_mesh(name="mesh")
-        cells = f.read_meshtags(mesh, name="mesh")
-    mesh.topology.create_connectivity(1, 2)
-    with XDMFFile(MPI.COMM_WORLD, stem + "_facets.xdmf", "r") as f:
-        facets = f.read_meshtags(mesh, name="facets")
+    mesh, cells, facets = read_xdmf(stem)
     assert set(np.unique(cells.values)) == {1, 2}
     k = fem.Function(fem.FunctionSpace(mesh, ("DG", 0)))
     k.x.array[cells.indices] = np.vectorize(K.get)(cells.values)

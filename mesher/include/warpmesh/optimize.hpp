@@ -202,10 +202,14 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 //    move or refined patch is accepted only if every region it changes keeps
 //    |area - reference| at or below its value before the pass: no label's
 //    area error grows (checked again at the end, std::logic_error if not).
-// Flips never cross an interface and refinement never crosses or splits one
-// (it may split a material's level-set boundary edge, at a point on its
-// curve), so Mesh::interfaces stays exactly the edges between different
-// regions, with the same regions on their sides.
+// Flips never cross an interface.  Refinement patches stay inside one
+// material; it may split a material's level-set boundary edge and, as a
+// candidate for the patch's worst triangle, one of its interface edges, at a
+// point on the curve of the two materials (the triangle on the other side
+// joins the patch with its own region; the halves replace the edge in
+// Mesh::interfaces with the same regions).  So Mesh::interfaces stays exactly
+// the edges between different regions (OptimizeReport::interface_splits
+// counts the splits).
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
 // The report as text lines (for stdout) and as a JSON object (the report's

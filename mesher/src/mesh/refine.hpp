@@ -26,8 +26,16 @@
 // A level-set boundary edge (tag 1) is split at a point on f = 0, found by
 // the level set's own cut_parameter on a segment across the edge's midpoint
 // (the root finder that placed the cut points); a lattice-border edge (tag 2)
-// at its midpoint, which stays on the border line.  Other edges (interfaces,
-// other tags) are never split.
+// at its midpoint, which stays on the border line.  Other tags are never
+// split.  Materials (curves.materials()): each of W's interface edges is a
+// candidate too, split at a point on the curve of its two materials
+// (curves.hpp), found by the curve's cut_parameter on a segment across the
+// edge's midpoint; the triangle on the other side joins the trial with its
+// own region.  Flips never cross an edge between two regions of the trial,
+// vertices on such an edge do not move in the smoothing, and the halves
+// must be within `boundary_distance` of their curve.  The acceptance rule
+// below counts those other-side triangles in the old patch; on acceptance
+// Mesh::interfaces (and `interfaces`) get the two halves, same regions.
 //
 // The acceptance rule.  The new patch replaces the old one only if
 //   (1) every new triangle is counter-clockwise with positive area,
