@@ -40,6 +40,18 @@ double number(const std::string& j, const std::string& key) {
     return std::stod(j.substr(at + key.size() + 4));
 }
 
+// The witness image written into dir, as the level set f = pixel - 30000,
+// inside below.
+std::unique_ptr<LevelSet> witness_levelset(const fs::path& dir) {
+    fs::create_directories(dir);
+    const fs::path img = dir / "witness.pgm";
+    warpmesh::testing::write_witness_image(img);
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    return make_image_levelset(read_image(img.string()), o);
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(witness_image_keeps_atan_one_third_with_the_fan_rule) {
@@ -78,13 +90,7 @@ BOOST_AUTO_TEST_CASE(witness_image_keeps_atan_one_third_with_the_fan_rule) {
 BOOST_AUTO_TEST_CASE(fan_mesh_is_conforming_with_its_boundary_on_the_level_set) {
     // Through the library: the same image, spacing 1 on the pixel centres.
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_lib_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path img = dir / "witness.pgm";
-    warpmesh::testing::write_witness_image(img);
-    ImageLevelSetOptions o;
-    o.iso = 30000;
-    o.inside_above = false;
-    const auto f = make_image_levelset(read_image(img.string()), o);
+    const auto f = witness_levelset(dir);
     const Lattice lattice = lattice_over(f->bounds(), 1.0);
     const UniformResult sep = mesh_uniform(*f, lattice, DiagonalRule::separating);
     const UniformResult fan = mesh_uniform(*f, lattice, DiagonalRule::fan);
@@ -195,13 +201,7 @@ private:
 
 BOOST_AUTO_TEST_CASE(fan_rule_with_materials_lifts_the_witness_and_its_junctions) {
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_mat_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path img = dir / "witness.pgm";
-    warpmesh::testing::write_witness_image(img);
-    ImageLevelSetOptions o;
-    o.iso = 30000;
-    o.inside_above = false;
-    const WitnessMaterials f(make_image_levelset(read_image(img.string()), o));
+    const WitnessMaterials f(witness_levelset(dir));
     const Lattice lattice = lattice_over(f.bounds(), 1.0);
     const CertifyOptions cert{true, true, true};
     const MaterialResult sep = mesh_materials(f, lattice, {true, DiagonalRule::separating, cert});
