@@ -14,6 +14,7 @@
 #include <random>
 
 #include "random_label_image.hpp"
+#include "same_mesh.hpp"
 #include "support.hpp"
 #include "warpmesh/image.hpp"
 #include "warpmesh/lattice.hpp"
@@ -67,16 +68,7 @@ std::map<std::uint16_t, std::uint16_t> random_bijection(std::mt19937& rng, const
 void require_same_up_to_relabelling(const MaterialResult& a, const MaterialResult& b,
                                     const std::map<std::uint16_t, std::uint16_t>& map) {
     const auto tag = [&](std::int32_t t) { return t == 0 ? 0 : static_cast<std::int32_t>(map.at(static_cast<std::uint16_t>(t))); };
-    BOOST_REQUIRE_EQUAL(a.mesh.vertices.size(), b.mesh.vertices.size());
-    BOOST_REQUIRE_EQUAL(a.mesh.triangles.size(), b.mesh.triangles.size());
-    for (std::size_t k = 0; k < a.mesh.vertices.size(); ++k) {
-        BOOST_REQUIRE_EQUAL(a.mesh.vertices[k].x, b.mesh.vertices[k].x);
-        BOOST_REQUIRE_EQUAL(a.mesh.vertices[k].y, b.mesh.vertices[k].y);
-    }
-    for (std::size_t k = 0; k < a.mesh.triangles.size(); ++k) {
-        BOOST_REQUIRE(a.mesh.triangles[k] == b.mesh.triangles[k]);
-        BOOST_REQUIRE_EQUAL(tag(a.mesh.region[k]), b.mesh.region[k]);
-    }
+    testing::require_same_points_and_triangles(a.mesh, b.mesh, tag);
     BOOST_REQUIRE(a.mesh.boundary == b.mesh.boundary);
     BOOST_REQUIRE(a.mesh.boundary_tag == b.mesh.boundary_tag);
     BOOST_REQUIRE(a.mesh.interfaces == b.mesh.interfaces);

@@ -28,6 +28,7 @@
 #endif
 
 #include "random_label_image.hpp"
+#include "same_mesh.hpp"
 #include "support.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/graded.hpp"
@@ -326,16 +327,7 @@ BOOST_AUTO_TEST_CASE(two_materials_reproduce_label_mode_exactly) {
             const Lattice l = lattice_over(f->bounds(), s);
             const MaterialResult a = mesh_materials(*f, l, {false, DiagonalRule::separating, {}});
             const UniformResult b = mesh_uniform(*g, l, DiagonalRule::separating);
-            BOOST_REQUIRE_EQUAL(a.mesh.vertices.size(), b.mesh.vertices.size());
-            BOOST_REQUIRE_EQUAL(a.mesh.triangles.size(), b.mesh.triangles.size());
-            for (std::size_t k = 0; k < a.mesh.vertices.size(); ++k) {
-                BOOST_REQUIRE_EQUAL(a.mesh.vertices[k].x, b.mesh.vertices[k].x);
-                BOOST_REQUIRE_EQUAL(a.mesh.vertices[k].y, b.mesh.vertices[k].y);
-            }
-            for (std::size_t k = 0; k < a.mesh.triangles.size(); ++k) {
-                BOOST_REQUIRE(a.mesh.triangles[k] == b.mesh.triangles[k]);
-                BOOST_REQUIRE_EQUAL(a.mesh.region[k], b.mesh.region[k]);
-            }
+            warpmesh::testing::require_same_points_and_triangles(a.mesh, b.mesh, [](std::int32_t t) { return t; });
             auto edges = [](const Mesh& m) {
                 std::set<std::array<std::int32_t, 3>> e;
                 for (std::size_t k = 0; k < m.boundary.size(); ++k) e.insert({m.boundary[k][0], m.boundary[k][1], m.boundary_tag[k]});
