@@ -1,4 +1,5 @@
 // Random label images for the multi-material tests (test_materials,
+// test_material_relabel,
 // test_optimize_materials).
 #pragma once
 

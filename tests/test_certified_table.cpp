@@ -73,9 +73,9 @@ BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
         BOOST_REQUIRE(ls);
         BOOST_REQUIRE((rule == "maxmin" || rule == "separating" || rule == "fan"));
         const DiagonalRule r = rule == "maxmin" ? DiagonalRule::maxmin : rule == "separating" ? DiagonalRule::separating : DiagonalRule::fan;
-        if (code[0] >= 'a' && code[0] <= 'd') {  // a junction key (proofs/materials.cert)
-            BOOST_REQUIRE(r == DiagonalRule::separating);
-            const CertifiedBound* b = certified_junction_bound(junction_from_code(code));
+        if (code[0] >= 'a' && code[0] <= 'd') {  // a junction key (proofs/materials.cert, materials_fan.cert)
+            BOOST_REQUIRE(r != DiagonalRule::maxmin);
+            const CertifiedBound* b = certified_junction_bound(junction_from_code(code), r);
             BOOST_TEST_INFO(line);
             BOOST_REQUIRE(b);
             BOOST_TEST((b->max_cot == parse_rational(qmin) && b->min_cot == parse_rational(qmax) && flat == "any"));
@@ -97,25 +97,30 @@ BOOST_AUTO_TEST_CASE(key_table_txt_matches) {
         ++lines;
     }
     BOOST_TEST(lines == certified_key_count(DiagonalRule::maxmin) + certified_key_count(DiagonalRule::separating) +
-                            certified_key_count(DiagonalRule::fan) + certified_junction_key_count());
+                            certified_key_count(DiagonalRule::fan) + certified_junction_key_count() +
+                            certified_junction_key_count(DiagonalRule::fan));
 }
 
 // The junction keys (multi-material squares with 3 or 4 materials):
 // proofs/materials.cert compiled in, every key looks up to its own bound, and
 // the mesher's own lookup of a square's materials finds the key.
+// Both rules' junction keys (materials.cert: separating; materials_fan.cert: fan).
 BOOST_AUTO_TEST_CASE(junction_table_matches_certificate) {
-    const auto file = parse_cert_key_lines(slurp(std::string(WARPMESH_PROOFS_DIR) + "/materials.cert"));
-    const auto compiled = parse_cert_key_lines(certified_junction_table_text());
+  for (const DiagonalRule rule : {DiagonalRule::separating, DiagonalRule::fan}) {
+    const std::string name = rule == DiagonalRule::fan ? "materials_fan" : "materials";
+    BOOST_TEST_CONTEXT(name) {
+    const auto file = parse_cert_key_lines(slurp(std::string(WARPMESH_PROOFS_DIR) + "/" + name + ".cert"));
+    const auto compiled = parse_cert_key_lines(certified_junction_table_text(rule));
     BOOST_TEST(file.size() == 2546u);  // proofs/README.md, "Junction keys"
     const std::string diff = compare_cert_keys(file, compiled);
-    BOOST_TEST(diff.empty(), "materials: compiled table is stale (re-run cmake): " << diff);
-    BOOST_TEST(certified_junction_key_count() == file.size());
+    BOOST_TEST(diff.empty(), name << ": compiled table is stale (re-run cmake): " << diff);
+    BOOST_TEST(certified_junction_key_count(rule) == file.size());
     double worst_min = 180, worst_max = 0;
     for (const auto& k : file) {
         const auto letters = junction_from_code(k.code);
         BOOST_TEST(junction_key_code(letters) == k.code);
         BOOST_TEST(!k.flat);
-        const CertifiedBound* b = certified_junction_bound(letters);
+        const CertifiedBound* b = certified_junction_bound(letters, rule);
         BOOST_REQUIRE(b);
         BOOST_TEST(b->max_cot == parse_rational(k.qmin));
         BOOST_TEST(b->min_cot == parse_rational(k.qmax));
@@ -125,15 +130,20 @@ BOOST_AUTO_TEST_CASE(junction_table_matches_certificate) {
         for (std::size_t c = 0; c < 4; ++c) mats[c] = {static_cast<std::uint16_t>(900 - 77 * letters[c].material), letters[c].warp};
         BOOST_TEST(junction_key_code(junction_letters(mats)) == k.code);
     }
-    const CertifiedTheorem th = certified_junction_theorem();
+    const CertifiedTheorem th = certified_junction_theorem(rule);
     BOOST_TEST(th.min_deg_any == worst_min);
     BOOST_TEST(th.max_deg_any == worst_max);
+    // The fan rule's junction floor is the fan rule's unconditional one, above atan(1/3) - 6e-6 deg.
+    if (rule == DiagonalRule::fan) BOOST_TEST(th.min_deg_any > 18.4349);
     // Not junction keys: two materials (a sign key), a cut side with both ends
     // staying, two corners sliding towards each other, an inward slide to the same material.
     for (const char* bad : {"asbsbRaL", "asasbscs", "aRbLcsaU", "aRaUbDcs"}) {
         BOOST_TEST_INFO(bad);
-        BOOST_TEST(!certified_junction_bound(junction_from_code(bad)));
+        BOOST_TEST(!certified_junction_bound(junction_from_code(bad), rule));
     }
+    }
+  }
+  BOOST_TEST(certified_junction_key_count(DiagonalRule::maxmin) == 0u);  // refused with materials
 }
 
 // An unknown junction key is an internal error (std::logic_error), never a

@@ -1,7 +1,9 @@
 // The independent checker rejects tampered certificates of the fan rule
-// (proofs/fan.cert): the leaves and claims that are new with the rule — fan
-// leaves (F), undecided fan/diagonal leaves (Y), the fan only on squares whose
-// corners are all inside, and the qualifying threshold of diagonal leaves.
+// (proofs/fan.cert, and its junction keys, proofs/materials_fan.cert): the
+// leaves and claims that are new with the rule — fan leaves (F), undecided
+// fan/diagonal leaves (Y), the fan only on squares whose corners are all
+// inside (junction keys: whose staying corners share a material), and the
+// qualifying threshold of diagonal leaves.
 // Each test changes one leaf or key line, cuts the certificate after that key
 // (the checker stops at the first error, so the run stays cheap) and asserts
 // the checker's message names the tampered leaf, not the truncation.
@@ -29,8 +31,8 @@ using warpmesh::testing::read_lines;
 
 namespace {
 
-std::vector<std::string> cert() {
-    auto out = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "fan.cert");
+std::vector<std::string> cert(const char* name = "fan.cert") {
+    auto out = read_lines(fs::path(WARPMESH_PROOFS_DIR) / name);
     BOOST_REQUIRE(out.size() > 100);
     return out;
 }
@@ -45,6 +47,18 @@ std::string run_checker(const std::vector<std::string>& lines, const std::string
 bool all_inside(const std::string& code) {  // no corner stays outside ("+s")
     for (std::size_t c = 0; c < 4; ++c)
         if (code[2 * c] == '+' && code[2 * c + 1] == 's') return false;
+    return true;
+}
+
+// A junction key (letters a-d and warps) on which the fan rule may take the
+// fan: its staying corners ("Xs") share one letter.
+bool junction_all_inside(const std::string& code) {
+    char letter = 0;
+    for (std::size_t c = 0; c < 4; ++c) {
+        if (code[2 * c + 1] != 's') continue;
+        if (letter && code[2 * c] != letter) return false;
+        letter = code[2 * c];
+    }
     return true;
 }
 
@@ -144,4 +158,52 @@ BOOST_AUTO_TEST_CASE(undecided_leaf_with_a_claim_below_the_threshold, *warpmesh:
     t[key] = s;
     const std::string msg = run_checker(t, "undecided_low_claim");
     BOOST_TEST(names_a_leaf(msg), msg);
+}
+
+// ---- the junction keys under the fan rule (proofs/materials_fan.cert) ----------
+
+BOOST_AUTO_TEST_CASE(junction_fan_certificate_has_undecided_fan_leaves) {
+    const auto l = cert("materials_fan.cert");
+    BOOST_TEST(l[2] == "rule fan");
+    BOOST_TEST(l[3] == "space junctions");
+    find(l, junction_all_inside, 'Y');
+}
+
+BOOST_AUTO_TEST_CASE(junction_fan_leaf_relabelled_as_a_diagonal) {
+    const auto l = cert("materials_fan.cert");
+    const auto [key, leaf] = find(l, junction_all_inside, 'Y');
+    auto t = cut_after(l, key);
+    t[leaf][0] = 'A';
+    const std::string msg = run_checker(t, "junction_fan_as_diagonal");
+    BOOST_TEST(names_a_leaf(msg), msg);
+}
+
+BOOST_AUTO_TEST_CASE(junction_fan_on_a_square_with_staying_corners_of_two_materials) {
+    // Two opposite corners staying with different materials force a diagonal;
+    // a fan there would join them through its centre: refused.
+    const auto l = cert("materials_fan.cert");
+    const auto [key, leaf] = find(l, [](const std::string& c) { return !junction_all_inside(c); }, 'A');
+    auto t = cut_after(l, key);
+    t[leaf][0] = 'F';
+    const std::string msg = run_checker(t, "junction_fan_forced");
+    BOOST_TEST(msg.find("bad diagonal tag") != std::string::npos, msg);
+}
+
+BOOST_AUTO_TEST_CASE(junction_keys_under_the_max_min_rule_are_refused) {
+    // The junction key space exists for the separating and fan rules only.
+    auto t = cert("materials_fan.cert");
+    t[2] = "rule maxmin";
+    t.resize(20);
+    const std::string msg = run_checker(t, "junction_maxmin");
+    BOOST_TEST(msg.find("unknown key space") != std::string::npos, msg);
+}
+
+BOOST_AUTO_TEST_CASE(junction_fan_claim_below_the_fan_floor_is_refused) {
+    // The separating rule's junction floor (15 deg) is not what the fan rule's
+    // keys prove: a claim lowered to it is weaker than the keys' extremes.
+    auto t = cert("materials_fan.cert");
+    BOOST_REQUIRE(t[4].rfind("claim U ", 0) == 0);
+    t[4] = "claim U 500907389/134217728 " + fields(t[4])[3];
+    const std::string msg = run_checker(t, "junction_fan_weak_claim");
+    BOOST_TEST(msg.find("claim") != std::string::npos, msg);
 }

@@ -8,7 +8,9 @@
 #define BOOST_TEST_MODULE fan_rule
 #include <boost/test/unit_test.hpp>
 
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -22,6 +24,8 @@
 #include "warpmesh/image.hpp"
 #include "warpmesh/image_levelset.hpp"
 #include "warpmesh/lattice.hpp"
+#include "warpmesh/materials.hpp"
+#include "warpmesh/quality.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/uniform.hpp"
 
@@ -34,6 +38,18 @@ double number(const std::string& j, const std::string& key) {
     const auto at = j.find("\"" + key + "\": ");
     BOOST_REQUIRE(at != std::string::npos);
     return std::stod(j.substr(at + key.size() + 4));
+}
+
+// The witness image written into dir, as the level set f = pixel - 30000,
+// inside below.
+std::unique_ptr<LevelSet> witness_levelset(const fs::path& dir) {
+    fs::create_directories(dir);
+    const fs::path img = dir / "witness.pgm";
+    warpmesh::testing::write_witness_image(img);
+    ImageLevelSetOptions o;
+    o.iso = 30000;
+    o.inside_above = false;
+    return make_image_levelset(read_image(img.string()), o);
 }
 
 }  // namespace
@@ -74,13 +90,7 @@ BOOST_AUTO_TEST_CASE(witness_image_keeps_atan_one_third_with_the_fan_rule) {
 BOOST_AUTO_TEST_CASE(fan_mesh_is_conforming_with_its_boundary_on_the_level_set) {
     // Through the library: the same image, spacing 1 on the pixel centres.
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_lib_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path img = dir / "witness.pgm";
-    warpmesh::testing::write_witness_image(img);
-    ImageLevelSetOptions o;
-    o.iso = 30000;
-    o.inside_above = false;
-    const auto f = make_image_levelset(read_image(img.string()), o);
+    const auto f = witness_levelset(dir);
     const Lattice lattice = lattice_over(f->bounds(), 1.0);
     const UniformResult sep = mesh_uniform(*f, lattice, DiagonalRule::separating);
     const UniformResult fan = mesh_uniform(*f, lattice, DiagonalRule::fan);
@@ -136,21 +146,87 @@ BOOST_AUTO_TEST_CASE(graded_mesh_takes_the_fan_rule_on_the_witness_image) {
     fs::remove_all(dir);
 }
 
-BOOST_AUTO_TEST_CASE(fan_rule_refused_for_several_materials) {
-    // Multi-material meshes: the fan is certified for two phases only — a
-    // clear error naming the rule and a non-zero exit, no file.
-    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_refuse_" + std::to_string(::getpid()));
+BOOST_AUTO_TEST_CASE(fan_rule_was_refused_for_several_materials_and_now_certifies_them) {
+    // Issue 28: --diagonal fan was refused with materials ("certified for two
+    // phases only").  Now the CLI meshes every label of an atlas slice with
+    // it, verified, at the fan rule's unconditional floor, junctions included.
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_materials_" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    const fs::path out = dir / "materials.vtu";
+    const fs::path out = dir / "materials.vtu", report = dir / "materials.json";
     const std::string cmd = std::string(WARPMESH_EXE) + " mesh " + WARPMESH_TEST_DATA +
-                            "/abdomen_axial_z024_labels16.pgm --materials all --diagonal fan -o " + out.string() +
-                            " 2>" + (dir / "materials.err").string();
-    BOOST_TEST(std::system(cmd.c_str()) != 0);
-    BOOST_TEST(!fs::exists(out));
-    std::ifstream err(dir / "materials.err");
+                            "/abdomen_axial_z024_labels16.pgm --materials all --diagonal fan --verify --quiet -o " +
+                            out.string() + " --report " + report.string();
+    BOOST_REQUIRE(std::system(cmd.c_str()) == 0);
+    BOOST_TEST(fs::exists(out));
+    std::ifstream in(report);
     std::stringstream ss;
-    ss << err.rdbuf();
-    BOOST_TEST(ss.str().find("--diagonal fan") != std::string::npos, ss.str());
-    BOOST_TEST(ss.str().find("materials") != std::string::npos, ss.str());
+    ss << in.rdbuf();
+    const std::string json = ss.str(), cert = json.substr(json.find("\"certified\": {"));
+    BOOST_TEST(json.find("\"rule\": \"fan\"") != std::string::npos);
+    BOOST_TEST(number(cert, "min_angle_deg") >= 18.4349);
+    BOOST_TEST(number(cert, "junction_squares") > 0);
+    BOOST_TEST(cert.find("\"verified\": true") != std::string::npos);
+    fs::remove_all(dir);
+}
+
+// The fan rule with materials (issue 28 item 2).  The witness image's level
+// set as two materials — material 1 where f < 0, the background where f > 0
+// (phi_1 = f, phi_0 = -f: the interface is f = 0) — and a third material, a
+// disc in the image's right part, so that junction squares occur too.  The
+// separating rule realises the 15 deg witness; the fan rule takes the fan
+// there (one new vertex, one material), keeps every angle >= 18.4349 deg,
+// certified and verified with the junction squares, and the graded mesh has
+// the same band, fan included.
+namespace {
+class WitnessMaterials final : public MaterialField {
+public:
+    explicit WitnessMaterials(std::unique_ptr<LevelSet> f) : f_(std::move(f)) {}
+    int count() const override { return 3; }
+    std::int32_t tag(int m) const override { return m; }
+    std::string name(int m) const override { return m == 0 ? "background" : "material_" + std::to_string(m); }
+    Box bounds() const override { return f_->bounds(); }
+    bool bounds_are_domain() const override { return true; }
+    std::string describe() const override { return "the fan witness as materials"; }
+    double phi(int m, double x, double y) const override {
+        const double disc = std::hypot(x - 4.9, y - 6.6) - 1.3;  // material 2, over the others
+        if (m == 2) return disc;
+        const double v = f_->value(x, y) / 10000;
+        return std::max(m == 1 ? v : -v, -disc);
+    }
+
+private:
+    std::unique_ptr<LevelSet> f_;
+};
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(fan_rule_with_materials_lifts_the_witness_and_its_junctions) {
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_mat_" + std::to_string(::getpid()));
+    const WitnessMaterials f(witness_levelset(dir));
+    const Lattice lattice = lattice_over(f.bounds(), 1.0);
+    const CertifyOptions cert{true, true, true};
+    const MaterialResult sep = mesh_materials(f, lattice, {true, DiagonalRule::separating, cert});
+    const MaterialResult fan = mesh_materials(f, lattice, {true, DiagonalRule::fan, cert});
+    BOOST_TEST(sep.certified.min_deg < 15.01);
+    BOOST_TEST(compute_quality(sep.mesh).min_angle_deg < 15.01);  // the witness, realised with materials
+    BOOST_TEST(fan.junction_squares > 0);
+    BOOST_TEST(fan.certified.verified);
+    BOOST_TEST(fan.certified.min_deg >= 18.4349);
+    BOOST_TEST(compute_quality(fan.mesh).min_angle_deg >= 18.4349);
+    BOOST_TEST(fan.mesh.vertices.size() == sep.mesh.vertices.size() + 1);  // one fan centre
+    BOOST_TEST(fan.mesh.triangles.size() == sep.mesh.triangles.size() + 2);
+    const MeshCheck chk = check_mesh(fan.mesh);
+    BOOST_TEST(chk.ok(), (chk.messages.empty() ? "" : chk.messages.front()));
+    BOOST_TEST(fan.mesh.interfaces.size() == sep.mesh.interfaces.size());  // the fan is inside material 1
+    for (const bool keep : {true, false}) {
+        const MaterialResult u = mesh_materials(f, lattice, {keep, DiagonalRule::fan, cert});
+        const MaterialResult g = mesh_materials_graded(f, lattice, {keep, DiagonalRule::fan, cert}, 4);
+        BOOST_TEST(g.mesh.vertices.size() <= u.mesh.vertices.size());
+        BOOST_TEST(check_mesh(g.mesh).ok());
+        BOOST_TEST(g.certified.min_deg == u.certified.min_deg);
+        BOOST_TEST(g.junction_squares == u.junction_squares);
+        BOOST_TEST(g.mesh.interfaces.size() == u.mesh.interfaces.size());
+        BOOST_TEST(g.mesh.boundary.size() == u.mesh.boundary.size());
+        BOOST_TEST(compute_quality(g.mesh).min_angle_deg >= 18.4349);
+    }
     fs::remove_all(dir);
 }

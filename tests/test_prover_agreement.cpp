@@ -104,6 +104,46 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys) {
 // proved on undecided boxes, with switching leaves and the mean-value form:
 // nothing left to sample), then at sample points of every leaf whose diagonal
 // is decided, choose_diagonal<double> takes that diagonal.
+// The fan rule on junction keys (proofs/materials_fan.cert): where the
+// prover's leaf decides (a diagonal: 1 AD, 2 BC; the fan: 4), the mesher's
+// double evaluation of choose_diagonal on material corners decides the same;
+// on undecided leaves (5, Y: the fan or a diagonal) the mesher does take the
+// fan at some points (the rule reaches it on junction keys).
+BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys_under_the_fan_rule) {
+    const auto keys = prover::junction_keys();
+    const auto claims = key_claims("materials_fan");
+    int checked = 0, fans = 0;
+    for (std::size_t i = 0; i < keys.size(); i += 37) {
+        const auto& k = keys[i];
+        const auto vars = prover::key_vars(k);
+        const auto [qmin, qmax] = claims.at(static_cast<int>(i));
+        const auto proof = prover::prove_key(DiagonalRule::fan, k, qmin, qmax, 20000);
+        BOOST_REQUIRE(proof.ok);
+        for (const auto& leaf : proof.leaves) {
+            if (leaf.diag != 1 && leaf.diag != 2 && leaf.diag != 4 && leaf.diag != 5) continue;
+            for (int s = 0; s < 5; ++s) {
+                std::array<double, 4> t{};
+                std::array<Warp, 4> w{};
+                std::array<MaterialCorner, 4> mats{};
+                for (int c = 0; c < 4; ++c) w[c] = k.m[c].warp, mats[c] = {static_cast<std::uint16_t>(900 - 11 * k.m[c].material), w[c]};
+                for (std::size_t j = 0; j < vars.size(); ++j) {
+                    const double lo = std::ldexp(double(leaf.num[2 * j]), -leaf.k);
+                    const double hi = std::ldexp(double(leaf.num[2 * j + 1]), -leaf.k);
+                    t[vars[j]] = lo + (s == 0 ? 0.5 : ((s + j) % 3) / 2.0) * (hi - lo);
+                }
+                const Choice ch = choose_diagonal<double>(DiagonalRule::fan, generic_positions<double>(w, t), mats);
+                fans += ch.fan;
+                if (leaf.diag == 5) continue;
+                BOOST_TEST((ch.fan ? 4 : ch.ad ? 1 : 2) == int(leaf.diag));
+                ++checked;
+            }
+        }
+    }
+    BOOST_TEST(checked > 100);
+    BOOST_TEST(fans > 0);
+    BOOST_TEST_MESSAGE("junction fan agreement: " << checked << " decided points, the fan taken at " << fans);
+}
+
 BOOST_AUTO_TEST_CASE(double_agrees_with_intervals) {
     const auto keys = prover::consistent_keys();
     int checked = 0;

@@ -5,7 +5,7 @@
 // re-verifies every leaf with exact rational interval arithmetic (including
 // the margins that make the mesher's double-precision diagonal choice agree),
 // checks the claims and witnesses, and prints the theorem table.  Junction
-// keys (proofs/materials.cert, `space junctions`: multi-material squares with
+// keys (proofs/materials.cert and materials_fan.cert, `space junctions`: squares with
 // 3 or 4 materials) are enumerated and decided here too, from their own
 // rules (junction_consistent, forced).  No global
 // state: every operation gets what it needs.  Exit status: 0 every
@@ -431,10 +431,16 @@ Decision decided(Key& k, int win, bool threshold, const N& h) {
 N fan_h0() { return N(3) + N(Z(1), -20); }
 N fan_scaled(int sign, int e) { return fan_h0() + N(sign) * fan_h0() * N(Z(1), -e); }
 // Every corner inside (sign <= 0, or warped onto the level set): the squares
-// on which the fan rule may take the fan.
+// on which the fan rule may take the fan.  Junction keys (materials): the
+// staying corners share one letter (the fan then takes that material).
 bool all_inside(const std::array<St, 4>& k) {
-    for (auto& c : k)
-        if (c.warp == 0 && c.sign > 0) return false;
+    int letter = -1;
+    for (auto& c : k) {
+        if (c.warp != 0) continue;
+        if (c.letter < 0 && c.sign > 0) return false;
+        if (c.letter >= 0 && letter >= 0 && c.letter != letter) return false;
+        if (c.letter >= 0) letter = c.letter;
+    }
     return true;
 }
 // Diagonal d does not qualify anywhere on the box: some dot_i - h cross > 0.
@@ -743,7 +749,7 @@ void expect(const std::vector<std::string>& l, const std::string& w, std::size_t
 }
 
 // `warpmesh-certificate 3`, `rule maxmin|separating|fan` and, for the
-// junction keys, `space junctions` (separating rule only; no flat category).
+// junction keys, `space junctions` (separating or fan rule; no flat category).
 struct Header {
     std::string rule;
     bool fanrule = false, sep = false, junctions = false;
@@ -763,7 +769,7 @@ Header read_header(Reader& rd) {
     if (h.junctions) {
         const auto& sl = rd.next("space");
         expect(sl, "space", 2);
-        if (sl[1] != "junctions" || h.rule != "separating") fail("unknown key space (only 'junctions', separating rule)");
+        if (sl[1] != "junctions" || h.rule == "maxmin") fail("unknown key space (only 'junctions', separating or fan rule)");
     }
     return h;
 }

@@ -433,7 +433,7 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
     // leaves `F` (fan decided: both diagonals excluded), `Y` (undecided between
     // the fan and a diagonal), or diagonal leaves whose diagonal is verified
     // with q <= fan_keep_cot (so it qualifies and the fan is not taken).
-    const bool fan_key = rule == DiagonalRule::fan && !key.junction && all_inside(key.s);
+    const bool fan_square = fan_key(rule, key);
     std::vector<Box> stack{root};
     auto split_or_fail = [&](const Box& b, int kind) {
         int s = -1;
@@ -454,7 +454,7 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
     while (!stack.empty()) {
         const Box b = stack.back();
         stack.pop_back();
-        if (fan_key && excludes(key, vars, b, Diagonal::AD, fan_exclusion_cot) &&
+        if (fan_square && excludes(key, vars, b, Diagonal::AD, fan_exclusion_cot) &&
             excludes(key, vars, b, Diagonal::BC, fan_exclusion_cot)) {
             int kind = 0;
             if (verify_fan(key, vars, b, qmin, qmax, &kind)) {
@@ -464,8 +464,8 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
             if (!split_or_fail(b, kind)) return out;
             continue;
         }
-        const double dmin = fan_key ? std::min(qmin, fan_keep_cot) : qmin;
-        Choice ch = choose_key_diagonal<I>(fan_key ? DiagonalRule::maxmin : rule, positions_i(key, vars, b), key);
+        const double dmin = fan_square ? std::min(qmin, fan_keep_cot) : qmin;
+        Choice ch = choose_key_diagonal<I>(fan_square ? DiagonalRule::maxmin : rule, positions_i(key, vars, b), key);
         double thr = 0;
         if (ch.ad && ch.bc) {
             if (threshold_decides(key, vars, b, Diagonal::BC, thr)) ch.ad = false;
@@ -509,7 +509,7 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
         // pick among the diagonals qualifies whenever one does), which the claim
         // covers: qmin >= fan_taken_cot; the max-angle forms on each diagonal
         // that is not excluded on the box (an excluded one never qualifies).
-        if (fan_key && qmin >= fan_taken_cot) {
+        if (fan_square && qmin >= fan_taken_cot) {
             int k2 = 0;
             if (verify_fan(key, vars, b, qmin, qmax, &k2) &&
                 (excludes(key, vars, b, Diagonal::AD, fan_exclusion_cot) ||

@@ -6,8 +6,8 @@
 //   * every lattice point has one material (no zero-valued points);
 //   * a lattice edge is cut iff its endpoints' materials differ; it has one
 //     cut point, at u in (0, 1); its candidate is the closer endpoint (at
-//     u = 1/2 the one with the larger material number), and only the
-//     candidate moves along it;
+//     u = 1/2 the one the tie rule of materials.hpp picks — which one is not
+//     constrained here), and only the candidate moves along it;
 //   * a point that is the candidate of several cut edges takes the nearest cut
 //     point; so a warped point has slid t in [0, 1/2] along a cut edge of its own.
 //
@@ -87,7 +87,12 @@ std::vector<int> junction_classes(DiagonalRule rule, const std::vector<Key>& key
         int cls = 0;
         for (const MaterialCorner& c : k.m) cls = cls * 5 + static_cast<int>(c.warp);
         Diagonal d{};
-        const int forcing = rule == DiagonalRule::separating && separating_diagonal(k.m, d) ? 1 + static_cast<int>(d) : 0;
+        // The separating and fan rules force; under the fan rule an unforced
+        // junction key may take the fan (its staying corners share a letter:
+        // two staying corners with different letters are opposite, hence
+        // forcing), so the forcing also fixes the fan's availability.
+        const int forcing =
+            rule != DiagonalRule::maxmin && separating_diagonal(k.m, d) ? 1 + static_cast<int>(d) : 0;
         rep[i] = first.try_emplace(cls * 3 + forcing, static_cast<int>(i)).first->second;
     }
     return rep;

@@ -60,8 +60,9 @@ int prove_main(int argc, char** argv) {
     bool first = true;  // the first run truncates key_table.txt
     // The two diagonal rules over the sign keys, then the separating rule over
     // the junction keys (multi-material squares with 3 or 4 materials; the
-    // max-min and fan rules are refused with materials), then the fan rule over
-    // the sign keys: maxmin.cert, separating.cert, materials.cert, fan.cert.
+    // max-min rule is refused with materials), then the fan rule over the sign
+    // keys and over the junction keys: maxmin.cert, separating.cert,
+    // materials.cert, fan.cert, materials_fan.cert.
     struct Run {
         DiagonalRule rule;
         prover::KeySpace space;
@@ -70,7 +71,8 @@ int prove_main(int argc, char** argv) {
     for (const Run run : {Run{DiagonalRule::maxmin, prover::KeySpace::signs, "maxmin"},
                           Run{DiagonalRule::separating, prover::KeySpace::signs, "separating"},
                           Run{DiagonalRule::separating, prover::KeySpace::junctions, "materials"},
-                          Run{DiagonalRule::fan, prover::KeySpace::signs, "fan"}}) {
+                          Run{DiagonalRule::fan, prover::KeySpace::signs, "fan"},
+                          Run{DiagonalRule::fan, prover::KeySpace::junctions, "materials_fan"}}) {
         const DiagonalRule r = run.rule;
         // With --rule only that rule's runs.
         if (std::find(rules.begin(), rules.end(), r) == rules.end()) continue;

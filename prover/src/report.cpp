@@ -467,7 +467,7 @@ int first_pass(DiagonalRule rule, const Key& key, Info& f, std::size_t leaf_budg
         if (f.proof.ok) break;
         // Fan rule, a square that may take the fan: undecided leaves (Y) need
         // qmin >= fan_taken_cot; try that before relaxing further.
-        if (rule == DiagonalRule::fan && !key.junction && all_inside(key.s) && f.qmin < fan_taken_cot) {
+        if (fan_key(rule, key) && f.qmin < fan_taken_cot) {
             f.qmin = fan_taken_cot;
             f.relaxed = true;
             continue;

@@ -82,6 +82,10 @@ CASES = {
                                      "--spacing", "2"],
     "three_shapes_materials": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
                                "--background", "keep", "--spacing", "0.75"],
+    # The fan rule with materials (issue 28): the same three materials; its
+    # certified floor is the fan rule's 18.4349 deg, junction squares included.
+    "three_shapes_materials_fan": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
+                                   "--background", "keep", "--spacing", "0.75", "--diagonal", "fan"],
     # Graded multi-material meshes: the finest band along every interface,
     # coarse leaves inside each material — every label of the brain slice
     # (background dropped), and the three analytic materials with the

@@ -231,6 +231,25 @@ def test_fan_rule_is_the_cli_diagonal_fan(cli, root, tmp_path):
     assert s.certified[0] >= 18.4349
 
 
+def test_fan_rule_with_materials_is_the_cli_and_certifies_18_4(cli, root, tmp_path):
+    # Issue 28: rule="fan" / --diagonal fan were refused with materials.  Now
+    # the same mesh point for point, tags included, and the unconditional
+    # floor 18.4349 deg holds, junction squares included (uniform and graded).
+    import meshio
+
+    vtu = tmp_path / "fan_materials.vtu"
+    subprocess.run([cli, "mesh", str(root / BRAIN), "--materials", "all", "--diagonal", "fan", "-o", str(vtu), "--quiet"],
+                   check=True)
+    ref = meshio.read(vtu)
+    m = warpmesh.mesh(warpmesh.read_image(root / BRAIN), materials="all", rule="fan")
+    assert np.array_equal(ref.points[:, :2], m.points)
+    assert np.array_equal(ref.cells_dict["triangle"], m.triangles)
+    assert m.report["rule"] == "fan" and m.certified[0] >= 18.4349
+    assert m.report["junction_squares"]["count"] > 0
+    g = warpmesh.mesh(warpmesh.read_image(root / BRAIN), materials="all", rule="fan", graded=True)
+    assert g.certified[0] >= 18.4349
+
+
 def write_nrrd_mm(path, data, directions, origin):
     """A raw uint16 NRRD of a (k, j, i) array with space directions (one
     3-vector per index axis i, j, k) and origin, in millimetres."""

@@ -55,19 +55,22 @@ struct CertifiedTheorem {
 CertifiedTheorem certified_theorem(DiagonalRule rule);
 
 // Junction keys (multi-material squares whose corners carry 3 or 4
-// materials; proofs/materials.cert, separating rule only): `corners[c].material`
+// materials; proofs/materials.cert for the separating rule,
+// proofs/materials_fan.cert for the fan rule): `corners[c].material`
 // is corner c's material class, the letters 0..3 in order of first appearance
 // A, B, C, D, and the code is letters and warps, e.g. "aRaUbscs".
 std::string junction_key_code(const std::array<MaterialCorner, 4>& corners);
 // The corners' material classes in first-appearance order (materials → 0..3),
 // warps kept: the key of a square with materials `corners`.
 std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 4>& corners);
-// The bound of a junction key (letters as junction_letters gives them), or
-// nullptr if it is not in the compiled-in table of proofs/materials.cert.
-const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters);
-std::size_t certified_junction_key_count();
+// The bound of a junction key (letters as junction_letters gives them) under
+// `rule` (separating or fan), or nullptr if it is not in the rule's
+// compiled-in table (maxmin: none, the rule is refused with materials).
+const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters,
+                                               DiagonalRule rule = DiagonalRule::separating);
+std::size_t certified_junction_key_count(DiagonalRule rule = DiagonalRule::separating);
 // The theorem over the junction keys (the *_flat members are unused: NaN).
-CertifiedTheorem certified_junction_theorem();
+CertifiedTheorem certified_junction_theorem(DiagonalRule rule = DiagonalRule::separating);
 
 // ---- the table as text, and its comparison with a certificate --------------
 // One parsed key line.
@@ -79,9 +82,9 @@ struct CertKeyLine {
     std::string qmin, qmax;  // the rationals as written
 };
 // The compiled-in `key ` lines of a rule (the generated file's text), and
-// those of the junction keys (proofs/materials.cert).
+// those of its junction keys (proofs/materials.cert, materials_fan.cert).
 std::string_view certified_table_text(DiagonalRule rule);
-std::string_view certified_junction_table_text();
+std::string_view certified_junction_table_text(DiagonalRule rule = DiagonalRule::separating);
 // Parse `key ` lines (other lines are ignored); throws std::runtime_error on a
 // malformed key line.
 std::vector<CertKeyLine> parse_cert_key_lines(std::string_view text);

@@ -316,8 +316,26 @@ inline bool all_inside(const std::array<CornerState, 4>& s) {
         if (!corner_inside(c.sign, c.warp)) return false;
     return true;
 }
-// Multi-material squares never take the fan (mesh_materials refuses the rule).
-inline bool all_inside(const std::array<MaterialCorner, 4>&) { return false; }
+// Multi-material squares (materials.hpp): every triangle is emitted (each
+// takes a material), and "inside" is relative to the square: the fan is
+// available when the corners that stay share one material (or none stays).
+// Then all four fan triangles take that material (or, none staying, the
+// material at the centre), so no triangle has two staying corners of
+// different materials and the centre is never on an interface.  Otherwise
+// two staying corners differ; they are opposite (adjacent ones would bound a
+// cut side with no warped end), so the separating test forces a diagonal
+// first.  On a square with one or two materials this is the sign test above
+// with the staying corners' material as '-' (the mesher's key mapping), so
+// sign keys and junction keys see the same rule.
+inline bool all_inside(const std::array<MaterialCorner, 4>& s) {
+    int m = -1;
+    for (const MaterialCorner& c : s) {
+        if (c.warp != Warp::stay) continue;
+        if (m >= 0 && m != c.material) return false;
+        m = c.material;
+    }
+    return true;
+}
 
 template <class T, class Corners>
 Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s) {

@@ -5,9 +5,16 @@
 // Model.  Materials are numbered 0 .. count()-1; material 0 is the background
 // (label images: every pixel not selected; shapes: outside every shape).  Each
 // material m has a function phi_m, negative inside it; the material at a point
-// is the one whose phi is smallest, i.e. most inside (an exact tie goes to the
-// larger material number).  The interface between materials a and b is where
-// phi_a = phi_b.
+// is the one whose phi is smallest, i.e. most inside (an exact tie: label
+// images, the tied material of the nearest pixel centre, equally near ones
+// the upper, then the right; shapes, the later shape of the spec).  The
+// interface between materials a and b is where phi_a = phi_b.
+//
+// Label numbers do not matter.  No rule below reads a label's value: only
+// whether two points' materials are equal and whether a material is the
+// background.  Renumbering the labels of an image (0, the background, stays
+// 0) gives the same mesh — points, triangles, interfaces, boundary, keys —
+// with the region tags renumbered (test_material_relabel.cpp).
 //
 // Algorithm (mesh_materials, the uniform lattice):
 //   1. every lattice point gets its material;
@@ -15,9 +22,12 @@
 //      one cut point is where phi_a = phi_b on it (a third material that lies
 //      between is counted, not meshed: `third_material_edges`);
 //   3. warping as for one level set (warp_points): the closer endpoint moves
-//      onto the cut point (at a tie, u = 1/2, the endpoint with the larger
-//      material number), a point that is the closer end of several cut edges
-//      takes the nearest cut point;
+//      onto the cut point, a point that is the closer end of several cut
+//      edges takes the nearest cut point.  At a tie, u = 1/2: against the
+//      background the other material's endpoint moves (label mode's rule);
+//      else the endpoint with more lattice 4-neighbours of its own material;
+//      else the lower (-x or -y) endpoint (mesh_materials.cpp,
+//      tie_mover_is_lower);
 //   4. per square the diagonal by the separating rule generalised to
 //      materials (generic_square.hpp: two opposite corners that stay with
 //      different materials force the other diagonal).  Then no triangle has
@@ -36,8 +46,9 @@
 // material elsewhere.
 //
 // Certification.  A square whose corners carry one or two materials is a
-// square of the two-material proof: map its larger material to '-' and the
-// other to '+'.  The key is consistent in the prover's sense (prover.cpp,
+// square of the two-material proof: map the material of its first staying
+// corner (A, B, C, D; A's if all four moved) to '-' and the other to '+'
+// (either way is a key: the rules below ask only whether materials differ).  The key is consistent in the prover's sense (prover.cpp,
 // `consistent`): no corner is zero-valued; a corner slides inward only along a
 // cut side, i.e. towards the other material, hence the opposite sign; never
 // two corners towards each other along one side (a side has one cut point and
@@ -52,7 +63,7 @@
 // appearance) and the warps, e.g. "aRaUbscs".  The mesher's rules are the
 // key's: every point has a material, a side is cut iff its ends' materials
 // differ, it has one cut point and one mover (the closer end; at u = 1/2 the
-// larger material), a warped corner slid t in (0, 1/2] along a cut edge of its
+// tie rule of step 3), a warped corner slid t in (0, 1/2] along a cut edge of its
 // own, every cut side has a warped end, and outward slides constrain only an
 // outside neighbour (not in the key).  The separating test reads the
 // materials only through "differ", which the letters preserve.  So junction
@@ -92,7 +103,8 @@ public:
 
     // phi_m at a point (any finite value; negative inside m).
     virtual double phi(int m, double x, double y) const = 0;
-    // argmin_m phi_m(x, y), ties to the larger m.  Default: every material.
+    // argmin_m phi_m(x, y).  Default: every material, ties to the larger m
+    // (label images and shapes override it: see Model).
     virtual int material_at(double x, double y) const;
     // The material of every lattice point of `block` (row-major, ni x nj), as
     // material_at at Lattice::position gives it.  Default: material_at.

@@ -17,6 +17,7 @@ namespace generated {
 extern const std::string_view certified_maxmin_keys;
 extern const std::string_view certified_separating_keys;
 extern const std::string_view certified_materials_keys;
+extern const std::string_view certified_materials_fan_keys;
 extern const std::string_view certified_fan_keys;
 }  // namespace generated
 
@@ -122,9 +123,11 @@ JunctionTable build_junctions(std::string_view text) {
     return t;
 }
 
-const JunctionTable& junction_table() {
-    static const JunctionTable t = build_junctions(generated::certified_materials_keys);
-    return t;
+const JunctionTable& junction_table(DiagonalRule rule) {
+    static const JunctionTable separating = build_junctions(generated::certified_materials_keys);
+    static const JunctionTable fan = build_junctions(generated::certified_materials_fan_keys);
+    static const JunctionTable none;
+    return rule == DiagonalRule::separating ? separating : rule == DiagonalRule::fan ? fan : none;
 }
 
 const Table& table(DiagonalRule rule) {
@@ -142,7 +145,11 @@ std::string_view certified_table_text(DiagonalRule rule) {
                                               : generated::certified_fan_keys;
 }
 
-std::string_view certified_junction_table_text() { return generated::certified_materials_keys; }
+std::string_view certified_junction_table_text(DiagonalRule rule) {
+    return rule == DiagonalRule::separating ? generated::certified_materials_keys
+           : rule == DiagonalRule::fan      ? generated::certified_materials_fan_keys
+                                            : std::string_view{};
+}
 
 std::string junction_key_code(const std::array<MaterialCorner, 4>& cs) {
     std::string s;
@@ -168,15 +175,15 @@ std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 
     return out;
 }
 
-const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters) {
+const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters, DiagonalRule rule) {
     for (const auto& c : letters)
         if (c.material > 3 || static_cast<int>(c.warp) >= warp_count) return nullptr;
-    const JunctionTable& t = junction_table();
+    const JunctionTable& t = junction_table(rule);
     const int idx = raw_junction_index(letters);
     return t.known[static_cast<std::size_t>(idx)] ? &t.bound[static_cast<std::size_t>(idx)] : nullptr;
 }
-std::size_t certified_junction_key_count() { return junction_table().count; }
-CertifiedTheorem certified_junction_theorem() { return junction_table().theorem; }
+std::size_t certified_junction_key_count(DiagonalRule rule) { return junction_table(rule).count; }
+CertifiedTheorem certified_junction_theorem(DiagonalRule rule) { return junction_table(rule).theorem; }
 
 double parse_rational(std::string_view text) {
     auto parse_int = [&](std::string_view s) -> __int128 {
@@ -322,7 +329,7 @@ SquareKey square_key(const std::array<std::int8_t, 12>& st, bool junction, const
         key.cs[c] = {st[c], w ? w->dir : Warp::stay};
         key.jm[c] = {static_cast<std::uint16_t>(st[c]), key.cs[c].warp};
     }
-    if (junction) key.bound = rule == DiagonalRule::separating ? certified_junction_bound(key.jm) : nullptr;
+    if (junction) key.bound = certified_junction_bound(key.jm, rule);
     else key.bound = certified_bound(rule, key.cs);
     return key;
 }

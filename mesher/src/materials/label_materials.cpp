@@ -66,6 +66,7 @@ inline double bilinear(const std::array<double, 4>& v, double fx, double fy) {
 struct Mixed {
     int n = 0;                                  // 2..4 labels, ascending material numbers
     std::array<std::uint16_t, 4> m{};
+    std::array<std::uint16_t, 4> corner{};      // the corners' materials: 00, 10, 01, 11
     std::array<std::array<double, 4>, 4> v{};   // v[k][corner]: phi of m[k] at corners 00, 10, 01, 11
 };
 
@@ -95,16 +96,31 @@ private:
     double phi_px(int m, double x, double y) const;  // phi at pixel coordinates
     double px(double x) const { return (x - g_.x0) / g_.sx; }
     double py(double y) const { return (y - g_.y0) / g_.sy; }
+    // The material at (fx, fy) of a cell: argmin phi; an exact tie goes to
+    // the tied material of the nearest corner (largest bilinear weight),
+    // equally near corners in the order 11, 01, 10, 00 (the upper, then the
+    // right pixel) — a rule of the geometry, not of the label numbers.
     int in_cell(std::uint32_t cell, double fx, double fy) const {
         if (!(cell & mixed_bit)) return static_cast<int>(cell);
         const Mixed& e = mixed_[cell & ~mixed_bit];
+        std::array<double, 4> v{};
         double best = std::numeric_limits<double>::infinity();
-        int pick = 0;
-        for (int k = 0; k < e.n; ++k) {  // ascending: an exact tie goes to the larger material
-            const double v = bilinear(e.v[static_cast<std::size_t>(k)], fx, fy);
-            if (v <= best) best = v, pick = k;
+        int pick = 0, tied = 0;
+        for (int k = 0; k < e.n; ++k) {
+            v[static_cast<std::size_t>(k)] = bilinear(e.v[static_cast<std::size_t>(k)], fx, fy);
+            if (v[static_cast<std::size_t>(k)] < best) best = v[static_cast<std::size_t>(k)], pick = k, tied = 1;
+            else if (v[static_cast<std::size_t>(k)] == best) ++tied;
         }
-        return e.m[static_cast<std::size_t>(pick)];
+        if (tied == 1) return e.m[static_cast<std::size_t>(pick)];
+        const std::array<double, 4> w{(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+        int winner = -1;
+        double wbest = -1;
+        for (const int q : {3, 2, 1, 0}) {
+            const std::uint16_t m = e.corner[static_cast<std::size_t>(q)];
+            const int k = static_cast<int>(std::find(e.m.begin(), e.m.begin() + e.n, m) - e.m.begin());
+            if (v[static_cast<std::size_t>(k)] == best && w[static_cast<std::size_t>(q)] > wbest) wbest = w[static_cast<std::size_t>(q)], winner = m;
+        }
+        return winner;
     }
 
     int w_, h_;
@@ -177,6 +193,7 @@ LabelMaterials::LabelMaterials(const Image& image, const std::string& spec, cons
                 continue;
             }
             Mixed e;
+            e.corner = corner;
             std::array<std::uint16_t, 4> sorted = corner;
             std::sort(sorted.begin(), sorted.end());
             for (int k = 0; k < 4; ++k)

@@ -15,7 +15,10 @@ namespace warpmesh {
 int MaterialField::material_at(double x, double y) const {
     double best = std::numeric_limits<double>::infinity();
     int pick = 0;
-    for (int m = 0; m < count(); ++m) {  // ascending: an exact tie goes to the larger material
+    // Ascending: an exact tie goes to the larger material number.  (Fields
+    // whose numbers are label values override this with a geometric tie rule:
+    // label_materials.cpp; for shapes the number is the spec's order.)
+    for (int m = 0; m < count(); ++m) {
         const double v = phi(m, x, y);
         if (v <= best) best = v, pick = m;
     }
@@ -91,7 +94,7 @@ public:
         for (std::size_t k = n; k-- > 0;) {  // material k + 1, from the last
             const double f = shapes_[k]->value(x, y);
             const double v = std::max(f, suffix);
-            if (v < best) best = v, pick = static_cast<int>(k + 1);  // descending: ties keep the larger
+            if (v < best) best = v, pick = static_cast<int>(k + 1);  // descending: ties keep the later shape (spec order, not tags)
             suffix = std::max(suffix, -f);
         }
         if (suffix < best) pick = 0;

@@ -59,9 +59,10 @@ void check_material_options(const MaterialField& field, const MaterialOptions& o
 // .warp; also sets r.cut_edges, r.third_material_edges, r.warped_points.
 MaterialFront material_front(const MaterialField& field, const Lattice& lattice, MaterialResult& r);
 
-// Whether the rule takes BC on the warped square with these material corners
-// and slide lengths; `forced`: the separating rule overrode max-min.
-bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced);
+// What the rule takes on the warped square with these material corners and
+// slide lengths: AD, BC or (fan rule) the centroid fan; `forced`: the
+// separating rule overrode max-min.
+SquareSplit material_split(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced);
 
 // A warped square (corners p = A, B, C, D; A at lattice (i, j)): its code
 // (rule_bit, and bc_bit when the rule takes BC), each triangle's material —
@@ -69,7 +70,12 @@ bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>
 // rule leaves no triangle with two unwarped corners of different materials;
 // `mixed` counts violations, which must be none), or the material at its
 // centroid when all three corners moved (`by_centroid`) — and twice each
-// triangle's signed area.
+// triangle's signed area.  The fan rule's centroid fan (fan_bit; its
+// staying corners share one material, generic_square.hpp's all_inside):
+// all four triangles take that material, or the material at the centre when
+// every corner moved (4 `by_centroid`); material[0] = material[1] is it and
+// area2[0] + area2[1] twice the square's area (the fan's four triangles
+// tile the same quadrilateral as a diagonal's two).
 struct WarpedSquare {
     std::uint8_t code = square_code::rule_bit;
     bool forced = false;  // the separating rule overrode max-min
@@ -91,7 +97,20 @@ inline WarpedSquare warped_square(const MaterialFront& front, const Lattice& lat
         }
         x[q] = front.position(lattice, p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
     }
-    if (material_diagonal_bc(rule, cs, t, w.forced)) w.code |= square_code::bc_bit;
+    const SquareSplit split = material_split(rule, cs, t, w.forced);
+    if (split == SquareSplit::bc) w.code |= square_code::bc_bit;
+    if (split == SquareSplit::fan) {
+        w.code |= square_code::fan_bit;
+        int m = -1;
+        for (const MaterialCorner& mc : cs)
+            if (mc.warp == Warp::stay) m = mc.material;
+        if (m < 0) {
+            const Vec2 c = square_code::fan_centre_position(x);
+            m = field.material_at(c.x, c.y);
+            w.by_centroid = 4;
+        }
+        w.material = {m, m};
+    }
     for (int k = 0; k < 2; ++k) {
         const auto tri = square_code::triangle_of(w.code, k);
         int m = -1;
@@ -103,6 +122,7 @@ inline WarpedSquare warped_square(const MaterialFront& front, const Lattice& lat
         }
         const Vec2 &a = x[static_cast<std::size_t>(tri[0])], &b = x[static_cast<std::size_t>(tri[1])],
                    &e = x[static_cast<std::size_t>(tri[2])];
+        if (split == SquareSplit::fan) m = w.material[static_cast<std::size_t>(k)];
         if (m < 0) {
             m = field.material_at((a.x + b.x + e.x) / 3, (a.y + b.y + e.y) / 3);
             ++w.by_centroid;

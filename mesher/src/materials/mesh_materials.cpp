@@ -53,21 +53,46 @@ int thread_count() {
 
 // The rule on a square's material corners, in the generic frame (the same
 // choose_diagonal the prover certifies; generic_square.hpp).
-[[gnu::flatten]] bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs,
-                                           const std::array<double, 4>& t, bool& forced) {
+[[gnu::flatten]] SquareSplit material_split(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs,
+                                            const std::array<double, 4>& t, bool& forced) {
     std::array<Warp, 4> w{};
     for (std::size_t k = 0; k < 4; ++k) w[k] = cs[k].warp;
     const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
     Diagonal d{};
     forced = false;
     if (separating_diagonal(cs, d)) forced = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs).bc != ch.bc;
-    return ch.bc;
+    return ch.fan ? SquareSplit::fan : ch.bc ? SquareSplit::bc : SquareSplit::ad;
+}
+
+// The tie rule of materials.hpp, step 3: which endpoint of the cut edge from
+// p = (i, j) to q = p + x (axis 0) or p + y (axis 1) moves when its cut point
+// is exactly midway (u = 1/2).  It reads the materials only through "equal"
+// and "is the background", never through their numbers, so renumbering the
+// labels does not change it:
+//   1. the background against another material: the other one moves (label
+//      mode's rule, the inside point moves; for one label this is label mode);
+//   2. else the endpoint with more lattice 4-neighbours of its own material
+//      (deeper inside it) moves, so that the thinner side keeps its point —
+//      a one-pixel label keeps its lattice point and its triangles;
+//   3. else the lower end p (the edge's -x or -y end) moves.
+// True when p moves.
+static bool tie_mover_is_lower(const Buffer<std::uint16_t>& mat, std::int64_t nxp, std::int64_t ny, std::int64_t i, std::int64_t j,
+                        int axis) {
+    const std::int64_t qi = i + (axis == 0), qj = j + (axis == 1);
+    const int mp = mat[static_cast<std::size_t>(i + j * nxp)], mq = mat[static_cast<std::size_t>(qi + qj * nxp)];
+    if ((mp == 0) != (mq == 0)) return mq == 0;
+    const auto own_neighbours = [&](std::int64_t a, std::int64_t b, int m) {
+        int n = 0;
+        if (a > 0) n += mat[static_cast<std::size_t>(a - 1 + b * nxp)] == m;
+        if (a + 1 < nxp) n += mat[static_cast<std::size_t>(a + 1 + b * nxp)] == m;
+        if (b > 0) n += mat[static_cast<std::size_t>(a + (b - 1) * nxp)] == m;
+        if (b < ny) n += mat[static_cast<std::size_t>(a + (b + 1) * nxp)] == m;
+        return n;
+    };
+    return own_neighbours(i, j, mp) >= own_neighbours(qi, qj, mq);
 }
 
 void check_material_options(const MaterialField& field, const MaterialOptions& options) {
-    if (options.rule == DiagonalRule::fan)
-        throw InputError("--diagonal fan cannot mesh several materials yet (its fan is certified for two phases only); "
-                         "use the separating rule (the default)");
     if (options.rule == DiagonalRule::maxmin)
         throw InputError("--diagonal maxmin cannot mesh several materials: it can join two unwarped corners of different "
                          "materials by its diagonal, leaving a triangle with no single material; use the separating rule "
@@ -91,7 +116,7 @@ MaterialFront material_front(const MaterialField& field, const Lattice& lattice,
     times.sample = seconds_since(t0);
 
     // ---- 2. cut edges --------------------------------------------------------------
-    // sign: -1 when p has the larger material (it moves at a tie, u = 1/2).
+    // sign: -1 when p is the edge's mover at a tie, u = 1/2 (tie_mover_is_lower).
     t0 = clock::now();
     std::vector<std::vector<CutEdge>> per_row(static_cast<std::size_t>(ny + 1));
     std::int64_t third = 0;
@@ -108,7 +133,8 @@ MaterialFront material_front(const MaterialField& field, const Lattice& lattice,
                 if (mq == mp) continue;
                 const Vec2 a = lattice.position(i, j), b = lattice.position(i + (axis == 0), j + (axis == 1));
                 const double u = field.cut_parameter(a, b, mp, mq);
-                out.push_back({lattice.index(i, j), static_cast<std::int8_t>(axis), static_cast<std::int8_t>(mp > mq ? -1 : 1), u});
+                const bool p_moves = u == 0.5 && tie_mover_is_lower(mat, nxp, ny, i, j, axis);  // (u != 1/2: unused)
+                out.push_back({lattice.index(i, j), static_cast<std::int8_t>(axis), static_cast<std::int8_t>(p_moves ? -1 : 1), u});
                 const int mc = field.material_at(a.x + u * (b.x - a.x), a.y + u * (b.y - a.y));
                 third += mc != mp && mc != mq;
             }
@@ -186,17 +212,24 @@ void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const Mate
     const std::vector<WarpedPoint>& warped = front.warped;
     auto warp_of = [&](std::int64_t p) -> const WarpedPoint& { return front.warp_of(p); };
     auto tag = [&](std::uint16_t m) { return field.tag(m); };
-    // A square with one or two materials: its larger material is '-', every
-    // other point of the stencil '+' (materials.hpp: why this is a key of the proof).
+    // A square with one or two materials: the material of its first staying
+    // corner (A, B, C, D; none stays: A's) is '-', every other point of the
+    // stencil '+' (materials.hpp: why this is a key of the proof; the choice
+    // reads no material number, and under the fan rule '-' is the staying
+    // corners' common material, so "all inside" is the fan's condition).
     // A junction square (3 or 4 materials): its corners' material classes,
     // for its junction key (certify_squares).
     const auto square_signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
         const std::int64_t pa = lattice.index(i, j);
-        const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(pa)], mat[static_cast<std::size_t>(pa + 1)],
-                                             mat[static_cast<std::size_t>(pa + nxp)], mat[static_cast<std::size_t>(pa + nxp + 1)]};
-        const std::uint16_t hi = *std::max_element(m.begin(), m.end()), lo = *std::min_element(m.begin(), m.end());
+        const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+        const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(p[0])], mat[static_cast<std::size_t>(p[1])],
+                                             mat[static_cast<std::size_t>(p[2])], mat[static_cast<std::size_t>(p[3])]};
+        std::uint16_t inside = m[0];
+        for (std::size_t q = 4; q-- > 0;)
+            if (!moved[static_cast<std::size_t>(p[q])]) inside = m[q];
+        const std::uint16_t other = m[0] != inside ? m[0] : m[1] != inside ? m[1] : m[2] != inside ? m[2] : m[3];
         for (const std::uint16_t v : m)
-            if (v != hi && v != lo) {
+            if (v != inside && v != other) {
                 const auto letters = junction_letters({MaterialCorner{m[0], Warp::stay}, MaterialCorner{m[1], Warp::stay},
                                                        MaterialCorner{m[2], Warp::stay}, MaterialCorner{m[3], Warp::stay}});
                 for (std::size_t q = 0; q < 4; ++q) st[q] = static_cast<std::int8_t>(letters[q].material);
@@ -205,7 +238,7 @@ void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const Mate
         for (std::size_t q = 0; q < 12; ++q) {
             const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
             st[q] = (x < 0 || y < 0 || x > nx || y > ny) ? off_lattice
-                    : mat[static_cast<std::size_t>(lattice.index(x, y))] == hi ? std::int8_t{-1} : std::int8_t{1};
+                    : mat[static_cast<std::size_t>(lattice.index(x, y))] == inside ? std::int8_t{-1} : std::int8_t{1};
         }
         return true;
     };
@@ -223,10 +256,11 @@ void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const Mate
         }
         const auto letters = junction_letters(mc);
         js.pattern = junction_key_code(letters);
-        const CertifiedBound* b = certified_junction_bound(letters);  // certify_squares found it
+        const CertifiedBound* b = certified_junction_bound(letters, options.rule);  // certify_squares found it
         if (!b)
             throw std::logic_error("junction square (" + std::to_string(js.i) + ", " + std::to_string(js.j) + ") key " +
-                                   js.pattern + " not in proofs/materials.cert");
+                                   js.pattern + " not in proofs/" + (options.rule == DiagonalRule::fan ? "materials_fan" : "materials") +
+                                   ".cert");
         js.min_deg = b->min_deg, js.max_deg = b->max_deg;
         r.junction_examples.push_back(std::move(js));
     }
@@ -242,8 +276,9 @@ namespace {
 // twice their area over the full tiling.
 struct SquarePass {
     Buffer<std::uint8_t> code;
-    Buffer<std::array<std::uint16_t, 2>> tmat;  // materials of triangles 0, 1
+    Buffer<std::array<std::uint16_t, 2>> tmat;  // materials of triangles 0, 1 (a fan: its material twice)
     std::vector<std::int64_t> row_tris;
+    std::vector<std::int64_t> row_fans;         // output fans (their centres), prefix-summed as row_tris
     std::vector<std::vector<std::int64_t>> tri_count;
     std::vector<std::vector<double>> area2;
 };
@@ -260,6 +295,7 @@ SquarePass classify_squares(const MaterialField& field, const Lattice& lattice, 
     SquarePass pass{Buffer<std::uint8_t>(static_cast<std::size_t>(nx * ny)),
                     Buffer<std::array<std::uint16_t, 2>>(static_cast<std::size_t>(nx * ny)),
                     std::vector<std::int64_t>(static_cast<std::size_t>(ny) + 1, 0),
+                    std::vector<std::int64_t>(static_cast<std::size_t>(ny) + 1, 0),
                     std::vector<std::vector<std::int64_t>>(static_cast<std::size_t>(nthreads), std::vector<std::int64_t>(static_cast<std::size_t>(nmat), 0)),
                     std::vector<std::vector<double>>(static_cast<std::size_t>(nthreads), std::vector<double>(static_cast<std::size_t>(nmat), 0.0))};
     Buffer<std::uint8_t>& code = pass.code;
@@ -271,7 +307,7 @@ SquarePass classify_squares(const MaterialField& field, const Lattice& lattice, 
     for (std::int64_t j = 0; j < ny; ++j) {
         auto& count = pass.tri_count[static_cast<std::size_t>(thread_id())];
         auto& area = pass.area2[static_cast<std::size_t>(thread_id())];
-        std::int64_t tris = 0;
+        std::int64_t tris = 0, fans = 0;
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
@@ -293,18 +329,21 @@ SquarePass classify_squares(const MaterialField& field, const Lattice& lattice, 
                 for (std::size_t k = 0; k < 2; ++k) {
                     const auto m = static_cast<std::size_t>(w.material[k]);
                     tm[k] = static_cast<std::uint16_t>(m);
-                    ++count[m];
+                    count[m] += (c & fan_bit) ? 2 : 1;  // a fan: four triangles
                     area[m] += w.area2[k];
                 }
             }
             for (int k = 0; k < 2; ++k)
-                if (!drop || tm[static_cast<std::size_t>(k)] != 0) c |= static_cast<std::uint8_t>(1 << k), ++tris;
+                if (!drop || tm[static_cast<std::size_t>(k)] != 0) c |= static_cast<std::uint8_t>(1 << k), tris += (c & fan_bit) ? 2 : 1;
+            fans += (c & fan_bit) && (c & tri0_bit);
             code[sq] = c;
             tmat[sq] = tm;
         }
         row_tris[static_cast<std::size_t>(j) + 1] = tris;
+        pass.row_fans[static_cast<std::size_t>(j) + 1] = fans;
     }
     std::partial_sum(row_tris.begin(), row_tris.end(), row_tris.begin());
+    std::partial_sum(pass.row_fans.begin(), pass.row_fans.end(), pass.row_fans.begin());
     r.warped_squares = warped_squares;
     r.forced_diagonals = forced;
     r.mixed_triangles = mixed;
@@ -313,23 +352,39 @@ SquarePass classify_squares(const MaterialField& field, const Lattice& lattice, 
 }
 
 // Pass 3: the triangles and their region tags (tag[m] of material m) at
-// their rows' offsets, into mesh (its triangles sized by compact_vertices);
-// with want_keyed, per row the squares through the rule with their
-// triangles.
+// their rows' offsets, into mesh (its triangles sized by compact_vertices),
+// the centroid fans' centres numbered from lattice_vertices on (as
+// triangulate.cpp's); with want_keyed, per row the squares through the rule
+// with their triangles.
 std::vector<std::vector<KeyedSquare>> fill_triangles(const Lattice& lattice, const SquarePass& pass, const Buffer<std::int32_t>& vid,
-                                                     std::span<const std::int32_t> tag, bool want_keyed, Mesh& mesh) {
+                                                     std::int64_t lattice_vertices, std::span<const std::int32_t> tag, bool want_keyed,
+                                                     Mesh& mesh) {
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
     const Buffer<std::uint8_t>& code = pass.code;
     std::vector<std::vector<KeyedSquare>> keyed_rows(want_keyed ? static_cast<std::size_t>(ny) : 0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t j = 0; j < ny; ++j) {
         std::int64_t next = pass.row_tris[static_cast<std::size_t>(j)];
+        std::int64_t next_centre = lattice_vertices + pass.row_fans[static_cast<std::size_t>(j)];
         for (std::int64_t i = 0; i < nx; ++i) {
             const std::size_t sq = static_cast<std::size_t>(i + j * nx);
             const std::uint8_t c = code[sq];
             if (!(c & (tri0_bit | tri1_bit))) continue;
             const std::int64_t pa = lattice.index(i, j);
             const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
+            if (c & fan_bit) {  // the centroid fan, one material
+                if (want_keyed) keyed_rows[static_cast<std::size_t>(j)].push_back({static_cast<std::int64_t>(sq), next, 4});
+                const auto m = static_cast<std::int32_t>(next_centre++);
+                std::array<Vec2, 4> x{};
+                for (std::size_t q = 0; q < 4; ++q) x[q] = mesh.vertices[static_cast<std::size_t>(vid[static_cast<std::size_t>(p[q])])];
+                mesh.vertices[static_cast<std::size_t>(m)] = fan_centre_position(x);
+                for (const auto& tri : fan_triangles) {
+                    mesh.region[static_cast<std::size_t>(next)] = tag[pass.tmat[sq][0]];
+                    mesh.triangles[static_cast<std::size_t>(next++)] = {vid[static_cast<std::size_t>(p[static_cast<std::size_t>(tri[0])])],
+                                                                        vid[static_cast<std::size_t>(p[static_cast<std::size_t>(tri[1])])], m};
+                }
+                continue;
+            }
             if (want_keyed && (c & rule_bit))
                 keyed_rows[static_cast<std::size_t>(j)].push_back(
                     {static_cast<std::int64_t>(sq), next, static_cast<std::int32_t>((c & tri0_bit ? 1 : 0) + (c & tri1_bit ? 1 : 0))});
@@ -415,8 +470,9 @@ std::vector<std::vector<double>> material_edges(const Lattice& lattice, const Ma
             else edge(sides[1].from, sides[1].to, side_tri(c, 1), -1, 0);
             if (j + 1 < ny) edge(sides[2].from, sides[2].to, side_tri(c, 2), static_cast<std::int64_t>(sq) + nx, side_tri(code[sq + static_cast<std::size_t>(nx)], 0));
             else edge(sides[2].from, sides[2].to, side_tri(c, 2), -1, 0);
-            // The diagonal, as it runs in triangle 0 (ABD: D→A, ABC: B→C), triangle 1 on its right.
-            if (!plain) {
+            // The diagonal, as it runs in triangle 0 (ABD: D→A, ABC: B→C), triangle 1 on its right
+            // (a fan has no diagonal, and its edges to the centre join triangles of one material).
+            if (!plain && !(c & fan_bit)) {
                 if (bc) edge(B, C, 0, static_cast<std::int64_t>(sq), 1);
                 else edge(D, A, 0, static_cast<std::int64_t>(sq), 1);
             }
@@ -460,7 +516,11 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
 
     std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
     for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
-    const std::vector<std::vector<KeyedSquare>> keyed_rows = fill_triangles(lattice, pass, vid, tag, options.certify.enabled, mesh);
+    const auto lattice_vertices = static_cast<std::int64_t>(mesh.vertices.size());
+    if (lattice_vertices + pass.row_fans.back() > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
+    mesh.vertices.resize(static_cast<std::size_t>(lattice_vertices + pass.row_fans.back()));  // centres written in pass 3
+    const std::vector<std::vector<KeyedSquare>> keyed_rows =
+        fill_triangles(lattice, pass, vid, lattice_vertices, tag, options.certify.enabled, mesh);
     const std::vector<std::vector<double>> perim = material_edges(lattice, front, pass, vid, tag, nthreads, mesh);
     r.times.triangulate = seconds_since(t0);
 

@@ -64,6 +64,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -174,6 +175,11 @@ struct Tiling {
     std::vector<KeyedSquare> keyed;
     std::int64_t nout = 0;
     bool drop = false;
+    // The fan rule's centroid fans: centre k is point npoints + k of the
+    // triangles (after every lattice point), at fan_pos[k], of square fan_square[k].
+    std::int64_t npoints = 0;
+    std::vector<Vec2> fan_pos;
+    std::vector<std::int64_t> fan_square;
 
     void add(std::int64_t a, std::int64_t b, std::int64_t c, double area2, int m, bool warped, bool border) {
         const bool out = !(drop && m == 0);
@@ -217,6 +223,21 @@ void tile_finest(const Leaves& leaves, const Lattice& lattice, const MaterialFro
         r.forced_diagonals += w.forced;
         r.mixed_triangles += w.mixed, r.centroid_triangles += w.by_centroid;
         const std::int64_t first = tiling.nout;
+        if (c & fan_bit) {  // the centroid fan, one material (as mesh_materials)
+            std::array<Vec2, 4> x{};
+            for (std::size_t q = 0; q < 4; ++q) x[q] = front.position(lattice, p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
+            const Vec2 mc = fan_centre_position(x);
+            const std::int64_t centre = tiling.npoints + static_cast<std::int64_t>(tiling.fan_pos.size());
+            tiling.fan_pos.push_back(mc);
+            tiling.fan_square.push_back(i + j * nx);
+            for (const auto& tri : fan_triangles) {
+                const Vec2 a = x[static_cast<std::size_t>(tri[0])], b = x[static_cast<std::size_t>(tri[1])];
+                tiling.add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], centre,
+                           (b.x - a.x) * (mc.y - a.y) - (b.y - a.y) * (mc.x - a.x), w.material[0], true, border);
+            }
+            if (tiling.nout > first) tiling.keyed.push_back({i + j * nx, first, static_cast<std::int32_t>(tiling.nout - first)});
+            return;
+        }
         for (int k = 0; k < 2; ++k) {
             const auto tri = triangle_of(c, k);
             tiling.add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
@@ -256,18 +277,18 @@ void tile_coarse(const Leaves& leaves, const Lattice& lattice, const MaterialFro
     }
 }
 
-// The vertices: the points of output triangles, in lattice-point order, into
+// The vertices: the points of output triangles, in lattice-point order, then
+// the fans' centres by square (the uniform mesher's order), into
 // mesh.vertices.  Returns each point's vertex id (written at those points
 // only, read only there).
-Buffer<std::int32_t> place_vertices(const Lattice& lattice, const MaterialFront& front, std::span<const FullTriangle> all,
-                                    Mesh& mesh) {
+Buffer<std::int32_t> place_vertices(const Lattice& lattice, const MaterialFront& front, const Tiling& tiling, Mesh& mesh) {
     const std::int64_t nxp = lattice.points_x();
-    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count());
-    std::vector<std::uint8_t> used(npoints, 0);
-    for (const FullTriangle& ft : all)
+    const std::size_t npoints = static_cast<std::size_t>(lattice.point_count()), nfans = tiling.fan_pos.size();
+    std::vector<std::uint8_t> used(npoints + nfans, 0);
+    for (const FullTriangle& ft : tiling.all)
         if (ft.out)
             for (const std::int64_t q : ft.p) used[static_cast<std::size_t>(q)] = 1;
-    Buffer<std::int32_t> vid(npoints);
+    Buffer<std::int32_t> vid(npoints + nfans);
     for (std::int64_t j = 0, q = 0; j <= lattice.ny; ++j)
         for (std::int64_t i = 0; i < nxp; ++i, ++q)
             if (used[static_cast<std::size_t>(q)]) {
@@ -276,6 +297,15 @@ Buffer<std::int32_t> place_vertices(const Lattice& lattice, const MaterialFront&
                 vid[static_cast<std::size_t>(q)] = static_cast<std::int32_t>(mesh.vertices.size());
                 mesh.vertices.push_back(front.position(lattice, q, i, j));
             }
+    std::vector<std::size_t> order(nfans);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tiling.fan_square[a] < tiling.fan_square[b]; });
+    for (const std::size_t k : order)
+        if (used[npoints + k]) {
+            if (mesh.vertices.size() == static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit vertex indices");
+            vid[npoints + k] = static_cast<std::int32_t>(mesh.vertices.size());
+            mesh.vertices.push_back(tiling.fan_pos[k]);
+        }
     return vid;
 }
 
@@ -305,7 +335,9 @@ void material_edges(const Lattice& lattice, const MaterialFront& front, std::spa
                     const Buffer<std::int32_t>& vid, std::span<const std::int32_t> tag, std::span<double> perim, Mesh& mesh) {
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx;
     const auto id = [&](std::int64_t q) { return vid[static_cast<std::size_t>(q)]; };
+    const std::int64_t npoints = lattice.point_count();
     const auto on_border = [&](std::int64_t a, std::int64_t b) {
+        if (a >= npoints || b >= npoints) return false;  // a fan's centre
         const std::int64_t ia = a % nxp, ja = a / nxp, ib = b % nxp, jb = b / nxp;
         return (ia == ib && (ia == 0 || ia == nx)) || (ja == jb && (ja == 0 || ja == lattice.ny));
     };
@@ -381,13 +413,14 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     const auto t0 = clock::now();
     Tiling tiling;
     tiling.drop = drop;
+    tiling.npoints = lattice.point_count();
     tiling.all.reserve(static_cast<std::size_t>(2 * leaves.finest + 6 * static_cast<std::int64_t>(leaves.coarse.size())));
     tile_finest(leaves, lattice, front, field, options.rule, tiling, r);
     tile_coarse(leaves, lattice, front, tiling);
     if (tiling.all.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("mesh too large for 32-bit triangle indices");
 
     Mesh& mesh = r.mesh;
-    const Buffer<std::int32_t> vid = place_vertices(lattice, front, tiling.all, mesh);
+    const Buffer<std::int32_t> vid = place_vertices(lattice, front, tiling, mesh);
     std::vector<std::int32_t> tag(static_cast<std::size_t>(nmat));
     for (int m = 0; m < nmat; ++m) tag[static_cast<std::size_t>(m)] = field.tag(m);
     std::vector<std::int64_t> count(static_cast<std::size_t>(nmat), 0);

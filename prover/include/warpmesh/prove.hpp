@@ -48,6 +48,13 @@ Choice choose_key_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, 
     return k.junction ? choose_diagonal<T>(rule, p, k.m) : choose_diagonal<T>(rule, p, k.s);
 }
 
+// Whether the fan rule may take the centroid fan on the key's squares: its
+// corners are all inside (generic_square.hpp's all_inside: signs, or for a
+// junction key its staying corners share a letter).
+inline bool fan_key(DiagonalRule rule, const Key& k) {
+    return rule == DiagonalRule::fan && (k.junction ? all_inside(k.m) : all_inside(k.s));
+}
+
 // The key's code: key_code(s) (certified.hpp, e.g. "-R+U-L-R"), or for a
 // junction key its letters and warps (junction_key_code, e.g. "aRaUbscs").
 std::string code_of(const Key& k);
@@ -121,8 +128,9 @@ inline const char* rule_name(DiagonalRule r) {
 // Runs the whole proof for a rule and returns the certificate text.  `key_subset`
 // (indices into consistent_keys()) restricts the run, for tests; the claims are
 // then over that subset only.  `log` receives a human summary.
-// `space` = junctions: the junction keys (separating rule only), no flat
-// category, the header line `space junctions` (proofs/materials.cert).
+// `space` = junctions: the junction keys (separating rule: proofs/materials.cert;
+// fan rule: proofs/materials_fan.cert), no flat category, the header line
+// `space junctions`.
 std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log,
                       KeySpace space = KeySpace::signs);
 
