@@ -4,7 +4,8 @@
 # proofs/separating.cert, proofs/materials.cert (the separating rule's
 # junction keys) and proofs/fan.cert as string constants
 # (warpmesh::generated::certified_<name>_keys), which mesher/src/certified.cpp
-# parses into the per-key angle tables.  Regenerated whenever a certificate changes
+# parses into the per-key angle tables; and the `alphas` and `claim` lines of
+# proofs/bcc.cert (certified_bcc_claim, mesher/src/certify/bcc_claim.cpp).  Regenerated whenever a certificate changes
 # (CMAKE_CONFIGURE_DEPENDS).  A missing certificate gives an empty table: the
 # mesher then reports "certified": null.  Used by the main build and by the
 # fuzz build (tests/fuzz), so that both compile the same table.
@@ -22,6 +23,15 @@ function(warpmesh_certified_table out root)
     endif()
     string(APPEND cpp "extern const std::string_view certified_${rule}_keys;\nconst std::string_view certified_${rule}_keys = R\"WMCERT(${text})WMCERT\";\n")
   endforeach()
+  # The 3D certificate's alphas and global claim (mesher/src/certify/bcc_claim.cpp).
+  set(cert ${root}/proofs/bcc.cert)
+  set(text "")
+  if(EXISTS ${cert})
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${cert})
+    file(STRINGS ${cert} lines REGEX "^(alphas|claim) ")
+    list(JOIN lines "\n" text)
+  endif()
+  string(APPEND cpp "extern const std::string_view certified_bcc_claim;\nconst std::string_view certified_bcc_claim = R\"WMCERT(${text})WMCERT\";\n")
   string(APPEND cpp "}  // namespace warpmesh::generated\n")
   file(CONFIGURE OUTPUT ${out} CONTENT "${cpp}" @ONLY)
 endfunction()
