@@ -41,14 +41,28 @@ py::array view(const void* data, std::size_t count, std::size_t cols, py::handle
     return a;
 }
 
-// MeshResult.<name>: a view of the array get(result), `cols` T's a row.
-template <class T, class Get>
-void def_view(py::class_<MeshResult>& cls, const char* name, std::size_t cols, Get get) {
+// Result.<name>: a view of the array get(result), `cols` T's a row.
+template <class T, class Result, class Get>
+void def_view(py::class_<Result>& cls, const char* name, std::size_t cols, Get get) {
     cls.def_property_readonly(name, [cols, get](py::object self) {
-        const auto& a = get(self.cast<const MeshResult&>());
+        const auto& a = get(self.cast<const Result&>());
         return view<T>(a.data(), a.size(), cols, self);
     });
 }
+
+// The cell data arrays of a mesh as {name: view}.
+template <class Result>
+py::dict cell_data_views(py::object self, const Result& r) {
+    py::dict d;
+    for (const auto& [name, values] : r.mesh.cell_data) d[py::str(name)] = view<double>(values.data(), values.size(), 1, self);
+    return d;
+}
+
+// What mesh3d returns to Python: the mesh and its report.
+struct Mesh3dResult {
+    TetMesh mesh;
+    Mesh3dReport report;
+};
 
 MeshOptions mesh_options(const py::dict& kw) {
     MeshOptions o;
@@ -129,13 +143,7 @@ void bind_result(py::module_& m) {
     def_view<std::int32_t>(result, "interface_regions", 2,
                            [](const MeshResult& r) -> const auto& { return r.mesh.interface_regions; });
     result
-        .def_property_readonly("cell_data", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            py::dict d;
-            for (const auto& [name, values] : r.mesh.cell_data)
-                d[py::str(name)] = view<double>(values.data(), values.size(), 1, self);
-            return d;
-        })
+        .def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const MeshResult&>()); })
         .def_property_readonly("region_names", [](const MeshResult& r) { return r.mesh.region_names; })
         .def_property_readonly("warnings", [](const MeshResult& r) { return r.warnings; })
         .def_property_readonly("spacing", [](const MeshResult& r) { return r.spacing; })
@@ -203,6 +211,118 @@ void bind_meshing(py::module_& m) {
         py::arg("geometry"), py::arg("threads"), py::arg("options"));
 }
 
+// The 3D mesher: mesh3d_volume (a numpy volume), mesh3d_shape (a shape
+// string) and mesh3d_function (a Python callable f(x, y, z) on a box): the
+// warpmesh.mesh3d() of python/warpmesh/__init__.py, which checks and
+// converts their arguments.
+void bind_mesh3d(py::module_& m) {
+    py::class_<Mesh3dResult> result(m, "Mesh3dResult");
+    static_assert(sizeof(Point3) == 3 * sizeof(double));
+    def_view<double>(result, "points", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.vertices; });
+    def_view<std::int32_t>(result, "tetrahedra", 4, [](const Mesh3dResult& r) -> const auto& { return r.mesh.tets; });
+    def_view<std::int32_t>(result, "regions", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.region; });
+    def_view<std::int32_t>(result, "boundary_faces", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary; });
+    def_view<std::int32_t>(result, "boundary_tags", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary_tag; });
+    result.def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const Mesh3dResult&>()); })
+        .def_property_readonly("warnings", [](const Mesh3dResult& r) { return r.report.warnings; })
+        .def("to_json", [](const Mesh3dResult& r) { return to_json(r.report); })
+        .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); })
+        .def(
+            "write",
+            [](const Mesh3dResult& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
+                WriteOptions wo;
+                wo.ascii = ascii;
+                if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
+                wo.xdmf.hdf5 = !xdmf_inline;
+                py::gil_scoped_release release;
+                write_mesh(r.mesh, path, wo);
+            },
+            py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
+
+    // The mesher on f with options (spacing, verify, max_memory), the GIL released.
+    auto run3d = [](const LevelSet3& f, const py::dict& kw, std::optional<int> threads) {
+        Mesh3dOptions o;
+        o.spacing = kw["spacing"].cast<double>();
+        if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
+        if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();
+        if (threads) o.threads = *threads;
+        Mesh3dResult r;
+        py::gil_scoped_release release;
+        r.mesh = mesh3d(f, o, &r.report);
+        return r;
+    };
+    using Voxels = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    m.def(
+        "mesh3d_volume",
+        [run3d](const Voxels& a, bool integer_valued, std::array<double, 3> voxel_size, std::array<double, 3> origin,
+                bool physical, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels,
+                bool nonzero, std::optional<int> threads, const py::dict& kw) {
+            if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
+            Volume v;
+            v.dims = {a.shape(2), a.shape(1), a.shape(0)};
+            v.values.assign(a.data(), a.data() + a.size());
+            v.spacing = voxel_size, v.origin = origin, v.physical = physical;
+            v.integer_valued = integer_valued;
+            v.format = "numpy", v.source = "the array";
+            VolumeLevelSet3Options lo;
+            if (kw.contains("max_memory")) lo.max_memory = kw["max_memory"].cast<std::uint64_t>();
+            if (labels || nonzero) {
+                lo.mode.mode = ImageMode::label;
+                lo.mode.label_nonzero = nonzero;
+                if (labels) lo.mode.labels = *labels;
+            } else {
+                lo.mode.iso = iso;
+                lo.mode.inside_above = inside_above;
+            }
+            const std::unique_ptr<LevelSet3> f = make_volume_levelset3(v, lo);
+            return run3d(*f, kw, threads);
+        },
+        py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"), py::arg("physical"),
+        py::arg("iso"), py::arg("inside_above"), py::arg("labels"), py::arg("nonzero"), py::arg("threads"),
+        py::arg("options"));
+    m.def(
+        "mesh3d_shape",
+        [run3d](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
+            return run3d(*parse_shape3(spec), kw, threads);
+        },
+        py::arg("spec"), py::arg("threads"), py::arg("options"));
+    // A Python callable, evaluated with the GIL held: one thread (OpenMP
+    // threads would only queue for the GIL).  An exception in it must not
+    // cross the mesher's OpenMP regions: the first one's message is kept, the
+    // point is taken as outside, and InputError is raised after meshing.
+    m.def(
+        "mesh3d_function",
+        [run3d](py::function f, std::array<double, 6> box, const py::dict& kw) {
+            auto error = std::make_shared<std::string>();
+            FunctionLevelSet3 ls(
+                [f, error](double x, double y, double z) {
+                    py::gil_scoped_acquire gil;
+                    if (!error->empty()) return 1.0;
+                    try {
+                        const double v = f(x, y, z).cast<double>();
+                        if (std::isfinite(v)) return v;
+                        *error = "f(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
+                                 ") is not finite";
+                    } catch (const std::exception& e) {
+                        *error = e.what();
+                    }
+                    return 1.0;
+                },
+                Box3{box[0], box[1], box[2], box[3], box[4], box[5]}, "a Python function");
+            std::optional<Mesh3dResult> r;
+            std::string failure;
+            try {
+                r = run3d(ls, kw, 1);
+            } catch (const InputError& e) {
+                failure = e.what();
+            }
+            if (!error->empty()) throw InputError("the level-set function failed: " + *error);
+            if (!r) throw InputError(failure);
+            return std::move(*r);
+        },
+        py::arg("f"), py::arg("box"), py::arg("options"));
+}
+
 void bind_read_image(py::module_& m) {
     // (pixels, maxval, placement): pixels an array that owns the decoded
     // samples.  Any format the command line reads (read_volume: PGM, PNG,
@@ -261,6 +381,7 @@ PYBIND11_MODULE(_core, m) {
     py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
     bind_result(m);
     bind_meshing(m);
+    bind_mesh3d(m);
     bind_read_image(m);
     m.def("png_supported", &png_supported);
     m.def("certified_table_available", &certified_table_available);
