@@ -21,7 +21,10 @@
 // that is at least 4 lattice spacings.  Parts smaller than a cube vanish and
 // leave no component: the level set's feature_size() (when known) must be at
 // least 2 spacings too.  Otherwise the report warns, naming a spacing that
-// resolves the input.
+// resolves the input — never below the input's own resolution (a volume's
+// voxel), and not at all at a spacing at or below it (as in 2D,
+// resolution.hpp).
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -107,8 +110,9 @@ void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dR
     if (r.narrowest_width > 0 && r.narrowest_width < min_cubes_across * s) want = r.narrowest_width / min_cubes_across;
     const double feature = f.feature_size();
     if (feature > 0 && feature < 2 * s) want = want > 0 ? std::min(want, feature / 2) : feature / 2;
-    if (want <= 0) return;
-    r.suggested_spacing = two_digits(want);
+    const double finest = f.resolution();
+    if (want <= 0 || s <= finest) return;
+    r.suggested_spacing = std::max(two_digits(want), finest);
     std::ostringstream w;
     w << "--spacing " << s << " is too coarse for this input: its narrowest part is about "
       << (r.narrowest_width > 0 ? r.narrowest_width : 2 * feature) << " across (resolved at " << min_cubes_across

@@ -118,6 +118,10 @@ struct TetShape {
     int parity = 0;                          // tet_parity (the same for every cube)
     std::array<int, 6> lower{}, slot{};      // per local edge: its lower local vertex, forward slot
     std::array<bcc::Ivec, 4> across{};       // the vertex across face v: x + y − p_v
+    // Per local vertex, its slot in the cube's neighbourhood (tets3.cpp): the
+    // corner m + 2 (bx, by, bz) is bx + 2 by + 4 bz, the centre m + (1,1,1) is 8,
+    // and the centre below it along axis a is 9 + a.
+    std::array<int, 4> slot_in_cube{};
 };
 const std::array<TetShape, 12>& tet_shapes();
 
