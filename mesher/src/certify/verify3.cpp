@@ -9,9 +9,11 @@
 // forms"): volume > 0 and, per edge, d = n_c·n_d, N = |n_c|²|n_d|²,
 //     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N,
-// in double precision on the mesh's coordinates.  The per-key table (the
-// canonical keys of prover/src/bcc/keys.cpp) is not compiled in yet, so
-// every tetrahedron is checked against the global claim, not its key's.
+// in double precision on the mesh's coordinates.  The certificate states one
+// claim for all its keys (no per-key bounds yet), so every tetrahedron is
+// checked against it; that each background tetrahedron's canonical key is
+// one of the certificate's keys is checked where the keys are known, in
+// stage 5 (tets3.cpp: check_key).
 // Tetrahedra from all-zero background tetrahedra are not covered by the
 // certificate and are counted as uncertified.
 //
@@ -125,9 +127,7 @@ void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dR
 void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, std::span<const std::int64_t> all_zero,
                    Mesh3dReport& r) {
     const std::optional<BccClaim> claim = bcc_claim();
-    const auto& a = o.alphas;
-    const bool same = claim && claim->alphas.long_num * a.long_den == a.long_num * claim->alphas.long_den &&
-                      claim->alphas.short_num * a.short_den == a.short_num * claim->alphas.short_den;
+    const bool same = certificate_applies(o.alphas);
     r.certified = same;
     r.uncertified_tets = same ? static_cast<std::int64_t>(all_zero.size()) : r.tets;
     r.certified_tets = r.tets - r.uncertified_tets;

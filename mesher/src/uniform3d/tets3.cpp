@@ -205,12 +205,31 @@ void place_vertices(const Window& w, const Marks& marks, const Numbering& num, b
 }
 
 // Pass B: the tetrahedra, with (blocks) their keys, and the sparse lists.
+// The key check of --verify for one background tetrahedron (not all-zero).
+void check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, int index, std::int64_t& uncovered, std::string& first) {
+    const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
+    std::array<bcc::Ivec, 4> p{};
+    std::array<int, 4> sign{}, warp{};
+    for (std::size_t k = 0; k < 4; ++k) {
+        const std::size_t slot = static_cast<std::size_t>(s.slot_in_cube[k]);
+        p[k] = bcc::add(m, s.offset[k]);
+        sign[k] = n.sign[slot];
+        warp[k] = lay.w.warp[static_cast<std::size_t>(n.at[slot])];
+    }
+    std::string code;
+    if (key_certified(p, sign, warp, &code)) return;
+    ++uncovered;
+#pragma omp critical
+    if (first.empty()) first = code;
+}
+
 void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
-                std::span<const std::int64_t> start, bool keys, Emitted& out) {
+                std::span<const std::int64_t> start, bool keys, bool verify_keys, Emitted& out) {
     const Lattice3& L = lay.w.grid.lattice;
     const std::int64_t layers = range.hi[2] - range.lo[2];
     std::vector<std::vector<std::int64_t>> edge(static_cast<std::size_t>(layers)), zero(static_cast<std::size_t>(layers));
-#pragma omp parallel for schedule(dynamic, 1)
+    std::int64_t uncovered = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered)
     for (std::int64_t l = 0; l < layers; ++l) {
         std::int64_t t = start[static_cast<std::size_t>(l)];
         const std::int64_t cz = range.lo[2] + l;
@@ -223,6 +242,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                 bool all_zero = false;
                 const Plan* p = n.all_inside ? &plan(0, 0, false) : lay.split(m, n, index, all_zero);
                 if (!p) continue;
+                if (verify_keys && !n.all_inside && !all_zero) check_key(lay, m, n, index, uncovered, out.first_uncovered);
                 std::array<std::int32_t, 10> vid{};
                 for (int q = 0; q < 10; ++q) {
                     if (!(p->uses >> q & 1u)) continue;
@@ -249,11 +269,12 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     }
     for (const auto& e : edge) out.edge_tets.insert(out.edge_tets.end(), e.begin(), e.end());
     for (const auto& e : zero) out.all_zero.insert(out.all_zero.end(), e.begin(), e.end());
+    out.uncovered_keys = uncovered;
 }
 
 }  // namespace
 
-Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory) {
+Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
     const Layout lay(w, f);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
     Marks marks{std::vector<std::uint8_t>(n, 0), std::vector<std::uint8_t>(n, 0)};
@@ -276,7 +297,7 @@ Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, b
     place_vertices(w, marks, num, keys, out);
     out.tets.resize(static_cast<std::size_t>(tet_count));  // each written once by write_tets
     if (keys) out.tet_key.resize(static_cast<std::size_t>(tet_count));
-    write_tets(lay, range, marks, num, start, keys, out);
+    write_tets(lay, range, marks, num, start, keys, verify_keys, out);
     return out;
 }
 
