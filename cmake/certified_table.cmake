@@ -5,7 +5,8 @@
 # junction keys) and proofs/fan.cert as string constants
 # (warpmesh::generated::certified_<name>_keys), which mesher/src/certified.cpp
 # parses into the per-key angle tables; and the `alphas` and `claim` lines of
-# proofs/bcc.cert (certified_bcc_claim, mesher/src/certify/bcc_claim.cpp).  Regenerated whenever a certificate changes
+# proofs/bcc.cert and its keys' codes (certified_bcc_claim, certified_bcc_keys:
+# mesher/src/certify/bcc_claim.cpp).  Regenerated whenever a certificate changes
 # (CMAKE_CONFIGURE_DEPENDS).  A missing certificate gives an empty table: the
 # mesher then reports "certified": null.  Used by the main build and by the
 # fuzz build (tests/fuzz), so that both compile the same table.
@@ -32,6 +33,16 @@ function(warpmesh_certified_table out root)
     list(JOIN lines "\n" text)
   endif()
   string(APPEND cpp "extern const std::string_view certified_bcc_claim;\nconst std::string_view certified_bcc_claim = R\"WMCERT(${text})WMCERT\";\n")
+  # ... and its keys' codes (the first field of each `key` line), one a line.
+  set(codes "")
+  if(EXISTS ${cert})
+    file(STRINGS ${cert} lines REGEX "^key ")
+    foreach(line ${lines})
+      string(REGEX MATCH "^key ([^ ]+)" m "${line}")
+      string(APPEND codes "${CMAKE_MATCH_1}\n")
+    endforeach()
+  endif()
+  string(APPEND cpp "extern const std::string_view certified_bcc_keys;\nconst std::string_view certified_bcc_keys = R\"WMCERT(${codes})WMCERT\";\n")
   string(APPEND cpp "}  // namespace warpmesh::generated\n")
   file(CONFIGURE OUTPUT ${out} CONTENT "${cpp}" @ONLY)
 endfunction()

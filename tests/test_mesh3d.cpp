@@ -10,6 +10,7 @@
 
 #include "support.hpp"
 #include "warpmesh/mesh3d.hpp"
+#include "uniform3d/uniform3d.hpp"
 #include "warpmesh/volume.hpp"
 
 using namespace warpmesh;
@@ -230,4 +231,15 @@ BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     o.spacing = 0.002;
     o.max_memory = std::uint64_t{256} << 20;
     BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "--max-memory"));
+}
+
+BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones) {
+    const std::array<bcc::Ivec, 4> p = bcc::background_tet({4, 2, 6}, 5);
+    std::string code;
+    // One outside vertex, nothing warped: a certified key.
+    BOOST_TEST(uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &code), code);
+    // Vertices 0 and 1 warped towards each other along their common edge:
+    // excluded by the consistency rules (proofs/README.md), so no key.
+    const int d01 = bcc::direction_of(bcc::sub(p[1], p[0])), d10 = bcc::direction_of(bcc::sub(p[0], p[1]));
+    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, &code), code);
 }

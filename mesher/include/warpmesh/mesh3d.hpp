@@ -71,6 +71,10 @@ public:
     // radius, half a box's smallest side; volumes: the largest inscribed
     // distance of the region), for the coarse-spacing warning; 0: unknown.
     virtual double feature_size() const { return 0; }
+    // The input's own resolution (volumes: the smallest voxel spacing; 0 for
+    // analytic level sets): the coarse-spacing warning never suggests a
+    // spacing below it and is silent at a spacing at or below it.
+    virtual double resolution() const { return 0; }
     // Exact volume of {f <= 0} where known (analytic shapes), for tests.
     virtual std::optional<double> exact_volume() const { return std::nullopt; }
     virtual std::string describe() const = 0;

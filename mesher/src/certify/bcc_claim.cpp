@@ -5,15 +5,22 @@
 //   claim <C_min num>/<den> <C_max num>/<den>
 // C = cos²θ of the bounds (dyadic rationals, proofs/README.md "The BCC
 // space"): θ >= θmin and θ <= θmax (θmax > 90°).  The degrees are for
-// reports only; verification compares cos² (mesh3d's verify).
+// reports only; verification compares cos² (mesh3d's verify).  And the
+// codes of the certificate's keys, one a line, which key_certified looks a
+// background tetrahedron's canonical key up in (generic_bcc_keys.hpp).
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
+#include <unordered_set>
+
+#include "uniform3d/uniform3d.hpp"
+#include "warpmesh/generic_bcc_keys.hpp"
 #include "warpmesh/mesh3d.hpp"
 
 namespace warpmesh::generated {
 extern const std::string_view certified_bcc_claim;
+extern const std::string_view certified_bcc_keys;
 }
 
 namespace warpmesh {
@@ -50,6 +57,31 @@ std::optional<BccClaim> parse_claim(std::string_view text) {
 }
 
 }  // namespace
+
+bool uniform3d::key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign, const std::array<int, 4>& warp,
+                              std::string* code) {
+    static const std::unordered_set<std::string_view> keys = [] {
+        std::unordered_set<std::string_view> k;
+        std::string_view t = generated::certified_bcc_keys;
+        while (!t.empty()) {
+            const std::size_t nl = t.find('\n');
+            if (nl != 0) k.insert(t.substr(0, nl));
+            if (nl == std::string_view::npos) break;
+            t.remove_prefix(nl + 1);
+        }
+        return k;
+    }();
+    std::string c = bcc::code_of(bcc::key_of(p, sign, warp));
+    const bool found = keys.count(c) != 0;
+    if (code) *code = std::move(c);
+    return found;
+}
+
+bool uniform3d::certificate_applies(const bcc::Alphas& a) {
+    const std::optional<BccClaim> c = bcc_claim();
+    return c && c->alphas.long_num * a.long_den == a.long_num * c->alphas.long_den &&
+           c->alphas.short_num * a.short_den == a.short_num * c->alphas.short_den;
+}
 
 std::optional<BccClaim> bcc_claim() {
     static const std::optional<BccClaim> claim = parse_claim(generated::certified_bcc_claim);

@@ -9,9 +9,11 @@
 // forms"): volume > 0 and, per edge, d = n_c·n_d, N = |n_c|²|n_d|²,
 //     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N,
-// in double precision on the mesh's coordinates.  The per-key table (the
-// canonical keys of prover/src/bcc/keys.cpp) is not compiled in yet, so
-// every tetrahedron is checked against the global claim, not its key's.
+// in double precision on the mesh's coordinates.  The certificate states one
+// claim for all its keys (no per-key bounds yet), so every tetrahedron is
+// checked against it; that each background tetrahedron's canonical key is
+// one of the certificate's keys is checked where the keys are known, in
+// stage 5 (tets3.cpp: check_key).
 // Tetrahedra from all-zero background tetrahedra are not covered by the
 // certificate and are counted as uncertified.
 //
@@ -21,7 +23,10 @@
 // that is at least 4 lattice spacings.  Parts smaller than a cube vanish and
 // leave no component: the level set's feature_size() (when known) must be at
 // least 2 spacings too.  Otherwise the report warns, naming a spacing that
-// resolves the input.
+// resolves the input — never below the input's own resolution (a volume's
+// voxel), and not at all at a spacing at or below it (as in 2D,
+// resolution.hpp).
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -107,8 +112,9 @@ void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dR
     if (r.narrowest_width > 0 && r.narrowest_width < min_cubes_across * s) want = r.narrowest_width / min_cubes_across;
     const double feature = f.feature_size();
     if (feature > 0 && feature < 2 * s) want = want > 0 ? std::min(want, feature / 2) : feature / 2;
-    if (want <= 0) return;
-    r.suggested_spacing = two_digits(want);
+    const double finest = f.resolution();
+    if (want <= 0 || s <= finest) return;
+    r.suggested_spacing = std::max(two_digits(want), finest);
     std::ostringstream w;
     w << "--spacing " << s << " is too coarse for this input: its narrowest part is about "
       << (r.narrowest_width > 0 ? r.narrowest_width : 2 * feature) << " across (resolved at " << min_cubes_across
@@ -121,9 +127,7 @@ void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dR
 void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, std::span<const std::int64_t> all_zero,
                    Mesh3dReport& r) {
     const std::optional<BccClaim> claim = bcc_claim();
-    const auto& a = o.alphas;
-    const bool same = claim && claim->alphas.long_num * a.long_den == a.long_num * claim->alphas.long_den &&
-                      claim->alphas.short_num * a.short_den == a.short_num * claim->alphas.short_den;
+    const bool same = certificate_applies(o.alphas);
     r.certified = same;
     r.uncertified_tets = same ? static_cast<std::int64_t>(all_zero.size()) : r.tets;
     r.certified_tets = r.tets - r.uncertified_tets;

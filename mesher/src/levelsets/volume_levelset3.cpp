@@ -97,6 +97,7 @@ public:
     VolumeLevelSet3(const Volume& v, std::vector<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
                     float far, double feature, std::string name)
         : values_(std::move(values)), lo_(lo), n_(n), dims_(v.dims), far_(far), feature_(feature), name_(std::move(name)) {
+        resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
         for (std::size_t a = 0; a < 3; ++a) {
             const Vec3 ax = *axis_aligned(v.axes[a]);
             for (std::size_t p = 0; p < 3; ++p)
@@ -137,6 +138,7 @@ public:
     }
     Box3 bounds() const override { return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]}; }
     double feature_size() const override { return feature_; }
+    double resolution() const override { return resolution_; }
     std::string describe() const override { return name_; }
 
 private:
@@ -152,7 +154,7 @@ private:
     std::vector<float> values_;
     std::array<std::int64_t, 3> lo_, n_, dims_;
     float far_;
-    double feature_;
+    double feature_, resolution_ = 0;
     std::string name_;
     std::array<int, 3> perm_{0, 1, 2};
     std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};

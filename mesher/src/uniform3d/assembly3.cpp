@@ -157,7 +157,11 @@ TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattic
     const auto start = std::chrono::steady_clock::now();
     const CubeRange all{{0, 0, 0}, lattice.cubes};
     Window w = prepare(f, o, lattice, all, 0, false);
-    Emitted e = emit_tets(f, w, all, false, o.max_memory);
+    const bool verify_keys = o.verify && certificate_applies(o.alphas);
+    Emitted e = emit_tets(f, w, all, false, o.max_memory, verify_keys);
+    if (e.uncovered_keys > 0)
+        throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) +
+                               " background tetrahedra have a key that proofs/bcc.cert does not list (first: " + e.first_uncovered + ")");
     const std::int64_t warped = w.warp_count;
     w = Window{};
     if (e.tets.empty())

@@ -43,6 +43,12 @@ std::array<TetShape, 12> make_shapes() {
             s.slot[static_cast<std::size_t>(e)] =
                 slot_of(bcc::direction_of(bcc::sub(s.offset[static_cast<std::size_t>(hi)], s.offset[static_cast<std::size_t>(lo)])));
         }
+        for (int v = 0; v < 4; ++v) {
+            const bcc::Ivec& o = s.offset[static_cast<std::size_t>(v)];
+            if (bcc::is_corner(o)) s.slot_in_cube[static_cast<std::size_t>(v)] = o[0] / 2 + o[1] + 2 * o[2];
+            else if (o == bcc::Ivec{1, 1, 1}) s.slot_in_cube[static_cast<std::size_t>(v)] = 8;
+            else for (int a = 0; a < 3; ++a) if (o[static_cast<std::size_t>(a)] == -1) s.slot_in_cube[static_cast<std::size_t>(v)] = 9 + a;
+        }
         for (int v = 0; v < 4; ++v) {  // the face without v holds one long edge: (2, 3) if v < 2, else (0, 1)
             const int x = v < 2 ? 2 : 0, y = x + 1;
             s.across[static_cast<std::size_t>(v)] =

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "warpmesh/generic_bcc.hpp"
@@ -118,6 +119,10 @@ struct TetShape {
     int parity = 0;                          // tet_parity (the same for every cube)
     std::array<int, 6> lower{}, slot{};      // per local edge: its lower local vertex, forward slot
     std::array<bcc::Ivec, 4> across{};       // the vertex across face v: x + y − p_v
+    // Per local vertex, its slot in the cube's neighbourhood (tets3.cpp): the
+    // corner m + 2 (bx, by, bz) is bx + 2 by + 4 bz, the centre m + (1,1,1) is 8,
+    // and the centre below it along axis a is 9 + a.
+    std::array<int, 4> slot_in_cube{};
 };
 const std::array<TetShape, 12>& tet_shapes();
 
@@ -131,9 +136,23 @@ struct Emitted {
     std::vector<std::uint64_t> vertex_key;       // blocks only
     std::vector<std::int64_t> all_zero;          // tets from all-zero background tetrahedra (not certified yet)
     std::int64_t cut_points = 0, warped_vertices = 0;
+    // With verify_keys: background tetrahedra (not all-zero) whose key is not
+    // in proofs/bcc.cert, and the first one's code.
+    std::int64_t uncovered_keys = 0;
+    std::string first_uncovered;
 };
 Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys,
-                  std::uint64_t max_memory);
+                  std::uint64_t max_memory, bool verify_keys = false);
+
+// Whether the canonical key of background tetrahedron p (local order) with
+// post-warp signs `sign` and global warp directions `warp` (generic_bcc_keys.hpp:
+// key_of) is one of proofs/bcc.cert's keys (certify/bcc_claim.cpp); its code
+// in *code.
+// Whether proofs/bcc.cert is compiled in and at these alphas.
+bool certificate_applies(const bcc::Alphas& alphas);
+
+bool key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign, const std::array<int, 4>& warp,
+                   std::string* code = nullptr);
 
 // The boundary faces of a mesh whose level-set vertices are flagged, found by
 // matching the candidate faces (all three vertices on the level set, or a
