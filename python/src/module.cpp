@@ -211,8 +211,105 @@ void bind_meshing(py::module_& m) {
         py::arg("geometry"), py::arg("threads"), py::arg("options"));
 }
 
-// The 3D mesher: mesh3d_volume (a numpy volume), mesh3d_shape (a shape
-// string) and mesh3d_function (a Python callable f(x, y, z) on a box): the
+// A TetBlock as a dict of numpy arrays (picklable: dask ships blocks between
+// processes) and back.
+py::dict block_to_dict(TetBlock&& b) {
+    auto owned = [](auto&& vec, std::size_t cols) {
+        using T = typename std::decay_t<decltype(vec)>::value_type;
+        auto* heap = new std::decay_t<decltype(vec)>(std::move(vec));
+        py::capsule owner(heap, [](void* p) { delete static_cast<std::decay_t<decltype(vec)>*>(p); });
+        const auto rows = heap->size();
+        if constexpr (std::is_same_v<T, Point3>)
+            return py::array_t<double>({rows, cols}, heap->empty() ? nullptr : &heap->front().x, owner);
+        else if constexpr (std::is_same_v<T, std::array<std::int32_t, 4>>)
+            return py::array_t<std::int32_t>({rows, cols}, heap->empty() ? nullptr : heap->front().data(), owner);
+        else return py::array_t<T>({rows}, heap->data(), owner);
+    };
+    py::dict d;
+    d["vertex_key"] = owned(std::move(b.vertex_key), 1);
+    d["vertices"] = owned(std::move(b.vertices), 3);
+    d["on_level_set"] = owned(std::move(b.on_level_set), 1);
+    d["tets"] = owned(std::move(b.tets), 4);
+    d["tet_key"] = owned(std::move(b.tet_key), 1);
+    d["lattice_edge"] = owned(std::move(b.lattice_edge), 1);
+    return d;
+}
+
+// The scalar a row of T is made of (Point3: double; a tetrahedron: int32).
+template <class T>
+using Scalar = std::conditional_t<std::is_same_v<T, Point3>, double,
+                                  std::conditional_t<std::is_same_v<T, std::array<std::int32_t, 4>>, std::int32_t, T>>;
+
+template <class T>
+std::vector<T> from_array(const py::dict& d, const char* name, std::size_t per) {
+    const auto a = d[name].cast<py::array_t<Scalar<T>, py::array::c_style | py::array::forcecast>>();
+    if (static_cast<std::size_t>(a.size()) % per) throw InputError(std::string("block array '") + name + "' has a bad shape");
+    std::vector<T> out(static_cast<std::size_t>(a.size()) / per);
+    if (!out.empty()) std::memcpy(out.data(), a.data(), out.size() * sizeof(T));
+    return out;
+}
+
+// The block API (mesh3d.hpp, "Blocks"): the lattice of a level set, one
+// block of its cubes, the merge; warpmesh.lattice3d, mesh3d_block and
+// merge_blocks in __init__.py.
+void bind_blocks(py::module_& m) {
+    m.def(
+        "lattice3",
+        [](const LevelSet3& f, double spacing) {
+            const Lattice3 l = lattice3_for(f, spacing);
+            return py::make_tuple(l.cubes, l.point_count());
+        },
+        py::arg("levelset"), py::arg("spacing"));
+    m.def(
+        "mesh3d_block",
+        [](const LevelSet3& f, double spacing, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi) {
+            const Lattice3 lattice = lattice3_for(f, spacing);
+            for (std::size_t a = 0; a < 3; ++a)
+                if (lo[a] < 0 || lo[a] >= hi[a] || hi[a] > lattice.cubes[a])
+                    throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) +
+                                     ", " + std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
+                                     ") with lo < hi along every axis");
+            Mesh3dOptions o;
+            o.spacing = spacing;
+            TetBlock b;
+            {
+                py::gil_scoped_release release;
+                b = mesh3d_block(f, o, lattice, CubeRange{lo, hi});
+            }
+            return block_to_dict(std::move(b));
+        },
+        py::arg("levelset"), py::arg("spacing"), py::arg("lo"), py::arg("hi"));
+    m.def(
+        "merge_tet_blocks",
+        [](const std::vector<py::dict>& dicts) {
+            std::vector<TetBlock> blocks;
+            for (const py::dict& d : dicts) {
+                TetBlock b;
+                b.vertex_key = from_array<std::uint64_t>(d, "vertex_key", 1);
+                b.vertices = from_array<Point3>(d, "vertices", 3);
+                b.on_level_set = from_array<std::uint8_t>(d, "on_level_set", 1);
+                b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
+                b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
+                b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
+                blocks.push_back(std::move(b));
+            }
+            Mesh3dResult r;
+            py::gil_scoped_release release;
+            try {
+                r.mesh = merge_tet_blocks(blocks);
+            } catch (const std::invalid_argument& e) {
+                throw InputError(std::string("the blocks do not merge: ") + e.what());
+            }
+            r.report.vertices = static_cast<std::int64_t>(r.mesh.vertices.size());
+            r.report.tets = static_cast<std::int64_t>(r.mesh.tets.size());
+            r.report.boundary_faces = static_cast<std::int64_t>(r.mesh.boundary.size());
+            return r;
+        },
+        py::arg("blocks"));
+}
+
+// The 3D mesher: volume_levelset3 / shape_levelset3 then mesh3d, and
+// mesh3d_function (a Python callable f(x, y, z) on a box): the
 // warpmesh.mesh3d() of python/warpmesh/__init__.py, which checks and
 // converts their arguments.
 void bind_mesh3d(py::module_& m) {
@@ -252,11 +349,14 @@ void bind_mesh3d(py::module_& m) {
         return r;
     };
     using Voxels = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    // An opaque level set (a volume's or a shape's), for the block API.
+    py::class_<LevelSet3>(m, "LevelSet3").def("__repr__", [](const LevelSet3& f) { return f.describe(); });
+    m.def("shape_levelset3", [](const std::string& spec) { return parse_shape3(spec); }, py::arg("spec"));
     m.def(
-        "mesh3d_volume",
-        [run3d](const Voxels& a, bool integer_valued, std::array<double, 3> voxel_size, std::array<double, 3> origin,
-                bool physical, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels,
-                bool nonzero, std::optional<int> threads, const py::dict& kw) {
+        "volume_levelset3",
+        [](const Voxels& a, bool integer_valued, std::array<double, 3> voxel_size, std::array<double, 3> origin,
+           bool physical, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels,
+           bool nonzero, const py::dict& kw) {
             if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
             Volume v;
             v.dims = {a.shape(2), a.shape(1), a.shape(0)};
@@ -274,18 +374,16 @@ void bind_mesh3d(py::module_& m) {
                 lo.mode.iso = iso;
                 lo.mode.inside_above = inside_above;
             }
-            const std::unique_ptr<LevelSet3> f = make_volume_levelset3(v, lo);
-            return run3d(*f, kw, threads);
+            py::gil_scoped_release release;
+            return make_volume_levelset3(v, lo);
         },
         py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"), py::arg("physical"),
-        py::arg("iso"), py::arg("inside_above"), py::arg("labels"), py::arg("nonzero"), py::arg("threads"),
-        py::arg("options"));
+        py::arg("iso"), py::arg("inside_above"), py::arg("labels"), py::arg("nonzero"), py::arg("options"));
     m.def(
-        "mesh3d_shape",
-        [run3d](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
-            return run3d(*parse_shape3(spec), kw, threads);
-        },
-        py::arg("spec"), py::arg("threads"), py::arg("options"));
+        "mesh3d",
+        [run3d](const LevelSet3& f, std::optional<int> threads, const py::dict& kw) { return run3d(f, kw, threads); },
+        py::arg("levelset"), py::arg("threads"), py::arg("options"));
+    bind_blocks(m);
     // A Python callable, evaluated with the GIL held: one thread (OpenMP
     // threads would only queue for the GIL).  An exception in it must not
     // cross the mesher's OpenMP regions: the first one's message is kept, the

@@ -27,7 +27,7 @@ import numpy as np
 from . import _core
 from ._core import InputError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "mesh3d", "read_image", "write", "Mesh", "TetMesh", "Image", "InputError",
+__all__ = ["mesh", "mesh_shape", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image", "write", "Mesh", "TetMesh", "Image", "InputError",
            "OutputError", "png_supported", "certified_table_available"]
 
 # The CLI's --max-squares and --max-pixels defaults.
@@ -513,6 +513,35 @@ def _volume(volume):
     return a, bool(np.issubdtype(a.dtype, np.integer))
 
 
+def _levelset3(volume, label, labels, iso, inside, voxel_size, origin, max_memory_mb):
+    """The level set of a numpy volume or a shape string (the C++ object)
+    and the default spacing (None for a shape)."""
+    _choice("inside", inside, ("above", "below"))
+    if label is not None and labels is not None:
+        raise InputError("label and labels are the same option: give one")
+    label = labels if label is None else label
+    if label is not None and iso is not None:
+        raise InputError("iso (threshold mode) and label (label mode) exclude each other")
+    if isinstance(volume, str):
+        if label is not None or iso is not None or voxel_size is not None:
+            raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
+        return _core.shape_levelset3(volume), None
+    a, integer_valued = _volume(volume)
+    size = _triple("voxel_size", 1.0 if voxel_size is None else voxel_size, True)
+    label_list, nonzero = _labels(label)
+    options = {} if max_memory_mb is None else {"max_memory": _integer("max_memory_mb", max_memory_mb, 1) << 20}
+    f = _core.volume_levelset3(a, integer_valued, size, _triple("origin", origin, False), voxel_size is not None,
+                               None if iso is None else _number("iso", iso), inside == "above", label_list, nonzero,
+                               options)
+    return f, min(size)
+
+
+def _spacing3(spacing, default):
+    if spacing is None and default is None:
+        raise InputError("spacing is required for a shape or a function (the lattice's cube side)")
+    return _number("spacing", default if spacing is None else spacing)
+
+
 def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
            origin=(0.0, 0.0, 0.0), box=None, verify=False, max_memory_mb=None, threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
@@ -549,45 +578,62 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
     threads     OpenMP threads for this call (default: all cores)
 
     Returns a TetMesh.  Raises InputError (a ValueError) for every bad input.
+    Volumes too large for one machine: mesh3d_block and merge_blocks.
     """
-    _choice("inside", inside, ("above", "below"))
-    if label is not None and labels is not None:
-        raise InputError("label and labels are the same option: give one")
-    label = labels if label is None else label
-    if label is not None and iso is not None:
-        raise InputError("iso (threshold mode) and label (label mode) exclude each other")
-    options = {}
+    options = {"verify": bool(verify)}
     if max_memory_mb is not None:
         options["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
-    options["verify"] = bool(verify)
     threads = _threads(threads)
-    if isinstance(volume, str) or callable(volume):
-        if label is not None or iso is not None or voxel_size is not None:
+    if callable(volume) and not isinstance(volume, str):
+        if label is not None or labels is not None or iso is not None or voxel_size is not None:
             raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
-        if spacing is None:
-            raise InputError("spacing is required for a shape or a function (the lattice's cube side)")
-        options["spacing"] = _number("spacing", spacing)
-        if isinstance(volume, str):
-            core = _core.mesh3d_shape(volume, threads, options)
-        else:
-            if box is None:
-                raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
-            b = [_number("box", v) for v in np.asarray(box, dtype=object).ravel()]
-            if len(b) != 6 or not all(b[k] < b[k + 3] for k in range(3)):
-                raise InputError(f"box must be (xmin, ymin, zmin, xmax, ymax, zmax) with min < max, got {box!r}")
-            core = _core.mesh3d_function(volume, b, options)
+        options["spacing"] = _spacing3(spacing, None)
+        if box is None:
+            raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
+        b = [_number("box", v) for v in np.asarray(box, dtype=object).ravel()]
+        if len(b) != 6 or not all(b[k] < b[k + 3] for k in range(3)):
+            raise InputError(f"box must be (xmin, ymin, zmin, xmax, ymax, zmax) with min < max, got {box!r}")
+        core = _core.mesh3d_function(volume, b, options)
     else:
         if box is not None:
-            raise InputError("box applies to a function, not to a volume")
-        a, integer_valued = _volume(volume)
-        physical = voxel_size is not None
-        size = _triple("voxel_size", 1.0 if voxel_size is None else voxel_size, True)
-        options["spacing"] = _number("spacing", min(size) if spacing is None else spacing)
-        label_list, nonzero = _labels(label)
-        core = _core.mesh3d_volume(a, integer_valued, size, _triple("origin", origin, False), physical,
-                                   None if iso is None else _number("iso", iso), inside == "above", label_list,
-                                   nonzero, threads, options)
+            raise InputError("box applies to a function, not to a volume or a shape")
+        f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, max_memory_mb)
+        options["spacing"] = _spacing3(spacing, default)
+        core = _core.mesh3d(f, threads, options)
     m = TetMesh(core)
     for w in m.warnings:
         warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=2)
     return m
+
+
+def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
+              origin=(0.0, 0.0, 0.0)):
+    """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
+    to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
+    (volumes and shape strings)."""
+    f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
+    return tuple(int(n) for n in _core.lattice3(f, _spacing3(spacing, default))[0])
+
+
+def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside="above",
+                 voxel_size=None, origin=(0.0, 0.0, 0.0)):
+    """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
+    indices, within lattice3d's cubes) of the mesh mesh3d would make, with
+    every vertex and tetrahedron named by its global key: a dict of numpy
+    arrays (picklable), for merge_blocks.  Blocks mesh independently (a
+    worker needs only its input); blocks that tile the lattice merge into
+    exactly mesh3d's mesh.  Arguments as mesh3d's (volumes and shape strings)."""
+    f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
+    lo = tuple(_integer("lo", v, 0) for v in lo)
+    hi = tuple(_integer("hi", v, 1) for v in hi)
+    if len(lo) != 3 or len(hi) != 3:
+        raise InputError("lo and hi must be triples of cube indices")
+    return _core.mesh3d_block(f, _spacing3(spacing, default), lo, hi)
+
+
+def merge_blocks(blocks):
+    """One TetMesh from blocks that tile the lattice (any order): vertices and
+    tetrahedra in the global order, the boundary found again; equal to
+    mesh3d's mesh of the same input.  Its report has the counts only.
+    Raises InputError when the blocks do not fit together."""
+    return TetMesh(_core.merge_tet_blocks(list(blocks)))
