@@ -14,6 +14,12 @@
 #   scripts/bench.sh --writers  end to end with file output (issue 32's targets):
 #                               whole-process wall time and peak RSS from
 #                               /usr/bin/time -v against the meshing time, per format
+#   scripts/bench.sh --cgal3d   warpmesh mesh3d against CGAL Mesh_3 on the SPL brain
+#                               atlas (--label nonzero), one thread each, in one run:
+#                               tetrahedra, time, min/max dihedral angle; installs
+#                               libcgal-dev (benchmark-only) and builds
+#                               bench/peers/cgal_mesh3.cpp.  The atlas NRRD is
+#                               WARPMESH_BRAIN_NRRD or /work/shared/data/*/orig/hncma-atlas.nrrd
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
@@ -101,6 +107,48 @@ if [ "${1:-}" = "--writers" ]; then
   write_case "disc 4096², ASCII .node/.ele" 2 d.node "${disc[@]}"
   write_case "brain slice ¼ px, every label, binary .vtu" 1 b.vtu "$brain" --materials all --spacing 0.25
   write_case "brain slice ¼ px, every label, binary .vtu" 2 b.vtu "$brain" --materials all --spacing 0.25
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--cgal3d" ]; then
+  # CGAL is benchmark-only: installed here, never by setup.sh.
+  if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
+  fi
+  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
+  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
+  # The region warpmesh meshes with --label nonzero, as bytes for CGAL's Image_3
+  # (the NRRD is gzip'd shorts, x fastest, 1 mm voxels).
+  /usr/bin/python3 - "$nrrd" "$tmp/brain.raw" <<'PY'
+import gzip, sys, numpy as np
+raw = open(sys.argv[1], "rb").read()
+at = raw.index(b"\n\n")
+assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
+(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
+PY
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall and user CPU seconds of the meshing"
+  printf "%-38s %10s %9s %9s %9s %9s %8s\n" mesher tetrahedra "wall s" "CPU s" "min dih" "max dih" "peak MB"
+  for s in ${WARPMESH_BENCH_SPACINGS:-3 2}; do
+    /usr/bin/time -f "%e %U %M" -o "$tmp/t" "$exe" mesh3d "$nrrd" --label nonzero --spacing "$s" --threads 1 \
+      --report "$tmp/w.json" --quiet 2>/dev/null
+    read -r _ user rss < "$tmp/t"
+    printf "%-38s %10s %9.2f %9.2f %9.3f %9.3f %8d\n" "warpmesh mesh3d, spacing $s" "$(field tetrahedra "$tmp/w.json")" \
+      "$(field seconds "$tmp/w.json")" "$user" "$(field min_dihedral_deg "$tmp/w.json")" \
+      "$(field max_dihedral_deg "$tmp/w.json")" $((rss / 1024))
+  done
+  echo "  (warpmesh certified: every tetrahedron of a certified key in [9.3, 161.7] deg, proofs/bcc.cert)"
+  for h in ${WARPMESH_BENCH_CGAL_SIZES:-2}; do
+    /usr/bin/time -f "%e %U %M" -o "$tmp/t" "$tmp/cgal_mesh3" "$tmp/brain.raw" 256 256 256 1 1 1 "$h" > "$tmp/c.json"
+    read -r _ user rss < "$tmp/t"
+    /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1])); print('%-38s %10d %9.2f %9.2f %9.3f %9.3f %8d' % ('CGAL Mesh_3, facet/cell size ' + sys.argv[2], c['tetrahedra'], c['seconds'], float(sys.argv[3]), c['min_dihedral_deg'], c['max_dihedral_deg'], int(sys.argv[4]) // 1024))" \
+      "$tmp/c.json" "$h" "$user" "$rss"
+  done
+  echo "  (CGAL: wall s = make_mesh_3 only; CPU s = the whole process, reading and the image domain included)"
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
   exit 0
 fi

@@ -638,10 +638,11 @@ CliOptions parse_mesh3d_options(int argc, char** argv) {
 // terminal and for large inputs: a user waiting on a brain volume sees where
 // the time goes; pipes and small runs stay quiet.
 struct Progress {
-    bool on = false;
+    bool terminal = false;  // stderr is a terminal and not --quiet
+    bool large = false;     // the input is large enough to be worth it
     std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
     void stage(const std::string& what) const {
-        if (!on) return;
+        if (!terminal || !large) return;
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         char buf[32];
         std::snprintf(buf, sizeof buf, " (%.1f s)", t);
@@ -661,7 +662,7 @@ std::unique_ptr<LevelSet3> level_set_3d(const CliOptions& o, double& default_spa
         v.physical = false;
     }
     default_spacing = pixels ? 1.0 : std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
-    progress.on = progress.on || v.voxel_count() >= (std::int64_t{1} << 22);
+    progress.large = progress.large || v.voxel_count() >= (std::int64_t{1} << 22);
     VolumeLevelSet3Options lo;
     lo.max_memory = o.mesh.max_memory;
     if (o.labels) {
@@ -681,18 +682,15 @@ int run_mesh3d(int argc, char** argv) {
     for (const auto& out : o.outputs) check_output_path_3d(out);
     if (!o.report.empty()) check_writable(o.report);
     Progress progress;
-    progress.on = !o.quiet && ::isatty(STDERR_FILENO);
-    const bool terminal = progress.on;
-    progress.on = false;  // until the input is known to be large
+    progress.terminal = !o.quiet && ::isatty(STDERR_FILENO);
     double spacing = 1;
     const std::unique_ptr<LevelSet3> f = level_set_3d(o, spacing, progress);
-    progress.on = progress.on && terminal;
     Mesh3dOptions mo;
     mo.spacing = o.has("--spacing") ? o.mesh.spacing : spacing;
     mo.verify = o.has("--verify") && o.mesh.verify;
     mo.max_memory = o.mesh.max_memory;
     const Lattice3 lattice = lattice3_for(*f, mo.spacing);
-    progress.on = progress.on || (terminal && lattice.point_count() >= (std::int64_t{1} << 24));
+    progress.large = progress.large || lattice.point_count() >= (std::int64_t{1} << 24);
     progress.stage("meshing a BCC lattice of " + std::to_string(lattice.point_count()) + " points at spacing " +
                    json_number(mo.spacing));
     Mesh3dReport report;
