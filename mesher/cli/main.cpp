@@ -742,21 +742,13 @@ int main(int argc, char** argv) {
             std::cout << "warpmesh " << version << "\n";
             return 0;
         }
-        if (cmd == "mesh") {
+        if (cmd == "mesh" || cmd == "mesh3d") {
             for (int i = 2; i < argc; ++i)
                 if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
                     std::cout << usage;
                     return 0;
                 }
-            return run_mesh(argc - 2, argv + 2);
-        }
-        if (cmd == "mesh3d") {
-            for (int i = 2; i < argc; ++i)
-                if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-                    std::cout << usage;
-                    return 0;
-                }
-            return run_mesh3d(argc - 2, argv + 2);
+            return cmd == "mesh" ? run_mesh(argc - 2, argv + 2) : run_mesh3d(argc - 2, argv + 2);
         }
         if (cmd == "prove") {
 #ifdef WARPMESH_HAVE_PROVER
