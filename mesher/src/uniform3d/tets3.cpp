@@ -90,7 +90,7 @@ void for_cubes_in_layer(const CubeRange& r, std::int64_t cz, Body&& body) {
 }
 
 struct Marks {
-    std::vector<std::uint8_t> point, cut;  // per window point: used; bit s: its cut point s used
+    ZeroBuffer<std::uint8_t> point, cut;  // per window point: used; bit s: its cut point s used
 };
 
 // Pass A: the tetrahedra of each layer (prefix sums: layer l starts at
@@ -277,7 +277,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
 Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
     const Layout lay(w, f);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
-    Marks marks{std::vector<std::uint8_t>(n, 0), std::vector<std::uint8_t>(n, 0)};
+    Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);
     const std::int64_t tet_count = start.back();
     if (tet_count >= INT32_MAX)
