@@ -129,7 +129,7 @@ if [ "${1:-}" = "--3d" ]; then
   echo "|---|---:|---:|---:|---:|---:|---:|"
   case3d "sphere r = 1, s = 0.02 (104³ cubes)" 1 --shape sphere:0,0,0,1 --spacing 0.02
   case3d "sphere r = 1, s = 0.02 (104³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.02
-  case3d "sphere r = 1, s = 0.0078 (260³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.0078125
+  case3d "sphere r = 1, s = 0.0078 (260³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.0078125 --max-memory 8192
   if [ -f "$atlas" ]; then
     case3d "SPL brain atlas, --label nonzero, s = 1 mm" 1 --volume "$atlas" --label nonzero --spacing 1
     case3d "SPL brain atlas, --label nonzero, s = 1 mm" 2 --volume "$atlas" --label nonzero --spacing 1
