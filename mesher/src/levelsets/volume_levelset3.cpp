@@ -129,18 +129,26 @@ public:
             i[a] = std::min<std::int64_t>(static_cast<std::int64_t>(t[a]), dims_[a] - 2);
             u[a] = t[a] - static_cast<double>(i[a]);
         }
-        double f = 0;
-        for (int c = 0; c < 8; ++c) {
-            double w = 1;
-            std::array<std::int64_t, 3> j{};
-            for (std::size_t a = 0; a < 3; ++a) {
-                const int bit = c >> a & 1;
-                j[a] = i[a] + bit;
-                w *= bit ? u[a] : 1 - u[a];
-            }
-            if (w != 0) f += w * at(j);
+        // The 8 voxels i .. i + 1: straight from the stored box when they are
+        // all in it (the common case), else voxel by voxel (far_ outside it).
+        std::array<std::int64_t, 3> r{};
+        bool stored = true;
+        for (std::size_t a = 0; a < 3; ++a) {
+            r[a] = i[a] - lo_[a];
+            stored = stored && r[a] >= 0 && r[a] + 1 < n_[a];
         }
-        return f;
+        std::array<double, 8> c{};
+        if (stored) {
+            const std::int64_t sy = n_[0], sz = n_[0] * n_[1];
+            const float* p = values_.data() + r[0] + sy * r[1] + sz * r[2];
+            c = {p[0], p[1], p[sy], p[sy + 1], p[sz], p[sz + 1], p[sz + sy], p[sz + sy + 1]};
+        } else {
+            for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = at({i[0] + (k & 1), i[1] + (k >> 1 & 1), i[2] + (k >> 2)});
+        }
+        const double x0 = c[0] + u[0] * (c[1] - c[0]), x1 = c[2] + u[0] * (c[3] - c[2]);
+        const double x2 = c[4] + u[0] * (c[5] - c[4]), x3 = c[6] + u[0] * (c[7] - c[6]);
+        const double y0 = x0 + u[1] * (x1 - x0), y1 = x2 + u[1] * (x3 - x2);
+        return y0 + u[2] * (y1 - y0);
     }
     Box3 bounds() const override { return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]}; }
     double feature_size() const override { return feature_; }

@@ -106,6 +106,7 @@ Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, co
                  "choose a larger --spacing");
     sample_signs(f, w);
     find_cuts(f, w);
+    Buffer<double>().swap(w.value);  // f is not needed past the cut points
     warp_points(o.alphas, w, blocked);
     return w;
 }

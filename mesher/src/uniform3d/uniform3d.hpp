@@ -73,7 +73,7 @@ inline bool in_lattice(const Lattice3& L, const bcc::Ivec& q) {
 // The per-point data of a window through the stages.
 struct Window {
     Grid grid;
-    Buffer<double> value;        // f (signs3)
+    Buffer<double> value;        // f (signs3; freed after cut_points3)
     Buffer<std::int8_t> sign;    // sign of f; after warp3, the post-warp sign
     Buffer<std::uint8_t> warp;   // after warp3: the warp direction, or bcc::stay
     Buffer<std::uint8_t> cut_mask;   // slots of the forward edges cut before warping
