@@ -11,6 +11,9 @@
 #   scripts/bench.sh            all cases: uniform, graded, the fan rule against
 #                               the separating rule, cost of certification
 #   scripts/bench.sh --quick    the atlas slice only (with each rule)
+#   scripts/bench.sh --3d       the 3D mesher (issue 30): a sphere and the SPL brain
+#                               atlas through warpmesh-bench3d (library only, no
+#                               file); the fastest of three runs each
 #   scripts/bench.sh --writers  end to end with file output (issue 32's targets):
 #                               whole-process wall time and peak RSS from
 #                               /usr/bin/time -v against the meshing time, per format
@@ -149,6 +152,38 @@ PY
       "$tmp/c.json" "$h" "$user" "$rss"
   done
   echo "  (CGAL: wall s = make_mesh_3 only; CPU s = the whole process, reading and the image domain included)"
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--3d" ]; then
+  # warpmesh-bench3d prints key=value figures; CPU seconds (user + system of
+  # the mesh3d call, all threads) are the comparable figure on a shared VM.
+  bench3d="${WARPMESH_BUILD_DIR:-$root/build}/mesher/warpmesh-bench3d"
+  atlas="${WARPMESH_SPL_BRAIN:-/work/shared/data/spl_brain/orig/hncma-atlas.nrrd}"
+  kv() { tr ' ' '\n' <<<"$2" | sed -n "s/^$1=//p"; }
+  case3d() {  # name threads args...
+    local name="$1" threads="$2" best="" line out
+    shift 2
+    for _ in 1 2 3; do
+      out=$("$bench3d" "$@" --threads "$threads" 2>/dev/null)
+      if [ -z "$best" ] || awk -v a="$(kv cpu_seconds "$out")" -v b="$(kv cpu_seconds "$best")" 'BEGIN { exit !(a < b) }'; then best="$out"; fi
+    done
+    line="| $name | $threads | $(kv tets "$best") | $(kv seconds "$best") | $(kv cpu_seconds "$best") | $(kv tets_per_cpu_second "$best") | $(kv peak_bytes_per_tet "$best") |"
+    echo "$line"
+  }
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "| case | threads | tetrahedra | wall s | CPU s | tets / CPU s | peak bytes / tet |"
+  echo "|---|---:|---:|---:|---:|---:|---:|"
+  case3d "sphere r = 1, s = 0.02 (104³ cubes)" 1 --shape sphere:0,0,0,1 --spacing 0.02
+  case3d "sphere r = 1, s = 0.02 (104³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.02
+  case3d "sphere r = 1, s = 0.0078 (260³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.0078125 --max-memory 8192
+  if [ -f "$atlas" ]; then
+    case3d "SPL brain atlas, --label nonzero, s = 1 mm" 1 --volume "$atlas" --label nonzero --spacing 1
+    case3d "SPL brain atlas, --label nonzero, s = 1 mm" 2 --volume "$atlas" --label nonzero --spacing 1
+  else
+    echo "(no SPL brain atlas at $atlas: set WARPMESH_SPL_BRAIN)"
+  fi
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
   exit 0
 fi

@@ -243,3 +243,38 @@ BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones
     const int d01 = bcc::direction_of(bcc::sub(p[1], p[0])), d10 = bcc::direction_of(bcc::sub(p[0], p[1]));
     BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, &code), code);
 }
+
+BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {
+    // A half-space reaches the lattice's edge: the boundary there is the
+    // lattice's cut-off (boundary_domain), and the whole boundary stays closed
+    // and outward (check_tet_mesh); the plane part is on the level set.
+    const FunctionLevelSet3 half([](double, double, double z) { return z - 0.3; }, {-1, -1, -1, 1, 1, 1}, "z < 0.3");
+    Mesh3dOptions o;
+    o.spacing = 0.15;
+    o.verify = true;
+    Mesh3dReport r;
+    const TetMesh m = mesh3d(half, o, &r);
+    const TetMeshCheck c = check_tet_mesh(m);
+    BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+    std::int64_t level = 0, domain = 0;
+    for (std::size_t i = 0; i < m.boundary.size(); ++i) {
+        const bool on_plane = std::abs(m.vertices[static_cast<std::size_t>(m.boundary[i][0])].z - 0.3) < 1e-12 &&
+                              std::abs(m.vertices[static_cast<std::size_t>(m.boundary[i][1])].z - 0.3) < 1e-12 &&
+                              std::abs(m.vertices[static_cast<std::size_t>(m.boundary[i][2])].z - 0.3) < 1e-12;
+        if (m.boundary_tag[i] == boundary_level_set) {
+            ++level;
+            BOOST_TEST(on_plane);
+        } else {
+            ++domain;
+        }
+    }
+    BOOST_TEST(level > 0);
+    BOOST_TEST(domain > 0);
+    // Blocks agree there too.
+    const Lattice3 L = lattice3_for(half, o.spacing);
+    std::vector<TetBlock> blocks;
+    const std::int64_t cut = L.cubes[2] / 3;
+    blocks.push_back(mesh3d_block(half, o, L, {{0, 0, 0}, {L.cubes[0], L.cubes[1], cut}}));
+    blocks.push_back(mesh3d_block(half, o, L, {{0, 0, cut}, L.cubes}));
+    BOOST_TEST(same(merge_tet_blocks(blocks), mesh3d_on(half, o, L)));
+}

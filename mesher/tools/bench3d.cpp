@@ -9,7 +9,7 @@
 // dihedral extremes and certification counts.
 //
 //   warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V]
-//                    --spacing S [--threads N] [--quality] [--verify]
+//                    --spacing S [--threads N] [--max-memory MB] [--quality] [--verify]
 #include <sys/resource.h>
 
 #include <cstdio>
@@ -60,10 +60,11 @@ int main(int argc, char** argv) {
         else if (a == "--iso") iso = std::stod(next());
         else if (a == "--spacing") o.spacing = std::stod(next());
         else if (a == "--threads") o.threads = std::stoi(next());
+        else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
         else if (a == "--quality") o.quality = true;
         else if (a == "--verify") o.verify = true;
         else {
-            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--threads N] [--quality] [--verify]\n";
+            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--threads N] [--max-memory MB] [--quality] [--verify]\n";
             return 2;
         }
     }

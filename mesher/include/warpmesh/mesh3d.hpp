@@ -247,7 +247,7 @@ struct TetBlock {
     std::vector<std::uint8_t> on_level_set;       // per vertex: zero lattice point or cut point
     std::vector<std::array<std::int32_t, 4>> tets;  // indices into vertices
     std::vector<std::uint64_t> tet_key;           // sorted: the tetrahedra's global order
-    std::vector<std::uint8_t> lattice_edge;       // per tet: a face may lie on the lattice's cut-off
+    std::vector<std::uint8_t> lattice_edge;       // per tet: bit f set if its face without vertex f is on the lattice's cut-off
 };
 TetBlock mesh3d_block(const LevelSet3& f, const Mesh3dOptions& options, const Lattice3& lattice,
                       const CubeRange& block);

@@ -14,6 +14,7 @@
 #include "warpmesh/errors.hpp"
 #include "warpmesh/mesh3d.hpp"
 #include "root_finder.hpp"
+#include "shape_syntax.hpp"
 
 namespace warpmesh {
 
@@ -214,12 +215,6 @@ bool disjoint(const Box3& p, const Box3& q) {
            q.zmax < p.zmin;
 }
 
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-    return s;
-}
-
 std::unique_ptr<LevelSet3> parse(std::string_view s);
 
 std::unique_ptr<LevelSet3> primitive(std::string_view name, std::string_view args) {
@@ -237,18 +232,7 @@ std::unique_ptr<LevelSet3> primitive(std::string_view name, std::string_view arg
         if (k.name == name) kind = &k;
     require(kind != nullptr, "unknown shape '" + std::string(name) +
                                  "' (expected sphere, ellipsoid, torus, box, cylinder, union, intersect or diff)");
-    std::vector<double> v;
-    for (std::size_t start = 0;;) {
-        const std::size_t comma = args.find(',', start);
-        const std::string_view t = trim(args.substr(start, comma == std::string_view::npos ? comma : comma - start));
-        double x = 0;
-        const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
-        require(!t.empty() && r.ec == std::errc() && r.ptr == t.data() + t.size() && std::isfinite(x),
-                std::string(name) + ": '" + std::string(t) + "' is not a finite number");
-        v.push_back(x);
-        if (comma == std::string_view::npos) break;
-        start = comma + 1;
-    }
+    const std::vector<double> v = shape_syntax::parse_numbers(args, name);
     require(v.size() == kind->arity, std::string(name) + " takes " + std::to_string(kind->arity) + " numbers (" +
                                          std::string(kind->params) + "), got " + std::to_string(v.size()));
     if (name == "sphere") return std::make_unique<Sphere>(v[0], v[1], v[2], v[3]);
@@ -259,16 +243,7 @@ std::unique_ptr<LevelSet3> primitive(std::string_view name, std::string_view arg
 }
 
 std::unique_ptr<LevelSet3> csg(Op op, std::string_view name, std::string_view inner) {
-    std::vector<std::string_view> parts;
-    int depth = 0;
-    std::size_t start = 0;
-    for (std::size_t i = 0; i < inner.size(); ++i) {
-        if (inner[i] == '(') ++depth;
-        if (inner[i] == ')') --depth;
-        if (inner[i] == ';' && depth == 0) parts.push_back(inner.substr(start, i - start)), start = i + 1;
-    }
-    parts.push_back(inner.substr(start));
-    require(parts.size() >= 2, std::string(name) + " needs at least two shapes separated by ';'");
+    const std::vector<std::string_view> parts = shape_syntax::split_parts(inner, name);
     std::unique_ptr<LevelSet3> acc = parse(parts[0]);
     for (std::size_t i = 1; i < parts.size(); ++i) {
         std::unique_ptr<LevelSet3> next = parse(parts[i]);
@@ -281,27 +256,12 @@ std::unique_ptr<LevelSet3> csg(Op op, std::string_view name, std::string_view in
 }
 
 std::unique_ptr<LevelSet3> parse(std::string_view s) {
-    s = trim(s);
-    require(!s.empty(), "empty shape");
-    const std::size_t paren = s.find('('), colon = s.find(':');
-    if (paren != std::string_view::npos && (colon == std::string_view::npos || paren < colon)) {
-        const std::string_view name = trim(s.substr(0, paren));
-        int depth = 0;
-        for (std::size_t i = paren; i < s.size(); ++i) {
-            if (s[i] == '(') ++depth;
-            if (s[i] == ')' && --depth == 0)
-                require(i + 1 == s.size(), "unexpected text after ')' in '" + std::string(s) + "'");
-            if (depth < 0) break;
-        }
-        require(depth == 0, "unbalanced parentheses in '" + std::string(s) + "'");
-        const std::string_view inner = s.substr(paren + 1, s.size() - paren - 2);
-        if (name == "union") return csg(Op::union_, name, inner);
-        if (name == "intersect" || name == "intersection") return csg(Op::intersection, name, inner);
-        if (name == "diff" || name == "difference") return csg(Op::difference, name, inner);
-        throw InputError("unknown operation '" + std::string(name) + "' (expected union, intersect or diff)");
-    }
-    require(colon != std::string_view::npos, "'" + std::string(s) + "' is not a shape (expected e.g. sphere:0,0,0,1)");
-    return primitive(trim(s.substr(0, colon)), s.substr(colon + 1));
+    const shape_syntax::Term t = shape_syntax::split_term(s, "sphere:0,0,0,1");
+    if (!t.operation) return primitive(t.name, t.body);
+    if (t.name == "union") return csg(Op::union_, t.name, t.body);
+    if (t.name == "intersect" || t.name == "intersection") return csg(Op::intersection, t.name, t.body);
+    if (t.name == "diff" || t.name == "difference") return csg(Op::difference, t.name, t.body);
+    throw InputError("unknown operation '" + std::string(t.name) + "' (expected union, intersect or diff)");
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include <limits>
 #include <sstream>
 
+#include "warpmesh/buffer.hpp"
 #include "warpmesh/errors.hpp"
 #include "warpmesh/memory.hpp"
 #include "warpmesh/mesh3d.hpp"
@@ -70,11 +71,11 @@ void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, dou
 }
 
 // In place: g (0 at the sources, +inf elsewhere) → squared distances.
-void edt(std::vector<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w) {
+void edt(Buffer<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w) {
     const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
+    Buffer<float> out(g.size());  // every element written by each pass
     for (int a = 0; a < 3; ++a) {
         const int b = (a + 1) % 3, c = (a + 2) % 3;
-        std::vector<float> out(g.size());
 #pragma omp parallel
         {
             std::vector<std::int64_t> v;
@@ -94,8 +95,10 @@ void edt(std::vector<float>& g, const std::array<std::int64_t, 3>& n, const std:
 class VolumeLevelSet3 final : public LevelSet3 {
 public:
     // Values on the box [lo, lo + n) of voxel indices; `far` beyond it.
-    VolumeLevelSet3(const Volume& v, std::vector<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
-                    float far, double feature, std::string name)
+    // region_lo, region_hi: the voxels whose value is <= 0 lie in this index box.
+    VolumeLevelSet3(const Volume& v, Buffer<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
+                    std::array<std::int64_t, 3> region_lo, std::array<std::int64_t, 3> region_hi, float far, double feature,
+                    std::string name)
         : values_(std::move(values)), lo_(lo), n_(n), dims_(v.dims), far_(far), feature_(feature), name_(std::move(name)) {
         resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
         for (std::size_t a = 0; a < 3; ++a) {
@@ -104,9 +107,12 @@ public:
                 if (ax[p] != 0) perm_[a] = static_cast<int>(p), scale_[a] = ax[p] / v.spacing[a];
             origin_[a] = v.origin[static_cast<std::size_t>(perm_[a])];
         }
+        // f > 0 wherever the 8 voxels around a point are all outside, so the
+        // region lies within one voxel of the box of its voxels.
         for (std::size_t a = 0; a < 3; ++a) {
             const std::size_t p = static_cast<std::size_t>(perm_[a]);
-            const double e0 = origin_[a], e1 = origin_[a] + static_cast<double>(dims_[a] - 1) / scale_[a];
+            const double e0 = origin_[a] + static_cast<double>(region_lo[a] - 1) / scale_[a];
+            const double e1 = origin_[a] + static_cast<double>(region_hi[a] + 1) / scale_[a];
             lo_box_[p] = std::min(e0, e1), hi_box_[p] = std::max(e0, e1);
         }
     }
@@ -123,18 +129,26 @@ public:
             i[a] = std::min<std::int64_t>(static_cast<std::int64_t>(t[a]), dims_[a] - 2);
             u[a] = t[a] - static_cast<double>(i[a]);
         }
-        double f = 0;
-        for (int c = 0; c < 8; ++c) {
-            double w = 1;
-            std::array<std::int64_t, 3> j{};
-            for (std::size_t a = 0; a < 3; ++a) {
-                const int bit = c >> a & 1;
-                j[a] = i[a] + bit;
-                w *= bit ? u[a] : 1 - u[a];
-            }
-            if (w != 0) f += w * at(j);
+        // The 8 voxels i .. i + 1: straight from the stored box when they are
+        // all in it (the common case), else voxel by voxel (far_ outside it).
+        std::array<std::int64_t, 3> r{};
+        bool stored = true;
+        for (std::size_t a = 0; a < 3; ++a) {
+            r[a] = i[a] - lo_[a];
+            stored = stored && r[a] >= 0 && r[a] + 1 < n_[a];
         }
-        return f;
+        std::array<double, 8> c{};
+        if (stored) {
+            const std::int64_t sy = n_[0], sz = n_[0] * n_[1];
+            const float* p = values_.data() + r[0] + sy * r[1] + sz * r[2];
+            c = {p[0], p[1], p[sy], p[sy + 1], p[sz], p[sz + 1], p[sz + sy], p[sz + sy + 1]};
+        } else {
+            for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = at({i[0] + (k & 1), i[1] + (k >> 1 & 1), i[2] + (k >> 2)});
+        }
+        const double x0 = c[0] + u[0] * (c[1] - c[0]), x1 = c[2] + u[0] * (c[3] - c[2]);
+        const double x2 = c[4] + u[0] * (c[5] - c[4]), x3 = c[6] + u[0] * (c[7] - c[6]);
+        const double y0 = x0 + u[1] * (x1 - x0), y1 = x2 + u[1] * (x3 - x2);
+        return y0 + u[2] * (y1 - y0);
     }
     Box3 bounds() const override { return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]}; }
     double feature_size() const override { return feature_; }
@@ -151,7 +165,7 @@ private:
         }
         return values_[static_cast<std::size_t>(k)];
     }
-    std::vector<float> values_;
+    Buffer<float> values_;
     std::array<std::int64_t, 3> lo_, n_, dims_;
     float far_;
     double feature_, resolution_ = 0;
@@ -185,6 +199,7 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
                 for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
             }
     if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
+    const std::array<std::int64_t, 3> region_lo = lo, region_hi = hi;
     std::array<std::int64_t, 3> n{};
     std::uint64_t count = 1;
     for (std::size_t a = 0; a < 3; ++a) {
@@ -196,7 +211,7 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
     check_memory(count * 12, o.max_memory, "the label volume's distance field (" + std::to_string(count) + " voxels)",
                  "12 bytes a voxel of the region's bounding box", "crop the volume to the region");
     constexpr float inf = std::numeric_limits<float>::infinity();
-    std::vector<float> in(count), out(count);
+    Buffer<float> in(count), out(count);  // every element written below
     for (std::int64_t k = 0; k < n[2]; ++k)
         for (std::int64_t j = 0; j < n[1]; ++j)
             for (std::int64_t i = 0; i < n[0]; ++i) {
@@ -216,8 +231,8 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
         if (r) feature = std::max(feature, -d);
         in[at] = static_cast<float>(std::clamp(d, -cap, cap));
     }
-    std::vector<float>().swap(out);
-    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, static_cast<float>(cap), feature,
+    Buffer<float>().swap(out);
+    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature,
                                              v.source + " (label " + labels_text(m) + ")");
 }
 
@@ -228,13 +243,22 @@ std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevel
     const std::uint64_t count = static_cast<std::uint64_t>(v.voxel_count());
     check_memory(count * 4, o.max_memory, "the volume's grey values (" + std::to_string(count) + " voxels)", "4 bytes a voxel",
                  "crop or downsample the volume");
-    std::vector<float> f(count);
+    Buffer<float> f(count);  // every element written below
     const double sign = o.mode.inside_above ? -1 : 1;
-    for (std::size_t i = 0; i < count; ++i) f[i] = static_cast<float>(sign * (v.values[i] - iso));
+    std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
+    for (std::int64_t k = 0, i = 0; k < v.dims[2]; ++k)
+        for (std::int64_t j = 0; j < v.dims[1]; ++j)
+            for (std::int64_t x = 0; x < v.dims[0]; ++x, ++i) {
+                f[static_cast<std::size_t>(i)] = static_cast<float>(sign * (v.values[static_cast<std::size_t>(i)] - iso));
+                if (f[static_cast<std::size_t>(i)] > 0) continue;
+                const std::array<std::int64_t, 3> q{x, j, k};
+                for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+            }
+    if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel is " + (o.mode.inside_above ? "above" : "below") + " the iso value");
     std::ostringstream name;
     name << v.source << " (iso " << iso << (o.mode.inside_above ? ", inside above)" : ", inside below)");
     const float far = static_cast<float>(std::max(1.0, std::abs(*mx - *mn)));
-    return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, far, 0.0, name.str());
+    return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, lo, hi, far, 0.0, name.str());
 }
 
 }  // namespace

@@ -6,8 +6,10 @@
 // be unshared only if its three vertices are on the level set (warped or zero
 // lattice points and cut points: the stencil's cut surface, or a background
 // face between an output all-zero tetrahedron and one that outputs nothing)
-// or if its background tetrahedron lacks a neighbour across one of its faces
-// (the lattice's cut-off).  Those candidates — a surface-sized set — are
+// or if it lies on a background face with no background tetrahedron behind
+// it (the lattice's cut-off; stage 5 names those faces exactly — a tetrahedron
+// there also has faces shared with its neighbours, which must not become
+// candidates on one side only).  The candidates — a surface-sized set — are
 // matched by sorting their vertex triples; the unmatched ones are the
 // boundary, oriented as their tetrahedron sees them from outside, tagged
 // boundary_level_set when all three vertices are on the level set, else
@@ -40,12 +42,14 @@ struct FaceRef {
     bool operator<(const FaceRef& o) const { return std::tie(sorted, tet, opposite) < std::tie(o.sorted, o.tet, o.opposite); }
 };
 
-void add_faces(const TetMesh& mesh, std::int64_t t, bool all, std::span<const std::uint8_t> on, std::vector<FaceRef>& out) {
+// The faces of tetrahedron t in `only` (bit v: the face without vertex v),
+// or else those with three level-set vertices.
+void add_faces(const TetMesh& mesh, std::int64_t t, unsigned only, std::span<const std::uint8_t> on, std::vector<FaceRef>& out) {
     const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
     for (int v = 0; v < 4; ++v) {
         const auto& f = outward_face[static_cast<std::size_t>(v)];
         std::array<std::int32_t, 3> s{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
-        if (!all && !(on[static_cast<std::size_t>(s[0])] && on[static_cast<std::size_t>(s[1])] && on[static_cast<std::size_t>(s[2])])) continue;
+        if (only ? !(only >> v & 1u) : !(on[static_cast<std::size_t>(s[0])] && on[static_cast<std::size_t>(s[1])] && on[static_cast<std::size_t>(s[2])])) continue;
         std::sort(s.begin(), s.end());
         out.push_back({s, t, v});
     }
@@ -53,7 +57,7 @@ void add_faces(const TetMesh& mesh, std::int64_t t, bool all, std::span<const st
 
 }  // namespace
 
-void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<const std::int64_t> edge_tets) {
+void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<const CutOff> cut_off) {
     const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
     int threads = 1;
 #ifdef _OPENMP
@@ -63,11 +67,13 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < threads; ++c) {
         auto& out = part[static_cast<std::size_t>(c)];
-        for (std::int64_t t = T * c / threads; t < T * (c + 1) / threads; ++t) add_faces(mesh, t, false, on, out);
+        for (std::int64_t t = T * c / threads; t < T * (c + 1) / threads; ++t) add_faces(mesh, t, 0, on, out);
     }
     std::vector<FaceRef> faces;
     for (auto& p : part) faces.insert(faces.end(), p.begin(), p.end()), std::vector<FaceRef>().swap(p);
-    for (std::int64_t t : edge_tets) add_faces(mesh, t, true, on, faces);
+    // A cut-off face has nothing behind it and no twin: it stays unmatched
+    // (listed once even when its three vertices are on the level set).
+    for (const CutOff& c : cut_off) add_faces(mesh, c.first, c.second, on, faces);
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) { return a.tet == b.tet && a.opposite == b.opposite; }), faces.end());
     mesh.boundary.clear();
@@ -106,6 +112,7 @@ Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, co
                  "choose a larger --spacing");
     sample_signs(f, w);
     find_cuts(f, w);
+    Buffer<double>().swap(w.value);  // f is not needed past the cut points
     warp_points(o.alphas, w, blocked);
     return w;
 }
@@ -141,7 +148,7 @@ TetMesh to_mesh(Emitted&& e) {
     m.tets = std::move(e.tets);
     m.region.resize(m.tets.size());
     std::fill(m.region.begin(), m.region.end(), 1);
-    find_boundary(m, e.on_level_set, e.edge_tets);
+    find_boundary(m, e.on_level_set, e.cut_off);
     return m;
 }
 
@@ -219,7 +226,7 @@ TetBlock mesh3d_block(const LevelSet3& f, const Mesh3dOptions& options, const La
         b.tets.assign(e.tets.begin(), e.tets.end());
         b.tet_key = std::move(e.tet_key);
         b.lattice_edge.assign(b.tets.size(), 0);
-        for (std::int64_t t : e.edge_tets) b.lattice_edge[static_cast<std::size_t>(t)] = 1;
+        for (const CutOff& c : e.cut_off) b.lattice_edge[static_cast<std::size_t>(c.first)] = c.second;
         return b;
     }
 }
@@ -246,7 +253,7 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
     struct T {
         std::uint64_t key;
         std::array<std::int32_t, 4> tet;
-        bool edge;
+        std::uint8_t cut_off;
     };
     std::vector<T> ts;
     for (const TetBlock& b : blocks)
@@ -256,7 +263,7 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
                 const std::uint64_t key = b.vertex_key[static_cast<std::size_t>(b.tets[i][k])];
                 t[k] = static_cast<std::int32_t>(std::lower_bound(unique.begin(), unique.end(), key, [](const V& a, std::uint64_t k2) { return a.key < k2; }) - unique.begin());
             }
-            ts.push_back({b.tet_key[i], t, b.lattice_edge[i] != 0});
+            ts.push_back({b.tet_key[i], t, b.lattice_edge[i]});
         }
     std::sort(ts.begin(), ts.end(), [](const T& a, const T& b) { return a.key < b.key; });
     for (std::size_t i = 1; i < ts.size(); ++i)
@@ -267,13 +274,13 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
     for (std::size_t i = 0; i < unique.size(); ++i) m.vertices[i] = unique[i].p, on[i] = unique[i].on;
     m.tets.resize(ts.size());
     m.region.resize(ts.size());
-    std::vector<std::int64_t> edge;
+    std::vector<uniform3d::CutOff> cut_off;
     for (std::size_t i = 0; i < ts.size(); ++i) {
         m.tets[i] = ts[i].tet;
         m.region[i] = 1;
-        if (ts[i].edge) edge.push_back(static_cast<std::int64_t>(i));
+        if (ts[i].cut_off) cut_off.push_back({static_cast<std::int64_t>(i), ts[i].cut_off});
     }
-    uniform3d::find_boundary(m, on, edge);
+    uniform3d::find_boundary(m, on, cut_off);
     return m;
 }
 

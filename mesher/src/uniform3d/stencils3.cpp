@@ -7,6 +7,15 @@
 namespace warpmesh::uniform3d {
 namespace {
 
+// The background faces (bit v: the face without local vertex v) holding
+// local point q: a vertex lies on the three faces without another vertex, a
+// cut point on the two faces without either end of its edge.
+unsigned faces_containing(int q) {
+    if (q < 4) return 0xFu & ~(1u << q);
+    const auto& e = bcc::tet_edges[static_cast<std::size_t>(q - 4)];
+    return 0xFu & ~(1u << e[0]) & ~(1u << e[1]);
+}
+
 std::array<Plan, 81 * 4> make_plans() {
     std::array<Plan, 81 * 4> plans{};
     for (int code = 0; code < 81; ++code)
@@ -16,8 +25,16 @@ std::array<Plan, 81 * 4> make_plans() {
                 for (int i = 0, c = code; i < 4; ++i, c /= 3) sign[static_cast<std::size_t>(i)] = c % 3 - 1;
                 Plan& p = plans[static_cast<std::size_t>(code * 4 + parity * 2 + inside)];
                 p.stencil = bcc::stencil(sign, parity, inside != 0);
-                for (int t = 0; t < p.stencil.count; ++t)
-                    for (std::uint8_t q : p.stencil.tet[static_cast<std::size_t>(t)]) p.uses = static_cast<std::uint16_t>(p.uses | 1u << q);
+                for (int t = 0; t < p.stencil.count; ++t) {
+                    const bcc::OutTet& o = p.stencil.tet[static_cast<std::size_t>(t)];
+                    for (std::uint8_t q : o) p.uses = static_cast<std::uint16_t>(p.uses | 1u << q);
+                    for (int f = 0; f < 4; ++f) {
+                        unsigned on = 0xF;
+                        for (int k = 0; k < 4; ++k)
+                            if (k != f) on &= faces_containing(o[static_cast<std::size_t>(k)]);
+                        p.face_on[static_cast<std::size_t>(t)][static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(on);
+                    }
+                }
             }
     return plans;
 }

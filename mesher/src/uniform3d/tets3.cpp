@@ -90,7 +90,7 @@ void for_cubes_in_layer(const CubeRange& r, std::int64_t cz, Body&& body) {
 }
 
 struct Marks {
-    std::vector<std::uint8_t> point, cut;  // per window point: used; bit s: its cut point s used
+    ZeroBuffer<std::uint8_t> point, cut;  // per window point: used; bit s: its cut point s used
 };
 
 // Pass A: the tetrahedra of each layer (prefix sums: layer l starts at
@@ -227,7 +227,8 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                 std::span<const std::int64_t> start, bool keys, bool verify_keys, Emitted& out) {
     const Lattice3& L = lay.w.grid.lattice;
     const std::int64_t layers = range.hi[2] - range.lo[2];
-    std::vector<std::vector<std::int64_t>> edge(static_cast<std::size_t>(layers)), zero(static_cast<std::size_t>(layers));
+    std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
+    std::vector<std::vector<std::int64_t>> zero(static_cast<std::size_t>(layers));
     std::int64_t uncovered = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered)
     for (std::int64_t l = 0; l < layers; ++l) {
@@ -254,20 +255,25 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                     const int slot = s.slot[static_cast<std::size_t>(q - 4)];
                     vid[static_cast<std::size_t>(q)] = num.cut_id[owner] + __builtin_popcount(marks.cut[owner] & ((1u << slot) - 1));
                 }
-                bool faces_edge = false;
+                unsigned missing = 0;  // bit v: no background tetrahedron across the face without v
                 if (near_edge)
-                    for (const bcc::Ivec& a : s.across) faces_edge = faces_edge || !in_lattice(L, bcc::add(m, a));
+                    for (int v = 0; v < 4; ++v) missing |= in_lattice(L, bcc::add(m, s.across[static_cast<std::size_t>(v)])) ? 0u : 1u << v;
                 for (int k = 0; k < p->stencil.count; ++k, ++t) {
                     const bcc::OutTet& o = p->stencil.tet[static_cast<std::size_t>(k)];
                     out.tets[static_cast<std::size_t>(t)] = {vid[o[0]], vid[o[1]], vid[o[2]], vid[o[3]]};
                     if (keys) out.tet_key[static_cast<std::size_t>(t)] = cube_key + static_cast<std::uint64_t>(index * 4 + k);
-                    if (faces_edge) edge[static_cast<std::size_t>(l)].push_back(t);
+                    if (missing) {
+                        unsigned faces = 0;
+                        for (int f = 0; f < 4; ++f)
+                            if (p->face_on[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)] & missing) faces |= 1u << f;
+                        if (faces) edge[static_cast<std::size_t>(l)].push_back({t, static_cast<std::uint8_t>(faces)});
+                    }
                     if (all_zero) zero[static_cast<std::size_t>(l)].push_back(t);
                 }
             }
         });
     }
-    for (const auto& e : edge) out.edge_tets.insert(out.edge_tets.end(), e.begin(), e.end());
+    for (const auto& e : edge) out.cut_off.insert(out.cut_off.end(), e.begin(), e.end());
     for (const auto& e : zero) out.all_zero.insert(out.all_zero.end(), e.begin(), e.end());
     out.uncovered_keys = uncovered;
 }
@@ -277,7 +283,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
 Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
     const Layout lay(w, f);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
-    Marks marks{std::vector<std::uint8_t>(n, 0), std::vector<std::uint8_t>(n, 0)};
+    Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);
     const std::int64_t tet_count = start.back();
     if (tet_count >= INT32_MAX)

@@ -73,7 +73,7 @@ inline bool in_lattice(const Lattice3& L, const bcc::Ivec& q) {
 // The per-point data of a window through the stages.
 struct Window {
     Grid grid;
-    Buffer<double> value;        // f (signs3)
+    Buffer<double> value;        // f (signs3; freed after cut_points3)
     Buffer<std::int8_t> sign;    // sign of f; after warp3, the post-warp sign
     Buffer<std::uint8_t> warp;   // after warp3: the warp direction, or bcc::stay
     Buffer<std::uint8_t> cut_mask;   // slots of the forward edges cut before warping
@@ -109,7 +109,14 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked);
 struct Plan {
     bcc::Stencil stencil;
     std::uint16_t uses = 0;
+    // face_on[k][f]: the background faces (bit v: the face without local
+    // vertex v) that contain face f (the face without vertex f) of output
+    // tetrahedron k.
+    std::array<std::array<std::uint8_t, 4>, 3> face_on{};
 };
+// The faces of the lattice's cut-off: (tetrahedron, bit f set for each of its
+// faces f lying on a background face with no background tetrahedron behind).
+using CutOff = std::pair<std::int64_t, std::uint8_t>;
 // code = sum (sign_i + 1) 3^i over the local vertices.
 const Plan& plan(int code, int parity, bool all_zero_inside);
 
@@ -130,7 +137,7 @@ const std::array<TetShape, 12>& tet_shapes();
 struct Emitted {
     Buffer<std::array<std::int32_t, 4>> tets;   // window-compact vertex ids
     std::vector<std::uint64_t> tet_key;          // blocks only
-    std::vector<std::int64_t> edge_tets;         // tets that may face the lattice's cut-off
+    std::vector<CutOff> cut_off;                 // faces on the lattice's cut-off
     Buffer<Point3> vertices;
     std::vector<std::uint8_t> on_level_set;
     std::vector<std::uint64_t> vertex_key;       // blocks only
@@ -154,11 +161,11 @@ bool certificate_applies(const bcc::Alphas& alphas);
 bool key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign, const std::array<int, 4>& warp,
                    std::string* code = nullptr);
 
-// The boundary faces of a mesh whose level-set vertices are flagged, found by
-// matching the candidate faces (all three vertices on the level set, or a
-// face of a tetrahedron in edge_tets); throws std::logic_error for a face in
-// three tetrahedra.
-void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const std::int64_t> edge_tets);
+// The boundary faces of a mesh whose level-set vertices are flagged: the
+// faces on the lattice's cut-off, and the unmatched ones of the candidate
+// faces with all three vertices on the level set; throws std::logic_error
+// for a face in three tetrahedra.
+void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const CutOff> cut_off);
 
 // The report's certification, verification (throws std::logic_error for a
 // certified tetrahedron outside the claim), quality and resolution fields
