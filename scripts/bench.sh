@@ -134,7 +134,7 @@ assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"en
 (np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
 PY
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
-  echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall and user CPU seconds of the meshing"
+  echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); CPU s: user CPU of the whole process"
   printf "%-38s %10s %9s %9s %9s %9s %8s\n" mesher tetrahedra "wall s" "CPU s" "min dih" "max dih" "peak MB"
   for s in ${WARPMESH_BENCH_SPACINGS:-3 2}; do
     /usr/bin/time -f "%e %U %M" -o "$tmp/t" "$exe" mesh3d "$nrrd" --label nonzero --spacing "$s" --threads 1 \
