@@ -50,6 +50,23 @@ void def_view(py::class_<Result>& cls, const char* name, std::size_t cols, Get g
     });
 }
 
+// Result.write(path, ascii, compress, xdmf_inline): the mesh through the
+// writers, starting from base(result)'s options; the GIL released.
+template <class Result, class Base>
+void def_write(py::class_<Result>& cls, Base base) {
+    cls.def(
+        "write",
+        [base](const Result& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
+            WriteOptions wo = base(r);
+            wo.ascii = ascii;
+            if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
+            wo.xdmf.hdf5 = !xdmf_inline;
+            py::gil_scoped_release release;
+            write_mesh(r.mesh, path, wo);
+        },
+        py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
+}
+
 // The cell data arrays of a mesh as {name: view}.
 template <class Result>
 py::dict cell_data_views(py::object self, const Result& r) {
@@ -149,18 +166,8 @@ void bind_result(py::module_& m) {
         .def_property_readonly("spacing", [](const MeshResult& r) { return r.spacing; })
         .def_property_readonly("refinements", [](const MeshResult& r) { return r.refinements; })
         .def("to_json", [](const MeshResult& r) { return to_json(r); })
-        .def("to_text", [](const MeshResult& r) { return to_text(r); })
-        .def(
-            "write",
-            [](const MeshResult& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
-                WriteOptions wo = write_options(r);
-                wo.ascii = ascii;
-                if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
-                wo.xdmf.hdf5 = !xdmf_inline;
-                py::gil_scoped_release release;
-                write_mesh(r.mesh, path, wo);
-            },
-            py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
+        .def("to_text", [](const MeshResult& r) { return to_text(r); });
+    def_write(result, [](const MeshResult& r) { return write_options(r); });
 }
 
 // mesh_image, mesh_shape, mesh_materials: the warpmesh.mesh*() of
@@ -323,18 +330,8 @@ void bind_mesh3d(py::module_& m) {
     result.def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const Mesh3dResult&>()); })
         .def_property_readonly("warnings", [](const Mesh3dResult& r) { return r.report.warnings; })
         .def("to_json", [](const Mesh3dResult& r) { return to_json(r.report); })
-        .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); })
-        .def(
-            "write",
-            [](const Mesh3dResult& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
-                WriteOptions wo;
-                wo.ascii = ascii;
-                if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
-                wo.xdmf.hdf5 = !xdmf_inline;
-                py::gil_scoped_release release;
-                write_mesh(r.mesh, path, wo);
-            },
-            py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
+        .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); });
+    def_write(result, [](const Mesh3dResult&) { return WriteOptions{}; });
 
     // The mesher on f with options (spacing, verify, max_memory), the GIL released.
     auto run3d = [](const LevelSet3& f, const py::dict& kw, std::optional<int> threads) {
