@@ -100,6 +100,16 @@ BOOST_AUTO_TEST_CASE(shapes_conform_and_stay_within_the_certified_bounds) {
     }
 }
 
+BOOST_AUTO_TEST_CASE(lattice_points_exactly_on_the_level_set) {
+    // The box's faces lie on lattice planes at this spacing (the lattice is
+    // centred on the box): many points have f = 0 exactly and never move
+    // (warp state `stay`, keys with 0s), and edges and corners give zero
+    // vertices on three planes.
+    const auto f = parse_shape3("box:-1,-1,-1,1,1,1");
+    const Mesh3dReport r = mesh_checked(*f, 0.25);
+    BOOST_TEST(std::abs(r.volume - 8) < 1e-9, "volume " << r.volume);
+}
+
 BOOST_AUTO_TEST_CASE(random_quadrics_and_rbfs_conform_and_verify) {
     std::mt19937 rng(20261203);
     std::int64_t tets = 0, warped = 0;
@@ -196,6 +206,10 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     BOOST_TEST(std::abs(c.x / n - (10 - 9.5 * 1.25)) < 0.3);
     BOOST_TEST(std::abs(c.y / n - (-5 + 11.5)) < 0.3);
     BOOST_TEST(std::abs(c.z / n - (3 + 7.5 * 1.5)) < 0.3);
+    // Label 5 fills the two lowest voxel layers, up to the volume's edge: the
+    // region is closed at the voxel centres' hull, by level-set faces.
+    lo.mode.labels = {5};
+    mesh_checked(*make_volume_levelset3(v, lo), 0.6);
     lo.mode.labels = {9};
     BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "the region is empty"));
     // Grey mode: the same ball as values 0..100, inside above 50.

@@ -9,7 +9,7 @@
 // dihedral extremes and certification counts.
 //
 //   warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V]
-//                    --spacing S [--threads N] [--max-memory MB] [--quality] [--verify]
+//                    --spacing S [--threads N] [--max-memory MB] [--quality] [--verify] [--check]
 #include <sys/resource.h>
 
 #include <cstdio>
@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
     std::optional<double> iso;
     Mesh3dOptions o;
     o.quality = false;
+    bool check = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -63,8 +64,9 @@ int main(int argc, char** argv) {
         else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
         else if (a == "--quality") o.quality = true;
         else if (a == "--verify") o.verify = true;
+        else if (a == "--check") check = true;
         else {
-            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--threads N] [--max-memory MB] [--quality] [--verify]\n";
+            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--threads N] [--max-memory MB] [--quality] [--verify] [--check]\n";
             return 2;
         }
     }
@@ -94,7 +96,10 @@ int main(int argc, char** argv) {
         std::printf("tets=%lld vertices=%lld seconds=%.3f tets_per_second=%.0f cpu_seconds=%.3f tets_per_cpu_second=%.0f peak_bytes_per_tet=%.1f",
                     static_cast<long long>(r.tets), static_cast<long long>(r.vertices), r.seconds, static_cast<double>(r.tets) / r.seconds, cpu,
                     static_cast<double>(r.tets) / cpu, peak / static_cast<double>(r.tets));
-        if (o.quality) std::printf(" min_dihedral=%.3f max_dihedral=%.3f radius_ratio_min=%.4f", r.min_dihedral_deg, r.max_dihedral_deg, r.radius_ratio_min);
+        if (o.quality)
+            std::printf(" min_dihedral=%.3f max_dihedral=%.3f radius_ratio_min=%.4f boundary_vertex_f_max=%.3g boundary_centroid_f_max=%.3g",
+                        r.min_dihedral_deg, r.max_dihedral_deg, r.radius_ratio_min, r.boundary_vertex_f_max, r.boundary_centroid_f_max);
+        if (check) std::printf(" check_ok=%d", check_tet_mesh(m).ok ? 1 : 0);
         std::printf(" certified=%lld uncertified=%lld verified=%d boundary_faces=%lld\n", static_cast<long long>(r.certified_tets),
                     static_cast<long long>(r.uncertified_tets), r.verified ? 1 : 0, static_cast<long long>(r.boundary_faces));
         for (const auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -132,9 +132,10 @@ std::unique_ptr<LevelSet3> parse_shape3(const std::string& spec);
 //              is clamped to ±band × the largest spacing: the sign is all the
 //              mesher needs there), on the region's bounding box plus that
 //              band, as 4-byte floats.
-// Beyond the volume's extent the region does not continue (f is continued
-// by its value at the nearest voxel, clamped to be at least the distance
-// out).  Memory: refused (InputError naming --max-memory) before anything is
+// The region is cut off at the hull of the voxel centres (f = max(the
+// interpolant at the nearest point of the hull, the box distance to the hull
+// in f's units): continuous, and a region reaching the volume's edge is
+// closed there by boundary faces on the level set).  Memory: refused (InputError naming --max-memory) before anything is
 // allocated when the field would take the resident memory above max_memory.
 // Throws InputError for label mode on non-integer values, labels absent from
 // the volume (an empty region), a volume less than 2 voxels along an axis.

@@ -5,10 +5,13 @@
 // Geometry (volume.hpp).  Voxel (i, j, k) sits at origin + i s0 a0 + j s1 a1
 // + k s2 a2 with axis-aligned unit a_n (a signed permutation), so a point X
 // has the index coordinate t_n = ((X − origin)·a_n) / s_n along index axis n.
-// The level set is defined on the hull of the voxel centres, t_n in [0,
-// dims_n − 1]; outside it f is a positive constant (the region stops there:
-// the cut points on lattice edges that leave the hull converge to the hull's
-// face).
+// The region is cut off at the hull of the voxel centres, t_n in [0,
+// dims_n − 1]: f = max(F, K b), F the interpolant at the point clamped to the
+// hull, b = max_n (|t_n − m_n| − r_n) s_n the box distance to the hull (m, r its
+// centre and half-width in index units, s_n the spacing; < 0 inside) and K
+// the units of F per millimetre (1 in label mode).  So f is continuous, a
+// region reaching the volume's edge is closed by the hull's face, and the cut
+// points there are zeros of f like any other.
 //
 // Label mode.  With m = 1 on the region's voxels, the exact Euclidean
 // distance transform (Felzenszwalb and Huttenlocher's lower envelope of
@@ -98,9 +101,11 @@ public:
     // region_lo, region_hi: the voxels whose value is <= 0 lie in this index box.
     VolumeLevelSet3(const Volume& v, Buffer<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
                     std::array<std::int64_t, 3> region_lo, std::array<std::int64_t, 3> region_hi, float far, double feature,
-                    std::string name)
+                    double per_mm, std::string name)
         : values_(std::move(values)), lo_(lo), n_(n), dims_(v.dims), far_(far), feature_(feature), name_(std::move(name)) {
         resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
+        spacing_ = {v.spacing[0], v.spacing[1], v.spacing[2]};
+        per_mm_ = per_mm;
         for (std::size_t a = 0; a < 3; ++a) {
             const Vec3 ax = *axis_aligned(v.axes[a]);
             for (std::size_t p = 0; p < 3; ++p)
@@ -119,9 +124,13 @@ public:
     double value(double x, double y, double z) const override {
         const double X[3] = {x, y, z};
         std::array<double, 3> t{};
+        double box = -std::numeric_limits<double>::infinity();
         for (std::size_t a = 0; a < 3; ++a) {
             t[a] = (X[perm_[a]] - origin_[a]) * scale_[a];
-            if (!(t[a] >= 0 && t[a] <= static_cast<double>(dims_[a] - 1))) return far_;
+            if (!(t[a] == t[a])) return far_;  // a NaN coordinate
+            const double half = 0.5 * static_cast<double>(dims_[a] - 1);
+            box = std::max(box, (std::abs(t[a] - half) - half) * spacing_[a]);
+            t[a] = std::clamp(t[a], 0.0, static_cast<double>(dims_[a] - 1));
         }
         std::array<std::int64_t, 3> i{};
         std::array<double, 3> u{};
@@ -129,6 +138,18 @@ public:
             i[a] = std::min<std::int64_t>(static_cast<std::int64_t>(t[a]), dims_[a] - 2);
             u[a] = t[a] - static_cast<double>(i[a]);
         }
+        return std::max(interpolate(i, u), per_mm_ * box);
+    }
+    Box3 bounds() const override {
+        return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]};
+    }
+    double feature_size() const override { return feature_; }
+    double resolution() const override { return resolution_; }
+    std::string describe() const override { return name_; }
+
+private:
+    // The trilinear interpolant in voxel cell i at fractions u.
+    double interpolate(const std::array<std::int64_t, 3>& i, const std::array<double, 3>& u) const {
         // The 8 voxels i .. i + 1: straight from the stored box when they are
         // all in it (the common case), else voxel by voxel (far_ outside it).
         std::array<std::int64_t, 3> r{};
@@ -150,12 +171,6 @@ public:
         const double y0 = x0 + u[1] * (x1 - x0), y1 = x2 + u[1] * (x3 - x2);
         return y0 + u[2] * (y1 - y0);
     }
-    Box3 bounds() const override { return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]}; }
-    double feature_size() const override { return feature_; }
-    double resolution() const override { return resolution_; }
-    std::string describe() const override { return name_; }
-
-private:
     double at(const std::array<std::int64_t, 3>& j) const {
         std::int64_t k = 0;
         for (int a = 2; a >= 0; --a) {
@@ -168,7 +183,8 @@ private:
     Buffer<float> values_;
     std::array<std::int64_t, 3> lo_, n_, dims_;
     float far_;
-    double feature_, resolution_ = 0;
+    double feature_, resolution_ = 0, per_mm_ = 1;
+    std::array<double, 3> spacing_{1, 1, 1};
     std::string name_;
     std::array<int, 3> perm_{0, 1, 2};
     std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};
@@ -232,7 +248,7 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
         in[at] = static_cast<float>(std::clamp(d, -cap, cap));
     }
     Buffer<float>().swap(out);
-    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature,
+    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
                                              v.source + " (label " + labels_text(m) + ")");
 }
 
@@ -258,7 +274,7 @@ std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevel
     std::ostringstream name;
     name << v.source << " (iso " << iso << (o.mode.inside_above ? ", inside above)" : ", inside below)");
     const float far = static_cast<float>(std::max(1.0, std::abs(*mx - *mn)));
-    return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, lo, hi, far, 0.0, name.str());
+    return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, lo, hi, far, 0.0, far / std::min({v.spacing[0], v.spacing[1], v.spacing[2]}), name.str());
 }
 
 }  // namespace
