@@ -3,10 +3,13 @@
 // Python module's report dict): the same module and the same conventions as
 // the 2D report (report.cpp: json_number's shortest round-trip numbers, null
 // when not finite).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "warpmesh/mesh3d.hpp"
 #include "warpmesh/report.hpp"
