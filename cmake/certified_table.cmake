@@ -5,7 +5,9 @@
 # junction keys), proofs/fan.cert and proofs/materials_fan.cert (the fan
 # rule's junction keys) as string constants
 # (warpmesh::generated::certified_<name>_keys), which mesher/src/certified.cpp
-# parses into the per-key angle tables.  Regenerated whenever a certificate changes
+# parses into the per-key angle tables; and the `alphas` and `claim` lines of
+# proofs/bcc.cert and its keys' codes (certified_bcc_claim, certified_bcc_keys:
+# mesher/src/certify/bcc_claim.cpp).  Regenerated whenever a certificate changes
 # (CMAKE_CONFIGURE_DEPENDS).  A missing certificate gives an empty table: the
 # mesher then reports "certified": null.  Used by the main build and by the
 # fuzz build (tests/fuzz), so that both compile the same table.
@@ -23,6 +25,25 @@ function(warpmesh_certified_table out root)
     endif()
     string(APPEND cpp "extern const std::string_view certified_${rule}_keys;\nconst std::string_view certified_${rule}_keys = R\"WMCERT(${text})WMCERT\";\n")
   endforeach()
+  # The 3D certificate (mesher/src/certify/bcc_claim.cpp): its alphas and
+  # global claim, and its keys' codes (the first field of each `key` line),
+  # one a line.
+  set(cert ${root}/proofs/bcc.cert)
+  set(claim "")
+  set(codes "")
+  if(EXISTS ${cert})
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${cert})
+    file(STRINGS ${cert} lines REGEX "^(alphas|claim|key) ")
+    foreach(line ${lines})
+      if(line MATCHES "^key ([^ ]+)")
+        string(APPEND codes "${CMAKE_MATCH_1}\n")
+      else()
+        string(APPEND claim "${line}\n")
+      endif()
+    endforeach()
+  endif()
+  string(APPEND cpp "extern const std::string_view certified_bcc_claim;\nconst std::string_view certified_bcc_claim = R\"WMCERT(${claim})WMCERT\";\n")
+  string(APPEND cpp "extern const std::string_view certified_bcc_keys;\nconst std::string_view certified_bcc_keys = R\"WMCERT(${codes})WMCERT\";\n")
   string(APPEND cpp "}  // namespace warpmesh::generated\n")
   file(CONFIGURE OUTPUT ${out} CONTENT "${cpp}" @ONLY)
 endfunction()

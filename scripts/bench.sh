@@ -11,9 +11,18 @@
 #   scripts/bench.sh            all cases: uniform, graded, the fan rule against
 #                               the separating rule, cost of certification
 #   scripts/bench.sh --quick    the atlas slice only (with each rule)
+#   scripts/bench.sh --3d       the 3D mesher (issue 30): a sphere and the SPL brain
+#                               atlas through warpmesh-bench3d (library only, no
+#                               file); the fastest of three runs each
 #   scripts/bench.sh --writers  end to end with file output (issue 32's targets):
 #                               whole-process wall time and peak RSS from
 #                               /usr/bin/time -v against the meshing time, per format
+#   scripts/bench.sh --cgal3d   warpmesh mesh3d against CGAL Mesh_3 on the SPL brain
+#                               atlas (--label nonzero), one thread each, in one run:
+#                               tetrahedra, time, min/max dihedral angle; installs
+#                               libcgal-dev (benchmark-only) and builds
+#                               bench/peers/cgal_mesh3.cpp.  The atlas NRRD is
+#                               WARPMESH_BRAIN_NRRD or /work/shared/data/*/orig/hncma-atlas.nrrd
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
@@ -101,6 +110,80 @@ if [ "${1:-}" = "--writers" ]; then
   write_case "disc 4096², ASCII .node/.ele" 2 d.node "${disc[@]}"
   write_case "brain slice ¼ px, every label, binary .vtu" 1 b.vtu "$brain" --materials all --spacing 0.25
   write_case "brain slice ¼ px, every label, binary .vtu" 2 b.vtu "$brain" --materials all --spacing 0.25
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--cgal3d" ]; then
+  # CGAL is benchmark-only: installed here, never by setup.sh.
+  if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
+  fi
+  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
+  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
+  # The region warpmesh meshes with --label nonzero, as bytes for CGAL's Image_3
+  # (the NRRD is gzip'd shorts, x fastest, 1 mm voxels).
+  /usr/bin/python3 - "$nrrd" "$tmp/brain.raw" <<'PY'
+import gzip, sys, numpy as np
+raw = open(sys.argv[1], "rb").read()
+at = raw.index(b"\n\n")
+assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
+(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
+PY
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); CPU s: user CPU of the whole process"
+  printf "%-38s %10s %9s %9s %9s %9s %8s\n" mesher tetrahedra "wall s" "CPU s" "min dih" "max dih" "peak MB"
+  for s in ${WARPMESH_BENCH_SPACINGS:-3 2}; do
+    /usr/bin/time -f "%e %U %M" -o "$tmp/t" "$exe" mesh3d "$nrrd" --label nonzero --spacing "$s" --threads 1 \
+      --report "$tmp/w.json" --quiet 2>/dev/null
+    read -r _ user rss < "$tmp/t"
+    printf "%-38s %10s %9.2f %9.2f %9.3f %9.3f %8d\n" "warpmesh mesh3d, spacing $s" "$(field tetrahedra "$tmp/w.json")" \
+      "$(field seconds "$tmp/w.json")" "$user" "$(field min_dihedral_deg "$tmp/w.json")" \
+      "$(field max_dihedral_deg "$tmp/w.json")" $((rss / 1024))
+  done
+  echo "  (warpmesh certified: every tetrahedron of a certified key in [9.3, 161.7] deg, proofs/bcc.cert)"
+  for h in ${WARPMESH_BENCH_CGAL_SIZES:-2}; do
+    /usr/bin/time -f "%e %U %M" -o "$tmp/t" "$tmp/cgal_mesh3" "$tmp/brain.raw" 256 256 256 1 1 1 "$h" > "$tmp/c.json"
+    read -r _ user rss < "$tmp/t"
+    /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1])); print('%-38s %10d %9.2f %9.2f %9.3f %9.3f %8d' % ('CGAL Mesh_3, facet/cell size ' + sys.argv[2], c['tetrahedra'], c['seconds'], float(sys.argv[3]), c['min_dihedral_deg'], c['max_dihedral_deg'], int(sys.argv[4]) // 1024))" \
+      "$tmp/c.json" "$h" "$user" "$rss"
+  done
+  echo "  (CGAL: wall s = make_mesh_3 only; CPU s = the whole process, reading and the image domain included)"
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--3d" ]; then
+  # warpmesh-bench3d prints key=value figures; CPU seconds (user + system of
+  # the mesh3d call, all threads) are the comparable figure on a shared VM.
+  bench3d="${WARPMESH_BUILD_DIR:-$root/build}/mesher/warpmesh-bench3d"
+  atlas="${WARPMESH_SPL_BRAIN:-/work/shared/data/spl_brain/orig/hncma-atlas.nrrd}"
+  kv() { tr ' ' '\n' <<<"$2" | sed -n "s/^$1=//p"; }
+  case3d() {  # name threads args...
+    local name="$1" threads="$2" best="" line out
+    shift 2
+    for _ in 1 2 3; do
+      out=$("$bench3d" "$@" --threads "$threads" 2>/dev/null)
+      if [ -z "$best" ] || awk -v a="$(kv cpu_seconds "$out")" -v b="$(kv cpu_seconds "$best")" 'BEGIN { exit !(a < b) }'; then best="$out"; fi
+    done
+    line="| $name | $threads | $(kv tets "$best") | $(kv seconds "$best") | $(kv cpu_seconds "$best") | $(kv tets_per_cpu_second "$best") | $(kv peak_bytes_per_tet "$best") |"
+    echo "$line"
+  }
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "| case | threads | tetrahedra | wall s | CPU s | tets / CPU s | peak bytes / tet |"
+  echo "|---|---:|---:|---:|---:|---:|---:|"
+  case3d "sphere r = 1, s = 0.02 (104³ cubes)" 1 --shape sphere:0,0,0,1 --spacing 0.02
+  case3d "sphere r = 1, s = 0.02 (104³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.02
+  case3d "sphere r = 1, s = 0.0078 (260³ cubes)" 2 --shape sphere:0,0,0,1 --spacing 0.0078125 --max-memory 8192
+  if [ -f "$atlas" ]; then
+    case3d "SPL brain atlas, --label nonzero, s = 1 mm" 1 --volume "$atlas" --label nonzero --spacing 1
+    case3d "SPL brain atlas, --label nonzero, s = 1 mm" 2 --volume "$atlas" --label nonzero --spacing 1
+  else
+    echo "(no SPL brain atlas at $atlas: set WARPMESH_SPL_BRAIN)"
+  fi
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
   exit 0
 fi

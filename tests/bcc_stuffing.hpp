@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "warpmesh/generic_bcc.hpp"
+#include "warpmesh/generic_bcc_keys.hpp"
 
 namespace warpmesh::testing {
 
@@ -32,29 +33,6 @@ struct Stuffed {
     std::vector<std::array<int, 4>> tets;
     std::vector<StuffedTet> background;
 };
-
-// The linear part L of the lattice isometry taking the reference tetrahedron
-// to `p` vertex for vertex: columns L e_k (integers, a signed permutation).
-inline std::array<bcc::Ivec, 3> local_frame(const std::array<bcc::Ivec, 4>& p) {
-    const bcc::Ivec a = bcc::sub(p[1], p[0]);              // L (2,0,0)
-    const bcc::Ivec b = bcc::sub(p[2], p[0]);              // L (1,1,-1)
-    const bcc::Ivec c = bcc::sub(p[3], p[0]);              // L (1,1,1)
-    std::array<bcc::Ivec, 3> col{};
-    for (int k = 0; k < 3; ++k) {
-        col[0][static_cast<std::size_t>(k)] = a[static_cast<std::size_t>(k)] / 2;
-        col[1][static_cast<std::size_t>(k)] = (b[static_cast<std::size_t>(k)] + c[static_cast<std::size_t>(k)] - a[static_cast<std::size_t>(k)]) / 2;
-        col[2][static_cast<std::size_t>(k)] = (c[static_cast<std::size_t>(k)] - b[static_cast<std::size_t>(k)]) / 2;
-    }
-    return col;
-}
-
-inline bcc::Ivec apply(const std::array<bcc::Ivec, 3>& col, const bcc::Ivec& v) {
-    bcc::Ivec r{};
-    for (int k = 0; k < 3; ++k)
-        r[static_cast<std::size_t>(k)] = col[0][static_cast<std::size_t>(k)] * v[0] + col[1][static_cast<std::size_t>(k)] * v[1] +
-                                         col[2][static_cast<std::size_t>(k)] * v[2];
-    return r;
-}
 
 // Meshes {f <= 0} on the block [0, n s]³ (lattice points of doubled
 // coordinates 0..2n) with violation thresholds `al`.  Cut points by linear
@@ -144,20 +122,16 @@ inline Stuffed stuff(const std::function<double(double, double, double)>& f, int
                     for (const auto& q : p) ok = ok && inside(q);
                     if (!ok) continue;  // the low faces' far centres lie outside the block
                     StuffedTet bt;
-                    bt.config.parity = bcc::tet_parity(p);
-                    const auto col = local_frame(p);
                     std::array<double, 3> centroid{};
+                    std::array<int, 4> vsign{}, vwarp{};
                     for (int i = 0; i < 4; ++i) {
                         const auto g = static_cast<std::size_t>(idx(p[static_cast<std::size_t>(i)]));
-                        bt.config.sign[static_cast<std::size_t>(i)] = sign[g];
+                        vsign[static_cast<std::size_t>(i)] = sign[g];
+                        vwarp[static_cast<std::size_t>(i)] = warp[g];
                         for (int k = 0; k < 3; ++k) centroid[static_cast<std::size_t>(k)] += pos[g][static_cast<std::size_t>(k)] / 4;
-                        if (warp[g] != bcc::stay) {
-                            for (int w = 0; w < bcc::direction_count; ++w)
-                                if (apply(col, bcc::neighbour_offsets[static_cast<std::size_t>(w)]) == bcc::neighbour_offsets[static_cast<std::size_t>(warp[g])])
-                                    bt.config.warp[static_cast<std::size_t>(i)] = w;
-                            bt.t[static_cast<std::size_t>(i)] = wfrac[g];
-                        }
+                        if (warp[g] != bcc::stay) bt.t[static_cast<std::size_t>(i)] = wfrac[g];
                     }
+                    bt.config = bcc::local_config(p, vsign, vwarp);
                     for (int e = 0; e < 6; ++e) {
                         const auto& ed = bcc::tet_edges[static_cast<std::size_t>(e)];
                         const auto& a = p[static_cast<std::size_t>(ed[0])];

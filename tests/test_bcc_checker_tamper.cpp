@@ -2,8 +2,7 @@
 // proofs/bcc.cert, one test per line kind: header, alphas, claim, key count,
 // key code, root box, split string, and garbage.  Each edit makes the check
 // fail at or before the key it touches (the first keys), so the tests are
-// fast; the untampered certificate is checked whole by the CTest
-// check_bcc_cert.
+// fast; the untampered certificate is checked whole by scripts/test.sh.
 #define BOOST_TEST_MODULE bcc_checker_tamper
 #include <boost/test/unit_test.hpp>
 

@@ -36,7 +36,7 @@ std::vector<double> angles(const bcc::Config& c, const std::array<double, 4>& t,
 
 BOOST_AUTO_TEST_CASE(symmetries_are_lattice_isometries_of_the_reference_tet) {
     std::set<std::array<int, 4>> perms;
-    for (const bp::Symmetry& s : bp::symmetries()) {
+    for (const bp::Symmetry& s : bcc::symmetries) {
         perms.insert(s.perm);
         for (int i = 0; i < 4; ++i) {
             const bcc::Ivec d = bcc::sub(bcc::reference_tet[static_cast<std::size_t>(i)], bcc::reference_tet[0]);
@@ -75,16 +75,11 @@ BOOST_AUTO_TEST_CASE(a_key_and_its_images_have_the_same_output_geometry) {
         for (double& x : t) x = U(rng);
         for (double& x : u) x = 0.5 + U(rng) - 0.25;
         const auto ref = angles(c, t, u);
-        for (const bp::Symmetry& s : bp::symmetries()) {
+        for (const bp::Symmetry& s : bcc::symmetries) {
             const bcc::Config d = bp::transform(c, s);
             std::array<double, 4> t2{};
             std::array<double, 6> u2{};
-            for (int i = 0; i < 4; ++i) t2[static_cast<std::size_t>(s.perm[static_cast<std::size_t>(i)])] = t[static_cast<std::size_t>(i)];
-            for (int e = 0; e < 6; ++e) {
-                const int a = s.perm[static_cast<std::size_t>(bcc::tet_edges[static_cast<std::size_t>(e)][0])];
-                const int b = s.perm[static_cast<std::size_t>(bcc::tet_edges[static_cast<std::size_t>(e)][1])];
-                u2[static_cast<std::size_t>(bcc::edge_index(a, b))] = a < b ? u[static_cast<std::size_t>(e)] : 1 - u[static_cast<std::size_t>(e)];
-            }
+            bcc::transform_params(s, t, u, t2, u2);
             BOOST_TEST(bp::consistent(d));
             const auto img = angles(d, t2, u2);
             BOOST_REQUIRE(img.size() == ref.size());

@@ -878,6 +878,66 @@ BOOST_AUTO_TEST_CASE(inconsistent_mesh_is_an_error) {
     BOOST_TEST(dir.entries().empty());
 }
 
+// ---- tetrahedra (issue 30) -------------------------------------------------------
+// The round trips through meshio, gmsh, dolfinx, VTK and CalculiX are in
+// tests/python/test_tet_formats.py; here the dispatcher and the errors.
+
+BOOST_AUTO_TEST_CASE(tet_mesh_refuses_2d_formats_by_name) {
+    const TetMesh m = testing::cube_tet_mesh(2, 1, 1);
+    TempDir dir;
+    for (const std::string name : {"t.node", "t.ele", "t.svg", "t.png"}) {
+        try {
+            write_mesh(m, dir.file(name));
+            BOOST_FAIL("expected OutputError for " + name);
+        } catch (const OutputError& e) {
+            BOOST_TEST(std::string(e.what()).find("2D format") != std::string::npos, e.what());
+            BOOST_TEST(std::string(e.what()).find(".vtu, .msh, .xdmf, .inp or .mesh") != std::string::npos, e.what());
+        }
+        BOOST_CHECK_THROW(check_output_path_3d(dir.file(name)), OutputError);
+    }
+    BOOST_CHECK_THROW(write_mesh(m, dir.file("t.obj")), OutputError);
+    BOOST_TEST(dir.entries().empty());
+    for (const std::string name : {"t.vtu", "t.msh", "t.inp", "t.mesh", "T.MESH"}) BOOST_CHECK_NO_THROW(write_mesh(m, dir.file(name)));
+}
+
+BOOST_AUTO_TEST_CASE(inconsistent_tet_mesh_is_an_error_and_writes_nothing) {
+    TempDir dir;
+    TetMesh m = testing::cube_tet_mesh(2, 1, 1);
+    m.region.pop_back();
+    BOOST_CHECK_THROW(write_mesh(m, dir.file("bad.msh")), OutputError);
+    m = testing::cube_tet_mesh(2, 1, 1);
+    m.tets[3][1] = 1000;
+    BOOST_CHECK_THROW(write_mesh(m, dir.file("bad.vtu")), OutputError);
+    m = testing::cube_tet_mesh(2, 1, 1);
+    m.boundary_tag.pop_back();
+    BOOST_CHECK_THROW(write_mesh(m, dir.file("bad.mesh")), OutputError);
+    m = testing::cube_tet_mesh(2, 1, 1);
+    m.interface_regions.pop_back();
+    BOOST_CHECK_THROW(write_mesh(m, dir.file("bad.xdmf")), OutputError);
+    // A boundary triangle turned inwards is no outward face of a tetrahedron:
+    // the .inp surface cannot name it.
+    m = testing::cube_tet_mesh(2, 1, 1);
+    std::swap(m.boundary[0][1], m.boundary[0][2]);
+    try {
+        write_mesh(m, dir.file("bad.inp"));
+        BOOST_FAIL("expected OutputError");
+    } catch (const OutputError& e) {
+        BOOST_TEST(std::string(e.what()).find("not an outward face of a tetrahedron") != std::string::npos, e.what());
+    }
+    BOOST_TEST(dir.entries().empty());
+}
+
+BOOST_AUTO_TEST_CASE(medit_file_of_a_triangle_mesh) {
+    // 2D meshes go to .mesh too: Dimension 2, Triangles, Edges.
+    TempDir dir;
+    write_mesh(two_region_mesh(), dir.file("two.mesh"));
+    const std::string text = slurp(dir.file("two.mesh"));
+    BOOST_TEST(text.rfind("MeshVersionFormatted 2\nDimension 2\nVertices\n", 0) == 0);
+    BOOST_TEST(text.find("\nTriangles\n24\n") != std::string::npos);
+    BOOST_TEST(text.find("\nEdges\n") != std::string::npos);
+    BOOST_TEST(text.substr(text.size() - 4) == "End\n");
+}
+
 // ---- quality report ------------------------------------------------------------
 
 BOOST_AUTO_TEST_CASE(triangle_angles_and_radius_ratio) {

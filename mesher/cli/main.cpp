@@ -2,12 +2,14 @@
 //
 //   warpmesh mesh INPUT -o OUT [options]      mesh an image
 //   warpmesh mesh --shape SPEC -o OUT         mesh an analytic shape
+//   warpmesh mesh3d INPUT|--shape SPEC -o OUT tetrahedra of a volume or a 3D shape
 //   warpmesh prove [--out DIR] [--threads N]  run the angle prover
 //
 // Exit codes: 0 success, 1 bad input or output (a clear message, nothing
 // written under the requested name), 2 usage error, 3 internal error.
 #include <malloc.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <limits>
@@ -18,6 +20,7 @@
 #include <cstring>
 #include <chrono>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -49,6 +52,9 @@ usage:
   warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG, TIFF)
                                            or a slice of a volume (NRRD, NIfTI, TIFF)
   warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
+  warpmesh mesh3d INPUT|--shape SPEC -o OUT [opts]
+                                           tetrahedra of a volume (NRRD, NIfTI, TIFF) or
+                                           a 3D shape: see "3D" below
   warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
   warpmesh --help | --version
 
@@ -151,6 +157,23 @@ output:
   --threads N            OpenMP threads (default: all cores)
   --repeat N             (benchmarks) mesh N times in this process and report the
                          fastest run's phase times; the mesh is the same every time
+
+3D (warpmesh mesh3d): tetrahedra by BCC lattice warping, dihedral angles certified
+(proofs/bcc.cert).  The options of mesh, meaning the same:
+  INPUT                  a volume: --label L[,L...]|nonzero (label mode: signed distance
+                         between voxel centres) or --iso V [--inside above|below]
+                         (threshold mode, trilinear); --units mm|pixels, --pixel-size,
+                         --max-pixels, --max-memory as for slices
+  --shape SPEC           sphere:cx,cy,cz,r  ellipsoid:cx,cy,cz,a,b,c  torus:cx,cy,cz,R,r
+                         box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r
+                         union(S;S)  intersect(S;S)  diff(S;S)   (needs --spacing)
+  --spacing S            the BCC lattice's cube side (default: the smallest voxel size)
+  --verify / --no-verify check every certified tetrahedron against the certificate
+                         (default: off in 3D)
+  -o, --also             .vtu, .msh, .xdmf (+ _facets.xdmf), .inp (C3D4) or .mesh (medit);
+                         --ascii, --compress, --xdmf-inline, --msh-version, --msh-cell-data
+  --report FILE, --quiet, --threads N
+  Other options of mesh have no effect in 3D and are refused.
 )";
 
 struct UsageError : std::runtime_error {
@@ -361,7 +384,8 @@ void check_input_options(const CliOptions& o) {
     }
 }
 
-CliOptions parse_mesh_options(int argc, char** argv) {
+// The options of `mesh` and `mesh3d`, before the checks of combinations.
+CliOptions parse_arguments(int argc, char** argv) {
     CliOptions o;
     Args args{argc, argv};
     for (; args.i < argc; ++args.i) {
@@ -374,6 +398,11 @@ CliOptions parse_mesh_options(int argc, char** argv) {
     }
     if (o.outputs.empty() && o.report.empty() && o.quiet)
         throw UsageError("nothing to do: no -o, no --report and --quiet");
+    return o;
+}
+
+CliOptions parse_mesh_options(int argc, char** argv) {
+    CliOptions o = parse_arguments(argc, argv);
     check_input_options(o);
     check_mesher_options(o);
     return o;
@@ -560,6 +589,129 @@ int run_slices(const CliOptions& o) {
     return 0;
 }
 
+// ---- warpmesh mesh3d ------------------------------------------------------------------
+//
+// The 3D mesher (mesh3d.hpp) behind the same option names and parsing as
+// `mesh`.  Options of `mesh` that would have no effect in 3D are refused with
+// the reason, never ignored.
+
+// Why an option of `mesh` is refused by mesh3d (empty: it applies).
+std::string refused_in_3d(const std::string& option) {
+    static const std::set<std::string> applies = {
+        "--shape",   "--iso",       "--inside", "--label",  "--units",       "--pixel-size", "--max-pixels",
+        "--max-memory", "--spacing", "--verify", "--no-verify", "-o",        "--output",     "--also",
+        "--report",  "--quiet",     "--threads", "--ascii", "--compress",    "--xdmf-inline", "--msh-version",
+        "--msh-cell-data"};
+    if (applies.count(option)) return {};
+    if (option == "--materials" || option == "--shapes" || option == "--background" || option == "--max-size-of")
+        return "multi-material 3D meshes are not built yet (docs/3d.md); mesh one region with --label L,...";
+    if (option == "--graded" || option == "--max-cell" || option == "--max-size" || option == "--grading")
+        return "graded (octree) 3D meshes are not built yet (docs/3d.md); the size is the --spacing";
+    if (option == "--slice" || option == "--slices" || option == "--points-3d")
+        return "mesh3d meshes the whole volume in 3D; it applies to 2D meshes of slices (warpmesh mesh)";
+    if (option == "--diagonal" || option == "--guarantee" || option == "--min-spacing")
+        return "3D has one rule, the BCC stencils with the parity rule, certified as they are";
+    if (option == "--svg-color") return "pictures are 2D (.svg, .png); 3D meshes go to .vtu, .msh, .xdmf, .inp or .mesh";
+    if (option == "--no-certify") return "every 3D mesh is looked up in the certificate (it costs nothing)";
+    return "it is an option of the 2D mesher (warpmesh mesh)";
+}
+
+CliOptions parse_mesh3d_options(int argc, char** argv) {
+    CliOptions o = parse_arguments(argc, argv);
+    for (const auto& option : o.given)
+        if (const std::string why = refused_in_3d(option); !why.empty())
+            throw UsageError(option + " has no effect in 3D (warpmesh mesh3d): " + why);
+    if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input volume or --shape SPEC");
+    if (!o.shape.empty() && (o.iso || o.labels || o.has("--inside")))
+        throw UsageError("--iso, --inside and --label apply to volumes, not to --shape");
+    if (!o.shape.empty() && (o.has("--units") || !o.pixel_size.empty()))
+        throw UsageError("--units and --pixel-size apply to volumes, not to --shape");
+    if (!o.shape.empty() && !o.has("--spacing"))
+        throw UsageError("--shape needs --spacing S (the lattice's cube side, in the shape's units)");
+    if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
+    if (o.labels && o.has("--inside")) throw UsageError("--inside applies to threshold mode (--iso), not to --label");
+    if (o.has("--spacing") && !(o.mesh.spacing > 0)) throw UsageError("--spacing must be positive");
+    if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
+    return o;
+}
+
+// Stage lines on stderr ("warpmesh: meshing ... (12.3 s)"), only on a
+// terminal and for large inputs: a user waiting on a brain volume sees where
+// the time goes; pipes and small runs stay quiet.
+struct Progress {
+    bool terminal = false;  // stderr is a terminal and not --quiet
+    bool large = false;     // the input is large enough to be worth it
+    std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+    void stage(const std::string& what) const {
+        if (!terminal || !large) return;
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        char buf[32];
+        std::snprintf(buf, sizeof buf, " (%.1f s)", t);
+        std::cerr << "warpmesh: " << what << buf << std::endl;
+    }
+};
+
+// The level set of the input: the volume's (label or threshold mode, in mm
+// or voxels) or the shape's.
+std::unique_ptr<LevelSet3> level_set_3d(const CliOptions& o, double& default_spacing, Progress& progress) {
+    if (!o.shape.empty()) return parse_shape3(o.shape);
+    progress.stage("reading " + o.input);
+    Volume v = read_input(o);
+    const bool pixels = o.units_pixels || (!v.physical && o.pixel_size.empty());
+    if (o.units_pixels) {
+        v.spacing = {1, 1, 1}, v.origin = {0, 0, 0}, v.axes = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+        v.physical = false;
+    }
+    default_spacing = pixels ? 1.0 : std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
+    progress.large = progress.large || v.voxel_count() >= (std::int64_t{1} << 22);
+    VolumeLevelSet3Options lo;
+    lo.max_memory = o.mesh.max_memory;
+    if (o.labels) {
+        lo.mode = label_options(*o.labels);
+    } else {
+        lo.mode.iso = o.iso;
+        lo.mode.inside_above = o.inside_above;
+    }
+    progress.stage(std::string(o.labels ? "signed distance of the labels" : "threshold level set") + " of " +
+                   std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) +
+                   " voxels");
+    return make_volume_levelset3(v, lo);
+}
+
+int run_mesh3d(int argc, char** argv) {
+    const CliOptions o = parse_mesh3d_options(argc, argv);
+    for (const auto& out : o.outputs) check_output_path_3d(out);
+    if (!o.report.empty()) check_writable(o.report);
+    Progress progress;
+    progress.terminal = !o.quiet && ::isatty(STDERR_FILENO);
+    double spacing = 1;
+    const std::unique_ptr<LevelSet3> f = level_set_3d(o, spacing, progress);
+    Mesh3dOptions mo;
+    mo.spacing = o.has("--spacing") ? o.mesh.spacing : spacing;
+    mo.verify = o.has("--verify") && o.mesh.verify;
+    mo.max_memory = o.mesh.max_memory;
+    const Lattice3 lattice = lattice3_for(*f, mo.spacing);
+    progress.large = progress.large || lattice.point_count() >= (std::int64_t{1} << 24);
+    progress.stage("meshing a BCC lattice of " + std::to_string(lattice.point_count()) + " points at spacing " +
+                   json_number(mo.spacing));
+    Mesh3dReport report;
+    const TetMesh mesh = mesh3d_on(*f, mo, lattice, &report);
+    StagedOutputs staged;
+    WriteOptions wo = o.formats;
+    wo.msh = o.msh;
+    for (const auto& out : o.outputs) {
+        progress.stage("writing " + out);
+        wo.xdmf.final_path = out;  // the staged .xdmf names its .h5 by the final name
+        staged.write(out, [&](const std::string& path) { write_mesh(mesh, path, wo); }, wo);
+    }
+    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_text_file(path, to_json(report)); });
+    print_warnings(report.warnings);
+    staged.commit();
+    progress.stage("done");
+    if (!o.quiet) std::cout << to_text(report);
+    return 0;
+}
+
 }  // namespace
 
 // The pipeline allocates and frees large arrays stage after stage.  glibc
@@ -591,13 +743,13 @@ int main(int argc, char** argv) {
             std::cout << "warpmesh " << version << "\n";
             return 0;
         }
-        if (cmd == "mesh") {
+        if (cmd == "mesh" || cmd == "mesh3d") {
             for (int i = 2; i < argc; ++i)
                 if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
                     std::cout << usage;
                     return 0;
                 }
-            return run_mesh(argc - 2, argv + 2);
+            return cmd == "mesh" ? run_mesh(argc - 2, argv + 2) : run_mesh3d(argc - 2, argv + 2);
         }
         if (cmd == "prove") {
 #ifdef WARPMESH_HAVE_PROVER

@@ -8,110 +8,225 @@
 // tetrahedra to the original's, point for point); every canonical key must
 // be in the certificate, with a root box containing its exact parameter box.
 // It replays each key's bisection from its split string and re-verifies
-// every leaf in exact dyadic interval arithmetic: positive orientation and
-// both dihedral bounds of every output tetrahedron.  No global state.  Any
-// failure: exit 1; exit 0 only when the printed theorem holds.
+// every leaf exactly: positive orientation and both dihedral bounds of every
+// output tetrahedron.  No global state.  Any failure: exit 1; exit 0 only
+// when the printed theorem holds.
+//
+// EXACT FIXED-POINT ARITHMETIC.  A leaf's box ends are dyadic, m / 2^e.  With
+// K = 1 + the largest e of the leaf (so the box's centre is dyadic at 2^-K
+// too), every parameter is an integer multiple of 2^-K and every point of
+// the generic tetrahedron has coordinates X / 2^K with X an integer.  The
+// forms are homogeneous in the coordinates — 6·volume of degree 3, d = n_c·n_d
+// of degree 4, N = |n_c|²|n_d|² and d² of degree 8 — so evaluated on the
+// integers X they are the exact forms times 2^(3K), 2^(4K), 2^(8K): the same
+// signs.  A claim C = c / 2^40 enters as c·N − 2^40·d² (times 2^(8K+40)).
+// Partial derivatives in a parameter t are carried at the value's scale (dX/dt
+// = offset·2^K), and the mean-value form g(m) + Σ g_i [−r_i, r_i], with r_i =
+// R_i / 2^K, is evaluated times 2^K: g(m)·2^K + Σ g_i [−R_i, R_i].  Integers
+// are GMP's mpn digits in fixed arrays (no allocation); every result's size is
+// checked and an overflow rejects the certificate.  Interval products are the
+// plain interval products, + − × in the order of the prover's formulas
+// (generic_bcc.hpp, dihedral_forms), so each exact enclosure is contained in
+// the prover's outward-rounded one.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <boost/multiprecision/gmp.hpp>
+#include <gmp.h>
 
-// GMP through Boost.Multiprecision (the 2D checker's cpp_int is ~10x slower
-// on the 3D forms' 300-500-bit numbers).
-using Q = boost::multiprecision::mpq_rational;
-using Z = boost::multiprecision::mpz_int;
+static_assert(GMP_NAIL_BITS == 0 && GMP_NUMB_BITS == 64, "64-bit GMP limbs");
 
 struct Fail {
     std::string msg;
 };
 [[noreturn]] void fail(const std::string& m) { throw Fail{m}; }
 
-// ---- parsing (hostile input: bounded sizes, digits only) ----------------------
-Z parse_int(const std::string& s) {
-    const std::size_t from = !s.empty() && s[0] == '-' ? 1 : 0;
-    if (s.size() <= from || s.size() - from > 40) fail("bad integer '" + s.substr(0, 60) + "'");
-    for (std::size_t i = from; i < s.size(); ++i)
-        if (s[i] < '0' || s[i] > '9') fail("bad integer '" + s.substr(0, 60) + "'");
-    return Z(s);
-}
-Q parse_q(const std::string& s) {
-    const auto slash = s.find('/');
-    if (slash == std::string::npos) return Q(parse_int(s));
-    const Z d = parse_int(s.substr(slash + 1));
-    if (d <= 0) fail("bad denominator in '" + s.substr(0, 60) + "'");
-    return Q(parse_int(s.substr(0, slash)), d);
-}
-
-// ---- exact dyadic numbers m 2^e and their intervals, with derivatives -----------
-struct N {
-    Z m;
-    long e = 0;
+// ---- exact integers of at most 12 limbs (768 bits) ---------------------------------
+constexpr int LIMBS = 12;
+struct Z {
+    int n = 0;  // limbs in use (d[n-1] != 0), 0 for zero
+    bool neg = false;
+    mp_limb_t d[LIMBS];
 };
-N num(long v) { return N{Z(v), 0}; }
-N add(const N& a, const N& b) {
-    if (a.e <= b.e) return N{a.m + (b.m << static_cast<unsigned>(b.e - a.e)), a.e};
-    return N{(a.m << static_cast<unsigned>(a.e - b.e)) + b.m, b.e};
-}
-N neg(const N& a) { return N{-a.m, a.e}; }
-N mul(const N& a, const N& b) {  // normalised: odd mantissa (keeps the numbers short)
-    if (a.m == 0 || b.m == 0) return num(0);
-    if (a.e + b.e < -4000) fail("number too small");
-    N r{a.m * b.m, a.e + b.e};
-    const auto z = lsb(abs(r.m));
-    if (z) r.m >>= z, r.e += static_cast<long>(z);
+Z zint(std::int64_t v) {
+    Z r;
+    if (v != 0) r.n = 1, r.neg = v < 0, r.d[0] = v < 0 ? 0 - static_cast<mp_limb_t>(v) : static_cast<mp_limb_t>(v);
     return r;
 }
-int sgn(const N& a) { return a.m > 0 ? 1 : a.m < 0 ? -1 : 0; }
-bool less(const N& a, const N& b) { return sgn(add(a, neg(b))) < 0; }
-N dyadic(const Q& q) {
-    const Z d = denominator(q);
-    if ((d & (d - 1)) != 0) fail("number is not dyadic");
-    return N{numerator(q), -static_cast<long>(msb(d))};
-}
-N half(const N& a) { return N{a.m, a.e - 1}; }
-
-struct R {  // [lo, hi]
-    N lo, hi;
-};
-R operator+(const R& a, const R& b) { return {add(a.lo, b.lo), add(a.hi, b.hi)}; }
-R operator-(const R& a, const R& b) { return {add(a.lo, neg(b.hi)), add(a.hi, neg(b.lo))}; }
-R operator*(const R& a, const R& b) {
-    const N p[4] = {mul(a.lo, b.lo), mul(a.lo, b.hi), mul(a.hi, b.lo), mul(a.hi, b.hi)};
-    R r{p[0], p[0]};
-    for (const N& x : p) r.lo = less(x, r.lo) ? x : r.lo, r.hi = less(r.hi, x) ? x : r.hi;
+Z pow2(int k) {  // 2^k
+    if (k < 0 || k >= 64 * LIMBS - 1) fail("exponent out of range");
+    Z r;
+    r.n = k / 64 + 1;
+    for (int i = 0; i < r.n; ++i) r.d[i] = 0;
+    r.d[k / 64] = mp_limb_t{1} << (k % 64);
     return r;
 }
-struct D {  // value and partials in the key's parameters
-    R v;
-    std::array<R, 4> d;
-    int n = 0;  // partials carried (0: a constant, or a value-only pass)
+int sgn(const Z& a) { return a.n == 0 ? 0 : a.neg ? -1 : 1; }
+int cmp_mag(const Z& a, const Z& b) { return a.n != b.n ? (a.n < b.n ? -1 : 1) : mpn_cmp(a.d, b.d, a.n); }
+int cmp(const Z& a, const Z& b) {
+    const int sa = sgn(a), sb = sgn(b);
+    if (sa != sb) return sa < sb ? -1 : 1;
+    return sa == 0 ? 0 : sa * cmp_mag(a, b);
+}
+void normalise(Z& r) {
+    while (r.n > 0 && r.d[r.n - 1] == 0) --r.n;
+    if (r.n == 0) r.neg = false;
+}
+Z add_mag(const Z& a, const Z& b) {  // |a| + |b|, |a| >= |b| in limbs, b != 0
+    Z r;
+    const mp_limb_t carry = mpn_add(r.d, a.d, a.n, b.d, b.n);
+    r.n = a.n;
+    if (carry) {
+        if (r.n == LIMBS) fail("number too large");
+        r.d[r.n++] = carry;
+    }
+    return r;
+}
+Z sub_mag(const Z& a, const Z& b) {  // |a| - |b| >= 0, b != 0
+    Z r;
+    mpn_sub(r.d, a.d, a.n, b.d, b.n);
+    r.n = a.n;
+    normalise(r);
+    return r;
+}
+Z operator+(const Z& a, const Z& b) {
+    if (a.n == 0) return b;
+    if (b.n == 0) return a;
+    Z r;
+    if (a.neg == b.neg) {
+        r = a.n >= b.n ? add_mag(a, b) : add_mag(b, a);
+        r.neg = a.neg;
+        return r;
+    }
+    const int c = cmp_mag(a, b);
+    if (c == 0) return Z{};
+    r = c > 0 ? sub_mag(a, b) : sub_mag(b, a);
+    r.neg = c > 0 ? a.neg : b.neg;
+    return r;
+}
+Z operator-(const Z& a) {
+    Z r = a;
+    if (r.n) r.neg = !r.neg;
+    return r;
+}
+Z operator-(const Z& a, const Z& b) { return a + (-b); }
+Z operator*(const Z& a, const Z& b) {
+    Z r;
+    if (a.n == 0 || b.n == 0) return r;
+    if (a.n + b.n > LIMBS) fail("number too large");
+    if (a.n >= b.n) mpn_mul(r.d, a.d, a.n, b.d, b.n);
+    else mpn_mul(r.d, b.d, b.n, a.d, a.n);
+    r.n = a.n + b.n;
+    r.neg = a.neg != b.neg;
+    normalise(r);
+    return r;
+}
+Z half(const Z& a) {  // a / 2, a even
+    if (a.n == 0) return a;
+    if (a.d[0] & 1) fail("odd half");
+    Z r = a;
+    mpn_rshift(r.d, a.d, a.n, 1);
+    normalise(r);
+    return r;
+}
+
+// ---- intervals [lo, hi] and dual numbers (value and partials) --------------------
+struct I {
+    Z lo, hi;
 };
-R zero() { return R{num(0), num(0)}; }
-D cst(long v) { return D{{num(v), num(v)}, {zero(), zero(), zero(), zero()}, 0}; }
+I point(const Z& z) { return I{z, z}; }
+I operator+(const I& a, const I& b) { return {a.lo + b.lo, a.hi + b.hi}; }
+I operator-(const I& a, const I& b) { return {a.lo - b.hi, a.hi - b.lo}; }
+I operator*(const I& a, const I& b) {
+    const Z p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+    I r{p[0], p[0]};
+    for (const Z& x : p) {
+        if (cmp(x, r.lo) < 0) r.lo = x;
+        if (cmp(x, r.hi) > 0) r.hi = x;
+    }
+    return r;
+}
+struct D {
+    I v;
+    std::array<I, 4> d;
+    int n = 0;  // partials carried
+};
 D operator+(const D& a, const D& b) {
-    D r{a.v + b.v, {zero(), zero(), zero(), zero()}, std::max(a.n, b.n)};
+    D r{a.v + b.v, {}, std::max(a.n, b.n)};
     for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] + b.d[i];
     return r;
 }
 D operator-(const D& a, const D& b) {
-    D r{a.v - b.v, {zero(), zero(), zero(), zero()}, std::max(a.n, b.n)};
+    D r{a.v - b.v, {}, std::max(a.n, b.n)};
     for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] - b.d[i];
     return r;
 }
 D operator*(const D& a, const D& b) {
-    D r{a.v * b.v, {zero(), zero(), zero(), zero()}, std::max(a.n, b.n)};
+    D r{a.v * b.v, {}, std::max(a.n, b.n)};
     for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
 }
+const I& val(const I& x) { return x; }
+const I& val(const D& x) { return x.v; }
 
+// ---- dyadic numbers m / 2^e (box ends) and parsing (hostile input) -----------------
+struct Dy {
+    std::int64_t m = 0;
+    int e = 0;
+};
+constexpr int MAX_E = 60;  // box ends finer than 2^-60 are rejected
+Dy at(const Dy& a, int e) {  // the same number with exponent e >= a.e
+    return Dy{a.m * (std::int64_t{1} << (e - a.e)), e};
+}
+Dy mid(const Dy& a, const Dy& b) {
+    const int e = std::max(a.e, b.e);
+    if (e + 1 > MAX_E) fail("box too deep");
+    return Dy{at(a, e).m + at(b, e).m, e + 1};
+}
+int cmp(const Dy& a, const Dy& b) {
+    const int e = std::max(a.e, b.e);
+    const std::int64_t x = at(a, e).m, y = at(b, e).m;
+    return x < y ? -1 : x > y ? 1 : 0;
+}
+Dy width(const Dy& lo, const Dy& hi) {
+    const int e = std::max(lo.e, hi.e);
+    return Dy{at(hi, e).m - at(lo, e).m, e};
+}
+std::int64_t parse_int(const std::string& s) {
+    const std::size_t from = !s.empty() && s[0] == '-' ? 1 : 0;
+    if (s.size() <= from || s.size() - from > 18) fail("bad integer '" + s.substr(0, 60) + "'");
+    for (std::size_t i = from; i < s.size(); ++i)
+        if (s[i] < '0' || s[i] > '9') fail("bad integer '" + s.substr(0, 60) + "'");
+    return std::stoll(s);
+}
+// "p/q" (or "p"): numerator and denominator, q > 0.
+std::pair<std::int64_t, std::int64_t> parse_q(const std::string& s) {
+    const auto slash = s.find('/');
+    if (slash == std::string::npos) return {parse_int(s), 1};
+    const std::int64_t d = parse_int(s.substr(slash + 1));
+    if (d <= 0) fail("bad denominator in '" + s.substr(0, 60) + "'");
+    return {parse_int(s.substr(0, slash)), d};
+}
+// A dyadic p / 2^e with |p / 2^e| <= 2 and e <= 40 (root boxes, claims).
+Dy parse_dyadic(const std::string& s) {
+    const auto [p, q] = parse_q(s);
+    if ((q & (q - 1)) != 0) fail("number is not dyadic");
+    int e = 0;
+    while ((std::int64_t{1} << e) != q) ++e;
+    if (e > 40 || p > (std::int64_t{2} << e) || p < -(std::int64_t{2} << e)) fail("number out of range: " + s.substr(0, 60));
+    return Dy{p, e};
+}
+// a <= n / d (d > 0, |n|, d < 2^31), exactly.
+bool le(const Dy& a, std::int64_t n, std::int64_t d) {
+    return static_cast<__int128>(a.m) * d <= static_cast<__int128>(n) * (static_cast<__int128>(1) << a.e);
+}
 // ---- the generic tetrahedron (doubled lattice coordinates) -----------------------
 // Local vertices 0, 1 the corners, 2, 3 the centres; edges 0 = 01, 1 = 23 long.
 const int REF[4][3] = {{0, 0, 0}, {2, 0, 0}, {1, 1, -1}, {1, 1, 1}};
@@ -292,165 +407,6 @@ Key image(const Key& k, const Sym& s) {
     fail("stencil does not commute with a symmetry");
 }
 
-// ---- verification of one leaf ------------------------------------------------------
-struct Param {
-    int index;  // 0..3: t of vertex index; 4 + e: u of edge e
-    Q lo, hi;   // the exact box
-};
-std::vector<Param> params(const Key& k, const Q& along, const Q& ashort) {
-    std::vector<Param> ps;
-    for (int i = 0; i < 4; ++i)
-        if (k.sign[i] == 0 && k.warp[i] != STAY) ps.push_back({i, Q(0), k.warp[i] < 6 ? along : ashort});
-    for (int e = 0; e < 6; ++e)
-        if (k.sign[EDGE[e][0]] * k.sign[EDGE[e][1]] < 0) {
-            const Q a = e < 2 ? along : ashort;
-            ps.push_back({4 + e, a, 1 - a});
-        }
-    return ps;
-}
-using Box = std::vector<R>;
-using P3 = std::array<D, 3>;
-P3 sub3(const P3& a, const P3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-P3 cross3(const P3& a, const P3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-D dot3(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-// The 25 forms of every output tetrahedron on box b (see verify_leaf).
-// (`only` >= 0: that tetrahedron's forms only, the others left empty;
-// `partials` false: values only, the partials left 0.)
-std::vector<std::array<D, 25>> forms(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets,
-                                     const Box& b, const N& cmin, const N& cmax, int only = -1, bool partials = true) {
-    std::array<D, 10> var;
-    for (D& x : var) x = cst(0);
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-        var[ps[i].index] = D{b[i], {zero(), zero(), zero(), zero()}, partials ? static_cast<int>(ps.size()) : 0};
-        if (partials) var[ps[i].index].d[i] = R{num(1), num(1)};
-    }
-    std::array<P3, 10> pt;
-    for (int i = 0; i < 4; ++i)
-        for (int c = 0; c < 3; ++c) {
-            pt[i][c] = cst(REF[i][c]);
-            if (k.warp[i] != STAY && OFF[k.warp[i]][c] != 0) pt[i][c] = pt[i][c] + cst(OFF[k.warp[i]][c]) * var[i];
-        }
-    for (int e = 0; e < 6; ++e)
-        for (int c = 0; c < 3; ++c) {
-            const int a = REF[EDGE[e][0]][c], d = REF[EDGE[e][1]][c] - a;
-            pt[4 + e][c] = cst(a);
-            if (d != 0) pt[4 + e][c] = pt[4 + e][c] + cst(d) * var[4 + e];
-        }
-    std::vector<std::array<D, 25>> out;
-    const D Cmin{{cmin, cmin}, {zero(), zero(), zero(), zero()}}, Cmax{{cmax, cmax}, {zero(), zero(), zero(), zero()}};
-    for (const Tet& t : tets) {
-        std::array<D, 25> f;
-        if (only >= 0 && &t != &tets[static_cast<std::size_t>(only)]) {
-            out.push_back(f);
-            continue;
-        }
-        const P3 &p0 = pt[t[0]], &p1 = pt[t[1]], &p2 = pt[t[2]], &p3 = pt[t[3]];
-        f[0] = dot3(sub3(p1, p0), cross3(sub3(p2, p0), sub3(p3, p0)));
-        for (int e = 0; e < 6; ++e) {
-            const int a = EDGE[e][0], bb = EDGE[e][1];
-            int c = 0;
-            while (c == a || c == bb) ++c;
-            const int d = 6 - a - bb - c;
-            const P3 ev = sub3(pt[t[bb]], pt[t[a]]);
-            const P3 nc = cross3(ev, sub3(pt[t[c]], pt[t[a]])), nd = cross3(ev, sub3(pt[t[d]], pt[t[a]]));
-            const D dt = dot3(nc, nd), nn = dot3(nc, nc) * dot3(nd, nd);
-            f[1 + 2 * e] = cst(0) - dt, f[2 + 2 * e] = Cmin * nn - dt * dt;
-            f[13 + 2 * e] = dt, f[14 + 2 * e] = Cmax * nn - dt * dt;
-        }
-        out.push_back(f);
-    }
-    return out;
-}
-Box centre(const Box& b) {
-    Box m = b;
-    for (R& x : m) x.lo = x.hi = half(add(x.lo, x.hi));
-    return m;
-}
-// Form f of tetrahedron j >= 0 (> 0 if strict) on b: the natural enclosure
-// g, then the mean-value form around the centre (mid: the form's value
-// there), then the face where every variable whose partial has a decided
-// sign is fixed at its worse end, again (re-evaluated there).
-bool holds(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, Box b, int j, int f, bool strict,
-           const N& cmin, const N& cmax, D g, R mid) {
-    for (bool first = true;; first = false) {
-        const auto pos = [&](const N& x) { return strict ? sgn(x) > 0 : sgn(x) >= 0; };
-        if (pos(g.v.lo)) return true;
-        R mv = first ? mid : forms(k, ps, tets, centre(b), cmin, cmax, j)[j][f].v;
-        for (std::size_t i = 0; i < b.size(); ++i) {
-            const N r = half(add(b[i].hi, neg(b[i].lo)));
-            if (sgn(r) != 0) mv = mv + g.d[i] * R{neg(r), r};
-        }
-        if (pos(mv.lo)) return true;
-        bool fixed = false;
-        for (std::size_t i = 0; i < b.size(); ++i) {
-            if (sgn(add(b[i].hi, neg(b[i].lo))) == 0) continue;
-            if (sgn(g.d[i].lo) >= 0) b[i].hi = b[i].lo, fixed = true;
-            else if (sgn(g.d[i].hi) <= 0) b[i].lo = b[i].hi, fixed = true;
-        }
-        if (!fixed) return false;
-        g = forms(k, ps, tets, b, cmin, cmax, j)[j][f];
-    }
-}
-bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const Box& b, const N& cmin,
-                 const N& cmax) {
-    {  // the natural enclosures alone, without partials, often suffice
-        const auto fv = forms(k, ps, tets, b, cmin, cmax, -1, false);
-        bool all = true;
-        for (const auto& f : fv) {
-            const auto P = [&](int x) { return sgn(f[x].v.lo) >= 0; };
-            all = all && sgn(f[0].v.lo) > 0;
-            for (int e = 0; e < 6 && all; ++e) all = (P(1 + 2 * e) || P(2 + 2 * e)) && (P(13 + 2 * e) || P(14 + 2 * e));
-        }
-        if (all) return true;
-    }
-    const auto fb = forms(k, ps, tets, b, cmin, cmax), fm = forms(k, ps, tets, centre(b), cmin, cmax);
-    for (int j = 0; j < static_cast<int>(tets.size()); ++j) {
-        const auto H = [&](int f, bool strict) { return holds(k, ps, tets, b, j, f, strict, cmin, cmax, fb[j][f], fm[j][f].v); };
-        if (!H(0, true)) return false;
-        // Either alternative proves a bound; the one matching the sign of d at
-        // the centre is tried first (only the cost depends on the order).
-        for (int e = 0; e < 6; ++e) {
-            const bool acute = sgn(fm[j][13 + 2 * e].v.lo) > 0;
-            const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
-            if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
-            if (!(acute ? H(s2, false) || H(q2, false) : H(q2, false) || H(s2, false))) return false;
-        }
-    }
-    return true;
-}
-// Replays the bisection: '1' splits the widest side (the first on ties) at its
-// midpoint, lower half first; '0' is a leaf, verified.
-long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const N& cmin,
-            const N& cmax) {
-    const std::vector<Tet> tets = oriented(k);
-    std::vector<Box> stack{root};
-    std::size_t at = 0;
-    long leaves = 0;
-    while (!stack.empty()) {
-        const Box b = stack.back();
-        stack.pop_back();
-        if (at >= splits.size()) fail("split string too short");
-        const char c = splits[at++];
-        if (c == '0') {
-            if (!verify_leaf(k, ps, tets, b, cmin, cmax)) fail("leaf not verified");
-            ++leaves;
-            continue;
-        }
-        if (c != '1' || b.empty() || stack.size() > 200) fail("bad split string");
-        std::size_t s = 0;
-        for (std::size_t i = 1; i < b.size(); ++i)
-            if (less(add(b[s].hi, neg(b[s].lo)), add(b[i].hi, neg(b[i].lo)))) s = i;
-        const N mid = half(add(b[s].lo, b[s].hi));
-        Box lo = b, hi = b;
-        lo[s].hi = mid, hi[s].lo = mid;
-        stack.push_back(hi), stack.push_back(lo);
-    }
-    if (at != splits.size()) fail("split string too long");
-    return leaves;
-}
-
 // ---- the certificate ------------------------------------------------------------------
 Key parse_code(const std::string& s) {
     Key k;
@@ -467,6 +423,223 @@ Key parse_code(const std::string& s) {
     if (at + 1 != s.size() || (s[at] != '0' && s[at] != '1')) fail("bad key code " + s.substr(0, 40));
     k.parity = s[at] - '0';
     return k;
+}
+
+
+// ---- verification of one leaf ------------------------------------------------------
+struct Param {
+    int index;  // 0..3: t of vertex index; 4 + e: u of edge e
+    std::int64_t lo_num, hi_num, den;  // the exact box [lo_num/den, hi_num/den]
+};
+std::vector<Param> params(const Key& k, std::int64_t along, std::int64_t ashort, std::int64_t den) {
+    std::vector<Param> ps;
+    for (int i = 0; i < 4; ++i)
+        if (k.sign[i] == 0 && k.warp[i] != STAY) ps.push_back({i, 0, k.warp[i] < 6 ? along : ashort, den});
+    for (int e = 0; e < 6; ++e)
+        if (k.sign[EDGE[e][0]] * k.sign[EDGE[e][1]] < 0) {
+            const std::int64_t a = e < 2 ? along : ashort;
+            ps.push_back({4 + e, a, den - a, den});
+        }
+    return ps;
+}
+struct Side {
+    Dy lo, hi;
+};
+using Box = std::vector<Side>;
+// The claim: cos^2 thresholds c / 2^40.
+struct Claim {
+    Z cmin, cmax;
+};
+
+// The scaled integer 2^K · x of a box end (K >= x.e).
+Z scaled(const Dy& x, int K) { return zint(x.m) * pow2(K - x.e); }
+
+// The ten points of the generic tetrahedron, times 2^K, on box b (T = I: values
+// only; T = D: with partials in the box's parameters).
+template <class T>
+std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& ps, const Box& b, int K) {
+    std::array<T, 10> var{};
+    std::array<int, 10> which{};
+    which.fill(-1);
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        I x{scaled(b[i].lo, K), scaled(b[i].hi, K)};
+        which[ps[i].index] = static_cast<int>(i);
+        if constexpr (std::is_same_v<T, D>) {
+            var[ps[i].index] = D{x, {}, static_cast<int>(ps.size())};
+            var[ps[i].index].d[i] = point(pow2(K));  // dt/dt, at the value's scale 2^K
+        } else {
+            var[ps[i].index] = x;
+        }
+    }
+    const auto cst = [&](int v) {
+        T c{};
+        if constexpr (std::is_same_v<T, D>) c.v = point(zint(v) * pow2(K));
+        else c = point(zint(v) * pow2(K));
+        return c;
+    };
+    const auto times = [&](int c, const T& x) {  // c · x, c a small integer
+        T r{};
+        if constexpr (std::is_same_v<T, D>) {
+            r = x;
+            r.v = point(zint(c)) * x.v;
+            for (int i = 0; i < r.n; ++i) r.d[i] = point(zint(c)) * x.d[i];
+        } else {
+            r = point(zint(c)) * x;
+        }
+        return r;
+    };
+    std::array<std::array<T, 3>, 10> pt{};
+    for (int i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c) {
+            pt[i][c] = cst(REF[i][c]);
+            if (k.warp[i] != STAY && OFF[k.warp[i]][c] != 0) pt[i][c] = pt[i][c] + times(OFF[k.warp[i]][c], var[i]);
+        }
+    for (int e = 0; e < 6; ++e)
+        for (int c = 0; c < 3; ++c) {
+            const int a = REF[EDGE[e][0]][c], d = REF[EDGE[e][1]][c] - a;
+            pt[4 + e][c] = cst(a);
+            if (d != 0) pt[4 + e][c] = pt[4 + e][c] + times(d, var[4 + e]);
+        }
+    (void)which;
+    return pt;
+}
+
+template <class T>
+using P3 = std::array<T, 3>;
+template <class T>
+P3<T> sub3(const P3<T>& a, const P3<T>& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+template <class T>
+P3<T> cross3(const P3<T>& a, const P3<T>& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+template <class T>
+T dot3(const P3<T>& a, const P3<T>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+// The 25 forms of one output tetrahedron (scaled as in the header comment):
+// 0: 6·volume (> 0); per edge e: 1 + 2e: −d, 2 + 2e: c_min N − 2^40 d² (one
+// of them >= 0: θ >= θmin); 13 + 2e: d, 14 + 2e: c_max N − 2^40 d² (one >= 0:
+// θ <= θmax).  Edge e = (a, b) of the tetrahedron's own vertex order, faces
+// through the other two vertices c < d: n_c = (p_b − p_a) × (p_c − p_a).
+template <class T>
+std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const Claim& cl) {
+    std::array<T, 25> f{};
+    const P3<T>&p0 = pt[t[0]], &p1 = pt[t[1]], &p2 = pt[t[2]], &p3 = pt[t[3]];
+    f[0] = dot3(sub3(p1, p0), cross3(sub3(p2, p0), sub3(p3, p0)));
+    T cmin{}, cmax{}, two40{};
+    if constexpr (std::is_same_v<T, D>) cmin.v = point(cl.cmin), cmax.v = point(cl.cmax), two40.v = point(pow2(40));
+    else cmin = point(cl.cmin), cmax = point(cl.cmax), two40 = point(pow2(40));
+    for (int e = 0; e < 6; ++e) {
+        const int a = EDGE[e][0], bb = EDGE[e][1];
+        int c = 0;
+        while (c == a || c == bb) ++c;
+        const int d = 6 - a - bb - c;
+        const P3<T> ev = sub3(pt[t[bb]], pt[t[a]]);
+        const P3<T> nc = cross3(ev, sub3(pt[t[c]], pt[t[a]])), nd = cross3(ev, sub3(pt[t[d]], pt[t[a]]));
+        const T dt = dot3(nc, nd), nn = dot3(nc, nc) * dot3(nd, nd), dd = two40 * (dt * dt);
+        f[1 + 2 * e] = T{} - dt, f[2 + 2 * e] = cmin * nn - dd;
+        f[13 + 2 * e] = dt, f[14 + 2 * e] = cmax * nn - dd;
+    }
+    return f;
+}
+int leaf_exponent(const Box& b) {
+    int K = 0;
+    for (const Side& s : b) K = std::max({K, s.lo.e, s.hi.e});
+    return K + 1;
+}
+Box centre(const Box& b) {
+    Box m = b;
+    for (Side& s : m) s.lo = s.hi = mid(s.lo, s.hi);
+    return m;
+}
+// Form f of tetrahedron t >= 0 (> 0 if strict) on b: the natural enclosure
+// g, then the mean-value form around the centre (mid: the form's value
+// there), then the face where every variable whose partial has a decided
+// sign is fixed at its worse end, again (re-evaluated there).  K: b's scale.
+bool holds(const Key& k, const std::vector<Param>& ps, const Tet& t, Box b, int K, int f, bool strict, const Claim& cl,
+           D g, I mid_value) {
+    for (bool first = true;; first = false) {
+        const auto pos = [&](const Z& x) { return strict ? sgn(x) > 0 : sgn(x) >= 0; };
+        if (pos(g.v.lo)) return true;
+        I mv = (first ? mid_value : tet_forms(points<I>(k, ps, centre(b), K), t, cl)[f]) * point(pow2(K));
+        for (std::size_t i = 0; i < b.size(); ++i) {
+            const Dy w = width(b[i].lo, b[i].hi);
+            if (w.m == 0) continue;
+            const Z r = half(scaled(w, K));
+            mv = mv + g.d[i] * I{-r, r};
+        }
+        if (pos(mv.lo)) return true;
+        bool fixed = false;
+        for (std::size_t i = 0; i < b.size(); ++i) {
+            if (cmp(b[i].lo, b[i].hi) == 0) continue;
+            if (sgn(g.d[i].lo) >= 0) b[i].hi = b[i].lo, fixed = true;
+            else if (sgn(g.d[i].hi) <= 0) b[i].lo = b[i].hi, fixed = true;
+        }
+        if (!fixed) return false;
+        g = tet_forms(points<D>(k, ps, b, K), t, cl)[f];
+    }
+}
+bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const Box& b, const Claim& cl) {
+    const int K = leaf_exponent(b);
+    const auto pv = points<I>(k, ps, b, K);
+    std::vector<std::array<I, 25>> fv;
+    bool all = true;  // the natural enclosures alone, without partials, often suffice
+    for (const Tet& t : tets) {
+        fv.push_back(tet_forms(pv, t, cl));
+        const auto& f = fv.back();
+        const auto P = [&](int x) { return sgn(f[x].lo) >= 0; };
+        all = all && sgn(f[0].lo) > 0;
+        for (int e = 0; e < 6 && all; ++e) all = (P(1 + 2 * e) || P(2 + 2 * e)) && (P(13 + 2 * e) || P(14 + 2 * e));
+    }
+    if (all) return true;
+    const auto pd = points<D>(k, ps, b, K);
+    const auto pm = points<I>(k, ps, centre(b), K);
+    for (const Tet& t : tets) {
+        const auto fb = tet_forms(pd, t, cl);
+        const auto fm = tet_forms(pm, t, cl);
+        const auto H = [&](int f, bool strict) { return holds(k, ps, t, b, K, f, strict, cl, fb[f], fm[f]); };
+        if (!H(0, true)) return false;
+        // Either alternative proves a bound; the one matching the sign of d at
+        // the centre is tried first (only the cost depends on the order).
+        for (int e = 0; e < 6; ++e) {
+            const bool acute = sgn(fm[13 + 2 * e].lo) > 0;
+            const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
+            if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
+            if (!(acute ? H(s2, false) || H(q2, false) : H(q2, false) || H(s2, false))) return false;
+        }
+    }
+    return true;
+}
+// Replays the bisection: '1' splits the widest side (the first on ties) at its
+// midpoint, lower half first; '0' is a leaf, verified.
+long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const Claim& cl) {
+    const std::vector<Tet> tets = oriented(k);
+    std::vector<Box> stack{root};
+    std::size_t at = 0;
+    long leaves = 0;
+    while (!stack.empty()) {
+        const Box b = stack.back();
+        stack.pop_back();
+        if (at >= splits.size()) fail("split string too short");
+        const char c = splits[at++];
+        if (c == '0') {
+            if (!verify_leaf(k, ps, tets, b, cl)) fail("leaf not verified");
+            ++leaves;
+            continue;
+        }
+        if (c != '1' || b.empty() || stack.size() > 200) fail("bad split string");
+        std::size_t s = 0;
+        for (std::size_t i = 1; i < b.size(); ++i)
+            if (cmp(width(b[s].lo, b[s].hi), width(b[i].lo, b[i].hi)) < 0) s = i;
+        const Dy m = mid(b[s].lo, b[s].hi);
+        Box lo = b, hi = b;
+        lo[s].hi = m, hi[s].lo = m;
+        stack.push_back(hi), stack.push_back(lo);
+    }
+    if (at != splits.size()) fail("split string too long");
+    return leaves;
 }
 
 // All canonical keys with output: the smallest image of every consistent
@@ -495,6 +668,53 @@ std::set<std::array<int, 9>> canonical_keys(const std::vector<Sym>& syms) {
     return out;
 }
 
+// A claim's threshold as c with C = c / 2^40, 0 < C < 1.
+Z claim_threshold(const std::string& s) {
+    const Dy x = parse_dyadic(s);
+    if (x.m <= 0 || x.m >= (std::int64_t{1} << x.e)) fail("claim out of (0, 1)");
+    return zint(x.m) * pow2(40 - x.e);
+}
+
+struct Entry {
+    Key k;
+    std::vector<Param> ps;
+    Box root;
+    std::string splits;
+};
+// One key line: "key CODE m lo_0 hi_0 ... SPLITS", its root box containing the
+// exact box and its split string a complete preorder bisection.
+Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t ashort, std::int64_t den,
+                     const std::set<std::array<int, 9>>& expected, std::set<std::array<int, 9>>& seen) {
+    std::istringstream ks(line);
+    std::string word, code;
+    int m = -1;
+    if (!(ks >> word >> code >> m) || word != "key") fail("bad key line");
+    Entry en{parse_code(code), {}, {}, {}};
+    if (!expected.count(en.k.enc()) || !seen.insert(en.k.enc()).second) fail("unexpected or repeated key " + code);
+    en.ps = params(en.k, along, ashort, den);
+    if (m != static_cast<int>(en.ps.size())) fail("wrong parameter count for " + code);
+    for (const Param& p : en.ps) {
+        std::string lo, hi;
+        if (!(ks >> lo >> hi)) fail("bad root box for " + code);
+        const Dy l = parse_dyadic(lo), h = parse_dyadic(hi);
+        const auto ge = [](const Dy& a, std::int64_t n, std::int64_t d) {
+            return static_cast<__int128>(a.m) * d >= static_cast<__int128>(n) * (static_cast<__int128>(1) << a.e);
+        };
+        if (!(le(l, p.lo_num, p.den) && ge(h, p.hi_num, p.den) && cmp(width(l, h), Dy{1, 0}) < 0))
+            fail("root box does not contain the parameter box of " + code);
+        en.root.push_back(Side{l, h});
+    }
+    if (!(ks >> en.splits) || en.splits.size() > 50000000 || (ks >> word)) fail("bad split string for " + code);
+    long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
+    for (const char ch : en.splits) {
+        if (open == 0) fail("split string too long for " + code);
+        if (ch != '0' && ch != '1') fail("bad split string for " + code);
+        open += ch == '1' ? 1 : -1;
+    }
+    if (open != 0) fail("split string too short for " + code);
+    return en;
+}
+
 int check(std::istream& in, bool progress) {
     std::string line, word;
     std::vector<std::string> body;
@@ -502,67 +722,38 @@ int check(std::istream& in, bool progress) {
         if (!line.empty() && line[0] != '#') body.push_back(line);
     if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 1") fail("not a BCC certificate (format 1)");
     std::istringstream a(body[1]), c(body[2]), n(body[3]);
-    std::string al, as, cn, cx, kw;
+    std::string al, as, cn, cx;
     long nkeys = -1;
     if (!(a >> word >> al >> as) || word != "alphas") fail("bad alphas line");
     if (!(c >> word >> cn >> cx) || word != "claim") fail("bad claim line");
     if (!(n >> word >> nkeys) || word != "keys" || nkeys < 0 || nkeys > 1000000) fail("bad keys line");
-    const Q along = parse_q(al), ashort = parse_q(as), qmin = parse_q(cn), qmax = parse_q(cx);
-    if (!(along > 0 && along < Q(1, 2) && ashort > 0 && ashort < Q(1, 2))) fail("alphas out of (0, 1/2)");
-    if (!(qmin > 0 && qmin < 1 && qmax > 0 && qmax < 1)) fail("claim out of (0, 1)");
-    const N cmin = dyadic(qmin), cmax = dyadic(qmax);
+    const auto [ln, ld] = parse_q(al);
+    const auto [sn, sd] = parse_q(as);
+    if (ld != sd || ld >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
+    if (!(ln > 0 && 2 * ln < ld && sn > 0 && 2 * sn < sd)) fail("alphas out of (0, 1/2)");
+    const Claim claim{claim_threshold(cn), claim_threshold(cx)};
     if (static_cast<long>(body.size()) != 4 + nkeys) fail("key count mismatch");
     const std::vector<Sym> syms = symmetries();
     const auto expected = canonical_keys(syms);
     if (static_cast<long>(expected.size()) != nkeys) fail("the certificate does not list every key");
     // First pass, structure only (cheap): keys, root boxes, split strings.
-    struct Entry {
-        Key k;
-        std::vector<Param> ps;
-        Box root;
-        std::string splits;
-    };
     std::vector<Entry> entries;
     std::set<std::array<int, 9>> seen;
-    for (long i = 0; i < nkeys; ++i) {
-        std::istringstream ks(body[static_cast<std::size_t>(4 + i)]);
-        std::string code;
-        int m = -1;
-        if (!(ks >> word >> code >> m) || word != "key") fail("bad key line");
-        Entry en{parse_code(code), {}, {}, {}};
-        if (!expected.count(en.k.enc()) || !seen.insert(en.k.enc()).second) fail("unexpected or repeated key " + code);
-        en.ps = params(en.k, along, ashort);
-        if (m != static_cast<int>(en.ps.size())) fail("wrong parameter count for " + code);
-        for (int j = 0; j < m; ++j) {
-            std::string lo, hi;
-            if (!(ks >> lo >> hi)) fail("bad root box for " + code);
-            const Q l = parse_q(lo), h = parse_q(hi);
-            if (!(l <= en.ps[static_cast<std::size_t>(j)].lo && h >= en.ps[static_cast<std::size_t>(j)].hi && h - l < 1))
-                fail("root box does not contain the parameter box of " + code);
-            en.root.push_back(R{dyadic(l), dyadic(h)});
-        }
-        if (!(ks >> en.splits) || en.splits.size() > 50000000 || (ks >> word)) fail("bad split string for " + code);
-        long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
-        for (const char ch : en.splits) {
-            if (open == 0) fail("split string too long for " + code);
-            if (ch != '0' && ch != '1') fail("bad split string for " + code);
-            open += ch == '1' ? 1 : -1;
-        }
-        if (open != 0) fail("split string too short for " + code);
-        entries.push_back(std::move(en));
-    }
+    for (long i = 0; i < nkeys; ++i) entries.push_back(parse_key_line(body[static_cast<std::size_t>(4 + i)], ln, sn, ld, expected, seen));
     // Second pass: every leaf verified.
     long leaves = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, cmin, cmax);
+        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, claim);
         if (progress && (i + 1) % 50 == 0) std::cerr << "checked " << i + 1 << " keys, " << leaves << " leaves\n";
     }
-    const double dmin = std::acos(std::sqrt(qmin.convert_to<double>())) * 180 / M_PI;
-    const double dmax = 180 - std::acos(std::sqrt(qmax.convert_to<double>())) * 180 / M_PI;
+    const auto deg = [](const std::string& s) {  // for the message only
+        const auto [p, q] = parse_q(s);
+        return std::acos(std::sqrt(static_cast<double>(p) / static_cast<double>(q))) * 180 / M_PI;
+    };
     std::cout << "BCC theorem (alphas " << al << ", " << as << "): every output tetrahedron of the " << nkeys
               << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << cn
-              << ", and cos t >= 0 or cos^2 t <= " << cx << ": t in [" << dmin << ", " << dmax << "] deg (" << leaves
-              << " leaves)\n";
+              << ", and cos t >= 0 or cos^2 t <= " << cx << ": t in [" << deg(cn) << ", " << 180 - deg(cx) << "] deg ("
+              << leaves << " leaves)\n";
     return 0;
 }
 

@@ -41,14 +41,45 @@ py::array view(const void* data, std::size_t count, std::size_t cols, py::handle
     return a;
 }
 
-// MeshResult.<name>: a view of the array get(result), `cols` T's a row.
-template <class T, class Get>
-void def_view(py::class_<MeshResult>& cls, const char* name, std::size_t cols, Get get) {
+// Result.<name>: a view of the array get(result), `cols` T's a row.
+template <class T, class Result, class Get>
+void def_view(py::class_<Result>& cls, const char* name, std::size_t cols, Get get) {
     cls.def_property_readonly(name, [cols, get](py::object self) {
-        const auto& a = get(self.cast<const MeshResult&>());
+        const auto& a = get(self.cast<const Result&>());
         return view<T>(a.data(), a.size(), cols, self);
     });
 }
+
+// Result.write(path, ascii, compress, xdmf_inline): the mesh through the
+// writers, starting from base(result)'s options; the GIL released.
+template <class Result, class Base>
+void def_write(py::class_<Result>& cls, Base base) {
+    cls.def(
+        "write",
+        [base](const Result& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
+            WriteOptions wo = base(r);
+            wo.ascii = ascii;
+            if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
+            wo.xdmf.hdf5 = !xdmf_inline;
+            py::gil_scoped_release release;
+            write_mesh(r.mesh, path, wo);
+        },
+        py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
+}
+
+// The cell data arrays of a mesh as {name: view}.
+template <class Result>
+py::dict cell_data_views(py::object self, const Result& r) {
+    py::dict d;
+    for (const auto& [name, values] : r.mesh.cell_data) d[py::str(name)] = view<double>(values.data(), values.size(), 1, self);
+    return d;
+}
+
+// What mesh3d returns to Python: the mesh and its report.
+struct Mesh3dResult {
+    TetMesh mesh;
+    Mesh3dReport report;
+};
 
 MeshOptions mesh_options(const py::dict& kw) {
     MeshOptions o;
@@ -131,30 +162,14 @@ void bind_result(py::module_& m) {
     def_view<std::int32_t>(result, "interface_regions", 2,
                            [](const MeshResult& r) -> const auto& { return r.mesh.interface_regions; });
     result
-        .def_property_readonly("cell_data", [](py::object self) {
-            const auto& r = self.cast<const MeshResult&>();
-            py::dict d;
-            for (const auto& [name, values] : r.mesh.cell_data)
-                d[py::str(name)] = view<double>(values.data(), values.size(), 1, self);
-            return d;
-        })
+        .def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const MeshResult&>()); })
         .def_property_readonly("region_names", [](const MeshResult& r) { return r.mesh.region_names; })
         .def_property_readonly("warnings", [](const MeshResult& r) { return r.warnings; })
         .def_property_readonly("spacing", [](const MeshResult& r) { return r.spacing; })
         .def_property_readonly("refinements", [](const MeshResult& r) { return r.refinements; })
         .def("to_json", [](const MeshResult& r) { return to_json(r); })
-        .def("to_text", [](const MeshResult& r) { return to_text(r); })
-        .def(
-            "write",
-            [](const MeshResult& r, const std::string& path, bool ascii, bool compress, bool xdmf_inline) {
-                WriteOptions wo = write_options(r);
-                wo.ascii = ascii;
-                if (compress) wo.vtu.encoding = VtuOptions::Encoding::zlib;
-                wo.xdmf.hdf5 = !xdmf_inline;
-                py::gil_scoped_release release;
-                write_mesh(r.mesh, path, wo);
-            },
-            py::arg("path"), py::arg("ascii") = false, py::arg("compress") = false, py::arg("xdmf_inline") = false);
+        .def("to_text", [](const MeshResult& r) { return to_text(r); });
+    def_write(result, [](const MeshResult& r) { return write_options(r); });
 }
 
 // mesh_image, mesh_shape, mesh_materials: the warpmesh.mesh*() of
@@ -213,6 +228,206 @@ void bind_meshing(py::module_& m) {
             return run(*field, o, threads);
         },
         py::arg("spec"), py::arg("keep_background"), py::arg("threads"), py::arg("options"));
+}
+
+// A TetBlock as a dict of numpy arrays (picklable: dask ships blocks between
+// processes) and back.
+py::dict block_to_dict(TetBlock&& b) {
+    auto owned = [](auto&& vec, std::size_t cols) {
+        using T = typename std::decay_t<decltype(vec)>::value_type;
+        auto* heap = new std::decay_t<decltype(vec)>(std::move(vec));
+        py::capsule owner(heap, [](void* p) { delete static_cast<std::decay_t<decltype(vec)>*>(p); });
+        const auto rows = heap->size();
+        if constexpr (std::is_same_v<T, Point3>)
+            return py::array_t<double>({rows, cols}, heap->empty() ? nullptr : &heap->front().x, owner);
+        else if constexpr (std::is_same_v<T, std::array<std::int32_t, 4>>)
+            return py::array_t<std::int32_t>({rows, cols}, heap->empty() ? nullptr : heap->front().data(), owner);
+        else return py::array_t<T>({rows}, heap->data(), owner);
+    };
+    py::dict d;
+    d["vertex_key"] = owned(std::move(b.vertex_key), 1);
+    d["vertices"] = owned(std::move(b.vertices), 3);
+    d["on_level_set"] = owned(std::move(b.on_level_set), 1);
+    d["tets"] = owned(std::move(b.tets), 4);
+    d["tet_key"] = owned(std::move(b.tet_key), 1);
+    d["lattice_edge"] = owned(std::move(b.lattice_edge), 1);
+    return d;
+}
+
+// The scalar a row of T is made of (Point3: double; a tetrahedron: int32).
+template <class T>
+using Scalar = std::conditional_t<std::is_same_v<T, Point3>, double,
+                                  std::conditional_t<std::is_same_v<T, std::array<std::int32_t, 4>>, std::int32_t, T>>;
+
+template <class T>
+std::vector<T> from_array(const py::dict& d, const char* name, std::size_t per) {
+    const auto a = d[name].cast<py::array_t<Scalar<T>, py::array::c_style | py::array::forcecast>>();
+    if (static_cast<std::size_t>(a.size()) % per) throw InputError(std::string("block array '") + name + "' has a bad shape");
+    std::vector<T> out(static_cast<std::size_t>(a.size()) / per);
+    if (!out.empty()) std::memcpy(out.data(), a.data(), out.size() * sizeof(T));
+    return out;
+}
+
+// The block API (mesh3d.hpp, "Blocks"): the lattice of a level set, one
+// block of its cubes, the merge; warpmesh.lattice3d, mesh3d_block and
+// merge_blocks in __init__.py.
+void bind_blocks(py::module_& m) {
+    m.def(
+        "lattice3",
+        [](const LevelSet3& f, double spacing) {
+            const Lattice3 l = lattice3_for(f, spacing);
+            return py::make_tuple(l.cubes, l.point_count());
+        },
+        py::arg("levelset"), py::arg("spacing"));
+    m.def(
+        "mesh3d_block",
+        [](const LevelSet3& f, double spacing, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi) {
+            const Lattice3 lattice = lattice3_for(f, spacing);
+            for (std::size_t a = 0; a < 3; ++a)
+                if (lo[a] < 0 || lo[a] >= hi[a] || hi[a] > lattice.cubes[a])
+                    throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) +
+                                     ", " + std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
+                                     ") with lo < hi along every axis");
+            Mesh3dOptions o;
+            o.spacing = spacing;
+            TetBlock b;
+            {
+                py::gil_scoped_release release;
+                b = mesh3d_block(f, o, lattice, CubeRange{lo, hi});
+            }
+            return block_to_dict(std::move(b));
+        },
+        py::arg("levelset"), py::arg("spacing"), py::arg("lo"), py::arg("hi"));
+    m.def(
+        "merge_tet_blocks",
+        [](const std::vector<py::dict>& dicts) {
+            std::vector<TetBlock> blocks;
+            for (const py::dict& d : dicts) {
+                TetBlock b;
+                b.vertex_key = from_array<std::uint64_t>(d, "vertex_key", 1);
+                b.vertices = from_array<Point3>(d, "vertices", 3);
+                b.on_level_set = from_array<std::uint8_t>(d, "on_level_set", 1);
+                b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
+                b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
+                b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
+                blocks.push_back(std::move(b));
+            }
+            Mesh3dResult r;
+            py::gil_scoped_release release;
+            try {
+                r.mesh = merge_tet_blocks(blocks);
+            } catch (const std::invalid_argument& e) {
+                throw InputError(std::string("the blocks do not merge: ") + e.what());
+            }
+            r.report.vertices = static_cast<std::int64_t>(r.mesh.vertices.size());
+            r.report.tets = static_cast<std::int64_t>(r.mesh.tets.size());
+            r.report.boundary_faces = static_cast<std::int64_t>(r.mesh.boundary.size());
+            return r;
+        },
+        py::arg("blocks"));
+}
+
+// The 3D mesher: volume_levelset3 / shape_levelset3 then mesh3d, and
+// mesh3d_function (a Python callable f(x, y, z) on a box): the
+// warpmesh.mesh3d() of python/warpmesh/__init__.py, which checks and
+// converts their arguments.
+void bind_mesh3d(py::module_& m) {
+    py::class_<Mesh3dResult> result(m, "Mesh3dResult");
+    static_assert(sizeof(Point3) == 3 * sizeof(double));
+    def_view<double>(result, "points", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.vertices; });
+    def_view<std::int32_t>(result, "tetrahedra", 4, [](const Mesh3dResult& r) -> const auto& { return r.mesh.tets; });
+    def_view<std::int32_t>(result, "regions", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.region; });
+    def_view<std::int32_t>(result, "boundary_faces", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary; });
+    def_view<std::int32_t>(result, "boundary_tags", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary_tag; });
+    result.def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const Mesh3dResult&>()); })
+        .def_property_readonly("warnings", [](const Mesh3dResult& r) { return r.report.warnings; })
+        .def("to_json", [](const Mesh3dResult& r) { return to_json(r.report); })
+        .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); });
+    def_write(result, [](const Mesh3dResult&) { return WriteOptions{}; });
+
+    // The mesher on f with options (spacing, verify, max_memory), the GIL released.
+    auto run3d = [](const LevelSet3& f, const py::dict& kw, std::optional<int> threads) {
+        Mesh3dOptions o;
+        o.spacing = kw["spacing"].cast<double>();
+        if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
+        if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();
+        if (threads) o.threads = *threads;
+        Mesh3dResult r;
+        py::gil_scoped_release release;
+        r.mesh = mesh3d(f, o, &r.report);
+        return r;
+    };
+    using Voxels = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    // An opaque level set (a volume's or a shape's), for the block API.
+    py::class_<LevelSet3>(m, "LevelSet3").def("__repr__", [](const LevelSet3& f) { return f.describe(); });
+    m.def("shape_levelset3", [](const std::string& spec) { return parse_shape3(spec); }, py::arg("spec"));
+    m.def(
+        "volume_levelset3",
+        [](const Voxels& a, bool integer_valued, std::array<double, 3> voxel_size, std::array<double, 3> origin,
+           bool physical, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels,
+           bool nonzero, const py::dict& kw) {
+            if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
+            Volume v;
+            v.dims = {a.shape(2), a.shape(1), a.shape(0)};
+            v.values.assign(a.data(), a.data() + a.size());
+            v.spacing = voxel_size, v.origin = origin, v.physical = physical;
+            v.integer_valued = integer_valued;
+            v.format = "numpy", v.source = "the array";
+            VolumeLevelSet3Options lo;
+            if (kw.contains("max_memory")) lo.max_memory = kw["max_memory"].cast<std::uint64_t>();
+            if (labels || nonzero) {
+                lo.mode.mode = ImageMode::label;
+                lo.mode.label_nonzero = nonzero;
+                if (labels) lo.mode.labels = *labels;
+            } else {
+                lo.mode.iso = iso;
+                lo.mode.inside_above = inside_above;
+            }
+            py::gil_scoped_release release;
+            return make_volume_levelset3(v, lo);
+        },
+        py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"), py::arg("physical"),
+        py::arg("iso"), py::arg("inside_above"), py::arg("labels"), py::arg("nonzero"), py::arg("options"));
+    m.def(
+        "mesh3d",
+        [run3d](const LevelSet3& f, std::optional<int> threads, const py::dict& kw) { return run3d(f, kw, threads); },
+        py::arg("levelset"), py::arg("threads"), py::arg("options"));
+    bind_blocks(m);
+    // A Python callable, evaluated with the GIL held: one thread (OpenMP
+    // threads would only queue for the GIL).  An exception in it must not
+    // cross the mesher's OpenMP regions: the first one's message is kept, the
+    // point is taken as outside, and InputError is raised after meshing.
+    m.def(
+        "mesh3d_function",
+        [run3d](py::function f, std::array<double, 6> box, const py::dict& kw) {
+            auto error = std::make_shared<std::string>();
+            FunctionLevelSet3 ls(
+                [f, error](double x, double y, double z) {
+                    py::gil_scoped_acquire gil;
+                    if (!error->empty()) return 1.0;
+                    try {
+                        const double v = f(x, y, z).cast<double>();
+                        if (std::isfinite(v)) return v;
+                        *error = "f(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
+                                 ") is not finite";
+                    } catch (const std::exception& e) {
+                        *error = e.what();
+                    }
+                    return 1.0;
+                },
+                Box3{box[0], box[1], box[2], box[3], box[4], box[5]}, "a Python function");
+            std::optional<Mesh3dResult> r;
+            std::string failure;
+            try {
+                r = run3d(ls, kw, 1);
+            } catch (const InputError& e) {
+                failure = e.what();
+            }
+            if (!error->empty()) throw InputError("the level-set function failed: " + *error);
+            if (!r) throw InputError(failure);
+            return std::move(*r);
+        },
+        py::arg("f"), py::arg("box"), py::arg("options"));
 }
 
 void bind_read_image(py::module_& m) {
@@ -274,6 +489,7 @@ PYBIND11_MODULE(_core, m) {
     py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
     bind_result(m);
     bind_meshing(m);
+    bind_mesh3d(m);
     bind_read_image(m);
     m.def("png_supported", &png_supported);
     m.def("certified_table_available", &certified_table_available);

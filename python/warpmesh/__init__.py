@@ -10,6 +10,9 @@ with certified angle bounds.
 
     >>> d = warpmesh.mesh_shape("circle:0,0,1", spacing=0.05, graded=True)
 
+    >>> t = warpmesh.mesh3d(labels_zyx, label="nonzero", voxel_size=(1, 1, 1.5))
+    >>> t.points.shape, t.tetrahedra.shape            # (n, 3) float64, (t, 4) int32
+
 The functions release the GIL while meshing (threads can mesh in parallel; the
 mesher itself uses OpenMP threads, `threads=` per call).  Every bad input
 (an argument of the wrong type or value, an image warpmesh cannot mesh, a
@@ -24,8 +27,9 @@ import numpy as np
 from . import _core
 from ._core import InputError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "mesh_shapes", "read_image", "write", "Mesh", "Image", "InputError", "OutputError",
-           "png_supported", "certified_table_available"]
+__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image",
+           "write", "Mesh", "TetMesh", "Image", "InputError", "OutputError", "png_supported",
+           "certified_table_available"]
 
 # The CLI's --max-squares and --max-pixels defaults.
 _MAX_SQUARES = 1 << 30
@@ -454,3 +458,220 @@ def mesh_shapes(spec, *, background="drop", spacing=1.0, graded=False, max_cell=
                              _options(spacing, rule, graded, max_cell, None, None, certify, verify, max_squares, spec,
                                       max_size, grading, max_size_of, optimize, max_memory))
     return _finish(core)
+
+
+class TetMesh:
+    """The result of mesh3d(): a tetrahedral mesh.
+
+    Arrays (numpy views of the C++ mesh, read-only, kept alive by this object):
+      points          (n, 3) float64   vertex coordinates (millimetres for a volume
+                                       with voxel_size, else voxel units; a shape's units)
+      tetrahedra      (t, 4) int32     vertex indices, every tetrahedron positively
+                                       oriented: det(p1 - p0, p2 - p0, p3 - p0) > 0
+      regions         (t,)   int32     region tag per tetrahedron (1)
+      boundary_faces  (b, 3) int32     the faces of one tetrahedron, normal
+                                       (p1 - p0) x (p2 - p0) pointing out
+      boundary_tags   (b,)   int32     1 = on the level set, 2 = on the lattice border
+    report (dict, the CLI's --report JSON: counts, measured and certified
+    dihedral bounds, radius ratios, boundary fidelity), warnings (list of str,
+    also issued as Python warnings).
+    """
+
+    def __init__(self, core):
+        self._core = core
+        self.report = json.loads(core.to_json())
+        self.warnings = list(core.warnings)
+
+    points = property(lambda self: self._core.points)
+    tetrahedra = property(lambda self: self._core.tetrahedra)
+    regions = property(lambda self: self._core.regions)
+    boundary_faces = property(lambda self: self._core.boundary_faces)
+    boundary_tags = property(lambda self: self._core.boundary_tags)
+    cell_data = property(lambda self: self._core.cell_data)
+
+    @property
+    def certified(self):
+        """The certified dihedral interval [min, max] in degrees of the
+        certified tetrahedra (report["certified"] counts the others), or None."""
+        c = self.report.get("certified")
+        return None if c is None else (c["min_dihedral_deg"], c["max_dihedral_deg"])
+
+    def to_text(self):
+        """The CLI's text report."""
+        return self._core.to_text()
+
+    def write(self, path, *, ascii=False, compress=False, xdmf_inline=False):
+        """Write with warpmesh's writers, chosen by extension: .vtu, .msh,
+        .xdmf (+ _facets.xdmf), .inp (C3D4), .mesh (medit); as write()."""
+        self._core.write(str(path), ascii, compress, xdmf_inline)
+
+    def to_meshio(self, boundary=False):
+        """A meshio.Mesh: the tetrahedra with cell data "region" (int32).  With
+        boundary=True a "triangle" block of the boundary faces follows, its
+        "region" the boundary tags."""
+        import meshio
+
+        cells = [("tetra", self.tetrahedra)]
+        region = [self.regions]
+        if boundary:
+            cells.append(("triangle", self.boundary_faces))
+            region.append(self.boundary_tags)
+        return meshio.Mesh(self.points, cells, cell_data={"region": region})
+
+    def __repr__(self):
+        c = self.certified
+        cert = "" if c is None else f", certified dihedral angles [{c[0]:.4g}, {c[1]:.4g}] deg"
+        return f"<warpmesh.TetMesh {len(self.points)} points, {len(self.tetrahedra)} tetrahedra{cert}>"
+
+
+def _triple(name, value, positive):
+    """Three finite numbers (x, y, z) from one or three, else InputError."""
+    try:
+        v = np.broadcast_to(np.asarray(value, dtype=float), (3,))
+    except (TypeError, ValueError):
+        v = None
+    if v is None or not np.isfinite(v).all() or (positive and not (v > 0).all()):
+        raise InputError(f"{name} must be one or three finite{' positive' if positive else ''} numbers (x, y, z), "
+                         f"got {value!r}")
+    return tuple(float(x) for x in v)
+
+
+def _volume(volume):
+    """The volume as a 3D array (z, y, x) and whether it is integer valued."""
+    try:
+        a = np.asarray(volume)
+    except Exception as e:
+        raise InputError(f"the volume must be a 3D array: {e}") from None
+    if a.ndim != 3:
+        raise InputError(f"the volume must be a 3D array (z, y, x), got shape {a.shape}")
+    if a.dtype == bool:
+        return a.astype(np.uint8), True
+    if not (np.issubdtype(a.dtype, np.integer) or np.issubdtype(a.dtype, np.floating)):
+        raise InputError(f"volume dtype {a.dtype} is not supported: give integers, floats or booleans")
+    return a, bool(np.issubdtype(a.dtype, np.integer))
+
+
+def _levelset3(volume, label, labels, iso, inside, voxel_size, origin, max_memory_mb):
+    """The level set of a numpy volume or a shape string (the C++ object)
+    and the default spacing (None for a shape)."""
+    _choice("inside", inside, ("above", "below"))
+    if label is not None and labels is not None:
+        raise InputError("label and labels are the same option: give one")
+    label = labels if label is None else label
+    if label is not None and iso is not None:
+        raise InputError("iso (threshold mode) and label (label mode) exclude each other")
+    if isinstance(volume, str):
+        if label is not None or iso is not None or voxel_size is not None:
+            raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
+        return _core.shape_levelset3(volume), None
+    a, integer_valued = _volume(volume)
+    size = _triple("voxel_size", 1.0 if voxel_size is None else voxel_size, True)
+    label_list, nonzero = _labels(label)
+    options = {} if max_memory_mb is None else {"max_memory": _integer("max_memory_mb", max_memory_mb, 1) << 20}
+    f = _core.volume_levelset3(a, integer_valued, size, _triple("origin", origin, False), voxel_size is not None,
+                               None if iso is None else _number("iso", iso), inside == "above", label_list, nonzero,
+                               options)
+    return f, min(size)
+
+
+def _spacing3(spacing, default):
+    if spacing is None and default is None:
+        raise InputError("spacing is required for a shape or a function (the lattice's cube side)")
+    return _number("spacing", default if spacing is None else spacing)
+
+
+def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
+           origin=(0.0, 0.0, 0.0), box=None, verify=False, max_memory_mb=None, threads=None):
+    """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
+    mesh3d`` does (BCC lattice warping, dihedral angles certified by
+    proofs/bcc.cert).
+
+    volume      one of
+                * a 3D numpy array indexed (z, y, x), as SimpleITK's
+                  GetArrayFromImage and tifffile give it: voxel (i, j, k) =
+                  volume[k, j, i] lies at origin + (i sx, j sy, k sz);
+                * a shape string as the CLI's --shape: sphere:cx,cy,cz,r
+                  ellipsoid:cx,cy,cz,a,b,c  torus:cx,cy,cz,R,r
+                  box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r and
+                  union/intersect/diff(S;S);
+                * a callable f(x, y, z) -> float (f < 0 inside) with
+                  box=(xmin, ymin, zmin, xmax, ymax, zmax) around the region
+                  (evaluated point by point, one thread: for small meshes).
+    label       label mode (volumes): an int, a list, "51,52", "1-9" or
+                "nonzero"; the region is those voxels, f the signed distance
+                between voxel centres, interpolated trilinearly.  (labels= is
+                the same, as in mesh().)
+    iso         threshold mode instead: inside where the trilinear volume is
+                above iso (inside="above") or below it; default the middle of
+                the value range
+    voxel_size  (sx, sy, sz) in mm (one number: cubic voxels), origin the
+                position of voxel (0, 0, 0); without voxel_size the volume is
+                meshed in voxel units
+    spacing     the lattice's cube side, in the volume's units (default the
+                smallest voxel size, or 1 voxel); required for shapes and
+                functions
+    verify      check every certified tetrahedron against the certificate
+    max_memory_mb  refuse (InputError) inputs whose meshing would take more
+                (default 2048, as the CLI's --max-memory)
+    threads     OpenMP threads for this call (default: all cores)
+
+    Returns a TetMesh.  Raises InputError (a ValueError) for every bad input.
+    Volumes too large for one machine: mesh3d_block and merge_blocks.
+    """
+    options = {"verify": bool(verify)}
+    if max_memory_mb is not None:
+        options["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
+    threads = _threads(threads)
+    if callable(volume) and not isinstance(volume, str):
+        if label is not None or labels is not None or iso is not None or voxel_size is not None:
+            raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
+        options["spacing"] = _spacing3(spacing, None)
+        if box is None:
+            raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
+        b = [_number("box", v) for v in np.asarray(box, dtype=object).ravel()]
+        if len(b) != 6 or not all(b[k] < b[k + 3] for k in range(3)):
+            raise InputError(f"box must be (xmin, ymin, zmin, xmax, ymax, zmax) with min < max, got {box!r}")
+        core = _core.mesh3d_function(volume, b, options)
+    else:
+        if box is not None:
+            raise InputError("box applies to a function, not to a volume or a shape")
+        f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, max_memory_mb)
+        options["spacing"] = _spacing3(spacing, default)
+        core = _core.mesh3d(f, threads, options)
+    m = TetMesh(core)
+    for w in m.warnings:
+        warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=2)
+    return m
+
+
+def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
+              origin=(0.0, 0.0, 0.0)):
+    """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
+    to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
+    (volumes and shape strings)."""
+    f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
+    return tuple(int(n) for n in _core.lattice3(f, _spacing3(spacing, default))[0])
+
+
+def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside="above",
+                 voxel_size=None, origin=(0.0, 0.0, 0.0)):
+    """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
+    indices, within lattice3d's cubes) of the mesh mesh3d would make, with
+    every vertex and tetrahedron named by its global key: a dict of numpy
+    arrays (picklable), for merge_blocks.  Blocks mesh independently (a
+    worker needs only its input); blocks that tile the lattice merge into
+    exactly mesh3d's mesh.  Arguments as mesh3d's (volumes and shape strings)."""
+    f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
+    lo = tuple(_integer("lo", v, 0) for v in lo)
+    hi = tuple(_integer("hi", v, 1) for v in hi)
+    if len(lo) != 3 or len(hi) != 3:
+        raise InputError("lo and hi must be triples of cube indices")
+    return _core.mesh3d_block(f, _spacing3(spacing, default), lo, hi)
+
+
+def merge_blocks(blocks):
+    """One TetMesh from blocks that tile the lattice (any order): vertices and
+    tetrahedra in the global order, the boundary found again; equal to
+    mesh3d's mesh of the same input.  Its report has the counts only.
+    Raises InputError when the blocks do not fit together."""
+    return TetMesh(_core.merge_tet_blocks(list(blocks)))

@@ -30,6 +30,7 @@ struct QualityReport;             // quality.hpp
 struct CertifiedSummary;          // certified.hpp
 struct MaterialResult;            // materials.hpp
 struct MeshResult;                // pipeline.hpp
+struct Mesh3dReport;              // mesh3d.hpp
 enum class DiagonalRule : std::uint8_t;  // generic_square.hpp
 
 // ---- JSON values ------------------------------------------------------------------
@@ -82,5 +83,13 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
 // the materials' lines, the optimisation pass's lines.
 std::string to_json(const MeshResult& result);
 std::string to_text(const MeshResult& result);
+
+// ---- the 3D mesher (mesh3d.hpp) ------------------------------------------------------
+// The report of mesh3d as one JSON object ("dimension": 3, counts, measured
+// dihedral extremes and radius ratios, boundary fidelity, "certified":
+// {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
+// warnings, seconds) and as text (report3d.cpp).
+std::string to_json(const Mesh3dReport& report);
+std::string to_text(const Mesh3dReport& report);
 
 }  // namespace warpmesh

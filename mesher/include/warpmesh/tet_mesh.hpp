@@ -28,13 +28,15 @@
 
 namespace warpmesh {
 
-struct Vec3 {
+// A point of a tetrahedral mesh.  (Not `Vec3`: volume.hpp's Vec3 is the
+// std::array of the readers' geometry, and both headers are public.)
+struct Point3 {
     double x, y, z;
 };
 
 struct TetMesh {
     // The large arrays are Buffers (buffer.hpp): filled in parallel, not zeroed.
-    Buffer<Vec3> vertices;
+    Buffer<Point3> vertices;
     Buffer<std::array<std::int32_t, 4>> tets;
     Buffer<std::int32_t> region;  // one tag per tetrahedron
     std::vector<std::array<std::int32_t, 3>> boundary;

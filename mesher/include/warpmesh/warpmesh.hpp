@@ -6,6 +6,8 @@
 //   image.hpp           read_image / decode_image: PGM, PNG (warpmesh::io)
 //   image_levelset.hpp  images → level sets: threshold or labels
 //   materials.hpp       multi-material fields (label images, shapes) for mesh(field, options)
+//   mesh3d.hpp          3D: level sets, shapes, volumes → tetrahedral meshes (BCC lattice)
+//   tet_mesh.hpp        the 3D mesh: vertices, tetrahedra, boundary faces
 //   mesh.hpp            the mesh: vertices, triangles, regions, boundary, interfaces
 //   certified.hpp       the proofs' angle bounds and the certification summary
 //   quality.hpp         the quality report: angles, histogram, radius ratio, area
@@ -28,6 +30,7 @@
 #include "warpmesh/levelset.hpp"
 #include "warpmesh/materials.hpp"
 #include "warpmesh/mesh.hpp"
+#include "warpmesh/mesh3d.hpp"
 #include "warpmesh/mesh_checks.hpp"
 #include "warpmesh/optimize.hpp"
 #include "warpmesh/pipeline.hpp"

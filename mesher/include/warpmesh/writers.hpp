@@ -9,6 +9,14 @@
 //   write_triangle.cpp → Triangle's .node/.ele (+ .poly with the boundary)
 //   write_svg.cpp      → an SVG picture
 //   write_png.cpp      → a PNG picture (libpng), anti-aliased, for figures
+//   write_medit.cpp    → medit/MMG .mesh (ASCII): vertices, cells and facets
+//                        with references
+//
+// Tetrahedral meshes (TetMesh, the 3D mesher's output) go to the same
+// formats through the same code (.vtu, .msh, .xdmf, .inp, .mesh): the cells
+// are tetrahedra, the tagged facets are triangles, and every tag and name
+// means what it means for triangles (see each format's comment).  Pictures
+// and Triangle's formats are 2D only.
 //
 // Every file is written atomically (src/io/atomic_file.hpp): on failure nothing
 // appears under the requested name and OutputError (errors.hpp) names the
@@ -31,6 +39,7 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/mesh.hpp"
+#include "warpmesh/tet_mesh.hpp"
 
 namespace warpmesh {
 
@@ -122,10 +131,17 @@ struct WriteOptions {
 
 // Chooses the format by the (case-insensitive) extension of `path`: .vtu,
 // .msh, .xdmf (plus STEM_facets.xdmf, and with HDF5 STEM.h5 and
-// STEM_facets.h5), .inp, .node or .ele (both are written,
+// STEM_facets.h5), .inp, .mesh, .node or .ele (both are written,
 // plus .poly, with the same stem), .svg, .png.
 // Anything else is an OutputError listing the supported extensions.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {});
+// The same for tetrahedra: .vtu, .msh, .xdmf, .inp, .mesh; a 2D-only format
+// (.node/.ele/.poly, .svg, .png) is an OutputError naming the 3D formats.
+void write_mesh(const TetMesh& mesh, const std::string& path, const WriteOptions& options = {});
+
+// Throws OutputError if write_mesh(TetMesh) would refuse `path` (a 2D-only or
+// unknown format, or a missing directory) — checked before any work is done.
+void check_output_path_3d(const std::string& path);
 
 // Throws OutputError if write_mesh would refuse `path` for its extension or
 // because its directory does not exist — checked before any work is done.
@@ -156,12 +172,16 @@ std::vector<std::string> output_files(const std::string& path, const WriteOption
 // .node file).  See write_vtu.cpp for the appended layouts.
 void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& options = {});
 void write_vtu(const Mesh& mesh, std::ostream& out, const VtuOptions& options = {});
+void write_vtu(const TetMesh& mesh, const std::string& path, const VtuOptions& options = {});
+void write_vtu(const TetMesh& mesh, std::ostream& out, const VtuOptions& options = {});
 
 // Gmsh MSH 4.1 or 2.2, binary or ASCII; see write_msh.cpp for the
 // entity/physical layout: one named physical group per region, per boundary
 // tag and per interface.
 void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options = {});
 void write_msh(const Mesh& mesh, std::ostream& out, const MshOptions& options = {});
+void write_msh(const TetMesh& mesh, const std::string& path, const MshOptions& options = {});
+void write_msh(const TetMesh& mesh, std::ostream& out, const MshOptions& options = {});
 
 // XDMF 3 for FEniCSx (and meshio, ParaView): `path` holds the mesh (grid
 // "mesh": triangles, XY points, cell attribute "region") and STEM_facets.xdmf
@@ -174,12 +194,26 @@ void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& op
 // The inline-XML documents (XdmfOptions::hdf5 false).
 void write_xdmf_mesh(const Mesh& mesh, std::ostream& out);
 void write_xdmf_facets(const Mesh& mesh, std::ostream& out);
+void write_xdmf(const TetMesh& mesh, const std::string& path, const XdmfOptions& options = {});
+void write_xdmf_mesh(const TetMesh& mesh, std::ostream& out);
+void write_xdmf_facets(const TetMesh& mesh, std::ostream& out);
 
 // Abaqus/CalculiX input: *NODE, *ELEMENT TYPE=CPS3, an *ELSET per region, an
 // *NSET and an element-edge *SURFACE per boundary tag and per interface; see
 // write_inp.cpp.
 void write_inp(const Mesh& mesh, const std::string& path);
 void write_inp(const Mesh& mesh, std::ostream& out);
+void write_inp(const TetMesh& mesh, const std::string& path);
+void write_inp(const TetMesh& mesh, std::ostream& out);
+
+// medit/MMG mesh (.mesh, "MeshVersionFormatted 2", ASCII, 1-based):
+// Vertices (ref = detail::vertex_markers), the cells (Triangles or
+// Tetrahedra, ref = region tag), then the tagged facets (Edges or Triangles,
+// ref = facet-group tag, as the .msh physical groups); see write_medit.cpp.
+void write_medit(const Mesh& mesh, const std::string& path);
+void write_medit(const Mesh& mesh, std::ostream& out);
+void write_medit(const TetMesh& mesh, const std::string& path);
+void write_medit(const TetMesh& mesh, std::ostream& out);
 
 // Triangle's formats, 1-based: STEM.node ("N 2 0 1": the vertex's marker,
 // detail::vertex_markers: the boundary tag of a boundary vertex as on the
@@ -208,11 +242,6 @@ void write_png(const Mesh& mesh, const std::string& path, const PngOptions& opti
 void write_png(const Mesh& mesh, std::ostream& out, const PngOptions& options = {});
 
 namespace detail {
-
-// Throws OutputError unless every per-triangle array of `mesh` (region,
-// cell_data) has one entry per triangle, boundary_tag one per boundary edge,
-// interface_regions one per interface edge, and every vertex index is in range.
-void check_mesh_arrays(const Mesh& mesh, const std::string& path);
 
 // What a picture (SVG or PNG) colours its triangles by: a cell data array
 // (by name, its finite min … max range) or, failing that and if asked, each
@@ -253,42 +282,6 @@ std::string xml_escape(std::string_view s);
 std::string xdmf_facets_path(const std::string& path);
 // The HDF5 file of the XDMF file `path`: STEM.h5.
 std::string xdmf_h5_path(const std::string& path);
-
-// ---- named groups, shared by the formats that tag or name them ------------------
-//
-// Regions: the name of region tag `tag` is its mesh.region_names entry, else
-// "domain" when the mesh has one region, else "domain_<tag>".
-std::string region_name(const Mesh& mesh, std::int32_t tag, bool single_region);
-
-// The distinct region tags of `mesh`, in increasing order.
-std::vector<std::int32_t> region_tags(const Mesh& mesh);
-
-// Tagged edges: one group per boundary tag (in increasing tag order), then one
-// per unordered pair of regions {a < b} that share interface edges.
-//  * A boundary group's tag is the boundary tag itself when every boundary tag
-//    is >= 1 (the meshers' 1 and 2), else the 1-based rank of the tag; its
-//    name is "boundary" (tag 1, the level set), "domain_border" (tag 2, the
-//    lattice border) or "boundary_<tag>".  Its edges are as in mesh.boundary
-//    (the meshed region on their left).
-//  * An interface group's tag is max(2, largest boundary group tag) + 1 + its
-//    rank among the pairs (so 3, 4, … for a mesher's mesh); its name is
-//    "interface_<a>_<b>" with the region tags; its edges are reoriented so
-//    that region a is on their left for all of them.
-// Group tags are the facet tags of every format (.msh physical curves, XDMF
-// facet_tags, .poly/.node markers); they are >= 1 and distinct.
-struct EdgeGroup {
-    std::int32_t tag;
-    std::string name;
-    bool interface = false;
-    std::int32_t left_region = 0, right_region = 0;  // interfaces only
-    std::vector<std::size_t> index;                  // into mesh.boundary or mesh.interfaces
-    std::vector<std::array<std::int32_t, 2>> edges;  // oriented as described above
-};
-std::vector<EdgeGroup> edge_groups(const Mesh& mesh);
-
-// One marker per vertex: the smallest edge-group tag of the boundary edges at
-// the vertex, else the smallest of the interface edges at it, else 0.
-std::vector<std::int32_t> vertex_markers(const Mesh& mesh, const std::vector<EdgeGroup>& groups);
 
 }  // namespace detail
 

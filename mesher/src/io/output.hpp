@@ -8,11 +8,13 @@
 // reads back to the same double (std::to_chars), so text round-trips exactly.
 //
 // Cells are a parameter, not a type: a Cells view is a CellKind (nodes per
-// cell and each format's name for it) and a flat span of vertex indices, so
-// the same writer code serves triangles (now) and tetrahedra (the 3D mesher).
+// cell and each format's name for it) and a flat span of vertex indices, and
+// a MeshView is a Mesh or a TetMesh seen through them, so the same writer
+// code serves triangles and tetrahedra.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <charconv>
 #include <cstddef>
@@ -23,9 +25,12 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "warpmesh/mesh.hpp"
+#include "warpmesh/tet_mesh.hpp"
 
 namespace warpmesh::detail {
 
@@ -41,10 +46,11 @@ struct CellKind {
     std::int32_t gmsh;       // Gmsh element type (2 triangle, 4 tetrahedron, 1 line)
     std::string_view xdmf;   // XDMF TopologyType
     std::string_view abaqus; // Abaqus element type
+    std::string_view medit;  // medit (.mesh) section keyword
 };
-inline constexpr CellKind line_cells{2, 1, 3, 1, "Polyline", "T2D2"};
-inline constexpr CellKind triangle_cells{3, 2, 5, 2, "Triangle", "CPS3"};
-inline constexpr CellKind tetra_cells{4, 3, 10, 4, "Tetrahedron", "C3D4"};
+inline constexpr CellKind line_cells{2, 1, 3, 1, "Polyline", "T2D2", "Edges"};
+inline constexpr CellKind triangle_cells{3, 2, 5, 2, "Triangle", "CPS3", "Triangles"};
+inline constexpr CellKind tetra_cells{4, 3, 10, 4, "Tetrahedron", "C3D4", "Tetrahedra"};
 
 // `nodes.size() / kind.nodes` cells, cell i's vertices at nodes[i*kind.nodes …].
 struct Cells {
@@ -56,12 +62,116 @@ struct Cells {
     }
 };
 
-// The mesh's triangles as Cells (no copy: std::array<int32_t, 3> is three
-// packed int32_t).
-inline Cells cells_of(const Mesh& mesh) {
-    static_assert(sizeof(mesh.triangles[0]) == 3 * sizeof(std::int32_t));
-    return {triangle_cells, {mesh.triangles.empty() ? nullptr : mesh.triangles.front().data(), 3 * mesh.triangles.size()}};
+// ---- the mesh as the writers see it -------------------------------------------------
+
+// A read-only view of a triangle mesh (Mesh) or a tetrahedral mesh (TetMesh):
+// what every writer needs, with the cell shape as a parameter.  Facets are
+// the cells' faces of one dimension lower (edges of triangles, triangles of
+// tetrahedra); boundary facets and interface facets are flat node lists of
+// `facet_kind.nodes` vertices each, oriented as in mesh.hpp / tet_mesh.hpp
+// (the meshed region on the left of an edge, below an outward-normal
+// triangle).  No copy is made: the spans point into the mesh.
+struct MeshView {
+    int dim = 2;                          // coordinates per vertex (2 or 3)
+    std::size_t num_vertices = 0;
+    const double* coords = nullptr;       // num_vertices x dim, packed (Vec2, Point3)
+    Cells cells{triangle_cells, {}};
+    CellKind facet_kind = line_cells;
+    std::span<const std::int32_t> region;
+    std::span<const std::int32_t> boundary;      // flat, facet_kind.nodes each
+    std::span<const std::int32_t> boundary_tag;  // one per boundary facet
+    std::span<const std::int32_t> interfaces;    // flat, facet_kind.nodes each
+    std::span<const std::array<std::int32_t, 2>> interface_regions;
+    std::span<const std::pair<std::int32_t, std::string>> region_names;
+    std::span<const std::pair<std::string, Buffer<double>>> cell_data;
+
+    std::size_t num_boundary() const { return boundary.size() / static_cast<std::size_t>(facet_kind.nodes); }
+    std::size_t num_interfaces() const { return interfaces.size() / static_cast<std::size_t>(facet_kind.nodes); }
+    // Coordinate k (0 x, 1 y, 2 z; z = 0 for a 2D mesh) of vertex i.
+    double coord(std::size_t i, int k) const { return k < dim ? coords[i * static_cast<std::size_t>(dim) + static_cast<std::size_t>(k)] : 0.0; }
+};
+
+// A span of N-element int32 arrays as a flat span (std::array<int32_t, N> is
+// N packed int32_t).
+template <std::size_t N, class Container>
+std::span<const std::int32_t> flat(const Container& c) {
+    static_assert(sizeof(std::array<std::int32_t, N>) == N * sizeof(std::int32_t));
+    return {c.empty() ? nullptr : c.front().data(), N * c.size()};
 }
+
+inline MeshView view_of(const Mesh& m) {
+    static_assert(sizeof(Vec2) == 2 * sizeof(double));
+    return {2, m.vertices.size(), m.vertices.empty() ? nullptr : &m.vertices.front().x, {triangle_cells, flat<3>(m.triangles)},
+            line_cells, m.region, flat<2>(m.boundary), m.boundary_tag, flat<2>(m.interfaces), m.interface_regions,
+            m.region_names, m.cell_data};
+}
+
+inline MeshView view_of(const TetMesh& m) {
+    static_assert(sizeof(m.vertices[0]) == 3 * sizeof(double));
+    return {3, m.vertices.size(), m.vertices.empty() ? nullptr : &m.vertices.front().x, {tetra_cells, flat<4>(m.tets)},
+            triangle_cells, m.region, flat<3>(m.boundary), m.boundary_tag, flat<3>(m.interfaces), m.interface_regions,
+            m.region_names, m.cell_data};
+}
+
+// The mesh's triangles as Cells (no copy).
+inline Cells cells_of(const Mesh& mesh) { return view_of(mesh).cells; }
+
+// Throws OutputError("cannot write 'PATH': invalid mesh: …") unless every
+// per-cell array (region, cell_data) has one entry per cell, boundary_tag one
+// per boundary facet, interface_regions one per interface facet with two
+// different regions, and every vertex index is in range.
+void check_mesh_arrays(const MeshView& mesh, const std::string& path);
+
+// Checks `mesh`'s arrays (check_mesh_arrays), then writes `path` atomically
+// (atomic_file.hpp) with write(view, stream).
+template <class M, class Write>
+void write_mesh_file(const M& mesh, const std::string& path, Write&& write) {
+    const MeshView view = view_of(mesh);
+    check_mesh_arrays(view, path);
+    write_file_atomically(path, [&](std::ostream& os) { write(view, os); });
+}
+
+// ---- named groups, shared by the formats that tag or name them ------------------
+//
+// Regions: the name of region tag `tag` is its mesh.region_names entry, else
+// "domain" when the mesh has one region, else "domain_<tag>".
+std::string region_name(const MeshView& mesh, std::int32_t tag, bool single_region);
+
+// The distinct region tags of `mesh`, in increasing order.
+std::vector<std::int32_t> region_tags(const MeshView& mesh);
+
+// Tagged facets (edges in 2D, triangles in 3D): one group per boundary tag
+// (in increasing tag order), then one per unordered pair of regions {a < b}
+// that share interface facets.
+//  * A boundary group's tag is the boundary tag itself when every boundary tag
+//    is >= 1 (the meshers' 1 and 2), else the 1-based rank of the tag; its
+//    name is "boundary" (tag 1, the level set), "domain_border" (tag 2, the
+//    lattice border) or "boundary_<tag>".  Its facets are as in mesh.boundary
+//    (oriented outwards: the meshed region on their left / below them).
+//  * An interface group's tag is max(2, largest boundary group tag) + 1 + its
+//    rank among the pairs (so 3, 4, … for a mesher's mesh); its name is
+//    "interface_<a>_<b>" with the region tags; its facets are reoriented so
+//    that they face out of region a (a on the left of an edge, behind a
+//    triangle) for all of them.
+// Group tags are the facet tags of every format (.msh physical curves or
+// surfaces, XDMF facet_tags, .poly/.node markers, medit refs); they are >= 1
+// and distinct.
+struct FacetGroup {
+    std::int32_t tag;
+    std::string name;
+    bool interface = false;
+    std::int32_t left_region = 0, right_region = 0;  // interfaces only
+    std::vector<std::size_t> index;                  // into mesh.boundary or mesh.interfaces
+    CellKind kind = line_cells;                      // the facets' kind
+    std::vector<std::int32_t> nodes;                 // flat, oriented as described above
+    std::size_t size() const { return index.size(); }
+    Cells facets() const { return {kind, nodes}; }
+};
+std::vector<FacetGroup> facet_groups(const MeshView& mesh);
+
+// One marker per vertex: the smallest facet-group tag of the boundary facets
+// at the vertex, else the smallest of the interface facets at it, else 0.
+std::vector<std::int32_t> vertex_markers(const MeshView& mesh, const std::vector<FacetGroup>& groups);
 
 // ---- text ------------------------------------------------------------------------
 

@@ -6,6 +6,10 @@
 // "domain_border", "interface_<a>_<b>"), its tag the group's facet tag.
 // Every group is one elementary entity with the same tag as its physical
 // group, so that readers which only keep entity tags see the same numbers.
+// A tetrahedral mesh (TetMesh) is the same one dimension up: one physical
+// volume per region (4-node tetrahedra, type 4) and one physical surface per
+// facet group (3-node triangles, type 2, oriented outwards), the nodes on the
+// first volume entity, $Entities "0 0 F R".
 //
 // MSH 4.1 sections, in the order the format requires (Gmsh manual, "MSH file
 // format"):
@@ -96,15 +100,14 @@ using detail::TextBuf;
 using detail::write_value;
 
 struct Bbox {
-    double xmin = 0, ymin = 0, xmax = 0, ymax = 0;
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     bool empty = true;
-    void add(Vec2 p) {
-        if (empty) {
-            xmin = xmax = p.x, ymin = ymax = p.y, empty = false;
-            return;
+    void add(const detail::MeshView& mesh, std::int32_t v) {
+        for (int k = 0; k < 3; ++k) {
+            const double x = mesh.coord(static_cast<std::size_t>(v), k);
+            lo[k] = empty ? x : std::min(lo[k], x), hi[k] = empty ? x : std::max(hi[k], x);
         }
-        xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x);
-        ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+        empty = false;
     }
 };
 
@@ -174,37 +177,38 @@ std::string quoted(std::string_view s) {
 }
 
 // What both versions write: the region groups (with their bounding boxes) and
-// the edge groups.
+// the facet groups (curves of a triangle mesh, surfaces of a tetrahedral one).
 struct Layout {
     detail::Cells cells;
+    detail::CellKind facet_kind;
     Grouping by_region;
     std::vector<std::string> region_names;  // per region group
-    std::vector<detail::EdgeGroup> curves;
+    std::vector<detail::FacetGroup> curves;
     std::vector<Bbox> curve_box;
-    std::uint64_t nt = 0, nb = 0, ne = 0;  // cells, boundary edges, elements
+    std::uint64_t nt = 0, nb = 0, ne = 0;  // cells, boundary facets, elements
     bool binary = true;
 
-    Layout(const Mesh& mesh, bool bin)
-        : cells(detail::cells_of(mesh)),
+    Layout(const detail::MeshView& mesh, bool bin)
+        : cells(mesh.cells),
+          facet_kind(mesh.facet_kind),
           by_region(group_by_tag(mesh.region)),
-          curves(detail::edge_groups(mesh)),
+          curves(detail::facet_groups(mesh)),
           nt(cells.size()),
-          nb(mesh.boundary.size()),
-          ne(nt + nb + mesh.interfaces.size()),
+          nb(mesh.num_boundary()),
+          ne(nt + nb + mesh.num_interfaces()),
           binary(bin) {
         for (Group& g : by_region.groups) {
             for (std::size_t i = g.begin; i < g.end; ++i)
-                for (const std::int32_t v : cells[by_region.member(i)]) g.box.add(mesh.vertices[static_cast<std::size_t>(v)]);
+                for (const std::int32_t v : cells[by_region.member(i)]) g.box.add(mesh, v);
             region_names.push_back(detail::region_name(mesh, g.tag, by_region.groups.size() == 1));
         }
-        for (const detail::EdgeGroup& c : curves) {
+        for (const detail::FacetGroup& c : curves) {
             Bbox& box = curve_box.emplace_back();
-            for (const auto& e : c.edges)
-                for (const std::int32_t v : e) box.add(mesh.vertices[static_cast<std::size_t>(v)]);
+            for (const std::int32_t v : c.nodes) box.add(mesh, v);
         }
     }
-    // Element tag of the i-th member of curve c.
-    std::uint64_t line_tag(const detail::EdgeGroup& c, std::size_t i) const {
+    // Element tag of the i-th member of facet group c.
+    std::uint64_t line_tag(const detail::FacetGroup& c, std::size_t i) const {
         return nt + (c.interface ? nb : 0) + c.index[i] + 1;
     }
 };
@@ -256,9 +260,9 @@ void put_physical_names(std::ostream& os, const Layout& l) {
     const auto& regions = l.by_region.groups;
     TextBuf out;
     out << "$PhysicalNames\n" << static_cast<std::uint64_t>(regions.size() + l.curves.size()) << '\n';
-    for (const auto& c : l.curves) out << "1 " << c.tag << ' ' << quoted(c.name) << '\n';
+    for (const auto& c : l.curves) out << std::int32_t{l.facet_kind.dim} << ' ' << c.tag << ' ' << quoted(c.name) << '\n';
     for (std::size_t r = 0; r < regions.size(); ++r)
-        out << "2 " << regions[r].entity << ' ' << quoted(l.region_names[r]) << '\n';
+        out << std::int32_t{l.cells.kind.dim} << ' ' << regions[r].entity << ' ' << quoted(l.region_names[r]) << '\n';
     out << "$EndPhysicalNames\n";
     detail::write_bytes(os, out.data(), out.size());
 }
@@ -268,11 +272,16 @@ void put_entities(std::ostream& os, const Layout& l) {
     put_text(os, "$Entities\n");
     auto entity = [&](std::int32_t tag, const Bbox& b) {
         Record r{os, l.binary};
-        r(tag)(b.xmin)(b.ymin)(0.0)(b.xmax)(b.ymax)(0.0)(std::uint64_t{1})(tag)(std::uint64_t{0});
+        r(tag)(b.lo[0])(b.lo[1])(b.lo[2])(b.hi[0])(b.hi[1])(b.hi[2])(std::uint64_t{1})(tag)(std::uint64_t{0});
     };
     {
+        // numPoints numCurves numSurfaces numVolumes: the facet groups one
+        // dimension below the regions.
+        std::uint64_t count[4] = {0, 0, 0, 0};
+        count[l.facet_kind.dim] = l.curves.size();
+        count[l.cells.kind.dim] = regions.size();
         Record r{os, l.binary};
-        r(std::uint64_t{0})(static_cast<std::uint64_t>(l.curves.size()))(static_cast<std::uint64_t>(regions.size()))(std::uint64_t{0});
+        r(count[0])(count[1])(count[2])(count[3]);
     }
     for (std::size_t c = 0; c < l.curves.size(); ++c) entity(l.curves[c].tag, l.curve_box[c]);
     for (const Group& g : regions) entity(g.entity, g.box);
@@ -287,10 +296,10 @@ void put_items(std::ostream& os, bool binary, std::size_t count, std::size_t byt
     else detail::write_text_parallel(os, count, format);
 }
 
-void put_nodes41(std::ostream& os, const Mesh& mesh, const Layout& l) {
-    const auto nv = static_cast<std::uint64_t>(mesh.vertices.size());
+void put_nodes41(std::ostream& os, const detail::MeshView& mesh, const Layout& l) {
+    const auto nv = static_cast<std::uint64_t>(mesh.num_vertices);
     put_text(os, "$Nodes\n");
-    // One block on the first surface (a mesh without cells has no surface and
+    // One block on the first region entity (a mesh without cells has none and
     // so no nodes block; its vertices are not written).
     if (!l.by_region.groups.empty()) {
         Record(os, l.binary)(std::uint64_t{1})(nv)(std::uint64_t{1})(nv).end_line();
@@ -304,10 +313,11 @@ void put_nodes41(std::ostream& os, const Mesh& mesh, const Layout& l) {
                 }
             });
         put_items(
-            os, l.binary, nv, 24, [&](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0\n"; },
+            os, l.binary, nv, 24,
+            [&](TextBuf& b, std::size_t i) { b << mesh.coord(i, 0) << ' ' << mesh.coord(i, 1) << ' ' << mesh.coord(i, 2) << '\n'; },
             [&](std::byte* dst, std::size_t first, std::size_t n) {
                 for (std::size_t i = 0; i < n; ++i) {
-                    const double p[3] = {mesh.vertices[first + i].x, mesh.vertices[first + i].y, 0.0};
+                    const double p[3] = {mesh.coord(first + i, 0), mesh.coord(first + i, 1), mesh.coord(first + i, 2)};
                     std::memcpy(dst + 24 * i, p, 24);
                 }
             });
@@ -355,26 +365,27 @@ void put_elements41(std::ostream& os, const Layout& l) {
             [&](std::size_t i) { return l.cells[l.by_region.member(g.begin + i)]; });
     }
     for (const auto& c : l.curves) {
-        Record(os, l.binary)(std::int32_t{1})(c.tag)(detail::line_cells.gmsh)(static_cast<std::uint64_t>(c.edges.size()));
+        const detail::Cells facets = c.facets();
+        Record(os, l.binary)(std::int32_t{l.facet_kind.dim})(c.tag)(l.facet_kind.gmsh)(static_cast<std::uint64_t>(c.size()));
         put_element_block41(
-            os, l, c.edges.size(), 2, [&](std::size_t i) { return l.line_tag(c, i); },
-            [&](std::size_t i) { return std::span<const std::int32_t>(c.edges[i]); });
+            os, l, c.size(), static_cast<std::size_t>(l.facet_kind.nodes), [&](std::size_t i) { return l.line_tag(c, i); },
+            [&](std::size_t i) { return facets[i]; });
     }
     end_section(os, l.binary, "$EndElements\n");
 }
 
-void put_nodes22(std::ostream& os, const Mesh& mesh, const Layout& l) {
+void put_nodes22(std::ostream& os, const detail::MeshView& mesh, const Layout& l) {
     put_text(os, "$Nodes\n");
-    Record(os, false)(static_cast<std::uint64_t>(mesh.vertices.size()));
+    Record(os, false)(static_cast<std::uint64_t>(mesh.num_vertices));
     put_items(
-        os, l.binary, mesh.vertices.size(), 28,
+        os, l.binary, mesh.num_vertices, 28,
         [&](TextBuf& b, std::size_t i) {
-            b << static_cast<std::uint64_t>(i + 1) << ' ' << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0\n";
+            b << static_cast<std::uint64_t>(i + 1) << ' ' << mesh.coord(i, 0) << ' ' << mesh.coord(i, 1) << ' ' << mesh.coord(i, 2) << '\n';
         },
         [&](std::byte* dst, std::size_t first, std::size_t n) {
             for (std::size_t i = 0; i < n; ++i, dst += 28) {
                 const auto tag = static_cast<std::int32_t>(first + i + 1);
-                const double p[3] = {mesh.vertices[first + i].x, mesh.vertices[first + i].y, 0.0};
+                const double p[3] = {mesh.coord(first + i, 0), mesh.coord(first + i, 1), mesh.coord(first + i, 2)};
                 std::memcpy(dst, &tag, 4);
                 std::memcpy(dst + 4, p, 24);
             }
@@ -405,7 +416,7 @@ void put_elements22(std::ostream& os, const Layout& l, std::int32_t type, std::s
         });
 }
 
-void write_msh22(std::ostream& os, const Mesh& mesh, const Layout& l) {
+void write_msh22(std::ostream& os, const detail::MeshView& mesh, const Layout& l) {
     put_format(os, "2.2", l.binary);
     put_physical_names(os, l);
     put_nodes22(os, mesh, l);
@@ -418,14 +429,14 @@ void write_msh22(std::ostream& os, const Mesh& mesh, const Layout& l) {
     put_elements22(
         os, l, l.cells.kind.gmsh, l.nt, static_cast<std::size_t>(l.cells.kind.nodes), [](std::size_t k) { return static_cast<std::uint64_t>(k + 1); },
         [&](std::size_t k) { return entity[k]; }, [&](std::size_t k) { return l.cells[k]; });
-    // Lines in element-tag order: boundary edges, then interface edges.
-    std::vector<std::pair<const detail::EdgeGroup*, std::size_t>> lines(l.ne - l.nt);
+    // Facets in element-tag order: boundary facets, then interface facets.
+    std::vector<std::pair<const detail::FacetGroup*, std::size_t>> lines(l.ne - l.nt);
     for (const auto& c : l.curves)
-        for (std::size_t i = 0; i < c.edges.size(); ++i) lines[l.line_tag(c, i) - l.nt - 1] = {&c, i};
+        for (std::size_t i = 0; i < c.size(); ++i) lines[l.line_tag(c, i) - l.nt - 1] = {&c, i};
     put_elements22(
-        os, l, detail::line_cells.gmsh, lines.size(), 2, [&](std::size_t k) { return l.nt + k + 1; },
+        os, l, l.facet_kind.gmsh, lines.size(), static_cast<std::size_t>(l.facet_kind.nodes), [&](std::size_t k) { return l.nt + k + 1; },
         [&](std::size_t k) { return lines[k].first->tag; },
-        [&](std::size_t k) { return std::span<const std::int32_t>(lines[k].first->edges[lines[k].second]); });
+        [&](std::size_t k) { return lines[k].first->facets()[lines[k].second]; });
     end_section(os, l.binary, "$EndElements\n");
 }
 
@@ -433,7 +444,7 @@ void write_msh22(std::ostream& os, const Mesh& mesh, const Layout& l) {
 // block by region block; 2.2: by tag).  Gmsh reads them by tag either way,
 // but meshio pairs them with the elements in file order, ignoring the tags:
 // in tag order, a mesh of several regions got its values shuffled.
-void put_element_data(std::ostream& os, const Mesh& mesh, const Layout& l, bool block_order) {
+void put_element_data(std::ostream& os, const detail::MeshView& mesh, const Layout& l, bool block_order) {
     for (const auto& field : mesh.cell_data) {
         const std::string& name = field.first;
         const auto& values = field.second;  // (not a structured binding: lambdas capture it)
@@ -463,9 +474,7 @@ void put_element_data(std::ostream& os, const Mesh& mesh, const Layout& l, bool 
     }
 }
 
-}  // namespace
-
-void write_msh(const Mesh& mesh, std::ostream& os, const MshOptions& options) {
+void write_view(const detail::MeshView& mesh, std::ostream& os, const MshOptions& options) {
     detail::check_mesh_arrays(mesh, "<msh stream>");
     if (options.version != 41 && options.version != 22)
         throw OutputError("unsupported MSH version " + std::to_string(options.version / 10) + "." +
@@ -483,9 +492,15 @@ void write_msh(const Mesh& mesh, std::ostream& os, const MshOptions& options) {
     if (options.cell_data) put_element_data(os, mesh, layout, options.version == 41);
 }
 
+}  // namespace
+
+void write_msh(const Mesh& mesh, std::ostream& os, const MshOptions& options) { write_view(detail::view_of(mesh), os, options); }
+void write_msh(const TetMesh& mesh, std::ostream& os, const MshOptions& options) { write_view(detail::view_of(mesh), os, options); }
 void write_msh(const Mesh& mesh, const std::string& path, const MshOptions& options) {
-    detail::check_mesh_arrays(mesh, path);
-    write_file_atomically(path, [&](std::ostream& os) { write_msh(mesh, os, options); });
+    detail::write_mesh_file(mesh, path, [&](const detail::MeshView& v, std::ostream& os) { write_view(v, os, options); });
+}
+void write_msh(const TetMesh& mesh, const std::string& path, const MshOptions& options) {
+    detail::write_mesh_file(mesh, path, [&](const detail::MeshView& v, std::ostream& os) { write_view(v, os, options); });
 }
 
 }  // namespace warpmesh

@@ -45,6 +45,7 @@
 #endif
 
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/quality.hpp"
 #include "warpmesh/writers.hpp"
 
@@ -528,7 +529,7 @@ bool png_encode(png_structp png, png_infop info, png_uint_32 w, png_uint_32 h, p
 
 void write_png(const Mesh& mesh, std::ostream& out, const PngOptions& options) {
 #ifdef WARPMESH_HAVE_PNG
-    detail::check_mesh_arrays(mesh, "<png stream>");
+    detail::check_mesh_arrays(detail::view_of(mesh), "<png stream>");
     Image img = render(mesh, options);
     std::vector<png_bytep> rows(static_cast<std::size_t>(img.h));
     for (int y = 0; y < img.h; ++y) rows[static_cast<std::size_t>(y)] = &img.rgb[3 * static_cast<std::size_t>(y) * static_cast<std::size_t>(img.w)];
@@ -552,7 +553,7 @@ void write_png(const Mesh& mesh, std::ostream& out, const PngOptions& options) {
 }
 
 void write_png(const Mesh& mesh, const std::string& path, const PngOptions& options) {
-    detail::check_mesh_arrays(mesh, path);
+    detail::check_mesh_arrays(detail::view_of(mesh), path);
 #ifndef WARPMESH_HAVE_PNG
     throw OutputError("cannot write '" + path + "': PNG output needs libpng, which was not found at build time");
 #endif

@@ -211,7 +211,7 @@ void put_legend(detail::TextSink& out, const SvgFrame& f, const detail::Colourin
 }  // namespace
 
 void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
-    detail::check_mesh_arrays(mesh, "<svg stream>");
+    detail::check_mesh_arrays(detail::view_of(mesh), "<svg stream>");
     const detail::Colouring colouring =
         detail::picture_colouring(mesh, options.color_by_cell_data, options.color_by_min_angle, "SVG");
     const SvgFrame f = svg_frame(mesh, options, colouring.legend());
@@ -232,7 +232,7 @@ void write_svg(const Mesh& mesh, std::ostream& os, const SvgOptions& options) {
 }
 
 void write_svg(const Mesh& mesh, const std::string& path, const SvgOptions& options) {
-    detail::check_mesh_arrays(mesh, path);
+    detail::check_mesh_arrays(detail::view_of(mesh), path);
     write_file_atomically(path, [&](std::ostream& os) { write_svg(mesh, os, options); });
 }
 

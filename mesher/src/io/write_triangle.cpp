@@ -12,7 +12,7 @@
 //          "<#segments> 1", then "<segment #> <v1> <v2> <boundary tag>" — the
 //          boundary edges with the region on their left —, then the interface
 //          edges of a multi-material mesh marked with their group's tag
-//          (detail::edge_groups: 3, 4, …), and "0" holes.
+//          (detail::facet_groups: 3, 4, …), and "0" holes.
 //
 // Numbering starts at 1 (Triangle accepts 0 or 1 and infers it from the first
 // vertex).  The three files are written to temporaries first and renamed only
@@ -29,7 +29,7 @@
 namespace warpmesh {
 
 void write_triangle_node(const Mesh& mesh, std::ostream& os) {
-    const auto marker = detail::vertex_markers(mesh, detail::edge_groups(mesh));
+    const auto marker = detail::vertex_markers(detail::view_of(mesh), detail::facet_groups(detail::view_of(mesh)));
     detail::TextSink out(os);
     out << static_cast<std::uint64_t>(mesh.vertices.size()) << " 2 0 1\n";
     detail::write_text_parallel(out.stream(), mesh.vertices.size(), [&](detail::TextBuf& b, std::size_t i) {
@@ -59,9 +59,9 @@ void write_triangle_poly(const Mesh& mesh, std::ostream& os) {
             << mesh.boundary_tag[k] << '\n';
     }
     // Interface edges as they are in mesh.interfaces, marked with their
-    // group's tag (detail::edge_groups).
+    // group's tag (detail::facet_groups).
     std::vector<std::int32_t> interface_tag(mesh.interfaces.size());
-    for (const auto& g : detail::edge_groups(mesh))
+    for (const auto& g : detail::facet_groups(detail::view_of(mesh)))
         if (g.interface)
             for (const std::size_t k : g.index) interface_tag[k] = g.tag;
     for (std::size_t k = 0; k < mesh.interfaces.size(); ++k) {
@@ -73,7 +73,7 @@ void write_triangle_poly(const Mesh& mesh, std::ostream& os) {
 }
 
 void write_triangle(const Mesh& mesh, const std::string& path) {
-    detail::check_mesh_arrays(mesh, path);
+    detail::check_mesh_arrays(detail::view_of(mesh), path);
     const std::string stem = detail::triangle_stem(path);
 
     AtomicFile node(stem + ".node"), ele(stem + ".ele"), poly(stem + ".poly");

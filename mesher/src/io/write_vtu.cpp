@@ -7,11 +7,12 @@
 //            header_type="UInt64" [compressor="vtkZLibDataCompressor"]>
 //     <UnstructuredGrid>
 //       <Piece NumberOfPoints="N" NumberOfCells="T">
-//         <Points>    one Float64 DataArray, 3 components (x y 0)     </Points>
+//         <Points>    one Float64 DataArray, 3 components (x y z; z = 0 in 2D) </Points>
 //         <Cells>     "connectivity" (Int32, nodes per cell, 0-based point ids),
 //                     "offsets" (Int32, or Int64 beyond 2^31 - 1: end of each
 //                     cell in connectivity = 3, 6, …),
-//                     "types" (UInt8: the cell kind's VTK type, 5 = triangle)
+//                     "types" (UInt8: the cell kind's VTK type, 5 = triangle,
+//                     10 = tetrahedron)
 //         </Cells>
 //         <PointData Scalars="boundary_marker">
 //                     "boundary_marker" (Int32): detail::vertex_markers, as in .node
@@ -37,9 +38,9 @@
 //         anonymous temporary file first and are copied after the XML.
 // ASCII (format="ascii"): one tuple per line, formatted in parallel.
 //
-// Only the triangles are cells: mixing line cells for the boundary edges in
-// would give them region/cell-data values too and confuse filters; the .msh and
-// .poly outputs carry the boundary.  Non-finite cell data are written as
+// Only the triangles (tetrahedra) are cells: mixing line (triangle) cells for
+// the boundary facets in would give them region/cell-data values too and
+// confuse filters; the .msh, .xdmf and .poly outputs carry the boundary.  Non-finite cell data are written as
 // "nan"/"inf" in ASCII, which VTK's ASCII reader may reject (binary is exact).
 #include <zlib.h>
 
@@ -101,20 +102,20 @@ struct Sections {
     std::vector<Array> points, cells, point_data, cell_data;
 };
 
-Sections arrays_of(const Mesh& mesh, const std::vector<std::int32_t>& markers) {
-    const detail::Cells cells = detail::cells_of(mesh);
-    const std::size_t nv = mesh.vertices.size(), nt = cells.size();
+Sections arrays_of(const detail::MeshView& mesh, const std::vector<std::int32_t>& markers) {
+    const detail::Cells cells = mesh.cells;
+    const std::size_t nv = mesh.num_vertices, nt = cells.size();
     const auto per = static_cast<std::int64_t>(cells.kind.nodes);
     const std::uint8_t vtk_type = cells.kind.vtk;
     Sections s;
     s.points.push_back({"Float64", "Points", 3, nv, 24,
-                        [&mesh](std::byte* dst, std::size_t first, std::size_t n) {
+                        [mesh](std::byte* dst, std::size_t first, std::size_t n) {
                             for (std::size_t i = 0; i < n; ++i) {
-                                const double p[3] = {mesh.vertices[first + i].x, mesh.vertices[first + i].y, 0.0};
+                                const double p[3] = {mesh.coord(first + i, 0), mesh.coord(first + i, 1), mesh.coord(first + i, 2)};
                                 std::memcpy(dst + 24 * i, p, 24);
                             }
                         },
-                        [&mesh](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y << " 0"; }});
+                        [mesh](TextBuf& b, std::size_t i) { b << mesh.coord(i, 0) << ' ' << mesh.coord(i, 1) << ' ' << mesh.coord(i, 2); }});
     s.cells.push_back(direct("Int32", "connectivity", 1, cells.nodes.size(), cells.nodes.data()));
     auto offset = [per](std::size_t i) { return per * static_cast<std::int64_t>(i + 1); };
     if (per * static_cast<std::int64_t>(nt) <= std::numeric_limits<std::int32_t>::max())
@@ -143,7 +144,7 @@ void put_array(std::ostream& os, const Array& a, VtuOptions::Encoding enc, std::
 }
 
 // The XML document; `offsets[k]` is the appended offset of the k-th array.
-void put_xml(std::ostream& os, const Mesh& mesh, const Sections& s, VtuOptions::Encoding enc,
+void put_xml(std::ostream& os, const detail::MeshView& mesh, const Sections& s, VtuOptions::Encoding enc,
              const std::vector<std::uint64_t>& offsets) {
     std::size_t k = 0;
     auto section = [&](std::string_view open, std::string_view close, const std::vector<Array>& arrays) {
@@ -156,8 +157,8 @@ void put_xml(std::ostream& os, const Mesh& mesh, const Sections& s, VtuOptions::
         out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
                "header_type=\"UInt64\""
             << (enc == VtuOptions::Encoding::zlib ? std::string_view(" compressor=\"vtkZLibDataCompressor\"") : "")
-            << ">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << static_cast<std::uint64_t>(mesh.vertices.size())
-            << "\" NumberOfCells=\"" << static_cast<std::uint64_t>(mesh.triangles.size()) << "\">\n";
+            << ">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << static_cast<std::uint64_t>(mesh.num_vertices)
+            << "\" NumberOfCells=\"" << static_cast<std::uint64_t>(mesh.cells.size()) << "\">\n";
     }
     section("      <Points>\n", "      </Points>\n", s.points);
     section("      <Cells>\n", "      </Cells>\n", s.cells);
@@ -182,7 +183,7 @@ std::vector<const Array*> all_arrays(const Sections& s) {
 // one whose raw offset equals the rewritten value (a 5-point mesh did, see
 // tests/python/test_solver_formats.py).  In reverse order every array still
 // to be found precedes, in the document, every array already rewritten.
-void write_raw(std::ostream& os, const Mesh& mesh, const Sections& s) {
+void write_raw(std::ostream& os, const detail::MeshView& mesh, const Sections& s) {
     const auto arrays = all_arrays(s);
     std::vector<std::uint64_t> offsets(arrays.size());
     std::uint64_t at = 0;
@@ -245,7 +246,7 @@ Compressed compress_array(const Array& a, std::FILE* tmp) {
     return c;
 }
 
-void write_zlib(std::ostream& os, const Mesh& mesh, const Sections& s) {
+void write_zlib(std::ostream& os, const detail::MeshView& mesh, const Sections& s) {
     const auto arrays = all_arrays(s);
     const TempFile tmp(std::tmpfile());
     if (!tmp) throw OutputError("cannot create a temporary file for the compressed data");
@@ -273,11 +274,9 @@ void write_zlib(std::ostream& os, const Mesh& mesh, const Sections& s) {
     os << "\n  </AppendedData>\n</VTKFile>\n";
 }
 
-}  // namespace
-
-void write_vtu(const Mesh& mesh, std::ostream& os, const VtuOptions& options) {
+void write_view(const detail::MeshView& mesh, std::ostream& os, const VtuOptions& options) {
     detail::check_mesh_arrays(mesh, "<vtu stream>");
-    const auto markers = detail::vertex_markers(mesh, detail::edge_groups(mesh));
+    const auto markers = detail::vertex_markers(mesh, detail::facet_groups(mesh));
     const Sections s = arrays_of(mesh, markers);
     switch (options.encoding) {
         case VtuOptions::Encoding::raw: write_raw(os, mesh, s); break;
@@ -289,9 +288,15 @@ void write_vtu(const Mesh& mesh, std::ostream& os, const VtuOptions& options) {
     }
 }
 
+}  // namespace
+
+void write_vtu(const Mesh& mesh, std::ostream& os, const VtuOptions& options) { write_view(detail::view_of(mesh), os, options); }
+void write_vtu(const TetMesh& mesh, std::ostream& os, const VtuOptions& options) { write_view(detail::view_of(mesh), os, options); }
 void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& options) {
-    detail::check_mesh_arrays(mesh, path);
-    write_file_atomically(path, [&](std::ostream& os) { write_vtu(mesh, os, options); });
+    detail::write_mesh_file(mesh, path, [&](const detail::MeshView& v, std::ostream& os) { write_view(v, os, options); });
+}
+void write_vtu(const TetMesh& mesh, const std::string& path, const VtuOptions& options) {
+    detail::write_mesh_file(mesh, path, [&](const detail::MeshView& v, std::ostream& os) { write_view(v, os, options); });
 }
 
 }  // namespace warpmesh

@@ -6,19 +6,23 @@
 //
 //   PATH (e.g. out.xdmf), grid "mesh", heavy data in out.h5:
 //     <Topology TopologyType="Triangle">  T x 3 vertex indices (0-based)   /mesh/topology
+//               (or "Tetrahedron", T x 4, for a tetrahedral mesh)
 //     <Geometry GeometryType="XY">        N x 2 coordinates                /mesh/geometry
+//               ("XYZ", N x 3, for a tetrahedral mesh)
 //     <Attribute Name="region" Center="Cell">  the region tag of each cell /mesh/region
 //     <Information Name="Information">    meshio's field_data: region names
 //
 //   STEM_facets.xdmf (detail::xdmf_facets_path), grid "facets", heavy data
 //   in STEM_facets.h5:
 //     <Topology TopologyType="Polyline" NodesPerElement="2">  the boundary
-//              edges, then the interface edges, as detail::edge_groups orders
+//              edges, then the interface edges, as detail::facet_groups orders
 //              and orients them (vertex indices into the same points)  /facets/topology
+//              (a tetrahedral mesh: "Triangle", its boundary and interface
+//              triangles)
 //     <Geometry GeometryType="XY">        the same N points: a reference to
 //                                         out.h5:/mesh/geometry (no copy)
 //     <Attribute Name="facet_tags" Center="Cell">  the edge group's tag   /facets/facet_tags
-//     <Information Name="Information">    the group names (dim 1)
+//     <Information Name="Information">    the group names (dim 1; 2 in 3D)
 //
 // Why two .h5 files: dolfinx's XDMFFile reads every HDF DataItem from the one
 // HDF5 file named after the XDMF file (STEM.h5 for STEM.xdmf), whatever file
@@ -103,7 +107,7 @@ void put_grid(std::ostream& os, std::string_view grid, const detail::CellKind& k
         << static_cast<std::uint64_t>(topology.rows) << "\" NodesPerElement=\"" << static_cast<std::int32_t>(kind.nodes)
         << "\">\n";
     put_item(out, topology);
-    out << "      </Topology>\n      <Geometry GeometryType=\"XY\">\n";
+    out << "      </Topology>\n      <Geometry GeometryType=\"" << (geometry.cols == 3 ? "XYZ" : "XY") << "\">\n";
     put_item(out, geometry);
     out << "      </Geometry>\n      <Attribute Name=\"" << attribute << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
     put_item(out, values);
@@ -118,52 +122,62 @@ void put_grid(std::ostream& os, std::string_view grid, const detail::CellKind& k
     out << "</main>]]></Information>\n    </Grid>\n  </Domain>\n</Xdmf>\n";
 }
 
-// What the facet file holds: the grouped edges, their tags and names.
+// What the facet file holds: the grouped facets (flat, kind.nodes each),
+// their tags and names.
 struct Facets {
-    std::vector<std::array<std::int32_t, 2>> edges;
+    detail::CellKind kind;
+    std::vector<std::int32_t> nodes;
     std::vector<std::int32_t> tags;
     std::vector<FieldName> names;
-    explicit Facets(const Mesh& mesh) {
-        for (const auto& g : detail::edge_groups(mesh)) {
-            edges.insert(edges.end(), g.edges.begin(), g.edges.end());
-            tags.insert(tags.end(), g.edges.size(), g.tag);
-            names.push_back({g.name, 1, g.tag});
+    explicit Facets(const detail::MeshView& mesh) : kind(mesh.facet_kind) {
+        for (const auto& g : detail::facet_groups(mesh)) {
+            nodes.insert(nodes.end(), g.nodes.begin(), g.nodes.end());
+            tags.insert(tags.end(), g.size(), g.tag);
+            names.push_back({g.name, kind.dim, g.tag});
         }
     }
+    detail::Cells facets() const { return {kind, nodes}; }
 };
 
-std::vector<FieldName> region_field_names(const Mesh& mesh) {
+std::vector<FieldName> region_field_names(const detail::MeshView& mesh) {
     std::vector<FieldName> names;
     const auto tags = detail::region_tags(mesh);
-    for (const std::int32_t t : tags) names.push_back({detail::region_name(mesh, t, tags.size() == 1), 2, t});
+    for (const std::int32_t t : tags) names.push_back({detail::region_name(mesh, t, tags.size() == 1), mesh.cells.kind.dim, t});
     return names;
 }
 
-// The DataItems of the two grids; `mesh_h5`/`facets_h5` empty: inline.
-Item geometry_item(const Mesh& mesh, const std::string& mesh_h5) {
-    return {mesh.vertices.size(), 2, true, mesh_h5.empty() ? "" : mesh_h5 + ":/mesh/geometry",
-            [&mesh](TextBuf& b, std::size_t i) { b << mesh.vertices[i].x << ' ' << mesh.vertices[i].y; }};
+// Row i of a table of cells: its vertex indices separated by spaces.
+void put_cell_row(TextBuf& b, const detail::Cells& cells, std::size_t i) {
+    bool first = true;
+    for (const std::int32_t v : cells[i]) (first ? b : b << ' ') << v, first = false;
 }
 
-void put_mesh_document(std::ostream& os, const Mesh& mesh, const std::string& h5) {
-    const detail::Cells cells = detail::cells_of(mesh);
+// The DataItems of the two grids; `mesh_h5`/`facets_h5` empty: inline.
+Item geometry_item(const detail::MeshView& mesh, const std::string& mesh_h5) {
+    return {mesh.num_vertices, static_cast<std::size_t>(mesh.dim), true, mesh_h5.empty() ? "" : mesh_h5 + ":/mesh/geometry",
+            [mesh](TextBuf& b, std::size_t i) {
+                for (int k = 0; k < mesh.dim; ++k) (k ? b << ' ' : b) << mesh.coord(i, k);
+            }};
+}
+
+void put_mesh_document(std::ostream& os, const detail::MeshView& mesh, const std::string& h5) {
+    const detail::Cells cells = mesh.cells;
     const Item topology{cells.size(), static_cast<std::size_t>(cells.kind.nodes), false, h5.empty() ? "" : h5 + ":/mesh/topology",
-                        [cells](TextBuf& b, std::size_t i) {
-                            bool first = true;
-                            for (const std::int32_t v : cells[i]) (first ? b : b << ' ') << v, first = false;
-                        }};
+                        [cells](TextBuf& b, std::size_t i) { put_cell_row(b, cells, i); }};
     const Item region{mesh.region.size(), 1, false, h5.empty() ? "" : h5 + ":/mesh/region",
                       [&mesh](TextBuf& b, std::size_t i) { b << mesh.region[i]; }};
     put_grid(os, "mesh", cells.kind, topology, geometry_item(mesh, h5), "region", region, region_field_names(mesh));
 }
 
-void put_facets_document(std::ostream& os, const Mesh& mesh, const Facets& f, const std::string& mesh_h5,
+void put_facets_document(std::ostream& os, const detail::MeshView& mesh, const Facets& f, const std::string& mesh_h5,
                          const std::string& facets_h5) {
-    const Item topology{f.edges.size(), 2, false, facets_h5.empty() ? "" : facets_h5 + ":/facets/topology",
-                        [&f](TextBuf& b, std::size_t i) { b << f.edges[i][0] << ' ' << f.edges[i][1]; }};
+    const detail::Cells facets = f.facets();
+    const Item topology{facets.size(), static_cast<std::size_t>(f.kind.nodes), false,
+                        facets_h5.empty() ? "" : facets_h5 + ":/facets/topology",
+                        [facets](TextBuf& b, std::size_t i) { put_cell_row(b, facets, i); }};
     const Item tags{f.tags.size(), 1, false, facets_h5.empty() ? "" : facets_h5 + ":/facets/facet_tags",
                     [&f](TextBuf& b, std::size_t i) { b << f.tags[i]; }};
-    put_grid(os, "facets", detail::line_cells, topology, geometry_item(mesh, mesh_h5), "facet_tags", tags, f.names);
+    put_grid(os, "facets", f.kind, topology, geometry_item(mesh, mesh_h5), "facet_tags", tags, f.names);
 }
 
 #ifdef WARPMESH_HAVE_HDF5
@@ -208,43 +222,40 @@ private:
     hid_t id_ = -1;
 };
 
-void write_h5(AtomicFile& mesh_file, AtomicFile& facets_file, const Mesh& mesh, const Facets& f) {
+void write_h5(AtomicFile& mesh_file, AtomicFile& facets_file, const detail::MeshView& mesh, const Facets& f) {
     const std::lock_guard lock(hdf5_mutex);
-    const detail::Cells cells = detail::cells_of(mesh);
+    const detail::Cells cells = mesh.cells;
     mesh_file.close();  // only its name is used: HDF5 writes the file itself
     H5Writer m(mesh_file.temp_path(), mesh_file.path());
     m.dataset("/mesh/topology", H5T_NATIVE_INT32, cells.size(), static_cast<std::size_t>(cells.kind.nodes), cells.nodes.data());
-    static_assert(sizeof(Vec2) == 2 * sizeof(double));
-    m.dataset("/mesh/geometry", H5T_NATIVE_DOUBLE, mesh.vertices.size(), 2, mesh.vertices.data());
+    m.dataset("/mesh/geometry", H5T_NATIVE_DOUBLE, mesh.num_vertices, static_cast<std::size_t>(mesh.dim), mesh.coords);
     m.dataset("/mesh/region", H5T_NATIVE_INT32, mesh.region.size(), 1, mesh.region.data());
     m.close();
     facets_file.close();
     H5Writer g(facets_file.temp_path(), facets_file.path());
-    g.dataset("/facets/topology", H5T_NATIVE_INT32, f.edges.size(), 2, f.edges.data());
+    g.dataset("/facets/topology", H5T_NATIVE_INT32, f.facets().size(), static_cast<std::size_t>(f.kind.nodes), f.nodes.data());
     g.dataset("/facets/facet_tags", H5T_NATIVE_INT32, f.tags.size(), 1, f.tags.data());
     g.close();
 }
 #endif
 
-}  // namespace
-
-void write_xdmf_mesh(const Mesh& mesh, std::ostream& os) {
+void write_mesh_view(const detail::MeshView& mesh, std::ostream& os) {
     detail::check_mesh_arrays(mesh, "<xdmf stream>");
     put_mesh_document(os, mesh, "");
 }
 
-void write_xdmf_facets(const Mesh& mesh, std::ostream& os) {
+void write_facets_view(const detail::MeshView& mesh, std::ostream& os) {
     detail::check_mesh_arrays(mesh, "<xdmf stream>");
     put_facets_document(os, mesh, Facets(mesh), "", "");
 }
 
-void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& options) {
+void write_view(const detail::MeshView& mesh, const std::string& path, const XdmfOptions& options) {
     detail::check_mesh_arrays(mesh, path);
     AtomicFile main(path), facets(detail::xdmf_facets_path(path));
     if (!options.hdf5) {
         // Both files complete before either is renamed into place.
-        detail::fill_atomic_file(main, [&](std::ostream& os) { write_xdmf_mesh(mesh, os); });
-        detail::fill_atomic_file(facets, [&](std::ostream& os) { write_xdmf_facets(mesh, os); });
+        detail::fill_atomic_file(main, [&](std::ostream& os) { write_mesh_view(mesh, os); });
+        detail::fill_atomic_file(facets, [&](std::ostream& os) { write_facets_view(mesh, os); });
         main.commit();
         facets.commit();
         return;
@@ -267,6 +278,19 @@ void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& op
     throw OutputError("cannot write '" + path + "': XDMF with HDF5 heavy data needs libhdf5, which was not found at build "
                       "time (write inline XML instead: --ascii, or XdmfOptions::hdf5 = false)");
 #endif
+}
+
+}  // namespace
+
+void write_xdmf_mesh(const Mesh& mesh, std::ostream& os) { write_mesh_view(detail::view_of(mesh), os); }
+void write_xdmf_mesh(const TetMesh& mesh, std::ostream& os) { write_mesh_view(detail::view_of(mesh), os); }
+void write_xdmf_facets(const Mesh& mesh, std::ostream& os) { write_facets_view(detail::view_of(mesh), os); }
+void write_xdmf_facets(const TetMesh& mesh, std::ostream& os) { write_facets_view(detail::view_of(mesh), os); }
+void write_xdmf(const Mesh& mesh, const std::string& path, const XdmfOptions& options) {
+    write_view(detail::view_of(mesh), path, options);
+}
+void write_xdmf(const TetMesh& mesh, const std::string& path, const XdmfOptions& options) {
+    write_view(detail::view_of(mesh), path, options);
 }
 
 }  // namespace warpmesh

@@ -1,5 +1,6 @@
 // writers.cpp — the format dispatcher and checks shared by the writers.
 #include "io/atomic_file.hpp"
+#include "io/output.hpp"
 #include "warpmesh/writers.hpp"
 
 #include <algorithm>
@@ -18,31 +19,33 @@ namespace warpmesh {
 
 namespace detail {
 
-void check_mesh_arrays(const Mesh& mesh, const std::string& path) {
+void check_mesh_arrays(const MeshView& mesh, const std::string& path) {
     auto fail = [&](const std::string& what) { throw OutputError("cannot write '" + path + "': invalid mesh: " + what); };
-    const std::size_t nt = mesh.triangles.size();
+    const std::size_t nt = mesh.cells.size(), nb = mesh.num_boundary(), ni = mesh.num_interfaces();
+    const std::string cells = mesh.cells.kind.dim == 3 ? " tetrahedra" : " triangles";
+    const std::string facets = mesh.facet_kind.dim == 2 ? " triangles" : " edges";
     if (mesh.region.size() != nt)
-        fail("region has " + std::to_string(mesh.region.size()) + " entries for " + std::to_string(nt) + " triangles");
-    if (mesh.boundary_tag.size() != mesh.boundary.size())
-        fail("boundary_tag has " + std::to_string(mesh.boundary_tag.size()) + " entries for " +
-             std::to_string(mesh.boundary.size()) + " boundary edges");
+        fail("region has " + std::to_string(mesh.region.size()) + " entries for " + std::to_string(nt) + cells);
+    if (mesh.boundary_tag.size() != nb)
+        fail("boundary_tag has " + std::to_string(mesh.boundary_tag.size()) + " entries for " + std::to_string(nb) +
+             " boundary" + facets);
     for (const auto& [name, values] : mesh.cell_data)
         if (values.size() != nt)
-            fail("cell data '" + name + "' has " + std::to_string(values.size()) + " entries for " +
-                 std::to_string(nt) + " triangles");
-    const auto nv = static_cast<std::int64_t>(mesh.vertices.size());
-    auto bad = [nv](std::int32_t v) { return v < 0 || v >= nv; };
-    for (const auto& t : mesh.triangles)
-        if (bad(t[0]) || bad(t[1]) || bad(t[2])) fail("a triangle has a vertex index out of range");
-    for (const auto& e : mesh.boundary)
-        if (bad(e[0]) || bad(e[1])) fail("a boundary edge has a vertex index out of range");
-    if (mesh.interface_regions.size() != mesh.interfaces.size())
-        fail("interface_regions has " + std::to_string(mesh.interface_regions.size()) + " entries for " +
-             std::to_string(mesh.interfaces.size()) + " interface edges");
-    for (const auto& e : mesh.interfaces)
-        if (bad(e[0]) || bad(e[1])) fail("an interface edge has a vertex index out of range");
+            fail("cell data '" + name + "' has " + std::to_string(values.size()) + " entries for " + std::to_string(nt) + cells);
+    const auto nv = static_cast<std::int64_t>(mesh.num_vertices);
+    auto bad = [nv](std::span<const std::int32_t> ids) {
+        return std::any_of(ids.begin(), ids.end(), [nv](std::int32_t v) { return v < 0 || v >= nv; });
+    };
+    if (bad(mesh.cells.nodes)) fail("a" + std::string(mesh.cells.kind.dim == 3 ? " tetrahedron" : " triangle") + " has a vertex index out of range");
+    if (bad(mesh.boundary)) fail("a boundary" + facets.substr(0, facets.size() - 1) + " has a vertex index out of range");
+    if (mesh.interface_regions.size() != ni)
+        fail("interface_regions has " + std::to_string(mesh.interface_regions.size()) + " entries for " + std::to_string(ni) +
+             " interface" + facets);
+    if (bad(mesh.interfaces)) fail("an interface" + facets.substr(0, facets.size() - 1) + " has a vertex index out of range");
     for (const auto& r : mesh.interface_regions)
-        if (r[0] == r[1]) fail("an interface edge has the same region (" + std::to_string(r[0]) + ") on both sides");
+        if (r[0] == r[1])
+            fail("an interface" + facets.substr(0, facets.size() - 1) + " has the same region (" + std::to_string(r[0]) +
+                 ") on both sides");
 }
 
 void fill_atomic_file(AtomicFile& f, const std::function<void(std::ostream&)>& body) {
@@ -71,7 +74,7 @@ std::string xml_escape(std::string_view s) {
     return r;
 }
 
-std::vector<std::int32_t> region_tags(const Mesh& mesh) {
+std::vector<std::int32_t> region_tags(const MeshView& mesh) {
     // Tags come in long runs: compare with the last one before the set lookup.
     std::set<std::int32_t> tags;
     for (std::size_t k = 0; k < mesh.region.size(); ++k)
@@ -79,62 +82,67 @@ std::vector<std::int32_t> region_tags(const Mesh& mesh) {
     return {tags.begin(), tags.end()};
 }
 
-std::string region_name(const Mesh& mesh, std::int32_t tag, bool single_region) {
+std::string region_name(const MeshView& mesh, std::int32_t tag, bool single_region) {
     for (const auto& [t, name] : mesh.region_names)
         if (t == tag && !name.empty()) return name;
     return single_region ? std::string("domain") : "domain_" + std::to_string(tag);
 }
 
-std::vector<EdgeGroup> edge_groups(const Mesh& mesh) {
-    std::vector<EdgeGroup> groups;
+std::vector<FacetGroup> facet_groups(const MeshView& mesh) {
+    std::vector<FacetGroup> groups;
+    const auto per = static_cast<std::size_t>(mesh.facet_kind.nodes);
     std::map<std::int32_t, std::size_t> by_tag;  // boundary tag → group
     for (const std::int32_t t : mesh.boundary_tag) by_tag.try_emplace(t, 0);
     const bool all_positive = by_tag.empty() || by_tag.begin()->first >= 1;
     std::int32_t last = 2;
     for (auto& [t, slot] : by_tag) {
         slot = groups.size();
-        EdgeGroup g;
+        FacetGroup g;
         g.tag = all_positive ? t : static_cast<std::int32_t>(groups.size() + 1);
         g.name = t == boundary_level_set ? "boundary" : t == boundary_domain ? "domain_border" : "boundary_" + std::to_string(t);
+        g.kind = mesh.facet_kind;
         last = std::max(last, g.tag);
         groups.push_back(std::move(g));
     }
-    for (std::size_t k = 0; k < mesh.boundary.size(); ++k) {
-        EdgeGroup& g = groups[by_tag.at(mesh.boundary_tag[k])];
+    for (std::size_t k = 0; k < mesh.num_boundary(); ++k) {
+        FacetGroup& g = groups[by_tag.at(mesh.boundary_tag[k])];
         g.index.push_back(k);
-        g.edges.push_back(mesh.boundary[k]);
+        const auto f = mesh.boundary.subspan(k * per, per);
+        g.nodes.insert(g.nodes.end(), f.begin(), f.end());
     }
     std::map<std::pair<std::int32_t, std::int32_t>, std::size_t> by_pair;  // {a < b} → group
     for (const auto& r : mesh.interface_regions) by_pair.try_emplace({std::min(r[0], r[1]), std::max(r[0], r[1])}, 0);
     for (auto& [pair, slot] : by_pair) {
         slot = groups.size();
-        EdgeGroup g;
+        FacetGroup g;
         g.tag = ++last;
         g.name = "interface_" + std::to_string(pair.first) + "_" + std::to_string(pair.second);
         g.interface = true;
         g.left_region = pair.first, g.right_region = pair.second;
+        g.kind = mesh.facet_kind;
         groups.push_back(std::move(g));
     }
-    for (std::size_t k = 0; k < mesh.interfaces.size(); ++k) {
+    for (std::size_t k = 0; k < mesh.num_interfaces(); ++k) {
         const auto& r = mesh.interface_regions[k];
-        const auto& e = mesh.interfaces[k];
-        const bool flip = r[0] > r[1];
-        EdgeGroup& g = groups[by_pair.at({std::min(r[0], r[1]), std::max(r[0], r[1])})];
+        const auto f = mesh.interfaces.subspan(k * per, per);
+        FacetGroup& g = groups[by_pair.at({std::min(r[0], r[1]), std::max(r[0], r[1])})];
         g.index.push_back(k);
-        g.edges.push_back(flip ? std::array<std::int32_t, 2>{e[1], e[0]} : e);
+        // Reversing a simplex's vertex order reverses its orientation (an
+        // edge's direction, a triangle's normal).
+        if (r[0] > r[1]) g.nodes.insert(g.nodes.end(), f.rbegin(), f.rend());
+        else g.nodes.insert(g.nodes.end(), f.begin(), f.end());
     }
     return groups;
 }
 
-std::vector<std::int32_t> vertex_markers(const Mesh& mesh, const std::vector<EdgeGroup>& groups) {
+std::vector<std::int32_t> vertex_markers(const MeshView& mesh, const std::vector<FacetGroup>& groups) {
     constexpr std::int32_t none = std::numeric_limits<std::int32_t>::max();
-    std::vector<std::int32_t> boundary(mesh.vertices.size(), none), interface(mesh.vertices.size(), none);
-    for (const EdgeGroup& g : groups)
-        for (const auto& e : g.edges)
-            for (const std::int32_t v : e) {
-                std::int32_t& m = (g.interface ? interface : boundary)[static_cast<std::size_t>(v)];
-                m = std::min(m, g.tag);
-            }
+    std::vector<std::int32_t> boundary(mesh.num_vertices, none), interface(mesh.num_vertices, none);
+    for (const FacetGroup& g : groups)
+        for (const std::int32_t v : g.nodes) {
+            std::int32_t& m = (g.interface ? interface : boundary)[static_cast<std::size_t>(v)];
+            m = std::min(m, g.tag);
+        }
     for (std::size_t i = 0; i < boundary.size(); ++i)
         if (boundary[i] == none) boundary[i] = interface[i] == none ? 0 : interface[i];
     return boundary;
@@ -227,7 +235,7 @@ double typical_edge_px(const Mesh& mesh, double scale) {
 
 namespace {
 
-enum class Format { vtu, msh, xdmf, inp, triangle, svg, png };
+enum class Format { vtu, msh, xdmf, inp, medit, triangle, svg, png };
 
 // The format named by the (case-insensitive) extension of `path`.
 Format output_format(const std::string& path) {
@@ -236,6 +244,7 @@ Format output_format(const std::string& path) {
     if (ext == ".msh") return Format::msh;
     if (ext == ".xdmf") return Format::xdmf;
     if (ext == ".inp") return Format::inp;
+    if (ext == ".mesh") return Format::medit;
     if (ext == ".node" || ext == ".ele" || ext == ".poly") return Format::triangle;
     if (ext == ".svg") return Format::svg;
     if (ext == ".png") {
@@ -246,7 +255,46 @@ Format output_format(const std::string& path) {
 #endif
     }
     throw OutputError("cannot write '" + path + "': unknown output format '" + ext +
-                      "' (supported: .vtu, .msh, .xdmf, .inp, .node/.ele, .svg, .png)");
+                      "' (supported: .vtu, .msh, .xdmf, .inp, .mesh, .node/.ele, .svg, .png)");
+}
+
+// The format of a tetrahedral mesh's output `path`: the 2D-only formats are
+// refused by name.
+Format output_format_3d(const std::string& path) {
+    const Format f = output_format(path);
+    if (f == Format::triangle || f == Format::svg || f == Format::png)
+        throw OutputError("cannot write '" + path + "': '" + detail::lower_extension(path) +
+                          "' is a 2D format; a tetrahedral mesh is written as .vtu, .msh, .xdmf, .inp or .mesh");
+    return f;
+}
+
+// Writes a mesh of either kind in one of the formats both have; false for
+// the 2D-only formats (left to the caller).
+template <class M>
+bool write_shared_format(const M& mesh, Format format, const std::string& path, const WriteOptions& options) {
+    switch (format) {
+        case Format::vtu: {
+            VtuOptions vtu = options.vtu;
+            if (options.ascii) vtu.encoding = VtuOptions::Encoding::ascii;
+            write_vtu(mesh, path, vtu);
+            return true;
+        }
+        case Format::msh: {
+            MshOptions msh = options.msh;
+            msh.binary = msh.binary && !options.ascii;
+            write_msh(mesh, path, msh);
+            return true;
+        }
+        case Format::xdmf: {
+            XdmfOptions xdmf = options.xdmf;
+            xdmf.hdf5 = xdmf.hdf5 && !options.ascii;
+            write_xdmf(mesh, path, xdmf);
+            return true;
+        }
+        case Format::inp: write_inp(mesh, path); return true;
+        case Format::medit: write_medit(mesh, path); return true;
+        default: return false;
+    }
 }
 
 }  // namespace
@@ -287,26 +335,9 @@ std::vector<std::string> output_files(const std::string& path, const WriteOption
 }
 
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
-    switch (output_format(path)) {
-        case Format::vtu: {
-            VtuOptions vtu = options.vtu;
-            if (options.ascii) vtu.encoding = VtuOptions::Encoding::ascii;
-            write_vtu(mesh, path, vtu);
-            break;
-        }
-        case Format::msh: {
-            MshOptions msh = options.msh;
-            msh.binary = msh.binary && !options.ascii;
-            write_msh(mesh, path, msh);
-            break;
-        }
-        case Format::xdmf: {
-            XdmfOptions xdmf = options.xdmf;
-            xdmf.hdf5 = xdmf.hdf5 && !options.ascii;
-            write_xdmf(mesh, path, xdmf);
-            break;
-        }
-        case Format::inp: write_inp(mesh, path); break;
+    const Format format = output_format(path);
+    if (write_shared_format(mesh, format, path, options)) return;
+    switch (format) {
         case Format::triangle: write_triangle(mesh, path); break;
         case Format::svg: write_svg(mesh, path, options.svg); break;
         case Format::png: {
@@ -315,7 +346,17 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
             write_png(mesh, path, png);
             break;
         }
+        default: break;
     }
+}
+
+void write_mesh(const TetMesh& mesh, const std::string& path, const WriteOptions& options) {
+    write_shared_format(mesh, output_format_3d(path), path, options);
+}
+
+void check_output_path_3d(const std::string& path) {
+    output_format_3d(path);
+    check_writable(path);
 }
 
 void write_text_file(const std::string& path, std::string_view text) {

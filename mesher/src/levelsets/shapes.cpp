@@ -8,6 +8,7 @@
 
 #include "warpmesh/errors.hpp"
 #include "warpmesh/shapes.hpp"
+#include "shape_syntax.hpp"
 
 namespace warpmesh {
 namespace {
@@ -357,23 +358,6 @@ std::string Csg::describe() const {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-    return s;
-}
-
-double parse_number(std::string_view s, std::string_view shape) {
-    s = trim(s);
-    if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-    double v = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || ec != std::errc{} || end != s.data() + s.size())
-        throw InputError(std::string(shape) + ": '" + std::string(s) + "' is not a number");
-    if (!std::isfinite(v)) throw InputError(std::string(shape) + ": parameters must be finite numbers");
-    return v;
-}
-
 struct Emptiness;
 std::unique_ptr<Shape> parse(std::string_view s, Emptiness& empty);
 
@@ -391,14 +375,7 @@ std::unique_ptr<Shape> parse_primitive(std::string_view name, std::string_view a
     if (!kind)
         throw InputError("unknown shape '" + std::string(name) +
                          "' (expected circle, ellipse, annulus, flower, rect, union, intersect or diff)");
-    std::vector<double> v;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = args.find(',', start);
-        v.push_back(parse_number(args.substr(start, comma == std::string_view::npos ? comma : comma - start), name));
-        if (comma == std::string_view::npos) break;
-        start = comma + 1;
-    }
+    const std::vector<double> v = shape_syntax::parse_numbers(args, name);
     if (v.size() != kind->arity)
         throw InputError(std::string(name) + " takes " + std::to_string(kind->arity) + " numbers (" +
                          std::string(kind->params) + "), got " + std::to_string(v.size()));
@@ -421,18 +398,7 @@ struct Emptiness {
 };
 
 std::unique_ptr<Shape> parse_csg(CsgOp op, std::string_view name, std::string_view inner, Emptiness& empty) {
-    // Split at the ';' that are not nested inside parentheses.
-    std::vector<std::string_view> parts;
-    int depth = 0;
-    std::size_t start = 0;
-    for (std::size_t i = 0; i < inner.size(); ++i) {
-        if (inner[i] == '(') ++depth;
-        if (inner[i] == ')') --depth;
-        if (inner[i] == ';' && depth == 0) parts.push_back(inner.substr(start, i - start)), start = i + 1;
-    }
-    parts.push_back(inner.substr(start));
-    if (parts.size() < 2)
-        throw InputError(std::string(name) + " needs at least two shapes separated by ';'");
+    const std::vector<std::string_view> parts = shape_syntax::split_parts(inner, name);
     // Every part is parsed (and checked) even when the result is already known
     // to be empty.
     std::unique_ptr<Shape> acc = parse(parts[0], empty);
@@ -441,30 +407,12 @@ std::unique_ptr<Shape> parse_csg(CsgOp op, std::string_view name, std::string_vi
 }
 
 std::unique_ptr<Shape> parse(std::string_view s, Emptiness& empty) {
-    s = trim(s);
-    if (s.empty()) throw InputError("empty shape");
-    const std::size_t paren = s.find('('), colon = s.find(':');
-    if (paren != std::string_view::npos && (colon == std::string_view::npos || paren < colon)) {
-        const std::string_view name = trim(s.substr(0, paren));
-        // The parentheses must balance, and the one opened after the name
-        // must close at the very end.
-        int depth = 0;
-        for (std::size_t i = paren; i < s.size(); ++i) {
-            if (s[i] == '(') ++depth;
-            if (s[i] == ')' && --depth == 0 && i + 1 != s.size())
-                throw InputError("unexpected text after ')' in '" + std::string(s) + "'");
-            if (depth < 0) break;
-        }
-        if (depth != 0) throw InputError("unbalanced parentheses in '" + std::string(s) + "'");
-        const std::string_view inner = s.substr(paren + 1, s.size() - paren - 2);
-        if (name == "union") return parse_csg(CsgOp::union_, name, inner, empty);
-        if (name == "intersect" || name == "intersection") return parse_csg(CsgOp::intersection, name, inner, empty);
-        if (name == "diff" || name == "difference") return parse_csg(CsgOp::difference, name, inner, empty);
-        throw InputError("unknown operation '" + std::string(name) + "' (expected union, intersect or diff)");
-    }
-    if (colon == std::string_view::npos)
-        throw InputError("'" + std::string(s) + "' is not a shape (expected e.g. circle:0,0,1)");
-    return parse_primitive(trim(s.substr(0, colon)), s.substr(colon + 1));
+    const shape_syntax::Term t = shape_syntax::split_term(s, "circle:0,0,1");
+    if (!t.operation) return parse_primitive(t.name, t.body);
+    if (t.name == "union") return parse_csg(CsgOp::union_, t.name, t.body, empty);
+    if (t.name == "intersect" || t.name == "intersection") return parse_csg(CsgOp::intersection, t.name, t.body, empty);
+    if (t.name == "diff" || t.name == "difference") return parse_csg(CsgOp::difference, t.name, t.body, empty);
+    throw InputError("unknown operation '" + std::string(t.name) + "' (expected union, intersect or diff)");
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "warpmesh/generic_bcc.hpp"
+#include "warpmesh/generic_bcc_keys.hpp"
 
 namespace warpmesh::bcc_prover {
 
@@ -23,24 +24,13 @@ using Key = bcc::Config;
 // the parity bit is 0 where no parity quad exists.
 bool consistent(const Key& k);
 
-// Whether the stencil has a quad on a long edge (the parity bit matters).
-bool has_parity_quad(const std::array<int, 4>& sign);
-
-// The symmetries of the reference tetrahedron: the 8 permutations of the
-// local vertices that keep the long-edge pairs {0,1}, {2,3}, each realised by
-// a lattice isometry (perm[i] = image of vertex i, lin its linear part).
-struct Symmetry {
-    std::array<int, 4> perm;
-    std::array<bcc::Ivec, 3> lin;  // columns: images of e_x, e_y, e_z
-};
-const std::array<Symmetry, 8>& symmetries();
-// The image of a key under a symmetry (signs, warp directions, parity bit).
-Key transform(const Key& k, const Symmetry& s);
-// The key's representative: the smallest image under the 8 symmetries.
-Key canonical(const Key& k);
-// A short code, e.g. "-,0g,+,0s/1": per vertex -, +, or 0 and its warp
-// direction (a..n = neighbour_offsets 0..13, s = stay); the parity bit.
-std::string code_of(const Key& k);
+// The symmetries, canonical forms and codes of keys are generic_bcc_keys.hpp's
+// (one definition, shared with the 3D mesher).
+using bcc::canonical;
+using bcc::code_of;
+using bcc::has_parity_quad;
+using bcc::Symmetry;
+using bcc::transform;
 
 // All canonical consistent keys with some output (at least one - vertex),
 // in canonical order; with `all_zero`, the keys whose four vertices are zero

@@ -1,0 +1,95 @@
+// cgal_mesh3.cpp — the CGAL Mesh_3 peer of scripts/bench.sh's 3D section
+// (built only by that script; warpmesh does not depend on CGAL).
+//
+// usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H
+//   RAW: NX*NY*NZ unsigned bytes, x fastest, 0 = outside and any other value
+//   a label (the script writes the SPL atlas binarised: the region warpmesh
+//   meshes with --label nonzero); SX SY SZ the voxel size in mm.
+// Meshes the labelled image with Labeled_mesh_domain_3 and the criteria
+//   facet_angle 25, facet_size H, facet_distance SX / 2,
+//   cell_radius_edge_ratio 3, cell_size H
+// (CGAL's image-meshing example's criteria with the size set to H), no
+// optimisers (lloyd/odt/perturb/exude off: the refinement alone, the fastest
+// CGAL configuration), one thread.  Prints one line of JSON: the meshing time
+// in seconds (make_mesh_3 only, no I/O), the tetrahedra in the complex, their
+// minimum and maximum dihedral angles in degrees.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Image_3.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/make_mesh_3.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Domain = CGAL::Labeled_mesh_domain_3<K>;
+using Tr = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr>;
+using Criteria = CGAL::Mesh_criteria_3<Tr>;
+namespace params = CGAL::parameters;
+
+// The six dihedral angles of a tetrahedron, in degrees.
+std::array<double, 6> dihedrals(const std::array<K::Point_3, 4>& p) {
+    std::array<double, 6> out{};
+    int k = 0;
+    for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) {
+            int c = -1, d = -1;
+            for (int i = 0; i < 4; ++i)
+                if (i != a && i != b) (c < 0 ? c : d) = i;
+            const K::Vector_3 e = p[b] - p[a];
+            const K::Vector_3 nc = CGAL::cross_product(e, p[c] - p[a]), nd = CGAL::cross_product(e, p[d] - p[a]);
+            const double cosv = (nc * nd) / std::sqrt(nc.squared_length() * nd.squared_length());
+            out[k++] = std::acos(std::clamp(cosv, -1.0, 1.0)) * 180 / M_PI;
+        }
+    return out;
+}
+
+int main(int argc, char** argv) {
+    if (argc != 9) {
+        std::cerr << "usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H\n";
+        return 2;
+    }
+    const int nx = std::stoi(argv[2]), ny = std::stoi(argv[3]), nz = std::stoi(argv[4]);
+    const double sx = std::stod(argv[5]), sy = std::stod(argv[6]), sz = std::stod(argv[7]), h = std::stod(argv[8]);
+    std::vector<unsigned char> raw(static_cast<std::size_t>(nx) * ny * nz);
+    std::ifstream in(argv[1], std::ios::binary);
+    if (!in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size()))) {
+        std::cerr << "cgal_mesh3: cannot read " << raw.size() << " bytes from " << argv[1] << "\n";
+        return 1;
+    }
+    _image* img = ::_createImage(nx, ny, nz, 1, static_cast<float>(sx), static_cast<float>(sy), static_cast<float>(sz), 1,
+                                 WK_FIXED, SGN_UNSIGNED);
+    std::memcpy(img->data, raw.data(), raw.size());
+    const CGAL::Image_3 image(img);
+    const Domain domain = Domain::create_labeled_image_mesh_domain(image);
+    const Criteria criteria(params::facet_angle = 25, params::facet_size = h, params::facet_distance = sx / 2,
+                            params::cell_radius_edge_ratio = 3, params::cell_size = h);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_lloyd(), params::no_odt(),
+                                              params::no_perturb(), params::no_exude());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    double lo = 180, hi = 0;
+    std::size_t count = 0;
+    for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c, ++count) {
+        std::array<K::Point_3, 4> p;
+        for (int i = 0; i < 4; ++i) p[static_cast<std::size_t>(i)] = c3t3.triangulation().point(c->vertex(i)).point();
+        for (const double d : dihedrals(p)) lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    std::printf("{\"seconds\": %.3f, \"tetrahedra\": %zu, \"min_dihedral_deg\": %.3f, \"max_dihedral_deg\": %.3f}\n",
+                seconds, count, lo, hi);
+    return 0;
+}

@@ -1,0 +1,149 @@
+// verify3.cpp — the 3D report's certification and verification, and the
+// resolution check (mesh3d.hpp: Mesh3dReport).
+//
+// Certification.  proofs/bcc.cert claims, for every key other than the
+// all-zero ones and at its alphas, that every output tetrahedron is
+// positively oriented with every dihedral angle θ in [θmin, θmax], stated as
+// cos² thresholds C_min, C_max (bcc_claim).  `verify` checks each certified
+// tetrahedron with the certificate's own test (generic_bcc.hpp, "Angle
+// forms"): volume > 0 and, per edge, d = n_c·n_d, N = |n_c|²|n_d|²,
+//     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
+//     θ <= θmax  <=>  d >= 0  or  d² <= C_max N,
+// in double precision on the mesh's coordinates.  The certificate states one
+// claim for all its keys (no per-key bounds yet), so every tetrahedron is
+// checked against it; that each background tetrahedron's canonical key is
+// one of the certificate's keys is checked where the keys are known, in
+// stage 5 (tets3.cpp: check_key).
+// Tetrahedra from all-zero background tetrahedra are not covered by the
+// certificate and are counted as uncertified.
+//
+// Resolution.  A closed boundary component (faces tagged boundary_level_set,
+// joined by shared vertices) of area A enclosing the volume V has the width
+// 6V/A (a sphere's diameter, twice a slab's thickness); it is resolved when
+// that is at least 4 lattice spacings.  Parts smaller than a cube vanish and
+// leave no component: the level set's feature_size() (when known) must be at
+// least 2 spacings too.  Otherwise the report warns, naming a spacing that
+// resolves the input — never below the input's own resolution (a volume's
+// voxel), and not at all at a spacing at or below it (as in 2D,
+// resolution.hpp).
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "uniform3d/uniform3d.hpp"
+
+namespace warpmesh::uniform3d {
+namespace {
+
+constexpr double min_cubes_across = 4;
+
+std::int64_t verify(const TetMesh& mesh, const BccClaim& claim, std::span<const std::int64_t> all_zero, std::string& first) {
+    std::int64_t bad = 0;
+    const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
+#pragma omp parallel for schedule(static) reduction(+ : bad)
+    for (std::int64_t t = 0; t < T; ++t) {
+        if (std::binary_search(all_zero.begin(), all_zero.end(), t)) continue;
+        const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
+        std::array<bcc::Vec<double>, 4> p{};
+        for (std::size_t k = 0; k < 4; ++k) {
+            const Point3& q = mesh.vertices[static_cast<std::size_t>(tet[k])];
+            p[k] = {q.x, q.y, q.z};
+        }
+        const auto f = bcc::dihedral_forms<double>(p);
+        bool ok = f.volume6 > 0;
+        for (std::size_t k = 0; k < 6; ++k) {
+            const double d = f.dot[k], d2 = d * d;
+            ok = ok && (d <= 0 || d2 <= claim.cos2_min * f.nn[k]) && (d >= 0 || d2 <= claim.cos2_max * f.nn[k]);
+        }
+        if (!ok) {
+            ++bad;
+#pragma omp critical
+            if (first.empty()) first = "tetrahedron " + std::to_string(t);
+        }
+    }
+    return bad;
+}
+
+std::size_t find(std::vector<std::int32_t>& parent, std::size_t x) {
+    while (static_cast<std::size_t>(parent[x]) != x) x = static_cast<std::size_t>(parent[x] = parent[static_cast<std::size_t>(parent[x])]);
+    return x;
+}
+
+// The narrowest closed boundary component's width 6V/A (0 without one).
+double narrowest_width(const TetMesh& m) {
+    std::vector<std::int32_t> parent(m.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    for (std::size_t i = 0; i < m.boundary.size(); ++i) {
+        if (m.boundary_tag[i] != boundary_level_set) continue;
+        const auto& b = m.boundary[i];
+        for (int k = 1; k < 3; ++k) parent[find(parent, static_cast<std::size_t>(b[static_cast<std::size_t>(k)]))] = static_cast<std::int32_t>(find(parent, static_cast<std::size_t>(b[0])));
+    }
+    std::vector<double> area(m.vertices.size(), 0), volume(m.vertices.size(), 0);
+    for (std::size_t i = 0; i < m.boundary.size(); ++i) {
+        if (m.boundary_tag[i] != boundary_level_set) continue;
+        const auto& b = m.boundary[i];
+        const Point3 &p = m.vertices[static_cast<std::size_t>(b[0])], &q = m.vertices[static_cast<std::size_t>(b[1])], &r = m.vertices[static_cast<std::size_t>(b[2])];
+        const bcc::Vec<double> a{p.x, p.y, p.z}, u{q.x - p.x, q.y - p.y, q.z - p.z}, v{r.x - p.x, r.y - p.y, r.z - p.z};
+        const bcc::Vec<double> n = bcc::cross(u, v);
+        const std::size_t c = find(parent, static_cast<std::size_t>(b[0]));
+        area[c] += 0.5 * std::sqrt(bcc::dot(n, n));
+        volume[c] += bcc::dot(a, bcc::cross(bcc::Vec<double>{q.x, q.y, q.z}, bcc::Vec<double>{r.x, r.y, r.z})) / 6;
+    }
+    double narrowest = 0;
+    for (std::size_t c = 0; c < area.size(); ++c)
+        if (area[c] > 0) {
+            const double w = 6 * std::abs(volume[c]) / area[c];
+            narrowest = narrowest == 0 ? w : std::min(narrowest, w);
+        }
+    return narrowest;
+}
+
+// x rounded down to two significant digits.
+double two_digits(double x) {
+    const double e = std::pow(10.0, std::floor(std::log10(x)) - 1);
+    return std::floor(x / e) * e;
+}
+
+void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dReport& r) {
+    r.narrowest_width = narrowest_width(mesh);
+    double want = 0;
+    if (r.narrowest_width > 0 && r.narrowest_width < min_cubes_across * s) want = r.narrowest_width / min_cubes_across;
+    const double feature = f.feature_size();
+    if (feature > 0 && feature < 2 * s) want = want > 0 ? std::min(want, feature / 2) : feature / 2;
+    const double finest = f.resolution();
+    if (want <= 0 || s <= finest) return;
+    r.suggested_spacing = std::max(two_digits(want), finest);
+    std::ostringstream w;
+    w << "--spacing " << s << " is too coarse for this input: its narrowest part is about "
+      << (r.narrowest_width > 0 ? r.narrowest_width : 2 * feature) << " across (resolved at " << min_cubes_across
+      << " cubes across); --spacing " << r.suggested_spacing << " resolves it";
+    r.warnings.push_back(w.str());
+}
+
+}  // namespace
+
+void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, std::span<const std::int64_t> all_zero,
+                   Mesh3dReport& r) {
+    const std::optional<BccClaim> claim = bcc_claim();
+    const bool same = certificate_applies(o.alphas);
+    r.certified = same;
+    r.uncertified_tets = same ? static_cast<std::int64_t>(all_zero.size()) : r.tets;
+    r.certified_tets = r.tets - r.uncertified_tets;
+    if (same) r.certified_min_deg = claim->min_deg, r.certified_max_deg = claim->max_deg;
+    else r.warnings.push_back(claim ? "no certificate for these alphas: proofs/bcc.cert is at other alphas" : "this build has no 3D certificate (proofs/bcc.cert)");
+    if (!all_zero.empty() && same)
+        r.warnings.push_back(std::to_string(all_zero.size()) + " tetrahedra come from all-zero background tetrahedra, which proofs/bcc.cert does not cover yet (uncertified)");
+    if (o.verify && same) {
+        std::string first;
+        const std::int64_t bad = verify(mesh, *claim, all_zero, first);
+        if (bad > 0)
+            throw std::logic_error("mesh3d --verify: " + std::to_string(bad) + " certified tetrahedra violate proofs/bcc.cert's claim (first: " + first + ")");
+        r.verified = true;
+    }
+    if (o.quality) measure_quality3(mesh, f, r);
+    check_resolution(mesh, f, o.spacing, r);
+}
+
+}  // namespace warpmesh::uniform3d

@@ -1,0 +1,294 @@
+// volume_levelset3.cpp — the level set of a 3D volume (mesh3d.hpp:
+// make_volume_levelset3): a trilinear interpolant of per-voxel values, the
+// grey values themselves (threshold mode) or a signed distance (label mode).
+//
+// Geometry (volume.hpp).  Voxel (i, j, k) sits at origin + i s0 a0 + j s1 a1
+// + k s2 a2 with axis-aligned unit a_n (a signed permutation), so a point X
+// has the index coordinate t_n = ((X − origin)·a_n) / s_n along index axis n.
+// The region is cut off at the hull of the voxel centres, t_n in [0,
+// dims_n − 1]: f = max(F, K b), F the interpolant at the point clamped to the
+// hull, b = max_n (|t_n − m_n| − r_n) s_n the box distance to the hull (m, r its
+// centre and half-width in index units, s_n the spacing; < 0 inside) and K
+// the units of F per millimetre (1 in label mode).  So f is continuous, a
+// region reaching the volume's edge is closed by the hull's face, and the cut
+// points there are zeros of f like any other.
+//
+// Label mode.  With m = 1 on the region's voxels, the exact Euclidean
+// distance transform (Felzenszwalb and Huttenlocher's lower envelope of
+// parabolas, one pass per index axis, weighted by the spacings) gives d_out
+// at every voxel outside (the distance to the nearest centre inside) and d_in
+// at every voxel inside; f = d_out − c outside and −(d_in − c) inside, c half
+// the smallest spacing, so along the axis of the smallest spacing f is
+// antisymmetric about the midpoint between a voxel and its neighbour of the
+// other class and the trilinear interpolant's zero passes there.  Only the
+// region's bounding box grown by `band` voxels is transformed and stored (as
+// floats); f is clamped to ±band × the largest spacing, which farther voxels
+// get without being stored.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "warpmesh/buffer.hpp"
+#include "warpmesh/errors.hpp"
+#include "warpmesh/memory.hpp"
+#include "warpmesh/mesh3d.hpp"
+#include "warpmesh/volume.hpp"
+
+namespace warpmesh {
+namespace {
+
+// Squared-distance transform of one line: d[i] = min_j g[j] + (w (i − j))².
+void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, double w, std::vector<std::int64_t>& v,
+              std::vector<double>& z, std::vector<double>& gv) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), gv.resize(static_cast<std::size_t>(n));
+    for (std::int64_t i = 0; i < n; ++i) gv[static_cast<std::size_t>(i)] = g[i * stride];
+    std::int64_t k = -1;
+    const double w2 = w * w;
+    for (std::int64_t q = 0; q < n; ++q) {
+        const double fq = gv[static_cast<std::size_t>(q)];
+        if (!(fq < inf)) continue;
+        double s = -inf;
+        while (k >= 0) {
+            const std::int64_t p = v[static_cast<std::size_t>(k)];
+            s = ((fq + w2 * static_cast<double>(q * q)) - (gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>(p * p))) /
+                (2 * w2 * static_cast<double>(q - p));
+            if (s > z[static_cast<std::size_t>(k)]) break;
+            --k;
+        }
+        ++k;
+        v[static_cast<std::size_t>(k)] = q;
+        z[static_cast<std::size_t>(k)] = k == 0 ? -inf : s;
+        z[static_cast<std::size_t>(k) + 1] = inf;
+    }
+    for (std::int64_t i = 0, j = 0; i < n; ++i) {
+        if (k < 0) {
+            d[i * stride] = std::numeric_limits<float>::infinity();
+            continue;
+        }
+        while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
+        const std::int64_t p = v[static_cast<std::size_t>(j)];
+        d[i * stride] = static_cast<float>(gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>((i - p) * (i - p)));
+    }
+}
+
+// In place: g (0 at the sources, +inf elsewhere) → squared distances.
+void edt(Buffer<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w) {
+    const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
+    Buffer<float> out(g.size());  // every element written by each pass
+    for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+#pragma omp parallel
+        {
+            std::vector<std::int64_t> v;
+            std::vector<double> z, gv;
+#pragma omp for schedule(static)
+            for (std::int64_t jc = 0; jc < n[static_cast<std::size_t>(c)]; ++jc)
+                for (std::int64_t jb = 0; jb < n[static_cast<std::size_t>(b)]; ++jb) {
+                    const std::int64_t base = jb * stride[static_cast<std::size_t>(b)] + jc * stride[static_cast<std::size_t>(c)];
+                    edt_line(g.data() + base, out.data() + base, n[static_cast<std::size_t>(a)], stride[static_cast<std::size_t>(a)],
+                             w[static_cast<std::size_t>(a)], v, z, gv);
+                }
+        }
+        g.swap(out);
+    }
+}
+
+class VolumeLevelSet3 final : public LevelSet3 {
+public:
+    // Values on the box [lo, lo + n) of voxel indices; `far` beyond it.
+    // region_lo, region_hi: the voxels whose value is <= 0 lie in this index box.
+    VolumeLevelSet3(const Volume& v, Buffer<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
+                    std::array<std::int64_t, 3> region_lo, std::array<std::int64_t, 3> region_hi, float far, double feature,
+                    double per_mm, std::string name)
+        : values_(std::move(values)), lo_(lo), n_(n), dims_(v.dims), far_(far), feature_(feature), name_(std::move(name)) {
+        resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
+        spacing_ = {v.spacing[0], v.spacing[1], v.spacing[2]};
+        per_mm_ = per_mm;
+        for (std::size_t a = 0; a < 3; ++a) {
+            const Vec3 ax = *axis_aligned(v.axes[a]);
+            for (std::size_t p = 0; p < 3; ++p)
+                if (ax[p] != 0) perm_[a] = static_cast<int>(p), scale_[a] = ax[p] / v.spacing[a];
+            origin_[a] = v.origin[static_cast<std::size_t>(perm_[a])];
+        }
+        // f > 0 wherever the 8 voxels around a point are all outside, so the
+        // region lies within one voxel of the box of its voxels.
+        for (std::size_t a = 0; a < 3; ++a) {
+            const std::size_t p = static_cast<std::size_t>(perm_[a]);
+            const double e0 = origin_[a] + static_cast<double>(region_lo[a] - 1) / scale_[a];
+            const double e1 = origin_[a] + static_cast<double>(region_hi[a] + 1) / scale_[a];
+            lo_box_[p] = std::min(e0, e1), hi_box_[p] = std::max(e0, e1);
+        }
+    }
+    double value(double x, double y, double z) const override {
+        const double X[3] = {x, y, z};
+        std::array<double, 3> t{};
+        double box = -std::numeric_limits<double>::infinity();
+        for (std::size_t a = 0; a < 3; ++a) {
+            t[a] = (X[perm_[a]] - origin_[a]) * scale_[a];
+            if (!(t[a] == t[a])) return far_;  // a NaN coordinate
+            const double half = 0.5 * static_cast<double>(dims_[a] - 1);
+            box = std::max(box, (std::abs(t[a] - half) - half) * spacing_[a]);
+            t[a] = std::clamp(t[a], 0.0, static_cast<double>(dims_[a] - 1));
+        }
+        std::array<std::int64_t, 3> i{};
+        std::array<double, 3> u{};
+        for (std::size_t a = 0; a < 3; ++a) {
+            i[a] = std::min<std::int64_t>(static_cast<std::int64_t>(t[a]), dims_[a] - 2);
+            u[a] = t[a] - static_cast<double>(i[a]);
+        }
+        return std::max(interpolate(i, u), per_mm_ * box);
+    }
+    Box3 bounds() const override {
+        return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]};
+    }
+    double feature_size() const override { return feature_; }
+    double resolution() const override { return resolution_; }
+    std::string describe() const override { return name_; }
+
+private:
+    // The trilinear interpolant in voxel cell i at fractions u.
+    double interpolate(const std::array<std::int64_t, 3>& i, const std::array<double, 3>& u) const {
+        // The 8 voxels i .. i + 1: straight from the stored box when they are
+        // all in it (the common case), else voxel by voxel (far_ outside it).
+        std::array<std::int64_t, 3> r{};
+        bool stored = true;
+        for (std::size_t a = 0; a < 3; ++a) {
+            r[a] = i[a] - lo_[a];
+            stored = stored && r[a] >= 0 && r[a] + 1 < n_[a];
+        }
+        std::array<double, 8> c{};
+        if (stored) {
+            const std::int64_t sy = n_[0], sz = n_[0] * n_[1];
+            const float* p = values_.data() + r[0] + sy * r[1] + sz * r[2];
+            c = {p[0], p[1], p[sy], p[sy + 1], p[sz], p[sz + 1], p[sz + sy], p[sz + sy + 1]};
+        } else {
+            for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = at({i[0] + (k & 1), i[1] + (k >> 1 & 1), i[2] + (k >> 2)});
+        }
+        const double x0 = c[0] + u[0] * (c[1] - c[0]), x1 = c[2] + u[0] * (c[3] - c[2]);
+        const double x2 = c[4] + u[0] * (c[5] - c[4]), x3 = c[6] + u[0] * (c[7] - c[6]);
+        const double y0 = x0 + u[1] * (x1 - x0), y1 = x2 + u[1] * (x3 - x2);
+        return y0 + u[2] * (y1 - y0);
+    }
+    double at(const std::array<std::int64_t, 3>& j) const {
+        std::int64_t k = 0;
+        for (int a = 2; a >= 0; --a) {
+            const std::int64_t r = j[static_cast<std::size_t>(a)] - lo_[static_cast<std::size_t>(a)];
+            if (r < 0 || r >= n_[static_cast<std::size_t>(a)]) return far_;
+            k = k * n_[static_cast<std::size_t>(a)] + r;
+        }
+        return values_[static_cast<std::size_t>(k)];
+    }
+    Buffer<float> values_;
+    std::array<std::int64_t, 3> lo_, n_, dims_;
+    float far_;
+    double feature_, resolution_ = 0, per_mm_ = 1;
+    std::array<double, 3> spacing_{1, 1, 1};
+    std::string name_;
+    std::array<int, 3> perm_{0, 1, 2};
+    std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};
+};
+
+std::string labels_text(const ImageLevelSetOptions& m) {
+    if (m.label_nonzero) return "nonzero";
+    std::ostringstream s;
+    for (std::size_t i = 0; i < m.labels.size(); ++i) s << (i ? "," : "") << m.labels[i];
+    return s.str();
+}
+
+std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
+    const auto& m = o.mode;
+    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs --label L,... or --label nonzero");
+    auto in_region = [&](double x) {
+        return m.label_nonzero ? x != 0 : std::find(m.labels.begin(), m.labels.end(), static_cast<int>(x)) != m.labels.end();
+    };
+    std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
+    for (std::int64_t k = 0; k < v.dims[2]; ++k)
+        for (std::int64_t j = 0; j < v.dims[1]; ++j)
+            for (std::int64_t i = 0; i < v.dims[0]; ++i) {
+                const double x = v.at(i, j, k);
+                if (x != std::floor(x) || x < 0 || x > 65535)
+                    throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(x) + ")");
+                if (!in_region(x)) continue;
+                const std::array<std::int64_t, 3> q{i, j, k};
+                for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+            }
+    if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
+    const std::array<std::int64_t, 3> region_lo = lo, region_hi = hi;
+    std::array<std::int64_t, 3> n{};
+    std::uint64_t count = 1;
+    for (std::size_t a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int64_t>(0, lo[a] - o.band), hi[a] = std::min<std::int64_t>(v.dims[a] - 1, hi[a] + o.band);
+        n[a] = hi[a] - lo[a] + 1;
+        count *= static_cast<std::uint64_t>(n[a]);
+    }
+    // Two float fields and a transform buffer while building, one kept.
+    check_memory(count * 12, o.max_memory, "the label volume's distance field (" + std::to_string(count) + " voxels)",
+                 "12 bytes a voxel of the region's bounding box", "crop the volume to the region");
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    Buffer<float> in(count), out(count);  // every element written below
+    for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j)
+            for (std::int64_t i = 0; i < n[0]; ++i) {
+                const std::size_t at = static_cast<std::size_t>(i + n[0] * (j + n[1] * k));
+                const bool r = in_region(v.at(lo[0] + i, lo[1] + j, lo[2] + k));
+                in[at] = r ? 0.0f : inf;   // sources of d_out: the region
+                out[at] = r ? inf : 0.0f;  // sources of d_in: the rest
+            }
+    const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
+    edt(in, n, w);
+    edt(out, n, w);
+    const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
+    double feature = 0;
+    for (std::size_t at = 0; at < count; ++at) {
+        const bool r = in[at] == 0;
+        const double d = r ? -(std::sqrt(static_cast<double>(out[at])) - c) : std::sqrt(static_cast<double>(in[at])) - c;
+        if (r) feature = std::max(feature, -d);
+        in[at] = static_cast<float>(std::clamp(d, -cap, cap));
+    }
+    Buffer<float>().swap(out);
+    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
+                                             v.source + " (label " + labels_text(m) + ")");
+}
+
+std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
+    const auto [mn, mx] = std::minmax_element(v.values.begin(), v.values.end());
+    const double iso = o.mode.iso ? *o.mode.iso : v.maxval > 0 ? 0.5 * v.maxval : 0.5 * (*mn + *mx);
+    if (!std::isfinite(iso)) throw InputError("--iso must be a finite number");
+    const std::uint64_t count = static_cast<std::uint64_t>(v.voxel_count());
+    check_memory(count * 4, o.max_memory, "the volume's grey values (" + std::to_string(count) + " voxels)", "4 bytes a voxel",
+                 "crop or downsample the volume");
+    Buffer<float> f(count);  // every element written below
+    const double sign = o.mode.inside_above ? -1 : 1;
+    std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
+    for (std::int64_t k = 0, i = 0; k < v.dims[2]; ++k)
+        for (std::int64_t j = 0; j < v.dims[1]; ++j)
+            for (std::int64_t x = 0; x < v.dims[0]; ++x, ++i) {
+                f[static_cast<std::size_t>(i)] = static_cast<float>(sign * (v.values[static_cast<std::size_t>(i)] - iso));
+                if (f[static_cast<std::size_t>(i)] > 0) continue;
+                const std::array<std::int64_t, 3> q{x, j, k};
+                for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+            }
+    if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel is " + (o.mode.inside_above ? "above" : "below") + " the iso value");
+    std::ostringstream name;
+    name << v.source << " (iso " << iso << (o.mode.inside_above ? ", inside above)" : ", inside below)");
+    const float far = static_cast<float>(std::max(1.0, std::abs(*mx - *mn)));
+    return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, lo, hi, far, 0.0, far / std::min({v.spacing[0], v.spacing[1], v.spacing[2]}), name.str());
+}
+
+}  // namespace
+
+std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options) {
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (volume.dims[a] < 2)
+            throw InputError(volume.source + ": a 3D mesh needs at least 2 voxels along every axis (" + std::to_string(volume.dims[0]) +
+                             " x " + std::to_string(volume.dims[1]) + " x " + std::to_string(volume.dims[2]) + ")");
+        if (!axis_aligned(volume.axes[a])) throw InputError(volume.source + ": oblique orientations are not supported");
+    }
+    if (options.band < 2) throw InputError("the distance band must be at least 2 voxels");
+    if (options.mode.mode == ImageMode::label) return label_levelset(volume, options);
+    return threshold_levelset(volume, options);
+}
+
+}  // namespace warpmesh

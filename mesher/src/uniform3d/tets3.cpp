@@ -1,0 +1,310 @@
+// tets3.cpp — stage 5: every background tetrahedron of the cubes of a range
+// split by its stencil (step 6 of generic_bcc.hpp's contract), in two passes
+// over the cube layers (z) so that the output is written in place, in the
+// same order for any number of threads:
+//   A. count each layer's tetrahedra and mark the lattice points and the cut
+//      points they use (neighbouring layers share points: relaxed atomic
+//      stores and, for the surface-sized cut marks, atomic or);
+//   B. number the used vertices in (z, y, x) order — lattice points, then
+//      cut points by (lower endpoint, slot) — and write the tetrahedra.
+// A background tetrahedron of cube m with index i (background_tet) exists iff
+// the cube below m along axis i / 4 exists (its centre c1).  An all-zero one
+// is output iff f < 0 at the centroid of its four vertices (summed in local
+// order).  A cube whose 12 tetrahedra exist and whose 12 points (8 corners,
+// its centre, the centres below it) are all inside outputs its 12
+// background tetrahedra whole: the common case, taken without the stencil.
+#include <atomic>
+#include <stdexcept>
+
+#include "uniform3d.hpp"
+#include "warpmesh/errors.hpp"
+#include "warpmesh/memory.hpp"
+
+namespace warpmesh::uniform3d {
+namespace {
+
+// The 12 points around cube m (TetShape::slot_in_cube) and their signs.
+struct Neighbourhood {
+    std::array<std::int64_t, 12> at{};
+    std::array<int, 12> sign{};
+    bool all_inside = false;  // every tetrahedron exists and every sign is −
+};
+
+struct Layout {
+    const Window& w;
+    const LevelSet3& f;
+    const std::array<TetShape, 12>& shapes = tet_shapes();
+    std::int64_t plane_pair = 0;  // index step of 2 along z
+
+    explicit Layout(const Window& win, const LevelSet3& fn) : w(win), f(fn) {
+        plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
+    }
+
+    Neighbourhood around(const bcc::Ivec& m) const {
+        Neighbourhood n;
+        const std::int64_t corner = w.grid.index(m), centre = w.grid.index(bcc::add(m, {1, 1, 1}));
+        for (int b = 0; b < 8; ++b) n.at[static_cast<std::size_t>(b)] = corner + (b & 1) + ((b >> 1) & 1) * w.grid.corner_w + (b >> 2) * plane_pair;
+        n.at[8] = centre, n.at[9] = centre - 1, n.at[10] = centre - w.grid.centre_w, n.at[11] = centre - plane_pair;
+        bool all = m[0] > 0 && m[1] > 0 && m[2] > 0;
+        for (int k = 0; k < 12; ++k) {
+            const bool exists = k < 9 || m[static_cast<std::size_t>(k - 9)] > 0;
+            n.sign[static_cast<std::size_t>(k)] = exists ? w.sign[static_cast<std::size_t>(n.at[static_cast<std::size_t>(k)])] : 1;
+            all = all && n.sign[static_cast<std::size_t>(k)] < 0;
+        }
+        n.all_inside = all;
+        return n;
+    }
+
+    // The stencil of background tetrahedron `index` of the cube, or nullptr
+    // when it does not exist or outputs nothing.
+    const Plan* split(const bcc::Ivec& m, const Neighbourhood& n, int index, bool& all_zero) const {
+        const TetShape& s = shapes[static_cast<std::size_t>(index)];
+        if (m[static_cast<std::size_t>(index / 4)] == 0) return nullptr;
+        int code = 0, negative = 0, zero = 0;
+        for (int k = 3; k >= 0; --k) {
+            const int sg = n.sign[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(k)])];
+            code = code * 3 + sg + 1;
+            negative += sg < 0, zero += sg == 0;
+        }
+        all_zero = zero == 4;
+        bool inside = false;
+        if (negative == 0) {
+            if (!all_zero) return nullptr;
+            Point3 c{0, 0, 0};
+            for (int k = 0; k < 4; ++k) {
+                const Point3 q = w.point_position(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(k)])]);
+                c = {c.x + q.x, c.y + q.y, c.z + q.z};
+            }
+            inside = f.value(0.25 * c.x, 0.25 * c.y, 0.25 * c.z) < 0;
+            if (!inside) return nullptr;
+        }
+        return &plan(code, s.parity, inside);
+    }
+};
+
+template <class Body>
+void for_cubes_in_layer(const CubeRange& r, std::int64_t cz, Body&& body) {
+    for (std::int64_t cy = r.lo[1]; cy < r.hi[1]; ++cy)
+        for (std::int64_t cx = r.lo[0]; cx < r.hi[0]; ++cx)
+            body(bcc::Ivec{static_cast<int>(2 * cx), static_cast<int>(2 * cy), static_cast<int>(2 * cz)}, cx, cy);
+}
+
+struct Marks {
+    ZeroBuffer<std::uint8_t> point, cut;  // per window point: used; bit s: its cut point s used
+};
+
+// Pass A: the tetrahedra of each layer (prefix sums: layer l starts at
+// start[l]) and the used marks.
+std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& range, Marks& marks) {
+    const std::int64_t layers = range.hi[2] - range.lo[2];
+    std::vector<std::int64_t> start(static_cast<std::size_t>(layers) + 1, 0);
+    auto mark_point = [&](std::int64_t p) {
+        std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(p)]).store(1, std::memory_order_relaxed);
+    };
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::int64_t l = 0; l < layers; ++l) {
+        std::int64_t count = 0;
+        for_cubes_in_layer(range, range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
+            const Neighbourhood n = lay.around(m);
+            if (n.all_inside) {
+                count += 12;
+                for (std::int64_t p : n.at) mark_point(p);
+                return;
+            }
+            for (int index = 0; index < 12; ++index) {
+                bool all_zero = false;
+                const Plan* p = lay.split(m, n, index, all_zero);
+                if (!p) continue;
+                count += p->stencil.count;
+                const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
+                for (int q = 0; q < 10; ++q) {
+                    if (!(p->uses >> q & 1u)) continue;
+                    if (q < 4) {
+                        mark_point(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(q)])]);
+                        continue;
+                    }
+                    const int e = q - 4;
+                    const std::int64_t owner = n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(s.lower[static_cast<std::size_t>(e)])])];
+                    std::atomic_ref<std::uint8_t>(marks.cut[static_cast<std::size_t>(owner)])
+                        .fetch_or(static_cast<std::uint8_t>(1u << s.slot[static_cast<std::size_t>(e)]), std::memory_order_relaxed);
+                }
+            }
+        });
+        start[static_cast<std::size_t>(l) + 1] = count;
+    }
+    for (std::int64_t l = 0; l < layers; ++l) start[static_cast<std::size_t>(l) + 1] += start[static_cast<std::size_t>(l)];
+    return start;
+}
+
+// Vertex ids: per point its id (if used) and the id of its first used cut point.
+struct Numbering {
+    Buffer<std::int32_t> id, cut_id;
+    std::int64_t points = 0, cuts = 0;
+};
+
+Numbering number(const Grid& g, const Marks& marks) {
+    const int planes = g.hi[2] - g.lo[2] + 1;
+    std::vector<std::int64_t> np(static_cast<std::size_t>(planes) + 1, 0), nc(static_cast<std::size_t>(planes) + 1, 0);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int z = 0; z < planes; ++z) {
+        std::int64_t a = 0, b = 0;
+        for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p)
+            a += marks.point[static_cast<std::size_t>(p)], b += __builtin_popcount(marks.cut[static_cast<std::size_t>(p)]);
+        np[static_cast<std::size_t>(z) + 1] = a, nc[static_cast<std::size_t>(z) + 1] = b;
+    }
+    for (int z = 0; z < planes; ++z) np[static_cast<std::size_t>(z) + 1] += np[static_cast<std::size_t>(z)], nc[static_cast<std::size_t>(z) + 1] += nc[static_cast<std::size_t>(z)];
+    Numbering out;
+    out.points = np.back(), out.cuts = nc.back();
+    if (out.points + out.cuts >= INT32_MAX)
+        throw InputError("the 3D mesh would have more than 2^31 vertices; choose a larger --spacing or mesh in blocks (mesh3d_block)");
+    const std::size_t n = static_cast<std::size_t>(g.count());
+    out.id.resize(n), out.cut_id.resize(n);  // every element written below
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int z = 0; z < planes; ++z) {
+        std::int64_t a = np[static_cast<std::size_t>(z)], b = out.points + nc[static_cast<std::size_t>(z)];
+        for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
+            out.id[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(a), out.cut_id[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(b);
+            a += marks.point[static_cast<std::size_t>(p)], b += __builtin_popcount(marks.cut[static_cast<std::size_t>(p)]);
+        }
+    }
+    return out;
+}
+
+// The used vertices' positions, level-set flags and (blocks) global keys.
+void place_vertices(const Window& w, const Marks& marks, const Numbering& num, bool keys, Emitted& out) {
+    const Grid& g = w.grid;
+    const int planes = g.hi[2] - g.lo[2] + 1;
+    const Grid whole = Grid::whole(g.lattice);
+    const std::int64_t lattice_points = g.lattice.point_count();
+    std::int64_t warped = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : warped)
+    for (int z = 0; z < planes; ++z) {
+        for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
+            const std::uint8_t cut = marks.cut[static_cast<std::size_t>(p)];
+            if (!marks.point[static_cast<std::size_t>(p)] && !cut) continue;
+            const bcc::Ivec q = g.point(p);
+            const std::int64_t global = keys ? whole.index(q) : 0;
+            if (marks.point[static_cast<std::size_t>(p)]) {
+                const std::size_t v = static_cast<std::size_t>(num.id[static_cast<std::size_t>(p)]);
+                out.vertices[v] = w.point_position(p);
+                out.on_level_set[v] = w.sign[static_cast<std::size_t>(p)] == 0;
+                warped += w.warp[static_cast<std::size_t>(p)] != bcc::stay;
+                if (keys) out.vertex_key[v] = static_cast<std::uint64_t>(global);
+            }
+            std::size_t v = static_cast<std::size_t>(num.cut_id[static_cast<std::size_t>(p)]);
+            for (int s = 0; s < 7; ++s) {
+                if (!(cut >> s & 1u)) continue;
+                out.vertices[v] = w.cut_position(q, s, w.u(p, s));
+                out.on_level_set[v] = 1;
+                if (keys) out.vertex_key[v] = static_cast<std::uint64_t>(lattice_points + 7 * global + s);
+                ++v;
+            }
+        }
+    }
+    out.warped_vertices = warped;
+}
+
+// Pass B: the tetrahedra, with (blocks) their keys, and the sparse lists.
+// The key check of --verify for one background tetrahedron (not all-zero).
+void check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, int index, std::int64_t& uncovered, std::string& first) {
+    const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
+    std::array<bcc::Ivec, 4> p{};
+    std::array<int, 4> sign{}, warp{};
+    for (std::size_t k = 0; k < 4; ++k) {
+        const std::size_t slot = static_cast<std::size_t>(s.slot_in_cube[k]);
+        p[k] = bcc::add(m, s.offset[k]);
+        sign[k] = n.sign[slot];
+        warp[k] = lay.w.warp[static_cast<std::size_t>(n.at[slot])];
+    }
+    std::string code;
+    if (key_certified(p, sign, warp, &code)) return;
+    ++uncovered;
+#pragma omp critical
+    if (first.empty()) first = code;
+}
+
+void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
+                std::span<const std::int64_t> start, bool keys, bool verify_keys, Emitted& out) {
+    const Lattice3& L = lay.w.grid.lattice;
+    const std::int64_t layers = range.hi[2] - range.lo[2];
+    std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
+    std::vector<std::vector<std::int64_t>> zero(static_cast<std::size_t>(layers));
+    std::int64_t uncovered = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered)
+    for (std::int64_t l = 0; l < layers; ++l) {
+        std::int64_t t = start[static_cast<std::size_t>(l)];
+        const std::int64_t cz = range.lo[2] + l;
+        for_cubes_in_layer(range, cz, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
+            const Neighbourhood n = lay.around(m);
+            const bool near_edge = cx < 2 || cy < 2 || cz < 2 || cx >= L.cubes[0] - 2 || cy >= L.cubes[1] - 2 || cz >= L.cubes[2] - 2;
+            const std::uint64_t cube_key = static_cast<std::uint64_t>((cz * L.cubes[1] + cy) * L.cubes[0] + cx) * 48;
+            for (int index = 0; index < 12; ++index) {
+                const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
+                bool all_zero = false;
+                const Plan* p = n.all_inside ? &plan(0, 0, false) : lay.split(m, n, index, all_zero);
+                if (!p) continue;
+                if (verify_keys && !n.all_inside && !all_zero) check_key(lay, m, n, index, uncovered, out.first_uncovered);
+                std::array<std::int32_t, 10> vid{};
+                for (int q = 0; q < 10; ++q) {
+                    if (!(p->uses >> q & 1u)) continue;
+                    if (q < 4) {
+                        vid[static_cast<std::size_t>(q)] = num.id[static_cast<std::size_t>(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(q)])])];
+                        continue;
+                    }
+                    const std::size_t owner = static_cast<std::size_t>(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(s.lower[static_cast<std::size_t>(q - 4)])])]);
+                    const int slot = s.slot[static_cast<std::size_t>(q - 4)];
+                    vid[static_cast<std::size_t>(q)] = num.cut_id[owner] + __builtin_popcount(marks.cut[owner] & ((1u << slot) - 1));
+                }
+                unsigned missing = 0;  // bit v: no background tetrahedron across the face without v
+                if (near_edge)
+                    for (int v = 0; v < 4; ++v) missing |= in_lattice(L, bcc::add(m, s.across[static_cast<std::size_t>(v)])) ? 0u : 1u << v;
+                for (int k = 0; k < p->stencil.count; ++k, ++t) {
+                    const bcc::OutTet& o = p->stencil.tet[static_cast<std::size_t>(k)];
+                    out.tets[static_cast<std::size_t>(t)] = {vid[o[0]], vid[o[1]], vid[o[2]], vid[o[3]]};
+                    if (keys) out.tet_key[static_cast<std::size_t>(t)] = cube_key + static_cast<std::uint64_t>(index * 4 + k);
+                    if (missing) {
+                        unsigned faces = 0;
+                        for (int f = 0; f < 4; ++f)
+                            if (p->face_on[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)] & missing) faces |= 1u << f;
+                        if (faces) edge[static_cast<std::size_t>(l)].push_back({t, static_cast<std::uint8_t>(faces)});
+                    }
+                    if (all_zero) zero[static_cast<std::size_t>(l)].push_back(t);
+                }
+            }
+        });
+    }
+    for (const auto& e : edge) out.cut_off.insert(out.cut_off.end(), e.begin(), e.end());
+    for (const auto& e : zero) out.all_zero.insert(out.all_zero.end(), e.begin(), e.end());
+    out.uncovered_keys = uncovered;
+}
+
+}  // namespace
+
+Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
+    const Layout lay(w, f);
+    const std::size_t n = static_cast<std::size_t>(w.grid.count());
+    Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
+    const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);
+    const std::int64_t tet_count = start.back();
+    if (tet_count >= INT32_MAX)
+        throw InputError("the 3D mesh would have more than 2^31 tetrahedra; choose a larger --spacing or mesh in blocks (mesh3d_block)");
+    Numbering num = number(w.grid, marks);
+    const std::int64_t vertex_count = num.points + num.cuts;
+    // The output: 16 bytes a tetrahedron (+4 for its region, written later,
+    // +8 for a block's keys), 25 a vertex (+8 with keys).
+    check_memory(static_cast<std::uint64_t>(tet_count) * (20 + (keys ? 8 : 0)) + static_cast<std::uint64_t>(vertex_count) * 33,
+                 max_memory, "the 3D mesh of " + std::to_string(tet_count) + " tetrahedra", "about 24 bytes a tetrahedron",
+                 "choose a larger --spacing");
+    Emitted out;
+    out.cut_points = num.cuts;
+    out.vertices.resize(static_cast<std::size_t>(vertex_count));  // each written once by place_vertices
+    out.on_level_set.resize(static_cast<std::size_t>(vertex_count));
+    if (keys) out.vertex_key.resize(static_cast<std::size_t>(vertex_count));
+    place_vertices(w, marks, num, keys, out);
+    out.tets.resize(static_cast<std::size_t>(tet_count));  // each written once by write_tets
+    if (keys) out.tet_key.resize(static_cast<std::size_t>(tet_count));
+    write_tets(lay, range, marks, num, start, keys, verify_keys, out);
+    return out;
+}
+
+}  // namespace warpmesh::uniform3d

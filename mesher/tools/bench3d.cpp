@@ -1,0 +1,111 @@
+// bench3d.cpp — the 3D mesher's speed and memory on one input (scripts/bench.sh
+// --3d).  A library client only: mesh3d on a shape or a volume, no file
+// written; prints one line of key=value figures: tetrahedra, meshing seconds
+// (mesh3d's own clock: lattice to boundary faces, without the quality pass),
+// tetrahedra per second, the CPU seconds of the mesh3d call (user + system,
+// all threads: on a shared machine the figure that does not depend on the
+// load) and tetrahedra per CPU second, peak resident bytes per tetrahedron (VmHWM of the
+// whole process, the volume and its level set included), the report's
+// dihedral extremes and certification counts.
+//
+//   warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V]
+//                    --spacing S [--threads N] [--max-memory MB] [--quality] [--verify] [--check]
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "warpmesh/errors.hpp"
+#include "warpmesh/mesh3d.hpp"
+#include "warpmesh/volume.hpp"
+
+namespace {
+
+std::uint64_t peak_rss() {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+    return 0;
+}
+
+// CPU seconds (user + system) of the whole process so far.
+double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace warpmesh;
+    std::string shape, volume_path, label;
+    std::optional<double> iso;
+    Mesh3dOptions o;
+    o.quality = false;
+    bool check = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) throw InputError(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--shape") shape = next();
+        else if (a == "--volume") volume_path = next();
+        else if (a == "--label") label = next();
+        else if (a == "--iso") iso = std::stod(next());
+        else if (a == "--spacing") o.spacing = std::stod(next());
+        else if (a == "--threads") o.threads = std::stoi(next());
+        else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
+        else if (a == "--quality") o.quality = true;
+        else if (a == "--verify") o.verify = true;
+        else if (a == "--check") check = true;
+        else {
+            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--threads N] [--max-memory MB] [--quality] [--verify] [--check]\n";
+            return 2;
+        }
+    }
+    try {
+        std::unique_ptr<LevelSet3> f;
+        if (!shape.empty()) {
+            f = parse_shape3(shape);
+        } else {
+            const Volume v = read_volume(volume_path);
+            VolumeLevelSet3Options vo;
+            if (!label.empty()) {
+                vo.mode.mode = ImageMode::label;
+                if (label == "nonzero") vo.mode.label_nonzero = true;
+                else {
+                    std::istringstream s(label);
+                    for (std::string t; std::getline(s, t, ',');) vo.mode.labels.push_back(std::stoi(t));
+                }
+            }
+            vo.mode.iso = iso;
+            f = make_volume_levelset3(v, vo);
+        }
+        Mesh3dReport r;
+        const double cpu0 = cpu_seconds();
+        const TetMesh m = mesh3d(*f, o, &r);
+        const double cpu = cpu_seconds() - cpu0;
+        const double peak = static_cast<double>(peak_rss());
+        std::printf("tets=%lld vertices=%lld seconds=%.3f tets_per_second=%.0f cpu_seconds=%.3f tets_per_cpu_second=%.0f peak_bytes_per_tet=%.1f",
+                    static_cast<long long>(r.tets), static_cast<long long>(r.vertices), r.seconds, static_cast<double>(r.tets) / r.seconds, cpu,
+                    static_cast<double>(r.tets) / cpu, peak / static_cast<double>(r.tets));
+        if (o.quality)
+            std::printf(" min_dihedral=%.3f max_dihedral=%.3f radius_ratio_min=%.4f boundary_vertex_f_max=%.3g boundary_centroid_f_max=%.3g",
+                        r.min_dihedral_deg, r.max_dihedral_deg, r.radius_ratio_min, r.boundary_vertex_f_max, r.boundary_centroid_f_max);
+        if (check) std::printf(" check_ok=%d", check_tet_mesh(m).ok ? 1 : 0);
+        std::printf(" certified=%lld uncertified=%lld verified=%d boundary_faces=%lld\n", static_cast<long long>(r.certified_tets),
+                    static_cast<long long>(r.uncertified_tets), r.verified ? 1 : 0, static_cast<long long>(r.boundary_faces));
+        for (const auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        return m.tets.empty() ? 1 : 0;
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,115 @@
+"""`warpmesh mesh3d` (issue 30): the command line of the 3D mesher, run as a
+user runs it: a 3D shape and a labelled NRRD volume meshed into every 3D
+format, read back with meshio and compared with the JSON report; options
+that have no effect in 3D, bad input and 2D-only formats refused with a
+message and nothing written.
+"""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import executable, require
+
+
+def mesh3d(args, cwd, expect=0):
+    cmd = [executable("WARPMESH_EXE"), "mesh3d", *map(str, args)]
+    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=300)
+    assert r.returncode == expect, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}"
+    return r
+
+
+def write_nrrd(path, labels, spacing=(1.0, 1.0, 1.0)):
+    """A raw NRRD of uint8 labels; numpy's (k, j, i) order is NRRD's i fastest."""
+    k, j, i = labels.shape
+    head = (f"NRRD0004\ntype: uint8\ndimension: 3\nsizes: {i} {j} {k}\nspace: left-posterior-superior\n"
+            f"space directions: ({spacing[0]},0,0) (0,{spacing[1]},0) (0,0,{spacing[2]})\n"
+            "space origin: (0,0,0)\nencoding: raw\n\n")
+    path.write_bytes(head.encode() + labels.astype(np.uint8).tobytes())
+
+
+def tet_volumes(points, tets):
+    a, b, c, d = (points[tets[:, k]] for k in range(4))
+    return np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6
+
+
+def test_sphere_in_every_format_matches_the_report(tmp_path):
+    meshio = require("meshio", "python3-meshio")
+    outs = ["s.vtu", "s.msh", "s.xdmf", "s.inp", "s.mesh"]
+    r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.2", "-o", outs[0],
+                *[a for o in outs[1:] for a in ("--also", o)], "--report", "r.json", "--verify"], tmp_path)
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert "tetrahedra" in r.stdout and "certified" in r.stdout
+    assert report["certified"]["verified"] and report["certified"]["uncertified_tetrahedra"] == 0
+    assert report["certified"]["min_dihedral_deg"] <= report["min_dihedral_deg"]
+    assert report["max_dihedral_deg"] <= report["certified"]["max_dihedral_deg"]
+    m = meshio.read(tmp_path / "s.vtu")
+    tets = m.cells_dict["tetra"]
+    assert len(tets) == report["tetrahedra"] and len(m.points) == report["vertices"]
+    vol = tet_volumes(m.points, tets)
+    assert (vol > 0).all() and abs(vol.sum() - report["volume"]) < 1e-9
+    assert abs(vol.sum() - 4 / 3 * np.pi) < 0.05 * 4 / 3 * np.pi
+    for name in outs[1:]:
+        other = meshio.read(tmp_path / name)
+        assert np.allclose(other.points, m.points, rtol=5e-14, atol=1e-300), name
+        assert np.array_equal(other.cells_dict["tetra"], tets), name
+    # The boundary triangles lie on the sphere (vertices on the level set).
+    f = meshio.read(tmp_path / "s_facets.xdmf")
+    tri = f.cells_dict["triangle"]
+    assert len(tri) == report["boundary_faces"] and set(f.cell_data["facet_tags"][0]) == {1}
+    assert np.allclose(np.linalg.norm(m.points[np.unique(tri)], axis=1), 1, atol=1e-12)
+
+
+def test_label_volume_in_mm(tmp_path):
+    """A labelled NRRD (a ball of label 5 with a cube of label 7 beside it,
+    voxels 0.5 mm): --label 5 meshes the ball only, in millimetres."""
+    meshio = require("meshio", "python3-meshio")
+    z, y, x = np.mgrid[0:24, 0:24, 0:32]
+    labels = np.where((x - 11) ** 2 + (y - 12) ** 2 + (z - 12) ** 2 < 64, 5, 0)
+    labels[6:18, 6:18, 22:30] = 7
+    write_nrrd(tmp_path / "l.nrrd", labels, (0.5, 0.5, 0.5))
+    mesh3d(["l.nrrd", "--label", "5", "-o", "b.vtu", "--report", "b.json", "--quiet"], tmp_path)
+    report = json.loads((tmp_path / "b.json").read_text())
+    m = meshio.read(tmp_path / "b.vtu")
+    vol = tet_volumes(m.points, m.cells_dict["tetra"])
+    assert (vol > 0).all()
+    # A ball of radius ~4 mm (8 voxels of 0.5 mm) centred at (5.5, 6, 6) mm.
+    assert abs(vol.sum() - 4 / 3 * np.pi * 4 ** 3) < 0.15 * 4 / 3 * np.pi * 4 ** 3
+    assert m.points[:, 0].max() < 10.5  # the cube of label 7 (x >= 11 mm) is not in it
+    assert report["certified"]["uncertified_tetrahedra"] == report["certified"]["all_zero_tetrahedra"]
+    # --units pixels: the same volume in voxel coordinates (twice as large).
+    mesh3d(["l.nrrd", "--label", "5", "--units", "pixels", "-o", "p.vtu", "--quiet"], tmp_path)
+    p = meshio.read(tmp_path / "p.vtu")
+    assert abs(tet_volumes(p.points, p.cells_dict["tetra"]).sum() / vol.sum() - 8) < 0.5
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--graded"], "--graded has no effect in 3D"),
+    (["--materials", "all"], "multi-material 3D meshes are not built yet"),
+    (["--slice", "k=3"], "--slice has no effect in 3D"),
+    (["--diagonal", "fan"], "3D has one rule"),
+    (["--svg-color", "minangle"], "pictures are 2D"),
+    (["--optimize"], "--optimize has no effect in 3D"),
+])
+def test_options_without_effect_in_3d_are_refused(tmp_path, args, message):
+    r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.3", "-o", "x.vtu", *args], tmp_path, expect=2)
+    assert message in r.stderr
+    assert not os.listdir(tmp_path)
+
+
+def test_bad_input_and_2d_formats_write_nothing(tmp_path):
+    r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.3", "-o", "x.svg"], tmp_path, expect=1)
+    assert "2D format" in r.stderr
+    r = mesh3d(["--shape", "sphere:0,0,0,1", "-o", "x.vtu"], tmp_path, expect=2)
+    assert "--shape needs --spacing" in r.stderr
+    r = mesh3d(["--shape", "sphere:0,0,0,-1", "--spacing", "0.3", "-o", "x.vtu"], tmp_path, expect=1)
+    assert "sphere" in r.stderr
+    labels = np.zeros((6, 6, 6))
+    labels[2:4, 2:4, 2:4] = 3
+    write_nrrd(tmp_path / "l.nrrd", labels)
+    r = mesh3d(["l.nrrd", "--label", "9", "-o", "x.vtu"], tmp_path, expect=1)
+    assert "error" in r.stderr
+    r = mesh3d(["l.nrrd", "--label", "3", "--iso", "1", "-o", "x.vtu"], tmp_path, expect=2)
+    assert sorted(os.listdir(tmp_path)) == ["l.nrrd"]

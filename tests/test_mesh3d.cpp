@@ -1,0 +1,294 @@
+// The 3D mesher (mesh3d.hpp): conformity and orientation on every shape and
+// on random quadric and RBF level sets, measured dihedral angles inside the
+// certified bounds (verify), identical output for any thread count, blocks
+// that merge into exactly the whole mesh, label and grey volumes in physical
+// units, and the bad inputs (empty region, coarse spacing, memory limit).
+#define BOOST_TEST_MODULE mesh3d
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "support.hpp"
+#include "warpmesh/mesh3d.hpp"
+#include "uniform3d/uniform3d.hpp"
+#include "warpmesh/volume.hpp"
+
+using namespace warpmesh;
+using namespace warpmesh::testing;
+
+namespace {
+
+Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nullptr) {
+    Mesh3dOptions o;
+    o.spacing = spacing;
+    o.verify = true;  // throws std::logic_error if a certified tetrahedron leaves the claim
+    Mesh3dReport r;
+    TetMesh m = mesh3d(f, o, &r);
+    const TetMeshCheck c = check_tet_mesh(m);
+    BOOST_TEST(c.ok, f.describe() << ": " << (c.problems.empty() ? "" : c.problems.front()));
+    BOOST_TEST(r.verified);
+    BOOST_TEST(r.tets == static_cast<std::int64_t>(m.tets.size()));
+    BOOST_TEST(r.certified_tets + r.uncertified_tets == r.tets);
+    BOOST_TEST(r.uncertified_tets == r.all_zero_tets);
+    if (r.certified_tets > 0 && r.all_zero_tets == 0) {
+        BOOST_TEST(r.min_dihedral_deg >= r.certified_min_deg);
+        BOOST_TEST(r.max_dihedral_deg <= r.certified_max_deg);
+    }
+    for (std::int32_t t : m.boundary_tag) BOOST_TEST(t == boundary_level_set);
+    BOOST_TEST(r.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
+    if (out) *out = std::move(m);
+    return r;
+}
+
+bool same(const TetMesh& a, const TetMesh& b) {
+    if (a.vertices.size() != b.vertices.size() || a.tets.size() != b.tets.size() || a.boundary != b.boundary ||
+        a.boundary_tag != b.boundary_tag)
+        return false;
+    for (std::size_t i = 0; i < a.vertices.size(); ++i)
+        if (a.vertices[i].x != b.vertices[i].x || a.vertices[i].y != b.vertices[i].y || a.vertices[i].z != b.vertices[i].z) return false;
+    for (std::size_t i = 0; i < a.tets.size(); ++i)
+        if (a.tets[i] != b.tets[i] || a.region[i] != b.region[i]) return false;
+    return true;
+}
+
+// A random quadric x^T A x + b.x − c (an ellipsoid, a hyperboloid or a
+// cylinder piece) in the box [−1, 1]³, or a sum of Gaussian bumps minus a
+// threshold (RBF): smooth level sets with every kind of local configuration.
+std::unique_ptr<LevelSet3> random_level_set(std::mt19937& rng, int kind) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    const Box3 box{-1, -1, -1, 1, 1, 1};
+    if (kind == 0) {
+        std::array<double, 10> c{};
+        for (double& x : c) x = u(rng);
+        c[0] = 1 + std::abs(c[0]);
+        return std::make_unique<FunctionLevelSet3>(
+            [c](double x, double y, double z) {
+                const double q = c[0] * x * x + c[1] * y * y + c[2] * z * z + c[3] * x * y + c[4] * y * z + c[5] * x * z +
+                                 0.3 * (c[6] * x + c[7] * y + c[8] * z);
+                const double box_f = std::max({std::abs(x), std::abs(y), std::abs(z)}) - 0.9;
+                return std::max(q - 0.3 - 0.2 * std::abs(c[9]), box_f);
+            },
+            box, "quadric");
+    }
+    std::vector<std::array<double, 4>> bumps(4);
+    for (auto& b : bumps) b = {0.25 * u(rng), 0.25 * u(rng), 0.25 * u(rng), 4 + 4 * std::abs(u(rng))};
+    return std::make_unique<FunctionLevelSet3>(
+        [bumps](double x, double y, double z) {
+            double s = 0;
+            for (const auto& b : bumps) s += std::exp(-b[3] * ((x - b[0]) * (x - b[0]) + (y - b[1]) * (y - b[1]) + (z - b[2]) * (z - b[2])));
+            return 0.5 - s;
+        },
+        Box3{-1.2, -1.2, -1.2, 1.2, 1.2, 1.2}, "rbf");
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(shapes_conform_and_stay_within_the_certified_bounds) {
+    const char* specs[] = {"sphere:0,0,0,1",
+                           "ellipsoid:0.1,0,0,1.2,0.8,0.6",
+                           "torus:0,0,0,1,0.4",
+                           "box:-1,-0.7,-0.5,1,0.7,0.5",
+                           "cylinder:-0.8,-0.3,-0.2,0.8,0.3,0.2,0.5",
+                           "union(sphere:-0.5,0,0,0.7;sphere:0.5,0,0,0.7)",
+                           "intersect(sphere:0,0,0,1;box:-0.6,-2,-2,0.6,2,2)",
+                           "diff(sphere:0,0,0,1;cylinder:0,0,-2,0,0,2,0.4)"};
+    for (const char* spec : specs) {
+        const auto f = parse_shape3(spec);
+        const Mesh3dReport r = mesh_checked(*f, 0.1);
+        if (const auto v = f->exact_volume()) BOOST_TEST(std::abs(r.volume - *v) < 0.03 * *v, spec << ": volume " << r.volume << " vs " << *v);
+        BOOST_TEST(r.warnings.size() <= 1u);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(lattice_points_exactly_on_the_level_set) {
+    // The box's faces lie on lattice planes at this spacing (the lattice is
+    // centred on the box): many points have f = 0 exactly and never move
+    // (warp state `stay`, keys with 0s), and edges and corners give zero
+    // vertices on three planes.
+    const auto f = parse_shape3("box:-1,-1,-1,1,1,1");
+    const Mesh3dReport r = mesh_checked(*f, 0.25);
+    BOOST_TEST(std::abs(r.volume - 8) < 1e-9, "volume " << r.volume);
+}
+
+BOOST_AUTO_TEST_CASE(random_quadrics_and_rbfs_conform_and_verify) {
+    std::mt19937 rng(20261203);
+    std::int64_t tets = 0, warped = 0;
+    const int n = scaled(24);
+    for (int i = 0; i < n; ++i) {
+        const auto f = random_level_set(rng, i % 2);
+        std::uniform_real_distribution<double> s(0.08, 0.16);
+        try {
+            const Mesh3dReport r = mesh_checked(*f, s(rng));
+            tets += r.tets, warped += r.warped;
+        } catch (const InputError& e) {  // an empty random region is fine; nothing else is
+            BOOST_TEST(std::string(e.what()).find("empty") != std::string::npos, e.what());
+        }
+    }
+    BOOST_TEST(tets > 1000 * n / 2);  // thousands of background configurations
+    BOOST_TEST(warped > 100);
+}
+
+BOOST_AUTO_TEST_CASE(output_is_identical_for_any_thread_count) {
+    const auto f = parse_shape3("union(torus:0,0,0,1,0.35;sphere:0.3,0.2,0.1,0.6)");
+    Mesh3dOptions o;
+    o.spacing = 0.09;
+    o.threads = 1;
+    const TetMesh one = mesh3d(*f, o);
+    o.threads = 2;
+    const TetMesh two = mesh3d(*f, o);
+    o.threads = 5;
+    const TetMesh five = mesh3d(*f, o);
+    BOOST_TEST(same(one, two));
+    BOOST_TEST(same(one, five));
+}
+
+BOOST_AUTO_TEST_CASE(blocks_merge_into_exactly_the_whole_mesh) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < scaled(4); ++trial) {
+        const auto f = random_level_set(rng, trial % 2);
+        Mesh3dOptions o;
+        o.spacing = 0.11;
+        const Lattice3 L = lattice3_for(*f, o.spacing);
+        TetMesh whole;
+        try {
+            whole = mesh3d_on(*f, o, L);
+        } catch (const InputError&) {
+            continue;
+        }
+        // Cut every axis at a random place (uneven blocks, some thin).
+        std::array<std::int64_t, 3> cut{};
+        for (std::size_t a = 0; a < 3; ++a) cut[a] = std::uniform_int_distribution<std::int64_t>(1, L.cubes[a] - 1)(rng);
+        std::vector<TetBlock> blocks;
+        for (int b = 0; b < 8; ++b) {
+            CubeRange r;
+            for (std::size_t a = 0; a < 3; ++a) {
+                const bool high = (b >> a) & 1;
+                r.lo[a] = high ? cut[a] : 0;
+                r.hi[a] = high ? L.cubes[a] : cut[a];
+            }
+            blocks.push_back(mesh3d_block(*f, o, L, r));
+        }
+        std::shuffle(blocks.begin(), blocks.end(), rng);
+        const TetMesh merged = merge_tet_blocks(blocks);
+        BOOST_TEST(same(merged, whole), "trial " << trial);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
+    // A ball of label 3 (radius 6 mm) and a slab of label 5 in a 24 x 20 x 16
+    // volume with anisotropic spacing and a flipped, permuted orientation.
+    Volume v;
+    v.dims = {24, 20, 16};
+    v.spacing = {1.0, 1.25, 1.5};
+    v.origin = {10, -5, 3};
+    v.axes = {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}};
+    v.physical = true;
+    v.source = "ball.nrrd";
+    v.values.resize(static_cast<std::size_t>(v.voxel_count()));
+    for (std::int64_t k = 0; k < 16; ++k)
+        for (std::int64_t j = 0; j < 20; ++j)
+            for (std::int64_t i = 0; i < 24; ++i) {
+                const double x = (i - 11.5) * 1.0, y = (j - 9.5) * 1.25, z = (k - 7.5) * 1.5;
+                v.values[static_cast<std::size_t>(i + 24 * (j + 20 * k))] = x * x + y * y + z * z < 36 ? 3 : (k < 2 ? 5 : 0);
+            }
+    VolumeLevelSet3Options lo;
+    lo.mode.mode = ImageMode::label;
+    lo.mode.labels = {3};
+    const auto ball = make_volume_levelset3(v, lo);
+    TetMesh m;
+    const Mesh3dReport r = mesh_checked(*ball, 0.8, &m);
+    const double exact = 4.0 / 3.0 * std::numbers::pi * 216;
+    BOOST_TEST(std::abs(r.volume - exact) < 0.15 * exact, "volume " << r.volume);
+    // The ball's centre in physical coordinates: origin + 11.5 a0 + 9.5 * 1.25 a1 + 7.5 * 1.5 a2.
+    Point3 c{0, 0, 0};
+    for (const Point3& p : m.vertices) c = {c.x + p.x, c.y + p.y, c.z + p.z};
+    const double n = static_cast<double>(m.vertices.size());
+    BOOST_TEST(std::abs(c.x / n - (10 - 9.5 * 1.25)) < 0.3);
+    BOOST_TEST(std::abs(c.y / n - (-5 + 11.5)) < 0.3);
+    BOOST_TEST(std::abs(c.z / n - (3 + 7.5 * 1.5)) < 0.3);
+    // Label 5 fills the two lowest voxel layers, up to the volume's edge: the
+    // region is closed at the voxel centres' hull, by level-set faces.
+    lo.mode.labels = {5};
+    mesh_checked(*make_volume_levelset3(v, lo), 0.6);
+    lo.mode.labels = {9};
+    BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "the region is empty"));
+    // Grey mode: the same ball as values 0..100, inside above 50.
+    for (double& x : v.values) x = x == 3 ? 100 : 0;
+    VolumeLevelSet3Options go;
+    go.mode.iso = 50;
+    const auto grey = make_volume_levelset3(v, go);
+    const Mesh3dReport g = mesh_checked(*grey, 0.8);
+    BOOST_TEST(std::abs(g.volume - exact) < 0.2 * exact, "volume " << g.volume);
+}
+
+BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
+    Mesh3dOptions o;
+    o.spacing = 0.1;
+    const FunctionLevelSet3 nothing([](double, double, double) { return 1.0; }, {-1, -1, -1, 1, 1, 1});
+    BOOST_TEST(throws_containing([&] { mesh3d(nothing, o); }, "the region is empty"));
+    BOOST_TEST(throws_containing([&] { parse_shape3("intersect(sphere:0,0,0,1;sphere:5,0,0,1)"); }, "the region is empty"));
+    BOOST_TEST(throws_containing([&] { parse_shape3("sphere:0,0,0"); }, "sphere takes 4 numbers"));
+    BOOST_TEST(throws_containing([&] { parse_shape3("torus:0,0,0,1,2"); }, "0 < r < R"));
+    o.spacing = -1;
+    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "--spacing"));
+    // Coarse: a sphere of radius 1 at spacing 0.7 (less than 4 cubes across).
+    o.spacing = 0.7;
+    Mesh3dReport r;
+    mesh3d(*parse_shape3("union(sphere:0,0,0,3;sphere:6,0,0,1)"), o, &r);
+    BOOST_REQUIRE(!r.warnings.empty());
+    bool named = false;
+    for (const auto& w : r.warnings) named = named || (w.find("too coarse") != std::string::npos && w.find("--spacing 0.") != std::string::npos);
+    BOOST_TEST(named, r.warnings.front());
+    BOOST_TEST(r.suggested_spacing > 0);
+    BOOST_TEST(r.suggested_spacing <= 0.5);
+    // Memory: a lattice of ~10^9 points is refused before it is allocated.
+    o.spacing = 0.002;
+    o.max_memory = std::uint64_t{256} << 20;
+    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "--max-memory"));
+}
+
+BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones) {
+    const std::array<bcc::Ivec, 4> p = bcc::background_tet({4, 2, 6}, 5);
+    std::string code;
+    // One outside vertex, nothing warped: a certified key.
+    BOOST_TEST(uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &code), code);
+    // Vertices 0 and 1 warped towards each other along their common edge:
+    // excluded by the consistency rules (proofs/README.md), so no key.
+    const int d01 = bcc::direction_of(bcc::sub(p[1], p[0])), d10 = bcc::direction_of(bcc::sub(p[0], p[1]));
+    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, &code), code);
+}
+
+BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {
+    // A half-space reaches the lattice's edge: the boundary there is the
+    // lattice's cut-off (boundary_domain), and the whole boundary stays closed
+    // and outward (check_tet_mesh); the plane part is on the level set.
+    const FunctionLevelSet3 half([](double, double, double z) { return z - 0.3; }, {-1, -1, -1, 1, 1, 1}, "z < 0.3");
+    Mesh3dOptions o;
+    o.spacing = 0.15;
+    o.verify = true;
+    Mesh3dReport r;
+    const TetMesh m = mesh3d(half, o, &r);
+    const TetMeshCheck c = check_tet_mesh(m);
+    BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+    std::int64_t level = 0, domain = 0;
+    for (std::size_t i = 0; i < m.boundary.size(); ++i) {
+        const bool on_plane = std::abs(m.vertices[static_cast<std::size_t>(m.boundary[i][0])].z - 0.3) < 1e-12 &&
+                              std::abs(m.vertices[static_cast<std::size_t>(m.boundary[i][1])].z - 0.3) < 1e-12 &&
+                              std::abs(m.vertices[static_cast<std::size_t>(m.boundary[i][2])].z - 0.3) < 1e-12;
+        if (m.boundary_tag[i] == boundary_level_set) {
+            ++level;
+            BOOST_TEST(on_plane);
+        } else {
+            ++domain;
+        }
+    }
+    BOOST_TEST(level > 0);
+    BOOST_TEST(domain > 0);
+    // Blocks agree there too.
+    const Lattice3 L = lattice3_for(half, o.spacing);
+    std::vector<TetBlock> blocks;
+    const std::int64_t cut = L.cubes[2] / 3;
+    blocks.push_back(mesh3d_block(half, o, L, {{0, 0, 0}, {L.cubes[0], L.cubes[1], cut}}));
+    blocks.push_back(mesh3d_block(half, o, L, {{0, 0, cut}, L.cubes}));
+    BOOST_TEST(same(merge_tet_blocks(blocks), mesh3d_on(half, o, L)));
+}
