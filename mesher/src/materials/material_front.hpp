@@ -60,8 +60,10 @@ void check_material_options(const MaterialField& field, const MaterialOptions& o
 MaterialFront material_front(const MaterialField& field, const Lattice& lattice, MaterialResult& r);
 
 // Whether the rule takes BC on the warped square with these material corners
-// and slide lengths; `forced`: the separating rule overrode max-min.
-bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced);
+// and slide lengths, with the square's tie-break `tie` (union_jack: as the
+// two-phase meshers); `forced`: the separating rule overrode max-min.
+bool material_diagonal_bc(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced,
+                          TieBreak tie);
 
 // A warped square (corners p = A, B, C, D; A at lattice (i, j)): its code
 // (rule_bit, and bc_bit when the rule takes BC), each triangle's material —
@@ -91,7 +93,7 @@ inline WarpedSquare warped_square(const MaterialFront& front, const Lattice& lat
         }
         x[q] = front.position(lattice, p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
     }
-    if (material_diagonal_bc(rule, cs, t, w.forced)) w.code |= square_code::bc_bit;
+    if (material_diagonal_bc(rule, cs, t, w.forced, union_jack(i, j))) w.code |= square_code::bc_bit;
     for (int k = 0; k < 2; ++k) {
         const auto tri = square_code::triangle_of(w.code, k);
         int m = -1;
