@@ -23,6 +23,15 @@
 #                               libcgal-dev (benchmark-only) and builds
 #                               bench/peers/cgal_mesh3.cpp.  The atlas NRRD is
 #                               WARPMESH_BRAIN_NRRD or /work/shared/data/*/orig/hncma-atlas.nrrd
+#   scripts/bench.sh --accuracy [--before EXE] [--cgal]
+#                               accuracy per unknown (issue 33): FEniCSx Poisson,
+#                               P1 and P2, on the disc and the flower, warpmesh
+#                               (plain, --optimize, --graded --max-size) against
+#                               Gmsh Frontal-Delaunay, 10^3 - 3.10^5 vertices
+#                               (bench/accuracy/accuracy.py, under nice -n 10);
+#                               --before: another warpmesh build as a series;
+#                               --cgal: installs libcgal-dev (benchmark-only) and
+#                               adds CGAL Mesh_2 (bench/peers/cgal_mesh2.cpp)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
@@ -95,6 +104,29 @@ write_case() {  # name threads out args...
   awk -v n="$name" -v th="$threads" -v s="$size" -v w="$best" -v m="$mesh" -v r="$rss" 'BEGIN {
     printf "| %s | %d | %.2f GB | %.2f s | %.2f s | %.1fx | %.0f MB |\n", n, th, s / 1e9, w, m, w / m, r / 1024 }'
 }
+
+if [ "${1:-}" = "--accuracy" ]; then
+  shift
+  extra=()
+  while [ $# -gt 0 ]; do
+    case "$1" in
+      --before) extra+=(--before "$2"); shift 2 ;;
+      --cgal)
+        if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
+          SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+          $SUDO apt-get update -qq
+          DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
+        fi
+        g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh2.cpp" -o "$tmp/cgal_mesh2" -lgmp -lmpfr
+        extra+=(--cgal "$tmp/cgal_mesh2"); shift ;;
+      *) echo "usage: $0 --accuracy [--before EXE] [--cgal]" >&2; exit 2 ;;
+    esac
+  done
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg)"
+  OMP_NUM_THREADS=1 nice -n 10 /usr/bin/python3 "$root/bench/accuracy/accuracy.py" --warpmesh "$exe" \
+    --json "${WARPMESH_ACCURACY_JSON:-$tmp/accuracy.json}" ${extra[@]+"${extra[@]}"}
+  exit 0
+fi
 
 if [ "${1:-}" = "--writers" ]; then
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg)"

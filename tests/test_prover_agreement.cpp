@@ -100,15 +100,12 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys) {
     BOOST_TEST(checked > 100);
 }
 
-// For a spread of keys: prove the key's committed claims (loose claims are
-// proved on undecided boxes, with switching leaves and the mean-value form:
-// nothing left to sample), then at sample points of every leaf whose diagonal
-// is decided, choose_diagonal<double> takes that diagonal.
 // The fan rule on junction keys (proofs/materials_fan.cert): where the
 // prover's leaf decides (a diagonal: 1 AD, 2 BC; the fan: 4), the mesher's
-// double evaluation of choose_diagonal on material corners decides the same;
-// on undecided leaves (5, Y: the fan or a diagonal) the mesher does take the
-// fan at some points (the rule reaches it on junction keys).
+// double evaluation of choose_diagonal on material corners decides the same
+// with either tie-break; on undecided leaves (5, Y: the fan or a diagonal)
+// the mesher does take the fan at some points (the rule reaches it on
+// junction keys).
 BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys_under_the_fan_rule) {
     const auto keys = prover::junction_keys();
     const auto claims = key_claims("materials_fan");
@@ -131,11 +128,13 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys_under_the_fan
                     const double hi = std::ldexp(double(leaf.num[2 * j + 1]), -leaf.k);
                     t[vars[j]] = lo + (s == 0 ? 0.5 : ((s + j) % 3) / 2.0) * (hi - lo);
                 }
-                const Choice ch = choose_diagonal<double>(DiagonalRule::fan, generic_positions<double>(w, t), mats);
-                fans += ch.fan;
-                if (leaf.diag == 5) continue;
-                BOOST_TEST((ch.fan ? 4 : ch.ad ? 1 : 2) == int(leaf.diag));
-                ++checked;
+                for (const TieBreak tie : {TieBreak::ad, TieBreak::bc}) {
+                    const Choice ch = choose_diagonal<double>(DiagonalRule::fan, generic_positions<double>(w, t), mats, tie);
+                    fans += ch.fan;
+                    if (leaf.diag == 5) continue;
+                    BOOST_TEST((ch.fan ? 4 : ch.ad ? 1 : 2) == int(leaf.diag));
+                    ++checked;
+                }
             }
         }
     }
@@ -144,6 +143,11 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals_on_junction_keys_under_the_fan
     BOOST_TEST_MESSAGE("junction fan agreement: " << checked << " decided points, the fan taken at " << fans);
 }
 
+// For a spread of keys: prove the key's committed claims (loose claims are
+// proved on undecided boxes, with switching leaves and the mean-value form:
+// nothing left to sample), then at sample points of every leaf whose diagonal
+// is decided, choose_diagonal<double> takes that diagonal with either
+// tie-break (the mesher's union-jack pattern breaks exact ties by position).
 BOOST_AUTO_TEST_CASE(double_agrees_with_intervals) {
     const auto keys = prover::consistent_keys();
     int checked = 0;
@@ -168,14 +172,49 @@ BOOST_AUTO_TEST_CASE(double_agrees_with_intervals) {
                         const double u = s == 0 ? 0.5 : ((s + j) % 3) / 2.0;
                         t[vars[j]] = lo + u * (hi - lo);
                     }
-                    const Choice ch = choose_diagonal<double>(rule, generic_positions<double>(w, t), k.s);
-                    BOOST_TEST((ch.ad ? 1 : 2) == int(leaf.diag));
+                    for (TieBreak tie : {TieBreak::ad, TieBreak::bc}) {
+                        const Choice ch = choose_diagonal<double>(rule, generic_positions<double>(w, t), k.s, tie);
+                        BOOST_TEST((ch.ad ? 1 : 2) == int(leaf.diag));
+                    }
                     ++checked;
                 }
             }
         }
     }
     BOOST_TEST(checked > 100);
+}
+
+// Exact ties (issue 33): the mesher breaks them by position (union_jack), so
+// the prover must never decide a box on which the two diagonals can tie.  On
+// the unit square (key -s-s-s-s, no parameter) and on a warped key at a
+// symmetric point (A and B slide +y by the same t: a rectangle, symmetric
+// about x = 1/2, whose diagonals give congruent triangles),
+// the double rule takes the tie-break, and the prover's interval choice
+// leaves both diagonals open, so the certificate bounds both.
+BOOST_AUTO_TEST_CASE(exact_ties_are_never_decided) {
+    const auto keys = prover::consistent_keys();
+    auto find = [&](const std::string& code) {
+        for (const auto& k : keys)
+            if (prover::code_of(k) == code) return k;
+        BOOST_FAIL("no key " + code);
+        return keys[0];
+    };
+    for (const auto& [code, tval] : {std::pair<std::string, double>{"-s-s-s-s", 0.0}, {"-U-U+s+s", 0.25}}) {
+        const prover::Key k = find(code);
+        std::array<Warp, 4> w{};
+        std::array<double, 4> t{};
+        for (int c = 0; c < 4; ++c) w[c] = k.s[c].warp, t[c] = k.s[c].warp == Warp::stay ? 0.0 : tval;
+        const auto p = generic_positions<double>(w, t);
+        BOOST_TEST(diagonal_quality(p, Diagonal::AD).worst_cot == diagonal_quality(p, Diagonal::BC).worst_cot);
+        for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan}) {
+            BOOST_TEST(choose_diagonal<double>(rule, p, k.s, TieBreak::ad).ad);
+            BOOST_TEST(choose_diagonal<double>(rule, p, k.s, TieBreak::bc).bc);
+            std::array<double, 4> lo{}, hi{};
+            const auto vars = prover::key_vars(k);
+            for (std::size_t j = 0; j < vars.size(); ++j) lo[j] = hi[j] = tval;
+            BOOST_TEST(prover::interval_choice(rule, k, lo, hi) == 3);  // both diagonals open
+        }
+    }
 }
 
 // Witness lines of the committed certificates: exact re-evaluation with

@@ -70,17 +70,19 @@ constexpr bool diagonal_matters(int inside_mask) {
 
 // bc_bit if the rule takes BC on the square whose corners A, B, C, D have these
 // signs and warps — record(q): corner q's warp record, null if it stays — as
-// the generic square the prover certifies (warped_square_split); fan_bit if it
-// takes the centroid fan; else 0.
+// the generic square the prover certifies (warped_square_split), with the
+// square's tie-break `tie` (union_jack); fan_bit if it takes the centroid fan;
+// else 0.
 template <class Record>
-std::uint8_t rule_diagonal(DiagonalRule rule, const std::array<std::int8_t, 4>& sign, Record&& record, bool* forced) {
+std::uint8_t rule_diagonal(DiagonalRule rule, const std::array<std::int8_t, 4>& sign, Record&& record, bool* forced,
+                           TieBreak tie) {
     std::array<CornerState, 4> cs{};
     std::array<double, 4> t{};
     for (std::size_t q = 0; q < 4; ++q) {
         cs[q].sign = sign[q];
         if (const WarpedPoint* w = record(static_cast<int>(q))) cs[q].warp = w->dir, t[q] = w->t;
     }
-    const SquareSplit s = warped_square_split(rule, cs, t, forced);
+    const SquareSplit s = warped_square_split(rule, cs, t, forced, tie);
     return s == SquareSplit::bc ? bc_bit : s == SquareSplit::fan ? fan_bit : 0;
 }
 

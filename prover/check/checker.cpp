@@ -381,7 +381,12 @@ bool invalid(Key& k, int diag) { return !(k.tri(diag, 0).cross.v.hi > 0) || !(k.
 // which contain these exact ones; 1e-9 - 2^-30 covers its round-to-nearest
 // test).  A threshold H must exceed q(win) by the relative margin 2^-28:
 // q(win) (1 + 2^-28) <= H.  Decisions by validity (a cross <= 0 on the whole
-// box) carry no margin.
+// box) carry no margin.  Ties: the mesher breaks an exact tie q(AD) = q(BC)
+// by the square's position (either diagonal may be taken), so a comparison
+// decides only where the winner is strictly better on the whole box (A:
+// q(BC) > q(AD), B: q(BC) < q(AD)); a box where they may tie is undecided
+// (X or S: bounded on both diagonals).  The margin implies strictness (M > 0:
+// every valid triangle has q >= cot 60 deg > 0); it is tested on its own too.
 enum Decision { undecided, without_margin, decided_with_margin };
 Decision decided(Key& k, int win, bool threshold, const N& h) {
     const int other = 1 - win;
@@ -415,7 +420,7 @@ Decision decided(Key& k, int win, bool threshold, const N& h) {
     };
     if (win == 0) {  // BC invalid, or both valid with q(BC) >= q(AD)
         if (invalid(k, 1)) return decided_with_margin;
-        if (!valid_q(k, 0, qa) || !valid_q(k, 1, qb) || qb.lo < qa.hi) return undecided;
+        if (!valid_q(k, 0, qa) || !valid_q(k, 1, qb) || !(qb.lo > qa.hi)) return undecided;
         return qb.lo >= qa.hi + margin() ? decided_with_margin : without_margin;
     }
     if (!valid_q(k, 1, qb)) return undecided;  // BC valid, and AD invalid or q(BC) < q(AD)
@@ -466,6 +471,8 @@ PointVal at_point(Key& k, bool separating, bool fanrule, const std::vector<Q>& t
     if (diag < 0) {
         RQ qa, qb;
         const bool va = valid_q(k, 0, qa), vb = valid_q(k, 1, qb);
+        // AD on an exact tie: its value is attained there (by the squares
+        // whose position-dependent tie-break is AD), which is all a witness says.
         diag = vb && (!va || qb.lo < qa.lo) ? 1 : 0;
         const Q h = toQ(fan_h0());
         if (fanrule && all_inside(k.s) && !(va && qa.lo <= h) && !(vb && qb.lo <= h)) diag = 2;  // the fan

@@ -416,7 +416,7 @@ int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 
     Box b;
     b.m = static_cast<int>(vars.size());
     b.lo = lo, b.hi = hi;
-    const Choice ch = choose_key_diagonal<I>(rule, positions_i(key, vars, b), key);
+    const Choice ch = choose_key_diagonal<I>(rule, positions_i(key, vars, b), key, TieBreak::either);
     return (ch.ad ? 1 : 0) | (ch.bc ? 2 : 0);
 }
 
@@ -465,7 +465,7 @@ KeyProof prove_key(DiagonalRule rule, const Key& key, double qmin, double qmax, 
             continue;
         }
         const double dmin = fan_square ? std::min(qmin, fan_keep_cot) : qmin;
-        Choice ch = choose_key_diagonal<I>(fan_square ? DiagonalRule::maxmin : rule, positions_i(key, vars, b), key);
+        Choice ch = choose_key_diagonal<I>(fan_square ? DiagonalRule::maxmin : rule, positions_i(key, vars, b), key, TieBreak::either);
         double thr = 0;
         if (ch.ad && ch.bc) {
             if (threshold_decides(key, vars, b, Diagonal::BC, thr)) ch.ad = false;

@@ -278,16 +278,34 @@ constexpr bool separating_diagonal(const std::array<MaterialCorner, 4>& s, Diago
 // ---------------------------------------------------------------------------
 // The diagonal rule.  Max-min: take the diagonal whose smaller angle is larger;
 // an inverted or degenerate triangle never wins; if both diagonals are equally
-// good (in particular on the unwarped square) or both are invalid, take AD.
-// In three-valued form:
+// good (in particular on the unwarped square) take the *tie-break* diagonal,
+// which the mesher chooses by the square's position (`TieBreak`: AD or BC, a
+// union-jack pattern, so that the unwarped interior has no preferred
+// direction); if both are invalid, take AD.  In three-valued form:
 //
-//        BC is taken  <=>  valid(BC) and (not valid(AD) or q(BC) < q(AD)),
+//        tie-break AD:  BC is taken  <=>  valid(BC) and (not valid(AD) or q(BC) <  q(AD)),
+//        tie-break BC:  BC is taken  <=>  valid(BC) and (not valid(AD) or q(BC) <= q(AD)),
 //
-// where q is the worst cotangent (smaller q = larger minimum angle).
+// where q is the worst cotangent (smaller q = larger minimum angle).  The
+// prover asks with `TieBreak::either`: BC is taken where both tie-breaks take
+// it, not taken where neither does, and undecided (`maybe`) where they differ,
+// i.e. wherever an exact tie is possible on the box — so every certified
+// decision holds for both tie-breaks, and an undecided box is bounded on both
+// diagonals (proofs/README.md, "Ties").
 //
 // `Choice` says which diagonals the rule may take.  With exact scalars exactly
 // one flag is set.  With intervals both may be set: the rule is undecided on
 // the box and the prover must bound both diagonals there.
+enum class TieBreak : std::uint8_t { ad = 0, bc = 1, either = 2 };
+
+// The union-jack pattern: the tie-break of lattice square (i, j) (its lower-left
+// corner), AD where i + j is even, BC where it is odd.  Every other lattice
+// point then joins its eight neighbours and the rest their four: the
+// diagonals alternate, so no direction is preferred.  One definition for the
+// uniform, graded and multi-material meshers (graded coarse leaves use their
+// position at their level).
+constexpr TieBreak union_jack(std::int64_t i, std::int64_t j) { return ((i + j) & 1) ? TieBreak::bc : TieBreak::ad; }
+
 struct Choice {
     bool ad = false;
     bool bc = false;
@@ -338,15 +356,26 @@ inline bool all_inside(const std::array<MaterialCorner, 4>& s) {
 }
 
 template <class T, class Corners>
-Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s) {
+Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s, TieBreak tie = TieBreak::ad) {
     if (rule == DiagonalRule::separating || rule == DiagonalRule::fan) {
         Diagonal forced{};
         if (separating_diagonal(s, forced)) return Choice{forced == Diagonal::AD, forced == Diagonal::BC};
     }
     const DiagonalQuality<T> ad = diagonal_quality(p, Diagonal::AD);
     const DiagonalQuality<T> bc = diagonal_quality(p, Diagonal::BC);
-    Truth better = Truth::no;  // "q(BC) < q(AD)", evaluated only where it matters
-    if (bc.valid != Truth::no && ad.valid != Truth::no) better = ScalarOps<T>::less(bc.worst_cot, ad.worst_cot);
+    // "q(BC) < q(AD)" (tie-break AD) or "q(BC) <= q(AD)" (tie-break BC),
+    // evaluated only where it matters; TieBreak::either: decided only where
+    // both agree.
+    Truth better = Truth::no;
+    if (bc.valid != Truth::no && ad.valid != Truth::no) {
+        const Truth strict = tie == TieBreak::bc ? Truth::no : ScalarOps<T>::less(bc.worst_cot, ad.worst_cot);
+        const Truth weak = tie == TieBreak::ad ? Truth::no : !ScalarOps<T>::less(ad.worst_cot, bc.worst_cot);
+        better = tie == TieBreak::ad ? strict
+                 : tie == TieBreak::bc ? weak
+                 : strict == Truth::yes ? Truth::yes
+                 : weak == Truth::no ? Truth::no
+                                     : Truth::maybe;
+    }
     const Truth take_bc = bc.valid && (!ad.valid || better);
     Choice ch{take_bc != Truth::yes, take_bc != Truth::no};
     if (rule == DiagonalRule::fan && all_inside(s)) {

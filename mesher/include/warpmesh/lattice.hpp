@@ -112,10 +112,12 @@ std::vector<WarpedPoint> warp_points(const Lattice& lattice, std::span<const Cut
 // The diagonal of a square with at least one warped corner: choose_diagonal
 // on the square in the generic frame — exactly what the prover certifies.
 // `forced`, if given, is set to whether the separating rule overrode max-min.
-// (Squares with no warped corner take AD, which is what the rule returns on
-// the unit square.)  Shared by the uniform and the graded triangulations.
+// `tie`: the diagonal taken where both are equally good, by the square's
+// position (union_jack, generic_square.hpp).  (Squares with no warped corner
+// take the tie-break, which is what the rule returns on the unit square.)
+// Shared by the uniform and the graded triangulations.
 Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& corners,
-                                const std::array<double, 4>& t, bool* forced = nullptr);
+                                const std::array<double, 4>& t, bool* forced = nullptr, TieBreak tie = TieBreak::ad);
 
 // How such a square is triangulated: one of its diagonals, or (DiagonalRule::
 // fan only, on a square whose four corners are inside) the centroid fan of
@@ -123,7 +125,7 @@ Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState,
 // AD; the meshers use this one.
 enum class SquareSplit : std::uint8_t { ad, bc, fan };
 SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& corners,
-                                const std::array<double, 4>& t, bool* forced = nullptr);
+                                const std::array<double, 4>& t, bool* forced = nullptr, TieBreak tie = TieBreak::ad);
 
 // A finest lattice square i + j nx whose diagonal went through the rule, and
 // its output triangles first .. first + count - 1 (count 1 or 2; 4 for a fan).

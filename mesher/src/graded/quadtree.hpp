@@ -301,7 +301,7 @@ struct Leaf {
 // clockwise from A: A → [mid AB] → B → [mid BD] → D → [mid DC] → C → [mid CA])
 // and its centre, as lattice points P{i, j}; returns the ring's length.  The
 // graded triangulations join the centre to the ring (or, with no split side,
-// take the diagonal AD of ring = A, B, D, C).
+// take one diagonal of ring = A, B, D, C: coarse_tie_break below).
 template <class P>
 int coarse_ring(const Leaf& leaf, std::array<P, 8>& ring, P& centre) {
     const std::int64_t w = std::int64_t{1} << leaf.level, h = w / 2, i = leaf.i, j = leaf.j;
@@ -317,6 +317,15 @@ int coarse_ring(const Leaf& leaf, std::array<P, 8>& ring, P& centre) {
     if (leaf.split_sides & side_left) ring[n++] = {i, j + h};
     return n;
 }
+
+// A coarse leaf with no split side takes one diagonal, like a finest square
+// scaled by w = 2^level: by the union-jack pattern of its own level, i.e. its
+// position (i / w, j / w) among the level's cells (leaves are aligned to
+// their level), so coarse regions have no preferred direction either.  Its
+// two triangles as ring indices (ring = A, B, D, C, coarse_ring): AD (A, B, D),
+// (A, D, C); BC (A, B, C), (B, D, C).
+inline TieBreak coarse_tie_break(const Leaf& leaf) { return union_jack(leaf.i >> leaf.level, leaf.j >> leaf.level); }
+constexpr std::array<std::array<std::array<int, 3>, 2>, 2> coarse_diagonal_ring{{{{{0, 1, 2}, {0, 2, 3}}}, {{{0, 1, 3}, {1, 2, 3}}}}};
 
 // The leaves of the tree.  The finest leaves (level 0: lattice squares, with
 // no sign of their own and never a split side) are listed by their parents:

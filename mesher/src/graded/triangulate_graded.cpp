@@ -3,8 +3,9 @@
 //
 // Finest leaves are lattice squares and are triangulated exactly as the
 // uniform mesher does: the diagonal by the rule (warped_square_split, the
-// code the prover certifies, wherever a corner is warped or zero-valued; AD on
-// the plain unit square, where both diagonals tie), and the triangles whose three
+// code the prover certifies, wherever a corner is warped or zero-valued; the
+// union-jack tie-break on the plain unit square, where both diagonals tie),
+// and the triangles whose three
 // corners are inside — or, under DiagonalRule::fan, the centroid fan of a
 // square whose four corners are inside (fan_triangles: four triangles around
 // a new vertex at the centroid of its corners, fan_centre_position).  By the
@@ -17,7 +18,9 @@
 // Coarse leaves (level l >= 1, side w = 2^l) are unwarped and, by the
 // quadtree's construction, entirely inside (σ = -1: all their points have f < 0)
 // or entirely outside (σ = +1: they emit nothing).  An inside coarse leaf with
-// no split side is the square (A, B, D), (A, D, C) — angles 45, 45, 90.  With
+// no split side is the square split by one diagonal — (A, B, D), (A, D, C) or
+// (A, B, C), (B, D, C), by the union-jack pattern of its level
+// (coarse_tie_break, quadtree.hpp) — angles 45, 45, 90.  With
 // split sides it takes the centre template: the centre M joined to the ring
 //
 //        A → [mid AB] → B → [mid BD] → D → [mid DC] → C → [mid CA] → A,
@@ -259,9 +262,11 @@ struct GradedTriangulation {
         *warped_corner = wp[0] || wp[1] || wp[2] || wp[3];
         // As in triangulate.cpp: a warped or zero-valued corner (where the
         // separating rule may force BC even on the unwarped square) goes to the
-        // certified rule; the plain unit square takes AD.
+        // certified rule; the plain unit square takes its tie-break, the
+        // union-jack pattern of the lattice (union_jack(i, j)).
         const bool zero_corner = sg[0] == 0 || sg[1] == 0 || sg[2] == 0 || sg[3] == 0;
         const int mask = in[0] | in[1] << 1 | in[2] << 2 | in[3] << 3;
+        const TieBreak tie = union_jack(i, j);
         if (*warped_corner || zero_corner) {
             c = rule_bit;
             if (diagonal_matters(mask)) {
@@ -269,10 +274,10 @@ struct GradedTriangulation {
                 c |= rule_diagonal(rule, sg, [&](int q) {
                     const std::size_t Q = static_cast<std::size_t>(q);
                     return wp[Q] ? &warp_of(p[Q]) : nullptr;
-                }, forced_diag);
+                }, forced_diag, tie);
             }
         } else if (sg[0] < 0 && sg[1] < 0 && sg[2] < 0 && sg[3] < 0) {
-            c = interior_bit;
+            c = interior_bit | (tie == TieBreak::bc ? bc_bit : 0);
         }
         return static_cast<std::uint8_t>(c | emitted[(c & bc_bit) != 0][mask]);
     }
@@ -543,9 +548,12 @@ struct GradedTriangulation {
                 v[r] = vid(ring[r]);
                 if (!one) x[r] = lattice.position(ring[r].i, ring[r].j);  // coarse leaves are unwarped
             }
-            if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-                e.emit(v[0], v[1], v[2], one ? *one : e.tagger.of_triangle(x[0], x[1], x[2]));
-                e.emit(v[0], v[2], v[3], one ? *one : e.tagger.of_triangle(x[0], x[2], x[3]));
+            if (!leaf.split_sides) {  // ring = A, B, D, C; the diagonal by coarse_tie_break
+                const auto& tris = coarse_diagonal_ring[coarse_tie_break(leaf) == TieBreak::bc];
+                for (const auto& t : tris) {
+                    const auto a = static_cast<std::size_t>(t[0]), b = static_cast<std::size_t>(t[1]), d = static_cast<std::size_t>(t[2]);
+                    e.emit(v[a], v[b], v[d], one ? *one : e.tagger.of_triangle(x[a], x[b], x[d]));
+                }
                 continue;
             }
             const std::int32_t vm = vid(centre);

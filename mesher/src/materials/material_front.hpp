@@ -60,9 +60,11 @@ void check_material_options(const MaterialField& field, const MaterialOptions& o
 MaterialFront material_front(const MaterialField& field, const Lattice& lattice, MaterialResult& r);
 
 // What the rule takes on the warped square with these material corners and
-// slide lengths: AD, BC or (fan rule) the centroid fan; `forced`: the
+// slide lengths, with the square's tie-break `tie` (union_jack: as the
+// two-phase meshers): AD, BC or (fan rule) the centroid fan; `forced`: the
 // separating rule overrode max-min.
-SquareSplit material_split(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced);
+SquareSplit material_split(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs, const std::array<double, 4>& t, bool& forced,
+                           TieBreak tie);
 
 // A warped square (corners p = A, B, C, D; A at lattice (i, j)): its code
 // (rule_bit, and bc_bit when the rule takes BC), each triangle's material —
@@ -97,7 +99,7 @@ inline WarpedSquare warped_square(const MaterialFront& front, const Lattice& lat
         }
         x[q] = front.position(lattice, p[q], i + static_cast<std::int64_t>(q & 1), j + static_cast<std::int64_t>(q >> 1));
     }
-    const SquareSplit split = material_split(rule, cs, t, w.forced);
+    const SquareSplit split = material_split(rule, cs, t, w.forced, union_jack(i, j));
     if (split == SquareSplit::bc) w.code |= square_code::bc_bit;
     if (split == SquareSplit::fan) {
         w.code |= square_code::fan_bit;

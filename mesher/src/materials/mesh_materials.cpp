@@ -54,13 +54,13 @@ int thread_count() {
 // The rule on a square's material corners, in the generic frame (the same
 // choose_diagonal the prover certifies; generic_square.hpp).
 [[gnu::flatten]] SquareSplit material_split(DiagonalRule rule, const std::array<MaterialCorner, 4>& cs,
-                                            const std::array<double, 4>& t, bool& forced) {
+                                            const std::array<double, 4>& t, bool& forced, TieBreak tie) {
     std::array<Warp, 4> w{};
     for (std::size_t k = 0; k < 4; ++k) w[k] = cs[k].warp;
-    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
+    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs, tie);
     Diagonal d{};
     forced = false;
-    if (separating_diagonal(cs, d)) forced = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs).bc != ch.bc;
+    if (separating_diagonal(cs, d)) forced = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs, tie).bc != ch.bc;
     return ch.fan ? SquareSplit::fan : ch.bc ? SquareSplit::bc : SquareSplit::ad;
 }
 
@@ -316,7 +316,9 @@ SquarePass classify_squares(const MaterialField& field, const Lattice& lattice, 
             std::array<std::uint16_t, 2> tm{};
             if (!(moved[static_cast<std::size_t>(p[0])] | moved[static_cast<std::size_t>(p[1])] |
                   moved[static_cast<std::size_t>(p[2])] | moved[static_cast<std::size_t>(p[3])])) {
-                // No corner moved, so no side is cut: one material, diagonal AD.
+                // No corner moved, so no side is cut: one material, the
+                // diagonal of the union-jack pattern (generic_square.hpp).
+                if (union_jack(i, j) == TieBreak::bc) c = square_code::bc_bit;
                 const std::uint16_t m = mat[static_cast<std::size_t>(pa)];
                 tm = {m, m};
                 count[m] += 2;

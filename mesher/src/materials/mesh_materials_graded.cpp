@@ -34,12 +34,13 @@
 // change, and a coarse leaf still holds the points of one material.
 //
 // Triangles, in order: the finest leaves in canonical order (for_each_finest)
-// as mesh_materials does a lattice square (no moved corner: diagonal AD, the
-// square's material; else the rule on the material corners, each triangle
-// the common material of its staying corners, or the material at its
-// centroid); then the coarse leaves, by the graded templates
-// (triangulate_graded.cpp: AD, or the centre joined to the corners and the
-// split sides' midpoints: 45-45-90 triangles), all of the leaf's material.
+// as mesh_materials does a lattice square (no moved corner: the union-jack
+// diagonal, the square's material; else the rule on the material corners,
+// each triangle the common material of its staying corners, or the material
+// at its centroid); then the coarse leaves, by the graded templates
+// (triangulate_graded.cpp: the diagonal of coarse_tie_break, or the centre
+// joined to the corners and the split sides' midpoints: 45-45-90
+// triangles), all of the leaf's material.
 // The background's triangles are made too and dropped at output
 // (MaterialOptions::keep_background false).  Conformity is the graded mesh's
 // (2:1 edge balance, midpoints of split sides are vertices on both sides).
@@ -208,10 +209,12 @@ void tile_finest(const Leaves& leaves, const Lattice& lattice, const MaterialFro
         const bool border = touches_border(lattice, i, j, 1);
         if (!(moved[static_cast<std::size_t>(p[0])] | moved[static_cast<std::size_t>(p[1])] |
               moved[static_cast<std::size_t>(p[2])] | moved[static_cast<std::size_t>(p[3])])) {
-            // No corner moved, so no side is cut: one material, diagonal AD.
+            // No corner moved, so no side is cut: one material, the diagonal
+            // of the union-jack pattern (generic_square.hpp).
             const int m = mat[static_cast<std::size_t>(pa)];
+            const std::uint8_t diagonal = union_jack(i, j) == TieBreak::bc ? square_code::bc_bit : 0;
             for (int k = 0; k < 2; ++k) {
-                const auto tri = triangle_of(0, k);
+                const auto tri = triangle_of(diagonal, k);
                 tiling.add(p[static_cast<std::size_t>(tri[0])], p[static_cast<std::size_t>(tri[1])], p[static_cast<std::size_t>(tri[2])],
                            s2, m, false, border);
             }
@@ -264,9 +267,11 @@ void tile_coarse(const Leaves& leaves, const Lattice& lattice, const MaterialFro
         const auto area2 = [&](const std::array<std::int64_t, 2>& u, const std::array<std::int64_t, 2>& v, const std::array<std::int64_t, 2>& q) {
             return static_cast<double>((v[0] - u[0]) * (q[1] - u[1]) - (v[1] - u[1]) * (q[0] - u[0])) * s2;
         };
-        if (!leaf.split_sides) {  // ring = A, B, D, C; AD: (A, B, D), (A, D, C)
-            tiling.add(ring[0], ring[1], ring[2], area2(ij[0], ij[1], ij[2]), m, false, border);
-            tiling.add(ring[0], ring[2], ring[3], area2(ij[0], ij[2], ij[3]), m, false, border);
+        if (!leaf.split_sides) {  // ring = A, B, D, C; the diagonal of coarse_tie_break
+            for (const auto& t : coarse_diagonal_ring[coarse_tie_break(leaf) == TieBreak::bc]) {
+                const auto a = static_cast<std::size_t>(t[0]), b = static_cast<std::size_t>(t[1]), d = static_cast<std::size_t>(t[2]);
+                tiling.add(ring[a], ring[b], ring[d], area2(ij[a], ij[b], ij[d]), m, false, border);
+            }
             continue;
         }
         const std::int64_t centre = lattice.index(mid[0], mid[1]);

@@ -8,7 +8,9 @@
 // (numbered after the lattice vertices, in square order).  A square
 // with no warped and no zero-valued corner is the unit square in the generic
 // frame with no separating pair on the level set, where both diagonals tie at
-// 45 degrees and the rule takes AD; the fast path below takes AD without
+// 45 degrees and the rule takes the square's tie-break — the union-jack
+// pattern, union_jack(i, j): AD where i + j is even, BC where it is odd, so the
+// interior has no preferred direction; the fast path below takes it without
 // evaluating the rule, which is exactly what choose_diagonal returns there
 // (the unit square's corners are exact in floating point).  Every other square
 // — a warped corner, or a zero-valued one, which can make the separating rule
@@ -49,15 +51,15 @@ using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corne
 // operation and no order of operations: the same doubles come out.  The
 // prover's interval instantiation is compiled as before.
 [[gnu::flatten]] SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& cs,
-                                                 const std::array<double, 4>& t, bool* forced) {
+                                                 const std::array<double, 4>& t, bool* forced, TieBreak tie) {
     std::array<Warp, 4> w{};
     for (int k = 0; k < 4; ++k) w[static_cast<std::size_t>(k)] = cs[static_cast<std::size_t>(k)].warp;
-    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs);
+    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs, tie);
     if (forced) {
         Diagonal forced_d{};
         *forced = false;
         if (rule != DiagonalRule::maxmin && separating_diagonal(cs, forced_d)) {
-            const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs);
+            const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs, tie);
             *forced = free.bc != ch.bc;
         }
     }
@@ -65,8 +67,8 @@ using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corne
 }
 
 Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState, 4>& cs, const std::array<double, 4>& t,
-                                bool* forced) {
-    return warped_square_split(rule, cs, t, forced) == SquareSplit::bc ? Diagonal::BC : Diagonal::AD;
+                                bool* forced, TieBreak tie) {
+    return warped_square_split(rule, cs, t, forced, tie) == SquareSplit::bc ? Diagonal::BC : Diagonal::AD;
 }
 
 namespace {
@@ -122,8 +124,13 @@ SquareCodes square_codes(const Lattice& lattice, std::span<const std::int8_t> si
             const int inside = (st[0] & inside_bit) | (st[1] & inside_bit) << 1 | (st[2] & inside_bit) << 2 |
                                (st[3] & inside_bit) << 3;
             const std::uint8_t any = st[0] | st[1] | st[2] | st[3];
+            const TieBreak tie = union_jack(i, j);
             std::uint8_t c = 0;
-            if (any & (warped_bit | zero_bit)) {
+            if (!(any & (warped_bit | zero_bit))) {
+                // The unit square: its tie-break (only where it emits, so that
+                // a square emitting nothing keeps bit 2 clear).
+                if (inside == 15 && tie == TieBreak::bc) c = bc_bit;
+            } else {
                 warped_squares += (any & warped_bit) != 0;
                 c = rule_bit;
                 if (diagonal_matters(inside)) {  // else it emits nothing, whichever diagonal
@@ -132,7 +139,7 @@ SquareCodes square_codes(const Lattice& lattice, std::span<const std::int8_t> si
                     bool was_forced = false;
                     c |= rule_diagonal(rule, sg, [&](int k) {
                         return st[static_cast<std::size_t>(k)] & warped_bit ? &warp_of(warped, p[static_cast<std::size_t>(k)]) : nullptr;
-                    }, &was_forced);
+                    }, &was_forced, tie);
                     forced += was_forced;
                 }
             }

@@ -43,9 +43,14 @@ struct Key {
 // The rule's choice for a key's corners: choose_diagonal of generic_square.hpp
 // with the signs, or for a junction key with the material classes (the
 // separating test only asks whether two staying corners' materials differ).
+// `tie`: the branch and bound asks with TieBreak::either (the mesher breaks
+// exact ties by the square's position, union_jack: a box is decided only
+// where both tie-breaks take the same diagonal); the point evaluations of
+// targets and witnesses with TieBreak::ad (at an exact tie the AD value is
+// attained, by the squares whose tie-break is AD).
 template <class T>
-Choice choose_key_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Key& k) {
-    return k.junction ? choose_diagonal<T>(rule, p, k.m) : choose_diagonal<T>(rule, p, k.s);
+Choice choose_key_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Key& k, TieBreak tie = TieBreak::ad) {
+    return k.junction ? choose_diagonal<T>(rule, p, k.m, tie) : choose_diagonal<T>(rule, p, k.s, tie);
 }
 
 // Whether the fan rule may take the centroid fan on the key's squares: its
