@@ -80,6 +80,8 @@ struct KeyProof {
 KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40, long max_leaves = 1L << 40);
 
 // ---- per-key targets (targets.cpp; not on the proof path) -------------------
+// The key's ten points in double at the parameter values x[0 .. ps.size()).
+std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x);
 // The cos of the key's extreme dihedral angle at x: the smallest angle's
 // (sign = +1) or the largest's (sign = -1).
 double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign);

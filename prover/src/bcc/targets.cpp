@@ -21,13 +21,7 @@ namespace {
 // the largest cos (smallest angle, sign = +1) or the smallest (largest angle,
 // sign = −1), as +cos resp. −cos so that larger is more extreme.
 double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
-    std::array<double, 4> t{};
-    std::array<double, 6> u{};
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
-        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
-    }
-    const auto pts = bcc::generic_points(k, t, u);
+    const auto pts = key_points(k, ps, x.data());
     const bcc::Stencil st = bcc::stencil(k.sign, k.parity, true);
     double best = -2;
     for (int j = 0; j < st.count; ++j) {
@@ -53,6 +47,16 @@ double snap(double x, const Param& p) {
 }
 
 }  // namespace
+
+std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x) {
+    std::array<double, 4> t{};
+    std::array<double, 6> u{};
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
+        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
+    }
+    return bcc::generic_points(k, t, u);
+}
 
 double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
     return extreme_cos(k, ps, x, sign);
