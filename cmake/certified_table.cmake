@@ -5,9 +5,11 @@
 # junction keys), proofs/fan.cert and proofs/materials_fan.cert (the fan
 # rule's junction keys) as string constants
 # (warpmesh::generated::certified_<name>_keys), which mesher/src/certified.cpp
-# parses into the per-key angle tables; and the `alphas` and `claim` lines of
-# proofs/bcc.cert and its keys' codes (certified_bcc_claim, certified_bcc_keys:
-# mesher/src/certify/bcc_claim.cpp).  Regenerated whenever a certificate changes
+# parses into the per-key angle tables; and, from proofs/bcc.cert (3D), its
+# `alphas` line and per key "CODE CMIN CMAX" (the key's own claim, without the
+# root box, witnesses and split string) as certified_bcc_keys, which
+# mesher/src/certify/bcc_certified.cpp parses (the 3D mesher's
+# certification and --verify, mesher/src/certify/bcc_claim.cpp, read it there).  Regenerated whenever a certificate changes
 # (CMAKE_CONFIGURE_DEPENDS).  A missing certificate gives an empty table: the
 # mesher then reports "certified": null.  Used by the main build and by the
 # fuzz build (tests/fuzz), so that both compile the same table.
@@ -25,25 +27,26 @@ function(warpmesh_certified_table out root)
     endif()
     string(APPEND cpp "extern const std::string_view certified_${rule}_keys;\nconst std::string_view certified_${rule}_keys = R\"WMCERT(${text})WMCERT\";\n")
   endforeach()
-  # The 3D certificate (mesher/src/certify/bcc_claim.cpp): its alphas and
-  # global claim, and its keys' codes (the first field of each `key` line),
-  # one a line.
   set(cert ${root}/proofs/bcc.cert)
-  set(claim "")
-  set(codes "")
+  set(text "")
   if(EXISTS ${cert})
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${cert})
-    file(STRINGS ${cert} lines REGEX "^(alphas|claim|key) ")
-    foreach(line ${lines})
-      if(line MATCHES "^key ([^ ]+)")
-        string(APPEND codes "${CMAKE_MATCH_1}\n")
-      else()
-        string(APPEND claim "${line}\n")
+    file(STRINGS ${cert} lines REGEX "^(key|alphas) ")
+    foreach(line IN LISTS lines)
+      if(line MATCHES "^alphas ")
+        string(APPEND text "${line}\n")
+      elseif(line MATCHES "^key [^ ]+ ([0-9]) ")
+        math(EXPR n "2 * ${CMAKE_MATCH_1}")
+        string(REPEAT " [^ ]+" ${n} skip)
+        if(line MATCHES "^key ([^ ]+) [0-9]${skip} ([0-9]+/1099511627776) ([0-9]+/1099511627776) ")
+          string(APPEND text "${CMAKE_MATCH_1} ${CMAKE_MATCH_2} ${CMAKE_MATCH_3}\n")
+        endif()
       endif()
     endforeach()
+  else()
+    message(WARNING "warpmesh: ${cert} not found; the 3D mesher will have no certified bounds")
   endif()
-  string(APPEND cpp "extern const std::string_view certified_bcc_claim;\nconst std::string_view certified_bcc_claim = R\"WMCERT(${claim})WMCERT\";\n")
-  string(APPEND cpp "extern const std::string_view certified_bcc_keys;\nconst std::string_view certified_bcc_keys = R\"WMCERT(${codes})WMCERT\";\n")
+  string(APPEND cpp "extern const std::string_view certified_bcc_keys;\nconst std::string_view certified_bcc_keys = R\"WMCERT(${text})WMCERT\";\n")
   string(APPEND cpp "}  // namespace warpmesh::generated\n")
   file(CONFIGURE OUTPUT ${out} CONTENT "${cpp}" @ONLY)
 endfunction()

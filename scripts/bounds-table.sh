@@ -2,7 +2,11 @@
 # The table of certified angle bounds (README.md, docs/guarantees.md), made from what the independent
 # checker printed — never typed by hand.
 #
-#   build/prover/warpmesh-check proofs/*.cert | scripts/bounds-table.sh
+#   { build/prover/warpmesh-check proofs/{fan,materials,maxmin,separating}.cert;
+#     build/prover/warpmesh-check-bcc proofs/bcc.cert; } | scripts/bounds-table.sh
+#
+# The 3D checker's theorem (dihedral angles of the BCC lattice warping) is the
+# last row.
 #
 # scripts/test.sh runs the checker, pipes its output through this script and
 # fails if README.md or docs/guarantees.md does not contain the result verbatim (between the markers
@@ -21,6 +25,21 @@ awk '
     next
   }
   /^    rounded outward/ { r = $0; sub(/.*every angle in /, "", r); sub(/ deg$/, "", r); rounded[rule, set] = r; next }
+  /^BCC theorem \(alphas / {
+    a3 = $0; sub(/^BCC theorem \(alphas /, "", a3); sub(/\):.*/, "", a3)
+    t3 = $0; sub(/.*: t in \[/, "", t3); sub(/\] deg.*/, "", t3); split(t3, tt, ", ")
+    lo3 = tt[1]; hi3 = tt[2]
+    next
+  }
+  /^  rounded outward: every dihedral angle in / { r3 = $0; sub(/.*angle in /, "", r3); sub(/ deg$/, "", r3); next }
+  /^  3D witness / {
+    # 3D witness min KEY: angle A deg, claim C deg, gap G deg
+    key = $4; sub(/:$/, "", key)
+    w = $0; sub(/.*: angle /, "", w); sub(/ deg.*/, "", w)
+    g = $0; sub(/.*gap /, "", g); sub(/ deg.*/, "", g)
+    wit3[$3] = "`" key "` " w "° (gap " g "°)"
+    next
+  }
   /^  witness / {
     # witness U min KEY: angle [LO, HI] deg (...), claim [...] deg, gap <= G deg
     kind = $3; key = $4; sub(/:$/, "", key)
@@ -46,5 +65,9 @@ awk '
           printf "| %s | %s | %s° | %s° | %s | %s | %s |\n", r, what, lo[r, set], hi[r, set], rounded[r, set], wit[r, set, "min"], wit[r, set, "max"]
         }
       }
+    if (lo3 != "") {
+      split(a3, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
+      printf "| BCC closest-first (3D dihedral, α %.5f / %.5f) | all keys with output | %s° | %s° | %s | %s | %s |\n", p[1] / p[2], q[1] / q[2], lo3, hi3, r3, wit3["min"], wit3["max"]
+    }
   }
 '

@@ -1,6 +1,7 @@
 // The independent 3D checker (warpmesh-check-bcc) rejects tampered copies of
-// proofs/bcc.cert, one test per line kind: header, alphas, claim, key count,
-// key code, root box, split string, and garbage.  Each edit makes the check
+// proofs/bcc.cert, one test per field: header, alphas, the global claim, key
+// count, key code, root box, a key's claim, its witnesses, split string, and
+// garbage.  Each edit makes the check
 // fail at or before the key it touches (the first keys), so the tests are
 // fast; the untampered certificate is checked whole by scripts/test.sh.
 #define BOOST_TEST_MODULE bcc_checker_tamper
@@ -62,21 +63,89 @@ std::string join(const std::vector<std::string>& f) {
 
 BOOST_AUTO_TEST_CASE(header_changed) {
     auto l = cert();
-    l[0] = "warpmesh-bcc-certificate 2";
+    l[0] = "warpmesh-bcc-certificate 1";
     expect_rejected(l, "header", "not a BCC certificate");
 }
 
-BOOST_AUTO_TEST_CASE(alpha_raised_outside_the_root_boxes) {
+BOOST_AUTO_TEST_CASE(alpha_lowered_beyond_the_root_boxes_or_raised_beyond_the_witnesses) {
     auto l = cert();
-    l[line_of(l, "alphas")] = "alphas 26000/100000 41189/100000";
-    expect_rejected(l, "alphas", "root box does not contain");
+    auto a = l;
+    a[line_of(l, "alphas")] = "alphas 20000/100000 41189/100000";  // the exact boxes grow past the root boxes
+    expect_rejected(a, "alphas", "root box does not contain");
+    auto b = l;
+    b[line_of(l, "alphas")] = "alphas 26000/100000 41189/100000";  // they shrink: witnesses at the old limit fall outside
+    expect_rejected(b, "alphas", "witness outside");
 }
 
-BOOST_AUTO_TEST_CASE(claim_raised_to_61_degrees) {
+BOOST_AUTO_TEST_CASE(global_claim_not_the_keys_extremes) {
     auto l = cert();
-    // cos^2(61 deg) = 0.23504...: the whole background tetrahedron (60 and 90 deg) fails.
-    l[line_of(l, "claim")] = "claim 258427994931/1099511627776 " + fields(l[line_of(l, "claim")])[2];
-    expect_rejected(l, "claim", "leaf not verified");
+    const std::size_t c = line_of(l, "claim");
+    auto f = fields(l[c]);
+    // cos^2(61 deg) = 0.23504...: a stronger minimum than any key's claim.
+    l[c] = "claim 258427994931/1099511627776 " + f[2];
+    expect_rejected(l, "claim", "not the keys' extremes");
+}
+
+// Field offsets in a key line: "key CODE m" + 2m root ends, then CMIN CMAX,
+// then m + m witness coordinates, then SPLITS.
+namespace {
+struct KeyFields {
+    std::vector<std::string> f;
+    std::size_t m, cmin, wmin, wmax;
+};
+KeyFields key_fields(const std::string& line) {
+    KeyFields k{fields(line), 0, 0, 0, 0};
+    k.m = std::stoul(k.f[2]);
+    k.cmin = 3 + 2 * k.m, k.wmin = k.cmin + 2, k.wmax = k.wmin + k.m;
+    return k;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(key_claim_raised_to_61_degrees) {
+    auto l = cert();
+    const std::size_t k = first_split_key(l);
+    auto kf = key_fields(l[k]);
+    kf.f[kf.cmin] = "258427994931/1099511627776";  // a minimum of 61 deg: the witness contradicts it
+    l[k] = join(kf.f);
+    expect_rejected(l, "keyclaim", "contradicts its claim");
+}
+
+// The theorem must be tight: loosening the extreme key's claim and the
+// global claim together (still true, still the keys' extremes) leaves the
+// theorem's witness too far from it.  (A key's own claim may be looser than
+// 0.01 / 0.1 deg; the checker counts those.)
+BOOST_AUTO_TEST_CASE(theorem_loosened_is_not_tight) {
+    for (int j = 0; j < 2; ++j) {
+        auto l = cert();
+        const std::size_t c = line_of(l, "claim");
+        auto cf = fields(l[c]);
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < l.size() && k == 0; ++i)
+            if (l[i].rfind("key ", 0) == 0 && key_fields(l[i]).f[key_fields(l[i]).cmin + static_cast<std::size_t>(j)] == cf[1 + static_cast<std::size_t>(j)]) k = i;
+        BOOST_REQUIRE(k > 0);
+        auto kf = key_fields(l[k]);
+        const std::string loose = j == 0 ? "1099511627775/1099511627776" : "1099511627000/1099511627776";  // 0.05 / 179.9 deg
+        kf.f[kf.cmin + static_cast<std::size_t>(j)] = loose;
+        cf[1 + static_cast<std::size_t>(j)] = loose;
+        l[k] = join(kf.f);
+        l[c] = join(cf);
+        expect_rejected(l, j == 0 ? "loosemin" : "loosemax", j == 0 ? "theorem's min witness" : "theorem's max witness");
+    }
+}
+
+BOOST_AUTO_TEST_CASE(witness_moved_outside_the_box_or_garbled) {
+    auto l = cert();
+    const std::size_t k = first_split_key(l);
+    auto a = l;
+    auto kf = key_fields(a[k]);
+    kf.f[kf.wmin] = "16777216/16777216";  // t or u = 1: outside [0, alpha] and [alpha, 1 - alpha]
+    a[k] = join(kf.f);
+    expect_rejected(a, "outside", "witness outside");
+    auto b = l;
+    kf = key_fields(b[k]);
+    kf.f[kf.wmax] = "1/3";
+    b[k] = join(kf.f);
+    expect_rejected(b, "nondyadic", "not dyadic");
 }
 
 BOOST_AUTO_TEST_CASE(key_count_and_missing_key) {
@@ -119,10 +188,9 @@ BOOST_AUTO_TEST_CASE(split_string_edited) {
     const std::size_t k = first_split_key(l);
     auto a = l;
     auto f = fields(a[k]);
-    f.back()[0] = '0';  // the root box declared a leaf
+    f.back() = "0";  // the root box declared a leaf
     a[k] = join(f);
-    std::string msg;
-    BOOST_TEST(run_checker(a, "leaf", &msg, WARPMESH_CHECK_BCC_EXE) != 0);
+    expect_rejected(a, "leaf", "leaf not verified");
     auto b = l;
     f = fields(b[k]);
     f.back() += "0";

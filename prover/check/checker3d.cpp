@@ -33,6 +33,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -523,6 +524,23 @@ T dot3(const P3<T>& a, const P3<T>& b) {
 // of them >= 0: θ >= θmin); 13 + 2e: d, 14 + 2e: c_max N − 2^40 d² (one >= 0:
 // θ <= θmax).  Edge e = (a, b) of the tetrahedron's own vertex order, faces
 // through the other two vertices c < d: n_c = (p_b − p_a) × (p_c − p_a).
+// d = n_c·n_d and N = |n_c|²|n_d|² of edge e = (a, b) of tetrahedron t (its
+// own vertex order), faces through the other two vertices c < d:
+// n_c = (p_b − p_a) × (p_c − p_a).
+template <class T>
+void edge_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int e, T& dt, T& nn) {
+    const int a = EDGE[e][0], bb = EDGE[e][1];
+    int c = 0;
+    while (c == a || c == bb) ++c;
+    const int d = 6 - a - bb - c;
+    const P3<T> ev = sub3(pt[t[bb]], pt[t[a]]);
+    const P3<T> nc = cross3(ev, sub3(pt[t[c]], pt[t[a]])), nd = cross3(ev, sub3(pt[t[d]], pt[t[a]]));
+    dt = dot3(nc, nd), nn = dot3(nc, nc) * dot3(nd, nd);
+}
+// The 25 forms of one output tetrahedron (scaled as in the header comment):
+// 0: 6·volume (> 0); per edge e: 1 + 2e: −d, 2 + 2e: c_min N − 2^40 d² (one
+// of them >= 0: θ >= θmin); 13 + 2e: d, 14 + 2e: c_max N − 2^40 d² (one >= 0:
+// θ <= θmax).
 template <class T>
 std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const Claim& cl) {
     std::array<T, 25> f{};
@@ -532,13 +550,9 @@ std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const
     if constexpr (std::is_same_v<T, D>) cmin.v = point(cl.cmin), cmax.v = point(cl.cmax), two40.v = point(pow2(40));
     else cmin = point(cl.cmin), cmax = point(cl.cmax), two40 = point(pow2(40));
     for (int e = 0; e < 6; ++e) {
-        const int a = EDGE[e][0], bb = EDGE[e][1];
-        int c = 0;
-        while (c == a || c == bb) ++c;
-        const int d = 6 - a - bb - c;
-        const P3<T> ev = sub3(pt[t[bb]], pt[t[a]]);
-        const P3<T> nc = cross3(ev, sub3(pt[t[c]], pt[t[a]])), nd = cross3(ev, sub3(pt[t[d]], pt[t[a]]));
-        const T dt = dot3(nc, nd), nn = dot3(nc, nc) * dot3(nd, nd), dd = two40 * (dt * dt);
+        T dt{}, nn{};
+        edge_forms(pt, t, e, dt, nn);
+        const T dd = two40 * (dt * dt);
         f[1 + 2 * e] = T{} - dt, f[2 + 2 * e] = cmin * nn - dd;
         f[13 + 2 * e] = dt, f[14 + 2 * e] = cmax * nn - dd;
     }
@@ -642,6 +656,60 @@ long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const s
     return leaves;
 }
 
+
+// ---- witnesses and tightness ---------------------------------------------------
+// An exact cos² p / q.
+struct Cos2 {
+    Z p, q;
+};
+double to_double(const Z& z) {  // for messages only
+    double x = 0;
+    for (int i = z.n - 1; i >= 0; --i) x = x * 18446744073709551616.0 + static_cast<double>(z.d[i]);
+    return z.neg ? -x : x;
+}
+double degrees(const Cos2& c, bool obtuse) {  // for messages only
+    const double a = std::acos(std::sqrt(to_double(c.p) / to_double(c.q))) * 180 / M_PI;
+    return obtuse ? 180 - a : a;
+}
+// The exact cos² of the extreme dihedral angle of the key's output at the
+// witness w (dyadic, inside the exact box): the smallest angle (`min`: the
+// largest d²/N over the edges with d > 0) or the largest (the largest d²/N
+// over the edges with d <= 0).
+Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, bool min) {
+    Box b;
+    int K = 0;
+    for (const Dy& x : w) b.push_back(Side{x, x}), K = std::max(K, x.e);
+    const auto pt = points<I>(k, ps, b, K);
+    bool found = false;
+    Cos2 best;
+    for (const Tet& t : tets)
+        for (int e = 0; e < 6; ++e) {
+            I dt, nn;
+            edge_forms(pt, t, e, dt, nn);  // points: exact, dt.lo == dt.hi
+            if (min ? sgn(dt.lo) <= 0 : sgn(dt.lo) > 0) continue;
+            const Z p = dt.lo * dt.lo;
+            if (!found || cmp(p * best.q, best.p * nn.lo) > 0) best = Cos2{p, nn.lo}, found = true;
+        }
+    if (!found) fail(min ? "min witness without an acute angle" : "max witness without a right or obtuse angle");
+    return best;
+}
+// Whether the witness's angle (cos² c = p/q) is at most tol degrees beyond the
+// claim's (cos² C = cm / 2^40), given c <= C, both angles acute (minimum) or
+// both obtuse (maximum).  |dθ/dc| = 1 / |sin 2θ|, and |sin 2θ| = 2 sqrt(c (1 − c))
+// is concave in θ on each side of 90°, so the gap is at most (C − c) / the
+// smaller |sin 2θ| of the two ends; with δ = tol · 3.14159 / 180 (below tol
+// in radians): (C − c)² <= 4 δ² min(c (1 − c), C (1 − C)).  δ = 314159 / den
+// (den = 18000000000 / tol·100...: 1800000000 for 0.01°, 180000000 for 0.1°).
+// Near 90° the ends' |sin 2θ| vanish: obtuse angles with C <= 3·10^-6 <
+// sin²(0.0993°) both lie in [90°, 90.0993°].
+bool tight(const Z& cm, const Cos2& w, std::int64_t den, bool obtuse) {
+    if (obtuse && cmp(cm * zint(1000000), zint(3) * pow2(40)) <= 0) return true;
+    const Z X = cm * w.q - w.p * pow2(40);
+    const Z lhs = X * X * zint(den) * zint(den);
+    const Z k4 = zint(4) * zint(314159) * zint(314159);
+    return cmp(lhs, k4 * pow2(80) * w.p * (w.q - w.p)) <= 0 && cmp(lhs, k4 * cm * (pow2(40) - cm) * w.q * w.q) <= 0;
+}
+
 // All canonical keys with output: the smallest image of every consistent
 // configuration with a - vertex.
 std::set<std::array<int, 9>> canonical_keys(const std::vector<Sym>& syms) {
@@ -676,34 +744,47 @@ Z claim_threshold(const std::string& s) {
 }
 
 struct Entry {
+    std::string code;
     Key k;
     std::vector<Param> ps;
     Box root;
+    Claim claim;
+    std::vector<Dy> wmin, wmax;
     std::string splits;
 };
-// One key line: "key CODE m lo_0 hi_0 ... SPLITS", its root box containing the
-// exact box and its split string a complete preorder bisection.
+// One key line: "key CODE m lo_0 hi_0 .. CMIN CMAX WMIN_0 .. WMAX_0 .. SPLITS":
+// the root box containing the exact box, the key's claim, its witnesses
+// inside the exact box, and a complete preorder bisection.
 Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t ashort, std::int64_t den,
                      const std::set<std::array<int, 9>>& expected, std::set<std::array<int, 9>>& seen) {
     std::istringstream ks(line);
     std::string word, code;
     int m = -1;
     if (!(ks >> word >> code >> m) || word != "key") fail("bad key line");
-    Entry en{parse_code(code), {}, {}, {}};
+    Entry en{code, parse_code(code), {}, {}, {}, {}, {}, {}};
     if (!expected.count(en.k.enc()) || !seen.insert(en.k.enc()).second) fail("unexpected or repeated key " + code);
     en.ps = params(en.k, along, ashort, den);
     if (m != static_cast<int>(en.ps.size())) fail("wrong parameter count for " + code);
+    const auto ge = [](const Dy& a, std::int64_t n, std::int64_t d) {
+        return static_cast<__int128>(a.m) * d >= static_cast<__int128>(n) * (static_cast<__int128>(1) << a.e);
+    };
+    std::string lo, hi;
     for (const Param& p : en.ps) {
-        std::string lo, hi;
         if (!(ks >> lo >> hi)) fail("bad root box for " + code);
         const Dy l = parse_dyadic(lo), h = parse_dyadic(hi);
-        const auto ge = [](const Dy& a, std::int64_t n, std::int64_t d) {
-            return static_cast<__int128>(a.m) * d >= static_cast<__int128>(n) * (static_cast<__int128>(1) << a.e);
-        };
         if (!(le(l, p.lo_num, p.den) && ge(h, p.hi_num, p.den) && cmp(width(l, h), Dy{1, 0}) < 0))
             fail("root box does not contain the parameter box of " + code);
         en.root.push_back(Side{l, h});
     }
+    if (!(ks >> lo >> hi)) fail("bad claim for " + code);
+    en.claim = Claim{claim_threshold(lo), claim_threshold(hi)};
+    for (std::vector<Dy>* w : {&en.wmin, &en.wmax})
+        for (const Param& p : en.ps) {
+            if (!(ks >> lo)) fail("bad witness for " + code);
+            const Dy x = parse_dyadic(lo);
+            if (!(ge(x, p.lo_num, p.den) && le(x, p.hi_num, p.den))) fail("witness outside the parameter box of " + code);
+            w->push_back(x);
+        }
     if (!(ks >> en.splits) || en.splits.size() > 50000000 || (ks >> word)) fail("bad split string for " + code);
     long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
     for (const char ch : en.splits) {
@@ -715,12 +796,32 @@ Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t a
     return en;
 }
 
+// The key's witnesses agree with its claim (c <= C: else the claim is false).
+// Returns the witnesses' cos² and whether each is tight: within 0.01° of the
+// claim (minimum), 0.1° (maximum).
+struct Witnessed {
+    std::array<Cos2, 2> c;
+    std::array<bool, 2> tight;
+};
+Witnessed check_witnesses(const Entry& en) {
+    const std::vector<Tet> tets = oriented(en.k);
+    Witnessed w{{witness_cos2(en.k, en.ps, tets, en.wmin, true), witness_cos2(en.k, en.ps, tets, en.wmax, false)}, {}};
+    const Z* c[2] = {&en.claim.cmin, &en.claim.cmax};
+    for (int j = 0; j < 2; ++j) {
+        if (cmp(w.c[j].p * pow2(40), *c[j] * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
+        w.tight[j] = tight(*c[j], w.c[j], j == 0 ? 1800000000 : 180000000, j == 1);
+    }
+    return w;
+}
+
+// Parses the header, every key line and witness (cheap), then verifies the
+// leaves; prints the theorem.
 int check(std::istream& in, bool progress) {
     std::string line, word;
     std::vector<std::string> body;
     while (std::getline(in, line))
         if (!line.empty() && line[0] != '#') body.push_back(line);
-    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 1") fail("not a BCC certificate (format 1)");
+    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 2") fail("not a BCC certificate (format 2)");
     std::istringstream a(body[1]), c(body[2]), n(body[3]);
     std::string al, as, cn, cx;
     long nkeys = -1;
@@ -733,27 +834,70 @@ int check(std::istream& in, bool progress) {
     if (!(ln > 0 && 2 * ln < ld && sn > 0 && 2 * sn < sd)) fail("alphas out of (0, 1/2)");
     const Claim claim{claim_threshold(cn), claim_threshold(cx)};
     if (static_cast<long>(body.size()) != 4 + nkeys) fail("key count mismatch");
-    const std::vector<Sym> syms = symmetries();
-    const auto expected = canonical_keys(syms);
+    const auto expected = canonical_keys(symmetries());
     if (static_cast<long>(expected.size()) != nkeys) fail("the certificate does not list every key");
-    // First pass, structure only (cheap): keys, root boxes, split strings.
+    // First pass, no leaf: keys, root boxes, claims, witnesses, split strings.
     std::vector<Entry> entries;
     std::set<std::array<int, 9>> seen;
-    for (long i = 0; i < nkeys; ++i) entries.push_back(parse_key_line(body[static_cast<std::size_t>(4 + i)], ln, sn, ld, expected, seen));
-    // Second pass: every leaf verified.
+    Z worst[2] = {zint(0), zint(0)};
+    std::vector<Witnessed> wit;
+    for (long i = 0; i < nkeys; ++i) {
+        entries.push_back(parse_key_line(body[static_cast<std::size_t>(4 + i)], ln, sn, ld, expected, seen));
+        const Entry& en = entries.back();
+        wit.push_back(check_witnesses(en));
+        const Z* kc[2] = {&en.claim.cmin, &en.claim.cmax};
+        for (int j = 0; j < 2; ++j)
+            if (cmp(*kc[j], worst[j]) > 0) worst[j] = *kc[j];
+    }
+    if (cmp(worst[0], claim.cmin) != 0 || cmp(worst[1], claim.cmax) != 0) fail("the claim is not the keys' extremes");
+    // The theorem is tight: its most extreme witness (the largest cos² over
+    // the keys' min witnesses, resp. max witnesses) lies within 0.01° / 0.1°
+    // of it.  (A key's own claim may be looser: counted below.)
+    std::size_t ext[2] = {0, 0};
+    for (int j = 0; j < 2; ++j) {
+        for (std::size_t i = 1; i < wit.size(); ++i)
+            if (cmp(wit[i].c[j].p * wit[ext[j]].c[j].q, wit[ext[j]].c[j].p * wit[i].c[j].q) > 0) ext[j] = i;
+        if (!tight(j == 0 ? claim.cmin : claim.cmax, wit[ext[j]].c[j], j == 0 ? 1800000000 : 180000000, j == 1))
+            fail(std::string("the theorem's ") + (j == 0 ? "min" : "max") + " witness (" + entries[ext[j]].code +
+                 ") is not within " + (j == 0 ? "0.01" : "0.1") + " deg of the claim");
+    }
+    // Second pass: every leaf verified against its key's claim.
     long leaves = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, claim);
+        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, entries[i].claim);
         if (progress && (i + 1) % 50 == 0) std::cerr << "checked " << i + 1 << " keys, " << leaves << " leaves\n";
     }
-    const auto deg = [](const std::string& s) {  // for the message only
-        const auto [p, q] = parse_q(s);
-        return std::acos(std::sqrt(static_cast<double>(p) / static_cast<double>(q))) * 180 / M_PI;
-    };
-    std::cout << "BCC theorem (alphas " << al << ", " << as << "): every output tetrahedron of the " << nkeys
+    // The theorem, its witnesses and the claims in degrees (arccos in double:
+    // the message only; the theorem is the exact statement before it).
+    const double dmin = degrees(Cos2{claim.cmin, pow2(40)}, false), dmax = degrees(Cos2{claim.cmax, pow2(40)}, true);
+    std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << al << ", " << as
+              << "): every output tetrahedron of the " << nkeys
               << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << cn
-              << ", and cos t >= 0 or cos^2 t <= " << cx << ": t in [" << deg(cn) << ", " << 180 - deg(cx) << "] deg ("
-              << leaves << " leaves)\n";
+              << ", and cos t >= 0 or cos^2 t <= " << cx << ": t in [" << dmin << ", " << dmax << "] deg (" << leaves
+              << " leaves)\n";
+    std::cout << std::setprecision(4) << "  rounded outward: every dihedral angle in [" << std::floor(dmin * 1e4) / 1e4 << ", "
+              << std::ceil(dmax * 1e4) / 1e4 << "] deg\n";
+    for (int j = 0; j < 2; ++j) {
+        const double w = degrees(wit[ext[j]].c[j], j == 1);
+        std::cout << std::setprecision(10) << "  3D witness " << (j == 0 ? "min" : "max") << " " << entries[ext[j]].code
+                  << ": angle " << w << " deg, claim " << (j == 0 ? dmin : dmax) << " deg, gap " << std::fabs(w - (j == 0 ? dmin : dmax))
+                  << " deg\n";
+    }
+    // Per-key tightness: counts, and the largest gaps (in double: messages).
+    for (int j = 0; j < 2; ++j) {
+        long tight = 0;
+        double gap = 0;
+        std::size_t gk = 0;
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            tight += wit[i].tight[j];
+            const Z& c = j == 0 ? entries[i].claim.cmin : entries[i].claim.cmax;
+            const double g = std::fabs(degrees(wit[i].c[j], j == 1) - degrees(Cos2{c, pow2(40)}, j == 1));
+            if (g > gap) gap = g, gk = i;
+        }
+        std::cout << std::setprecision(4) << "  key " << (j == 0 ? "min" : "max") << " claims: " << tight << " of " << nkeys
+                  << " within " << (j == 0 ? "0.01" : "0.1") << " deg of their witnesses; largest gap " << gap << " deg ("
+                  << entries[gk].code << ")\n";
+    }
     return 0;
 }
 

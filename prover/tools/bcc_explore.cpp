@@ -37,13 +37,7 @@ struct Extremes {
 
 // Smallest and largest dihedral angle over the key's output tetrahedra at x.
 Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>& ps, const std::vector<double>& x) {
-    std::array<double, 4> t{};
-    std::array<double, 6> u{};
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
-        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
-    }
-    const auto pts = bcc::generic_points(k, t, u);
+    const auto pts = bcc_prover::key_points(k, ps, x.data());
     const bcc::Stencil st = bcc::stencil(k.sign, k.parity, true);
     Extremes e;
     for (int j = 0; j < st.count; ++j) {

@@ -59,18 +59,59 @@ struct Box {
     int m = 0;
     std::array<double, 4> lo{}, hi{};
 };
+// A witness: a point x of the key's box (multiples of 2^-24 inside the exact
+// box) and the cos of its extreme dihedral angle there (double, a target).
+struct Witness {
+    std::array<double, 4> x{};
+    double cos = 0;
+};
 struct KeyProof {
     bool ok = false;
+    Claim claim{};             // the key's own claim
+    Witness wmin, wmax;        // its smallest / largest angle witness
     Box root;
     std::string splits;  // preorder: '1' split, '0' verified leaf
     long leaves = 0;
-    int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum
+    int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum, 3 over the leaf budget
     std::array<double, 4> fail_point{};
 };
-// Branch and bound over the key's root box (bound.cpp).
-KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40);
-// The key's line of the certificate: "key CODE m lo hi ... SPLITS" (root box
-// ends as multiples of 2^-20).
+// Branch and bound over the key's root box (bound.cpp), giving up after
+// max_leaves verified leaves.
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40, long max_leaves = 1L << 40);
+
+// ---- per-key targets (targets.cpp; not on the proof path) -------------------
+// The key's ten points in double at the parameter values x[0 .. ps.size()).
+std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x);
+// The cos of the key's extreme dihedral angle at x: the smallest angle's
+// (sign = +1) or the largest's (sign = -1).
+double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign);
+// A double search of the key's box for that extreme (from `start` if given),
+// on the 2^-24 grid; deterministic per key.
+Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start = nullptr);
+// The claim's cos² for a witness with this cos: the angle moved outward by
+// margin_deg, to first order, rounded up to 2^-40.
+double claim_cos2(double cos, double margin_deg);
+// The key's proof: witnesses, claims the witnesses' angles moved outward by
+// the margins (0.004 deg at the minimum, 0.04 deg at the maximum: within the
+// 0.01 / 0.1 deg of "tight"), proved within a budget of `budget` leaves.  A
+// failure at a point more extreme than the witness moves the witness there;
+// a failure elsewhere doubles that margin, an exhausted budget both; once a
+// margin is 64 times its start (0.256 deg, 2.56 deg) the budget is lifted
+// (16 attempts in all; then the caps themselves, without budget).  The key's
+// claim is then loose (at most the cap), and its gap says so;
+// ok false only if even that fails.
+// No key's claim is looser than `cap` (the theorem's bounds when every key
+// is proved at its margins; the prover's --cap-min-deg, --cap-max-deg).
+struct Margins {
+    double min_deg = 0.004, max_deg = 0.04;
+    long budget = 1000;
+    Claim cap{1, 1};
+};
+// The cap for the angles (degrees): cos² rounded to 2^-40.  The prover's
+// defaults, 9.31 and 161.7 deg, are those of proofs/bcc.cert.
+Claim cap_claim(double min_deg, double max_deg);
+KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = 40);
+// The key's line of the certificate (proofs/README.md, "The BCC certificate").
 std::string certificate_line(const Key& k, const KeyProof& p);
 // `warpmesh-prove-bcc` (prove.cpp).
 int prove_bcc_main(int argc, char** argv);

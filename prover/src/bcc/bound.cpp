@@ -163,7 +163,7 @@ bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const 
 
 }  // namespace
 
-KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth) {
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth, long max_leaves) {
     const BRoundUp guard;
     KeyProof out;
     const std::vector<Param> ps = key_params(k, al);
@@ -186,6 +186,11 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
             out.splits += '0';
             ++out.leaves;
             continue;
+        }
+        if (out.leaves >= max_leaves) {  // over budget: no proof
+            out.ok = false;
+            out.fail_kind = 3;
+            return out;
         }
         int s = -1;
         for (int j = 0; j < it.b.m; ++j)
@@ -212,12 +217,17 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
     return out;
 }
 
+// "key CODE m lo_0 hi_0 .. lo_{m-1} hi_{m-1} CMIN CMAX WMIN_0 .. WMIN_{m-1}
+// WMAX_0 .. WMAX_{m-1} SPLITS": root box ends (multiples of 2^-20), the
+// key's claim (2^-40), its witnesses (2^-24), the split string.
 std::string certificate_line(const Key& k, const KeyProof& p) {
     std::ostringstream o;
     o << "key " << code_of(k) << " " << p.root.m;
-    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j)
-        o << " " << static_cast<long long>(std::ldexp(p.root.lo[j], 20)) << "/1048576 "
-          << static_cast<long long>(std::ldexp(p.root.hi[j], 20)) << "/1048576";
+    const auto dy = [&](double x, int e) { o << " " << static_cast<long long>(std::ldexp(x, e)) << "/" << (1LL << e); };
+    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.root.lo[j], 20), dy(p.root.hi[j], 20);
+    dy(p.claim.cmin, 40), dy(p.claim.cmax, 40);
+    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.wmin.x[j], 24);
+    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.wmax.x[j], 24);
     o << " " << p.splits;
     return o.str();
 }

@@ -1,6 +1,7 @@
 // prove.cpp — `warpmesh-prove-bcc`: runs the branch and bound over every key
 // and writes the certificate (format: proofs/README.md, "The BCC
 // certificate").
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,26 +34,19 @@ std::string dyadic40(double x) {
     return o.str();
 }
 
-// cos² of an angle in degrees, rounded to a multiple of 2^-40 (the claim is
-// stated by this number; the degrees are only its name).
-double cos2_dyadic(double deg) {
-    const double c = std::cos(deg * M_PI / 180);
-    return std::round(std::ldexp(c * c, 40)) / 1099511627776.0;
-}
-
 }  // namespace
 
 int prove_bcc_main(int argc, char** argv) {
     std::string out = "proofs/bcc.cert", la = "0.24999", sa = "0.41189";
-    double min_deg = 9.3, max_deg = 161.7;
+    double cap_min = 9.31, cap_max = 161.7;
     std::vector<int> subset;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool more = i + 1 < argc;
         if (a == "--out" && more) out = argv[++i];
         else if (a == "--alphas" && i + 2 < argc) la = argv[++i], sa = argv[++i];
-        else if (a == "--min-deg" && more) min_deg = std::atof(argv[++i]);
-        else if (a == "--max-deg" && more) max_deg = std::atof(argv[++i]);
+        else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
+        else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
         else if (a == "--threads" && more) {
 #ifdef _OPENMP
             omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
@@ -63,17 +57,18 @@ int prove_bcc_main(int argc, char** argv) {
             std::stringstream ss(argv[++i]);
             for (std::string tok; std::getline(ss, tok, ',');) subset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--min-deg D] [--max-deg D] [--threads N] [--keys I,J,..]\n");
+            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..]\n");
             return 2;
         }
     }
     bcc::Alphas al{0, 100000, 0, 100000};
-    if (!parse_alpha(la, al.long_num) || !parse_alpha(sa, al.short_num) || !(min_deg > 0 && min_deg < 90) ||
-        !(max_deg > 90 && max_deg < 180)) {
-        std::fprintf(stderr, "warpmesh-prove-bcc: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < min-deg < 90 < max-deg < 180\n");
+    if (!parse_alpha(la, al.long_num) || !parse_alpha(sa, al.short_num) || !(cap_min > 0 && cap_min < 90) ||
+        !(cap_max > 90 && cap_max < 180)) {
+        std::fprintf(stderr, "warpmesh-prove-bcc: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180\n");
         return 2;
     }
-    const Claim claim{cos2_dyadic(min_deg), cos2_dyadic(max_deg)};
+    Margins mg;
+    mg.cap = cap_claim(cap_min, cap_max);
     const std::vector<Key> all = enumerate_keys();
     std::vector<Key> keys;
     if (subset.empty()) keys = all;
@@ -84,15 +79,12 @@ int prove_bcc_main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 4)
     for (long i = 0; i < static_cast<long>(keys.size()); ++i)
-        proofs[static_cast<std::size_t>(i)] = prove_key(keys[static_cast<std::size_t>(i)], al, claim);
+        proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     long leaves = 0;
     int failed = 0;
-    std::ostringstream cert;
-    cert << "warpmesh-bcc-certificate 1\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
-    cert << "alphas " << al.long_num << "/100000 " << al.short_num << "/100000\n";
-    cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << "\n";
-    cert << "keys " << keys.size() << "\n";
+    Claim claim{0, 0};  // the theorem: the extremes of the keys' claims
+    std::ostringstream lines;
     for (std::size_t i = 0; i < keys.size(); ++i) {
         const KeyProof& p = proofs[i];
         leaves += p.leaves;
@@ -104,8 +96,14 @@ int prove_bcc_main(int argc, char** argv) {
             std::fprintf(stderr, "\n");
             continue;
         }
-        cert << certificate_line(keys[i], p) << "\n";
+        claim.cmin = std::max(claim.cmin, p.claim.cmin), claim.cmax = std::max(claim.cmax, p.claim.cmax);
+        lines << certificate_line(keys[i], p) << "\n";
     }
+    std::ostringstream cert;
+    cert << "warpmesh-bcc-certificate 2\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
+    cert << "alphas " << al.long_num << "/100000 " << al.short_num << "/100000\n";
+    cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << "\n";
+    cert << "keys " << keys.size() << "\n" << lines.str();
     std::fprintf(stderr, "warpmesh-prove-bcc: alphas %s %s, claim [%.4f, %.4f] deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
                  la.c_str(), sa.c_str(), std::acos(std::sqrt(claim.cmin)) * 180 / M_PI,
                  180 - std::acos(std::sqrt(claim.cmax)) * 180 / M_PI, keys.size(), failed, leaves, secs);

@@ -1,0 +1,35 @@
+// bcc_certified.hpp — the certified dihedral-angle bounds of the 3D proof
+// (proofs/bcc.cert), per key, compiled into the library
+// (cmake/certified_table.cmake).  The 3D mesher looks up the key of each
+// background tetrahedron (generic_bcc_keys.hpp, `key_of`) to report or
+// verify the bounds of its output; proofs/README.md, "The BCC space".
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "warpmesh/generic_bcc.hpp"
+
+namespace warpmesh {
+
+// A key's claim: every output tetrahedron of every configuration of the key
+// is positively oriented and every dihedral angle θ has cos θ <= 0 or cos²θ
+// <= cmin_num / 2^40 (θ >= min_deg), and cos θ >= 0 or cos²θ <= cmax_num /
+// 2^40 (θ <= max_deg).  The degrees are arccos of the exact claim, rounded
+// to double (for reports; compare cos² with the exact numbers to verify).
+struct BccKeyBound {
+    std::uint64_t cmin_num = 0, cmax_num = 0;
+    double min_deg = 0, max_deg = 180;
+};
+
+// The claim of a canonical key (bcc::key_of), or nothing if the certificate
+// was missing at build time or the key has no output (no - vertex: the
+// all-zero keys are not certified).
+std::optional<BccKeyBound> bcc_certified_bound(const bcc::Config& canonical_key);
+// The violation thresholds the certificate was proved for (the mesher must
+// use them for the bounds to apply), or nothing without a certificate.
+std::optional<bcc::Alphas> bcc_certified_alphas();
+// The whole certificate's theorem: the extremes of the keys' claims.
+std::optional<BccKeyBound> bcc_certified_theorem();
+
+}  // namespace warpmesh

@@ -1,0 +1,79 @@
+// bcc_certified.cpp — parses the per-key claims of proofs/bcc.cert compiled
+// in by cmake/certified_table.cmake ("alphas L S", then "CODE CMIN CMAX" per
+// key, claims p / 2^40).  bcc_certified.hpp states the contract.
+#include "warpmesh/bcc_certified.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "warpmesh/generic_bcc_keys.hpp"
+
+namespace warpmesh {
+namespace generated {
+extern const std::string_view certified_bcc_keys;
+}
+
+namespace {
+
+struct BccTable {
+    std::optional<bcc::Alphas> alphas;
+    std::map<std::string, BccKeyBound, std::less<>> keys;
+    std::optional<BccKeyBound> theorem;
+};
+
+// "p/1099511627776" -> p.
+std::uint64_t numerator40(const std::string& s) {
+    if (s.size() < 15 || s.substr(s.size() - 14) != "/1099511627776") return 0;
+    return std::stoull(s.substr(0, s.size() - 14));
+}
+
+double degrees(std::uint64_t num, bool obtuse) {
+    const double a = std::acos(std::sqrt(std::ldexp(static_cast<double>(num), -40))) * 180 / M_PI;
+    return obtuse ? 180 - a : a;
+}
+
+BccTable parse_table() {
+    BccTable t;
+    std::istringstream in{std::string(generated::certified_bcc_keys)};
+    for (std::string line; std::getline(in, line);) {
+        std::istringstream ls(line);
+        std::string a, b, c;
+        ls >> a >> b >> c;
+        if (a == "alphas") {
+            const auto num = [](const std::string& x) { return std::stoll(x.substr(0, x.find('/'))); };
+            const auto den = [](const std::string& x) { return std::stoll(x.substr(x.find('/') + 1)); };
+            t.alphas = bcc::Alphas{num(b), den(b), num(c), den(c)};
+            continue;
+        }
+        BccKeyBound k{numerator40(b), numerator40(c), 0, 180};
+        k.min_deg = degrees(k.cmin_num, false), k.max_deg = degrees(k.cmax_num, true);
+        if (!t.theorem) t.theorem = k;
+        if (k.cmin_num > t.theorem->cmin_num) t.theorem->cmin_num = k.cmin_num, t.theorem->min_deg = k.min_deg;
+        if (k.cmax_num > t.theorem->cmax_num) t.theorem->cmax_num = k.cmax_num, t.theorem->max_deg = k.max_deg;
+        t.keys.emplace(a, k);
+    }
+    return t;
+}
+
+const BccTable& table() {
+    static const BccTable t = parse_table();
+    return t;
+}
+
+}  // namespace
+
+std::optional<BccKeyBound> bcc_certified_bound(const bcc::Config& canonical_key) {
+    const auto it = table().keys.find(bcc::code_of(canonical_key));
+    if (it == table().keys.end()) return std::nullopt;
+    return it->second;
+}
+
+std::optional<bcc::Alphas> bcc_certified_alphas() { return table().alphas; }
+
+std::optional<BccKeyBound> bcc_certified_theorem() { return table().theorem; }
+
+}  // namespace warpmesh

@@ -1,0 +1,154 @@
+// targets.cpp — per-key targets of the 3D prover: a double-precision search of
+// each key's box for its smallest and largest dihedral angle, turned into
+// exact witnesses (points of the 2^-24 grid inside the exact box) and claims
+// (the witness's cos² plus a margin, rounded up to 2^-40).  Not on the proof
+// path: the search only chooses what to prove; the branch and bound
+// (bound.cpp) proves it and the checker re-evaluates every witness exactly.
+// Only + − × / and sqrt (correctly rounded) are used, and the pseudo-random
+// starts are seeded by the key's code, so the targets of a key are the same
+// on every IEEE machine and in every thread: a key's certificate line is
+// reproducible alone.
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "warpmesh/prove_bcc.hpp"
+
+namespace warpmesh::bcc_prover {
+namespace {
+
+// cos of the extreme dihedral angle over the key's output tetrahedra at x:
+// the largest cos (smallest angle, sign = +1) or the smallest (largest angle,
+// sign = −1), as +cos resp. −cos so that larger is more extreme.
+double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
+    const auto pts = key_points(k, ps, x.data());
+    const bcc::Stencil st = bcc::stencil(k.sign, k.parity, true);
+    double best = -2;
+    for (int j = 0; j < st.count; ++j) {
+        std::array<bcc::Vec<double>, 4> p{};
+        for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
+        const auto f = bcc::dihedral_forms(p);
+        for (int e = 0; e < 6; ++e) {
+            const double nn = f.nn[static_cast<std::size_t>(e)];
+            const double c = nn > 0 ? f.dot[static_cast<std::size_t>(e)] / std::sqrt(nn) : 1.0;  // degenerate: extreme
+            best = std::max(best, sign * c);
+        }
+    }
+    return best;
+}
+
+// The grid point (multiple of 2^-24) nearest x inside the exact box [lo, hi]
+// of parameter p (its ends exact rationals num/den).
+double snap(double x, const Param& p) {
+    const double g = 16777216.0;
+    double s = std::nearbyint(x * g) / g;
+    const double lo = std::ceil(p.lo * g - 1e-6) / g, hi = std::floor(p.hi * g + 1e-6) / g;  // see exact_inside
+    return std::clamp(s, lo, hi);
+}
+
+}  // namespace
+
+std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x) {
+    std::array<double, 4> t{};
+    std::array<double, 6> u{};
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
+        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
+    }
+    return bcc::generic_points(k, t, u);
+}
+
+double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
+    return extreme_cos(k, ps, x, sign);
+}
+
+// Random starts (corners and faces favoured) and a shrinking-step pattern
+// search on the 2^-24 grid, from `start` if given.
+Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start) {
+    std::mt19937 rng(static_cast<unsigned>(std::hash<std::string>{}(code_of(k)) & 0xffffffffu) + static_cast<unsigned>(sign + 1));
+    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(k, ps, x, sign); };
+    Witness w;
+    double fb = -3;
+    const int n = start ? 0 : 48;
+    if (start) w.x = *start, fb = obj(w.x);
+    for (int s = 0; s < n; ++s) {
+        std::array<double, 4> x{};
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            const int corner = std::uniform_int_distribution<int>(0, 3)(rng);
+            const double r = corner == 0 ? 0 : corner == 1 ? 1 : std::uniform_real_distribution<double>(0, 1)(rng);
+            x[i] = snap(ps[i].lo + r * (ps[i].hi - ps[i].lo), ps[i]);
+        }
+        const double f = obj(x);
+        if (f > fb) fb = f, w.x = x;
+    }
+    for (double step = 0.25; step > 0x1p-24; step *= 0.5)
+        for (bool improved = true; improved;) {
+            improved = false;
+            for (std::size_t i = 0; i < ps.size(); ++i)
+                for (double d : {-1.0, 1.0}) {
+                    std::array<double, 4> x = w.x;
+                    x[i] = snap(x[i] + d * step * (ps[i].hi - ps[i].lo), ps[i]);
+                    const double f = obj(x);
+                    if (f > fb + 1e-15) fb = f, w.x = x, improved = true;
+                }
+        }
+    w.cos = sign * fb;
+    return w;
+}
+
+// The claim cos² c + 2 sqrt(c (1 − c)) δ + δ² (δ the margin in radians:
+// dc/dθ = −sin 2θ; the δ² keeps a claim at 90 deg provable, where an edge's
+// d may vanish identically), rounded up to 2^-40.
+double claim_cos2(double cos, double margin_deg) {
+    const double c = cos * cos;
+    const double d = margin_deg * (3.14159265358979323846 / 180);
+    return std::ceil(std::ldexp(c + 2 * std::sqrt(c * (1 - c)) * d + d * d, 40)) / 1099511627776.0;
+}
+
+}  // namespace warpmesh::bcc_prover
+
+namespace warpmesh::bcc_prover {
+
+// cos² of each angle (degrees), rounded to a multiple of 2^-40 (the claim is
+// stated by these numbers; the degrees are only their names).
+Claim cap_claim(double min_deg, double max_deg) {
+    const auto c2 = [](double deg) {
+        const double c = std::cos(deg * M_PI / 180);
+        return std::round(std::ldexp(c * c, 40)) / 1099511627776.0;
+    };
+    return {c2(min_deg), c2(max_deg)};
+}
+
+KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth) {
+    const std::vector<Param> ps = key_params(k, al);
+    Witness w[2] = {search_witness(k, ps, 1), search_witness(k, ps, -1)};
+    double margin[2] = {mg.min_deg, mg.max_deg};
+    KeyProof p;
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        // A largest angle below 90 deg (cos > 0) is claimed as 90 deg + the
+        // margin; no claim is looser than the caps.
+        const Claim c{std::min(claim_cos2(w[0].cos, margin[0]), mg.cap.cmin),
+                      std::min(claim_cos2(std::min(w[1].cos, 0.0), margin[1]), mg.cap.cmax)};
+        // No budget once the minimum's margin reached 64 times its start (the
+        // maximum's likewise), nor at the last attempt: prove or fail.
+        const bool last = attempt == 15 || margin[0] >= 64 * mg.min_deg || margin[1] >= 64 * mg.max_deg;
+        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : mg.budget);
+        p.claim = c, p.wmin = w[0], p.wmax = w[1];
+        if (p.ok || p.fail_kind == 0) return p;
+        if (p.fail_kind == 3) {
+            margin[0] = std::min(2 * margin[0], 64 * mg.min_deg), margin[1] = std::min(2 * margin[1], 64 * mg.max_deg);
+            continue;
+        }
+        const int j = p.fail_kind - 1, sign = j == 0 ? 1 : -1;
+        std::array<double, 4> x{};
+        for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
+        if (sign * witness_cos(k, ps, x, sign) > sign * w[j].cos + 1e-12) w[j] = search_witness(k, ps, sign, &x);
+        else margin[j] = std::min(2 * margin[j], 64 * (j == 0 ? mg.min_deg : mg.max_deg));
+    }
+    // Last resort: the caps themselves, no budget.
+    p = prove_key(k, al, mg.cap, max_depth);
+    p.claim = mg.cap, p.wmin = w[0], p.wmax = w[1];
+    return p;
+}
+
+}  // namespace warpmesh::bcc_prover

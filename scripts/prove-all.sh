@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Reruns every proof whole — the 2D certificates and the 3D proofs/bcc.cert
+# (scripts/test.sh reruns the 3D one on a sample of its keys) — into OUTDIR
+# (default: a temporary directory) and compares each with proofs/ byte for
+# byte.  Exit 1 if any differs.
+#
+#   scripts/prove-all.sh [OUTDIR]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${WARPMESH_BUILD_DIR:-$root/build}"
+out="${1:-$(mktemp -d)}"
+mkdir -p "$out"
+SECONDS=0
+"$build/mesher/warpmesh" prove --out "$out" --threads "$(nproc)"
+echo "== [$SECONDS s] 2D proofs done"
+alphas="$(awk '/^alphas /{split($2, a, "/"); split($3, b, "/"); printf "%.5f %.5f", a[1] / a[2], b[1] / b[2]}' "$root/proofs/bcc.cert")"
+# shellcheck disable=SC2086  # two words: alpha_long alpha_short
+"$build/prover/warpmesh-prove-bcc" --alphas $alphas --threads "$(nproc)" --out "$out/bcc.cert"
+echo "== [$SECONDS s] 3D proof done"
+status=0
+for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc}.cert "$root"/proofs/key_table.txt; do
+  if ! cmp -s "$cert" "$out/$(basename "$cert")"; then
+    echo "prove-all: $(basename "$cert") differs from the prover's fresh output ($out)" >&2
+    status=1
+  fi
+done
+exit "$status"
