@@ -251,11 +251,33 @@ BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones
     const std::array<bcc::Ivec, 4> p = bcc::background_tet({4, 2, 6}, 5);
     std::string code;
     // One outside vertex, nothing warped: a certified key.
-    BOOST_TEST(uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &code), code);
+    const std::optional<BccKeyBound> bound = uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &code);
+    BOOST_TEST(bound.has_value(), code);
+    BOOST_TEST(bound->min_deg >= bcc_certified_theorem()->min_deg);
     // Vertices 0 and 1 warped towards each other along their common edge:
     // excluded by the consistency rules (proofs/README.md), so no key.
     const int d01 = bcc::direction_of(bcc::sub(p[1], p[0])), d10 = bcc::direction_of(bcc::sub(p[0], p[1]));
-    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, &code), code);
+    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, &code).has_value(), code);
+}
+
+// --verify's per-key test (key_claim_holds) accepts the background
+// tetrahedron itself (dihedral angles 60° and 90°) under the theorem's claim
+// and rejects it under a claim tighter than its 60°, a sliver (near 0°) and
+// an inverted tetrahedron.
+BOOST_AUTO_TEST_CASE(key_claim_test_accepts_the_background_tet_and_rejects_slivers) {
+    const auto& r = bcc::reference_tet;
+    std::array<Point3, 4> q{};
+    for (std::size_t k = 0; k < 4; ++k) q[k] = {double(r[k][0]), double(r[k][1]), double(r[k][2])};
+    const BccKeyBound t = *bcc_certified_theorem();
+    const double c_min = std::ldexp(double(t.cmin_num), -40), c_max = std::ldexp(double(t.cmax_num), -40);
+    BOOST_TEST(uniform3d::key_claim_holds(q, c_min, c_max));
+    BOOST_TEST(!uniform3d::key_claim_holds(q, 0.117, c_max));  // θmin = 70° (cos² 70° < 0.117): its 60° fails
+    std::array<Point3, 4> flat = q;
+    flat[3] = {1, 1, -0.999};  // c1 almost onto c0: a sliver
+    BOOST_TEST(!uniform3d::key_claim_holds(flat, c_min, c_max));
+    std::array<Point3, 4> inverted = q;
+    std::swap(inverted[2], inverted[3]);
+    BOOST_TEST(!uniform3d::key_claim_holds(inverted, c_min, c_max));
 }
 
 BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {

@@ -16,12 +16,23 @@
 
 namespace warpmesh {
 
-bool uniform3d::key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign, const std::array<int, 4>& warp,
-                              std::string* code) {
+std::optional<BccKeyBound> uniform3d::key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
+                                                    const std::array<int, 4>& warp, std::string* code) {
     const bcc::Config key = bcc::key_of(p, sign, warp);
-    const bool found = bcc_certified_bound(key).has_value();
     if (code) *code = bcc::code_of(key);
-    return found;
+    return bcc_certified_bound(key);
+}
+
+bool uniform3d::key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max) {
+    std::array<bcc::Vec<double>, 4> p{};
+    for (std::size_t k = 0; k < 4; ++k) p[k] = {q[k].x, q[k].y, q[k].z};
+    const auto f = bcc::dihedral_forms<double>(p);
+    bool ok = f.volume6 > 0;
+    for (std::size_t k = 0; k < 6; ++k) {
+        const double d = f.dot[k], d2 = d * d;
+        ok = ok && (d <= 0 || d2 <= cos2_min * f.nn[k]) && (d >= 0 || d2 <= cos2_max * f.nn[k]);
+    }
+    return ok;
 }
 
 bool uniform3d::certificate_applies(const bcc::Alphas& a) {

@@ -9,11 +9,11 @@
 // forms"): volume > 0 and, per edge, d = n_c·n_d, N = |n_c|²|n_d|²,
 //     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N,
-// in double precision on the mesh's coordinates.  The certificate states one
-// claim for all its keys (no per-key bounds yet), so every tetrahedron is
-// checked against it; that each background tetrahedron's canonical key is
-// one of the certificate's keys is checked where the keys are known, in
-// stage 5 (tets3.cpp: check_key).
+// in double precision on the mesh's coordinates, against the theorem (the
+// extremes of the keys' claims).  That each background tetrahedron's
+// canonical key is one of the certificate's keys, and that its output
+// tetrahedra satisfy that key's own claim, is checked where the keys are
+// known, in stage 5 (tets3.cpp: check_key, check_claim).
 // Tetrahedra from all-zero background tetrahedra are not covered by the
 // certificate and are counted as uncertified.
 //

@@ -169,6 +169,9 @@ TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattic
     if (e.uncovered_keys > 0)
         throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) +
                                " background tetrahedra have a key that proofs/bcc.cert does not list (first: " + e.first_uncovered + ")");
+    if (e.key_claim_failures > 0)
+        throw std::logic_error("mesh3d --verify: " + std::to_string(e.key_claim_failures) +
+                               " tetrahedra fail their key's claim in proofs/bcc.cert (first key: " + e.first_key_claim_failure + ")");
     const std::int64_t warped = w.warp_count;
     w = Window{};
     if (e.tets.empty())

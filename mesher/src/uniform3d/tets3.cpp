@@ -14,6 +14,8 @@
 // its centre, the centres below it) are all inside outputs its 12
 // background tetrahedra whole: the common case, taken without the stencil.
 #include <atomic>
+#include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "uniform3d.hpp"
@@ -205,8 +207,11 @@ void place_vertices(const Window& w, const Marks& marks, const Numbering& num, b
 }
 
 // Pass B: the tetrahedra, with (blocks) their keys, and the sparse lists.
-// The key check of --verify for one background tetrahedron (not all-zero).
-void check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, int index, std::int64_t& uncovered, std::string& first) {
+// The key check of --verify for one background tetrahedron (not all-zero):
+// its key's claim, or nothing (counted in `uncovered`) if the certificate
+// does not list the key; its code in *code.
+std::optional<BccKeyBound> check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, int index, std::int64_t& uncovered,
+                                     std::string& first, std::string* code) {
     const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
     std::array<bcc::Ivec, 4> p{};
     std::array<int, 4> sign{}, warp{};
@@ -216,11 +221,28 @@ void check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, in
         sign[k] = n.sign[slot];
         warp[k] = lay.w.warp[static_cast<std::size_t>(n.at[slot])];
     }
-    std::string code;
-    if (key_certified(p, sign, warp, &code)) return;
+    std::optional<BccKeyBound> bound = key_certified(p, sign, warp, code);
+    if (bound) return bound;
     ++uncovered;
 #pragma omp critical
-    if (first.empty()) first = code;
+    if (first.empty()) first = *code;
+    return std::nullopt;
+}
+
+// --verify's per-key check of the output tetrahedra [t0, t1) of one
+// background tetrahedron against its key's claim (vertices already placed).
+void check_claim(const Emitted& out, std::int64_t t0, std::int64_t t1, const BccKeyBound& b, const std::string& code,
+                 std::int64_t& failures, std::string& first) {
+    const double c_min = std::ldexp(static_cast<double>(b.cmin_num), -40), c_max = std::ldexp(static_cast<double>(b.cmax_num), -40);
+    for (std::int64_t t = t0; t < t1; ++t) {
+        const auto& tet = out.tets[static_cast<std::size_t>(t)];
+        std::array<Point3, 4> q{};
+        for (std::size_t k = 0; k < 4; ++k) q[k] = out.vertices[static_cast<std::size_t>(tet[k])];
+        if (key_claim_holds(q, c_min, c_max)) continue;
+        ++failures;
+#pragma omp critical
+        if (first.empty()) first = code;
+    }
 }
 
 void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
@@ -229,8 +251,8 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     const std::int64_t layers = range.hi[2] - range.lo[2];
     std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
     std::vector<std::vector<std::int64_t>> zero(static_cast<std::size_t>(layers));
-    std::int64_t uncovered = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered)
+    std::int64_t uncovered = 0, failures = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures)
     for (std::int64_t l = 0; l < layers; ++l) {
         std::int64_t t = start[static_cast<std::size_t>(l)];
         const std::int64_t cz = range.lo[2] + l;
@@ -243,7 +265,10 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                 bool all_zero = false;
                 const Plan* p = n.all_inside ? &plan(0, 0, false) : lay.split(m, n, index, all_zero);
                 if (!p) continue;
-                if (verify_keys && !n.all_inside && !all_zero) check_key(lay, m, n, index, uncovered, out.first_uncovered);
+                std::optional<BccKeyBound> bound;
+                std::string code;
+                if (verify_keys && !n.all_inside && !all_zero) bound = check_key(lay, m, n, index, uncovered, out.first_uncovered, &code);
+                const std::int64_t t0 = t;
                 std::array<std::int32_t, 10> vid{};
                 for (int q = 0; q < 10; ++q) {
                     if (!(p->uses >> q & 1u)) continue;
@@ -270,12 +295,14 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                     }
                     if (all_zero) zero[static_cast<std::size_t>(l)].push_back(t);
                 }
+                if (bound) check_claim(out, t0, t, *bound, code, failures, out.first_key_claim_failure);
             }
         });
     }
     for (const auto& e : edge) out.cut_off.insert(out.cut_off.end(), e.begin(), e.end());
     for (const auto& e : zero) out.all_zero.insert(out.all_zero.end(), e.begin(), e.end());
     out.uncovered_keys = uncovered;
+    out.key_claim_failures = failures;
 }
 
 }  // namespace

@@ -14,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
+#include "warpmesh/bcc_certified.hpp"
 #include "warpmesh/generic_bcc.hpp"
 #include "warpmesh/buffer.hpp"
 #include "warpmesh/mesh3d.hpp"
@@ -144,22 +147,32 @@ struct Emitted {
     std::vector<std::int64_t> all_zero;          // tets from all-zero background tetrahedra (not certified yet)
     std::int64_t cut_points = 0, warped_vertices = 0;
     // With verify_keys: background tetrahedra (not all-zero) whose key is not
-    // in proofs/bcc.cert, and the first one's code.
+    // in proofs/bcc.cert, and the first one's code; output tetrahedra that
+    // fail their own key's claim (key_claim_holds), and the first one's key.
     std::int64_t uncovered_keys = 0;
     std::string first_uncovered;
+    std::int64_t key_claim_failures = 0;
+    std::string first_key_claim_failure;
 };
 Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys,
                   std::uint64_t max_memory, bool verify_keys = false);
 
-// Whether the canonical key of background tetrahedron p (local order) with
-// post-warp signs `sign` and global warp directions `warp` (generic_bcc_keys.hpp:
-// key_of) is one of proofs/bcc.cert's keys (certify/bcc_claim.cpp); its code
-// in *code.
 // Whether proofs/bcc.cert is compiled in and at these alphas.
 bool certificate_applies(const bcc::Alphas& alphas);
 
-bool key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign, const std::array<int, 4>& warp,
-                   std::string* code = nullptr);
+// The claim of the canonical key of background tetrahedron p (local order)
+// with post-warp signs `sign` and global warp directions `warp`
+// (generic_bcc_keys.hpp: key_of), or nothing if proofs/bcc.cert does not list
+// it (certify/bcc_claim.cpp); the key's code in *code.
+std::optional<BccKeyBound> key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
+                                         const std::array<int, 4>& warp, std::string* code = nullptr);
+
+// Whether tetrahedron q satisfies a key's claim with the certificate's own
+// test (generic_bcc.hpp, "Angle forms"), in double precision: volume > 0 and
+// per edge, with d = n_c·n_d and N = |n_c|²|n_d|²,
+//     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
+//     θ <= θmax  <=>  d >= 0  or  d² <= C_max N.
+bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max);
 
 // The boundary faces of a mesh whose level-set vertices are flagged: the
 // faces on the lattice's cut-off, and the unmatched ones of the candidate
