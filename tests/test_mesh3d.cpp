@@ -136,10 +136,13 @@ BOOST_AUTO_TEST_CASE(output_is_identical_for_any_thread_count) {
     const TetMesh one = mesh3d(*f, o);
     o.threads = 2;
     const TetMesh two = mesh3d(*f, o);
-    o.threads = 5;
-    const TetMesh five = mesh3d(*f, o);
+    // Three threads: slabs split unevenly, more threads than the CI's two
+    // cores.  (Not five: LLVM 14's OpenMP runtime leaks its thread table when
+    // a team grows past its initial capacity, which LeakSanitizer reports.)
+    o.threads = 3;
+    const TetMesh three = mesh3d(*f, o);
     BOOST_TEST(same(one, two));
-    BOOST_TEST(same(one, five));
+    BOOST_TEST(same(one, three));
 }
 
 BOOST_AUTO_TEST_CASE(blocks_merge_into_exactly_the_whole_mesh) {
