@@ -5,7 +5,7 @@
 // all-zero ones and at its alphas, that every output tetrahedron is
 // positively oriented with every dihedral angle θ in [θmin, θmax], stated as
 // cos² thresholds C_min, C_max (bcc_claim).  `verify` checks each certified
-// tetrahedron with the certificate's own test (generic_bcc.hpp, "Angle
+// tetrahedron with the certificate's own test (key_claim_holds; generic_bcc.hpp, "Angle
 // forms"): volume > 0 and, per edge, d = n_c·n_d, N = |n_c|²|n_d|²,
 //     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N,
@@ -46,18 +46,9 @@ std::int64_t verify(const TetMesh& mesh, const BccClaim& claim, std::span<const 
     for (std::int64_t t = 0; t < T; ++t) {
         if (std::binary_search(all_zero.begin(), all_zero.end(), t)) continue;
         const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
-        std::array<bcc::Vec<double>, 4> p{};
-        for (std::size_t k = 0; k < 4; ++k) {
-            const Point3& q = mesh.vertices[static_cast<std::size_t>(tet[k])];
-            p[k] = {q.x, q.y, q.z};
-        }
-        const auto f = bcc::dihedral_forms<double>(p);
-        bool ok = f.volume6 > 0;
-        for (std::size_t k = 0; k < 6; ++k) {
-            const double d = f.dot[k], d2 = d * d;
-            ok = ok && (d <= 0 || d2 <= claim.cos2_min * f.nn[k]) && (d >= 0 || d2 <= claim.cos2_max * f.nn[k]);
-        }
-        if (!ok) {
+        std::array<Point3, 4> q{};
+        for (std::size_t k = 0; k < 4; ++k) q[k] = mesh.vertices[static_cast<std::size_t>(tet[k])];
+        if (!key_claim_holds(q, claim.cos2_min, claim.cos2_max)) {
             ++bad;
 #pragma omp critical
             if (first.empty()) first = "tetrahedron " + std::to_string(t);
