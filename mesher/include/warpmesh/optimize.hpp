@@ -133,6 +133,10 @@ struct OptimizeEvent {
     Vec2 from{}, to{};
     std::span<const std::size_t> star;
     std::array<std::array<std::int32_t, 3>, 2> before{}, after{};  // flips
+    // Materials: interior vertices were removed (src/mesh/remove.hpp) and the
+    // mesh compacted: old vertex index -> new, -1 for a removed vertex (the
+    // others keep their order).  Empty for moves and flips.
+    std::span<const std::int32_t> renumbered;
 };
 
 struct OptimizeOptions {
@@ -167,6 +171,7 @@ struct OptimizeReport {
     // it inserted, of which on boundary edges.
     std::int64_t refined_triangles = 0, inserted_vertices = 0, boundary_splits = 0;
     std::int64_t interface_splits = 0;  // inserted on interfaces (materials)
+    std::int64_t removed_vertices = 0;  // interior vertices removed (materials; src/mesh/remove.hpp)
     // Over all triangles of the mesh, degrees.
     double min_angle_before = 0, min_angle_after = 0;
     double max_angle_before = 0, max_angle_after = 0;
