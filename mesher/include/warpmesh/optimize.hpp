@@ -214,7 +214,12 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 // joins the patch with its own region; the halves replace the edge in
 // Mesh::interfaces with the same regions).  So Mesh::interfaces stays exactly
 // the edges between different regions (OptimizeReport::interface_splits
-// counts the splits).
+// counts the splits).  With refine_below_deg > 0, after the refinement an
+// interior vertex (no boundary or interface edge) of a triangle below 35° is
+// removed where the max-min re-triangulation of its link lifts its star's
+// smallest angle (src/mesh/remove.hpp: areas, boundary and interfaces
+// unchanged); the mesh is then compacted, so vertex and triangle indices
+// change (OptimizeEvent::renumbered, OptimizeReport::removed_vertices).
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
 // The report as text lines (for stdout) and as a JSON object (the report's
