@@ -36,16 +36,18 @@ public:
     Remover(Mesh& mesh, const RemoveParams& p) : m_(mesh), p_(p) {}
 
     RemoveResult run(std::span<const std::size_t> eligible) {
-        index();
         std::vector<std::pair<double, std::size_t>> bad;
         for (const std::size_t t : eligible)
             if (const double mn = min_angle(m_.triangles[t]); mn < p_.below_deg) bad.emplace_back(mn, t);
+        if (bad.empty()) return {};
         std::sort(bad.begin(), bad.end());
+        index(bad);
         for (const auto& [mn, t] : bad)
             for (int k = 0; k < 3; ++k) {
                 const Tri T = m_.triangles[t];  // rewritten or emptied by a removal: look again
                 if (T[0] < 0 || min_angle(T) >= p_.below_deg) break;
-                if (interior_[static_cast<std::size_t>(T[static_cast<std::size_t>(k)])]) try_remove(T[static_cast<std::size_t>(k)]);
+                const std::int32_t v = T[static_cast<std::size_t>(k)];
+                if (interior_[static_cast<std::size_t>(v)] && candidate_[static_cast<std::size_t>(v)]) try_remove(v);
             }
         if (r_.removed_vertices) compact();
         return std::move(r_);
@@ -54,13 +56,18 @@ public:
 private:
     Vec2 P(std::int32_t v) const { return m_.vertices[static_cast<std::size_t>(v)]; }
     double min_angle(const Tri& t) const { return triangle_min_angle(P(t[0]), P(t[1]), P(t[2])); }
+    // The star of an indexed vertex (slot_ >= 0).
+    std::vector<std::size_t>& star(std::int32_t v) { return stars_[static_cast<std::size_t>(slot_[static_cast<std::size_t>(v)])]; }
+    const std::vector<std::size_t>& star(std::int32_t v) const {
+        return stars_[static_cast<std::size_t>(slot_[static_cast<std::size_t>(v)])];
+    }
 
-    // Per vertex: its triangles, and whether it may be removed (on no
-    // boundary or interface edge).
-    void index() {
-        star_.assign(m_.vertices.size(), {});
-        for (std::size_t t = 0; t < m_.triangles.size(); ++t)
-            for (const std::int32_t v : m_.triangles[t]) star_[static_cast<std::size_t>(v)].push_back(t);
+    // Which vertices may be removed (on no boundary or interface edge), and
+    // the stars of the candidates (the vertices of the bad triangles) and of
+    // their neighbours — every vertex a removal rewrites a triangle of, since
+    // a removal only joins neighbours of the removed candidate — from two
+    // scans of the triangles; memory in proportion to the bad triangles.
+    void index(const std::vector<std::pair<double, std::size_t>>& bad) {
         interior_.assign(m_.vertices.size(), 1);
         for (const auto& e : m_.boundary) interior_[static_cast<std::size_t>(e[0])] = interior_[static_cast<std::size_t>(e[1])] = 0;
         for (const auto& e : m_.interfaces) interior_[static_cast<std::size_t>(e[0])] = interior_[static_cast<std::size_t>(e[1])] = 0;
@@ -69,12 +76,29 @@ private:
                 interior_[static_cast<std::size_t>(k >> 32)] = 0;
                 interior_[static_cast<std::size_t>(k & 0xffffffffu)] = 0;
             }
+        slot_.assign(m_.vertices.size(), -1);
+        std::int32_t slots = 0;
+        const auto give = [&](std::int32_t v) {
+            if (slot_[static_cast<std::size_t>(v)] < 0) slot_[static_cast<std::size_t>(v)] = slots++;
+        };
+        for (const auto& [mn, t] : bad)
+            for (const std::int32_t v : m_.triangles[t]) give(v);
+        candidate_.assign(m_.vertices.size(), 0);
+        for (std::size_t v = 0; v < slot_.size(); ++v) candidate_[v] = slot_[v] >= 0;
+        for (const Tri& T : m_.triangles)
+            if (candidate_[static_cast<std::size_t>(T[0])] || candidate_[static_cast<std::size_t>(T[1])] ||
+                candidate_[static_cast<std::size_t>(T[2])])
+                for (const std::int32_t v : T) give(v);
+        stars_.assign(static_cast<std::size_t>(slots), {});
+        for (std::size_t t = 0; t < m_.triangles.size(); ++t)
+            for (const std::int32_t v : m_.triangles[t])
+                if (slot_[static_cast<std::size_t>(v)] >= 0) star(v).push_back(t);
     }
 
     // v's link as a counter-clockwise cycle, or empty if its star is not a
     // closed disc of one region.
     std::vector<std::int32_t> link(std::int32_t v) const {
-        const auto& star = star_[static_cast<std::size_t>(v)];
+        const auto& star = this->star(v);
         if (star.size() < 3 || star.size() > max_link) return {};
         std::vector<std::pair<std::int32_t, std::int32_t>> next;  // (a, b): triangle v, a, b
         for (const std::size_t t : star) {
@@ -119,8 +143,9 @@ private:
 
     Mesh& m_;
     const RemoveParams& p_;
-    std::vector<std::vector<std::size_t>> star_;
-    std::vector<char> interior_;
+    std::vector<std::int32_t> slot_;                // per vertex: its index in stars_, or -1
+    std::vector<std::vector<std::size_t>> stars_;  // the indexed vertices' triangles
+    std::vector<char> interior_, candidate_;
     std::vector<char> dead_tri_, removed_;  // emptied triangle slots, removed vertices
     RemoveResult r_;
 };
@@ -168,7 +193,7 @@ double Remover::best_triangulation(const std::vector<Vec2>& L, double max_deg, s
 void Remover::try_remove(std::int32_t v) {
     const std::vector<std::int32_t> cycle = link(v);
     if (cycle.empty()) return;
-    auto star = star_[static_cast<std::size_t>(v)];
+    auto star = this->star(v);
     std::sort(star.begin(), star.end());
     double old_min = inf, old_max = 0;
     for (const std::size_t t : star) {
@@ -186,8 +211,8 @@ void Remover::try_remove(std::int32_t v) {
     // Accept: the new triangles take the first k - 2 slots of the star, the
     // last two are emptied; every cell data array gets the star's least value.
     for (const std::size_t t : star)
-        for (const std::int32_t w : m_.triangles[t]) {
-            auto& s = star_[static_cast<std::size_t>(w)];
+        for (const std::int32_t w : m_.triangles[t]) {  // all indexed: v and its neighbours
+            auto& s = this->star(w);
             s.erase(std::remove(s.begin(), s.end(), t), s.end());
         }
     for (auto& [name, data] : m_.cell_data) {
@@ -205,7 +230,7 @@ void Remover::try_remove(std::int32_t v) {
             continue;
         }
         m_.triangles[t] = {cycle[tris[i][0]], cycle[tris[i][1]], cycle[tris[i][2]]};
-        for (const std::int32_t w : m_.triangles[t]) star_[static_cast<std::size_t>(w)].push_back(t);
+        for (const std::int32_t w : m_.triangles[t]) this->star(w).push_back(t);
         r_.touched.push_back(t);
     }
     interior_[static_cast<std::size_t>(v)] = 0;
