@@ -2,7 +2,8 @@
 // sample of keys (every 97th canonical key, plus the pyramid and the
 // three-warp key that carry the minimum), with the certificate's own alphas
 // (each key's witnesses, claim and proof are a function of the key alone);
-// and a claim above the space's minimum is refused.
+// a claim above the space's minimum is refused; and a key whose largest
+// angle the first search misses is not capped (issue 29).
 #define BOOST_TEST_MODULE bcc_prover
 #include <cmath>
 #include <filesystem>
@@ -83,5 +84,32 @@ BOOST_AUTO_TEST_CASE(a_claim_above_the_minimum_is_refused) {
         const bp::KeyProof p = bp::prove_key(k, c.al, {std::round(std::ldexp(c95 * c95, 40)) / 1099511627776.0, c.claim.cmax}, 16);
         BOOST_TEST(!p.ok);
         BOOST_TEST(p.fail_kind == 1);
+    }
+}
+
+// Issue 29 item 3: witness_cos returned −cos for the maximum, so a failure at
+// a larger angle than the max witness never moved it and the key
+// -,0j,0g,0h/0 (largest angle 92.59 deg, reached as one warp t -> 0, which the
+// first search misses at 90 deg) fell back to the caps [9.31, 161.7]: gaps of
+// 40.6 and 71.7 deg.  Its claims now lie within 0.01 / 0.1 deg of its
+// witnesses, and witness_cos is the cos at both signs.
+BOOST_AUTO_TEST_CASE(issue29_max_witness_moves_and_the_key_is_not_capped) {
+    const Cert c = read_cert();
+    for (const auto& k : bp::enumerate_keys()) {
+        if (bp::code_of(k) != "-,0j,0g,0h/0") continue;
+        const auto ps = bp::key_params(k, c.al);
+        bp::Margins mg;
+        mg.cap = bp::cap_claim(9.31, 161.7);
+        const bp::KeyProof p = bp::prove_key_tight(k, c.al, mg);
+        BOOST_REQUIRE(p.ok);
+        const double cmin = bp::witness_cos(k, ps, p.wmin.x, 1), cmax = bp::witness_cos(k, ps, p.wmax.x, -1);
+        BOOST_TEST(cmin == p.wmin.cos);
+        BOOST_TEST(cmax == p.wmax.cos);
+        BOOST_TEST(cmax < 0);  // obtuse: the largest angle is above 90 deg
+        const auto deg = [](double c2) { return std::acos(std::sqrt(c2)) * 180 / M_PI; };
+        const double wmin = std::acos(cmin) * 180 / M_PI, wmax = std::acos(cmax) * 180 / M_PI;
+        BOOST_TEST(wmin - deg(p.claim.cmin) < 0.01);
+        BOOST_TEST((180 - deg(p.claim.cmax)) - wmax < 0.1);
+        BOOST_TEST(wmax > 92.5);
     }
 }

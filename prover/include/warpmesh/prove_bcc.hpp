@@ -73,6 +73,7 @@ struct KeyProof {
     std::string splits;  // preorder: '1' split, '0' verified leaf
     long leaves = 0;
     int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum, 3 over the leaf budget
+    std::array<long, 3> split_fails{};  // boxes split because that kind failed (0, 1, 2)
     std::array<double, 4> fail_point{};
 };
 // Branch and bound over the key's root box (bound.cpp), giving up after
@@ -95,16 +96,21 @@ double claim_cos2(double cos, double margin_deg);
 // the margins (0.004 deg at the minimum, 0.04 deg at the maximum: within the
 // 0.01 / 0.1 deg of "tight"), proved within a budget of `budget` leaves.  A
 // failure at a point more extreme than the witness moves the witness there;
-// a failure elsewhere doubles that margin, an exhausted budget both; once a
-// margin is 64 times its start (0.256 deg, 2.56 deg) the budget is lifted
-// (16 attempts in all; then the caps themselves, without budget).  The key's
-// claim is then loose (at most the cap), and its gap says so;
-// ok false only if even that fails.
+// a failure elsewhere doubles that margin.  An exhausted budget first
+// doubles both margins once (still tight), then the budget, up to
+// `max_budget`, then the margin whose failures caused most splits (both
+// when the other caused at least a quarter as many); once a margin is 64 times its start
+// (0.256 deg, 2.56 deg) the budget is lifted (32 attempts in all; then the
+// caps themselves, without budget).  The key's claim is then loose (at most
+// the cap), and its gap says so; ok false only if even that fails.
 // No key's claim is looser than `cap` (the theorem's bounds when every key
-// is proved at its margins; the prover's --cap-min-deg, --cap-max-deg).
+// is proved at its margins; the prover's --cap-min-deg, --cap-max-deg); a
+// key whose witness lies within tight_min_deg / tight_max_deg of the cap
+// claims the cap (so the theorem is the caps, and those keys stay tight).
 struct Margins {
     double min_deg = 0.004, max_deg = 0.04;
-    long budget = 1000;
+    long budget = 1000, max_budget = 16000;
+    double tight_min_deg = 0.009, tight_max_deg = 0.09;  // a cap this close to the witness is claimed
     Claim cap{1, 1};
 };
 // The cap for the angles (degrees): cos² rounded to 2^-40.  The prover's

@@ -205,6 +205,7 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
             return out;
         }
         out.splits += '1';
+        ++out.split_fails[static_cast<std::size_t>(fail)];
         const auto ss = static_cast<std::size_t>(s);
         const double mid = 0.5 * (it.b.lo[ss] + it.b.hi[ss]);
         Item lo = it, hi = it;

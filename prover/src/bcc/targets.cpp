@@ -59,7 +59,7 @@ std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Para
 }
 
 double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
-    return extreme_cos(k, ps, x, sign);
+    return sign * extreme_cos(k, ps, x, sign);
 }
 
 // Random starts (corners and faces favoured) and a shrinking-step pattern
@@ -119,31 +119,56 @@ Claim cap_claim(double min_deg, double max_deg) {
     return {c2(min_deg), c2(max_deg)};
 }
 
+namespace {
+
+// A key's claim (cos²) for a witness with this cos and margin: the witness's
+// angle moved outward by the margin, or the cap when that is as loose or the
+// cap lies within `tight_deg` of the witness (the keys at the theorem's
+// extremes then claim the theorem's round values, and stay tight).
+double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
+    return cap <= claim_cos2(cos, std::max(margin_deg, tight_deg)) ? cap : claim_cos2(cos, margin_deg);
+}
+
+}  // namespace
+
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth) {
     const std::vector<Param> ps = key_params(k, al);
     Witness w[2] = {search_witness(k, ps, 1), search_witness(k, ps, -1)};
+    const double start[2] = {mg.min_deg, mg.max_deg};
     double margin[2] = {mg.min_deg, mg.max_deg};
+    long budget = mg.budget;
+    const auto widen = [&](int j) { margin[j] = std::min(2 * margin[j], 64 * start[j]); };
     KeyProof p;
-    for (int attempt = 0; attempt < 16; ++attempt) {
+    for (int attempt = 0; attempt < 32; ++attempt) {
         // A largest angle below 90 deg (cos > 0) is claimed as 90 deg + the
         // margin; no claim is looser than the caps.
-        const Claim c{std::min(claim_cos2(w[0].cos, margin[0]), mg.cap.cmin),
-                      std::min(claim_cos2(std::min(w[1].cos, 0.0), margin[1]), mg.cap.cmax)};
-        // No budget once the minimum's margin reached 64 times its start (the
-        // maximum's likewise), nor at the last attempt: prove or fail.
-        const bool last = attempt == 15 || margin[0] >= 64 * mg.min_deg || margin[1] >= 64 * mg.max_deg;
-        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : mg.budget);
+        const Claim c{key_claim(w[0].cos, margin[0], mg.cap.cmin, mg.tight_min_deg),
+                      key_claim(std::min(w[1].cos, 0.0), margin[1], mg.cap.cmax, mg.tight_max_deg)};
+        // No budget once a margin reached 64 times its start: prove or fail.
+        const bool last = margin[0] >= 64 * start[0] || margin[1] >= 64 * start[1];
+        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget);
         p.claim = c, p.wmin = w[0], p.wmax = w[1];
         if (p.ok || p.fail_kind == 0) return p;
         if (p.fail_kind == 3) {
-            margin[0] = std::min(2 * margin[0], 64 * mg.min_deg), margin[1] = std::min(2 * margin[1], 64 * mg.max_deg);
+            // Over budget: first both margins to twice their start (still
+            // within tight), then the budget doubles up to max_budget, then
+            // the margin that caused most splits doubles (both if the other
+            // caused at least a quarter as many).
+            const long f1 = p.split_fails[1], f2 = p.split_fails[2];
+            if (margin[0] < 2 * start[0] && margin[1] < 2 * start[1]) widen(0), widen(1);
+            else if (budget < mg.max_budget) budget *= 2;
+            else {
+                if (4 * f1 >= f2) widen(0);
+                if (4 * f2 >= f1) widen(1);
+            }
             continue;
         }
         const int j = p.fail_kind - 1, sign = j == 0 ? 1 : -1;
         std::array<double, 4> x{};
         for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
         if (sign * witness_cos(k, ps, x, sign) > sign * w[j].cos + 1e-12) w[j] = search_witness(k, ps, sign, &x);
-        else margin[j] = std::min(2 * margin[j], 64 * (j == 0 ? mg.min_deg : mg.max_deg));
+        else if (margin[j] < 64 * start[j]) widen(j);
+        else break;  // nothing left to change
     }
     // Last resort: the caps themselves, no budget.
     p = prove_key(k, al, mg.cap, max_depth);
