@@ -126,15 +126,6 @@ int run_search(const bcc::Alphas& al, int n) {
     return 0;
 }
 
-// The local vertex reached from vertex i along direction w, or -1.
-int target(int i, int w) {
-    if (w == bcc::stay) return -1;
-    const bcc::Ivec q = bcc::add(bcc::reference_tet[static_cast<std::size_t>(i)], bcc::neighbour_offsets[static_cast<std::size_t>(w)]);
-    for (int j = 0; j < 4; ++j)
-        if (bcc::reference_tet[static_cast<std::size_t>(j)] == q) return j;
-    return -1;
-}
-
 // The key's parameter box when the thresholds depend on the pre-warp sign
 // `orig` of the violated vertex (a[0] α_long of −, a[1] of +, a[2] α_short of
 // −, a[3] of +): a warp t <= α(type, orig); a cut (−, +) edge keeps its point
@@ -147,7 +138,7 @@ std::vector<bcc_prover::Param> signed_params(const bcc_prover::Key& k, const std
     for (int i = 0; i < 4; ++i) {
         const int w = k.warp[static_cast<std::size_t>(i)];
         if (k.sign[static_cast<std::size_t>(i)] != 0 || w == bcc::stay) continue;
-        const int j = target(i, w);
+        const int j = bcc_prover::warp_target(i, w);
         if (j >= 0 && orig[static_cast<std::size_t>(j)] != -orig[static_cast<std::size_t>(i)]) return {};
         const double t = al(bcc::is_long_direction(w), orig[static_cast<std::size_t>(i)]);
         out.push_back({i, 0.0, t, 0.0, t});
