@@ -23,8 +23,10 @@
 # that, the prover reports the key as not proved: the row says so.
 #
 # A pair the prover refuses (alphas outside (0, 0.5), more than 5 digits)
-# is an error (exit 2).  A pair that fails prints "no bound" (the search finds flat tetrahedra),
-# "prover failed" (with the prover's reason) or "REJECTED" (the checker's
+# is an error (exit 2).  A pair that fails prints "no bound" (the search
+# finds flat tetrahedra), "not certifiable" (the search finds a key with no
+# right or obtuse angle: the certificate format needs a max witness with
+# one, so the checker would reject; not proved then), "prover failed" (with the prover's reason) or "REJECTED" (the checker's
 # reason): never skipped.  Columns: caps, certified range, the theorem's
 # witnesses, keys, leaves, prove and check user seconds, sha256.
 #
@@ -35,7 +37,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"
 threads="${WARPMESH_THREADS:-$(nproc)}"
 pairs=("$@")
-[ "${#pairs[@]}" -gt 0 ] || pairs=(0.24999:0.41189 0.24999:0.39957 0.22:0.38)
+[ "${#pairs[@]}" -gt 0 ] || pairs=(0.285:0.3985 0.28:0.40 0.27:0.39957 0.24999:0.41189 0.22:0.38 0.20:0.35 0.27:0.43 0.24999:0.35 0.30:0.41189 0.24999:0.38 0.35:0.41189)
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 keep="${KEEP_DIR:-}"
@@ -63,11 +65,15 @@ for p in "${pairs[@]}"; do
       echo "bcc-frontier: pair '$p': $(tail -1 "$tmp/ext.log")" >&2
       exit 2
     fi
-    read -r _ wmin kmin wmax kmax <<<"$ext"
+    read -r _ wmin kmin wmax kmax acute kacute wacute <<<"$ext"
     cmin="$(awk -v w="$wmin" 'BEGIN { printf "%.3f", int((w - 0.005) * 1000) / 1000 }')"
     cmax="$(awk -v w="$wmax" 'BEGIN { c = (w + 0.05) * 1000; i = int(c); if (i < c) i++; printf "%.3f", i / 1000 }')"
     if ! awk -v a="$cmin" -v b="$cmax" 'BEGIN { exit !(a > 0 && b < 180) }'; then
       row "$l" "$s" "" "no bound: search finds flat tetrahedra ($wmin° at \`$kmin\`, $wmax° at \`$kmax\`)" "" "" "" "" "" "" ""
+      continue
+    fi
+    if [ "$acute" -gt 0 ]; then
+      row "$l" "$s" "" "not certifiable in format 2: the search finds no right or obtuse angle in $acute keys (\`$kacute\` at most $wacute°), and the checker needs a max witness with one" "" "" "" "" "" "" ""
       continue
     fi
   fi

@@ -37,7 +37,10 @@ std::string dyadic40(double x) {
 // `--extremes`: the prover's own witness search (targets.cpp, the same
 // deterministic search that chooses each key's claim) over every key, no
 // proof: prints the smallest and largest angle found and their keys, from
-// which scripts/bcc-frontier.sh chooses a pair's caps.  Not on the proof
+// which scripts/bcc-frontier.sh chooses a pair's caps, then how many keys'
+// largest angle found is acute, and the key with the smallest largest angle
+// and that angle (an acute one: the key has no max witness the checker
+// accepts, which needs a right or obtuse angle).  Not on the proof
 // path (acos only names the angles).
 int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al) {
     std::vector<Witness> lo(keys.size()), hi(keys.size());
@@ -47,14 +50,17 @@ int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al) {
         lo[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, 1);
         hi[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, -1);
     }
-    std::size_t a = 0, b = 0;  // the most extreme witnesses (largest cos, smallest cos)
+    std::size_t a = 0, b = 0, c = 0;  // the most extreme witnesses (largest cos, smallest cos); c: largest max cos
+    int acute = 0;                     // keys whose largest angle found is acute
     for (std::size_t i = 0; i < keys.size(); ++i) {
         if (lo[i].cos > lo[a].cos) a = i;
         if (hi[i].cos < hi[b].cos) b = i;
+        if (hi[i].cos > hi[c].cos) c = i;
+        acute += hi[i].cos > 0;
     }
-    const auto deg = [](double c) { return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI; };
-    std::printf("extremes %.10f %s %.10f %s\n", deg(lo[a].cos), code_of(keys[a]).c_str(), deg(hi[b].cos),
-                code_of(keys[b]).c_str());
+    const auto deg = [](double x) { return std::acos(std::clamp(x, -1.0, 1.0)) * 180 / M_PI; };
+    std::printf("extremes %.10f %s %.10f %s %d %s %.10f\n", deg(lo[a].cos), code_of(keys[a]).c_str(), deg(hi[b].cos),
+                code_of(keys[b]).c_str(), acute, code_of(keys[c]).c_str(), deg(hi[c].cos));
     return 0;
 }
 
