@@ -88,7 +88,7 @@ for p in "${pairs[@]}"; do
   sum="$(sha256sum "$cert" | cut -d' ' -f1)"
   [ -z "$keep" ] || cp "$cert" "$keep/bcc-$l-$s.cert"
   if ! /usr/bin/time -f %U -o "$tmp/check.time" "$check" "$cert" >"$tmp/check.log" 2>&1; then
-    row "$l" "$s" "[$cmin, $cmax]" "REJECTED by the checker: $(grep -v '^[0-9.]*$' "$tmp/check.log" | tail -1)" "" "" "" "" "$ptime" "$(tail -1 "$tmp/check.time")" "$sum"
+    row "$l" "$s" "[$cmin, $cmax]" "REJECTED by the checker: $(grep -v '^[0-9.]*$' "$tmp/check.log" | tail -1 | sed "s|$cert: ||")" "" "" "" "" "$ptime" "$(tail -1 "$tmp/check.time")" "$sum"
     continue
   fi
   range="$(sed -n 's/.*rounded outward: every dihedral angle in \(.*\) deg$/\1/p' "$tmp/check.log")"
