@@ -93,7 +93,9 @@ for p in "${pairs[@]}"; do
     continue
   fi
   range="$(sed -n 's/.*rounded outward: every dihedral angle in \(.*\) deg$/\1/p' "$tmp/check.log")"
+  # shellcheck disable=SC2016  # the backquotes are Markdown, not expansions
   wmin="$(sed -n 's/^  3D witness min \([^:]*\): angle \([0-9.]*\) deg.*/`\1` \2°/p' "$tmp/check.log")"
+  # shellcheck disable=SC2016
   wmax="$(sed -n 's/^  3D witness max \([^:]*\): angle \([0-9.]*\) deg.*/`\1` \2°/p' "$tmp/check.log")"
   nkeys="$(sed -n 's/.* of the \([0-9]*\) keys is.*/\1/p' "$tmp/check.log")"
   leaves="$(sed -n 's/.*deg (\([0-9]*\) leaves)$/\1/p' "$tmp/check.log")"
