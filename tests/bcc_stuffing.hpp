@@ -38,7 +38,11 @@ struct Stuffed {
 // Meshes {f <= 0} on the block [0, n s]³ (lattice points of doubled
 // coordinates 0..2n) with violation thresholds `al`.  Cut points by linear
 // interpolation of f along the edge (a zero of f for affine f).
-inline Stuffed stuff(const std::function<double(double, double, double)>& f, int n, double s, const bcc::Alphas& al) {
+// `by_sign` (the explorer's rule experiments only, not the mesher's rule):
+// thresholds per sign of the violated vertex, {α_long of a − vertex, α_long
+// of a + vertex, α_short of −, α_short of +}, replacing `al`'s.
+inline Stuffed stuff(const std::function<double(double, double, double)>& f, int n, double s, const bcc::Alphas& al,
+                     const std::array<double, 4>* by_sign = nullptr) {
     const int m = 2 * n + 1;
     const auto idx = [m](const bcc::Ivec& q) { return (q[2] * m + q[1]) * m + q[0]; };
     const auto inside = [m](const bcc::Ivec& q) {
@@ -74,7 +78,10 @@ inline Stuffed stuff(const std::function<double(double, double, double)>& f, int
             const bcc::Ivec q = bcc::add(p, bcc::neighbour_offsets[static_cast<std::size_t>(d)]);
             if (!inside(q) || sign[static_cast<std::size_t>(idx(p))] * sign[static_cast<std::size_t>(idx(q))] >= 0) continue;
             const double u = frac(p, q);
-            if (u < (bcc::is_long_direction(d) ? al_long : al_short)) viol.push_back({u, p, d});
+            const bool lng = bcc::is_long_direction(d);
+            const double a = by_sign ? (*by_sign)[(lng ? 0U : 2U) + (sign[static_cast<std::size_t>(idx(p))] > 0 ? 1U : 0U)]
+                                     : (lng ? al_long : al_short);
+            if (u < a) viol.push_back({u, p, d});
         }
     std::sort(viol.begin(), viol.end(), bcc::warp_before);
     std::vector<std::array<double, 3>> pos(val.size());

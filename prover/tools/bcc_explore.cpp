@@ -9,6 +9,13 @@
 //                                         dihedral angle; worst keys printed
 //   bcc_explore shapes L S [TRIALS]       random quadrics stuffed on a 6³
 //                                         block (tests/bcc_stuffing.hpp)
+//   bcc_explore signs L- L+ S- S+ [N] [TRIALS]
+//                                         rule experiment (proofs/README.md,
+//                                         "Towards 12°"): thresholds per sign
+//                                         of the violated vertex (− inside,
+//                                         + outside); the space's extremes
+//                                         (per key, every pre-warp sign of its
+//                                         warped vertices) and random shapes
 // L, S: α_long, α_short as decimals (e.g. 0.24999 0.41189).
 #include <algorithm>
 #include <cmath>
@@ -119,7 +126,60 @@ int run_search(const bcc::Alphas& al, int n) {
     return 0;
 }
 
-int run_shapes(const bcc::Alphas& al, int trials) {
+// The key's parameter box when the thresholds depend on the pre-warp sign
+// `orig` of the violated vertex (a[0] α_long of −, a[1] of +, a[2] α_short of
+// −, a[3] of +): a warp t <= α(type, orig); a cut (−, +) edge keeps its point
+// at least α(type, −) from its − end and α(type, +) from its + end.  Empty if
+// orig contradicts a warp inside the tetrahedron (its target had the
+// opposite pre-warp sign).
+std::vector<bcc_prover::Param> signed_params(const bcc_prover::Key& k, const std::array<int, 4>& orig, const std::array<double, 4>& a) {
+    std::vector<bcc_prover::Param> out;
+    const auto al = [&](bool lng, int sg) { return a[(lng ? 0U : 2U) + (sg > 0 ? 1U : 0U)]; };
+    for (int i = 0; i < 4; ++i) {
+        const int w = k.warp[static_cast<std::size_t>(i)];
+        if (k.sign[static_cast<std::size_t>(i)] != 0 || w == bcc::stay) continue;
+        const int j = bcc_prover::warp_target(i, w);
+        if (j >= 0 && orig[static_cast<std::size_t>(j)] != -orig[static_cast<std::size_t>(i)]) return {};
+        const double t = al(bcc::is_long_direction(w), orig[static_cast<std::size_t>(i)]);
+        out.push_back({i, 0.0, t, 0.0, t});
+    }
+    for (int e = 0; e < 6; ++e) {
+        const auto& ed = bcc::tet_edges[static_cast<std::size_t>(e)];
+        const int s0 = k.sign[static_cast<std::size_t>(ed[0])];
+        if (s0 * k.sign[static_cast<std::size_t>(ed[1])] >= 0) continue;
+        const bool lng = bcc::edge_is_long(e);
+        const double lo = al(lng, s0), hi = 1 - al(lng, -s0);
+        out.push_back({4 + e, lo, hi, lo, hi});
+    }
+    return out;
+}
+
+int run_signs(const std::array<double, 4>& a, int n) {
+    std::mt19937 rng(29);
+    double mn = 180, mx = 0;
+    std::string kmin, kmax;
+    for (const auto& k : bcc_prover::enumerate_keys()) {
+        std::vector<int> warped;
+        for (int i = 0; i < 4; ++i)
+            if (k.sign[static_cast<std::size_t>(i)] == 0 && k.warp[static_cast<std::size_t>(i)] != bcc::stay) warped.push_back(i);
+        for (unsigned mask = 0; mask < (1U << warped.size()); ++mask) {
+            std::array<int, 4> orig = k.sign;
+            for (std::size_t b = 0; b < warped.size(); ++b) orig[static_cast<std::size_t>(warped[b])] = (mask >> b & 1U) ? 1 : -1;
+            const auto ps = signed_params(k, orig, a);
+            if (ps.empty() && !warped.empty()) continue;
+            bool inv = false;
+            const double lo = search(k, ps, n, 1, rng, inv).first, hi = search(k, ps, n, -1, rng, inv).first;
+            std::string code = bcc_prover::code_of(k) + " pre-warp";
+            for (int i : warped) code += orig[static_cast<std::size_t>(i)] > 0 ? " +" : " -";
+            if (inv || lo < mn) mn = inv ? 0 : lo, kmin = code + (inv ? " (inverted)" : "");
+            if (inv || hi > mx) mx = inv ? 180 : hi, kmax = code + (inv ? " (inverted)" : "");
+        }
+    }
+    std::printf("space: min %.4f (%s), max %.4f (%s)\n", mn, kmin.c_str(), mx, kmax.c_str());
+    return 0;
+}
+
+int run_shapes(const bcc::Alphas& al, int trials, const std::array<double, 4>* by_sign = nullptr) {
     std::mt19937 rng(30);
     std::uniform_real_distribution<double> u(-1, 1);
     Extremes all;
@@ -130,7 +190,7 @@ int run_shapes(const bcc::Alphas& al, int trials) {
         const auto f = [&](double x, double y, double z) {
             return a * (x - cx) * (x - cx) + b * (y - cy) * (y - cy) + c * (z - cz) * (z - cz) + xy * (x - cx) * (y - cy) - r * r;
         };
-        const testing::Stuffed m = testing::stuff(f, 6, 1.0, al);
+        const testing::Stuffed m = testing::stuff(f, 6, 1.0, al, by_sign);
         all_zero += m.all_zero_left_out;
         for (const auto& bt : m.background) {
             for (int k = bt.first; k < bt.first + bt.count; ++k) {
@@ -169,6 +229,16 @@ int main(int argc, char** argv) {
         const int n = argc > 4 ? std::atoi(argv[4]) : (mode == "search" ? 64 : 50);
         return mode == "search" ? run_search(al, n) : run_shapes(al, n);
     }
-    std::fprintf(stderr, "usage: bcc_explore keys | search L S [N] | shapes L S [TRIALS]\n");
+    if (mode == "signs" && argc >= 6) {
+        const std::array<double, 4> a{std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5])};
+        for (double x : a)
+            if (!(x > 0 && x < 0.5)) {
+                std::fprintf(stderr, "bcc_explore: thresholds must lie in (0, 0.5)\n");
+                return 2;
+            }
+        const int r = run_signs(a, argc > 6 ? std::atoi(argv[6]) : 24);
+        return r ? r : run_shapes(bcc::labelle_shewchuk_alphas, argc > 7 ? std::atoi(argv[7]) : 50, &a);
+    }
+    std::fprintf(stderr, "usage: bcc_explore keys | search L S [N] | shapes L S [TRIALS] | signs L- L+ S- S+ [N] [TRIALS]\n");
     return 2;
 }

@@ -23,6 +23,10 @@ using Key = bcc::Config;
 // unwarped then, so that vertex warped (later, elsewhere) and is not `stay`;
 // the parity bit is 0 where no parity quad exists.
 bool consistent(const Key& k);
+// The local vertex (0..3) that vertex i reaches along lattice direction w
+// (0..13; `stay`: none), or -1 if that lattice point is not a vertex of the
+// reference tetrahedron.
+int warp_target(int i, int w);
 
 // The symmetries, canonical forms and codes of keys are generic_bcc_keys.hpp's
 // (one definition, shared with the 3D mesher).

@@ -7,10 +7,7 @@
 #include "warpmesh/prove_bcc.hpp"
 
 namespace warpmesh::bcc_prover {
-namespace {
-
-// The local vertex reached from vertex i along direction w, or -1.
-int target(int i, int w) {
+int warp_target(int i, int w) {
     if (w == bcc::stay) return -1;
     const bcc::Ivec q = bcc::add(bcc::reference_tet[static_cast<std::size_t>(i)], bcc::neighbour_offsets[static_cast<std::size_t>(w)]);
     for (int j = 0; j < 4; ++j)
@@ -18,16 +15,14 @@ int target(int i, int w) {
     return -1;
 }
 
-}  // namespace
-
 bool consistent(const Key& k) {
     if (k.parity != 0 && !has_parity_quad(k.sign)) return false;
     for (int i = 0; i < 4; ++i) {
         const int w = k.warp[static_cast<std::size_t>(i)];
         if (k.sign[static_cast<std::size_t>(i)] != 0 && w != bcc::stay) return false;
-        const int j = target(i, w);
+        const int j = warp_target(i, w);
         if (j < 0) continue;
-        if (target(j, k.warp[static_cast<std::size_t>(j)]) == i) return false;  // towards each other
+        if (warp_target(j, k.warp[static_cast<std::size_t>(j)]) == i) return false;  // towards each other
         if (k.sign[static_cast<std::size_t>(j)] == 0 && k.warp[static_cast<std::size_t>(j)] == bcc::stay) return false;
     }
     return true;

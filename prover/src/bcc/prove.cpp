@@ -34,17 +34,49 @@ std::string dyadic40(double x) {
     return o.str();
 }
 
+// `--extremes`: the prover's own witness search (targets.cpp, the same
+// deterministic search that chooses each key's claim) over every key, no
+// proof: prints the smallest and largest angle found and their keys, from
+// which scripts/bcc-frontier.sh chooses a pair's caps, then how many keys'
+// largest angle found is acute, and the key with the smallest largest angle
+// and that angle (an acute one: the key has no max witness the checker
+// accepts, which needs a right or obtuse angle).  Not on the proof
+// path (acos only names the angles).
+int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al) {
+    std::vector<Witness> lo(keys.size()), hi(keys.size());
+#pragma omp parallel for schedule(dynamic, 4)
+    for (long i = 0; i < static_cast<long>(keys.size()); ++i) {
+        const auto ps = key_params(keys[static_cast<std::size_t>(i)], al);
+        lo[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, 1);
+        hi[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, -1);
+    }
+    std::size_t a = 0, b = 0, c = 0;  // the most extreme witnesses (largest cos, smallest cos); c: largest max cos
+    int acute = 0;                     // keys whose largest angle found is acute
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        if (lo[i].cos > lo[a].cos) a = i;
+        if (hi[i].cos < hi[b].cos) b = i;
+        if (hi[i].cos > hi[c].cos) c = i;
+        acute += hi[i].cos > 0;
+    }
+    const auto deg = [](double x) { return std::acos(std::clamp(x, -1.0, 1.0)) * 180 / M_PI; };
+    std::printf("extremes %.10f %s %.10f %s %d %s %.10f\n", deg(lo[a].cos), code_of(keys[a]).c_str(), deg(hi[b].cos),
+                code_of(keys[b]).c_str(), acute, code_of(keys[c]).c_str(), deg(hi[c].cos));
+    return 0;
+}
+
 }  // namespace
 
 int prove_bcc_main(int argc, char** argv) {
     std::string out = "proofs/bcc.cert", la = "0.24999", sa = "0.41189";
     double cap_min = 9.31, cap_max = 161.7;
     std::vector<int> subset;
+    bool extremes = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool more = i + 1 < argc;
         if (a == "--out" && more) out = argv[++i];
         else if (a == "--alphas" && i + 2 < argc) la = argv[++i], sa = argv[++i];
+        else if (a == "--extremes") extremes = true;
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
         else if (a == "--threads" && more) {
@@ -57,7 +89,7 @@ int prove_bcc_main(int argc, char** argv) {
             std::stringstream ss(argv[++i]);
             for (std::string tok; std::getline(ss, tok, ',');) subset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..]\n");
+            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes]\n");
             return 2;
         }
     }
@@ -75,6 +107,7 @@ int prove_bcc_main(int argc, char** argv) {
     else
         for (int k : subset)
             if (k >= 0 && k < static_cast<int>(all.size())) keys.push_back(all[static_cast<std::size_t>(k)]);
+    if (extremes) return print_extremes(keys, al);
     std::vector<KeyProof> proofs(keys.size());
     const auto t0 = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 4)
