@@ -34,6 +34,7 @@
 #include "warpmesh/memory.hpp"
 #include "warpmesh/mesh3d.hpp"
 #include "warpmesh/volume.hpp"
+#include "root_finder.hpp"
 
 namespace warpmesh {
 namespace {
@@ -106,6 +107,7 @@ public:
         resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
         spacing_ = {v.spacing[0], v.spacing[1], v.spacing[2]};
         per_mm_ = per_mm;
+        lowest_ = std::min(far_, values_.empty() ? far_ : *std::min_element(values_.begin(), values_.end()));
         for (std::size_t a = 0; a < 3; ++a) {
             const Vec3 ax = *axis_aligned(v.axes[a]);
             for (std::size_t p = 0; p < 3; ++p)
@@ -122,24 +124,20 @@ public:
         }
     }
     double value(double x, double y, double z) const override {
-        const double X[3] = {x, y, z};
-        std::array<double, 3> t{};
-        double box = -std::numeric_limits<double>::infinity();
-        for (std::size_t a = 0; a < 3; ++a) {
-            t[a] = (X[perm_[a]] - origin_[a]) * scale_[a];
+        std::array<double, 3> t = index_coordinates({x, y, z});
+        for (std::size_t a = 0; a < 3; ++a)
             if (!(t[a] == t[a])) return far_;  // a NaN coordinate
-            const double half = 0.5 * static_cast<double>(dims_[a] - 1);
-            box = std::max(box, (std::abs(t[a] - half) - half) * spacing_[a]);
-            t[a] = std::clamp(t[a], 0.0, static_cast<double>(dims_[a] - 1));
-        }
+        const double box = hull_distance(t);
         std::array<std::int64_t, 3> i{};
         std::array<double, 3> u{};
         for (std::size_t a = 0; a < 3; ++a) {
+            t[a] = std::clamp(t[a], 0.0, static_cast<double>(dims_[a] - 1));
             i[a] = std::min<std::int64_t>(static_cast<std::int64_t>(t[a]), dims_[a] - 2);
             u[a] = t[a] - static_cast<double>(i[a]);
         }
-        return std::max(interpolate(i, u), per_mm_ * box);
+        return std::max(interpolate(corners(i), u), per_mm_ * box);
     }
+    double cut_parameter(Point3 a, Point3 b, double fa, double fb) const override;
     Box3 bounds() const override {
         return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]};
     }
@@ -148,10 +146,25 @@ public:
     std::string describe() const override { return name_; }
 
 private:
-    // The trilinear interpolant in voxel cell i at fractions u.
-    double interpolate(const std::array<std::int64_t, 3>& i, const std::array<double, 3>& u) const {
-        // The 8 voxels i .. i + 1: straight from the stored box when they are
-        // all in it (the common case), else voxel by voxel (far_ outside it).
+    // Index coordinates t of a physical point X: t_n = ((X − origin)·a_n) / s_n.
+    std::array<double, 3> index_coordinates(const std::array<double, 3>& X) const {
+        std::array<double, 3> t{};
+        for (std::size_t a = 0; a < 3; ++a) t[a] = (X[static_cast<std::size_t>(perm_[a])] - origin_[a]) * scale_[a];
+        return t;
+    }
+    // b = max_n (|t_n − m_n| − r_n) s_n: the box distance to the voxel centres' hull, < 0 inside.
+    double hull_distance(const std::array<double, 3>& t) const {
+        double box = -std::numeric_limits<double>::infinity();
+        for (std::size_t a = 0; a < 3; ++a) {
+            const double half = 0.5 * static_cast<double>(dims_[a] - 1);
+            box = std::max(box, (std::abs(t[a] - half) - half) * spacing_[a]);
+        }
+        return box;
+    }
+    // The 8 voxels i .. i + 1 (bit 0: +x, bit 1: +y, bit 2: +z): straight
+    // from the stored box when they are all in it (the common case), else
+    // voxel by voxel (far_ outside it).
+    std::array<double, 8> corners(const std::array<std::int64_t, 3>& i) const {
         std::array<std::int64_t, 3> r{};
         bool stored = true;
         for (std::size_t a = 0; a < 3; ++a) {
@@ -166,6 +179,10 @@ private:
         } else {
             for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = at({i[0] + (k & 1), i[1] + (k >> 1 & 1), i[2] + (k >> 2)});
         }
+        return c;
+    }
+    // The trilinear interpolant of a cell's corners c at fractions u.
+    static double interpolate(const std::array<double, 8>& c, const std::array<double, 3>& u) {
         const double x0 = c[0] + u[0] * (c[1] - c[0]), x1 = c[2] + u[0] * (c[3] - c[2]);
         const double x2 = c[4] + u[0] * (c[5] - c[4]), x3 = c[6] + u[0] * (c[7] - c[6]);
         const double y0 = x0 + u[1] * (x1 - x0), y1 = x2 + u[1] * (x3 - x2);
@@ -183,12 +200,84 @@ private:
     Buffer<float> values_;
     std::array<std::int64_t, 3> lo_, n_, dims_;
     float far_;
+    double lowest_ = 0;  // no voxel value is below it: F >= lowest_ everywhere
     double feature_, resolution_ = 0, per_mm_ = 1;
     std::array<double, 3> spacing_{1, 1, 1};
     std::string name_;
     std::array<int, 3> perm_{0, 1, 2};
     std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};
 };
+
+// A cubic c0 + c1 s + c2 s² + c3 s³.
+struct Cubic {
+    std::array<double, 4> c{};
+    double operator()(double s) const { return ((c[3] * s + c[2]) * s + c[1]) * s + c[0]; }
+};
+
+// p + (x0 + s dx)(q − p): one lerp of the trilinear interpolant along a
+// linear path, one degree up (p and q of degree <= 2).
+Cubic lerp(const Cubic& p, const Cubic& q, double x0, double dx) {
+    Cubic r;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const double d = q.c[k] - p.c[k];
+        r.c[k] += p.c[k] + x0 * d;
+        r.c[k + 1] += dx * d;
+    }
+    return r;
+}
+
+// Cut points.  Where the hull term cannot win on the segment a b (K b <= the
+// lowest voxel value at both ends, hence all along it: b is convex along a
+// line), f is the interpolant F there, unclamped, and in each voxel cell the
+// segment crosses F is the trilinear interpolant of a linear path: a cubic
+// in the segment's parameter.  The segment is split at the cells' faces
+// (piece [u, e], local parameter s in [0, 1]); in the first piece whose end
+// has the sign opposite to f(a), the bracketed root finder runs on that
+// piece's cubic (Horner: a few flops an evaluation instead of a lookup of
+// eight voxels), to the same convergence as on f (root_finder.hpp).  F is
+// continuous, so that piece brackets a zero of f: the one nearest a where f
+// has several on the edge.  Elsewhere (the hull term, a NaN), or where
+// rounding makes a piece's start disagree with the previous piece's end,
+// the root finder on f itself.
+double VolumeLevelSet3::cut_parameter(Point3 a, Point3 b, double fa, double fb) const {
+    const std::array<double, 3> t0 = index_coordinates({a.x, a.y, a.z}), t1 = index_coordinates({b.x, b.y, b.z});
+    bool plain = per_mm_ * hull_distance(t0) <= lowest_ && per_mm_ * hull_distance(t1) <= lowest_;
+    for (std::size_t k = 0; k < 3; ++k) plain = plain && std::isfinite(t0[k]) && std::isfinite(t1[k]);
+    if (!plain) return bracketed_root3(*this, a, b, fa, fb);
+    std::array<double, 3> dt{}, next{};  // per axis: t's rate, the parameter of the next cell face
+    std::array<std::int64_t, 3> face{}, step{};
+    for (std::size_t k = 0; k < 3; ++k) {
+        dt[k] = t1[k] - t0[k];
+        step[k] = dt[k] > 0 ? 1 : -1;
+        face[k] = dt[k] > 0 ? static_cast<std::int64_t>(std::floor(t0[k])) + 1 : static_cast<std::int64_t>(std::ceil(t0[k])) - 1;
+        next[k] = dt[k] != 0 ? (static_cast<double>(face[k]) - t0[k]) / dt[k] : 2.0;
+    }
+    for (double u = 0; u < 1;) {
+        const double e = std::min({1.0, next[0], next[1], next[2]}), len = e - u, mid = 0.5 * (u + e);
+        std::array<std::int64_t, 3> i{};
+        std::array<double, 3> x0{}, dx{};  // the cell's fractions along the piece: x0 + s dx
+        for (std::size_t k = 0; k < 3; ++k) {
+            i[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(t0[k] + mid * dt[k])), 0, dims_[k] - 2);
+            x0[k] = t0[k] + u * dt[k] - static_cast<double>(i[k]);
+            dx[k] = len * dt[k];
+        }
+        const std::array<double, 8> c = corners(i);
+        std::array<Cubic, 4> xs{};
+        for (std::size_t m = 0; m < 4; ++m) xs[m] = lerp({{c[2 * m], 0, 0, 0}}, {{c[2 * m + 1], 0, 0, 0}}, x0[0], dx[0]);
+        const Cubic p = lerp(lerp(xs[0], xs[1], x0[1], dx[1]), lerp(xs[2], xs[3], x0[1], dx[1]), x0[2], dx[2]);
+        const double p0 = p(0), p1 = p(1);
+        if ((p1 < 0) != (fa < 0) || p1 == 0) {
+            if (p1 == 0) return inside_unit_interval(e);
+            if (p0 == 0) return inside_unit_interval(u);
+            if ((p0 < 0) != (fa < 0)) break;
+            return inside_unit_interval(u + len * bracketed_root_of(p, p0, p1));
+        }
+        for (std::size_t k = 0; k < 3; ++k)
+            if (next[k] == e) face[k] += step[k], next[k] = (static_cast<double>(face[k]) - t0[k]) / dt[k];
+        u = e;
+    }
+    return bracketed_root3(*this, a, b, fa, fb);
+}
 
 std::string labels_text(const ImageLevelSetOptions& m) {
     if (m.label_nonzero) return "nonzero";
