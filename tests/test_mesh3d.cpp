@@ -5,6 +5,7 @@
 // units, and the bad inputs (empty region, coarse spacing, memory limit).
 #define BOOST_TEST_MODULE mesh3d
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -279,6 +280,53 @@ BOOST_AUTO_TEST_CASE(volume_cut_point_is_a_zero_in_the_first_cell_where_f_change
         }
         BOOST_TEST(cut > scaled(4000) / 10);
     }
+}
+
+// The label distance field's transforms start from the region's surface
+// voxels only and drop distances beyond the band (volume_levelset3.cpp): at
+// every voxel centre the field must still be the signed distance to the
+// nearest voxel centre of the other class, minus half the smallest spacing,
+// clamped to the band — here against brute force, with anisotropic spacing.
+BOOST_AUTO_TEST_CASE(label_distance_field_is_the_clamped_signed_distance) {
+    Volume v;
+    v.dims = {22, 20, 18};
+    v.spacing = {1.0, 0.8, 1.3};
+    v.source = "blobs";
+    v.values.assign(static_cast<std::size_t>(v.voxel_count()), 0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int b = 0; b < 8; ++b) {
+        const double cx = 5 + 12 * u(rng), cy = 5 + 6 * u(rng), cz = 5 + 13 * u(rng), r = 1 + 3 * u(rng);
+        for (std::int64_t k = 0; k < 18; ++k)
+            for (std::int64_t j = 0; j < 20; ++j)
+                for (std::int64_t i = 0; i < 22; ++i)
+                    if (std::hypot(i - cx, 0.8 * j - cy, 1.3 * k - cz) < r) v.values[static_cast<std::size_t>(i + 22 * (j + 20 * k))] = 1;
+    }
+    VolumeLevelSet3Options o;
+    o.mode.mode = ImageMode::label;
+    o.mode.labels = {1};
+    const auto f = make_volume_levelset3(v, o);
+    const double c = 0.5 * 0.8, cap = o.band * 1.3;
+    int checked = 0;
+    for (std::int64_t k = 0; k < 18; ++k)
+        for (std::int64_t j = 0; j < 20; ++j)
+            for (std::int64_t i = 0; i < 22; ++i) {
+                // away from the hull, where f is the interpolant itself
+                const double box = std::max({(std::abs(i - 10.5) - 10.5) * 1.0, (std::abs(j - 9.5) - 9.5) * 0.8, (std::abs(k - 8.5) - 8.5) * 1.3});
+                if (box > -cap) continue;
+                const bool in = v.at(i, j, k) == 1;
+                double d2 = std::numeric_limits<double>::infinity();
+                for (std::int64_t kk = 0; kk < 18; ++kk)
+                    for (std::int64_t jj = 0; jj < 20; ++jj)
+                        for (std::int64_t ii = 0; ii < 22; ++ii)
+                            if ((v.at(ii, jj, kk) == 1) != in)
+                                d2 = std::min(d2, std::pow(ii - i, 2) + std::pow(0.8 * (jj - j), 2) + std::pow(1.3 * (kk - k), 2));
+                const double want = std::clamp(in ? -(std::sqrt(d2) - c) : std::sqrt(d2) - c, -cap, cap);
+                const double got = f->value(static_cast<double>(i), 0.8 * static_cast<double>(j), 1.3 * static_cast<double>(k));
+                BOOST_TEST(std::abs(got - want) < 1e-5, "voxel " << i << "," << j << "," << k << ": " << got << " against " << want);
+                checked += std::abs(want) < cap;
+            }
+    BOOST_TEST(checked > 100);
 }
 
 BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {

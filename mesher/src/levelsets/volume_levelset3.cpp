@@ -23,10 +23,14 @@
 // other class and the trilinear interpolant's zero passes there.  Only the
 // region's bounding box grown by `band` voxels is transformed and stored (as
 // floats); f is clamped to ±band × the largest spacing, which farther voxels
-// get without being stored.
+// get without being stored.  The transforms start from the voxels on the
+// region's surface only (boundary_sources) and drop distances beyond the
+// band after each pass, so their work follows the surface; the region's
+// inscribed distance (feature_size) is then known only within the band.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <sstream>
 
 #include "warpmesh/buffer.hpp"
@@ -39,8 +43,9 @@
 namespace warpmesh {
 namespace {
 
-// Squared-distance transform of one line: d[i] = min_j g[j] + (w (i − j))².
-void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, double w, std::vector<std::int64_t>& v,
+// Squared-distance transform of one line: d[i] = min_j g[j] + (w (i − j))²,
+// +inf where that exceeds `limit`.
+void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
               std::vector<double>& z, std::vector<double>& gv) {
     constexpr double inf = std::numeric_limits<double>::infinity();
     v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), gv.resize(static_cast<std::size_t>(n));
@@ -70,30 +75,75 @@ void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, dou
         }
         while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
         const std::int64_t p = v[static_cast<std::size_t>(j)];
-        d[i * stride] = static_cast<float>(gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>((i - p) * (i - p)));
+        const double di = gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>((i - p) * (i - p));
+        d[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
     }
 }
 
-// In place: g (0 at the sources, +inf elsewhere) → squared distances.
-void edt(Buffer<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w) {
-    const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
+// In place: g (0 at the sources, +inf elsewhere) → squared distances, +inf
+// beyond `limit` after each pass (a later pass only adds to a value).  The x
+// lines are contiguous; the y and z lines are taken in tiles of `tile` lines
+// adjacent along x, copied into a small buffer (each voxel row read and
+// written as whole cache lines) and transformed there, a line at a time with
+// its stride: the same arithmetic as a line in place.
+void edt(Buffer<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w, double limit) {
+    constexpr std::int64_t tile = 16;
     Buffer<float> out(g.size());  // every element written by each pass
-    for (int a = 0; a < 3; ++a) {
-        const int b = (a + 1) % 3, c = (a + 2) % 3;
 #pragma omp parallel
-        {
-            std::vector<std::int64_t> v;
-            std::vector<double> z, gv;
+    {
+        std::vector<std::int64_t> v;
+        std::vector<double> z, gv;
+        std::vector<float> in_tile, out_tile;
 #pragma omp for schedule(static)
-            for (std::int64_t jc = 0; jc < n[static_cast<std::size_t>(c)]; ++jc)
-                for (std::int64_t jb = 0; jb < n[static_cast<std::size_t>(b)]; ++jb) {
-                    const std::int64_t base = jb * stride[static_cast<std::size_t>(b)] + jc * stride[static_cast<std::size_t>(c)];
-                    edt_line(g.data() + base, out.data() + base, n[static_cast<std::size_t>(a)], stride[static_cast<std::size_t>(a)],
-                             w[static_cast<std::size_t>(a)], v, z, gv);
-                }
+        for (std::int64_t line = 0; line < n[1] * n[2]; ++line)
+            edt_line(g.data() + line * n[0], out.data() + line * n[0], n[0], 1, w[0], limit, v, z, gv);
+        for (std::size_t a = 1; a < 3; ++a) {
+            const std::size_t c = 3 - a;  // the axis other than x and a
+            const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
+#pragma omp single
+            g.swap(out);
+            const std::int64_t tiles = (n[0] + tile - 1) / tile, len = n[a];
+            in_tile.resize(static_cast<std::size_t>(len * tile)), out_tile.resize(static_cast<std::size_t>(len * tile));
+#pragma omp for schedule(static)
+            for (std::int64_t job = 0; job < tiles * n[c]; ++job) {
+                const std::int64_t x0 = job % tiles * tile, width = std::min(tile, n[0] - x0), base = x0 + job / tiles * stride_c;
+                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, in_tile.data() + i * tile);
+                for (std::int64_t x = 0; x < width; ++x) edt_line(in_tile.data() + x, out_tile.data() + x, len, tile, w[a], limit, v, z, gv);
+                for (std::int64_t i = 0; i < len; ++i) std::copy_n(out_tile.data() + i * tile, width, out.data() + base + i * stride_a);
+            }
         }
-        g.swap(out);
     }
+    g.swap(out);
+}
+
+// The transforms' sources: the voxels of each class (region or not) with a
+// 6-neighbour of the other class in the box.  The nearest voxel of a class
+// to a voxel p of the other class is one of them: a voxel q of the class
+// without such a neighbour has a neighbour of its class one step nearer p
+// along an axis where q − p is non-zero, and a transform's value (rounded
+// sums of the squared offsets, axis by axis) never grows as one axis's
+// offset shrinks.  So the fields are those of the transforms from every
+// voxel of the class (to the last bit, unless two sources tie within
+// rounding), at the cost of a surface's worth of sources.
+void boundary_sources(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, Buffer<float>& in,
+                      Buffer<float>& out) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j)
+            for (std::int64_t i = 0; i < n[0]; ++i) {
+                const std::int64_t at = i + stride[1] * j + stride[2] * k;
+                const std::array<std::int64_t, 3> q{i, j, k};
+                const std::uint8_t r = region[static_cast<std::size_t>(at)];
+                bool edge = false;
+                for (std::size_t a = 0; a < 3; ++a) {
+                    edge = edge || (q[a] > 0 && region[static_cast<std::size_t>(at - stride[a])] != r);
+                    edge = edge || (q[a] + 1 < n[a] && region[static_cast<std::size_t>(at + stride[a])] != r);
+                }
+                in[static_cast<std::size_t>(at)] = r && edge ? 0.0f : inf;   // sources of d_out: the region's
+                out[static_cast<std::size_t>(at)] = !r && edge ? 0.0f : inf;  // sources of d_in: the rest's
+            }
 }
 
 class VolumeLevelSet3 final : public LevelSet3 {
@@ -312,30 +362,30 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
         n[a] = hi[a] - lo[a] + 1;
         count *= static_cast<std::uint64_t>(n[a]);
     }
-    // Two float fields and a transform buffer while building, one kept.
-    check_memory(count * 12, o.max_memory, "the label volume's distance field (" + std::to_string(count) + " voxels)",
-                 "12 bytes a voxel of the region's bounding box", "crop the volume to the region");
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    Buffer<float> in(count), out(count);  // every element written below
+    // Two float fields, a transform buffer and the region's mask while building, one field kept.
+    check_memory(count * 13, o.max_memory, "the label volume's distance field (" + std::to_string(count) + " voxels)",
+                 "13 bytes a voxel of the region's bounding box", "crop the volume to the region");
+    std::vector<std::uint8_t> region(count);
     for (std::int64_t k = 0; k < n[2]; ++k)
         for (std::int64_t j = 0; j < n[1]; ++j)
-            for (std::int64_t i = 0; i < n[0]; ++i) {
-                const std::size_t at = static_cast<std::size_t>(i + n[0] * (j + n[1] * k));
-                const bool r = in_region(v.at(lo[0] + i, lo[1] + j, lo[2] + k));
-                in[at] = r ? 0.0f : inf;   // sources of d_out: the region
-                out[at] = r ? inf : 0.0f;  // sources of d_in: the rest
-            }
+            for (std::int64_t i = 0; i < n[0]; ++i)
+                region[static_cast<std::size_t>(i + n[0] * (j + n[1] * k))] = in_region(v.at(lo[0] + i, lo[1] + j, lo[2] + k));
+    Buffer<float> in(count), out(count);  // every element written by boundary_sources
+    boundary_sources(region, n, in, out);
     const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
-    edt(in, n, w);
-    edt(out, n, w);
     const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
-    double feature = 0;
+    // A squared distance above (cap + 2c)² gives |f| > cap: clamped to cap,
+    // the same as +inf, so the transforms drop it (and skip it in later passes).
+    edt(in, n, w, (cap + 2 * c) * (cap + 2 * c));
+    edt(out, n, w, (cap + 2 * c) * (cap + 2 * c));
+    double feature = 0;  // the largest inscribed distance; +inf: beyond the band
     for (std::size_t at = 0; at < count; ++at) {
-        const bool r = in[at] == 0;
+        const bool r = region[at];
         const double d = r ? -(std::sqrt(static_cast<double>(out[at])) - c) : std::sqrt(static_cast<double>(in[at])) - c;
         if (r) feature = std::max(feature, -d);
         in[at] = static_cast<float>(std::clamp(d, -cap, cap));
     }
+    if (!std::isfinite(feature)) feature = 0;  // unknown: deeper than the band somewhere
     Buffer<float>().swap(out);
     return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
                                              v.source + " (label " + labels_text(m) + ")");
