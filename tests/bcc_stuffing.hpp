@@ -32,6 +32,7 @@ struct Stuffed {
     std::vector<bool> on_surface;  // per point: a zero lattice point or a cut point
     std::vector<std::array<int, 4>> tets;
     std::vector<StuffedTet> background;
+    int all_zero_left_out = 0;  // background tetrahedra with four zero vertices (never output)
 };
 
 // Meshes {f <= 0} on the block [0, n s]³ (lattice points of doubled
@@ -122,13 +123,11 @@ inline Stuffed stuff(const std::function<double(double, double, double)>& f, int
                     for (const auto& q : p) ok = ok && inside(q);
                     if (!ok) continue;  // the low faces' far centres lie outside the block
                     StuffedTet bt;
-                    std::array<double, 3> centroid{};
                     std::array<int, 4> vsign{}, vwarp{};
                     for (int i = 0; i < 4; ++i) {
                         const auto g = static_cast<std::size_t>(idx(p[static_cast<std::size_t>(i)]));
                         vsign[static_cast<std::size_t>(i)] = sign[g];
                         vwarp[static_cast<std::size_t>(i)] = warp[g];
-                        for (int k = 0; k < 3; ++k) centroid[static_cast<std::size_t>(k)] += pos[g][static_cast<std::size_t>(k)] / 4;
                         if (warp[g] != bcc::stay) bt.t[static_cast<std::size_t>(i)] = wfrac[g];
                     }
                     bt.config = bcc::local_config(p, vsign, vwarp);
@@ -138,8 +137,8 @@ inline Stuffed stuff(const std::function<double(double, double, double)>& f, int
                         const auto& b = p[static_cast<std::size_t>(ed[1])];
                         if (sign[static_cast<std::size_t>(idx(a))] * sign[static_cast<std::size_t>(idx(b))] < 0) bt.u[static_cast<std::size_t>(e)] = frac(a, b);
                     }
-                    const bool az = f(centroid[0], centroid[1], centroid[2]) < 0;
-                    const bcc::Stencil st = bcc::stencil(bt.config.sign, bt.config.parity, az);
+                    out.all_zero_left_out += vsign == std::array<int, 4>{0, 0, 0, 0};
+                    const bcc::Stencil st = bcc::stencil(bt.config.sign, bt.config.parity);
                     if (st.count == 0) continue;
                     bt.first = static_cast<int>(out.tets.size());
                     bt.count = st.count;

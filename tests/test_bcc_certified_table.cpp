@@ -33,7 +33,7 @@ BOOST_AUTO_TEST_CASE(every_key_has_a_claim_and_the_theorem_is_their_extreme) {
     BOOST_TEST(worst_max == th->max_deg);
     bcc::Config all_zero;
     all_zero.sign = {0, 0, 0, 0};
-    BOOST_TEST(!bcc_certified_bound(all_zero).has_value());  // not certified
+    BOOST_TEST(!bcc_certified_bound(all_zero).has_value());  // no output (never output), so not listed
 }
 
 BOOST_AUTO_TEST_CASE(stuffed_tetrahedra_lie_within_their_keys_claims) {

@@ -20,7 +20,7 @@ namespace {
 // Sorted dihedral angles and volumes (x1000, apart from the angles) of the key's output at (t, u).
 std::vector<double> angles(const bcc::Config& c, const std::array<double, 4>& t, const std::array<double, 6>& u) {
     const auto q = bcc::generic_points(c, t, u);
-    const bcc::Stencil st = bcc::stencil(c.sign, c.parity, true);
+    const bcc::Stencil st = bcc::stencil(c.sign, c.parity);
     std::vector<double> out;
     for (int k = 0; k < st.count; ++k) {
         std::array<bcc::Vec<double>, 4> p{};

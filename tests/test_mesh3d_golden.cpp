@@ -30,7 +30,7 @@ std::string num(double v) {
 std::string canonical(const TetMesh& m, const Mesh3dReport& r) {
     std::ostringstream s;
     s << "tets " << r.tets << " vertices " << r.vertices << " boundary " << r.boundary_faces << " cut_points " << r.cut_points
-      << " warped " << r.warped << " all_zero " << r.all_zero_tets << "\n";
+      << " warped " << r.warped << " all_zero_left_out " << r.all_zero_left_out << "\n";
     char angles[96];
     std::snprintf(angles, sizeof angles, "dihedral %.9f %.9f\n", r.min_dihedral_deg, r.max_dihedral_deg);
     s << angles;

@@ -290,7 +290,7 @@ std::vector<Tet> stencil(const Key& k) {
     std::vector<int> ng, zr, ps;
     for (int i = 0; i < 4; ++i) (k.sign[i] < 0 ? ng : k.sign[i] == 0 ? zr : ps).push_back(i);
     std::vector<Tet> out;
-    if (ng.empty()) return out;
+    if (ng.empty()) return out;  // no - vertex (all-zero included): never output, so no key
     if (ps.empty()) return {{0, 1, 2, 3}};
     if (ng.size() == 1) {
         Tet t{0, 1, 2, 3};

@@ -41,7 +41,7 @@ def test_sphere_in_every_format_matches_the_report(tmp_path):
     r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.2", "-o", outs[0],
                 *[a for o in outs[1:] for a in ("--also", o)], "--report", "r.json", "--verify"], tmp_path)
     report = json.loads((tmp_path / "r.json").read_text())
-    assert "tetrahedra" in r.stdout and "certified" in r.stdout
+    assert "tetrahedra" in r.stdout and "certified" in r.stdout and "all-zero background tetrahedra left out: 0" in r.stdout
     assert report["certified"]["verified"] and report["certified"]["uncertified_tetrahedra"] == 0
     assert report["certified"]["min_dihedral_deg"] <= report["min_dihedral_deg"]
     assert report["max_dihedral_deg"] <= report["certified"]["max_dihedral_deg"]
@@ -78,7 +78,10 @@ def test_label_volume_in_mm(tmp_path):
     # A ball of radius ~4 mm (8 voxels of 0.5 mm) centred at (5.5, 6, 6) mm.
     assert abs(vol.sum() - 4 / 3 * np.pi * 4 ** 3) < 0.15 * 4 / 3 * np.pi * 4 ** 3
     assert m.points[:, 0].max() < 10.5  # the cube of label 7 (x >= 11 mm) is not in it
-    assert report["certified"]["uncertified_tetrahedra"] == report["certified"]["all_zero_tetrahedra"]
+    # Every tetrahedron certified: all-zero background tetrahedra are left out (issue 30).
+    assert report["certified"]["uncertified_tetrahedra"] == 0 and isinstance(report["all_zero_left_out"], int)
+    assert report["certified"]["min_dihedral_deg"] <= report["min_dihedral_deg"]
+    assert report["max_dihedral_deg"] <= report["certified"]["max_dihedral_deg"]
     # --units pixels: the same volume in voxel coordinates (twice as large).
     mesh3d(["l.nrrd", "--label", "5", "--units", "pixels", "-o", "p.vtu", "--quiet"], tmp_path)
     p = meshio.read(tmp_path / "p.vtu")

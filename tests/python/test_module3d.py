@@ -37,6 +37,9 @@ def test_label_volume_with_voxel_size():
     assert abs(t.points[:, 0].mean() - 12 * 0.5) < 0.05 and abs(t.points[:, 2].mean() - 10 * 1.0) < 0.1
     c = t.report["certified"]
     assert t.certified == (c["min_dihedral_deg"], c["max_dihedral_deg"])
+    # Every tetrahedron certified: all-zero background tetrahedra are left out and counted (issue 30).
+    assert c["uncertified_tetrahedra"] == 0 and c["certified_tetrahedra"] == len(t.tetrahedra)
+    assert t.report["all_zero_left_out"] >= 0 and "all_zero_tetrahedra" not in c
     assert set(np.unique(t.regions)) == {1} and len(t.boundary_faces) == len(t.boundary_tags)
 
 

@@ -24,7 +24,7 @@ struct BccKeyBound {
 
 // The claim of a canonical key (bcc::key_of), or nothing if the certificate
 // was missing at build time or the key has no output (no - vertex: the
-// all-zero keys are not certified).
+// all-zero keys, whose tetrahedron is never output).
 std::optional<BccKeyBound> bcc_certified_bound(const bcc::Config& canonical_key);
 // The violation thresholds the certificate was proved for (the mesher must
 // use them for the bounds to apply), or nothing without a certificate.

@@ -50,12 +50,16 @@
 //      so its fraction lies in [α_e, 1 − α_e].
 //   6. Each background tetrahedron is split by `stencil` from its vertices'
 //      post-warp signs and its parity bit (`tet_parity`); the output is the
-//      part with f <= 0.  A tetrahedron whose four vertices are all zero is
-//      output iff the mesher finds f < 0 at the centroid of its vertices
-//      (`all_zero_inside`); the prover treats those separately.
+//      part with f <= 0.  A tetrahedron without a - vertex outputs nothing,
+//      so one whose four vertices are all zero ("all-zero") is never output:
+//      its faces, all of whose vertices lie on f = 0, become boundary faces
+//      where a neighbour's output shares them, so the boundary stays on the
+//      level set, the mesh stays conforming, and every output tetrahedron
+//      has a key with a - vertex (certified: proofs/README.md).  Its volume,
+//      within the α-band of the surface, is left out.
 //
 // THE STENCILS.  Let n-, n0, n+ count the post-warp signs.  n- = 0: nothing
-// (unless all zero, above).  n+ = 0: the whole tetrahedron.  Otherwise the
+// (all zero included, above).  n+ = 0: the whole tetrahedron.  Otherwise the
 // output polyhedron's vertices are the - and 0 vertices and the cut points of
 // the (-, +) edges:
 //   n- = 1: one tetrahedron (each + vertex replaced by its cut point);
@@ -276,9 +280,8 @@ constexpr void prism_tets(Stencil& s, const std::array<int, 3>& bot, const std::
 }
 
 // The output tetrahedra of a background tetrahedron with post-warp signs
-// `sign` (local order) and parity bit `parity`.  `all_zero_inside`: the
-// mesher's decision for a tetrahedron whose vertices are all zero.
-constexpr Stencil stencil(const std::array<int, 4>& sign, int parity, bool all_zero_inside = false) {
+// `sign` (local order) and parity bit `parity`; none without a - vertex.
+constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
     Stencil s;
     std::array<int, 4> neg{}, zer{}, pos{};
     int nn = 0, nz = 0, np = 0;
@@ -288,10 +291,7 @@ constexpr Stencil stencil(const std::array<int, 4>& sign, int parity, bool all_z
         else if (v == 0) zer[static_cast<std::size_t>(nz++)] = i;
         else pos[static_cast<std::size_t>(np++)] = i;
     }
-    if (nn == 0) {
-        if (nz == 4 && all_zero_inside) push_oriented(s, 0, 1, 2, 3);
-        return s;
-    }
+    if (nn == 0) return s;  // all zero included: never output (step 6)
     if (np == 0) {
         push_oriented(s, 0, 1, 2, 3);
         return s;

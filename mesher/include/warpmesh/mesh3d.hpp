@@ -179,9 +179,11 @@ struct Mesh3dOptions {
     bcc::Alphas alphas = bcc::labelle_shewchuk_alphas;  // violation thresholds (α_long, α_short)
     int threads = 0;                                // OpenMP threads; 0 = the OpenMP default
     std::uint64_t max_memory = default_max_memory;  // refuse (InputError naming --max-memory) above it
-    // Check every tetrahedron of a certified key against proofs/bcc.cert's
-    // claim (compiled in); a violation throws std::logic_error (an internal
-    // failure, not bad input).  Only with the certificate's alphas.
+    // Check every tetrahedron, once, against its own background
+    // tetrahedron's key claim in proofs/bcc.cert (compiled in; each key's
+    // claim is within the theorem); a key the certificate does not list or a
+    // violation throws std::logic_error (an internal failure, not bad
+    // input).  Only with the certificate's alphas.
     bool verify = false;
     // Measure dihedral angles, radius ratios and the boundary's distance to
     // the level set for the report (a second pass over the mesh).
@@ -194,7 +196,10 @@ struct Mesh3dReport {
     std::int64_t cut_points = 0;    // cut points kept (vertices)
     std::int64_t warped = 0;        // lattice points warped onto the level set
     std::int64_t vertices = 0, tets = 0, boundary_faces = 0;
-    std::int64_t all_zero_tets = 0;  // tetrahedra from all-zero background tetrahedra
+    // All-zero background tetrahedra (four vertices on the level set): never
+    // output (proofs/README.md, step 6), counted here; their volume, within
+    // the α-band of the surface, is not in the mesh.
+    std::int64_t all_zero_left_out = 0;
     double volume = 0;               // sum of the tetrahedra's volumes
     // Measured quality (Mesh3dOptions::quality).
     double min_dihedral_deg = 0, max_dihedral_deg = 0;
@@ -207,11 +212,10 @@ struct Mesh3dReport {
     // sets), in the level set's units.
     double boundary_vertex_f_max = 0, boundary_centroid_f_max = 0;
     // Certification (proofs/bcc.cert).  certified: the certificate is
-    // compiled in and its alphas are the options'.  The bounds hold for every
-    // tetrahedron of a certified key; tetrahedra from all-zero background
-    // tetrahedra are not covered by the certificate yet and are counted in
-    // `uncertified`.  verified: every certified tetrahedron was checked
-    // against the bounds (Mesh3dOptions::verify).
+    // compiled in and its alphas are the options'; the bounds then hold for
+    // every tetrahedron (each comes from a certified key: uncertified is 0),
+    // else every tetrahedron is uncertified.  verified: every tetrahedron was
+    // checked against its own key's claim (Mesh3dOptions::verify).
     bool certified = false;
     double certified_min_deg = 0, certified_max_deg = 0;
     std::int64_t certified_tets = 0, uncertified_tets = 0;

@@ -133,6 +133,10 @@ struct OptimizeEvent {
     Vec2 from{}, to{};
     std::span<const std::size_t> star;
     std::array<std::array<std::int32_t, 3>, 2> before{}, after{};  // flips
+    // Materials: interior vertices were removed (src/mesh/remove.hpp) and the
+    // mesh compacted: old vertex index -> new, -1 for a removed vertex (the
+    // others keep their order).  Empty for moves and flips.
+    std::span<const std::int32_t> renumbered;
 };
 
 struct OptimizeOptions {
@@ -167,6 +171,7 @@ struct OptimizeReport {
     // it inserted, of which on boundary edges.
     std::int64_t refined_triangles = 0, inserted_vertices = 0, boundary_splits = 0;
     std::int64_t interface_splits = 0;  // inserted on interfaces (materials)
+    std::int64_t removed_vertices = 0;  // interior vertices removed (materials; src/mesh/remove.hpp)
     // Over all triangles of the mesh, degrees.
     double min_angle_before = 0, min_angle_after = 0;
     double max_angle_before = 0, max_angle_after = 0;
@@ -209,7 +214,12 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 // joins the patch with its own region; the halves replace the edge in
 // Mesh::interfaces with the same regions).  So Mesh::interfaces stays exactly
 // the edges between different regions (OptimizeReport::interface_splits
-// counts the splits).
+// counts the splits).  With refine_below_deg > 0, after the refinement an
+// interior vertex (no boundary or interface edge) of a triangle below 35° is
+// removed where the max-min re-triangulation of its link lifts its star's
+// smallest angle (src/mesh/remove.hpp: areas, boundary and interfaces
+// unchanged); the mesh is then compacted, so vertex and triangle indices
+// change (OptimizeEvent::renumbered, OptimizeReport::removed_vertices).
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
 // The report as text lines (for stdout) and as a JSON object (the report's

@@ -85,7 +85,8 @@ std::string to_json(const MeshResult& result);
 std::string to_text(const MeshResult& result);
 
 // ---- the 3D mesher (mesh3d.hpp) ------------------------------------------------------
-// The report of mesh3d as one JSON object ("dimension": 3, counts, measured
+// The report of mesh3d as one JSON object ("dimension": 3, counts (with
+// "all_zero_left_out", the all-zero background tetrahedra), measured
 // dihedral extremes and radius ratios, boundary fidelity, "certified":
 // {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
 // warnings, seconds) and as text (report3d.cpp).

@@ -1,21 +1,22 @@
 // verify3.cpp — the 3D report's certification and verification, and the
 // resolution check (mesh3d.hpp: Mesh3dReport).
 //
-// Certification.  proofs/bcc.cert claims, for every key other than the
-// all-zero ones and at its alphas, that every output tetrahedron is
-// positively oriented with every dihedral angle θ in [θmin, θmax], stated as
-// cos² thresholds C_min, C_max (bcc_claim).  `verify` checks each certified
-// tetrahedron with the certificate's own test (key_claim_holds; generic_bcc.hpp, "Angle
-// forms"): volume > 0 and, per edge, d = n_c·n_d, N = |n_c|²|n_d|²,
+// Certification.  proofs/bcc.cert claims, at its alphas, for every key with
+// output (a − vertex), that every output tetrahedron is positively oriented
+// with every dihedral angle θ in the key's own [θmin, θmax], within the
+// theorem (the extremes of the keys' claims; bcc_claim), stated as cos²
+// thresholds C_min, C_max.  Every output tetrahedron comes from such a key
+// (all-zero background tetrahedra are never output), so at the
+// certificate's alphas none is uncertified.  With `verify`, stage 5
+// (tets3.cpp: check_key, check_claim) checks each background tetrahedron's
+// canonical key against the certificate's list and each output tetrahedron,
+// once, against its own key's claim with the certificate's own test
+// (key_claim_holds; generic_bcc.hpp, "Angle forms"): volume > 0 and, per
+// edge, d = n_c·n_d, N = |n_c|²|n_d|²,
 //     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N,
-// in double precision on the mesh's coordinates, against the theorem (the
-// extremes of the keys' claims).  That each background tetrahedron's
-// canonical key is one of the certificate's keys, and that its output
-// tetrahedra satisfy that key's own claim, is checked where the keys are
-// known, in stage 5 (tets3.cpp: check_key, check_claim).
-// Tetrahedra from all-zero background tetrahedra are not covered by the
-// certificate and are counted as uncertified.
+// in double precision on the mesh's coordinates.  Each key's claim implies
+// the theorem, so no second pass checks it.
 //
 // Resolution.  A closed boundary component (faces tagged boundary_level_set,
 // joined by shared vertices) of area A enclosing the volume V has the width
@@ -30,7 +31,6 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
-#include <stdexcept>
 
 #include "uniform3d/uniform3d.hpp"
 
@@ -38,24 +38,6 @@ namespace warpmesh::uniform3d {
 namespace {
 
 constexpr double min_cubes_across = 4;
-
-std::int64_t verify(const TetMesh& mesh, const BccClaim& claim, std::span<const std::int64_t> all_zero, std::string& first) {
-    std::int64_t bad = 0;
-    const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
-#pragma omp parallel for schedule(static) reduction(+ : bad)
-    for (std::int64_t t = 0; t < T; ++t) {
-        if (std::binary_search(all_zero.begin(), all_zero.end(), t)) continue;
-        const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
-        std::array<Point3, 4> q{};
-        for (std::size_t k = 0; k < 4; ++k) q[k] = mesh.vertices[static_cast<std::size_t>(tet[k])];
-        if (!key_claim_holds(q, claim.cos2_min, claim.cos2_max)) {
-            ++bad;
-#pragma omp critical
-            if (first.empty()) first = "tetrahedron " + std::to_string(t);
-        }
-    }
-    return bad;
-}
 
 std::size_t find(std::vector<std::int32_t>& parent, std::size_t x) {
     while (static_cast<std::size_t>(parent[x]) != x) x = static_cast<std::size_t>(parent[x] = parent[static_cast<std::size_t>(parent[x])]);
@@ -115,24 +97,15 @@ void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dR
 
 }  // namespace
 
-void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, std::span<const std::int64_t> all_zero,
-                   Mesh3dReport& r) {
+void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, bool verified, Mesh3dReport& r) {
     const std::optional<BccClaim> claim = bcc_claim();
     const bool same = certificate_applies(o.alphas);
     r.certified = same;
-    r.uncertified_tets = same ? static_cast<std::int64_t>(all_zero.size()) : r.tets;
+    r.uncertified_tets = same ? 0 : r.tets;
     r.certified_tets = r.tets - r.uncertified_tets;
     if (same) r.certified_min_deg = claim->min_deg, r.certified_max_deg = claim->max_deg;
     else r.warnings.push_back(claim ? "no certificate for these alphas: proofs/bcc.cert is at other alphas" : "this build has no 3D certificate (proofs/bcc.cert)");
-    if (!all_zero.empty() && same)
-        r.warnings.push_back(std::to_string(all_zero.size()) + " tetrahedra come from all-zero background tetrahedra, which proofs/bcc.cert does not cover yet (uncertified)");
-    if (o.verify && same) {
-        std::string first;
-        const std::int64_t bad = verify(mesh, *claim, all_zero, first);
-        if (bad > 0)
-            throw std::logic_error("mesh3d --verify: " + std::to_string(bad) + " certified tetrahedra violate proofs/bcc.cert's claim (first: " + first + ")");
-        r.verified = true;
-    }
+    r.verified = same && verified;
     if (o.quality) measure_quality3(mesh, f, r);
     check_resolution(mesh, f, o.spacing, r);
 }

@@ -19,6 +19,7 @@
 #include "embedding.hpp"
 #include "plane.hpp"
 #include "refine.hpp"
+#include "remove.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -41,6 +42,10 @@ constexpr double good_star_deg = 42;
 constexpr double min_gain_deg = 1e-3;
 // Refinement (OptimizeOptions::refine_below_deg): rounds of refine-then-sweep.
 constexpr int refine_rounds = 3;
+// Materials: rounds of vertex removal (remove.hpp) then sweeps, for the
+// triangles still below this many degrees after refinement.
+constexpr int remove_rounds = 3;
+constexpr double remove_below_deg = 35;
 
 using namespace plane;
 
@@ -113,6 +118,9 @@ private:
     void classify();
     int sweeps();  // Gauss-Seidel sweeps and flips until nothing changes; how many
     void refine(OptimizeReport& r);
+    void remove_vertices(OptimizeReport& r);
+    // Renumber the per-vertex and per-triangle state after a removal's compaction.
+    void renumber(const RemoveResult& rr);
     bool try_move(std::int32_t lv);
     int flip_pass();
     bool try_flip(std::size_t t1, int k);
@@ -793,6 +801,43 @@ void Optimizer::refine(OptimizeReport& r) {
     }
 }
 
+void Optimizer::renumber(const RemoveResult& rr) {
+    std::vector<std::size_t> changed;
+    for (const std::size_t t : changed_)
+        if (const std::int64_t n = rr.triangle_map[t]; n >= 0) changed.push_back(static_cast<std::size_t>(n));
+    changed_ = std::move(changed);  // the compaction keeps the order
+    ZeroBuffer<std::uint8_t> moved(m_.vertices.size());
+    for (std::size_t v = 0; v < rr.vertex_map.size() && v < moved_.size(); ++v)
+        if (const std::int32_t n = rr.vertex_map[v]; n >= 0) moved[static_cast<std::size_t>(n)] = moved_[v];
+    moved_ = std::move(moved);
+    interfaces_.clear();  // classify() fills it again
+}
+
+// Rounds of removal of interior vertices (remove.hpp) among the triangles
+// the pass changed, each followed by sweeps over the band of the rewritten
+// triangles.
+void Optimizer::remove_vertices(OptimizeReport& r) {
+    for (int round = 0; round < remove_rounds; ++round) {
+        RemoveParams rp;
+        rp.below_deg = remove_below_deg, rp.max_edge = o_.max_edge, rp.max_angle_cap = cap_;
+        rp.interfaces = &interfaces_;
+        const RemoveResult rr = remove_interior_vertices(m_, changed_, rp);
+        if (!rr.removed_vertices) return;
+        r.removed_vertices += rr.removed_vertices;
+        renumber(rr);
+        if (o_.observer) {
+            OptimizeEvent ev;
+            ev.renumbered = rr.vertex_map;
+            o_.observer(m_, ev);
+        }
+        find_band(&rr.touched);
+        assign_boundary_curves(band_);
+        classify();
+        changed_ = merged(changed_, band_);
+        r.sweeps += sweeps();
+    }
+}
+
 OptimizeReport Optimizer::run() {
     const auto start = std::chrono::steady_clock::now();
     OptimizeReport r;
@@ -830,6 +875,7 @@ OptimizeReport Optimizer::run() {
 
     r.sweeps = sweeps();
     if (o_.refine_below_deg > 0) refine(r);
+    if (o_.refine_below_deg > 0 && curves_.materials()) remove_vertices(r);
 
     // The rule's consequences, checked: no triangle below its (transferred)
     // certified value (in stats), none below the floor, the minimum not lower.
@@ -895,6 +941,8 @@ std::string optimize_text(const OptimizeReport& r) {
         o << "                     refinement: " << r.refined_triangles << " bad triangles re-triangulated, "
           << r.inserted_vertices << " vertices inserted (" << r.boundary_splits << " on boundary edges"
           << (r.interface_splits ? ", " + std::to_string(r.interface_splits) + " on interfaces" : std::string()) << ")\n";
+    if (r.removed_vertices)
+        o << "                     " << r.removed_vertices << " interior vertices removed (their stars re-triangulated)\n";
     o << "                     certified floor " << fmt(r.certified_floor)
       << " deg (every triangle stays above it: monotone rule); boundary distance to f = 0 "
       << fmt(r.boundary_distance_before) << " -> " << fmt(r.boundary_distance_after) << "\n";
@@ -916,7 +964,8 @@ std::string optimize_json(const OptimizeReport& r) {
            ", \"refined_triangles\": " + json_number(r.refined_triangles) +
            ", \"inserted_vertices\": " + json_number(r.inserted_vertices) +
            ", \"boundary_splits\": " + json_number(r.boundary_splits) + ", \"interface_splits\": " +
-           json_number(r.interface_splits) + ", \"seconds\": " + n(r.seconds) + "}";
+           json_number(r.interface_splits) + ", \"removed_vertices\": " + json_number(r.removed_vertices) +
+           ", \"seconds\": " + n(r.seconds) + "}";
 }
 
 }  // namespace warpmesh

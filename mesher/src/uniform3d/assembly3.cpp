@@ -5,7 +5,8 @@
 // other output tetrahedron has it.  By the stencils' construction a face can
 // be unshared only if its three vertices are on the level set (warped or zero
 // lattice points and cut points: the stencil's cut surface, or a background
-// face between an output all-zero tetrahedron and one that outputs nothing)
+// face with three zero vertices, e.g. of an all-zero background tetrahedron,
+// which is never output)
 // or if it lies on a background face with no background tetrahedron behind
 // it (the lattice's cut-off; stage 5 names those faces exactly — a tetrahedron
 // there also has faces shared with its neighbours, which must not become
@@ -165,7 +166,7 @@ TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattic
     const CubeRange all{{0, 0, 0}, lattice.cubes};
     Window w = prepare(f, o, lattice, all, 0, false);
     const bool verify_keys = o.verify && certificate_applies(o.alphas);
-    Emitted e = emit_tets(f, w, all, false, o.max_memory, verify_keys);
+    Emitted e = emit_tets(w, all, false, o.max_memory, verify_keys);
     if (e.uncovered_keys > 0)
         throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) +
                                " background tetrahedra have a key that proofs/bcc.cert does not list (first: " + e.first_uncovered + ")");
@@ -181,14 +182,13 @@ TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattic
     r.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
     r.cut_points = e.cut_points;
     r.warped = warped;
-    r.all_zero_tets = static_cast<std::int64_t>(e.all_zero.size());
-    const std::vector<std::int64_t> all_zero = std::move(e.all_zero);
+    r.all_zero_left_out = e.all_zero_left_out;
     TetMesh mesh = to_mesh(std::move(e));
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     r.vertices = static_cast<std::int64_t>(mesh.vertices.size());
     r.tets = static_cast<std::int64_t>(mesh.tets.size());
     r.boundary_faces = static_cast<std::int64_t>(mesh.boundary.size());
-    finish_report(mesh, f, o, all_zero, r);
+    finish_report(mesh, f, o, verify_keys, r);
     if (report) *report = std::move(r);
     return mesh;
 }
@@ -221,7 +221,7 @@ TetBlock mesh3d_block(const LevelSet3& f, const Mesh3dOptions& options, const La
         bool whole = true;
         for (std::size_t a = 0; a < 3; ++a) whole = whole && block.lo[a] - halo <= 0 && block.hi[a] + halo >= lattice.cubes[a];
         if (!exact && !whole) continue;
-        Emitted e = emit_tets(f, w, block, true, o.max_memory);
+        Emitted e = emit_tets(w, block, true, o.max_memory);
         TetBlock b;
         b.vertex_key = std::move(e.vertex_key);
         b.vertices.assign(e.vertices.begin(), e.vertices.end());

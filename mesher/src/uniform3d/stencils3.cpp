@@ -1,5 +1,5 @@
 // stencils3.cpp — stage 5's tables: generic_bcc.hpp's stencil for every
-// post-warp sign pattern, parity bit and all-zero decision (81 × 2 × 2), and
+// post-warp sign pattern and parity bit (81 × 2), and
 // the 12 background tetrahedra of a cube in their local frame.  Computed
 // once; the per-tetrahedron work is then a table lookup.
 #include "uniform3d.hpp"
@@ -16,26 +16,25 @@ unsigned faces_containing(int q) {
     return 0xFu & ~(1u << e[0]) & ~(1u << e[1]);
 }
 
-std::array<Plan, 81 * 4> make_plans() {
-    std::array<Plan, 81 * 4> plans{};
+std::array<Plan, 81 * 2> make_plans() {
+    std::array<Plan, 81 * 2> plans{};
     for (int code = 0; code < 81; ++code)
-        for (int parity = 0; parity < 2; ++parity)
-            for (int inside = 0; inside < 2; ++inside) {
-                std::array<int, 4> sign{};
-                for (int i = 0, c = code; i < 4; ++i, c /= 3) sign[static_cast<std::size_t>(i)] = c % 3 - 1;
-                Plan& p = plans[static_cast<std::size_t>(code * 4 + parity * 2 + inside)];
-                p.stencil = bcc::stencil(sign, parity, inside != 0);
-                for (int t = 0; t < p.stencil.count; ++t) {
-                    const bcc::OutTet& o = p.stencil.tet[static_cast<std::size_t>(t)];
-                    for (std::uint8_t q : o) p.uses = static_cast<std::uint16_t>(p.uses | 1u << q);
-                    for (int f = 0; f < 4; ++f) {
-                        unsigned on = 0xF;
-                        for (int k = 0; k < 4; ++k)
-                            if (k != f) on &= faces_containing(o[static_cast<std::size_t>(k)]);
-                        p.face_on[static_cast<std::size_t>(t)][static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(on);
-                    }
+        for (int parity = 0; parity < 2; ++parity) {
+            std::array<int, 4> sign{};
+            for (int i = 0, c = code; i < 4; ++i, c /= 3) sign[static_cast<std::size_t>(i)] = c % 3 - 1;
+            Plan& p = plans[static_cast<std::size_t>(code * 2 + parity)];
+            p.stencil = bcc::stencil(sign, parity);
+            for (int t = 0; t < p.stencil.count; ++t) {
+                const bcc::OutTet& o = p.stencil.tet[static_cast<std::size_t>(t)];
+                for (std::uint8_t q : o) p.uses = static_cast<std::uint16_t>(p.uses | 1u << q);
+                for (int f = 0; f < 4; ++f) {
+                    unsigned on = 0xF;
+                    for (int k = 0; k < 4; ++k)
+                        if (k != f) on &= faces_containing(o[static_cast<std::size_t>(k)]);
+                    p.face_on[static_cast<std::size_t>(t)][static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(on);
                 }
             }
+        }
     return plans;
 }
 
@@ -77,9 +76,9 @@ std::array<TetShape, 12> make_shapes() {
 
 }  // namespace
 
-const Plan& plan(int code, int parity, bool all_zero_inside) {
-    static const std::array<Plan, 81 * 4> plans = make_plans();
-    return plans[static_cast<std::size_t>(code * 4 + parity * 2 + (all_zero_inside ? 1 : 0))];
+const Plan& plan(int code, int parity) {
+    static const std::array<Plan, 81 * 2> plans = make_plans();
+    return plans[static_cast<std::size_t>(code * 2 + parity)];
 }
 
 const std::array<TetShape, 12>& tet_shapes() {

@@ -9,10 +9,13 @@
 //      cut points by (lower endpoint, slot) — and write the tetrahedra.
 // A background tetrahedron of cube m with index i (background_tet) exists iff
 // the cube below m along axis i / 4 exists (its centre c1).  An all-zero one
-// is output iff f < 0 at the centroid of its four vertices (summed in local
-// order).  A cube whose 12 tetrahedra exist and whose 12 points (8 corners,
-// its centre, the centres below it) are all inside outputs its 12
-// background tetrahedra whole: the common case, taken without the stencil.
+// (four zero vertices) is never output, only counted.  A cube whose 12
+// tetrahedra exist and whose 12 points (8 corners, its centre, the centres
+// below it) are all inside outputs its 12 background tetrahedra whole: the
+// common case, taken without the stencil.
+// With verify_keys every output tetrahedron is checked against its own
+// background tetrahedron's key claim as it is written (the whole ones against
+// the claim of the all-− key, looked up once).
 #include <atomic>
 #include <cmath>
 #include <optional>
@@ -34,11 +37,10 @@ struct Neighbourhood {
 
 struct Layout {
     const Window& w;
-    const LevelSet3& f;
     const std::array<TetShape, 12>& shapes = tet_shapes();
     std::int64_t plane_pair = 0;  // index step of 2 along z
 
-    explicit Layout(const Window& win, const LevelSet3& fn) : w(win), f(fn) {
+    explicit Layout(const Window& win) : w(win) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
     }
 
@@ -58,7 +60,8 @@ struct Layout {
     }
 
     // The stencil of background tetrahedron `index` of the cube, or nullptr
-    // when it does not exist or outputs nothing.
+    // when it does not exist or outputs nothing (no − vertex; all_zero: its
+    // four vertices are zero).
     const Plan* split(const bcc::Ivec& m, const Neighbourhood& n, int index, bool& all_zero) const {
         const TetShape& s = shapes[static_cast<std::size_t>(index)];
         if (m[static_cast<std::size_t>(index / 4)] == 0) return nullptr;
@@ -69,18 +72,7 @@ struct Layout {
             negative += sg < 0, zero += sg == 0;
         }
         all_zero = zero == 4;
-        bool inside = false;
-        if (negative == 0) {
-            if (!all_zero) return nullptr;
-            Point3 c{0, 0, 0};
-            for (int k = 0; k < 4; ++k) {
-                const Point3 q = w.point_position(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(k)])]);
-                c = {c.x + q.x, c.y + q.y, c.z + q.z};
-            }
-            inside = f.value(0.25 * c.x, 0.25 * c.y, 0.25 * c.z) < 0;
-            if (!inside) return nullptr;
-        }
-        return &plan(code, s.parity, inside);
+        return negative == 0 ? nullptr : &plan(code, s.parity);
     }
 };
 
@@ -207,8 +199,8 @@ void place_vertices(const Window& w, const Marks& marks, const Numbering& num, b
 }
 
 // Pass B: the tetrahedra, with (blocks) their keys, and the sparse lists.
-// The key check of --verify for one background tetrahedron (not all-zero):
-// its key's claim, or nothing (counted in `uncovered`) if the certificate
+// The key check of --verify for one output background tetrahedron: its key's
+// claim, or nothing (counted in `uncovered`) if the certificate
 // does not list the key; its code in *code.
 std::optional<BccKeyBound> check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, int index, std::int64_t& uncovered,
                                      std::string& first, std::string* code) {
@@ -250,9 +242,16 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     const Lattice3& L = lay.w.grid.lattice;
     const std::int64_t layers = range.hi[2] - range.lo[2];
     std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
-    std::vector<std::vector<std::int64_t>> zero(static_cast<std::size_t>(layers));
-    std::int64_t uncovered = 0, failures = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures)
+    std::int64_t uncovered = 0, failures = 0, all_zero_left_out = 0;
+    // A whole background tetrahedron's key (four − vertices, none warped; the
+    // same for every index), looked up once.
+    std::string whole_code;
+    std::optional<BccKeyBound> whole_bound;
+    if (verify_keys) {
+        whole_bound = key_certified(lay.shapes[0].offset, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &whole_code);
+        if (!whole_bound) throw std::logic_error("mesh3d --verify: proofs/bcc.cert does not list the key " + whole_code + " of a whole background tetrahedron");
+    }
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures, all_zero_left_out)
     for (std::int64_t l = 0; l < layers; ++l) {
         std::int64_t t = start[static_cast<std::size_t>(l)];
         const std::int64_t cz = range.lo[2] + l;
@@ -263,11 +262,12 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
             for (int index = 0; index < 12; ++index) {
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
-                const Plan* p = n.all_inside ? &plan(0, 0, false) : lay.split(m, n, index, all_zero);
+                const Plan* p = n.all_inside ? &plan(0, 0) : lay.split(m, n, index, all_zero);
+                all_zero_left_out += all_zero;
                 if (!p) continue;
                 std::optional<BccKeyBound> bound;
                 std::string code;
-                if (verify_keys && !n.all_inside && !all_zero) bound = check_key(lay, m, n, index, uncovered, out.first_uncovered, &code);
+                if (verify_keys) bound = n.all_inside ? whole_bound : check_key(lay, m, n, index, uncovered, out.first_uncovered, &code);
                 const std::int64_t t0 = t;
                 std::array<std::int32_t, 10> vid{};
                 for (int q = 0; q < 10; ++q) {
@@ -293,22 +293,21 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                             if (p->face_on[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)] & missing) faces |= 1u << f;
                         if (faces) edge[static_cast<std::size_t>(l)].push_back({t, static_cast<std::uint8_t>(faces)});
                     }
-                    if (all_zero) zero[static_cast<std::size_t>(l)].push_back(t);
                 }
-                if (bound) check_claim(out, t0, t, *bound, code, failures, out.first_key_claim_failure);
+                if (bound) check_claim(out, t0, t, *bound, n.all_inside ? whole_code : code, failures, out.first_key_claim_failure);
             }
         });
     }
     for (const auto& e : edge) out.cut_off.insert(out.cut_off.end(), e.begin(), e.end());
-    for (const auto& e : zero) out.all_zero.insert(out.all_zero.end(), e.begin(), e.end());
+    out.all_zero_left_out = all_zero_left_out;
     out.uncovered_keys = uncovered;
     out.key_claim_failures = failures;
 }
 
 }  // namespace
 
-Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
-    const Layout lay(w, f);
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
+    const Layout lay(w);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
     Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);

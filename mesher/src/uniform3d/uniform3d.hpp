@@ -106,7 +106,7 @@ void find_cuts(const LevelSet3& f, Window& w);
 // `blocked`: taint the points that see outside the window (blocks).
 void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked);
 
-// The stencil of every (signs, parity, all-zero decision): generic_bcc.hpp's
+// The stencil of every (signs, parity): generic_bcc.hpp's
 // stencil, with the set of local points it uses (bits 0..3 vertices, 4 + e
 // the cut point on local edge e).
 struct Plan {
@@ -121,7 +121,7 @@ struct Plan {
 // faces f lying on a background face with no background tetrahedron behind).
 using CutOff = std::pair<std::int64_t, std::uint8_t>;
 // code = sum (sign_i + 1) 3^i over the local vertices.
-const Plan& plan(int code, int parity, bool all_zero_inside);
+const Plan& plan(int code, int parity);
 
 // The 12 background tetrahedra of a cube m in the local frame, relative to m.
 struct TetShape {
@@ -144,9 +144,9 @@ struct Emitted {
     Buffer<Point3> vertices;
     std::vector<std::uint8_t> on_level_set;
     std::vector<std::uint64_t> vertex_key;       // blocks only
-    std::vector<std::int64_t> all_zero;          // tets from all-zero background tetrahedra (not certified yet)
+    std::int64_t all_zero_left_out = 0;          // all-zero background tetrahedra (never output)
     std::int64_t cut_points = 0, warped_vertices = 0;
-    // With verify_keys: background tetrahedra (not all-zero) whose key is not
+    // With verify_keys: output background tetrahedra whose key is not
     // in proofs/bcc.cert, and the first one's code; output tetrahedra that
     // fail their own key's claim (key_claim_holds), and the first one's key.
     std::int64_t uncovered_keys = 0;
@@ -154,8 +154,7 @@ struct Emitted {
     std::int64_t key_claim_failures = 0;
     std::string first_key_claim_failure;
 };
-Emitted emit_tets(const LevelSet3& f, const Window& w, const CubeRange& range, bool keys,
-                  std::uint64_t max_memory, bool verify_keys = false);
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys = false);
 
 // Whether proofs/bcc.cert is compiled in and at these alphas.
 bool certificate_applies(const bcc::Alphas& alphas);
@@ -180,10 +179,8 @@ bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos
 // for a face in three tetrahedra.
 void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const CutOff> cut_off);
 
-// The report's certification, verification (throws std::logic_error for a
-// certified tetrahedron outside the claim), quality and resolution fields
-// (certify/verify3.cpp).  `all_zero`: the uncertified tetrahedra.
-void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, std::span<const std::int64_t> all_zero,
-                   Mesh3dReport& r);
+// The report's certification, quality and resolution fields
+// (certify/verify3.cpp); `verified`: emit_tets checked every tetrahedron.
+void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, bool verified, Mesh3dReport& r);
 
 }  // namespace warpmesh::uniform3d

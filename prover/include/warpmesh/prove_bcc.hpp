@@ -34,7 +34,7 @@ using bcc::transform;
 
 // All canonical consistent keys with some output (at least one - vertex),
 // in canonical order; with `all_zero`, the keys whose four vertices are zero
-// (output only when the mesher finds the centroid inside).
+// (never output: generic_bcc.hpp, step 6).
 std::vector<Key> enumerate_keys(bool all_zero = false);
 
 // The key's parameters: per warped vertex its t in [0, α_e], per (-, +) edge

@@ -78,7 +78,7 @@ std::vector<bcc::DihedralForms<DI>> all_forms(const Key& k, const std::vector<Pa
         else u[static_cast<std::size_t>(ps[i].index - 4)] = x;
     }
     const auto pts = bcc::generic_points<DI>(k, t, u);
-    const bcc::Stencil st = bcc::stencil(k.sign, k.parity, true);
+    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
     std::vector<bcc::DihedralForms<DI>> out;
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<DI>, 4> p{};

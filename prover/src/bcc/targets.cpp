@@ -22,7 +22,7 @@ namespace {
 // sign = −1), as +cos resp. −cos so that larger is more extreme.
 double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
     const auto pts = key_points(k, ps, x.data());
-    const bcc::Stencil st = bcc::stencil(k.sign, k.parity, true);
+    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
     double best = -2;
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
