@@ -5,6 +5,7 @@
 // units, and the bad inputs (empty region, coarse spacing, memory limit).
 #define BOOST_TEST_MODULE mesh3d
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
@@ -221,6 +222,110 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     const auto grey = make_volume_levelset3(v, go);
     const Mesh3dReport g = mesh_checked(*grey, 0.8);
     BOOST_TEST(std::abs(g.volume - exact) < 0.2 * exact, "volume " << g.volume);
+}
+
+// Volume cut points solve the trilinear interpolant's cubic per voxel cell
+// (volume_levelset3.cpp): each is a zero of f, and where an edge crosses the
+// level set several times, the one in the first cell (from the edge's lower
+// endpoint) where f changes sign.
+BOOST_AUTO_TEST_CASE(volume_cut_point_is_a_zero_in_the_first_cell_where_f_changes_sign) {
+    // Label 1 in the slabs i = 1..11 and i = 14, 15 of a 24 x 12 x 12 volume:
+    // along x, f's zeros are at the midpoints 11.5, 13.5, 15.5 (f antisymmetric
+    // about them, the spacing being the same on every axis).
+    Volume v;
+    v.dims = {24, 12, 12};
+    v.values.assign(static_cast<std::size_t>(v.voxel_count()), 0);
+    for (std::int64_t k = 0; k < 12; ++k)
+        for (std::int64_t j = 0; j < 12; ++j)
+            for (std::int64_t i = 0; i < 24; ++i)
+                if ((i >= 1 && i <= 11) || i == 14 || i == 15) v.values[static_cast<std::size_t>(i + 24 * (j + 12 * k))] = 1;
+    v.source = "slabs";
+    VolumeLevelSet3Options o;
+    o.mode.mode = ImageMode::label;
+    o.mode.labels = {1};
+    const auto f = make_volume_levelset3(v, o);
+    // From deep in the first slab (x = 6, f = −4) to just past the second (x =
+    // 16.75, f = 1.25), at y = 5.3, z = 6.1, away from the hull: three zeros,
+    // 11.5 first (regula falsi on f alone, whose first step lands in the second
+    // slab, reached 15.5).
+    const Point3 a{6, 5.3, 6.1}, b{16.75, 5.3, 6.1};
+    const double fa = f->value(a.x, a.y, a.z), fb = f->value(b.x, b.y, b.z);
+    BOOST_REQUIRE(fa < 0);
+    BOOST_REQUIRE(fb > 0);
+    BOOST_TEST(std::abs(a.x + f->cut_parameter(a, b, fa, fb) * (b.x - a.x) - 11.5) < 1e-12);
+    // Random segments in a random label volume and a grey one: every cut
+    // parameter lies in (0, 1) and is a zero of f, also near the hull (the
+    // generic root finder there).
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (double& x : v.values) x = u(rng) < 0.4 ? 1 : 0;
+    v.spacing = {1.0, 0.8, 1.3};
+    for (int mode = 0; mode < 2; ++mode) {
+        VolumeLevelSet3Options m;
+        if (mode == 0) m = o;
+        else m.mode.iso = 0.5;
+        const auto g = make_volume_levelset3(v, m);
+        int cut = 0;
+        for (int trial = 0; trial < scaled(4000); ++trial) {
+            const Point3 p{23 * u(rng), 11 * 0.8 * u(rng), 11 * 1.3 * u(rng)};
+            const Point3 q{p.x + 6 * (u(rng) - 0.5), p.y + 6 * (u(rng) - 0.5), p.z + 6 * (u(rng) - 0.5)};
+            const double gp = g->value(p.x, p.y, p.z), gq = g->value(q.x, q.y, q.z);
+            if (!(gp * gq < 0)) continue;
+            ++cut;
+            const double t = g->cut_parameter(p, q, gp, gq);
+            BOOST_TEST((t > 0 && t < 1));
+            const double at = g->value(p.x + t * (q.x - p.x), p.y + t * (q.y - p.y), p.z + t * (q.z - p.z));
+            BOOST_TEST(std::abs(at) < 1e-12 * (mode == 0 ? 1 : 100), "f = " << at << " at the cut point, mode " << mode);
+        }
+        BOOST_TEST(cut > scaled(4000) / 10);
+    }
+}
+
+// The label distance field's transforms start from the region's surface
+// voxels only and drop distances beyond the band (volume_levelset3.cpp): at
+// every voxel centre the field must still be the signed distance to the
+// nearest voxel centre of the other class, minus half the smallest spacing,
+// clamped to the band — here against brute force, with anisotropic spacing.
+BOOST_AUTO_TEST_CASE(label_distance_field_is_the_clamped_signed_distance) {
+    Volume v;
+    v.dims = {22, 20, 18};
+    v.spacing = {1.0, 0.8, 1.3};
+    v.source = "blobs";
+    v.values.assign(static_cast<std::size_t>(v.voxel_count()), 0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int b = 0; b < 8; ++b) {
+        const double cx = 5 + 12 * u(rng), cy = 5 + 6 * u(rng), cz = 5 + 13 * u(rng), r = 1 + 3 * u(rng);
+        for (std::int64_t k = 0; k < 18; ++k)
+            for (std::int64_t j = 0; j < 20; ++j)
+                for (std::int64_t i = 0; i < 22; ++i)
+                    if (std::hypot(i - cx, 0.8 * j - cy, 1.3 * k - cz) < r) v.values[static_cast<std::size_t>(i + 22 * (j + 20 * k))] = 1;
+    }
+    VolumeLevelSet3Options o;
+    o.mode.mode = ImageMode::label;
+    o.mode.labels = {1};
+    const auto f = make_volume_levelset3(v, o);
+    const double c = 0.5 * 0.8, cap = o.band * 1.3;
+    int checked = 0;
+    for (std::int64_t k = 0; k < 18; ++k)
+        for (std::int64_t j = 0; j < 20; ++j)
+            for (std::int64_t i = 0; i < 22; ++i) {
+                // away from the hull, where f is the interpolant itself
+                const double box = std::max({(std::abs(i - 10.5) - 10.5) * 1.0, (std::abs(j - 9.5) - 9.5) * 0.8, (std::abs(k - 8.5) - 8.5) * 1.3});
+                if (box > -cap) continue;
+                const bool in = v.at(i, j, k) == 1;
+                double d2 = std::numeric_limits<double>::infinity();
+                for (std::int64_t kk = 0; kk < 18; ++kk)
+                    for (std::int64_t jj = 0; jj < 20; ++jj)
+                        for (std::int64_t ii = 0; ii < 22; ++ii)
+                            if ((v.at(ii, jj, kk) == 1) != in)
+                                d2 = std::min(d2, std::pow(ii - i, 2) + std::pow(0.8 * (jj - j), 2) + std::pow(1.3 * (kk - k), 2));
+                const double want = std::clamp(in ? -(std::sqrt(d2) - c) : std::sqrt(d2) - c, -cap, cap);
+                const double got = f->value(static_cast<double>(i), 0.8 * static_cast<double>(j), 1.3 * static_cast<double>(k));
+                BOOST_TEST(std::abs(got - want) < 1e-5, "voxel " << i << "," << j << "," << k << ": " << got << " against " << want);
+                checked += std::abs(want) < cap;
+            }
+    BOOST_TEST(checked > 100);
 }
 
 BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {

@@ -18,6 +18,11 @@
 
 namespace warpmesh {
 
+// u moved into the open interval (0, 1), where every cut parameter lies.
+inline double inside_unit_interval(double u) {
+    return std::clamp(u, std::numeric_limits<double>::denorm_min(), 1 - std::numeric_limits<double>::epsilon() / 2);
+}
+
 template <class G>
 double bracketed_root_of(const G& g_at, double g0, double g1) {
     double lo = 0, hi = 1, glo = g0, ghi = g1;
@@ -40,8 +45,7 @@ double bracketed_root_of(const G& g_at, double g0, double g1) {
         u = lo + (hi - lo) * glo / (glo - ghi);
         if (!(u >= lo && u <= hi)) u = 0.5 * (lo + hi);
     }
-    constexpr double tiny = std::numeric_limits<double>::denorm_min();
-    return std::clamp(u, tiny, 1 - std::numeric_limits<double>::epsilon() / 2);
+    return inside_unit_interval(u);
 }
 
 }  // namespace warpmesh

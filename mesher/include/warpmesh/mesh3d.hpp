@@ -69,7 +69,8 @@ public:
     virtual double cut_parameter(Point3 a, Point3 b, double fa, double fb) const;
     // The thinnest feature of the region (a sphere's radius, a torus's tube
     // radius, half a box's smallest side; volumes: the largest inscribed
-    // distance of the region), for the coarse-spacing warning; 0: unknown.
+    // distance of the region — for a label volume only while it is within
+    // the distance band, else 0), for the coarse-spacing warning; 0: unknown.
     virtual double feature_size() const { return 0; }
     // The input's own resolution (volumes: the smallest voxel spacing; 0 for
     // analytic level sets): the coarse-spacing warning never suggests a

@@ -19,18 +19,17 @@ Point3 Window::cut_position(const bcc::Ivec& lower, int slot, double u) const {
 
 namespace {
 
-// Calls visit(point index, slot, q index) for each forward edge of the
-// points of plane z with both endpoints in the window.
+// Calls visit(point index, point) for each point of plane z.
 template <class Visit>
-void forward_edges(const Grid& g, int z, Visit&& visit) {
+void plane_points(const Grid& g, int z, Visit&& visit) {
     const int zz = g.lo[2] + z, odd = zz & 1;
     std::int64_t at = g.plane_start[static_cast<std::size_t>(z)];
     for (int y = g.lo[1] + odd; y <= g.hi[1] - odd; y += 2)
-        for (int x = g.lo[0] + odd; x <= g.hi[0] - odd; x += 2, ++at)
-            for (int s = 0; s < 7; ++s) {
-                const bcc::Ivec q = bcc::add({x, y, zz}, bcc::neighbour_offsets[static_cast<std::size_t>(forward_direction[static_cast<std::size_t>(s)])]);
-                if (g.contains(q)) visit(at, s, q);
-            }
+        for (int x = g.lo[0] + odd; x <= g.hi[0] - odd; x += 2, ++at) visit(at, bcc::Ivec{x, y, zz});
+}
+
+bcc::Ivec forward_neighbour(const bcc::Ivec& p, int slot) {
+    return bcc::add(p, bcc::neighbour_offsets[static_cast<std::size_t>(forward_direction[static_cast<std::size_t>(slot)])]);
 }
 
 }  // namespace
@@ -47,10 +46,13 @@ void find_cuts(const LevelSet3& f, Window& w) {
         const std::int64_t first = g.plane_start[static_cast<std::size_t>(z)], end = g.plane_start[static_cast<std::size_t>(z) + 1];
         for (std::int64_t p = first; p < end; ++p) w.cut_mask[static_cast<std::size_t>(p)] = 0;
         std::int64_t count = 0;
-        forward_edges(g, z, [&](std::int64_t p, int s, const bcc::Ivec& q) {
-            if (w.sign[static_cast<std::size_t>(p)] * w.sign[static_cast<std::size_t>(g.index(q))] < 0) {
-                w.cut_mask[static_cast<std::size_t>(p)] |= static_cast<std::uint8_t>(1u << s);
-                ++count;
+        plane_points(g, z, [&](std::int64_t p, const bcc::Ivec& pq) {
+            for (int s = 0; s < 7; ++s) {
+                const bcc::Ivec q = forward_neighbour(pq, s);
+                if (g.contains(q) && w.sign[static_cast<std::size_t>(p)] * w.sign[static_cast<std::size_t>(g.index(q))] < 0) {
+                    w.cut_mask[static_cast<std::size_t>(p)] |= static_cast<std::uint8_t>(1u << s);
+                    ++count;
+                }
             }
         });
         per_plane[static_cast<std::size_t>(z) + 1] = count;
@@ -61,20 +63,17 @@ void find_cuts(const LevelSet3& f, Window& w) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int z = 0; z < planes; ++z) {
         std::int64_t at = per_plane[static_cast<std::size_t>(z)];
-        std::int64_t last = -1;
-        forward_edges(g, z, [&](std::int64_t p, int s, const bcc::Ivec& q) {
-            if (p != last) w.cut_first[static_cast<std::size_t>(p)] = static_cast<std::uint32_t>(at), last = p;
-            if (!(w.cut_mask[static_cast<std::size_t>(p)] >> s & 1u)) return;
-            const std::int64_t qi = g.index(q);
-            const bcc::Ivec pq = g.point(p);
-            w.cut_u[static_cast<std::size_t>(at++)] =
-                f.cut_parameter(g.lattice.position(pq), g.lattice.position(q), w.value[static_cast<std::size_t>(p)],
-                                w.value[static_cast<std::size_t>(qi)]);
+        plane_points(g, z, [&](std::int64_t p, const bcc::Ivec& pq) {
+            const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
+            w.cut_first[static_cast<std::size_t>(p)] = mask ? static_cast<std::uint32_t>(at) : 0;
+            for (int s = 0; s < 7; ++s) {
+                if (!(mask >> s & 1u)) continue;
+                const bcc::Ivec q = forward_neighbour(pq, s);
+                w.cut_u[static_cast<std::size_t>(at++)] =
+                    f.cut_parameter(g.lattice.position(pq), g.lattice.position(q), w.value[static_cast<std::size_t>(p)],
+                                    w.value[static_cast<std::size_t>(g.index(q))]);
+            }
         });
-        // points without any forward edge in the window (the window's far corner) have no cut
-        const std::int64_t first = g.plane_start[static_cast<std::size_t>(z)], end = g.plane_start[static_cast<std::size_t>(z) + 1];
-        for (std::int64_t p = first; p < end; ++p)
-            if (w.cut_mask[static_cast<std::size_t>(p)] == 0) w.cut_first[static_cast<std::size_t>(p)] = 0;
     }
 }
 
