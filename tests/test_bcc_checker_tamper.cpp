@@ -70,10 +70,10 @@ BOOST_AUTO_TEST_CASE(header_changed) {
 BOOST_AUTO_TEST_CASE(alpha_lowered_beyond_the_root_boxes_or_raised_beyond_the_witnesses) {
     auto l = cert();
     auto a = l;
-    a[line_of(l, "alphas")] = "alphas 20000/100000 41189/100000";  // the exact boxes grow past the root boxes
+    a[line_of(l, "alphas")] = "alphas 20000/100000 39850/100000";  // the exact boxes grow past the root boxes
     expect_rejected(a, "alphas", "root box does not contain");
     auto b = l;
-    b[line_of(l, "alphas")] = "alphas 26000/100000 41189/100000";  // they shrink: witnesses at the old limit fall outside
+    b[line_of(l, "alphas")] = "alphas 30000/100000 39850/100000";  // they shrink: witnesses at the old limit fall outside
     expect_rejected(b, "alphas", "witness outside");
 }
 

@@ -67,7 +67,7 @@ BOOST_AUTO_TEST_CASE(sampled_keys_reproduce_the_certificate_byte_for_byte) {
         const std::string code = bp::code_of(keys[i]);
         if (i % 97 != 0 && code != "-,0h,+,-/0" && code != "-,0h,0m,0i/0") continue;
         bp::Margins mg;
-        mg.cap = bp::cap_claim(9.31, 161.7);  // warpmesh-prove-bcc's defaults, as proofs/README.md runs it
+        mg.cap = bp::cap_claim(bp::default_cap_min_deg, bp::default_cap_max_deg);  // warpmesh-prove-bcc's defaults
         const bp::KeyProof p = bp::prove_key_tight(keys[i], c.al, mg);
         BOOST_TEST(p.ok, code);
         BOOST_TEST(bp::certificate_line(keys[i], p) == c.lines.at(code), code);
@@ -80,8 +80,8 @@ BOOST_AUTO_TEST_CASE(a_claim_above_the_minimum_is_refused) {
     const Cert c = read_cert();
     for (const auto& k : bp::enumerate_keys()) {
         if (bp::code_of(k) != "-,0h,+,-/0") continue;
-        const double c95 = std::cos(9.5 * M_PI / 180);  // the key reaches 9.3171 deg
-        const bp::KeyProof p = bp::prove_key(k, c.al, {std::round(std::ldexp(c95 * c95, 40)) / 1099511627776.0, c.claim.cmax}, 16);
+        const double c11 = std::cos(11.0 * M_PI / 180);  // the key reaches 10.7685 deg at the default alphas
+        const bp::KeyProof p = bp::prove_key(k, c.al, {std::round(std::ldexp(c11 * c11, 40)) / 1099511627776.0, c.claim.cmax}, 16);
         BOOST_TEST(!p.ok);
         BOOST_TEST(p.fail_kind == 1);
     }
@@ -93,14 +93,15 @@ BOOST_AUTO_TEST_CASE(a_claim_above_the_minimum_is_refused) {
 // first search misses at 90 deg) fell back to the caps [9.31, 161.7]: gaps of
 // 40.6 and 71.7 deg.  Its claims now lie within 0.01 / 0.1 deg of its
 // witnesses, and witness_cos is the cos at both signs.
+// (At L–S's alphas, where it was found, with the caps of that certificate.)
 BOOST_AUTO_TEST_CASE(issue29_max_witness_moves_and_the_key_is_not_capped) {
-    const Cert c = read_cert();
+    const bcc::Alphas al = bcc::labelle_shewchuk_alphas;
     for (const auto& k : bp::enumerate_keys()) {
         if (bp::code_of(k) != "-,0j,0g,0h/0") continue;
-        const auto ps = bp::key_params(k, c.al);
+        const auto ps = bp::key_params(k, al);
         bp::Margins mg;
         mg.cap = bp::cap_claim(9.31, 161.7);
-        const bp::KeyProof p = bp::prove_key_tight(k, c.al, mg);
+        const bp::KeyProof p = bp::prove_key_tight(k, al, mg);
         BOOST_REQUIRE(p.ok);
         const double cmin = bp::witness_cos(k, ps, p.wmin.x, 1), cmax = bp::witness_cos(k, ps, p.wmax.x, -1);
         BOOST_TEST(cmin == p.wmin.cos);

@@ -157,6 +157,11 @@ struct Alphas {
 };
 // Labelle and Shewchuk's pair (0.24999, 0.41189).
 inline constexpr Alphas labelle_shewchuk_alphas{24999, 100000, 41189, 100000};
+// The default pair (0.285, 0.3985), chosen from the certified frontier
+// (proofs/README.md, "The certified frontier (3D)"): the largest certified
+// minimum dihedral angle with a certified maximum <= 165 deg; proofs/bcc.cert
+// is proved at it.
+inline constexpr Alphas default_alphas{28500, 100000, 39850, 100000};
 
 // ---------------------------------------------------------------------------
 // The background tetrahedra and the local frame.

@@ -176,7 +176,7 @@ Lattice3 lattice3_for(const LevelSet3& f, double spacing);
 // Options and report.
 struct Mesh3dOptions {
     double spacing = 1;                             // lattice spacing s (cube side), the level set's units
-    bcc::Alphas alphas = bcc::labelle_shewchuk_alphas;  // violation thresholds (α_long, α_short)
+    bcc::Alphas alphas = bcc::default_alphas;       // violation thresholds (α_long, α_short)
     int threads = 0;                                // OpenMP threads; 0 = the OpenMP default
     std::uint64_t max_memory = default_max_memory;  // refuse (InputError naming --max-memory) above it
     // Check every tetrahedron, once, against its own background

@@ -118,8 +118,10 @@ struct Margins {
     Claim cap{1, 1};
 };
 // The cap for the angles (degrees): cos² rounded to 2^-40.  The prover's
-// defaults, 9.31 and 161.7 deg, are those of proofs/bcc.cert.
+// defaults are those of proofs/bcc.cert (at bcc::default_alphas: the
+// witnesses 10.7685 and 164.7019 deg, moved out as bcc-frontier.sh does).
 Claim cap_claim(double min_deg, double max_deg);
+inline constexpr double default_cap_min_deg = 10.763, default_cap_max_deg = 164.752;
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = 40);
 // The key's line of the certificate (proofs/README.md, "The BCC certificate").
 std::string certificate_line(const Key& k, const KeyProof& p);

@@ -67,8 +67,8 @@ int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al) {
 }  // namespace
 
 int prove_bcc_main(int argc, char** argv) {
-    std::string out = "proofs/bcc.cert", la = "0.24999", sa = "0.41189";
-    double cap_min = 9.31, cap_max = 161.7;
+    std::string out = "proofs/bcc.cert", la = "0.285", sa = "0.3985";  // bcc::default_alphas
+    double cap_min = default_cap_min_deg, cap_max = default_cap_max_deg;
     std::vector<int> subset;
     bool extremes = false;
     for (int i = 1; i < argc; ++i) {
