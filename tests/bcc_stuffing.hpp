@@ -35,68 +35,93 @@ struct Stuffed {
     int all_zero_left_out = 0;  // background tetrahedra with four zero vertices (never output)
 };
 
-// Meshes {f <= 0} on the block [0, n s]³ (lattice points of doubled
-// coordinates 0..2n) with violation thresholds `al`.  Cut points by linear
-// interpolation of f along the edge (a zero of f for affine f).
-// `by_sign` (the explorer's rule experiments only, not the mesher's rule):
-// thresholds per sign of the violated vertex, {α_long of a − vertex, α_long
-// of a + vertex, α_short of −, α_short of +}, replacing `al`'s.
-inline Stuffed stuff(const std::function<double(double, double, double)>& f, int n, double s, const bcc::Alphas& al,
-                     const std::array<double, 4>* by_sign = nullptr) {
-    const int m = 2 * n + 1;
-    const auto idx = [m](const bcc::Ivec& q) { return (q[2] * m + q[1]) * m + q[0]; };
-    const auto inside = [m](const bcc::Ivec& q) {
+// The lattice of the block [0, n s]³ (doubled coordinates 0..2n, m = 2n + 1
+// per axis) after steps 1–4: f's values and signs at the lattice points,
+// each point's warp direction and fraction, and its position.
+struct StuffGrid {
+    int m = 0;
+    double s = 0;
+    std::vector<double> val, wfrac;
+    std::vector<int> sign, warp;
+    std::vector<std::array<double, 3>> pos;
+    std::vector<bcc::Ivec> lattice;
+    std::size_t idx(const bcc::Ivec& q) const { return static_cast<std::size_t>((q[2] * m + q[1]) * m + q[0]); }
+    bool inside(const bcc::Ivec& q) const {
         for (int k = 0; k < 3; ++k)
             if (q[static_cast<std::size_t>(k)] < 0 || q[static_cast<std::size_t>(k)] >= m) return false;
         return (q[0] & 1) == (q[1] & 1) && (q[1] & 1) == (q[2] & 1);
-    };
+    }
+    double frac(const bcc::Ivec& p, const bcc::Ivec& q) const {  // cut fraction from p
+        const double a = val[idx(p)], b = val[idx(q)];
+        return a / (a - b);
+    }
+};
+
+// Steps 1–4 with violation thresholds `al`: signs, and the violations applied
+// closest first.  Cut points by linear interpolation of f along the edge (a
+// zero of f for affine f).  `by_sign` (the explorer's rule experiments only,
+// not the mesher's rule): thresholds per sign of the violated vertex,
+// {α_long of a − vertex, α_long of a + vertex, α_short of −, α_short of +},
+// replacing `al`'s.
+inline StuffGrid stuff_grid(const std::function<double(double, double, double)>& f, int n, double s, const bcc::Alphas& al,
+                            const std::array<double, 4>* by_sign) {
+    StuffGrid g;
+    g.m = 2 * n + 1, g.s = s;
+    const int m = g.m;
     const double al_long = static_cast<double>(al.long_num) / static_cast<double>(al.long_den);
     const double al_short = static_cast<double>(al.short_num) / static_cast<double>(al.short_den);
-    std::vector<double> val(static_cast<std::size_t>(m * m * m), 0);
-    std::vector<int> sign(val.size(), 0), warp(val.size(), bcc::stay), vid(val.size(), -1);
-    std::vector<double> wfrac(val.size(), 0);
-    Stuffed out;
-    std::vector<bcc::Ivec> lattice;
+    g.val.assign(static_cast<std::size_t>(m * m * m), 0);
+    g.sign.assign(g.val.size(), 0), g.warp.assign(g.val.size(), bcc::stay), g.wfrac.assign(g.val.size(), 0);
+    g.pos.resize(g.val.size());
     for (int z = 0; z < m; ++z)
         for (int y = 0; y < m; ++y)
             for (int x = 0; x < m; ++x) {
                 const bcc::Ivec q{x, y, z};
-                if (!inside(q)) continue;
-                const auto i = static_cast<std::size_t>(idx(q));
-                val[i] = f(x * s / 2, y * s / 2, z * s / 2);
-                sign[i] = val[i] < 0 ? -1 : val[i] > 0 ? 1 : 0;
-                lattice.push_back(q);
+                if (!g.inside(q)) continue;
+                const auto i = g.idx(q);
+                g.val[i] = f(x * s / 2, y * s / 2, z * s / 2);
+                g.sign[i] = g.val[i] < 0 ? -1 : g.val[i] > 0 ? 1 : 0;
+                g.pos[i] = {x * s / 2, y * s / 2, z * s / 2};
+                g.lattice.push_back(q);
             }
-    const auto frac = [&](const bcc::Ivec& p, const bcc::Ivec& q) {  // cut fraction from p
-        const double a = val[static_cast<std::size_t>(idx(p))], b = val[static_cast<std::size_t>(idx(q))];
-        return a / (a - b);
-    };
-    // Steps 3-4: violations, closest first.
     std::vector<bcc::Violation> viol;
-    for (const bcc::Ivec& p : lattice)
+    for (const bcc::Ivec& p : g.lattice)
         for (int d = 0; d < bcc::direction_count; ++d) {
             const bcc::Ivec q = bcc::add(p, bcc::neighbour_offsets[static_cast<std::size_t>(d)]);
-            if (!inside(q) || sign[static_cast<std::size_t>(idx(p))] * sign[static_cast<std::size_t>(idx(q))] >= 0) continue;
-            const double u = frac(p, q);
+            if (!g.inside(q) || g.sign[g.idx(p)] * g.sign[g.idx(q)] >= 0) continue;
+            const double u = g.frac(p, q);
             const bool lng = bcc::is_long_direction(d);
-            const double a = by_sign ? (*by_sign)[(lng ? 0U : 2U) + (sign[static_cast<std::size_t>(idx(p))] > 0 ? 1U : 0U)]
-                                     : (lng ? al_long : al_short);
+            const double a = by_sign ? (*by_sign)[(lng ? 0U : 2U) + (g.sign[g.idx(p)] > 0 ? 1U : 0U)] : (lng ? al_long : al_short);
             if (u < a) viol.push_back({u, p, d});
         }
     std::sort(viol.begin(), viol.end(), bcc::warp_before);
-    std::vector<std::array<double, 3>> pos(val.size());
-    for (const bcc::Ivec& p : lattice)
-        pos[static_cast<std::size_t>(idx(p))] = {p[0] * s / 2, p[1] * s / 2, p[2] * s / 2};
     for (const bcc::Violation& v : viol) {
-        const auto i = static_cast<std::size_t>(idx(v.vertex));
-        const bcc::Ivec q = bcc::add(v.vertex, bcc::neighbour_offsets[static_cast<std::size_t>(v.direction)]);
-        const auto j = static_cast<std::size_t>(idx(q));
-        if (warp[i] != bcc::stay || warp[j] != bcc::stay || sign[i] == 0 || sign[j] == 0) continue;
-        warp[i] = v.direction;
-        wfrac[i] = v.frac;
-        for (int k = 0; k < 3; ++k) pos[i][static_cast<std::size_t>(k)] += v.frac * (pos[j][static_cast<std::size_t>(k)] - pos[i][static_cast<std::size_t>(k)]);
-        sign[i] = 0;
+        const auto i = g.idx(v.vertex);
+        const auto j = g.idx(bcc::add(v.vertex, bcc::neighbour_offsets[static_cast<std::size_t>(v.direction)]));
+        if (g.warp[i] != bcc::stay || g.warp[j] != bcc::stay || g.sign[i] == 0 || g.sign[j] == 0) continue;
+        g.warp[i] = v.direction;
+        g.wfrac[i] = v.frac;
+        for (std::size_t k = 0; k < 3; ++k) g.pos[i][k] += v.frac * (g.pos[j][k] - g.pos[i][k]);
+        g.sign[i] = 0;
     }
+    return g;
+}
+
+// Meshes {f <= 0} on the block [0, n s]³ (lattice points of doubled
+// coordinates 0..2n) with violation thresholds `al` (and `by_sign`, as
+// stuff_grid): steps 1–4 by stuff_grid, step 6 here.
+inline Stuffed stuff(const std::function<double(double, double, double)>& f, int n, double s, const bcc::Alphas& al,
+                     const std::array<double, 4>* by_sign = nullptr) {
+    const StuffGrid g = stuff_grid(f, n, s, al, by_sign);
+    const auto idx = [&g](const bcc::Ivec& q) { return static_cast<int>(g.idx(q)); };
+    const auto inside = [&g](const bcc::Ivec& q) { return g.inside(q); };
+    const auto frac = [&g](const bcc::Ivec& p, const bcc::Ivec& q) { return g.frac(p, q); };
+    const std::vector<int>& sign = g.sign;
+    const std::vector<int>& warp = g.warp;
+    const std::vector<double>& wfrac = g.wfrac;
+    const std::vector<std::array<double, 3>>& pos = g.pos;
+    std::vector<int> vid(g.val.size(), -1);
+    Stuffed out;
     // Step 6: stencils per background tetrahedron.
     std::map<std::pair<int, int>, int> cut_id;
     const auto vertex_id = [&](const bcc::Ivec& q) {
