@@ -24,10 +24,8 @@
 #
 # A pair the prover refuses (alphas outside (0, 0.5), more than 5 digits)
 # is an error (exit 2).  A pair that fails prints "no bound" (the search
-# finds flat tetrahedra), "not certifiable" (the search finds a key with no
-# right or obtuse angle: the certificate format needs a max witness with
-# one, so the checker would reject; not proved then), "prover failed" (with the prover's reason) or "REJECTED" (the checker's
-# reason): never skipped.  Columns: caps, certified range, the theorem's
+# finds flat tetrahedra), "prover failed" (with the prover's reason) or
+# "REJECTED" (the checker's reason): never skipped.  Columns: caps, certified range, the theorem's
 # witnesses, keys, leaves, prove and check user seconds, sha256.
 #
 # Requires build/ (scripts/build.sh).  Each pair costs a full proof and a
@@ -66,15 +64,11 @@ for p in "${pairs[@]}"; do
       echo "bcc-frontier: pair '$p': $(tail -1 "$tmp/ext.log")" >&2
       exit 2
     fi
-    read -r _ wmin kmin wmax kmax acute kacute wacute <<<"$ext"
+    read -r _ wmin kmin wmax kmax _ <<<"$ext"
     cmin="$(awk -v w="$wmin" 'BEGIN { printf "%.3f", int((w - 0.005) * 1000) / 1000 }')"
     cmax="$(awk -v w="$wmax" 'BEGIN { c = (w + 0.05) * 1000; i = int(c); if (i < c) i++; printf "%.3f", i / 1000 }')"
     if ! awk -v a="$cmin" -v b="$cmax" 'BEGIN { exit !(a > 0 && b < 180) }'; then
       row "$l" "$s" "" "no bound: search finds flat tetrahedra ($wmin° at \`$kmin\`, $wmax° at \`$kmax\`)" "" "" "" "" "" "" ""
-      continue
-    fi
-    if [ "$acute" -gt 0 ]; then
-      row "$l" "$s" "" "not certifiable in format 2: the search finds no right or obtuse angle in $acute keys (\`$kacute\` at most $wacute°), and the checker needs a max witness with one" "" "" "" "" "" "" ""
       continue
     fi
   fi

@@ -36,12 +36,12 @@ std::size_t line_of(const std::vector<std::string>& l, const std::string& prefix
     return 0;
 }
 
-// The first key line whose split string starts with a split.
+// The first key line whose split string starts with a split ('1' + side).
 std::size_t first_split_key(const std::vector<std::string>& l) {
     for (std::size_t i = 0; i < l.size(); ++i) {
         if (l[i].rfind("key ", 0) != 0) continue;
         const auto f = fields(l[i]);
-        if (f.size() > 4 && f.back()[0] == '1') return i;
+        if (f.size() > 4 && f.back()[0] != '0') return i;
     }
     BOOST_FAIL("no key with a split");
     return 0;
@@ -214,4 +214,43 @@ BOOST_AUTO_TEST_CASE(garbage_and_truncation) {
     auto c = l;
     c[line_of(l, "key ")] = "key -,-,-,x/0 0 0";
     expect_rejected(c, "code", "bad key code");
+}
+
+// Format 3: each split names its side ('1' + j).  A side beyond the key's m
+// parameters is malformed; another side tiles the box differently, so some
+// leaf no longer verifies.
+BOOST_AUTO_TEST_CASE(split_side_out_of_range_or_changed) {
+    auto l = cert();
+    const std::size_t k = first_split_key(l);
+    auto a = l;
+    auto kf = key_fields(a[k]);
+    BOOST_REQUIRE(kf.m >= 2);
+    kf.f.back()[0] = static_cast<char>('1' + kf.m);
+    a[k] = join(kf.f);
+    expect_rejected(a, "side", "bad split string");
+    auto b = l;
+    kf = key_fields(b[k]);
+    kf.f.back()[0] = kf.f.back()[0] == '1' ? '2' : '1';
+    b[k] = join(kf.f);
+    expect_rejected(b, "otherside", "leaf not verified");
+}
+
+// issue29_acute_max_witness: a max witness at which every dihedral angle is
+// acute is accepted (the key's max claim, at least 90°, is then counted
+// loose); formats 1 and 2 rejected it ("max witness without a right or
+// obtuse angle"), so (0.20, 0.35) was not certifiable.  The key -,0b,0b,0c/0
+// at t = (1/4, 1/32, 3/16) has largest angle 80.5°.  The witness stage passes,
+// so the check goes on to the leaves, where an edited split string rejects.
+BOOST_AUTO_TEST_CASE(issue29_acute_max_witness_passes_the_witness_stage) {
+    auto l = cert();
+    const std::size_t k = line_of(l, "key -,0b,0b,0c/0 ");
+    auto kf = key_fields(l[k]);
+    BOOST_REQUIRE(kf.m == 3);
+    kf.f[kf.wmax] = "4194304/16777216", kf.f[kf.wmax + 1] = "524288/16777216", kf.f[kf.wmax + 2] = "3145728/16777216";
+    l[k] = join(kf.f);
+    const std::size_t s = first_split_key(l);
+    auto f = fields(l[s]);
+    f.back() = "0";
+    l[s] = join(f);
+    expect_rejected(l, "acute", "leaf not verified");
 }

@@ -174,6 +174,37 @@ D operator*(const D& a, const D& b) {
     for (int i = 0; i < r.n; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
 }
+// Second order: value, partials and second partials h[i][j] (i <= j < n).
+struct D2 {
+    I v;
+    std::array<I, 4> d;
+    std::array<std::array<I, 4>, 4> h;
+    int n = 0;
+};
+D2 operator+(const D2& a, const D2& b) {
+    D2 r{a.v + b.v, {}, {}, std::max(a.n, b.n)};
+    for (int i = 0; i < r.n; ++i) {
+        r.d[i] = a.d[i] + b.d[i];
+        for (int j = i; j < r.n; ++j) r.h[i][j] = a.h[i][j] + b.h[i][j];
+    }
+    return r;
+}
+D2 operator-(const D2& a, const D2& b) {
+    D2 r{a.v - b.v, {}, {}, std::max(a.n, b.n)};
+    for (int i = 0; i < r.n; ++i) {
+        r.d[i] = a.d[i] - b.d[i];
+        for (int j = i; j < r.n; ++j) r.h[i][j] = a.h[i][j] - b.h[i][j];
+    }
+    return r;
+}
+D2 operator*(const D2& a, const D2& b) {
+    D2 r{a.v * b.v, {}, {}, std::max(a.n, b.n)};
+    for (int i = 0; i < r.n; ++i) {
+        r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+        for (int j = i; j < r.n; ++j) r.h[i][j] = a.h[i][j] * b.v + a.v * b.h[i][j] + a.d[i] * b.d[j] + a.d[j] * b.d[i];
+    }
+    return r;
+}
 const I& val(const I& x) { return x; }
 const I& val(const D& x) { return x.v; }
 
@@ -456,7 +487,8 @@ struct Claim {
 Z scaled(const Dy& x, int K) { return zint(x.m) * pow2(K - x.e); }
 
 // The ten points of the generic tetrahedron, times 2^K, on box b (T = I: values
-// only; T = D: with partials in the box's parameters).
+// only; T = D: with partials in the box's parameters; T = D2: and second
+// partials).
 template <class T>
 std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& ps, const Box& b, int K) {
     std::array<T, 10> var{};
@@ -465,8 +497,9 @@ std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& 
     for (std::size_t i = 0; i < ps.size(); ++i) {
         I x{scaled(b[i].lo, K), scaled(b[i].hi, K)};
         which[ps[i].index] = static_cast<int>(i);
-        if constexpr (std::is_same_v<T, D>) {
-            var[ps[i].index] = D{x, {}, static_cast<int>(ps.size())};
+        if constexpr (!std::is_same_v<T, I>) {
+            var[ps[i].index] = T{};
+            var[ps[i].index].v = x, var[ps[i].index].n = static_cast<int>(ps.size());
             var[ps[i].index].d[i] = point(pow2(K));  // dt/dt, at the value's scale 2^K
         } else {
             var[ps[i].index] = x;
@@ -474,16 +507,16 @@ std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& 
     }
     const auto cst = [&](int v) {
         T c{};
-        if constexpr (std::is_same_v<T, D>) c.v = point(zint(v) * pow2(K));
+        if constexpr (!std::is_same_v<T, I>) c.v = point(zint(v) * pow2(K));
         else c = point(zint(v) * pow2(K));
         return c;
     };
     const auto times = [&](int c, const T& x) {  // c · x, c a small integer
         T r{};
-        if constexpr (std::is_same_v<T, D>) {
+        if constexpr (!std::is_same_v<T, I>) {
             r = x;
             r.v = point(zint(c)) * x.v;
-            for (int i = 0; i < r.n; ++i) r.d[i] = point(zint(c)) * x.d[i];
+            for (int i = 0; i < r.n; ++i) r.d[i] = point(zint(c)) * x.d[i];  // second partials: 0 (t is linear)
         } else {
             r = point(zint(c)) * x;
         }
@@ -547,7 +580,7 @@ std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const
     const P3<T>&p0 = pt[t[0]], &p1 = pt[t[1]], &p2 = pt[t[2]], &p3 = pt[t[3]];
     f[0] = dot3(sub3(p1, p0), cross3(sub3(p2, p0), sub3(p3, p0)));
     T cmin{}, cmax{}, two40{};
-    if constexpr (std::is_same_v<T, D>) cmin.v = point(cl.cmin), cmax.v = point(cl.cmax), two40.v = point(pow2(40));
+    if constexpr (!std::is_same_v<T, I>) cmin.v = point(cl.cmin), cmax.v = point(cl.cmax), two40.v = point(pow2(40));
     else cmin = point(cl.cmin), cmax = point(cl.cmax), two40 = point(pow2(40));
     for (int e = 0; e < 6; ++e) {
         T dt{}, nn{};
@@ -557,6 +590,17 @@ std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const
         f[13 + 2 * e] = dt, f[14 + 2 * e] = cmax * nn - dd;
     }
     return f;
+}
+// Form f alone (as tet_forms(pt, t, cl)[f], in the same order).
+template <class T>
+T form_at(const std::array<P3<T>, 10>& pt, const Tet& t, int f, const Claim& cl) {
+    if (f == 0) return dot3(sub3(pt[t[1]], pt[t[0]]), cross3(sub3(pt[t[2]], pt[t[0]]), sub3(pt[t[3]], pt[t[0]])));
+    const int g = (f - 1) % 12, e = g / 2;
+    T dt{}, nn{}, c{}, two40{};
+    edge_forms(pt, t, e, dt, nn);
+    if (g % 2 == 0) return f < 13 ? T{} - dt : dt;
+    c.v = point(f < 13 ? cl.cmin : cl.cmax), two40.v = point(pow2(40));
+    return c * nn - two40 * (dt * dt);
 }
 int leaf_exponent(const Box& b) {
     int K = 0;
@@ -568,10 +612,30 @@ Box centre(const Box& b) {
     for (Side& s : m) s.lo = s.hi = mid(s.lo, s.hi);
     return m;
 }
+// The second-order Taylor form of form f of t on b around its centre m,
+// times 2^(2K+1): 2^(2K+1) g(m) + 2^(K+1) sum_i g_i(m) [-R_i, R_i]
+// + sum_i g_ii(b) [0, R_i²] + 2 sum_{i<l} g_il(b) [-R_i R_l, R_i R_l]
+// (R_i = 2^K r_i, the half-widths; the partials at the point m, the second
+// partials on the box; g is the scaled form, its partials in t).
+I taylor2(const Key& k, const std::vector<Param>& ps, const Tet& t, const Box& b, int K, int f, const Claim& cl) {
+    const D g = form_at(points<D>(k, ps, centre(b), K), t, f, cl);
+    const D2 h = form_at(points<D2>(k, ps, b, K), t, f, cl);
+    std::vector<Z> R;
+    for (const Side& s : b) R.push_back(half(scaled(width(s.lo, s.hi), K)));
+    I sum = g.v * point(pow2(2 * K + 1));
+    for (std::size_t i = 0; i < b.size(); ++i) {
+        if (sgn(R[i]) == 0) continue;
+        sum = sum + g.d[i] * point(pow2(K + 1)) * I{-R[i], R[i]} + h.h[i][i] * I{Z{}, R[i] * R[i]};
+        for (std::size_t l = i + 1; l < b.size(); ++l)
+            if (sgn(R[l]) != 0) sum = sum + h.h[i][l] * point(zint(2) * R[i] * R[l]) * I{zint(-1), zint(1)};
+    }
+    return sum;
+}
 // Form f of tetrahedron t >= 0 (> 0 if strict) on b: the natural enclosure
 // g, then the mean-value form around the centre (mid: the form's value
 // there), then the face where every variable whose partial has a decided
-// sign is fixed at its worse end, again (re-evaluated there).  K: b's scale.
+// sign is fixed at its worse end, again (re-evaluated there); where none is,
+// the second-order Taylor form on that face.  K: b's scale.
 bool holds(const Key& k, const std::vector<Param>& ps, const Tet& t, Box b, int K, int f, bool strict, const Claim& cl,
            D g, I mid_value) {
     for (bool first = true;; first = false) {
@@ -591,7 +655,7 @@ bool holds(const Key& k, const std::vector<Param>& ps, const Tet& t, Box b, int 
             if (sgn(g.d[i].lo) >= 0) b[i].hi = b[i].lo, fixed = true;
             else if (sgn(g.d[i].hi) <= 0) b[i].lo = b[i].hi, fixed = true;
         }
-        if (!fixed) return false;
+        if (!fixed) return pos(taylor2(k, ps, t, b, K, f, cl).lo);
         g = tet_forms(points<D>(k, ps, b, K), t, cl)[f];
     }
 }
@@ -626,8 +690,8 @@ bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<T
     }
     return true;
 }
-// Replays the bisection: '1' splits the widest side (the first on ties) at its
-// midpoint, lower half first; '0' is a leaf, verified.
+// Replays the bisection: '1' + j splits side j at its midpoint, lower half
+// first; '0' is a leaf, verified.
 long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const Claim& cl) {
     const std::vector<Tet> tets = oriented(k);
     std::vector<Box> stack{root};
@@ -643,10 +707,8 @@ long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const s
             ++leaves;
             continue;
         }
-        if (c != '1' || b.empty() || stack.size() > 200) fail("bad split string");
-        std::size_t s = 0;
-        for (std::size_t i = 1; i < b.size(); ++i)
-            if (cmp(width(b[s].lo, b[s].hi), width(b[i].lo, b[i].hi)) < 0) s = i;
+        const std::size_t s = static_cast<std::size_t>(c - '1');
+        if (c < '1' || s >= b.size() || stack.size() > 200) fail("bad split string");
         const Dy m = mid(b[s].lo, b[s].hi);
         Box lo = b, hi = b;
         lo[s].hi = m, hi[s].lo = m;
@@ -658,23 +720,30 @@ long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const s
 
 
 // ---- witnesses and tightness ---------------------------------------------------
-// An exact cos² p / q.
+// An exact cos² p / q of an angle, acute or (right or) obtuse.
 struct Cos2 {
     Z p, q;
+    bool acute = false;
 };
 double to_double(const Z& z) {  // for messages only
     double x = 0;
     for (int i = z.n - 1; i >= 0; --i) x = x * 18446744073709551616.0 + static_cast<double>(z.d[i]);
     return z.neg ? -x : x;
 }
-double degrees(const Cos2& c, bool obtuse) {  // for messages only
+double degrees(const Cos2& c) {  // for messages only
     const double a = std::acos(std::sqrt(to_double(c.p) / to_double(c.q))) * 180 / M_PI;
-    return obtuse ? 180 - a : a;
+    return c.acute ? a : 180 - a;
+}
+// Whether angle a is larger than angle b.
+bool larger(const Cos2& a, const Cos2& b) {
+    if (a.acute != b.acute) return b.acute;
+    const int c = cmp(a.p * b.q, b.p * a.q);
+    return a.acute ? c < 0 : c > 0;
 }
 // The exact cos² of the extreme dihedral angle of the key's output at the
 // witness w (dyadic, inside the exact box): the smallest angle (`min`: the
 // largest d²/N over the edges with d > 0) or the largest (the largest d²/N
-// over the edges with d <= 0).
+// over the edges with d <= 0; if every angle is acute, the smallest d²/N).
 Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, bool min) {
     Box b;
     int K = 0;
@@ -686,11 +755,10 @@ Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<
         for (int e = 0; e < 6; ++e) {
             I dt, nn;
             edge_forms(pt, t, e, dt, nn);  // points: exact, dt.lo == dt.hi
-            if (min ? sgn(dt.lo) <= 0 : sgn(dt.lo) > 0) continue;
-            const Z p = dt.lo * dt.lo;
-            if (!found || cmp(p * best.q, best.p * nn.lo) > 0) best = Cos2{p, nn.lo}, found = true;
+            const Cos2 c{dt.lo * dt.lo, nn.lo, sgn(dt.lo) > 0};
+            if (min ? c.acute && (!found || larger(best, c)) : !found || larger(c, best)) best = c, found = true;
         }
-    if (!found) fail(min ? "min witness without an acute angle" : "max witness without a right or obtuse angle");
+    if (!found) fail("min witness without an acute angle");
     return best;
 }
 // Whether the witness's angle (cos² c = p/q) is at most tol degrees beyond the
@@ -701,8 +769,18 @@ Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<
 // in radians): (C − c)² <= 4 δ² min(c (1 − c), C (1 − C)).  δ = 314159 / den
 // (den = 18000000000 / tol·100...: 1800000000 for 0.01°, 180000000 for 0.1°).
 // Near 90° the ends' |sin 2θ| vanish: obtuse angles with C <= 3·10^-6 <
-// sin²(0.0993°) both lie in [90°, 90.0993°].
+// sin²(0.0993°) both lie in [90°, 90.0993°].  An acute max witness (every
+// angle there acute) against the claim's θ >= 90°: the gap is
+// arcsin √c + arcsin √C <= (π/3)(√c + √C) (arcsin is convex on [0, 1] and
+// arcsin ½ = π/6), at most 60 (√c + √C) degrees; tight if √c + √C <= 1/S,
+// S = 60 / tol = den / 300000, i.e. Y = 1/S² − c − C >= 0 and 4 c C <= Y²
+// (scaled by S² q 2^40).
 bool tight(const Z& cm, const Cos2& w, std::int64_t den, bool obtuse) {
+    if (obtuse && w.acute) {
+        const Z S2 = zint(den / 300000) * zint(den / 300000);
+        const Z Y = w.q * pow2(40) - S2 * w.p * pow2(40) - S2 * cm * w.q;
+        return sgn(Y) >= 0 && cmp(zint(4) * w.p * cm * S2 * S2 * w.q * pow2(40), Y * Y) <= 0;
+    }
     if (obtuse && cmp(cm * zint(1000000), zint(3) * pow2(40)) <= 0) return true;
     const Z X = cm * w.q - w.p * pow2(40);
     const Z lhs = X * X * zint(den) * zint(den);
@@ -789,14 +867,15 @@ Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t a
     long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
     for (const char ch : en.splits) {
         if (open == 0) fail("split string too long for " + code);
-        if (ch != '0' && ch != '1') fail("bad split string for " + code);
-        open += ch == '1' ? 1 : -1;
+        if (ch < '0' || ch >= '1' + m) fail("bad split string for " + code);
+        open += ch == '0' ? -1 : 1;
     }
     if (open != 0) fail("split string too short for " + code);
     return en;
 }
 
-// The key's witnesses agree with its claim (c <= C: else the claim is false).
+// The key's witnesses agree with its claim (c <= C: else the claim is false;
+// an acute max witness agrees with every claim, which is >= 90°).
 // Returns the witnesses' cos² and whether each is tight: within 0.01° of the
 // claim (minimum), 0.1° (maximum).
 struct Witnessed {
@@ -808,7 +887,7 @@ Witnessed check_witnesses(const Entry& en) {
     Witnessed w{{witness_cos2(en.k, en.ps, tets, en.wmin, true), witness_cos2(en.k, en.ps, tets, en.wmax, false)}, {}};
     const Z* c[2] = {&en.claim.cmin, &en.claim.cmax};
     for (int j = 0; j < 2; ++j) {
-        if (cmp(w.c[j].p * pow2(40), *c[j] * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
+        if ((j == 0 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), *c[j] * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
         w.tight[j] = tight(*c[j], w.c[j], j == 0 ? 1800000000 : 180000000, j == 1);
     }
     return w;
@@ -821,7 +900,7 @@ int check(std::istream& in, bool progress) {
     std::vector<std::string> body;
     while (std::getline(in, line))
         if (!line.empty() && line[0] != '#') body.push_back(line);
-    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 2") fail("not a BCC certificate (format 2)");
+    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 3") fail("not a BCC certificate (format 3)");
     std::istringstream a(body[1]), c(body[2]), n(body[3]);
     std::string al, as, cn, cx;
     long nkeys = -1;
@@ -850,13 +929,13 @@ int check(std::istream& in, bool progress) {
             if (cmp(*kc[j], worst[j]) > 0) worst[j] = *kc[j];
     }
     if (cmp(worst[0], claim.cmin) != 0 || cmp(worst[1], claim.cmax) != 0) fail("the claim is not the keys' extremes");
-    // The theorem is tight: its most extreme witness (the largest cos² over
-    // the keys' min witnesses, resp. max witnesses) lies within 0.01° / 0.1°
-    // of it.  (A key's own claim may be looser: counted below.)
+    // The theorem is tight: its most extreme witness (the smallest angle over
+    // the keys' min witnesses, resp. the largest over their max witnesses)
+    // lies within 0.01° / 0.1° of it.  (A key's own claim may be looser: counted below.)
     std::size_t ext[2] = {0, 0};
     for (int j = 0; j < 2; ++j) {
         for (std::size_t i = 1; i < wit.size(); ++i)
-            if (cmp(wit[i].c[j].p * wit[ext[j]].c[j].q, wit[ext[j]].c[j].p * wit[i].c[j].q) > 0) ext[j] = i;
+            if (j == 0 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
         if (!tight(j == 0 ? claim.cmin : claim.cmax, wit[ext[j]].c[j], j == 0 ? 1800000000 : 180000000, j == 1))
             fail(std::string("the theorem's ") + (j == 0 ? "min" : "max") + " witness (" + entries[ext[j]].code +
                  ") is not within " + (j == 0 ? "0.01" : "0.1") + " deg of the claim");
@@ -869,7 +948,7 @@ int check(std::istream& in, bool progress) {
     }
     // The theorem, its witnesses and the claims in degrees (arccos in double:
     // the message only; the theorem is the exact statement before it).
-    const double dmin = degrees(Cos2{claim.cmin, pow2(40)}, false), dmax = degrees(Cos2{claim.cmax, pow2(40)}, true);
+    const double dmin = degrees(Cos2{claim.cmin, pow2(40), true}), dmax = degrees(Cos2{claim.cmax, pow2(40)});
     std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << al << ", " << as
               << "): every output tetrahedron of the " << nkeys
               << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << cn
@@ -878,7 +957,7 @@ int check(std::istream& in, bool progress) {
     std::cout << std::setprecision(4) << "  rounded outward: every dihedral angle in [" << std::floor(dmin * 1e4) / 1e4 << ", "
               << std::ceil(dmax * 1e4) / 1e4 << "] deg\n";
     for (int j = 0; j < 2; ++j) {
-        const double w = degrees(wit[ext[j]].c[j], j == 1);
+        const double w = degrees(wit[ext[j]].c[j]);
         std::cout << std::setprecision(10) << "  3D witness " << (j == 0 ? "min" : "max") << " " << entries[ext[j]].code
                   << ": angle " << w << " deg, claim " << (j == 0 ? dmin : dmax) << " deg, gap " << std::fabs(w - (j == 0 ? dmin : dmax))
                   << " deg\n";
@@ -891,7 +970,7 @@ int check(std::istream& in, bool progress) {
         for (std::size_t i = 0; i < entries.size(); ++i) {
             tight += wit[i].tight[j];
             const Z& c = j == 0 ? entries[i].claim.cmin : entries[i].claim.cmax;
-            const double g = std::fabs(degrees(wit[i].c[j], j == 1) - degrees(Cos2{c, pow2(40)}, j == 1));
+            const double g = std::fabs(degrees(wit[i].c[j]) - degrees(Cos2{c, pow2(40), j == 0}));
             if (g > gap) gap = g, gk = i;
         }
         std::cout << std::setprecision(4) << "  key " << (j == 0 ? "min" : "max") << " claims: " << tight << " of " << nkeys

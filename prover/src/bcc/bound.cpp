@@ -53,6 +53,39 @@ DI operator*(const DI& a, const DI& b) {
     for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
 }
+// Second order: value, partials and the second partials h[i][j] (i <= j).
+struct D2 {
+    BI v;
+    std::array<BI, 4> d;
+    std::array<std::array<BI, 4>, 4> h;
+};
+D2 operator+(const D2& a, const D2& b) {
+    D2 r = a;
+    r.v = a.v + b.v;
+    for (std::size_t i = 0; i < 4; ++i) {
+        r.d[i] = a.d[i] + b.d[i];
+        for (std::size_t j = i; j < 4; ++j) r.h[i][j] = a.h[i][j] + b.h[i][j];
+    }
+    return r;
+}
+D2 operator-(const D2& a, const D2& b) {
+    D2 r = a;
+    r.v = a.v - b.v;
+    for (std::size_t i = 0; i < 4; ++i) {
+        r.d[i] = a.d[i] - b.d[i];
+        for (std::size_t j = i; j < 4; ++j) r.h[i][j] = a.h[i][j] - b.h[i][j];
+    }
+    return r;
+}
+D2 operator*(const D2& a, const D2& b) {
+    D2 r = a;
+    r.v = a.v * b.v;
+    for (std::size_t i = 0; i < 4; ++i) {
+        r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+        for (std::size_t j = i; j < 4; ++j) r.h[i][j] = a.h[i][j] * b.v + a.v * b.h[i][j] + a.d[i] * b.d[j] + a.d[j] * b.d[i];
+    }
+    return r;
+}
 
 }  // namespace
 }  // namespace bcc_prover
@@ -61,27 +94,39 @@ template <>
 struct ScalarOps<bcc_prover::DI> {
     static bcc_prover::DI from_int(int v) { return {BI(static_cast<double>(v)), {BI(0.), BI(0.), BI(0.), BI(0.)}}; }
 };
+template <>
+struct ScalarOps<bcc_prover::D2> {
+    static bcc_prover::D2 from_int(int v) {
+        bcc_prover::D2 r;
+        r.v = BI(static_cast<double>(v));
+        for (auto& x : r.d) x = BI(0.);
+        for (auto& row : r.h) row.fill(BI(0.));
+        return r;
+    }
+};
 
 namespace bcc_prover {
 namespace {
 
-// The dihedral forms of the key's output tetrahedra on box b, with partials.
-std::vector<bcc::DihedralForms<DI>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b) {
-    const DI zero = ScalarOps<DI>::from_int(0);
-    std::array<DI, 4> t{zero, zero, zero, zero};
-    std::array<DI, 6> u{zero, zero, zero, zero, zero, zero};
+// The dihedral forms of the key's output tetrahedra on box b, with partials
+// (T = DI; T = D2: and second partials).
+template <class T = DI>
+std::vector<bcc::DihedralForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b) {
+    const T zero = ScalarOps<T>::from_int(0);
+    std::array<T, 4> t{zero, zero, zero, zero};
+    std::array<T, 6> u{zero, zero, zero, zero, zero, zero};
     for (std::size_t i = 0; i < ps.size(); ++i) {
-        DI x = zero;
+        T x = zero;
         x.v = BI(b.lo[i], b.hi[i]);
         x.d[i] = BI(1.);
         if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x;
         else u[static_cast<std::size_t>(ps[i].index - 4)] = x;
     }
-    const auto pts = bcc::generic_points<DI>(k, t, u);
+    const auto pts = bcc::generic_points<T>(k, t, u);
     const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
-    std::vector<bcc::DihedralForms<DI>> out;
+    std::vector<bcc::DihedralForms<T>> out;
     for (int j = 0; j < st.count; ++j) {
-        std::array<bcc::Vec<DI>, 4> p{};
+        std::array<bcc::Vec<T>, 4> p{};
         for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
         out.push_back(bcc::dihedral_forms(p));
     }
@@ -91,23 +136,46 @@ std::vector<bcc::DihedralForms<DI>> all_forms(const Key& k, const std::vector<Pa
 // Form f of one tetrahedron's forms: f = 0: 6·volume; f = 1 + 2e: -d_e;
 // 2 + 2e: C_min N_e - d_e²; f = 13 + 2e: d_e; 14 + 2e: C_max N_e - d_e²
 // (d = n_c·n_d, N = |n_c|²|n_d|²).
-DI form_of(const bcc::DihedralForms<DI>& df, int f, const Claim& c) {
-    const DI zero = ScalarOps<DI>::from_int(0);
+template <class T>
+T form_of(const bcc::DihedralForms<T>& df, int f, const Claim& c) {
+    const T zero = ScalarOps<T>::from_int(0);
     if (f == 0) return df.volume6;
     const int g = (f - 1) % 12, e = g / 2;
-    const DI& d = df.dot[static_cast<std::size_t>(e)];
+    const T& d = df.dot[static_cast<std::size_t>(e)];
     if (g % 2 == 0) return f < 13 ? zero - d : d;
-    DI cc = zero;
+    T cc = zero;
     cc.v = BI(f < 13 ? c.cmin : c.cmax);
     return cc * df.nn[static_cast<std::size_t>(e)] - d * d;
+}
+
+// The second-order Taylor form of form f of tetrahedron j on box b around its
+// centre m: g(m) + sum_i g_i(m) [-r_i, r_i] + sum_i g_ii(b) [0, r_i²] / 2
+// + sum_{i<l} g_il(b) [-r_i r_l, r_i r_l] (the partials at the point m, the
+// second partials on the box).
+BI taylor2(const Key& k, const std::vector<Param>& ps, const Box& b, int j, int f, const Claim& c) {
+    Box m = b;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) m.lo[i] = m.hi[i] = 0.5 * (b.lo[i] + b.hi[i]);
+    const DI g = form_of(all_forms(k, ps, m)[static_cast<std::size_t>(j)], f, c);
+    const D2 h = form_of(all_forms<D2>(k, ps, b)[static_cast<std::size_t>(j)], f, c);
+    BI t = g.v;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) {
+        const BI r = BI(0.5 * (b.hi[i] - b.lo[i]));
+        t = t + g.d[i] * BI(-r.upper(), r.upper()) + BI(0.5) * h.h[i][i] * BI(0., (r * r).upper());
+        for (std::size_t l = i + 1; l < static_cast<std::size_t>(b.m); ++l) {
+            const double rr = (r * BI(0.5 * (b.hi[l] - b.lo[l]))).upper();
+            t = t + h.h[i][l] * BI(-rr, rr);
+        }
+    }
+    return t;
 }
 
 // g >= 0 (strict: > 0) on box b.  Tests, in turn, the natural enclosure g(b)
 // and the mean-value form around the centre m of b, g(m) + sum_j g_j(b)
 // [-r_j, r_j]; while neither proves it, every variable whose partial has a
 // decided sign on the box is fixed at the end where g is smaller (all at
-// once), and both tests are repeated on that face.  The 2D prover's
-// procedure (bound.cpp, verify_poly); the checker applies it exactly.
+// once), and both tests are repeated on that face (the 2D prover's
+// procedure, bound.cpp, verify_poly); where nothing is fixed, the
+// second-order Taylor form on that face.  The checker applies it exactly.
 // `g` is the form on b, `mid` its value at the centre (both precomputed for
 // all forms of the box).
 bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, int j, int f, const Claim& c, bool strict, DI g,
@@ -129,17 +197,23 @@ bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, int j, int f
             if (g.d[i].lower() >= 0) b.hi[i] = b.lo[i], fixed = true;
             else if (g.d[i].upper() <= 0) b.lo[i] = b.hi[i], fixed = true;
         }
-        if (!fixed) return false;
+        if (!fixed) {
+            const BI t = taylor2(k, ps, b, j, f, c);
+            return strict ? t.lower() > 0 : t.lower() >= 0;
+        }
         g = form_of(all_forms(k, ps, b)[static_cast<std::size_t>(j)], f, c);
     }
 }
 
 // Whether every output tetrahedron of key k is positively oriented with all
 // dihedral angles in the claim on the box; `fail` gets what failed (0
-// orientation, 1 minimum, 2 maximum).  Per edge: minimum holds if -d >= 0 on
-// the box or C_min N - d² >= 0; maximum if d >= 0 or C_max N - d² >= 0
+// orientation, 1 minimum, 2 maximum) and `smear` the failed form's smear per
+// parameter, |∂_i g(box)|·width_i (of the alternative tried first), which
+// chooses the side to split.  Per edge: minimum holds if -d >= 0 on the box
+// or C_min N - d² >= 0; maximum if d >= 0 or C_max N - d² >= 0
 // (generic_bcc.hpp, "Angle forms").
-bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, int* fail) {
+bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, int* fail,
+                std::array<double, 4>& smear) {
     Box m = b;
     for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) m.lo[i] = m.hi[i] = 0.5 * (b.lo[i] + b.hi[i]);
     const auto fb = all_forms(k, ps, b), fm = all_forms(k, ps, m);
@@ -147,15 +221,24 @@ bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const 
         const auto J = static_cast<std::size_t>(j);
         return verify_form(k, ps, b, j, f, c, strict, form_of(fb[J], f, c), form_of(fm[J], f, c).v);
     };
+    const auto failed = [&](int j, int f, int kind) {
+        const DI g = form_of(fb[static_cast<std::size_t>(j)], f, c);
+        for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i)
+            smear[i] = std::max(-g.d[i].lower(), g.d[i].upper()) * (b.hi[i] - b.lo[i]);
+        *fail = kind;
+        return false;
+    };
     for (int j = 0; j < static_cast<int>(fb.size()); ++j) {
-        if (!ok(j, 0, true)) return *fail = 0, false;
+        if (!ok(j, 0, true)) return failed(j, 0, 0);
         // Either alternative proves a bound; the one matching the sign of d at
         // the centre is tried first (only the cost depends on the order).
         for (int e = 0; e < 6; ++e) {
             const bool acute = fm[static_cast<std::size_t>(j)].dot[static_cast<std::size_t>(e)].v.lower() > 0;
             const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
-            if (!(acute ? ok(j, q1, false) || ok(j, s1, false) : ok(j, s1, false) || ok(j, q1, false))) return *fail = 1, false;
-            if (!(acute ? ok(j, s2, false) || ok(j, q2, false) : ok(j, q2, false) || ok(j, s2, false))) return *fail = 2, false;
+            if (!(acute ? ok(j, q1, false) || ok(j, s1, false) : ok(j, s1, false) || ok(j, q1, false)))
+                return failed(j, acute ? q1 : s1, 1);
+            if (!(acute ? ok(j, s2, false) || ok(j, q2, false) : ok(j, q2, false) || ok(j, s2, false)))
+                return failed(j, acute ? s2 : q2, 2);
         }
     }
     return true;
@@ -171,8 +254,8 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
     root.m = static_cast<int>(ps.size());
     for (std::size_t i = 0; i < ps.size(); ++i) root.lo[i] = ps[i].root_lo, root.hi[i] = ps[i].root_hi;
     out.root = root;
-    // Depth first, lower half first; split the widest side (the first on
-    // ties) at its midpoint.  The split string: '1' split, '0' verified leaf.
+    // Depth first, lower half first; a box is split at the midpoint of one
+    // side.  The split string: '0' a verified leaf, '1' + j a split of side j.
     struct Item {
         Box b;
         int depth;
@@ -182,7 +265,8 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
         const Item it = stack.back();
         stack.pop_back();
         int fail = 0;
-        if (verify_box(k, ps, it.b, c, &fail)) {
+        std::array<double, 4> smear{};
+        if (verify_box(k, ps, it.b, c, &fail, smear)) {
             out.splits += '0';
             ++out.leaves;
             continue;
@@ -192,11 +276,19 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
             out.fail_kind = 3;
             return out;
         }
+        // Split the side with the largest smear of the failed form (the
+        // first on ties): a form that does not depend on a parameter never
+        // splits its side.  The widest side if no smear is positive and finite.
         int s = -1;
-        for (int j = 0; j < it.b.m; ++j)
-            if (s < 0 || it.b.hi[static_cast<std::size_t>(j)] - it.b.lo[static_cast<std::size_t>(j)] >
-                             it.b.hi[static_cast<std::size_t>(s)] - it.b.lo[static_cast<std::size_t>(s)])
-                s = j;
+        for (int j = 0; j < it.b.m; ++j) {
+            const auto J = static_cast<std::size_t>(j);
+            if (smear[J] > 0 && smear[J] < HUGE_VAL && (s < 0 || smear[J] > smear[static_cast<std::size_t>(s)])) s = j;
+        }
+        if (s < 0)
+            for (int j = 0; j < it.b.m; ++j)
+                if (s < 0 || it.b.hi[static_cast<std::size_t>(j)] - it.b.lo[static_cast<std::size_t>(j)] >
+                                 it.b.hi[static_cast<std::size_t>(s)] - it.b.lo[static_cast<std::size_t>(s)])
+                    s = j;
         if (s < 0 || it.depth >= max_depth) {
             out.ok = false;
             out.fail_kind = fail;
@@ -204,7 +296,7 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
                 out.fail_point[static_cast<std::size_t>(j)] = 0.5 * (it.b.lo[static_cast<std::size_t>(j)] + it.b.hi[static_cast<std::size_t>(j)]);
             return out;
         }
-        out.splits += '1';
+        out.splits += static_cast<char>('1' + s);
         ++out.split_fails[static_cast<std::size_t>(fail)];
         const auto ss = static_cast<std::size_t>(s);
         const double mid = 0.5 * (it.b.lo[ss] + it.b.hi[ss]);

@@ -39,9 +39,9 @@ std::string dyadic40(double x) {
 // proof: prints the smallest and largest angle found and their keys, from
 // which scripts/bcc-frontier.sh chooses a pair's caps, then how many keys'
 // largest angle found is acute, and the key with the smallest largest angle
-// and that angle (an acute one: the key has no max witness the checker
-// accepts, which needs a right or obtuse angle).  Not on the proof
-// path (acos only names the angles).
+// and that angle (if acute, that key's max claim, which is at least 90°,
+// is more than 0.1° from its witness: loose).  Not on the proof path (acos
+// only names the angles).
 int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al) {
     std::vector<Witness> lo(keys.size()), hi(keys.size());
 #pragma omp parallel for schedule(dynamic, 4)
@@ -133,7 +133,7 @@ int prove_bcc_main(int argc, char** argv) {
         lines << certificate_line(keys[i], p) << "\n";
     }
     std::ostringstream cert;
-    cert << "warpmesh-bcc-certificate 2\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
+    cert << "warpmesh-bcc-certificate 3\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
     cert << "alphas " << al.long_num << "/100000 " << al.short_num << "/100000\n";
     cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << "\n";
     cert << "keys " << keys.size() << "\n" << lines.str();
