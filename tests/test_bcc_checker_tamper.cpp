@@ -63,7 +63,7 @@ std::string join(const std::vector<std::string>& f) {
 
 BOOST_AUTO_TEST_CASE(header_changed) {
     auto l = cert();
-    l[0] = "warpmesh-bcc-certificate 1";
+    l[0] = "warpmesh-bcc-certificate 3";
     expect_rejected(l, "header", "not a BCC certificate");
 }
 
@@ -82,32 +82,42 @@ BOOST_AUTO_TEST_CASE(global_claim_not_the_keys_extremes) {
     const std::size_t c = line_of(l, "claim");
     auto f = fields(l[c]);
     // cos^2(61 deg) = 0.23504...: a stronger minimum than any key's claim.
-    l[c] = "claim 258427994931/1099511627776 " + f[2];
-    expect_rejected(l, "claim", "not the keys' extremes");
+    auto a = l;
+    a[c] = "claim 258427994931/1099511627776 " + f[2] + " " + f[3];
+    expect_rejected(a, "claim", "not the keys' extremes");
+    auto b = l;  // format 4: the face-angle claim too
+    b[c] = "claim " + f[1] + " " + f[2] + " 258427994931/1099511627776";
+    expect_rejected(b, "faceclaim", "not the keys' extremes");
+    auto d = l;  // format 3's claim line: no face-angle claim
+    d[c] = "claim " + f[1] + " " + f[2];
+    expect_rejected(d, "claim3", "bad claim line");
 }
 
-// Field offsets in a key line: "key CODE m" + 2m root ends, then CMIN CMAX,
-// then m + m witness coordinates, then SPLITS.
+// Field offsets in a key line: "key CODE m" + 2m root ends, then CMIN CMAX
+// CFACE, then m + m + m witness coordinates (min, max, face), then SPLITS.
 namespace {
 struct KeyFields {
     std::vector<std::string> f;
-    std::size_t m, cmin, wmin, wmax;
+    std::size_t m, cmin, wmin, wmax, wface;
 };
 KeyFields key_fields(const std::string& line) {
-    KeyFields k{fields(line), 0, 0, 0, 0};
+    KeyFields k{fields(line), 0, 0, 0, 0, 0};
     k.m = std::stoul(k.f[2]);
-    k.cmin = 3 + 2 * k.m, k.wmin = k.cmin + 2, k.wmax = k.wmin + k.m;
+    k.cmin = 3 + 2 * k.m, k.wmin = k.cmin + 3, k.wmax = k.wmin + k.m, k.wface = k.wmax + k.m;
     return k;
 }
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(key_claim_raised_to_61_degrees) {
-    auto l = cert();
-    const std::size_t k = first_split_key(l);
-    auto kf = key_fields(l[k]);
-    kf.f[kf.cmin] = "258427994931/1099511627776";  // a minimum of 61 deg: the witness contradicts it
-    l[k] = join(kf.f);
-    expect_rejected(l, "keyclaim", "contradicts its claim");
+    for (int j : {0, 2}) {  // the dihedral and the face-angle minimum
+        auto l = cert();
+        const std::size_t k = first_split_key(l);
+        auto kf = key_fields(l[k]);
+        // A minimum of 61 deg: the witness contradicts it (a triangle has an angle <= 60 deg).
+        kf.f[kf.cmin + static_cast<std::size_t>(j)] = "258427994931/1099511627776";
+        l[k] = join(kf.f);
+        expect_rejected(l, j == 0 ? "keyclaim" : "keyfaceclaim", "contradicts its claim");
+    }
 }
 
 // The theorem must be tight: loosening the extreme key's claim and the
@@ -115,7 +125,7 @@ BOOST_AUTO_TEST_CASE(key_claim_raised_to_61_degrees) {
 // theorem's witness too far from it.  (A key's own claim may be looser than
 // 0.01 / 0.1 deg; the checker counts those.)
 BOOST_AUTO_TEST_CASE(theorem_loosened_is_not_tight) {
-    for (int j = 0; j < 2; ++j) {
+    for (int j = 0; j < 3; ++j) {
         auto l = cert();
         const std::size_t c = line_of(l, "claim");
         auto cf = fields(l[c]);
@@ -124,12 +134,13 @@ BOOST_AUTO_TEST_CASE(theorem_loosened_is_not_tight) {
             if (l[i].rfind("key ", 0) == 0 && key_fields(l[i]).f[key_fields(l[i]).cmin + static_cast<std::size_t>(j)] == cf[1 + static_cast<std::size_t>(j)]) k = i;
         BOOST_REQUIRE(k > 0);
         auto kf = key_fields(l[k]);
-        const std::string loose = j == 0 ? "1099511627775/1099511627776" : "1099511627000/1099511627776";  // 0.05 / 179.9 deg
+        const std::string loose = j != 1 ? "1099511627775/1099511627776" : "1099511627000/1099511627776";  // 0.05 / 179.9 deg
         kf.f[kf.cmin + static_cast<std::size_t>(j)] = loose;
         cf[1 + static_cast<std::size_t>(j)] = loose;
         l[k] = join(kf.f);
         l[c] = join(cf);
-        expect_rejected(l, j == 0 ? "loosemin" : "loosemax", j == 0 ? "theorem's min witness" : "theorem's max witness");
+        const char* kind[3] = {"min", "max", "face"};
+        expect_rejected(l, std::string("loose") + kind[j], std::string("theorem's ") + kind[j] + " witness");
     }
 }
 
@@ -146,6 +157,11 @@ BOOST_AUTO_TEST_CASE(witness_moved_outside_the_box_or_garbled) {
     kf.f[kf.wmax] = "1/3";
     b[k] = join(kf.f);
     expect_rejected(b, "nondyadic", "not dyadic");
+    auto c = l;  // format 4: the face-angle witness
+    kf = key_fields(c[k]);
+    kf.f[kf.wface] = "16777216/16777216";
+    c[k] = join(kf.f);
+    expect_rejected(c, "faceoutside", "witness outside");
 }
 
 BOOST_AUTO_TEST_CASE(key_count_and_missing_key) {
@@ -206,7 +222,7 @@ BOOST_AUTO_TEST_CASE(split_string_edited) {
 BOOST_AUTO_TEST_CASE(garbage_and_truncation) {
     auto l = cert();
     auto a = l;
-    a[line_of(l, "claim")] = "claim 1/3 1/2";
+    a[line_of(l, "claim")] = "claim 1/3 1/2 1/2";
     expect_rejected(a, "nondyadic", "not dyadic");
     auto b = l;
     b.resize(b.size() / 2);

@@ -39,15 +39,15 @@ Cert read_cert() {
     Cert c;
     for (std::string line; std::getline(in, line);) {
         std::istringstream ss(line);
-        std::string w, a, b;
+        std::string w, a, b, f;
         ss >> w;
         if (w == "alphas") {
             ss >> a >> b;
             ratio(a, &c.al.long_num), ratio(b, &c.al.short_num);
             c.al.long_den = c.al.short_den = 100000;
         } else if (w == "claim") {
-            ss >> a >> b;
-            c.claim = {ratio(a), ratio(b)};
+            ss >> a >> b >> f;
+            c.claim = {ratio(a), ratio(b), ratio(f)};
         } else if (w == "key") {
             ss >> a;
             c.lines[a] = line;
@@ -81,7 +81,7 @@ BOOST_AUTO_TEST_CASE(a_claim_above_the_minimum_is_refused) {
     for (const auto& k : bp::enumerate_keys()) {
         if (bp::code_of(k) != "-,0h,+,-/0") continue;
         const double c11 = std::cos(11.0 * M_PI / 180);  // the key reaches 10.7685 deg at the default alphas
-        const bp::KeyProof p = bp::prove_key(k, c.al, {std::round(std::ldexp(c11 * c11, 40)) / 1099511627776.0, c.claim.cmax}, 16);
+        const bp::KeyProof p = bp::prove_key(k, c.al, {std::round(std::ldexp(c11 * c11, 40)) / 1099511627776.0, c.claim.cmax, c.claim.cface}, 16);
         BOOST_TEST(!p.ok);
         BOOST_TEST(p.fail_kind == 1);
     }

@@ -478,9 +478,9 @@ struct Side {
     Dy lo, hi;
 };
 using Box = std::vector<Side>;
-// The claim: cos^2 thresholds c / 2^40.
+// The claim: cos^2 thresholds c / 2^40 (dihedral min and max, face angle min).
 struct Claim {
-    Z cmin, cmax;
+    Z cmin, cmax, cface;
 };
 
 // The scaled integer 2^K · x of a box end (K >= x.e).
@@ -570,18 +570,32 @@ void edge_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int e, T& dt, T& 
     const P3<T> nc = cross3(ev, sub3(pt[t[c]], pt[t[a]])), nd = cross3(ev, sub3(pt[t[d]], pt[t[a]]));
     dt = dot3(nc, nd), nn = dot3(nc, nc) * dot3(nd, nd);
 }
-// The 25 forms of one output tetrahedron (scaled as in the header comment):
+// s = u·v and M = |u|²|v|² of face angle q of tetrahedron t: at vertex a =
+// q / 3 of the face without vertex o (the (q % 3)-th other vertex), u, v to
+// its other two vertices b < c.
+template <class T>
+void angle_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int q, T& s, T& M) {
+    const int a = q / 3, o = q % 3 < a ? q % 3 : q % 3 + 1;
+    int b = 0;
+    while (b == a || b == o) ++b;
+    const int c = 6 - a - o - b;
+    const P3<T> u = sub3(pt[t[b]], pt[t[a]]), v = sub3(pt[t[c]], pt[t[a]]);
+    s = dot3(u, v), M = dot3(u, u) * dot3(v, v);
+}
+// The 49 forms of one output tetrahedron (scaled as in the header comment):
 // 0: 6·volume (> 0); per edge e: 1 + 2e: −d, 2 + 2e: c_min N − 2^40 d² (one
 // of them >= 0: θ >= θmin); 13 + 2e: d, 14 + 2e: c_max N − 2^40 d² (one >= 0:
-// θ <= θmax).
+// θ <= θmax); per face angle q: 25 + 2q: −s, 26 + 2q: c_face M − 2^40 s²
+// (one >= 0: φ >= φmin; s degree 2, M degree 4).
 template <class T>
-std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const Claim& cl) {
-    std::array<T, 25> f{};
+std::array<T, 49> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const Claim& cl) {
+    std::array<T, 49> f{};
     const P3<T>&p0 = pt[t[0]], &p1 = pt[t[1]], &p2 = pt[t[2]], &p3 = pt[t[3]];
     f[0] = dot3(sub3(p1, p0), cross3(sub3(p2, p0), sub3(p3, p0)));
-    T cmin{}, cmax{}, two40{};
-    if constexpr (!std::is_same_v<T, I>) cmin.v = point(cl.cmin), cmax.v = point(cl.cmax), two40.v = point(pow2(40));
-    else cmin = point(cl.cmin), cmax = point(cl.cmax), two40 = point(pow2(40));
+    T cmin{}, cmax{}, cface{}, two40{};
+    if constexpr (!std::is_same_v<T, I>)
+        cmin.v = point(cl.cmin), cmax.v = point(cl.cmax), cface.v = point(cl.cface), two40.v = point(pow2(40));
+    else cmin = point(cl.cmin), cmax = point(cl.cmax), cface = point(cl.cface), two40 = point(pow2(40));
     for (int e = 0; e < 6; ++e) {
         T dt{}, nn{};
         edge_forms(pt, t, e, dt, nn);
@@ -589,17 +603,29 @@ std::array<T, 25> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const
         f[1 + 2 * e] = T{} - dt, f[2 + 2 * e] = cmin * nn - dd;
         f[13 + 2 * e] = dt, f[14 + 2 * e] = cmax * nn - dd;
     }
+    for (int q = 0; q < 12; ++q) {
+        T sq{}, M{};
+        angle_forms(pt, t, q, sq, M);
+        f[25 + 2 * q] = T{} - sq, f[26 + 2 * q] = cface * M - two40 * (sq * sq);
+    }
     return f;
 }
 // Form f alone (as tet_forms(pt, t, cl)[f], in the same order).
 template <class T>
 T form_at(const std::array<P3<T>, 10>& pt, const Tet& t, int f, const Claim& cl) {
     if (f == 0) return dot3(sub3(pt[t[1]], pt[t[0]]), cross3(sub3(pt[t[2]], pt[t[0]]), sub3(pt[t[3]], pt[t[0]])));
-    const int g = (f - 1) % 12, e = g / 2;
     T dt{}, nn{}, c{}, two40{};
+    two40.v = point(pow2(40));
+    if (f >= 25) {
+        angle_forms(pt, t, (f - 25) / 2, dt, nn);
+        if ((f - 25) % 2 == 0) return T{} - dt;
+        c.v = point(cl.cface);
+        return c * nn - two40 * (dt * dt);
+    }
+    const int g = (f - 1) % 12, e = g / 2;
     edge_forms(pt, t, e, dt, nn);
     if (g % 2 == 0) return f < 13 ? T{} - dt : dt;
-    c.v = point(f < 13 ? cl.cmin : cl.cmax), two40.v = point(pow2(40));
+    c.v = point(f < 13 ? cl.cmin : cl.cmax);
     return c * nn - two40 * (dt * dt);
 }
 int leaf_exponent(const Box& b) {
@@ -662,7 +688,7 @@ bool holds(const Key& k, const std::vector<Param>& ps, const Tet& t, Box b, int 
 bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const Box& b, const Claim& cl) {
     const int K = leaf_exponent(b);
     const auto pv = points<I>(k, ps, b, K);
-    std::vector<std::array<I, 25>> fv;
+    std::vector<std::array<I, 49>> fv;
     bool all = true;  // the natural enclosures alone, without partials, often suffice
     for (const Tet& t : tets) {
         fv.push_back(tet_forms(pv, t, cl));
@@ -670,6 +696,7 @@ bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<T
         const auto P = [&](int x) { return sgn(f[x].lo) >= 0; };
         all = all && sgn(f[0].lo) > 0;
         for (int e = 0; e < 6 && all; ++e) all = (P(1 + 2 * e) || P(2 + 2 * e)) && (P(13 + 2 * e) || P(14 + 2 * e));
+        for (int q = 0; q < 12 && all; ++q) all = P(25 + 2 * q) || P(26 + 2 * q);
     }
     if (all) return true;
     const auto pd = points<D>(k, ps, b, K);
@@ -686,6 +713,11 @@ bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<T
             const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
             if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
             if (!(acute ? H(s2, false) || H(q2, false) : H(q2, false) || H(s2, false))) return false;
+        }
+        for (int q = 0; q < 12; ++q) {  // face angles: as the minimum, s in place of d
+            const bool acute = sgn(fm[25 + 2 * q].hi) < 0;
+            const int s1 = 25 + 2 * q, q1 = 26 + 2 * q;
+            if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
         }
     }
     return true;
@@ -740,11 +772,12 @@ bool larger(const Cos2& a, const Cos2& b) {
     const int c = cmp(a.p * b.q, b.p * a.q);
     return a.acute ? c < 0 : c > 0;
 }
-// The exact cos² of the extreme dihedral angle of the key's output at the
-// witness w (dyadic, inside the exact box): the smallest angle (`min`: the
-// largest d²/N over the edges with d > 0) or the largest (the largest d²/N
-// over the edges with d <= 0; if every angle is acute, the smallest d²/N).
-Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, bool min) {
+// The exact cos² of the extreme angle of the key's output at the witness w
+// (dyadic, inside the exact box), by kind: 0 the smallest dihedral angle
+// (the largest d²/N over the edges with d > 0), 1 the largest (the largest
+// d²/N over the edges with d <= 0; if every angle is acute, the smallest
+// d²/N), 2 the smallest face angle (the largest s²/M with s > 0).
+Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, int kind) {
     Box b;
     int K = 0;
     for (const Dy& x : w) b.push_back(Side{x, x}), K = std::max(K, x.e);
@@ -752,11 +785,12 @@ Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<
     bool found = false;
     Cos2 best;
     for (const Tet& t : tets)
-        for (int e = 0; e < 6; ++e) {
+        for (int e = 0; e < (kind == 2 ? 12 : 6); ++e) {
             I dt, nn;
-            edge_forms(pt, t, e, dt, nn);  // points: exact, dt.lo == dt.hi
+            if (kind == 2) angle_forms(pt, t, e, dt, nn);
+            else edge_forms(pt, t, e, dt, nn);  // points: exact, dt.lo == dt.hi
             const Cos2 c{dt.lo * dt.lo, nn.lo, sgn(dt.lo) > 0};
-            if (min ? c.acute && (!found || larger(best, c)) : !found || larger(c, best)) best = c, found = true;
+            if (kind != 1 ? c.acute && (!found || larger(best, c)) : !found || larger(c, best)) best = c, found = true;
         }
     if (!found) fail("min witness without an acute angle");
     return best;
@@ -827,10 +861,13 @@ struct Entry {
     std::vector<Param> ps;
     Box root;
     Claim claim;
-    std::vector<Dy> wmin, wmax;
+    std::array<std::vector<Dy>, 3> w;  // witnesses: min, max (dihedral), face
     std::string splits;
 };
-// One key line: "key CODE m lo_0 hi_0 .. CMIN CMAX WMIN_0 .. WMAX_0 .. SPLITS":
+// Claim j: 0 dihedral min, 1 dihedral max, 2 face angle min.
+const Z& claim_of(const Claim& c, int j) { return j == 0 ? c.cmin : j == 1 ? c.cmax : c.cface; }
+// One key line: "key CODE m lo_0 hi_0 .. CMIN CMAX CFACE WMIN_0 .. WMAX_0 ..
+// WFACE_0 .. SPLITS":
 // the root box containing the exact box, the key's claim, its witnesses
 // inside the exact box, and a complete preorder bisection.
 Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t ashort, std::int64_t den,
@@ -839,7 +876,7 @@ Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t a
     std::string word, code;
     int m = -1;
     if (!(ks >> word >> code >> m) || word != "key") fail("bad key line");
-    Entry en{code, parse_code(code), {}, {}, {}, {}, {}, {}};
+    Entry en{code, parse_code(code), {}, {}, {}, {}, {}};
     if (!expected.count(en.k.enc()) || !seen.insert(en.k.enc()).second) fail("unexpected or repeated key " + code);
     en.ps = params(en.k, along, ashort, den);
     if (m != static_cast<int>(en.ps.size())) fail("wrong parameter count for " + code);
@@ -854,14 +891,15 @@ Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t a
             fail("root box does not contain the parameter box of " + code);
         en.root.push_back(Side{l, h});
     }
-    if (!(ks >> lo >> hi)) fail("bad claim for " + code);
-    en.claim = Claim{claim_threshold(lo), claim_threshold(hi)};
-    for (std::vector<Dy>* w : {&en.wmin, &en.wmax})
+    std::string fa;
+    if (!(ks >> lo >> hi >> fa)) fail("bad claim for " + code);
+    en.claim = Claim{claim_threshold(lo), claim_threshold(hi), claim_threshold(fa)};
+    for (std::vector<Dy>& w : en.w)
         for (const Param& p : en.ps) {
             if (!(ks >> lo)) fail("bad witness for " + code);
             const Dy x = parse_dyadic(lo);
             if (!(ge(x, p.lo_num, p.den) && le(x, p.hi_num, p.den))) fail("witness outside the parameter box of " + code);
-            w->push_back(x);
+            w.push_back(x);
         }
     if (!(ks >> en.splits) || en.splits.size() > 50000000 || (ks >> word)) fail("bad split string for " + code);
     long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
@@ -877,20 +915,62 @@ Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t a
 // The key's witnesses agree with its claim (c <= C: else the claim is false;
 // an acute max witness agrees with every claim, which is >= 90°).
 // Returns the witnesses' cos² and whether each is tight: within 0.01° of the
-// claim (minimum), 0.1° (maximum).
+// claim (minima), 0.1° (maximum).
 struct Witnessed {
-    std::array<Cos2, 2> c;
-    std::array<bool, 2> tight;
+    std::array<Cos2, 3> c;
+    std::array<bool, 3> tight;
 };
+std::int64_t tol_den(int j) { return j == 1 ? 180000000 : 1800000000; }  // 0.1°, 0.01° (see tight)
 Witnessed check_witnesses(const Entry& en) {
     const std::vector<Tet> tets = oriented(en.k);
-    Witnessed w{{witness_cos2(en.k, en.ps, tets, en.wmin, true), witness_cos2(en.k, en.ps, tets, en.wmax, false)}, {}};
-    const Z* c[2] = {&en.claim.cmin, &en.claim.cmax};
-    for (int j = 0; j < 2; ++j) {
-        if ((j == 0 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), *c[j] * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
-        w.tight[j] = tight(*c[j], w.c[j], j == 0 ? 1800000000 : 180000000, j == 1);
+    Witnessed w{};
+    for (int j = 0; j < 3; ++j) {
+        w.c[j] = witness_cos2(en.k, en.ps, tets, en.w[j], j);
+        const Z& c = claim_of(en.claim, j);
+        if ((j != 1 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), c * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
+        w.tight[j] = tight(c, w.c[j], tol_den(j), j == 1);
     }
     return w;
+}
+
+const char* const KIND[3] = {"min", "max", "face"};
+const char* const TOL[3] = {"0.01", "0.1", "0.01"};
+
+// Prints the theorem (checked), its witnesses (ext: the most extreme key per
+// kind) and the keys' tightness; degrees by arccos in double, messages only:
+// the theorem is the exact statement of the first line.
+void print_theorem(const std::string& al, const std::string& as, const std::array<std::string, 3>& text, const Claim& claim,
+                   const std::vector<Entry>& entries, const std::vector<Witnessed>& wit, const std::size_t* ext, long leaves) {
+    double deg[3];
+    for (int j = 0; j < 3; ++j) deg[j] = degrees(Cos2{claim_of(claim, j), pow2(40), j != 1});
+    std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << al << ", " << as
+              << "): every output tetrahedron of the " << entries.size()
+              << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << text[0]
+              << ", and cos t >= 0 or cos^2 t <= " << text[1] << ": t in [" << deg[0] << ", " << deg[1] << "] deg (" << leaves
+              << " leaves)\n";
+    std::cout << std::setprecision(4) << "  rounded outward: every dihedral angle in [" << std::floor(deg[0] * 1e4) / 1e4 << ", "
+              << std::ceil(deg[1] * 1e4) / 1e4 << "] deg\n";
+    std::cout << std::setprecision(10) << "  face angles: every face angle t of every output tetrahedron has cos t <= 0 or cos^2 t <= "
+              << text[2] << ": t >= " << deg[2] << " deg (rounded down: " << std::setprecision(4) << std::floor(deg[2] * 1e4) / 1e4
+              << ")\n";
+    for (int j = 0; j < 3; ++j) {
+        const double w = degrees(wit[ext[j]].c[j]);
+        std::cout << std::setprecision(10) << (j < 2 ? "  3D witness " : "  face witness ") << (j < 2 ? KIND[j] : "min") << " "
+                  << entries[ext[j]].code << ": angle " << w << " deg, claim " << deg[j] << " deg, gap " << std::fabs(w - deg[j])
+                  << " deg\n";
+    }
+    for (int j = 0; j < 3; ++j) {  // per-key tightness: counts, and the largest gaps
+        long tight = 0;
+        double gap = 0;
+        std::size_t gk = 0;
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            tight += wit[i].tight[j];
+            const double g = std::fabs(degrees(wit[i].c[j]) - degrees(Cos2{claim_of(entries[i].claim, j), pow2(40), j != 1}));
+            if (g > gap) gap = g, gk = i;
+        }
+        std::cout << std::setprecision(4) << "  key " << KIND[j] << " claims: " << tight << " of " << entries.size() << " within "
+                  << TOL[j] << " deg of their witnesses; largest gap " << gap << " deg (" << entries[gk].code << ")\n";
+    }
 }
 
 // Parses the header, every key line and witness (cheap), then verifies the
@@ -900,45 +980,46 @@ int check(std::istream& in, bool progress) {
     std::vector<std::string> body;
     while (std::getline(in, line))
         if (!line.empty() && line[0] != '#') body.push_back(line);
-    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 3") fail("not a BCC certificate (format 3)");
+    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 4") fail("not a BCC certificate (format 4)");
     std::istringstream a(body[1]), c(body[2]), n(body[3]);
-    std::string al, as, cn, cx;
+    std::string al, as;
+    std::array<std::string, 3> text;
     long nkeys = -1;
     if (!(a >> word >> al >> as) || word != "alphas") fail("bad alphas line");
-    if (!(c >> word >> cn >> cx) || word != "claim") fail("bad claim line");
+    if (!(c >> word >> text[0] >> text[1] >> text[2]) || word != "claim" || (c >> word)) fail("bad claim line");
     if (!(n >> word >> nkeys) || word != "keys" || nkeys < 0 || nkeys > 1000000) fail("bad keys line");
     const auto [ln, ld] = parse_q(al);
     const auto [sn, sd] = parse_q(as);
     if (ld != sd || ld >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
     if (!(ln > 0 && 2 * ln < ld && sn > 0 && 2 * sn < sd)) fail("alphas out of (0, 1/2)");
-    const Claim claim{claim_threshold(cn), claim_threshold(cx)};
+    const Claim claim{claim_threshold(text[0]), claim_threshold(text[1]), claim_threshold(text[2])};
     if (static_cast<long>(body.size()) != 4 + nkeys) fail("key count mismatch");
     const auto expected = canonical_keys(symmetries());
     if (static_cast<long>(expected.size()) != nkeys) fail("the certificate does not list every key");
     // First pass, no leaf: keys, root boxes, claims, witnesses, split strings.
     std::vector<Entry> entries;
     std::set<std::array<int, 9>> seen;
-    Z worst[2] = {zint(0), zint(0)};
+    Z worst[3] = {zint(0), zint(0), zint(0)};
     std::vector<Witnessed> wit;
     for (long i = 0; i < nkeys; ++i) {
         entries.push_back(parse_key_line(body[static_cast<std::size_t>(4 + i)], ln, sn, ld, expected, seen));
-        const Entry& en = entries.back();
-        wit.push_back(check_witnesses(en));
-        const Z* kc[2] = {&en.claim.cmin, &en.claim.cmax};
-        for (int j = 0; j < 2; ++j)
-            if (cmp(*kc[j], worst[j]) > 0) worst[j] = *kc[j];
+        wit.push_back(check_witnesses(entries.back()));
+        for (int j = 0; j < 3; ++j)
+            if (cmp(claim_of(entries.back().claim, j), worst[j]) > 0) worst[j] = claim_of(entries.back().claim, j);
     }
-    if (cmp(worst[0], claim.cmin) != 0 || cmp(worst[1], claim.cmax) != 0) fail("the claim is not the keys' extremes");
+    for (int j = 0; j < 3; ++j)
+        if (cmp(worst[j], claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
     // The theorem is tight: its most extreme witness (the smallest angle over
-    // the keys' min witnesses, resp. the largest over their max witnesses)
-    // lies within 0.01° / 0.1° of it.  (A key's own claim may be looser: counted below.)
-    std::size_t ext[2] = {0, 0};
-    for (int j = 0; j < 2; ++j) {
+    // the keys' min (face) witnesses, resp. the largest over their max
+    // witnesses) lies within 0.01° / 0.1° of it.  (A key's own claim may be
+    // looser: counted below.)
+    std::size_t ext[3] = {0, 0, 0};
+    for (int j = 0; j < 3; ++j) {
         for (std::size_t i = 1; i < wit.size(); ++i)
-            if (j == 0 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
-        if (!tight(j == 0 ? claim.cmin : claim.cmax, wit[ext[j]].c[j], j == 0 ? 1800000000 : 180000000, j == 1))
-            fail(std::string("the theorem's ") + (j == 0 ? "min" : "max") + " witness (" + entries[ext[j]].code +
-                 ") is not within " + (j == 0 ? "0.01" : "0.1") + " deg of the claim");
+            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
+        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
+            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
+                 " deg of the claim");
     }
     // Second pass: every leaf verified against its key's claim.
     long leaves = 0;
@@ -946,37 +1027,7 @@ int check(std::istream& in, bool progress) {
         leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, entries[i].claim);
         if (progress && (i + 1) % 50 == 0) std::cerr << "checked " << i + 1 << " keys, " << leaves << " leaves\n";
     }
-    // The theorem, its witnesses and the claims in degrees (arccos in double:
-    // the message only; the theorem is the exact statement before it).
-    const double dmin = degrees(Cos2{claim.cmin, pow2(40), true}), dmax = degrees(Cos2{claim.cmax, pow2(40)});
-    std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << al << ", " << as
-              << "): every output tetrahedron of the " << nkeys
-              << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << cn
-              << ", and cos t >= 0 or cos^2 t <= " << cx << ": t in [" << dmin << ", " << dmax << "] deg (" << leaves
-              << " leaves)\n";
-    std::cout << std::setprecision(4) << "  rounded outward: every dihedral angle in [" << std::floor(dmin * 1e4) / 1e4 << ", "
-              << std::ceil(dmax * 1e4) / 1e4 << "] deg\n";
-    for (int j = 0; j < 2; ++j) {
-        const double w = degrees(wit[ext[j]].c[j]);
-        std::cout << std::setprecision(10) << "  3D witness " << (j == 0 ? "min" : "max") << " " << entries[ext[j]].code
-                  << ": angle " << w << " deg, claim " << (j == 0 ? dmin : dmax) << " deg, gap " << std::fabs(w - (j == 0 ? dmin : dmax))
-                  << " deg\n";
-    }
-    // Per-key tightness: counts, and the largest gaps (in double: messages).
-    for (int j = 0; j < 2; ++j) {
-        long tight = 0;
-        double gap = 0;
-        std::size_t gk = 0;
-        for (std::size_t i = 0; i < entries.size(); ++i) {
-            tight += wit[i].tight[j];
-            const Z& c = j == 0 ? entries[i].claim.cmin : entries[i].claim.cmax;
-            const double g = std::fabs(degrees(wit[i].c[j]) - degrees(Cos2{c, pow2(40), j == 0}));
-            if (g > gap) gap = g, gk = i;
-        }
-        std::cout << std::setprecision(4) << "  key " << (j == 0 ? "min" : "max") << " claims: " << tight << " of " << nkeys
-                  << " within " << (j == 0 ? "0.01" : "0.1") << " deg of their witnesses; largest gap " << gap << " deg ("
-                  << entries[gk].code << ")\n";
-    }
+    print_theorem(al, as, text, claim, entries, wit, ext, leaves);
     return 0;
 }
 

@@ -437,6 +437,32 @@ DihedralForms<T> dihedral_forms(const std::array<Vec<T>, 4>& p) {
     return f;
 }
 
+// Face angles: at vertex a of the face without vertex o, q = 3a + the rank of
+// o among the three others; b < c the face's other two vertices, u = pb − pa,
+// v = pc − pa: cos φ = u·v / (|u| |v|), so with F = cos²φmin,
+//        φ >= φmin  <=>  u·v <= 0  or  (u·v)² <= F |u|²|v|².
+template <class T>
+struct FaceAngleForms {
+    std::array<T, 12> dot;  // u · v
+    std::array<T, 12> nn;   // |u|² |v|²
+};
+template <class T>
+FaceAngleForms<T> face_angle_forms(const std::array<Vec<T>, 4>& p) {
+    FaceAngleForms<T> f{};
+    for (int a = 0; a < 4; ++a)
+        for (int k = 0; k < 3; ++k) {
+            const int o = k < a ? k : k + 1;  // the vertex off the face
+            int b = 0;
+            while (b == a || b == o) ++b;
+            const int c = 6 - a - o - b;
+            const Vec<T> u = vsub(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(a)]);
+            const Vec<T> v = vsub(p[static_cast<std::size_t>(c)], p[static_cast<std::size_t>(a)]);
+            f.dot[static_cast<std::size_t>(3 * a + k)] = dot(u, v);
+            f.nn[static_cast<std::size_t>(3 * a + k)] = dot(u, u) * dot(v, v);
+        }
+    return f;
+}
+
 // ---------------------------------------------------------------------------
 // The warping order (step 4 of the contract): violation a before b.  `frac`
 // is the cut point's fraction of the edge from the violated vertex.

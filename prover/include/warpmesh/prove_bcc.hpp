@@ -55,9 +55,10 @@ std::vector<Param> key_params(const Key& k, const bcc::Alphas& al);
 // ---- the proof ---------------------------------------------------------------
 // The claim: every dihedral angle θ has cos θ <= 0 or cos²θ <= cmin (θ >=
 // arccos √cmin), and cos θ >= 0 or cos²θ <= cmax (θ <= 180° − arccos √cmax);
-// cmin, cmax dyadic doubles (exact rationals in the certificate).
+// every face angle φ has cos φ <= 0 or cos²φ <= cface (φ >= arccos √cface);
+// dyadic doubles (exact rationals in the certificate).
 struct Claim {
-    double cmin, cmax;
+    double cmin, cmax, cface;
 };
 struct Box {
     int m = 0;
@@ -72,12 +73,12 @@ struct Witness {
 struct KeyProof {
     bool ok = false;
     Claim claim{};             // the key's own claim
-    Witness wmin, wmax;        // its smallest / largest angle witness
+    Witness wmin, wmax, wface;  // its smallest / largest dihedral, smallest face angle witness
     Box root;
     std::string splits;  // preorder: '1' split, '0' verified leaf
     long leaves = 0;
-    int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum, 3 over the leaf budget
-    std::array<long, 3> split_fails{};  // boxes split because that kind failed (0, 1, 2)
+    int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum, 3 over the leaf budget, 4 face angle
+    std::array<long, 5> split_fails{};  // boxes split because that kind failed (0, 1, 2, 4)
     std::array<double, 4> fail_point{};
 };
 // Branch and bound over the key's root box (bound.cpp), giving up after
@@ -87,8 +88,8 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
 // ---- per-key targets (targets.cpp; not on the proof path) -------------------
 // The key's ten points in double at the parameter values x[0 .. ps.size()).
 std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x);
-// The cos of the key's extreme dihedral angle at x: the smallest angle's
-// (sign = +1) or the largest's (sign = -1).
+// The cos of the key's extreme angle at x: the smallest dihedral angle's
+// (sign = +1), the largest's (sign = -1) or the smallest face angle's (2).
 double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign);
 // A double search of the key's box for that extreme (from `start` if given),
 // on the 2^-24 grid; deterministic per key.
@@ -112,10 +113,10 @@ double claim_cos2(double cos, double margin_deg);
 // key whose witness lies within tight_min_deg / tight_max_deg of the cap
 // claims the cap (so the theorem is the caps, and those keys stay tight).
 struct Margins {
-    double min_deg = 0.004, max_deg = 0.04;
+    double min_deg = 0.004, max_deg = 0.04, face_deg = 0.004;
     long budget = 1000, max_budget = 16000;
     double tight_min_deg = 0.009, tight_max_deg = 0.09;  // a cap this close to the witness is claimed
-    Claim cap{1, 1};
+    Claim cap{1, 1, 1};                                   // no cap on the face angle
 };
 // The cap for the angles (degrees): cos² rounded to 2^-40.  The prover's
 // defaults are those of proofs/bcc.cert (at bcc::default_alphas: the

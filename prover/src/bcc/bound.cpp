@@ -108,10 +108,16 @@ struct ScalarOps<bcc_prover::D2> {
 namespace bcc_prover {
 namespace {
 
-// The dihedral forms of the key's output tetrahedra on box b, with partials
-// (T = DI; T = D2: and second partials).
+// The dihedral and face-angle forms of one output tetrahedron.
+template <class T>
+struct TetForms {
+    bcc::DihedralForms<T> di;
+    bcc::FaceAngleForms<T> fa;
+};
+// The forms of the key's output tetrahedra on box b, with partials (T = DI;
+// T = D2: and second partials).
 template <class T = DI>
-std::vector<bcc::DihedralForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b) {
+std::vector<TetForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b) {
     const T zero = ScalarOps<T>::from_int(0);
     std::array<T, 4> t{zero, zero, zero, zero};
     std::array<T, 6> u{zero, zero, zero, zero, zero, zero};
@@ -124,22 +130,31 @@ std::vector<bcc::DihedralForms<T>> all_forms(const Key& k, const std::vector<Par
     }
     const auto pts = bcc::generic_points<T>(k, t, u);
     const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
-    std::vector<bcc::DihedralForms<T>> out;
+    std::vector<TetForms<T>> out;
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<T>, 4> p{};
         for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
-        out.push_back(bcc::dihedral_forms(p));
+        out.push_back({bcc::dihedral_forms(p), bcc::face_angle_forms(p)});
     }
     return out;
 }
 
 // Form f of one tetrahedron's forms: f = 0: 6·volume; f = 1 + 2e: -d_e;
 // 2 + 2e: C_min N_e - d_e²; f = 13 + 2e: d_e; 14 + 2e: C_max N_e - d_e²
-// (d = n_c·n_d, N = |n_c|²|n_d|²).
+// (d = n_c·n_d, N = |n_c|²|n_d|²); f = 25 + 2q: -s_q, 26 + 2q: F M_q - s_q²
+// (face angle q: s = u·v, M = |u|²|v|²).
 template <class T>
-T form_of(const bcc::DihedralForms<T>& df, int f, const Claim& c) {
+T form_of(const TetForms<T>& tf, int f, const Claim& c) {
     const T zero = ScalarOps<T>::from_int(0);
+    const auto& df = tf.di;
     if (f == 0) return df.volume6;
+    if (f >= 25) {
+        const auto q = static_cast<std::size_t>((f - 25) / 2);
+        if ((f - 25) % 2 == 0) return zero - tf.fa.dot[q];
+        T cc = zero;
+        cc.v = BI(c.cface);
+        return cc * tf.fa.nn[q] - tf.fa.dot[q] * tf.fa.dot[q];
+    }
     const int g = (f - 1) % 12, e = g / 2;
     const T& d = df.dot[static_cast<std::size_t>(e)];
     if (g % 2 == 0) return f < 13 ? zero - d : d;
@@ -207,11 +222,11 @@ bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, int j, int f
 
 // Whether every output tetrahedron of key k is positively oriented with all
 // dihedral angles in the claim on the box; `fail` gets what failed (0
-// orientation, 1 minimum, 2 maximum) and `smear` the failed form's smear per
+// orientation, 1 minimum, 2 maximum, 4 face angle) and `smear` the failed form's smear per
 // parameter, |∂_i g(box)|·width_i (of the alternative tried first), which
 // chooses the side to split.  Per edge: minimum holds if -d >= 0 on the box
 // or C_min N - d² >= 0; maximum if d >= 0 or C_max N - d² >= 0
-// (generic_bcc.hpp, "Angle forms").
+// (generic_bcc.hpp, "Angle forms"); per face angle: -s >= 0 or F M - s² >= 0.
 bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, int* fail,
                 std::array<double, 4>& smear) {
     Box m = b;
@@ -233,12 +248,18 @@ bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const 
         // Either alternative proves a bound; the one matching the sign of d at
         // the centre is tried first (only the cost depends on the order).
         for (int e = 0; e < 6; ++e) {
-            const bool acute = fm[static_cast<std::size_t>(j)].dot[static_cast<std::size_t>(e)].v.lower() > 0;
+            const bool acute = fm[static_cast<std::size_t>(j)].di.dot[static_cast<std::size_t>(e)].v.lower() > 0;
             const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
             if (!(acute ? ok(j, q1, false) || ok(j, s1, false) : ok(j, s1, false) || ok(j, q1, false)))
                 return failed(j, acute ? q1 : s1, 1);
             if (!(acute ? ok(j, s2, false) || ok(j, q2, false) : ok(j, q2, false) || ok(j, s2, false)))
                 return failed(j, acute ? s2 : q2, 2);
+        }
+        for (int q = 0; q < 12; ++q) {
+            const bool acute = fm[static_cast<std::size_t>(j)].fa.dot[static_cast<std::size_t>(q)].v.lower() > 0;
+            const int s1 = 25 + 2 * q, q1 = 26 + 2 * q;
+            if (!(acute ? ok(j, q1, false) || ok(j, s1, false) : ok(j, s1, false) || ok(j, q1, false)))
+                return failed(j, acute ? q1 : s1, 4);
         }
     }
     return true;
@@ -310,17 +331,18 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
     return out;
 }
 
-// "key CODE m lo_0 hi_0 .. lo_{m-1} hi_{m-1} CMIN CMAX WMIN_0 .. WMIN_{m-1}
-// WMAX_0 .. WMAX_{m-1} SPLITS": root box ends (multiples of 2^-20), the
-// key's claim (2^-40), its witnesses (2^-24), the split string.
+// "key CODE m lo_0 hi_0 .. lo_{m-1} hi_{m-1} CMIN CMAX CFACE WMIN_0 ..
+// WMIN_{m-1} WMAX_0 .. WMAX_{m-1} WFACE_0 .. WFACE_{m-1} SPLITS": root box
+// ends (multiples of 2^-20), the key's claim (2^-40), its witnesses (2^-24),
+// the split string.
 std::string certificate_line(const Key& k, const KeyProof& p) {
     std::ostringstream o;
     o << "key " << code_of(k) << " " << p.root.m;
     const auto dy = [&](double x, int e) { o << " " << static_cast<long long>(std::ldexp(x, e)) << "/" << (1LL << e); };
     for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.root.lo[j], 20), dy(p.root.hi[j], 20);
-    dy(p.claim.cmin, 40), dy(p.claim.cmax, 40);
-    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.wmin.x[j], 24);
-    for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.wmax.x[j], 24);
+    dy(p.claim.cmin, 40), dy(p.claim.cmax, 40), dy(p.claim.cface, 40);
+    for (const Witness* w : {&p.wmin, &p.wmax, &p.wface})
+        for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(w->x[j], 24);
     o << " " << p.splits;
     return o.str();
 }

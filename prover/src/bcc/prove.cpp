@@ -116,7 +116,7 @@ int prove_bcc_main(int argc, char** argv) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     long leaves = 0;
     int failed = 0;
-    Claim claim{0, 0};  // the theorem: the extremes of the keys' claims
+    Claim claim{0, 0, 0};  // the theorem: the extremes of the keys' claims
     std::ostringstream lines;
     for (std::size_t i = 0; i < keys.size(); ++i) {
         const KeyProof& p = proofs[i];
@@ -124,22 +124,24 @@ int prove_bcc_main(int argc, char** argv) {
         if (!p.ok) {
             ++failed;
             std::fprintf(stderr, "key %s: not proved (%s) near", code_of(keys[i]).c_str(),
-                         p.fail_kind == 0 ? "orientation" : p.fail_kind == 1 ? "minimum" : "maximum");
+                         p.fail_kind == 0 ? "orientation" : p.fail_kind == 1 ? "minimum" : p.fail_kind == 2 ? "maximum" : "face angle");
             for (int j = 0; j < p.root.m; ++j) std::fprintf(stderr, " %.6f", p.fail_point[static_cast<std::size_t>(j)]);
             std::fprintf(stderr, "\n");
             continue;
         }
         claim.cmin = std::max(claim.cmin, p.claim.cmin), claim.cmax = std::max(claim.cmax, p.claim.cmax);
+        claim.cface = std::max(claim.cface, p.claim.cface);
         lines << certificate_line(keys[i], p) << "\n";
     }
     std::ostringstream cert;
-    cert << "warpmesh-bcc-certificate 3\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
+    cert << "warpmesh-bcc-certificate 4\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
     cert << "alphas " << al.long_num << "/100000 " << al.short_num << "/100000\n";
-    cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << "\n";
+    cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << " " << dyadic40(claim.cface) << "\n";
     cert << "keys " << keys.size() << "\n" << lines.str();
-    std::fprintf(stderr, "warpmesh-prove-bcc: alphas %s %s, claim [%.4f, %.4f] deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
+    std::fprintf(stderr, "warpmesh-prove-bcc: alphas %s %s, claim [%.4f, %.4f] deg, face angles >= %.4f deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
                  la.c_str(), sa.c_str(), std::acos(std::sqrt(claim.cmin)) * 180 / M_PI,
-                 180 - std::acos(std::sqrt(claim.cmax)) * 180 / M_PI, keys.size(), failed, leaves, secs);
+                 180 - std::acos(std::sqrt(claim.cmax)) * 180 / M_PI, std::acos(std::sqrt(claim.cface)) * 180 / M_PI,
+                 keys.size(), failed, leaves, secs);
     if (failed) return 1;
     std::ofstream f(out, std::ios::binary);
     f << cert.str();

@@ -17,9 +17,10 @@
 namespace warpmesh::bcc_prover {
 namespace {
 
-// cos of the extreme dihedral angle over the key's output tetrahedra at x:
-// the largest cos (smallest angle, sign = +1) or the smallest (largest angle,
-// sign = −1), as +cos resp. −cos so that larger is more extreme.
+// cos of the extreme angle over the key's output tetrahedra at x: the
+// largest cos of a dihedral angle (smallest angle, sign = +1) or the
+// smallest (largest angle, sign = −1), as +cos resp. −cos so that larger is
+// more extreme; sign = 2: the largest cos of a face angle.
 double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
     const auto pts = key_points(k, ps, x.data());
     const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
@@ -27,6 +28,12 @@ double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
         for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
+        if (sign == 2) {
+            const auto fa = bcc::face_angle_forms(p);
+            for (std::size_t q = 0; q < 12; ++q)
+                best = std::max(best, fa.nn[q] > 0 ? fa.dot[q] / std::sqrt(fa.nn[q]) : 1.0);
+            continue;
+        }
         const auto f = bcc::dihedral_forms(p);
         for (int e = 0; e < 6; ++e) {
             const double nn = f.nn[static_cast<std::size_t>(e)];
@@ -59,7 +66,7 @@ std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Para
 }
 
 double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
-    return sign * extreme_cos(k, ps, x, sign);
+    return (sign == -1 ? -1 : 1) * extreme_cos(k, ps, x, sign);
 }
 
 // Random starts (corners and faces favoured) and a shrinking-step pattern
@@ -92,7 +99,7 @@ Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, con
                     if (f > fb + 1e-15) fb = f, w.x = x, improved = true;
                 }
         }
-    w.cos = sign * fb;
+    w.cos = (sign == -1 ? -1 : 1) * fb;
     return w;
 }
 
@@ -116,7 +123,7 @@ Claim cap_claim(double min_deg, double max_deg) {
         const double c = std::cos(deg * M_PI / 180);
         return std::round(std::ldexp(c * c, 40)) / 1099511627776.0;
     };
-    return {c2(min_deg), c2(max_deg)};
+    return {c2(min_deg), c2(max_deg), 1};
 }
 
 namespace {
@@ -133,9 +140,13 @@ double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
 
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth) {
     const std::vector<Param> ps = key_params(k, al);
-    Witness w[2] = {search_witness(k, ps, 1), search_witness(k, ps, -1)};
-    const double start[2] = {mg.min_deg, mg.max_deg};
-    double margin[2] = {mg.min_deg, mg.max_deg};
+    // Per kind j: 0 the smallest dihedral angle, 1 the largest, 2 the
+    // smallest face angle; `sign` as in extreme_cos, `dir` +1 where a larger
+    // cos is more extreme.
+    const int sign[3] = {1, -1, 2}, dir[3] = {1, -1, 1};
+    Witness w[3] = {search_witness(k, ps, 1), search_witness(k, ps, -1), search_witness(k, ps, 2)};
+    const double start[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
+    double margin[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     long budget = mg.budget;
     const auto widen = [&](int j) { margin[j] = std::min(2 * margin[j], 64 * start[j]); };
     KeyProof p;
@@ -143,36 +154,38 @@ KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int ma
         // A largest angle below 90 deg (cos > 0) is claimed as 90 deg + the
         // margin; no claim is looser than the caps.
         const Claim c{key_claim(w[0].cos, margin[0], mg.cap.cmin, mg.tight_min_deg),
-                      key_claim(std::min(w[1].cos, 0.0), margin[1], mg.cap.cmax, mg.tight_max_deg)};
+                      key_claim(std::min(w[1].cos, 0.0), margin[1], mg.cap.cmax, mg.tight_max_deg),
+                      key_claim(w[2].cos, margin[2], mg.cap.cface, mg.tight_min_deg)};
         // No budget once a margin reached 64 times its start: prove or fail.
-        const bool last = margin[0] >= 64 * start[0] || margin[1] >= 64 * start[1];
+        bool last = false;
+        for (int j = 0; j < 3; ++j) last = last || margin[j] >= 64 * start[j];
         p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget);
-        p.claim = c, p.wmin = w[0], p.wmax = w[1];
+        p.claim = c, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
         if (p.ok || p.fail_kind == 0) return p;
         if (p.fail_kind == 3) {
-            // Over budget: first both margins to twice their start (still
+            // Over budget: first every margin to twice its start (still
             // within tight), then the budget doubles up to max_budget, then
-            // the margin that caused most splits doubles (both if the other
+            // the margin that caused most splits doubles (and any other that
             // caused at least a quarter as many).
-            const long f1 = p.split_fails[1], f2 = p.split_fails[2];
-            if (margin[0] < 2 * start[0] && margin[1] < 2 * start[1]) widen(0), widen(1);
+            const long f[3] = {p.split_fails[1], p.split_fails[2], p.split_fails[4]};
+            const long most = std::max({f[0], f[1], f[2]});
+            if (margin[0] < 2 * start[0] && margin[1] < 2 * start[1] && margin[2] < 2 * start[2]) widen(0), widen(1), widen(2);
             else if (budget < mg.max_budget) budget *= 2;
-            else {
-                if (4 * f1 >= f2) widen(0);
-                if (4 * f2 >= f1) widen(1);
-            }
+            else
+                for (int j = 0; j < 3; ++j)
+                    if (4 * f[j] >= most) widen(j);
             continue;
         }
-        const int j = p.fail_kind - 1, sign = j == 0 ? 1 : -1;
+        const int j = p.fail_kind == 4 ? 2 : p.fail_kind - 1;
         std::array<double, 4> x{};
         for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
-        if (sign * witness_cos(k, ps, x, sign) > sign * w[j].cos + 1e-12) w[j] = search_witness(k, ps, sign, &x);
+        if (dir[j] * witness_cos(k, ps, x, sign[j]) > dir[j] * w[j].cos + 1e-12) w[j] = search_witness(k, ps, sign[j], &x);
         else if (margin[j] < 64 * start[j]) widen(j);
         else break;  // nothing left to change
     }
     // Last resort: the caps themselves, no budget.
     p = prove_key(k, al, mg.cap, max_depth);
-    p.claim = mg.cap, p.wmin = w[0], p.wmax = w[1];
+    p.claim = mg.cap, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
     return p;
 }
 
