@@ -7,9 +7,11 @@
 // under the tetrahedron's 8 symmetries (matching the image's output
 // tetrahedra to the original's, point for point); every canonical key must
 // be in the certificate, with a root box containing its exact parameter box.
-// It replays each key's bisection from its split string and re-verifies
-// every leaf exactly: positive orientation and both dihedral bounds of every
-// output tetrahedron.  No global state.  Any failure: exit 1; exit 0 only
+// It replays each key's bisection from its split string (format 4: each split
+// names its side) and re-verifies every leaf exactly: positive orientation,
+// both dihedral bounds and the face-angle bound of every output tetrahedron.
+// It evaluates every witness exactly and measures each claim's tightness.
+// No global state.  Any failure: exit 1; exit 0 only
 // when the printed theorem holds.
 //
 // EXACT FIXED-POINT ARITHMETIC.  A leaf's box ends are dyadic, m / 2^e.  With
@@ -17,16 +19,18 @@
 // too), every parameter is an integer multiple of 2^-K and every point of
 // the generic tetrahedron has coordinates X / 2^K with X an integer.  The
 // forms are homogeneous in the coordinates — 6·volume of degree 3, d = n_c·n_d
-// of degree 4, N = |n_c|²|n_d|² and d² of degree 8 — so evaluated on the
-// integers X they are the exact forms times 2^(3K), 2^(4K), 2^(8K): the same
+// of degree 4, N = |n_c|²|n_d|² and d² of degree 8, a face angle's s = u·v of
+// degree 2 and M = |u|²|v|² of degree 4 — so evaluated on the integers X they
+// are the exact forms times 2^(3K), 2^(4K), 2^(8K) (2^(2K), 2^(4K)): the same
 // signs.  A claim C = c / 2^40 enters as c·N − 2^40·d² (times 2^(8K+40)).
 // Partial derivatives in a parameter t are carried at the value's scale (dX/dt
 // = offset·2^K), and the mean-value form g(m) + Σ g_i [−r_i, r_i], with r_i =
-// R_i / 2^K, is evaluated times 2^K: g(m)·2^K + Σ g_i [−R_i, R_i].  Integers
+// R_i / 2^K, is evaluated times 2^K: g(m)·2^K + Σ g_i [−R_i, R_i]; the
+// second-order Taylor form times 2^(2K+1) (taylor2).  Integers
 // are GMP's mpn digits in fixed arrays (no allocation); every result's size is
 // checked and an overflow rejects the certificate.  Interval products are the
 // plain interval products, + − × in the order of the prover's formulas
-// (generic_bcc.hpp, dihedral_forms), so each exact enclosure is contained in
+// (generic_bcc.hpp, dihedral_forms, face_angle_forms), so each exact enclosure is contained in
 // the prover's outward-rounded one.
 #include <algorithm>
 #include <array>

@@ -98,14 +98,14 @@ Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, con
 // margin_deg, to first order, rounded up to 2^-40.
 double claim_cos2(double cos, double margin_deg);
 // The key's proof: witnesses, claims the witnesses' angles moved outward by
-// the margins (0.004 deg at the minimum, 0.04 deg at the maximum: within the
-// 0.01 / 0.1 deg of "tight"), proved within a budget of `budget` leaves.  A
-// failure at a point more extreme than the witness moves the witness there;
-// a failure elsewhere doubles that margin.  An exhausted budget first
-// doubles both margins once (still tight), then the budget, up to
-// `max_budget`, then the margin whose failures caused most splits (both
-// when the other caused at least a quarter as many); once a margin is 64 times its start
-// (0.256 deg, 2.56 deg) the budget is lifted (32 attempts in all; then the
+// the margins (0.004 deg at the minimum and the face-angle minimum, 0.04 deg
+// at the maximum: within the 0.01 / 0.1 deg of "tight"), proved within a
+// budget of `budget` leaves.  A failure at a point more extreme than the
+// witness moves the witness there; a failure elsewhere doubles that margin.
+// An exhausted budget first doubles every margin once (still tight), then
+// the budget, up to `max_budget`, then the margin whose failures caused most
+// splits (and any other that caused at least a quarter as many); once a
+// margin is 64 times its start (0.256 deg, 2.56 deg) the budget is lifted (32 attempts in all; then the
 // caps themselves, without budget).  The key's claim is then loose (at most
 // the cap), and its gap says so; ok false only if even that fails.
 // No key's claim is looser than `cap` (the theorem's bounds when every key
