@@ -82,6 +82,9 @@ public:
     // Would every region's |area error| stay within its budget after `change`?
     bool allows(const AreaChange& change) const;
     void apply(const AreaChange& change);
+    // How much area `region` may gain (grow) or lose within its budget now
+    // (infinite without a reference).
+    double room(std::int32_t region, bool grow) const;
     // Empty if no region of `now` (the budget of the mesh after the pass) has
     // a larger area error than its budget here (up to rounding: 1e-9 of the
     // region's reference area); else a message naming the first such region.
