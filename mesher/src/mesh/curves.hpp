@@ -80,7 +80,8 @@ public:
     AreaBudget(const Mesh& mesh, const SlideCurves& curves);
     bool active() const { return !error_.empty(); }
     // Would every region's |area error| stay within its budget after `change`?
-    bool allows(const AreaChange& change) const;
+    // (strict: would no region's |area error| grow at all, up to rounding?)
+    bool allows(const AreaChange& change, bool strict = false) const;
     void apply(const AreaChange& change);
     // How much area `region` may gain (grow) or lose within its budget now
     // (infinite without a reference).

@@ -45,6 +45,8 @@ constexpr int refine_rounds = 3;
 // Materials: rounds of vertex removal (remove.hpp) then sweeps, for the
 // triangles still below this many degrees after refinement.
 constexpr int remove_rounds = 3;
+// Materials: moves of stars of at least this quality do not spend area budget.
+constexpr double reserve_deg = 35;
 constexpr double remove_below_deg = 35;
 
 using namespace plane;
@@ -702,7 +704,9 @@ bool Optimizer::try_move(std::int32_t lv) {
                             (kind == Kind::junction && bedge_[static_cast<std::size_t>(lv)][0] < 0);
         if (!closed && !embeds(lv, q)) continue;
         const AreaChange area = area_change(lv, q);  // the area budget (curves.hpp)
-        if (!areas_.allows(area)) continue;
+        // A star already of quality >= reserve_deg may not spend any label's
+        // room (its error may only shrink): the room is kept for the worse stars.
+        if (!areas_.allows(area, now_q >= reserve_deg)) continue;
         areas_.apply(area);
         // Accept: the least certified value of the star bounds every triangle
         // of it from now on (each was >= it before, so the star's old minimum
