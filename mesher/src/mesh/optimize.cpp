@@ -956,7 +956,13 @@ OptimizeReport Optimizer::run() {
 
     r.sweeps = sweeps();
     if (o_.refine_below_deg > 0) refine(r);
-    if (o_.refine_below_deg > 0 && curves_.materials()) remove_vertices(r);
+    if (o_.refine_below_deg > 0 && curves_.materials()) {
+        remove_vertices(r);
+        // Once more over everything the pass changed: a refinement patch
+        // works on its worst triangle, and the moves after it may have
+        // lifted that one and left another of the patch below the threshold.
+        refine(r);
+    }
 
     // The rule's consequences, checked: no triangle below its (transferred)
     // certified value (in stats), none below the floor, the minimum not lower.

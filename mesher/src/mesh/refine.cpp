@@ -290,7 +290,9 @@ private:
     // boundary edges along f = 0 (a tangent step, then back onto f = 0 by
     // cut_parameter along the normal), border vertices along their line —
     // with step halving; a few Gauss-Seidel sweeps in increasing vertex order.
-    void smooth(Trial& t) const {
+    // (interior_only: only vertices on no boundary edge move: the areas of
+    // the trial's regions do not change.)
+    void smooth(Trial& t, bool interior_only = false) const {
         // Edges of one trial triangle that are not boundary edges: the patch border.
         std::vector<std::uint64_t> all, border;
         for (const Tri& T : t.tris)
@@ -329,7 +331,7 @@ private:
                 movers.emplace_back(v, Move::free);
                 continue;
             }
-            if (nb.size() != 2 || deg != 2) continue;  // corners, pinches
+            if (nb.size() != 2 || deg != 2 || interior_only) continue;  // corners, pinches
             const std::int32_t tg0 = bedge(t, v, nb[0])->tag, tg1 = bedge(t, v, nb[1])->tag;
             const Vec2 p = pos(t, v), q0 = pos(t, nb[0]), q1 = pos(t, nb[1]);
             if (tg0 == boundary_level_set && tg1 == boundary_level_set && f_ && std::abs(f_->value(p.x, p.y)) <= 1e-9 * p_.spacing)
@@ -419,10 +421,10 @@ private:
 
     // The trial with candidate c inserted, flipped and smoothed, if it is
     // valid (rule (1)) and keeps rules (4) and (5) (refine.hpp).
-    // Without `smoothing` (materials, when the smoothed trial breaks the
-    // area budget) only the insertion and the flips.
+    // Smoothing: 2 as above; (materials, when the smoothed trial breaks the
+    // area budget) 1 moves only interior vertices, 0 none.
     std::optional<Trial> insert(const Trial& base, const Candidate& c, std::span<const std::uint64_t> old_edges,
-                                bool smoothing = true) const {
+                                int smoothing = 2) const {
         Trial t = base;
         const std::int32_t nv = t.next_vertex++;
         t.at.emplace_back(nv, c.p);
@@ -470,7 +472,7 @@ private:
             }
         }
         lawson(t);
-        if (smoothing) smooth(t), lawson(t);
+        if (smoothing) smooth(t, smoothing == 1), lawson(t);
         t.min_deg = inf, t.max_deg = 0;
         for (const Tri& T : t.tris) {
             const Vec2 a = pos(t, T[0]), b = pos(t, T[1]), d = pos(t, T[2]);
@@ -579,8 +581,8 @@ private:
             bool best_ok = false;
             for (const Candidate& c : candidates(base)) {
                 std::optional<Trial> trial = insert(base, c, old_edges);
-                if (trial && whole && !budget_allows(*trial))  // the smoothing moved area: without it
-                    if (std::optional<Trial> plain = insert(base, c, old_edges, false)) trial = std::move(plain);
+                for (int level = 1; level >= 0 && trial && whole && !budget_allows(*trial); --level)  // the smoothing moved area
+                    if (std::optional<Trial> less = insert(base, c, old_edges, level)) trial = std::move(less);
                 if (!trial) continue;
                 const bool ok = whole && acceptable(*trial, old_min, old_max, pt.size());
                 const auto key = [&](const Trial& x, bool x_ok) { return std::tuple{x_ok, x.max_deg <= max_allowed, x.min_deg}; };
