@@ -283,7 +283,7 @@ BOOST_AUTO_TEST_CASE(analytic_materials_slide_along_their_interfaces) {
 // a junction's 36.87° corner into two 18.43° angles, which no move, flip or
 // Steiner point lifts; the pass removes that vertex (src/mesh/remove.hpp) and
 // the crop reaches the 1 px target, uniform and graded, with every property
-// of optimise_and_check (junctions fixed, interfaces exact, areas no worse).
+// of optimise_and_check (junctions never removed, interfaces exact, areas no worse).
 BOOST_AUTO_TEST_CASE(issue28_optimize_strip_tip) {
     const Image img = read_image(std::string(WARPMESH_SOURCE_DIR) + "/tests/data/issue28_optimize_strip_tip.pgm");
     const auto field = make_label_materials(img, "all");
@@ -338,23 +338,14 @@ BOOST_AUTO_TEST_CASE(atlas_slice_targets) {
         BOOST_REQUIRE(r.optimized);
         BOOST_TEST_MESSAGE("brain s=" << s << ": min " << r.optimized->min_angle_before << " -> " << r.optimized->min_angle_after
                                       << ", max " << r.optimized->max_angle_before << " -> " << r.optimized->max_angle_after);
-        // Issue 28's targets are 28 deg (1 px) and 35 deg (2 px); what the pass
-        // reaches today (docs/optimisation.md: junction vertices stay put, and
-        // one-pixel slivers between two junctions keep 18.43 deg at 1 px).
-        BOOST_REQUIRE_GE(r.optimized->min_angle_after, s == 1 ? 18.43 : 30.96);
-        BOOST_REQUIRE_LT(r.optimized->max_angle_after, r.optimized->max_angle_before);
-        if (s == 2) BOOST_REQUIRE_LE(r.optimized->max_angle_after, 110.0);
+        // Issue 28's targets: 28 deg at 1 px, 35 deg at 2 px, maximum <= 110 deg
+        // (reached with junction moves, refinement below 35 deg and the area
+        // budget kept for the worst stars: 34.16 and 35.05 deg, 106.8 and
+        // 104.9 deg).
+        BOOST_REQUIRE_GE(r.optimized->min_angle_after, s == 1 ? 28.0 : 35.0);
+        BOOST_REQUIRE_LE(r.optimized->max_angle_after, 110.0);
         // At 1 px the vertex removal (src/mesh/remove.hpp) lifts the pairs at
-        // one-pixel tips: 35 triangles below 28 deg without it, 8 with it
-        // (what is left: one-pixel slivers between two fixed junctions).
-        if (s == 1) {
-            BOOST_REQUIRE_GT(r.optimized->removed_vertices, 0);
-            std::size_t below = 0;
-            for (const auto& t : r.mesh.triangles)
-                below += triangle_min_angle(r.mesh.vertices[static_cast<std::size_t>(t[0])], r.mesh.vertices[static_cast<std::size_t>(t[1])],
-                                            r.mesh.vertices[static_cast<std::size_t>(t[2])]) < 28;
-            BOOST_TEST_MESSAGE("brain s=1: " << below << " triangles below 28 deg, " << r.optimized->removed_vertices << " vertices removed");
-            BOOST_REQUIRE_LE(below, 10u);
-        }
+        // one-pixel tips.
+        if (s == 1) BOOST_REQUIRE_GT(r.optimized->removed_vertices, 0);
     }
 }
