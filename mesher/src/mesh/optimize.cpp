@@ -585,8 +585,9 @@ bool Optimizer::embeds(std::int32_t lv, Vec2 q) const {
 // (b.y - c.y, c.x - b.x) / 2.  If one region lacks the room in its budget
 // for a step of `step` along d, d is projected onto the direction along
 // which that region's area does not change (a region of zero error keeps
-// its area exactly, up to rounding); with two or more such regions d is
-// kept (the budget will refuse the step).
+// its area exactly, up to rounding); of several such regions, the one whose
+// room allows the shortest step (the line search shortens the step for the
+// others).
 Vec2 Optimizer::area_neutral(std::int32_t lv, Vec2 d, double step) const {
     if (!areas_.active()) return d;
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
@@ -602,13 +603,17 @@ Vec2 Optimizer::area_neutral(std::int32_t lv, Vec2 d, double step) const {
         if (it == grad.end()) grad.emplace_back(m_.region[t], gt);
         else it->second = it->second + gt;
     }
+    // The region whose room allows the shortest step along d.
     Vec2 tight{0, 0};
+    double shortest = step;
     int n = 0;
     for (const auto& [r, gr] : grad) {
-        const double rate = dot(gr, d);
-        if (areas_.room(r, rate > 0) < std::abs(rate) * step) tight = gr, ++n;
+        const double rate = std::abs(dot(gr, d));
+        const double room = std::max(0.0, areas_.room(r, dot(gr, d) > 0));
+        if (room < rate * step) ++n;
+        if (room < rate * shortest) tight = gr, shortest = room / rate;
     }
-    if (n != 1 || !(norm2(tight) > 0)) return d;
+    if (!(norm2(tight) > 0) || (n > 1 && shortest > 0)) return d;
     return d - (dot(d, tight) / norm2(tight)) * tight;
 }
 
