@@ -6,8 +6,9 @@
 //  * the mesh stays valid (check_mesh) and the minimum angle never falls;
 //  * every accepted move keeps its star's smallest angle;
 //  * junction vertices (three or more materials, the dropped background
-//    counted) never move; interface vertices stay on their interface
-//    (phi_a = phi_b);
+//    counted) move only under the same rule (star minimum kept, areas within
+//    budget) and are never removed; interface vertices stay on their
+//    interface (phi_a = phi_b);
 //  * Mesh::interfaces is exactly the set of edges between triangles of
 //    different regions, with the right regions on its sides, and new
 //    interface vertices (refinement's splits) lie on their interface;
@@ -104,8 +105,12 @@ std::map<Edge, std::array<std::int32_t, 2>> listed_interfaces(const Mesh& m) {
     return out;
 }
 
-// Vertices where three or more materials meet (a level-set boundary edge counts the dropped background).
+// Vertices where three or more materials meet (a level-set boundary edge
+// counts the dropped background), and crossings of interfaces (more than two
+// interface edges: a checkerboard saddle of two materials).
 std::set<std::int32_t> junctions(const Mesh& m) {
+    std::map<std::int32_t, int> interface_edges;
+    for (const auto& e : m.interfaces) ++interface_edges[e[0]], ++interface_edges[e[1]];
     std::map<std::int32_t, std::set<std::int32_t>> around;
     for (std::size_t t = 0; t < m.triangles.size(); ++t)
         for (const std::int32_t v : m.triangles[t]) around[v].insert(m.region[t]);
@@ -115,6 +120,8 @@ std::set<std::int32_t> junctions(const Mesh& m) {
     std::set<std::int32_t> out;
     for (const auto& [v, r] : around)
         if (r.size() >= 3) out.insert(v);
+    for (const auto& [v, n] : interface_edges)
+        if (n > 2) out.insert(v);
     return out;
 }
 
@@ -140,7 +147,7 @@ double star_min(const Mesh& m, std::span<const std::size_t> star, std::int32_t v
 
 struct Outcome {
     double min_before = 0, min_after = 0, max_after = 0;
-    std::int64_t moves = 0, interface_moves = 0, interface_splits = 0, removals = 0;
+    std::int64_t moves = 0, interface_moves = 0, junction_moves = 0, interface_splits = 0, removals = 0;
 };
 
 // Mesh `field` (pipeline, certified), optimise it with an observer and check every property of the file's
@@ -151,8 +158,6 @@ Outcome optimise_and_check(const MaterialField& field, double spacing, bool grad
     MeshResult r = mesh(field, o);
     Mesh& m = r.mesh;
     std::set<std::int32_t> fixed = junctions(m);
-    std::map<std::int32_t, Vec2> fixed_at;
-    for (const std::int32_t v : fixed) fixed_at[v] = m.vertices[static_cast<std::size_t>(v)];
     const auto area_before = areas(m);
     std::map<std::int32_t, int> material_of;
     for (int k = 0; k < field.count(); ++k) material_of[field.tag(k)] = k;
@@ -167,13 +172,12 @@ Outcome optimise_and_check(const MaterialField& field, double spacing, bool grad
         if (!ev.renumbered.empty()) {  // interior vertices removed: renumber what we track
             ++out.removals;
             std::set<std::int32_t> f;
-            std::map<std::int32_t, Vec2> at;
             for (const std::int32_t v : fixed) {
                 const std::int32_t n = ev.renumbered[static_cast<std::size_t>(v)];
                 BOOST_REQUIRE_MESSAGE(n >= 0, what << ": junction vertex " << v << " removed");
-                f.insert(n), at[n] = fixed_at.at(v);
+                f.insert(n);
             }
-            fixed = f, fixed_at = at;
+            fixed = f;
             vertices_before = static_cast<std::size_t>(
                 std::count_if(ev.renumbered.begin(), ev.renumbered.begin() + static_cast<std::ptrdiff_t>(vertices_before),
                               [](std::int32_t n) { return n >= 0; }));
@@ -181,14 +185,16 @@ Outcome optimise_and_check(const MaterialField& field, double spacing, bool grad
         }
         if (ev.flip) return;
         ++out.moves;
-        BOOST_REQUIRE_MESSAGE(!fixed.count(ev.vertex), what << ": junction vertex " << ev.vertex << " moved");
+        out.junction_moves += fixed.count(ev.vertex);
         BOOST_REQUIRE_MESSAGE(star_min(now, ev.star, ev.vertex, ev.to) >= star_min(now, ev.star, ev.vertex, ev.from) - 1e-12,
                               what << ": a move lowered its star's minimum angle");
         std::set<std::int32_t> regions;
         for (const std::size_t t : ev.star) regions.insert(now.region[t]);
-        if (regions.size() == 2) {  // an interface vertex: still on phi_a = phi_b
+        const int a = material_of.at(*regions.begin()), b = material_of.at(*regions.rbegin());
+        // An interface vertex on phi_a = phi_b stays on it (one off it, a
+        // third material's cut point, moves as a junction does).
+        if (regions.size() == 2 && !fixed.count(ev.vertex) && std::abs(field.phi(a, ev.from.x, ev.from.y) - field.phi(b, ev.from.x, ev.from.y)) <= 1e-9 * spacing) {
             ++out.interface_moves;
-            const int a = material_of.at(*regions.begin()), b = material_of.at(*regions.rbegin());
             BOOST_REQUIRE_SMALL(field.phi(a, ev.to.x, ev.to.y) - field.phi(b, ev.to.x, ev.to.y), 1e-9 * spacing);
         }
     };
@@ -199,10 +205,6 @@ Outcome optimise_and_check(const MaterialField& field, double spacing, bool grad
     const MeshCheck c = check_mesh(m);
     BOOST_REQUIRE_MESSAGE(c.ok(), what << ": " << (c.messages.empty() ? std::string("?") : c.messages[0]));
     BOOST_REQUIRE_GE(rep.min_angle_after, rep.min_angle_before);
-    for (const auto& [v, p] : fixed_at) {
-        BOOST_REQUIRE_EQUAL(m.vertices[static_cast<std::size_t>(v)].x, p.x);
-        BOOST_REQUIRE_EQUAL(m.vertices[static_cast<std::size_t>(v)].y, p.y);
-    }
     const auto listed = listed_interfaces(m);
     BOOST_REQUIRE_MESSAGE(listed == edges_between_regions(m), what << ": interfaces are not the edges between regions");
     // Interfaces are never flipped or crossed; refinement may split them, at
@@ -234,18 +236,20 @@ Outcome optimise_and_check(const MaterialField& field, double spacing, bool grad
 BOOST_AUTO_TEST_CASE(random_label_images_keep_validity_interfaces_junctions_and_areas) {
     std::mt19937 rng(2028);
     std::uniform_int_distribution<int> size(8, 22), labels(2, 5);
-    std::int64_t moves = 0, interface_moves = 0, interface_splits = 0, removals = 0;
+    std::int64_t moves = 0, interface_moves = 0, junction_moves = 0, interface_splits = 0, removals = 0;
     for (int c = 0; c < scaled(40); ++c) {
         const Image img = random_labels(rng, size(rng), size(rng), labels(rng));
         const auto field = make_label_materials(img, "all");
         const double s = c % 3 == 0 ? 0.5 : 1;
         const Outcome o = optimise_and_check(*field, s, c % 4 == 1, c % 5 == 2, "random case " + std::to_string(c));
         moves += o.moves, interface_moves += o.interface_moves, interface_splits += o.interface_splits;
+        junction_moves += o.junction_moves;
         removals += o.removals;
     }
-    BOOST_TEST_MESSAGE("moves " << moves << ", of interface vertices " << interface_moves << "; interface splits "
+    BOOST_TEST_MESSAGE("moves " << moves << ", of interface vertices " << interface_moves << ", of junctions " << junction_moves << "; interface splits "
                                 << interface_splits << "; removal rounds " << removals);
     BOOST_REQUIRE_GT(interface_moves, 0);  // interface vertices do slide
+    BOOST_REQUIRE_GT(junction_moves, 0);   // and junctions move
     // Vertex removal runs under the same checks (12 rounds over the 40 cases,
     // 1 over the sanitizer build's 10).
     if (scaled(40) >= 10) BOOST_REQUIRE_GT(removals, 0);
@@ -279,7 +283,7 @@ BOOST_AUTO_TEST_CASE(analytic_materials_slide_along_their_interfaces) {
 // a junction's 36.87° corner into two 18.43° angles, which no move, flip or
 // Steiner point lifts; the pass removes that vertex (src/mesh/remove.hpp) and
 // the crop reaches the 1 px target, uniform and graded, with every property
-// of optimise_and_check (junctions fixed, interfaces exact, areas no worse).
+// of optimise_and_check (junctions never removed, interfaces exact, areas no worse).
 BOOST_AUTO_TEST_CASE(issue28_optimize_strip_tip) {
     const Image img = read_image(std::string(WARPMESH_SOURCE_DIR) + "/tests/data/issue28_optimize_strip_tip.pgm");
     const auto field = make_label_materials(img, "all");
@@ -300,6 +304,29 @@ BOOST_AUTO_TEST_CASE(issue28_optimize_strip_tip) {
     BOOST_REQUIRE_EQUAL(r.mesh.triangles.size(), static_cast<std::size_t>(r.optimized->triangles));
 }
 
+// Issue 28: a one-pixel sliver of label 1029 between two junctions on the
+// dropped background's boundary (a 14x12 crop of the brain slice at x 118,
+// row 212: tests/data/issue28_optimize_junction_sliver.pgm) kept 18.43° and
+// 135° at 1 px: its interface vertex slides along a curve on which no
+// position helps, and the junctions were fixed.  Junctions now move under
+// the same rule (star minimum kept, every label's area error within its
+// budget, the embedding test on their boundary edges): 18.43° -> 20.15°
+// (the labels of the crop have little room in their budgets; on the whole
+// slice, where they have more, no triangle stays below 30°).
+BOOST_AUTO_TEST_CASE(issue28_optimize_junction_sliver) {
+    const Image img = read_image(std::string(WARPMESH_SOURCE_DIR) + "/tests/data/issue28_optimize_junction_sliver.pgm");
+    const auto field = make_label_materials(img, "all");
+    for (const bool graded : {false, true}) {
+        const Outcome o = optimise_and_check(*field, 1, graded, false, "junction sliver");
+        BOOST_TEST_MESSAGE("junction sliver graded " << graded << ": min " << o.min_before << " -> " << o.min_after << ", max "
+                                                     << o.max_after << ", junction moves " << o.junction_moves);
+        BOOST_REQUIRE_GT(o.junction_moves, 0);
+        BOOST_REQUIRE_LT(o.min_before, 18.44);
+        BOOST_REQUIRE_GT(o.min_after, 20.0);
+        BOOST_REQUIRE_LT(o.max_after, 132.0);
+    }
+}
+
 // The bundled brain slice (every label, 1 and 2 pixels) against issue 28's targets.
 BOOST_AUTO_TEST_CASE(atlas_slice_targets) {
     const Image img = read_image(std::string(WARPMESH_SOURCE_DIR) + "/mesher/examples/brain_axial_s128_labels16.pgm");
@@ -311,23 +338,14 @@ BOOST_AUTO_TEST_CASE(atlas_slice_targets) {
         BOOST_REQUIRE(r.optimized);
         BOOST_TEST_MESSAGE("brain s=" << s << ": min " << r.optimized->min_angle_before << " -> " << r.optimized->min_angle_after
                                       << ", max " << r.optimized->max_angle_before << " -> " << r.optimized->max_angle_after);
-        // Issue 28's targets are 28 deg (1 px) and 35 deg (2 px); what the pass
-        // reaches today (docs/optimisation.md: junction vertices stay put, and
-        // one-pixel slivers between two junctions keep 18.43 deg at 1 px).
-        BOOST_REQUIRE_GE(r.optimized->min_angle_after, s == 1 ? 18.43 : 30.96);
-        BOOST_REQUIRE_LT(r.optimized->max_angle_after, r.optimized->max_angle_before);
-        if (s == 2) BOOST_REQUIRE_LE(r.optimized->max_angle_after, 110.0);
+        // Issue 28's targets: 28 deg at 1 px, 35 deg at 2 px, maximum <= 110 deg
+        // (reached with junction moves, refinement below 35 deg and the area
+        // budget kept for the worst stars: 30.45 and 35.05 deg, 109.5 and
+        // 104.8 deg).
+        BOOST_REQUIRE_GE(r.optimized->min_angle_after, s == 1 ? 28.0 : 35.0);
+        BOOST_REQUIRE_LE(r.optimized->max_angle_after, 110.0);
         // At 1 px the vertex removal (src/mesh/remove.hpp) lifts the pairs at
-        // one-pixel tips: 35 triangles below 28 deg without it, 8 with it
-        // (what is left: one-pixel slivers between two fixed junctions).
-        if (s == 1) {
-            BOOST_REQUIRE_GT(r.optimized->removed_vertices, 0);
-            std::size_t below = 0;
-            for (const auto& t : r.mesh.triangles)
-                below += triangle_min_angle(r.mesh.vertices[static_cast<std::size_t>(t[0])], r.mesh.vertices[static_cast<std::size_t>(t[1])],
-                                            r.mesh.vertices[static_cast<std::size_t>(t[2])]) < 28;
-            BOOST_TEST_MESSAGE("brain s=1: " << below << " triangles below 28 deg, " << r.optimized->removed_vertices << " vertices removed");
-            BOOST_REQUIRE_LE(below, 10u);
-        }
+        // one-pixel tips.
+        if (s == 1) BOOST_REQUIRE_GT(r.optimized->removed_vertices, 0);
     }
 }

@@ -526,10 +526,13 @@ def test_optimize_with_materials_is_the_cli_optimize(cli, root, tmp_path, graded
     assert o["max_angle_after_deg"] <= o["max_angle_before_deg"]
     # No label's area error against its pixel count grew.
     before = {x["tag"]: abs(x["area_minus_pixel_area"]) for x in plain.report["materials"] if x["output"]}
+    areas = {x["tag"]: x["area"] for x in plain.report["materials"]}
     for x in m.report["materials"]:
         if x["output"]:
             assert abs(x["area_minus_pixel_area"]) <= before[x["tag"]] + 1e-9 * x["pixel_area"], x
+            assert abs(x["area_before_optimize"] - areas[x["tag"]]) <= 1e-9 * x["pixel_area"], x  # reported before/after
     assert "optimize" not in plain.report
+    assert all("area_before_optimize" not in x for x in plain.report["materials"])
 
 
 def test_mesh_shapes_is_the_cli_shapes_mesh_with_and_without_optimize(cli, tmp_path):

@@ -173,6 +173,9 @@ struct MaterialStats {
     double area = 0;               // of those triangles
     double perimeter = 0;          // length of its interfaces, boundary and domain border
     std::optional<double> reference_area;
+    // With --optimize: its area before the pass (the report's
+    // "area_before_optimize"; with reference_area, its error may not grow).
+    std::optional<double> area_before_optimize;
     // Size caps (mesh(const MaterialField&, ...) with MeshOptions::max_size_of):
     // its cap, if it has one; the longest edge of its output triangles, once
     // measure_longest_edges ran.  Reported only when some material has a cap.
@@ -253,7 +256,8 @@ RegionMeasures measure_regions(const Mesh& mesh);
 // background's area by minus the output materials' total change (the tiling
 // covers the same lattice), its perimeter by the level-set boundary's change
 // minus the border's (what the materials gained along the lattice border, it
-// lost).
+// lost).  Each output material keeps its area before the pass in
+// area_before_optimize.
 void update_material_stats(MaterialResult& r, const RegionMeasures& before, const RegionMeasures& after);
 
 }  // namespace warpmesh

@@ -198,15 +198,24 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 //  * a level-set boundary vertex (two tag-1 edges: its material m against
 //    the dropped background) slides along phi_m = phi_0, as a boundary vertex
 //    along f = 0 (embedding test included); lattice-border vertices as above;
-//  * junctions (three or more materials, the dropped background counted),
-//    vertices where an interface meets the boundary and pinches are fixed;
+//  * junctions (three or more materials, the dropped background counted;
+//    an interface meeting the dropped background's boundary; crossings of
+//    interfaces; interface vertices off their curve) with a closed star or
+//    exactly two level-set boundary edges move in the plane, like interior
+//    vertices, under the same rule (embedding test on their boundary edges);
+//    the ascent direction is made area-neutral for the one region (if one)
+//    whose budget (8) has no room for the step; vertices on the lattice
+//    border or where more boundary edges meet (pinches) stay fixed;
 //  * rule (4) bounds every moved boundary or interface edge by the largest
 //    distance of the band's boundary and interface edges to their curves
-//    before the pass;
+//    before the pass (a junction: each of its boundary and interface edges);
 //  * (8) with reference areas (label images: pixel count x pixel area), a
 //    move or refined patch is accepted only if every region it changes keeps
 //    |area - reference| at or below its value before the pass: no label's
 //    area error grows (checked again at the end, std::logic_error if not).
+//    A move of a star whose quality is already >= 35° may not use that room
+//    at all (its regions' errors may only shrink): the room is kept for the
+//    worse stars.
 // Flips never cross an interface.  Refinement patches stay inside one
 // material; it may split a material's level-set boundary edge and, as a
 // candidate for the patch's worst triangle, one of its interface edges, at a
@@ -214,12 +223,18 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 // joins the patch with its own region; the halves replace the edge in
 // Mesh::interfaces with the same regions).  So Mesh::interfaces stays exactly
 // the edges between different regions (OptimizeReport::interface_splits
-// counts the splits).  With refine_below_deg > 0, after the refinement an
+// counts the splits).  With materials a candidate whose trial the whole
+// acceptance rule takes (angles, embedding, area budget) ranks above every
+// other, and a trial whose smoothing moved a label's area beyond its budget
+// is tried again smoothing interior vertices only, then not at all (the
+// pipeline refines below 35° with materials, 30° for one region).  With
+// refine_below_deg > 0, after the refinement an
 // interior vertex (no boundary or interface edge) of a triangle below 35° is
 // removed where the max-min re-triangulation of its link lifts its star's
 // smallest angle (src/mesh/remove.hpp: areas, boundary and interfaces
 // unchanged); the mesh is then compacted, so vertex and triangle indices
 // change (OptimizeEvent::renumbered, OptimizeReport::removed_vertices).
+// The refinement rounds then run once more over everything the pass changed.
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
 // The report as text lines (for stdout) and as a JSON object (the report's

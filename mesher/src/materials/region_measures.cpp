@@ -65,6 +65,7 @@ void update_material_stats(MaterialResult& r, const RegionMeasures& before, cons
     for (MaterialStats& s : r.materials) {
         if (!s.output || s.tag < 0) continue;
         const auto k = static_cast<std::size_t>(s.tag);
+        s.area_before_optimize = s.area;
         s.triangles += at(after.triangles, k) - at(before.triangles, k);
         s.area += at(after.area, k) - at(before.area, k);
         s.perimeter += at(after.perimeter, k) - at(before.perimeter, k);

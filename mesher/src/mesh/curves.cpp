@@ -92,10 +92,14 @@ AreaBudget::AreaBudget(const Mesh& mesh, const SlideCurves& curves) {
     if (!any) error_.clear(), budget_.clear(), reference_.clear();
 }
 
-bool AreaBudget::allows(const AreaChange& change) const {
+bool AreaBudget::allows(const AreaChange& change, bool strict) const {
     for (const auto& [r, a] : change) {
         if (r < 0 || static_cast<std::size_t>(r) >= error_.size() || std::isnan(error_[static_cast<std::size_t>(r)])) continue;
-        if (std::abs(error_[static_cast<std::size_t>(r)] + a) > budget_[static_cast<std::size_t>(r)]) return false;
+        const auto i = static_cast<std::size_t>(r);
+        // Rounding of an area-neutral move (a junction's, Optimizer) is
+        // allowed, 1e-13 of the reference per move: far below the final
+        // check's 1e-9 after any number of moves the pass makes.
+        if (std::abs(error_[i] + a) > (strict ? std::abs(error_[i]) : budget_[i]) + 1e-13 * std::abs(reference_[i])) return false;
     }
     return true;
 }
@@ -103,6 +107,12 @@ bool AreaBudget::allows(const AreaChange& change) const {
 void AreaBudget::apply(const AreaChange& change) {
     for (const auto& [r, a] : change)
         if (r >= 0 && static_cast<std::size_t>(r) < error_.size()) error_[static_cast<std::size_t>(r)] += a;
+}
+
+double AreaBudget::room(std::int32_t region, bool grow) const {
+    const auto r = static_cast<std::size_t>(region);
+    if (region < 0 || r >= error_.size() || std::isnan(error_[r])) return std::numeric_limits<double>::infinity();
+    return grow ? budget_[r] - error_[r] : budget_[r] + error_[r];
 }
 
 std::string AreaBudget::worse(const AreaBudget& now) const {

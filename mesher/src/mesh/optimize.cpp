@@ -45,6 +45,8 @@ constexpr int refine_rounds = 3;
 // Materials: rounds of vertex removal (remove.hpp) then sweeps, for the
 // triangles still below this many degrees after refinement.
 constexpr int remove_rounds = 3;
+// Materials: moves of stars of at least this quality do not spend area budget.
+constexpr double reserve_deg = 35;
 constexpr double remove_below_deg = 35;
 
 using namespace plane;
@@ -94,8 +96,29 @@ Vec2 min_norm_point(const std::vector<Vec2>& g) {
 
 // levelset: on a boundary curve (curves.hpp) with its two boundary edges;
 // interface: on an interface curve with its two interface edges and a closed
-// star (both sides are output triangles).
-enum class Kind : std::uint8_t { interior, levelset, interface, line_x, line_y, fixed };
+// star (both sides are output triangles); junction (materials only): a vertex
+// of several curves (three or more materials, or an interface meeting the
+// dropped background, or an interface vertex off its curve) with a closed
+// star or exactly two level-set boundary edges, which moves in the plane
+// under the area budget with each of its curved edges within rule (4)'s
+// distance of its curve.
+enum class Kind : std::uint8_t { interior, levelset, interface, line_x, line_y, junction, fixed };
+
+// The edges at one vertex, by kind (Optimizer::classify).
+struct EdgeCount {
+    int n1 = 0, n2 = 0, ni = 0, other = 0;
+    bool horizontal = true, vertical = true, one_curve = true, uncurved = false;
+    std::int32_t curve = SlideCurves::none;
+    std::array<std::int32_t, 2> nb{-1, -1}, edges{-1, -1}, inb{-1, -1};
+    // Level-set and interface edges: the other end and the edge's curve.
+    std::vector<std::array<std::int32_t, 2>> curved;
+    void on_curve(std::int32_t c, std::int32_t other_end) {
+        if (n1 + ni == 0) curve = c;
+        else one_curve = one_curve && curve == c;
+        uncurved = uncurved || c == SlideCurves::none;
+        curved.push_back({other_end, c});
+    }
+};
 
 class Optimizer {
 public:
@@ -116,6 +139,7 @@ private:
     // right isosceles, or of `seeds`; resets the per-vertex state.
     void find_band(const std::vector<std::size_t>* seeds);
     void classify();
+    void classify_one(std::size_t l, const EdgeCount& k);
     int sweeps();  // Gauss-Seidel sweeps and flips until nothing changes; how many
     void refine(OptimizeReport& r);
     void remove_vertices(OptimizeReport& r);
@@ -150,6 +174,12 @@ private:
     // (embedding.hpp: its two boundary edges against the other boundary
     // edges and its link, no boundary vertex inside its new star)?
     bool embeds(std::int32_t lv, Vec2 q) const;
+    // Would junction lv at q keep each of its level-set and interface edges
+    // within rule (4)'s distance dmax_ of its curve (or of its distance now)?
+    bool junction_close(std::int32_t lv, Vec2 q) const;
+    // The junction's ascent direction d, made area-neutral for the one region
+    // (if one) whose budget cannot take a step of `step` along it.
+    Vec2 area_neutral(std::int32_t lv, Vec2 d, double step) const;
     // Would a triangle of v's star with v at q have a largest angle > cap_?
     bool exceeds_cap(std::int32_t lv, Vec2 q) const;
 
@@ -173,6 +203,7 @@ private:
     std::vector<std::vector<std::size_t>> star_;  // per active vertex: its triangles
     std::vector<std::array<std::int32_t, 2>> bnb_;  // level-set vertices: the two boundary neighbours
     std::vector<std::array<std::int32_t, 2>> bedge_;  // boundary vertices that move: their two edges in Mesh::boundary
+    std::vector<std::vector<std::array<std::int32_t, 2>>> jedges_;  // junctions: their curved edges' other ends and curves
     BoundaryIndex index_;                             // the boundary edges, for embeds()
     std::vector<char> dirty_;
     std::unordered_set<std::uint64_t> interfaces_;
@@ -259,17 +290,7 @@ void Optimizer::find_band(const std::vector<std::size_t>* seeds) {
 // materials, where two kinds of edge meet, pinches, interface ends of one
 // region's tagged label mode) is fixed.
 void Optimizer::classify() {
-    struct Count {
-        int n1 = 0, n2 = 0, ni = 0, other = 0;
-        bool horizontal = true, vertical = true, one_curve = true;
-        std::int32_t curve = SlideCurves::none;
-        std::array<std::int32_t, 2> nb{-1, -1}, edges{-1, -1}, inb{-1, -1};
-        void on_curve(std::int32_t c) {
-            if (n1 + ni == 0) curve = c;
-            else one_curve = one_curve && curve == c;
-        }
-    };
-    std::vector<Count> c(act_.size());
+    std::vector<EdgeCount> c(act_.size());
     for (std::size_t e = 0; e < m_.boundary.size(); ++e) {
         const auto [a, b] = m_.boundary[e];
         const std::int32_t tag = e < m_.boundary_tag.size() ? m_.boundary_tag[e] : 0;
@@ -277,10 +298,10 @@ void Optimizer::classify() {
         for (int end = 0; end < 2; ++end) {
             const std::int32_t l = local(end ? b : a);
             if (l < 0) continue;
-            Count& k = c[static_cast<std::size_t>(l)];
+            EdgeCount& k = c[static_cast<std::size_t>(l)];
             k.edges[static_cast<std::size_t>(end)] = static_cast<std::int32_t>(e);
             if (tag == boundary_level_set) {
-                k.on_curve(bcurve_[e]);
+                k.on_curve(bcurve_[e], end ? a : b);
                 k.nb[static_cast<std::size_t>(end)] = end ? a : b;  // end 0: a's successor b; end 1: b's predecessor a
                 ++k.n1;
             } else if (tag == boundary_domain) {
@@ -300,9 +321,9 @@ void Optimizer::classify() {
                                        : SlideCurves::none;
         for (int end = 0; end < 2; ++end)
             if (const std::int32_t l = local(e[static_cast<std::size_t>(end)]); l >= 0) {
-                Count& k = c[static_cast<std::size_t>(l)];
+                EdgeCount& k = c[static_cast<std::size_t>(l)];
                 if (curve == SlideCurves::none) k.other = 1;  // one region's tagged label mode: fixed
-                k.on_curve(curve);
+                k.on_curve(curve, e[static_cast<std::size_t>(1 - end)]);
                 if (k.ni < 2) k.inb[static_cast<std::size_t>(k.ni)] = e[static_cast<std::size_t>(1 - end)];
                 ++k.ni;
             }
@@ -311,27 +332,38 @@ void Optimizer::classify() {
     bnb_.assign(act_.size(), {-1, -1});
     bedge_.assign(act_.size(), {-1, -1});
     curve_.assign(act_.size(), SlideCurves::none);
-    for (std::size_t l = 0; l < act_.size(); ++l) {
-        const Count& k = c[l];
-        Kind& kd = kind_[l];
-        const Vec2 p = m_.vertices[static_cast<std::size_t>(act_[l])];
-        const auto on = [&] { return k.curve != SlideCurves::none && std::abs(curves_.curve(k.curve).value(p.x, p.y)) <= 1e-9 * s_; };
-        if (k.other || k.n1 + k.n2 > 2 || (k.n1 && k.n2) || (k.ni && k.n1 + k.n2) || k.ni > 2 || !k.one_curve) {
-            kd = Kind::fixed;
-        } else if (k.n1 == 2) {
-            kd = on() ? Kind::levelset : Kind::fixed;
-            bnb_[l] = k.nb;
-        } else if (k.ni == 2) {
-            kd = on() ? Kind::interface : Kind::fixed;
-            bnb_[l] = k.inb;
-        } else if (k.n2 == 2) {
-            kd = k.horizontal ? Kind::line_x : k.vertical ? Kind::line_y : Kind::fixed;
-        } else if (k.n1 + k.n2 + k.ni != 0) {
-            kd = Kind::fixed;
-        }
-        if (kd == Kind::levelset || kd == Kind::interface) curve_[l] = k.curve;
-        if (kd == Kind::levelset || kd == Kind::line_x || kd == Kind::line_y) bedge_[l] = k.edges;
+    jedges_.assign(act_.size(), {});
+    for (std::size_t l = 0; l < act_.size(); ++l) classify_one(l, c[l]);
+}
+
+void Optimizer::classify_one(std::size_t l, const EdgeCount& k) {
+    Kind& kd = kind_[l];
+    const Vec2 p = m_.vertices[static_cast<std::size_t>(act_[l])];
+    const auto on = [&] { return k.curve != SlideCurves::none && std::abs(curves_.curve(k.curve).value(p.x, p.y)) <= 1e-9 * s_; };
+    if (k.other || k.n1 + k.n2 > 2 || (k.n1 && k.n2) || (k.ni && k.n1 + k.n2) || k.ni > 2 || !k.one_curve) {
+        kd = Kind::fixed;
+    } else if (k.n1 == 2) {
+        kd = on() ? Kind::levelset : Kind::fixed;
+        bnb_[l] = k.nb;
+    } else if (k.ni == 2) {
+        kd = on() ? Kind::interface : Kind::fixed;
+        bnb_[l] = k.inb;
+    } else if (k.n2 == 2) {
+        kd = k.horizontal ? Kind::line_x : k.vertical ? Kind::line_y : Kind::fixed;
+    } else if (k.n1 + k.n2 + k.ni != 0) {
+        kd = Kind::fixed;
     }
+    // Materials: a fixed vertex of curves only (no lattice-border or other
+    // edge, every edge's curve known) with a closed star or two level-set
+    // boundary edges (one in, one out: the embedding test applies) moves
+    // as a junction.
+    if (kd == Kind::fixed && curves_.materials() && !k.other && !k.n2 && !k.uncurved && (k.n1 == 0 || k.n1 == 2) &&
+        (k.edges[0] >= 0) == (k.n1 == 2) && (k.edges[1] >= 0) == (k.n1 == 2) && k.curved.size() >= 2) {
+        kd = Kind::junction;
+        jedges_[l] = k.curved;
+    }
+    if (kd == Kind::levelset || kd == Kind::interface) curve_[l] = k.curve;
+    if (kd == Kind::levelset || kd == Kind::line_x || kd == Kind::line_y || (kd == Kind::junction && k.n1 == 2)) bedge_[l] = k.edges;
 }
 
 void Optimizer::assign_boundary_curves(std::span<const std::size_t> tris) {
@@ -547,6 +579,54 @@ bool Optimizer::embeds(std::int32_t lv, Vec2 q) const {
     return change_embeds(m_, index_, changed, link, tris, pos, replaced);
 }
 
+// A junction's star changes the areas of several regions, each linearly in
+// its position (a triangle's area is affine in one vertex): region r's
+// changes by g_r . (q - p) with g_r the sum over its triangles (v, b, c) of
+// (b.y - c.y, c.x - b.x) / 2.  If one region lacks the room in its budget
+// for a step of `step` along d, d is projected onto the direction along
+// which that region's area does not change (a region of zero error keeps
+// its area exactly, up to rounding); of several such regions, the one whose
+// room allows the shortest step (the line search shortens the step for the
+// others).
+Vec2 Optimizer::area_neutral(std::int32_t lv, Vec2 d, double step) const {
+    if (!areas_.active()) return d;
+    const std::int32_t g = act_[static_cast<std::size_t>(lv)];
+    std::vector<std::pair<std::int32_t, Vec2>> grad;
+    for (const std::size_t t : star_[static_cast<std::size_t>(lv)]) {
+        const auto& T = m_.triangles[t];
+        int k = 0;
+        while (T[static_cast<std::size_t>(k)] != g) ++k;
+        const Vec2 b = m_.vertices[static_cast<std::size_t>(T[static_cast<std::size_t>((k + 1) % 3)])];
+        const Vec2 c = m_.vertices[static_cast<std::size_t>(T[static_cast<std::size_t>((k + 2) % 3)])];
+        const Vec2 gt{0.5 * (b.y - c.y), 0.5 * (c.x - b.x)};
+        auto it = std::find_if(grad.begin(), grad.end(), [&](const auto& e) { return e.first == m_.region[t]; });
+        if (it == grad.end()) grad.emplace_back(m_.region[t], gt);
+        else it->second = it->second + gt;
+    }
+    // The region whose room allows the shortest step along d.
+    Vec2 tight{0, 0};
+    double shortest = step;
+    int n = 0;
+    for (const auto& [r, gr] : grad) {
+        const double rate = std::abs(dot(gr, d));
+        const double room = std::max(0.0, areas_.room(r, dot(gr, d) > 0));
+        if (room < rate * step) ++n;
+        if (room < rate * shortest) tight = gr, shortest = room / rate;
+    }
+    if (!(norm2(tight) > 0) || (n > 1 && shortest > 0)) return d;
+    return d - (dot(d, tight) / norm2(tight)) * tight;
+}
+
+bool Optimizer::junction_close(std::int32_t lv, Vec2 q) const {
+    const Vec2 p = m_.vertices[static_cast<std::size_t>(act_[static_cast<std::size_t>(lv)])];
+    for (const auto& [w, curve] : jedges_[static_cast<std::size_t>(lv)]) {
+        const LevelSet& f = curves_.curve(curve);
+        const Vec2 pw = m_.vertices[static_cast<std::size_t>(w)];
+        if (edge_distance_to_levelset(f, pw, q, s_) > std::max(dmax_, edge_distance_to_levelset(f, pw, p, s_))) return false;
+    }
+    return true;
+}
+
 bool Optimizer::try_move(std::int32_t lv) {
     const Kind kind = kind_[static_cast<std::size_t>(lv)];
     const std::int32_t g = act_[static_cast<std::size_t>(lv)];
@@ -557,7 +637,7 @@ bool Optimizer::try_move(std::int32_t lv) {
     double now_min = inf;  // the star's smallest angle, computed once needed
 
     Vec2 axis{0, 0}, normal{0, 0};
-    bool one_d = kind != Kind::interior;
+    bool one_d = kind != Kind::interior && kind != Kind::junction;
     if (kind == Kind::line_x) axis = {1, 0};
     if (kind == Kind::line_y) axis = {0, 1};
     const bool on_curve = kind == Kind::levelset || kind == Kind::interface;
@@ -573,7 +653,8 @@ bool Optimizer::try_move(std::int32_t lv) {
     }
     const std::vector<double>& values = values_;
     const std::vector<Vec2>& grads = grads_;
-    const Vec2 d = ascent_direction(now_q, axis, one_d);
+    Vec2 d = ascent_direction(now_q, axis, one_d);
+    if (kind == Kind::junction) d = area_neutral(lv, d, 0.5 * shortest);
     const double dn = std::sqrt(norm2(d));
     // Stationary (degrees per star size: scale-free); no step can gain min_gain_deg.
     if (!(dn * shortest > 1e-9)) return false;
@@ -622,10 +703,15 @@ bool Optimizer::try_move(std::int32_t lv) {
                 close = close && edge_distance_to_levelset(*f, m_.vertices[static_cast<std::size_t>(w)], q, s_) <= dmax_;
             if (!close) continue;
         }
-        // A closed star (interior and interface vertices) needs no embedding test.
-        if (kind != Kind::interior && kind != Kind::interface && !embeds(lv, q)) continue;
+        if (kind == Kind::junction && !junction_close(lv, q)) continue;  // rule (4) on each of its curves
+        // A closed star (interior, interface and inner junction vertices) needs no embedding test.
+        const bool closed = kind == Kind::interior || kind == Kind::interface ||
+                            (kind == Kind::junction && bedge_[static_cast<std::size_t>(lv)][0] < 0);
+        if (!closed && !embeds(lv, q)) continue;
         const AreaChange area = area_change(lv, q);  // the area budget (curves.hpp)
-        if (!areas_.allows(area)) continue;
+        // A star already of quality >= reserve_deg may not spend any label's
+        // room (its error may only shrink): the room is kept for the worse stars.
+        if (!areas_.allows(area, now_q >= reserve_deg)) continue;
         areas_.apply(area);
         // Accept: the least certified value of the star bounds every triangle
         // of it from now on (each was >= it before, so the star's old minimum
@@ -875,7 +961,13 @@ OptimizeReport Optimizer::run() {
 
     r.sweeps = sweeps();
     if (o_.refine_below_deg > 0) refine(r);
-    if (o_.refine_below_deg > 0 && curves_.materials()) remove_vertices(r);
+    if (o_.refine_below_deg > 0 && curves_.materials()) {
+        remove_vertices(r);
+        // Once more over everything the pass changed: a refinement patch
+        // works on its worst triangle, and the moves after it may have
+        // lifted that one and left another of the patch below the threshold.
+        refine(r);
+    }
 
     // The rule's consequences, checked: no triangle below its (transferred)
     // certified value (in stats), none below the floor, the minimum not lower.

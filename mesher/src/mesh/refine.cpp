@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -289,7 +290,9 @@ private:
     // boundary edges along f = 0 (a tangent step, then back onto f = 0 by
     // cut_parameter along the normal), border vertices along their line —
     // with step halving; a few Gauss-Seidel sweeps in increasing vertex order.
-    void smooth(Trial& t) const {
+    // (interior_only: only vertices on no boundary edge move: the areas of
+    // the trial's regions do not change.)
+    void smooth(Trial& t, bool interior_only = false) const {
         // Edges of one trial triangle that are not boundary edges: the patch border.
         std::vector<std::uint64_t> all, border;
         for (const Tri& T : t.tris)
@@ -328,7 +331,7 @@ private:
                 movers.emplace_back(v, Move::free);
                 continue;
             }
-            if (nb.size() != 2 || deg != 2) continue;  // corners, pinches
+            if (nb.size() != 2 || deg != 2 || interior_only) continue;  // corners, pinches
             const std::int32_t tg0 = bedge(t, v, nb[0])->tag, tg1 = bedge(t, v, nb[1])->tag;
             const Vec2 p = pos(t, v), q0 = pos(t, nb[0]), q1 = pos(t, nb[1]);
             if (tg0 == boundary_level_set && tg1 == boundary_level_set && f_ && std::abs(f_->value(p.x, p.y)) <= 1e-9 * p_.spacing)
@@ -418,7 +421,10 @@ private:
 
     // The trial with candidate c inserted, flipped and smoothed, if it is
     // valid (rule (1)) and keeps rules (4) and (5) (refine.hpp).
-    std::optional<Trial> insert(const Trial& base, const Candidate& c, std::span<const std::uint64_t> old_edges) const {
+    // Smoothing: 2 as above; (materials, when the smoothed trial breaks the
+    // area budget) 1 moves only interior vertices, 0 none.
+    std::optional<Trial> insert(const Trial& base, const Candidate& c, std::span<const std::uint64_t> old_edges,
+                                int smoothing = 2) const {
         Trial t = base;
         const std::int32_t nv = t.next_vertex++;
         t.at.emplace_back(nv, c.p);
@@ -466,8 +472,7 @@ private:
             }
         }
         lawson(t);
-        smooth(t);
-        lawson(t);
+        if (smoothing) smooth(t, smoothing == 1), lawson(t);
         t.min_deg = inf, t.max_deg = 0;
         for (const Tri& T : t.tris) {
             const Vec2 a = pos(t, T[0]), b = pos(t, T[1]), d = pos(t, T[2]);
@@ -566,37 +571,54 @@ private:
         std::sort(old_edges.begin(), old_edges.end());
         const double max_allowed = std::min(std::max({old_max, p_.max_angle, max_angle_target}), p_.max_angle_cap);
         // Greedy: insert the best candidate (within the angle cap first, then
-        // the largest minimum) until the patch's minimum has risen.
+        // the largest minimum) until the patch's minimum has risen.  With
+        // materials, a trial the acceptance rule takes whole (embedding and
+        // area budget included) ranks above every other: a candidate refused
+        // only by rule (6) or (7) does not hide one that passes.
+        const bool whole = curves_.materials();
         for (int step = 0; step < max_insertions; ++step) {
             std::optional<Trial> best;
+            bool best_ok = false;
             for (const Candidate& c : candidates(base)) {
                 std::optional<Trial> trial = insert(base, c, old_edges);
+                for (int level = 1; level >= 0 && trial && whole && !budget_allows(*trial); --level)  // the smoothing moved area
+                    if (std::optional<Trial> less = insert(base, c, old_edges, level)) trial = std::move(less);
                 if (!trial) continue;
-                const auto key = [&](const Trial& x) { return std::pair{x.max_deg <= max_allowed, x.min_deg}; };
-                if (!best || key(*trial) > key(*best)) best = std::move(trial);
-                if (best->min_deg >= p_.below_deg && best->max_deg <= max_allowed) break;  // good enough: stop looking
+                const bool ok = whole && acceptable(*trial, old_min, old_max, pt.size());
+                const auto key = [&](const Trial& x, bool x_ok) { return std::tuple{x_ok, x.max_deg <= max_allowed, x.min_deg}; };
+                if (!best || key(*trial, ok) > key(*best, best_ok)) best = std::move(trial), best_ok = ok;
+                if (best->min_deg >= p_.below_deg && best->max_deg <= max_allowed && (!whole || best_ok)) break;  // good enough: stop looking
             }
             if (!best) return;
-            // The other sides of split interfaces count in the old patch too.
-            double omin = old_min, omax = old_max;
-            for (std::size_t k = pt.size(); k < best->slots.size(); ++k) {
-                const Tri& U = m_.triangles[best->slots[k]];
-                const TriangleAngles a = triangle_angles(P(U[0]), P(U[1]), P(U[2]));
-                omin = std::min(omin, a.min_deg), omax = std::max(omax, a.max_deg);
-            }
-            const double allowed = std::min(std::max({omax, p_.max_angle, max_angle_target}), p_.max_angle_cap);
-            if (best->min_deg > omin + min_gain_deg && best->max_deg <= allowed) {  // (2), (3)
-                if (embeds(*best) && within_budget(*best)) apply(*best);  // (6), (7)
+            if (whole ? best_ok : acceptable_angles(*best, old_min, old_max, pt.size())) {  // (2), (3)
+                if (whole || (embeds(*best) && budget_allows(*best))) apply_budget(*best), apply(*best);  // (6), (7)
                 return;
             }
             base = std::move(*best);
         }
     }
 
-    // Rule (7): the region's area error within its budget (curves.hpp); the
-    // budget is charged.
-    bool within_budget(const Trial& trial) const {
-        if (!p_.areas) return true;
+    // Rules (2) and (3) for a trial replacing the patch (old_min, old_max:
+    // its extreme angles; the other sides of split interfaces, the slots
+    // after the patch's `patch_size`, count in the old patch too).
+    bool acceptable_angles(const Trial& trial, double old_min, double old_max, std::size_t patch_size) const {
+        double omin = old_min, omax = old_max;
+        for (std::size_t k = patch_size; k < trial.slots.size(); ++k) {
+            const Tri& U = m_.triangles[trial.slots[k]];
+            const TriangleAngles a = triangle_angles(P(U[0]), P(U[1]), P(U[2]));
+            omin = std::min(omin, a.min_deg), omax = std::max(omax, a.max_deg);
+        }
+        const double allowed = std::min(std::max({omax, p_.max_angle, max_angle_target}), p_.max_angle_cap);
+        return trial.min_deg > omin + min_gain_deg && trial.max_deg <= allowed;
+    }
+
+    // Rules (2), (3), (6) and (7).
+    bool acceptable(const Trial& trial, double old_min, double old_max, std::size_t patch_size) const {
+        return acceptable_angles(trial, old_min, old_max, patch_size) && budget_allows(trial) && embeds(trial);
+    }
+
+    // Rule (7): the regions' area change of a trial (curves.hpp).
+    AreaChange budget_change(const Trial& trial) const {
         AreaChange c;
         for (std::size_t k = 0; k < trial.tris.size(); ++k) {
             const Tri& T = trial.tris[k];
@@ -604,9 +626,11 @@ private:
         }
         for (const std::size_t i : trial.slots)
             add_area(c, m_.region[i], -0.5 * cross(P(m_.triangles[i][1]) - P(m_.triangles[i][0]), P(m_.triangles[i][2]) - P(m_.triangles[i][0])));
-        if (!p_.areas->allows(c)) return false;
-        p_.areas->apply(c);
-        return true;
+        return c;
+    }
+    bool budget_allows(const Trial& trial) const { return !p_.areas || p_.areas->allows(budget_change(trial)); }
+    void apply_budget(const Trial& trial) const {
+        if (p_.areas) p_.areas->apply(budget_change(trial));
     }
 
     // Rule (6) for the trial replacing its slots (embedding.hpp).

@@ -22,7 +22,11 @@
 // again.  The first candidate whose patch reaches `below_deg` within the
 // angle cap of rule (3) is kept, else the best (within the cap first, then the
 // largest minimum), and the next insertion starts from it; the patch is
-// replaced as soon as it meets the acceptance rule.
+// replaced as soon as it meets the acceptance rule.  Materials: a trial that
+// meets the whole acceptance rule below ((6) and (7) included) ranks above
+// every other, and one whose smoothing took a region's area beyond its
+// budget (7) is made again smoothing only interior vertices (areas kept),
+// then without smoothing.
 // A level-set boundary edge (tag 1) is split at a point on f = 0, found by
 // the level set's own cut_parameter on a segment across the edge's midpoint
 // (the root finder that placed the cut points); a lattice-border edge (tag 2)

@@ -39,6 +39,7 @@ std::vector<std::pair<std::string, std::string>> material_report_json(const Mate
         m += std::string(k ? ", " : "") + "{\"tag\": " + std::to_string(s.tag) + ", \"name\": " + json_string(s.name) +
              ", \"output\": " + (s.output ? "true" : "false") + ", \"triangles\": " + std::to_string(s.triangles) +
              ", \"area\": " + json_number(s.area) + ", \"perimeter\": " + json_number(s.perimeter);
+        if (s.area_before_optimize) m += ", \"area_before_optimize\": " + json_number(*s.area_before_optimize);
         if (s.reference_area)
             m += ", \"pixel_area\": " + json_number(*s.reference_area) + ", \"area_minus_pixel_area\": " + json_number(s.area - *s.reference_area);
         if (capped)  // (not output: no triangle to measure)
