@@ -1,0 +1,159 @@
+#!/usr/bin/python3
+"""Numeric exploration of the 60-degree rhombic lattice's angles over the
+generic square's configuration space (sampling in double precision, NOT a
+proof; not on the proof path).
+
+The rhombic lattice is the square lattice under P(x, y) = (x + y/2, (√3/2) y)
+(mesher/src/uniform/rhombic.hpp).  P keeps every lattice edge's length, so
+the configuration space of proofs/README.md ("Configuration space": signs,
+slides t in [0, 1/2] along ±x, ±y, the consistency rules) is the same set of
+keys and t-boxes, and so is flatness (an affine function of the physical
+plane is affine in lattice coordinates).  Only the angles change: they are
+measured after P.  This samples every consistent key's t-box (a grid of n
+points per warped corner, plus `random` uniform points) and reports, for the
+max-min rule and the separating rule in the rhombic metric, the worst minimum
+and maximum angle over
+
+  chosen:  both triangles of the chosen diagonal (what a certificate covers),
+  emitted: the chosen triangles whose three corners are inside,
+
+on U (every key) and F (the flat-compatible keys of proofs/key_table.txt),
+with the worst keys and t.  Usage:
+
+  /usr/bin/python3 prover/tools/explore_rhombic.py [n] [random] [--square]
+
+--square measures the square lattice instead (a check against the certified
+bounds: the sampled worst must lie inside them).
+"""
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from explore_rules import KEYS, TRIS, A, B, C, D, code, grid, positions, sep_forced  # noqa: E402
+
+H = np.sqrt(3) / 2
+
+
+def to_physical(P, square):
+    if square:
+        return P
+    Q = P.copy()
+    Q[..., 0] = P[..., 0] + 0.5 * P[..., 1]
+    Q[..., 1] = H * P[..., 1]
+    return Q
+
+
+def tri_cots(p0, p1, p2):
+    """(max cot, min cot) over the triangle's angles, (inf, -inf) where not ccw
+    (an inverted or degenerate triangle: angle 0 and 180)."""
+    pts = [p0, p1, p2]
+    cr = (p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1]) - (p1[:, 1] - p0[:, 1]) * (p2[:, 0] - p0[:, 0])
+    qmax = np.full(cr.shape, -np.inf)
+    qmin = np.full(cr.shape, np.inf)
+    ok = cr > 1e-14
+    safe = np.where(ok, cr, 1.0)
+    for i in range(3):
+        o, a, b = pts[i], pts[(i + 1) % 3], pts[(i + 2) % 3]
+        dot = (a[:, 0] - o[:, 0]) * (b[:, 0] - o[:, 0]) + (a[:, 1] - o[:, 1]) * (b[:, 1] - o[:, 1])
+        qmax = np.maximum(qmax, dot / safe)
+        qmin = np.minimum(qmin, dot / safe)
+    return np.where(ok, qmax, np.inf), np.where(ok, qmin, -np.inf)
+
+
+def diag_cots(Q, d):
+    a = [tri_cots(Q[:, t[0]], Q[:, t[1]], Q[:, t[2]]) for t in TRIS[d]]
+    return np.maximum(a[0][0], a[1][0]), np.minimum(a[0][1], a[1][1]), a
+
+
+def deg(q):
+    return np.degrees(np.arctan2(1, q))
+
+
+def samples(k, n, nrand, rng):
+    vars_ = [c for c in range(4) if k[c][1] != 0]
+    G = grid(len(vars_), n)
+    if vars_ and nrand:
+        G = np.vstack([G, rng.uniform(0, 0.5, (nrand, len(vars_)))])
+    T = np.zeros((G.shape[0], 4))
+    for j, c in enumerate(vars_):
+        T[:, c] = G[:, j]
+    return T
+
+
+def flat_keys():
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proofs", "key_table.txt")
+    with open(path) as f:
+        return {w[1] for w in (line.split() for line in f if not line.startswith("#")) if w[0] == "separating" and w[2] == "flat"}
+
+
+def explore(n, nrand, square, seed=1):
+    rng = np.random.default_rng(seed)
+    flat = flat_keys()
+    # worst[(rule, which, set)] = [max cot, key, t, min cot, key, t]
+    worst = {}
+    inverted = {"maxmin": 0, "separating": 0}
+    per_key = []
+    for k in KEYS:
+        T = samples(k, n, nrand, rng)
+        Q = to_physical(positions(k, T), square)
+        inside = [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
+        qa_max, qa_min, ta = diag_cots(Q, "AD")
+        qb_max, qb_min, tb = diag_cots(Q, "BC")
+        f = sep_forced(k)
+        for rule in ("maxmin", "separating"):
+            if rule == "separating" and f is not None:
+                bc = np.full(T.shape[0], f == "BC")
+            else:
+                bc = qb_max < qa_max  # ties (measure zero off the unit square) to AD
+            qmax = np.where(bc, qb_max, qa_max)
+            qmin = np.where(bc, qb_min, qa_min)
+            inverted[rule] += int(np.sum(~np.isfinite(qmax)))
+            # emitted: the chosen triangles with three inside corners
+            emax = np.full(T.shape[0], -np.inf)
+            emin = np.full(T.shape[0], np.inf)
+            for d, mask, tr in (("AD", ~bc, ta), ("BC", bc, tb)):
+                for t, (tmax, tmin) in zip(TRIS[d], tr):
+                    if all(inside[c] for c in t):
+                        emax = np.where(mask, np.maximum(emax, tmax), emax)
+                        emin = np.where(mask, np.minimum(emin, tmin), emin)
+            sets = ["U"] + (["F"] if code(k) in flat else [])
+            for which, hi, lo in (("chosen", qmax, qmin), ("emitted", emax, emin)):
+                i, j = int(np.argmax(hi)), int(np.argmin(lo))
+                if rule == "separating" and which == "chosen":
+                    per_key.append((hi[i], lo[j], code(k), T[i], T[j], "F" in sets))
+                for s in sets:
+                    w = worst.setdefault((rule, which, s), [-np.inf, None, None, np.inf, None, None])
+                    if hi[i] > w[0]:
+                        w[0:3] = [hi[i], code(k), T[i]]
+                    if lo[j] < w[3]:
+                        w[3:6] = [lo[j], code(k), T[j]]
+    return worst, inverted, per_key
+
+
+def main(argv):
+    square = "--square" in argv
+    args = [a for a in argv if not a.startswith("--")]
+    n = int(args[0]) if args else 7
+    nrand = int(args[1]) if len(args) > 1 else 0
+    worst, inverted, per_key = explore(n, nrand, square)
+    lattice = "square" if square else "rhombic"
+    print(f"{lattice} lattice, {len(KEYS)} keys, grid {n} per warped corner + {nrand} random points per key")
+    print("| rule | triangles | set | worst min angle | at key, t | worst max angle | at key, t |")
+    print("|---|---|---|---|---|---|---|")
+    for (rule, which, s), w in sorted(worst.items()):
+        t1 = ",".join(f"{v:.3g}" for v in w[2])
+        t2 = ",".join(f"{v:.3g}" for v in w[5])
+        print(f"| {rule} | {which} | {s} | {deg(w[0]):.4f}° | `{w[1]}` ({t1}) | {deg(w[3]):.4f}° | `{w[4]}` ({t2}) |")
+    print("configurations with an inverted chosen triangle:", inverted)
+    print("\nseparating, chosen: the 12 keys with the smallest minimum angle (F = flat-compatible)")
+    for q, _, c, t, _, f in sorted(per_key, key=lambda r: -r[0])[:12]:
+        print(f"  {c} {'F' if f else 'U'} min {deg(q):.4f}° at t = {np.round(t, 4)}")
+    print("separating, chosen: the 12 keys with the largest maximum angle")
+    for _, q, c, _, t, f in sorted(per_key, key=lambda r: r[1])[:12]:
+        print(f"  {c} {'F' if f else 'U'} max {deg(q):.4f}° at t = {np.round(t, 4)}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
