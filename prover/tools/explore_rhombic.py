@@ -73,6 +73,41 @@ def deg(q):
     return np.degrees(np.arctan2(1, q))
 
 
+def rule_cots(k, Q):
+    """Per rule ("maxmin", "separating"), per triangle set ("chosen": both of
+    the chosen diagonal; "emitted": those with three inside corners), the
+    (max cot, min cot) at each sample of key k's physical positions Q."""
+    inside = [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
+    qa_max, qa_min, ta = diag_cots(Q, "AD")
+    qb_max, qb_min, tb = diag_cots(Q, "BC")
+    f = sep_forced(k)
+    out = {}
+    for rule in ("maxmin", "separating"):
+        if rule == "separating" and f is not None:
+            bc = np.full(Q.shape[0], f == "BC")
+        else:
+            bc = qb_max < qa_max  # ties (measure zero off the unit square) to AD
+        emax = np.full(Q.shape[0], -np.inf)
+        emin = np.full(Q.shape[0], np.inf)
+        for d, mask, tr in (("AD", ~bc, ta), ("BC", bc, tb)):
+            for t, (tmax, tmin) in zip(TRIS[d], tr):
+                if all(inside[c] for c in t):
+                    emax = np.where(mask, np.maximum(emax, tmax), emax)
+                    emin = np.where(mask, np.minimum(emin, tmin), emin)
+        out[rule] = {"chosen": (np.where(bc, qb_max, qa_max), np.where(bc, qb_min, qa_min)), "emitted": (emax, emin)}
+    return out
+
+
+def record(w, name, T, hi, lo):
+    """Keeps in w = [max cot, key, t, min cot, key, t] the worst of the samples."""
+    i, j = int(np.argmax(hi)), int(np.argmin(lo))
+    if hi[i] > w[0]:
+        w[0:3] = [hi[i], name, T[i]]
+    if lo[j] < w[3]:
+        w[3:6] = [lo[j], name, T[j]]
+    return i, j
+
+
 def samples(k, n, nrand, rng):
     vars_ = [c for c in range(4) if k[c][1] != 0]
     G = grid(len(vars_), n)
@@ -99,38 +134,16 @@ def explore(n, nrand, square, seed=1):
     per_key = []
     for k in KEYS:
         T = samples(k, n, nrand, rng)
-        Q = to_physical(positions(k, T), square)
-        inside = [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
-        qa_max, qa_min, ta = diag_cots(Q, "AD")
-        qb_max, qb_min, tb = diag_cots(Q, "BC")
-        f = sep_forced(k)
-        for rule in ("maxmin", "separating"):
-            if rule == "separating" and f is not None:
-                bc = np.full(T.shape[0], f == "BC")
-            else:
-                bc = qb_max < qa_max  # ties (measure zero off the unit square) to AD
-            qmax = np.where(bc, qb_max, qa_max)
-            qmin = np.where(bc, qb_min, qa_min)
-            inverted[rule] += int(np.sum(~np.isfinite(qmax)))
-            # emitted: the chosen triangles with three inside corners
-            emax = np.full(T.shape[0], -np.inf)
-            emin = np.full(T.shape[0], np.inf)
-            for d, mask, tr in (("AD", ~bc, ta), ("BC", bc, tb)):
-                for t, (tmax, tmin) in zip(TRIS[d], tr):
-                    if all(inside[c] for c in t):
-                        emax = np.where(mask, np.maximum(emax, tmax), emax)
-                        emin = np.where(mask, np.minimum(emin, tmin), emin)
-            sets = ["U"] + (["F"] if code(k) in flat else [])
-            for which, hi, lo in (("chosen", qmax, qmin), ("emitted", emax, emin)):
-                i, j = int(np.argmax(hi)), int(np.argmin(lo))
+        cots = rule_cots(k, to_physical(positions(k, T), square))
+        sets = ["U"] + (["F"] if code(k) in flat else [])
+        for rule, by_set in cots.items():
+            inverted[rule] += int(np.sum(~np.isfinite(by_set["chosen"][0])))
+            for which, (hi, lo) in by_set.items():
+                for s in sets:
+                    i, j = record(worst.setdefault((rule, which, s), [-np.inf, None, None, np.inf, None, None]),
+                                  code(k), T, hi, lo)
                 if rule == "separating" and which == "chosen":
                     per_key.append((hi[i], lo[j], code(k), T[i], T[j], "F" in sets))
-                for s in sets:
-                    w = worst.setdefault((rule, which, s), [-np.inf, None, None, np.inf, None, None])
-                    if hi[i] > w[0]:
-                        w[0:3] = [hi[i], code(k), T[i]]
-                    if lo[j] < w[3]:
-                        w[3:6] = [lo[j], code(k), T[j]]
     return worst, inverted, per_key
 
 
@@ -190,27 +203,9 @@ def explore_third_direction(n, nrand, seed=1):
     worst = {}
     for k in keys:
         T = samples(k, n, nrand, rng)
-        Q = to_physical(positions3(k, T), False)
-        inside = [k[c][1] != 0 or k[c][0] <= 0 for c in range(4)]
-        qa_max, qa_min, ta = diag_cots(Q, "AD")
-        qb_max, qb_min, tb = diag_cots(Q, "BC")
-        f = sep_forced(k)
-        for rule in ("maxmin", "separating"):
-            bc = np.full(T.shape[0], f == "BC") if rule == "separating" and f is not None else qb_max < qa_max
-            emax = np.full(T.shape[0], -np.inf)
-            emin = np.full(T.shape[0], np.inf)
-            for d, mask, tr in (("AD", ~bc, ta), ("BC", bc, tb)):
-                for t, (tmax, tmin) in zip(TRIS[d], tr):
-                    if all(inside[c] for c in t):
-                        emax = np.where(mask, np.maximum(emax, tmax), emax)
-                        emin = np.where(mask, np.minimum(emin, tmin), emin)
-            for which, hi, lo in (("chosen", np.where(bc, qb_max, qa_max), np.where(bc, qb_min, qa_min)), ("emitted", emax, emin)):
-                i, j = int(np.argmax(hi)), int(np.argmin(lo))
-                w = worst.setdefault((rule, which), [-np.inf, None, None, np.inf, None, None])
-                if hi[i] > w[0]:
-                    w[0:3] = [hi[i], code3(k), T[i]]
-                if lo[j] < w[3]:
-                    w[3:6] = [lo[j], code3(k), T[j]]
+        for rule, by_set in rule_cots(k, to_physical(positions3(k, T), False)).items():
+            for which, (hi, lo) in by_set.items():
+                record(worst.setdefault((rule, which), [-np.inf, None, None, np.inf, None, None]), code3(k), T, hi, lo)
     print(f"\nvariant: warps along the short diagonal too (b: along (-1, 1), c: along (1, -1)); {len(keys)} consistent keys, U only")
     print("| rule | triangles | worst min angle | at key, t | worst max angle | at key, t |")
     print("|---|---|---|---|---|---|")
@@ -222,12 +217,7 @@ def explore_third_direction(n, nrand, seed=1):
 
 def chosen_cots(k, T, rule, square):
     """(max cot, min cot) over the chosen triangles of key k at the t rows T."""
-    Q = to_physical(positions(k, T), square)
-    qa_max, qa_min, _ = diag_cots(Q, "AD")
-    qb_max, qb_min, _ = diag_cots(Q, "BC")
-    f = sep_forced(k)
-    bc = np.full(T.shape[0], f == "BC") if rule == "separating" and f is not None else qb_max < qa_max
-    return np.where(bc, qb_max, qa_max), np.where(bc, qb_min, qa_min)
+    return rule_cots(k, to_physical(positions(k, T), square))[rule]["chosen"]
 
 
 def refine(k, t0, rule, square, largest):
