@@ -18,6 +18,7 @@ Meshers ("series"):
   warpmesh-rhombic    ... --lattice rhombic (experimental, uncertified: the
                       60° rhombic lattice, equilateral interior, edge h)
   warpmesh-rhombic-optimize  ... --lattice rhombic --optimize
+  warpmesh-rhombic-maxmin    ... --lattice rhombic --diagonal maxmin
   gmsh-frontal        Gmsh (python API) Frontal-Delaunay (Mesh.Algorithm 6),
                       the curve as a spline through points h/4 apart, size h
   warpmesh-before     (--before EXE) another warpmesh executable, e.g. the
@@ -161,6 +162,8 @@ def make_mesh(series, domain, n, opts, workdir):
         return warpmesh_mesh(opts.warpmesh, domain, h, ["--lattice", "rhombic"], workdir)
     if series == "warpmesh-rhombic-optimize":
         return warpmesh_mesh(opts.warpmesh, domain, h, ["--lattice", "rhombic", "--optimize"], workdir)
+    if series == "warpmesh-rhombic-maxmin":
+        return warpmesh_mesh(opts.warpmesh, domain, h, ["--lattice", "rhombic", "--diagonal", "maxmin"], workdir)
     if series == "warpmesh-before":
         return warpmesh_mesh(opts.before, domain, h, [], workdir)
     if series == REFERENCE:
