@@ -37,7 +37,9 @@ inline Vec2 rhombic_unmap(Vec2 v) { return {v.x - 0.5 * v.y / rhombic_height, v.
 // g = f∘P in lattice coordinates.  An input whose bounds are its domain (an
 // image) is clipped to that box, g = max(f∘P, d∘P) with d the box's signed
 // distance (max-norm), since the lattice over P⁻¹(box) covers more than the
-// box; g's bounds are then never the domain, and the lattice has a margin.
+// box; g's bounds are then never the domain, and the lattice has a margin
+// (so the image's border is meshed as level-set boundary, tag 1, not as
+// boundary_domain, and the box's corners are cut like any corner of f).
 class RhombicLevelSet final : public LevelSet {
 public:
     explicit RhombicLevelSet(const LevelSet& f) : f_(f), clip_(f.bounds_are_domain()), box_(f.bounds()) {}
