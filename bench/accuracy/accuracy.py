@@ -15,6 +15,10 @@ Meshers ("series"):
   warpmesh            warpmesh mesh --shape S --spacing h
   warpmesh-optimize   ... --optimize
   warpmesh-graded     ... --graded --max-size 4h
+  warpmesh-rhombic    ... --lattice rhombic (experimental, uncertified: the
+                      60° rhombic lattice, equilateral interior, edge h)
+  warpmesh-rhombic-optimize  ... --lattice rhombic --optimize
+  warpmesh-rhombic-maxmin    ... --lattice rhombic --diagonal maxmin
   gmsh-frontal        Gmsh (python API) Frontal-Delaunay (Mesh.Algorithm 6),
                       the curve as a spline through points h/4 apart, size h
   warpmesh-before     (--before EXE) another warpmesh executable, e.g. the
@@ -137,10 +141,11 @@ def cgal_mesh(exe, domain, h, workdir):
 
 def spacing_for(series, domain, n):
     """The mesh size that gives about n vertices: the lattice spacing (n ≈ A/h²),
-    the equilateral edge (n ≈ 2A/(√3 h²)); graded meshes are sized by their
+    the equilateral edge (n ≈ 2A/(√3 h²): other meshers and the rhombic
+    lattice, whose edges are h); graded meshes are sized by their
     finest spacing, which they share with the plain series."""
     area = DOMAINS[domain]["area"]
-    if series.startswith("warpmesh"):
+    if series.startswith("warpmesh") and "rhombic" not in series:
         return math.sqrt(area / n)
     return math.sqrt(2 * area / (math.sqrt(3) * n))
 
@@ -153,6 +158,12 @@ def make_mesh(series, domain, n, opts, workdir):
         return warpmesh_mesh(opts.warpmesh, domain, h, ["--optimize"], workdir)
     if series == "warpmesh-graded":
         return warpmesh_mesh(opts.warpmesh, domain, h, ["--graded", "--max-size", repr(4 * h)], workdir)
+    if series == "warpmesh-rhombic":
+        return warpmesh_mesh(opts.warpmesh, domain, h, ["--lattice", "rhombic"], workdir)
+    if series == "warpmesh-rhombic-optimize":
+        return warpmesh_mesh(opts.warpmesh, domain, h, ["--lattice", "rhombic", "--optimize"], workdir)
+    if series == "warpmesh-rhombic-maxmin":
+        return warpmesh_mesh(opts.warpmesh, domain, h, ["--lattice", "rhombic", "--diagonal", "maxmin"], workdir)
     if series == "warpmesh-before":
         return warpmesh_mesh(opts.before, domain, h, [], workdir)
     if series == REFERENCE:

@@ -107,6 +107,10 @@ lattice and algorithm:
                          gets 4 triangles around its centroid: certified minimum angle
                          18.4349 deg on every input (uniform and --graded
                          meshes of two phases; not with several materials)
+  --lattice rhombic      EXPERIMENTAL, UNCERTIFIED: the 60-degree rhombic lattice (interior
+                         triangles equilateral, edges of length --spacing) instead of the
+                         square one (default); uniform one-region meshes, --diagonal
+                         separating or maxmin; no certified bounds (--verify refused)
   --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
                          (with --materials/--shapes: along every interface)
   --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
@@ -285,6 +289,8 @@ bool parse_mesher_option(const std::string& a, Args& args, CliOptions& o) {
     else if (a == "--diagonal") {
         constexpr DiagonalRule rules[] = {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan};
         m.rule = rules[parse_choice(a, args.value(a), {"maxmin", "separating", "fan"})];
+    } else if (a == "--lattice") {
+        m.lattice = parse_choice(a, args.value(a), {"square", "rhombic"}) == 1 ? LatticeMetric::rhombic : LatticeMetric::square;
     } else if (a == "--graded") m.graded = true;
     else if (a == "--optimize") m.optimize = true;
     else if (a == "--max-cell") m.max_cell = parse_integer(a, args.value(a));
@@ -357,6 +363,10 @@ void check_mesher_options(const CliOptions& o) {
     if (o.has("--min-spacing") && m.guarantee != Guarantee::flat)
         throw UsageError("--min-spacing applies to --guarantee flat");
     if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
+    if (m.lattice == LatticeMetric::rhombic && (o.has("--verify") || o.svg_certified))
+        throw UsageError(std::string(o.has("--verify") ? "--verify" : "--svg-color certified") +
+                         ": no certificate covers --lattice rhombic (experimental and uncertified: proofs/*.cert "
+                         "cover the square lattice only)");
     if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
 }
 

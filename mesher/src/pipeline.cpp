@@ -16,6 +16,7 @@
 #include "warpmesh/memory.hpp"
 #include "warpmesh/resolution.hpp"
 #include "warpmesh/uniform.hpp"
+#include "uniform/rhombic.hpp"
 
 namespace warpmesh {
 
@@ -158,13 +159,31 @@ void validate(const MeshOptions& o) {
         throw InputError("--guarantee flat needs the certification (drop --no-certify)");
     if (o.max_squares < 1) throw InputError("--max-squares must be positive");
     if (o.repeat < 1 || o.repeat > 1000) throw InputError("--repeat expects 1 to 1000");
+    if (o.lattice == LatticeMetric::rhombic) {
+        const char* what = o.graded                            ? "--graded"
+                           : o.max_size != 0                   ? "--max-size"
+                           : o.guarantee == Guarantee::flat    ? "--guarantee flat"
+                           : o.rule == DiagonalRule::fan       ? "--diagonal fan"
+                                                               : nullptr;
+        if (what)
+            throw InputError(std::string(what) + " is not available with --lattice rhombic (experimental: uniform meshes "
+                             "with --diagonal separating or maxmin only)");
+    }
 }
 
-MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
+MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     validate(o);
     if (!o.max_size_of.empty())
         throw InputError("--max-size-of applies to multi-material meshes (--materials/--shapes); use --max-size");
-    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
+    // The rhombic lattice (experimental, rhombic.hpp): the pipeline meshes
+    // f0∘P in lattice coordinates, uncertified, and maps the vertices by P;
+    // the optimisation pass and the quality report see the mapped mesh and f0.
+    const bool rhombic = o.lattice == LatticeMetric::rhombic;
+    std::optional<RhombicLevelSet> on_rhombic;
+    if (rhombic) on_rhombic.emplace(f0);
+    const LevelSet& f = rhombic ? static_cast<const LevelSet&>(*on_rhombic) : f0;
+    const bool certifying = o.certify && !rhombic;
+    const CertifyOptions certify{certifying, certifying && o.cell_data, certifying && o.verify};
     MeshResult res;
     Mesh& mesh = res.mesh;
     CertifiedSummary& cert = res.certified;
@@ -207,7 +226,7 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
             extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
             extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
         } else {
-            UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(f, lattice, o.rule, certify); });
+            UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(f, lattice, o.rule, certify, o.lattice); });
             mesh = std::move(r.mesh);
             cert = std::move(r.certified);
             phases = {{"sample", r.times.sample},
@@ -215,8 +234,9 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
                       {"cut_points", r.times.cut_points},
                       {"warp", r.times.warp},
                       {"triangulate", r.times.triangulate}};
-            if (o.certify) phases.emplace_back("certify", r.times.certify);
+            if (certifying) phases.emplace_back("certify", r.times.certify);
             extra.emplace_back("graded", "false");
+            if (rhombic) extra.emplace_back("lattice_metric", json_string("rhombic (experimental, uncertified)"));
             extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
             extra.emplace_back("warped_points", std::to_string(r.warped_points));
             extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
@@ -238,11 +258,12 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
         ++res.refinements;
     }
     res.spacing = spacing;
+    if (rhombic) map_rhombic(mesh);
     if (mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
     // Images: a spacing below one pixel adds no detail (resolution.hpp).
-    if (const ResolutionCheck rc = check_resolution(mesh, res.lattice.s, f.bounds_are_domain() ? 1.0 : 0.0);
+    if (const ResolutionCheck rc = check_resolution(mesh, res.lattice.s, f0.bounds_are_domain() ? 1.0 : 0.0);
         rc.unresolved) {
         std::ostringstream w;
         w << "spacing " << res.lattice.s << " is too coarse for this input: " << rc.unresolved << " of " << rc.loops
@@ -257,18 +278,22 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& o) {
         oo.max_edge = o.max_size;  // the pass keeps --max-size
         oo.refine_below_deg = 30;  // Steiner points where moves and flips leave a triangle below 30°
         if (cert.available) oo.certified_floor = cert.min_deg, oo.certified_max = cert.max_deg;
-        res.optimized = optimize_mesh(mesh, f, oo);
+        res.optimized = optimize_mesh(mesh, f0, oo);
         phases.emplace_back("optimize", res.optimized->seconds);
         extra.emplace_back("optimize", optimize_json(*res.optimized));
     }
-    if (cert.available && !f.bounds_are_domain()) measure_fidelity(mesh, f, res.lattice.s, cert);
-    if (o.certify && !cert.available)
+    if (cert.available && !f0.bounds_are_domain()) measure_fidelity(mesh, f0, res.lattice.s, cert);
+    if (certifying && !cert.available)
         res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
+    if (rhombic)
+        res.warnings.emplace_back("--lattice rhombic is experimental and uncertified: the certificates (proofs/*.cert) "
+                                  "cover the square lattice only; no certified angle bounds");
 
     res.report = compute_quality(mesh, phases);
     extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
     if (o.guarantee == Guarantee::flat) extra.emplace_back("refinements", std::to_string(res.refinements));
-    if (o.certify) report_certified(extra, res, o.rule, false);
+    if (certifying) report_certified(extra, res, o.rule, false);
+    else if (rhombic) extra.emplace_back("certified", "null");
     res.report.extra = std::move(extra);
     return res;
 }
@@ -300,6 +325,8 @@ OptimizeReport optimize_materials(MaterialResult& r, const MaterialField& field,
 MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     validate(o);
     if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
+    if (o.lattice != LatticeMetric::square)
+        throw InputError("--lattice rhombic is not available with --materials/--shapes (experimental: one region only)");
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
     MeshResult res;
     res.spacing = o.spacing;

@@ -75,14 +75,14 @@ constexpr bool diagonal_matters(int inside_mask) {
 // else 0.
 template <class Record>
 std::uint8_t rule_diagonal(DiagonalRule rule, const std::array<std::int8_t, 4>& sign, Record&& record, bool* forced,
-                           TieBreak tie) {
+                           TieBreak tie, LatticeMetric metric = LatticeMetric::square) {
     std::array<CornerState, 4> cs{};
     std::array<double, 4> t{};
     for (std::size_t q = 0; q < 4; ++q) {
         cs[q].sign = sign[q];
         if (const WarpedPoint* w = record(static_cast<int>(q))) cs[q].warp = w->dir, t[q] = w->t;
     }
-    const SquareSplit s = warped_square_split(rule, cs, t, forced, tie);
+    const SquareSplit s = warped_square_split(rule, cs, t, forced, tie, metric);
     return s == SquareSplit::bc ? bc_bit : s == SquareSplit::fan ? fan_bit : 0;
 }
 

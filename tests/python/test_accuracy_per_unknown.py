@@ -32,6 +32,11 @@ WARPMESH_SIZES = [1500, 4500, 13500, 24000]
 # docs/performance.md, "Accuracy per unknown".  With the old AD interior the
 # same sizes give disc L² ≈ 1.6 and H¹ ≈ 1.27 (above these bounds).
 BOUNDS = {"disc": {"L2": 1.45, "H1": 1.25}, "flower": {"L2": 1.36, "H1": 1.22}}
+# The experimental, uncertified rhombic lattice (`--lattice rhombic`:
+# equilateral interior), the same sizes: measured (2026-12-04) disc L²
+# 1.006–1.018, H¹ 1.002–1.007; flower L² 1.039–1.061, H¹ 1.003–1.009 —
+# issue 33's targets and near parity; bounds about 3 % above.
+RHOMBIC_BOUNDS = {"disc": {"L2": 1.05, "H1": 1.04}, "flower": {"L2": 1.09, "H1": 1.04}}
 
 
 class Opts:
@@ -46,7 +51,8 @@ def errors(tmp_path_factory):
     work = str(tmp_path_factory.mktemp("accuracy"))
     out = {}
     for domain in BOUNDS:
-        for series, sizes in (("warpmesh", WARPMESH_SIZES), (accuracy.REFERENCE, GMSH_SIZES)):
+        for series, sizes in (("warpmesh", WARPMESH_SIZES), ("warpmesh-rhombic", WARPMESH_SIZES),
+                              (accuracy.REFERENCE, GMSH_SIZES)):
             rows = []
             for n in sizes:
                 pts, tris = accuracy.make_mesh(series, domain, n, Opts, work)
@@ -55,17 +61,19 @@ def errors(tmp_path_factory):
     return out
 
 
+@pytest.mark.parametrize("series", ["warpmesh", "warpmesh-rhombic"])
 @pytest.mark.parametrize("domain", sorted(BOUNDS))
 @pytest.mark.parametrize("norm", ["L2", "H1"])
-def test_p1_error_at_equal_unknowns_against_gmsh_frontal_delaunay(errors, domain, norm):
+def test_p1_error_at_equal_unknowns_against_gmsh_frontal_delaunay(errors, domain, norm, series):
     import accuracy
     k = 1 if norm == "L2" else 2
-    ours = [(r[0], r[k]) for r in errors[(domain, "warpmesh")]]
+    ours = [(r[0], r[k]) for r in errors[(domain, series)]]
     ref = [(r[0], r[k]) for r in errors[(domain, accuracy.REFERENCE)]]
     ratio = accuracy.ratio_at_equal_unknowns(ours, ref)
     assert ratio is not None and ratio[3] == len(GMSH_SIZES), (ours, ref)
-    print(f"{domain} P1 {norm}: warpmesh / gmsh-frontal {ratio[0]:.3f}-{ratio[2]:.3f}")
-    assert ratio[2] <= BOUNDS[domain][norm], (ratio, ours, ref)
+    print(f"{domain} P1 {norm}: {series} / gmsh-frontal {ratio[0]:.3f}-{ratio[2]:.3f}")
+    bounds = RHOMBIC_BOUNDS if series == "warpmesh-rhombic" else BOUNDS
+    assert ratio[2] <= bounds[domain][norm], (ratio, ours, ref)
 
 
 def hypotenuse_directions(path):

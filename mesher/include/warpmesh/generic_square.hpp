@@ -168,8 +168,31 @@ struct TriangleForms {
     T cross;
 };
 
+// The lattice's metric: which physical lattice the generic square stands for.
+// `square`: the square lattice, the generic square is the physical one (the
+// only metric the certificates cover).  `rhombic` (EXPERIMENTAL, uncertified):
+// the 60-degree rhombic lattice, the square lattice under the affine map
+// P(x, y) = (x + y/2, (sqrt 3 / 2) y), whose unwarped squares are rhombi
+// with a short diagonal BC that splits them into equilateral triangles.  P
+// maps lattice edges to edges of the same length, so everything but the
+// angles is computed in lattice coordinates unchanged; the angles are those
+// of the metric G = [[1, 1/2], [1/2, 1]], u .G v = ux vx + uy vy + (ux vy + uy vx)/2,
+// whose cross product is (sqrt 3 / 2)(ux vy - uy vx).  The forms below are
+// scaled to stay polynomial with integer coefficients:
+//
+//        dot = 2 (u .G v),   cross = ux vy - uy vx,   dot / cross = sqrt(3) cot(angle),
+//
+// a common factor sqrt 3 for every angle, so comparisons of dot / cross
+// (the max-min rule) are those of the physical cotangents; a bound on an angle
+// is a bound dot <= sqrt(3) cot(theta) cross, with a rational outside
+// sqrt(3) cot(theta).  The fan rule's threshold is in square-lattice
+// cotangents: the fan is not defined on the rhombic metric (refused by the
+// pipeline).
+enum class LatticeMetric : std::uint8_t { square = 0, rhombic = 1 };
+
 template <class T>
-TriangleForms<T> triangle_forms(const Point<T>& p0, const Point<T>& p1, const Point<T>& p2) {
+TriangleForms<T> triangle_forms(const Point<T>& p0, const Point<T>& p1, const Point<T>& p2,
+                                LatticeMetric metric = LatticeMetric::square) {
     const std::array<Point<T>, 3> p{p0, p1, p2};
     TriangleForms<T> f{};
     for (int i = 0; i < 3; ++i) {
@@ -177,7 +200,12 @@ TriangleForms<T> triangle_forms(const Point<T>& p0, const Point<T>& p1, const Po
         const Point<T>& q = p[(i + 1) % 3];
         const Point<T>& r = p[(i + 2) % 3];
         const T ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
-        f.dot[i] = ux * vx + uy * vy;
+        if (metric == LatticeMetric::square) {
+            f.dot[i] = ux * vx + uy * vy;
+        } else {
+            const T e = ux * vx + uy * vy;  // doubled by an addition: no constant, any scalar type
+            f.dot[i] = e + e + (ux * vy + uy * vx);
+        }
         if (i == 0) f.cross = ux * vy - uy * vx;
     }
     return f;
@@ -195,12 +223,13 @@ struct DiagonalQuality {
 };
 
 template <class T>
-DiagonalQuality<T> diagonal_quality(const std::array<Point<T>, 4>& p, Diagonal d) {
+DiagonalQuality<T> diagonal_quality(const std::array<Point<T>, 4>& p, Diagonal d,
+                                    LatticeMetric metric = LatticeMetric::square) {
     using O = ScalarOps<T>;
     DiagonalQuality<T> q{Truth::yes, O::from_int(0)};
     bool first = true;
     for (const auto& tri : diagonal_triangles(d)) {
-        const TriangleForms<T> f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        const TriangleForms<T> f = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]], metric);
         const Truth ok = O::positive(f.cross);
         q.valid = q.valid && ok;
         if (ok == Truth::no) continue;  // an inverted triangle: never wins
@@ -306,6 +335,15 @@ enum class TieBreak : std::uint8_t { ad = 0, bc = 1, either = 2 };
 // position at their level).
 constexpr TieBreak union_jack(std::int64_t i, std::int64_t j) { return ((i + j) & 1) ? TieBreak::bc : TieBreak::ad; }
 
+// The diagonal the rule takes on an unwarped square with no zero-valued
+// corner (no separating pair): the tie-break on the square lattice (both
+// diagonals give 45-degree right triangles); on the rhombic lattice always the
+// short diagonal BC (equilateral triangles, against 30-30-120 for AD), which
+// is what choose_diagonal returns there.  The meshers' fast path.
+constexpr Diagonal unwarped_diagonal(LatticeMetric metric, TieBreak tie) {
+    return metric == LatticeMetric::rhombic || tie == TieBreak::bc ? Diagonal::BC : Diagonal::AD;
+}
+
 struct Choice {
     bool ad = false;
     bool bc = false;
@@ -355,14 +393,17 @@ inline bool all_inside(const std::array<MaterialCorner, 4>& s) {
     return true;
 }
 
+// `metric` (LatticeMetric above): the angles compared by max-min; the
+// separating test is combinatorial and the same on both lattices.
 template <class T, class Corners>
-Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s, TieBreak tie = TieBreak::ad) {
+Choice choose_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Corners& s, TieBreak tie = TieBreak::ad,
+                       LatticeMetric metric = LatticeMetric::square) {
     if (rule == DiagonalRule::separating || rule == DiagonalRule::fan) {
         Diagonal forced{};
         if (separating_diagonal(s, forced)) return Choice{forced == Diagonal::AD, forced == Diagonal::BC};
     }
-    const DiagonalQuality<T> ad = diagonal_quality(p, Diagonal::AD);
-    const DiagonalQuality<T> bc = diagonal_quality(p, Diagonal::BC);
+    const DiagonalQuality<T> ad = diagonal_quality(p, Diagonal::AD, metric);
+    const DiagonalQuality<T> bc = diagonal_quality(p, Diagonal::BC, metric);
     // "q(BC) < q(AD)" (tie-break AD) or "q(BC) <= q(AD)" (tie-break BC),
     // evaluated only where it matters; TieBreak::either: decided only where
     // both agree.

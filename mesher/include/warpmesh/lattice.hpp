@@ -124,8 +124,11 @@ Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState,
 // generic_square.hpp.  warped_square_diagonal is this with the fan reported as
 // AD; the meshers use this one.
 enum class SquareSplit : std::uint8_t { ad, bc, fan };
+// `metric`: the lattice's (generic_square.hpp, LatticeMetric; rhombic is
+// experimental and uncertified).
 SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& corners,
-                                const std::array<double, 4>& t, bool* forced = nullptr, TieBreak tie = TieBreak::ad);
+                                const std::array<double, 4>& t, bool* forced = nullptr, TieBreak tie = TieBreak::ad,
+                                LatticeMetric metric = LatticeMetric::square);
 
 // A finest lattice square i + j nx whose diagonal went through the rule, and
 // its output triangles first .. first + count - 1 (count 1 or 2; 4 for a fan).
@@ -149,7 +152,10 @@ struct TriangulateStats {
 // Build the output mesh: per square, the diagonal by `rule`; the triangles
 // whose three corners are inside (sign <= 0 or warped); vertices compacted in
 // point order; boundary edges oriented with the region on their left.
+// `metric`: the diagonal rule's angles (LatticeMetric::rhombic: the mesh is
+// in lattice coordinates, its vertices to be mapped by rhombic_map, rhombic.hpp).
 Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
-                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats = nullptr);
+                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats = nullptr,
+                 LatticeMetric metric = LatticeMetric::square);
 
 }  // namespace warpmesh

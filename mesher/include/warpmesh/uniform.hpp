@@ -40,7 +40,11 @@ struct UniformResult {
 // lattice → signs → cut points → warp → triangulate.
 // With `certify`, also the per-square certified bounds (certified.hpp): cell
 // data "certified_min_angle", the summary, and optionally the verification.
+// `metric`: LatticeMetric::rhombic (experimental, refused with certify) meshes
+// f in lattice coordinates with the rhombic rule: f is then f∘P and the
+// mesh's vertices are in lattice coordinates (rhombic.hpp maps them).
 UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
-                           const CertifyOptions& certify = CertifyOptions{false, false, false});
+                           const CertifyOptions& certify = CertifyOptions{false, false, false},
+                           LatticeMetric metric = LatticeMetric::square);
 
 }  // namespace warpmesh

@@ -12,7 +12,10 @@
 // pattern, union_jack(i, j): AD where i + j is even, BC where it is odd, so the
 // interior has no preferred direction; the fast path below takes it without
 // evaluating the rule, which is exactly what choose_diagonal returns there
-// (the unit square's corners are exact in floating point).  Every other square
+// (the unit square's corners are exact in floating point).  On the
+// experimental rhombic lattice (LatticeMetric::rhombic) the unwarped square
+// is a rhombus and the rule takes its short diagonal BC everywhere
+// (unwarped_diagonal).  Every other square
 // — a warped corner, or a zero-valued one, which can make the separating rule
 // force BC on an unwarped square — is handed, in the generic frame, to the
 // same choose_diagonal that the prover certifies.
@@ -51,15 +54,16 @@ using namespace square_code;  // tri0_bit, …, triangle_of, emitted, uses_corne
 // operation and no order of operations: the same doubles come out.  The
 // prover's interval instantiation is compiled as before.
 [[gnu::flatten]] SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& cs,
-                                                 const std::array<double, 4>& t, bool* forced, TieBreak tie) {
+                                                 const std::array<double, 4>& t, bool* forced, TieBreak tie,
+                                                 LatticeMetric metric) {
     std::array<Warp, 4> w{};
     for (int k = 0; k < 4; ++k) w[static_cast<std::size_t>(k)] = cs[static_cast<std::size_t>(k)].warp;
-    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs, tie);
+    const Choice ch = choose_diagonal(rule, generic_positions(w, t), cs, tie, metric);
     if (forced) {
         Diagonal forced_d{};
         *forced = false;
         if (rule != DiagonalRule::maxmin && separating_diagonal(cs, forced_d)) {
-            const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs, tie);
+            const Choice free = choose_diagonal(DiagonalRule::maxmin, generic_positions(w, t), cs, tie, metric);
             *forced = free.bc != ch.bc;
         }
     }
@@ -102,7 +106,7 @@ struct SquareCodes {
 
 // Pass 1: a code per square — its diagonal and which of its triangles it emits.
 SquareCodes square_codes(const Lattice& lattice, std::span<const std::int8_t> signs, const Buffer<std::uint8_t>& state,
-                         std::span<const WarpedPoint> warped, DiagonalRule rule) {
+                         std::span<const WarpedPoint> warped, DiagonalRule rule, LatticeMetric metric) {
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
     SquareCodes sc{Buffer<std::uint8_t>(static_cast<std::size_t>(nx * ny)),  // every element written below
                    std::vector<std::int64_t>(static_cast<std::size_t>(ny) + 1, 0),
@@ -127,9 +131,10 @@ SquareCodes square_codes(const Lattice& lattice, std::span<const std::int8_t> si
             const TieBreak tie = union_jack(i, j);
             std::uint8_t c = 0;
             if (!(any & (warped_bit | zero_bit))) {
-                // The unit square: its tie-break (only where it emits, so that
+                // The unit square: its tie-break, or BC on the rhombic
+                // lattice (only where it emits, so that
                 // a square emitting nothing keeps bit 2 clear).
-                if (inside == 15 && tie == TieBreak::bc) c = bc_bit;
+                if (inside == 15 && unwarped_diagonal(metric, tie) == Diagonal::BC) c = bc_bit;
             } else {
                 warped_squares += (any & warped_bit) != 0;
                 c = rule_bit;
@@ -139,7 +144,7 @@ SquareCodes square_codes(const Lattice& lattice, std::span<const std::int8_t> si
                     bool was_forced = false;
                     c |= rule_diagonal(rule, sg, [&](int k) {
                         return st[static_cast<std::size_t>(k)] & warped_bit ? &warp_of(warped, p[static_cast<std::size_t>(k)]) : nullptr;
-                    }, &was_forced, tie);
+                    }, &was_forced, tie, metric);
                     forced += was_forced;
                 }
             }
@@ -270,9 +275,9 @@ std::vector<std::vector<std::array<std::int32_t, 3>>> boundary_edges(const Latti
 }  // namespace
 
 Mesh triangulate(const LevelSet& f, const Lattice& lattice, std::span<const std::int8_t> signs,
-                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats) {
+                 std::span<const WarpedPoint> warped, DiagonalRule rule, TriangulateStats* stats, LatticeMetric metric) {
     const Buffer<std::uint8_t> state = point_states(lattice, signs, warped);
-    const SquareCodes sc = square_codes(lattice, signs, state, warped, rule);
+    const SquareCodes sc = square_codes(lattice, signs, state, warped, rule, metric);
 
     // ---- pass 2: compact vertex ids (inside points used by an emitted triangle) --
     Mesh mesh;

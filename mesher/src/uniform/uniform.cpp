@@ -1,5 +1,6 @@
 // uniform.cpp — the uniform mesher: the five stages in order, timed.
 #include <chrono>
+#include <stdexcept>
 
 #include "warpmesh/uniform.hpp"
 
@@ -32,7 +33,9 @@ WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice) {
 }
 
 UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
-                           const CertifyOptions& certify) {
+                           const CertifyOptions& certify, LatticeMetric metric) {
+    if (metric != LatticeMetric::square && certify.enabled)
+        throw std::logic_error("mesh_uniform: the certificates cover the square lattice only (rhombic: certify off)");
     UniformResult r;
     const WarpedLattice w = warp_lattice(f, lattice);
     r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
@@ -44,7 +47,7 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
     auto t0 = clock::now();
     std::vector<KeyedSquare> keyed;
     if (certify.enabled) r.stats.keyed_squares = &keyed;
-    r.mesh = triangulate(f, lattice, signs, warped, rule, &r.stats);
+    r.mesh = triangulate(f, lattice, signs, warped, rule, &r.stats, metric);
     r.times.triangulate = seconds_since(t0);
     r.stats.keyed_squares = nullptr;
     if (certify.enabled) {

@@ -1,0 +1,172 @@
+// The experimental rhombic lattice (`--lattice rhombic`, rhombic.hpp): its
+// geometry pinned — the unwarped interior is equilateral, the metric's forms
+// are the physical angles up to the factor sqrt 3, the rule takes the short
+// diagonal on the unwarped rhombus, the mesh is valid with its boundary on the
+// level set — and that it is never reported as certified.  (The square
+// lattice, LatticeMetric::square, is pinned byte for byte by the golden tests.)
+#define BOOST_TEST_MODULE uniform_rhombic
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+
+#include <sys/wait.h>
+
+#include "warpmesh/generic_square.hpp"
+#include "warpmesh/materials.hpp"
+#include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/pipeline.hpp"
+#include "warpmesh/shapes.hpp"
+#include "support.hpp"
+#include "uniform/rhombic.hpp"
+
+using namespace warpmesh;
+
+namespace {
+
+MeshOptions rhombic_options(double spacing) {
+    MeshOptions o;
+    o.spacing = spacing;
+    o.lattice = LatticeMetric::rhombic;
+    return o;
+}
+
+double length(Vec2 a, Vec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(rhombic_unwarped_interior_triangles_are_equilateral_with_edge_the_spacing) {
+    const auto f = parse_shape("circle:0.3,-0.2,10");
+    for (DiagonalRule rule : {DiagonalRule::separating, DiagonalRule::maxmin}) {
+        MeshOptions o = rhombic_options(1);
+        o.rule = rule;
+        const MeshResult r = mesh(*f, o);
+        BOOST_TEST(check_mesh(r.mesh).ok());
+        std::int64_t interior = 0;
+        for (const auto& t : r.mesh.triangles) {
+            const Vec2 a = r.mesh.vertices[static_cast<std::size_t>(t[0])], b = r.mesh.vertices[static_cast<std::size_t>(t[1])],
+                       c = r.mesh.vertices[static_cast<std::size_t>(t[2])];
+            const double cx = (a.x + b.x + c.x) / 3 - 0.3, cy = (a.y + b.y + c.y) / 3 + 0.2;
+            if (std::hypot(cx, cy) > 10 - 3) continue;  // the boundary band: warped corners
+            ++interior;
+            BOOST_TEST(std::abs(length(a, b) - 1) < 1e-12);
+            BOOST_TEST(std::abs(length(b, c) - 1) < 1e-12);
+            BOOST_TEST(std::abs(length(c, a) - 1) < 1e-12);
+        }
+        // The disc of radius 7 holds about 2 pi 49 / sqrt 3 = 178 unit equilateral triangles.
+        BOOST_TEST(interior > 150);
+        // Separating: the boundary vertices lie on the circle (its exact cut
+        // points, mapped by P).  (Max-min may cut a corner through an inside point.)
+        if (rule == DiagonalRule::separating)
+            for (const auto& e : r.mesh.boundary) {
+                const Vec2 v = r.mesh.vertices[static_cast<std::size_t>(e[0])];
+                BOOST_TEST(std::abs(std::hypot(v.x - 0.3, v.y + 0.2) - 10) < 1e-9);
+            }
+        BOOST_TEST(std::abs(testing::mesh_area(r.mesh) - M_PI * 100) < 0.01 * M_PI * 100);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(rhombic_metric_forms_are_sqrt3_times_the_physical_cotangents) {
+    std::mt19937 rng(33);
+    std::uniform_real_distribution<double> u(-2, 2);
+    for (int k = 0; k < 100; ++k) {
+        const std::array<Point<double>, 3> p{{{u(rng), u(rng)}, {u(rng), u(rng)}, {u(rng), u(rng)}}};
+        const TriangleForms<double> f = triangle_forms(p[0], p[1], p[2], LatticeMetric::rhombic);
+        const TriangleForms<double> s = triangle_forms(p[0], p[1], p[2]);
+        BOOST_TEST(f.cross == s.cross);  // the lattice cross product; the physical one is (sqrt 3 / 2) of it
+        std::array<Vec2, 3> q{};
+        for (int i = 0; i < 3; ++i) q[static_cast<std::size_t>(i)] = rhombic_map({p[static_cast<std::size_t>(i)].x, p[static_cast<std::size_t>(i)].y});
+        for (int i = 0; i < 3; ++i) {
+            const Vec2 o = q[static_cast<std::size_t>(i)], a = q[static_cast<std::size_t>((i + 1) % 3)], b = q[static_cast<std::size_t>((i + 2) % 3)];
+            const double dot = (a.x - o.x) * (b.x - o.x) + (a.y - o.y) * (b.y - o.y);
+            const double cross = (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+            BOOST_TEST(std::abs(cross - std::sqrt(3.0) / 2 * f.cross) < 1e-12);
+            BOOST_TEST(std::abs(f.dot[static_cast<std::size_t>(i)] - 2 * dot) < 1e-12);  // dot / cross = sqrt 3 cot
+        }
+    }
+}
+
+BOOST_AUTO_TEST_CASE(rhombic_rule_takes_the_short_diagonal_on_the_unwarped_rhombus_whatever_the_tie_break) {
+    const std::array<Warp, 4> stay{};
+    const auto p = generic_positions<double>(stay, {0, 0, 0, 0});
+    const std::array<CornerState, 4> inside{{{-1, Warp::stay}, {-1, Warp::stay}, {-1, Warp::stay}, {-1, Warp::stay}}};
+    for (DiagonalRule rule : {DiagonalRule::maxmin, DiagonalRule::separating})
+        for (TieBreak tie : {TieBreak::ad, TieBreak::bc, TieBreak::either}) {
+            const Choice r = choose_diagonal(rule, p, inside, tie, LatticeMetric::rhombic);
+            BOOST_TEST((r.bc && !r.ad));
+            const Choice s = choose_diagonal(rule, p, inside, tie);  // the square: a tie, the tie-break decides
+            BOOST_TEST(s.bc == (tie != TieBreak::ad));
+            BOOST_TEST(s.ad == (tie != TieBreak::bc));
+        }
+    BOOST_TEST((unwarped_diagonal(LatticeMetric::rhombic, TieBreak::ad) == Diagonal::BC));
+    BOOST_TEST((unwarped_diagonal(LatticeMetric::square, TieBreak::ad) == Diagonal::AD));
+    BOOST_TEST((unwarped_diagonal(LatticeMetric::square, TieBreak::bc) == Diagonal::BC));
+}
+
+// The worst configuration the sampling of prover/tools/explore_rhombic.py
+// finds for the separating rule (flat-compatible key -L-s+s-U, A and D slid by
+// 1/2): B and C stay with different signs, so the rule forces the long
+// diagonal AD, and the triangle ADC has angles 10.89° and 158.21° — what a
+// rhombic certificate of the separating rule could at best claim.
+BOOST_AUTO_TEST_CASE(rhombic_separating_worst_sampled_configuration_is_the_forced_long_diagonal) {
+    const std::array<CornerState, 4> cs{{{-1, Warp::mx}, {-1, Warp::stay}, {1, Warp::stay}, {-1, Warp::py}}};
+    const std::array<Warp, 4> w{Warp::mx, Warp::stay, Warp::stay, Warp::py};
+    const auto p = generic_positions<double>(w, {0.5, 0, 0, 0.5});
+    const Choice ch = choose_diagonal(DiagonalRule::separating, p, cs, TieBreak::ad, LatticeMetric::rhombic);
+    BOOST_TEST((ch.ad && !ch.bc));
+    const TriangleForms<double> f = triangle_forms(p[A], p[D], p[C], LatticeMetric::rhombic);
+    auto deg = [&](int i) { return std::atan2(std::sqrt(3.0) * f.cross, f.dot[static_cast<std::size_t>(i)]) * 180 / M_PI; };
+    BOOST_TEST(std::abs(deg(0) - 10.8933946) < 1e-6);   // at A: 40.8934° - 30°
+    BOOST_TEST(std::abs(deg(2) - 158.2132107) < 1e-6);  // at C
+    // Max-min alone would take BC here.
+    BOOST_TEST(choose_diagonal(DiagonalRule::maxmin, p, cs, TieBreak::ad, LatticeMetric::rhombic).bc);
+}
+
+BOOST_AUTO_TEST_CASE(rhombic_is_never_reported_certified_and_refuses_what_it_does_not_cover) {
+    const auto f = parse_shape("flower:0,0,8,2,5");
+    const MeshResult r = mesh(*f, rhombic_options(1));
+    BOOST_TEST(!r.certified.available);
+    BOOST_TEST(r.certified_text.empty());
+    BOOST_TEST(r.mesh.cell_data.empty());  // no certified_min_angle
+    bool warned = false;
+    for (const auto& w : r.warnings) warned = warned || w.find("experimental and uncertified") != std::string::npos;
+    BOOST_TEST(warned);
+    bool null_certified = false, metric = false;
+    for (const auto& [k, v] : r.report.extra) {
+        null_certified = null_certified || (k == "certified" && v == "null");
+        metric = metric || k == "lattice_metric";
+    }
+    BOOST_TEST(null_certified);
+    BOOST_TEST(metric);
+    for (auto [set, what] : {std::pair<void (*)(MeshOptions&), const char*>{[](MeshOptions& o) { o.graded = true; }, "--graded"},
+                             {[](MeshOptions& o) { o.rule = DiagonalRule::fan; }, "--diagonal fan"},
+                             {[](MeshOptions& o) { o.guarantee = Guarantee::flat; }, "--guarantee flat"},
+                             {[](MeshOptions& o) { o.max_size = 10; }, "--max-size"}}) {
+        MeshOptions o = rhombic_options(1);
+        set(o);
+        BOOST_TEST(testing::input_error_containing([&] { mesh(*f, o); }, std::string(what) + " is not available with --lattice rhombic"));
+    }
+    const auto field = parse_material_shapes("1=circle:0,0,5;2=circle:3,0,3");
+    BOOST_TEST(testing::input_error_containing([&] { mesh(*field, rhombic_options(1)); }, "--lattice rhombic is not available"));
+}
+
+// The command line: --verify and --svg-color certified are refused (exit 2,
+// nothing written); without them the mesh is written with the warning.
+BOOST_AUTO_TEST_CASE(rhombic_cli_refuses_verify_and_warns_uncertified) {
+    testing::TempDir dir("warpmesh-rhombic");
+    const std::string exe = WARPMESH_EXE, out = dir.file("m.vtu"), err = dir.file("err.txt");
+    auto run = [&](const std::string& extra) {
+        const std::string cmd = "'" + exe + "' mesh --shape circle:0,0,5 --spacing 1 --lattice rhombic -o '" + out + "' --quiet " +
+                                extra + " 2> '" + err + "'";
+        const int status = std::system(cmd.c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    };
+    BOOST_TEST(run("--verify") == 2);
+    BOOST_TEST(!std::filesystem::exists(out));
+    BOOST_TEST(testing::slurp(err).find("no certificate covers --lattice rhombic") != std::string::npos);
+    BOOST_TEST(run("--svg-color certified") == 2);
+    BOOST_TEST(run("--graded") == 2);
+    BOOST_TEST(run("") == 0);
+    BOOST_TEST(std::filesystem::exists(out));
+    BOOST_TEST(testing::slurp(err).find("experimental and uncertified") != std::string::npos);
+}
