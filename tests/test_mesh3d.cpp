@@ -128,6 +128,62 @@ BOOST_AUTO_TEST_CASE(random_quadrics_and_rbfs_conform_and_verify) {
     BOOST_TEST(warped > 100);
 }
 
+// The report's quality pass (tet_quality.cpp) takes the angle forms from
+// eight cross products and skips √ away from the running extremes: its
+// angles are those of bcc::dihedral_forms (the forms the proof bounds) to the
+// last bit, its extremes those of every edge evaluated in full, and its
+// radius ratio 3 r_in / R_circ the textbook one.
+BOOST_AUTO_TEST_CASE(quality_pass_equals_the_angle_forms_at_every_edge) {
+    const auto cos_of = [](double dot, double nn) { return nn > 0 ? std::clamp(dot / std::sqrt(nn), -1.0, 1.0) : 1.0; };
+    const auto deg = [](double c) { return std::acos(c) * 180 / std::numbers::pi; };
+    std::mt19937 rng(30);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 2000; ++i) {
+        std::array<Point3, 4> p{};
+        for (auto& x : p) x = {u(rng), u(rng), u(rng)};
+        if (i % 4 == 0) p[3] = {p[0].x + 1e-7 * u(rng), p[1].y, p[2].z};  // near-degenerate shapes too
+        const auto f = bcc::dihedral_forms<double>({{{p[0].x, p[0].y, p[0].z}, {p[1].x, p[1].y, p[1].z}, {p[2].x, p[2].y, p[2].z}, {p[3].x, p[3].y, p[3].z}}});
+        const std::array<double, 6> a = dihedral_angles_deg(p);
+        for (std::size_t k = 0; k < 6; ++k) BOOST_TEST(a[k] == deg(cos_of(f.dot[k], f.nn[k])));
+        // r_in = 3V / (sum of face areas); R_circ from the circumcentre c, solving 2 (p_i − p_0)·c = |p_i|² − |p_0|².
+        const auto sub = [](const Point3& x, const Point3& y) { return bcc::Vec<double>{x.x - y.x, x.y - y.y, x.z - y.z}; };
+        const auto len = [](const bcc::Vec<double>& v) { return std::sqrt(bcc::dot(v, v)); };
+        const bcc::Vec<double> e1 = sub(p[1], p[0]), e2 = sub(p[2], p[0]), e3 = sub(p[3], p[0]);
+        const double det = bcc::dot(e1, bcc::cross(e2, e3));
+        if (!(det > 1e-3)) {
+            if (det <= 0) BOOST_TEST(radius_ratio(p) == 0.0);
+            continue;
+        }
+        const double area = 0.5 * (len(bcc::cross(e1, e2)) + len(bcc::cross(e1, e3)) + len(bcc::cross(e2, e3)) +
+                                    len(bcc::cross(sub(p[2], p[1]), sub(p[3], p[1]))));
+        const bcc::Vec<double> rhs{0.5 * bcc::dot(e1, e1), 0.5 * bcc::dot(e2, e2), 0.5 * bcc::dot(e3, e3)};  // c relative to p0
+        const auto c23 = bcc::cross(e2, e3), c31 = bcc::cross(e3, e1), c12 = bcc::cross(e1, e2);
+        const bcc::Vec<double> c{(rhs[0] * c23[0] + rhs[1] * c31[0] + rhs[2] * c12[0]) / det, (rhs[0] * c23[1] + rhs[1] * c31[1] + rhs[2] * c12[1]) / det,
+                                 (rhs[0] * c23[2] + rhs[1] * c31[2] + rhs[2] * c12[2]) / det};
+        const double expected = 3 * (det / 2 / area) / len(c);
+        BOOST_TEST(radius_ratio(p) == std::min(1.0, expected), boost::test_tools::tolerance(1e-9));
+    }
+    const char* specs[] = {"sphere:0.05,-0.02,0.01,1", "box:0,0,0,1,1,1", "torus:0,0,0,1,0.4"};
+    for (const char* spec : specs) {
+        Mesh3dOptions o;
+        o.spacing = 0.1;
+        Mesh3dReport r;
+        const TetMesh m = mesh3d(*parse_shape3(spec), o, &r);
+        double cmax = -1, cmin = 1;
+        for (const auto& t : m.tets) {
+            std::array<bcc::Vec<double>, 4> q{};
+            for (std::size_t k = 0; k < 4; ++k) {
+                const Point3& x = m.vertices[static_cast<std::size_t>(t[k])];
+                q[k] = {x.x, x.y, x.z};
+            }
+            const auto f = bcc::dihedral_forms<double>(q);
+            for (std::size_t k = 0; k < 6; ++k) cmax = std::max(cmax, cos_of(f.dot[k], f.nn[k])), cmin = std::min(cmin, cos_of(f.dot[k], f.nn[k]));
+        }
+        BOOST_TEST(r.min_dihedral_deg == deg(cmax), spec);
+        BOOST_TEST(r.max_dihedral_deg == deg(cmin), spec);
+    }
+}
+
 BOOST_AUTO_TEST_CASE(output_is_identical_for_any_thread_count) {
     const auto f = parse_shape3("union(torus:0,0,0,1,0.35;sphere:0.3,0.2,0.1,0.6)");
     Mesh3dOptions o;
