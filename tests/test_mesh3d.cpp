@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
+#include <set>
 #include <numbers>
 #include <random>
 
@@ -498,6 +500,110 @@ BOOST_AUTO_TEST_CASE(issue30_all_zero_tet_uncertified) {
     for (const auto& [e, n] : edges) {
         const auto back = edges.find({e.second, e.first});
         BOOST_TEST((back != edges.end() && back->second == n), "boundary edge " << e.first << "-" << e.second);
+    }
+}
+
+namespace {
+
+// A mesh of tetrahedra whose boundary is every face in one tetrahedron
+// (outward), as check_tet_mesh wants it.
+TetMesh with_boundary(std::vector<Point3> points, std::vector<std::array<std::int32_t, 4>> tets) {
+    TetMesh m;
+    m.vertices.assign(points.begin(), points.end());
+    m.tets.assign(tets.begin(), tets.end());
+    m.region.assign(tets.size(), 1);
+    std::map<std::array<std::int32_t, 3>, std::pair<int, std::array<std::int32_t, 3>>> faces;
+    for (const auto& t : tets)
+        for (const auto& f : {std::array<int, 3>{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}) {
+            const std::array<std::int32_t, 3> o{t[static_cast<std::size_t>(f[0])], t[static_cast<std::size_t>(f[1])], t[static_cast<std::size_t>(f[2])]};
+            std::array<std::int32_t, 3> key = o;
+            std::sort(key.begin(), key.end());
+            auto& [n, oriented] = faces[key];
+            ++n, oriented = o;
+        }
+    for (const auto& [key, face] : faces)
+        if (face.first == 1) m.boundary.push_back(face.second), m.boundary_tag.push_back(boundary_level_set);
+    return m;
+}
+
+// The boundary's non-manifold edges and vertices counted another way: edges
+// by a map of their boundary triangles; a vertex is non-manifold when it
+// ends such an edge or its boundary triangles fall into more than one fan
+// (triangles joined across their edges at the vertex).
+std::pair<std::int64_t, std::int64_t> nonmanifold_by_maps(const TetMesh& m) {
+    std::map<std::pair<std::int32_t, std::int32_t>, int> edges;
+    std::map<std::int32_t, std::vector<std::size_t>> around;
+    for (std::size_t i = 0; i < m.boundary.size(); ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::int32_t a = m.boundary[i][k], b = m.boundary[i][(k + 1) % 3];
+            ++edges[{std::min(a, b), std::max(a, b)}];
+            around[a].push_back(i);
+        }
+    std::set<std::int32_t> bad;
+    std::int64_t bad_edges = 0;
+    for (const auto& [e, n] : edges)
+        if (n > 2) ++bad_edges, bad.insert(e.first), bad.insert(e.second);
+    for (const auto& [v, tris] : around) {
+        std::vector<std::size_t> fan(tris.size());
+        std::iota(fan.begin(), fan.end(), 0);
+        const auto root = [&](std::size_t x) {
+            while (fan[x] != x) x = fan[x];
+            return x;
+        };
+        for (std::size_t i = 0; i < tris.size(); ++i)
+            for (std::size_t j = 0; j < i; ++j) {
+                int shared = 0;
+                for (std::int32_t a : m.boundary[tris[i]])
+                    for (std::int32_t b : m.boundary[tris[j]]) shared += a == b;
+                if (shared >= 2) fan[root(i)] = root(j);
+            }
+        std::size_t fans = 0;
+        for (std::size_t i = 0; i < tris.size(); ++i) fans += root(i) == i;
+        if (fans > 1) bad.insert(v);
+    }
+    return {bad_edges, static_cast<std::int64_t>(bad.size())};
+}
+
+}  // namespace
+
+// Issue 30, "boundary closed and oriented": with the all-zero background
+// tetrahedra left out the boundary stays closed and outward, but it need not
+// be a manifold surface.  The checker and the report count its edges in more
+// than two boundary triangles and its vertices that are not one disc: two
+// tetrahedra sharing an edge give one such edge (four boundary triangles)
+// and two such vertices, two sharing a vertex one vertex, and on the brain
+// crop the report's counts are those found by maps of the boundary.
+BOOST_AUTO_TEST_CASE(issue30_nonmanifold_boundary_edges_counted) {
+    const Point3 o{0, 0, 0}, z{0, 0, 1}, x{1, 0, 0}, y{0, 1, 0}, mx{-1, 0, 0}, my{0, -1, 0}, mz{0, 0, -1};
+    const TetMesh one = with_boundary({o, x, y, z}, {{0, 1, 2, 3}});
+    const TetMesh edge = with_boundary({o, z, x, y, mx, my}, {{0, 2, 3, 1}, {0, 4, 5, 1}});
+    const TetMesh vertex = with_boundary({o, x, y, z, mx, my, mz}, {{0, 1, 2, 3}, {0, 5, 4, 6}});
+    for (const TetMesh* m : {&one, &edge, &vertex}) BOOST_TEST(check_tet_mesh(*m).ok, check_tet_mesh(*m).problems.front());
+    BOOST_TEST(check_tet_mesh(one).nonmanifold_boundary_edges == 0);
+    BOOST_TEST(check_tet_mesh(one).nonmanifold_boundary_vertices == 0);
+    BOOST_TEST(check_tet_mesh(edge).nonmanifold_boundary_edges == 1);
+    BOOST_TEST(check_tet_mesh(edge).nonmanifold_boundary_vertices == 2);
+    BOOST_TEST(check_tet_mesh(vertex).nonmanifold_boundary_edges == 0);
+    BOOST_TEST(check_tet_mesh(vertex).nonmanifold_boundary_vertices == 1);
+    for (const TetMesh* m : {&one, &edge, &vertex}) {
+        const auto [e, v] = nonmanifold_by_maps(*m);
+        BOOST_TEST(nonmanifold_boundary(*m).edges == e);
+        BOOST_TEST(nonmanifold_boundary(*m).vertices == v);
+    }
+    const Volume v = read_volume(std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd");
+    VolumeLevelSet3Options lo;
+    lo.mode.mode = ImageMode::label;
+    lo.mode.labels = {26};
+    const auto f = make_volume_levelset3(v, lo);
+    for (const double spacing : {1.0, 1.5, 2.0}) {
+        TetMesh m;
+        const Mesh3dReport r = mesh_checked(*f, spacing, &m);
+        const auto [e, nv] = nonmanifold_by_maps(m);
+        BOOST_TEST(r.nonmanifold_boundary_edges == e, "spacing " << spacing);
+        BOOST_TEST(r.nonmanifold_boundary_vertices == nv, "spacing " << spacing);
+        BOOST_TEST(check_tet_mesh(m).nonmanifold_boundary_edges == e);
+        BOOST_TEST_MESSAGE("brain crop, spacing " << spacing << ": " << e << " non-manifold boundary edges, " << nv << " vertices, "
+                                                  << r.all_zero_left_out << " all-zero left out");
     }
 }
 
