@@ -143,7 +143,7 @@ Numbering number(const Grid& g, const Marks& marks) {
     for (int z = 0; z < planes; ++z) {
         std::int64_t a = 0, b = 0;
         for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p)
-            a += marks.point[static_cast<std::size_t>(p)], b += __builtin_popcount(marks.cut[static_cast<std::size_t>(p)]);
+            a += marks.point[static_cast<std::size_t>(p)], b += slot_count(marks.cut[static_cast<std::size_t>(p)]);
         np[static_cast<std::size_t>(z) + 1] = a, nc[static_cast<std::size_t>(z) + 1] = b;
     }
     for (int z = 0; z < planes; ++z) np[static_cast<std::size_t>(z) + 1] += np[static_cast<std::size_t>(z)], nc[static_cast<std::size_t>(z) + 1] += nc[static_cast<std::size_t>(z)];
@@ -158,7 +158,7 @@ Numbering number(const Grid& g, const Marks& marks) {
         std::int64_t a = np[static_cast<std::size_t>(z)], b = out.points + nc[static_cast<std::size_t>(z)];
         for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
             out.id[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(a), out.cut_id[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(b);
-            a += marks.point[static_cast<std::size_t>(p)], b += __builtin_popcount(marks.cut[static_cast<std::size_t>(p)]);
+            a += marks.point[static_cast<std::size_t>(p)], b += slot_count(marks.cut[static_cast<std::size_t>(p)]);
         }
     }
     return out;
@@ -278,7 +278,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                     }
                     const std::size_t owner = static_cast<std::size_t>(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(s.lower[static_cast<std::size_t>(q - 4)])])]);
                     const int slot = s.slot[static_cast<std::size_t>(q - 4)];
-                    vid[static_cast<std::size_t>(q)] = num.cut_id[owner] + __builtin_popcount(marks.cut[owner] & ((1u << slot) - 1));
+                    vid[static_cast<std::size_t>(q)] = num.cut_id[owner] + slot_count(marks.cut[owner] & ((1u << slot) - 1));
                 }
                 unsigned missing = 0;  // bit v: no background tetrahedron across the face without v
                 if (near_edge)

@@ -62,6 +62,17 @@ constexpr int slot_of(int direction) {
     return -1;
 }
 constexpr bool slot_is_long(int slot) { return slot < 3; }
+// The number of slots in a mask of forward slots (7 bits), from a table:
+// without -mpopcnt (WARPMESH_POPCNT, off by default) __builtin_popcount is a
+// library call, and stage 5 counts a mask per lattice point.
+inline int slot_count(unsigned mask) {
+    static constexpr std::array<std::uint8_t, 128> table = [] {
+        std::array<std::uint8_t, 128> t{};
+        for (unsigned m = 1; m < 128; ++m) t[m] = static_cast<std::uint8_t>(t[m >> 1] + (m & 1u));
+        return t;
+    }();
+    return table[mask & 127u];
+}
 
 // Whether q is a point of the whole lattice.
 inline bool in_lattice(const Lattice3& L, const bcc::Ivec& q) {
@@ -92,7 +103,7 @@ struct Window {
     // Cut parameter of the forward edge (p, slot), which must be cut.
     double u(std::int64_t p, int slot) const {
         const unsigned below = cut_mask[static_cast<std::size_t>(p)] & ((1u << slot) - 1);
-        return cut_u[cut_first[static_cast<std::size_t>(p)] + static_cast<std::uint32_t>(__builtin_popcount(below))];
+        return cut_u[cut_first[static_cast<std::size_t>(p)] + static_cast<std::uint32_t>(slot_count(below))];
     }
     // A vertex's position: a lattice point (warped or not) or a cut point.
     Point3 point_position(std::int64_t p) const;
