@@ -37,9 +37,27 @@ bool same_orientation(const std::array<std::int32_t, 3>& a, const std::array<std
 
 using Link = std::array<std::int32_t, 2>;  // a → b
 
-// Classify boundary vertex v from its link: its non-manifold edges v w
-// (counted at the lower vertex, each w once), and whether it is a disc.
+// Whether a link is one cycle through distinct vertices: every link vertex
+// the tail of one edge, and from the first edge the edges lead back to its
+// tail after using all of them.
+bool one_cycle(std::span<const Link> link) {
+    for (const Link& e : link)
+        if (std::count_if(link.begin(), link.end(), [&](const Link& o) { return o[0] == e[0]; }) != 1) return false;
+    std::size_t used = 1;
+    for (std::int32_t at = link[0][1]; at != link[0][0]; ++used) {
+        const auto next = std::find_if(link.begin(), link.end(), [at](const Link& o) { return o[0] == at; });
+        if (next == link.end() || used == link.size()) return false;
+        at = (*next)[1];
+    }
+    return used == link.size();
+}
+
+// Classify boundary vertex v from its link: a disc, or a non-manifold vertex
+// with its non-manifold edges v w (counted at the lower vertex, each w once).
+// At a disc every w is on two link edges: its edge v w is in two triangles.
 void classify(std::int32_t v, std::span<const Link> link, NonmanifoldBoundary& out) {
+    if (one_cycle(link)) return;
+    ++out.vertices;
     const auto end = [&](std::size_t i) { return link[i / 2][i % 2]; };  // the link's vertices, with repeats
     for (std::size_t i = 0; i < 2 * link.size(); ++i) {
         const std::int32_t w = end(i);
@@ -50,17 +68,6 @@ void classify(std::int32_t v, std::span<const Link> link, NonmanifoldBoundary& o
         for (const Link& e : link) triangles += (e[0] == w) + (e[1] == w);
         out.edges += triangles > 2;
     }
-    // One cycle: every link vertex the tail of one edge, and from the first
-    // edge the edges lead back to its tail after using all of them.
-    bool disc = true;
-    for (const Link& e : link) disc = disc && std::count_if(link.begin(), link.end(), [&](const Link& o) { return o[0] == e[0]; }) == 1;
-    std::size_t used = 1;
-    for (std::int32_t at = link[0][1]; disc && at != link[0][0] && used <= link.size(); ++used) {
-        const auto next = std::find_if(link.begin(), link.end(), [at](const Link& o) { return o[0] == at; });
-        if (next == link.end()) disc = false;
-        else at = (*next)[1];
-    }
-    out.vertices += !disc || used != link.size();
 }
 
 }  // namespace
