@@ -406,6 +406,20 @@ BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     BOOST_TEST(named, r.warnings.front());
     BOOST_TEST(r.suggested_spacing > 0);
     BOOST_TEST(r.suggested_spacing <= 0.5);
+    // Label mode on values that are not labels: named, whichever voxel has it.
+    for (const double bad : {1.5, -1.0, 70000.0, std::numeric_limits<double>::quiet_NaN()})
+        for (const std::size_t at : {std::size_t{0}, std::size_t{7 * 6 * 5 - 1}}) {
+            Volume v;
+            v.dims = {7, 6, 5};
+            v.source = "bad labels";
+            v.values.assign(7 * 6 * 5, 0);
+            v.values[100] = 1;
+            v.values[at] = bad;
+            VolumeLevelSet3Options lo;
+            lo.mode.mode = ImageMode::label;
+            lo.mode.label_nonzero = true;
+            BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "integer voxel values in 0..65535"), bad);
+        }
     // Memory: a lattice of ~10^9 points is refused before it is allocated.
     o.spacing = 0.002;
     o.max_memory = std::uint64_t{256} << 20;
