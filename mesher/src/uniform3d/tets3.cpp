@@ -12,7 +12,8 @@
 // (four zero vertices) is never output, only counted.  A cube whose 12
 // tetrahedra exist and whose 12 points (8 corners, its centre, the centres
 // below it) are all inside outputs its 12 background tetrahedra whole: the
-// common case, taken without the stencil.
+// common case, taken without the stencil; one whose 12 points are all
+// outside (+) has nothing to output or count, and is skipped.
 // With verify_keys every output tetrahedron is checked against its own
 // background tetrahedron's key claim as it is written (the whole ones against
 // the claim of the all-− key, looked up once).
@@ -32,7 +33,8 @@ namespace {
 struct Neighbourhood {
     std::array<std::int64_t, 12> at{};
     std::array<int, 12> sign{};
-    bool all_inside = false;  // every tetrahedron exists and every sign is −
+    bool all_inside = false;   // every tetrahedron exists and every sign is −
+    bool all_outside = false;  // every sign is + (no tetrahedron has a − or an all-zero vertex set: nothing to output or count)
 };
 
 struct Layout {
@@ -49,13 +51,14 @@ struct Layout {
         const std::int64_t corner = w.grid.index(m), centre = w.grid.index(bcc::add(m, {1, 1, 1}));
         for (int b = 0; b < 8; ++b) n.at[static_cast<std::size_t>(b)] = corner + (b & 1) + ((b >> 1) & 1) * w.grid.corner_w + (b >> 2) * plane_pair;
         n.at[8] = centre, n.at[9] = centre - 1, n.at[10] = centre - w.grid.centre_w, n.at[11] = centre - plane_pair;
-        bool all = m[0] > 0 && m[1] > 0 && m[2] > 0;
+        bool all = m[0] > 0 && m[1] > 0 && m[2] > 0, none = true;
         for (int k = 0; k < 12; ++k) {
             const bool exists = k < 9 || m[static_cast<std::size_t>(k - 9)] > 0;
             n.sign[static_cast<std::size_t>(k)] = exists ? w.sign[static_cast<std::size_t>(n.at[static_cast<std::size_t>(k)])] : 1;
             all = all && n.sign[static_cast<std::size_t>(k)] < 0;
+            none = none && n.sign[static_cast<std::size_t>(k)] > 0;
         }
-        n.all_inside = all;
+        n.all_inside = all, n.all_outside = none;
         return n;
     }
 
@@ -100,6 +103,7 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
         std::int64_t count = 0;
         for_cubes_in_layer(range, range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
             const Neighbourhood n = lay.around(m);
+            if (n.all_outside) return;
             if (n.all_inside) {
                 count += 12;
                 for (std::int64_t p : n.at) mark_point(p);
@@ -257,6 +261,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
         const std::int64_t cz = range.lo[2] + l;
         for_cubes_in_layer(range, cz, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
             const Neighbourhood n = lay.around(m);
+            if (n.all_outside) return;
             const bool near_edge = cx < 2 || cy < 2 || cz < 2 || cx >= L.cubes[0] - 2 || cy >= L.cubes[1] - 2 || cz >= L.cubes[2] - 2;
             const std::uint64_t cube_key = static_cast<std::uint64_t>((cz * L.cubes[1] + cy) * L.cubes[0] + cx) * 48;
             for (int index = 0; index < 12; ++index) {
