@@ -186,6 +186,38 @@ BOOST_AUTO_TEST_CASE(quality_pass_equals_the_angle_forms_at_every_edge) {
     }
 }
 
+// Stage 3's cut edges (found a row at a time with index steps) are the
+// forward lattice edges inside the window whose endpoints have strictly
+// opposite signs, in windows that start away from the lattice's origin too.
+BOOST_AUTO_TEST_CASE(cut_edges_are_the_sign_changes_inside_the_window) {
+    using namespace uniform3d;
+    Lattice3 L;
+    L.spacing = 0.1;
+    L.cubes = {9, 7, 8};
+    const FunctionLevelSet3 f([](double x, double y, double z) { return x + 0.3 * y - 0.2 * z - 0.4; }, {0, 0, 0, 1, 1, 1});
+    std::mt19937 rng(3);
+    for (const auto& [lo, hi] : {std::pair<bcc::Ivec, bcc::Ivec>{{0, 0, 0}, {18, 14, 16}}, {{2, 4, 2}, {12, 10, 14}}, {{4, 0, 6}, {6, 14, 8}}}) {
+        Window w;
+        w.grid = Grid::window(L, lo, hi);
+        const std::size_t n = static_cast<std::size_t>(w.grid.count());
+        w.sign.resize(n), w.value.resize(n);
+        for (std::size_t p = 0; p < n; ++p) {
+            w.sign[p] = static_cast<std::int8_t>(static_cast<int>(rng() % 3) - 1);
+            w.value[p] = w.sign[p];
+        }
+        find_cuts(f, w);
+        for (std::int64_t p = 0; p < w.grid.count(); ++p) {
+            const bcc::Ivec q = w.grid.point(p);
+            unsigned expected = 0;
+            for (int s = 0; s < 7; ++s) {
+                const bcc::Ivec r = bcc::add(q, bcc::neighbour_offsets[static_cast<std::size_t>(forward_direction[static_cast<std::size_t>(s)])]);
+                if (w.grid.contains(r) && w.sign[static_cast<std::size_t>(p)] * w.sign[static_cast<std::size_t>(w.grid.index(r))] < 0) expected |= 1u << s;
+            }
+            BOOST_TEST(w.cut_mask[static_cast<std::size_t>(p)] == expected, "point " << q[0] << "," << q[1] << "," << q[2]);
+        }
+    }
+}
+
 BOOST_AUTO_TEST_CASE(output_is_identical_for_any_thread_count) {
     const auto f = parse_shape3("union(torus:0,0,0,1,0.35;sphere:0.3,0.2,0.1,0.6)");
     Mesh3dOptions o;
