@@ -16,6 +16,7 @@
 // the whole lattice.  mesh3d_block grows the window until no point its
 // tetrahedra use is tainted.
 #include <algorithm>
+#include <tuple>
 
 #include "uniform3d.hpp"
 
@@ -33,6 +34,30 @@ struct Candidate {
 constexpr int opposite(int d) {
     const bcc::Ivec& o = bcc::neighbour_offsets[static_cast<std::size_t>(d)];
     return bcc::direction_of({-o[0], -o[1], -o[2]});
+}
+
+// The candidates sorted by bcc::warp_before (fraction, then the violated
+// vertex's coordinates lexicographically, then the direction), through
+// 32-byte keys: the coordinates are lattice coordinates, >= 0 and below
+// 2^32, so (x, y) and (z, direction) packed into two 64-bit words compare as
+// the tuple does.
+std::vector<Candidate> in_warp_order(std::vector<Candidate> all) {
+    struct Key {
+        double frac;
+        std::uint64_t xy, zd;
+        std::size_t at;
+        bool operator<(const Key& o) const { return std::tie(frac, xy, zd) < std::tie(o.frac, o.xy, o.zd); }
+    };
+    std::vector<Key> keys(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const bcc::Violation& v = all[i].v;
+        const auto bits = [](int x) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)); };
+        keys[i] = {v.frac, bits(v.vertex[0]) << 32 | bits(v.vertex[1]), bits(v.vertex[2]) << 32 | bits(v.direction), i};
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<Candidate> sorted(all.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) sorted[i] = all[keys[i].at];
+    return sorted;
 }
 
 }  // namespace
@@ -78,7 +103,7 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked) {
     for (const auto& v : per_plane) total += v.size();
     all.reserve(total);
     for (auto& v : per_plane) all.insert(all.end(), v.begin(), v.end()), std::vector<Candidate>().swap(v);
-    std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) { return bcc::warp_before(a.v, b.v); });
+    all = in_warp_order(std::move(all));
 
     if (blocked) {  // the rim: points with a lattice neighbour outside the window
         w.taint.assign(n, 0);
