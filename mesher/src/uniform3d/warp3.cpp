@@ -16,6 +16,7 @@
 // the whole lattice.  mesh3d_block grows the window until no point its
 // tetrahedra use is tainted.
 #include <algorithm>
+#include <cassert>
 #include <tuple>
 
 #include "uniform3d.hpp"
@@ -40,7 +41,8 @@ constexpr int opposite(int d) {
 // vertex's coordinates lexicographically, then the direction), through
 // 32-byte keys: the coordinates are lattice coordinates, >= 0 and below
 // 2^32, so (x, y) and (z, direction) packed into two 64-bit words compare as
-// the tuple does.
+// the tuple does (checked against warp_before, the definition, in debug
+// builds).
 std::vector<Candidate> in_warp_order(std::vector<Candidate> all) {
     struct Key {
         double frac;
@@ -57,6 +59,7 @@ std::vector<Candidate> in_warp_order(std::vector<Candidate> all) {
     std::sort(keys.begin(), keys.end());
     std::vector<Candidate> sorted(all.size());
     for (std::size_t i = 0; i < keys.size(); ++i) sorted[i] = all[keys[i].at];
+    assert(std::is_sorted(sorted.begin(), sorted.end(), [](const Candidate& a, const Candidate& b) { return bcc::warp_before(a.v, b.v); }));
     return sorted;
 }
 
