@@ -40,6 +40,7 @@ struct Neighbourhood {
 struct Layout {
     const Window& w;
     const std::array<TetShape, 12>& shapes = tet_shapes();
+    std::span<const Plan> plans = uniform3d::plans();  // looked up once, not per tetrahedron
     std::int64_t plane_pair = 0;  // index step of 2 along z
 
     explicit Layout(const Window& win) : w(win) {
@@ -75,7 +76,7 @@ struct Layout {
             negative += sg < 0, zero += sg == 0;
         }
         all_zero = zero == 4;
-        return negative == 0 ? nullptr : &plan(code, s.parity);
+        return negative == 0 ? nullptr : &plans[static_cast<std::size_t>(code * 2 + s.parity)];
     }
 };
 
@@ -180,11 +181,11 @@ void place_vertices(const Window& w, const Marks& marks, const Numbering& num, b
         for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
             const std::uint8_t cut = marks.cut[static_cast<std::size_t>(p)];
             if (!marks.point[static_cast<std::size_t>(p)] && !cut) continue;
-            const bcc::Ivec q = g.point(p);
+            const bcc::Ivec q = g.point_in_plane(z, p);
             const std::int64_t global = keys ? whole.index(q) : 0;
             if (marks.point[static_cast<std::size_t>(p)]) {
                 const std::size_t v = static_cast<std::size_t>(num.id[static_cast<std::size_t>(p)]);
-                out.vertices[v] = w.point_position(p);
+                out.vertices[v] = w.warp[static_cast<std::size_t>(p)] != bcc::stay ? w.point_position(p) : w.lattice_position(q);
                 out.on_level_set[v] = w.sign[static_cast<std::size_t>(p)] == 0;
                 warped += w.warp[static_cast<std::size_t>(p)] != bcc::stay;
                 if (keys) out.vertex_key[v] = static_cast<std::uint64_t>(global);
@@ -267,7 +268,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
             for (int index = 0; index < 12; ++index) {
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
-                const Plan* p = n.all_inside ? &plan(0, 0) : lay.split(m, n, index, all_zero);
+                const Plan* p = n.all_inside ? &lay.plans[0] : lay.split(m, n, index, all_zero);
                 all_zero_left_out += all_zero;
                 if (!p) continue;
                 std::optional<BccKeyBound> bound;

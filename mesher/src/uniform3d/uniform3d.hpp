@@ -45,6 +45,7 @@ struct Grid {
         return s + ((q[1] - lo[1] - 1) / 2) * centre_w + (q[0] - lo[0] - 1) / 2;
     }
     bcc::Ivec point(std::int64_t index) const;
+    bcc::Ivec point_in_plane(int z, std::int64_t index) const;  // point(index), index in plane z (no search)
 };
 
 }  // namespace warpmesh::uniform3d
@@ -133,6 +134,8 @@ struct Plan {
 using CutOff = std::pair<std::int64_t, std::uint8_t>;
 // code = sum (sign_i + 1) 3^i over the local vertices.
 const Plan& plan(int code, int parity);
+// All of them: plan(code, parity) is plans()[2 code + parity].
+std::span<const Plan> plans();
 
 // The 12 background tetrahedra of a cube m in the local frame, relative to m.
 struct TetShape {

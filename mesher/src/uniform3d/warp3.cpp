@@ -89,7 +89,7 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked) {
             w.warp[static_cast<std::size_t>(p)] = bcc::stay;
             const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
             if (!mask) continue;
-            const bcc::Ivec pq = g.point(p);
+            const bcc::Ivec pq = g.point_in_plane(z, p);
             for (int s = 0; s < 7; ++s) {
                 if (!(mask >> s & 1u)) continue;
                 const int d = forward_direction[static_cast<std::size_t>(s)];
