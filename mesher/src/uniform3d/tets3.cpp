@@ -242,6 +242,21 @@ void check_claim(const Emitted& out, std::int64_t t0, std::int64_t t1, const Bcc
     }
 }
 
+// The 12 tetrahedra of a cube whose background tetrahedra are all inside
+// (Neighbourhood::all_inside), none on the lattice's cut-off: each whole, in
+// the all-− stencil's vertex order, as the general path below writes them.
+void write_whole_cube(const Layout& lay, const Neighbourhood& n, const Numbering& num, bool keys, std::uint64_t cube_key, std::int64_t& t,
+                      Emitted& out) {
+    const bcc::OutTet& o = lay.plans[0].stencil.tet[0];
+    for (std::size_t index = 0; index < 12; ++index, ++t) {
+        const TetShape& s = lay.shapes[index];
+        std::array<std::int32_t, 4> v{};
+        for (std::size_t k = 0; k < 4; ++k) v[k] = num.id[static_cast<std::size_t>(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(o[k])])])];
+        out.tets[static_cast<std::size_t>(t)] = v;
+        if (keys) out.tet_key[static_cast<std::size_t>(t)] = cube_key + index * 4;
+    }
+}
+
 void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
                 std::span<const std::int64_t> start, bool keys, bool verify_keys, Emitted& out) {
     const Lattice3& L = lay.w.grid.lattice;
@@ -265,6 +280,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
             if (n.all_outside) return;
             const bool near_edge = cx < 2 || cy < 2 || cz < 2 || cx >= L.cubes[0] - 2 || cy >= L.cubes[1] - 2 || cz >= L.cubes[2] - 2;
             const std::uint64_t cube_key = static_cast<std::uint64_t>((cz * L.cubes[1] + cy) * L.cubes[0] + cx) * 48;
+            if (n.all_inside && !near_edge && !verify_keys) return write_whole_cube(lay, n, num, keys, cube_key, t, out);
             for (int index = 0; index < 12; ++index) {
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
