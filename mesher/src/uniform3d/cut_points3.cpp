@@ -5,6 +5,7 @@
 // is stored once, at its lower endpoint (uniform3d.hpp: forward slots), with
 // its parameter u from that endpoint.  Two passes over the z planes (count,
 // then fill) so the order does not depend on the threads.
+#include <algorithm>
 #include <stdexcept>
 
 #include "uniform3d.hpp"
@@ -18,15 +19,6 @@ Point3 Window::cut_position(const bcc::Ivec& lower, int slot, double u) const {
 }
 
 namespace {
-
-// Calls visit(point index, point) for each point of plane z.
-template <class Visit>
-void plane_points(const Grid& g, int z, Visit&& visit) {
-    const int zz = g.lo[2] + z, odd = zz & 1;
-    std::int64_t at = g.plane_start[static_cast<std::size_t>(z)];
-    for (int y = g.lo[1] + odd; y <= g.hi[1] - odd; y += 2)
-        for (int x = g.lo[0] + odd; x <= g.hi[0] - odd; x += 2, ++at) visit(at, bcc::Ivec{x, y, zz});
-}
 
 bcc::Ivec forward_neighbour(const bcc::Ivec& p, int slot) {
     return bcc::add(p, bcc::neighbour_offsets[static_cast<std::size_t>(forward_direction[static_cast<std::size_t>(slot)])]);
@@ -81,12 +73,17 @@ std::int64_t mark_cut_edges(const Grid& g, int z, Window& w) {
     for (std::int64_t r = 0; r < rows; ++r) {
         const RowSteps rs = row_steps(g, z, r);
         const std::int64_t row = g.plane_start[static_cast<std::size_t>(z)] + r * width;
+        // The columns [c_lo, c_hi) where every neighbour exists (none if the row lacks one).
+        std::int64_t c_lo = 0, c_hi = width;
+        for (std::size_t s = 0; s < 7; ++s) c_lo = std::max<std::int64_t>(c_lo, -rs.dc[s]), c_hi = std::min(c_hi, rs.width[s] - rs.dc[s]);
+        if (!std::all_of(rs.row_ok.begin(), rs.row_ok.end(), [](bool ok) { return ok; })) c_hi = c_lo;
         for (std::int64_t c = 0; c < width; ++c) {
             const std::int64_t p = row + c;
             const int sp = w.sign[static_cast<std::size_t>(p)];
+            const bool all = c >= c_lo && c < c_hi;
             unsigned mask = 0;
             for (int s = 0; s < 7; ++s)
-                if (rs.exists(s, c) && sp * w.sign[static_cast<std::size_t>(p + rs.step[static_cast<std::size_t>(s)])] < 0) mask |= 1u << s;
+                if ((all || rs.exists(s, c)) && sp * w.sign[static_cast<std::size_t>(p + rs.step[static_cast<std::size_t>(s)])] < 0) mask |= 1u << s;
             w.cut_mask[static_cast<std::size_t>(p)] = static_cast<std::uint8_t>(mask);
             count += slot_count(mask);
         }
@@ -113,9 +110,11 @@ void find_cuts(const LevelSet3& f, Window& w) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int z = 0; z < planes; ++z) {
         std::int64_t at = per_plane[static_cast<std::size_t>(z)];
-        plane_points(g, z, [&](std::int64_t p, const bcc::Ivec& pq) {
+        for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
             const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
             w.cut_first[static_cast<std::size_t>(p)] = mask ? static_cast<std::uint32_t>(at) : 0;
+            if (!mask) continue;
+            const bcc::Ivec pq = g.point_in_plane(z, p);
             for (int s = 0; s < 7; ++s) {
                 if (!(mask >> s & 1u)) continue;
                 const bcc::Ivec q = forward_neighbour(pq, s);
@@ -123,7 +122,7 @@ void find_cuts(const LevelSet3& f, Window& w) {
                     f.cut_parameter(g.lattice.position(pq), g.lattice.position(q), w.value[static_cast<std::size_t>(p)],
                                     w.value[static_cast<std::size_t>(g.index(q))]);
             }
-        });
+        }
     }
 }
 
