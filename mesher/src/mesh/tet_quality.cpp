@@ -25,8 +25,8 @@
 // for best > 0 (the largest cos so far), c = d / √N cannot exceed it when
 // d <= 0 or d² < best² N (1 − 1e-12) (the margin covers the rounding of d²,
 // best² N and of d / √N many times over); the smallest cos likewise for
-// best < 0 (may_exceed).  The extremes are then the same doubles as cos
-// evaluated at every edge.
+// best < 0 (may_exceed; for a pair at once, Tally::angles_decided).  The
+// extremes are then the same doubles as cos evaluated at every edge.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
