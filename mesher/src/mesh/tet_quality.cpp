@@ -125,8 +125,6 @@ double cosine(double dot, double nn) { return nn > 0 ? std::clamp(dot / std::sqr
 // Whether cosine(d, nn) might exceed best; false only when best > 0 and the
 // squares decide it (d <= 0 or d² < best² nn (1 − 1e-12)), away from over-
 // and underflow.  For "might be below best" ask may_exceed(−d, nn, −best).
-// Branch-free on purpose: at the 90° edges of the lattice's tetrahedra d is
-// rounding noise of either sign.
 bool may_exceed(double d, double nn, double best) {
     const bool decided = best > 1e-3 && nn > 1e-280 && nn < 1e280;
     const bool below = (d <= 0) | (d * d < best * best * nn * (1 - 1e-12));
