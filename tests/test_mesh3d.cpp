@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
+#include <set>
 #include <numbers>
 #include <random>
 
@@ -126,6 +128,94 @@ BOOST_AUTO_TEST_CASE(random_quadrics_and_rbfs_conform_and_verify) {
     }
     BOOST_TEST(tets > 1000 * n / 2);  // thousands of background configurations
     BOOST_TEST(warped > 100);
+}
+
+// The report's quality pass (tet_quality.cpp) takes the angle forms from
+// eight cross products and skips √ away from the running extremes: its
+// angles are those of bcc::dihedral_forms (the forms the proof bounds) to the
+// last bit, its extremes those of every edge evaluated in full, and its
+// radius ratio 3 r_in / R_circ the textbook one.
+BOOST_AUTO_TEST_CASE(quality_pass_equals_the_angle_forms_at_every_edge) {
+    const auto cos_of = [](double dot, double nn) { return nn > 0 ? std::clamp(dot / std::sqrt(nn), -1.0, 1.0) : 1.0; };
+    const auto deg = [](double c) { return std::acos(c) * 180 / std::numbers::pi; };
+    std::mt19937 rng(30);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 2000; ++i) {
+        std::array<Point3, 4> p{};
+        for (auto& x : p) x = {u(rng), u(rng), u(rng)};
+        if (i % 4 == 0) p[3] = {p[0].x + 1e-7 * u(rng), p[1].y, p[2].z};  // near-degenerate shapes too
+        const auto f = bcc::dihedral_forms<double>({{{p[0].x, p[0].y, p[0].z}, {p[1].x, p[1].y, p[1].z}, {p[2].x, p[2].y, p[2].z}, {p[3].x, p[3].y, p[3].z}}});
+        const std::array<double, 6> a = dihedral_angles_deg(p);
+        for (std::size_t k = 0; k < 6; ++k) BOOST_TEST(a[k] == deg(cos_of(f.dot[k], f.nn[k])));
+        // r_in = 3V / (sum of face areas); R_circ from the circumcentre c, solving 2 (p_i − p_0)·c = |p_i|² − |p_0|².
+        const auto sub = [](const Point3& x, const Point3& y) { return bcc::Vec<double>{x.x - y.x, x.y - y.y, x.z - y.z}; };
+        const auto len = [](const bcc::Vec<double>& v) { return std::sqrt(bcc::dot(v, v)); };
+        const bcc::Vec<double> e1 = sub(p[1], p[0]), e2 = sub(p[2], p[0]), e3 = sub(p[3], p[0]);
+        const double det = bcc::dot(e1, bcc::cross(e2, e3));
+        if (!(det > 1e-3)) {
+            if (det <= 0) BOOST_TEST(radius_ratio(p) == 0.0);
+            continue;
+        }
+        const double area = 0.5 * (len(bcc::cross(e1, e2)) + len(bcc::cross(e1, e3)) + len(bcc::cross(e2, e3)) +
+                                    len(bcc::cross(sub(p[2], p[1]), sub(p[3], p[1]))));
+        const bcc::Vec<double> rhs{0.5 * bcc::dot(e1, e1), 0.5 * bcc::dot(e2, e2), 0.5 * bcc::dot(e3, e3)};  // c relative to p0
+        const auto c23 = bcc::cross(e2, e3), c31 = bcc::cross(e3, e1), c12 = bcc::cross(e1, e2);
+        const bcc::Vec<double> c{(rhs[0] * c23[0] + rhs[1] * c31[0] + rhs[2] * c12[0]) / det, (rhs[0] * c23[1] + rhs[1] * c31[1] + rhs[2] * c12[1]) / det,
+                                 (rhs[0] * c23[2] + rhs[1] * c31[2] + rhs[2] * c12[2]) / det};
+        const double expected = 3 * (det / 2 / area) / len(c);
+        BOOST_TEST(radius_ratio(p) == std::min(1.0, expected), boost::test_tools::tolerance(1e-9));
+    }
+    const char* specs[] = {"sphere:0.05,-0.02,0.01,1", "box:0,0,0,1,1,1", "torus:0,0,0,1,0.4"};
+    for (const char* spec : specs) {
+        Mesh3dOptions o;
+        o.spacing = 0.1;
+        Mesh3dReport r;
+        const TetMesh m = mesh3d(*parse_shape3(spec), o, &r);
+        double cmax = -1, cmin = 1;
+        for (const auto& t : m.tets) {
+            std::array<bcc::Vec<double>, 4> q{};
+            for (std::size_t k = 0; k < 4; ++k) {
+                const Point3& x = m.vertices[static_cast<std::size_t>(t[k])];
+                q[k] = {x.x, x.y, x.z};
+            }
+            const auto f = bcc::dihedral_forms<double>(q);
+            for (std::size_t k = 0; k < 6; ++k) cmax = std::max(cmax, cos_of(f.dot[k], f.nn[k])), cmin = std::min(cmin, cos_of(f.dot[k], f.nn[k]));
+        }
+        BOOST_TEST(r.min_dihedral_deg == deg(cmax), spec);
+        BOOST_TEST(r.max_dihedral_deg == deg(cmin), spec);
+    }
+}
+
+// Stage 3's cut edges (found a row at a time with index steps) are the
+// forward lattice edges inside the window whose endpoints have strictly
+// opposite signs, in windows that start away from the lattice's origin too.
+BOOST_AUTO_TEST_CASE(cut_edges_are_the_sign_changes_inside_the_window) {
+    using namespace uniform3d;
+    Lattice3 L;
+    L.spacing = 0.1;
+    L.cubes = {9, 7, 8};
+    const FunctionLevelSet3 f([](double x, double y, double z) { return x + 0.3 * y - 0.2 * z - 0.4; }, {0, 0, 0, 1, 1, 1});
+    std::mt19937 rng(3);
+    for (const auto& [lo, hi] : {std::pair<bcc::Ivec, bcc::Ivec>{{0, 0, 0}, {18, 14, 16}}, {{2, 4, 2}, {12, 10, 14}}, {{4, 0, 6}, {6, 14, 8}}}) {
+        Window w;
+        w.grid = Grid::window(L, lo, hi);
+        const std::size_t n = static_cast<std::size_t>(w.grid.count());
+        w.sign.resize(n), w.value.resize(n);
+        for (std::size_t p = 0; p < n; ++p) {
+            w.sign[p] = static_cast<std::int8_t>(static_cast<int>(rng() % 3) - 1);
+            w.value[p] = w.sign[p];
+        }
+        find_cuts(f, w);
+        for (std::int64_t p = 0; p < w.grid.count(); ++p) {
+            const bcc::Ivec q = w.grid.point(p);
+            unsigned expected = 0;
+            for (int s = 0; s < 7; ++s) {
+                const bcc::Ivec r = bcc::add(q, bcc::neighbour_offsets[static_cast<std::size_t>(forward_direction[static_cast<std::size_t>(s)])]);
+                if (w.grid.contains(r) && w.sign[static_cast<std::size_t>(p)] * w.sign[static_cast<std::size_t>(w.grid.index(r))] < 0) expected |= 1u << s;
+            }
+            BOOST_TEST(w.cut_mask[static_cast<std::size_t>(p)] == expected, "point " << q[0] << "," << q[1] << "," << q[2]);
+        }
+    }
 }
 
 BOOST_AUTO_TEST_CASE(output_is_identical_for_any_thread_count) {
@@ -348,6 +438,20 @@ BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     BOOST_TEST(named, r.warnings.front());
     BOOST_TEST(r.suggested_spacing > 0);
     BOOST_TEST(r.suggested_spacing <= 0.5);
+    // Label mode on values that are not labels: named, whichever voxel has it.
+    for (const double bad : {1.5, -1.0, 70000.0, std::numeric_limits<double>::quiet_NaN()})
+        for (const std::size_t at : {std::size_t{0}, std::size_t{7 * 6 * 5 - 1}}) {
+            Volume v;
+            v.dims = {7, 6, 5};
+            v.source = "bad labels";
+            v.values.assign(7 * 6 * 5, 0);
+            v.values[100] = 1;
+            v.values[at] = bad;
+            VolumeLevelSet3Options lo;
+            lo.mode.mode = ImageMode::label;
+            lo.mode.label_nonzero = true;
+            BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "integer voxel values in 0..65535"), bad);
+        }
     // Memory: a lattice of ~10^9 points is refused before it is allocated.
     o.spacing = 0.002;
     o.max_memory = std::uint64_t{256} << 20;
@@ -442,6 +546,110 @@ BOOST_AUTO_TEST_CASE(issue30_all_zero_tet_uncertified) {
     for (const auto& [e, n] : edges) {
         const auto back = edges.find({e.second, e.first});
         BOOST_TEST((back != edges.end() && back->second == n), "boundary edge " << e.first << "-" << e.second);
+    }
+}
+
+namespace {
+
+// A mesh of tetrahedra whose boundary is every face in one tetrahedron
+// (outward), as check_tet_mesh wants it.
+TetMesh with_boundary(std::vector<Point3> points, std::vector<std::array<std::int32_t, 4>> tets) {
+    TetMesh m;
+    m.vertices.assign(points.begin(), points.end());
+    m.tets.assign(tets.begin(), tets.end());
+    m.region.assign(tets.size(), 1);
+    std::map<std::array<std::int32_t, 3>, std::pair<int, std::array<std::int32_t, 3>>> faces;
+    for (const auto& t : tets)
+        for (const auto& f : {std::array<int, 3>{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}) {
+            const std::array<std::int32_t, 3> o{t[static_cast<std::size_t>(f[0])], t[static_cast<std::size_t>(f[1])], t[static_cast<std::size_t>(f[2])]};
+            std::array<std::int32_t, 3> key = o;
+            std::sort(key.begin(), key.end());
+            auto& [n, oriented] = faces[key];
+            ++n, oriented = o;
+        }
+    for (const auto& [key, face] : faces)
+        if (face.first == 1) m.boundary.push_back(face.second), m.boundary_tag.push_back(boundary_level_set);
+    return m;
+}
+
+// The boundary's non-manifold edges and vertices counted another way: edges
+// by a map of their boundary triangles; a vertex is non-manifold when it
+// ends such an edge or its boundary triangles fall into more than one fan
+// (triangles joined across their edges at the vertex).
+std::pair<std::int64_t, std::int64_t> nonmanifold_by_maps(const TetMesh& m) {
+    std::map<std::pair<std::int32_t, std::int32_t>, int> edges;
+    std::map<std::int32_t, std::vector<std::size_t>> around;
+    for (std::size_t i = 0; i < m.boundary.size(); ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::int32_t a = m.boundary[i][k], b = m.boundary[i][(k + 1) % 3];
+            ++edges[{std::min(a, b), std::max(a, b)}];
+            around[a].push_back(i);
+        }
+    std::set<std::int32_t> bad;
+    std::int64_t bad_edges = 0;
+    for (const auto& [e, n] : edges)
+        if (n > 2) ++bad_edges, bad.insert(e.first), bad.insert(e.second);
+    for (const auto& [v, tris] : around) {
+        std::vector<std::size_t> fan(tris.size());
+        std::iota(fan.begin(), fan.end(), 0);
+        const auto root = [&](std::size_t x) {
+            while (fan[x] != x) x = fan[x];
+            return x;
+        };
+        for (std::size_t i = 0; i < tris.size(); ++i)
+            for (std::size_t j = 0; j < i; ++j) {
+                int shared = 0;
+                for (std::int32_t a : m.boundary[tris[i]])
+                    for (std::int32_t b : m.boundary[tris[j]]) shared += a == b;
+                if (shared >= 2) fan[root(i)] = root(j);
+            }
+        std::size_t fans = 0;
+        for (std::size_t i = 0; i < tris.size(); ++i) fans += root(i) == i;
+        if (fans > 1) bad.insert(v);
+    }
+    return {bad_edges, static_cast<std::int64_t>(bad.size())};
+}
+
+}  // namespace
+
+// Issue 30, "boundary closed and oriented": with the all-zero background
+// tetrahedra left out the boundary stays closed and outward, but it need not
+// be a manifold surface.  The checker and the report count its edges in more
+// than two boundary triangles and its vertices that are not one disc: two
+// tetrahedra sharing an edge give one such edge (four boundary triangles)
+// and two such vertices, two sharing a vertex one vertex, and on the brain
+// crop the report's counts are those found by maps of the boundary.
+BOOST_AUTO_TEST_CASE(issue30_nonmanifold_boundary_edges_counted) {
+    const Point3 o{0, 0, 0}, z{0, 0, 1}, x{1, 0, 0}, y{0, 1, 0}, mx{-1, 0, 0}, my{0, -1, 0}, mz{0, 0, -1};
+    const TetMesh one = with_boundary({o, x, y, z}, {{0, 1, 2, 3}});
+    const TetMesh edge = with_boundary({o, z, x, y, mx, my}, {{0, 2, 3, 1}, {0, 4, 5, 1}});
+    const TetMesh vertex = with_boundary({o, x, y, z, mx, my, mz}, {{0, 1, 2, 3}, {0, 5, 4, 6}});
+    for (const TetMesh* m : {&one, &edge, &vertex}) BOOST_TEST(check_tet_mesh(*m).ok, check_tet_mesh(*m).problems.front());
+    BOOST_TEST(check_tet_mesh(one).nonmanifold_boundary_edges == 0);
+    BOOST_TEST(check_tet_mesh(one).nonmanifold_boundary_vertices == 0);
+    BOOST_TEST(check_tet_mesh(edge).nonmanifold_boundary_edges == 1);
+    BOOST_TEST(check_tet_mesh(edge).nonmanifold_boundary_vertices == 2);
+    BOOST_TEST(check_tet_mesh(vertex).nonmanifold_boundary_edges == 0);
+    BOOST_TEST(check_tet_mesh(vertex).nonmanifold_boundary_vertices == 1);
+    for (const TetMesh* m : {&one, &edge, &vertex}) {
+        const auto [e, v] = nonmanifold_by_maps(*m);
+        BOOST_TEST(nonmanifold_boundary(*m).edges == e);
+        BOOST_TEST(nonmanifold_boundary(*m).vertices == v);
+    }
+    const Volume v = read_volume(std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd");
+    VolumeLevelSet3Options lo;
+    lo.mode.mode = ImageMode::label;
+    lo.mode.labels = {26};
+    const auto f = make_volume_levelset3(v, lo);
+    for (const double spacing : {1.0, 1.5, 2.0}) {
+        TetMesh m;
+        const Mesh3dReport r = mesh_checked(*f, spacing, &m);
+        const auto [e, nv] = nonmanifold_by_maps(m);
+        BOOST_TEST(r.nonmanifold_boundary_edges == e, "spacing " << spacing);
+        BOOST_TEST(r.nonmanifold_boundary_vertices == nv, "spacing " << spacing);
+        BOOST_TEST(check_tet_mesh(m).nonmanifold_boundary_edges == e);
+        BOOST_TEST_MESSAGE("brain crop, spacing " << spacing << ": " << e << " non-manifold boundary edges, " << nv << " vertices, "
+                                                  << r.all_zero_left_out << " all-zero left out");
     }
 }
 

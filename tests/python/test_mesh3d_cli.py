@@ -42,6 +42,7 @@ def test_sphere_in_every_format_matches_the_report(tmp_path):
                 *[a for o in outs[1:] for a in ("--also", o)], "--report", "r.json", "--verify"], tmp_path)
     report = json.loads((tmp_path / "r.json").read_text())
     assert "tetrahedra" in r.stdout and "certified" in r.stdout and "all-zero background tetrahedra left out: 0" in r.stdout
+    assert "non-manifold edges 0, vertices 0" in r.stdout
     assert report["certified"]["verified"] and report["certified"]["uncertified_tetrahedra"] == 0
     assert report["certified"]["min_dihedral_deg"] <= report["min_dihedral_deg"]
     assert report["max_dihedral_deg"] <= report["certified"]["max_dihedral_deg"]
@@ -80,6 +81,7 @@ def test_label_volume_in_mm(tmp_path):
     assert m.points[:, 0].max() < 10.5  # the cube of label 7 (x >= 11 mm) is not in it
     # Every tetrahedron certified: all-zero background tetrahedra are left out (issue 30).
     assert report["certified"]["uncertified_tetrahedra"] == 0 and isinstance(report["all_zero_left_out"], int)
+    assert report["nonmanifold_boundary_edges"] == 0 and report["nonmanifold_boundary_vertices"] == 0  # a ball
     assert report["certified"]["min_dihedral_deg"] <= report["min_dihedral_deg"]
     assert report["max_dihedral_deg"] <= report["certified"]["max_dihedral_deg"]
     # --units pixels: the same volume in voxel coordinates (twice as large).

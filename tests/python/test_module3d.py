@@ -40,6 +40,11 @@ def test_label_volume_with_voxel_size():
     # Every tetrahedron certified: all-zero background tetrahedra are left out and counted (issue 30).
     assert c["uncertified_tetrahedra"] == 0 and c["certified_tetrahedra"] == len(t.tetrahedra)
     assert t.report["all_zero_left_out"] >= 0 and "all_zero_tetrahedra" not in c
+    # The boundary's edges in more than two boundary triangles, counted in the report (issue 30): none on a ball.
+    e = np.sort(np.concatenate([t.boundary_faces[:, [0, 1]], t.boundary_faces[:, [1, 2]], t.boundary_faces[:, [2, 0]]]), axis=1)
+    counts = np.unique(e, axis=0, return_counts=True)[1]
+    assert t.report["nonmanifold_boundary_edges"] == int((counts > 2).sum()) == 0
+    assert t.report["nonmanifold_boundary_vertices"] == 0
     assert set(np.unique(t.regions)) == {1} and len(t.boundary_faces) == len(t.boundary_tags)
 
 

@@ -211,6 +211,8 @@ struct Mesh3dReport {
     // deviation between its vertices; a distance for signed-distance level
     // sets), in the level set's units.
     double boundary_vertex_f_max = 0, boundary_centroid_f_max = 0;
+    // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
+    std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
     // Certification (proofs/bcc.cert).  certified: the certificate is
     // compiled in and its alphas are the options'; the bounds then hold for
     // every tetrahedron (each comes from a certified key: uncertified is 0),
@@ -274,11 +276,28 @@ struct TetMeshCheck {
     std::int64_t nonmanifold_faces = 0; // faces in more than two tetrahedra
     std::int64_t boundary_mismatch = 0; // boundary faces missing, extra or not outward
     std::int64_t unused_vertices = 0;
+    // Not problems (ok stays true): the boundary's non-manifold places
+    // (nonmanifold_boundary below), counted.
+    std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
 };
 // From scratch: positive orientation, every face in one or two tetrahedra,
 // the one-tetrahedron faces exactly the boundary list, each oriented as its
-// tetrahedron sees it from outside, every vertex used, tags per face.
+// tetrahedron sees it from outside, every vertex used, tags per face; and the
+// boundary's non-manifold edges and vertices, counted.
 TetMeshCheck check_tet_mesh(const TetMesh& mesh);
+
+// The boundary surface's non-manifold places.  A conforming mesh with a
+// closed, outward boundary can still have boundary edges in more than two
+// boundary triangles (four, six, ...: two parts of the region touch along
+// the edge) and boundary vertices around which the boundary triangles are
+// not one disc (their link, the edges opposite the vertex, is not one
+// cycle: two parts touch at the vertex, or it ends a non-manifold edge).
+// mesh3d's can, where all-zero background tetrahedra are left out
+// (docs/3d.md, "Non-manifold boundary").
+struct NonmanifoldBoundary {
+    std::int64_t edges = 0, vertices = 0;
+};
+NonmanifoldBoundary nonmanifold_boundary(const TetMesh& mesh);
 
 // The six dihedral angles (degrees) of a tetrahedron, at edges 01 02 03 12
 // 13 23, and its radius ratio 3 r_in / R_circ (1 for the regular one, 0 flat).

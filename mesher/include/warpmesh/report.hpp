@@ -87,7 +87,8 @@ std::string to_text(const MeshResult& result);
 // ---- the 3D mesher (mesh3d.hpp) ------------------------------------------------------
 // The report of mesh3d as one JSON object ("dimension": 3, counts (with
 // "all_zero_left_out", the all-zero background tetrahedra), measured
-// dihedral extremes and radius ratios, boundary fidelity, "certified":
+// dihedral extremes and radius ratios, boundary fidelity, the boundary's
+// non-manifold edges and vertices, "certified":
 // {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
 // warnings, seconds) and as text (report3d.cpp).
 std::string to_json(const Mesh3dReport& report);

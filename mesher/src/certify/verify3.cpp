@@ -1,5 +1,6 @@
-// verify3.cpp — the 3D report's certification and verification, and the
-// resolution check (mesh3d.hpp: Mesh3dReport).
+// verify3.cpp — the 3D report's certification and verification, the
+// resolution check and the boundary's non-manifold count (mesh3d.hpp:
+// Mesh3dReport, nonmanifold_boundary).
 //
 // Certification.  proofs/bcc.cert claims, at its alphas, for every key with
 // output (a − vertex), that every output tetrahedron is positively oriented
@@ -107,6 +108,8 @@ void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions&
     else r.warnings.push_back(claim ? "no certificate for these alphas: proofs/bcc.cert is at other alphas" : "this build has no 3D certificate (proofs/bcc.cert)");
     r.verified = same && verified;
     if (o.quality) measure_quality3(mesh, f, r);
+    const NonmanifoldBoundary nb = nonmanifold_boundary(mesh);
+    r.nonmanifold_boundary_edges = nb.edges, r.nonmanifold_boundary_vertices = nb.vertices;
     check_resolution(mesh, f, o.spacing, r);
 }
 

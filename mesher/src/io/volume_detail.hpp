@@ -10,6 +10,7 @@
 #include <cstring>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "warpmesh/errors.hpp"
@@ -73,39 +74,44 @@ inline std::uint64_t checked_voxels(const std::string& format, const std::string
     return n;
 }
 
+// The samples of one type S (a loop per type: the type's switch, the byte
+// order and the finiteness test are out of the per-voxel work where they can
+// be); all_int: every value is an integer (always, for integer types).
+template <class S>
+void decode_as(const std::string& format, const std::string& name, std::span<const std::uint8_t> raw, bool swap,
+               std::vector<double>& out, bool& all_int) {
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        std::uint8_t v[sizeof(S)];
+        std::memcpy(v, raw.data() + k * sizeof(S), sizeof(S));
+        if (swap) std::reverse(v, v + sizeof(S));
+        S y;
+        std::memcpy(&y, v, sizeof(S));
+        const double x = static_cast<double>(y);
+        if constexpr (std::is_floating_point_v<S>) {
+            if (!std::isfinite(x)) fail(format, name, "voxel " + std::to_string(k) + " is not a finite number (NaN or infinity)");
+            all_int = all_int && x == std::floor(x);
+        }
+        out[k] = x;
+    }
+}
+
 // n samples of type t from `raw` (at least n * sample_bytes(t) bytes), byte
 // order swapped when `swap`, as doubles.  Sets *integer to false if some
 // value is not an integer; refuses NaN and infinities.
 inline std::vector<double> decode_samples(const std::string& format, const std::string& name,
                                           std::span<const std::uint8_t> raw, Sample t, bool swap, std::size_t n,
                                           bool* integer) {
-    const std::size_t b = sample_bytes(t);
     std::vector<double> out(n);
     bool all_int = true;
-    for (std::size_t k = 0; k < n; ++k) {
-        std::uint8_t v[8];
-        const std::uint8_t* p = raw.data() + k * b;
-        for (std::size_t q = 0; q < b; ++q) v[q] = swap ? p[b - 1 - q] : p[q];
-        double x = 0;
-        switch (t) {
-            case Sample::i8: { std::int8_t y; std::memcpy(&y, v, 1); x = y; break; }
-            case Sample::u8: x = v[0]; break;
-            case Sample::i16: { std::int16_t y; std::memcpy(&y, v, 2); x = y; break; }
-            case Sample::u16: { std::uint16_t y; std::memcpy(&y, v, 2); x = y; break; }
-            case Sample::i32: { std::int32_t y; std::memcpy(&y, v, 4); x = y; break; }
-            case Sample::u32: { std::uint32_t y; std::memcpy(&y, v, 4); x = y; break; }
-            case Sample::f32: {
-                float y;
-                std::memcpy(&y, v, 4);
-                x = y;
-                all_int = all_int && x == std::floor(x);
-                break;
-            }
-            case Sample::f64: std::memcpy(&x, v, 8); all_int = all_int && x == std::floor(x); break;
-        }
-        if (!std::isfinite(x))
-            fail(format, name, "voxel " + std::to_string(k) + " is not a finite number (NaN or infinity)");
-        out[k] = x;
+    switch (t) {
+        case Sample::i8: decode_as<std::int8_t>(format, name, raw, swap, out, all_int); break;
+        case Sample::u8: decode_as<std::uint8_t>(format, name, raw, swap, out, all_int); break;
+        case Sample::i16: decode_as<std::int16_t>(format, name, raw, swap, out, all_int); break;
+        case Sample::u16: decode_as<std::uint16_t>(format, name, raw, swap, out, all_int); break;
+        case Sample::i32: decode_as<std::int32_t>(format, name, raw, swap, out, all_int); break;
+        case Sample::u32: decode_as<std::uint32_t>(format, name, raw, swap, out, all_int); break;
+        case Sample::f32: decode_as<float>(format, name, raw, swap, out, all_int); break;
+        case Sample::f64: decode_as<double>(format, name, raw, swap, out, all_int); break;
     }
     *integer = all_int;
     return out;

@@ -342,17 +342,25 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
     auto in_region = [&](double x) {
         return m.label_nonzero ? x != 0 : std::find(m.labels.begin(), m.labels.end(), static_cast<int>(x)) != m.labels.end();
     };
+    // The region's bounding box, a row of voxels (x fastest) at a time.
     std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
     for (std::int64_t k = 0; k < v.dims[2]; ++k)
-        for (std::int64_t j = 0; j < v.dims[1]; ++j)
+        for (std::int64_t j = 0; j < v.dims[1]; ++j) {
+            const double* row = v.values.data() + v.dims[0] * (j + v.dims[1] * k);
+            std::int64_t first = -1, last = -1;
             for (std::int64_t i = 0; i < v.dims[0]; ++i) {
-                const double x = v.at(i, j, k);
-                if (x != std::floor(x) || x < 0 || x > 65535)
+                const double x = row[i];
+                // In 0..65535, then an integer (the cast is exact there).
+                if (!(x >= 0 && x <= 65535) || static_cast<double>(static_cast<std::int32_t>(x)) != x)
                     throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(x) + ")");
                 if (!in_region(x)) continue;
-                const std::array<std::int64_t, 3> q{i, j, k};
-                for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+                if (first < 0) first = i;
+                last = i;
             }
+            if (first < 0) continue;
+            lo = {std::min(lo[0], first), std::min(lo[1], j), std::min(lo[2], k)};
+            hi = {std::max(hi[0], last), std::max(hi[1], j), std::max(hi[2], k)};
+        }
     if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
     const std::array<std::int64_t, 3> region_lo = lo, region_hi = hi;
     std::array<std::int64_t, 3> n{};

@@ -1,7 +1,15 @@
 // tet_checks.cpp — tet_mesh.hpp's invariants, checked from scratch
 // (check_tet_mesh, mesh3d.hpp), by sorting every face of every tetrahedron:
-// nothing is taken from the mesher.
+// nothing is taken from the mesher.  And the boundary's non-manifold edges
+// and vertices (nonmanifold_boundary), from the boundary list alone.
+//
+// The link of a boundary vertex v: for each boundary triangle (v, a, b), in
+// the triangle's own (outward) order, the directed edge a → b.  The
+// triangles around v form one disc iff the link is one directed cycle
+// through distinct vertices; the edge v w lies in as many boundary triangles
+// as there are link edges at v starting or ending at w.
 #include <algorithm>
+#include <span>
 #include <tuple>
 
 #include "warpmesh/mesh3d.hpp"
@@ -27,7 +35,66 @@ bool same_orientation(const std::array<std::int32_t, 3>& a, const std::array<std
     return false;
 }
 
+using Link = std::array<std::int32_t, 2>;  // a → b
+
+// Whether a link is one cycle through distinct vertices: every link vertex
+// the tail of one edge, and from the first edge the edges lead back to its
+// tail after using all of them.
+bool one_cycle(std::span<const Link> link) {
+    for (const Link& e : link)
+        if (std::count_if(link.begin(), link.end(), [&](const Link& o) { return o[0] == e[0]; }) != 1) return false;
+    std::size_t used = 1;
+    for (std::int32_t at = link[0][1]; at != link[0][0]; ++used) {
+        const auto next = std::find_if(link.begin(), link.end(), [at](const Link& o) { return o[0] == at; });
+        if (next == link.end() || used == link.size()) return false;
+        at = (*next)[1];
+    }
+    return used == link.size();
+}
+
+// Classify boundary vertex v from its link: a disc, or a non-manifold vertex
+// with its non-manifold edges v w (counted at the lower vertex, each w once).
+// At a disc every w is on two link edges: its edge v w is in two triangles.
+void classify(std::int32_t v, std::span<const Link> link, NonmanifoldBoundary& out) {
+    if (one_cycle(link)) return;
+    ++out.vertices;
+    const auto end = [&](std::size_t i) { return link[i / 2][i % 2]; };  // the link's vertices, with repeats
+    for (std::size_t i = 0; i < 2 * link.size(); ++i) {
+        const std::int32_t w = end(i);
+        bool first = v < w;
+        for (std::size_t j = 0; j < i; ++j) first = first && end(j) != w;
+        if (!first) continue;
+        int triangles = 0;
+        for (const Link& e : link) triangles += (e[0] == w) + (e[1] == w);
+        out.edges += triangles > 2;
+    }
+}
+
 }  // namespace
+
+NonmanifoldBoundary nonmanifold_boundary(const TetMesh& m) {
+    // The links, bucketed by vertex (a counting sort: start[v] .. start[v + 1]).
+    // Faces with a vertex out of range are check_tet_mesh's problem, skipped here.
+    const std::size_t V = m.vertices.size();
+    const auto in_range = [V](const std::array<std::int32_t, 3>& b) {
+        return std::all_of(b.begin(), b.end(), [V](std::int32_t v) { return v >= 0 && static_cast<std::size_t>(v) < V; });
+    };
+    std::vector<std::int64_t> start(V + 1, 0);
+    for (const auto& b : m.boundary)
+        if (in_range(b))
+            for (std::int32_t v : b) ++start[static_cast<std::size_t>(v) + 1];
+    for (std::size_t v = 0; v < V; ++v) start[v + 1] += start[v];
+    std::vector<Link> link(static_cast<std::size_t>(start[V]));
+    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
+    for (const auto& b : m.boundary)
+        if (in_range(b))
+            for (std::size_t k = 0; k < 3; ++k) link[static_cast<std::size_t>(fill[static_cast<std::size_t>(b[k])]++)] = {b[(k + 1) % 3], b[(k + 2) % 3]};
+    NonmanifoldBoundary out;
+    for (std::size_t v = 0; v < V; ++v)
+        if (start[v + 1] > start[v])
+            classify(static_cast<std::int32_t>(v), std::span<const Link>(link).subspan(static_cast<std::size_t>(start[v]), static_cast<std::size_t>(start[v + 1] - start[v])), out);
+    return out;
+}
 
 TetMeshCheck check_tet_mesh(const TetMesh& m) {
     TetMeshCheck c;
@@ -86,6 +153,8 @@ TetMeshCheck check_tet_mesh(const TetMesh& m) {
     for (std::int64_t v = 0; v < V; ++v)
         if (!used[static_cast<std::size_t>(v)]) ++c.unused_vertices, note(c, "vertex " + std::to_string(v) + " is in no tetrahedron");
     if (m.region.size() != m.tets.size()) note(c, "region and tets differ in length");
+    const NonmanifoldBoundary nb = nonmanifold_boundary(m);
+    c.nonmanifold_boundary_edges = nb.edges, c.nonmanifold_boundary_vertices = nb.vertices;
     return c;
 }
 

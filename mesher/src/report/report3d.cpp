@@ -57,6 +57,8 @@ std::string to_json(const Mesh3dReport& r) {
         {"radius_ratio_histogram", hist},
         {"boundary_vertex_f_max", n(r.boundary_vertex_f_max)},
         {"boundary_centroid_f_max", n(r.boundary_centroid_f_max)},
+        {"nonmanifold_boundary_edges", n(r.nonmanifold_boundary_edges)},
+        {"nonmanifold_boundary_vertices", n(r.nonmanifold_boundary_vertices)},
         {"certified", r.certified ? "{\"min_dihedral_deg\": " + n(r.certified_min_deg) + ", \"max_dihedral_deg\": " +
                                         n(r.certified_max_deg) + ", \"certified_tetrahedra\": " + n(r.certified_tets) +
                                         ", \"uncertified_tetrahedra\": " + n(r.uncertified_tets) +
@@ -93,7 +95,8 @@ std::string to_text(const Mesh3dReport& r) {
         o << row << std::string(bar ? bar : 1, '#') << '\n';
     }
     o << "boundary: |f| at vertices <= " << fmt(r.boundary_vertex_f_max, 3) << ", at face centroids <= "
-      << fmt(r.boundary_centroid_f_max, 3) << '\n';
+      << fmt(r.boundary_centroid_f_max, 3) << "; non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices "
+      << r.nonmanifold_boundary_vertices << '\n';
     if (r.certified)
         o << "certified (proofs/bcc.cert): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
           << fmt(r.certified_max_deg, 5) << "] deg for " << r.certified_tets << " tetrahedra"

@@ -68,7 +68,14 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < threads; ++c) {
         auto& out = part[static_cast<std::size_t>(c)];
-        for (std::int64_t t = T * c / threads; t < T * (c + 1) / threads; ++t) add_faces(mesh, t, 0, on, out);
+        for (std::int64_t t = T * c / threads; t < T * (c + 1) / threads; ++t) {
+            // Most tetrahedra have fewer than three level-set vertices, hence no candidate face.
+            const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
+            unsigned level = 0;
+            for (std::size_t v = 0; v < 4; ++v) level |= (on[static_cast<std::size_t>(tet[v])] ? 1u : 0u) << v;
+            level &= level - 1, level &= level - 1;  // two set bits cleared: non-zero iff three or four were set
+            if (level) add_faces(mesh, t, 0, on, out);
+        }
     }
     std::vector<FaceRef> faces;
     for (auto& p : part) faces.insert(faces.end(), p.begin(), p.end()), std::vector<FaceRef>().swap(p);

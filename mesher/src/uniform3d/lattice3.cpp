@@ -70,9 +70,13 @@ Grid Grid::whole(const Lattice3& lattice) {
 }
 
 bcc::Ivec Grid::point(std::int64_t index) const {
-    std::size_t z = static_cast<std::size_t>(std::upper_bound(plane_start.begin(), plane_start.end(), index) - plane_start.begin()) - 1;
-    const std::int64_t r = index - plane_start[z];
-    const int zz = lo[2] + static_cast<int>(z);
+    const auto z = static_cast<int>(std::upper_bound(plane_start.begin(), plane_start.end(), index) - plane_start.begin()) - 1;
+    return point_in_plane(z, index);
+}
+
+bcc::Ivec Grid::point_in_plane(int z, std::int64_t index) const {
+    const std::int64_t r = index - plane_start[static_cast<std::size_t>(z)];
+    const int zz = lo[2] + z;
     if (z % 2 == 0)
         return {lo[0] + 2 * static_cast<int>(r % corner_w), lo[1] + 2 * static_cast<int>(r / corner_w), zz};
     return {lo[0] + 1 + 2 * static_cast<int>(r % centre_w), lo[1] + 1 + 2 * static_cast<int>(r / centre_w), zz};

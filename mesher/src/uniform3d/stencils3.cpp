@@ -76,10 +76,12 @@ std::array<TetShape, 12> make_shapes() {
 
 }  // namespace
 
-const Plan& plan(int code, int parity) {
-    static const std::array<Plan, 81 * 2> plans = make_plans();
-    return plans[static_cast<std::size_t>(code * 2 + parity)];
+std::span<const Plan> plans() {
+    static const std::array<Plan, 81 * 2> all = make_plans();
+    return all;
 }
+
+const Plan& plan(int code, int parity) { return plans()[static_cast<std::size_t>(code * 2 + parity)]; }
 
 const std::array<TetShape, 12>& tet_shapes() {
     static const std::array<TetShape, 12> shapes = make_shapes();

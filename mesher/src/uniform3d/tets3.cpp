@@ -12,7 +12,8 @@
 // (four zero vertices) is never output, only counted.  A cube whose 12
 // tetrahedra exist and whose 12 points (8 corners, its centre, the centres
 // below it) are all inside outputs its 12 background tetrahedra whole: the
-// common case, taken without the stencil.
+// common case, taken without the stencil; one whose 12 points are all
+// outside (+) has nothing to output or count, and is skipped.
 // With verify_keys every output tetrahedron is checked against its own
 // background tetrahedron's key claim as it is written (the whole ones against
 // the claim of the all-− key, looked up once).
@@ -32,12 +33,14 @@ namespace {
 struct Neighbourhood {
     std::array<std::int64_t, 12> at{};
     std::array<int, 12> sign{};
-    bool all_inside = false;  // every tetrahedron exists and every sign is −
+    bool all_inside = false;   // every tetrahedron exists and every sign is −
+    bool all_outside = false;  // every sign is + (no tetrahedron has a − or an all-zero vertex set: nothing to output or count)
 };
 
 struct Layout {
     const Window& w;
     const std::array<TetShape, 12>& shapes = tet_shapes();
+    std::span<const Plan> plans = uniform3d::plans();  // looked up once, not per tetrahedron
     std::int64_t plane_pair = 0;  // index step of 2 along z
 
     explicit Layout(const Window& win) : w(win) {
@@ -49,13 +52,14 @@ struct Layout {
         const std::int64_t corner = w.grid.index(m), centre = w.grid.index(bcc::add(m, {1, 1, 1}));
         for (int b = 0; b < 8; ++b) n.at[static_cast<std::size_t>(b)] = corner + (b & 1) + ((b >> 1) & 1) * w.grid.corner_w + (b >> 2) * plane_pair;
         n.at[8] = centre, n.at[9] = centre - 1, n.at[10] = centre - w.grid.centre_w, n.at[11] = centre - plane_pair;
-        bool all = m[0] > 0 && m[1] > 0 && m[2] > 0;
+        bool all = m[0] > 0 && m[1] > 0 && m[2] > 0, none = true;
         for (int k = 0; k < 12; ++k) {
             const bool exists = k < 9 || m[static_cast<std::size_t>(k - 9)] > 0;
             n.sign[static_cast<std::size_t>(k)] = exists ? w.sign[static_cast<std::size_t>(n.at[static_cast<std::size_t>(k)])] : 1;
             all = all && n.sign[static_cast<std::size_t>(k)] < 0;
+            none = none && n.sign[static_cast<std::size_t>(k)] > 0;
         }
-        n.all_inside = all;
+        n.all_inside = all, n.all_outside = none;
         return n;
     }
 
@@ -72,7 +76,7 @@ struct Layout {
             negative += sg < 0, zero += sg == 0;
         }
         all_zero = zero == 4;
-        return negative == 0 ? nullptr : &plan(code, s.parity);
+        return negative == 0 ? nullptr : &plans[static_cast<std::size_t>(code * 2 + s.parity)];
     }
 };
 
@@ -100,6 +104,7 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
         std::int64_t count = 0;
         for_cubes_in_layer(range, range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
             const Neighbourhood n = lay.around(m);
+            if (n.all_outside) return;
             if (n.all_inside) {
                 count += 12;
                 for (std::int64_t p : n.at) mark_point(p);
@@ -143,7 +148,7 @@ Numbering number(const Grid& g, const Marks& marks) {
     for (int z = 0; z < planes; ++z) {
         std::int64_t a = 0, b = 0;
         for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p)
-            a += marks.point[static_cast<std::size_t>(p)], b += __builtin_popcount(marks.cut[static_cast<std::size_t>(p)]);
+            a += marks.point[static_cast<std::size_t>(p)], b += slot_count(marks.cut[static_cast<std::size_t>(p)]);
         np[static_cast<std::size_t>(z) + 1] = a, nc[static_cast<std::size_t>(z) + 1] = b;
     }
     for (int z = 0; z < planes; ++z) np[static_cast<std::size_t>(z) + 1] += np[static_cast<std::size_t>(z)], nc[static_cast<std::size_t>(z) + 1] += nc[static_cast<std::size_t>(z)];
@@ -158,7 +163,7 @@ Numbering number(const Grid& g, const Marks& marks) {
         std::int64_t a = np[static_cast<std::size_t>(z)], b = out.points + nc[static_cast<std::size_t>(z)];
         for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
             out.id[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(a), out.cut_id[static_cast<std::size_t>(p)] = static_cast<std::int32_t>(b);
-            a += marks.point[static_cast<std::size_t>(p)], b += __builtin_popcount(marks.cut[static_cast<std::size_t>(p)]);
+            a += marks.point[static_cast<std::size_t>(p)], b += slot_count(marks.cut[static_cast<std::size_t>(p)]);
         }
     }
     return out;
@@ -176,11 +181,11 @@ void place_vertices(const Window& w, const Marks& marks, const Numbering& num, b
         for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
             const std::uint8_t cut = marks.cut[static_cast<std::size_t>(p)];
             if (!marks.point[static_cast<std::size_t>(p)] && !cut) continue;
-            const bcc::Ivec q = g.point(p);
+            const bcc::Ivec q = g.point_in_plane(z, p);
             const std::int64_t global = keys ? whole.index(q) : 0;
             if (marks.point[static_cast<std::size_t>(p)]) {
                 const std::size_t v = static_cast<std::size_t>(num.id[static_cast<std::size_t>(p)]);
-                out.vertices[v] = w.point_position(p);
+                out.vertices[v] = w.warp[static_cast<std::size_t>(p)] != bcc::stay ? w.point_position(p) : w.lattice_position(q);
                 out.on_level_set[v] = w.sign[static_cast<std::size_t>(p)] == 0;
                 warped += w.warp[static_cast<std::size_t>(p)] != bcc::stay;
                 if (keys) out.vertex_key[v] = static_cast<std::uint64_t>(global);
@@ -237,6 +242,21 @@ void check_claim(const Emitted& out, std::int64_t t0, std::int64_t t1, const Bcc
     }
 }
 
+// The 12 tetrahedra of a cube whose background tetrahedra are all inside
+// (Neighbourhood::all_inside), none on the lattice's cut-off: each whole, in
+// the all-− stencil's vertex order, as the general path below writes them.
+void write_whole_cube(const Layout& lay, const Neighbourhood& n, const Numbering& num, bool keys, std::uint64_t cube_key, std::int64_t& t,
+                      Emitted& out) {
+    const bcc::OutTet& o = lay.plans[0].stencil.tet[0];
+    for (std::size_t index = 0; index < 12; ++index, ++t) {
+        const TetShape& s = lay.shapes[index];
+        std::array<std::int32_t, 4> v{};
+        for (std::size_t k = 0; k < 4; ++k) v[k] = num.id[static_cast<std::size_t>(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(o[k])])])];
+        out.tets[static_cast<std::size_t>(t)] = v;
+        if (keys) out.tet_key[static_cast<std::size_t>(t)] = cube_key + index * 4;
+    }
+}
+
 void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
                 std::span<const std::int64_t> start, bool keys, bool verify_keys, Emitted& out) {
     const Lattice3& L = lay.w.grid.lattice;
@@ -257,12 +277,14 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
         const std::int64_t cz = range.lo[2] + l;
         for_cubes_in_layer(range, cz, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
             const Neighbourhood n = lay.around(m);
+            if (n.all_outside) return;
             const bool near_edge = cx < 2 || cy < 2 || cz < 2 || cx >= L.cubes[0] - 2 || cy >= L.cubes[1] - 2 || cz >= L.cubes[2] - 2;
             const std::uint64_t cube_key = static_cast<std::uint64_t>((cz * L.cubes[1] + cy) * L.cubes[0] + cx) * 48;
+            if (n.all_inside && !near_edge && !verify_keys) return write_whole_cube(lay, n, num, keys, cube_key, t, out);
             for (int index = 0; index < 12; ++index) {
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
-                const Plan* p = n.all_inside ? &plan(0, 0) : lay.split(m, n, index, all_zero);
+                const Plan* p = n.all_inside ? &lay.plans[0] : lay.split(m, n, index, all_zero);
                 all_zero_left_out += all_zero;
                 if (!p) continue;
                 std::optional<BccKeyBound> bound;
@@ -278,7 +300,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                     }
                     const std::size_t owner = static_cast<std::size_t>(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(s.lower[static_cast<std::size_t>(q - 4)])])]);
                     const int slot = s.slot[static_cast<std::size_t>(q - 4)];
-                    vid[static_cast<std::size_t>(q)] = num.cut_id[owner] + __builtin_popcount(marks.cut[owner] & ((1u << slot) - 1));
+                    vid[static_cast<std::size_t>(q)] = num.cut_id[owner] + slot_count(marks.cut[owner] & ((1u << slot) - 1));
                 }
                 unsigned missing = 0;  // bit v: no background tetrahedron across the face without v
                 if (near_edge)

@@ -45,6 +45,7 @@ struct Grid {
         return s + ((q[1] - lo[1] - 1) / 2) * centre_w + (q[0] - lo[0] - 1) / 2;
     }
     bcc::Ivec point(std::int64_t index) const;
+    bcc::Ivec point_in_plane(int z, std::int64_t index) const;  // point(index), index in plane z (no search)
 };
 
 }  // namespace warpmesh::uniform3d
@@ -62,6 +63,17 @@ constexpr int slot_of(int direction) {
     return -1;
 }
 constexpr bool slot_is_long(int slot) { return slot < 3; }
+// The number of slots in a mask of forward slots (7 bits), from a table:
+// without -mpopcnt (WARPMESH_POPCNT, off by default) __builtin_popcount is a
+// library call, and stage 5 counts a mask per lattice point.
+inline int slot_count(unsigned mask) {
+    static constexpr std::array<std::uint8_t, 128> table = [] {
+        std::array<std::uint8_t, 128> t{};
+        for (unsigned m = 1; m < 128; ++m) t[m] = static_cast<std::uint8_t>(t[m >> 1] + (m & 1u));
+        return t;
+    }();
+    return table[mask & 127u];
+}
 
 // Whether q is a point of the whole lattice.
 inline bool in_lattice(const Lattice3& L, const bcc::Ivec& q) {
@@ -92,7 +104,7 @@ struct Window {
     // Cut parameter of the forward edge (p, slot), which must be cut.
     double u(std::int64_t p, int slot) const {
         const unsigned below = cut_mask[static_cast<std::size_t>(p)] & ((1u << slot) - 1);
-        return cut_u[cut_first[static_cast<std::size_t>(p)] + static_cast<std::uint32_t>(__builtin_popcount(below))];
+        return cut_u[cut_first[static_cast<std::size_t>(p)] + static_cast<std::uint32_t>(slot_count(below))];
     }
     // A vertex's position: a lattice point (warped or not) or a cut point.
     Point3 point_position(std::int64_t p) const;
@@ -122,6 +134,8 @@ struct Plan {
 using CutOff = std::pair<std::int64_t, std::uint8_t>;
 // code = sum (sign_i + 1) 3^i over the local vertices.
 const Plan& plan(int code, int parity);
+// All of them: plan(code, parity) is plans()[2 code + parity].
+std::span<const Plan> plans();
 
 // The 12 background tetrahedra of a cube m in the local frame, relative to m.
 struct TetShape {

@@ -16,6 +16,8 @@
 // the whole lattice.  mesh3d_block grows the window until no point its
 // tetrahedra use is tainted.
 #include <algorithm>
+#include <cassert>
+#include <tuple>
 
 #include "uniform3d.hpp"
 
@@ -33,6 +35,32 @@ struct Candidate {
 constexpr int opposite(int d) {
     const bcc::Ivec& o = bcc::neighbour_offsets[static_cast<std::size_t>(d)];
     return bcc::direction_of({-o[0], -o[1], -o[2]});
+}
+
+// The candidates sorted by bcc::warp_before (fraction, then the violated
+// vertex's coordinates lexicographically, then the direction), through
+// 32-byte keys: the coordinates are lattice coordinates, >= 0 and below
+// 2^32, so (x, y) and (z, direction) packed into two 64-bit words compare as
+// the tuple does (checked against warp_before, the definition, in debug
+// builds).
+std::vector<Candidate> in_warp_order(std::vector<Candidate> all) {
+    struct Key {
+        double frac;
+        std::uint64_t xy, zd;
+        std::size_t at;
+        bool operator<(const Key& o) const { return std::tie(frac, xy, zd) < std::tie(o.frac, o.xy, o.zd); }
+    };
+    std::vector<Key> keys(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const bcc::Violation& v = all[i].v;
+        const auto bits = [](int x) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)); };
+        keys[i] = {v.frac, bits(v.vertex[0]) << 32 | bits(v.vertex[1]), bits(v.vertex[2]) << 32 | bits(v.direction), i};
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<Candidate> sorted(all.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) sorted[i] = all[keys[i].at];
+    assert(std::is_sorted(sorted.begin(), sorted.end(), [](const Candidate& a, const Candidate& b) { return bcc::warp_before(a.v, b.v); }));
+    return sorted;
 }
 
 }  // namespace
@@ -61,7 +89,7 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked) {
             w.warp[static_cast<std::size_t>(p)] = bcc::stay;
             const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
             if (!mask) continue;
-            const bcc::Ivec pq = g.point(p);
+            const bcc::Ivec pq = g.point_in_plane(z, p);
             for (int s = 0; s < 7; ++s) {
                 if (!(mask >> s & 1u)) continue;
                 const int d = forward_direction[static_cast<std::size_t>(s)];
@@ -78,7 +106,7 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked) {
     for (const auto& v : per_plane) total += v.size();
     all.reserve(total);
     for (auto& v : per_plane) all.insert(all.end(), v.begin(), v.end()), std::vector<Candidate>().swap(v);
-    std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) { return bcc::warp_before(a.v, b.v); });
+    all = in_warp_order(std::move(all));
 
     if (blocked) {  // the rim: points with a lattice neighbour outside the window
         w.taint.assign(n, 0);
