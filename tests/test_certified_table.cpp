@@ -30,6 +30,21 @@ std::array<MaterialCorner, 4> junction_from_code(const std::string& code) {
         m[c] = {static_cast<std::uint16_t>(code[2 * c] - 'a'), static_cast<Warp>(std::string("sRLUD").find(code[2 * c + 1]))};
     return m;
 }
+// Shape `it` of the random series of the mesher tests: a circle, ellipse,
+// flower or annulus (it % 4) at a random offset.
+std::string random_shape(std::mt19937& rng, int it) {
+    std::uniform_real_distribution<double> u(0, 1);
+    std::ostringstream spec;
+    spec.precision(17);
+    const double cx = u(rng), cy = u(rng);
+    switch (it % 4) {
+        case 0: spec << "circle:" << cx << "," << cy << "," << 2 + 10 * u(rng); break;
+        case 1: spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng); break;
+        case 2: spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5; break;
+        default: spec << "annulus:" << cx << "," << cy << "," << 2 + 3 * u(rng) << "," << 6 + 5 * u(rng); break;
+    }
+    return spec.str();
+}
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(table_matches_certificates) {
@@ -254,33 +269,33 @@ BOOST_AUTO_TEST_CASE(flatness) {
     BOOST_TEST(stencil_is_flat(s));
 }
 
-BOOST_AUTO_TEST_CASE(mesher_keys_are_in_table) {
-    // Random analytic shapes at random spacings and offsets: certify_mesh throws
-    // on any key that is not in the table.
-    std::mt19937 rng(12345);
+namespace {
+// `count` random analytic shapes (seed `seed`) at random spacings and offsets,
+// both rules, meshed and verified in `metric`: certify_mesh throws on any key
+// that is not in the metric's table or any triangle outside its key's bound.
+// Returns the keyed squares.
+std::int64_t mesh_random_shapes(std::uint32_t seed, int count, LatticeMetric metric) {
+    std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
     std::int64_t keyed = 0;
-    for (int it = 0; it < 60; ++it) {
-        std::ostringstream spec;
-        spec.precision(17);
-        const double cx = u(rng), cy = u(rng);
-        switch (it % 4) {
-            case 0: spec << "circle:" << cx << "," << cy << "," << 2 + 10 * u(rng); break;
-            case 1: spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng); break;
-            case 2: spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5; break;
-            default: spec << "annulus:" << cx << "," << cy << "," << 2 + 3 * u(rng) << "," << 6 + 5 * u(rng); break;
-        }
-        const auto f = parse_shape(spec.str());
+    for (int it = 0; it < count; ++it) {
+        const auto f = parse_shape(random_shape(rng, it));
         const Lattice lat = lattice_around(f->bounds(), 0.3 + 1.5 * u(rng));
         for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
             UniformResult res;
-            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, CertifyOptions{true, false, true}));
+            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, CertifyOptions{true, false, true, metric}, metric));
             BOOST_REQUIRE(res.certified.available);
+            BOOST_TEST(res.certified.verified);
+            BOOST_TEST(res.certified.min_deg >= certified_theorem(r, metric).min_deg_any);
             keyed += res.certified.keyed_squares;
         }
     }
-    BOOST_TEST(keyed > 1000);
+    return keyed;
 }
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(mesher_keys_are_in_table) { BOOST_TEST(mesh_random_shapes(12345, 60, LatticeMetric::square) > 1000); }
 
 // The rhombic lattice's tables (issue 33): proofs/rhombic_<rule>.cert
 // compiled in, looked up only with LatticeMetric::rhombic, their degrees the
@@ -319,26 +334,5 @@ BOOST_AUTO_TEST_CASE(issue33_rhombic_tables_match_their_certificates) {
 }
 
 BOOST_AUTO_TEST_CASE(issue33_rhombic_mesher_keys_are_in_its_tables_and_verified) {
-    std::mt19937 rng(33);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::int64_t keyed = 0;
-    for (int it = 0; it < 24; ++it) {
-        std::ostringstream spec;
-        spec.precision(17);
-        const double cx = u(rng), cy = u(rng);
-        if (it % 2) spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5;
-        else spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng);
-        const auto f = parse_shape(spec.str());
-        const Lattice lat = lattice_around(f->bounds(), 0.3 + 1.5 * u(rng));
-        for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
-            UniformResult res;
-            const CertifyOptions c{true, false, true, LatticeMetric::rhombic};
-            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, c, LatticeMetric::rhombic));
-            BOOST_REQUIRE(res.certified.available);
-            BOOST_TEST(res.certified.verified);
-            BOOST_TEST(res.certified.min_deg >= certified_theorem(r, LatticeMetric::rhombic).min_deg_any);
-            keyed += res.certified.keyed_squares;
-        }
-    }
-    BOOST_TEST(keyed > 1000);
+    BOOST_TEST(mesh_random_shapes(33, 24, LatticeMetric::rhombic) > 1000);
 }
