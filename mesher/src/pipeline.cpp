@@ -176,16 +176,13 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     validate(o);
     if (!o.max_size_of.empty())
         throw InputError("--max-size-of applies to multi-material meshes (--materials/--shapes); use --max-size");
-    // The rhombic lattice (rhombic.hpp): the pipeline meshes f0∘P in lattice
-    // coordinates, certifies there with the rhombic metric's tables
-    // (proofs/rhombic_<rule>.cert), and maps the vertices by P; the
-    // optimisation pass and the quality report see the mapped mesh and f0.
+    // The rhombic lattice (rhombic.hpp): f0∘P meshed and certified in lattice coordinates
+    // (proofs/rhombic_<rule>.cert), then mapped by P; --optimize and the report see f0.
     const bool rhombic = o.lattice == LatticeMetric::rhombic;
     std::optional<RhombicLevelSet> on_rhombic;
     if (rhombic) on_rhombic.emplace(f0);
     const LevelSet& f = rhombic ? static_cast<const LevelSet&>(*on_rhombic) : f0;
-    const bool certifying = o.certify;
-    const CertifyOptions certify{certifying, certifying && o.cell_data, certifying && o.verify, o.lattice};
+    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify, o.lattice};
     MeshResult res;
     Mesh& mesh = res.mesh;
     CertifiedSummary& cert = res.certified;
@@ -236,7 +233,7 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
                       {"cut_points", r.times.cut_points},
                       {"warp", r.times.warp},
                       {"triangulate", r.times.triangulate}};
-            if (certifying) phases.emplace_back("certify", r.times.certify);
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
             extra.emplace_back("graded", "false");
             if (rhombic) extra.emplace_back("lattice_metric", json_string("rhombic"));
             extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
@@ -285,13 +282,13 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
         extra.emplace_back("optimize", optimize_json(*res.optimized));
     }
     if (cert.available && !f0.bounds_are_domain()) measure_fidelity(mesh, f0, res.lattice.s, cert);
-    if (certifying && !cert.available)
+    if (o.certify && !cert.available)
         res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
 
     res.report = compute_quality(mesh, phases);
     extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
     if (o.guarantee == Guarantee::flat) extra.emplace_back("refinements", std::to_string(res.refinements));
-    if (certifying) report_certified(extra, res, o.rule, false, o.lattice);
+    if (o.certify) report_certified(extra, res, o.rule, false, o.lattice);
     res.report.extra = std::move(extra);
     return res;
 }
