@@ -59,6 +59,14 @@ std::pair<std::size_t, std::size_t> find_leaf(const std::vector<std::string>& l,
     return {0, 0};
 }
 
+// The first lines of a certificate: enough for what the checker reads
+// before the keys (header, claims, witnesses), so that tests of those stay
+// cheap (also under the sanitizers).
+std::vector<std::string> head(std::vector<std::string> l) {
+    l.resize(300);
+    return l;
+}
+
 // The certificate up to the end of the key whose line is at `key`.
 std::vector<std::string> cut_after(const std::vector<std::string>& l, std::size_t key) {
     std::size_t end = key + 1;
@@ -78,27 +86,27 @@ BOOST_AUTO_TEST_CASE(rhombic_certificates_are_format_4_with_their_metric) {
 }
 
 BOOST_AUTO_TEST_CASE(metric_line_missing) {
-    auto l = cert();
+    auto l = head(cert());
     l.erase(l.begin() + static_cast<long>(line_of(l, "metric ")));
     BOOST_TEST(has(rejected(l, "no_metric"), "expected 'metric' line"));
 }
 
 BOOST_AUTO_TEST_CASE(unknown_metric_refused) {
-    auto l = cert();
+    auto l = head(cert());
     l[line_of(l, "metric ")] = "metric hexagonal";
     BOOST_TEST(has(rejected(l, "unknown_metric"), "unknown metric 'hexagonal'"));
 }
 
 BOOST_AUTO_TEST_CASE(unknown_version_refused) {
     // A checker of format 3 refuses format 4 by its version; this one refuses 5.
-    auto l = cert();
+    auto l = head(cert());
     l[0] = "warpmesh-certificate 5";
     BOOST_TEST(has(rejected(l, "version_5"), "unknown version"));
 }
 
 BOOST_AUTO_TEST_CASE(format_3_has_no_metric_line) {
     // Format 3 is the square lattice: a metric line there is not read as one.
-    auto l = cert();
+    auto l = head(cert());
     l[0] = "warpmesh-certificate 3";
     BOOST_TEST(has(rejected(l, "version_3_metric"), "expected 'rule' line"));
 }
@@ -107,14 +115,14 @@ BOOST_AUTO_TEST_CASE(rhombic_certificate_read_in_the_square_metric) {
     // Its witnesses' values are ratios of the rhombic forms: in the square
     // metric the exact evaluation differs.
     for (const char* name : {"rhombic_maxmin.cert", "rhombic_separating.cert"}) {
-        auto l = cert(name);
+        auto l = head(cert(name));
         l[line_of(l, "metric ")] = "metric square";
         BOOST_TEST(has(rejected(l, "as_square"), "witness value differs from exact evaluation"));
     }
 }
 
 BOOST_AUTO_TEST_CASE(square_certificate_read_in_the_rhombic_metric) {
-    auto l = cert("separating.cert");
+    auto l = head(cert("separating.cert"));
     BOOST_REQUIRE(l[0] == "warpmesh-certificate 3");
     l[0] = "warpmesh-certificate 4";
     l.insert(l.begin() + 1, "metric rhombic");
@@ -122,7 +130,7 @@ BOOST_AUTO_TEST_CASE(square_certificate_read_in_the_rhombic_metric) {
 }
 
 BOOST_AUTO_TEST_CASE(rhombic_metric_has_no_fan_rule) {
-    auto l = cert("rhombic_separating.cert");
+    auto l = head(cert("rhombic_separating.cert"));
     l[line_of(l, "rule ")] = "rule fan";
     BOOST_TEST(has(rejected(l, "rhombic_fan"), "the rhombic metric has the maxmin and separating rules"));
 }
