@@ -163,7 +163,6 @@ void validate(const MeshOptions& o) {
     if (o.lattice == LatticeMetric::rhombic) {
         const char* what = o.graded                            ? "--graded"
                            : o.max_size != 0                   ? "--max-size"
-                           : o.guarantee == Guarantee::flat    ? "--guarantee flat"
                            : o.rule == DiagonalRule::fan       ? "--diagonal fan"
                                                                : nullptr;
         if (what)

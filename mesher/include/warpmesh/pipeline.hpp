@@ -114,9 +114,9 @@ struct MeshOptions {
     // 60-degree rhombic lattice (equilateral interior triangles; the lattice
     // edges have length `spacing`): uniform meshes of one region only, with
     // the separating or maxmin rule, certified by proofs/rhombic_<rule>.cert
-    // (certify, cell_data and verify as on the square lattice).  graded,
-    // max_size, Guarantee::flat, DiagonalRule::fan and multi-material meshes
-    // are refused with it (validate, mesh(MaterialField)).
+    // (certify, cell_data, verify and Guarantee::flat as on the square
+    // lattice).  graded, max_size, DiagonalRule::fan and multi-material
+    // meshes are refused with it (validate, mesh(MaterialField)).
     LatticeMetric lattice = LatticeMetric::square;
     // What the report names as the input ("input" in the JSON), e.g. a path
     // or a shape string.
