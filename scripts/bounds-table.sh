@@ -2,7 +2,7 @@
 # The table of certified angle bounds (README.md, docs/guarantees.md), made from what the independent
 # checker printed — never typed by hand.
 #
-#   { build/prover/warpmesh-check proofs/{fan,materials,maxmin,separating}.cert;
+#   { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
 #     build/prover/warpmesh-check-bcc proofs/bcc.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorem (dihedral angles of the BCC lattice warping) is the
@@ -53,11 +53,12 @@ awk '
     print "| rule | configurations | every angle ≥ | every angle ≤ | to 4 decimals | min-angle witness | max-angle witness |"
     print "|---|---|---:|---:|---|---|---|"
     # The junction keys (proofs/materials.cert: rule "separating (junction
-    # keys)", claim U only) come last, whatever the order of the files.
-    for (pass = 1; pass <= 2; ++pass)
+    # keys)", claim U only), then the rhombic lattice (rule "maxmin (rhombic
+    # lattice)") come last, whatever the order of the files.
+    for (pass = 1; pass <= 3; ++pass)
       for (i = 1; i <= n; ++i) {
         r = order[i]
-        if ((r ~ /junction/) != (pass == 2)) continue
+        if ((r ~ /junction/ ? 2 : r ~ /rhombic/ ? 3 : 1) != pass) continue
         for (s = 1; s <= 2; ++s) {
           set = s == 1 ? "U" : "F"
           if (!((r, set) in lo)) continue

@@ -24,9 +24,10 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   fresh="$(mktemp -d)"
   trap 'rm -rf "$fresh"' EXIT
   "$build/mesher/warpmesh" prove --out "$fresh" --threads "$(nproc)"
+  "$build/mesher/warpmesh" prove --lattice rhombic --out "$fresh" --threads "$(nproc)"
   status=0
   # The 2D certificates (the 3D proofs/bcc.cert: below, on a sample of keys).
-  certs2d=("$root"/proofs/{maxmin,separating,materials,fan,materials_fan}.cert)
+  certs2d=("$root"/proofs/{maxmin,separating,materials,fan,materials_fan,rhombic_maxmin,rhombic_separating}.cert)
   for cert in "${certs2d[@]}" "$root"/proofs/key_table.txt; do
     if ! cmp -s "$cert" "$fresh/$(basename "$cert")"; then
       echo "test: $(basename "$cert") differs from the prover's fresh output" >&2
@@ -65,7 +66,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
     if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
       echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
-      echo "      { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,separating}.cert; build/prover/warpmesh-check-bcc proofs/bcc.cert; } | scripts/bounds-table.sh" >&2
+      echo "      { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/prover/warpmesh-check-bcc proofs/bcc.cert; } | scripts/bounds-table.sh" >&2
       diff "$fresh/page.md" "$fresh/table.md" >&2 || true
       exit 1
     fi

@@ -30,6 +30,21 @@ std::array<MaterialCorner, 4> junction_from_code(const std::string& code) {
         m[c] = {static_cast<std::uint16_t>(code[2 * c] - 'a'), static_cast<Warp>(std::string("sRLUD").find(code[2 * c + 1]))};
     return m;
 }
+// Shape `it` of the random series of the mesher tests: a circle, ellipse,
+// flower or annulus (it % 4) at a random offset.
+std::string random_shape(std::mt19937& rng, int it) {
+    std::uniform_real_distribution<double> u(0, 1);
+    std::ostringstream spec;
+    spec.precision(17);
+    const double cx = u(rng), cy = u(rng);
+    switch (it % 4) {
+        case 0: spec << "circle:" << cx << "," << cy << "," << 2 + 10 * u(rng); break;
+        case 1: spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng); break;
+        case 2: spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5; break;
+        default: spec << "annulus:" << cx << "," << cy << "," << 2 + 3 * u(rng) << "," << 6 + 5 * u(rng); break;
+    }
+    return spec.str();
+}
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(table_matches_certificates) {
@@ -254,30 +269,70 @@ BOOST_AUTO_TEST_CASE(flatness) {
     BOOST_TEST(stencil_is_flat(s));
 }
 
-BOOST_AUTO_TEST_CASE(mesher_keys_are_in_table) {
-    // Random analytic shapes at random spacings and offsets: certify_mesh throws
-    // on any key that is not in the table.
-    std::mt19937 rng(12345);
+namespace {
+// `count` random analytic shapes (seed `seed`) at random spacings and offsets,
+// both rules, meshed and verified in `metric`: certify_mesh throws on any key
+// that is not in the metric's table or any triangle outside its key's bound.
+// Returns the keyed squares.
+std::int64_t mesh_random_shapes(std::uint32_t seed, int count, LatticeMetric metric) {
+    std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
     std::int64_t keyed = 0;
-    for (int it = 0; it < 60; ++it) {
-        std::ostringstream spec;
-        spec.precision(17);
-        const double cx = u(rng), cy = u(rng);
-        switch (it % 4) {
-            case 0: spec << "circle:" << cx << "," << cy << "," << 2 + 10 * u(rng); break;
-            case 1: spec << "ellipse:" << cx << "," << cy << "," << 2 + 10 * u(rng) << "," << 1 + 5 * u(rng); break;
-            case 2: spec << "flower:" << cx << "," << cy << "," << 5 + 5 * u(rng) << "," << 1 + 3 * u(rng) << "," << 3 + it % 5; break;
-            default: spec << "annulus:" << cx << "," << cy << "," << 2 + 3 * u(rng) << "," << 6 + 5 * u(rng); break;
-        }
-        const auto f = parse_shape(spec.str());
+    for (int it = 0; it < count; ++it) {
+        const auto f = parse_shape(random_shape(rng, it));
         const Lattice lat = lattice_around(f->bounds(), 0.3 + 1.5 * u(rng));
         for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
             UniformResult res;
-            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, CertifyOptions{true, false, true}));
+            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, CertifyOptions{true, false, true, metric}, metric));
             BOOST_REQUIRE(res.certified.available);
+            BOOST_TEST(res.certified.verified);
+            BOOST_TEST(res.certified.min_deg >= certified_theorem(r, metric).min_deg_any);
             keyed += res.certified.keyed_squares;
         }
     }
-    BOOST_TEST(keyed > 1000);
+    return keyed;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(mesher_keys_are_in_table) { BOOST_TEST(mesh_random_shapes(12345, 60, LatticeMetric::square) > 1000); }
+
+// The rhombic lattice's tables (issue 33): proofs/rhombic_<rule>.cert
+// compiled in, looked up only with LatticeMetric::rhombic, their degrees the
+// physical angles of the bounds on r = sqrt(3) cot; and the rhombic mesher
+// (lattice coordinates, before the map by P) produces only keys they hold,
+// every triangle within its key's bound in the rhombic forms (--verify).
+BOOST_AUTO_TEST_CASE(issue33_rhombic_tables_match_their_certificates) {
+    BOOST_REQUIRE(certified_table_available(LatticeMetric::rhombic));
+    for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
+        const auto file =
+            parse_cert_key_lines(slurp(std::string(WARPMESH_PROOFS_DIR) + "/rhombic_" + rule_name(r) + ".cert"));
+        BOOST_TEST(file.size() == 5095u);
+        const std::string diff = compare_cert_keys(file, parse_cert_key_lines(certified_table_text(r, LatticeMetric::rhombic)));
+        BOOST_TEST(diff.empty(), rule_name(r) << ": compiled rhombic table is stale (re-run cmake): " << diff);
+        BOOST_TEST(certified_key_count(r, LatticeMetric::rhombic) == file.size());
+    }
+    BOOST_TEST(certified_key_count(DiagonalRule::fan, LatticeMetric::rhombic) == 0u);
+    // Key -L-s+s-U (the separating rule's worst, forced long diagonal): the
+    // same key has different bounds on the two lattices.
+    const std::array<CornerState, 4> cs{{{-1, Warp::mx}, {-1, Warp::stay}, {1, Warp::stay}, {-1, Warp::py}}};
+    const CertifiedBound* rh = certified_bound(DiagonalRule::separating, cs, LatticeMetric::rhombic);
+    const CertifiedBound* sq = certified_bound(DiagonalRule::separating, cs);
+    BOOST_REQUIRE((rh && sq));
+    BOOST_TEST(rh->min_deg > 10.8933 - 1e-9);
+    BOOST_TEST(rh->min_deg < 10.8934);
+    BOOST_TEST(rh->max_deg > 158.2132);
+    BOOST_TEST(sq->min_deg > 18.43);
+    // The theorems: separating U [10.8933, 158.2133], max-min U >= 12.8294, F >= 13.8978.
+    const CertifiedTheorem s = certified_theorem(DiagonalRule::separating, LatticeMetric::rhombic);
+    const CertifiedTheorem m = certified_theorem(DiagonalRule::maxmin, LatticeMetric::rhombic);
+    BOOST_TEST((s.min_deg_any > 10.8933 && s.min_deg_any < 10.8934));
+    BOOST_TEST((s.max_deg_any > 158.2132 && s.max_deg_any < 158.2134));
+    BOOST_TEST((m.min_deg_any > 12.8294 && m.min_deg_any < 12.8295));
+    BOOST_TEST((m.min_deg_flat > 13.8978 && m.min_deg_flat < 13.8979));
+    BOOST_TEST((m.max_deg_any > 150.0 && m.max_deg_any < 150.0201));
+}
+
+BOOST_AUTO_TEST_CASE(issue33_rhombic_mesher_keys_are_in_its_tables_and_verified) {
+    BOOST_TEST(mesh_random_shapes(33, 24, LatticeMetric::rhombic) > 1000);
 }

@@ -1,8 +1,8 @@
-// The experimental rhombic lattice (`--lattice rhombic`, rhombic.hpp): its
+// The rhombic lattice (`--lattice rhombic`, rhombic.hpp): its
 // geometry pinned — the unwarped interior is equilateral, the metric's forms
 // are the physical angles up to the factor sqrt 3, the rule takes the short
 // diagonal on the unwarped rhombus, the mesh is valid with its boundary on the
-// level set — and that it is never reported as certified.  (The square
+// level set — and that it is certified by its own certificates.  (The square
 // lattice, LatticeMetric::square, is pinned byte for byte by the golden tests.)
 #define BOOST_TEST_MODULE uniform_rhombic
 #include <boost/test/unit_test.hpp>
@@ -12,6 +12,7 @@
 
 #include <sys/wait.h>
 
+#include "warpmesh/certified.hpp"
 #include "warpmesh/generic_square.hpp"
 #include "warpmesh/materials.hpp"
 #include "warpmesh/mesh_checks.hpp"
@@ -122,51 +123,83 @@ BOOST_AUTO_TEST_CASE(rhombic_separating_worst_sampled_configuration_is_the_force
     BOOST_TEST(choose_diagonal(DiagonalRule::maxmin, p, cs, TieBreak::ad, LatticeMetric::rhombic).bc);
 }
 
-BOOST_AUTO_TEST_CASE(rhombic_is_never_reported_certified_and_refuses_what_it_does_not_cover) {
+// Issue 33: the rhombic lattice is certified by its own certificates
+// (proofs/rhombic_<rule>.cert): the report's bounds are the rhombic theorem's,
+// every triangle verified in lattice coordinates, the physical angles of the
+// mapped mesh inside the certified interval; what it does not cover is refused.
+BOOST_AUTO_TEST_CASE(issue33_rhombic_is_certified_by_its_own_certificates) {
     const auto f = parse_shape("flower:0,0,8,2,5");
-    const MeshResult r = mesh(*f, rhombic_options(1));
-    BOOST_TEST(!r.certified.available);
-    BOOST_TEST(r.certified_text.empty());
-    BOOST_TEST(r.mesh.cell_data.empty());  // no certified_min_angle
-    bool warned = false;
-    for (const auto& w : r.warnings) warned = warned || w.find("experimental and uncertified") != std::string::npos;
-    BOOST_TEST(warned);
-    bool null_certified = false, metric = false;
-    for (const auto& [k, v] : r.report.extra) {
-        null_certified = null_certified || (k == "certified" && v == "null");
-        metric = metric || k == "lattice_metric";
+    for (DiagonalRule rule : {DiagonalRule::separating, DiagonalRule::maxmin}) {
+        MeshOptions o = rhombic_options(0.5);
+        o.rule = rule;
+        o.verify = true;
+        const MeshResult r = mesh(*f, o);
+        BOOST_REQUIRE(r.certified.available);
+        BOOST_TEST(r.certified.verified);
+        BOOST_TEST(r.certified.keyed_squares > 100);
+        const CertifiedTheorem th = certified_theorem(rule, LatticeMetric::rhombic);
+        BOOST_TEST(r.certified.min_deg >= th.min_deg_any);
+        BOOST_TEST(r.certified.max_deg <= th.max_deg_any);
+        BOOST_TEST(r.report.min_angle_deg >= r.certified.min_deg - 1e-9);
+        BOOST_TEST(r.report.max_angle_deg <= r.certified.max_deg + 1e-9);
+        BOOST_TEST(r.certified_text.find(std::string("proofs/rhombic_") + (rule == DiagonalRule::maxmin ? "maxmin" : "separating") +
+                                         ".cert, every triangle verified") != std::string::npos,
+                   r.certified_text);
+        BOOST_TEST(r.mesh.cell_data.size() == 1u);  // certified_min_angle
+        for (const auto& w : r.warnings) BOOST_TEST(w.find("uncertified") == std::string::npos, w);
+        bool metric = false;
+        for (const auto& [k, v] : r.report.extra) {
+            BOOST_TEST(!(k == "certified" && v == "null"));
+            metric = metric || (k == "lattice_metric" && v == "\"rhombic\"");
+        }
+        BOOST_TEST(metric);
     }
-    BOOST_TEST(null_certified);
-    BOOST_TEST(metric);
+    const auto f2 = parse_shape("circle:0,0,5");
     for (auto [set, what] : {std::pair<void (*)(MeshOptions&), const char*>{[](MeshOptions& o) { o.graded = true; }, "--graded"},
                              {[](MeshOptions& o) { o.rule = DiagonalRule::fan; }, "--diagonal fan"},
-                             {[](MeshOptions& o) { o.guarantee = Guarantee::flat; }, "--guarantee flat"},
                              {[](MeshOptions& o) { o.max_size = 10; }, "--max-size"}}) {
         MeshOptions o = rhombic_options(1);
         set(o);
-        BOOST_TEST(testing::input_error_containing([&] { mesh(*f, o); }, std::string(what) + " is not available with --lattice rhombic"));
+        BOOST_TEST(testing::input_error_containing([&] { mesh(*f2, o); }, std::string(what) + " is not available with --lattice rhombic"));
     }
     const auto field = parse_material_shapes("1=circle:0,0,5;2=circle:3,0,3");
     BOOST_TEST(testing::input_error_containing([&] { mesh(*field, rhombic_options(1)); }, "--lattice rhombic is not available"));
 }
 
-// The command line: --verify and --svg-color certified are refused (exit 2,
-// nothing written); without them the mesh is written with the warning.
-BOOST_AUTO_TEST_CASE(rhombic_cli_refuses_verify_and_warns_uncertified) {
+// --guarantee flat on the rhombic lattice: the spacing is halved until every
+// warped square's stencil is flat, and the mesh then carries the rhombic F
+// theorem (max-min: 13.8978 deg, above its U 12.8294 deg).
+BOOST_AUTO_TEST_CASE(issue33_rhombic_guarantee_flat_reaches_the_flat_theorem) {
+    const auto f = parse_shape("circle:0.3,0.1,6");
+    MeshOptions o = rhombic_options(2);
+    o.rule = DiagonalRule::maxmin;
+    o.guarantee = Guarantee::flat;
+    o.verify = true;
+    const MeshResult r = mesh(*f, o);
+    BOOST_REQUIRE(r.certified.available);
+    BOOST_TEST(r.certified.nonflat_squares == 0);
+    BOOST_TEST(r.certified.verified);
+    BOOST_TEST(r.certified.min_deg >= certified_theorem(DiagonalRule::maxmin, LatticeMetric::rhombic).min_deg_flat);
+    BOOST_TEST(r.report.min_angle_deg >= r.certified.min_deg - 1e-9);
+}
+
+// The command line: --verify and --svg-color certified work on the rhombic
+// lattice; what it does not cover is refused (exit 2, nothing written).
+BOOST_AUTO_TEST_CASE(issue33_rhombic_cli_verifies) {
     testing::TempDir dir("warpmesh-rhombic");
-    const std::string exe = WARPMESH_EXE, out = dir.file("m.vtu"), err = dir.file("err.txt");
+    const std::string exe = WARPMESH_EXE, out = dir.file("m.vtu"), err = dir.file("err.txt"), svg = dir.file("m.svg");
     auto run = [&](const std::string& extra) {
-        const std::string cmd = "'" + exe + "' mesh --shape circle:0,0,5 --spacing 1 --lattice rhombic -o '" + out + "' --quiet " +
-                                extra + " 2> '" + err + "'";
+        const std::string cmd = "'" + exe + "' mesh --shape circle:0,0,5 --spacing 0.5 --lattice rhombic -o '" + out +
+                                "' --quiet " + extra + " 2> '" + err + "'";
         const int status = std::system(cmd.c_str());
         return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     };
-    BOOST_TEST(run("--verify") == 2);
-    BOOST_TEST(!std::filesystem::exists(out));
-    BOOST_TEST(testing::slurp(err).find("no certificate covers --lattice rhombic") != std::string::npos);
-    BOOST_TEST(run("--svg-color certified") == 2);
-    BOOST_TEST(run("--graded") == 2);
-    BOOST_TEST(run("") == 0);
+    BOOST_TEST(run("--verify") == 0);
     BOOST_TEST(std::filesystem::exists(out));
-    BOOST_TEST(testing::slurp(err).find("experimental and uncertified") != std::string::npos);
+    BOOST_TEST(testing::slurp(err).find("uncertified") == std::string::npos, testing::slurp(err));
+    BOOST_TEST(run("--diagonal maxmin --verify --also '" + svg + "' --svg-color certified") == 0, testing::slurp(err));
+    BOOST_TEST(std::filesystem::exists(svg));
+    std::filesystem::remove(out);
+    BOOST_TEST(run("--graded") == 2);
+    BOOST_TEST(!std::filesystem::exists(out));
 }

@@ -15,7 +15,7 @@ Meshers ("series"):
   warpmesh            warpmesh mesh --shape S --spacing h
   warpmesh-optimize   ... --optimize
   warpmesh-graded     ... --graded --max-size 4h
-  warpmesh-rhombic    ... --lattice rhombic (experimental, uncertified: the
+  warpmesh-rhombic    ... --lattice rhombic (certified by proofs/rhombic_*.cert: the
                       60° rhombic lattice, equilateral interior, edge h)
   warpmesh-rhombic-optimize  ... --lattice rhombic --optimize
   warpmesh-rhombic-maxmin    ... --lattice rhombic --diagonal maxmin

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Angles of the experimental rhombic lattice on random level sets (sampling in
+"""Angles of the rhombic lattice on random level sets (sampling in
 double precision, NOT a proof): random smooth shapes at random offsets, meshed
 with `warpmesh mesh --lattice rhombic` and, for comparison, on the square
 lattice, under the separating and the max-min rule; per (lattice, rule) the

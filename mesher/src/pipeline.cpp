@@ -100,13 +100,14 @@ void report_head(Extra& extra, const MeshOptions& o, const std::string& describe
 }
 
 // The "certified" field (null without certificates) and res.certified_text.
-void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool junctions) {
+void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool junctions,
+                      LatticeMetric metric = LatticeMetric::square) {
     if (!res.certified.available) {
         extra.emplace_back("certified", "null");
         return;
     }
-    extra.emplace_back("certified", certified_json(res.certified, rule, junctions));
-    res.certified_text = certified_text(res.certified, rule);
+    extra.emplace_back("certified", certified_json(res.certified, rule, junctions, metric));
+    res.certified_text = certified_text(res.certified, rule, metric);
 }
 
 }  // namespace
@@ -162,12 +163,11 @@ void validate(const MeshOptions& o) {
     if (o.lattice == LatticeMetric::rhombic) {
         const char* what = o.graded                            ? "--graded"
                            : o.max_size != 0                   ? "--max-size"
-                           : o.guarantee == Guarantee::flat    ? "--guarantee flat"
                            : o.rule == DiagonalRule::fan       ? "--diagonal fan"
                                                                : nullptr;
         if (what)
-            throw InputError(std::string(what) + " is not available with --lattice rhombic (experimental: uniform meshes "
-                             "with --diagonal separating or maxmin only)");
+            throw InputError(std::string(what) + " is not available with --lattice rhombic (uniform meshes with "
+                             "--diagonal separating or maxmin only)");
     }
 }
 
@@ -175,15 +175,13 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     validate(o);
     if (!o.max_size_of.empty())
         throw InputError("--max-size-of applies to multi-material meshes (--materials/--shapes); use --max-size");
-    // The rhombic lattice (experimental, rhombic.hpp): the pipeline meshes
-    // f0∘P in lattice coordinates, uncertified, and maps the vertices by P;
-    // the optimisation pass and the quality report see the mapped mesh and f0.
+    // The rhombic lattice (rhombic.hpp): f0∘P meshed and certified in lattice coordinates
+    // (proofs/rhombic_<rule>.cert), then mapped by P; --optimize and the report see f0.
     const bool rhombic = o.lattice == LatticeMetric::rhombic;
     std::optional<RhombicLevelSet> on_rhombic;
     if (rhombic) on_rhombic.emplace(f0);
     const LevelSet& f = rhombic ? static_cast<const LevelSet&>(*on_rhombic) : f0;
-    const bool certifying = o.certify && !rhombic;
-    const CertifyOptions certify{certifying, certifying && o.cell_data, certifying && o.verify};
+    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify, o.lattice};
     MeshResult res;
     Mesh& mesh = res.mesh;
     CertifiedSummary& cert = res.certified;
@@ -234,9 +232,9 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
                       {"cut_points", r.times.cut_points},
                       {"warp", r.times.warp},
                       {"triangulate", r.times.triangulate}};
-            if (certifying) phases.emplace_back("certify", r.times.certify);
+            if (o.certify) phases.emplace_back("certify", r.times.certify);
             extra.emplace_back("graded", "false");
-            if (rhombic) extra.emplace_back("lattice_metric", json_string("rhombic (experimental, uncertified)"));
+            if (rhombic) extra.emplace_back("lattice_metric", json_string("rhombic"));
             extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
             extra.emplace_back("warped_points", std::to_string(r.warped_points));
             extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
@@ -283,17 +281,13 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
         extra.emplace_back("optimize", optimize_json(*res.optimized));
     }
     if (cert.available && !f0.bounds_are_domain()) measure_fidelity(mesh, f0, res.lattice.s, cert);
-    if (certifying && !cert.available)
+    if (o.certify && !cert.available)
         res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
-    if (rhombic)
-        res.warnings.emplace_back("--lattice rhombic is experimental and uncertified: the certificates (proofs/*.cert) "
-                                  "cover the square lattice only; no certified angle bounds");
 
     res.report = compute_quality(mesh, phases);
     extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
     if (o.guarantee == Guarantee::flat) extra.emplace_back("refinements", std::to_string(res.refinements));
-    if (certifying) report_certified(extra, res, o.rule, false);
-    else if (rhombic) extra.emplace_back("certified", "null");
+    if (o.certify) report_certified(extra, res, o.rule, false, o.lattice);
     res.report.extra = std::move(extra);
     return res;
 }
@@ -326,7 +320,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     validate(o);
     if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
     if (o.lattice != LatticeMetric::square)
-        throw InputError("--lattice rhombic is not available with --materials/--shapes (experimental: one region only)");
+        throw InputError("--lattice rhombic is not available with --materials/--shapes (one region only)");
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
     MeshResult res;
     res.spacing = o.spacing;

@@ -8,7 +8,11 @@
 // keys (proofs/materials.cert and materials_fan.cert, `space junctions`: squares with
 // 3 or 4 materials) are enumerated and decided here too, from their own
 // rules (junction_consistent, forced).  No global
-// state: every operation gets what it needs.  Exit status: 0 every
+// state: every operation gets what it needs.  Format 4 adds a `metric` line:
+// `metric rhombic` certificates (proofs/rhombic_*.cert) measure the angles of
+// the 60-degree rhombic lattice in lattice coordinates, with this file's own
+// copy of its forms (Key::tri) and a rational enclosure of sqrt 3 for the
+// degrees (sqrt3_enclosure); unknown metrics are refused.  Exit status: 0 every
 // certificate verified and every theorem an angle bound; 1 a certificate
 // rejected (any failure); 3 verified, but a theorem states no bound (a key
 // `inverted`, with an exact witness: a counter-example, not a proof); 2 usage.
@@ -258,6 +262,11 @@ struct Key {
     std::array<St, 4> s;
     std::vector<int> vars;
     std::array<D, 2> pos[4];
+    // The metric (format 4's `metric` line): false the square lattice, dot =
+    // u . v; true the rhombic lattice measured in lattice coordinates,
+    // G = [[1, 1/2], [1/2, 1]], dot = 2 u . G v = 2 (ux vx + uy vy) + ux vy + uy vx,
+    // cross = ux vy - uy vx as on the square: dot / cross = sqrt(3) cot(angle).
+    bool rhombic = false;
     // Corner positions on box b; with `partials`, their derivatives in the
     // key's variables as well (carried through every form computed from them).
     void positions(const Box& b, bool partials) {
@@ -291,6 +300,7 @@ struct Key {
             const auto &o = P[v[i]], &q = P[v[(i + 1) % 3]], &r = P[v[(i + 2) % 3]];
             const D ux = q[0] - o[0], uy = q[1] - o[1], vx = r[0] - o[0], vy = r[1] - o[1];
             t.dot[i] = ux * vx + uy * vy;
+            if (rhombic) t.dot[i] = cst(2) * t.dot[i] + (ux * vy + uy * vx);
             if (i == 0) t.cross = ux * vy - uy * vx;
         }
         return t;
@@ -529,9 +539,25 @@ std::string dec(const Q& q, bool up, int digits = 10) {  // `digits` decimals, r
     while (static_cast<int>(d.size()) <= digits) d = "0" + d;
     return std::string(n < 0 ? "-" : "") + d.substr(0, d.size() - digits) + "." + d.substr(d.size() - digits);
 }
-std::string degs(const Q& cot) {
-    const RQ r = deg(cot);
-    return "[" + dec(r.lo, false) + ", " + dec(r.hi, true) + "] deg";
+// sqrt 3 in [n, n + 1] / 10^20, n = isqrt(3 10^40), checked here exactly.
+RQ sqrt3_enclosure() {
+    const Z scale = boost::multiprecision::pow(Z(10), 20), three = 3 * scale * scale;
+    const Z n = boost::multiprecision::sqrt(three);
+    if (!(n * n < three && three < (n + 1) * (n + 1))) fail("internal: sqrt 3 enclosure");
+    return {Q(n, scale), Q(n + 1, scale)};
+}
+// The angle in degrees whose ratio dot / cross is r: r is the cotangent on the
+// square lattice; on the rhombic one r = sqrt(3) cot, so cot lies between
+// r / hi and r / lo (sqrt 3 in [lo, hi]) and, the angle being monotone in
+// cot, it lies in the union of the two enclosures (outward).
+RQ deg_r(const Q& r, bool rhombic) {
+    if (!rhombic) return deg(r);
+    const RQ s = sqrt3_enclosure(), a = deg(r / s.lo), b = deg(r / s.hi);
+    return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)};
+}
+std::string degs(const Q& r, bool rhombic) {
+    const RQ d = deg_r(r, rhombic);
+    return "[" + dec(d.lo, false) + ", " + dec(d.hi, true) + "] deg";
 }
 
 // ---- tightness of the key claims ----------------------------------------------------
@@ -539,10 +565,16 @@ std::string degs(const Q& cot) {
 // are a and b: with a <= b these are arccot a >= arccot b, and
 // tan(arccot a - arccot b) = (b - a)/(1 + a b); atan x <= x for x >= 0, and
 // 180/pi < 180/(314159/100000).  Rational throughout; 180 if 1 + a b <= 0.
-Q gap_deg(const Q& a, const Q& b) {
+// Rhombic metric (a, b ratios r = sqrt(3) cot): the tangent is
+// sqrt(3) (b - a) / (3 + a b), bounded with sqrt 3's upper end; 180 if 3 + a b <= 0.
+Q gap_deg(const Q& a, const Q& b, bool rhombic) {
     const Q lo = a < b ? a : b, hi = a < b ? b : a;
-    if (1 + lo * hi <= 0) return 180;
-    return (hi - lo) / (1 + lo * hi) * Q(18000000, 314159);
+    if (!rhombic) {
+        if (1 + lo * hi <= 0) return 180;
+        return (hi - lo) / (1 + lo * hi) * Q(18000000, 314159);
+    }
+    if (3 + lo * hi <= 0) return 180;
+    return sqrt3_enclosure().hi * (hi - lo) / (3 + lo * hi) * Q(18000000, 314159);
 }
 struct Tightness {
     Q target;
@@ -755,19 +787,30 @@ void expect(const std::vector<std::string>& l, const std::string& w, std::size_t
     if (l.empty() || l[0] != w || l.size() != n) fail("expected '" + w + "' line");
 }
 
-// `warpmesh-certificate 3`, `rule maxmin|separating|fan` and, for the
-// junction keys, `space junctions` (separating or fan rule; no flat category).
+// `warpmesh-certificate 3` (the square lattice) or `warpmesh-certificate 4`
+// followed by `metric square|rhombic`, then `rule maxmin|separating|fan` and,
+// for the junction keys, `space junctions` (separating or fan rule; no flat
+// category).  The rhombic metric is defined for the maxmin and separating
+// rules on the sign keys only (the fan rule's threshold is a square-lattice
+// cotangent; the rhombic mesher has no junctions).
 struct Header {
     std::string rule;
-    bool fanrule = false, sep = false, junctions = false;
+    bool fanrule = false, sep = false, junctions = false, rhombic = false;
     int ncat() const { return junctions ? 1 : 2; }  // U, and F on sign keys
 };
 Header read_header(Reader& rd) {
     expect(rd.next("header"), "warpmesh-certificate", 2);
-    if (rd.lines[0][1] != "3") fail("unknown version");
+    const std::string version = rd.lines[0][1];
+    if (version != "3" && version != "4") fail("unknown version");
+    Header h;
+    if (version == "4") {
+        const auto& ml = rd.next("metric");
+        expect(ml, "metric", 2);
+        if (ml[1] != "square" && ml[1] != "rhombic") fail("unknown metric '" + ml[1].substr(0, 40) + "'");
+        h.rhombic = ml[1] == "rhombic";
+    }
     const auto& rl = rd.next("rule");
     expect(rl, "rule", 2);
-    Header h;
     h.rule = rl[1];
     if (h.rule != "maxmin" && h.rule != "separating" && h.rule != "fan") fail("unknown rule");
     h.fanrule = h.rule == "fan";
@@ -778,6 +821,7 @@ Header read_header(Reader& rd) {
         expect(sl, "space", 2);
         if (sl[1] != "junctions" || h.rule == "maxmin") fail("unknown key space (only 'junctions', separating or fan rule)");
     }
+    if (h.rhombic && (h.fanrule || h.junctions)) fail("the rhombic metric has the maxmin and separating rules on sign keys only");
     return h;
 }
 
@@ -797,8 +841,8 @@ std::vector<std::array<St, 4>> enumerate_keys(bool junctions) {
     }
     return keys;
 }
-Key make_key(const std::array<St, 4>& s) {
-    Key k{s, {}, {}};
+Key make_key(const std::array<St, 4>& s, const Header& hd) {
+    Key k{s, {}, {}, hd.rhombic};
     for (int c = 0; c < 4; ++c)
         if (k.s[c].warp) k.vars.push_back(c);
     return k;
@@ -869,13 +913,13 @@ void check_key_head(const std::vector<std::string>& h, const std::array<St, 4>& 
     if (h.size() < 6 || h[0] != "key") fail("expected key line");
     if (small_int(h[1], 0, 160000) != static_cast<long>(i) || h[2] != code(s)) fail("key " + std::to_string(i) + " is not " + code(s));
     if (small_int(h[3], 0, 1) != (!hd.junctions && flat(s))) fail("key " + code(s) + ": flatness flag differs");
-    if (small_int(h[4], 0, 4) != static_cast<long>(make_key(s).vars.size())) fail("key " + code(s) + ": dimension");
+    if (small_int(h[4], 0, 4) != static_cast<long>(make_key(s, hd).vars.size())) fail("key " + code(s) + ": dimension");
 }
 // An inverted key's witness line `winv <t_1> ... <t_m>` (wl, null if the
 // certificate ends): a configuration of the key's box at which a chosen
 // triangle has cross <= 0, in exact arithmetic.
 void check_inverted_key(const std::vector<std::string>* wl, const std::array<St, 4>& s, const Header& hd) {
-    Key k = make_key(s);
+    Key k = make_key(s, hd);
     const std::string name = "key " + code(s);
     if (!wl || (*wl)[0] != "winv") fail(name + ": inverted without its exact witness ('winv' line)");
     if (wl->size() != k.vars.size() + 1) fail(name + ": 'winv' has the wrong number of t values");
@@ -945,7 +989,7 @@ std::string check_theorem_witnesses(const Claims& cl, const std::vector<std::arr
         const auto it = std::find_if(keys.begin(), keys.end(), [&](const std::array<St, 4>& s) { return code(s) == w.code; });
         if (it == keys.end()) fail("witness key " + w.code.substr(0, 20) + " is not a consistent key");
         if (w.cat == 1 && (hd.junctions || !flat(*it))) fail("flat witness on a key that is not flat-compatible");
-        Key k = make_key(*it);
+        Key k = make_key(*it, hd);
         const bool inv = w.kind == "inverted";
         if (w.fields.size() != 4 + k.vars.size() + (inv ? 0 : 1)) fail("witness has the wrong number of t values");
         const PointVal p = at_point(k, hd.sep, hd.fanrule, read_t(w.fields, 4, k, "witness " + w.code));
@@ -960,8 +1004,9 @@ std::string check_theorem_witnesses(const Claims& cl, const std::vector<std::arr
         const Q v = w.kind == "min" ? p.qmin : p.qmax;
         if (v != parse_q(w.fields.back())) fail("witness value differs from exact evaluation");
         const Q bound = w.kind == "min" ? cl.claim[w.cat].qmin : cl.claim[w.cat].qmax;
-        const RQ a = deg(v), bd = deg(bound);
-        out << "angle " << degs(v) << " (cot " << v.convert_to<double>() << "), claim " << degs(bound)
+        const RQ a = deg_r(v, hd.rhombic), bd = deg_r(bound, hd.rhombic);
+        out << "angle " << degs(v, hd.rhombic) << " (" << (hd.rhombic ? "r " : "cot ") << v.convert_to<double>() << "), claim "
+            << degs(bound, hd.rhombic)
             << ", gap <= " << dec(w.kind == "min" ? a.hi - bd.lo : bd.hi - a.lo, true) << " deg\n";
     }
     return out.str();
@@ -978,7 +1023,7 @@ KeyClaim read_key(Reader& rd, const Header& hd, const std::array<St, 4>& s, std:
     const auto& h = rd.next("key");
     check_key_head(h, s, i, hd);
     KeyClaim e{code(s), !hd.junctions && flat(s), false, 0, 0};
-    Key k = make_key(s);
+    Key k = make_key(s, hd);
     const std::string name = "key " + e.code;
     if (h.size() == 6 && h[5] == "inverted") {
         e.inverted = true;
@@ -1002,7 +1047,7 @@ KeyClaim read_key(Reader& rd, const Header& hd, const std::array<St, 4>& s, std:
         const Q v = w ? p.qmax : p.qmin;
         if (!p.valid || v != parse_q(wl.back())) fail(name + ": witness value differs from exact evaluation");
         if (w ? v < e.qmax : v > e.qmin) fail(name + ": claim contradicted by its witness");
-        tight[w].add(gap_deg(v, w ? e.qmax : e.qmin), e.code, e.flat);
+        tight[w].add(gap_deg(v, w ? e.qmax : e.qmin, hd.rhombic), e.code, e.flat);
     }
     return e;
 }
@@ -1015,7 +1060,7 @@ KeyClaim read_key(Reader& rd, const Header& hd, const std::array<St, 4>& s, std:
 // verified by it (`verified`, the memo).  Returns the number of leaves.
 long verify_leaves(Reader& rd, const Header& hd, const std::array<St, 4>& s, const std::vector<std::string>& h,
                    std::set<std::string>& verified) {
-    Key k = make_key(s);
+    Key k = make_key(s, hd);
     const bool fan = hd.fanrule && all_inside(s);  // the fan rule's fan needs every corner inside
     Cover cv{k, hd.sep, fan, dyadic(parse_q(h[5])), dyadic(parse_q(h[6])), rd, small_int(h[7], 1, 50000000)};
     std::string memo = hd.rule + " " + std::to_string(hd.sep ? forced(s) : 0) + " " + (fan ? "fan" : "nofan") + " " + h[5] +
@@ -1046,12 +1091,14 @@ std::string theorem_text(const Claims& cl, const Header& hd) {
             out << "  " << cname[c] << ": NO BOUND: NOT all triangles positively oriented (exact counter-example below)\n";
             continue;
         }
-        out << "  " << cname[c] << ": every angle >= " << dec(deg(k.qmin).lo, false) << " deg and <= " << dec(deg(k.qmax).hi, true)
-            << " deg (cot <= " << k.qmin << ", cot >= " << k.qmax << "); "
+        const RQ lo = deg_r(k.qmin, hd.rhombic), hi = deg_r(k.qmax, hd.rhombic);
+        const char* r = hd.rhombic ? "r" : "cot";
+        out << "  " << cname[c] << ": every angle >= " << dec(lo.lo, false) << " deg and <= " << dec(hi.hi, true) << " deg ("
+            << r << " <= " << k.qmin << ", " << r << " >= " << k.qmax << (hd.rhombic ? ", r = sqrt(3) cot" : "") << "); "
             << (hd.fanrule ? "every chosen triangle (a diagonal's two, or the fan's four)" : "both triangles")
             << " positively oriented\n"
-            << "    rounded outward to 4 decimals: every angle in [" << dec(deg(k.qmin).lo, false, 4) << ", "
-            << dec(deg(k.qmax).hi, true, 4) << "] deg\n";
+            << "    rounded outward to 4 decimals: every angle in [" << dec(lo.lo, false, 4) << ", " << dec(hi.hi, true, 4)
+            << "] deg\n";
     }
     return out.str();
 }
@@ -1098,7 +1145,8 @@ bool check_file(const std::string& path) {
     if (rd.at != rd.lines.size()) fail("data after end");
     check_claims(cl, verified_keys, hd, true);
     const long nflat = std::count_if(verified_keys.begin(), verified_keys.end(), [](const KeyClaim& e) { return e.flat; });
-    std::cout << path << ": rule " << hd.rule << (hd.junctions ? " (junction keys)" : "") << ", " << keys.size() << " keys ("
+    std::cout << path << ": rule " << hd.rule << (hd.junctions ? " (junction keys)" : "")
+              << (hd.rhombic ? " (rhombic lattice)" : "") << ", " << keys.size() << " keys ("
               << nflat << " flat-compatible), " << leaves << " leaves verified\n"
               << theorem_text(cl, hd) << tightness_text(tight) << witnesses;
     return !cl.claim[0].inverted && !cl.claim[1].inverted;

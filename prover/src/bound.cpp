@@ -169,9 +169,9 @@ bool verify_form(const Key& k, const std::vector<int>& vars, const Box& b, const
         const auto p = positions_d(k, vars, bx);
         if (fan) {
             const auto q = fan_points(p);
-            return form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]), f, qmin, qmax);
+            return form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]], k.metric), f, qmin, qmax);
         }
-        return form(triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]), f, qmin, qmax);
+        return form(triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]], k.metric), f, qmin, qmax);
     });
 }
 
@@ -180,7 +180,7 @@ bool verify_fan(const Key& k, const std::vector<int>& vars, const Box& b, double
                 int f0 = 0, int f1 = 7) {
     const auto q = fan_points(positions_d(k, vars, b));
     for (const auto& tri : fan_triangles) {
-        const TriangleForms<DI> tf = triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]);
+        const TriangleForms<DI> tf = triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]], k.metric);
         for (int f = f0; f < f1; ++f)
             if (!verify_form(k, vars, b, tri, f, qmin, qmax, form(tf, f, qmin, qmax), true)) {
                 *fail_kind = f == 0 ? 0 : f <= 3 ? 1 : 2;
@@ -195,7 +195,7 @@ bool verify_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diago
                  int* fail_kind, int f0 = 0, int f1 = 7) {
     const auto p = positions_d(k, vars, b);
     for (const auto& tri : diagonal_triangles(d)) {
-        const TriangleForms<DI> tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        const TriangleForms<DI> tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]], k.metric);
         for (int f = f0; f < f1; ++f)
             if (!verify_form(k, vars, b, tri, f, qmin, qmax, form(tf, f, qmin, qmax))) {
                 *fail_kind = f == 0 ? 0 : f <= 3 ? 1 : 2;
@@ -220,12 +220,12 @@ bool verify_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diago
 // J named, d is never taken on the box.
 constexpr double switch_slack = 1 + 0x1p-30;  // kappa
 
-DI ratio_h(const std::array<Point<DI>, 4>& p, Diagonal d, int k, int j) {
+DI ratio_h(const std::array<Point<DI>, 4>& p, Diagonal d, int k, int j, LatticeMetric metric) {
     const Diagonal o = d == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
     const auto td = diagonal_triangles(d)[static_cast<std::size_t>(k / 3)];
     const auto to = diagonal_triangles(o)[static_cast<std::size_t>(j / 3)];
-    const TriangleForms<DI> fd = triangle_forms(p[td[0]], p[td[1]], p[td[2]]);
-    const TriangleForms<DI> fo = triangle_forms(p[to[0]], p[to[1]], p[to[2]]);
+    const TriangleForms<DI> fd = triangle_forms(p[td[0]], p[td[1]], p[td[2]], metric);
+    const TriangleForms<DI> fo = triangle_forms(p[to[0]], p[to[1]], p[to[2]], metric);
     DI e = ScalarOps<DI>::from_int(0);
     e.v = I(switch_slack);
     return e * fo.dot[j % 3] * fd.cross - fd.dot[k % 3] * fo.cross;
@@ -249,13 +249,13 @@ double find_lambda(const Key& k, const std::vector<int>& vars, const Box& b, Dia
         const auto q = positions_d(k, vars, bx);
         DI lc = ScalarOps<DI>::from_int(0);
         lc.v = I(lam);
-        return form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]]), f, 0, qmax) - lc * ratio_h(q, d, kd, jo);
+        return form(triangle_forms(q[tri[0]], q[tri[1]], q[tri[2]], k.metric), f, 0, qmax) - lc * ratio_h(q, d, kd, jo, k.metric);
     };
     Box c = b;
     for (int j = 0; j < b.m; ++j) c.lo[j] = c.hi[j] = 0.5 * (b.lo[j] + b.hi[j]);
     const DI g = combined(b, 0), gc = combined(c, 0);
     const auto pb = positions_d(k, vars, b), pc = positions_d(k, vars, c);
-    const DI h = ratio_h(pb, d, kd, jo), hc = ratio_h(pc, d, kd, jo);
+    const DI h = ratio_h(pb, d, kd, jo, k.metric), hc = ratio_h(pc, d, kd, jo, k.metric);
     std::vector<double> cand;
     double num = 0, den = 0;
     for (int j = 0; j < b.m; ++j) {
@@ -288,13 +288,13 @@ bool switch_diag_with(const Key& k, const std::vector<int>& vars, const Box& b, 
     const auto pd = positions_d(k, vars, b);
     std::vector<int> named;
     for (int j = 0; j < 6; ++j)
-        if (!(ratio_h(pd, d, kd, j).v.upper() < 0)) named.push_back(j);
+        if (!(ratio_h(pd, d, kd, j, k.metric).v.upper() < 0)) named.push_back(j);
     if (named.size() > 2) return false;
     sw.k[di] = static_cast<std::int8_t>(kd);
     for (std::size_t n = 0; n < 2; ++n) sw.j[2 * di + n] = static_cast<std::int8_t>(n < named.size() ? named[n] : -1);
     for (int t = 0; t < 2; ++t) {
         const auto tri = diagonal_triangles(d)[static_cast<std::size_t>(t)];
-        const TriangleForms<DI> tf = triangle_forms(pd[tri[0]], pd[tri[1]], pd[tri[2]]);
+        const TriangleForms<DI> tf = triangle_forms(pd[tri[0]], pd[tri[1]], pd[tri[2]], k.metric);
         for (int i = 0; i < 3; ++i) {
             for (std::size_t n = 0; n < 2; ++n) sw.lambda[12 * di + 6 * n + 3 * t + i] = -1;  // '-'
             if (named.empty() || verify_form(k, vars, b, tri, 4 + i, 0, qmax, form(tf, 4 + i, 0, qmax))) continue;
@@ -316,14 +316,14 @@ bool switch_diag(const Key& k, const std::vector<int>& vars, const Box& b, Diago
     const Diagonal o = d == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
     const auto pi = positions_i(k, vars, b);
     for (const auto& tri : diagonal_triangles(o))
-        if (!(triangle_forms(pi[tri[0]], pi[tri[1]], pi[tri[2]]).cross.lower() > 0)) return false;
+        if (!(triangle_forms(pi[tri[0]], pi[tri[1]], pi[tri[2]], k.metric).cross.lower() > 0)) return false;
     Box c = b;
     for (int j = 0; j < b.m; ++j) c.lo[j] = c.hi[j] = 0.5 * (b.lo[j] + b.hi[j]);
     const auto pc = positions_i(k, vars, c);
     std::array<std::pair<double, int>, 6> r;
     for (int t = 0; t < 2; ++t) {
         const auto tri = diagonal_triangles(d)[static_cast<std::size_t>(t)];
-        const auto tf = triangle_forms(pc[tri[0]], pc[tri[1]], pc[tri[2]]);
+        const auto tf = triangle_forms(pc[tri[0]], pc[tri[1]], pc[tri[2]], k.metric);
         if (!(tf.cross.lower() > 0)) return false;
         for (int i = 0; i < 3; ++i)
             r[static_cast<std::size_t>(3 * t + i)] = {
@@ -351,7 +351,7 @@ bool threshold_decides(const Key& k, const std::vector<int>& vars, const Box& b,
     const auto p = positions_i(k, vars, b);
     double h = -1e300;
     for (const auto& tri : diagonal_triangles(win)) {
-        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]], k.metric);
         if (!(tf.cross.lower() > 0)) return false;
         for (const I& dot : tf.dot) h = std::max(h, (dot / tf.cross).upper());
     }
@@ -363,7 +363,7 @@ bool threshold_decides(const Key& k, const std::vector<int>& vars, const Box& b,
     }
     const Diagonal other = win == Diagonal::AD ? Diagonal::BC : Diagonal::AD;
     for (const auto& tri : diagonal_triangles(other)) {
-        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]], k.metric);
         for (const I& dot : tf.dot) {
             const I g = dot - I(h) * tf.cross;
             if (g.lower() > 0) {
@@ -382,7 +382,7 @@ bool threshold_decides(const Key& k, const std::vector<int>& vars, const Box& b,
 bool excludes(const Key& k, const std::vector<int>& vars, const Box& b, Diagonal d, double h) {
     const auto p = positions_i(k, vars, b);
     for (const auto& tri : diagonal_triangles(d)) {
-        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]]);
+        const auto tf = triangle_forms(p[tri[0]], p[tri[1]], p[tri[2]], k.metric);
         for (const I& dot : tf.dot)
             if ((dot - I(h) * tf.cross).lower() > 0) return true;
     }

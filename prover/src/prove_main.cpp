@@ -1,5 +1,7 @@
 // prove_main.cpp — `warpmesh prove`: arguments, one proof per rule, and the
-// files proofs/<rule>.cert and proofs/key_table.txt.
+// files proofs/<rule>.cert and proofs/key_table.txt; with `--lattice rhombic`
+// the rhombic metric's proofs/rhombic_<rule>.cert (maxmin and separating, sign
+// keys).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -15,10 +17,33 @@
 
 namespace warpmesh {
 
+namespace {
+
+// Appends the key lines of `cert` (rule `name`) to the key table at `path`,
+// truncating it first when `fresh`: one line per key.
+void write_key_table(const std::string& path, const std::string& name, const std::string& cert, bool fresh) {
+    std::ofstream tab(path, fresh ? std::ios::trunc : std::ios::app);
+    if (fresh)
+        tab << "# rule key flat min_cot max_cot   (see proofs/README.md; every angle a of the chosen triangles\n"
+            << "# of every configuration of the key has max_cot <= cot(a) <= min_cot)\n";
+    std::istringstream cs(cert);
+    for (std::string line; std::getline(cs, line);) {
+        if (line.rfind("key ", 0) != 0) continue;
+        std::istringstream ls(line);
+        std::string w, id, code, flat, m, qmin, qmax;
+        ls >> w >> id >> code >> flat >> m >> qmin >> qmax;
+        tab << name << ' ' << code << ' ' << (flat == "1" ? "flat" : "any") << ' ' << qmin << ' '
+            << (qmin == "inverted" ? "-" : qmax) << "\n";
+    }
+}
+
+}  // namespace
+
 int prove_main(int argc, char** argv) {
     std::string out = "proofs";
     std::vector<int> subset, jsubset;
     bool use_subset = false, sign_subset = false, junction_subset = false;
+    LatticeMetric metric = LatticeMetric::square;
     std::vector<DiagonalRule> rules{DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan};
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -37,6 +62,13 @@ int prove_main(int argc, char** argv) {
                 return 2;
             }
             rules = {r == "maxmin" ? DiagonalRule::maxmin : r == "separating" ? DiagonalRule::separating : DiagonalRule::fan};
+        } else if (a == "--lattice" && i + 1 < argc) {
+            const std::string l = argv[++i];
+            if (l != "square" && l != "rhombic") {
+                std::fprintf(stderr, "warpmesh prove: --lattice expects square or rhombic\n");
+                return 2;
+            }
+            metric = l == "rhombic" ? LatticeMetric::rhombic : LatticeMetric::square;
         } else if (a == "--keys" && i + 1 < argc) {  // indices into prover::consistent_keys()
             use_subset = sign_subset = true;
             std::stringstream ss(argv[++i]);
@@ -51,10 +83,19 @@ int prove_main(int argc, char** argv) {
                     for (int k = 0; k < static_cast<int>(prover::junction_keys().size()); ++k) jsubset.push_back(k);
                 else jsubset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--rule R] [--keys I,J,...] [--junction-keys I,J,...]\n");
+            std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--lattice square|rhombic] [--rule R] [--keys I,J,...] [--junction-keys I,J,...]\n");
             return 2;
         }
     }
+    // The rhombic metric: the two diagonal rules over the sign keys (the
+    // rhombic mesher is uniform, one region: no junction keys; the fan rule's
+    // threshold is a square-lattice cotangent, not defined there).
+    const bool rhombic = metric == LatticeMetric::rhombic;
+    if (rhombic && (junction_subset || (rules.size() == 1 && rules[0] == DiagonalRule::fan))) {
+        std::fprintf(stderr, "warpmesh prove: --lattice rhombic proves the maxmin and separating rules on the sign keys only\n");
+        return 2;
+    }
+    const std::string prefix = rhombic ? "rhombic_" : "";
     std::filesystem::create_directories(out);
     int status = 0;
     bool first = true;  // the first run truncates key_table.txt
@@ -78,30 +119,19 @@ int prove_main(int argc, char** argv) {
         if (std::find(rules.begin(), rules.end(), r) == rules.end()) continue;
         // With --keys / --junction-keys only the runs asked for (a test's subset).
         if (use_subset && !(run.space == prover::KeySpace::junctions ? junction_subset : sign_subset)) continue;
+        if (rhombic && (run.space == prover::KeySpace::junctions || r == DiagonalRule::fan)) continue;
         std::string log;
         const std::vector<int>* ids = run.space == prover::KeySpace::junctions ? (use_subset ? &jsubset : nullptr)
                                                                                : (use_subset ? &subset : nullptr);
-        const std::string cert = prover::run_proof(r, ids, &log, run.space);
+        const std::string cert = prover::run_proof(r, ids, &log, run.space, metric);
         const std::string name = prover::rule_name(r);
-        const std::string path = out + "/" + run.file + ".cert";
+        const std::string path = out + "/" + prefix + run.file + ".cert";
         std::ofstream f(path + ".tmp", std::ios::binary);
         f << cert;
         f.close();
         std::filesystem::rename(path + ".tmp", path);
-        // The key table: one line per key.
-        std::ofstream tab(out + "/key_table.txt", first ? std::ios::trunc : std::ios::app);
-        if (std::exchange(first, false))
-            tab << "# rule key flat min_cot max_cot   (see proofs/README.md; every angle a of the chosen triangles\n"
-                << "# of every configuration of the key has max_cot <= cot(a) <= min_cot)\n";
-        std::istringstream cs(cert);
-        for (std::string line; std::getline(cs, line);) {
-            if (line.rfind("key ", 0) != 0) continue;
-            std::istringstream ls(line);
-            std::string w, id, code, flat, m, qmin, qmax;
-            ls >> w >> id >> code >> flat >> m >> qmin >> qmax;
-            tab << name << ' ' << code << ' ' << (flat == "1" ? "flat" : "any") << ' ' << qmin << ' '
-                << (qmin == "inverted" ? "-" : qmax) << "\n";
-        }
+        // The key table (square lattice): one line per key.
+        if (!rhombic) write_key_table(out + "/key_table.txt", name, cert, std::exchange(first, false));
         std::fputs(log.c_str(), stdout);
         std::fflush(stdout);
         // Exit 1: a key not proved (the certificate is incomplete; the checker

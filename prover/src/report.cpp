@@ -57,7 +57,7 @@ PointEval eval_double(DiagonalRule rule, const Key& k, const std::array<double, 
     else
         for (const auto& tri : diagonal_triangles(d)) tris.push_back({p[tri[0]], p[tri[1]], p[tri[2]]});
     for (const auto& tri : tris) {
-        const auto f = triangle_forms(tri[0], tri[1], tri[2]);
+        const auto f = triangle_forms(tri[0], tri[1], tri[2], k.metric);
         if (!(f.cross > 0)) {
             e.valid = false;
             continue;
@@ -76,19 +76,31 @@ struct Extreme {
 };
 
 // Pattern search (coordinate steps of h, halved when nothing improves) that
-// maximises value(t) from e.
+// maximises value(t) from e.  `ridges`: where no coordinate step improves,
+// also steps of h in 16 directions of each plane of two coordinates (the
+// rhombic metric: its max-min extremes lie on switching surfaces
+// q(AD) = q(BC) that run obliquely to the axes, where coordinate steps stall
+// below the maximum — key -L-R-R+D stalled at r 7.0 and 7.54, its maximum is
+// 7.6056).  The square metric keeps the coordinate steps alone (its
+// certificates unchanged).
 template <class F>
-Extreme climb(const F& value, const std::vector<int>& vars, Extreme e, double h) {
+Extreme climb(const F& value, const std::vector<int>& vars, Extreme e, double h, bool ridges = false) {
     const int m = static_cast<int>(vars.size());
+    auto step = [&](int j, double dj, int l, double dl, bool& improved) {
+        std::array<double, 4> t = e.t;
+        t[vars[j]] = std::clamp(t[vars[j]] + dj * h, 0.0, 0.5);
+        if (l >= 0) t[vars[l]] = std::clamp(t[vars[l]] + dl * h, 0.0, 0.5);
+        const double v = value(t);
+        if (v > e.value) e = {v, t}, improved = true;
+    };
     while (h > 1e-13 && m > 0) {
         bool improved = false;
         for (int j = 0; j < m; ++j)
-            for (int s : {-1, 1}) {
-                std::array<double, 4> t = e.t;
-                t[vars[j]] = std::clamp(t[vars[j]] + s * h, 0.0, 0.5);
-                const double v = value(t);
-                if (v > e.value) e = {v, t}, improved = true;
-            }
+            for (int s : {-1, 1}) step(j, s, -1, 0, improved);
+        for (int j = 0; ridges && !improved && j < m; ++j)
+            for (int l = j + 1; l < m; ++l)
+                for (int a = 1; a < 16; ++a)
+                    if (a != 4 && a != 8 && a != 12) step(j, std::cos(a * 0.39269908169872414), l, std::sin(a * 0.39269908169872414), improved);
         if (!improved) h *= 0.5;
     }
     return e;
@@ -122,7 +134,7 @@ Extreme search(DiagonalRule rule, const Key& k, const std::vector<int>& vars, in
     best.resize(std::min<std::size_t>(best.size(), 4));
     Extreme top = best[0];
     for (Extreme e : best) {
-        e = climb(value, vars, e, 0.5 / (n - 1));
+        e = climb(value, vars, e, 0.5 / (n - 1), k.metric == LatticeMetric::rhombic);
         if (e.value > top.value) top = e;
     }
     if (sense < 0) top.value = -top.value;
@@ -138,7 +150,7 @@ Extreme search_from(DiagonalRule rule, const Key& k, const std::vector<int>& var
         if (!e.valid) return -1e300;
         return sense > 0 ? e.qmin : -e.qmax;
     };
-    Extreme top = climb(value, vars, Extreme{value(t0), t0}, 1.0 / 64);
+    Extreme top = climb(value, vars, Extreme{value(t0), t0}, 1.0 / 64, k.metric == LatticeMetric::rhombic);
     if (sense < 0) top.value = -top.value;
     return top;
 }
@@ -215,8 +227,15 @@ std::string dec(const Q& q, bool up, int digits = 10) {
     while (static_cast<int>(d.size()) <= digits) d = "0" + d;
     return (neg ? "-" : "") + d.substr(0, d.size() - digits) + "." + d.substr(d.size() - digits);
 }
-std::string deg_range(const Q& cot) {
-    const auto e = angle_of_cot(cot);
+// The angle whose form ratio is c (square: c = cot; rhombic: c = sqrt(3) cot,
+// with sqrt 3 in [97/56, 1351/780], the angle is between those of c / (1351/780)
+// and c / (97/56)), as an enclosure in degrees.  Log only.
+std::string deg_range(const Q& c, LatticeMetric metric = LatticeMetric::square) {
+    auto e = angle_of_cot(c);
+    if (metric == LatticeMetric::rhombic) {
+        const auto a = angle_of_cot(c / Q(1351, 780)), b = angle_of_cot(c / Q(97, 56));
+        e = {std::min(a.first, b.first), std::max(a.second, b.second)};
+    }
     return "[" + dec(e.first, false) + ", " + dec(e.second, true) + "] deg";
 }
 
@@ -241,7 +260,7 @@ ExactEval eval_exact(DiagonalRule rule, const Key& k, const std::array<Q, 4>& t)
         for (const auto& tri : diagonal_triangles(ch.ad ? Diagonal::AD : Diagonal::BC))
             tris.push_back({p[tri[0]], p[tri[1]], p[tri[2]]});
     for (const auto& tri : tris) {
-        const auto f = triangle_forms(tri[0], tri[1], tri[2]);
+        const auto f = triangle_forms(tri[0], tri[1], tri[2], k.metric);
         if (f.cross <= 0) e.valid = false;
         for (const Q& dot : f.dot) {
             if (f.cross == 0) continue;
@@ -318,7 +337,8 @@ double q_down(const Q& q, int bits) { return -q_up(-q, bits); }
 // Angle between the cotangents a <= b, in degrees (for the log only): the
 // angles are arccot a >= arccot b, and arccot a - arccot b = atan((b - a)/(1 + a b))
 // when 1 + a b > 0.
-double gap_deg(double a, double b) {
+double gap_deg(double a, double b, LatticeMetric metric) {
+    if (metric == LatticeMetric::rhombic) a /= 1.7320508075688772, b /= 1.7320508075688772;  // cot = r / sqrt 3
     return (1 + a * b > 0 ? std::atan((b - a) / (1 + a * b)) : 3.14159265358979 - std::atan((b - a) / -(1 + a * b))) *
            180 / 3.14159265358979;
 }
@@ -351,6 +371,7 @@ struct Cat {
 struct Proof {
     DiagonalRule rule;
     bool junctions;  // no flat category (proofs/README.md, "Junction keys")
+    LatticeMetric metric;
     std::vector<Key> all;
     std::vector<int> ids, rep;
     std::vector<Info> info;
@@ -371,9 +392,12 @@ struct Proof {
 // degrees at that cot: d(angle)/d(cot) = -1/(1+cot^2), and the margin moves
 // the cot away from 0, so the angle gap is at most margin/(1+cot^2) radians.
 constexpr double gap_min = 0.004, gap_max = 0.08;  // min angle, max angle (deg)
-double margin(const Q& c, double gap) {
-    const double x = c.convert_to<double>();
-    return round_down(gap * (3.14159265358979 / 180) * (1 + x * x), 40);
+// In the rhombic metric the claims are on r = s cot (s = sqrt 3): dr/d(angle) =
+// -s (1 + cot^2), the same margin with cot = r / s, times s.
+double margin(const Q& c, double gap, LatticeMetric metric) {
+    const double s = metric == LatticeMetric::rhombic ? 1.7320508075688772 : 1.0;
+    const double x = c.convert_to<double>() / s;
+    return round_down(gap * (3.14159265358979 / 180) * (1 + x * x) * s, 40);
 }
 
 // Pass 1 (not part of the proof): each key's sampled extremes and their exact
@@ -431,12 +455,13 @@ void set_targets(Proof& p) {
         Info& f = p.at(i);
         if (f.invalid) continue;
         const Cat& c = p.cat[f.flat ? 1 : 0];
-        f.qmin = std::min(q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gap_min), c.qmin);
+        const LatticeMetric metric = p.key(i).metric;
+        f.qmin = std::min(q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gap_min, metric), c.qmin);
         // First-pass max-angle claims: the previous loose ones (sample minus
         // 0.25 (1 + |cot|), keys that are not flat-compatible at most cot -3/2).
         const double v = f.wmax.qmax.convert_to<double>();
         f.qmax = std::max(round_down(v - 0.25 * (1 + std::fabs(v)), 16), c.qmax_loose);
-        if (!f.flat) f.qmax = std::min(f.qmax, -1.5);
+        if (!f.flat) f.qmax = std::min(f.qmax, metric == LatticeMetric::rhombic ? -2.5 : -1.5);  // r: about sqrt 3 times
     }
 }
 
@@ -457,7 +482,7 @@ void move_max_witness(DiagonalRule rule, const Key& key, Info& f, const std::arr
 // the witness means the sampling missed the key's extreme: the witness moves
 // there (pattern search from that point) and the target follows it.  Returns
 // the number of attempts.
-int first_pass(DiagonalRule rule, const Key& key, Info& f, std::size_t leaf_budget) {
+int first_pass(DiagonalRule rule, const Key& key, Info& f, std::size_t leaf_budget, double qmin_cap) {
     const auto vars = key_vars(key);
     double gmin = gap_min;
     int attempts = 0;
@@ -474,13 +499,23 @@ int first_pass(DiagonalRule rule, const Key& key, Info& f, std::size_t leaf_budg
         }
         const PointEval e = eval_double(rule, key, f.proof.fail_point);
         if (f.proof.fail_kind == 1) {
+            bool moved = false;
             if (e.valid && e.qmin > f.wmin.qmin.convert_to<double>()) {
                 const Extreme x = search_from(rule, key, vars, +1, f.proof.fail_point);
                 const auto w = witness(rule, key, x.t, 1);
-                if (w.second.valid && w.second.qmin > f.wmin.qmin) std::tie(f.tmin, f.wmin) = w;
+                if (w.second.valid && w.second.qmin > f.wmin.qmin) std::tie(f.tmin, f.wmin) = w, moved = true;
             }
-            if (!(e.valid && e.qmin > f.qmin)) gmin *= 4;
-            f.qmin = std::max(f.qmin, q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gmin));
+            // The rhombic metric: a witness that moved resets the claim to it
+            // plus the first margin (the failure was the witness's, not the
+            // margin's: the proof bisects to the target's level set, where
+            // e.qmin > f.qmin is a matter of rounding).
+            // Below the category's cap (the worst witness + 2^-24 or 2^-33) the
+            // target is capped there, as the first targets are.
+            const bool reset = moved && key.metric == LatticeMetric::rhombic;
+            if (!(e.valid && e.qmin > f.qmin) && !reset) gmin *= 4;
+            double q = q_up(f.wmin.qmin, 40) + margin(f.wmin.qmin, gmin, key.metric);
+            if (reset && q_up(f.wmin.qmin, 40) < qmin_cap) q = std::min(q, qmin_cap);
+            f.qmin = std::max(f.qmin, q);
         } else if (f.proof.fail_kind == 2) {
             move_max_witness(rule, key, f, f.proof.fail_point);
             const double step = 1e-3 * std::pow(4.0, attempt);
@@ -509,7 +544,9 @@ void second_pass(DiagonalRule rule, const Key& key, Info& f, double cap) {
     std::vector<double> tried;
     for (double g : {gap_max, 1.0, -1.0, -0.02, -0.05, -0.1, -0.25, -1.0 - 1e-9}) {
         const double w = q_down(f.wmax.qmax, 40);
-        const double q = g == -1.0 ? cap : g < 0 ? w - margin(f.wmax.qmax, -g) : std::max(w - margin(f.wmax.qmax, g), cap);
+        const double q = g == -1.0 ? cap
+                         : g < 0   ? w - margin(f.wmax.qmax, -g, key.metric)
+                                   : std::max(w - margin(f.wmax.qmax, g, key.metric), cap);
         if (q <= f.qmax) break;
         const bool near_cap = g < 0 && g > -0.25 && g != -1.0;
         if (near_cap && q >= cap) continue;
@@ -536,7 +573,7 @@ void prove_keys(Proof& p) {
         if (f.invalid || !p.computed(i)) continue;
         const auto k0 = std::chrono::steady_clock::now();
         const Key& key = p.key(i);
-        const int attempts = first_pass(p.rule, key, f, leaf_budget);
+        const int attempts = first_pass(p.rule, key, f, leaf_budget, p.cat[f.flat ? 1 : 0].qmin);
         if (f.proof.ok) second_pass(p.rule, key, f, cap[f.flat ? 1 : 0]);
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - k0).count();
         if (verbose && (dt > 0.05 || f.relaxed))
@@ -596,12 +633,16 @@ void write_claim(const Proof& p, int c, std::ostream& o, std::ostream& lg) {
     o << "witness " << cn << " max " << code_of(kmax);
     write_t(o, kmax, fmax.tmax);
     o << " " << qstr(fmax.wmax.qmax) << "\n";
-    lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq)) << " (cot <= " << dstr(cq) << "), witness "
-       << code_of(kmin) << " has cot " << std::setprecision(17) << fmin.wmin.qmin.convert_to<double>() << " = "
-       << deg_range(fmin.wmin.qmin) << "; gap in cot " << (dyadic(cq) - fmin.wmin.qmin).convert_to<double>() << "\n";
-    lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp)) << " (cot >= " << dstr(cp) << "), witness "
-       << code_of(kmax) << " has cot " << fmax.wmax.qmax.convert_to<double>() << " = " << deg_range(fmax.wmax.qmax)
-       << "; gap in cot " << (fmax.wmax.qmax - dyadic(cp)).convert_to<double>() << "\n";
+    const LatticeMetric mt = kmin.metric;
+    const char* cot = mt == LatticeMetric::rhombic ? "r" : "cot";  // r = dot / cross = sqrt(3) cot
+    lg << rname << " (" << cn << "): min angle >= " << deg_range(dyadic(cq), mt) << " (" << cot << " <= " << dstr(cq)
+       << "), witness " << code_of(kmin) << " has " << cot << " " << std::setprecision(17)
+       << fmin.wmin.qmin.convert_to<double>() << " = " << deg_range(fmin.wmin.qmin, mt) << "; gap in " << cot << " "
+       << (dyadic(cq) - fmin.wmin.qmin).convert_to<double>() << "\n";
+    lg << rname << " (" << cn << "): max angle <= " << deg_range(dyadic(cp), mt) << " (" << cot << " >= " << dstr(cp)
+       << "), witness " << code_of(kmax) << " has " << cot << " " << fmax.wmax.qmax.convert_to<double>() << " = "
+       << deg_range(fmax.wmax.qmax, mt) << "; gap in " << cot << " " << (fmax.wmax.qmax - dyadic(cp)).convert_to<double>()
+       << "\n";
 }
 // One leaf line: tag, k, the box, a threshold's H, a switching certificate.
 void write_leaf(std::ostream& o, const Leaf& l, const KeyProof& proof, int m) {
@@ -668,8 +709,8 @@ std::string tightness_log(const Proof& p) {
     for (const Info& f : p.info) {
         if (f.invalid || !f.proof.ok) continue;
         const double a = f.wmin.qmin.convert_to<double>(), b = f.wmax.qmax.convert_to<double>();
-        gmin.push_back(gap_deg(a, f.qmin));
-        gmax.push_back(gap_deg(f.qmax, b));
+        gmin.push_back(gap_deg(a, f.qmin, p.metric));
+        gmax.push_back(gap_deg(f.qmax, b, p.metric));
     }
     auto summary = [](std::vector<double> g, double tol) {
         std::sort(g.begin(), g.end());
@@ -686,10 +727,12 @@ std::string tightness_log(const Proof& p) {
 }  // namespace
 
 // ---------------------------------------------------------------------------
-std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log, KeySpace space) {
+std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log, KeySpace space,
+                      LatticeMetric metric) {
     const auto t0 = std::chrono::steady_clock::now();
-    Proof p{rule, space == KeySpace::junctions, {}, {}, {}, {}, {}};
+    Proof p{rule, space == KeySpace::junctions, metric, {}, {}, {}, {}, {}};
     p.all = p.junctions ? junction_keys() : consistent_keys();
+    for (Key& k : p.all) k.metric = metric;
     if (key_subset) p.ids = *key_subset;
     else
         for (int i = 0; i < static_cast<int>(p.all.size()); ++i) p.ids.push_back(i);
@@ -706,9 +749,18 @@ std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std
 
     std::ostringstream o, lg;
     const char* rname = rule_name(rule);
-    o << "warpmesh-certificate 3\n"
-      << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n"
-      << "rule " << rname << "\n";
+    // Format 3: the square metric (no metric line, as before); format 4 adds
+    // the metric line, so that a checker of format 3 refuses a rhombic
+    // certificate instead of reading its bounds on r as cotangents.
+    if (metric == LatticeMetric::square)
+        o << "warpmesh-certificate 3\n"
+          << "# Angle bounds for the generic square, diagonal rule " << rname << ".  Format: proofs/README.md.\n";
+    else
+        o << "warpmesh-certificate 4\n"
+          << "# Angle bounds for the generic square in the rhombic lattice's metric, diagonal rule " << rname
+          << "; claims on r = dot/cross = sqrt(3) cot(angle).  Format: proofs/README.md.\n"
+          << "metric " << metric_name(metric) << "\n";
+    o << "rule " << rname << "\n";
     if (p.junctions) o << "space junctions\n";
     for (int c = 0; c < p.ncat(); ++c) write_claim(p, c, o, lg);
     o << "keys " << p.n() << "\n";

@@ -32,7 +32,7 @@ WARPMESH_SIZES = [1500, 4500, 13500, 24000]
 # docs/performance.md, "Accuracy per unknown".  With the old AD interior the
 # same sizes give disc L² ≈ 1.6 and H¹ ≈ 1.27 (above these bounds).
 BOUNDS = {"disc": {"L2": 1.45, "H1": 1.25}, "flower": {"L2": 1.36, "H1": 1.22}}
-# The experimental, uncertified rhombic lattice (`--lattice rhombic`:
+# The rhombic lattice (`--lattice rhombic`, certified by proofs/rhombic_*.cert:
 # equilateral interior), the same sizes: measured (2026-12-04) disc L²
 # 1.006–1.018, H¹ 1.002–1.007; flower L² 1.039–1.061, H¹ 1.003–1.009 —
 # issue 33's targets and near parity; bounds about 3 % above.

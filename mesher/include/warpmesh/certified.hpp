@@ -12,6 +12,13 @@
 // The proof is about the cotangents (min_cot = qmax, max_cot = qmin, rationals
 // rounded to the nearest double); the degrees are atan-derived and for
 // reporting only.
+//
+// The rhombic lattice (LatticeMetric::rhombic) has its own tables, from
+// proofs/rhombic_maxmin.cert and proofs/rhombic_separating.cert, looked up
+// only with that metric: their bounds are on r = dot / cross of the rhombic
+// forms (triangle_forms(..., rhombic)) = sqrt(3) cot(angle), in lattice
+// coordinates; min_cot / max_cot hold r there, the degrees are the physical
+// angles.  The fan rule has no rhombic table (null bounds, no keys).
 #pragma once
 
 #include <array>
@@ -29,7 +36,7 @@ namespace warpmesh {
 
 struct CertifiedBound {
     double min_deg, max_deg;   // arccot(max_cot), arccot(min_cot): every angle in [min_deg, max_deg]
-    double min_cot, max_cot;   // qmax, qmin of the key line: min_cot <= cot(angle) <= max_cot
+    double min_cot, max_cot;   // qmax, qmin of the key line: min_cot <= cot(angle) <= max_cot (rhombic: r)
     bool flat_compatible;
 };
 
@@ -37,12 +44,14 @@ struct CertifiedBound {
 std::string key_code(const std::array<CornerState, 4>& corners);
 
 // The bound of the key, or nullptr if the key is not in the compiled-in table.
-const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& corners);
+const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& corners,
+                                      LatticeMetric metric = LatticeMetric::square);
 
-// True when the build found both certificates (the table is non-empty).
-bool certified_table_available();
+// True when the build found both certificates of the metric (maxmin and
+// separating: the tables are non-empty).
+bool certified_table_available(LatticeMetric metric = LatticeMetric::square);
 // Number of keys of the compiled-in table for a rule.
-std::size_t certified_key_count(DiagonalRule rule);
+std::size_t certified_key_count(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
 
 // The theorems as implied by the table: over all keys ("any") and over the
 // flat-compatible keys only ("flat"), the least min_deg and the greatest
@@ -52,7 +61,7 @@ struct CertifiedTheorem {
     double max_cot_any, max_cot_flat;  // the largest cot bound, behind min_deg (proof side)
     double max_deg_any, max_deg_flat;
 };
-CertifiedTheorem certified_theorem(DiagonalRule rule);
+CertifiedTheorem certified_theorem(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
 
 // Junction keys (multi-material squares whose corners carry 3 or 4
 // materials; proofs/materials.cert for the separating rule,
@@ -83,7 +92,7 @@ struct CertKeyLine {
 };
 // The compiled-in `key ` lines of a rule (the generated file's text), and
 // those of its junction keys (proofs/materials.cert, materials_fan.cert).
-std::string_view certified_table_text(DiagonalRule rule);
+std::string_view certified_table_text(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
 std::string_view certified_junction_table_text(DiagonalRule rule = DiagonalRule::separating);
 // Parse `key ` lines (other lines are ignored); throws std::runtime_error on a
 // malformed key line.
@@ -116,12 +125,17 @@ struct CertifyOptions {
     bool enabled = true;    // compute the per-square bounds and the summary
     bool cell_data = true;  // add mesh.cell_data "certified_min_angle"
     bool verify = false;    // check every triangle of a keyed square against its interval
+    // The lattice: its certificates' tables, its forms for --verify (in
+    // lattice coordinates: the mesh is certified before the rhombic map P),
+    // and its unkeyed triangles (square: 45-45-90; rhombic: equilateral).
+    LatticeMetric metric = LatticeMetric::square;
 };
 
 // Squares "through the rule" are the finest squares with a warped or
 // zero-valued corner that emit a triangle (they have a key).  Other triangles:
 // plain lattice squares (45°/90° exactly) and graded coarse-leaf templates
-// (right isosceles: 45°/90°), bound [45°, 90°].
+// (right isosceles: 45°/90°), bound [45°, 90°]; on the rhombic lattice the
+// plain rhombi split by their short diagonal (equilateral: [60°, 60°]).
 struct CertifiedSummary {
     bool available = false;
     double min_deg = 0, max_deg = 0;     // guarantee of the mesh: min / max over its triangles' bounds

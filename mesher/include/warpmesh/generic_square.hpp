@@ -169,8 +169,8 @@ struct TriangleForms {
 };
 
 // The lattice's metric: which physical lattice the generic square stands for.
-// `square`: the square lattice, the generic square is the physical one (the
-// only metric the certificates cover).  `rhombic` (EXPERIMENTAL, uncertified):
+// `square`: the square lattice, the generic square is the physical one
+// (proofs/*.cert).  `rhombic` (its own certificates, proofs/rhombic_*.cert):
 // the 60-degree rhombic lattice, the square lattice under the affine map
 // P(x, y) = (x + y/2, (sqrt 3 / 2) y), whose unwarped squares are rhombi
 // with a short diagonal BC that splits them into equilateral triangles.  P

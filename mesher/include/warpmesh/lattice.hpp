@@ -124,8 +124,7 @@ Diagonal warped_square_diagonal(DiagonalRule rule, const std::array<CornerState,
 // generic_square.hpp.  warped_square_diagonal is this with the fan reported as
 // AD; the meshers use this one.
 enum class SquareSplit : std::uint8_t { ad, bc, fan };
-// `metric`: the lattice's (generic_square.hpp, LatticeMetric; rhombic is
-// experimental and uncertified).
+// `metric`: the lattice's (generic_square.hpp, LatticeMetric).
 SquareSplit warped_square_split(DiagonalRule rule, const std::array<CornerState, 4>& corners,
                                 const std::array<double, 4>& t, bool* forced = nullptr, TieBreak tie = TieBreak::ad,
                                 LatticeMetric metric = LatticeMetric::square);

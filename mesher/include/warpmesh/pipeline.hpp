@@ -110,13 +110,12 @@ struct MeshOptions {
     // background's triangles (region 0) too; false: it only bounds the
     // materials.  Ignored by mesh(const LevelSet&, ...).
     bool keep_background = false;
-    // EXPERIMENTAL: the lattice (`--lattice`).  LatticeMetric::rhombic meshes
-    // on the 60-degree rhombic lattice (equilateral interior triangles; the
-    // lattice edges have length `spacing`): uniform meshes of one region
-    // only, with the separating or maxmin rule, never certified (the
-    // certificates cover the square lattice): certify, cell_data and verify
-    // are ignored, the report's "certified" is null with a warning saying so.
-    // graded, max_size, Guarantee::flat, DiagonalRule::fan and multi-material
+    // The lattice (`--lattice`).  LatticeMetric::rhombic meshes on the
+    // 60-degree rhombic lattice (equilateral interior triangles; the lattice
+    // edges have length `spacing`): uniform meshes of one region only, with
+    // the separating or maxmin rule, certified by proofs/rhombic_<rule>.cert
+    // (certify, cell_data, verify and Guarantee::flat as on the square
+    // lattice).  graded, max_size, DiagonalRule::fan and multi-material
     // meshes are refused with it (validate, mesh(MaterialField)).
     LatticeMetric lattice = LatticeMetric::square;
     // What the report names as the input ("input" in the JSON), e.g. a path

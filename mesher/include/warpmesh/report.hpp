@@ -32,6 +32,7 @@ struct MaterialResult;            // materials.hpp
 struct MeshResult;                // pipeline.hpp
 struct Mesh3dReport;              // mesh3d.hpp
 enum class DiagonalRule : std::uint8_t;  // generic_square.hpp
+enum class LatticeMetric : std::uint8_t;  // generic_square.hpp
 
 // ---- JSON values ------------------------------------------------------------------
 // A quoted, escaped string / a number (shortest round-trip form; null when not
@@ -63,10 +64,11 @@ void write_quality_json(const std::string& path, const QualityReport& report, co
 // The "certified" object of the JSON report: the certified bounds, the
 // warped squares (flat, not flat, with the first not-flat examples), the
 // rule's theorem, and the boundary fidelity when measured; `junctions`
-// (multi-material meshes) adds the count of junction squares.
-std::string certified_json(const CertifiedSummary& cert, DiagonalRule rule, bool junctions);
+// (multi-material meshes) adds the count of junction squares; `metric` the
+// lattice whose theorem it is (rhombic: proofs/rhombic_<rule>.cert).
+std::string certified_json(const CertifiedSummary& cert, DiagonalRule rule, bool junctions, LatticeMetric metric);
 // Its lines of the text report.
-std::string certified_text(const CertifiedSummary& cert, DiagonalRule rule);
+std::string certified_text(const CertifiedSummary& cert, DiagonalRule rule, LatticeMetric metric);
 
 // ---- multi-material meshes (materials.hpp) -----------------------------------------------
 // JSON members ("materials": [...], "junction_squares": ..., ...) and text

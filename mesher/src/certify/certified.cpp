@@ -19,12 +19,19 @@ extern const std::string_view certified_separating_keys;
 extern const std::string_view certified_materials_keys;
 extern const std::string_view certified_materials_fan_keys;
 extern const std::string_view certified_fan_keys;
+extern const std::string_view certified_rhombic_maxmin_keys;
+extern const std::string_view certified_rhombic_separating_keys;
 }  // namespace generated
 
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
 double arccot_deg(double c) { return std::atan2(1.0, c) * 180.0 / pi; }
+// The physical angle of a bound on the metric's ratio dot / cross: cot on the
+// square lattice, r = sqrt(3) cot on the rhombic one (reporting only).
+double angle_deg(double r, LatticeMetric metric) {
+    return metric == LatticeMetric::rhombic ? std::atan2(std::sqrt(3.0), r) * 180.0 / pi : arccot_deg(r);
+}
 
 int sign_index(int s) { return s + 1; }
 int char_sign(char c) { return c == '-' ? -1 : c == '0' ? 0 : c == '+' ? 1 : 9; }
@@ -59,7 +66,7 @@ struct KeyTable {
 };
 using Table = KeyTable<raw_keys>;
 
-Table build(std::string_view text) {
+Table build(std::string_view text, LatticeMetric metric = LatticeMetric::square) {
     Table t;
     double max_any = -std::numeric_limits<double>::infinity(), max_flat = max_any;
     double min_any = std::numeric_limits<double>::infinity(), min_flat = min_any;  // least cot: largest angle
@@ -74,14 +81,15 @@ Table build(std::string_view text) {
         }
         const double qmin = parse_rational(k.qmin), qmax = parse_rational(k.qmax);
         const int idx = raw_index(cs);
-        t.bound[static_cast<std::size_t>(idx)] = {arccot_deg(qmin), arccot_deg(qmax), qmax, qmin, k.flat};
+        t.bound[static_cast<std::size_t>(idx)] = {angle_deg(qmin, metric), angle_deg(qmax, metric), qmax, qmin, k.flat};
         t.known[static_cast<std::size_t>(idx)] = 1;
         ++t.count;
         max_any = std::max(max_any, qmin);
         min_any = std::min(min_any, qmax);
         if (k.flat) max_flat = std::max(max_flat, qmin), min_flat = std::min(min_flat, qmax);
     }
-    t.theorem = {arccot_deg(max_any), arccot_deg(max_flat), max_any, max_flat, arccot_deg(min_any), arccot_deg(min_flat)};
+    t.theorem = {angle_deg(max_any, metric), angle_deg(max_flat, metric), max_any, max_flat, angle_deg(min_any, metric),
+                 angle_deg(min_flat, metric)};
     return t;
 }
 
@@ -130,16 +138,25 @@ const JunctionTable& junction_table(DiagonalRule rule) {
     return rule == DiagonalRule::separating ? separating : rule == DiagonalRule::fan ? fan : none;
 }
 
-const Table& table(DiagonalRule rule) {
+const Table& table(DiagonalRule rule, LatticeMetric metric) {
     static const Table maxmin = build(generated::certified_maxmin_keys);
     static const Table separating = build(generated::certified_separating_keys);
     static const Table fan = build(generated::certified_fan_keys);
+    static const Table rhombic_maxmin = build(generated::certified_rhombic_maxmin_keys, LatticeMetric::rhombic);
+    static const Table rhombic_separating = build(generated::certified_rhombic_separating_keys, LatticeMetric::rhombic);
+    static const Table none;
+    if (metric == LatticeMetric::rhombic)
+        return rule == DiagonalRule::maxmin ? rhombic_maxmin : rule == DiagonalRule::separating ? rhombic_separating : none;
     return rule == DiagonalRule::maxmin ? maxmin : rule == DiagonalRule::separating ? separating : fan;
 }
 
 }  // namespace
 
-std::string_view certified_table_text(DiagonalRule rule) {
+std::string_view certified_table_text(DiagonalRule rule, LatticeMetric metric) {
+    if (metric == LatticeMetric::rhombic)
+        return rule == DiagonalRule::maxmin       ? generated::certified_rhombic_maxmin_keys
+               : rule == DiagonalRule::separating ? generated::certified_rhombic_separating_keys
+                                                  : std::string_view{};
     return rule == DiagonalRule::maxmin       ? generated::certified_maxmin_keys
            : rule == DiagonalRule::separating ? generated::certified_separating_keys
                                               : generated::certified_fan_keys;
@@ -272,19 +289,19 @@ std::string key_code(const std::array<CornerState, 4>& cs) {
     return s;
 }
 
-const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& cs) {
+const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& cs, LatticeMetric metric) {
     for (const auto& c : cs)
         if (c.sign < -1 || c.sign > 1 || static_cast<int>(c.warp) >= warp_count) return nullptr;
-    const Table& t = table(rule);
+    const Table& t = table(rule, metric);
     const int idx = raw_index(cs);
     return t.known[static_cast<std::size_t>(idx)] ? &t.bound[static_cast<std::size_t>(idx)] : nullptr;
 }
 
-bool certified_table_available() {
-    return table(DiagonalRule::maxmin).count > 0 && table(DiagonalRule::separating).count > 0;
+bool certified_table_available(LatticeMetric metric) {
+    return table(DiagonalRule::maxmin, metric).count > 0 && table(DiagonalRule::separating, metric).count > 0;
 }
-std::size_t certified_key_count(DiagonalRule rule) { return table(rule).count; }
-CertifiedTheorem certified_theorem(DiagonalRule rule) { return table(rule).theorem; }
+std::size_t certified_key_count(DiagonalRule rule, LatticeMetric metric) { return table(rule, metric).count; }
+CertifiedTheorem certified_theorem(DiagonalRule rule, LatticeMetric metric) { return table(rule, metric).theorem; }
 
 // ---------------------------------------------------------------------------
 CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
@@ -302,7 +319,11 @@ CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& 
 
 namespace {
 
-constexpr double lattice_deg = 45.0;  // plain lattice squares and graded templates: 45°, 45°, 90°
+// Plain lattice squares and graded templates: 45°, 45°, 90°; plain rhombi:
+// 60°, 60°, 60° (generic_square.hpp, unwarped_diagonal).
+constexpr double lattice_deg = 45.0;
+double plain_min_deg(LatticeMetric m) { return m == LatticeMetric::rhombic ? 60.0 : lattice_deg; }
+double plain_max_deg(LatticeMetric m) { return m == LatticeMetric::rhombic ? 60.0 : 90.0; }
 
 // The key of a keyed square: its corners' states from the stencil signs st
 // (sign keys) or, when square_signs said so, its corners' material classes
@@ -321,7 +342,7 @@ struct SquareKey {
 
 template <class WarpOf>
 SquareKey square_key(const std::array<std::int8_t, 12>& st, bool junction, const std::array<std::int64_t, 4>& p, WarpOf&& warp_of,
-                     DiagonalRule rule) {
+                     DiagonalRule rule, LatticeMetric metric) {
     SquareKey key;
     key.junction = junction;
     for (std::size_t c = 0; c < 4; ++c) {
@@ -330,23 +351,23 @@ SquareKey square_key(const std::array<std::int8_t, 12>& st, bool junction, const
         key.jm[c] = {static_cast<std::uint16_t>(st[c]), key.cs[c].warp};
     }
     if (junction) key.bound = certified_junction_bound(key.jm, rule);
-    else key.bound = certified_bound(rule, key.cs);
+    else key.bound = certified_bound(rule, key.cs, metric);
     return key;
 }
 
 // The cotangent forms of triangle `tri` in the frame of square (i, j) (cot
-// is invariant under translation and scaling), and whether they lie in
-// bound b: counter-clockwise, every angle's cot in [min_cot, max_cot] up to a
-// relative 1e-9.
+// is invariant under translation and scaling; rhombic: the metric's forms, in
+// lattice coordinates), and whether they lie in bound b: counter-clockwise,
+// every angle's ratio in [min_cot, max_cot] up to a relative 1e-9.
 TriangleForms<double> square_frame_forms(const Mesh& mesh, const Lattice& lattice, std::int64_t i, std::int64_t j,
-                                         const std::array<std::int32_t, 3>& tri) {
+                                         const std::array<std::int32_t, 3>& tri, LatticeMetric metric) {
     std::array<Point<double>, 3> v{};
     const Vec2 o = lattice.position(i, j);
     for (int q = 0; q < 3; ++q) {
         const Vec2& x = mesh.vertices[static_cast<std::size_t>(tri[static_cast<std::size_t>(q)])];
         v[static_cast<std::size_t>(q)] = {(x.x - o.x) / lattice.s, (x.y - o.y) / lattice.s};
     }
-    return triangle_forms(v[0], v[1], v[2]);
+    return triangle_forms(v[0], v[1], v[2], metric);
 }
 
 bool within_bound(const TriangleForms<double>& f, const CertifiedBound& b) {
@@ -361,11 +382,11 @@ bool within_bound(const TriangleForms<double>& f, const CertifiedBound& b) {
 
 // The message of a triangle outside its key's bound.
 std::string violation(std::int64_t i, std::int64_t j, const std::string& key, std::int64_t k, const TriangleForms<double>& f,
-                      const CertifiedBound& b) {
+                      const CertifiedBound& b, LatticeMetric metric) {
     std::ostringstream m;
     m.precision(12);
     m << "certificate violated: square (" << i << ", " << j << ") key " << key << ", triangle " << k << " has angles";
-    for (int q = 0; q < 3; ++q) m << ' ' << arccot_deg(f.dot[static_cast<std::size_t>(q)] / f.cross);
+    for (int q = 0; q < 3; ++q) m << ' ' << angle_deg(f.dot[static_cast<std::size_t>(q)] / f.cross, metric);
     m << " deg (cross " << f.cross << "), certified [" << b.min_deg << ", " << b.max_deg << "] deg";
     return m.str();
 }
@@ -382,21 +403,22 @@ struct KeyedTotals {
 // the first 20 with their keys; examples are (square, key) pairs.
 void fill_summary(CertifiedSummary& sum, const Lattice& lattice, const KeyedTotals& t, std::int64_t ntris,
                   std::vector<std::int64_t> junction_list, std::vector<std::pair<std::int64_t, std::string>> examples,
-                  bool verified) {
+                  const CertifyOptions& options) {
     const std::int64_t nx = lattice.nx;
     double gmin = t.gmin, gmax = t.gmax;
     sum.junction_squares = t.junctions;
     std::sort(junction_list.begin(), junction_list.end());
     if (junction_list.size() > 20) junction_list.resize(20);
     sum.junction_list = std::move(junction_list);
-    if (t.keyed_tris < ntris) gmin = std::min(gmin, lattice_deg), gmax = std::max(gmax, 90.0);
+    if (t.keyed_tris < ntris)
+        gmin = std::min(gmin, plain_min_deg(options.metric)), gmax = std::max(gmax, plain_max_deg(options.metric));
     sum.min_deg = gmin;
     sum.max_deg = gmax;
     sum.keyed_min_deg = t.keyed ? t.kmin : std::numeric_limits<double>::quiet_NaN();
     sum.keyed_squares = t.keyed;
     sum.flat_squares = t.flat;
     sum.nonflat_squares = t.nonflat;
-    sum.verified = verified;
+    sum.verified = options.verify;
     std::sort(examples.begin(), examples.end());
     for (std::size_t e = 0; e < examples.size() && e < 100000; ++e) {
         const Vec2 lo = lattice.position(examples[e].first % nx, examples[e].first / nx);
@@ -414,7 +436,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
                                  std::span<const WarpedPoint> warped, DiagonalRule rule,
                                  std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
     CertifiedSummary sum;
-    if (!options.enabled || !certified_table_available()) return sum;
+    if (!options.enabled || !certified_table_available(options.metric)) return sum;
     sum.available = true;
     const std::int64_t ntris = static_cast<std::int64_t>(mesh.triangles.size());
     const std::int64_t nx = lattice.nx, nxp = lattice.points_x();
@@ -435,7 +457,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
 
     if (options.cell_data) {
 #pragma omp parallel for schedule(static)
-        for (std::int64_t k = 0; k < ntris; ++k) cell[static_cast<std::size_t>(k)] = lattice_deg;
+        for (std::int64_t k = 0; k < ntris; ++k) cell[static_cast<std::size_t>(k)] = plain_min_deg(options.metric);
     }
     std::int64_t keyed_tris = 0;
     const std::int64_t nkeyed = static_cast<std::int64_t>(keyed_squares.size());
@@ -456,7 +478,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         std::array<std::int8_t, 12> st{};
         const bool junction = !square_signs(i, j, st);
-        const SquareKey key = square_key(st, junction, p, warp_of, rule);
+        const SquareKey key = square_key(st, junction, p, warp_of, rule, options.metric);
         const CertifiedBound* b = key.bound;
         if (!b) {
             std::lock_guard<std::mutex> lock(mu);
@@ -479,9 +501,10 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         for (std::int64_t k = k0; k < k1; ++k) {
             if (options.cell_data) cell[static_cast<std::size_t>(k)] = b->min_deg;
             if (!options.verify) continue;
-            const TriangleForms<double> f = square_frame_forms(mesh, lattice, i, j, mesh.triangles[static_cast<std::size_t>(k)]);
+            const TriangleForms<double> f =
+                square_frame_forms(mesh, lattice, i, j, mesh.triangles[static_cast<std::size_t>(k)], options.metric);
             if (!within_bound(f, *b)) {
-                const std::string m = violation(i, j, key.code(), k, f, *b);
+                const std::string m = violation(i, j, key.code(), k, f, *b, options.metric);
                 std::lock_guard<std::mutex> lock(mu);
                 if (failure.empty() || k < failure_tri) failure = m, failure_tri = k;
             }
@@ -499,7 +522,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
     }
     if (!failure.empty()) throw std::logic_error(failure);
     fill_summary(sum, lattice, {gmin, gmax, kmin, keyed, flat_count, nonflat, junctions, keyed_tris}, ntris,
-                 std::move(junction_list), std::move(examples), options.verify);
+                 std::move(junction_list), std::move(examples), options);
     if (options.cell_data) mesh.cell_data.emplace_back("certified_min_angle", std::move(cell));
     return sum;
 }

@@ -174,8 +174,8 @@ void write_quality_json(const std::string& path, const QualityReport& report,
 
 // Multi-material meshes (junctions) also count the junction squares (3 or 4
 // materials), certified by their junction keys (proofs/materials.cert).
-std::string certified_json(const CertifiedSummary& cert, DiagonalRule rule, bool junctions) {
-    const CertifiedTheorem th = certified_theorem(rule);
+std::string certified_json(const CertifiedSummary& cert, DiagonalRule rule, bool junctions, LatticeMetric metric) {
+    const CertifiedTheorem th = certified_theorem(rule, metric);
     std::string j = "{\"min_angle_deg\": " + json_number(cert.min_deg) +
                     ", \"max_angle_deg\": " + json_number(cert.max_deg) +
                     ", \"warped_min_angle_deg\": " + json_number(cert.keyed_min_deg) +
@@ -198,10 +198,12 @@ std::string certified_json(const CertifiedSummary& cert, DiagonalRule rule, bool
     return j;
 }
 
-std::string certified_text(const CertifiedSummary& cert, DiagonalRule rule) {
+// The rhombic lattice's certificates are proofs/rhombic_<rule>.cert.
+std::string certified_text(const CertifiedSummary& cert, DiagonalRule rule, LatticeMetric metric) {
     std::ostringstream t;
     t.precision(10);
-    t << "certified angles     [" << cert.min_deg << ", " << cert.max_deg << "] deg (proofs/" << rule_name(rule)
+    t << "certified angles     [" << cert.min_deg << ", " << cert.max_deg << "] deg (proofs/"
+      << (metric == LatticeMetric::rhombic ? "rhombic_" : "") << rule_name(rule)
       << ".cert" << (cert.junction_squares ? " and proofs/materials.cert" : "")
       << (cert.verified ? ", every triangle verified" : ", not verified") << ")\n";
     t << "warped squares       " << cert.keyed_squares << " (" << cert.flat_squares << " flat, "

@@ -1,4 +1,4 @@
-// rhombic.cpp — the experimental rhombic lattice's level set g = f∘P and its
+// rhombic.cpp — the rhombic lattice's level set g = f∘P and its
 // output map (rhombic.hpp).
 #include "rhombic.hpp"
 

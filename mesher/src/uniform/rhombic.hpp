@@ -1,4 +1,4 @@
-// rhombic.hpp — the EXPERIMENTAL, UNCERTIFIED 60-degree rhombic lattice
+// rhombic.hpp — the 60-degree rhombic lattice
 // (MeshOptions::lattice = LatticeMetric::rhombic, `--lattice rhombic`).
 //
 // The rhombic lattice is the square lattice under the linear map
@@ -16,9 +16,11 @@
 // compares the angles of the metric G = Pᵀ P (LatticeMetric::rhombic in
 // generic_square.hpp), and the output vertices are mapped by P.
 //
-// No certificate covers it: the proofs (proofs/*.cert) measure angles in the
-// square's metric.  ARCHITECTURE.md ("Rhombic lattice") says what a
-// certified version needs.
+// Certified by its own certificates, proofs/rhombic_maxmin.cert and
+// proofs/rhombic_separating.cert (the same configuration space as the
+// square's, in lattice coordinates, measured in the metric G; proofs/README.md,
+// "The rhombic lattice"): the pipeline certifies and verifies the mesh in
+// lattice coordinates, before the map by P.
 #pragma once
 
 #include <cmath>

@@ -13,7 +13,7 @@
 // interior has no preferred direction; the fast path below takes it without
 // evaluating the rule, which is exactly what choose_diagonal returns there
 // (the unit square's corners are exact in floating point).  On the
-// experimental rhombic lattice (LatticeMetric::rhombic) the unwarped square
+// rhombic lattice (LatticeMetric::rhombic) the unwarped square
 // is a rhombus and the rule takes its short diagonal BC everywhere
 // (unwarped_diagonal).  Every other square
 // — a warped corner, or a zero-valued one, which can make the separating rule

@@ -34,8 +34,8 @@ WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice) {
 
 UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
                            const CertifyOptions& certify, LatticeMetric metric) {
-    if (metric != LatticeMetric::square && certify.enabled)
-        throw std::logic_error("mesh_uniform: the certificates cover the square lattice only (rhombic: certify off)");
+    if (certify.enabled && certify.metric != metric)
+        throw std::logic_error("mesh_uniform: certifying in another lattice's metric than the mesh's");
     UniformResult r;
     const WarpedLattice w = warp_lattice(f, lattice);
     r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;

@@ -1,6 +1,6 @@
 // prove.hpp — the angle prover for the generic square (see proofs/README.md).
 //
-// `prove_main` implements `warpmesh prove [--out DIR] [--threads N] [--keys I,J,..]`.
+// `prove_main` implements `warpmesh prove [--out DIR] [--threads N] [--lattice square|rhombic] [--rule R] [--keys I,J,..]`.
 // The rest is the prover's API, used by the tests.
 #pragma once
 
@@ -33,11 +33,15 @@ inline constexpr double fan_taken_cot = 3.0 + 0x1p-20 + 3 * 0x1p-30 + 0x1p-50;
 // materials; proofs/README.md, "Junction keys") has `junction` set and the
 // corners' material classes in `m` (letters 0..3 in order of first appearance
 // A, B, C, D); its warps are in both `s` and `m`, its signs `s[c].sign` are 0
-// and unused.
+// and unused.  `metric`: the lattice whose angles the key's forms measure
+// (generic_square.hpp's LatticeMetric; the configurations, in lattice
+// coordinates, are the same on both lattices, proofs/README.md "The rhombic
+// lattice"): every form of the prover reads it from the key.
 struct Key {
     std::array<CornerState, 4> s;
     bool junction = false;
     std::array<MaterialCorner, 4> m{};
+    LatticeMetric metric = LatticeMetric::square;
 };
 
 // The rule's choice for a key's corners: choose_diagonal of generic_square.hpp
@@ -50,7 +54,7 @@ struct Key {
 // attained, by the squares whose tie-break is AD).
 template <class T>
 Choice choose_key_diagonal(DiagonalRule rule, const std::array<Point<T>, 4>& p, const Key& k, TieBreak tie = TieBreak::ad) {
-    return k.junction ? choose_diagonal<T>(rule, p, k.m, tie) : choose_diagonal<T>(rule, p, k.s, tie);
+    return k.junction ? choose_diagonal<T>(rule, p, k.m, tie, k.metric) : choose_diagonal<T>(rule, p, k.s, tie, k.metric);
 }
 
 // Whether the fan rule may take the centroid fan on the key's squares: its
@@ -130,14 +134,21 @@ inline const char* rule_name(DiagonalRule r) {
     return r == DiagonalRule::maxmin ? "maxmin" : r == DiagonalRule::separating ? "separating" : "fan";
 }
 
+// "square" or "rhombic": the certificate's metric line (format 4).
+inline const char* metric_name(LatticeMetric m) { return m == LatticeMetric::square ? "square" : "rhombic"; }
+
 // Runs the whole proof for a rule and returns the certificate text.  `key_subset`
 // (indices into consistent_keys()) restricts the run, for tests; the claims are
 // then over that subset only.  `log` receives a human summary.
 // `space` = junctions: the junction keys (separating rule: proofs/materials.cert;
 // fan rule: proofs/materials_fan.cert), no flat category, the header line
 // `space junctions`.
+// `metric` = rhombic: the sign keys measured in the rhombic metric (claims
+// and witnesses are bounds on r = dot / cross = sqrt(3) cot(angle)), the
+// header `warpmesh-certificate 4` and `metric rhombic`; the square metric
+// writes format 3 as before.  The fan rule has no rhombic version.
 std::string run_proof(DiagonalRule rule, const std::vector<int>* key_subset, std::string* log,
-                      KeySpace space = KeySpace::signs);
+                      KeySpace space = KeySpace::signs, LatticeMetric metric = LatticeMetric::square);
 
 }  // namespace prover
 }  // namespace warpmesh
