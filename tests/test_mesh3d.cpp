@@ -624,7 +624,10 @@ BOOST_AUTO_TEST_CASE(issue30_nonmanifold_boundary_edges_counted) {
     const TetMesh one = with_boundary({o, x, y, z}, {{0, 1, 2, 3}});
     const TetMesh edge = with_boundary({o, z, x, y, mx, my}, {{0, 2, 3, 1}, {0, 4, 5, 1}});
     const TetMesh vertex = with_boundary({o, x, y, z, mx, my, mz}, {{0, 1, 2, 3}, {0, 5, 4, 6}});
-    for (const TetMesh* m : {&one, &edge, &vertex}) BOOST_TEST(check_tet_mesh(*m).ok, check_tet_mesh(*m).problems.front());
+    for (const TetMesh* m : {&one, &edge, &vertex}) {
+        const TetMeshCheck c = check_tet_mesh(*m);
+        BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+    }
     BOOST_TEST(check_tet_mesh(one).nonmanifold_boundary_edges == 0);
     BOOST_TEST(check_tet_mesh(one).nonmanifold_boundary_vertices == 0);
     BOOST_TEST(check_tet_mesh(edge).nonmanifold_boundary_edges == 1);
