@@ -42,8 +42,8 @@ struct UniformResult {
 // data "certified_min_angle", the summary, and optionally the verification.
 // `metric`: LatticeMetric::rhombic meshes f in lattice coordinates with the
 // rhombic rule: f is then f∘P and the mesh's vertices are in lattice
-// coordinates (rhombic.hpp maps them); certified with certify.metric the
-// same (the rhombic tables, the rhombic forms for verify).
+// coordinates (rhombic.hpp maps them); certified in that metric whatever
+// certify.metric says (the rhombic tables, the rhombic forms for verify).
 UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
                            const CertifyOptions& certify = CertifyOptions{false, false, false},
                            LatticeMetric metric = LatticeMetric::square);
