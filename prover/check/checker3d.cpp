@@ -11,8 +11,11 @@
 // names its side) and re-verifies every leaf exactly: positive orientation,
 // both dihedral bounds and the face-angle bound of every output tetrahedron.
 // It evaluates every witness exactly and measures each claim's tightness.
+// It also checks a counter-example certificate (proofs/bcc_half.cert,
+// "warpmesh-bcc-counterexample 1", see check_counterexample): an exact point
+// of a key's space where an output tetrahedron is not positively oriented.
 // No global state.  Any failure: exit 1; exit 0 only
-// when the printed theorem holds.
+// when the printed theorem (or counter-example) holds.
 //
 // EXACT FIXED-POINT ARITHMETIC.  A leaf's box ends are dyadic, m / 2^e.  With
 // K = 1 + the largest e of the leaf (so the box's centre is dyadic at 2^-K
@@ -977,6 +980,116 @@ void print_theorem(const std::string& al, const std::string& as, const std::arra
     }
 }
 
+// ---- the counter-example certificate (proofs/bcc_half.cert) ---------------------------
+// Format (proofs/README.md, "The α = ½ rule: a counter-example"):
+//   warpmesh-bcc-counterexample 1
+//   alphas L S            exact rationals with one denominator, 0 < α <= 1/2
+//   key CODE              a canonical consistent key with output
+//   point x_0 .. x_{m-1}  dyadic, inside the key's exact parameter box at the alphas
+//   inverted P0 P1 P2 P3  an output tetrahedron of the key's stencil (points
+//                         0..3 the vertices, 4 + e the cut point of edge e)
+// The statement: at that configuration of the key's space the tetrahedron,
+// in the stencil's positive orientation (positive at the reference
+// configuration), has 6·volume <= 0; and at the same point with every warp
+// t set to 0 (in the box: t ∈ [0, α]) it has 6·volume > 0.  Both exactly
+// (points times 2^K with integer coordinates; 6·volume of degree 3, so its
+// sign is the exact one).  So the space contains a flat output tetrahedron
+// (6·volume is a polynomial on the segment between the two points, and the
+// box is convex), and no theorem of bcc.cert's form (every output tetrahedron
+// positively oriented) holds at these alphas.
+// The same denominator for both alphas, below 2^31; 0 < α <= 1/2 (at α = 1/2
+// a cut point violates at most one endpoint, since the violation is u < α,
+// so the consistency rules still hold and the space is still a superset).
+std::pair<std::int64_t, std::int64_t> counterexample_alphas(const std::string& line, std::int64_t& den) {
+    std::istringstream a(line);
+    std::string word, al, as;
+    if (!(a >> word >> al >> as) || word != "alphas" || (a >> word)) fail("bad alphas line");
+    const auto [ln, ld] = parse_q(al);
+    const auto [sn, sd] = parse_q(as);
+    if (ld != sd || ld >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
+    if (!(ln > 0 && 2 * ln <= ld && sn > 0 && 2 * sn <= sd)) fail("alphas out of (0, 1/2]");
+    den = ld;
+    return {ln, sn};
+}
+// The key of the "key CODE" line: consistent, with output, canonical.
+Key counterexample_key(const std::string& line, std::string& code) {
+    std::istringstream ks(line);
+    std::string word;
+    if (!(ks >> word >> code) || word != "key" || (ks >> word)) fail("bad key line");
+    const Key k = parse_code(code);
+    if (!consistent(k) || stencil(k).empty()) fail("key " + code + " is not a consistent key with output");
+    std::array<int, 9> best = k.enc();
+    for (const Sym& s : symmetries()) best = std::min(best, image(k, s).enc());
+    if (best != k.enc()) fail("key " + code + " is not canonical");
+    return k;
+}
+// The "point" line: one dyadic per parameter, each inside the exact box.
+Box counterexample_point(const std::string& line, const std::vector<Param>& ps, const std::string& code) {
+    std::istringstream ps_in(line);
+    std::string word, x;
+    if (!(ps_in >> word) || word != "point") fail("bad point line");
+    Box b;
+    for (const Param& p : ps) {
+        if (!(ps_in >> x)) fail("too few parameters for " + code);
+        const Dy v = parse_dyadic(x);
+        const bool ge = static_cast<__int128>(v.m) * p.den >= static_cast<__int128>(p.lo_num) * (static_cast<__int128>(1) << v.e);
+        if (!(ge && le(v, p.hi_num, p.den))) fail("point outside the parameter box of " + code);
+        b.push_back(Side{v, v});
+    }
+    if (ps_in >> x) fail("too many parameters for " + code);
+    return b;
+}
+// The "inverted" line's tetrahedron, as the stencil orients it.
+Tet counterexample_tet(const std::string& line, const Key& k, const std::string& code) {
+    std::istringstream ts(line);
+    std::string word;
+    Tet want{};
+    if (!(ts >> word) || word != "inverted") fail("bad inverted line");
+    for (int& v : want)
+        if (!(ts >> v) || v < 0 || v > 9) fail("bad inverted line");
+    if (ts >> word) fail("bad inverted line");
+    std::sort(want.begin(), want.end());
+    for (const Tet& t : oriented(k)) {
+        Tet s = t;
+        std::sort(s.begin(), s.end());
+        if (s == want) return t;
+    }
+    fail("the inverted tetrahedron is not an output tetrahedron of " + code);
+}
+// 6·volume of t at the point b, times 2^(3K) (K: b's finest exponent): exact.
+Z volume6_at(const Key& k, const std::vector<Param>& ps, const Box& b, const Tet& t) {
+    int K = 0;
+    for (const Side& s : b) K = std::max(K, s.lo.e);
+    const auto pt = points<I>(k, ps, b, K);
+    const I v = dot3(sub3(pt[t[1]], pt[t[0]]), cross3(sub3(pt[t[2]], pt[t[0]]), sub3(pt[t[3]], pt[t[0]])));
+    if (cmp(v.lo, v.hi) != 0) fail("internal: a point's volume is not exact");
+    return v.lo;
+}
+int check_counterexample(const std::vector<std::string>& body) {
+    if (body.size() != 5) fail("a counter-example has five lines");
+    std::int64_t den = 0;
+    const auto [ln, sn] = counterexample_alphas(body[1], den);
+    std::string code;
+    const Key k = counterexample_key(body[2], code);
+    const std::vector<Param> ps = params(k, ln, sn, den);
+    const Box b = counterexample_point(body[3], ps, code);
+    const Tet t = counterexample_tet(body[4], k, code);
+    const Z v = volume6_at(k, ps, b, t);
+    if (sgn(v) > 0) fail("the tetrahedron of " + code + " is positively oriented at the point (6*volume > 0)");
+    Box unwarped = b;  // every t_i = 0, the cut points as given
+    for (std::size_t i = 0; i < ps.size(); ++i)
+        if (ps[i].index < 4) unwarped[i] = Side{Dy{0, 0}, Dy{0, 0}};
+    if (sgn(volume6_at(k, ps, unwarped, t)) <= 0) fail("the tetrahedron of " + code + " is not positively oriented without its warps");
+    int K = 0;
+    for (const Side& s : b) K = std::max(K, s.lo.e);
+    std::cout << std::setprecision(10) << "BCC counter-example (alphas " << ln << "/" << den << ", " << sn << "/" << den
+              << "): key " << code << ", output tetrahedron (" << t[0] << " " << t[1] << " " << t[2] << " " << t[3]
+              << "): 6*volume " << (sgn(v) < 0 ? "< 0 (inverted)" : "= 0 (flat)") << " at the point, "
+              << to_double(v) / std::ldexp(1.0, 3 * K) << " in doubled lattice units, and > 0 with every warp t = 0: "
+              << "the key's space contains a flat output tetrahedron, NO BOUND on the dihedral angles at these alphas\n";
+    return 0;
+}
+
 // Parses the header, every key line and witness (cheap), then verifies the
 // leaves; prints the theorem.
 int check(std::istream& in, bool progress) {
@@ -984,6 +1097,7 @@ int check(std::istream& in, bool progress) {
     std::vector<std::string> body;
     while (std::getline(in, line))
         if (!line.empty() && line[0] != '#') body.push_back(line);
+    if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
     if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 4") fail("not a BCC certificate (format 4)");
     std::istringstream a(body[1]), c(body[2]), n(body[3]);
     std::string al, as;

@@ -9,6 +9,11 @@
 //                                         dihedral angle; worst keys printed
 //   bcc_explore shapes L S [TRIALS]       random quadrics stuffed on a 6³
 //                                         block (tests/bcc_stuffing.hpp)
+//   bcc_explore counterexample L S        the counter-example certificate
+//                                         (proofs/bcc_half.cert at 0.5 0.5):
+//                                         the most negative 6·volume of an
+//                                         output tetrahedron over every key's
+//                                         box points on the 1/16 grid
 //   bcc_explore signs L- L+ S- S+ [N] [TRIALS]
 //                                         rule experiment (proofs/README.md,
 //                                         "Towards 12°"): thresholds per sign
@@ -208,6 +213,88 @@ int run_shapes(const bcc::Alphas& al, int trials, const std::array<double, 4>* b
     return 0;
 }
 
+// ---- the counter-example certificate (warpmesh-check-bcc checks it) -----------
+// Per key, every point of its box on the grid of multiples of 1/16 (the box
+// ends at α = 1/2 are on it); the output tetrahedron with the most negative
+// 6·volume (doubled lattice coordinates).  On that grid every coordinate is
+// a multiple of 1/16 below 4 in magnitude, so double evaluates 6·volume
+// exactly (products of three such numbers need 3·6 + a few bits): the sign is
+// the exact one, which the checker re-derives in exact arithmetic anyway.
+// Ties: the first key in canonical order, the first grid point, the first
+// tetrahedron — deterministic, so CI can rewrite the file and compare.
+struct Inverted {
+    double volume6 = 0;
+    std::string code;
+    std::vector<double> x;
+    std::array<int, 4> tet{};
+};
+
+// The grid values j/16 inside [lo, hi] (lo, hi the exact box ends as doubles).
+std::vector<double> grid_values(const bcc_prover::Param& p) {
+    std::vector<double> v;
+    for (int j = 0; j <= 16; ++j)
+        if (j / 16.0 >= p.lo && j / 16.0 <= p.hi) v.push_back(j / 16.0);
+    return v;
+}
+
+// The most negative 6·volume of one key on its grid, folded into `best`.
+void most_inverted(const bcc_prover::Key& k, const bcc::Alphas& al, Inverted& best) {
+    const auto ps = bcc_prover::key_params(k, al);
+    std::vector<std::vector<double>> axes;
+    for (const auto& p : ps) axes.push_back(grid_values(p));
+    for (const auto& a : axes)
+        if (a.empty()) return;
+    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
+    std::vector<std::size_t> at(ps.size(), 0);
+    for (bool more = true; more;) {
+        std::vector<double> x(ps.size());
+        for (std::size_t i = 0; i < ps.size(); ++i) x[i] = axes[i][at[i]];
+        const auto pts = bcc_prover::key_points(k, ps, x.data());
+        for (int j = 0; j < st.count; ++j) {
+            std::array<bcc::Vec<double>, 4> p{};
+            for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
+            const double v6 = bcc::dihedral_forms(p).volume6;
+            if (v6 < best.volume6) {
+                best = {v6, bcc_prover::code_of(k), x, {}};
+                for (int v = 0; v < 4; ++v) best.tet[static_cast<std::size_t>(v)] = st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)];
+            }
+        }
+        more = false;  // next grid point (odometer, last parameter fastest)
+        for (std::size_t i = ps.size(); i-- > 0;) {
+            if (++at[i] < axes[i].size()) {
+                more = true;
+                break;
+            }
+            at[i] = 0;
+        }
+    }
+}
+
+// j/16 as a reduced dyadic "p/q" (or "p").
+std::string dyadic_text(double x) {
+    long p = std::lround(x * 16), q = 16;
+    while (q > 1 && p % 2 == 0) p /= 2, q /= 2;
+    return q == 1 ? std::to_string(p) : std::to_string(p) + "/" + std::to_string(q);
+}
+
+int run_counterexample(const bcc::Alphas& al) {
+    Inverted best;
+    for (const auto& k : bcc_prover::enumerate_keys()) most_inverted(k, al, best);
+    if (best.code.empty()) {
+        std::fprintf(stderr, "bcc_explore: no output tetrahedron with 6*volume < 0 on the 1/16 grid\n");
+        return 1;
+    }
+    std::printf("warpmesh-bcc-counterexample 1\n");
+    std::printf("# written by bcc_explore counterexample; checked by warpmesh-check-bcc (proofs/README.md)\n");
+    std::printf("# 6*volume at the point: %.6f (doubled lattice coordinates)\n", best.volume6);
+    std::printf("alphas %lld/%lld %lld/%lld\n", static_cast<long long>(al.long_num), static_cast<long long>(al.long_den),
+                static_cast<long long>(al.short_num), static_cast<long long>(al.short_den));
+    std::printf("key %s\npoint", best.code.c_str());
+    for (double x : best.x) std::printf(" %s", dyadic_text(x).c_str());
+    std::printf("\ninverted %d %d %d %d\n", best.tet[0], best.tet[1], best.tet[2], best.tet[3]);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -229,6 +316,7 @@ int main(int argc, char** argv) {
         const int n = argc > 4 ? std::atoi(argv[4]) : (mode == "search" ? 64 : 50);
         return mode == "search" ? run_search(al, n) : run_shapes(al, n);
     }
+    if (mode == "counterexample" && argc == 4) return run_counterexample(alphas_of(argv[2], argv[3]));
     if (mode == "signs" && argc >= 6) {
         const std::array<double, 4> a{std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5])};
         for (double x : a)
@@ -239,6 +327,6 @@ int main(int argc, char** argv) {
         const int r = run_signs(a, argc > 6 ? std::atoi(argv[6]) : 24);
         return r ? r : run_shapes(bcc::labelle_shewchuk_alphas, argc > 7 ? std::atoi(argv[7]) : 50, &a);
     }
-    std::fprintf(stderr, "usage: bcc_explore keys | search L S [N] | shapes L S [TRIALS] | signs L- L+ S- S+ [N] [TRIALS]\n");
+    std::fprintf(stderr, "usage: bcc_explore keys | search L S [N] | shapes L S [TRIALS] | counterexample L S | signs L- L+ S- S+ [N] [TRIALS]\n");
     return 2;
 }
