@@ -1082,11 +1082,14 @@ int check_counterexample(const std::vector<std::string>& body) {
     if (sgn(volume6_at(k, ps, unwarped, t)) <= 0) fail("the tetrahedron of " + code + " is not positively oriented without its warps");
     int K = 0;
     for (const Side& s : b) K = std::max(K, s.lo.e);
+    std::string at = body[3].substr(body[3].find(' ') + 1);  // the point as written (exact dyadics)
+    std::replace(at.begin(), at.end(), ' ', ',');
+    // 6·volume = v / 2^(3K) in doubled coordinates; the double is for the message only.
     std::cout << std::setprecision(10) << "BCC counter-example (alphas " << ln << "/" << den << ", " << sn << "/" << den
-              << "): key " << code << ", output tetrahedron (" << t[0] << " " << t[1] << " " << t[2] << " " << t[3]
-              << "): 6*volume " << (sgn(v) < 0 ? "< 0 (inverted)" : "= 0 (flat)") << " at the point, "
-              << to_double(v) / std::ldexp(1.0, 3 * K) << " in doubled lattice units, and > 0 with every warp t = 0: "
-              << "the key's space contains a flat output tetrahedron, NO BOUND on the dihedral angles at these alphas\n";
+              << "): key " << code << " at (" << at << "): output tetrahedron (" << t[0] << " " << t[1] << " " << t[2] << " "
+              << t[3] << ") has 6*volume " << to_double(v) / std::ldexp(1.0, 3 * K) << (sgn(v) < 0 ? " < 0 (inverted" : " = 0 (flat")
+              << "; doubled lattice coordinates), > 0 with every warp t = 0: the key's space contains a flat output "
+                 "tetrahedron, NO BOUND on the dihedral angles at these alphas\n";
     return 0;
 }
 
@@ -1098,7 +1101,7 @@ int check(std::istream& in, bool progress) {
     while (std::getline(in, line))
         if (!line.empty() && line[0] != '#') body.push_back(line);
     if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
-    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 4") fail("not a BCC certificate (format 4)");
+    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 4") fail("not a BCC certificate (format 4) or counter-example (format 1)");
     std::istringstream a(body[1]), c(body[2]), n(body[3]);
     std::string al, as;
     std::array<std::string, 3> text;
