@@ -3,10 +3,11 @@
 # checker printed — never typed by hand.
 #
 #   { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
-#     build/prover/warpmesh-check-bcc proofs/bcc.cert; } | scripts/bounds-table.sh
+#     build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_half.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorem (dihedral angles of the BCC lattice warping) is the
-# last row.
+# second-last row; its counter-example for the α = ½ closer-endpoint rule
+# (no bound: an inverted tetrahedron) the last.
 #
 # scripts/test.sh runs the checker, pipes its output through this script and
 # fails if README.md or docs/guarantees.md does not contain the result verbatim (between the markers
@@ -29,6 +30,14 @@ awk '
     a3 = $0; sub(/^BCC theorem \(alphas /, "", a3); sub(/\):.*/, "", a3)
     t3 = $0; sub(/.*: t in \[/, "", t3); sub(/\] deg.*/, "", t3); split(t3, tt, ", ")
     lo3 = tt[1]; hi3 = tt[2]
+    next
+  }
+  /^BCC counter-example \(alphas / {
+    # BCC counter-example (alphas A, B): key K at (P): output tetrahedron (...) has 6*volume V < 0 (inverted; ...
+    ax = $0; sub(/^BCC counter-example \(alphas /, "", ax); sub(/\):.*/, "", ax)
+    kx = $0; sub(/.*: key /, "", kx); sub(/ at .*/, "", kx)
+    px = $0; sub(/.* at \(/, "", px); sub(/\):.*/, "", px)
+    vx = $0; sub(/.* has 6\*volume /, "", vx); sub(/ .*/, "", vx)
     next
   }
   /^  rounded outward: every dihedral angle in / { r3 = $0; sub(/.*angle in /, "", r3); sub(/ deg$/, "", r3); next }
@@ -69,6 +78,10 @@ awk '
     if (lo3 != "") {
       split(a3, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
       printf "| BCC closest-first (3D dihedral, α %.5f / %.5f) | all keys with output | %s° | %s° | %s | %s | %s |\n", p[1] / p[2], q[1] / q[2], lo3, hi3, r3, wit3["min"], wit3["max"]
+    }
+    if (kx != "") {
+      split(ax, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
+      printf "| BCC closer-endpoint (3D dihedral, α %.5f / %.5f) | all keys with output | no bound | no bound | inverted | `%s` at (%s): 6·volume %s (doubled coordinates) | — |\n", p[1] / p[2], q[1] / q[2], kx, px, vx
     }
   }
 '
