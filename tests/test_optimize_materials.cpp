@@ -327,6 +327,46 @@ BOOST_AUTO_TEST_CASE(issue28_optimize_junction_sliver) {
     }
 }
 
+// Issue 28's last unmet target (>= 35 deg at 2 px): on the SPL sagittal slice
+// l112 a junction of labels 4096 and 4076 on the dropped background (a 2 px
+// lattice corner; 33.69 deg before the pass) stopped at 34.64 deg.  Label
+// 4096's area was exact before the pass (budget 0), and the earlier
+// area-neutral moves left it 1e-14 px^2 of rounding "room": area_neutral then
+// counted two short labels (4096 and 4076) and left the ascent direction to
+// the line search, which 4096's budget refused at every step.  The last
+// sweeps (Optimizer::retry_junctions) count such room as none and project the
+// direction for 4096: 34.64 -> 35.77 deg on this crop (rows 216..255,
+// columns 64..255 of the slice; 35.13 deg on the whole slice), with no
+// label's area error grown and interfaces exactly the edges between labels.
+BOOST_AUTO_TEST_CASE(issue28_sagittal_2px_budget) {
+    const Image img = read_image(std::string(WARPMESH_SOURCE_DIR) + "/tests/data/issue28_sagittal_2px_budget.pgm");
+    const auto field = make_label_materials(img, "all");
+    std::map<std::int32_t, int> material_of;
+    for (int k = 0; k < field->count(); ++k) material_of[field->tag(k)] = k;
+    for (const bool graded : {false, true}) {
+        MeshOptions o;
+        o.spacing = 2, o.graded = graded;
+        const auto before = areas(mesh(*field, o).mesh);
+        o.optimize = true;
+        const MeshResult r = mesh(*field, o);
+        BOOST_REQUIRE(r.optimized);
+        BOOST_TEST_MESSAGE("sagittal crop graded " << graded << ": min " << r.optimized->min_angle_before << " -> "
+                                                   << r.optimized->min_angle_after << ", max " << r.optimized->max_angle_after);
+        BOOST_REQUIRE_GE(r.optimized->min_angle_after, 35.0);
+        BOOST_REQUIRE_LE(r.optimized->max_angle_after, 110.0);
+        const MeshCheck c = check_mesh(r.mesh);
+        BOOST_REQUIRE_MESSAGE(c.ok(), (c.messages.empty() ? std::string("?") : c.messages[0]));
+        BOOST_REQUIRE(listed_interfaces(r.mesh) == edges_between_regions(r.mesh));
+        const auto after = areas(r.mesh);
+        for (const auto& [tag, a0] : before) {
+            const auto ref = field->reference_area(material_of.at(tag));
+            if (!ref) continue;
+            BOOST_REQUIRE_MESSAGE(std::abs(after.at(tag) - *ref) <= std::abs(a0 - *ref) + 1e-9 * *ref,
+                                  "label " << tag << " area error " << a0 - *ref << " -> " << after.at(tag) - *ref);
+        }
+    }
+}
+
 // The bundled brain slice (every label, 1 and 2 pixels) against issue 28's targets.
 BOOST_AUTO_TEST_CASE(atlas_slice_targets) {
     const Image img = read_image(std::string(WARPMESH_SOURCE_DIR) + "/mesher/examples/brain_axial_s128_labels16.pgm");

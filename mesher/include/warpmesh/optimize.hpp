@@ -234,7 +234,10 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 // smallest angle (src/mesh/remove.hpp: areas, boundary and interfaces
 // unchanged); the mesh is then compacted, so vertex and triangle indices
 // change (OptimizeEvent::renumbered, OptimizeReport::removed_vertices).
-// The refinement rounds then run once more over everything the pass changed.
+// The refinement rounds then run once more over everything the pass changed,
+// and last the sweeps run once more over the stars of the triangles still
+// below 35°, a junction's area-neutral projection then counting a label's
+// room within rounding of zero as none (a label exact before the pass).
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
 // The report as text lines (for stdout) and as a JSON object (the report's

@@ -115,6 +115,12 @@ double AreaBudget::room(std::int32_t region, bool grow) const {
     return grow ? budget_[r] - error_[r] : budget_[r] + error_[r];
 }
 
+bool AreaBudget::spent(std::int32_t region, bool grow) const {
+    const auto r = static_cast<std::size_t>(region);
+    if (region < 0 || r >= error_.size() || std::isnan(error_[r])) return false;
+    return budget_[r] <= 1e-12 * std::abs(reference_[r]) && room(region, grow) <= 1e-12 * std::abs(reference_[r]);
+}
+
 std::string AreaBudget::worse(const AreaBudget& now) const {
     for (std::size_t r = 0; r < budget_.size() && r < now.budget_.size(); ++r)
         if (now.budget_[r] > budget_[r] + 1e-9 * std::abs(reference_[r]) + 1e-12)

@@ -88,6 +88,9 @@ public:
     // How much area `region` may gain (grow) or lose within its budget now
     // (infinite without a reference).
     double room(std::int32_t region, bool grow) const;
+    // Is that room none, up to rounding (1e-12 of the region's reference
+    // area: what area-neutral moves, each allowed 1e-13 of it, may drift)?
+    bool spent(std::int32_t region, bool grow) const;
     // Empty if no region of `now` (the budget of the mesh after the pass) has
     // a larger area error than its budget here (up to rounding: 1e-9 of the
     // region's reference area); else a message naming the first such region.
