@@ -1,7 +1,8 @@
 // The independent 3D checker (warpmesh-check-bcc) on the counter-example
 // certificate proofs/bcc_half.cert (the α = ½ closer-endpoint rule: an exact
 // point of key -,0c,0d,0d/0's space where its output tetrahedron is
-// inverted).  It accepts the committed file and prints NO BOUND; it rejects
+// inverted).  It accepts the committed file, prints NO BOUND and exits 3
+// (verified, no bound: never 0, which means a bound holds); it rejects (exit 1)
 // every tampered copy, one test per field: header, line count, alphas (above
 // ½, or the default pair, whose box excludes the point), the key (not
 // canonical, inconsistent, or a canonical key whose tetrahedron is positive
@@ -12,6 +13,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <filesystem>
+#include <sys/wait.h>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,9 @@ namespace fs = std::filesystem;
 using namespace warpmesh::testing;
 
 namespace {
+
+// The checker's exit status from std::system's wait status.
+int exit_status(int rc) { return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1; }
 
 std::vector<std::string> cert() { return read_lines(fs::path(WARPMESH_PROOFS_DIR) / "bcc_half.cert"); }
 
@@ -45,7 +50,7 @@ std::vector<std::string> with(const std::string& prefix, const std::string& line
 
 void expect_rejected(const std::vector<std::string>& l, const std::string& name, const std::string& why) {
     std::string msg;
-    BOOST_TEST(run_checker(l, name, &msg, WARPMESH_CHECK_BCC_EXE) != 0);
+    BOOST_TEST(exit_status(run_checker(l, name, &msg, WARPMESH_CHECK_BCC_EXE)) == 1, name << ": " << msg);
     BOOST_TEST(msg.find(why) != std::string::npos, name << ": " << msg);
 }
 
@@ -56,7 +61,7 @@ BOOST_AUTO_TEST_CASE(committed_counterexample_accepted) {
     BOOST_TEST(l[line_of(l, "alphas")] == "alphas 50000/100000 50000/100000");
     BOOST_TEST(l[line_of(l, "key")] == "key -,0c,0d,0d/0");
     std::string msg;
-    BOOST_TEST(run_checker(l, "half", &msg, WARPMESH_CHECK_BCC_EXE) == 0, msg);
+    BOOST_TEST(exit_status(run_checker(l, "half", &msg, WARPMESH_CHECK_BCC_EXE)) == 3, msg);  // issue29_counterexample_exit_3
 }
 
 BOOST_AUTO_TEST_CASE(header_or_line_count_changed) {

@@ -14,8 +14,10 @@
 // It also checks a counter-example certificate (proofs/bcc_half.cert,
 // "warpmesh-bcc-counterexample 1", see check_counterexample): an exact point
 // of a key's space where an output tetrahedron is not positively oriented.
-// No global state.  Any failure: exit 1; exit 0 only
-// when the printed theorem (or counter-example) holds.
+// No global state.  Any failure: exit 1; exit 0 only when the printed
+// theorem (an angle bound) holds; exit 3 when a counter-example certificate
+// holds (verified, NO BOUND), as warpmesh-check does for `inverted`
+// categories, so that 0 never means "no bound".
 //
 // EXACT FIXED-POINT ARITHMETIC.  A leaf's box ends are dyadic, m / 2^e.  With
 // K = 1 + the largest e of the leaf (so the box's centre is dyadic at 2^-K
@@ -1090,7 +1092,7 @@ int check_counterexample(const std::vector<std::string>& body) {
               << t[3] << ") has 6*volume " << to_double(v) / std::ldexp(1.0, 3 * K) << (sgn(v) < 0 ? " < 0 (inverted" : " = 0 (flat")
               << "; doubled lattice coordinates), > 0 with every warp t = 0: the key's space contains a flat output "
                  "tetrahedron, NO BOUND on the dihedral angles at these alphas\n";
-    return 0;
+    return 3;  // verified, but the statement is a counter-example, not a bound
 }
 
 // Parses the header, every key line and witness (cheap), then verifies the
@@ -1155,7 +1157,9 @@ int check(std::istream& in, bool progress) {
 int main(int argc, char** argv) {
     const bool progress = argc == 3 && std::string(argv[1]) == "--progress";
     if (argc != 2 && !progress) {
-        std::cerr << "usage: warpmesh-check-bcc [--progress] CERTIFICATE\n";
+        std::cerr << "usage: warpmesh-check-bcc [--progress] CERTIFICATE\n"
+                     "exit status: 0 the angle bound holds, 3 a counter-example holds (NO BOUND),\n"
+                     "1 rejected or unreadable, 2 usage\n";
         return 2;
     }
     std::ifstream f(argv[argc - 1]);
