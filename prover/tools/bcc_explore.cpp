@@ -21,6 +21,25 @@
 //                                         + outside); the space's extremes
 //                                         (per key, every pre-warp sign of its
 //                                         warped vertices) and random shapes
+//   bcc_explore faces RULE L S [N]        rule experiment (proofs/README.md,
+//                                         "Towards 12°"): as search, with the
+//                                         quads on background faces split by
+//                                         RULE instead of generic_bcc.hpp's
+//                                         face rule: parity (generic_bcc.hpp's,
+//                                         for comparison), shorter (the shorter
+//                                         diagonal) or maxmin (the diagonal
+//                                         whose two triangles have the larger
+//                                         smallest angle) or delaunay (the
+//                                         in-circle test as an exact degree-6
+//                                         form, evaluated in double here);
+//                                         ties go to generic_bcc.hpp's rule;
+//                                         the prism's inside quad (in one
+//                                         tetrahedron only) takes, with maxmin,
+//                                         the diagonal with the larger smallest
+//                                         dihedral angle, with delaunay the
+//                                         shorter one.
+//                                         Prints how many n- = 3 prisms came
+//                                         out cyclic (no triangulation).
 // L, S: α_long, α_short as decimals (e.g. 0.24999 0.41189).
 #include <algorithm>
 #include <cmath>
@@ -45,13 +64,143 @@ bcc::Alphas alphas_of(const char* l, const char* s) {
 struct Extremes {
     double min = 180, max = 0;
     bool inverted = false;
+    bool cyclic = false;  // faces mode: an n- = 3 prism whose three face diagonals turn the same way
 };
 
-// Smallest and largest dihedral angle over the key's output tetrahedra at x.
-Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>& ps, const std::vector<double>& x) {
+// ---- geometric face rules (the faces mode; not the mesher's rule) ------------
+enum class FaceRule { parity, shorter, maxmin, delaunay };
+using Points = std::array<bcc::Vec<double>, 10>;
+
+double min_angle_deg(const bcc::Vec<double>& p, const bcc::Vec<double>& q, const bcc::Vec<double>& r) {
+    const auto at = [](const bcc::Vec<double>& o, const bcc::Vec<double>& u, const bcc::Vec<double>& v) {
+        double d = 0, nu = 0, nv = 0;
+        for (int i = 0; i < 3; ++i) {
+            const double a = u[static_cast<std::size_t>(i)] - o[static_cast<std::size_t>(i)];
+            const double b = v[static_cast<std::size_t>(i)] - o[static_cast<std::size_t>(i)];
+            d += a * b, nu += a * a, nv += b * b;
+        }
+        return std::acos(std::clamp(d / std::sqrt(nu * nv), -1.0, 1.0)) * 180 / M_PI;
+    };
+    return std::min({at(p, q, r), at(q, r, p), at(r, p, q)});
+}
+
+// On the face (a, b, r) (a, b the - vertices), true iff its quad
+// (a, b, cut(b, r), cut(a, r)) is split by a–cut(b, r).  The quad is planar
+// (on the warped face), and both tetrahedra sharing the face see the same
+// four points, so any rule of these points is conforming.
+bool face_takes_a(FaceRule rule, const Points& P, int a, int b, int r, int parity) {
+    const int ca = bcc::cut_point(a, r), cb = bcc::cut_point(b, r);
+    const auto d2 = [&](int i, int j) {
+        double t = 0;
+        for (std::size_t c = 0; c < 3; ++c)
+            t += (P[static_cast<std::size_t>(i)][c] - P[static_cast<std::size_t>(j)][c]) * (P[static_cast<std::size_t>(i)][c] - P[static_cast<std::size_t>(j)][c]);
+        return t;
+    };
+    const auto p = [&](int i) { return P[static_cast<std::size_t>(i)]; };
+    double x = 0, y = 0;  // x: a–cb's merit, y: b–ca's (larger wins)
+    if (rule == FaceRule::shorter) x = -d2(a, cb), y = -d2(b, ca);
+    if (rule == FaceRule::delaunay) {
+        // The quad is convex, so a–cb is Delaunay iff the angles opposite it,
+        // at b in (a, b, cb) and at ca in (a, cb, ca), sum to at most π:
+        // cot + cot >= 0, i.e. (u·v)(u'×v')·N + (u'·v')(u×v)·N >= 0 with N
+        // the face's normal (both cross products point along N).  A degree-6
+        // polynomial: the exact form a prover and checker would evaluate.
+        using V = bcc::Vec<double>;
+        const auto sub3 = [](const V& x, const V& y) { return V{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
+        const auto dot = [](const V& x, const V& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+        const auto cross = [](const V& x, const V& y) {
+            return V{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+        };
+        const V n = cross(sub3(p(b), p(a)), sub3(p(r), p(a)));
+        const V u = sub3(p(a), p(b)), v = sub3(p(cb), p(b)), u2 = sub3(p(cb), p(ca)), v2 = sub3(p(a), p(ca));
+        const double g = dot(u, v) * std::abs(dot(cross(u2, v2), n)) + dot(u2, v2) * std::abs(dot(cross(u, v), n));
+        x = g, y = -g;
+    }
+    if (rule == FaceRule::maxmin)
+        x = std::min(min_angle_deg(p(a), p(b), p(cb)), min_angle_deg(p(a), p(cb), p(ca))),
+        y = std::min(min_angle_deg(p(a), p(b), p(ca)), min_angle_deg(p(b), p(cb), p(ca)));
+    return x != y ? x > y : bcc::face_takes_a(a, b, r, parity);
+}
+
+double min_dihedral_deg(const bcc::Stencil& st, const Points& P) {
+    double m = 180;
+    for (int j = 0; j < st.count; ++j) {
+        std::array<bcc::Vec<double>, 4> p{};
+        for (std::size_t v = 0; v < 4; ++v) p[v] = P[st.tet[static_cast<std::size_t>(j)][v]];
+        for (double x : testing::dihedral_degrees(p)) m = std::min(m, x);
+    }
+    return m;
+}
+
+// generic_bcc.hpp's stencil() with the face quads split by `rule` (the
+// prism's inside quad, as there, turns against quad 0, but for maxmin and
+// delaunay: see below).  count = -1: cyclic.
+bcc::Stencil rule_stencil(FaceRule rule, const std::array<int, 4>& sign, int parity, const Points& P) {
+    std::array<int, 4> neg{}, pos{};
+    int nn = 0, np = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
+        if (sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
+    }
+    bcc::Stencil s;
+    if (nn == 2 && np == 1) {
+        const int a = neg[0], b = neg[1], r = pos[0], z = 6 - a - b - r;
+        const int ca = bcc::cut_point(a, r), cb = bcc::cut_point(b, r);
+        if (face_takes_a(rule, P, a, b, r, parity)) bcc::push_oriented(s, z, a, b, cb), bcc::push_oriented(s, z, a, cb, ca);
+        else bcc::push_oriented(s, z, a, b, ca), bcc::push_oriented(s, z, b, cb, ca);
+        return s;
+    }
+    if (nn == 2 && np == 2) {
+        const int a = neg[0], b = neg[1], r0 = pos[0], r1 = pos[1];
+        const std::array<int, 3> bot{a, bcc::cut_point(a, r0), bcc::cut_point(a, r1)}, top{b, bcc::cut_point(b, r0), bcc::cut_point(b, r1)};
+        const bool f0 = face_takes_a(rule, P, a, b, r0, parity), f2 = !face_takes_a(rule, P, a, b, r1, parity);
+        bcc::prism_tets(s, bot, top, {f0, !f0, f2});
+        if (rule < FaceRule::maxmin || f0 == f2) return s;  // f0 == f2: the inside diagonal is forced
+        // The inside quad (on the surface, in this tetrahedron only: any
+        // choice is conforming) takes, for maxmin, the diagonal whose three
+        // tetrahedra have the larger smallest dihedral angle; for delaunay the
+        // shorter one, bot[1]–top[2] or bot[2]–top[1] (ties: as parity).
+        bcc::Stencil t;
+        bcc::prism_tets(t, bot, top, {f0, f0, f2});
+        if (rule == FaceRule::maxmin) return min_dihedral_deg(t, P) > min_dihedral_deg(s, P) ? t : s;
+        const auto d2 = [&](int i, int j) {
+            double q = 0;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double d = P[static_cast<std::size_t>(i)][c] - P[static_cast<std::size_t>(j)][c];
+                q += d * d;
+            }
+            return q;
+        };
+        const double fwd = d2(bot[1], top[2]), back = d2(bot[2], top[1]);
+        if (fwd == back) return s;
+        return (fwd < back) == f0 ? t : s;  // t's inside diagonal is bot[1]–top[2] iff f0
+    }
+    if (nn == 3 && np == 1) {
+        const int r = pos[0];
+        const std::array<int, 3> bot{neg[0], neg[1], neg[2]};
+        std::array<bool, 3> fwd{};
+        for (std::size_t i = 0; i < 3; ++i) fwd[i] = face_takes_a(rule, P, bot[i], bot[(i + 1) % 3], r, parity);
+        if (fwd[0] == fwd[1] && fwd[1] == fwd[2]) {
+            s.count = -1;
+            return s;
+        }
+        bcc::prism_tets(s, bot, {bcc::cut_point(bot[0], r), bcc::cut_point(bot[1], r), bcc::cut_point(bot[2], r)}, fwd);
+        return s;
+    }
+    return bcc::stencil(sign, parity);
+}
+
+// Smallest and largest dihedral angle over the key's output tetrahedra at x
+// (the face quads split by `rule`; parity: generic_bcc.hpp's stencil).
+Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>& ps, const std::vector<double>& x,
+                  FaceRule rule = FaceRule::parity) {
     const auto pts = bcc_prover::key_points(k, ps, x.data());
-    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
+    const bcc::Stencil st = rule == FaceRule::parity ? bcc::stencil(k.sign, k.parity) : rule_stencil(rule, k.sign, k.parity, pts);
     Extremes e;
+    if (st.count < 0) {
+        e.cyclic = true;
+        return e;
+    }
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
         for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
@@ -64,10 +213,13 @@ Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>
 // Random restarts and a shrinking-step pattern search for the objective
 // (sign = +1: minimise the smallest angle; -1: maximise the largest).
 std::pair<double, std::vector<double>> search(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>& ps, int n,
-                                              int sign, std::mt19937& rng, bool& inverted) {
+                                              int sign, std::mt19937& rng, bool& inverted, FaceRule rule = FaceRule::parity,
+                                              long* cyclic = nullptr) {
     const auto obj = [&](const std::vector<double>& x) {
-        const Extremes e = evaluate(k, ps, x);
+        const Extremes e = evaluate(k, ps, x, rule);
         inverted = inverted || e.inverted;
+        if (e.cyclic && cyclic) ++*cyclic;
+        if (e.cyclic) return sign > 0 ? 180.0 : 0.0;  // counted, not an angle
         return sign > 0 ? e.min : -e.max;
     };
     std::vector<double> best(ps.size());
@@ -96,7 +248,7 @@ std::pair<double, std::vector<double>> search(const bcc_prover::Key& k, const st
     return {sign > 0 ? fb : -fb, best};
 }
 
-int run_search(const bcc::Alphas& al, int n) {
+int run_search(const bcc::Alphas& al, int n, FaceRule rule = FaceRule::parity) {
     const auto keys = bcc_prover::enumerate_keys();
     std::mt19937 rng(29);
     struct Row {
@@ -106,18 +258,21 @@ int run_search(const bcc::Alphas& al, int n) {
     };
     std::vector<Row> mins, maxs;
     int inverted = 0;
+    long cyclic = 0;
     for (const auto& k : keys) {
         const auto ps = bcc_prover::key_params(k, al);
         bool inv = false;
-        auto lo = search(k, ps, n, 1, rng, inv);
-        auto hi = search(k, ps, n, -1, rng, inv);
+        auto lo = search(k, ps, n, 1, rng, inv, rule, &cyclic);
+        auto hi = search(k, ps, n, -1, rng, inv, rule, &cyclic);
         inverted += inv;
         mins.push_back({lo.first, bcc_prover::code_of(k), lo.second});
         maxs.push_back({hi.first, bcc_prover::code_of(k), hi.second});
     }
     std::sort(mins.begin(), mins.end(), [](const Row& a, const Row& b) { return a.v < b.v; });
     std::sort(maxs.begin(), maxs.end(), [](const Row& a, const Row& b) { return a.v > b.v; });
-    std::printf("keys %zu, keys with an inverted sample %d\n", keys.size(), inverted);
+    std::printf("keys %zu, keys with an inverted sample %d", keys.size(), inverted);
+    if (rule != FaceRule::parity) std::printf(", cyclic prism samples %ld", cyclic);
+    std::printf("\n");
     for (int i = 0; i < 8 && i < static_cast<int>(mins.size()); ++i) {
         std::printf("min %.4f  %s  at", mins[static_cast<std::size_t>(i)].v, mins[static_cast<std::size_t>(i)].code.c_str());
         for (double x : mins[static_cast<std::size_t>(i)].x) std::printf(" %.6f", x);
@@ -316,6 +471,18 @@ int main(int argc, char** argv) {
         const int n = argc > 4 ? std::atoi(argv[4]) : (mode == "search" ? 64 : 50);
         return mode == "search" ? run_search(al, n) : run_shapes(al, n);
     }
+    if (mode == "faces" && argc >= 5) {
+        const std::string r = argv[2];
+        if (r != "parity" && r != "shorter" && r != "maxmin" && r != "delaunay") {
+            std::fprintf(stderr, "bcc_explore: face rule %s is not parity, shorter, maxmin or delaunay\n", r.c_str());
+            return 2;
+        }
+        const FaceRule rule = r == "parity"    ? FaceRule::parity
+                              : r == "shorter" ? FaceRule::shorter
+                              : r == "maxmin"  ? FaceRule::maxmin
+                                               : FaceRule::delaunay;
+        return run_search(alphas_of(argv[3], argv[4]), argc > 5 ? std::atoi(argv[5]) : 64, rule);
+    }
     if (mode == "counterexample" && argc == 4) return run_counterexample(alphas_of(argv[2], argv[3]));
     if (mode == "signs" && argc >= 6) {
         const std::array<double, 4> a{std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5])};
@@ -327,6 +494,6 @@ int main(int argc, char** argv) {
         const int r = run_signs(a, argc > 6 ? std::atoi(argv[6]) : 24);
         return r ? r : run_shapes(bcc::labelle_shewchuk_alphas, argc > 7 ? std::atoi(argv[7]) : 50, &a);
     }
-    std::fprintf(stderr, "usage: bcc_explore keys | search L S [N] | shapes L S [TRIALS] | counterexample L S | signs L- L+ S- S+ [N] [TRIALS]\n");
+    std::fprintf(stderr, "usage: bcc_explore keys | search L S [N] | shapes L S [TRIALS] | counterexample L S | faces parity|shorter|maxmin|delaunay L S [N] | signs L- L+ S- S+ [N] [TRIALS]\n");
     return 2;
 }
