@@ -903,11 +903,11 @@ void Optimizer::refine(OptimizeReport& r) {
 // counts two short regions with a positive least room and leaves d to the
 // line search, which the exact label refuses at every step.  These last
 // sweeps, over the stars of the triangles still below remove_below_deg (the
-// 2 px target), project d for the exact label (brain sagittal l112 at 2 px:
-// the junction of labels 4096 and 4076 on the border, 34.64 -> 35.13 deg).
-// They come last so that everything the pass did before is unchanged (the
-// same moves earlier spend the area budget differently and may leave a
-// worse minimum elsewhere: brain axial at 1 px fell to 25.7 deg).
+// 2 px target), project d for the exact label (pinned by
+// test_optimize_materials' issue28_sagittal_2px_budget).  They come last so
+// that everything the pass did before is unchanged: the same moves made
+// earlier spend the area budget differently and may leave a worse minimum
+// elsewhere (docs/optimisation.md has the measurements).
 void Optimizer::retry_junctions(OptimizeReport& r) {
     if (!areas_.active()) return;
     std::vector<std::size_t> seeds;
