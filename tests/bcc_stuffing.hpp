@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <random>
 #include <vector>
 
 #include "warpmesh/generic_bcc.hpp"
@@ -24,6 +25,7 @@ struct StuffedTet {
     bcc::Config config;
     std::array<double, 4> t{};
     std::array<double, 6> u{};
+    bcc::Diagonals diagonals{};  // the quads' diagonals, as the face rule chose them
     int first = 0, count = 0;  // output tetrahedra first .. first + count - 1
 };
 
@@ -110,8 +112,10 @@ inline StuffGrid stuff_grid(const std::function<double(double, double, double)>&
 // Meshes {f <= 0} on the block [0, n s]³ (lattice points of doubled
 // coordinates 0..2n) with violation thresholds `al` (and `by_sign`, as
 // stuff_grid): steps 1–4 by stuff_grid, step 6 here.
+// `delaunay`: quads split by generic_bcc.hpp's Delaunay face rule (at the
+// double cut fractions) instead of the parity rule.
 inline Stuffed stuff(const std::function<double(double, double, double)>& f, int n, double s, const bcc::Alphas& al,
-                     const std::array<double, 4>* by_sign = nullptr) {
+                     const std::array<double, 4>* by_sign = nullptr, bool delaunay = false) {
     const StuffGrid g = stuff_grid(f, n, s, al, by_sign);
     const auto idx = [&g](const bcc::Ivec& q) { return static_cast<int>(g.idx(q)); };
     const auto inside = [&g](const bcc::Ivec& q) { return g.inside(q); };
@@ -170,7 +174,9 @@ inline Stuffed stuff(const std::function<double(double, double, double)>& f, int
                         if (sign[static_cast<std::size_t>(idx(a))] * sign[static_cast<std::size_t>(idx(b))] < 0) bt.u[static_cast<std::size_t>(e)] = frac(a, b);
                     }
                     out.all_zero_left_out += vsign == std::array<int, 4>{0, 0, 0, 0};
-                    const bcc::Stencil st = bcc::stencil(bt.config.sign, bt.config.parity);
+                    bt.diagonals = delaunay ? bcc::delaunay_diagonals(bt.config.sign, bt.config.parity, bt.u)
+                                            : bcc::parity_diagonals(bt.config.sign, bt.config.parity);
+                    const bcc::Stencil st = bcc::stencil_with(bt.config.sign, bt.diagonals);
                     if (st.count == 0) continue;
                     bt.first = static_cast<int>(out.tets.size());
                     bt.count = st.count;
@@ -189,6 +195,73 @@ inline Stuffed stuff(const std::function<double(double, double, double)>& f, int
                     out.background.push_back(bt);
                 }
     return out;
+}
+
+// A quadric level set (tests of the 3D definition).
+struct Quadric {
+    std::array<double, 10> c;
+    double operator()(double x, double y, double z) const {
+        return c[0] + c[1] * x + c[2] * y + c[3] * z + c[4] * x * x + c[5] * y * y + c[6] * z * z + c[7] * x * y +
+               c[8] * y * z + c[9] * x * z;
+    }
+};
+
+// A random ellipsoid-like level set centred in the block [0, n]^3.
+inline Quadric random_shape(std::mt19937& rng, int n) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double cx = n / 2.0 + u(rng), cy = n / 2.0 + u(rng), cz = n / 2.0 + u(rng);
+    const double a = 1 + 0.5 * u(rng), b = 1 + 0.5 * u(rng), c = 1 + 0.5 * u(rng), r = n / 3.0 * (1 + 0.2 * u(rng));
+    const double xy = 0.3 * u(rng), yz = 0.3 * u(rng), xz = 0.3 * u(rng);
+    Quadric q{};
+    q.c = {a * cx * cx + b * cy * cy + c * cz * cz + xy * cx * cy + yz * cy * cz + xz * cx * cz - r * r,
+           -2 * a * cx - xy * cy - xz * cz, -2 * b * cy - xy * cx - yz * cz, -2 * c * cz - yz * cy - xz * cx,
+           a, b, c, xy, yz, xz};
+    return q;
+}
+
+// Conformity of a stuffed block: every tetrahedron positive, every face in
+// at most two tetrahedra and then with opposite orientations, and a face of
+// one tetrahedron only on the surface (all its vertices zero or cut points)
+// or near the block's sides (the stuffed block is ragged).
+struct Conformity {
+    int non_positive = 0, over_shared = 0, same_orientation = 0, stray_boundary = 0, interior = 0;
+    double volume = 0;
+    bool ok() const { return non_positive == 0 && over_shared == 0 && same_orientation == 0 && stray_boundary == 0; }
+};
+inline Conformity conformity(const Stuffed& m, int n) {
+    Conformity c;
+    std::map<std::array<int, 3>, std::vector<int>> faces;  // sorted face -> +-1 by orientation parity
+    for (const auto& t : m.tets) {
+        std::array<bcc::Vec<double>, 4> p{};
+        for (std::size_t v = 0; v < 4; ++v) p[v] = m.points[static_cast<std::size_t>(t[v])];
+        const double vol = bcc::dihedral_forms(p).volume6;
+        c.non_positive += vol > 0 ? 0 : 1;
+        c.volume += vol / 6;
+        static constexpr int opp[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward faces
+        for (const auto& o : opp) {
+            std::array<int, 3> f3{t[static_cast<std::size_t>(o[0])], t[static_cast<std::size_t>(o[1])], t[static_cast<std::size_t>(o[2])]};
+            // rotate the smallest index first; the cyclic order then carries the orientation
+            while (f3[0] != std::min({f3[0], f3[1], f3[2]})) std::rotate(f3.begin(), f3.begin() + 1, f3.end());
+            const bool odd = f3[1] > f3[2];
+            if (odd) std::swap(f3[1], f3[2]);
+            faces[f3].push_back(odd ? -1 : 1);
+        }
+    }
+    for (const auto& [f3, uses] : faces) {
+        if (uses.size() > 2) ++c.over_shared;
+        if (uses.size() == 2) {
+            c.same_orientation += uses[0] == -uses[1] ? 0 : 1;
+            ++c.interior;
+            continue;
+        }
+        bool surface = true, near_side = false;
+        for (int v : f3) {
+            surface = surface && m.on_surface[static_cast<std::size_t>(v)];
+            for (double x : m.points[static_cast<std::size_t>(v)]) near_side = near_side || x < 1 || x > n - 1;
+        }
+        c.stray_boundary += surface || near_side ? 0 : 1;
+    }
+    return c;
 }
 
 // The six dihedral angles of a tetrahedron, in degrees (tests and tools only:

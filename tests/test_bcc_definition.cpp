@@ -132,31 +132,6 @@ BOOST_AUTO_TEST_CASE(stencils_are_positive_in_the_reference_configuration) {
         }
 }
 
-namespace {
-
-struct Quadric {
-    std::array<double, 10> c;
-    double operator()(double x, double y, double z) const {
-        return c[0] + c[1] * x + c[2] * y + c[3] * z + c[4] * x * x + c[5] * y * y + c[6] * z * z + c[7] * x * y +
-               c[8] * y * z + c[9] * x * z;
-    }
-};
-
-// A random ellipsoid-like level set centred in the block [0, n]^3.
-Quadric random_shape(std::mt19937& rng, int n) {
-    std::uniform_real_distribution<double> u(-1, 1);
-    const double cx = n / 2.0 + u(rng), cy = n / 2.0 + u(rng), cz = n / 2.0 + u(rng);
-    const double a = 1 + 0.5 * u(rng), b = 1 + 0.5 * u(rng), c = 1 + 0.5 * u(rng), r = n / 3.0 * (1 + 0.2 * u(rng));
-    const double xy = 0.3 * u(rng), yz = 0.3 * u(rng), xz = 0.3 * u(rng);
-    Quadric q{};
-    q.c = {a * cx * cx + b * cy * cy + c * cz * cz + xy * cx * cy + yz * cy * cz + xz * cx * cz - r * r,
-           -2 * a * cx - xy * cy - xz * cz, -2 * b * cy - xy * cx - yz * cz, -2 * c * cz - yz * cy - xz * cx,
-           a, b, c, xy, yz, xz};
-    return q;
-}
-
-}  // namespace
-
 BOOST_AUTO_TEST_CASE(stuffed_random_shapes_are_conforming_and_reproduced_by_their_keys) {
     std::mt19937 rng(29);
     const int n = 6;
@@ -165,43 +140,10 @@ BOOST_AUTO_TEST_CASE(stuffed_random_shapes_are_conforming_and_reproduced_by_thei
         const Quadric f = random_shape(rng, n);
         const Stuffed m = stuff(f, n, 1.0, bcc::labelle_shewchuk_alphas);
         BOOST_REQUIRE(!m.tets.empty());
-        // Orientation, and every face shared by at most two tetrahedra with opposite orientations.
-        std::map<std::array<int, 3>, std::vector<int>> faces;  // sorted face -> +-(tet+1) by orientation parity
-        double volume = 0;
-        for (std::size_t k = 0; k < m.tets.size(); ++k) {
-            std::array<bcc::Vec<double>, 4> p{};
-            for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = m.points[static_cast<std::size_t>(m.tets[k][static_cast<std::size_t>(v)])];
-            const double vol = bcc::dihedral_forms(p).volume6;
-            BOOST_TEST(vol > 0);
-            volume += vol / 6;
-            static constexpr int opp[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward faces
-            for (const auto& o : opp) {
-                std::array<int, 3> f3{m.tets[k][static_cast<std::size_t>(o[0])], m.tets[k][static_cast<std::size_t>(o[1])], m.tets[k][static_cast<std::size_t>(o[2])]};
-                // rotate the smallest index first; the cyclic order then carries the orientation
-                while (f3[0] != std::min({f3[0], f3[1], f3[2]})) std::rotate(f3.begin(), f3.begin() + 1, f3.end());
-                const bool odd = f3[1] > f3[2];
-                if (odd) std::swap(f3[1], f3[2]);
-                faces[f3].push_back(odd ? -1 : 1);
-            }
-        }
-        // A face of one tetrahedron only is on the surface (its vertices are zero
-        // or cut points), or near the block's sides (the stuffed block is ragged).
-        int interior = 0;
-        for (const auto& [f3, uses] : faces) {
-            BOOST_TEST(uses.size() <= 2u);
-            if (uses.size() == 2) {
-                BOOST_TEST(uses[0] == -uses[1]);
-                ++interior;
-                continue;
-            }
-            bool surface = true, near_side = false;
-            for (int v : f3) {
-                surface = surface && m.on_surface[static_cast<std::size_t>(v)];
-                for (double x : m.points[static_cast<std::size_t>(v)]) near_side = near_side || x < 1 || x > n - 1;
-            }
-            BOOST_TEST((surface || near_side));
-        }
-        BOOST_TEST(interior > 0);
+        const Conformity c = conformity(m, n);
+        BOOST_TEST(c.ok());
+        BOOST_TEST(c.interior > 0);
+        BOOST_TEST(c.volume > 0);
         for (const StuffedTet& bt : m.background) {
             bool long_quad = false;  // a quad on a long edge: the parity rule decides
             for (int e = 0; e < 2; ++e) {
@@ -227,7 +169,6 @@ BOOST_AUTO_TEST_CASE(stuffed_random_shapes_are_conforming_and_reproduced_by_thei
                 BOOST_TEST(std::fabs(bcc::dihedral_forms(a).volume6 - 8 * bcc::dihedral_forms(b).volume6) < 1e-9);
             }
         }
-        BOOST_TEST(volume > 0);
     }
     for (int count = 2; count <= 3; ++count)  // pyramids and prisms, decided by the parity rule both ways
         for (int parity = 0; parity < 2; ++parity) BOOST_TEST(seen.count(count * 4 + 2 + parity) == 1u);

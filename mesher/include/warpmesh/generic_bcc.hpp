@@ -84,7 +84,9 @@
 // not close a cycle of diagonals (a prism whose three quad diagonals turn the
 // same way has no triangulation); with the face rules above the two face
 // quads always turn the same way, so it is forced (`prism_tets` asserts a
-// non-cyclic set).
+// non-cyclic set).  The Delaunay face rule ("The diagonal choices" below)
+// replaces both face rules by a test of the quad's own points; it is
+// certified on its own (proofs/README.md, "The Delaunay face rule").
 //
 // PARITY IN THE LOCAL FRAME.  A lattice isometry maps every coordinate
 // comparison of the parity rule to one comparison, reversed on each reflected
@@ -284,9 +286,183 @@ constexpr void prism_tets(Stencil& s, const std::array<int, 3>& bot, const std::
     }
 }
 
+// ---------------------------------------------------------------------------
+// THE DIAGONAL CHOICES.  A stencil is fixed by the post-warp signs and, for
+// the quads it splits, which diagonal each takes.  `Diagonals` records them
+// resolved, whichever rule chose them:
+//   face    bit f (f = the local vertex off the face) set iff that face's
+//           quad — the face has two - vertices a < b and one + vertex r —
+//           is split by a–cut(b, r); otherwise by b–cut(a, r).  Read only
+//           on faces that hold a quad.
+//   inside  the n- = 2, n+ = 2 prism (- vertices a < b, + vertices r0 < r1):
+//           its inside quad, where free, is split by cut(a, r0)–cut(b, r1)
+//           iff set, else by cut(a, r1)–cut(b, r0).  It is free iff the two
+//           face quads' diagonals do not force it (a cycle of three
+//           diagonals turning the same way has no triangulation).
+// Two rules fill them in:
+//   parity    (`parity_diagonals`) the faces by `face_takes_a` (the parity
+//             rule on long-AB faces, the long edge's cut point on short-AB
+//             faces); the inside quad turns against the prism's face
+//             (a, b, r0).  The mesher's rule and proofs/bcc.cert's.
+//   delaunay  (`delaunay_diagonals`) each face quad by the empty-circle test.
+//             The quad (a, b, cut(b,r), cut(a,r)) lies in the lattice face
+//             (a, b, r are unwarped lattice points) and is convex.  By the
+//             power of the point r, the circle through a, b, cut(b,r) meets
+//             the line r–a again at distance P_b / |ra| from r, with
+//                 P_x = |xr| · |cut(x,r) r| = |xr|² (1 − u_x),
+//             u_x the cut point's fraction of xr from x.  So a–cut(b,r) is
+//             the Delaunay diagonal iff cut(a,r) lies outside that circle iff
+//                 face_form(a, b, r) = P_b − P_a > 0,
+//             linear in the cut fractions (|xr|² = 4 on long edges, 3 on short
+//             ones, in doubled coordinates).  P = 0: cocircular, the parity
+//             rule decides.  Both tetrahedra sharing the face see the same
+//             a, b, r and cut points, so they agree (conformity).  Around the
+//             n- = 3 prism the three comparisons of P_a, P_b, P_c cannot turn
+//             the same way, so no prism is cyclic.  The inside quad (free)
+//             takes the shorter diagonal: cut(a,r0)–cut(b,r1) iff
+//                 inside_form = |cut(a,r0) cut(b,r1)|² − |cut(a,r1) cut(b,r0)|² < 0
+//             (quadratic in the cut fractions; a tie turns against the face
+//             (a, b, r0), as parity does).  It lies in one tetrahedron only,
+//             so any choice is conforming.
+// `stencil_with` builds the stencil of any resolved choice; `stencil(sign,
+// parity)` is `stencil_with(sign, parity_diagonals(sign, parity))`.
+struct Diagonals {
+    unsigned face = 0;
+    bool inside = false;
+};
+
+// The face quad split by x–cut(y, r)?  (x, y the face's - vertices, any order.)
+constexpr bool takes(const Diagonals& d, int x, int y, int r) {
+    const int f = 6 - x - y - r;
+    const bool low = (d.face >> f & 1u) != 0;
+    return x < y ? low : !low;
+}
+
+// The parity rule's choices (see above).
+constexpr Diagonals parity_diagonals(const std::array<int, 4>& sign, int parity) {
+    Diagonals d;
+    std::array<int, 4> neg{}, pos{};
+    int nn = 0, np = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
+        if (sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
+    }
+    for (int f = 0; f < 4; ++f) {  // the faces with two - vertices and one + vertex
+        int a = -1, b = -1, r = -1;
+        for (int i = 0; i < 4; ++i) {
+            if (i == f) continue;
+            const int v = sign[static_cast<std::size_t>(i)];
+            if (v < 0) (a < 0 ? a : b) = i;
+            else if (v > 0) r = i;
+        }
+        if (b >= 0 && r >= 0 && face_takes_a(a, b, r, parity)) d.face |= 1u << f;
+    }
+    if (nn == 2 && np == 2) d.inside = !face_takes_a(neg[0], neg[1], pos[0], parity);
+    return d;
+}
+
+// The fraction of the cut point on local edge (x, y) from x (u[e] is from
+// tet_edges[e][0]).
+template <class T>
+T cut_fraction(int x, int y, const std::array<T, 6>& u) {
+    const int e = edge_index(x, y);
+    const T& f = u[static_cast<std::size_t>(e)];
+    return tet_edges[static_cast<std::size_t>(e)][0] == x ? f : ScalarOps<T>::from_int(1) - f;
+}
+
+// The Delaunay face form P_b − P_a of the face (a, b, r) (see above): > 0
+// iff a–cut(b, r) is the Delaunay diagonal.  Antisymmetric in a, b.
+template <class T>
+T face_form(int a, int b, int r, const std::array<T, 6>& u) {
+    using O = ScalarOps<T>;
+    const auto power = [&](int x) {
+        const T len2 = O::from_int(edge_is_long(edge_index(x, r)) ? 4 : 3);
+        return len2 * (O::from_int(1) - cut_fraction(x, r, u));
+    };
+    return power(b) - power(a);
+}
+
+// The prism's inside form |cut(a,r0) cut(b,r1)|² − |cut(a,r1) cut(b,r0)|²
+// (doubled coordinates): < 0 iff cut(a,r0)–cut(b,r1) is the shorter diagonal.
+template <class T>
+T inside_form(int a, int b, int r0, int r1, const std::array<T, 6>& u) {
+    using O = ScalarOps<T>;
+    const auto at = [&](int x, int r, int k) {
+        const T base = O::from_int(reference_tet[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)]);
+        const int d = reference_tet[static_cast<std::size_t>(r)][static_cast<std::size_t>(k)] -
+                      reference_tet[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)];
+        return d == 0 ? base : base + O::from_int(d) * cut_fraction(x, r, u);
+    };
+    const auto dist2 = [&](int x, int rx, int y, int ry) {
+        T s = O::from_int(0);
+        for (int k = 0; k < 3; ++k) {
+            const T c = at(x, rx, k) - at(y, ry, k);
+            s = s + c * c;
+        }
+        return s;
+    };
+    return dist2(a, r0, b, r1) - dist2(a, r1, b, r0);
+}
+
+// Resolve the Delaunay rule from the signs (-1, 0, +1) of its forms:
+// face_sign[f] the sign of face_form(a, b, r) on the face without f (a < b;
+// ignored where the face holds no quad), inside_sign that of inside_form
+// (ignored unless n- = 2, n+ = 2).  Zeros fall back to `parity_diagonals`.
+// The prover calls it for every sign its intervals admit, the mesher with
+// exact signs.
+constexpr Diagonals resolve_delaunay(const std::array<int, 4>& sign, int parity, const std::array<int, 4>& face_sign,
+                                     int inside_sign) {
+    const Diagonals p = parity_diagonals(sign, parity);
+    Diagonals d = p;
+    for (int f = 0; f < 4; ++f) {
+        const int s = face_sign[static_cast<std::size_t>(f)];
+        if (s > 0) d.face |= 1u << f;
+        if (s < 0) d.face &= ~(1u << f);
+    }
+    if (inside_sign < 0) d.inside = true;
+    if (inside_sign > 0) d.inside = false;
+    if (inside_sign == 0) {  // a tie turns against the face (a, b, r0), as parity does
+        int a = -1, b = -1, r0 = -1;
+        for (int i = 0; i < 4; ++i) {
+            const int v = sign[static_cast<std::size_t>(i)];
+            if (v < 0) (a < 0 ? a : b) = i;
+            if (v > 0 && r0 < 0) r0 = i;
+        }
+        if (b >= 0 && r0 >= 0) d.inside = !takes(d, a, b, r0);
+    }
+    return d;
+}
+
+// The Delaunay rule's choices at exact (or double) cut fractions u; T needs
+// < against zero.  The faces with a quad and the prism are read off `sign`.
+template <class T>
+Diagonals delaunay_diagonals(const std::array<int, 4>& sign, int parity, const std::array<T, 6>& u) {
+    const T zero = ScalarOps<T>::from_int(0);
+    const auto sgn = [&](const T& x) { return x < zero ? -1 : zero < x ? 1 : 0; };
+    std::array<int, 4> fs{};
+    std::array<int, 4> neg{}, pos{};
+    int nn = 0, np = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
+        if (sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
+    }
+    for (int f = 0; f < 4; ++f) {
+        int a = -1, b = -1, r = -1;
+        for (int i = 0; i < 4; ++i) {
+            if (i == f) continue;
+            const int v = sign[static_cast<std::size_t>(i)];
+            if (v < 0) (a < 0 ? a : b) = i;
+            else if (v > 0) r = i;
+        }
+        if (b >= 0 && r >= 0) fs[static_cast<std::size_t>(f)] = sgn(face_form(a, b, r, u));
+    }
+    const int is = nn == 2 && np == 2 ? sgn(inside_form(neg[0], neg[1], pos[0], pos[1], u)) : 0;
+    return resolve_delaunay(sign, parity, fs, is);
+}
+
 // The output tetrahedra of a background tetrahedron with post-warp signs
-// `sign` (local order) and parity bit `parity`; none without a - vertex.
-constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
+// `sign` (local order), its quads split as `d` says; none without a - vertex.
+constexpr Stencil stencil_with(const std::array<int, 4>& sign, const Diagonals& d) {
     Stencil s;
     std::array<int, 4> neg{}, zer{}, pos{};
     int nn = 0, nz = 0, np = 0;
@@ -311,7 +487,7 @@ constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
     if (nn == 2 && np == 1) {  // pyramid: apex the zero vertex over the quad of face (a, b, r)
         const int a = neg[0], b = neg[1], r = pos[0], z = zer[0];
         const int ca = cut_point(a, r), cb = cut_point(b, r);
-        if (face_takes_a(a, b, r, parity)) {
+        if (takes(d, a, b, r)) {
             push_oriented(s, z, a, b, cb);
             push_oriented(s, z, a, cb, ca);
         } else {
@@ -325,11 +501,12 @@ constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
         const std::array<int, 3> bot{a, cut_point(a, r0), cut_point(a, r1)};
         const std::array<int, 3> top{b, cut_point(b, r0), cut_point(b, r1)};
         // quad 0 = face (a, b, r0): forward = a–cut(b, r0); quad 2 = face (a, b, r1)
-        // read backwards: forward = bot[2]–top[0] = cut(a, r1)–b.
-        const bool f0 = face_takes_a(a, b, r0, parity);
-        const bool f2 = !face_takes_a(a, b, r1, parity);
-        s = Stencil{};
-        prism_tets(s, bot, top, {f0, !f0, f2});  // the inside quad 1 turns against quad 0
+        // read backwards: forward = bot[2]–top[0] = cut(a, r1)–b; quad 1 = the
+        // inside quad: forward = bot[1]–top[2] = cut(a, r0)–cut(b, r1).
+        const bool f0 = takes(d, a, b, r0);
+        const bool f2 = !takes(d, a, b, r1);
+        const bool f1 = f0 == f2 ? !f0 : d.inside;  // forced unless free
+        prism_tets(s, bot, top, {f0, f1, f2});
         return s;
     }
     // nn == 3, np == 1: bottom (a, b, c), top their cut points towards r.
@@ -338,9 +515,14 @@ constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
     const std::array<int, 3> top{cut_point(neg[0], r), cut_point(neg[1], r), cut_point(neg[2], r)};
     std::array<bool, 3> fwd{};
     for (int i = 0; i < 3; ++i)
-        fwd[static_cast<std::size_t>(i)] = face_takes_a(bot[static_cast<std::size_t>(i)], bot[static_cast<std::size_t>((i + 1) % 3)], r, parity);
+        fwd[static_cast<std::size_t>(i)] = takes(d, bot[static_cast<std::size_t>(i)], bot[static_cast<std::size_t>((i + 1) % 3)], r);
     prism_tets(s, bot, top, fwd);
     return s;
+}
+
+// The parity rule's stencil (the mesher's and proofs/bcc.cert's).
+constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
+    return stencil_with(sign, parity_diagonals(sign, parity));
 }
 
 // ---------------------------------------------------------------------------
