@@ -13,11 +13,11 @@
 #include <cmath>
 #include <random>
 
+#include "brain_crop.hpp"
 #include "support.hpp"
 #include "uniform3d/uniform3d.hpp"
 #include "warpmesh/mesh3d.hpp"
 #include "warpmesh/report.hpp"
-#include "warpmesh/volume.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;
@@ -226,11 +226,7 @@ BOOST_AUTO_TEST_CASE(sphere_torus_and_quadrics_conform_within_the_rules_range_an
 }
 
 BOOST_AUTO_TEST_CASE(brain_crop_conforms_and_differs_from_parity) {
-    const Volume v = read_volume(std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd");
-    VolumeLevelSet3Options lo;
-    lo.mode.mode = ImageMode::label;
-    lo.mode.labels = {26};
-    const auto f = make_volume_levelset3(v, lo);
+    const auto f = brain_crop_levelset();
     TetMesh d;
     const Mesh3dReport r = mesh_delaunay(*f, delaunay_options(1.5), &d);
     BOOST_TEST(r.tets > 1000);
