@@ -268,6 +268,12 @@ BOOST_AUTO_TEST_CASE(usage_errors_exit_2) {
     sb.refuse({"mesh", img, "--repeat", "0", "-o", "m.vtu"}, 2, {"--repeat expects 1 to 1000"});
     sb.refuse({"mesh", img, "--repeat", "two", "-o", "m.vtu"}, 2, {"--repeat expects an integer"});
     sb.refuse({"mesh", img, "--msh-version", "4", "-o", "m.msh"}, 2, {"--msh-version expects '4.1' or '2.2', got '4'"});
+    // The 3D face rule: a word of two, and 3D only.
+    for (const char* bad : {"Delaunay", "shorter", ""})
+        sb.refuse({"mesh3d", "--shape", "sphere:0,0,0,1", "--spacing", "0.3", "--face-rule", bad, "-o", "m.vtu"}, 2,
+                  {"--face-rule expects 'parity' or 'delaunay', got '" + std::string(bad) + "'"});
+    sb.refuse({"mesh3d", "--shape", "sphere:0,0,0,1", "--spacing", "0.3", "-o", "m.vtu", "--face-rule"}, 2, {"--face-rule needs a value"});
+    sb.refuse({"mesh", img, "--face-rule", "delaunay", "-o", "m.vtu"}, 2, {"--face-rule applies to 3D meshes (warpmesh mesh3d)"});
 }
 
 // Issue 27 item 6: options that did nothing were accepted silently —

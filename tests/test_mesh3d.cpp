@@ -12,6 +12,7 @@
 #include <numbers>
 #include <random>
 
+#include "brain_crop.hpp"
 #include "support.hpp"
 #include "warpmesh/mesh3d.hpp"
 #include "uniform3d/uniform3d.hpp"
@@ -462,13 +463,13 @@ BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones
     const std::array<bcc::Ivec, 4> p = bcc::background_tet({4, 2, 6}, 5);
     std::string code;
     // One outside vertex, nothing warped: a certified key.
-    const std::optional<BccKeyBound> bound = uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &code);
+    const std::optional<BccKeyBound> bound = uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, FaceRule::parity, &code);
     BOOST_TEST(bound.has_value(), code);
     BOOST_TEST(bound->min_deg >= bcc_certified_theorem()->min_deg);
     // Vertices 0 and 1 warped towards each other along their common edge:
     // excluded by the consistency rules (proofs/README.md), so no key.
     const int d01 = bcc::direction_of(bcc::sub(p[1], p[0])), d10 = bcc::direction_of(bcc::sub(p[0], p[1]));
-    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, &code).has_value(), code);
+    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, FaceRule::parity, &code).has_value(), code);
 }
 
 // --verify's per-key test (key_claim_holds) accepts the background
@@ -499,7 +500,7 @@ BOOST_AUTO_TEST_CASE(whole_background_tet_key_claim_accepts_it_and_a_tighter_one
     const std::array<bcc::Ivec, 4> p = bcc::background_tet({2, 4, 6}, 7);
     std::string code;
     const std::optional<BccKeyBound> b =
-        uniform3d::key_certified(p, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &code);
+        uniform3d::key_certified(p, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, FaceRule::parity, &code);
     BOOST_REQUIRE(b.has_value());
     BOOST_TEST(code == "-,-,-,-/0");
     std::array<Point3, 4> q{};
@@ -521,11 +522,7 @@ BOOST_AUTO_TEST_CASE(whole_background_tet_key_claim_accepts_it_and_a_tighter_one
 // (every stencil tetrahedron has a − vertex), and the mesh stays conforming,
 // its boundary on the level set, closed and outward.
 BOOST_AUTO_TEST_CASE(issue30_all_zero_tet_uncertified) {
-    const Volume v = read_volume(std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd");
-    VolumeLevelSet3Options lo;
-    lo.mode.mode = ImageMode::label;
-    lo.mode.labels = {26};
-    const auto f = make_volume_levelset3(v, lo);
+    const auto f = brain_crop_levelset();
     TetMesh m;
     const Mesh3dReport r = mesh_checked(*f, 1.5, &m);  // verified, conforming, certified, within the bounds
     BOOST_TEST(r.all_zero_left_out > 0);               // the case occurs here
@@ -639,11 +636,7 @@ BOOST_AUTO_TEST_CASE(issue30_nonmanifold_boundary_edges_counted) {
         BOOST_TEST(nonmanifold_boundary(*m).edges == e);
         BOOST_TEST(nonmanifold_boundary(*m).vertices == v);
     }
-    const Volume v = read_volume(std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd");
-    VolumeLevelSet3Options lo;
-    lo.mode.mode = ImageMode::label;
-    lo.mode.labels = {26};
-    const auto f = make_volume_levelset3(v, lo);
+    const auto f = brain_crop_levelset();
     for (const double spacing : {1.0, 1.5, 2.0}) {
         TetMesh m;
         const Mesh3dReport r = mesh_checked(*f, spacing, &m);

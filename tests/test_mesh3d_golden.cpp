@@ -12,6 +12,7 @@
 #include <charconv>
 #include <cstdlib>
 
+#include "brain_crop.hpp"
 #include "support.hpp"
 #include "warpmesh/mesh3d.hpp"
 #include "warpmesh/volume.hpp"
@@ -69,9 +70,5 @@ void compare(const std::string& name, const LevelSet3& f, double spacing) {
 BOOST_AUTO_TEST_CASE(golden_sphere) { compare("mesh3d_sphere_s03", *parse_shape3("sphere:0.05,-0.02,0.01,1"), 0.3); }
 
 BOOST_AUTO_TEST_CASE(golden_brain_crop_label26) {
-    const Volume v = read_volume(std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd");
-    VolumeLevelSet3Options o;
-    o.mode.mode = ImageMode::label;
-    o.mode.labels = {26};
-    compare("mesh3d_brain_crop22_label26_s15", *make_volume_levelset3(v, o), 1.5);
+    compare("mesh3d_brain_crop22_label26_s15", *brain_crop_levelset(26), 1.5);
 }

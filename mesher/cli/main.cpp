@@ -174,6 +174,11 @@ output:
                          box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r
                          union(S;S)  intersect(S;S)  diff(S;S)   (needs --spacing)
   --spacing S            the BCC lattice's cube side (default: the smallest voxel size)
+  --face-rule parity|delaunay
+                         how the stencils' quads are split: parity (the default,
+                         proofs/bcc.cert) or the Delaunay face rule at its own alphas
+                         (0.2675, 0.39); certified when the build has its certificate
+                         (proofs/bcc_delaunay.cert), else measured only (docs/3d.md)
   --verify / --no-verify check every certified tetrahedron against the certificate
                          (default: off in 3D)
   -o, --also             .vtu, .msh, .xdmf (+ _facets.xdmf), .inp (C3D4) or .mesh (medit);
@@ -222,6 +227,7 @@ struct CliOptions {
     std::vector<std::string> outputs;
     std::string report;
     MeshOptions mesh;
+    FaceRule face_rule = default_face_rule;  // 3D only (Mesh3dOptions::face_rule)
     std::optional<double> iso;
     bool inside_above = true;
     std::optional<std::string> labels;
@@ -311,6 +317,7 @@ bool parse_mesher_option(const std::string& a, Args& args, CliOptions& o) {
     else if (a == "--no-certify") m.certify = false;
     else if (a == "--min-spacing") m.min_spacing = parse_number(a, args.value(a));
     else if (a == "--guarantee") m.guarantee = parse_choice(a, args.value(a), {"flat", "any"}) == 0 ? Guarantee::flat : Guarantee::any;
+    else if (a == "--face-rule") o.face_rule = parse_choice(a, args.value(a), {"parity", "delaunay"}) == 1 ? FaceRule::delaunay : FaceRule::parity;
     else return false;
     return true;
 }
@@ -366,6 +373,8 @@ void check_mesher_options(const CliOptions& o) {
         throw UsageError("--min-spacing applies to --guarantee flat");
     if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
     if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
+    if (o.has("--face-rule"))
+        throw UsageError("--face-rule applies to 3D meshes (warpmesh mesh3d): it splits the BCC stencils' quads; 2D's diagonals are --diagonal");
 }
 
 void check_input_options(const CliOptions& o) {
@@ -609,7 +618,7 @@ std::string refused_in_3d(const std::string& option) {
         "--shape",   "--iso",       "--inside", "--label",  "--units",       "--pixel-size", "--max-pixels",
         "--max-memory", "--spacing", "--verify", "--no-verify", "-o",        "--output",     "--also",
         "--report",  "--quiet",     "--threads", "--ascii", "--compress",    "--xdmf-inline", "--msh-version",
-        "--msh-cell-data"};
+        "--msh-cell-data", "--face-rule"};
     if (applies.count(option)) return {};
     if (option == "--materials" || option == "--shapes" || option == "--background" || option == "--max-size-of")
         return "multi-material 3D meshes are not built yet (docs/3d.md); mesh one region with --label L,...";
@@ -618,7 +627,7 @@ std::string refused_in_3d(const std::string& option) {
     if (option == "--slice" || option == "--slices" || option == "--points-3d")
         return "mesh3d meshes the whole volume in 3D; it applies to 2D meshes of slices (warpmesh mesh)";
     if (option == "--diagonal" || option == "--guarantee" || option == "--min-spacing")
-        return "3D has one rule, the BCC stencils with the parity rule, certified as they are";
+        return "3D splits the BCC stencils' quads by --face-rule parity|delaunay, certified as they are";
     if (option == "--svg-color") return "pictures are 2D (.svg, .png); 3D meshes go to .vtu, .msh, .xdmf, .inp or .mesh";
     if (option == "--no-certify") return "every 3D mesh is looked up in the certificate (it costs nothing)";
     return "it is an option of the 2D mesher (warpmesh mesh)";
@@ -696,6 +705,7 @@ int run_mesh3d(int argc, char** argv) {
     const std::unique_ptr<LevelSet3> f = level_set_3d(o, spacing, progress);
     Mesh3dOptions mo;
     mo.spacing = o.has("--spacing") ? o.mesh.spacing : spacing;
+    mo.face_rule = o.face_rule;  // and the rule's alphas (face_rule_alphas)
     mo.verify = o.has("--verify") && o.mesh.verify;
     mo.max_memory = o.mesh.max_memory;
     const Lattice3 lattice = lattice3_for(*f, mo.spacing);

@@ -9,7 +9,8 @@
 // dihedral extremes and certification counts.
 //
 //   warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V]
-//                    --spacing S [--threads N] [--max-memory MB] [--quality] [--verify] [--check]
+//                    --spacing S [--face-rule parity|delaunay] [--threads N] [--max-memory MB]
+//                    [--quality] [--verify] [--check]
 #include <sys/resource.h>
 
 #include <cstdio>
@@ -60,13 +61,20 @@ int main(int argc, char** argv) {
         else if (a == "--label") label = next();
         else if (a == "--iso") iso = std::stod(next());
         else if (a == "--spacing") o.spacing = std::stod(next());
-        else if (a == "--threads") o.threads = std::stoi(next());
+        else if (a == "--face-rule") {
+            const std::string r = next();
+            if (r != "parity" && r != "delaunay") {
+                std::cerr << "--face-rule expects parity or delaunay\n";
+                return 2;
+            }
+            o.face_rule = r == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
+        } else if (a == "--threads") o.threads = std::stoi(next());
         else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
         else if (a == "--quality") o.quality = true;
         else if (a == "--verify") o.verify = true;
         else if (a == "--check") check = true;
         else {
-            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--threads N] [--max-memory MB] [--quality] [--verify] [--check]\n";
+            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--face-rule parity|delaunay] [--threads N] [--max-memory MB] [--quality] [--verify] [--check]\n";
             return 2;
         }
     }

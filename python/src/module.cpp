@@ -75,6 +75,13 @@ py::dict cell_data_views(py::object self, const Result& r) {
     return d;
 }
 
+// A face rule by name ("parity", "delaunay"; __init__.py checks it first).
+FaceRule face_rule_of(const std::string& name) {
+    if (name == "parity") return FaceRule::parity;
+    if (name == "delaunay") return FaceRule::delaunay;
+    throw InputError("face_rule must be 'parity' or 'delaunay', got '" + name + "'");
+}
+
 // What mesh3d returns to Python: the mesh and its report.
 struct Mesh3dResult {
     TetMesh mesh;
@@ -281,7 +288,8 @@ void bind_blocks(py::module_& m) {
         py::arg("levelset"), py::arg("spacing"));
     m.def(
         "mesh3d_block",
-        [](const LevelSet3& f, double spacing, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi) {
+        [](const LevelSet3& f, double spacing, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi,
+           std::optional<std::string> face_rule) {
             const Lattice3 lattice = lattice3_for(f, spacing);
             for (std::size_t a = 0; a < 3; ++a)
                 if (lo[a] < 0 || lo[a] >= hi[a] || hi[a] > lattice.cubes[a])
@@ -290,6 +298,7 @@ void bind_blocks(py::module_& m) {
                                      ") with lo < hi along every axis");
             Mesh3dOptions o;
             o.spacing = spacing;
+            if (face_rule) o.face_rule = face_rule_of(*face_rule);
             TetBlock b;
             {
                 py::gil_scoped_release release;
@@ -297,7 +306,7 @@ void bind_blocks(py::module_& m) {
             }
             return block_to_dict(std::move(b));
         },
-        py::arg("levelset"), py::arg("spacing"), py::arg("lo"), py::arg("hi"));
+        py::arg("levelset"), py::arg("spacing"), py::arg("lo"), py::arg("hi"), py::arg("face_rule") = py::none());
     m.def(
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {
@@ -345,10 +354,11 @@ void bind_mesh3d(py::module_& m) {
         .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); });
     def_write(result, [](const Mesh3dResult&) { return WriteOptions{}; });
 
-    // The mesher on f with options (spacing, verify, max_memory), the GIL released.
+    // The mesher on f with options (spacing, face_rule, verify, max_memory), the GIL released.
     auto run3d = [](const LevelSet3& f, const py::dict& kw, std::optional<int> threads) {
         Mesh3dOptions o;
         o.spacing = kw["spacing"].cast<double>();
+        if (kw.contains("face_rule")) o.face_rule = face_rule_of(kw["face_rule"].cast<std::string>());
         if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
         if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();
         if (threads) o.threads = *threads;

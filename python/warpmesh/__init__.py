@@ -581,7 +581,7 @@ def _spacing3(spacing, default):
 
 
 def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
-           origin=(0.0, 0.0, 0.0), box=None, verify=False, max_memory_mb=None, threads=None):
+           origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, max_memory_mb=None, threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
     proofs/bcc.cert).
@@ -610,6 +610,12 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
     spacing     the lattice's cube side, in the volume's units (default the
                 smallest voxel size, or 1 voxel); required for shapes and
                 functions
+    face_rule   "parity" or "delaunay": how the stencils' quads are split, as
+                the CLI's --face-rule (default: the library's, parity); the
+                Delaunay face rule meshes at its own alphas (0.2675, 0.39) and
+                is certified only when the build has proofs/bcc_delaunay.cert
+                (report["certified"] is None and report["uncertified_reason"]
+                says why otherwise)
     verify      check every certified tetrahedron against the certificate
     max_memory_mb  refuse (InputError) inputs whose meshing would take more
                 (default 2048, as the CLI's --max-memory)
@@ -619,6 +625,8 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
     Volumes too large for one machine: mesh3d_block and merge_blocks.
     """
     options = {"verify": bool(verify)}
+    if face_rule is not None:
+        options["face_rule"] = _choice("face_rule", face_rule, ("parity", "delaunay"))
     if max_memory_mb is not None:
         options["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
     threads = _threads(threads)
@@ -654,19 +662,22 @@ def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside
 
 
 def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside="above",
-                 voxel_size=None, origin=(0.0, 0.0, 0.0)):
+                 voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
     arrays (picklable), for merge_blocks.  Blocks mesh independently (a
     worker needs only its input); blocks that tile the lattice merge into
-    exactly mesh3d's mesh.  Arguments as mesh3d's (volumes and shape strings)."""
+    exactly mesh3d's mesh (with the same face_rule).  Arguments as mesh3d's
+    (volumes and shape strings)."""
     f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:
         raise InputError("lo and hi must be triples of cube indices")
-    return _core.mesh3d_block(f, _spacing3(spacing, default), lo, hi)
+    if face_rule is not None:
+        face_rule = _choice("face_rule", face_rule, ("parity", "delaunay"))
+    return _core.mesh3d_block(f, _spacing3(spacing, default), lo, hi, face_rule)
 
 
 def merge_blocks(blocks):

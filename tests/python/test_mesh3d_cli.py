@@ -94,7 +94,8 @@ def test_label_volume_in_mm(tmp_path):
     (["--graded"], "--graded has no effect in 3D"),
     (["--materials", "all"], "multi-material 3D meshes are not built yet"),
     (["--slice", "k=3"], "--slice has no effect in 3D"),
-    (["--diagonal", "fan"], "3D has one rule"),
+    (["--diagonal", "fan"], "--face-rule parity|delaunay"),
+    (["--face-rule", "maxmin"], "--face-rule expects 'parity' or 'delaunay', got 'maxmin'"),
     (["--svg-color", "minangle"], "pictures are 2D"),
     (["--optimize"], "--optimize has no effect in 3D"),
 ])
@@ -102,6 +103,31 @@ def test_options_without_effect_in_3d_are_refused(tmp_path, args, message):
     r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.3", "-o", "x.vtu", *args], tmp_path, expect=2)
     assert message in r.stderr
     assert not os.listdir(tmp_path)
+
+
+def test_face_rule_delaunay_is_measured_not_reported_with_the_parity_certificate(tmp_path):
+    """--face-rule delaunay: the Delaunay face rule at its own alphas; the
+    mesh (read back with meshio) differs from parity's, and the report names
+    the rule and is certified only by proofs/bcc_delaunay.cert, never by
+    proofs/bcc.cert."""
+    meshio = require("meshio", "python3-meshio")
+    args = ["--shape", "torus:0,0,0,1,0.4", "--spacing", "0.1"]
+    r = mesh3d([*args, "--face-rule", "delaunay", "-o", "d.vtu", "--report", "d.json"], tmp_path)
+    mesh3d([*args, "-o", "p.vtu", "--report", "p.json", "--quiet"], tmp_path)
+    d, p = (json.loads((tmp_path / f"{n}.json").read_text()) for n in "dp")
+    assert d["face_rule"] == "delaunay" and p["face_rule"] == "parity"
+    assert "face rule: delaunay" in r.stdout
+    if d["certified"] is None:
+        assert "bcc_delaunay.cert" in d["uncertified_reason"] and "bcc_delaunay.cert" in r.stderr
+        assert "certified: no (" in r.stdout
+    else:
+        assert d["certified"]["certificate"] == "proofs/bcc_delaunay.cert"
+    assert p["certified"]["certificate"] == "proofs/bcc.cert" and p["uncertified_reason"] is None
+    assert 11.7 <= d["min_dihedral_deg"] and d["max_dihedral_deg"] <= 161.3
+    md, mp = meshio.read(tmp_path / "d.vtu"), meshio.read(tmp_path / "p.vtu")
+    assert len(md.cells_dict["tetra"]) == d["tetrahedra"]
+    assert (tet_volumes(md.points, md.cells_dict["tetra"]) > 0).all()
+    assert not (len(md.points) == len(mp.points) and np.array_equal(md.cells_dict["tetra"], mp.cells_dict["tetra"]))
 
 
 def test_bad_input_and_2d_formats_write_nothing(tmp_path):

@@ -81,8 +81,32 @@ def test_shape_and_function_give_the_cli_mesh(tmp_path):
     assert "tetrahedra" in t.to_text() and repr(t).startswith("<warpmesh.TetMesh")
 
 
+def test_face_rule_delaunay_gives_the_cli_mesh_and_blocks_merge_into_it(tmp_path):
+    """face_rule="delaunay" is the CLI's --face-rule delaunay mesh, differs
+    from parity's, and mesh3d_block with the same face_rule merges into it."""
+    meshio = require("meshio", "python3-meshio")
+    t = warpmesh.mesh3d("torus:0,0,0,1,0.4", spacing=0.1, face_rule="delaunay")
+    assert t.report["face_rule"] == "delaunay"
+    assert (volumes(t) > 0).all()
+    subprocess.run([executable("WARPMESH_EXE"), "mesh3d", "--shape", "torus:0,0,0,1,0.4", "--spacing", "0.1",
+                    "--face-rule", "delaunay", "-o", tmp_path / "cli.vtu", "--quiet"], check=True, timeout=120)
+    cli = meshio.read(tmp_path / "cli.vtu")
+    assert np.array_equal(cli.points, t.points) and np.array_equal(cli.cells_dict["tetra"], t.tetrahedra)
+    p = warpmesh.mesh3d("torus:0,0,0,1,0.4", spacing=0.1)
+    assert p.report["face_rule"] == "parity"
+    assert not (len(p.points) == len(t.points) and np.array_equal(p.tetrahedra, t.tetrahedra))
+    cubes = warpmesh.lattice3d("torus:0,0,0,1,0.4", spacing=0.1)
+    half = cubes[0] // 2
+    blocks = [warpmesh.mesh3d_block("torus:0,0,0,1,0.4", lo, hi, spacing=0.1, face_rule="delaunay")
+              for lo, hi in [((0, 0, 0), (half, cubes[1], cubes[2])), ((half, 0, 0), cubes)]]
+    merged = warpmesh.merge_blocks(blocks)
+    assert np.array_equal(merged.points, t.points) and np.array_equal(merged.tetrahedra, t.tetrahedra)
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda: warpmesh.mesh3d(np.zeros((4, 4))), "3D array"),
+    (lambda: warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.2, face_rule="Delaunay"), "face_rule must be 'parity' or 'delaunay'"),
+    (lambda: warpmesh.mesh3d_block("sphere:0,0,0,1", (0, 0, 0), (1, 1, 1), spacing=0.2, face_rule=1), "face_rule"),
     (lambda: warpmesh.mesh3d(ball(), label=4, iso=1), "exclude each other"),
     (lambda: warpmesh.mesh3d(ball(), label=9), "empty"),
     (lambda: warpmesh.mesh3d(ball(), label=4, voxel_size=(1, 0, 1)), "voxel_size"),

@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/bcc_certified.hpp"  // FaceRule
 #include "warpmesh/generic_bcc.hpp"
 #include "warpmesh/image_levelset.hpp"  // ImageLevelSetOptions: the volume modes
 #include "warpmesh/memory.hpp"
@@ -174,20 +175,42 @@ Lattice3 lattice3_for(const LevelSet3& f, double spacing);
 
 // ---------------------------------------------------------------------------
 // Options and report.
+//
+// The face rule (generic_bcc.hpp, "The diagonal choices") splits the quads of
+// the stencils: `parity` (Labelle–Shewchuk's parity rule, proofs/bcc.cert) or
+// `delaunay` (each face quad by the empty-circle test, the prism's inside
+// quad by the shorter diagonal; proofs/README.md, "The Delaunay face rule"),
+// decided by exact signs of the rule's forms so that the two tetrahedra
+// sharing a face agree.  Each rule has its own alphas, those its certificate
+// is proved at (face_rule_alphas).  The default rule is this one line; the
+// default alphas follow it.
+inline constexpr FaceRule default_face_rule = FaceRule::parity;
+// The Delaunay face rule's pair (0.2675, 0.39): the best of its sampled table
+// (proofs/README.md, "Towards θmin ≥ 12°" (e)), at which
+// proofs/bcc_delaunay.cert is proved.
+inline constexpr bcc::Alphas delaunay_alphas{26750, 100000, 39000, 100000};
+constexpr bcc::Alphas face_rule_alphas(FaceRule rule) {
+    return rule == FaceRule::delaunay ? delaunay_alphas : bcc::default_alphas;
+}
+
 struct Mesh3dOptions {
     double spacing = 1;                             // lattice spacing s (cube side), the level set's units
-    bcc::Alphas alphas = bcc::default_alphas;       // violation thresholds (α_long, α_short)
+    FaceRule face_rule = default_face_rule;         // how the stencils' quads are split (above)
+    // Violation thresholds (α_long, α_short); none: face_rule_alphas(face_rule).
+    std::optional<bcc::Alphas> alphas;
     int threads = 0;                                // OpenMP threads; 0 = the OpenMP default
     std::uint64_t max_memory = default_max_memory;  // refuse (InputError naming --max-memory) above it
     // Check every tetrahedron, once, against its own background
-    // tetrahedron's key claim in proofs/bcc.cert (compiled in; each key's
-    // claim is within the theorem); a key the certificate does not list or a
-    // violation throws std::logic_error (an internal failure, not bad
-    // input).  Only with the certificate's alphas.
+    // tetrahedron's key claim in the face rule's certificate (compiled in;
+    // each key's claim is within the theorem); a key the certificate does
+    // not list or a violation throws std::logic_error (an internal failure,
+    // not bad input).  Only with the certificate's alphas.
     bool verify = false;
     // Measure dihedral angles, radius ratios and the boundary's distance to
     // the level set for the report (a second pass over the mesh).
     bool quality = true;
+    // The alphas in use.
+    bcc::Alphas alphas_in_use() const { return alphas ? *alphas : face_rule_alphas(face_rule); }
 };
 
 struct Mesh3dReport {
@@ -213,14 +236,17 @@ struct Mesh3dReport {
     double boundary_vertex_f_max = 0, boundary_centroid_f_max = 0;
     // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
     std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
-    // Certification (proofs/bcc.cert).  certified: the certificate is
-    // compiled in and its alphas are the options'; the bounds then hold for
-    // every tetrahedron (each comes from a certified key: uncertified is 0),
-    // else every tetrahedron is uncertified.  verified: every tetrahedron was
-    // checked against its own key's claim (Mesh3dOptions::verify).
+    // Certification by the face rule's certificate (bcc_certificate_path):
+    // certified: it is compiled in and its alphas are the options'; the
+    // bounds then hold for every tetrahedron (each comes from a certified
+    // key: uncertified is 0), else every tetrahedron is uncertified and a
+    // warning says why.  verified: every tetrahedron was checked against its
+    // own key's claim (Mesh3dOptions::verify).
+    FaceRule face_rule = FaceRule::parity;  // the rule the mesh was split by
     bool certified = false;
     double certified_min_deg = 0, certified_max_deg = 0;
     std::int64_t certified_tets = 0, uncertified_tets = 0;
+    std::string uncertified_reason;  // why not certified (also a warning); empty when certified
     bool verified = false;
     // The resolution check: the narrowest closed boundary component's width
     // 6V/A (a sphere's diameter), and a spacing resolving it (0: resolved).
@@ -308,14 +334,14 @@ double radius_ratio(const std::array<Point3, 4>& p);
 // histogram, boundary fidelity against f, volume) from a mesh.
 void measure_quality3(const TetMesh& mesh, const LevelSet3& f, Mesh3dReport& report);
 
-// The certificate's claim (proofs/bcc.cert, compiled in): its alphas and the
-// dihedral bounds, or nullopt when the build has no certificate.
+// The claim of a face rule's certificate (bcc_certificate_path, compiled in):
+// its alphas and the dihedral bounds, or nullopt when the build has none.
 struct BccClaim {
     bcc::Alphas alphas;
     double min_deg, max_deg;
     // cos² thresholds as the certificate states them (dyadic rationals).
     double cos2_min, cos2_max;
 };
-std::optional<BccClaim> bcc_claim();
+std::optional<BccClaim> bcc_claim(FaceRule rule = FaceRule::parity);
 
 }  // namespace warpmesh

@@ -1,9 +1,13 @@
-// bcc_certified.cpp — parses the per-key claims of proofs/bcc.cert compiled
-// in by cmake/certified_table.cmake ("alphas L S", then "CODE CMIN CMAX" per
-// key, claims p / 2^40).  bcc_certified.hpp states the contract.
+// bcc_certified.cpp — parses the per-key claims of the 3D certificates
+// compiled in by cmake/certified_table.cmake (proofs/bcc.cert and, when the
+// build has it, proofs/bcc_delaunay.cert: "face-rule RULE" if the certificate
+// names one, "alphas L S", then "CODE CMIN CMAX" per key, claims p / 2^40).
+// Each table is the rule its own text names (none: parity), whichever
+// constant it came in; bcc_certified.hpp states the contract.
 #include "warpmesh/bcc_certified.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -15,11 +19,13 @@
 namespace warpmesh {
 namespace generated {
 extern const std::string_view certified_bcc_keys;
+extern const std::string_view certified_bcc_delaunay_keys;
 }
 
 namespace {
 
 struct BccTable {
+    FaceRule rule = FaceRule::parity;
     std::optional<bcc::Alphas> alphas;
     std::map<std::string, BccKeyBound, std::less<>> keys;
     std::optional<BccKeyBound> theorem;
@@ -36,13 +42,18 @@ double degrees(std::uint64_t num, bool obtuse) {
     return obtuse ? 180 - a : a;
 }
 
-BccTable parse_table() {
+BccTable parse_table(std::string_view text) {
     BccTable t;
-    std::istringstream in{std::string(generated::certified_bcc_keys)};
+    std::istringstream in{std::string(text)};
     for (std::string line; std::getline(in, line);) {
         std::istringstream ls(line);
         std::string a, b, c;
         ls >> a >> b >> c;
+        if (a == "face-rule") {
+            if (b != "delaunay" && b != "parity") return BccTable{};  // a rule this mesher does not know: no table
+            t.rule = b == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
+            continue;
+        }
         if (a == "alphas") {
             const auto num = [](const std::string& x) { return std::stoll(x.substr(0, x.find('/'))); };
             const auto den = [](const std::string& x) { return std::stoll(x.substr(x.find('/') + 1)); };
@@ -59,21 +70,34 @@ BccTable parse_table() {
     return t;
 }
 
-const BccTable& table() {
-    static const BccTable t = parse_table();
-    return t;
+// The table of `rule`: the compiled-in certificate that names it (an empty
+// table when none does).
+const BccTable& table(FaceRule rule) {
+    static const std::array<BccTable, 2> compiled{parse_table(generated::certified_bcc_keys),
+                                                  parse_table(generated::certified_bcc_delaunay_keys)};
+    static const BccTable none;
+    for (const BccTable& t : compiled)
+        if (t.rule == rule && t.alphas && !t.keys.empty()) return t;
+    return none;
 }
 
 }  // namespace
 
-std::optional<BccKeyBound> bcc_certified_bound(const bcc::Config& canonical_key) {
-    const auto it = table().keys.find(bcc::code_of(canonical_key));
-    if (it == table().keys.end()) return std::nullopt;
+const char* face_rule_name(FaceRule rule) { return rule == FaceRule::delaunay ? "delaunay" : "parity"; }
+
+const char* bcc_certificate_path(FaceRule rule) {
+    return rule == FaceRule::delaunay ? "proofs/bcc_delaunay.cert" : "proofs/bcc.cert";
+}
+
+std::optional<BccKeyBound> bcc_certified_bound(const bcc::Config& canonical_key, FaceRule rule) {
+    const BccTable& t = table(rule);
+    const auto it = t.keys.find(bcc::code_of(canonical_key));
+    if (it == t.keys.end()) return std::nullopt;
     return it->second;
 }
 
-std::optional<bcc::Alphas> bcc_certified_alphas() { return table().alphas; }
+std::optional<bcc::Alphas> bcc_certified_alphas(FaceRule rule) { return table(rule).alphas; }
 
-std::optional<BccKeyBound> bcc_certified_theorem() { return table().theorem; }
+std::optional<BccKeyBound> bcc_certified_theorem(FaceRule rule) { return table(rule).theorem; }
 
 }  // namespace warpmesh

@@ -1,6 +1,8 @@
-// bcc_claim.cpp — the 3D mesher's view of the compiled-in certificate
+// bcc_claim.cpp — the 3D mesher's view of the compiled-in certificates
 // (mesh3d.hpp: bcc_claim; uniform3d.hpp: key_certified,
-// certificate_applies), read from the one table of proofs/bcc.cert that
+// certificate_applies), read from the table of the face rule in use — each
+// rule's certificate is its own table (bcc_certified.hpp), so a mesh is never
+// checked or reported against another rule's claims — which
 // cmake/certified_table.cmake compiles in and bcc_certified.cpp parses:
 //   alphas   the violation thresholds the proof is about;
 //   per key  its claim C_min, C_max (cos² thresholds, dyadic rationals);
@@ -17,10 +19,10 @@
 namespace warpmesh {
 
 std::optional<BccKeyBound> uniform3d::key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
-                                                    const std::array<int, 4>& warp, std::string* code) {
+                                                    const std::array<int, 4>& warp, FaceRule rule, std::string* code) {
     const bcc::Config key = bcc::key_of(p, sign, warp);
     if (code) *code = bcc::code_of(key);
-    return bcc_certified_bound(key);
+    return bcc_certified_bound(key, rule);
 }
 
 bool uniform3d::key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max) {
@@ -35,14 +37,14 @@ bool uniform3d::key_claim_holds(const std::array<Point3, 4>& q, double cos2_min,
     return ok;
 }
 
-bool uniform3d::certificate_applies(const bcc::Alphas& a) {
-    const std::optional<bcc::Alphas> c = bcc_certified_alphas();
+bool uniform3d::certificate_applies(const bcc::Alphas& a, FaceRule rule) {
+    const std::optional<bcc::Alphas> c = bcc_certified_alphas(rule);
     return c && c->long_num * a.long_den == a.long_num * c->long_den && c->short_num * a.short_den == a.short_num * c->short_den;
 }
 
-std::optional<BccClaim> bcc_claim() {
-    const std::optional<bcc::Alphas> a = bcc_certified_alphas();
-    const std::optional<BccKeyBound> t = bcc_certified_theorem();
+std::optional<BccClaim> bcc_claim(FaceRule rule) {
+    const std::optional<bcc::Alphas> a = bcc_certified_alphas(rule);
+    const std::optional<BccKeyBound> t = bcc_certified_theorem(rule);
     if (!a || !t) return std::nullopt;
     return BccClaim{*a, t->min_deg, t->max_deg, std::ldexp(static_cast<double>(t->cmin_num), -40),
                     std::ldexp(static_cast<double>(t->cmax_num), -40)};

@@ -2,7 +2,9 @@
 // resolution check and the boundary's non-manifold count (mesh3d.hpp:
 // Mesh3dReport, nonmanifold_boundary).
 //
-// Certification.  proofs/bcc.cert claims, at its alphas, for every key with
+// Certification.  The certificate of the mesh's face rule (bcc_certified.hpp:
+// proofs/bcc.cert for parity, proofs/bcc_delaunay.cert for the Delaunay face
+// rule; never the other rule's) claims, at its alphas, for every key with
 // output (a − vertex), that every output tetrahedron is positively oriented
 // with every dihedral angle θ in the key's own [θmin, θmax], within the
 // theorem (the extremes of the keys' claims; bcc_claim), stated as cos²
@@ -99,13 +101,21 @@ void check_resolution(const TetMesh& mesh, const LevelSet3& f, double s, Mesh3dR
 }  // namespace
 
 void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, bool verified, Mesh3dReport& r) {
-    const std::optional<BccClaim> claim = bcc_claim();
-    const bool same = certificate_applies(o.alphas);
+    const FaceRule rule = o.face_rule;
+    const std::optional<BccClaim> claim = bcc_claim(rule);
+    const bool same = certificate_applies(o.alphas_in_use(), rule);
+    const std::string cert = bcc_certificate_path(rule);
+    r.face_rule = rule;
     r.certified = same;
     r.uncertified_tets = same ? 0 : r.tets;
     r.certified_tets = r.tets - r.uncertified_tets;
     if (same) r.certified_min_deg = claim->min_deg, r.certified_max_deg = claim->max_deg;
-    else r.warnings.push_back(claim ? "no certificate for these alphas: proofs/bcc.cert is at other alphas" : "this build has no 3D certificate (proofs/bcc.cert)");
+    else {
+        r.uncertified_reason = claim ? "no certificate for these alphas: " + cert + " (face rule " + face_rule_name(rule) + ") is at other alphas"
+                                     : std::string("this build has no certificate of the ") + face_rule_name(rule) + " face rule (" + cert +
+                                           "): the angles are measured, not certified";
+        r.warnings.push_back(r.uncertified_reason);
+    }
     r.verified = same && verified;
     if (o.quality) measure_quality3(mesh, f, r);
     const NonmanifoldBoundary nb = nonmanifold_boundary(mesh);

@@ -59,11 +59,13 @@ std::string to_json(const Mesh3dReport& r) {
         {"boundary_centroid_f_max", n(r.boundary_centroid_f_max)},
         {"nonmanifold_boundary_edges", n(r.nonmanifold_boundary_edges)},
         {"nonmanifold_boundary_vertices", n(r.nonmanifold_boundary_vertices)},
-        {"certified", r.certified ? "{\"min_dihedral_deg\": " + n(r.certified_min_deg) + ", \"max_dihedral_deg\": " +
+        {"face_rule", json_string(face_rule_name(r.face_rule))},
+        {"certified", r.certified ? "{\"certificate\": " + json_string(bcc_certificate_path(r.face_rule)) + ", \"min_dihedral_deg\": " + n(r.certified_min_deg) + ", \"max_dihedral_deg\": " +
                                         n(r.certified_max_deg) + ", \"certified_tetrahedra\": " + n(r.certified_tets) +
                                         ", \"uncertified_tetrahedra\": " + n(r.uncertified_tets) +
                                         ", \"verified\": " + (r.verified ? "true" : "false") + "}"
                                   : "null"},
+        {"uncertified_reason", r.certified ? "null" : json_string(r.uncertified_reason)},
         {"narrowest_width", n(r.narrowest_width)},
         {"suggested_spacing", r.suggested_spacing > 0 ? n(r.suggested_spacing) : "null"},
         {"warnings", json_strings(r.warnings)},
@@ -97,12 +99,13 @@ std::string to_text(const Mesh3dReport& r) {
     o << "boundary: |f| at vertices <= " << fmt(r.boundary_vertex_f_max, 3) << ", at face centroids <= "
       << fmt(r.boundary_centroid_f_max, 3) << "; non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices "
       << r.nonmanifold_boundary_vertices << '\n';
+    o << "face rule: " << face_rule_name(r.face_rule) << '\n';
     if (r.certified)
-        o << "certified (proofs/bcc.cert): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
+        o << "certified (" << bcc_certificate_path(r.face_rule) << "): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
           << fmt(r.certified_max_deg, 5) << "] deg for " << r.certified_tets << " tetrahedra"
           << (r.verified ? ", each verified" : "") << "; uncertified: " << r.uncertified_tets << '\n';
     else
-        o << "certified: no (no certificate for these thresholds in this build); uncertified: " << r.tets << '\n';
+        o << "certified: no (" << (r.uncertified_reason.empty() ? "not looked up" : r.uncertified_reason) << "); uncertified: " << r.tets << '\n';
     o << "time: " << fmt(r.seconds, 4) << " s";
     if (r.seconds > 0) o << " (" << fmt(static_cast<double>(r.tets) / r.seconds / 1e6, 4) << " M tetrahedra/s)";
     o << '\n';

@@ -121,15 +121,16 @@ Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, co
     sample_signs(f, w);
     find_cuts(f, w);
     Buffer<double>().swap(w.value);  // f is not needed past the cut points
-    warp_points(o.alphas, w, blocked);
+    warp_points(o.alphas_in_use(), w, blocked);
     return w;
 }
 
 void check_options(const Mesh3dOptions& o) {
-    const auto& a = o.alphas;
+    const bcc::Alphas a = o.alphas_in_use();
     const bool ok = a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
                     2 * a.short_num < a.short_den;
     if (!ok) throw InputError("the alphas must lie in (0, 1/2)");
+    if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
     if (!(o.spacing > 0 && std::isfinite(o.spacing))) throw InputError("--spacing must be a positive number");
 }
 
@@ -172,14 +173,15 @@ TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattic
     const auto start = std::chrono::steady_clock::now();
     const CubeRange all{{0, 0, 0}, lattice.cubes};
     Window w = prepare(f, o, lattice, all, 0, false);
-    const bool verify_keys = o.verify && certificate_applies(o.alphas);
-    Emitted e = emit_tets(w, all, false, o.max_memory, verify_keys);
+    const bool verify_keys = o.verify && certificate_applies(o.alphas_in_use(), o.face_rule);
+    Emitted e = emit_tets(w, all, false, o.max_memory, o.face_rule, verify_keys);
+    const std::string cert = bcc_certificate_path(o.face_rule);
     if (e.uncovered_keys > 0)
-        throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) +
-                               " background tetrahedra have a key that proofs/bcc.cert does not list (first: " + e.first_uncovered + ")");
+        throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " + cert +
+                               " does not list (first: " + e.first_uncovered + ")");
     if (e.key_claim_failures > 0)
-        throw std::logic_error("mesh3d --verify: " + std::to_string(e.key_claim_failures) +
-                               " tetrahedra fail their key's claim in proofs/bcc.cert (first key: " + e.first_key_claim_failure + ")");
+        throw std::logic_error("mesh3d --verify: " + std::to_string(e.key_claim_failures) + " tetrahedra fail their key's claim in " + cert +
+                               " (first key: " + e.first_key_claim_failure + ")");
     const std::int64_t warped = w.warp_count;
     w = Window{};
     if (e.tets.empty())
@@ -228,7 +230,7 @@ TetBlock mesh3d_block(const LevelSet3& f, const Mesh3dOptions& options, const La
         bool whole = true;
         for (std::size_t a = 0; a < 3; ++a) whole = whole && block.lo[a] - halo <= 0 && block.hi[a] + halo >= lattice.cubes[a];
         if (!exact && !whole) continue;
-        Emitted e = emit_tets(w, block, true, o.max_memory);
+        Emitted e = emit_tets(w, block, true, o.max_memory, o.face_rule);
         TetBlock b;
         b.vertex_key = std::move(e.vertex_key);
         b.vertices.assign(e.vertices.begin(), e.vertices.end());

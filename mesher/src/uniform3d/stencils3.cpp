@@ -1,7 +1,9 @@
-// stencils3.cpp — stage 5's tables: generic_bcc.hpp's stencil for every
-// post-warp sign pattern and parity bit (81 × 2), and
-// the 12 background tetrahedra of a cube in their local frame.  Computed
-// once; the per-tetrahedron work is then a table lookup.
+// stencils3.cpp — stage 5's tables: generic_bcc.hpp's stencils for every
+// post-warp sign pattern and parity bit (81 × 2, the parity rule) and for
+// every sign pattern and resolved choice of diagonals (81 × 32, any face
+// rule: stencil_with), and the 12 background tetrahedra of a cube in their
+// local frame.  Computed once; the per-tetrahedron work is then a table
+// lookup.
 #include "uniform3d.hpp"
 
 namespace warpmesh::uniform3d {
@@ -16,25 +18,62 @@ unsigned faces_containing(int q) {
     return 0xFu & ~(1u << e[0]) & ~(1u << e[1]);
 }
 
+std::array<int, 4> signs_of(int code) {
+    std::array<int, 4> sign{};
+    for (int i = 0, c = code; i < 4; ++i, c /= 3) sign[static_cast<std::size_t>(i)] = c % 3 - 1;
+    return sign;
+}
+
+// Whether `d` turns the three quads of an n- = 3, n+ = 1 prism the same way
+// (stencil_with's fwd all equal): a cycle, which no stencil cuts.
+bool cyclic(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
+    std::array<int, 3> neg{};
+    int nn = 0, r = -1;
+    for (int i = 0; i < 4; ++i) {
+        if (sign[static_cast<std::size_t>(i)] < 0 && nn < 3) neg[static_cast<std::size_t>(nn++)] = i;
+        if (sign[static_cast<std::size_t>(i)] > 0) r = i;
+    }
+    if (nn != 3 || r < 0) return false;
+    const bool f0 = bcc::takes(d, neg[0], neg[1], r);
+    return f0 == bcc::takes(d, neg[1], neg[2], r) && f0 == bcc::takes(d, neg[2], neg[0], r);
+}
+
+// The plan of the stencil of `sign` split as `d` says.
+Plan make_plan(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
+    Plan p;
+    int nn = 0, np = 0;
+    for (int v : sign) nn += v < 0, np += v > 0;
+    p.quads = nn >= 2 && np >= 1;
+    p.cyclic = cyclic(sign, d);
+    if (p.cyclic) return p;
+    p.stencil = bcc::stencil_with(sign, d);
+    for (int t = 0; t < p.stencil.count; ++t) {
+        const bcc::OutTet& o = p.stencil.tet[static_cast<std::size_t>(t)];
+        for (std::uint8_t q : o) p.uses = static_cast<std::uint16_t>(p.uses | 1u << q);
+        for (int f = 0; f < 4; ++f) {
+            unsigned on = 0xF;
+            for (int k = 0; k < 4; ++k)
+                if (k != f) on &= faces_containing(o[static_cast<std::size_t>(k)]);
+            p.face_on[static_cast<std::size_t>(t)][static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(on);
+        }
+    }
+    return p;
+}
+
 std::array<Plan, 81 * 2> make_plans() {
     std::array<Plan, 81 * 2> plans{};
     for (int code = 0; code < 81; ++code)
-        for (int parity = 0; parity < 2; ++parity) {
-            std::array<int, 4> sign{};
-            for (int i = 0, c = code; i < 4; ++i, c /= 3) sign[static_cast<std::size_t>(i)] = c % 3 - 1;
-            Plan& p = plans[static_cast<std::size_t>(code * 2 + parity)];
-            p.stencil = bcc::stencil(sign, parity);
-            for (int t = 0; t < p.stencil.count; ++t) {
-                const bcc::OutTet& o = p.stencil.tet[static_cast<std::size_t>(t)];
-                for (std::uint8_t q : o) p.uses = static_cast<std::uint16_t>(p.uses | 1u << q);
-                for (int f = 0; f < 4; ++f) {
-                    unsigned on = 0xF;
-                    for (int k = 0; k < 4; ++k)
-                        if (k != f) on &= faces_containing(o[static_cast<std::size_t>(k)]);
-                    p.face_on[static_cast<std::size_t>(t)][static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(on);
-                }
-            }
-        }
+        for (int parity = 0; parity < 2; ++parity)  // stencil(sign, parity) = stencil_with(sign, parity_diagonals)
+            plans[static_cast<std::size_t>(code * 2 + parity)] = make_plan(signs_of(code), bcc::parity_diagonals(signs_of(code), parity));
+    return plans;
+}
+
+std::vector<Plan> make_diagonal_plans() {
+    std::vector<Plan> plans(81 * diagonal_slots);
+    for (int code = 0; code < 81; ++code)
+        for (int slot = 0; slot < diagonal_slots; ++slot)
+            plans[static_cast<std::size_t>(code * diagonal_slots + slot)] =
+                make_plan(signs_of(code), bcc::Diagonals{static_cast<unsigned>(slot) >> 1, (slot & 1) != 0});
     return plans;
 }
 
@@ -82,6 +121,11 @@ std::span<const Plan> plans() {
 }
 
 const Plan& plan(int code, int parity) { return plans()[static_cast<std::size_t>(code * 2 + parity)]; }
+
+std::span<const Plan> diagonal_plans() {
+    static const std::vector<Plan> all = make_diagonal_plans();
+    return all;
+}
 
 const std::array<TetShape, 12>& tet_shapes() {
     static const std::array<TetShape, 12> shapes = make_shapes();

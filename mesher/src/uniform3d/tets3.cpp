@@ -14,9 +14,14 @@
 // below it) are all inside outputs its 12 background tetrahedra whole: the
 // common case, taken without the stencil; one whose 12 points are all
 // outside (+) has nothing to output or count, and is skipped.
+// The quads (background tetrahedra with n- >= 2, n+ >= 1) are split by the
+// face rule: parity from the (signs, parity) table, the Delaunay face rule
+// from the (signs, diagonals) table after delaunay_choice (face_rule3.cpp)
+// decides the diagonals exactly from the cut parameters.  A stencil's count
+// and points do not depend on its diagonals, so pass A is the same for both.
 // With verify_keys every output tetrahedron is checked against its own
-// background tetrahedron's key claim as it is written (the whole ones against
-// the claim of the all-− key, looked up once).
+// background tetrahedron's key claim in the face rule's certificate as it is
+// written (the whole ones against the claim of the all-− key, looked up once).
 #include <atomic>
 #include <cmath>
 #include <optional>
@@ -39,11 +44,13 @@ struct Neighbourhood {
 
 struct Layout {
     const Window& w;
+    const FaceRule rule;
     const std::array<TetShape, 12>& shapes = tet_shapes();
     std::span<const Plan> plans = uniform3d::plans();  // looked up once, not per tetrahedron
+    std::span<const Plan> by_diagonals = uniform3d::diagonal_plans();
     std::int64_t plane_pair = 0;  // index step of 2 along z
 
-    explicit Layout(const Window& win) : w(win) {
+    Layout(const Window& win, FaceRule face_rule) : w(win), rule(face_rule) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
     }
 
@@ -63,13 +70,14 @@ struct Layout {
         return n;
     }
 
-    // The stencil of background tetrahedron `index` of the cube, or nullptr
-    // when it does not exist or outputs nothing (no − vertex; all_zero: its
-    // four vertices are zero).
-    const Plan* split(const bcc::Ivec& m, const Neighbourhood& n, int index, bool& all_zero) const {
+    // The parity rule's stencil of background tetrahedron `index` of the
+    // cube, or nullptr when it does not exist or outputs nothing (no −
+    // vertex; all_zero: its four vertices are zero); its sign code in `code`.
+    const Plan* split(const bcc::Ivec& m, const Neighbourhood& n, int index, bool& all_zero, int& code) const {
         const TetShape& s = shapes[static_cast<std::size_t>(index)];
         if (m[static_cast<std::size_t>(index / 4)] == 0) return nullptr;
-        int code = 0, negative = 0, zero = 0;
+        int negative = 0, zero = 0;
+        code = 0;
         for (int k = 3; k >= 0; --k) {
             const int sg = n.sign[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(k)])];
             code = code * 3 + sg + 1;
@@ -77,6 +85,25 @@ struct Layout {
         }
         all_zero = zero == 4;
         return negative == 0 ? nullptr : &plans[static_cast<std::size_t>(code * 2 + s.parity)];
+    }
+
+    // The Delaunay face rule's stencil of background tetrahedron `index` of
+    // the cube, with sign code `code` and quads: its signs and the cut
+    // parameters of its (-, +) edges, in the local frame.
+    const Plan* delaunay_split(const Neighbourhood& n, int index, int code) const {
+        const TetShape& s = shapes[static_cast<std::size_t>(index)];
+        std::array<int, 4> sign{};
+        for (std::size_t k = 0; k < 4; ++k) sign[k] = n.sign[static_cast<std::size_t>(s.slot_in_cube[k])];
+        std::array<double, 6> u{};
+        unsigned from_upper = 0;
+        for (std::size_t e = 0; e < 6; ++e) {
+            const int i = bcc::tet_edges[e][0], j = bcc::tet_edges[e][1], lower = s.lower[e];
+            if (sign[static_cast<std::size_t>(i)] * sign[static_cast<std::size_t>(j)] >= 0) continue;  // not cut
+            u[e] = w.u(n.at[static_cast<std::size_t>(s.slot_in_cube[static_cast<std::size_t>(lower)])], s.slot[e]);
+            if (lower != i) from_upper |= 1u << e;
+        }
+        const bcc::Diagonals d = delaunay_choice(sign, s.parity, u, from_upper);
+        return &by_diagonals[static_cast<std::size_t>(code * diagonal_slots + diagonal_slot(d))];
     }
 };
 
@@ -112,7 +139,8 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
             }
             for (int index = 0; index < 12; ++index) {
                 bool all_zero = false;
-                const Plan* p = lay.split(m, n, index, all_zero);
+                int code = 0;
+                const Plan* p = lay.split(m, n, index, all_zero, code);  // any face rule's count and points
                 if (!p) continue;
                 count += p->stencil.count;
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
@@ -218,7 +246,7 @@ std::optional<BccKeyBound> check_key(const Layout& lay, const bcc::Ivec& m, cons
         sign[k] = n.sign[slot];
         warp[k] = lay.w.warp[static_cast<std::size_t>(n.at[slot])];
     }
-    std::optional<BccKeyBound> bound = key_certified(p, sign, warp, code);
+    std::optional<BccKeyBound> bound = key_certified(p, sign, warp, lay.rule, code);
     if (bound) return bound;
     ++uncovered;
 #pragma omp critical
@@ -262,16 +290,18 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     const Lattice3& L = lay.w.grid.lattice;
     const std::int64_t layers = range.hi[2] - range.lo[2];
     std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
-    std::int64_t uncovered = 0, failures = 0, all_zero_left_out = 0;
+    std::int64_t uncovered = 0, failures = 0, all_zero_left_out = 0, cyclic = 0;
     // A whole background tetrahedron's key (four − vertices, none warped; the
     // same for every index), looked up once.
     std::string whole_code;
     std::optional<BccKeyBound> whole_bound;
     if (verify_keys) {
-        whole_bound = key_certified(lay.shapes[0].offset, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, &whole_code);
-        if (!whole_bound) throw std::logic_error("mesh3d --verify: proofs/bcc.cert does not list the key " + whole_code + " of a whole background tetrahedron");
+        whole_bound = key_certified(lay.shapes[0].offset, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, lay.rule, &whole_code);
+        if (!whole_bound)
+            throw std::logic_error(std::string("mesh3d --verify: ") + bcc_certificate_path(lay.rule) + " does not list the key " + whole_code +
+                                   " of a whole background tetrahedron");
     }
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures, all_zero_left_out)
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures, all_zero_left_out, cyclic)
     for (std::int64_t l = 0; l < layers; ++l) {
         std::int64_t t = start[static_cast<std::size_t>(l)];
         const std::int64_t cz = range.lo[2] + l;
@@ -284,9 +314,15 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
             for (int index = 0; index < 12; ++index) {
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
-                const Plan* p = n.all_inside ? &lay.plans[0] : lay.split(m, n, index, all_zero);
+                int sign_code = 0;
+                const Plan* p = n.all_inside ? &lay.plans[0] : lay.split(m, n, index, all_zero, sign_code);
                 all_zero_left_out += all_zero;
                 if (!p) continue;
+                if (p->quads && lay.rule == FaceRule::delaunay) {
+                    const Plan* d = lay.delaunay_split(n, index, sign_code);
+                    cyclic += d->cyclic;  // never, with exact signs (generic_bcc.hpp); reported below
+                    if (!d->cyclic) p = d;
+                }
                 std::optional<BccKeyBound> bound;
                 std::string code;
                 if (verify_keys) bound = n.all_inside ? whole_bound : check_key(lay, m, n, index, uncovered, out.first_uncovered, &code);
@@ -324,12 +360,14 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     out.all_zero_left_out = all_zero_left_out;
     out.uncovered_keys = uncovered;
     out.key_claim_failures = failures;
+    if (cyclic > 0)
+        throw std::logic_error("mesh3d: the Delaunay face rule turned " + std::to_string(cyclic) + " prisms' three quads the same way");
 }
 
 }  // namespace
 
-Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys) {
-    const Layout lay(w);
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule, bool verify_keys) {
+    const Layout lay(w, rule);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
     Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);

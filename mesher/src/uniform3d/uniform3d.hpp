@@ -4,7 +4,8 @@
 //   signs3.cpp       f and its sign at every point of a window
 //   cut_points3.cpp  the cut edges and their exact cut points
 //   warp3.cpp        closest-first warping (generic_bcc.hpp's warp_before)
-//   stencils3.cpp    the stencil table (generic_bcc.hpp's stencil) and faces
+//   stencils3.cpp    the stencil tables (generic_bcc.hpp's stencil_with) and faces
+//   face_rule3.cpp   the Delaunay face rule's exact decisions (stage 5's helper)
 //   tets3.cpp        background tetrahedra → output tetrahedra, two passes
 //   assembly3.cpp    vertices, boundary faces, blocks and their merge, mesh3d
 #pragma once
@@ -118,12 +119,18 @@ void find_cuts(const LevelSet3& f, Window& w);
 // `blocked`: taint the points that see outside the window (blocks).
 void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked);
 
-// The stencil of every (signs, parity): generic_bcc.hpp's
-// stencil, with the set of local points it uses (bits 0..3 vertices, 4 + e
-// the cut point on local edge e).
+// The stencil of every (signs, parity) — generic_bcc.hpp's stencil, the
+// parity rule — and of every (signs, resolved diagonals) — stencil_with, any
+// face rule — with the set of local points it uses (bits 0..3 vertices, 4 + e
+// the cut point on local edge e).  A stencil's count and points depend on
+// the signs alone (the diagonals only choose how the same polyhedron is
+// cut), so stage 5's first pass counts and marks with the parity plans
+// whatever the face rule.
 struct Plan {
     bcc::Stencil stencil;
     std::uint16_t uses = 0;
+    bool quads = false;   // it splits a quad (n- >= 2, n+ >= 1): the face rule decides its diagonals
+    bool cyclic = false;  // (diagonal plans) the choice turns an n- = 3 prism's three quads the same way: no stencil
     // face_on[k][f]: the background faces (bit v: the face without local
     // vertex v) that contain face f (the face without vertex f) of output
     // tetrahedron k.
@@ -136,6 +143,20 @@ using CutOff = std::pair<std::int64_t, std::uint8_t>;
 const Plan& plan(int code, int parity);
 // All of them: plan(code, parity) is plans()[2 code + parity].
 std::span<const Plan> plans();
+// By resolved diagonals: diagonal_plans()[diagonal_slots · code +
+// diagonal_slot(d)], d's bits face (4) and inside (1).
+inline constexpr int diagonal_slots = 32;
+constexpr int diagonal_slot(const bcc::Diagonals& d) { return static_cast<int>((d.face & 15u) << 1 | (d.inside ? 1u : 0u)); }
+std::span<const Plan> diagonal_plans();
+
+// The Delaunay face rule's choices for a background tetrahedron with
+// post-warp signs `sign` and parity bit `parity` (local order): generic_bcc.hpp's
+// delaunay_diagonals on the exact cut fractions.  u[e] is the window's cut
+// parameter of local edge e (from the edge's lower endpoint; read only on
+// (-, +) edges), and bit e of `from_upper` is set when tet_edges[e][0] is the
+// upper endpoint (the local fraction is then 1 − u[e]).  The forms' signs
+// are exact (face_rule3.cpp), so the two tetrahedra sharing a face agree.
+bcc::Diagonals delaunay_choice(const std::array<int, 4>& sign, int parity, const std::array<double, 6>& u, unsigned from_upper);
 
 // The 12 background tetrahedra of a cube m in the local frame, relative to m.
 struct TetShape {
@@ -160,25 +181,28 @@ struct Emitted {
     std::vector<std::uint64_t> vertex_key;       // blocks only
     std::int64_t all_zero_left_out = 0;          // all-zero background tetrahedra (never output)
     std::int64_t cut_points = 0, warped_vertices = 0;
-    // With verify_keys: output background tetrahedra whose key is not
-    // in proofs/bcc.cert, and the first one's code; output tetrahedra that
-    // fail their own key's claim (key_claim_holds), and the first one's key.
+    // With verify_keys: output background tetrahedra whose key is not in
+    // the face rule's certificate, and the first one's code; output
+    // tetrahedra that fail their own key's claim (key_claim_holds), and the
+    // first one's key.
     std::int64_t uncovered_keys = 0;
     std::string first_uncovered;
     std::int64_t key_claim_failures = 0;
     std::string first_key_claim_failure;
 };
-Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, bool verify_keys = false);
+// Quads split by `rule`; verify_keys against its certificate.
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule,
+                  bool verify_keys = false);
 
-// Whether proofs/bcc.cert is compiled in and at these alphas.
-bool certificate_applies(const bcc::Alphas& alphas);
+// Whether the certificate of `rule` is compiled in and at these alphas.
+bool certificate_applies(const bcc::Alphas& alphas, FaceRule rule);
 
 // The claim of the canonical key of background tetrahedron p (local order)
 // with post-warp signs `sign` and global warp directions `warp`
-// (generic_bcc_keys.hpp: key_of), or nothing if proofs/bcc.cert does not list
-// it (certify/bcc_claim.cpp); the key's code in *code.
+// (generic_bcc_keys.hpp: key_of), or nothing if the certificate of `rule`
+// does not list it (certify/bcc_claim.cpp); the key's code in *code.
 std::optional<BccKeyBound> key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
-                                         const std::array<int, 4>& warp, std::string* code = nullptr);
+                                         const std::array<int, 4>& warp, FaceRule rule, std::string* code = nullptr);
 
 // Whether tetrahedron q satisfies a key's claim with the certificate's own
 // test (generic_bcc.hpp, "Angle forms"), in double precision: volume > 0 and
