@@ -16,8 +16,18 @@
 // are evaluated in double together with a rigorous bound on their rounding
 // error (`Filtered`: running error analysis, below); a comparison with zero
 // is decided when |value| exceeds the bound.  Otherwise the whole choice is
-// evaluated again in exact rationals (boost::multiprecision::cpp_rational,
-// built exactly from the stored doubles, so 1 − u is exact): only near a tie.
+// evaluated again exactly: near a tie, which on a lattice aligned with the
+// voxels is common (equal fractions, 1/2 above all), so exactly is made cheap.
+//
+// Exactly.  A double u in [2^-6, 1) is a multiple of 2^-58, so U = u 2^58 is
+// an integer below 2^58 and 1 − u is 2^58 − U, exactly (`Fixed`: an integer
+// n times 2^(-58 k), k the degree in the fractions).  The forms have degree
+// at most 2 with small integer coefficients (doubled coordinates in [-1, 2]):
+// a degree-1 value is below 2^61 in magnitude, a product of two below 2^122,
+// the inside form's six squares summed below 2^126 — within __int128.  If a
+// fraction lies below 2^-6 (never at the certified alphas, whose cut
+// fractions are >= α; possible only for thresholds below 2^-6), exact
+// rationals (boost::multiprecision::cpp_rational, from the stored doubles).
 //
 // The bound.  A Filtered x carries its double value x.v and a bound x.e >= |x
 // − x.v| on the distance to the exact value of the same expression.  With ε =
@@ -29,6 +39,7 @@
 // relative (1 + ε)^k after k operations; a comparison inflates it by 2^-40,
 // which covers k < 2^12 (the forms take a few dozen).
 #include <boost/multiprecision/cpp_int.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -67,6 +78,24 @@ bool operator<(const Filtered& a, const Filtered& b) {
     return false;
 }
 
+// An exact fixed-point value n · 2^(-58 k), k <= 2 (see "Exactly").
+struct Fixed {
+    __int128 n = 0;
+    int k = 0;
+};
+constexpr int fixed_bits = 58;
+Fixed lift(const Fixed& a, int k) { return {a.n * (static_cast<__int128>(1) << (fixed_bits * (k - a.k))), k}; }
+Fixed operator+(const Fixed& a, const Fixed& b) {
+    const int k = std::max(a.k, b.k);
+    return {lift(a, k).n + lift(b, k).n, k};
+}
+Fixed operator-(const Fixed& a, const Fixed& b) {
+    const int k = std::max(a.k, b.k);
+    return {lift(a, k).n - lift(b, k).n, k};
+}
+Fixed operator*(const Fixed& a, const Fixed& b) { return {a.n * b.n, a.k + b.k}; }  // degrees add up to <= 2
+bool operator<(const Fixed& a, const Fixed& b) { return (a - b).n < 0; }
+
 // An exact rational.
 struct Exact {
     boost::multiprecision::cpp_rational q;
@@ -83,6 +112,10 @@ struct ScalarOps<Filtered> {
     static Filtered from_int(int v) { return {static_cast<double>(v), 0}; }  // small integers: exact
 };
 template <>
+struct ScalarOps<Fixed> {
+    static Fixed from_int(int v) { return {v, 0}; }
+};
+template <>
 struct ScalarOps<Exact> {
     static Exact from_int(int v) { return {boost::multiprecision::cpp_rational(v)}; }
 };
@@ -90,6 +123,7 @@ struct ScalarOps<Exact> {
 namespace {
 
 Filtered scalar(double u, Filtered) { return {u, 0}; }
+Fixed scalar(double u, Fixed) { return {static_cast<__int128>(std::ldexp(u, fixed_bits)), 1}; }  // exact for u in [2^-6, 1)
 Exact scalar(double u, Exact) { return {boost::multiprecision::cpp_rational(u)}; }  // exact: a double is a dyadic rational
 
 // delaunay_diagonals in scalar T on the local fractions of u (see
@@ -111,7 +145,9 @@ bcc::Diagonals uniform3d::delaunay_choice(const std::array<int, 4>& sign, int pa
     undecided = false;
     const bcc::Diagonals d = diagonals_in<Filtered>(sign, parity, u, from_upper);
     if (!undecided) return d;
-    return diagonals_in<Exact>(sign, parity, u, from_upper);
+    bool fixed = true;  // every fraction the choice reads in [2^-6, 1) (unread ones are 0)
+    for (double x : u) fixed = fixed && (x == 0 || (x >= 0x1p-6 && x < 1));
+    return fixed ? diagonals_in<Fixed>(sign, parity, u, from_upper) : diagonals_in<Exact>(sign, parity, u, from_upper);
 }
 
 }  // namespace warpmesh
