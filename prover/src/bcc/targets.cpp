@@ -21,9 +21,9 @@ namespace {
 // largest cos of a dihedral angle (smallest angle, sign = +1) or the
 // smallest (largest angle, sign = −1), as +cos resp. −cos so that larger is
 // more extreme; sign = 2: the largest cos of a face angle.
-double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
+double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign, FaceRule rule) {
     const auto pts = key_points(k, ps, x.data());
-    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
+    const bcc::Stencil st = stencil_at(k, ps, x.data(), rule);
     double best = -2;
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
@@ -53,27 +53,43 @@ double snap(double x, const Param& p) {
     return std::clamp(s, lo, hi);
 }
 
+// The warp fractions t and cut fractions u at the parameter values x.
+void split_params(const std::vector<Param>& ps, const double* x, std::array<double, 4>& t, std::array<double, 6>& u) {
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
+        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
+    }
+}
+
 }  // namespace
 
 std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x) {
     std::array<double, 4> t{};
     std::array<double, 6> u{};
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
-        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
-    }
+    split_params(ps, x, t, u);
     return bcc::generic_points(k, t, u);
 }
 
-double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
-    return (sign == -1 ? -1 : 1) * extreme_cos(k, ps, x, sign);
+// On the 2^-24 grid the forms are exact in double: face_form's terms are
+// small integers times 1 − u; inside_form's coordinate differences lie in
+// [−3, 3] on the grid, their squares and sums below 2^5 on the 2^-48 grid.
+bcc::Stencil stencil_at(const Key& k, const std::vector<Param>& ps, const double* x, FaceRule rule) {
+    if (rule == FaceRule::parity) return bcc::stencil(k.sign, k.parity);
+    std::array<double, 4> t{};
+    std::array<double, 6> u{};
+    split_params(ps, x, t, u);
+    return bcc::stencil_with(k.sign, bcc::delaunay_diagonals(k.sign, k.parity, u));
+}
+
+double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign, FaceRule rule) {
+    return (sign == -1 ? -1 : 1) * extreme_cos(k, ps, x, sign, rule);
 }
 
 // Random starts (corners and faces favoured) and a shrinking-step pattern
 // search on the 2^-24 grid, from `start` if given.
-Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start) {
+Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start, FaceRule rule) {
     std::mt19937 rng(static_cast<unsigned>(std::hash<std::string>{}(code_of(k)) & 0xffffffffu) + static_cast<unsigned>(sign + 1));
-    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(k, ps, x, sign); };
+    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(k, ps, x, sign, rule); };
     Witness w;
     double fb = -3;
     const int n = start ? 0 : 48;
@@ -138,13 +154,14 @@ double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
 
 }  // namespace
 
-KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth) {
+KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth, FaceRule rule) {
     const std::vector<Param> ps = key_params(k, al);
     // Per kind j: 0 the smallest dihedral angle, 1 the largest, 2 the
     // smallest face angle; `sign` as in extreme_cos, `dir` +1 where a larger
     // cos is more extreme.
     const int sign[3] = {1, -1, 2}, dir[3] = {1, -1, 1};
-    Witness w[3] = {search_witness(k, ps, 1), search_witness(k, ps, -1), search_witness(k, ps, 2)};
+    Witness w[3] = {search_witness(k, ps, 1, nullptr, rule), search_witness(k, ps, -1, nullptr, rule),
+                    search_witness(k, ps, 2, nullptr, rule)};
     const double start[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     double margin[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     long budget = mg.budget;
@@ -159,7 +176,7 @@ KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int ma
         // No budget once a margin reached 64 times its start: prove or fail.
         bool last = false;
         for (int j = 0; j < 3; ++j) last = last || margin[j] >= 64 * start[j];
-        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget);
+        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget, rule);
         p.claim = c, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
         if (p.ok || p.fail_kind == 0) return p;
         if (p.fail_kind == 3) {
@@ -179,12 +196,13 @@ KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int ma
         const int j = p.fail_kind == 4 ? 2 : p.fail_kind - 1;
         std::array<double, 4> x{};
         for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
-        if (dir[j] * witness_cos(k, ps, x, sign[j]) > dir[j] * w[j].cos + 1e-12) w[j] = search_witness(k, ps, sign[j], &x);
+        if (dir[j] * witness_cos(k, ps, x, sign[j], rule) > dir[j] * w[j].cos + 1e-12)
+            w[j] = search_witness(k, ps, sign[j], &x, rule);
         else if (margin[j] < 64 * start[j]) widen(j);
         else break;  // nothing left to change
     }
     // Last resort: the caps themselves, no budget.
-    p = prove_key(k, al, mg.cap, max_depth);
+    p = prove_key(k, al, mg.cap, max_depth, 1L << 40, rule);
     p.claim = mg.cap, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
     return p;
 }
