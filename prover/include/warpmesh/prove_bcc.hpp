@@ -85,7 +85,8 @@ struct KeyProof {
     long leaves = 0;
     int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum, 3 over the leaf budget, 4 face angle
     std::array<long, 5> split_fails{};  // boxes split because that kind failed (0, 1, 2, 4)
-    std::array<double, 4> fail_point{};
+    std::array<double, 4> fail_point{};  // the failed box's centre
+    Box fail_box;                        // the failed box
 };
 // Branch and bound over the key's root box (bound.cpp), giving up after
 // max_leaves verified leaves.  With the Delaunay rule every claim is proved,

@@ -403,6 +403,7 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
         if (s < 0 || it.depth >= max_depth) {
             out.ok = false;
             out.fail_kind = fail;
+            out.fail_box = it.b;
             for (int j = 0; j < it.b.m; ++j)
                 out.fail_point[static_cast<std::size_t>(j)] = 0.5 * (it.b.lo[static_cast<std::size_t>(j)] + it.b.hi[static_cast<std::size_t>(j)]);
             return out;

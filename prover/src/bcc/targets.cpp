@@ -152,6 +152,27 @@ double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
     return cap <= claim_cos2(cos, std::max(margin_deg, tight_deg)) ? cap : claim_cos2(cos, margin_deg);
 }
 
+// Where a failure points the witness: the failed box's centre (on the grid).
+// Delaunay: the failed box may straddle a tie, where the rule's stencil
+// changes and the extreme lies on the tie (a face quad's or the inside
+// quad's forms vanish there), which a coordinate-wise pattern search does not
+// follow; the box's corners (on the grid) are probed too, and the most
+// extreme of these points is taken (a corner on the side where the stencil
+// that failed is chosen).
+std::array<double, 4> fail_probe(const Key& k, const std::vector<Param>& ps, const KeyProof& p, int sign, FaceRule rule) {
+    std::array<double, 4> x{};
+    for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
+    if (rule == FaceRule::parity) return x;
+    double best = extreme_cos(k, ps, x, sign, rule);
+    for (unsigned c = 0; c < 1u << ps.size(); ++c) {
+        std::array<double, 4> y{};
+        for (std::size_t i = 0; i < ps.size(); ++i) y[i] = snap((c >> i & 1u) ? p.fail_box.hi[i] : p.fail_box.lo[i], ps[i]);
+        const double f = extreme_cos(k, ps, y, sign, rule);
+        if (f > best) best = f, x = y;
+    }
+    return x;
+}
+
 }  // namespace
 
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth, FaceRule rule) {
@@ -194,8 +215,7 @@ KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int ma
             continue;
         }
         const int j = p.fail_kind == 4 ? 2 : p.fail_kind - 1;
-        std::array<double, 4> x{};
-        for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
+        const std::array<double, 4> x = fail_probe(k, ps, p, sign[j], rule);
         if (dir[j] * witness_cos(k, ps, x, sign[j], rule) > dir[j] * w[j].cos + 1e-12)
             w[j] = search_witness(k, ps, sign[j], &x, rule);
         else if (margin[j] < 64 * start[j]) widen(j);
