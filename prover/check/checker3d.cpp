@@ -845,6 +845,7 @@ bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<T
 long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const Claim& cl,
             bool delaunay) {
     const std::vector<Tet> tets = oriented(k);
+    delaunay = delaunay && tets.size() > 1;  // a single output tetrahedron: no quad, nothing to choose
     std::vector<Box> stack{root};
     std::size_t at = 0;
     long leaves = 0;
