@@ -327,16 +327,8 @@ std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Pa
         if (k.sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
         if (k.sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
     }
-    for (int f = 0; f < 4; ++f) {
-        int a = -1, bb = -1, r = -1;
-        for (int i = 0; i < 4; ++i) {
-            const int v = k.sign[static_cast<std::size_t>(i)];
-            if (i == f) continue;
-            if (v < 0) (a < 0 ? a : bb) = i;
-            else if (v > 0) r = i;
-        }
-        adm[static_cast<std::size_t>(f)] = bb >= 0 && r >= 0 ? admitted(bcc::face_form(a, bb, r, u)) : std::vector<int>{0};
-    }
+    for (int f = 0, a, bb, r; f < 4; ++f)
+        adm[static_cast<std::size_t>(f)] = quad_face(k, f, a, bb, r) ? admitted(bcc::face_form(a, bb, r, u)) : std::vector<int>{0};
     adm[4] = nn == 2 && np == 2 ? admitted(bcc::inside_form(neg[0], neg[1], pos[0], pos[1], u)) : std::vector<int>{0};
     std::vector<bcc::Stencil> out;
     std::array<std::size_t, 5> at{};  // an odometer over the combinations

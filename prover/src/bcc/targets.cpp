@@ -125,15 +125,8 @@ struct FaceTie {
 };
 std::vector<FaceTie> face_ties(const Key& k, const std::vector<Param>& ps) {
     std::vector<FaceTie> out;
-    for (int f = 0; f < 4; ++f) {
-        int a = -1, b = -1, r = -1;
-        for (int i = 0; i < 4; ++i) {
-            const int v = k.sign[static_cast<std::size_t>(i)];
-            if (i == f) continue;
-            if (v < 0) (a < 0 ? a : b) = i;
-            else if (v > 0) r = i;
-        }
-        if (b < 0 || r < 0) continue;
+    for (int f = 0, a, b, r; f < 4; ++f) {
+        if (!quad_face(k, f, a, b, r)) continue;
         FaceTie t;
         for (std::size_t i = 0; i < ps.size(); ++i)
             for (const int x : {a, b}) {
