@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Reruns every proof whole — the 2D certificates, the 3D proofs/bcc.cert and
-# the 3D counter-example proofs/bcc_half.cert
+# Reruns every proof whole — the 2D certificates, the 3D proofs/bcc.cert,
+# proofs/bcc_delaunay.cert (the Delaunay face rule) and the 3D
+# counter-example proofs/bcc_half.cert
 # (scripts/test.sh reruns the 3D one on a sample of its keys) — into OUTDIR
 # (default: a temporary directory) and compares each with proofs/ byte for
 # byte.  Exit 1 if any differs.
@@ -17,10 +18,12 @@ echo "== [$SECONDS s] 2D proofs done"
 alphas="$(awk '/^alphas /{split($2, a, "/"); split($3, b, "/"); printf "%.5f %.5f", a[1] / a[2], b[1] / b[2]}' "$root/proofs/bcc.cert")"
 # shellcheck disable=SC2086  # two words: alpha_long alpha_short
 "$build/prover/warpmesh-prove-bcc" --alphas $alphas --threads "$(nproc)" --out "$out/bcc.cert"
-echo "== [$SECONDS s] 3D proof done"
+"$build/prover/warpmesh-prove-bcc" --face-rule delaunay --alphas 0.2675 0.39 --cap-min-deg 11.781 --cap-max-deg 161.253 \
+  --threads "$(nproc)" --out "$out/bcc_delaunay.cert"  # proofs/README.md, "The Delaunay face rule (certified)"
+echo "== [$SECONDS s] 3D proofs done"
 "$build/prover/bcc_explore" counterexample 0.5 0.5 >"$out/bcc_half.cert"  # the alpha = 1/2 counter-example
 status=0
-for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc,bcc_half}.cert "$root"/proofs/key_table.txt; do
+for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc,bcc_delaunay,bcc_half}.cert "$root"/proofs/key_table.txt; do
   if ! cmp -s "$cert" "$out/$(basename "$cert")"; then
     echo "prove-all: $(basename "$cert") differs from the prover's fresh output ($out)" >&2
     status=1

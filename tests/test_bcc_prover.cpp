@@ -3,7 +3,11 @@
 // three-warp key that carry the minimum), with the certificate's own alphas
 // (each key's witnesses, claim and proof are a function of the key alone);
 // a claim above the space's minimum is refused; and a key whose largest
-// angle the first search misses is not capped (issue 29).
+// angle the first search misses is not capped (issue 29).  The Delaunay face
+// rule: proofs/bcc_delaunay.cert is reproduced on a sample the same way; a
+// box straddling a face tie admits both stencils, one on a side of it only
+// the rule's; an n- = 3 prism's cyclic combinations are never admitted; a
+// minimum the parity rule refutes is proved under the Delaunay rule.
 #define BOOST_TEST_MODULE bcc_prover
 #include <cmath>
 #include <filesystem>
@@ -33,8 +37,8 @@ double ratio(const std::string& s, std::int64_t* num = nullptr) {
     return n / d;  // exact for the claim's dyadics (n < 2^53, d a power of two)
 }
 
-Cert read_cert() {
-    std::ifstream in(std::filesystem::path(WARPMESH_PROOFS_DIR) / "bcc.cert");
+Cert read_cert(const char* name = "bcc.cert") {
+    std::ifstream in(std::filesystem::path(WARPMESH_PROOFS_DIR) / name);
     BOOST_REQUIRE(in);
     Cert c;
     for (std::string line; std::getline(in, line);) {
@@ -113,4 +117,110 @@ BOOST_AUTO_TEST_CASE(issue29_max_witness_moves_and_the_key_is_not_capped) {
         BOOST_TEST((180 - deg(p.claim.cmax)) - wmax < 0.1);
         BOOST_TEST(wmax > 92.5);
     }
+}
+
+// ---- the Delaunay face rule -------------------------------------------------------
+
+namespace {
+
+const bcc::Alphas delaunay_alphas{26750, 100000, 39000, 100000};  // proofs/bcc_delaunay.cert's
+
+bp::Key key_with_code(const std::string& code) {
+    for (const auto& k : bp::enumerate_keys())
+        if (bp::code_of(k) == code) return k;
+    BOOST_FAIL("no key " + code);
+    return {};
+}
+
+bool same_stencil(const bcc::Stencil& a, const bcc::Stencil& b) {
+    if (a.count != b.count) return false;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(a.count); ++j)
+        if (a.tet[j] != b.tet[j]) return false;
+    return true;
+}
+
+bool contains(const std::vector<bcc::Stencil>& sts, const bcc::Stencil& s) {
+    for (const auto& t : sts)
+        if (same_stencil(t, s)) return true;
+    return false;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(delaunay_sampled_keys_reproduce_bcc_delaunay_cert_byte_for_byte) {
+    const Cert c = read_cert("bcc_delaunay.cert");
+    BOOST_REQUIRE(c.al.long_num == delaunay_alphas.long_num && c.al.short_num == delaunay_alphas.short_num);
+    const auto keys = bp::enumerate_keys();
+    BOOST_REQUIRE(keys.size() == c.lines.size());
+    bp::Margins mg;
+    mg.cap = bp::cap_claim(11.781, 161.253);  // the caps of its command (proofs/README.md)
+    BOOST_TEST(mg.cap.cmin == c.claim.cmin);   // the theorem is the caps
+    BOOST_TEST(mg.cap.cmax == c.claim.cmax);
+    int checked = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const std::string code = bp::code_of(keys[i]);
+        if (i % 97 != 0 && code != "-,0h,+,-/0" && code != "-,0e,+,-/0") continue;
+        const bp::KeyProof p = bp::prove_key_tight(keys[i], c.al, mg, 40, bp::FaceRule::delaunay);
+        BOOST_TEST(p.ok, code);
+        BOOST_TEST(bp::certificate_line(keys[i], p) == c.lines.at(code), code);
+        ++checked;
+    }
+    BOOST_TEST(checked >= 25);
+}
+
+// -,0h,+,-/0: the pyramid over the quad of face (k0, c1, c0) (k0, c1 the −
+// vertices): P_k0 = 3 (1 − u_k0c0), P_c1 = 4 u_c0c1 (the cut fraction from
+// c0), so P_c1 − P_k0 changes sign across u_c0c1 = 0.3, u_k0c0 = 0.6.
+BOOST_AUTO_TEST_CASE(delaunay_a_box_straddling_a_face_tie_admits_both_stencils) {
+    const bp::Key k = key_with_code("-,0h,+,-/0");
+    const auto ps = bp::key_params(k, delaunay_alphas);
+    BOOST_REQUIRE(ps.size() == 3);  // t of k1, u of c0c1, u of k0c0
+    bp::Box straddle{3, {0.1, 0.29, 0.59}, {0.11, 0.31, 0.61}};
+    const auto both = bp::admissible_stencils(k, ps, straddle);
+    BOOST_TEST(both.size() == 2u);
+    const std::array<double, 4> below{0.1, 0.295, 0.59}, above{0.1, 0.305, 0.61};  // P_c1 < P_k0, P_c1 > P_k0
+    const auto s_below = bp::stencil_at(k, ps, below.data(), bp::FaceRule::delaunay);
+    const auto s_above = bp::stencil_at(k, ps, above.data(), bp::FaceRule::delaunay);
+    BOOST_TEST(!same_stencil(s_below, s_above));
+    BOOST_TEST(contains(both, s_below));
+    BOOST_TEST(contains(both, s_above));
+    BOOST_TEST(contains(both, bcc::stencil(k.sign, k.parity)));  // a tie takes the parity rule's
+    bp::Box one_side{3, {0.1, 0.4, 0.59}, {0.11, 0.41, 0.61}};  // P_c1 >= 1.6 > P_k0 <= 1.23
+    const auto one = bp::admissible_stencils(k, ps, one_side);
+    BOOST_TEST(one.size() == 1u);
+    BOOST_TEST(same_stencil(one.at(0), s_above));
+}
+
+// An n- = 3 prism's face quads are all undecided on its root box: of the 8
+// sign combinations, the 2 that turn the same way all round (no
+// triangulation; unrealisable, P_a < P_b < P_c < P_a) are skipped.
+BOOST_AUTO_TEST_CASE(delaunay_n3_prism_admits_no_cyclic_combination) {
+    int prisms = 0;
+    for (const auto& k : bp::enumerate_keys()) {
+        int neg = 0, pos = 0;
+        for (int s : k.sign) neg += s < 0, pos += s > 0;
+        if (neg != 3 || pos != 1) continue;
+        ++prisms;
+        const auto ps = bp::key_params(k, delaunay_alphas);
+        bp::Box root{static_cast<int>(ps.size()), {}, {}};
+        for (std::size_t i = 0; i < ps.size(); ++i) root.lo[i] = ps[i].lo, root.hi[i] = ps[i].hi;
+        const auto sts = bp::admissible_stencils(k, ps, root);
+        BOOST_TEST(sts.size() == 6u, bp::code_of(k));
+        for (const auto& s : sts) BOOST_TEST(s.count == 3);
+    }
+    BOOST_TEST(prisms >= 1);
+}
+
+// -,0h,+,-/0 bounds the parity rule's minimum (10.77 deg at bcc.cert's pair);
+// at (0.2675, 0.39) the Delaunay rule keeps it above 11.5 deg, the parity
+// rule does not.
+BOOST_AUTO_TEST_CASE(delaunay_proves_a_minimum_the_parity_rule_refutes) {
+    const bp::Key k = key_with_code("-,0h,+,-/0");
+    const double c = std::cos(11.5 * M_PI / 180);
+    const bp::Claim claim{std::round(std::ldexp(c * c, 40)) / 1099511627776.0, bp::cap_claim(11.781, 161.253).cmax, 1};
+    const bp::KeyProof par = bp::prove_key(k, delaunay_alphas, claim, 16);
+    BOOST_TEST(!par.ok);
+    BOOST_TEST(par.fail_kind == 1);
+    const bp::KeyProof del = bp::prove_key(k, delaunay_alphas, claim, 40, 1L << 40, bp::FaceRule::delaunay);
+    BOOST_TEST(del.ok);
 }

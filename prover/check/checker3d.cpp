@@ -11,6 +11,15 @@
 // names its side) and re-verifies every leaf exactly: positive orientation,
 // both dihedral bounds and the face-angle bound of every output tetrahedron.
 // It evaluates every witness exactly and measures each claim's tightness.
+// Format 5 is format 4 with one more header line, `face-rule delaunay`,
+// right after the first: the quads are split by the Delaunay face rule
+// (proofs/README.md, "The Delaunay face rule (certified)"), and each leaf
+// is verified for every tetrahedron of every stencil that rule admits on it
+// (delaunay_tets: its own forms, decided exactly where the sign is; both
+// diagonals where a form's exact enclosure contains 0), each witness with
+// the stencil the rule chooses there (ties: the parity rule's diagonal).
+// A face-rule line in format 4, none or two in format 5, or another rule
+// rejects the certificate.  The key space is the same in both formats.
 // It also checks a counter-example certificate (proofs/bcc_half.cert,
 // "warpmesh-bcc-counterexample 1", see check_counterexample): an exact point
 // of a key's space where an output tetrahedron is not positively oriented.
@@ -324,9 +333,39 @@ bool diag_a(int a, int b, int r, int parity) {
 // Points: 0..3 the vertices, 4 + e the cut point of edge e.
 int cut(int a, int b) { return 4 + edge_of(a, b); }
 using Tet = std::array<int, 4>;
+// The diagonals of a stencil's quads.  face[f], f the vertex off the face
+// (a, b, r) with a < b its - vertices and r its + vertex: true iff the quad
+// is split by a-cut(b, r).  inside: the inside quad of the n- = 2, n+ = 2
+// prism where its face quads leave it free: 1 cut(a,r0)-cut(b,r1), 0
+// cut(a,r1)-cut(b,r0), -1 the choice against the face (a, b, r0).
+struct Diag {
+    std::array<bool, 4> face{};
+    int inside = -1;
+};
+// The face (a, b, r) without vertex f, a < b its - vertices, r its + vertex;
+// false if the face has no quad.
+bool quad_face(const Key& k, int f, int& a, int& b, int& r) {
+    a = b = r = -1;
+    for (int i = 0; i < 4; ++i) {
+        if (i == f || k.sign[i] == 0) continue;
+        if (k.sign[i] > 0) r = i;
+        else (a < 0 ? a : b) = i;
+    }
+    return b >= 0 && r >= 0;
+}
+Diag parity_diag(const Key& k) {
+    Diag d;
+    for (int f = 0, a, b, r; f < 4; ++f)
+        if (quad_face(k, f, a, b, r)) d.face[f] = diag_a(a, b, r, k.parity);
+    return d;
+}
+// Whether the quad of face (x, y, r) (x, y its - vertices, any order) is
+// split by x-cut(y, r).
+bool takes(const Diag& d, int x, int y, int r) { return x < y ? d.face[6 - x - y - r] : !d.face[6 - x - y - r]; }
 // The output tetrahedra, each positively oriented with cut points at the
-// midpoints (orientation fixed below by the reference volume).
-std::vector<Tet> stencil(const Key& k) {
+// midpoints (orientation fixed below by the reference volume), the quads
+// split as d says.
+std::vector<Tet> stencil(const Key& k, const Diag& d) {
     std::vector<int> ng, zr, ps;
     for (int i = 0; i < 4; ++i) (k.sign[i] < 0 ? ng : k.sign[i] == 0 ? zr : ps).push_back(i);
     std::vector<Tet> out;
@@ -339,7 +378,7 @@ std::vector<Tet> stencil(const Key& k) {
     }
     if (ng.size() == 2 && ps.size() == 1) {  // pyramid over the quad of face (a, b, r)
         const int a = ng[0], b = ng[1], r = ps[0], z = zr[0];
-        if (diag_a(a, b, r, k.parity)) return {{z, a, b, cut(b, r)}, {z, a, cut(b, r), cut(a, r)}};
+        if (takes(d, a, b, r)) return {{z, a, b, cut(b, r)}, {z, a, cut(b, r), cut(a, r)}};
         return {{z, a, b, cut(a, r)}, {z, b, cut(b, r), cut(a, r)}};
     }
     // Prisms: bottom B, top T (T[i] = cut point of B[i]); lateral quad i joins
@@ -349,12 +388,13 @@ std::vector<Tet> stencil(const Key& k) {
     if (ng.size() == 2) {  // two - two +: B = (a, cut(a,r0), cut(a,r1)), T likewise from b
         const int a = ng[0], b = ng[1];
         B = {a, cut(a, ps[0]), cut(a, ps[1])}, T = {b, cut(b, ps[0]), cut(b, ps[1])};
-        f[0] = diag_a(a, b, ps[0], k.parity), f[2] = !diag_a(a, b, ps[1], k.parity);
-        if (f[0] != f[2]) fail("prism: face quads turn differently");
-        f[1] = !f[0];  // the inside quad: the only non-cyclic choice
+        f[0] = takes(d, a, b, ps[0]), f[2] = !takes(d, a, b, ps[1]);
+        // The inside quad: forced (the only non-cyclic choice) where the face
+        // quads turn the same way (the parity rule's always do), else d's.
+        f[1] = f[0] == f[2] || d.inside < 0 ? !f[0] : d.inside == 1;
     } else {
         for (int i = 0; i < 3; ++i) B[i] = ng[i], T[i] = cut(ng[i], ps[0]);
-        for (int i = 0; i < 3; ++i) f[i] = diag_a(B[i], B[(i + 1) % 3], ps[0], k.parity);
+        for (int i = 0; i < 3; ++i) f[i] = takes(d, B[i], B[(i + 1) % 3], ps[0]);
         if (f[0] == f[1] && f[1] == f[2]) fail("prism: cyclic diagonals");
     }
     // B[i] with f[i] and not f[i-1] sees all of T; the rest is a pyramid on quad i+1.
@@ -366,6 +406,7 @@ std::vector<Tet> stencil(const Key& k) {
     else out.push_back({B[i], B[j], B[l], T[j]}), out.push_back({B[i], B[l], T[l], T[j]});
     return out;
 }
+std::vector<Tet> stencil(const Key& k) { return stencil(k, parity_diag(k)); }
 long ref_volume(const Tet& t) {  // 6 * volume, quadrupled coordinates
     long p[4][3];
     for (int v = 0; v < 4; ++v)
@@ -375,8 +416,8 @@ long ref_volume(const Tet& t) {  // 6 * volume, quadrupled coordinates
     for (int x = 0; x < 3; ++x) a[x] = p[1][x] - p[0][x], b[x] = p[2][x] - p[0][x], c[x] = p[3][x] - p[0][x];
     return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
-std::vector<Tet> oriented(const Key& k) {
-    std::vector<Tet> s = stencil(k);
+std::vector<Tet> oriented(const Key& k, const Diag& d) {
+    std::vector<Tet> s = stencil(k, d);
     for (Tet& t : s) {
         const long v = ref_volume(t);
         if (v == 0) fail("flat stencil tetrahedron");
@@ -384,6 +425,7 @@ std::vector<Tet> oriented(const Key& k) {
     }
     return s;
 }
+std::vector<Tet> oriented(const Key& k) { return oriented(k, parity_diag(k)); }
 
 // ---- symmetries and canonical keys -------------------------------------------------
 // The 8 permutations p of the local vertices keeping the pairs {0,1}, {2,3},
@@ -637,6 +679,72 @@ T form_at(const std::array<P3<T>, 10>& pt, const Tet& t, int f, const Claim& cl)
     c.v = point(f < 13 ? cl.cmin : cl.cmax);
     return c * nn - two40 * (dt * dt);
 }
+// ---- the Delaunay face rule (format 5) -------------------------------------------
+// Its own forms, from the points (times 2^K).  The quad (a, b, cut(b,r),
+// cut(a,r)) of a face (a, b, r) lies in a lattice face (a, b, r unmoved).
+// The circle through a, b, cut(b,r) meets the line r-a again at distance
+// P_b / |ra| from r, by the power of r, with P_x = (r - x)·(r - cut(x,r))
+// = |xr| |r cut(x,r)|; so a-cut(b,r) is the Delaunay diagonal iff cut(a,r)
+// lies outside that circle iff P_b - P_a > 0 (a tie: cocircular).  Each
+// term of P_x is (r - x)_c² (1 - u) times a positive constant, all
+// monotone the same way in the one cut fraction u, so the interval sum is
+// P_x's exact range, and P_b - P_a (two cut fractions) is exact too.
+I power(const std::array<P3<I>, 10>& pt, int x, int r) { return dot3(sub3(pt[r], pt[x]), sub3(pt[r], pt[cut(x, r)])); }
+// The prism's inside quad takes the shorter diagonal: |cut(a,r0) cut(b,r1)|²
+// - |cut(a,r1) cut(b,r0)|² < 0 iff cut(a,r0)-cut(b,r1).  Each coordinate
+// difference is exact (one cut fraction per point); squares and sums in
+// generic_bcc.hpp's order (inside_form), so this exact enclosure lies
+// inside the prover's outward-rounded one.
+I inside(const std::array<P3<I>, 10>& pt, int a, int b, int r0, int r1) {
+    const P3<I> p = sub3(pt[cut(a, r0)], pt[cut(b, r1)]), q = sub3(pt[cut(a, r1)], pt[cut(b, r0)]);
+    return dot3(p, p) - dot3(q, q);
+}
+// The signs an enclosure admits: both where it contains 0 on a box (either
+// side may hold there), 0 where it is exactly 0 (a tie).
+std::vector<int> admits(const I& x) {
+    if (sgn(x.lo) > 0) return {1};
+    if (sgn(x.hi) < 0) return {-1};
+    if (sgn(x.lo) == 0 && sgn(x.hi) == 0) return {0};
+    return {-1, 1};
+}
+// The output tetrahedra of every stencil the Delaunay rule admits where the
+// points pt are (a leaf box, or an exact point: one stencil), each once.
+// Ties: a face quad takes the parity rule's diagonal, the inside quad the
+// choice against the face (a, b, r0).  An n- = 3 prism's three face quads
+// never all turn the same way at a point (P_a < P_b < P_c < P_a; a tie
+// breaks no order), so such combinations are skipped.
+std::vector<Tet> delaunay_tets(const Key& k, const std::array<P3<I>, 10>& pt) {
+    std::array<std::vector<int>, 5> opt;  // per face (the vertex off it), then the inside quad
+    std::vector<int> ng, ps;
+    for (int i = 0; i < 4; ++i) {
+        if (k.sign[i] < 0) ng.push_back(i);
+        if (k.sign[i] > 0) ps.push_back(i);
+    }
+    for (int f = 0, a, b, r; f < 4; ++f)
+        opt[f] = quad_face(k, f, a, b, r) ? admits(power(pt, b, r) - power(pt, a, r)) : std::vector<int>{1};
+    opt[4] = ng.size() == 2 && ps.size() == 2 ? admits(inside(pt, ng[0], ng[1], ps[0], ps[1])) : std::vector<int>{0};
+    const Diag par = parity_diag(k);
+    std::vector<Tet> out;
+    for (int c = 0, n = 1; c < n; ++c) {
+        Diag d;
+        int rest = c;
+        n = 1;
+        for (int q = 0; q < 5; ++q) {
+            const int s = opt[q][static_cast<std::size_t>(rest) % opt[q].size()];
+            rest /= static_cast<int>(opt[q].size()), n *= static_cast<int>(opt[q].size());
+            if (q < 4) d.face[q] = s == 0 ? par.face[q] : s > 0;
+            else d.inside = s == 0 ? -1 : s < 0;
+        }
+        if (ng.size() == 3 && ps.size() == 1) {
+            const bool f0 = takes(d, ng[0], ng[1], ps[0]);
+            if (takes(d, ng[1], ng[2], ps[0]) == f0 && takes(d, ng[2], ng[0], ps[0]) == f0) continue;
+        }
+        for (const Tet& t : oriented(k, d))
+            if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+    }
+    return out;
+}
+
 int leaf_exponent(const Box& b) {
     int K = 0;
     for (const Side& s : b) K = std::max({K, s.lo.e, s.hi.e});
@@ -732,9 +840,12 @@ bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<T
     return true;
 }
 // Replays the bisection: '1' + j splits side j at its midpoint, lower half
-// first; '0' is a leaf, verified.
-long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const Claim& cl) {
+// first; '0' is a leaf, verified (Delaunay: every tetrahedron the rule
+// admits on the leaf).
+long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const Claim& cl,
+            bool delaunay) {
     const std::vector<Tet> tets = oriented(k);
+    delaunay = delaunay && tets.size() > 1;  // a single output tetrahedron: no quad, nothing to choose
     std::vector<Box> stack{root};
     std::size_t at = 0;
     long leaves = 0;
@@ -744,7 +855,8 @@ long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const s
         if (at >= splits.size()) fail("split string too short");
         const char c = splits[at++];
         if (c == '0') {
-            if (!verify_leaf(k, ps, tets, b, cl)) fail("leaf not verified");
+            const auto at = [&] { return delaunay_tets(k, points<I>(k, ps, b, leaf_exponent(b))); };
+            if (!verify_leaf(k, ps, delaunay ? at() : tets, b, cl)) fail("leaf not verified");
             ++leaves;
             continue;
         }
@@ -786,14 +898,16 @@ bool larger(const Cos2& a, const Cos2& b) {
 // (the largest d²/N over the edges with d > 0), 1 the largest (the largest
 // d²/N over the edges with d <= 0; if every angle is acute, the smallest
 // d²/N), 2 the smallest face angle (the largest s²/M with s > 0).
-Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, int kind) {
+// Delaunay: the stencil the rule chooses at the witness.
+Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, int kind,
+                  bool delaunay) {
     Box b;
     int K = 0;
     for (const Dy& x : w) b.push_back(Side{x, x}), K = std::max(K, x.e);
     const auto pt = points<I>(k, ps, b, K);
     bool found = false;
     Cos2 best;
-    for (const Tet& t : tets)
+    for (const Tet& t : delaunay ? delaunay_tets(k, pt) : tets)
         for (int e = 0; e < (kind == 2 ? 12 : 6); ++e) {
             I dt, nn;
             if (kind == 2) angle_forms(pt, t, e, dt, nn);
@@ -930,11 +1044,11 @@ struct Witnessed {
     std::array<bool, 3> tight;
 };
 std::int64_t tol_den(int j) { return j == 1 ? 180000000 : 1800000000; }  // 0.1°, 0.01° (see tight)
-Witnessed check_witnesses(const Entry& en) {
+Witnessed check_witnesses(const Entry& en, bool delaunay) {
     const std::vector<Tet> tets = oriented(en.k);
     Witnessed w{};
     for (int j = 0; j < 3; ++j) {
-        w.c[j] = witness_cos2(en.k, en.ps, tets, en.w[j], j);
+        w.c[j] = witness_cos2(en.k, en.ps, tets, en.w[j], j, delaunay);
         const Z& c = claim_of(en.claim, j);
         if ((j != 1 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), c * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
         w.tight[j] = tight(c, w.c[j], tol_den(j), j == 1);
@@ -948,11 +1062,11 @@ const char* const TOL[3] = {"0.01", "0.1", "0.01"};
 // Prints the theorem (checked), its witnesses (ext: the most extreme key per
 // kind) and the keys' tightness; degrees by arccos in double, messages only:
 // the theorem is the exact statement of the first line.
-void print_theorem(const std::string& al, const std::string& as, const std::array<std::string, 3>& text, const Claim& claim,
+void print_theorem(const std::string& setting, const std::array<std::string, 3>& text, const Claim& claim,
                    const std::vector<Entry>& entries, const std::vector<Witnessed>& wit, const std::size_t* ext, long leaves) {
     double deg[3];
     for (int j = 0; j < 3; ++j) deg[j] = degrees(Cos2{claim_of(claim, j), pow2(40), j != 1});
-    std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << al << ", " << as
+    std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << setting
               << "): every output tetrahedron of the " << entries.size()
               << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << text[0]
               << ", and cos t >= 0 or cos^2 t <= " << text[1] << ": t in [" << deg[0] << ", " << deg[1] << "] deg (" << leaves
@@ -1103,8 +1217,17 @@ int check(std::istream& in, bool progress) {
     while (std::getline(in, line))
         if (!line.empty() && line[0] != '#') body.push_back(line);
     if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
-    if (body.size() < 4 || body[0] != "warpmesh-bcc-certificate 4") fail("not a BCC certificate (format 4) or counter-example (format 1)");
-    std::istringstream a(body[1]), c(body[2]), n(body[3]);
+    const bool delaunay = !body.empty() && body[0] == "warpmesh-bcc-certificate 5";
+    if (body.size() < 4 || (body[0] != "warpmesh-bcc-certificate 4" && !delaunay))
+        fail("not a BCC certificate (format 4 or 5) or counter-example (format 1)");
+    // Format 5: one face-rule line, right after the header; format 4: none.
+    long rules = 0;
+    for (const std::string& l : body) rules += l.rfind("face-rule", 0) == 0;
+    if (!delaunay && rules > 0) fail("a face-rule line in a format 4 certificate");
+    if (delaunay && (rules != 1 || body[1].rfind("face-rule", 0) != 0)) fail("format 5 needs one face-rule line, after the header");
+    if (delaunay && body[1] != "face-rule delaunay") fail("unknown face rule: " + body[1].substr(0, 60));
+    const std::size_t h = delaunay ? 2 : 1;  // the alphas line
+    std::istringstream a(body[h]), c(body[h + 1]), n(body[h + 2]);
     std::string al, as;
     std::array<std::string, 3> text;
     long nkeys = -1;
@@ -1116,7 +1239,7 @@ int check(std::istream& in, bool progress) {
     if (ld != sd || ld >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
     if (!(ln > 0 && 2 * ln < ld && sn > 0 && 2 * sn < sd)) fail("alphas out of (0, 1/2)");
     const Claim claim{claim_threshold(text[0]), claim_threshold(text[1]), claim_threshold(text[2])};
-    if (static_cast<long>(body.size()) != 4 + nkeys) fail("key count mismatch");
+    if (static_cast<long>(body.size()) != static_cast<long>(h) + 3 + nkeys) fail("key count mismatch");
     const auto expected = canonical_keys(symmetries());
     if (static_cast<long>(expected.size()) != nkeys) fail("the certificate does not list every key");
     // First pass, no leaf: keys, root boxes, claims, witnesses, split strings.
@@ -1125,8 +1248,8 @@ int check(std::istream& in, bool progress) {
     Z worst[3] = {zint(0), zint(0), zint(0)};
     std::vector<Witnessed> wit;
     for (long i = 0; i < nkeys; ++i) {
-        entries.push_back(parse_key_line(body[static_cast<std::size_t>(4 + i)], ln, sn, ld, expected, seen));
-        wit.push_back(check_witnesses(entries.back()));
+        entries.push_back(parse_key_line(body[h + 3 + static_cast<std::size_t>(i)], ln, sn, ld, expected, seen));
+        wit.push_back(check_witnesses(entries.back(), delaunay));
         for (int j = 0; j < 3; ++j)
             if (cmp(claim_of(entries.back().claim, j), worst[j]) > 0) worst[j] = claim_of(entries.back().claim, j);
     }
@@ -1147,10 +1270,10 @@ int check(std::istream& in, bool progress) {
     // Second pass: every leaf verified against its key's claim.
     long leaves = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, entries[i].claim);
+        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, entries[i].claim, delaunay);
         if (progress && (i + 1) % 50 == 0) std::cerr << "checked " << i + 1 << " keys, " << leaves << " leaves\n";
     }
-    print_theorem(al, as, text, claim, entries, wit, ext, leaves);
+    print_theorem(al + ", " + as + (delaunay ? ", Delaunay face rule" : ""), text, claim, entries, wit, ext, leaves);
     return 0;
 }
 

@@ -36,6 +36,10 @@ using bcc::has_parity_quad;
 using bcc::Symmetry;
 using bcc::transform;
 
+// The face of key k's tetrahedron without local vertex f, if it holds a
+// quad: its − vertices a < b and its + vertex r (else false).
+bool quad_face(const Key& k, int f, int& a, int& b, int& r);
+
 // All canonical consistent keys with some output (at least one - vertex),
 // in canonical order; with `all_zero`, the keys whose four vertices are zero
 // (never output: generic_bcc.hpp, step 6).
@@ -51,6 +55,12 @@ struct Param {
     double root_lo, root_hi;
 };
 std::vector<Param> key_params(const Key& k, const bcc::Alphas& al);
+
+// ---- the face rule -----------------------------------------------------------
+// Which rule splits the quads (generic_bcc.hpp, "The diagonal choices"):
+// parity (the mesher's, proofs/bcc.cert) or the Delaunay face rule
+// (proofs/bcc_delaunay.cert).  The key space is the same for both.
+enum class FaceRule { parity, delaunay };
 
 // ---- the proof ---------------------------------------------------------------
 // The claim: every dihedral angle θ has cos θ <= 0 or cos²θ <= cmin (θ >=
@@ -79,21 +89,41 @@ struct KeyProof {
     long leaves = 0;
     int fail_kind = 0;   // 0 orientation, 1 minimum, 2 maximum, 3 over the leaf budget, 4 face angle
     std::array<long, 5> split_fails{};  // boxes split because that kind failed (0, 1, 2, 4)
-    std::array<double, 4> fail_point{};
+    std::array<double, 4> fail_point{};  // the failed box's centre
+    Box fail_box;                        // the failed box
 };
 // Branch and bound over the key's root box (bound.cpp), giving up after
-// max_leaves verified leaves.
-KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40, long max_leaves = 1L << 40);
+// max_leaves verified leaves.  With the Delaunay rule every claim is proved,
+// box by box, for every stencil the rule admits on the box
+// (admissible_stencils).
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40, long max_leaves = 1L << 40,
+                   FaceRule rule = FaceRule::parity);
+// The stencils the Delaunay face rule admits on box b of key k's parameters
+// ps: each quad face's face_form and (n- = 2, n+ = 2) the inside_form,
+// enclosed in outward-rounded intervals, admit the sign +1, −1 or both (an
+// enclosure containing 0: a tie, or a box where the sign changes, goes to
+// one of the two); every combination of admitted signs is resolved
+// (resolve_delaunay) except the cyclic ones of an n- = 3 prism, which no
+// point realises (face_form(a, b, r) = P_b − P_a: P_a < P_b < P_c < P_a is
+// impossible, and a tie, resolved by the parity rule, breaks no order);
+// distinct stencils, in the order found.  Every stencil the rule chooses at
+// a point of b is among them.
+std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Param>& ps, const Box& b);
 
 // ---- per-key targets (targets.cpp; not on the proof path) -------------------
 // The key's ten points in double at the parameter values x[0 .. ps.size()).
 std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x);
+// The key's stencil at x under the rule (Delaunay: the forms' signs in
+// double, exact on the 2^-24 grid; ties to the parity rule).
+bcc::Stencil stencil_at(const Key& k, const std::vector<Param>& ps, const double* x, FaceRule rule);
 // The cos of the key's extreme angle at x: the smallest dihedral angle's
 // (sign = +1), the largest's (sign = -1) or the smallest face angle's (2).
-double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign);
+double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign,
+                   FaceRule rule = FaceRule::parity);
 // A double search of the key's box for that extreme (from `start` if given),
 // on the 2^-24 grid; deterministic per key.
-Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start = nullptr);
+Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start = nullptr,
+                       FaceRule rule = FaceRule::parity);
 // The claim's cos² for a witness with this cos: the angle moved outward by
 // margin_deg, to first order, rounded up to 2^-40.
 double claim_cos2(double cos, double margin_deg);
@@ -123,7 +153,8 @@ struct Margins {
 // witnesses 10.7685 and 164.7019 deg, moved out as bcc-frontier.sh does).
 Claim cap_claim(double min_deg, double max_deg);
 inline constexpr double default_cap_min_deg = 10.763, default_cap_max_deg = 164.752;
-KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = 40);
+KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = 40,
+                         FaceRule rule = FaceRule::parity);
 // The key's line of the certificate (proofs/README.md, "The BCC certificate").
 std::string certificate_line(const Key& k, const KeyProof& p);
 // `warpmesh-prove-bcc` (prove.cpp).

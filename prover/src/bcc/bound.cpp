@@ -114,10 +114,10 @@ struct TetForms {
     bcc::DihedralForms<T> di;
     bcc::FaceAngleForms<T> fa;
 };
-// The forms of the key's output tetrahedra on box b, with partials (T = DI;
-// T = D2: and second partials).
+// The key's ten points on box b (T = DI: with partials; T = D2: and second
+// partials).
 template <class T = DI>
-std::vector<TetForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b) {
+std::array<bcc::Vec<T>, 10> box_points(const Key& k, const std::vector<Param>& ps, const Box& b) {
     const T zero = ScalarOps<T>::from_int(0);
     std::array<T, 4> t{zero, zero, zero, zero};
     std::array<T, 6> u{zero, zero, zero, zero, zero, zero};
@@ -128,14 +128,64 @@ std::vector<TetForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, c
         if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x;
         else u[static_cast<std::size_t>(ps[i].index - 4)] = x;
     }
-    const auto pts = bcc::generic_points<T>(k, t, u);
-    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
+    return bcc::generic_points<T>(k, t, u);
+}
+// The forms of output tetrahedron `tet` (points of the generic tetrahedron).
+template <class T>
+TetForms<T> tet_forms(const std::array<bcc::Vec<T>, 10>& pts, const bcc::OutTet& tet) {
+    std::array<bcc::Vec<T>, 4> p{};
+    for (std::size_t v = 0; v < 4; ++v) p[v] = pts[tet[v]];
+    return {bcc::dihedral_forms(p), bcc::face_angle_forms(p)};
+}
+// The forms of the output tetrahedra `tets` on box b.
+template <class T = DI>
+std::vector<TetForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b, const std::vector<bcc::OutTet>& tets) {
+    const auto pts = box_points<T>(k, ps, b);
     std::vector<TetForms<T>> out;
-    for (int j = 0; j < st.count; ++j) {
-        std::array<bcc::Vec<T>, 4> p{};
-        for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
-        out.push_back({bcc::dihedral_forms(p), bcc::face_angle_forms(p)});
+    for (const bcc::OutTet& tet : tets) out.push_back(tet_forms(pts, tet));
+    return out;
+}
+Box centre(const Box& b) {
+    Box m = b;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) m.lo[i] = m.hi[i] = 0.5 * (b.lo[i] + b.hi[i]);
+    return m;
+}
+
+// The signs an enclosure admits: +1 if it is positive, −1 if negative, both
+// if it contains 0.
+std::vector<int> admitted(const BI& x) {
+    if (x.lower() > 0) return {1};
+    if (x.upper() < 0) return {-1};
+    return {-1, 1};
+}
+// Whether the n- = 3 prism's three face quads (d) turn the same way.
+bool cyclic(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
+    std::array<int, 3> neg{};
+    int nn = 0, r = -1;
+    for (int i = 0; i < 4; ++i) {
+        if (sign[static_cast<std::size_t>(i)] < 0 && nn < 3) neg[static_cast<std::size_t>(nn++)] = i;
+        if (sign[static_cast<std::size_t>(i)] > 0) r = i;
     }
+    if (nn != 3 || r < 0) return false;
+    const bool f0 = bcc::takes(d, neg[0], neg[1], r);
+    return bcc::takes(d, neg[1], neg[2], r) == f0 && bcc::takes(d, neg[2], neg[0], r) == f0;
+}
+bool same(const bcc::Stencil& a, const bcc::Stencil& b) {
+    if (a.count != b.count) return false;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(a.count); ++j)
+        if (a.tet[j] != b.tet[j]) return false;
+    return true;
+}
+
+// The output tetrahedra to verify on box b: the key's stencil (parity), or
+// every tetrahedron of every admissible stencil, each once (Delaunay).
+std::vector<bcc::OutTet> box_tets(const Key& k, const std::vector<Param>& ps, const Box& b, FaceRule rule) {
+    const std::vector<bcc::Stencil> sts =
+        rule == FaceRule::parity ? std::vector<bcc::Stencil>{bcc::stencil(k.sign, k.parity)} : admissible_stencils(k, ps, b);
+    std::vector<bcc::OutTet> out;
+    for (const bcc::Stencil& st : sts)
+        for (std::size_t j = 0; j < static_cast<std::size_t>(st.count); ++j)
+            if (std::find(out.begin(), out.end(), st.tet[j]) == out.end()) out.push_back(st.tet[j]);
     return out;
 }
 
@@ -167,11 +217,9 @@ T form_of(const TetForms<T>& tf, int f, const Claim& c) {
 // centre m: g(m) + sum_i g_i(m) [-r_i, r_i] + sum_i g_ii(b) [0, r_i²] / 2
 // + sum_{i<l} g_il(b) [-r_i r_l, r_i r_l] (the partials at the point m, the
 // second partials on the box).
-BI taylor2(const Key& k, const std::vector<Param>& ps, const Box& b, int j, int f, const Claim& c) {
-    Box m = b;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) m.lo[i] = m.hi[i] = 0.5 * (b.lo[i] + b.hi[i]);
-    const DI g = form_of(all_forms(k, ps, m)[static_cast<std::size_t>(j)], f, c);
-    const D2 h = form_of(all_forms<D2>(k, ps, b)[static_cast<std::size_t>(j)], f, c);
+BI taylor2(const Key& k, const std::vector<Param>& ps, const Box& b, const bcc::OutTet& tet, int f, const Claim& c) {
+    const DI g = form_of(tet_forms(box_points(k, ps, centre(b)), tet), f, c);
+    const D2 h = form_of(tet_forms(box_points<D2>(k, ps, b), tet), f, c);
     BI t = g.v;
     for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) {
         const BI r = BI(0.5 * (b.hi[i] - b.lo[i]));
@@ -193,13 +241,11 @@ BI taylor2(const Key& k, const std::vector<Param>& ps, const Box& b, int j, int 
 // second-order Taylor form on that face.  The checker applies it exactly.
 // `g` is the form on b, `mid` its value at the centre (both precomputed for
 // all forms of the box).
-bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, int j, int f, const Claim& c, bool strict, DI g,
-                 BI mid) {
+bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, const bcc::OutTet& tet, int f, const Claim& c, bool strict,
+                 DI g, BI mid) {
     for (bool first = true;; first = false) {
         if (strict ? g.v.lower() > 0 : g.v.lower() >= 0) return true;
-        Box m = b;
-        for (int i = 0; i < b.m; ++i) m.lo[static_cast<std::size_t>(i)] = m.hi[static_cast<std::size_t>(i)] = 0.5 * (b.lo[static_cast<std::size_t>(i)] + b.hi[static_cast<std::size_t>(i)]);
-        BI mv = first ? mid : form_of(all_forms(k, ps, m)[static_cast<std::size_t>(j)], f, c).v;
+        BI mv = first ? mid : form_of(tet_forms(box_points(k, ps, centre(b)), tet), f, c).v;
         for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i)
             if (b.lo[i] != b.hi[i]) {
                 const double r = 0.5 * (b.hi[i] - b.lo[i]);
@@ -213,28 +259,28 @@ bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, int j, int f
             else if (g.d[i].upper() <= 0) b.lo[i] = b.hi[i], fixed = true;
         }
         if (!fixed) {
-            const BI t = taylor2(k, ps, b, j, f, c);
+            const BI t = taylor2(k, ps, b, tet, f, c);
             return strict ? t.lower() > 0 : t.lower() >= 0;
         }
-        g = form_of(all_forms(k, ps, b)[static_cast<std::size_t>(j)], f, c);
+        g = form_of(tet_forms(box_points(k, ps, b), tet), f, c);
     }
 }
 
-// Whether every output tetrahedron of key k is positively oriented with all
+// Whether every output tetrahedron of key k (every tetrahedron of every
+// stencil the rule admits on the box) is positively oriented with all
 // dihedral angles in the claim on the box; `fail` gets what failed (0
 // orientation, 1 minimum, 2 maximum, 4 face angle) and `smear` the failed form's smear per
 // parameter, |∂_i g(box)|·width_i (of the alternative tried first), which
 // chooses the side to split.  Per edge: minimum holds if -d >= 0 on the box
 // or C_min N - d² >= 0; maximum if d >= 0 or C_max N - d² >= 0
 // (generic_bcc.hpp, "Angle forms"); per face angle: -s >= 0 or F M - s² >= 0.
-bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, int* fail,
+bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, FaceRule rule, int* fail,
                 std::array<double, 4>& smear) {
-    Box m = b;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) m.lo[i] = m.hi[i] = 0.5 * (b.lo[i] + b.hi[i]);
-    const auto fb = all_forms(k, ps, b), fm = all_forms(k, ps, m);
+    const std::vector<bcc::OutTet> tets = box_tets(k, ps, b, rule);
+    const auto fb = all_forms(k, ps, b, tets), fm = all_forms(k, ps, centre(b), tets);
     const auto ok = [&](int j, int f, bool strict) {
         const auto J = static_cast<std::size_t>(j);
-        return verify_form(k, ps, b, j, f, c, strict, form_of(fb[J], f, c), form_of(fm[J], f, c).v);
+        return verify_form(k, ps, b, tets[J], f, c, strict, form_of(fb[J], f, c), form_of(fm[J], f, c).v);
     };
     const auto failed = [&](int j, int f, int kind) {
         const DI g = form_of(fb[static_cast<std::size_t>(j)], f, c);
@@ -267,7 +313,43 @@ bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const 
 
 }  // namespace
 
-KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth, long max_leaves) {
+std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Param>& ps, const Box& b) {
+    const BRoundUp guard;
+    std::array<BI, 6> u{};
+    for (std::size_t i = 0; i < ps.size(); ++i)
+        if (ps[i].index >= 4) u[static_cast<std::size_t>(ps[i].index - 4)] = BI(b.lo[i], b.hi[i]);
+    // adm[f]: the signs admitted for the quad of the face without vertex f
+    // ({0}: no quad there); adm[4]: for the inside quad.
+    std::array<std::vector<int>, 5> adm;
+    std::array<int, 4> neg{}, pos{};
+    int nn = 0, np = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (k.sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
+        if (k.sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
+    }
+    for (int f = 0, a, bb, r; f < 4; ++f)
+        adm[static_cast<std::size_t>(f)] = quad_face(k, f, a, bb, r) ? admitted(bcc::face_form(a, bb, r, u)) : std::vector<int>{0};
+    adm[4] = nn == 2 && np == 2 ? admitted(bcc::inside_form(neg[0], neg[1], pos[0], pos[1], u)) : std::vector<int>{0};
+    std::vector<bcc::Stencil> out;
+    std::array<std::size_t, 5> at{};  // an odometer over the combinations
+    for (bool more = true; more;) {
+        std::array<int, 4> fs{};
+        for (std::size_t f = 0; f < 4; ++f) fs[f] = adm[f][at[f]];
+        const bcc::Diagonals d = bcc::resolve_delaunay(k.sign, k.parity, fs, adm[4][at[4]]);
+        if (!cyclic(k.sign, d)) {
+            const bcc::Stencil st = bcc::stencil_with(k.sign, d);
+            if (std::none_of(out.begin(), out.end(), [&](const bcc::Stencil& o) { return same(o, st); })) out.push_back(st);
+        }
+        more = false;
+        for (std::size_t q = 0; q < 5 && !more; ++q) {
+            if (++at[q] < adm[q].size()) more = true;
+            else at[q] = 0;
+        }
+    }
+    return out;
+}
+
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth, long max_leaves, FaceRule rule) {
     const BRoundUp guard;
     KeyProof out;
     const std::vector<Param> ps = key_params(k, al);
@@ -287,7 +369,7 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
         stack.pop_back();
         int fail = 0;
         std::array<double, 4> smear{};
-        if (verify_box(k, ps, it.b, c, &fail, smear)) {
+        if (verify_box(k, ps, it.b, c, rule, &fail, smear)) {
             out.splits += '0';
             ++out.leaves;
             continue;
@@ -313,6 +395,7 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
         if (s < 0 || it.depth >= max_depth) {
             out.ok = false;
             out.fail_kind = fail;
+            out.fail_box = it.b;
             for (int j = 0; j < it.b.m; ++j)
                 out.fail_point[static_cast<std::size_t>(j)] = 0.5 * (it.b.lo[static_cast<std::size_t>(j)] + it.b.hi[static_cast<std::size_t>(j)]);
             return out;

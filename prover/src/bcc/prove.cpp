@@ -42,13 +42,13 @@ std::string dyadic40(double x) {
 // and that angle (if acute, that key's max claim, which is at least 90°,
 // is more than 0.1° from its witness: loose).  Not on the proof path (acos
 // only names the angles).
-int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al) {
+int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al, FaceRule rule) {
     std::vector<Witness> lo(keys.size()), hi(keys.size());
 #pragma omp parallel for schedule(dynamic, 4)
     for (long i = 0; i < static_cast<long>(keys.size()); ++i) {
         const auto ps = key_params(keys[static_cast<std::size_t>(i)], al);
-        lo[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, 1);
-        hi[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, -1);
+        lo[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, 1, nullptr, rule);
+        hi[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, -1, nullptr, rule);
     }
     std::size_t a = 0, b = 0, c = 0;  // the most extreme witnesses (largest cos, smallest cos); c: largest max cos
     int acute = 0;                     // keys whose largest angle found is acute
@@ -71,12 +71,15 @@ int prove_bcc_main(int argc, char** argv) {
     double cap_min = default_cap_min_deg, cap_max = default_cap_max_deg;
     std::vector<int> subset;
     bool extremes = false;
+    FaceRule rule = FaceRule::parity;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool more = i + 1 < argc;
         if (a == "--out" && more) out = argv[++i];
         else if (a == "--alphas" && i + 2 < argc) la = argv[++i], sa = argv[++i];
         else if (a == "--extremes") extremes = true;
+        else if (a == "--face-rule" && more && (std::string(argv[i + 1]) == "parity" || std::string(argv[i + 1]) == "delaunay"))
+            rule = std::string(argv[++i]) == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
         else if (a == "--threads" && more) {
@@ -89,7 +92,7 @@ int prove_bcc_main(int argc, char** argv) {
             std::stringstream ss(argv[++i]);
             for (std::string tok; std::getline(ss, tok, ',');) subset.push_back(std::atoi(tok.c_str()));
         } else {
-            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes]\n");
+            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes] [--face-rule parity|delaunay]\n");
             return 2;
         }
     }
@@ -107,12 +110,12 @@ int prove_bcc_main(int argc, char** argv) {
     else
         for (int k : subset)
             if (k >= 0 && k < static_cast<int>(all.size())) keys.push_back(all[static_cast<std::size_t>(k)]);
-    if (extremes) return print_extremes(keys, al);
+    if (extremes) return print_extremes(keys, al, rule);
     std::vector<KeyProof> proofs(keys.size());
     const auto t0 = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 4)
     for (long i = 0; i < static_cast<long>(keys.size()); ++i)
-        proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg);
+        proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg, 40, rule);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     long leaves = 0;
     int failed = 0;
@@ -134,12 +137,15 @@ int prove_bcc_main(int argc, char** argv) {
         lines << certificate_line(keys[i], p) << "\n";
     }
     std::ostringstream cert;
-    cert << "warpmesh-bcc-certificate 4\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
+    // Format 5 is format 4 with the face-rule line; the parity rule's stays format 4.
+    cert << "warpmesh-bcc-certificate " << (rule == FaceRule::delaunay ? 5 : 4)
+         << "\n# Dihedral angle bounds for the BCC generic tetrahedron.  Format: proofs/README.md.\n";
+    if (rule == FaceRule::delaunay) cert << "face-rule delaunay\n";
     cert << "alphas " << al.long_num << "/100000 " << al.short_num << "/100000\n";
     cert << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << " " << dyadic40(claim.cface) << "\n";
     cert << "keys " << keys.size() << "\n" << lines.str();
-    std::fprintf(stderr, "warpmesh-prove-bcc: alphas %s %s, claim [%.4f, %.4f] deg, face angles >= %.4f deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
-                 la.c_str(), sa.c_str(), std::acos(std::sqrt(claim.cmin)) * 180 / M_PI,
+    std::fprintf(stderr, "warpmesh-prove-bcc: %salphas %s %s, claim [%.4f, %.4f] deg, face angles >= %.4f deg: %zu keys, %d not proved, %ld leaves, %.1f s\n",
+                 rule == FaceRule::delaunay ? "face rule delaunay, " : "", la.c_str(), sa.c_str(), std::acos(std::sqrt(claim.cmin)) * 180 / M_PI,
                  180 - std::acos(std::sqrt(claim.cmax)) * 180 / M_PI, std::acos(std::sqrt(claim.cface)) * 180 / M_PI,
                  keys.size(), failed, leaves, secs);
     if (failed) return 1;

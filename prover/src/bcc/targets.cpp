@@ -17,13 +17,11 @@
 namespace warpmesh::bcc_prover {
 namespace {
 
-// cos of the extreme angle over the key's output tetrahedra at x: the
-// largest cos of a dihedral angle (smallest angle, sign = +1) or the
+// cos of the extreme angle over the tetrahedra of stencil st at the points
+// pts: the largest cos of a dihedral angle (smallest angle, sign = +1) or the
 // smallest (largest angle, sign = −1), as +cos resp. −cos so that larger is
 // more extreme; sign = 2: the largest cos of a face angle.
-double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
-    const auto pts = key_points(k, ps, x.data());
-    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
+double stencil_extreme(const bcc::Stencil& st, const std::array<bcc::Vec<double>, 10>& pts, int sign) {
     double best = -2;
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
@@ -43,6 +41,10 @@ double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<
     }
     return best;
 }
+// The same over the key's output at x (the rule's stencil there).
+double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign, FaceRule rule) {
+    return stencil_extreme(stencil_at(k, ps, x.data(), rule), key_points(k, ps, x.data()), sign);
+}
 
 // The grid point (multiple of 2^-24) nearest x inside the exact box [lo, hi]
 // of parameter p (its ends exact rationals num/den).
@@ -53,31 +55,150 @@ double snap(double x, const Param& p) {
     return std::clamp(s, lo, hi);
 }
 
+// The warp fractions t and cut fractions u at the parameter values x.
+void split_params(const std::vector<Param>& ps, const double* x, std::array<double, 4>& t, std::array<double, 6>& u) {
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
+        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
+    }
+}
+
 }  // namespace
 
 std::array<bcc::Vec<double>, 10> key_points(const Key& k, const std::vector<Param>& ps, const double* x) {
     std::array<double, 4> t{};
     std::array<double, 6> u{};
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x[i];
-        else u[static_cast<std::size_t>(ps[i].index - 4)] = x[i];
-    }
+    split_params(ps, x, t, u);
     return bcc::generic_points(k, t, u);
 }
 
-double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign) {
-    return (sign == -1 ? -1 : 1) * extreme_cos(k, ps, x, sign);
+// On the 2^-24 grid the forms are exact in double: face_form's terms are
+// small integers times 1 − u; inside_form's coordinate differences lie in
+// [−3, 3] on the grid, their squares and sums below 2^5 on the 2^-48 grid.
+bcc::Stencil stencil_at(const Key& k, const std::vector<Param>& ps, const double* x, FaceRule rule) {
+    if (rule == FaceRule::parity) return bcc::stencil(k.sign, k.parity);
+    std::array<double, 4> t{};
+    std::array<double, 6> u{};
+    split_params(ps, x, t, u);
+    return bcc::stencil_with(k.sign, bcc::delaunay_diagonals(k.sign, k.parity, u));
 }
 
+double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign, FaceRule rule) {
+    return (sign == -1 ? -1 : 1) * extreme_cos(k, ps, x, sign, rule);
+}
+
+namespace {
+
+// Pattern search from x (value fb of obj): steps of `from` down to `to` times
+// each side's width, on the 2^-24 grid.
+template <class F>
+void pattern_search(const F& obj, const std::vector<Param>& ps, std::array<double, 4>& x, double& fb, double from, double to) {
+    for (double step = from; step > to; step *= 0.5)
+        for (bool improved = true; improved;) {
+            improved = false;
+            for (std::size_t i = 0; i < ps.size(); ++i)
+                for (double d : {-1.0, 1.0}) {
+                    std::array<double, 4> y = x;
+                    y[i] = snap(y[i] + d * step * (ps[i].hi - ps[i].lo), ps[i]);
+                    const double f = obj(y);
+                    if (f > fb + 1e-15) fb = f, x = y, improved = true;
+                }
+        }
+}
+
+// A face quad's tie as a function of the other parameters: face_form =
+// L_b (1 − u_b) − L_a (1 − u_a) (u_x the cut fraction on xr from x, L_x =
+// |xr|²) vanishes where u_b = 1 − (L_a / L_b)(1 − u_a).  ia, ib: the
+// parameters of the edges ar, br; from_a, from_b: whether they count from
+// a (b).
+struct FaceTie {
+    std::size_t ia = 0, ib = 0;
+    bool from_a = true, from_b = true;
+    double la = 0, lb = 0;
+    // x with parameter ib moved onto the tie; false if that leaves its box.
+    bool onto(const std::vector<Param>& ps, std::array<double, 4>& x) const {
+        const double ua = from_a ? x[ia] : 1 - x[ia];
+        const double ub = 1 - la / lb * (1 - ua);
+        x[ib] = from_b ? ub : 1 - ub;
+        return x[ib] >= ps[ib].lo && x[ib] <= ps[ib].hi;
+    }
+};
+std::vector<FaceTie> face_ties(const Key& k, const std::vector<Param>& ps) {
+    std::vector<FaceTie> out;
+    for (int f = 0, a, b, r; f < 4; ++f) {
+        if (!quad_face(k, f, a, b, r)) continue;
+        FaceTie t;
+        for (std::size_t i = 0; i < ps.size(); ++i)
+            for (const int x : {a, b}) {
+                const int e = bcc::edge_index(x, r);
+                if (e < 0 || ps[i].index != 4 + e) continue;
+                const bool from = bcc::tet_edges[static_cast<std::size_t>(e)][0] == x;
+                const double len2 = bcc::edge_is_long(e) ? 4 : 3;
+                (x == a ? t.ia : t.ib) = i, (x == a ? t.from_a : t.from_b) = from, (x == a ? t.la : t.lb) = len2;
+            }
+        out.push_back(t);
+    }
+    return out;
+}
+
+// Delaunay: the extreme may lie on a face quad's tie, where the rule's
+// stencil changes — approached from the side whose stencil is worse, while
+// the tie itself may take the other (parity's) diagonal — and a
+// coordinate-wise search stops at a tie instead of following it.  So, per
+// face quad, the search is repeated on its tie (one parameter solved for),
+// with the extreme over both of its diagonals there (the stencils admitted
+// on a box of half-width 2^-30 around the point): from the three best of
+// the starts and w, moved onto the tie; the point found is then moved off the
+// tie by 1, 2, 4 or 8 grid steps either way (parameter ib) to the most
+// extreme of the rule's own values, on the worse side.  Returns the best of
+// those and w (value fb).
+Witness follow_ties(const Key& k, const std::vector<Param>& ps, int sign, std::vector<std::array<double, 4>> starts, Witness w,
+                    double fb) {
+    starts.push_back(w.x);
+    for (const FaceTie& tie : face_ties(k, ps)) {
+        const auto on_tie = [&](std::array<double, 4> y) {
+            if (!tie.onto(ps, y)) return -3.0;
+            Box b;
+            b.m = static_cast<int>(ps.size());
+            for (std::size_t i = 0; i < ps.size(); ++i) b.lo[i] = y[i] - 0x1p-30, b.hi[i] = y[i] + 0x1p-30;
+            double best = -2;
+            const auto pts = key_points(k, ps, y.data());
+            for (const bcc::Stencil& st : admissible_stencils(k, ps, b)) best = std::max(best, stencil_extreme(st, pts, sign));
+            return best;
+        };
+        std::vector<std::pair<double, std::size_t>> order;
+        for (std::size_t s = 0; s < starts.size(); ++s) order.emplace_back(on_tie(starts[s]), s);
+        std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+        for (std::size_t s = 0; s < std::min<std::size_t>(3, order.size()) && order[s].first > -3; ++s) {
+            std::array<double, 4> x = starts[order[s].second];
+            double f = order[s].first;
+            pattern_search(on_tie, ps, x, f, 0.25, 0x1p-24);
+            tie.onto(ps, x);
+            for (double d : {-8.0, -4.0, -2.0, -1.0, 1.0, 2.0, 4.0, 8.0}) {
+                std::array<double, 4> y = x;
+                y[tie.ib] = snap(x[tie.ib] + d * 0x1p-24, ps[tie.ib]);
+                const double g = extreme_cos(k, ps, y, sign, FaceRule::delaunay);
+                if (g > fb + 1e-15) fb = g, w.x = y;
+            }
+        }
+    }
+    w.cos = (sign == -1 ? -1 : 1) * fb;
+    return w;
+}
+
+}  // namespace
+
 // Random starts (corners and faces favoured) and a shrinking-step pattern
-// search on the 2^-24 grid, from `start` if given.
-Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start) {
+// search on the 2^-24 grid, from `start` if given (Delaunay: then the face
+// quads' ties followed, follow_ties).
+Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start, FaceRule rule) {
     std::mt19937 rng(static_cast<unsigned>(std::hash<std::string>{}(code_of(k)) & 0xffffffffu) + static_cast<unsigned>(sign + 1));
-    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(k, ps, x, sign); };
+    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(k, ps, x, sign, rule); };
     Witness w;
     double fb = -3;
     const int n = start ? 0 : 48;
-    if (start) w.x = *start, fb = obj(w.x);
+    std::vector<std::array<double, 4>> starts;
+    if (start) w.x = *start, fb = obj(w.x), starts.push_back(*start);
     for (int s = 0; s < n; ++s) {
         std::array<double, 4> x{};
         for (std::size_t i = 0; i < ps.size(); ++i) {
@@ -85,22 +206,13 @@ Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, con
             const double r = corner == 0 ? 0 : corner == 1 ? 1 : std::uniform_real_distribution<double>(0, 1)(rng);
             x[i] = snap(ps[i].lo + r * (ps[i].hi - ps[i].lo), ps[i]);
         }
+        starts.push_back(x);
         const double f = obj(x);
         if (f > fb) fb = f, w.x = x;
     }
-    for (double step = 0.25; step > 0x1p-24; step *= 0.5)
-        for (bool improved = true; improved;) {
-            improved = false;
-            for (std::size_t i = 0; i < ps.size(); ++i)
-                for (double d : {-1.0, 1.0}) {
-                    std::array<double, 4> x = w.x;
-                    x[i] = snap(x[i] + d * step * (ps[i].hi - ps[i].lo), ps[i]);
-                    const double f = obj(x);
-                    if (f > fb + 1e-15) fb = f, w.x = x, improved = true;
-                }
-        }
+    pattern_search(obj, ps, w.x, fb, 0.25, 0x1p-24);
     w.cos = (sign == -1 ? -1 : 1) * fb;
-    return w;
+    return rule == FaceRule::delaunay ? follow_ties(k, ps, sign, std::move(starts), w, fb) : w;
 }
 
 // The claim cos² c + 2 sqrt(c (1 − c)) δ + δ² (δ the margin in radians:
@@ -136,15 +248,37 @@ double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
     return cap <= claim_cos2(cos, std::max(margin_deg, tight_deg)) ? cap : claim_cos2(cos, margin_deg);
 }
 
+// Where a failure points the witness: the failed box's centre (on the grid).
+// Delaunay: the failed box may straddle a tie, where the rule's stencil
+// changes and the extreme lies on the tie (a face quad's or the inside
+// quad's forms vanish there), which a coordinate-wise pattern search does not
+// follow; the box's corners (on the grid) are probed too, and the most
+// extreme of these points is taken (a corner on the side where the stencil
+// that failed is chosen).
+std::array<double, 4> fail_probe(const Key& k, const std::vector<Param>& ps, const KeyProof& p, int sign, FaceRule rule) {
+    std::array<double, 4> x{};
+    for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
+    if (rule == FaceRule::parity) return x;
+    double best = extreme_cos(k, ps, x, sign, rule);
+    for (unsigned c = 0; c < 1u << ps.size(); ++c) {
+        std::array<double, 4> y{};
+        for (std::size_t i = 0; i < ps.size(); ++i) y[i] = snap((c >> i & 1u) ? p.fail_box.hi[i] : p.fail_box.lo[i], ps[i]);
+        const double f = extreme_cos(k, ps, y, sign, rule);
+        if (f > best) best = f, x = y;
+    }
+    return x;
+}
+
 }  // namespace
 
-KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth) {
+KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth, FaceRule rule) {
     const std::vector<Param> ps = key_params(k, al);
     // Per kind j: 0 the smallest dihedral angle, 1 the largest, 2 the
     // smallest face angle; `sign` as in extreme_cos, `dir` +1 where a larger
     // cos is more extreme.
     const int sign[3] = {1, -1, 2}, dir[3] = {1, -1, 1};
-    Witness w[3] = {search_witness(k, ps, 1), search_witness(k, ps, -1), search_witness(k, ps, 2)};
+    Witness w[3] = {search_witness(k, ps, 1, nullptr, rule), search_witness(k, ps, -1, nullptr, rule),
+                    search_witness(k, ps, 2, nullptr, rule)};
     const double start[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     double margin[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     long budget = mg.budget;
@@ -159,7 +293,7 @@ KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int ma
         // No budget once a margin reached 64 times its start: prove or fail.
         bool last = false;
         for (int j = 0; j < 3; ++j) last = last || margin[j] >= 64 * start[j];
-        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget);
+        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget, rule);
         p.claim = c, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
         if (p.ok || p.fail_kind == 0) return p;
         if (p.fail_kind == 3) {
@@ -177,14 +311,14 @@ KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int ma
             continue;
         }
         const int j = p.fail_kind == 4 ? 2 : p.fail_kind - 1;
-        std::array<double, 4> x{};
-        for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
-        if (dir[j] * witness_cos(k, ps, x, sign[j]) > dir[j] * w[j].cos + 1e-12) w[j] = search_witness(k, ps, sign[j], &x);
+        const std::array<double, 4> x = fail_probe(k, ps, p, sign[j], rule);
+        if (dir[j] * witness_cos(k, ps, x, sign[j], rule) > dir[j] * w[j].cos + 1e-12)
+            w[j] = search_witness(k, ps, sign[j], &x, rule);
         else if (margin[j] < 64 * start[j]) widen(j);
         else break;  // nothing left to change
     }
     // Last resort: the caps themselves, no budget.
-    p = prove_key(k, al, mg.cap, max_depth);
+    p = prove_key(k, al, mg.cap, max_depth, 1L << 40, rule);
     p.claim = mg.cap, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
     return p;
 }
