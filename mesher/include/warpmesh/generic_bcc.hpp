@@ -338,6 +338,34 @@ constexpr bool takes(const Diagonals& d, int x, int y, int r) {
     return x < y ? low : !low;
 }
 
+// The quad of the face without local vertex f, if it holds one: its two -
+// vertices a < b and its + vertex r (false, and -1s, otherwise).
+constexpr bool quad_face(const std::array<int, 4>& sign, int f, int& a, int& b, int& r) {
+    a = b = r = -1;
+    for (int i = 0; i < 4; ++i) {
+        if (i == f) continue;
+        const int v = sign[static_cast<std::size_t>(i)];
+        if (v < 0) (a < 0 ? a : b) = i;
+        else if (v > 0) r = i;
+    }
+    return b >= 0 && r >= 0;
+}
+
+// Whether `d` turns the three face quads of an n- = 3, n+ = 1 prism the same
+// way (a cycle, which no stencil cuts; never under either rule with exact
+// signs, but a union over admissible signs can name one).
+constexpr bool is_cyclic(const std::array<int, 4>& sign, const Diagonals& d) {
+    std::array<int, 3> neg{};
+    int nn = 0, r = -1;
+    for (int i = 0; i < 4; ++i) {
+        if (sign[static_cast<std::size_t>(i)] < 0 && nn < 3) neg[static_cast<std::size_t>(nn++)] = i;
+        if (sign[static_cast<std::size_t>(i)] > 0) r = i;
+    }
+    if (nn != 3 || r < 0) return false;
+    const bool f0 = takes(d, neg[0], neg[1], r);
+    return takes(d, neg[1], neg[2], r) == f0 && takes(d, neg[2], neg[0], r) == f0;
+}
+
 // The parity rule's choices (see above).
 constexpr Diagonals parity_diagonals(const std::array<int, 4>& sign, int parity) {
     Diagonals d;
@@ -349,13 +377,7 @@ constexpr Diagonals parity_diagonals(const std::array<int, 4>& sign, int parity)
     }
     for (int f = 0; f < 4; ++f) {  // the faces with two - vertices and one + vertex
         int a = -1, b = -1, r = -1;
-        for (int i = 0; i < 4; ++i) {
-            if (i == f) continue;
-            const int v = sign[static_cast<std::size_t>(i)];
-            if (v < 0) (a < 0 ? a : b) = i;
-            else if (v > 0) r = i;
-        }
-        if (b >= 0 && r >= 0 && face_takes_a(a, b, r, parity)) d.face |= 1u << f;
+        if (quad_face(sign, f, a, b, r) && face_takes_a(a, b, r, parity)) d.face |= 1u << f;
     }
     if (nn == 2 && np == 2) d.inside = !face_takes_a(neg[0], neg[1], pos[0], parity);
     return d;
@@ -448,13 +470,7 @@ Diagonals delaunay_diagonals(const std::array<int, 4>& sign, int parity, const s
     }
     for (int f = 0; f < 4; ++f) {
         int a = -1, b = -1, r = -1;
-        for (int i = 0; i < 4; ++i) {
-            if (i == f) continue;
-            const int v = sign[static_cast<std::size_t>(i)];
-            if (v < 0) (a < 0 ? a : b) = i;
-            else if (v > 0) r = i;
-        }
-        if (b >= 0 && r >= 0) fs[static_cast<std::size_t>(f)] = sgn(face_form(a, b, r, u));
+        if (quad_face(sign, f, a, b, r)) fs[static_cast<std::size_t>(f)] = sgn(face_form(a, b, r, u));
     }
     const int is = nn == 2 && np == 2 ? sgn(inside_form(neg[0], neg[1], pos[0], pos[1], u)) : 0;
     return resolve_delaunay(sign, parity, fs, is);

@@ -24,19 +24,6 @@ std::array<int, 4> signs_of(int code) {
     return sign;
 }
 
-// Whether `d` turns the three quads of an n- = 3, n+ = 1 prism the same way
-// (stencil_with's fwd all equal): a cycle, which no stencil cuts.
-bool cyclic(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
-    std::array<int, 3> neg{};
-    int nn = 0, r = -1;
-    for (int i = 0; i < 4; ++i) {
-        if (sign[static_cast<std::size_t>(i)] < 0 && nn < 3) neg[static_cast<std::size_t>(nn++)] = i;
-        if (sign[static_cast<std::size_t>(i)] > 0) r = i;
-    }
-    if (nn != 3 || r < 0) return false;
-    const bool f0 = bcc::takes(d, neg[0], neg[1], r);
-    return f0 == bcc::takes(d, neg[1], neg[2], r) && f0 == bcc::takes(d, neg[2], neg[0], r);
-}
 
 // The plan of the stencil of `sign` split as `d` says.
 Plan make_plan(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
@@ -44,7 +31,7 @@ Plan make_plan(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
     int nn = 0, np = 0;
     for (int v : sign) nn += v < 0, np += v > 0;
     p.quads = nn >= 2 && np >= 1;
-    p.cyclic = cyclic(sign, d);
+    p.cyclic = bcc::is_cyclic(sign, d);
     if (p.cyclic) return p;
     p.stencil = bcc::stencil_with(sign, d);
     for (int t = 0; t < p.stencil.count; ++t) {

@@ -38,7 +38,7 @@ using bcc::transform;
 
 // The face of key k's tetrahedron without local vertex f, if it holds a
 // quad: its − vertices a < b and its + vertex r (else false).
-bool quad_face(const Key& k, int f, int& a, int& b, int& r);
+inline bool quad_face(const Key& k, int f, int& a, int& b, int& r) { return bcc::quad_face(k.sign, f, a, b, r); }
 
 // All canonical consistent keys with some output (at least one - vertex),
 // in canonical order; with `all_zero`, the keys whose four vertices are zero

@@ -158,18 +158,6 @@ std::vector<int> admitted(const BI& x) {
     if (x.upper() < 0) return {-1};
     return {-1, 1};
 }
-// Whether the n- = 3 prism's three face quads (d) turn the same way.
-bool cyclic(const std::array<int, 4>& sign, const bcc::Diagonals& d) {
-    std::array<int, 3> neg{};
-    int nn = 0, r = -1;
-    for (int i = 0; i < 4; ++i) {
-        if (sign[static_cast<std::size_t>(i)] < 0 && nn < 3) neg[static_cast<std::size_t>(nn++)] = i;
-        if (sign[static_cast<std::size_t>(i)] > 0) r = i;
-    }
-    if (nn != 3 || r < 0) return false;
-    const bool f0 = bcc::takes(d, neg[0], neg[1], r);
-    return bcc::takes(d, neg[1], neg[2], r) == f0 && bcc::takes(d, neg[2], neg[0], r) == f0;
-}
 bool same(const bcc::Stencil& a, const bcc::Stencil& b) {
     if (a.count != b.count) return false;
     for (std::size_t j = 0; j < static_cast<std::size_t>(a.count); ++j)
@@ -336,7 +324,7 @@ std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Pa
         std::array<int, 4> fs{};
         for (std::size_t f = 0; f < 4; ++f) fs[f] = adm[f][at[f]];
         const bcc::Diagonals d = bcc::resolve_delaunay(k.sign, k.parity, fs, adm[4][at[4]]);
-        if (!cyclic(k.sign, d)) {
+        if (!bcc::is_cyclic(k.sign, d)) {
             const bcc::Stencil st = bcc::stencil_with(k.sign, d);
             if (std::none_of(out.begin(), out.end(), [&](const bcc::Stencil& o) { return same(o, st); })) out.push_back(st);
         }

@@ -58,17 +58,6 @@ double dyadic_floor(double x) { return std::floor(std::ldexp(x, 20)) / 1048576.0
 double dyadic_ceil(double x) { return std::ceil(std::ldexp(x, 20)) / 1048576.0; }
 }  // namespace
 
-bool quad_face(const Key& k, int f, int& a, int& b, int& r) {
-    a = b = r = -1;
-    for (int i = 0; i < 4; ++i) {
-        const int v = k.sign[static_cast<std::size_t>(i)];
-        if (i == f) continue;
-        if (v < 0) (a < 0 ? a : b) = i;
-        else if (v > 0) r = i;
-    }
-    return b >= 0 && r >= 0;
-}
-
 // Root boxes: x = num/den rounded to nearest is within 2^-53 relative of the
 // exact value, far below 2^-20, so flooring/ceiling x·2^20 with a margin of
 // one unit is safe: lo = floor(x·2^20 − 1)/2^20 <= exact, hi likewise.
