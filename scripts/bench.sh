@@ -176,7 +176,7 @@ PY
       "$(field seconds "$tmp/w.json")" "$user" "$(field min_dihedral_deg "$tmp/w.json")" \
       "$(field max_dihedral_deg "$tmp/w.json")" $((rss / 1024))
   done
-  echo "  (warpmesh certified: every tetrahedron of a certified key in [10.76, 164.75] deg, proofs/bcc.cert)"
+  /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['certified']; print('  (warpmesh certified: every tetrahedron in [%.2f, %.2f] deg, %s)' % (c['min_dihedral_deg'], c['max_dihedral_deg'], c['certificate']))" "$tmp/w.json"
   for h in ${WARPMESH_BENCH_CGAL_SIZES:-2}; do
     /usr/bin/time -f "%e %U %M" -o "$tmp/t" "$tmp/cgal_mesh3" "$tmp/brain.raw" 256 256 256 1 1 1 "$h" > "$tmp/c.json"
     read -r _ user rss < "$tmp/t"

@@ -3,11 +3,13 @@
 # checker printed — never typed by hand.
 #
 #   { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
-#     build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_half.cert; } | scripts/bounds-table.sh
+#     build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_delaunay.cert;
+#     build/prover/warpmesh-check-bcc proofs/bcc_half.cert; } | scripts/bounds-table.sh
 #
-# The 3D checker's theorem (dihedral angles of the BCC lattice warping) is the
-# second-last row; its counter-example for the α = ½ closer-endpoint rule
-# (no bound: an inverted tetrahedron) the last.
+# The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
+# row per certificate in input order: the parity face rule, the Delaunay face
+# rule) come after the 2D rows; its counter-example for the α = ½
+# closer-endpoint rule (no bound: an inverted tetrahedron) is the last.
 #
 # scripts/test.sh runs the checker, pipes its output through this script and
 # fails if README.md or docs/guarantees.md does not contain the result verbatim (between the markers
@@ -27,9 +29,12 @@ awk '
   }
   /^    rounded outward/ { r = $0; sub(/.*every angle in /, "", r); sub(/ deg$/, "", r); rounded[rule, set] = r; next }
   /^BCC theorem \(alphas / {
-    a3 = $0; sub(/^BCC theorem \(alphas /, "", a3); sub(/\):.*/, "", a3)
+    # BCC theorem (alphas A, B[, Delaunay face rule]): ... t in [LO, HI] deg ...
+    al = $0; sub(/^BCC theorem \(alphas /, "", al); sub(/\):.*/, "", al)
+    faces3[++n3] = al ~ /Delaunay face rule/ ? "Delaunay" : "parity"
+    a3[n3] = al
     t3 = $0; sub(/.*: t in \[/, "", t3); sub(/\] deg.*/, "", t3); split(t3, tt, ", ")
-    lo3 = tt[1]; hi3 = tt[2]
+    lo3[n3] = tt[1]; hi3[n3] = tt[2]
     next
   }
   /^BCC counter-example \(alphas / {
@@ -40,13 +45,13 @@ awk '
     vx = $0; sub(/.* has 6\*volume /, "", vx); sub(/ .*/, "", vx)
     next
   }
-  /^  rounded outward: every dihedral angle in / { r3 = $0; sub(/.*angle in /, "", r3); sub(/ deg$/, "", r3); next }
+  /^  rounded outward: every dihedral angle in / { r = $0; sub(/.*angle in /, "", r); sub(/ deg$/, "", r); r3[n3] = r; next }
   /^  3D witness / {
     # 3D witness min KEY: angle A deg, claim C deg, gap G deg
     key = $4; sub(/:$/, "", key)
     w = $0; sub(/.*: angle /, "", w); sub(/ deg.*/, "", w)
     g = $0; sub(/.*gap /, "", g); sub(/ deg.*/, "", g)
-    wit3[$3] = "`" key "` " w "° (gap " g "°)"
+    wit3[n3, $3] = "`" key "` " w "° (gap " g "°)"
     next
   }
   /^  witness / {
@@ -75,9 +80,9 @@ awk '
           printf "| %s | %s | %s° | %s° | %s | %s | %s |\n", r, what, lo[r, set], hi[r, set], rounded[r, set], wit[r, set, "min"], wit[r, set, "max"]
         }
       }
-    if (lo3 != "") {
-      split(a3, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
-      printf "| BCC closest-first (3D dihedral, α %.5f / %.5f) | all keys with output | %s° | %s° | %s | %s | %s |\n", p[1] / p[2], q[1] / q[2], lo3, hi3, r3, wit3["min"], wit3["max"]
+    for (i = 1; i <= n3; ++i) {
+      split(a3[i], aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
+      printf "| BCC closest-first, %s faces (3D dihedral, α %.5f / %.5f) | all keys with output | %s° | %s° | %s | %s | %s |\n", faces3[i], p[1] / p[2], q[1] / q[2], lo3[i], hi3[i], r3[i], wit3[i, "min"], wit3[i, "max"]
     }
     if (kx != "") {
       split(ax, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")

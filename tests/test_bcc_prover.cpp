@@ -123,7 +123,7 @@ BOOST_AUTO_TEST_CASE(issue29_max_witness_moves_and_the_key_is_not_capped) {
 
 namespace {
 
-const bcc::Alphas delaunay_alphas{26750, 100000, 39000, 100000};  // proofs/bcc_delaunay.cert's
+using bcc::delaunay_alphas;  // proofs/bcc_delaunay.cert's
 
 bp::Key key_with_code(const std::string& code) {
     for (const auto& k : bp::enumerate_keys())

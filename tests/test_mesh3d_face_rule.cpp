@@ -205,7 +205,7 @@ BOOST_AUTO_TEST_CASE(sphere_torus_and_quadrics_conform_within_the_rules_range_an
         within_the_rules_range(r, spec);
         Mesh3dOptions po = delaunay_options(s);
         po.face_rule = FaceRule::parity;
-        po.alphas = delaunay_alphas;  // the same warping: only the diagonals differ
+        po.alphas = bcc::delaunay_alphas;  // the same warping: only the diagonals differ
         p = mesh3d(*f, po);
         BOOST_TEST(d.vertices.size() == p.vertices.size(), spec);
         BOOST_TEST(!same_tets(d, p), spec << ": the Delaunay face rule changed nothing");
@@ -232,7 +232,7 @@ BOOST_AUTO_TEST_CASE(brain_crop_conforms_and_differs_from_parity) {
     BOOST_TEST(r.tets > 1000);
     Mesh3dOptions po = delaunay_options(1.5);
     po.face_rule = FaceRule::parity;
-    po.alphas = delaunay_alphas;
+    po.alphas = bcc::delaunay_alphas;
     BOOST_TEST(!same_tets(d, mesh3d(*f, po)));
 }
 
@@ -268,7 +268,7 @@ BOOST_AUTO_TEST_CASE(ties_and_near_ties_never_split_a_shared_face_two_ways) {
     // with it (test_bcc_delaunay_rule: ties_fall_back_to_parity): the same mesh.
     Mesh3dOptions po = delaunay_options(0.2);
     po.face_rule = FaceRule::parity;
-    po.alphas = delaunay_alphas;
+    po.alphas = bcc::delaunay_alphas;
     BOOST_TEST(same_tets(d, mesh3d(exact, po)));
     for (int ulps : {1, 2, 4}) {
         const TiedCuts near(ulps);
@@ -288,7 +288,7 @@ BOOST_AUTO_TEST_CASE(delaunay_mesh_is_never_reported_with_the_parity_certificate
     for (const bool parity_alphas : {false, true}) {
         Mesh3dOptions o = delaunay_options(0.15);
         o.verify = true;
-        if (parity_alphas) o.alphas = bcc::default_alphas;
+        if (parity_alphas) o.alphas = bcc::parity_alphas;
         Mesh3dReport r;
         mesh3d(*f, o, &r);
         const auto claim = bcc_claim(FaceRule::delaunay);
@@ -309,11 +309,17 @@ BOOST_AUTO_TEST_CASE(delaunay_mesh_is_never_reported_with_the_parity_certificate
         BOOST_TEST(text.find("certified: no (") != std::string::npos);
         BOOST_TEST(text.find("bcc.cert)") == std::string::npos);
     }
-    // The parity default is unchanged: certified by proofs/bcc.cert.
-    Mesh3dOptions o;
-    o.spacing = 0.15;
-    Mesh3dReport r;
-    mesh3d(*f, o, &r);
-    BOOST_TEST((r.face_rule == FaceRule::parity));
-    BOOST_TEST(r.certified == bcc_claim(FaceRule::parity).has_value());
+    // The default is the Delaunay face rule at its alphas, certified by
+    // proofs/bcc_delaunay.cert; parity stays certified by proofs/bcc.cert.
+    for (const auto [rule, name] : {std::pair{std::optional<FaceRule>{}, "bcc_delaunay.cert"},
+                                    std::pair{std::optional<FaceRule>{FaceRule::parity}, "bcc.cert"}}) {
+        Mesh3dOptions o;
+        o.spacing = 0.15;
+        if (rule) o.face_rule = *rule;
+        Mesh3dReport r;
+        mesh3d(*f, o, &r);
+        BOOST_TEST((r.face_rule == (rule ? *rule : FaceRule::delaunay)));
+        BOOST_TEST(r.certified == bcc_claim(r.face_rule).has_value());
+        if (r.certified) BOOST_TEST(to_json(r).find(std::string("\"proofs/") + name + "\"") != std::string::npos);
+    }
 }

@@ -5,12 +5,16 @@
 // lattice position, so the order is part of what is pinned): every vertex in
 // shortest round-trip form (equal text means bit-identical doubles), every
 // tetrahedron, every boundary face with its tag, and the report's counts and
-// measured dihedral extremes.  A change of the meshes is made on purpose:
+// measured dihedral extremes.  Each case is pinned under both face rules:
+// the default (the Delaunay face rule, `NAME.txt`) and the parity rule
+// (`NAME_parity.txt`; its meshes predate the Delaunay rule and have not
+// changed since).  A change of the meshes is made on purpose:
 //   WARPMESH_REGEN_GOLDEN3D=1 build/tests/test_mesh3d_golden
 // rewrites the files; commit the diff with the reason.
 #define BOOST_TEST_MODULE mesh3d_golden
 #include <charconv>
 #include <cstdlib>
+#include <optional>
 
 #include "brain_crop.hpp"
 #include "support.hpp"
@@ -42,9 +46,10 @@ std::string canonical(const TetMesh& m, const Mesh3dReport& r) {
     return s.str();
 }
 
-void compare(const std::string& name, const LevelSet3& f, double spacing) {
+void compare_rule(const std::string& name, const LevelSet3& f, double spacing, std::optional<FaceRule> rule) {
     Mesh3dOptions o;
     o.spacing = spacing;
+    if (rule) o.face_rule = *rule;
     o.verify = true;
     Mesh3dReport r;
     const TetMesh m = mesh3d(f, o, &r);
@@ -63,6 +68,10 @@ void compare(const std::string& name, const LevelSet3& f, double spacing) {
     int line = 1;
     while (std::getline(a, la) && std::getline(b, lb) && la == lb) ++line;
     BOOST_ERROR(name << " differs from " << path << " at line " << line << ": got '" << la << "', expected '" << lb << "'");
+}
+void compare(const std::string& name, const LevelSet3& f, double spacing) {
+    compare_rule(name, f, spacing, std::nullopt);
+    compare_rule(name + "_parity", f, spacing, FaceRule::parity);
 }
 
 }  // namespace

@@ -175,10 +175,10 @@ output:
                          union(S;S)  intersect(S;S)  diff(S;S)   (needs --spacing)
   --spacing S            the BCC lattice's cube side (default: the smallest voxel size)
   --face-rule parity|delaunay
-                         how the stencils' quads are split: parity (the default,
-                         proofs/bcc.cert) or the Delaunay face rule at its own alphas
-                         (0.2675, 0.39); certified when the build has its certificate
-                         (proofs/bcc_delaunay.cert), else measured only (docs/3d.md)
+                         how the stencils' quads are split: delaunay (the default:
+                         each face quad by the empty-circle test, at alphas (0.2675,
+                         0.39), proofs/bcc_delaunay.cert) or parity (Labelle and
+                         Shewchuk's rule at (0.285, 0.3985), proofs/bcc.cert)
   --verify / --no-verify check every certified tetrahedron against the certificate
                          (default: off in 3D)
   -o, --also             .vtu, .msh, .xdmf (+ _facets.xdmf), .inp (C3D4) or .mesh (medit);

@@ -19,12 +19,14 @@
 // Format and semantics: proofs/README.md.
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <boost/multiprecision/cpp_int.hpp>
@@ -773,12 +775,21 @@ Reader read_certificate(const std::string& path) {
         bytes += line.size() + 1;
         if (bytes > (std::size_t(256) << 20) || line.size() > 4096) fail("certificate too large");
         if (line.empty() || line[0] == '#') continue;
-        std::istringstream ss(line);
+        const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < line.size(); ++i) n += !blank(line[i]) && (i == 0 || blank(line[i - 1]));
+        if (n > 40) fail("line too long");
+        if (n == 0) continue;
         std::vector<std::string> tok;
-        for (std::string t; ss >> t;) tok.push_back(t);
-        if (tok.size() > 40) fail("line too long");
-        if (tok.empty()) continue;
-        rd.lines.push_back(tok);
+        tok.reserve(n);
+        for (std::size_t i = 0; i < line.size();) {
+            if (blank(line[i])) { ++i; continue; }
+            std::size_t j = i;
+            while (j < line.size() && !blank(line[j])) ++j;
+            tok.emplace_back(line, i, j - i);
+            i = j;
+        }
+        rd.lines.push_back(std::move(tok));
     }
     if (rd.lines.empty()) fail("empty certificate");
     return rd;

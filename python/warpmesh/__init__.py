@@ -611,11 +611,10 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
                 smallest voxel size, or 1 voxel); required for shapes and
                 functions
     face_rule   "parity" or "delaunay": how the stencils' quads are split, as
-                the CLI's --face-rule (default: the library's, parity); the
-                Delaunay face rule meshes at its own alphas (0.2675, 0.39) and
-                is certified only when the build has proofs/bcc_delaunay.cert
-                (report["certified"] is None and report["uncertified_reason"]
-                says why otherwise)
+                the CLI's --face-rule (default: the library's, delaunay); each
+                rule meshes at its own alphas, delaunay (0.2675, 0.39) and
+                parity (0.285, 0.3985), and is certified by its own
+                certificate (proofs/bcc_delaunay.cert, proofs/bcc.cert)
     verify      check every certified tetrahedron against the certificate
     max_memory_mb  refuse (InputError) inputs whose meshing would take more
                 (default 2048, as the CLI's --max-memory)

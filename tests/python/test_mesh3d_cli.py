@@ -105,15 +105,18 @@ def test_options_without_effect_in_3d_are_refused(tmp_path, args, message):
     assert not os.listdir(tmp_path)
 
 
-def test_face_rule_delaunay_is_measured_not_reported_with_the_parity_certificate(tmp_path):
-    """--face-rule delaunay: the Delaunay face rule at its own alphas; the
-    mesh (read back with meshio) differs from parity's, and the report names
-    the rule and is certified only by proofs/bcc_delaunay.cert, never by
+def test_face_rule_delaunay_is_the_default_and_never_reported_with_the_parity_certificate(tmp_path):
+    """The default face rule is delaunay (--face-rule delaunay gives the same
+    file), at its own alphas; the mesh (read back with meshio) differs from
+    --face-rule parity's, and each report names its rule and is certified by
+    its own certificate: delaunay only by proofs/bcc_delaunay.cert, never by
     proofs/bcc.cert."""
     meshio = require("meshio", "python3-meshio")
     args = ["--shape", "torus:0,0,0,1,0.4", "--spacing", "0.1"]
-    r = mesh3d([*args, "--face-rule", "delaunay", "-o", "d.vtu", "--report", "d.json"], tmp_path)
-    mesh3d([*args, "-o", "p.vtu", "--report", "p.json", "--quiet"], tmp_path)
+    r = mesh3d([*args, "-o", "d.vtu", "--report", "d.json"], tmp_path)
+    mesh3d([*args, "--face-rule", "delaunay", "-o", "e.vtu", "--quiet"], tmp_path)
+    assert (tmp_path / "d.vtu").read_bytes() == (tmp_path / "e.vtu").read_bytes()
+    mesh3d([*args, "--face-rule", "parity", "-o", "p.vtu", "--report", "p.json", "--quiet"], tmp_path)
     d, p = (json.loads((tmp_path / f"{n}.json").read_text()) for n in "dp")
     assert d["face_rule"] == "delaunay" and p["face_rule"] == "parity"
     assert "face rule: delaunay" in r.stdout

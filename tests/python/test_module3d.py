@@ -92,7 +92,8 @@ def test_face_rule_delaunay_gives_the_cli_mesh_and_blocks_merge_into_it(tmp_path
                     "--face-rule", "delaunay", "-o", tmp_path / "cli.vtu", "--quiet"], check=True, timeout=120)
     cli = meshio.read(tmp_path / "cli.vtu")
     assert np.array_equal(cli.points, t.points) and np.array_equal(cli.cells_dict["tetra"], t.tetrahedra)
-    p = warpmesh.mesh3d("torus:0,0,0,1,0.4", spacing=0.1)
+    assert warpmesh.mesh3d("torus:0,0,0,1,0.4", spacing=0.1).report["face_rule"] == "delaunay"  # the default
+    p = warpmesh.mesh3d("torus:0,0,0,1,0.4", spacing=0.1, face_rule="parity")
     assert p.report["face_rule"] == "parity"
     assert not (len(p.points) == len(t.points) and np.array_equal(p.tetrahedra, t.tetrahedra))
     cubes = warpmesh.lattice3d("torus:0,0,0,1,0.4", spacing=0.1)

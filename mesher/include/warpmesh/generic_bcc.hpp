@@ -159,11 +159,15 @@ struct Alphas {
 };
 // Labelle and Shewchuk's pair (0.24999, 0.41189).
 inline constexpr Alphas labelle_shewchuk_alphas{24999, 100000, 41189, 100000};
-// The default pair (0.285, 0.3985), chosen from the certified frontier
+// The parity rule's pair (0.285, 0.3985), chosen from the certified frontier
 // (proofs/README.md, "The certified frontier (3D)"): the largest certified
 // minimum dihedral angle with a certified maximum <= 165 deg; proofs/bcc.cert
 // is proved at it.
-inline constexpr Alphas default_alphas{28500, 100000, 39850, 100000};
+inline constexpr Alphas parity_alphas{28500, 100000, 39850, 100000};
+// The Delaunay face rule's pair (0.2675, 0.39), the best of its sampled table
+// (proofs/README.md, "Towards θmin ≥ 12°" (e)); proofs/bcc_delaunay.cert is
+// proved at it.
+inline constexpr Alphas delaunay_alphas{26750, 100000, 39000, 100000};
 
 // ---------------------------------------------------------------------------
 // The background tetrahedra and the local frame.

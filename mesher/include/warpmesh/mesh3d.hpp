@@ -182,15 +182,12 @@ Lattice3 lattice3_for(const LevelSet3& f, double spacing);
 // quad by the shorter diagonal; proofs/README.md, "The Delaunay face rule"),
 // decided by exact signs of the rule's forms so that the two tetrahedra
 // sharing a face agree.  Each rule has its own alphas, those its certificate
-// is proved at (face_rule_alphas).  The default rule is this one line; the
-// default alphas follow it.
-inline constexpr FaceRule default_face_rule = FaceRule::parity;
-// The Delaunay face rule's pair (0.2675, 0.39): the best of its sampled table
-// (proofs/README.md, "Towards θmin ≥ 12°" (e)), at which
-// proofs/bcc_delaunay.cert is proved.
-inline constexpr bcc::Alphas delaunay_alphas{26750, 100000, 39000, 100000};
+// is proved at (face_rule_alphas).  The default is the Delaunay face rule:
+// its certificate's bounds, [11.78°, 161.25°], are tighter at both ends than
+// the parity rule's [10.76°, 164.75°]; the default alphas follow the rule.
+inline constexpr FaceRule default_face_rule = FaceRule::delaunay;
 constexpr bcc::Alphas face_rule_alphas(FaceRule rule) {
-    return rule == FaceRule::delaunay ? delaunay_alphas : bcc::default_alphas;
+    return rule == FaceRule::delaunay ? bcc::delaunay_alphas : bcc::parity_alphas;
 }
 
 struct Mesh3dOptions {

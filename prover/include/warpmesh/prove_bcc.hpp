@@ -149,7 +149,7 @@ struct Margins {
     Claim cap{1, 1, 1};                                   // no cap on the face angle
 };
 // The cap for the angles (degrees): cos² rounded to 2^-40.  The prover's
-// defaults are those of proofs/bcc.cert (at bcc::default_alphas: the
+// defaults are those of proofs/bcc.cert (at bcc::parity_alphas: the
 // witnesses 10.7685 and 164.7019 deg, moved out as bcc-frontier.sh does).
 Claim cap_claim(double min_deg, double max_deg);
 inline constexpr double default_cap_min_deg = 10.763, default_cap_max_deg = 164.752;

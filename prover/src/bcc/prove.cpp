@@ -67,7 +67,7 @@ int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al, FaceRule
 }  // namespace
 
 int prove_bcc_main(int argc, char** argv) {
-    std::string out = "proofs/bcc.cert", la = "0.285", sa = "0.3985";  // bcc::default_alphas
+    std::string out = "proofs/bcc.cert", la = "0.285", sa = "0.3985";  // bcc::parity_alphas
     double cap_min = default_cap_min_deg, cap_max = default_cap_max_deg;
     std::vector<int> subset;
     bool extremes = false;
