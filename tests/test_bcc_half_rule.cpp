@@ -88,7 +88,7 @@ BOOST_AUTO_TEST_CASE(issue29_default_rule_keeps_the_same_block_certified) {
     const auto th = bcc_certified_theorem();
     BOOST_REQUIRE(th.has_value());
     const Worst w = worst_tetrahedron(stuff_block(bcc::parity_alphas));
-    BOOST_TEST_MESSAGE("default alphas: smallest 6*volume " << w.volume6 << ", dihedral " << w.min_deg << " .. " << w.max_deg);
+    BOOST_TEST_MESSAGE("parity alphas: smallest 6*volume " << w.volume6 << ", dihedral " << w.min_deg << " .. " << w.max_deg);
     BOOST_TEST(w.volume6 > 0.0);
     BOOST_TEST(w.min_deg >= th->min_deg - 1e-9);
     BOOST_TEST(w.max_deg <= th->max_deg + 1e-9);
