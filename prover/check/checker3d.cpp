@@ -163,7 +163,18 @@ struct I {
 I point(const Z& z) { return I{z, z}; }
 I operator+(const I& a, const I& b) { return {a.lo + b.lo, a.hi + b.hi}; }
 I operator-(const I& a, const I& b) { return {a.lo - b.hi, a.hi - b.lo}; }
+// The product's range: where neither factor's interval contains numbers of
+// both signs its ends are two of the four end products (both >= 0: lo·lo and
+// hi·hi; both <= 0: hi·hi and lo·lo; a >= 0 >= b: hi·lo and lo·hi; a <= 0 <=
+// b: lo·hi and hi·lo), and a point times a point is one product; otherwise the
+// smallest and largest of all four.
 I operator*(const I& a, const I& b) {
+    const bool a_pos = sgn(a.lo) >= 0, a_neg = sgn(a.hi) <= 0, b_pos = sgn(b.lo) >= 0, b_neg = sgn(b.hi) <= 0;
+    if (cmp(a.lo, a.hi) == 0 && cmp(b.lo, b.hi) == 0) return point(a.lo * b.lo);
+    if (a_pos && b_pos) return {a.lo * b.lo, a.hi * b.hi};
+    if (a_neg && b_neg) return {a.hi * b.hi, a.lo * b.lo};
+    if (a_pos && b_neg) return {a.hi * b.lo, a.lo * b.hi};
+    if (a_neg && b_pos) return {a.lo * b.hi, a.hi * b.lo};
     const Z p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
     I r{p[0], p[0]};
     for (const Z& x : p) {

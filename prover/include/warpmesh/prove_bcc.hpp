@@ -96,7 +96,14 @@ struct KeyProof {
 // max_leaves verified leaves.  With the Delaunay rule every claim is proved,
 // box by box, for every stencil the rule admits on the box
 // (admissible_stencils).
-KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = 40, long max_leaves = 1L << 40,
+// A box still failing at depth max_depth (splits from the root) fails the
+// key.  48 is 12 halvings per side with 4 parameters: under the Delaunay
+// rule the n- = 2, n+ = 2 prism's box corner where its face quads' and
+// inside quad's ties meet (all cut fractions at α; up to six stencils
+// admitted there) needs more than 40 to prove a minimum within 0.01° of its
+// witness (tests/test_bcc_prover.cpp, prism_corner_needs_depth_48).
+inline constexpr int default_max_depth = 48;
+KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = default_max_depth, long max_leaves = 1L << 40,
                    FaceRule rule = FaceRule::parity);
 // The stencils the Delaunay face rule admits on box b of key k's parameters
 // ps: each quad face's face_form and (n- = 2, n+ = 2) the inside_form,
@@ -144,7 +151,7 @@ double claim_cos2(double cos, double margin_deg);
 // claims the cap (so the theorem is the caps, and those keys stay tight).
 struct Margins {
     double min_deg = 0.004, max_deg = 0.04, face_deg = 0.004;
-    long budget = 1000, max_budget = 16000;
+    long budget = 1000, max_budget = 64000;
     double tight_min_deg = 0.009, tight_max_deg = 0.09;  // a cap this close to the witness is claimed
     Claim cap{1, 1, 1};                                   // no cap on the face angle
 };
@@ -153,7 +160,7 @@ struct Margins {
 // witnesses 10.7685 and 164.7019 deg, moved out as bcc-frontier.sh does).
 Claim cap_claim(double min_deg, double max_deg);
 inline constexpr double default_cap_min_deg = 10.763, default_cap_max_deg = 164.752;
-KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = 40,
+KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = default_max_depth,
                          FaceRule rule = FaceRule::parity);
 // The key's line of the certificate (proofs/README.md, "The BCC certificate").
 std::string certificate_line(const Key& k, const KeyProof& p);

@@ -115,7 +115,7 @@ int prove_bcc_main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 4)
     for (long i = 0; i < static_cast<long>(keys.size()); ++i)
-        proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg, 40, rule);
+        proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg, default_max_depth, rule);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     long leaves = 0;
     int failed = 0;

@@ -106,28 +106,55 @@ void pattern_search(const F& obj, const std::vector<Param>& ps, std::array<doubl
         }
 }
 
-// A face quad's tie as a function of the other parameters: face_form =
-// L_b (1 − u_b) − L_a (1 − u_a) (u_x the cut fraction on xr from x, L_x =
-// |xr|²) vanishes where u_b = 1 − (L_a / L_b)(1 − u_a).  ia, ib: the
-// parameters of the edges ar, br; from_a, from_b: whether they count from
-// a (b).
-struct FaceTie {
+// A tie of the Delaunay rule as a function of the other parameters: `onto`
+// moves parameter ib of x onto it (false if that leaves its box).
+//   A face quad's: face_form = L_b (1 − u_b) − L_a (1 − u_a) (u_x the cut
+//   fraction on xr from x, L_x = |xr|²) vanishes where
+//   u_b = 1 − (L_a / L_b)(1 − u_a); ia, ib the parameters of the edges ar,
+//   br, from_a, from_b whether they count from a (b).
+//   The prism's inside quad's (n− = 2, n+ = 2): inside_form, quadratic in
+//   each cut fraction, vanishes on it; ib is solved for by bisection on the
+//   part of its box on either side of x[ib] whose ends the form's sign
+//   separates (the root nearer x first).
+struct Tie {
     std::size_t ia = 0, ib = 0;
     bool from_a = true, from_b = true;
     double la = 0, lb = 0;
-    // x with parameter ib moved onto the tie; false if that leaves its box.
+    std::array<int, 4> prism{-1, -1, -1, -1};  // a, b, r0, r1: the inside quad's tie
     bool onto(const std::vector<Param>& ps, std::array<double, 4>& x) const {
-        const double ua = from_a ? x[ia] : 1 - x[ia];
-        const double ub = 1 - la / lb * (1 - ua);
-        x[ib] = from_b ? ub : 1 - ub;
-        return x[ib] >= ps[ib].lo && x[ib] <= ps[ib].hi;
+        if (prism[0] < 0) {
+            const double ua = from_a ? x[ia] : 1 - x[ia];
+            const double ub = 1 - la / lb * (1 - ua);
+            x[ib] = from_b ? ub : 1 - ub;
+            return x[ib] >= ps[ib].lo && x[ib] <= ps[ib].hi;
+        }
+        const auto g = [&](double s) {
+            std::array<double, 4> y = x, t{};
+            std::array<double, 6> u{};
+            y[ib] = s;
+            split_params(ps, y.data(), t, u);
+            return bcc::inside_form(prism[0], prism[1], prism[2], prism[3], u);
+        };
+        const double mid = x[ib];
+        for (auto [lo, hi] : {std::pair{ps[ib].lo, mid}, std::pair{mid, ps[ib].hi}}) {
+            const bool neg_lo = g(lo) < 0;
+            if (neg_lo == (g(hi) < 0)) continue;
+            for (int it = 0; it < 80 && lo < hi; ++it) {
+                const double m = 0.5 * (lo + hi);
+                if (m <= lo || m >= hi) break;
+                ((g(m) < 0) == neg_lo ? lo : hi) = m;
+            }
+            x[ib] = 0.5 * (lo + hi);
+            return true;
+        }
+        return false;
     }
 };
-std::vector<FaceTie> face_ties(const Key& k, const std::vector<Param>& ps) {
-    std::vector<FaceTie> out;
+std::vector<Tie> delaunay_ties(const Key& k, const std::vector<Param>& ps) {
+    std::vector<Tie> out;
     for (int f = 0, a, b, r; f < 4; ++f) {
         if (!quad_face(k, f, a, b, r)) continue;
-        FaceTie t;
+        Tie t;
         for (std::size_t i = 0; i < ps.size(); ++i)
             for (const int x : {a, b}) {
                 const int e = bcc::edge_index(x, r);
@@ -138,14 +165,27 @@ std::vector<FaceTie> face_ties(const Key& k, const std::vector<Param>& ps) {
             }
         out.push_back(t);
     }
+    std::array<int, 2> neg{-1, -1}, pos{-1, -1};
+    int nn = 0, np = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (k.sign[static_cast<std::size_t>(i)] < 0 && nn < 2) neg[static_cast<std::size_t>(nn)] = i;
+        if (k.sign[static_cast<std::size_t>(i)] > 0 && np < 2) pos[static_cast<std::size_t>(np)] = i;
+        nn += k.sign[static_cast<std::size_t>(i)] < 0, np += k.sign[static_cast<std::size_t>(i)] > 0;
+    }
+    if (nn == 2 && np == 2)  // the prism's inside quad: solved for each of its four cut fractions in turn
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            Tie t;
+            t.ib = i, t.prism = {neg[0], neg[1], pos[0], pos[1]};
+            out.push_back(t);
+        }
     return out;
 }
 
-// Delaunay: the extreme may lie on a face quad's tie, where the rule's
-// stencil changes — approached from the side whose stencil is worse, while
+// Delaunay: the extreme may lie on a tie (a face quad's or the prism's
+// inside quad's, delaunay_ties), where the rule's stencil changes — approached from the side whose stencil is worse, while
 // the tie itself may take the other (parity's) diagonal — and a
 // coordinate-wise search stops at a tie instead of following it.  So, per
-// face quad, the search is repeated on its tie (one parameter solved for),
+// tie, the search is repeated on its tie (one parameter solved for),
 // with the extreme over both of its diagonals there (the stencils admitted
 // on a box of half-width 2^-30 around the point): from the three best of
 // the starts and w, moved onto the tie; the point found is then moved off the
@@ -155,7 +195,7 @@ std::vector<FaceTie> face_ties(const Key& k, const std::vector<Param>& ps) {
 Witness follow_ties(const Key& k, const std::vector<Param>& ps, int sign, std::vector<std::array<double, 4>> starts, Witness w,
                     double fb) {
     starts.push_back(w.x);
-    for (const FaceTie& tie : face_ties(k, ps)) {
+    for (const Tie& tie : delaunay_ties(k, ps)) {
         const auto on_tie = [&](std::array<double, 4> y) {
             if (!tie.onto(ps, y)) return -3.0;
             Box b;
@@ -252,20 +292,32 @@ double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
 // Delaunay: the failed box may straddle a tie, where the rule's stencil
 // changes and the extreme lies on the tie (a face quad's or the inside
 // quad's forms vanish there), which a coordinate-wise pattern search does not
-// follow; the box's corners (on the grid) are probed too, and the most
-// extreme of these points is taken (a corner on the side where the stencil
-// that failed is chosen).
+// follow; the box's corners (on the grid) are probed too, and each of these
+// points moved by one grid step (2^-24) along every parameter, either way or
+// not at all: a box outside the parameters' exact ranges (the root box is
+// their dyadic enclosure) snaps onto a range's end, which may lie on the tie
+// itself, where the rule takes the parity diagonal and the worse stencil is
+// one step away.  The most extreme of these points is taken.
 std::array<double, 4> fail_probe(const Key& k, const std::vector<Param>& ps, const KeyProof& p, int sign, FaceRule rule) {
     std::array<double, 4> x{};
     for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
     if (rule == FaceRule::parity) return x;
-    double best = extreme_cos(k, ps, x, sign, rule);
+    std::vector<std::array<double, 4>> points{x};
     for (unsigned c = 0; c < 1u << ps.size(); ++c) {
         std::array<double, 4> y{};
         for (std::size_t i = 0; i < ps.size(); ++i) y[i] = snap((c >> i & 1u) ? p.fail_box.hi[i] : p.fail_box.lo[i], ps[i]);
-        const double f = extreme_cos(k, ps, y, sign, rule);
-        if (f > best) best = f, x = y;
+        points.push_back(y);
     }
+    double best = extreme_cos(k, ps, x, sign, rule);
+    unsigned steps = 1;
+    for (std::size_t i = 0; i < ps.size(); ++i) steps *= 3;
+    for (const auto& y0 : points)
+        for (unsigned d = 0; d < steps; ++d) {
+            std::array<double, 4> y = y0;
+            for (unsigned i = 0, e = d; i < ps.size(); ++i, e /= 3) y[i] = snap(y[i] + (static_cast<double>(e % 3) - 1) * 0x1p-24, ps[i]);
+            const double f = extreme_cos(k, ps, y, sign, rule);
+            if (f > best) best = f, x = y;
+        }
     return x;
 }
 
