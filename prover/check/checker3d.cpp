@@ -59,6 +59,7 @@
 #include <vector>
 
 #include <gmp.h>
+#include <unistd.h>
 
 static_assert(GMP_NAIL_BITS == 0 && GMP_NUMB_BITS == 64, "64-bit GMP limbs");
 
@@ -1222,7 +1223,9 @@ int check_counterexample(const std::vector<std::string>& body) {
 
 // Parses the header, every key line and witness (cheap), then verifies the
 // leaves; prints the theorem.
+// progress: a line per 50 keys on stderr, rewritten in place on a terminal.
 int check(std::istream& in, bool progress) {
+    const bool terminal = ::isatty(STDERR_FILENO) == 1;
     std::string line, word;
     std::vector<std::string> body;
     while (std::getline(in, line))
@@ -1282,15 +1285,20 @@ int check(std::istream& in, bool progress) {
     long leaves = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
         leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, entries[i].claim, delaunay);
-        if (progress && (i + 1) % 50 == 0) std::cerr << "checked " << i + 1 << " keys, " << leaves << " leaves\n";
+        if (progress && ((i + 1) % 50 == 0 || i + 1 == entries.size()))
+            std::cerr << (terminal ? "\r" : "") << "checked " << i + 1 << " of " << entries.size() << " keys, " << leaves
+                      << " leaves" << (terminal ? "\033[K" : "\n") << std::flush;
     }
+    if (progress && terminal) std::cerr << "\r\033[K";  // the line erased: the theorem follows on stdout
     print_theorem(al + ", " + as + (delaunay ? ", Delaunay face rule" : ""), text, claim, entries, wit, ext, leaves);
     return 0;
 }
 
 int main(int argc, char** argv) {
-    const bool progress = argc == 3 && std::string(argv[1]) == "--progress";
-    if (argc != 2 && !progress) {
+    // Progress is shown on a terminal, or anywhere with --progress.
+    const bool flag = argc == 3 && std::string(argv[1]) == "--progress";
+    const bool progress = flag || ::isatty(STDERR_FILENO) == 1;
+    if (argc != 2 && !flag) {
         std::cerr << "usage: warpmesh-check-bcc [--progress] CERTIFICATE\n"
                      "exit status: 0 the angle bound holds, 3 a counter-example holds (NO BOUND),\n"
                      "1 rejected or unreadable, 2 usage\n";

@@ -16,6 +16,7 @@
 #include <boost/multiprecision/cpp_int.hpp>
 
 #include "warpmesh/certified.hpp"
+#include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh {
@@ -405,8 +406,10 @@ double margin(const Q& c, double gap, LatticeMetric metric) {
 // witness of it instead, if there is one.
 void sample_keys(Proof& p) {
     const int n = p.n();
+    KeyProgress progress(std::string("warpmesh prove: ") + rule_name(p.rule) + (p.junctions ? " (junctions)" : "") + ": sampling", n);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
+        progress.tick();
         if (!p.computed(i)) continue;
         const Key& k = p.key(i);
         Info& f = p.at(i);
@@ -567,10 +570,14 @@ void prove_keys(Proof& p) {
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
     const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
     const int n = p.n();
+    KeyProgress progress(std::string("warpmesh prove: ") + rule_name(p.rule) + (p.junctions ? " (junctions)" : "") + ": proving", n);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
         Info& f = p.at(i);
-        if (f.invalid || !p.computed(i)) continue;
+        if (f.invalid || !p.computed(i)) {
+            progress.tick();
+            continue;
+        }
         const auto k0 = std::chrono::steady_clock::now();
         const Key& key = p.key(i);
         const int attempts = first_pass(p.rule, key, f, leaf_budget, p.cat[f.flat ? 1 : 0].qmin);
@@ -580,6 +587,7 @@ void prove_keys(Proof& p) {
             std::fprintf(stderr, "key %d %s: %.2f s, %d attempts, %zu leaves, ok %d, targets %.12g %.12g (witnesses %.12g %.12g)\n",
                          p.ids[static_cast<std::size_t>(i)], code_of(key).c_str(), dt, attempts, f.proof.leaves.size(),
                          f.proof.ok, f.qmin, f.qmax, f.wmin.qmin.convert_to<double>(), f.wmax.qmax.convert_to<double>());
+        progress.tick();
     }
     p.copy_classes();
     // The category witnesses, after any witness moved.

@@ -13,6 +13,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 namespace warpmesh::bcc_prover {
@@ -44,11 +45,15 @@ std::string dyadic40(double x) {
 // only names the angles).
 int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al, FaceRule rule) {
     std::vector<Witness> lo(keys.size()), hi(keys.size());
+    {
+        prover::KeyProgress progress("warpmesh-prove-bcc: searching", static_cast<long>(keys.size()));
 #pragma omp parallel for schedule(dynamic, 4)
-    for (long i = 0; i < static_cast<long>(keys.size()); ++i) {
-        const auto ps = key_params(keys[static_cast<std::size_t>(i)], al);
-        lo[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, 1, nullptr, rule);
-        hi[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, -1, nullptr, rule);
+        for (long i = 0; i < static_cast<long>(keys.size()); ++i) {
+            const auto ps = key_params(keys[static_cast<std::size_t>(i)], al);
+            lo[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, 1, nullptr, rule);
+            hi[static_cast<std::size_t>(i)] = search_witness(keys[static_cast<std::size_t>(i)], ps, -1, nullptr, rule);
+            progress.tick();
+        }
     }
     std::size_t a = 0, b = 0, c = 0;  // the most extreme witnesses (largest cos, smallest cos); c: largest max cos
     int acute = 0;                     // keys whose largest angle found is acute
@@ -113,9 +118,14 @@ int prove_bcc_main(int argc, char** argv) {
     if (extremes) return print_extremes(keys, al, rule);
     std::vector<KeyProof> proofs(keys.size());
     const auto t0 = std::chrono::steady_clock::now();
+    {
+        prover::KeyProgress progress("warpmesh-prove-bcc: proving", static_cast<long>(keys.size()));
 #pragma omp parallel for schedule(dynamic, 4)
-    for (long i = 0; i < static_cast<long>(keys.size()); ++i)
-        proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg, default_max_depth, rule);
+        for (long i = 0; i < static_cast<long>(keys.size()); ++i) {
+            proofs[static_cast<std::size_t>(i)] = prove_key_tight(keys[static_cast<std::size_t>(i)], al, mg, default_max_depth, rule);
+            progress.tick();
+        }
+    }
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     long leaves = 0;
     int failed = 0;
