@@ -86,6 +86,14 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   [ "$half_status" -eq 3 ] || { echo "test: warpmesh-check-bcc proofs/bcc_half.cert exited $half_status, not 3 (verified counter-example)" >&2; status=1; }
   cat "$fresh"/*.check "$fresh"/*.check3d
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
+  # Every key of both 3D certificates is tight (proofs/README.md): the
+  # checker's counts read "N of N".
+  for c in bcc bcc_delaunay; do
+    if grep -E '^  key (min|max|face) claims: ' "$fresh/$c.cert.check3d" | grep -vE ': ([0-9]+) of \1 within' >&2; then
+      echo "test: proofs/$c.cert has keys whose claims are not tight (above)" >&2
+      exit 1
+    fi
+  done
   stage "the tables of certified bounds (README.md, docs/guarantees.md) are the checker's"
   cat "$fresh"/*.check "$fresh"/*.check3d | "$root/scripts/bounds-table.sh" >"$fresh/table.md"
   for page in README.md docs/guarantees.md; do

@@ -954,7 +954,18 @@ bool tight(const Z& cm, const Cos2& w, std::int64_t den, bool obtuse) {
     const Z X = cm * w.q - w.p * pow2(40);
     const Z lhs = X * X * zint(den) * zint(den);
     const Z k4 = zint(4) * zint(314159) * zint(314159);
-    return cmp(lhs, k4 * pow2(80) * w.p * (w.q - w.p)) <= 0 && cmp(lhs, k4 * cm * (pow2(40) - cm) * w.q * w.q) <= 0;
+    if (cmp(lhs, k4 * pow2(80) * w.p * (w.q - w.p)) <= 0 && cmp(lhs, k4 * cm * (pow2(40) - cm) * w.q * w.q) <= 0) return true;
+    // Near 90° |sin 2θ| vanishes and the bound above fails; there use
+    // |θ − 90°| = arcsin y (y = √x, x = cos² θ), whose slope 1/√(1 − y²) =
+    // 1/√(1 − x) is at most 1/√(1 − C) for x in [c, C]: the gap is at most
+    // (√C − √c)/√(1 − C),
+    // within δ if √C − √c <= δ √(1 − C), i.e. with L = C + c − δ²(1 − C):
+    // L <= 0 or L² <= 4 c C.  Scaled by 2^40 q den²: L' = cm q den² +
+    // p 2^40 den² − 314159² (2^40 − cm) q, and L'² <= 4 p cm 2^40 q den⁴.
+    if (w.q.n > 4) return false;  // q < 2^256 keeps L'² (< 2^720) within the 768 bits
+    const Z d2 = zint(den) * zint(den);
+    const Z L = cm * w.q * d2 + w.p * pow2(40) * d2 - zint(314159) * zint(314159) * (pow2(40) - cm) * w.q;
+    return sgn(L) <= 0 || cmp(L * L, zint(4) * w.p * cm * pow2(40) * w.q * d2 * d2) <= 0;
 }
 
 // All canonical keys with output: the smallest image of every consistent
