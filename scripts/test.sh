@@ -1,11 +1,9 @@
 #!/usr/bin/env bash
-# Fresh machine → every test and the proof re-checked.  Installs, builds,
-# starts the independent checkers on the committed certificates in the
-# background, runs the CTest suites, reruns the prover and compares with the
-# committed certificates, builds the ASan + UBSan tree (one clang build that
-# also holds the five libFuzzer targets, scripts/sanitize.sh), reads the
-# checkers' results, runs the whole suite again under the sanitizers, and
-# runs the fuzzers for
+# Fresh machine → every test and the proof re-checked.  Installs, builds, runs
+# the CTest suites, reruns the prover and compares with the committed
+# certificates, runs the independent checker on them, then the whole suite
+# again under ASan + UBSan in one clang build that also holds the five
+# libFuzzer targets (scripts/sanitize.sh), and runs those for
 # WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a time;
 # scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed;
 # docs/performance.md, "The test suite", gives a measured run.
@@ -18,40 +16,18 @@ stage() { echo "== [$SECONDS s] $*"; }
 stage "build (Release)"
 "$root/scripts/build.sh"
 
-checkers=0
-[ -x "$build/prover/warpmesh-check" ] && checkers=1
-fresh="$(mktemp -d)"
-pids=()
-trap 'kill "${pids[@]}" 2>/dev/null || true; rm -rf "$fresh"' EXIT
-# The independent checkers read only the committed certificates and the
-# Release binaries: they start now, one process per certificate, and run
-# beside the unit tests, the proof rerun and the sanitizer build, filling
-# the cores those leave idle (the Delaunay check alone is ~150 s of one
-# core); their results are read after the sanitizer build.
-if [ "$checkers" -eq 1 ]; then
-  stage "independent checkers on the committed certificates started (one process per certificate; results below)"
-  certs2d=("$root"/proofs/{maxmin,separating,materials,fan,materials_fan,rhombic_maxmin,rhombic_separating}.cert)
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_delaunay.cert" >"$fresh/bcc_delaunay.cert.check3d" 2>&1 &
-  pids+=($!)
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc.cert" >"$fresh/bcc.cert.check3d" 2>&1 &
-  pids+=($!)
-  for cert in "${certs2d[@]}"; do
-    "$build/prover/warpmesh-check" "$cert" >"$fresh/$(basename "$cert").check" 2>&1 &
-    pids+=($!)
-  done
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_half.cert" >"$fresh/bcc_half.cert.check3d" 2>&1 &
-  half=$!
-fi
-
 stage "unit and property tests"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 
-if [ "$checkers" -eq 1 ]; then
+if [ -x "$build/prover/warpmesh-check" ]; then
   stage "rerun the proof and compare with proofs/"
+  fresh="$(mktemp -d)"
+  trap 'rm -rf "$fresh"' EXIT
   "$build/mesher/warpmesh" prove --out "$fresh" --threads "$(nproc)"
   "$build/mesher/warpmesh" prove --lattice rhombic --out "$fresh" --threads "$(nproc)"
   status=0
   # The 2D certificates (the 3D proofs/bcc.cert: below, on a sample of keys).
+  certs2d=("$root"/proofs/{maxmin,separating,materials,fan,materials_fan,rhombic_maxmin,rhombic_separating}.cert)
   for cert in "${certs2d[@]}" "$root"/proofs/key_table.txt; do
     if ! cmp -s "$cert" "$fresh/$(basename "$cert")"; then
       echo "test: $(basename "$cert") differs from the prover's fresh output" >&2
@@ -89,19 +65,21 @@ if [ "$checkers" -eq 1 ]; then
     echo "test: bcc_half.cert differs from bcc_explore counterexample 0.5 0.5" >&2
     exit 1
   fi
-  [ "$status" -eq 0 ] || exit 1
-fi
-
-stage "the AddressSanitizer + UndefinedBehaviorSanitizer build"
-"$root/scripts/sanitize.sh" build
-
-if [ "$checkers" -eq 1 ]; then
-  stage "the independent checkers' results"
-  status=0
+  stage "independent checkers on the committed certificates (one process per certificate)"
+  pids=()
+  for cert in "${certs2d[@]}"; do
+    "$build/prover/warpmesh-check" "$cert" >"$fresh/$(basename "$cert").check" 2>&1 &
+    pids+=($!)
+  done
+  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc.cert" >"$fresh/bcc.cert.check3d" 2>&1 &
+  pids+=($!)
+  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_delaunay.cert" >"$fresh/bcc_delaunay.cert.check3d" 2>&1 &
+  pids+=($!)
+  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_half.cert" >"$fresh/bcc_half.cert.check3d" 2>&1 &
+  half=$!
   for i in "${!pids[@]}"; do
     wait "${pids[$i]}" || status=1
   done
-  pids=()
   # The counter-example holds: exit 3 (verified, NO BOUND), never 0.
   half_status=0
   wait "$half" || half_status=$?
@@ -130,7 +108,7 @@ if [ "$checkers" -eq 1 ]; then
 fi
 
 stage "the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
-"$root/scripts/sanitize.sh"  # its build is up to date: the tests
+"$root/scripts/sanitize.sh"
 
 stage "fuzzing"
 "$root/scripts/fuzz.sh" "${WARPMESH_FUZZ_SECONDS:-60}"
