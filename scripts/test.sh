@@ -4,7 +4,7 @@
 # certificates, runs the independent checker on them, then the whole suite
 # again under ASan + UBSan in one clang build that also holds the five
 # libFuzzer targets (scripts/sanitize.sh), and runs those for
-# WARPMESH_FUZZ_SECONDS of wall time in all (default 60, two at a time;
+# WARPMESH_FUZZ_SECONDS of wall time in all (default 30, two at a time;
 # scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed;
 # docs/performance.md, "The test suite", gives a measured run.
 set -euo pipefail
@@ -111,5 +111,5 @@ stage "the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 "$root/scripts/sanitize.sh"
 
 stage "fuzzing"
-"$root/scripts/fuzz.sh" "${WARPMESH_FUZZ_SECONDS:-60}"
+"$root/scripts/fuzz.sh" "${WARPMESH_FUZZ_SECONDS:-30}"
 echo "test: all passed in $SECONDS s"
