@@ -13,6 +13,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/key_list.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh {
@@ -71,17 +72,24 @@ int prove_main(int argc, char** argv) {
             metric = l == "rhombic" ? LatticeMetric::rhombic : LatticeMetric::square;
         } else if (a == "--keys" && i + 1 < argc) {  // indices into prover::consistent_keys()
             use_subset = sign_subset = true;
-            std::stringstream ss(argv[++i]);
-            std::string tok;
-            while (std::getline(ss, tok, ',')) subset.push_back(std::atoi(tok.c_str()));
+            const long n = static_cast<long>(prover::consistent_keys().size());
+            std::string bad;
+            if (!prover::parse_key_list(argv[++i], n, subset, bad)) {
+                std::fprintf(stderr, "warpmesh prove: --keys expects key indices 0..%ld separated by commas (bad: '%s')\n", n - 1, bad.c_str());
+                return 2;
+            }
         } else if (a == "--junction-keys" && i + 1 < argc) {  // indices into prover::junction_keys(), or "all"
             use_subset = junction_subset = true;
-            std::stringstream ss(argv[++i]);
-            std::string tok;
-            while (std::getline(ss, tok, ','))
-                if (tok == "all")
-                    for (int k = 0; k < static_cast<int>(prover::junction_keys().size()); ++k) jsubset.push_back(k);
-                else jsubset.push_back(std::atoi(tok.c_str()));
+            const long n = static_cast<long>(prover::junction_keys().size());
+            std::string bad;
+            if (std::string(argv[i + 1]) == "all") {
+                for (int k = 0; k < n; ++k) jsubset.push_back(k);
+                ++i;
+            } else if (!prover::parse_key_list(argv[++i], n, jsubset, bad)) {
+                std::fprintf(stderr, "warpmesh prove: --junction-keys expects all or key indices 0..%ld separated by commas (bad: '%s')\n", n - 1,
+                             bad.c_str());
+                return 2;
+            }
         } else {
             std::fprintf(stderr, "usage: warpmesh prove [--out DIR] [--threads N] [--lattice square|rhombic] [--rule R] [--keys I,J,...] [--junction-keys I,J,...]\n");
             return 2;

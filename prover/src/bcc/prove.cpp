@@ -13,6 +13,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/key_list.hpp"
 #include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
@@ -94,8 +95,12 @@ int prove_bcc_main(int argc, char** argv) {
             ++i;
 #endif
         } else if (a == "--keys" && more) {
-            std::stringstream ss(argv[++i]);
-            for (std::string tok; std::getline(ss, tok, ',');) subset.push_back(std::atoi(tok.c_str()));
+            std::string bad;
+            if (!prover::parse_key_list(argv[++i], static_cast<long>(enumerate_keys().size()), subset, bad)) {
+                std::fprintf(stderr, "warpmesh-prove-bcc: --keys expects key indices 0..%zu separated by commas (bad: '%s')\n",
+                             enumerate_keys().size() - 1, bad.c_str());
+                return 2;
+            }
         } else {
             std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes] [--face-rule parity|delaunay]\n");
             return 2;
@@ -113,8 +118,7 @@ int prove_bcc_main(int argc, char** argv) {
     std::vector<Key> keys;
     if (subset.empty()) keys = all;
     else
-        for (int k : subset)
-            if (k >= 0 && k < static_cast<int>(all.size())) keys.push_back(all[static_cast<std::size_t>(k)]);
+        for (int k : subset) keys.push_back(all[static_cast<std::size_t>(k)]);  // in range: parse_key_list
     if (extremes) return print_extremes(keys, al, rule);
     std::vector<KeyProof> proofs(keys.size());
     const auto t0 = std::chrono::steady_clock::now();
