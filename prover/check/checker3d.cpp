@@ -1234,13 +1234,39 @@ int check_counterexample(const std::vector<std::string>& body) {
 
 // Parses the header, every key line and witness (cheap), then verifies the
 // leaves; prints the theorem.
+// The certificate's lines, '#' comments and blank lines dropped.  Hostile
+// input is bounded: at most 256 MB are read (proofs/ holds 1.2 MB), counted
+// byte by byte so that a stream without newlines is never held whole, a line
+// has at most 16 MB (the longest key line there has 37 kB), and at most
+// 1000010 lines are kept (a certificate has its key count, at most 1000000,
+// and 5 more).
+std::vector<std::string> read_body(std::istream& in) {
+    constexpr std::size_t max_bytes = std::size_t{256} << 20, max_line = std::size_t{16} << 20, max_lines = 1000010;
+    std::vector<std::string> body;
+    std::string line;
+    std::size_t bytes = 0;
+    std::streambuf* sb = in.rdbuf();
+    for (;;) {
+        const int c = sb->sbumpc();
+        const bool end = c == std::char_traits<char>::eof();
+        if (!end && ++bytes > max_bytes) fail("larger than 256 MB: not a certificate");
+        if (!end && c != '\n') {
+            if (line.size() == max_line) fail("a line longer than 16 MB: not a certificate");
+            line.push_back(static_cast<char>(c));
+            continue;
+        }
+        if (!line.empty() && line[0] != '#') body.push_back(std::move(line));
+        if (body.size() > max_lines) fail("more than 1000010 lines: not a certificate");
+        line.clear();
+        if (end) return body;
+    }
+}
+
 // progress: a line per 50 keys on stderr, rewritten in place on a terminal.
 int check(std::istream& in, bool progress) {
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
-    std::string line, word;
-    std::vector<std::string> body;
-    while (std::getline(in, line))
-        if (!line.empty() && line[0] != '#') body.push_back(line);
+    std::string word;
+    const std::vector<std::string> body = read_body(in);
     if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
     const bool delaunay = !body.empty() && body[0] == "warpmesh-bcc-certificate 5";
     if (body.size() < 4 || (body[0] != "warpmesh-bcc-certificate 4" && !delaunay))
