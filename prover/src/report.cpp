@@ -401,12 +401,17 @@ double margin(const Q& c, double gap, LatticeMetric metric) {
     return round_down(gap * (3.14159265358979 / 180) * (1 + x * x) * s, 40);
 }
 
+// The progress line's name for a pass over p's keys (key_progress.hpp).
+std::string progress_name(const Proof& p, const char* pass) {
+    return std::string("warpmesh prove: ") + rule_name(p.rule) + (p.junctions ? " (junctions)" : "") + ": " + pass;
+}
+
 // Pass 1 (not part of the proof): each key's sampled extremes and their exact
 // witnesses; a key on which sampling meets an inverted triangle gets an exact
 // witness of it instead, if there is one.
 void sample_keys(Proof& p) {
     const int n = p.n();
-    KeyProgress progress(std::string("warpmesh prove: ") + rule_name(p.rule) + (p.junctions ? " (junctions)" : "") + ": sampling", n);
+    KeyProgress progress(progress_name(p, "sampling"), n);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
         progress.tick();
@@ -570,7 +575,7 @@ void prove_keys(Proof& p) {
     const bool verbose = std::getenv("WARPMESH_PROVE_VERBOSE") != nullptr;
     const std::size_t leaf_budget = std::getenv("WARPMESH_LEAF_BUDGET") ? std::atol(std::getenv("WARPMESH_LEAF_BUDGET")) : 3000;
     const int n = p.n();
-    KeyProgress progress(std::string("warpmesh prove: ") + rule_name(p.rule) + (p.junctions ? " (junctions)" : "") + ": proving", n);
+    KeyProgress progress(progress_name(p, "proving"), n);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
         Info& f = p.at(i);

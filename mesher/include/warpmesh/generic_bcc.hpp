@@ -355,6 +355,21 @@ constexpr bool quad_face(const std::array<int, 4>& sign, int f, int& a, int& b, 
     return b >= 0 && r >= 0;
 }
 
+// The n- = 2, n+ = 2 prism's inside quad: its - vertices a < b and its +
+// vertices r0 < r1 (false, and -1s, for every other sign pattern).
+constexpr bool inside_quad(const std::array<int, 4>& sign, int& a, int& b, int& r0, int& r1) {
+    a = b = r0 = r1 = -1;
+    int nn = 0, np = 0;
+    for (int i = 0; i < 4; ++i) {
+        const int v = sign[static_cast<std::size_t>(i)];
+        if (v < 0 && nn++ < 2) (a < 0 ? a : b) = i;
+        if (v > 0 && np++ < 2) (r0 < 0 ? r0 : r1) = i;
+    }
+    if (nn == 2 && np == 2) return true;
+    a = b = r0 = r1 = -1;
+    return false;
+}
+
 // Whether `d` turns the three face quads of an n- = 3, n+ = 1 prism the same
 // way (a cycle, which no stencil cuts; never under either rule with exact
 // signs, but a union over admissible signs can name one).
@@ -373,17 +388,12 @@ constexpr bool is_cyclic(const std::array<int, 4>& sign, const Diagonals& d) {
 // The parity rule's choices (see above).
 constexpr Diagonals parity_diagonals(const std::array<int, 4>& sign, int parity) {
     Diagonals d;
-    std::array<int, 4> neg{}, pos{};
-    int nn = 0, np = 0;
-    for (int i = 0; i < 4; ++i) {
-        if (sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
-        if (sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
-    }
     for (int f = 0; f < 4; ++f) {  // the faces with two - vertices and one + vertex
         int a = -1, b = -1, r = -1;
         if (quad_face(sign, f, a, b, r) && face_takes_a(a, b, r, parity)) d.face |= 1u << f;
     }
-    if (nn == 2 && np == 2) d.inside = !face_takes_a(neg[0], neg[1], pos[0], parity);
+    int a = -1, b = -1, r0 = -1, r1 = -1;
+    if (inside_quad(sign, a, b, r0, r1)) d.inside = !face_takes_a(a, b, r0, parity);
     return d;
 }
 
@@ -466,17 +476,12 @@ Diagonals delaunay_diagonals(const std::array<int, 4>& sign, int parity, const s
     const T zero = ScalarOps<T>::from_int(0);
     const auto sgn = [&](const T& x) { return x < zero ? -1 : zero < x ? 1 : 0; };
     std::array<int, 4> fs{};
-    std::array<int, 4> neg{}, pos{};
-    int nn = 0, np = 0;
-    for (int i = 0; i < 4; ++i) {
-        if (sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
-        if (sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
-    }
     for (int f = 0; f < 4; ++f) {
         int a = -1, b = -1, r = -1;
         if (quad_face(sign, f, a, b, r)) fs[static_cast<std::size_t>(f)] = sgn(face_form(a, b, r, u));
     }
-    const int is = nn == 2 && np == 2 ? sgn(inside_form(neg[0], neg[1], pos[0], pos[1], u)) : 0;
+    int a = -1, b = -1, r0 = -1, r1 = -1;
+    const int is = inside_quad(sign, a, b, r0, r1) ? sgn(inside_form(a, b, r0, r1, u)) : 0;
     return resolve_delaunay(sign, parity, fs, is);
 }
 

@@ -39,6 +39,7 @@ using bcc::transform;
 // The face of key k's tetrahedron without local vertex f, if it holds a
 // quad: its − vertices a < b and its + vertex r (else false).
 inline bool quad_face(const Key& k, int f, int& a, int& b, int& r) { return bcc::quad_face(k.sign, f, a, b, r); }
+inline bool inside_quad(const Key& k, int& a, int& b, int& r0, int& r1) { return bcc::inside_quad(k.sign, a, b, r0, r1); }
 
 // All canonical consistent keys with some output (at least one - vertex),
 // in canonical order; with `all_zero`, the keys whose four vertices are zero

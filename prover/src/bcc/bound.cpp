@@ -309,15 +309,10 @@ std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Pa
     // adm[f]: the signs admitted for the quad of the face without vertex f
     // ({0}: no quad there); adm[4]: for the inside quad.
     std::array<std::vector<int>, 5> adm;
-    std::array<int, 4> neg{}, pos{};
-    int nn = 0, np = 0;
-    for (int i = 0; i < 4; ++i) {
-        if (k.sign[static_cast<std::size_t>(i)] < 0) neg[static_cast<std::size_t>(nn++)] = i;
-        if (k.sign[static_cast<std::size_t>(i)] > 0) pos[static_cast<std::size_t>(np++)] = i;
-    }
     for (int f = 0, a, bb, r; f < 4; ++f)
         adm[static_cast<std::size_t>(f)] = quad_face(k, f, a, bb, r) ? admitted(bcc::face_form(a, bb, r, u)) : std::vector<int>{0};
-    adm[4] = nn == 2 && np == 2 ? admitted(bcc::inside_form(neg[0], neg[1], pos[0], pos[1], u)) : std::vector<int>{0};
+    int a = -1, bb = -1, r0 = -1, r1 = -1;
+    adm[4] = inside_quad(k, a, bb, r0, r1) ? admitted(bcc::inside_form(a, bb, r0, r1, u)) : std::vector<int>{0};
     std::vector<bcc::Stencil> out;
     std::array<std::size_t, 5> at{};  // an odometer over the combinations
     for (bool more = true; more;) {

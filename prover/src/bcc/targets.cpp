@@ -165,17 +165,11 @@ std::vector<Tie> delaunay_ties(const Key& k, const std::vector<Param>& ps) {
             }
         out.push_back(t);
     }
-    std::array<int, 2> neg{-1, -1}, pos{-1, -1};
-    int nn = 0, np = 0;
-    for (int i = 0; i < 4; ++i) {
-        if (k.sign[static_cast<std::size_t>(i)] < 0 && nn < 2) neg[static_cast<std::size_t>(nn)] = i;
-        if (k.sign[static_cast<std::size_t>(i)] > 0 && np < 2) pos[static_cast<std::size_t>(np)] = i;
-        nn += k.sign[static_cast<std::size_t>(i)] < 0, np += k.sign[static_cast<std::size_t>(i)] > 0;
-    }
-    if (nn == 2 && np == 2)  // the prism's inside quad: solved for each of its four cut fractions in turn
+    int a = -1, b = -1, r0 = -1, r1 = -1;
+    if (inside_quad(k, a, b, r0, r1))  // the prism's inside quad: solved for each of its four cut fractions in turn
         for (std::size_t i = 0; i < ps.size(); ++i) {
             Tie t;
-            t.ib = i, t.prism = {neg[0], neg[1], pos[0], pos[1]};
+            t.ib = i, t.prism = {a, b, r0, r1};
             out.push_back(t);
         }
     return out;
