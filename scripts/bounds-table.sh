@@ -4,12 +4,13 @@
 #
 #   { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
 #     build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_delaunay.cert;
-#     build/prover/warpmesh-check-bcc proofs/bcc_half.cert; } | scripts/bounds-table.sh
+#     build/prover/warpmesh-check-bcc proofs/bcc_half.cert; build/prover/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
 # row per certificate in input order: the parity face rule, the Delaunay face
 # rule) come after the 2D rows; its counter-example for the α = ½
-# closer-endpoint rule (no bound: an inverted tetrahedron) is the last.
+# closer-endpoint rule (no bound: an inverted tetrahedron) follows, and the
+# ceiling (no thresholds, with any face rule, reach its angle) is the last.
 #
 # scripts/test.sh runs the checker, pipes its output through this script and
 # fails if README.md or docs/guarantees.md does not contain the result verbatim (between the markers
@@ -43,6 +44,13 @@ awk '
     kx = $0; sub(/.*: key /, "", kx); sub(/ at .*/, "", kx)
     px = $0; sub(/.* at \(/, "", px); sub(/\):.*/, "", px)
     vx = $0; sub(/.* has 6\*volume /, "", vx); sub(/ .*/, "", vx)
+    next
+  }
+  /^BCC ceiling: / {
+    # BCC ceiling: ... a dihedral angle below D deg (= X deg; cos^2 > C), of a key ...: N boxes (K n, ...); NO BOUND ...
+    cx = $0; sub(/.* below /, "", cx); sub(/ deg \(= .*/, "", cx)
+    dx = $0; sub(/.*deg \(= /, "", dx); sub(/ deg;.*/, "", dx)
+    bx = $0; sub(/.*no face rule enters\): /, "", bx); sub(/\); NO BOUND.*/, ")", bx)
     next
   }
   /^  rounded outward: every dihedral angle in / { r = $0; sub(/.*angle in /, "", r); sub(/ deg$/, "", r); r3[n3] = r; next }
@@ -87,6 +95,10 @@ awk '
     if (kx != "") {
       split(ax, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
       printf "| BCC closer-endpoint (3D dihedral, α %.5f / %.5f) | all keys with output | no bound | no bound | inverted | `%s` at (%s): 6·volume %s (doubled coordinates) | — |\n", p[1] / p[2], q[1] / q[2], kx, px, vx
+    }
+    if (cx != "") {
+      gsub(/-,/, "`-,", bx); gsub(/\/0 /, "/0` ", bx)
+      printf "| BCC, any thresholds and face rule (3D dihedral ceiling, α in [0, ½]²) | keys with one output tetrahedron | no bound ≥ %s° | — | ceiling | below %s° at every pair: %s | — |\n", dx, cx, bx
     }
   }
 '

@@ -65,6 +65,12 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     echo "test: bcc_half.cert differs from bcc_explore counterexample 0.5 0.5" >&2
     exit 1
   fi
+  # The 3D ceiling (no thresholds reach 11.88 deg): deterministic too.
+  "$build/prover/bcc_ceiling" 11.88 >"$fresh/bcc_ceiling.cert"
+  if ! cmp -s "$root/proofs/bcc_ceiling.cert" "$fresh/bcc_ceiling.cert"; then
+    echo "test: bcc_ceiling.cert differs from bcc_ceiling 11.88" >&2
+    exit 1
+  fi
   stage "independent checkers on the committed certificates (one process per certificate)"
   pids=()
   for cert in "${certs2d[@]}"; do
@@ -77,6 +83,8 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   pids+=($!)
   "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_half.cert" >"$fresh/bcc_half.cert.check3d" 2>&1 &
   half=$!
+  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_ceiling.cert" >"$fresh/bcc_ceiling.cert.check3d" 2>&1 &
+  ceiling=$!
   for i in "${!pids[@]}"; do
     wait "${pids[$i]}" || status=1
   done
@@ -84,6 +92,9 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   half_status=0
   wait "$half" || half_status=$?
   [ "$half_status" -eq 3 ] || { echo "test: warpmesh-check-bcc proofs/bcc_half.cert exited $half_status, not 3 (verified counter-example)" >&2; status=1; }
+  ceiling_status=0
+  wait "$ceiling" || ceiling_status=$?
+  [ "$ceiling_status" -eq 3 ] || { echo "test: warpmesh-check-bcc proofs/bcc_ceiling.cert exited $ceiling_status, not 3 (verified ceiling)" >&2; status=1; }
   cat "$fresh"/*.check "$fresh"/*.check3d
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
   # Every key of both 3D certificates is tight (proofs/README.md): the
@@ -100,7 +111,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
     if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
       echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
-      echo "      { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/prover/warpmesh-check-bcc proofs/bcc_half.cert; } | scripts/bounds-table.sh" >&2
+      echo "      { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/prover/warpmesh-check-bcc proofs/bcc_half.cert; build/prover/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh" >&2
       diff "$fresh/page.md" "$fresh/table.md" >&2 || true
       exit 1
     fi

@@ -1,9 +1,11 @@
 // checker_run.hpp — what the checker's tamper tests share: reading a
-// certificate's lines, running warpmesh-check on an edited copy, splitting a
-// line into fields.  (tests/CMakeLists.txt defines WARPMESH_CHECK_EXE.)
+// certificate's lines, finding one, running warpmesh-check (or
+// warpmesh-check-bcc) on an edited copy and expecting a rejection, splitting
+// a line into fields.  (tests/CMakeLists.txt defines WARPMESH_CHECK_EXE.)
 #pragma once
 #include <boost/test/unit_test.hpp>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -51,6 +53,38 @@ inline int run_checker(const std::vector<std::string>& lines, const std::string&
     if (message) *message = ss.str();
     fs::remove_all(dir);
     return rc;
+}
+
+// The exit status from std::system's wait status (-1: no normal exit).
+inline int exit_status(int rc) { return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1; }
+
+// Index of the first line starting with `prefix` (a test failure if none).
+inline std::size_t line_of(const std::vector<std::string>& lines, const std::string& prefix) {
+    for (std::size_t i = 0; i < lines.size(); ++i)
+        if (lines[i].rfind(prefix, 0) == 0) return i;
+    BOOST_FAIL("no line " + prefix);
+    return 0;
+}
+
+// The checker `exe` rejects `lines` (exit 1) with a message containing `why`.
+inline void expect_rejected_by(const std::string& exe, const std::vector<std::string>& lines, const std::string& name,
+                               const std::string& why) {
+    std::string msg;
+    BOOST_TEST(exit_status(run_checker(lines, name, &msg, exe)) == 1, name << ": " << msg);
+    BOOST_TEST(msg.find(why) != std::string::npos, name << ": " << msg);
+}
+
+#ifdef WARPMESH_CHECK_BCC_EXE
+// warpmesh-check-bcc rejects `lines` (exit 1) with a message containing `why`.
+inline void expect_bcc_rejected(const std::vector<std::string>& lines, const std::string& name, const std::string& why) {
+    expect_rejected_by(WARPMESH_CHECK_BCC_EXE, lines, name, why);
+}
+#endif
+
+// `lines` with the first line starting with `prefix` replaced by `line`.
+inline std::vector<std::string> with_line(std::vector<std::string> lines, const std::string& prefix, const std::string& line) {
+    lines[line_of(lines, prefix)] = line;
+    return lines;
 }
 
 // A line's whitespace-separated fields.

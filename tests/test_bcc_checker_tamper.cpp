@@ -28,14 +28,6 @@ std::vector<std::string> cert() {
     return l;
 }
 
-// Index of the line starting with `prefix`.
-std::size_t line_of(const std::vector<std::string>& l, const std::string& prefix) {
-    for (std::size_t i = 0; i < l.size(); ++i)
-        if (l[i].rfind(prefix, 0) == 0) return i;
-    BOOST_FAIL("no line " + prefix);
-    return 0;
-}
-
 // The first key line whose split string starts with a split ('1' + side).
 std::size_t first_split_key(const std::vector<std::string>& l) {
     for (std::size_t i = 0; i < l.size(); ++i) {
@@ -45,12 +37,6 @@ std::size_t first_split_key(const std::vector<std::string>& l) {
     }
     BOOST_FAIL("no key with a split");
     return 0;
-}
-
-void expect_rejected(const std::vector<std::string>& l, const std::string& name, const std::string& why) {
-    std::string msg;
-    BOOST_TEST(run_checker(l, name, &msg, WARPMESH_CHECK_BCC_EXE) != 0);
-    BOOST_TEST(msg.find(why) != std::string::npos, name << ": " << msg);
 }
 
 std::string join(const std::vector<std::string>& f) {
@@ -64,17 +50,17 @@ std::string join(const std::vector<std::string>& f) {
 BOOST_AUTO_TEST_CASE(header_changed) {
     auto l = cert();
     l[0] = "warpmesh-bcc-certificate 3";
-    expect_rejected(l, "header", "not a BCC certificate");
+    expect_bcc_rejected(l, "header", "not a BCC certificate");
 }
 
 BOOST_AUTO_TEST_CASE(alpha_lowered_beyond_the_root_boxes_or_raised_beyond_the_witnesses) {
     auto l = cert();
     auto a = l;
     a[line_of(l, "alphas")] = "alphas 20000/100000 39850/100000";  // the exact boxes grow past the root boxes
-    expect_rejected(a, "alphas", "root box does not contain");
+    expect_bcc_rejected(a, "alphas", "root box does not contain");
     auto b = l;
     b[line_of(l, "alphas")] = "alphas 30000/100000 39850/100000";  // they shrink: witnesses at the old limit fall outside
-    expect_rejected(b, "alphas", "witness outside");
+    expect_bcc_rejected(b, "alphas", "witness outside");
 }
 
 BOOST_AUTO_TEST_CASE(global_claim_not_the_keys_extremes) {
@@ -84,13 +70,13 @@ BOOST_AUTO_TEST_CASE(global_claim_not_the_keys_extremes) {
     // cos^2(61 deg) = 0.23504...: a stronger minimum than any key's claim.
     auto a = l;
     a[c] = "claim 258427994931/1099511627776 " + f[2] + " " + f[3];
-    expect_rejected(a, "claim", "not the keys' extremes");
+    expect_bcc_rejected(a, "claim", "not the keys' extremes");
     auto b = l;  // format 4: the face-angle claim too
     b[c] = "claim " + f[1] + " " + f[2] + " 258427994931/1099511627776";
-    expect_rejected(b, "faceclaim", "not the keys' extremes");
+    expect_bcc_rejected(b, "faceclaim", "not the keys' extremes");
     auto d = l;  // format 3's claim line: no face-angle claim
     d[c] = "claim " + f[1] + " " + f[2];
-    expect_rejected(d, "claim3", "bad claim line");
+    expect_bcc_rejected(d, "claim3", "bad claim line");
 }
 
 // Field offsets in a key line: "key CODE m" + 2m root ends, then CMIN CMAX
@@ -116,7 +102,7 @@ BOOST_AUTO_TEST_CASE(key_claim_raised_to_61_degrees) {
         // A minimum of 61 deg: the witness contradicts it (a triangle has an angle <= 60 deg).
         kf.f[kf.cmin + static_cast<std::size_t>(j)] = "258427994931/1099511627776";
         l[k] = join(kf.f);
-        expect_rejected(l, j == 0 ? "keyclaim" : "keyfaceclaim", "contradicts its claim");
+        expect_bcc_rejected(l, j == 0 ? "keyclaim" : "keyfaceclaim", "contradicts its claim");
     }
 }
 
@@ -140,7 +126,7 @@ BOOST_AUTO_TEST_CASE(theorem_loosened_is_not_tight) {
         l[k] = join(kf.f);
         l[c] = join(cf);
         const char* kind[3] = {"min", "max", "face"};
-        expect_rejected(l, std::string("loose") + kind[j], std::string("theorem's ") + kind[j] + " witness");
+        expect_bcc_rejected(l, std::string("loose") + kind[j], std::string("theorem's ") + kind[j] + " witness");
     }
 }
 
@@ -151,17 +137,17 @@ BOOST_AUTO_TEST_CASE(witness_moved_outside_the_box_or_garbled) {
     auto kf = key_fields(a[k]);
     kf.f[kf.wmin] = "16777216/16777216";  // t or u = 1: outside [0, alpha] and [alpha, 1 - alpha]
     a[k] = join(kf.f);
-    expect_rejected(a, "outside", "witness outside");
+    expect_bcc_rejected(a, "outside", "witness outside");
     auto b = l;
     kf = key_fields(b[k]);
     kf.f[kf.wmax] = "1/3";
     b[k] = join(kf.f);
-    expect_rejected(b, "nondyadic", "not dyadic");
+    expect_bcc_rejected(b, "nondyadic", "not dyadic");
     auto c = l;  // format 4: the face-angle witness
     kf = key_fields(c[k]);
     kf.f[kf.wface] = "16777216/16777216";
     c[k] = join(kf.f);
-    expect_rejected(c, "faceoutside", "witness outside");
+    expect_bcc_rejected(c, "faceoutside", "witness outside");
 }
 
 BOOST_AUTO_TEST_CASE(key_count_and_missing_key) {
@@ -169,11 +155,11 @@ BOOST_AUTO_TEST_CASE(key_count_and_missing_key) {
     const std::size_t k = line_of(l, "keys");
     auto a = l;
     a[k] = "keys 1";
-    expect_rejected(a, "count", "mismatch");
+    expect_bcc_rejected(a, "count", "mismatch");
     auto b = l;
     b.erase(b.begin() + static_cast<long>(k) + 1);
     b[k] = "keys " + std::to_string(std::stol(fields(l[k])[1]) - 1);
-    expect_rejected(b, "missing", "does not list every key");
+    expect_bcc_rejected(b, "missing", "does not list every key");
 }
 
 BOOST_AUTO_TEST_CASE(key_code_repeated_or_not_canonical) {
@@ -181,12 +167,12 @@ BOOST_AUTO_TEST_CASE(key_code_repeated_or_not_canonical) {
     const std::size_t k = line_of(l, "key ");
     auto a = l;
     a[k + 1] = a[k];
-    expect_rejected(a, "repeated", "unexpected or repeated");
+    expect_bcc_rejected(a, "repeated", "unexpected or repeated");
     auto b = l;
     auto f = fields(b[k]);
     f[1] = "+,-,-,-/0";  // an image of -,-,-,+/0 under a symmetry, not the canonical one
     b[k] = join(f);
-    expect_rejected(b, "noncanonical", "unexpected or repeated");
+    expect_bcc_rejected(b, "noncanonical", "unexpected or repeated");
 }
 
 BOOST_AUTO_TEST_CASE(root_box_narrowed) {
@@ -196,7 +182,7 @@ BOOST_AUTO_TEST_CASE(root_box_narrowed) {
     f[4] = "1/1048576";  // t or u box no longer reaches the exact box's end
     f[3] = "0/1048576";
     l[k] = join(f);
-    expect_rejected(l, "root", "root box does not contain");
+    expect_bcc_rejected(l, "root", "root box does not contain");
 }
 
 BOOST_AUTO_TEST_CASE(split_string_edited) {
@@ -206,30 +192,30 @@ BOOST_AUTO_TEST_CASE(split_string_edited) {
     auto f = fields(a[k]);
     f.back() = "0";  // the root box declared a leaf
     a[k] = join(f);
-    expect_rejected(a, "leaf", "leaf not verified");
+    expect_bcc_rejected(a, "leaf", "leaf not verified");
     auto b = l;
     f = fields(b[k]);
     f.back() += "0";
     b[k] = join(f);
-    expect_rejected(b, "long", "split string too long");
+    expect_bcc_rejected(b, "long", "split string too long");
     auto c = l;
     f = fields(c[k]);
     f.back().pop_back();
     c[k] = join(f);
-    expect_rejected(c, "short", "split string too short");
+    expect_bcc_rejected(c, "short", "split string too short");
 }
 
 BOOST_AUTO_TEST_CASE(garbage_and_truncation) {
     auto l = cert();
     auto a = l;
     a[line_of(l, "claim")] = "claim 1/3 1/2 1/2";
-    expect_rejected(a, "nondyadic", "not dyadic");
+    expect_bcc_rejected(a, "nondyadic", "not dyadic");
     auto b = l;
     b.resize(b.size() / 2);
-    expect_rejected(b, "truncated", "mismatch");
+    expect_bcc_rejected(b, "truncated", "mismatch");
     auto c = l;
     c[line_of(l, "key ")] = "key -,-,-,x/0 0 0";
-    expect_rejected(c, "code", "bad key code");
+    expect_bcc_rejected(c, "code", "bad key code");
 }
 
 // Format 3: each split names its side ('1' + j).  A side beyond the key's m
@@ -243,12 +229,12 @@ BOOST_AUTO_TEST_CASE(split_side_out_of_range_or_changed) {
     BOOST_REQUIRE(kf.m >= 2);
     kf.f.back()[0] = static_cast<char>('1' + kf.m);
     a[k] = join(kf.f);
-    expect_rejected(a, "side", "bad split string");
+    expect_bcc_rejected(a, "side", "bad split string");
     auto b = l;
     kf = key_fields(b[k]);
     kf.f.back()[0] = kf.f.back()[0] == '1' ? '2' : '1';
     b[k] = join(kf.f);
-    expect_rejected(b, "otherside", "leaf not verified");
+    expect_bcc_rejected(b, "otherside", "leaf not verified");
 }
 
 // issue29_acute_max_witness: a max witness at which every dihedral angle is
@@ -268,5 +254,5 @@ BOOST_AUTO_TEST_CASE(issue29_acute_max_witness_passes_the_witness_stage) {
     auto f = fields(l[s]);
     f.back() = "0";
     l[s] = join(f);
-    expect_rejected(l, "acute", "leaf not verified");
+    expect_bcc_rejected(l, "acute", "leaf not verified");
 }

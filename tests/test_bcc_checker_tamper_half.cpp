@@ -13,7 +13,6 @@
 #include <boost/test/unit_test.hpp>
 
 #include <filesystem>
-#include <sys/wait.h>
 #include <string>
 #include <vector>
 
@@ -28,31 +27,10 @@ using namespace warpmesh::testing;
 
 namespace {
 
-// The checker's exit status from std::system's wait status.
-int exit_status(int rc) { return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1; }
-
 std::vector<std::string> cert() { return read_lines(fs::path(WARPMESH_PROOFS_DIR) / "bcc_half.cert"); }
 
-// Index of the line starting with `prefix`.
-std::size_t line_of(const std::vector<std::string>& l, const std::string& prefix) {
-    for (std::size_t i = 0; i < l.size(); ++i)
-        if (l[i].rfind(prefix, 0) == 0) return i;
-    BOOST_FAIL("no line " + prefix);
-    return 0;
-}
-
 // The certificate with the line starting with `prefix` replaced by `line`.
-std::vector<std::string> with(const std::string& prefix, const std::string& line) {
-    auto l = cert();
-    l[line_of(l, prefix)] = line;
-    return l;
-}
-
-void expect_rejected(const std::vector<std::string>& l, const std::string& name, const std::string& why) {
-    std::string msg;
-    BOOST_TEST(exit_status(run_checker(l, name, &msg, WARPMESH_CHECK_BCC_EXE)) == 1, name << ": " << msg);
-    BOOST_TEST(msg.find(why) != std::string::npos, name << ": " << msg);
-}
+std::vector<std::string> with(const std::string& prefix, const std::string& line) { return with_line(cert(), prefix, line); }
 
 }  // namespace
 
@@ -65,41 +43,41 @@ BOOST_AUTO_TEST_CASE(committed_counterexample_accepted) {
 }
 
 BOOST_AUTO_TEST_CASE(header_or_line_count_changed) {
-    expect_rejected(with("warpmesh-bcc-counterexample", "warpmesh-bcc-counterexample 2"), "header", "not a BCC certificate");
+    expect_bcc_rejected(with("warpmesh-bcc-counterexample", "warpmesh-bcc-counterexample 2"), "header", "not a BCC certificate");
     auto l = cert();
     l.push_back("inverted 0 1 2 3");
-    expect_rejected(l, "lines", "five lines");
+    expect_bcc_rejected(l, "lines", "five lines");
 }
 
 BOOST_AUTO_TEST_CASE(alphas_above_one_half_or_the_default_pair) {
-    expect_rejected(with("alphas", "alphas 50001/100000 50000/100000"), "alpha_above", "out of (0, 1/2]");
+    expect_bcc_rejected(with("alphas", "alphas 50001/100000 50000/100000"), "alpha_above", "out of (0, 1/2]");
     // At the default pair t <= 0.285 on the long warps: the point t = 1/2 is outside.
-    expect_rejected(with("alphas", "alphas 28500/100000 39850/100000"), "alpha_default", "point outside the parameter box");
-    expect_rejected(with("alphas", "alphas 1/2 50000/100000"), "alpha_den", "one denominator");
+    expect_bcc_rejected(with("alphas", "alphas 28500/100000 39850/100000"), "alpha_default", "point outside the parameter box");
+    expect_bcc_rejected(with("alphas", "alphas 1/2 50000/100000"), "alpha_den", "one denominator");
 }
 
 BOOST_AUTO_TEST_CASE(key_not_canonical_inconsistent_or_positive_there) {
-    expect_rejected(with("key", "key -,0c,0d,0c/0"), "key_noncanonical", "not canonical");
+    expect_bcc_rejected(with("key", "key -,0c,0d,0c/0"), "key_noncanonical", "not canonical");
     // k1 did not move (0s): two parameters, the point has three.
-    expect_rejected(with("key", "key -,0s,0d,0d/0"), "key_stay", "too many parameters");
+    expect_bcc_rejected(with("key", "key -,0s,0d,0d/0"), "key_stay", "too many parameters");
     // A parity bit where the stencil has no quad on a long edge.
-    expect_rejected(with("key", "key -,0b,0d,0d/1"), "key_parity", "not a consistent key");
+    expect_bcc_rejected(with("key", "key -,0b,0d,0d/1"), "key_parity", "not a consistent key");
     // A canonical consistent key whose tetrahedron is positive at t = (1/2, 1/2, 1/2).
-    expect_rejected(with("key", "key -,0c,0c,0d/0"), "key_positive", "positively oriented at the point");
+    expect_bcc_rejected(with("key", "key -,0c,0c,0d/0"), "key_positive", "positively oriented at the point");
 }
 
 BOOST_AUTO_TEST_CASE(point_outside_the_box_miscounted_or_positive) {
-    expect_rejected(with("point", "point 1/2 1/2 9/16"), "point_out", "point outside the parameter box");
-    expect_rejected(with("point", "point -1/16 1/2 1/2"), "point_negative", "point outside the parameter box");
-    expect_rejected(with("point", "point 1/2 1/2"), "point_few", "too few parameters");
-    expect_rejected(with("point", "point 1/2 1/2 1/2 1/2"), "point_many", "too many parameters");
-    expect_rejected(with("point", "point 1/2 1/2 1/3"), "point_nondyadic", "not dyadic");
+    expect_bcc_rejected(with("point", "point 1/2 1/2 9/16"), "point_out", "point outside the parameter box");
+    expect_bcc_rejected(with("point", "point -1/16 1/2 1/2"), "point_negative", "point outside the parameter box");
+    expect_bcc_rejected(with("point", "point 1/2 1/2"), "point_few", "too few parameters");
+    expect_bcc_rejected(with("point", "point 1/2 1/2 1/2 1/2"), "point_many", "too many parameters");
+    expect_bcc_rejected(with("point", "point 1/2 1/2 1/3"), "point_nondyadic", "not dyadic");
     // t = 1/4 each: 6·volume = +1 (doubled coordinates), positively oriented.
-    expect_rejected(with("point", "point 1/4 1/4 1/4"), "point_positive", "positively oriented at the point");
+    expect_bcc_rejected(with("point", "point 1/4 1/4 1/4"), "point_positive", "positively oriented at the point");
 }
 
 BOOST_AUTO_TEST_CASE(claimed_tetrahedron_not_an_output_tetrahedron) {
-    expect_rejected(with("inverted", "inverted 0 1 2 4"), "tet_other", "not an output tetrahedron");
-    expect_rejected(with("inverted", "inverted 0 1 2"), "tet_short", "bad inverted line");
-    expect_rejected(with("inverted", "volume 0 1 2 3"), "tet_word", "bad inverted line");
+    expect_bcc_rejected(with("inverted", "inverted 0 1 2 4"), "tet_other", "not an output tetrahedron");
+    expect_bcc_rejected(with("inverted", "inverted 0 1 2"), "tet_short", "bad inverted line");
+    expect_bcc_rejected(with("inverted", "volume 0 1 2 3"), "tet_word", "bad inverted line");
 }

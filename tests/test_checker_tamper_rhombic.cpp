@@ -20,6 +20,7 @@
 
 namespace fs = std::filesystem;
 using warpmesh::testing::fields;
+using warpmesh::testing::line_of;
 using warpmesh::testing::read_lines;
 using Q = boost::multiprecision::cpp_rational;
 
@@ -39,14 +40,6 @@ std::string rejected(const std::vector<std::string>& lines, const std::string& n
 }
 
 bool has(const std::string& msg, const char* what) { return msg.find(what) != std::string::npos; }
-
-// Index of the line starting with `prefix`.
-std::size_t line_of(const std::vector<std::string>& l, const std::string& prefix) {
-    for (std::size_t i = 0; i < l.size(); ++i)
-        if (l[i].rfind(prefix, 0) == 0) return i;
-    BOOST_FAIL("no line " + prefix);
-    return 0;
-}
 
 // The first key at or after line `from` with a leaf tagged `tag`: (key line, leaf line).
 std::pair<std::size_t, std::size_t> find_leaf(const std::vector<std::string>& l, char tag, std::size_t from = 0) {

@@ -47,13 +47,6 @@ void rejected(const std::vector<std::string>& l, const std::string& name, const 
     BOOST_TEST(msg.find(expected) != std::string::npos, name << ": expected '" << expected << "' in: " << msg);
 }
 
-// Index of the first line starting with `prefix`.
-std::size_t line_of(const std::vector<std::string>& l, const std::string& prefix) {
-    for (std::size_t i = 0; i < l.size(); ++i)
-        if (starts(l[i], prefix)) return i;
-    BOOST_FAIL("no line '" + prefix + "'");
-    return 0;
-}
 // `l` without its first line starting with `prefix`; with that line twice;
 // with that line replaced by `by`.
 std::vector<std::string> without(std::vector<std::string> l, const std::string& prefix) {

@@ -649,6 +649,35 @@ BOOST_AUTO_TEST_CASE(issue30_nonmanifold_boundary_edges_counted) {
     }
 }
 
+BOOST_AUTO_TEST_CASE(region_at_the_lattice_upper_corner_leaves_no_isolated_vertex) {
+    // A region reaching the lattice's upper corner (z > 0.3 reaches the top
+    // of the lattice): its cubes there are whole (all 12 points inside), and
+    // a whole cube's pass A marked all 8 of its corners, also the corner
+    // m + (2, 2, 2), which none of its 12 tetrahedra uses; at the lattice's
+    // upper corner no cube above uses it either, so the mesh had a vertex in
+    // no tetrahedron (check_tet_mesh: "vertex ... is in no tetrahedron").
+    const FunctionLevelSet3 upper([](double, double, double z) { return 0.3 - z; }, {-1, -1, -1, 1, 1, 1}, "z > 0.3");
+    Mesh3dOptions o;
+    o.spacing = 0.15;
+    const TetMesh m = mesh3d(upper, o);
+    const TetMeshCheck c = check_tet_mesh(m);
+    BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+    BOOST_TEST(c.unused_vertices == 0);
+    // Blocks agree, the upper block holding the corner.
+    const Lattice3 L = lattice3_for(upper, o.spacing);
+    const std::array<std::int64_t, 3> cut{L.cubes[0] / 2, L.cubes[1] / 2, L.cubes[2] / 2};
+    std::vector<TetBlock> blocks;
+    for (int b = 0; b < 8; ++b) {
+        CubeRange r;
+        for (std::size_t a = 0; a < 3; ++a) {
+            const bool high = (b >> a) & 1;
+            r.lo[a] = high ? cut[a] : 0, r.hi[a] = high ? L.cubes[a] : cut[a];
+        }
+        blocks.push_back(mesh3d_block(upper, o, L, r));
+    }
+    BOOST_TEST(same(merge_tet_blocks(blocks), mesh3d_on(upper, o, L)));
+}
+
 BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {
     // A half-space reaches the lattice's edge: the boundary there is the
     // lattice's cut-off (boundary_domain), and the whole boundary stays closed

@@ -23,10 +23,14 @@
 // It also checks a counter-example certificate (proofs/bcc_half.cert,
 // "warpmesh-bcc-counterexample 1", see check_counterexample): an exact point
 // of a key's space where an output tetrahedron is not positively oriented.
+// And a ceiling certificate (proofs/bcc_ceiling.cert, "warpmesh-bcc-ceiling
+// 1", see check_ceiling): a quadtree over the threshold pairs, each box with
+// an exact point of a single-tetrahedron key's space, valid at every pair of
+// the box, where a dihedral angle is below the stated one.
 // No global state.  Any failure: exit 1; exit 0 only when the printed
-// theorem (an angle bound) holds; exit 3 when a counter-example certificate
-// holds (verified, NO BOUND), as warpmesh-check does for `inverted`
-// categories, so that 0 never means "no bound".
+// theorem (an angle bound) holds; exit 3 when a counter-example or ceiling
+// certificate holds (verified, NO BOUND), as warpmesh-check does for
+// `inverted` categories, so that 0 never means "no bound".
 //
 // EXACT FIXED-POINT ARITHMETIC.  A leaf's box ends are dyadic, m / 2^e.  With
 // K = 1 + the largest e of the leaf (so the box's centre is dyadic at 2^-K
@@ -53,6 +57,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -1150,11 +1155,8 @@ std::pair<std::int64_t, std::int64_t> counterexample_alphas(const std::string& l
     den = ld;
     return {ln, sn};
 }
-// The key of the "key CODE" line: consistent, with output, canonical.
-Key counterexample_key(const std::string& line, std::string& code) {
-    std::istringstream ks(line);
-    std::string word;
-    if (!(ks >> word >> code) || word != "key" || (ks >> word)) fail("bad key line");
+// The key of CODE: consistent, with output, canonical.
+Key checked_key(const std::string& code) {
     const Key k = parse_code(code);
     if (!consistent(k) || stencil(k).empty()) fail("key " + code + " is not a consistent key with output");
     std::array<int, 9> best = k.enc();
@@ -1162,11 +1164,16 @@ Key counterexample_key(const std::string& line, std::string& code) {
     if (best != k.enc()) fail("key " + code + " is not canonical");
     return k;
 }
-// The "point" line: one dyadic per parameter, each inside the exact box.
-Box counterexample_point(const std::string& line, const std::vector<Param>& ps, const std::string& code) {
-    std::istringstream ps_in(line);
-    std::string word, x;
-    if (!(ps_in >> word) || word != "point") fail("bad point line");
+// The key of the "key CODE" line.
+Key counterexample_key(const std::string& line, std::string& code) {
+    std::istringstream ks(line);
+    std::string word;
+    if (!(ks >> word >> code) || word != "key" || (ks >> word)) fail("bad key line");
+    return checked_key(code);
+}
+// The rest of ps_in: one dyadic per parameter, each inside the exact box.
+Box exact_point(std::istringstream& ps_in, const std::vector<Param>& ps, const std::string& code) {
+    std::string x;
     Box b;
     for (const Param& p : ps) {
         if (!(ps_in >> x)) fail("too few parameters for " + code);
@@ -1177,6 +1184,13 @@ Box counterexample_point(const std::string& line, const std::vector<Param>& ps, 
     }
     if (ps_in >> x) fail("too many parameters for " + code);
     return b;
+}
+// The "point" line.
+Box counterexample_point(const std::string& line, const std::vector<Param>& ps, const std::string& code) {
+    std::istringstream ps_in(line);
+    std::string word;
+    if (!(ps_in >> word) || word != "point") fail("bad point line");
+    return exact_point(ps_in, ps, code);
 }
 // The "inverted" line's tetrahedron, as the stencil orients it.
 Tet counterexample_tet(const std::string& line, const Key& k, const std::string& code) {
@@ -1232,6 +1246,111 @@ int check_counterexample(const std::vector<std::string>& body) {
     return 3;  // verified, but the statement is a counter-example, not a bound
 }
 
+// ---- the ceiling certificate (proofs/bcc_ceiling.cert) ------------------------------
+// Format (proofs/README.md, "A ceiling: no thresholds reach 12°"):
+//   warpmesh-bcc-ceiling 1
+//   below DEG C          DEG = p/q degrees (0 < DEG <= 60), C an integer with
+//                        cos²(DEG°) <= C / 2^40 < 1
+//   then a quadtree over the square [0, 1/2]² of (α_long, α_short), depth
+//   first from the whole square: `split` (the box's four quadrants follow,
+//   (low, low), (high, low), (low, high), (high, high) in (α_long, α_short))
+//   or `witness CODE x_0 .. x_{m-1}` for the box [L0, L1] × [S0, S1].
+// A witness holds when CODE is a canonical consistent key whose stencil is a
+// single tetrahedron (no quad: no face rule enters), the point lies in the
+// key's exact parameter box at every pair of the box (a warp t in [0, L0] or
+// [0, S0] by its edge's type, a cut fraction u in [L1, 1 − L1] or
+// [S1, 1 − S1]: those boxes are the intersections over the pairs), and
+// there the tetrahedron has 6·volume > 0 and a dihedral angle θ with d > 0
+// and 2^40 d² > C N (cos θ = d / √N > 0, cos²θ > C / 2^40 >= cos²(DEG°): θ <
+// DEG°), all exact.  The statement: for every pair (α_long, α_short) in
+// [0, 1/2]² the key space at that pair contains a positively oriented output
+// tetrahedron with a dihedral angle below DEG° — no thresholds, with any
+// face rule, give θmin >= DEG° over the space.
+//
+// C against DEG without a transcendental function: x = π·DEG/180 <= π/3;
+// cos x <= P(x) = 1 − x²/2 + x⁴/24 for |x| < π/2 (the Taylor remainder
+// −cos(ξ) x⁶/720 <= 0), P decreases on (0, √6) and x_lo = 3.14159·DEG/180 <
+// x, so cos²(DEG°) <= P(x_lo)², a rational; the check is C / 2^40 >= P(x_lo)².
+// With x_lo = X / Dn, X = 314159 p, Dn = 18000000 q: P(x_lo) = (24 Dn⁴ − 12 X²
+// Dn² + X⁴) / (24 Dn⁴), so C (24 Dn⁴)² >= 2^40 (24 Dn⁴ − 12 X² Dn² + X⁴)².
+constexpr int CEILING_DEPTH = 39;  // box ends k / 2^40 at most
+struct Ceiling {
+    Z c;
+    double deg = 0;  // for the message only
+    long boxes = 0;
+    std::map<std::string, long> keys;  // witnesses per key
+};
+Ceiling ceiling_claim(const std::string& line, std::string& deg) {
+    std::istringstream in(line);
+    std::string word, c;
+    if (!(in >> word >> deg >> c) || word != "below" || (in >> word)) fail("bad below line");
+    const auto [p, q] = parse_q(deg);
+    if (q > 1000000 || p <= 0 || p > 60 * q) fail("below: degrees out of (0, 60] or denominator above 10^6");
+    const std::int64_t cc = parse_int(c);
+    if (cc <= 0 || cc >= (std::int64_t{1} << 40)) fail("below: C out of (0, 2^40)");
+    const Z X = zint(314159) * zint(p), Dn = zint(18000000) * zint(q);
+    const Z D2 = Dn * Dn, D4 = D2 * D2, X2 = X * X;
+    const Z num = zint(24) * D4 - zint(12) * X2 * D2 + X2 * X2, den = zint(24) * D4;
+    if (sgn(num) <= 0 || cmp(zint(cc) * den * den, pow2(40) * num * num) < 0) fail("below: C / 2^40 is not >= cos^2 of the angle");
+    Ceiling cl;
+    cl.c = zint(cc);
+    cl.deg = static_cast<double>(p) / static_cast<double>(q);
+    return cl;
+}
+// One witness line for the box [i, i + 1] × [j, j + 1] / 2^e.
+void ceiling_witness(const std::string& line, std::int64_t i, std::int64_t j, int e, Ceiling& cl) {
+    std::istringstream in(line);
+    std::string word, code;
+    if (!(in >> word >> code) || word != "witness") fail("bad quadtree line '" + line.substr(0, 60) + "'");
+    const Key k = checked_key(code);
+    const std::vector<Tet> tets = oriented(k);
+    if (tets.size() != 1) fail("key " + code + " has more than one output tetrahedron (a face rule would enter)");
+    const std::int64_t den = std::int64_t{1} << e;
+    std::vector<Param> ps = params(k, i, j, den);  // warps: t in [0, α_lo]
+    const std::vector<Param> hi = params(k, i + 1, j + 1, den);  // cuts: u in [α_hi, 1 − α_hi]
+    for (std::size_t n = 0; n < ps.size(); ++n)
+        if (ps[n].index >= 4) ps[n] = hi[n];
+    const Box b = exact_point(in, ps, code);
+    if (sgn(volume6_at(k, ps, b, tets[0])) <= 0) fail("the tetrahedron of " + code + " is not positively oriented at the point");
+    int K = 0;
+    for (const Side& s : b) K = std::max(K, s.lo.e);
+    const auto pt = points<I>(k, ps, b, K);
+    for (int edge = 0; edge < 6; ++edge) {
+        I dt{}, nn{};
+        edge_forms(pt, tets[0], edge, dt, nn);
+        if (sgn(dt.lo) > 0 && cmp(pow2(40) * dt.lo * dt.lo, cl.c * nn.lo) > 0) {
+            ++cl.boxes, ++cl.keys[code];
+            return;
+        }
+    }
+    fail("no dihedral angle of " + code + " below the ceiling at the point (box " + std::to_string(i) + ", " + std::to_string(j) +
+         " / 2^" + std::to_string(e) + ")");
+}
+// The quadtree from line `at` for the box (i, j) at depth d (side 2^-(d+1)).
+void ceiling_box(const std::vector<std::string>& body, std::size_t& at, std::int64_t i, std::int64_t j, int d, Ceiling& cl) {
+    if (at >= body.size()) fail("the quadtree ends before every box is settled");
+    if (body[at] != "split") return ceiling_witness(body[at++], i, j, d + 1, cl);
+    if (d == CEILING_DEPTH) fail("quadtree deeper than " + std::to_string(CEILING_DEPTH));
+    ++at;
+    for (const auto& [di, dj] : {std::pair{0, 0}, {1, 0}, {0, 1}, {1, 1}}) ceiling_box(body, at, 2 * i + di, 2 * j + dj, d + 1, cl);
+}
+int check_ceiling(const std::vector<std::string>& body) {
+    if (body.size() < 3) fail("a ceiling has a below line and a quadtree");
+    std::string deg;
+    Ceiling cl = ceiling_claim(body[1], deg);
+    std::size_t at = 2;
+    ceiling_box(body, at, 0, 0, 0, cl);
+    if (at != body.size()) fail("lines after the quadtree");
+    std::cout << "BCC ceiling: for every (alpha_long, alpha_short) in [0, 1/2]^2 the space contains a positively oriented "
+                 "output tetrahedron with a dihedral angle below "
+              << deg << " deg (= " << std::setprecision(6) << cl.deg << " deg; cos^2 > " << to_double(cl.c) / std::ldexp(1.0, 40)
+              << "), of a key whose stencil is one tetrahedron (no face rule enters): " << cl.boxes << " boxes (";
+    const char* sep = "";
+    for (const auto& [code, n] : cl.keys) std::cout << sep << code << " " << n, sep = ", ";
+    std::cout << "); NO BOUND theta_min >= " << deg << " deg at any thresholds\n";
+    return 3;  // verified, but the statement is a limit, not a bound
+}
+
 // Parses the header, every key line and witness (cheap), then verifies the
 // leaves; prints the theorem.
 // The certificate's lines, '#' comments and blank lines dropped.  Hostile
@@ -1268,9 +1387,10 @@ int check(std::istream& in, bool progress) {
     std::string word;
     const std::vector<std::string> body = read_body(in);
     if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
+    if (!body.empty() && body[0] == "warpmesh-bcc-ceiling 1") return check_ceiling(body);
     const bool delaunay = !body.empty() && body[0] == "warpmesh-bcc-certificate 5";
     if (body.size() < 4 || (body[0] != "warpmesh-bcc-certificate 4" && !delaunay))
-        fail("not a BCC certificate (format 4 or 5) or counter-example (format 1)");
+        fail("not a BCC certificate (format 4 or 5), counter-example or ceiling (format 1)");
     // Format 5: one face-rule line, right after the header; format 4: none.
     long rules = 0;
     for (const std::string& l : body) rules += l.rfind("face-rule", 0) == 0;
@@ -1337,7 +1457,7 @@ int main(int argc, char** argv) {
     const bool progress = flag || ::isatty(STDERR_FILENO) == 1;
     if (argc != 2 && !flag) {
         std::cerr << "usage: warpmesh-check-bcc [--progress] CERTIFICATE\n"
-                     "exit status: 0 the angle bound holds, 3 a counter-example holds (NO BOUND),\n"
+                     "exit status: 0 the angle bound holds, 3 a counter-example or ceiling holds (NO BOUND),\n"
                      "1 rejected or unreadable, 2 usage\n";
         return 2;
     }

@@ -49,9 +49,16 @@ struct Layout {
     std::span<const Plan> plans = uniform3d::plans();  // looked up once, not per tetrahedron
     std::span<const Plan> by_diagonals = uniform3d::diagonal_plans();
     std::int64_t plane_pair = 0;  // index step of 2 along z
+    // The neighbourhood slots a cube's 12 tetrahedra use: the corners on its
+    // three lower faces and the 4 centres, not the corner m + (2, 2, 2) (the
+    // cubes above use that one, if they exist; at the lattice's upper border
+    // none does, and marking it would leave a vertex in no tetrahedron).
+    unsigned whole_slots = 0;
 
     Layout(const Window& win, FaceRule face_rule) : w(win), rule(face_rule) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
+        for (const TetShape& s : shapes)
+            for (int k : s.slot_in_cube) whole_slots |= 1u << k;
     }
 
     Neighbourhood around(const bcc::Ivec& m) const {
@@ -134,7 +141,8 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
             if (n.all_outside) return;
             if (n.all_inside) {
                 count += 12;
-                for (std::int64_t p : n.at) mark_point(p);
+                for (int k = 0; k < 12; ++k)
+                    if (lay.whole_slots >> k & 1u) mark_point(n.at[static_cast<std::size_t>(k)]);
                 return;
             }
             for (int index = 0; index < 12; ++index) {
