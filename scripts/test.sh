@@ -59,18 +59,19 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     exit 1
   fi
   # The 3D counter-example (the alpha = 1/2 closer-endpoint rule inverts a
-  # tetrahedron): its writer is deterministic, the file byte-identical.
-  "$build/prover/bcc_explore" counterexample 0.5 0.5 >"$fresh/bcc_half.cert"
-  if ! cmp -s "$root/proofs/bcc_half.cert" "$fresh/bcc_half.cert"; then
-    echo "test: bcc_half.cert differs from bcc_explore counterexample 0.5 0.5" >&2
-    exit 1
-  fi
-  # The 3D ceiling (no thresholds reach 11.88 deg): deterministic too.
-  "$build/prover/bcc_ceiling" 11.88 >"$fresh/bcc_ceiling.cert"
-  if ! cmp -s "$root/proofs/bcc_ceiling.cert" "$fresh/bcc_ceiling.cert"; then
-    echo "test: bcc_ceiling.cert differs from bcc_ceiling 11.88" >&2
-    exit 1
-  fi
+  # tetrahedron) and the 3D ceiling (no thresholds reach 11.88 deg): their
+  # writers are deterministic, the files byte-identical.
+  same_as_writer() {  # same_as_writer NAME TOOL ARGS...: proofs/NAME.cert is TOOL ARGS's output
+    local name=$1 tool=$2
+    shift 2
+    "$build/prover/$tool" "$@" >"$fresh/$name.cert"
+    if ! cmp -s "$root/proofs/$name.cert" "$fresh/$name.cert"; then
+      echo "test: $name.cert differs from $tool $*" >&2
+      exit 1
+    fi
+  }
+  same_as_writer bcc_half bcc_explore counterexample 0.5 0.5
+  same_as_writer bcc_ceiling bcc_ceiling 11.88
   stage "independent checkers on the committed certificates (one process per certificate)"
   pids=()
   for cert in "${certs2d[@]}"; do
@@ -81,20 +82,21 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   pids+=($!)
   "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_delaunay.cert" >"$fresh/bcc_delaunay.cert.check3d" 2>&1 &
   pids+=($!)
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_half.cert" >"$fresh/bcc_half.cert.check3d" 2>&1 &
-  half=$!
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_ceiling.cert" >"$fresh/bcc_ceiling.cert.check3d" 2>&1 &
-  ceiling=$!
+  no_bound=(bcc_half bcc_ceiling)  # a counter-example and a ceiling: NO BOUND statements
+  no_bound_pids=()
+  for c in "${no_bound[@]}"; do
+    "$build/prover/warpmesh-check-bcc" "$root/proofs/$c.cert" >"$fresh/$c.cert.check3d" 2>&1 &
+    no_bound_pids+=($!)
+  done
   for i in "${!pids[@]}"; do
     wait "${pids[$i]}" || status=1
   done
-  # The counter-example holds: exit 3 (verified, NO BOUND), never 0.
-  half_status=0
-  wait "$half" || half_status=$?
-  [ "$half_status" -eq 3 ] || { echo "test: warpmesh-check-bcc proofs/bcc_half.cert exited $half_status, not 3 (verified counter-example)" >&2; status=1; }
-  ceiling_status=0
-  wait "$ceiling" || ceiling_status=$?
-  [ "$ceiling_status" -eq 3 ] || { echo "test: warpmesh-check-bcc proofs/bcc_ceiling.cert exited $ceiling_status, not 3 (verified ceiling)" >&2; status=1; }
+  # They hold: exit 3 (verified, NO BOUND), never 0.
+  for i in "${!no_bound[@]}"; do
+    code=0
+    wait "${no_bound_pids[$i]}" || code=$?
+    [ "$code" -eq 3 ] || { echo "test: warpmesh-check-bcc proofs/${no_bound[$i]}.cert exited $code, not 3 (verified, NO BOUND)" >&2; status=1; }
+  done
   cat "$fresh"/*.check "$fresh"/*.check3d
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
   # Every key of both 3D certificates is tight (proofs/README.md): the

@@ -84,6 +84,11 @@ bool is_long(const Ivec& a, const Ivec& b) { return (a[0] != b[0]) + (a[1] != b[
 const Ivec shift{2, 2, 4};  // the reference tetrahedron inside the 4³-cube lattice
 Ivec at(const Ivec& p) { return bcc::add(p, shift); }
 
+double smallest_deg(const std::array<bcc::Vec<double>, 4>& p) {
+    const auto a = testing::dihedral_degrees(p);
+    return *std::min_element(a.begin(), a.end());
+}
+
 struct Realised {
     double mesher_deg = 180;  // the smallest dihedral angle of the mesher's tetrahedron
     double space_deg = 0;     // the key's configuration at the same parameters (key_points)
@@ -92,19 +97,15 @@ struct Realised {
 
 // Meshes the case at the pair and measures its tetrahedron: the output
 // tetrahedron with a vertex at k0 whose smallest angle is nearest the space's.
-Realised realise(const Case& c, double along, double ashort) {
+Realised realise(const Case& c, const bcc_prover::Key& k, double along, double ashort) {
     const auto threshold = [&](const Ivec& a, const Ivec& b) { return is_long(a, b) ? along : ashort; };
     LatticeTable f;
     for (const Ivec& p : c.plus) f.plus.push_back(at(p));
     std::vector<double> x;  // the key's parameters: warps by local vertex, then cut edges by local edge
-    for (const auto& [v, to] : c.warps) {
-        f.cut[{at(v), at(to)}] = threshold(v, to) * (1 - 1e-4);  // a violation, the vertex's only one
-        x.push_back(threshold(v, to) * (1 - 1e-4));
-    }
-    for (const auto& [minus, to] : c.survivors) {
-        f.cut[{at(minus), at(to)}] = threshold(minus, to) * (1 + 1e-4);  // just not a violation
-        x.push_back(threshold(minus, to) * (1 + 1e-4));
-    }
+    for (const auto& [v, to] : c.warps)
+        x.push_back(f.cut[{at(v), at(to)}] = threshold(v, to) * (1 - 1e-4));  // a violation, the vertex's only one
+    for (const auto& [minus, to] : c.survivors)
+        x.push_back(f.cut[{at(minus), at(to)}] = threshold(minus, to) * (1 + 1e-4));  // just not a violation
     Lattice3 L;
     L.spacing = 1;
     L.cubes = {4, 4, 4};
@@ -115,18 +116,14 @@ Realised realise(const Case& c, double along, double ashort) {
     BOOST_TEST(check_tet_mesh(m).ok, c.code);
     Realised out;
     out.mesh_min_deg = r.min_dihedral_deg;
-    for (const auto& k : bcc_prover::enumerate_keys())
-        if (bcc_prover::code_of(k) == c.code) {
-            const auto ps = bcc_prover::key_params(k, *o.alphas);
-            BOOST_REQUIRE(ps.size() == x.size());
-            const auto pts = bcc_prover::key_points(k, ps, x.data());
-            const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
-            BOOST_REQUIRE(st.count == 1);
-            std::array<bcc::Vec<double>, 4> p{};
-            for (std::size_t v = 0; v < 4; ++v) p[v] = pts[st.tet[0][v]];
-            const auto a = testing::dihedral_degrees(p);
-            out.space_deg = *std::min_element(a.begin(), a.end());
-        }
+    const auto ps = bcc_prover::key_params(k, *o.alphas);
+    BOOST_REQUIRE(ps.size() == x.size());
+    const auto pts = bcc_prover::key_points(k, ps, x.data());
+    const bcc::Stencil st = bcc::stencil(k.sign, k.parity);
+    BOOST_REQUIRE(st.count == 1);
+    std::array<bcc::Vec<double>, 4> key_tet{};
+    for (std::size_t v = 0; v < 4; ++v) key_tet[v] = pts[st.tet[0][v]];
+    out.space_deg = smallest_deg(key_tet);
     const Point3 k0_at{shift[0] / 2.0, shift[1] / 2.0, shift[2] / 2.0};  // k0, the lattice point (0, 0, 0) + shift
     for (const auto& t : m.tets) {
         std::array<bcc::Vec<double>, 4> p{};
@@ -137,8 +134,7 @@ Realised realise(const Case& c, double along, double ashort) {
             has_k0 = has_k0 || (q.x == k0_at.x && q.y == k0_at.y && q.z == k0_at.z);
         }
         if (!has_k0) continue;
-        const auto a = testing::dihedral_degrees(p);
-        const double d = *std::min_element(a.begin(), a.end());
+        const double d = smallest_deg(p);
         if (std::abs(d - out.space_deg) < std::abs(out.mesher_deg - out.space_deg)) out.mesher_deg = d;
     }
     return out;
@@ -155,10 +151,17 @@ BOOST_AUTO_TEST_CASE(issue29_the_ceilings_keys_are_meshes_and_the_bound_is_attai
                           {0.2718, 0.3979, "the four keys' peak"},
                           {0.285, 0.3985, "parity"},
                           {0.24999, 0.41189, "Labelle-Shewchuk"}};
+    std::vector<bcc_prover::Key> keys;  // cases[i]'s key
+    for (const Case& c : cases) {
+        const auto k = bcc_prover::key_with_code(c.code);
+        BOOST_REQUIRE(k.has_value());
+        keys.push_back(*k);
+    }
     for (const Pair& pr : pairs) {
         double lowest = 180;
-        for (const Case& c : cases) {
-            const Realised r = realise(c, pr.along, pr.ashort);
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            const Case& c = cases[i];
+            const Realised r = realise(c, keys[i], pr.along, pr.ashort);
             BOOST_TEST_MESSAGE(pr.name << " " << c.code << ": mesher " << r.mesher_deg << " deg, space " << r.space_deg << " deg, mesh min "
                                        << r.mesh_min_deg);
             BOOST_TEST(std::abs(r.mesher_deg - r.space_deg) < 1e-9, pr.name << " " << c.code);  // the key's configuration, exactly

@@ -132,10 +132,9 @@ namespace {
 using bcc::delaunay_alphas;  // proofs/bcc_delaunay.cert's
 
 bp::Key key_with_code(const std::string& code) {
-    for (const auto& k : bp::enumerate_keys())
-        if (bp::code_of(k) == code) return k;
-    BOOST_FAIL("no key " + code);
-    return {};
+    const auto k = bp::key_with_code(code);
+    if (!k) BOOST_FAIL("no key " + code);
+    return *k;
 }
 
 bool same_stencil(const bcc::Stencil& a, const bcc::Stencil& b) {

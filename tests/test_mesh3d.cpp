@@ -84,6 +84,22 @@ std::unique_ptr<LevelSet3> random_level_set(std::mt19937& rng, int kind) {
         Box3{-1.2, -1.2, -1.2, 1.2, 1.2, 1.2}, "rbf");
 }
 
+// The lattice's cubes cut in eight blocks at cube indices `cut` (each in
+// (0, L.cubes[a])), each meshed on its own (mesh3d_block).
+std::vector<TetBlock> eight_blocks(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, const std::array<std::int64_t, 3>& cut) {
+    std::vector<TetBlock> blocks;
+    for (int b = 0; b < 8; ++b) {
+        CubeRange r;
+        for (std::size_t a = 0; a < 3; ++a) {
+            const bool high = (b >> a) & 1;
+            r.lo[a] = high ? cut[a] : 0;
+            r.hi[a] = high ? L.cubes[a] : cut[a];
+        }
+        blocks.push_back(mesh3d_block(f, o, L, r));
+    }
+    return blocks;
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(shapes_conform_and_stay_within_the_certified_bounds) {
@@ -252,16 +268,7 @@ BOOST_AUTO_TEST_CASE(blocks_merge_into_exactly_the_whole_mesh) {
         // Cut every axis at a random place (uneven blocks, some thin).
         std::array<std::int64_t, 3> cut{};
         for (std::size_t a = 0; a < 3; ++a) cut[a] = std::uniform_int_distribution<std::int64_t>(1, L.cubes[a] - 1)(rng);
-        std::vector<TetBlock> blocks;
-        for (int b = 0; b < 8; ++b) {
-            CubeRange r;
-            for (std::size_t a = 0; a < 3; ++a) {
-                const bool high = (b >> a) & 1;
-                r.lo[a] = high ? cut[a] : 0;
-                r.hi[a] = high ? L.cubes[a] : cut[a];
-            }
-            blocks.push_back(mesh3d_block(*f, o, L, r));
-        }
+        std::vector<TetBlock> blocks = eight_blocks(*f, o, L, cut);
         std::shuffle(blocks.begin(), blocks.end(), rng);
         const TetMesh merged = merge_tet_blocks(blocks);
         BOOST_TEST(same(merged, whole), "trial " << trial);
@@ -666,16 +673,7 @@ BOOST_AUTO_TEST_CASE(region_at_the_lattice_upper_corner_leaves_no_isolated_verte
     // Blocks agree, the upper block holding the corner.
     const Lattice3 L = lattice3_for(upper, o.spacing);
     const std::array<std::int64_t, 3> cut{L.cubes[0] / 2, L.cubes[1] / 2, L.cubes[2] / 2};
-    std::vector<TetBlock> blocks;
-    for (int b = 0; b < 8; ++b) {
-        CubeRange r;
-        for (std::size_t a = 0; a < 3; ++a) {
-            const bool high = (b >> a) & 1;
-            r.lo[a] = high ? cut[a] : 0, r.hi[a] = high ? L.cubes[a] : cut[a];
-        }
-        blocks.push_back(mesh3d_block(upper, o, L, r));
-    }
-    BOOST_TEST(same(merge_tet_blocks(blocks), mesh3d_on(upper, o, L)));
+    BOOST_TEST(same(merge_tet_blocks(eight_blocks(upper, o, L, cut)), mesh3d_on(upper, o, L)));
 }
 
 BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {

@@ -1209,11 +1209,15 @@ Tet counterexample_tet(const std::string& line, const Key& k, const std::string&
     }
     fail("the inverted tetrahedron is not an output tetrahedron of " + code);
 }
-// 6·volume of t at the point b, times 2^(3K) (K: b's finest exponent): exact.
-Z volume6_at(const Key& k, const std::vector<Param>& ps, const Box& b, const Tet& t) {
+// The finest exponent of a point's coordinates (its points are integers times 2^-K).
+int finest_exponent(const Box& b) {
     int K = 0;
     for (const Side& s : b) K = std::max(K, s.lo.e);
-    const auto pt = points<I>(k, ps, b, K);
+    return K;
+}
+// 6·volume of t at the point b, times 2^(3K) (K = finest_exponent(b)): exact.
+Z volume6_at(const Key& k, const std::vector<Param>& ps, const Box& b, const Tet& t) {
+    const auto pt = points<I>(k, ps, b, finest_exponent(b));
     const I v = dot3(sub3(pt[t[1]], pt[t[0]]), cross3(sub3(pt[t[2]], pt[t[0]]), sub3(pt[t[3]], pt[t[0]])));
     if (cmp(v.lo, v.hi) != 0) fail("internal: a point's volume is not exact");
     return v.lo;
@@ -1233,8 +1237,7 @@ int check_counterexample(const std::vector<std::string>& body) {
     for (std::size_t i = 0; i < ps.size(); ++i)
         if (ps[i].index < 4) unwarped[i] = Side{Dy{0, 0}, Dy{0, 0}};
     if (sgn(volume6_at(k, ps, unwarped, t)) <= 0) fail("the tetrahedron of " + code + " is not positively oriented without its warps");
-    int K = 0;
-    for (const Side& s : b) K = std::max(K, s.lo.e);
+    const int K = finest_exponent(b);
     std::string at = body[3].substr(body[3].find(' ') + 1);  // the point as written (exact dyadics)
     std::replace(at.begin(), at.end(), ' ', ',');
     // 6·volume = v / 2^(3K) in doubled coordinates; the double is for the message only.
@@ -1312,9 +1315,7 @@ void ceiling_witness(const std::string& line, std::int64_t i, std::int64_t j, in
         if (ps[n].index >= 4) ps[n] = hi[n];
     const Box b = exact_point(in, ps, code);
     if (sgn(volume6_at(k, ps, b, tets[0])) <= 0) fail("the tetrahedron of " + code + " is not positively oriented at the point");
-    int K = 0;
-    for (const Side& s : b) K = std::max(K, s.lo.e);
-    const auto pt = points<I>(k, ps, b, K);
+    const auto pt = points<I>(k, ps, b, finest_exponent(b));
     for (int edge = 0; edge < 6; ++edge) {
         I dt{}, nn{};
         edge_forms(pt, tets[0], edge, dt, nn);

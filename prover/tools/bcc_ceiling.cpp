@@ -135,12 +135,13 @@ int main(int argc, char** argv) {
     const std::string deg = q == 1 ? std::to_string(num) : std::to_string(num) + "/" + std::to_string(q);
     const double below = static_cast<double>(p) / 100;
     std::vector<bcc_prover::Key> keys;
-    for (const char* code : {"-,+,0i,0m/0", "-,0c,0m,+/0", "-,0c,0m,0i/0", "-,0c,0d,0d/0"})
-        for (const auto& k : bcc_prover::enumerate_keys())
-            if (bcc_prover::code_of(k) == code) keys.push_back(k);
-    if (keys.size() != 4) {
-        std::fprintf(stderr, "bcc_ceiling: a witness key is not a canonical key\n");
-        return 1;
+    for (const char* code : {"-,+,0i,0m/0", "-,0c,0m,+/0", "-,0c,0m,0i/0", "-,0c,0d,0d/0"}) {
+        const auto k = bcc_prover::key_with_code(code);
+        if (!k) {
+            std::fprintf(stderr, "bcc_ceiling: %s is not a canonical key\n", code);
+            return 1;
+        }
+        keys.push_back(*k);
     }
     std::string out;  // written whole, only when every box is settled
     long boxes = 0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,8 @@ inline bool inside_quad(const Key& k, int& a, int& b, int& r0, int& r1) { return
 // in canonical order; with `all_zero`, the keys whose four vertices are zero
 // (never output: generic_bcc.hpp, step 6).
 std::vector<Key> enumerate_keys(bool all_zero = false);
+// The canonical key with output whose code_of is `code`, if there is one.
+std::optional<Key> key_with_code(const std::string& code);
 
 // The key's parameters: per warped vertex its t in [0, α_e], per (-, +) edge
 // its u in [α_e, 1 − α_e]; `index` says which (0..3: t of vertex, 4 + e: u of edge e).

@@ -53,6 +53,12 @@ std::vector<Key> enumerate_keys(bool all_zero) {
     return out;
 }
 
+std::optional<Key> key_with_code(const std::string& code) {
+    for (const Key& k : enumerate_keys())
+        if (code_of(k) == code) return k;
+    return std::nullopt;
+}
+
 namespace {
 double dyadic_floor(double x) { return std::floor(std::ldexp(x, 20)) / 1048576.0; }
 double dyadic_ceil(double x) { return std::ceil(std::ldexp(x, 20)) / 1048576.0; }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #ifdef _OPENMP
@@ -75,7 +76,7 @@ int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al, FaceRule
 int prove_bcc_main(int argc, char** argv) {
     std::string out = "proofs/bcc.cert", la = "0.285", sa = "0.3985";  // bcc::parity_alphas
     double cap_min = default_cap_min_deg, cap_max = default_cap_max_deg;
-    std::vector<int> subset;
+    std::optional<std::string> key_list;  // --keys, parsed against the enumeration below
     bool extremes = false;
     FaceRule rule = FaceRule::parity;
     for (int i = 1; i < argc; ++i) {
@@ -95,12 +96,7 @@ int prove_bcc_main(int argc, char** argv) {
             ++i;
 #endif
         } else if (a == "--keys" && more) {
-            std::string bad;
-            if (!prover::parse_key_list(argv[++i], static_cast<long>(enumerate_keys().size()), subset, bad)) {
-                std::fprintf(stderr, "warpmesh-prove-bcc: --keys expects key indices 0..%zu separated by commas (bad: '%s')\n",
-                             enumerate_keys().size() - 1, bad.c_str());
-                return 2;
-            }
+            key_list = argv[++i];
         } else {
             std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes] [--face-rule parity|delaunay]\n");
             return 2;
@@ -112,9 +108,16 @@ int prove_bcc_main(int argc, char** argv) {
         std::fprintf(stderr, "warpmesh-prove-bcc: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180\n");
         return 2;
     }
+    const std::vector<Key> all = enumerate_keys();
+    std::vector<int> subset;
+    std::string bad;
+    if (key_list && !prover::parse_key_list(*key_list, static_cast<long>(all.size()), subset, bad)) {
+        std::fprintf(stderr, "warpmesh-prove-bcc: --keys expects key indices 0..%zu separated by commas (bad: '%s')\n", all.size() - 1,
+                     bad.c_str());
+        return 2;
+    }
     Margins mg;
     mg.cap = cap_claim(cap_min, cap_max);
-    const std::vector<Key> all = enumerate_keys();
     std::vector<Key> keys;
     if (subset.empty()) keys = all;
     else
