@@ -42,7 +42,7 @@ trap 'rm -rf "$tmp"' EXIT
 keep="${KEEP_DIR:-}"
 [ -z "$keep" ] || mkdir -p "$keep"
 prove="$build/prover/warpmesh-prove-bcc"
-check="$build/prover/warpmesh-check-bcc"
+check="$build/checker/warpmesh-check-bcc"
 for exe in "$prove" "$check"; do
   [ -x "$exe" ] || { echo "bcc-frontier: $exe missing (run scripts/build.sh)" >&2; exit 2; }
 done

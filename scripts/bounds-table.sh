@@ -2,9 +2,9 @@
 # The table of certified angle bounds (README.md, docs/guarantees.md), made from what the independent
 # checker printed — never typed by hand.
 #
-#   { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
-#     build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_delaunay.cert;
-#     build/prover/warpmesh-check-bcc proofs/bcc_half.cert; build/prover/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
+#   { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
+#     build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert;
+#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
 # row per certificate in input order: the parity face rule, the Delaunay face

@@ -19,7 +19,7 @@ stage "build (Release)"
 stage "unit and property tests"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 
-if [ -x "$build/prover/warpmesh-check" ]; then
+if [ -x "$build/checker/warpmesh-check" ]; then
   stage "rerun the proof and compare with proofs/"
   fresh="$(mktemp -d)"
   trap 'rm -rf "$fresh"' EXIT
@@ -75,17 +75,17 @@ if [ -x "$build/prover/warpmesh-check" ]; then
   stage "independent checkers on the committed certificates (one process per certificate)"
   pids=()
   for cert in "${certs2d[@]}"; do
-    "$build/prover/warpmesh-check" "$cert" >"$fresh/$(basename "$cert").check" 2>&1 &
+    "$build/checker/warpmesh-check" "$cert" >"$fresh/$(basename "$cert").check" 2>&1 &
     pids+=($!)
   done
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc.cert" >"$fresh/bcc.cert.check3d" 2>&1 &
+  "$build/checker/warpmesh-check-bcc" "$root/proofs/bcc.cert" >"$fresh/bcc.cert.check3d" 2>&1 &
   pids+=($!)
-  "$build/prover/warpmesh-check-bcc" "$root/proofs/bcc_delaunay.cert" >"$fresh/bcc_delaunay.cert.check3d" 2>&1 &
+  "$build/checker/warpmesh-check-bcc" "$root/proofs/bcc_delaunay.cert" >"$fresh/bcc_delaunay.cert.check3d" 2>&1 &
   pids+=($!)
   no_bound=(bcc_half bcc_ceiling)  # a counter-example and a ceiling: NO BOUND statements
   no_bound_pids=()
   for c in "${no_bound[@]}"; do
-    "$build/prover/warpmesh-check-bcc" "$root/proofs/$c.cert" >"$fresh/$c.cert.check3d" 2>&1 &
+    "$build/checker/warpmesh-check-bcc" "$root/proofs/$c.cert" >"$fresh/$c.cert.check3d" 2>&1 &
     no_bound_pids+=($!)
   done
   for i in "${!pids[@]}"; do
@@ -113,7 +113,7 @@ if [ -x "$build/prover/warpmesh-check" ]; then
     sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
     if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
       echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
-      echo "      { build/prover/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/prover/warpmesh-check-bcc proofs/bcc.cert; build/prover/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/prover/warpmesh-check-bcc proofs/bcc_half.cert; build/prover/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh" >&2
+      echo "      { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh" >&2
       diff "$fresh/page.md" "$fresh/table.md" >&2 || true
       exit 1
     fi

@@ -14,8 +14,8 @@
 #include <random>
 #include <vector>
 
-#include "warpmesh/generic_bcc.hpp"
-#include "warpmesh/generic_bcc_keys.hpp"
+#include "warpmesh/mesh3d/generic_bcc.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"
 
 namespace warpmesh::testing {
 

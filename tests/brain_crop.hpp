@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "warpmesh/mesh3d.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/io/volume.hpp"
 
 namespace warpmesh::testing {
 

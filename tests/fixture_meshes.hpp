@@ -9,8 +9,8 @@
 #include <map>
 #include <vector>
 
-#include "warpmesh/mesh.hpp"
-#include "warpmesh/tet_mesh.hpp"
+#include "warpmesh/core/mesh.hpp"
+#include "warpmesh/core/tet_mesh.hpp"
 
 namespace warpmesh::testing {
 

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "warpmesh/image.hpp"
+#include "warpmesh/io/image.hpp"
 
 namespace warpmesh::testing {
 

@@ -12,8 +12,8 @@
 #include <tuple>
 #include <vector>
 
-#include "warpmesh/mesh.hpp"
-#include "warpmesh/mesh_checks.hpp"
+#include "warpmesh/core/mesh.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
 
 namespace warpmesh::testing {
 

@@ -5,7 +5,7 @@
 #pragma once
 #include <cstddef>
 
-#include "warpmesh/mesh.hpp"
+#include "warpmesh/core/mesh.hpp"
 
 namespace warpmesh::testing {
 

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "mesh_math.hpp"
-#include "warpmesh/errors.hpp"
+#include "warpmesh/core/errors.hpp"
 
 namespace warpmesh::testing {
 

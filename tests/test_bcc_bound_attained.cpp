@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "bcc_stuffing.hpp"
-#include "warpmesh/mesh3d.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;

@@ -10,7 +10,7 @@
 
 #include "bcc_stuffing.hpp"
 #include "support.hpp"
-#include "warpmesh/bcc_certified.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;

@@ -15,9 +15,9 @@
 #include <string>
 
 #include "bcc_stuffing.hpp"
-#include "warpmesh/bcc_certified.hpp"
-#include "warpmesh/errors.hpp"
-#include "warpmesh/mesh3d.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
 
 using namespace warpmesh;
 

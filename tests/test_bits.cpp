@@ -1,4 +1,4 @@
-// The word-level bit tools of the graded path (mesher/src/graded/bits.hpp),
+// The word-level bit tools of the graded path (mesher/src/mesh2d/graded/bits.hpp),
 // each against a plain loop over bits or bytes.
 #define BOOST_TEST_MODULE bits
 #include <boost/test/unit_test.hpp>
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "graded/bits.hpp"
+#include "mesh2d/graded/bits.hpp"
 
 using namespace warpmesh;
 

@@ -12,10 +12,10 @@
 #include <sstream>
 
 #include "witness_image.hpp"
-#include "warpmesh/certified.hpp"
-#include "warpmesh/graded.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/graded.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 
 using namespace warpmesh;
 

@@ -12,9 +12,9 @@
 #include <sstream>
 #include <string>
 
-#include "warpmesh/certified.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 
 using namespace warpmesh;
 

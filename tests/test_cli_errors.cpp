@@ -212,7 +212,7 @@ BOOST_AUTO_TEST_CASE(a_good_run_writes_exactly_the_requested_files) {
 
 // The graded report carries the uniform report's counts of the warped squares
 // and of the squares where the separating rule overrode max-min, and they
-// agree: the graded mesh's warped squares are the uniform mesh's (src/graded/quadtree.hpp).
+// agree: the graded mesh's warped squares are the uniform mesh's (src/mesh2d/graded/quadtree.hpp).
 BOOST_AUTO_TEST_CASE(graded_and_uniform_reports_count_the_same_warped_squares) {
     Sandbox sb;
     const auto img = sb.input("disc.pgm", disc_pgm(40, 32)).string();

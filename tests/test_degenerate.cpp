@@ -21,15 +21,15 @@
 #include <vector>
 
 #include "fuzz/fuzz_checks.hpp"
-#include "warpmesh/errors.hpp"
-#include "warpmesh/graded.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/lattice.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/certified.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/mesh2d/graded.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/mesh2d/lattice.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;

@@ -20,14 +20,14 @@
 #include <unistd.h>
 
 #include "witness_image.hpp"
-#include "warpmesh/certified.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/lattice.hpp"
-#include "warpmesh/materials.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/mesh2d/lattice.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/post/quality.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 
 namespace fs = std::filesystem;
 using namespace warpmesh;

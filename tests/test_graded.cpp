@@ -19,19 +19,19 @@
 #include <omp.h>
 #endif
 
-#include "warpmesh/certified.hpp"
-#include "warpmesh/graded.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/graded.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 #include "support.hpp"
 #include "without_range.hpp"
-#include "graded/point_set.hpp"
-#include "graded/quadtree.hpp"
-#include "graded/tiles.hpp"
-#include "graded/triangulate_graded.hpp"
+#include "mesh2d/graded/point_set.hpp"
+#include "mesh2d/graded/quadtree.hpp"
+#include "mesh2d/graded/tiles.hpp"
+#include "mesh2d/graded/triangulate_graded.hpp"
 
 using namespace warpmesh;
 

@@ -7,10 +7,10 @@
 
 #include <algorithm>
 
-#include "warpmesh/graded.hpp"
-#include "warpmesh/shapes.hpp"
-#include "graded/quadtree.hpp"
-#include "graded/tiles.hpp"
+#include "warpmesh/mesh2d/graded.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "mesh2d/graded/quadtree.hpp"
+#include "mesh2d/graded/tiles.hpp"
 
 using namespace warpmesh;
 

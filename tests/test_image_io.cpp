@@ -11,8 +11,8 @@
 
 #include <unistd.h>
 
-#include "warpmesh/errors.hpp"
-#include "warpmesh/image.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/io/image.hpp"
 #include "support.hpp"
 
 #ifdef WARPMESH_HAVE_PNG

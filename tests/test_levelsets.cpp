@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/errors.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/lattice.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/shapes.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/mesh2d/lattice.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/levelset/shapes.hpp"
 #include "support.hpp"
 #include "without_range.hpp"
 

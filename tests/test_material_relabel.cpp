@@ -16,9 +16,9 @@
 #include "label_images.hpp"
 #include "same_mesh.hpp"
 #include "support.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/lattice.hpp"
-#include "warpmesh/materials.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/mesh2d/lattice.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
 
 using namespace warpmesh;
 using warpmesh::testing::scaled;

@@ -23,10 +23,10 @@
 #include "support.hpp"
 #include "volume_fixtures.hpp"
 #include "without_range.hpp"
-#include "warpmesh/materials.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/post/quality.hpp"
+#include "warpmesh/io/volume.hpp"
 
 namespace fs = std::filesystem;
 using namespace warpmesh;

@@ -15,9 +15,9 @@
 
 #include "brain_crop.hpp"
 #include "support.hpp"
-#include "uniform3d/uniform3d.hpp"
-#include "warpmesh/mesh3d.hpp"
-#include "warpmesh/report.hpp"
+#include "mesh3d/uniform3d.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/report/report.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;

@@ -18,8 +18,8 @@
 
 #include "brain_crop.hpp"
 #include "support.hpp"
-#include "warpmesh/mesh3d.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/io/volume.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;

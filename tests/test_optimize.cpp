@@ -19,18 +19,18 @@
 #include <omp.h>
 #endif
 
-#include "warpmesh/graded.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/optimize.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/resolution.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
-#include "mesh/plane.hpp"
-#include "warpmesh/errors.hpp"
+#include "warpmesh/mesh2d/graded.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/post/optimize.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/post/quality.hpp"
+#include "warpmesh/post/resolution.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
+#include "post/plane.hpp"
+#include "warpmesh/core/errors.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;

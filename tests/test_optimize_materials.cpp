@@ -24,12 +24,12 @@
 #include <set>
 #include <string>
 
-#include "warpmesh/image.hpp"
-#include "warpmesh/materials.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/optimize.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/quality.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/post/optimize.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/post/quality.hpp"
 #include "label_images.hpp"
 #include "support.hpp"
 
@@ -281,7 +281,7 @@ BOOST_AUTO_TEST_CASE(analytic_materials_slide_along_their_interfaces) {
 // Issue 28: at the tip of a one-pixel label of the brain slice (a crop,
 // tests/data/issue28_optimize_strip_tip.pgm) an interior vertex's edge split
 // a junction's 36.87° corner into two 18.43° angles, which no move, flip or
-// Steiner point lifts; the pass removes that vertex (src/mesh/remove.hpp) and
+// Steiner point lifts; the pass removes that vertex (src/post/remove.hpp) and
 // the crop reaches the 1 px target, uniform and graded, with every property
 // of optimise_and_check (junctions never removed, interfaces exact, areas no worse).
 BOOST_AUTO_TEST_CASE(issue28_optimize_strip_tip) {
@@ -384,7 +384,7 @@ BOOST_AUTO_TEST_CASE(atlas_slice_targets) {
         // 104.8 deg).
         BOOST_REQUIRE_GE(r.optimized->min_angle_after, s == 1 ? 28.0 : 35.0);
         BOOST_REQUIRE_LE(r.optimized->max_angle_after, 110.0);
-        // At 1 px the vertex removal (src/mesh/remove.hpp) lifts the pairs at
+        // At 1 px the vertex removal (src/post/remove.hpp) lifts the pairs at
         // one-pixel tips.
         if (s == 1) BOOST_REQUIRE_GT(r.optimized->removed_vertices, 0);
     }

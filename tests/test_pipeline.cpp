@@ -10,8 +10,8 @@
 #include <random>
 #include <tuple>
 
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 
 using namespace warpmesh;
 

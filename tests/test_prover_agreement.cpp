@@ -9,8 +9,8 @@
 #include <map>
 #include <sstream>
 
-#include "warpmesh/certified.hpp"
-#include "warpmesh/generic_square.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/generic_square.hpp"
 #include "warpmesh/prove.hpp"
 
 using namespace warpmesh;

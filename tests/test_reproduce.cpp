@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "support.hpp"
-#include "warpmesh/certified.hpp"
+#include "warpmesh/certify/certified.hpp"
 
 using namespace warpmesh;
 

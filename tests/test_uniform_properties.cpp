@@ -11,11 +11,11 @@
 #include <set>
 #include <string>
 
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/shapes.hpp"
-#include "warpmesh/uniform.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;

@@ -12,14 +12,14 @@
 
 #include <sys/wait.h>
 
-#include "warpmesh/certified.hpp"
-#include "warpmesh/generic_square.hpp"
-#include "warpmesh/materials.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/shapes.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/generic_square.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/levelset/shapes.hpp"
 #include "support.hpp"
-#include "uniform/rhombic.hpp"
+#include "mesh2d/uniform/rhombic.hpp"
 
 using namespace warpmesh;
 

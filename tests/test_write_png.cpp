@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "support.hpp"
-#include "warpmesh/mesh.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/core/mesh.hpp"
+#include "warpmesh/io/writers.hpp"
 
 #ifdef WARPMESH_HAVE_PNG
 #include <png.h>

@@ -27,9 +27,9 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
-#include "warpmesh/mesh.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/core/mesh.hpp"
+#include "warpmesh/post/quality.hpp"
+#include "warpmesh/io/writers.hpp"
 
 namespace fs = std::filesystem;
 using namespace warpmesh;

@@ -1,10 +1,10 @@
 // without_range.hpp — a level set that forwards everything to another except
 // range(): it knows no bound, so the graded mesher samples every tile
-// (src/graded/tiles.hpp).  Meshes made through it are the reference the range-bounded
+// (src/mesh2d/graded/tiles.hpp).  Meshes made through it are the reference the range-bounded
 // front end must reproduce exactly.
 #pragma once
 
-#include "warpmesh/levelset.hpp"
+#include "warpmesh/levelset/levelset.hpp"
 
 namespace warpmesh::testing {
 

@@ -32,9 +32,9 @@
 #include <omp.h>
 #endif
 
-#include "warpmesh/materials.hpp"
-#include "warpmesh/slices.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/pipeline/slices.hpp"
+#include "warpmesh/io/volume.hpp"
 #include "warpmesh/warpmesh.hpp"
 #ifdef WARPMESH_HAVE_PROVER
 #include "warpmesh/prove.hpp"

@@ -20,9 +20,9 @@
 #include <sstream>
 #include <string>
 
-#include "warpmesh/errors.hpp"
-#include "warpmesh/mesh3d.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/io/volume.hpp"
 
 namespace {
 

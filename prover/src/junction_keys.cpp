@@ -25,7 +25,7 @@
 // Nothing else is imposed (superset, as for the sign keys).
 #include <map>
 
-#include "warpmesh/certified.hpp"
+#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh::prover {

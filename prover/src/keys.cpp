@@ -3,7 +3,7 @@
 // proofs/README.md ("Configuration space").  The key code and the flatness
 // test are the mesher's (certified.hpp: key_code, stencil_admits_flat): one
 // copy on the untrusted side; the independent checker has its own, on purpose.
-#include "warpmesh/certified.hpp"
+#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh::prover {

@@ -15,7 +15,7 @@
 
 #include <boost/multiprecision/cpp_int.hpp>
 
-#include "warpmesh/certified.hpp"
+#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove.hpp"
 

@@ -4,7 +4,7 @@ generic square's configuration space (sampling in double precision, NOT a
 proof; not on the proof path).
 
 The rhombic lattice is the square lattice under P(x, y) = (x + y/2, (√3/2) y)
-(mesher/src/uniform/rhombic.hpp).  P keeps every lattice edge's length, so
+(mesher/src/mesh2d/uniform/rhombic.hpp).  P keeps every lattice edge's length, so
 the configuration space of proofs/README.md ("Configuration space": signs,
 slides t in [0, 1/2] along ±x, ±y, the consistency rules) is the same set of
 keys and t-boxes, and so is flatness (an affine function of the physical

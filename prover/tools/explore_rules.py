@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Numeric exploration of warping-rule variants (sampling, NOT a proof; not
-on the proof path: the certificates come from prover/src and prover/check).
+on the proof path: the certificates come from prover/src and checker).
 
 Enumerates the configuration keys of proofs/README.md, samples each key's
 t-box [0,1/2]^m on a grid and reports the worst minimum angle over the

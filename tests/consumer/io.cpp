@@ -1,7 +1,7 @@
 // A program that uses an installed warpmesh::io (tests/consumer/CMakeLists.txt):
 // meshes a disc and writes it as XDMF with HDF5 heavy data into DIR.
 #include <warpmesh/warpmesh.hpp>
-#include <warpmesh/writers.hpp>
+#include <warpmesh/io/writers.hpp>
 
 #include <iostream>
 

@@ -21,20 +21,20 @@
 #include <tuple>
 #include <vector>
 
-#include "warpmesh/certified.hpp"
-#include "warpmesh/errors.hpp"
-#include "warpmesh/graded.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/mesh2d/graded.hpp"
 #include "../mesh_math.hpp"
-#include "graded/quadtree.hpp"
-#include "graded/tiles.hpp"
-#include "warpmesh/image.hpp"
-#include "warpmesh/image_levelset.hpp"
-#include "warpmesh/lattice.hpp"
-#include "warpmesh/materials.hpp"
-#include "warpmesh/mesh_checks.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/uniform.hpp"
+#include "mesh2d/graded/quadtree.hpp"
+#include "mesh2d/graded/tiles.hpp"
+#include "warpmesh/io/image.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/mesh2d/lattice.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/post/mesh_checks.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/post/quality.hpp"
+#include "warpmesh/mesh2d/uniform.hpp"
 #include "../without_range.hpp"
 
 namespace warpmesh::fuzz {

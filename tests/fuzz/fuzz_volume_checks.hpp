@@ -15,8 +15,8 @@
 #include <span>
 #include <string>
 
-#include "warpmesh/errors.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/io/volume.hpp"
 
 namespace warpmesh::fuzz {
 

@@ -24,7 +24,7 @@
 #include <string>
 
 #include "fixture_meshes.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/io/writers.hpp"
 
 namespace {
 

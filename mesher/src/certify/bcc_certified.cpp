@@ -4,7 +4,7 @@
 // names one, "alphas L S", then "CODE CMIN CMAX" per key, claims p / 2^40).
 // Each table is the rule its own text names (none: parity), whichever
 // constant it came in; bcc_certified.hpp states the contract.
-#include "warpmesh/bcc_certified.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
 
 #include <algorithm>
 #include <array>
@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-#include "warpmesh/generic_bcc_keys.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"
 
 namespace warpmesh {
 namespace generated {

@@ -9,10 +9,10 @@
 //   theorem  the extremes of the keys' claims (the certificate's `claim`).
 // θ >= θmin and θ <= θmax (θmax > 90°) are compared through cos² (verify3.cpp);
 // the degrees are for reports only.
-#include "uniform3d/uniform3d.hpp"
-#include "warpmesh/bcc_certified.hpp"
-#include "warpmesh/generic_bcc_keys.hpp"
-#include "warpmesh/mesh3d.hpp"
+#include "mesh3d/uniform3d.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // certified.cpp — the compiled-in per-key bounds (certified.hpp) and the
 // certification of a mesh: per-triangle bound, flatness, verification.
-#include "warpmesh/certified.hpp"
+#include "warpmesh/certify/certified.hpp"
 
 #include <algorithm>
 #include <array>

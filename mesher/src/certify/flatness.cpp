@@ -14,12 +14,12 @@
 //
 // This is the one copy on the untrusted side: the prover asks it through
 // stencil_admits_flat for its flat-compatible keys.  The independent checker
-// (prover/check/checker.cpp) has its own copy of the same idea, on purpose.
+// (checker/checker.cpp) has its own copy of the same idea, on purpose.
 #include <atomic>
 #include <cstdlib>
 #include <stdexcept>
 
-#include "warpmesh/certified.hpp"
+#include "warpmesh/certify/certified.hpp"
 
 namespace warpmesh {
 

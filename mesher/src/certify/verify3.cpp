@@ -35,7 +35,7 @@
 #include <numeric>
 #include <sstream>
 
-#include "uniform3d/uniform3d.hpp"
+#include "mesh3d/uniform3d.hpp"
 
 namespace warpmesh::uniform3d {
 namespace {

@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "warpmesh/errors.hpp"
+#include "warpmesh/core/errors.hpp"
 
 namespace warpmesh {
 

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "volume_detail.hpp"
-#include "warpmesh/errors.hpp"
-#include "warpmesh/image.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/io/image.hpp"
 
 #ifdef WARPMESH_HAVE_PNG
 #include <csetjmp>

@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
-#include "warpmesh/mesh.hpp"
-#include "warpmesh/tet_mesh.hpp"
+#include "warpmesh/core/mesh.hpp"
+#include "warpmesh/core/tet_mesh.hpp"
 
 namespace warpmesh::detail {
 

@@ -13,8 +13,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "warpmesh/errors.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/io/volume.hpp"
 
 namespace warpmesh::volume_detail {
 

@@ -13,7 +13,7 @@
 #include <string_view>
 
 #include "volume_detail.hpp"
-#include "warpmesh/image.hpp"
+#include "warpmesh/io/image.hpp"
 
 namespace warpmesh {
 namespace {

@@ -21,7 +21,7 @@
 // the file round-trips exactly.  Group names have no place in the format;
 // they are in every other output.
 #include "io/output.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/io/writers.hpp"
 
 namespace warpmesh {
 

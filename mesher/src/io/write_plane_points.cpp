@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "io/atomic_file.hpp"
-#include "warpmesh/volume.hpp"
+#include "warpmesh/io/volume.hpp"
 
 namespace warpmesh {
 

@@ -22,8 +22,8 @@
 
 #include "io/atomic_file.hpp"
 #include "io/output.hpp"
-#include "warpmesh/quality.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/post/quality.hpp"
+#include "warpmesh/io/writers.hpp"
 
 namespace warpmesh {
 

@@ -52,7 +52,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/output.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/io/writers.hpp"
 
 namespace warpmesh {
 

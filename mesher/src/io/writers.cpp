@@ -1,7 +1,7 @@
 // writers.cpp — the format dispatcher and checks shared by the writers.
 #include "io/atomic_file.hpp"
 #include "io/output.hpp"
-#include "warpmesh/writers.hpp"
+#include "warpmesh/io/writers.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -13,7 +13,7 @@
 
 #include <unistd.h>
 
-#include "warpmesh/quality.hpp"
+#include "warpmesh/post/quality.hpp"
 
 namespace warpmesh {
 

@@ -9,8 +9,8 @@
 #include <vector>
 #include <sstream>
 
-#include "warpmesh/materials.hpp"
-#include "warpmesh/report.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/report/report.hpp"
 
 namespace warpmesh {
 

@@ -1,7 +1,7 @@
 // report.cpp — the reports' text and JSON (report.hpp): JSON values, the
 // quality report, the certification's part, a mesh result's whole report.
 // The multi-material part is material_report.cpp.
-#include "warpmesh/report.hpp"
+#include "warpmesh/report/report.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -10,10 +10,10 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
-#include "warpmesh/certified.hpp"
-#include "warpmesh/optimize.hpp"
-#include "warpmesh/pipeline.hpp"
-#include "warpmesh/quality.hpp"
+#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/post/optimize.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/post/quality.hpp"
 
 namespace warpmesh {
 

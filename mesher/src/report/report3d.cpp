@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/mesh3d.hpp"
-#include "warpmesh/report.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/report/report.hpp"
 
 namespace warpmesh {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/generic_square.hpp"
+#include "warpmesh/mesh2d/generic_square.hpp"
 
 namespace warpmesh {
 

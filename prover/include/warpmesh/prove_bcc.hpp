@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/generic_bcc.hpp"
-#include "warpmesh/generic_bcc_keys.hpp"
+#include "warpmesh/mesh3d/generic_bcc.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"
 
 namespace warpmesh::bcc_prover {
 

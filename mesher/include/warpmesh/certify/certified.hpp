@@ -1,0 +1,194 @@
+// certified.hpp — the proofs' per-key angle bounds, compiled into the mesher,
+// and the per-square certification of a mesh against them.
+//
+// The table is generated at configure time from the `key ` lines of
+// proofs/maxmin.cert and proofs/separating.cert (mesher/CMakeLists.txt →
+// build/mesher/generated/certified_table.cpp); a change of a certificate
+// re-runs the configuration.  Format of a line (proofs/README.md):
+//   key <index> <code> <flat 0|1> <m> <qmin> <qmax> <leaves>
+// meaning: for every configuration of the key, every angle a of both chosen
+// triangles has qmax <= cot(a) <= qmin.
+//
+// The proof is about the cotangents (min_cot = qmax, max_cot = qmin, rationals
+// rounded to the nearest double); the degrees are atan-derived and for
+// reporting only.
+//
+// The rhombic lattice (LatticeMetric::rhombic) has its own tables, from
+// proofs/rhombic_maxmin.cert and proofs/rhombic_separating.cert, looked up
+// only with that metric: their bounds are on r = dot / cross of the rhombic
+// forms (triangle_forms(..., rhombic)) = sqrt(3) cot(angle), in lattice
+// coordinates; min_cot / max_cot hold r there, the degrees are the physical
+// angles.  The fan rule has no rhombic table (null bounds, no keys).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "warpmesh/mesh2d/generic_square.hpp"
+#include "warpmesh/mesh2d/lattice.hpp"
+
+namespace warpmesh {
+
+struct CertifiedBound {
+    double min_deg, max_deg;   // arccot(max_cot), arccot(min_cot): every angle in [min_deg, max_deg]
+    double min_cot, max_cot;   // qmax, qmin of the key line: min_cot <= cot(angle) <= max_cot (rhombic: r)
+    bool flat_compatible;
+};
+
+// The key code of a square's corner states, e.g. "-R+U-L-R".
+std::string key_code(const std::array<CornerState, 4>& corners);
+
+// The bound of the key, or nullptr if the key is not in the compiled-in table.
+const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& corners,
+                                      LatticeMetric metric = LatticeMetric::square);
+
+// True when the build found both certificates of the metric (maxmin and
+// separating: the tables are non-empty).
+bool certified_table_available(LatticeMetric metric = LatticeMetric::square);
+// Number of keys of the compiled-in table for a rule.
+std::size_t certified_key_count(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
+
+// The theorems as implied by the table: over all keys ("any") and over the
+// flat-compatible keys only ("flat"), the least min_deg and the greatest
+// max_deg (every angle lies in [min_deg, max_deg]).
+struct CertifiedTheorem {
+    double min_deg_any, min_deg_flat;
+    double max_cot_any, max_cot_flat;  // the largest cot bound, behind min_deg (proof side)
+    double max_deg_any, max_deg_flat;
+};
+CertifiedTheorem certified_theorem(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
+
+// Junction keys (multi-material squares whose corners carry 3 or 4
+// materials; proofs/materials.cert for the separating rule,
+// proofs/materials_fan.cert for the fan rule): `corners[c].material`
+// is corner c's material class, the letters 0..3 in order of first appearance
+// A, B, C, D, and the code is letters and warps, e.g. "aRaUbscs".
+std::string junction_key_code(const std::array<MaterialCorner, 4>& corners);
+// The corners' material classes in first-appearance order (materials → 0..3),
+// warps kept: the key of a square with materials `corners`.
+std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 4>& corners);
+// The bound of a junction key (letters as junction_letters gives them) under
+// `rule` (separating or fan), or nullptr if it is not in the rule's
+// compiled-in table (maxmin: none, the rule is refused with materials).
+const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters,
+                                               DiagonalRule rule = DiagonalRule::separating);
+std::size_t certified_junction_key_count(DiagonalRule rule = DiagonalRule::separating);
+// The theorem over the junction keys (the *_flat members are unused: NaN).
+CertifiedTheorem certified_junction_theorem(DiagonalRule rule = DiagonalRule::separating);
+
+// ---- the table as text, and its comparison with a certificate --------------
+// One parsed key line.
+struct CertKeyLine {
+    std::int64_t index = 0;
+    std::string code;
+    bool flat = false;
+    int m = 0;
+    std::string qmin, qmax;  // the rationals as written
+};
+// The compiled-in `key ` lines of a rule (the generated file's text), and
+// those of its junction keys (proofs/materials.cert, materials_fan.cert).
+std::string_view certified_table_text(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
+std::string_view certified_junction_table_text(DiagonalRule rule = DiagonalRule::separating);
+// Parse `key ` lines (other lines are ignored); throws std::runtime_error on a
+// malformed key line.
+std::vector<CertKeyLine> parse_cert_key_lines(std::string_view text);
+// Compares two key lists key by key; returns "" if equal, otherwise a
+// description of the first difference.
+std::string compare_cert_keys(const std::vector<CertKeyLine>& a, const std::vector<CertKeyLine>& b);
+// p/q or an integer → double (via __int128 and long double).
+double parse_rational(std::string_view text);
+
+// ---- flatness ----------------------------------------------------------------
+// The 12-point stencil of square (i, j), in the order
+//   A, B, C, D, A:(-1,0), A:(0,-1), B:(2,0), B:(1,-1), C:(-1,1), C:(0,2), D:(2,1), D:(1,2)
+// (offsets from A).  True iff some affine a x + b y + c has exactly these signs
+// (0 = on the line).  Exact (integer) test, cached.
+inline constexpr std::array<std::array<int, 2>, 12> stencil_offsets{{{0, 0}, {1, 0}, {0, 1}, {1, 1},
+                                                                     {-1, 0}, {0, -1}, {2, 0}, {1, -1},
+                                                                     {-1, 1}, {0, 2}, {2, 1}, {1, 2}}};
+bool stencil_is_flat(const std::array<std::int8_t, 12>& signs);
+// True iff some affine a x + b y + c has the signs `signs[q]` at the stencil
+// points q in `known` (bit q), whatever its signs elsewhere.  `known` must
+// contain the four corners (bits 0-3; else std::invalid_argument).  The
+// prover's flat-compatible keys: the corners' signs and the outside
+// neighbours of the outward slides.  stencil_admits_flat(s, 0xfff) ==
+// stencil_is_flat(s).
+bool stencil_admits_flat(const std::array<std::int8_t, 12>& signs, std::uint16_t known);
+
+// ---- certification of a mesh -------------------------------------------------
+struct CertifyOptions {
+    bool enabled = true;    // compute the per-square bounds and the summary
+    bool cell_data = true;  // add mesh.cell_data "certified_min_angle"
+    bool verify = false;    // check every triangle of a keyed square against its interval
+    // The lattice: its certificates' tables, its forms for --verify (in
+    // lattice coordinates: the mesh is certified before the rhombic map P),
+    // and its unkeyed triangles (square: 45-45-90; rhombic: equilateral).
+    LatticeMetric metric = LatticeMetric::square;
+};
+
+// Squares "through the rule" are the finest squares with a warped or
+// zero-valued corner that emit a triangle (they have a key).  Other triangles:
+// plain lattice squares (45°/90° exactly) and graded coarse-leaf templates
+// (right isosceles: 45°/90°), bound [45°, 90°]; on the rhombic lattice the
+// plain rhombi split by their short diagonal (equilateral: [60°, 60°]).
+struct CertifiedSummary {
+    bool available = false;
+    double min_deg = 0, max_deg = 0;     // guarantee of the mesh: min / max over its triangles' bounds
+    double keyed_min_deg = 0;            // min over the keyed squares only (NaN if none)
+    std::int64_t keyed_squares = 0, flat_squares = 0, nonflat_squares = 0;
+    std::vector<std::array<std::int64_t, 2>> nonflat_examples;  // up to 20 (i, j)
+    std::vector<std::string> nonflat_keys;                     // their keys
+    std::vector<std::array<double, 4>> nonflat_boxes;          // all of them (up to 10^5): {xmin, ymin, xmax, ymax}
+    bool verified = false;
+    // Multi-material meshes: keyed squares whose corners carry 3 or 4
+    // materials ("junction squares"), certified by their junction keys
+    // (proofs/materials.cert) and included in every count and bound above
+    // (they count as non-flat).
+    std::int64_t junction_squares = 0;
+    std::vector<std::int64_t> junction_list;  // the first 20, as square indices i + j nx
+    // Fidelity of the level-set boundary (filled by measure_fidelity).
+    bool has_fidelity = false;
+    double max_boundary_distance = 0;
+    std::int64_t boundary_edges_off_levelset = 0;
+};
+
+// `keyed` = the squares through the rule with their triangles, from the
+// triangulation (TriangulateStats::keyed_squares); every other triangle is a
+// plain lattice or template triangle (45°, 45°, 90°).  Throws std::logic_error
+// (→ internal error) for an unknown key or, with verify, for a triangle outside
+// its interval.  `sign_at(i, j)` is the sign of f at lattice point (i, j)
+// (a flat array for the uniform mesher, tiles for the graded one).
+using SignAt = std::function<std::int8_t(std::int64_t, std::int64_t)>;
+CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
+                              std::span<const WarpedPoint> warped, DiagonalRule rule,
+                              std::span<const KeyedSquare> keyed, const CertifyOptions& options);
+
+// The general form behind certify_mesh.  `square_signs(i, j, signs)` fills
+// the signs the certificate sees at the 12 stencil points of square (i, j)
+// (stencil_offsets order: the corners first; off_lattice for a point outside
+// the lattice, which makes the stencil non-flat) and returns true; for a
+// junction square (3 or 4 materials, see junction_squares) it returns false
+// with signs[0..3] = the corners' material classes (junction_letters: 0..3),
+// and the square is looked up among the junction keys.
+inline constexpr std::int8_t off_lattice = 9;
+using SquareSigns = std::function<bool(std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& signs)>;
+CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,
+                                 std::span<const WarpedPoint> warped, DiagonalRule rule,
+                                 std::span<const KeyedSquare> keyed, const CertifyOptions& options);
+
+// The largest distance from the mesh's level-set boundary edges to f = 0,
+// sampled at 9 points per edge (endpoints included) as |f| / |grad f| with a
+// central-difference gradient (step 1e-6 s); and the number of such edges with
+// an endpoint where |f| > 1e-9 s.  Meaningful for analytic shapes.
+void measure_fidelity(const Mesh& mesh, const LevelSet& f, double spacing, CertifiedSummary& summary);
+
+// The distance measure of measure_fidelity for one edge a-b: the largest
+// |f| / |grad f| at its 9 sample points.
+double edge_distance_to_levelset(const LevelSet& f, Vec2 a, Vec2 b, double spacing);
+
+}  // namespace warpmesh

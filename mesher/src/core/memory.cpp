@@ -1,0 +1,54 @@
+// memory.cpp — the memory bound's admission checks (memory.hpp).
+#include "warpmesh/core/memory.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "warpmesh/core/errors.hpp"
+
+namespace warpmesh {
+
+std::uint64_t resident_bytes() {
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f) return 0;
+    unsigned long long size = 0, resident = 0;
+    const int got = std::fscanf(f, "%llu %llu", &size, &resident);
+    std::fclose(f);
+    const long page = sysconf(_SC_PAGESIZE);
+    return got == 2 && page > 0 ? resident * static_cast<std::uint64_t>(page) : 0;
+}
+
+// The costs: peaks measured on 2048 x 2048 images of random labels (every
+// lattice square warped) and on full rectangles with every output option,
+// less what was resident before the stage, divided by the pixels or squares
+// and rounded up (the runs are in docs/performance.md).
+std::uint64_t field_bytes_per_pixel(FieldKind kind) {
+    switch (kind) {
+        case FieldKind::threshold: return 32;
+        case FieldKind::label: return 64;
+        case FieldKind::materials: return 176;
+    }
+    return 176;
+}
+
+std::uint64_t mesh_bytes_per_square(bool materials, bool graded) {
+    if (!materials) return 112;
+    return graded ? 360 : 128;  // above the material field, which is resident already
+}
+
+std::uint64_t mesh_bytes_per_material() { return 1536; }
+
+void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
+                  const std::string& advice) {
+    const std::uint64_t now = resident_bytes();
+    if (need <= max_memory && now <= max_memory - need) return;
+    const double mb = static_cast<double>(now) / 1048576.0 + static_cast<double>(need) / 1048576.0;
+    char total[32];
+    std::snprintf(total, sizeof total, "%.0f", mb);
+    throw InputError(what + " needs about " + total + " MB (" + how + "), more than the --max-memory limit of " +
+                     std::to_string(max_memory >> 20) + " MB; raise --max-memory if this machine has the memory, or " +
+                     advice);
+}
+
+}  // namespace warpmesh

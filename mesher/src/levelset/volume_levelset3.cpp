@@ -1,0 +1,441 @@
+// volume_levelset3.cpp — the level set of a 3D volume (mesh3d.hpp:
+// make_volume_levelset3): a trilinear interpolant of per-voxel values, the
+// grey values themselves (threshold mode) or a signed distance (label mode).
+//
+// Geometry (volume.hpp).  Voxel (i, j, k) sits at origin + i s0 a0 + j s1 a1
+// + k s2 a2 with axis-aligned unit a_n (a signed permutation), so a point X
+// has the index coordinate t_n = ((X − origin)·a_n) / s_n along index axis n.
+// The region is cut off at the hull of the voxel centres, t_n in [0,
+// dims_n − 1]: f = max(F, K b), F the interpolant at the point clamped to the
+// hull, b = max_n (|t_n − m_n| − r_n) s_n the box distance to the hull (m, r its
+// centre and half-width in index units, s_n the spacing; < 0 inside) and K
+// the units of F per millimetre (1 in label mode).  So f is continuous, a
+// region reaching the volume's edge is closed by the hull's face, and the cut
+// points there are zeros of f like any other.
+//
+// Label mode.  With m = 1 on the region's voxels, the exact Euclidean
+// distance transform (Felzenszwalb and Huttenlocher's lower envelope of
+// parabolas, one pass per index axis, weighted by the spacings) gives d_out
+// at every voxel outside (the distance to the nearest centre inside) and d_in
+// at every voxel inside; f = d_out − c outside and −(d_in − c) inside, c half
+// the smallest spacing, so along the axis of the smallest spacing f is
+// antisymmetric about the midpoint between a voxel and its neighbour of the
+// other class and the trilinear interpolant's zero passes there.  Only the
+// region's bounding box grown by `band` voxels is transformed and stored (as
+// floats); f is clamped to ±band × the largest spacing, which farther voxels
+// get without being stored.  The transforms start from the voxels on the
+// region's surface only (boundary_sources) and drop distances beyond the
+// band after each pass, so their work follows the surface; the region's
+// inscribed distance (feature_size) is then known only within the band.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <sstream>
+
+#include "warpmesh/core/buffer.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/core/memory.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/io/volume.hpp"
+#include "core/root_finder.hpp"
+
+namespace warpmesh {
+namespace {
+
+// Squared-distance transform of one line: d[i] = min_j g[j] + (w (i − j))²,
+// +inf where that exceeds `limit`.
+void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
+              std::vector<double>& z, std::vector<double>& gv) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), gv.resize(static_cast<std::size_t>(n));
+    for (std::int64_t i = 0; i < n; ++i) gv[static_cast<std::size_t>(i)] = g[i * stride];
+    std::int64_t k = -1;
+    const double w2 = w * w;
+    for (std::int64_t q = 0; q < n; ++q) {
+        const double fq = gv[static_cast<std::size_t>(q)];
+        if (!(fq < inf)) continue;
+        double s = -inf;
+        while (k >= 0) {
+            const std::int64_t p = v[static_cast<std::size_t>(k)];
+            s = ((fq + w2 * static_cast<double>(q * q)) - (gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>(p * p))) /
+                (2 * w2 * static_cast<double>(q - p));
+            if (s > z[static_cast<std::size_t>(k)]) break;
+            --k;
+        }
+        ++k;
+        v[static_cast<std::size_t>(k)] = q;
+        z[static_cast<std::size_t>(k)] = k == 0 ? -inf : s;
+        z[static_cast<std::size_t>(k) + 1] = inf;
+    }
+    for (std::int64_t i = 0, j = 0; i < n; ++i) {
+        if (k < 0) {
+            d[i * stride] = std::numeric_limits<float>::infinity();
+            continue;
+        }
+        while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
+        const std::int64_t p = v[static_cast<std::size_t>(j)];
+        const double di = gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>((i - p) * (i - p));
+        d[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+    }
+}
+
+// In place: g (0 at the sources, +inf elsewhere) → squared distances, +inf
+// beyond `limit` after each pass (a later pass only adds to a value).  The x
+// lines are contiguous; the y and z lines are taken in tiles of `tile` lines
+// adjacent along x, copied into a small buffer (each voxel row read and
+// written as whole cache lines) and transformed there, a line at a time with
+// its stride: the same arithmetic as a line in place.
+void edt(Buffer<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w, double limit) {
+    constexpr std::int64_t tile = 16;
+    Buffer<float> out(g.size());  // every element written by each pass
+#pragma omp parallel
+    {
+        std::vector<std::int64_t> v;
+        std::vector<double> z, gv;
+        std::vector<float> in_tile, out_tile;
+#pragma omp for schedule(static)
+        for (std::int64_t line = 0; line < n[1] * n[2]; ++line)
+            edt_line(g.data() + line * n[0], out.data() + line * n[0], n[0], 1, w[0], limit, v, z, gv);
+        for (std::size_t a = 1; a < 3; ++a) {
+            const std::size_t c = 3 - a;  // the axis other than x and a
+            const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
+#pragma omp single
+            g.swap(out);
+            const std::int64_t tiles = (n[0] + tile - 1) / tile, len = n[a];
+            in_tile.resize(static_cast<std::size_t>(len * tile)), out_tile.resize(static_cast<std::size_t>(len * tile));
+#pragma omp for schedule(static)
+            for (std::int64_t job = 0; job < tiles * n[c]; ++job) {
+                const std::int64_t x0 = job % tiles * tile, width = std::min(tile, n[0] - x0), base = x0 + job / tiles * stride_c;
+                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, in_tile.data() + i * tile);
+                for (std::int64_t x = 0; x < width; ++x) edt_line(in_tile.data() + x, out_tile.data() + x, len, tile, w[a], limit, v, z, gv);
+                for (std::int64_t i = 0; i < len; ++i) std::copy_n(out_tile.data() + i * tile, width, out.data() + base + i * stride_a);
+            }
+        }
+    }
+    g.swap(out);
+}
+
+// The transforms' sources: the voxels of each class (region or not) with a
+// 6-neighbour of the other class in the box.  The nearest voxel of a class
+// to a voxel p of the other class is one of them: a voxel q of the class
+// without such a neighbour has a neighbour of its class one step nearer p
+// along an axis where q − p is non-zero, and a transform's value (rounded
+// sums of the squared offsets, axis by axis) never grows as one axis's
+// offset shrinks.  So the fields are those of the transforms from every
+// voxel of the class (to the last bit, unless two sources tie within
+// rounding), at the cost of a surface's worth of sources.
+void boundary_sources(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, Buffer<float>& in,
+                      Buffer<float>& out) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j)
+            for (std::int64_t i = 0; i < n[0]; ++i) {
+                const std::int64_t at = i + stride[1] * j + stride[2] * k;
+                const std::array<std::int64_t, 3> q{i, j, k};
+                const std::uint8_t r = region[static_cast<std::size_t>(at)];
+                bool edge = false;
+                for (std::size_t a = 0; a < 3; ++a) {
+                    edge = edge || (q[a] > 0 && region[static_cast<std::size_t>(at - stride[a])] != r);
+                    edge = edge || (q[a] + 1 < n[a] && region[static_cast<std::size_t>(at + stride[a])] != r);
+                }
+                in[static_cast<std::size_t>(at)] = r && edge ? 0.0f : inf;   // sources of d_out: the region's
+                out[static_cast<std::size_t>(at)] = !r && edge ? 0.0f : inf;  // sources of d_in: the rest's
+            }
+}
+
+class VolumeLevelSet3 final : public LevelSet3 {
+public:
+    // Values on the box [lo, lo + n) of voxel indices; `far` beyond it.
+    // region_lo, region_hi: the voxels whose value is <= 0 lie in this index box.
+    VolumeLevelSet3(const Volume& v, Buffer<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
+                    std::array<std::int64_t, 3> region_lo, std::array<std::int64_t, 3> region_hi, float far, double feature,
+                    double per_mm, std::string name)
+        : values_(std::move(values)), lo_(lo), n_(n), dims_(v.dims), far_(far), feature_(feature), name_(std::move(name)) {
+        resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
+        spacing_ = {v.spacing[0], v.spacing[1], v.spacing[2]};
+        per_mm_ = per_mm;
+        lowest_ = std::min(far_, values_.empty() ? far_ : *std::min_element(values_.begin(), values_.end()));
+        for (std::size_t a = 0; a < 3; ++a) {
+            const Vec3 ax = *axis_aligned(v.axes[a]);
+            for (std::size_t p = 0; p < 3; ++p)
+                if (ax[p] != 0) perm_[a] = static_cast<int>(p), scale_[a] = ax[p] / v.spacing[a];
+            origin_[a] = v.origin[static_cast<std::size_t>(perm_[a])];
+        }
+        // f > 0 wherever the 8 voxels around a point are all outside, so the
+        // region lies within one voxel of the box of its voxels.
+        for (std::size_t a = 0; a < 3; ++a) {
+            const std::size_t p = static_cast<std::size_t>(perm_[a]);
+            const double e0 = origin_[a] + static_cast<double>(region_lo[a] - 1) / scale_[a];
+            const double e1 = origin_[a] + static_cast<double>(region_hi[a] + 1) / scale_[a];
+            lo_box_[p] = std::min(e0, e1), hi_box_[p] = std::max(e0, e1);
+        }
+    }
+    double value(double x, double y, double z) const override {
+        std::array<double, 3> t = index_coordinates({x, y, z});
+        for (std::size_t a = 0; a < 3; ++a)
+            if (!(t[a] == t[a])) return far_;  // a NaN coordinate
+        const double box = hull_distance(t);
+        std::array<std::int64_t, 3> i{};
+        std::array<double, 3> u{};
+        for (std::size_t a = 0; a < 3; ++a) {
+            t[a] = std::clamp(t[a], 0.0, static_cast<double>(dims_[a] - 1));
+            i[a] = std::min<std::int64_t>(static_cast<std::int64_t>(t[a]), dims_[a] - 2);
+            u[a] = t[a] - static_cast<double>(i[a]);
+        }
+        return std::max(interpolate(corners(i), u), per_mm_ * box);
+    }
+    double cut_parameter(Point3 a, Point3 b, double fa, double fb) const override;
+    Box3 bounds() const override {
+        return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]};
+    }
+    double feature_size() const override { return feature_; }
+    double resolution() const override { return resolution_; }
+    std::string describe() const override { return name_; }
+
+private:
+    // Index coordinates t of a physical point X: t_n = ((X − origin)·a_n) / s_n.
+    std::array<double, 3> index_coordinates(const std::array<double, 3>& X) const {
+        std::array<double, 3> t{};
+        for (std::size_t a = 0; a < 3; ++a) t[a] = (X[static_cast<std::size_t>(perm_[a])] - origin_[a]) * scale_[a];
+        return t;
+    }
+    // b = max_n (|t_n − m_n| − r_n) s_n: the box distance to the voxel centres' hull, < 0 inside.
+    double hull_distance(const std::array<double, 3>& t) const {
+        double box = -std::numeric_limits<double>::infinity();
+        for (std::size_t a = 0; a < 3; ++a) {
+            const double half = 0.5 * static_cast<double>(dims_[a] - 1);
+            box = std::max(box, (std::abs(t[a] - half) - half) * spacing_[a]);
+        }
+        return box;
+    }
+    // The 8 voxels i .. i + 1 (bit 0: +x, bit 1: +y, bit 2: +z): straight
+    // from the stored box when they are all in it (the common case), else
+    // voxel by voxel (far_ outside it).
+    std::array<double, 8> corners(const std::array<std::int64_t, 3>& i) const {
+        std::array<std::int64_t, 3> r{};
+        bool stored = true;
+        for (std::size_t a = 0; a < 3; ++a) {
+            r[a] = i[a] - lo_[a];
+            stored = stored && r[a] >= 0 && r[a] + 1 < n_[a];
+        }
+        std::array<double, 8> c{};
+        if (stored) {
+            const std::int64_t sy = n_[0], sz = n_[0] * n_[1];
+            const float* p = values_.data() + r[0] + sy * r[1] + sz * r[2];
+            c = {p[0], p[1], p[sy], p[sy + 1], p[sz], p[sz + 1], p[sz + sy], p[sz + sy + 1]};
+        } else {
+            for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = at({i[0] + (k & 1), i[1] + (k >> 1 & 1), i[2] + (k >> 2)});
+        }
+        return c;
+    }
+    // The trilinear interpolant of a cell's corners c at fractions u.
+    static double interpolate(const std::array<double, 8>& c, const std::array<double, 3>& u) {
+        const double x0 = c[0] + u[0] * (c[1] - c[0]), x1 = c[2] + u[0] * (c[3] - c[2]);
+        const double x2 = c[4] + u[0] * (c[5] - c[4]), x3 = c[6] + u[0] * (c[7] - c[6]);
+        const double y0 = x0 + u[1] * (x1 - x0), y1 = x2 + u[1] * (x3 - x2);
+        return y0 + u[2] * (y1 - y0);
+    }
+    double at(const std::array<std::int64_t, 3>& j) const {
+        std::int64_t k = 0;
+        for (int a = 2; a >= 0; --a) {
+            const std::int64_t r = j[static_cast<std::size_t>(a)] - lo_[static_cast<std::size_t>(a)];
+            if (r < 0 || r >= n_[static_cast<std::size_t>(a)]) return far_;
+            k = k * n_[static_cast<std::size_t>(a)] + r;
+        }
+        return values_[static_cast<std::size_t>(k)];
+    }
+    Buffer<float> values_;
+    std::array<std::int64_t, 3> lo_, n_, dims_;
+    float far_;
+    double lowest_ = 0;  // no voxel value is below it: F >= lowest_ everywhere
+    double feature_, resolution_ = 0, per_mm_ = 1;
+    std::array<double, 3> spacing_{1, 1, 1};
+    std::string name_;
+    std::array<int, 3> perm_{0, 1, 2};
+    std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};
+};
+
+// A cubic c0 + c1 s + c2 s² + c3 s³.
+struct Cubic {
+    std::array<double, 4> c{};
+    double operator()(double s) const { return ((c[3] * s + c[2]) * s + c[1]) * s + c[0]; }
+};
+
+// p + (x0 + s dx)(q − p): one lerp of the trilinear interpolant along a
+// linear path, one degree up (p and q of degree <= 2).
+Cubic lerp(const Cubic& p, const Cubic& q, double x0, double dx) {
+    Cubic r;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const double d = q.c[k] - p.c[k];
+        r.c[k] += p.c[k] + x0 * d;
+        r.c[k + 1] += dx * d;
+    }
+    return r;
+}
+
+// Cut points.  Where the hull term cannot win on the segment a b (K b <= the
+// lowest voxel value at both ends, hence all along it: b is convex along a
+// line), f is the interpolant F there, unclamped, and in each voxel cell the
+// segment crosses F is the trilinear interpolant of a linear path: a cubic
+// in the segment's parameter.  The segment is split at the cells' faces
+// (piece [u, e], local parameter s in [0, 1]); in the first piece whose end
+// has the sign opposite to f(a), the bracketed root finder runs on that
+// piece's cubic (Horner: a few flops an evaluation instead of a lookup of
+// eight voxels), to the same convergence as on f (root_finder.hpp).  F is
+// continuous, so that piece brackets a zero of f: the one nearest a where f
+// has several on the edge.  Elsewhere (the hull term, a NaN), or where
+// rounding makes a piece's start disagree with the previous piece's end,
+// the root finder on f itself.
+double VolumeLevelSet3::cut_parameter(Point3 a, Point3 b, double fa, double fb) const {
+    const std::array<double, 3> t0 = index_coordinates({a.x, a.y, a.z}), t1 = index_coordinates({b.x, b.y, b.z});
+    bool plain = per_mm_ * hull_distance(t0) <= lowest_ && per_mm_ * hull_distance(t1) <= lowest_;
+    for (std::size_t k = 0; k < 3; ++k) plain = plain && std::isfinite(t0[k]) && std::isfinite(t1[k]);
+    if (!plain) return bracketed_root3(*this, a, b, fa, fb);
+    std::array<double, 3> dt{}, next{};  // per axis: t's rate, the parameter of the next cell face
+    std::array<std::int64_t, 3> face{}, step{};
+    for (std::size_t k = 0; k < 3; ++k) {
+        dt[k] = t1[k] - t0[k];
+        step[k] = dt[k] > 0 ? 1 : -1;
+        face[k] = dt[k] > 0 ? static_cast<std::int64_t>(std::floor(t0[k])) + 1 : static_cast<std::int64_t>(std::ceil(t0[k])) - 1;
+        next[k] = dt[k] != 0 ? (static_cast<double>(face[k]) - t0[k]) / dt[k] : 2.0;
+    }
+    for (double u = 0; u < 1;) {
+        const double e = std::min({1.0, next[0], next[1], next[2]}), len = e - u, mid = 0.5 * (u + e);
+        std::array<std::int64_t, 3> i{};
+        std::array<double, 3> x0{}, dx{};  // the cell's fractions along the piece: x0 + s dx
+        for (std::size_t k = 0; k < 3; ++k) {
+            i[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(t0[k] + mid * dt[k])), 0, dims_[k] - 2);
+            x0[k] = t0[k] + u * dt[k] - static_cast<double>(i[k]);
+            dx[k] = len * dt[k];
+        }
+        const std::array<double, 8> c = corners(i);
+        std::array<Cubic, 4> xs{};
+        for (std::size_t m = 0; m < 4; ++m) xs[m] = lerp({{c[2 * m], 0, 0, 0}}, {{c[2 * m + 1], 0, 0, 0}}, x0[0], dx[0]);
+        const Cubic p = lerp(lerp(xs[0], xs[1], x0[1], dx[1]), lerp(xs[2], xs[3], x0[1], dx[1]), x0[2], dx[2]);
+        const double p0 = p(0), p1 = p(1);
+        if ((p1 < 0) != (fa < 0) || p1 == 0) {
+            if (p1 == 0) return inside_unit_interval(e);
+            if (p0 == 0) return inside_unit_interval(u);
+            if ((p0 < 0) != (fa < 0)) break;
+            return inside_unit_interval(u + len * bracketed_root_of(p, p0, p1));
+        }
+        for (std::size_t k = 0; k < 3; ++k)
+            if (next[k] == e) face[k] += step[k], next[k] = (static_cast<double>(face[k]) - t0[k]) / dt[k];
+        u = e;
+    }
+    return bracketed_root3(*this, a, b, fa, fb);
+}
+
+std::string labels_text(const ImageLevelSetOptions& m) {
+    if (m.label_nonzero) return "nonzero";
+    std::ostringstream s;
+    for (std::size_t i = 0; i < m.labels.size(); ++i) s << (i ? "," : "") << m.labels[i];
+    return s.str();
+}
+
+std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
+    const auto& m = o.mode;
+    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs --label L,... or --label nonzero");
+    auto in_region = [&](double x) {
+        return m.label_nonzero ? x != 0 : std::find(m.labels.begin(), m.labels.end(), static_cast<int>(x)) != m.labels.end();
+    };
+    // The region's bounding box, a row of voxels (x fastest) at a time.
+    std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
+    for (std::int64_t k = 0; k < v.dims[2]; ++k)
+        for (std::int64_t j = 0; j < v.dims[1]; ++j) {
+            const double* row = v.values.data() + v.dims[0] * (j + v.dims[1] * k);
+            std::int64_t first = -1, last = -1;
+            for (std::int64_t i = 0; i < v.dims[0]; ++i) {
+                const double x = row[i];
+                // In 0..65535, then an integer (the cast is exact there).
+                if (!(x >= 0 && x <= 65535) || static_cast<double>(static_cast<std::int32_t>(x)) != x)
+                    throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(x) + ")");
+                if (!in_region(x)) continue;
+                if (first < 0) first = i;
+                last = i;
+            }
+            if (first < 0) continue;
+            lo = {std::min(lo[0], first), std::min(lo[1], j), std::min(lo[2], k)};
+            hi = {std::max(hi[0], last), std::max(hi[1], j), std::max(hi[2], k)};
+        }
+    if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
+    const std::array<std::int64_t, 3> region_lo = lo, region_hi = hi;
+    std::array<std::int64_t, 3> n{};
+    std::uint64_t count = 1;
+    for (std::size_t a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int64_t>(0, lo[a] - o.band), hi[a] = std::min<std::int64_t>(v.dims[a] - 1, hi[a] + o.band);
+        n[a] = hi[a] - lo[a] + 1;
+        count *= static_cast<std::uint64_t>(n[a]);
+    }
+    // Two float fields, a transform buffer and the region's mask while building, one field kept.
+    check_memory(count * 13, o.max_memory, "the label volume's distance field (" + std::to_string(count) + " voxels)",
+                 "13 bytes a voxel of the region's bounding box", "crop the volume to the region");
+    std::vector<std::uint8_t> region(count);
+    for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j)
+            for (std::int64_t i = 0; i < n[0]; ++i)
+                region[static_cast<std::size_t>(i + n[0] * (j + n[1] * k))] = in_region(v.at(lo[0] + i, lo[1] + j, lo[2] + k));
+    Buffer<float> in(count), out(count);  // every element written by boundary_sources
+    boundary_sources(region, n, in, out);
+    const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
+    const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
+    // A squared distance above (cap + 2c)² gives |f| > cap: clamped to cap,
+    // the same as +inf, so the transforms drop it (and skip it in later passes).
+    edt(in, n, w, (cap + 2 * c) * (cap + 2 * c));
+    edt(out, n, w, (cap + 2 * c) * (cap + 2 * c));
+    double feature = 0;  // the largest inscribed distance; +inf: beyond the band
+    for (std::size_t at = 0; at < count; ++at) {
+        const bool r = region[at];
+        const double d = r ? -(std::sqrt(static_cast<double>(out[at])) - c) : std::sqrt(static_cast<double>(in[at])) - c;
+        if (r) feature = std::max(feature, -d);
+        in[at] = static_cast<float>(std::clamp(d, -cap, cap));
+    }
+    if (!std::isfinite(feature)) feature = 0;  // unknown: deeper than the band somewhere
+    Buffer<float>().swap(out);
+    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
+                                             v.source + " (label " + labels_text(m) + ")");
+}
+
+std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
+    const auto [mn, mx] = std::minmax_element(v.values.begin(), v.values.end());
+    const double iso = o.mode.iso ? *o.mode.iso : v.maxval > 0 ? 0.5 * v.maxval : 0.5 * (*mn + *mx);
+    if (!std::isfinite(iso)) throw InputError("--iso must be a finite number");
+    const std::uint64_t count = static_cast<std::uint64_t>(v.voxel_count());
+    check_memory(count * 4, o.max_memory, "the volume's grey values (" + std::to_string(count) + " voxels)", "4 bytes a voxel",
+                 "crop or downsample the volume");
+    Buffer<float> f(count);  // every element written below
+    const double sign = o.mode.inside_above ? -1 : 1;
+    std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
+    for (std::int64_t k = 0, i = 0; k < v.dims[2]; ++k)
+        for (std::int64_t j = 0; j < v.dims[1]; ++j)
+            for (std::int64_t x = 0; x < v.dims[0]; ++x, ++i) {
+                f[static_cast<std::size_t>(i)] = static_cast<float>(sign * (v.values[static_cast<std::size_t>(i)] - iso));
+                if (f[static_cast<std::size_t>(i)] > 0) continue;
+                const std::array<std::int64_t, 3> q{x, j, k};
+                for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+            }
+    if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel is " + (o.mode.inside_above ? "above" : "below") + " the iso value");
+    std::ostringstream name;
+    name << v.source << " (iso " << iso << (o.mode.inside_above ? ", inside above)" : ", inside below)");
+    const float far = static_cast<float>(std::max(1.0, std::abs(*mx - *mn)));
+    return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, lo, hi, far, 0.0, far / std::min({v.spacing[0], v.spacing[1], v.spacing[2]}), name.str());
+}
+
+}  // namespace
+
+std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options) {
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (volume.dims[a] < 2)
+            throw InputError(volume.source + ": a 3D mesh needs at least 2 voxels along every axis (" + std::to_string(volume.dims[0]) +
+                             " x " + std::to_string(volume.dims[1]) + " x " + std::to_string(volume.dims[2]) + ")");
+        if (!axis_aligned(volume.axes[a])) throw InputError(volume.source + ": oblique orientations are not supported");
+    }
+    if (options.band < 2) throw InputError("the distance band must be at least 2 voxels");
+    if (options.mode.mode == ImageMode::label) return label_levelset(volume, options);
+    return threshold_levelset(volume, options);
+}
+
+}  // namespace warpmesh

@@ -1,0 +1,299 @@
+// assembly3.cpp — stage 6: the mesh from the emitted tetrahedra (boundary
+// faces, tags), the whole-lattice mesher mesh3d, and blocks and their merge.
+//
+// Boundary faces.  A face of an output tetrahedron is on the boundary iff no
+// other output tetrahedron has it.  By the stencils' construction a face can
+// be unshared only if its three vertices are on the level set (warped or zero
+// lattice points and cut points: the stencil's cut surface, or a background
+// face with three zero vertices, e.g. of an all-zero background tetrahedron,
+// which is never output)
+// or if it lies on a background face with no background tetrahedron behind
+// it (the lattice's cut-off; stage 5 names those faces exactly — a tetrahedron
+// there also has faces shared with its neighbours, which must not become
+// candidates on one side only).  The candidates — a surface-sized set — are
+// matched by sorting their vertex triples; the unmatched ones are the
+// boundary, oriented as their tetrahedron sees them from outside, tagged
+// boundary_level_set when all three vertices are on the level set, else
+// boundary_domain.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <tuple>
+
+#include "uniform3d.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/core/memory.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace warpmesh {
+namespace uniform3d {
+namespace {
+
+// The face opposite vertex v of a positively oriented tetrahedron, outward.
+constexpr std::array<std::array<int, 3>, 4> outward_face{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
+
+struct FaceRef {
+    std::array<std::int32_t, 3> sorted;
+    std::int64_t tet;
+    int opposite;
+    bool operator<(const FaceRef& o) const { return std::tie(sorted, tet, opposite) < std::tie(o.sorted, o.tet, o.opposite); }
+};
+
+// The faces of tetrahedron t in `only` (bit v: the face without vertex v),
+// or else those with three level-set vertices.
+void add_faces(const TetMesh& mesh, std::int64_t t, unsigned only, std::span<const std::uint8_t> on, std::vector<FaceRef>& out) {
+    const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
+    for (int v = 0; v < 4; ++v) {
+        const auto& f = outward_face[static_cast<std::size_t>(v)];
+        std::array<std::int32_t, 3> s{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
+        if (only ? !(only >> v & 1u) : !(on[static_cast<std::size_t>(s[0])] && on[static_cast<std::size_t>(s[1])] && on[static_cast<std::size_t>(s[2])])) continue;
+        std::sort(s.begin(), s.end());
+        out.push_back({s, t, v});
+    }
+}
+
+}  // namespace
+
+void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<const CutOff> cut_off) {
+    const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
+    int threads = 1;
+#ifdef _OPENMP
+    threads = omp_get_max_threads();
+#endif
+    std::vector<std::vector<FaceRef>> part(static_cast<std::size_t>(threads));
+#pragma omp parallel for schedule(static)
+    for (int c = 0; c < threads; ++c) {
+        auto& out = part[static_cast<std::size_t>(c)];
+        for (std::int64_t t = T * c / threads; t < T * (c + 1) / threads; ++t) {
+            // Most tetrahedra have fewer than three level-set vertices, hence no candidate face.
+            const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
+            unsigned level = 0;
+            for (std::size_t v = 0; v < 4; ++v) level |= (on[static_cast<std::size_t>(tet[v])] ? 1u : 0u) << v;
+            level &= level - 1, level &= level - 1;  // two set bits cleared: non-zero iff three or four were set
+            if (level) add_faces(mesh, t, 0, on, out);
+        }
+    }
+    std::vector<FaceRef> faces;
+    for (auto& p : part) faces.insert(faces.end(), p.begin(), p.end()), std::vector<FaceRef>().swap(p);
+    // A cut-off face has nothing behind it and no twin: it stays unmatched
+    // (listed once even when its three vertices are on the level set).
+    for (const CutOff& c : cut_off) add_faces(mesh, c.first, c.second, on, faces);
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) { return a.tet == b.tet && a.opposite == b.opposite; }), faces.end());
+    mesh.boundary.clear();
+    mesh.boundary_tag.clear();
+    for (std::size_t i = 0; i < faces.size();) {
+        std::size_t j = i;
+        while (j < faces.size() && faces[j].sorted == faces[i].sorted) ++j;
+        if (j - i > 2) throw std::logic_error("mesh3d: a face in more than two tetrahedra (vertex " + std::to_string(faces[i].sorted[0]) + ")");
+        if (j - i == 1) {
+            const auto& tet = mesh.tets[static_cast<std::size_t>(faces[i].tet)];
+            const auto& f = outward_face[static_cast<std::size_t>(faces[i].opposite)];
+            const std::array<std::int32_t, 3> b{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
+            mesh.boundary.push_back(b);
+            const bool level = on[static_cast<std::size_t>(b[0])] && on[static_cast<std::size_t>(b[1])] && on[static_cast<std::size_t>(b[2])];
+            mesh.boundary_tag.push_back(level ? boundary_level_set : boundary_domain);
+        }
+        i = j;
+    }
+}
+
+namespace {
+
+// The window of cubes [lo − halo, hi + halo) ∩ the lattice, sampled, cut and warped.
+Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, const CubeRange& r, std::int64_t halo, bool blocked) {
+    bcc::Ivec lo{}, hi{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        lo[a] = static_cast<int>(2 * std::max<std::int64_t>(0, r.lo[a] - halo));
+        hi[a] = static_cast<int>(2 * std::min<std::int64_t>(L.cubes[a], r.hi[a] + halo));
+    }
+    Window w;
+    w.grid = Grid::window(L, lo, hi);
+    // Per point: f (8), sign, warp, cut mask (3), first cut (4), the
+    // numbering's use byte and two ids (9); the cut parameters are surface-sized.
+    check_memory(static_cast<std::uint64_t>(w.grid.count()) * 24, o.max_memory,
+                 "the 3D lattice of " + std::to_string(w.grid.count()) + " points", "24 bytes a lattice point",
+                 "choose a larger --spacing");
+    sample_signs(f, w);
+    find_cuts(f, w);
+    Buffer<double>().swap(w.value);  // f is not needed past the cut points
+    warp_points(o.alphas_in_use(), w, blocked);
+    return w;
+}
+
+void check_options(const Mesh3dOptions& o) {
+    const bcc::Alphas a = o.alphas_in_use();
+    const bool ok = a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
+                    2 * a.short_num < a.short_den;
+    if (!ok) throw InputError("the alphas must lie in (0, 1/2)");
+    if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
+    if (!(o.spacing > 0 && std::isfinite(o.spacing))) throw InputError("--spacing must be a positive number");
+}
+
+struct Threads {
+    int saved = 0;
+    explicit Threads(int n) {
+#ifdef _OPENMP
+        saved = omp_get_max_threads();
+        if (n > 0) omp_set_num_threads(n);
+#else
+        (void)n;
+#endif
+    }
+    ~Threads() {
+#ifdef _OPENMP
+        omp_set_num_threads(saved);
+#endif
+    }
+};
+
+TetMesh to_mesh(Emitted&& e) {
+    TetMesh m;
+    m.vertices = std::move(e.vertices);
+    m.tets = std::move(e.tets);
+    m.region.resize(m.tets.size());
+    std::fill(m.region.begin(), m.region.end(), 1);
+    find_boundary(m, e.on_level_set, e.cut_off);
+    return m;
+}
+
+}  // namespace
+}  // namespace uniform3d
+
+TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattice3& lattice, Mesh3dReport* report) {
+    using namespace uniform3d;
+    Mesh3dOptions o = options;
+    o.spacing = lattice.spacing;
+    check_options(o);
+    const Threads threads(o.threads);
+    const auto start = std::chrono::steady_clock::now();
+    const CubeRange all{{0, 0, 0}, lattice.cubes};
+    Window w = prepare(f, o, lattice, all, 0, false);
+    const bool verify_keys = o.verify && certificate_applies(o.alphas_in_use(), o.face_rule);
+    Emitted e = emit_tets(w, all, false, o.max_memory, o.face_rule, verify_keys);
+    const std::string cert = bcc_certificate_path(o.face_rule);
+    if (e.uncovered_keys > 0)
+        throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " + cert +
+                               " does not list (first: " + e.first_uncovered + ")");
+    if (e.key_claim_failures > 0)
+        throw std::logic_error("mesh3d --verify: " + std::to_string(e.key_claim_failures) + " tetrahedra fail their key's claim in " + cert +
+                               " (first key: " + e.first_key_claim_failure + ")");
+    const std::int64_t warped = w.warp_count;
+    w = Window{};
+    if (e.tets.empty())
+        throw InputError("the region is empty: no tetrahedron inside at spacing " + std::to_string(lattice.spacing) + " (" + f.describe() + ")");
+    Mesh3dReport r;
+    r.lattice_points = lattice.point_count();
+    r.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
+    r.cut_points = e.cut_points;
+    r.warped = warped;
+    r.all_zero_left_out = e.all_zero_left_out;
+    TetMesh mesh = to_mesh(std::move(e));
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.vertices = static_cast<std::int64_t>(mesh.vertices.size());
+    r.tets = static_cast<std::int64_t>(mesh.tets.size());
+    r.boundary_faces = static_cast<std::int64_t>(mesh.boundary.size());
+    finish_report(mesh, f, o, verify_keys, r);
+    if (report) *report = std::move(r);
+    return mesh;
+}
+
+TetMesh mesh3d(const LevelSet3& f, const Mesh3dOptions& options, Mesh3dReport* report) {
+    uniform3d::check_options(options);
+    return mesh3d_on(f, options, lattice3_for(f, options.spacing), report);
+}
+
+TetBlock mesh3d_block(const LevelSet3& f, const Mesh3dOptions& options, const Lattice3& lattice, const CubeRange& block) {
+    using namespace uniform3d;
+    Mesh3dOptions o = options;
+    o.spacing = lattice.spacing;
+    check_options(o);
+    for (std::size_t a = 0; a < 3; ++a)
+        if (!(block.lo[a] >= 0 && block.lo[a] <= block.hi[a] && block.hi[a] <= lattice.cubes[a]))
+            throw InputError("mesh3d_block: the block is not a range of the lattice's cubes");
+    const Threads threads(o.threads);
+    for (std::int64_t halo = 2;; halo *= 2) {
+        Window w = prepare(f, o, lattice, block, halo, true);
+        // The points the block's tetrahedra use: doubled coordinates [2 lo − 1, 2 hi].
+        bool exact = true;
+        for (std::int64_t p = 0; p < w.grid.count() && exact; ++p) {
+            if (!w.taint[static_cast<std::size_t>(p)]) continue;
+            const bcc::Ivec q = w.grid.point(p);
+            bool inside = true;
+            for (std::size_t a = 0; a < 3; ++a) inside = inside && q[a] >= 2 * block.lo[a] - 1 && q[a] <= 2 * block.hi[a];
+            exact = !inside;
+        }
+        bool whole = true;
+        for (std::size_t a = 0; a < 3; ++a) whole = whole && block.lo[a] - halo <= 0 && block.hi[a] + halo >= lattice.cubes[a];
+        if (!exact && !whole) continue;
+        Emitted e = emit_tets(w, block, true, o.max_memory, o.face_rule);
+        TetBlock b;
+        b.vertex_key = std::move(e.vertex_key);
+        b.vertices.assign(e.vertices.begin(), e.vertices.end());
+        b.on_level_set = std::move(e.on_level_set);
+        b.tets.assign(e.tets.begin(), e.tets.end());
+        b.tet_key = std::move(e.tet_key);
+        b.lattice_edge.assign(b.tets.size(), 0);
+        for (const CutOff& c : e.cut_off) b.lattice_edge[static_cast<std::size_t>(c.first)] = c.second;
+        return b;
+    }
+}
+
+TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
+    struct V {
+        std::uint64_t key;
+        Point3 p;
+        std::uint8_t on;
+    };
+    std::vector<V> vs;
+    for (const TetBlock& b : blocks)
+        for (std::size_t i = 0; i < b.vertex_key.size(); ++i) vs.push_back({b.vertex_key[i], b.vertices[i], b.on_level_set[i]});
+    std::sort(vs.begin(), vs.end(), [](const V& a, const V& b) { return a.key < b.key; });
+    std::vector<V> unique;
+    for (const V& v : vs) {
+        if (!unique.empty() && unique.back().key == v.key) {
+            if (unique.back().p.x != v.p.x || unique.back().p.y != v.p.y || unique.back().p.z != v.p.z)
+                throw std::invalid_argument("merge_tet_blocks: two blocks place vertex " + std::to_string(v.key) + " differently");
+            continue;
+        }
+        unique.push_back(v);
+    }
+    struct T {
+        std::uint64_t key;
+        std::array<std::int32_t, 4> tet;
+        std::uint8_t cut_off;
+    };
+    std::vector<T> ts;
+    for (const TetBlock& b : blocks)
+        for (std::size_t i = 0; i < b.tets.size(); ++i) {
+            std::array<std::int32_t, 4> t{};
+            for (std::size_t k = 0; k < 4; ++k) {
+                const std::uint64_t key = b.vertex_key[static_cast<std::size_t>(b.tets[i][k])];
+                t[k] = static_cast<std::int32_t>(std::lower_bound(unique.begin(), unique.end(), key, [](const V& a, std::uint64_t k2) { return a.key < k2; }) - unique.begin());
+            }
+            ts.push_back({b.tet_key[i], t, b.lattice_edge[i]});
+        }
+    std::sort(ts.begin(), ts.end(), [](const T& a, const T& b) { return a.key < b.key; });
+    for (std::size_t i = 1; i < ts.size(); ++i)
+        if (ts[i].key == ts[i - 1].key) throw std::invalid_argument("merge_tet_blocks: two blocks give the same tetrahedron");
+    TetMesh m;
+    m.vertices.resize(unique.size());
+    std::vector<std::uint8_t> on(unique.size());
+    for (std::size_t i = 0; i < unique.size(); ++i) m.vertices[i] = unique[i].p, on[i] = unique[i].on;
+    m.tets.resize(ts.size());
+    m.region.resize(ts.size());
+    std::vector<uniform3d::CutOff> cut_off;
+    for (std::size_t i = 0; i < ts.size(); ++i) {
+        m.tets[i] = ts[i].tet;
+        m.region[i] = 1;
+        if (ts[i].cut_off) cut_off.push_back({static_cast<std::int64_t>(i), ts[i].cut_off});
+    }
+    uniform3d::find_boundary(m, on, cut_off);
+    return m;
+}
+
+}  // namespace warpmesh

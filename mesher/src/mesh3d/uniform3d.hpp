@@ -1,0 +1,224 @@
+// uniform3d.hpp — the stages of the 3D mesher (internal; mesh3d.hpp is the
+// public side), one a file:
+//   lattice3.cpp     the lattice, the window grid and the point numbering
+//   signs3.cpp       f and its sign at every point of a window
+//   cut_points3.cpp  the cut edges and their exact cut points
+//   warp3.cpp        closest-first warping (generic_bcc.hpp's warp_before)
+//   stencils3.cpp    the stencil tables (generic_bcc.hpp's stencil_with) and faces
+//   face_rule3.cpp   the Delaunay face rule's exact decisions (stage 5's helper)
+//   tets3.cpp        background tetrahedra → output tetrahedra, two passes
+//   assembly3.cpp    vertices, boundary faces, blocks and their merge, mesh3d
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <optional>
+
+#include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/mesh3d/generic_bcc.hpp"
+#include "warpmesh/core/buffer.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+
+namespace warpmesh::uniform3d {
+
+// A window of the lattice: the points with doubled coordinates in [lo, hi]
+// (lo, hi even: whole cubes), numbered in (z, y, x) order like the lattice.
+struct Grid {
+    Lattice3 lattice;
+    bcc::Ivec lo{0, 0, 0}, hi{0, 0, 0};
+    std::int64_t corner_w = 0, corner_h = 0, centre_w = 0, centre_h = 0;
+    std::vector<std::int64_t> plane_start;  // per z − lo[2], and the total at the end
+
+    static Grid window(const Lattice3& lattice, const bcc::Ivec& lo, const bcc::Ivec& hi);
+    static Grid whole(const Lattice3& lattice);
+    std::int64_t count() const { return plane_start.back(); }
+    bool contains(const bcc::Ivec& q) const {
+        return q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] && q[2] <= hi[2];
+    }
+    // q in the window, a lattice point (all coordinates even or all odd).
+    std::int64_t index(const bcc::Ivec& q) const {
+        const int z = q[2] - lo[2];
+        const std::int64_t s = plane_start[static_cast<std::size_t>(z)];
+        if ((q[2] & 1) == 0) return s + ((q[1] - lo[1]) / 2) * corner_w + (q[0] - lo[0]) / 2;
+        return s + ((q[1] - lo[1] - 1) / 2) * centre_w + (q[0] - lo[0] - 1) / 2;
+    }
+    bcc::Ivec point(std::int64_t index) const;
+    bcc::Ivec point_in_plane(int z, std::int64_t index) const;  // point(index), index in plane z (no search)
+};
+
+}  // namespace warpmesh::uniform3d
+
+namespace warpmesh::uniform3d {
+
+// The forward lattice edges of a point: the 7 directions (of 14) whose far
+// endpoint comes later in the (z, y, x) order — +x, +y, +z and the four
+// short edges with dz = +1.  A cut point is named by its edge's lower
+// endpoint and the edge's slot here.
+inline constexpr std::array<int, 7> forward_direction{0, 2, 4, 6, 7, 8, 9};
+constexpr int slot_of(int direction) {
+    for (int s = 0; s < 7; ++s)
+        if (forward_direction[static_cast<std::size_t>(s)] == direction) return s;
+    return -1;
+}
+constexpr bool slot_is_long(int slot) { return slot < 3; }
+// The number of slots in a mask of forward slots (7 bits), from a table:
+// without -mpopcnt (WARPMESH_POPCNT, off by default) __builtin_popcount is a
+// library call, and stage 5 counts a mask per lattice point.
+inline int slot_count(unsigned mask) {
+    static constexpr std::array<std::uint8_t, 128> table = [] {
+        std::array<std::uint8_t, 128> t{};
+        for (unsigned m = 1; m < 128; ++m) t[m] = static_cast<std::uint8_t>(t[m >> 1] + (m & 1u));
+        return t;
+    }();
+    return table[mask & 127u];
+}
+
+// Whether q is a point of the whole lattice.
+inline bool in_lattice(const Lattice3& L, const bcc::Ivec& q) {
+    const int odd = q[0] & 1;
+    for (std::size_t a = 0; a < 3; ++a) {
+        if ((q[a] & 1) != odd) return false;
+        if (q[a] < odd || q[a] > 2 * L.cubes[a] - odd) return false;
+    }
+    return true;
+}
+
+// The per-point data of a window through the stages.
+struct Window {
+    Grid grid;
+    Buffer<double> value;        // f (signs3; freed after cut_points3)
+    Buffer<std::int8_t> sign;    // sign of f; after warp3, the post-warp sign
+    Buffer<std::uint8_t> warp;   // after warp3: the warp direction, or bcc::stay
+    Buffer<std::uint8_t> cut_mask;   // slots of the forward edges cut before warping
+    Buffer<std::uint32_t> cut_first; // index of the point's first cut in cut_u
+    std::vector<double> cut_u;       // cut parameter from the lower endpoint
+    std::vector<std::pair<std::int64_t, Point3>> warped;  // sorted: warped points and their positions
+    // Blocks: points whose warp decision may depend on the world outside the
+    // window (warp3's taint).  Empty for the whole lattice.
+    std::vector<std::uint8_t> taint;
+    std::int64_t warp_count = 0;
+
+    Point3 lattice_position(const bcc::Ivec& q) const { return grid.lattice.position(q); }
+    // Cut parameter of the forward edge (p, slot), which must be cut.
+    double u(std::int64_t p, int slot) const {
+        const unsigned below = cut_mask[static_cast<std::size_t>(p)] & ((1u << slot) - 1);
+        return cut_u[cut_first[static_cast<std::size_t>(p)] + static_cast<std::uint32_t>(slot_count(below))];
+    }
+    // A vertex's position: a lattice point (warped or not) or a cut point.
+    Point3 point_position(std::int64_t p) const;
+    Point3 cut_position(const bcc::Ivec& lower, int slot, double u) const;
+};
+
+// Stages.  Each fills its part of the window; throws InputError for a
+// non-finite f (signs3).
+void sample_signs(const LevelSet3& f, Window& w);
+void find_cuts(const LevelSet3& f, Window& w);
+// `blocked`: taint the points that see outside the window (blocks).
+void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked);
+
+// The stencil of every (signs, parity) — generic_bcc.hpp's stencil, the
+// parity rule — and of every (signs, resolved diagonals) — stencil_with, any
+// face rule — with the set of local points it uses (bits 0..3 vertices, 4 + e
+// the cut point on local edge e).  A stencil's count and points depend on
+// the signs alone (the diagonals only choose how the same polyhedron is
+// cut), so stage 5's first pass counts and marks with the parity plans
+// whatever the face rule.
+struct Plan {
+    bcc::Stencil stencil;
+    std::uint16_t uses = 0;
+    bool quads = false;   // it splits a quad (n- >= 2, n+ >= 1): the face rule decides its diagonals
+    bool cyclic = false;  // (diagonal plans) the choice turns an n- = 3 prism's three quads the same way: no stencil
+    // face_on[k][f]: the background faces (bit v: the face without local
+    // vertex v) that contain face f (the face without vertex f) of output
+    // tetrahedron k.
+    std::array<std::array<std::uint8_t, 4>, 3> face_on{};
+};
+// The faces of the lattice's cut-off: (tetrahedron, bit f set for each of its
+// faces f lying on a background face with no background tetrahedron behind).
+using CutOff = std::pair<std::int64_t, std::uint8_t>;
+// code = sum (sign_i + 1) 3^i over the local vertices.
+const Plan& plan(int code, int parity);
+// All of them: plan(code, parity) is plans()[2 code + parity].
+std::span<const Plan> plans();
+// By resolved diagonals: diagonal_plans()[diagonal_slots · code +
+// diagonal_slot(d)], d's bits face (4) and inside (1).
+inline constexpr int diagonal_slots = 32;
+constexpr int diagonal_slot(const bcc::Diagonals& d) { return static_cast<int>((d.face & 15u) << 1 | (d.inside ? 1u : 0u)); }
+std::span<const Plan> diagonal_plans();
+
+// The Delaunay face rule's choices for a background tetrahedron with
+// post-warp signs `sign` and parity bit `parity` (local order): generic_bcc.hpp's
+// delaunay_diagonals on the exact cut fractions.  u[e] is the window's cut
+// parameter of local edge e (from the edge's lower endpoint; read only on
+// (-, +) edges), and bit e of `from_upper` is set when tet_edges[e][0] is the
+// upper endpoint (the local fraction is then 1 − u[e]).  The forms' signs
+// are exact (face_rule3.cpp), so the two tetrahedra sharing a face agree.
+bcc::Diagonals delaunay_choice(const std::array<int, 4>& sign, int parity, const std::array<double, 6>& u, unsigned from_upper);
+
+// The 12 background tetrahedra of a cube m in the local frame, relative to m.
+struct TetShape {
+    std::array<bcc::Ivec, 4> offset;        // background_tet(0, index)
+    int parity = 0;                          // tet_parity (the same for every cube)
+    std::array<int, 6> lower{}, slot{};      // per local edge: its lower local vertex, forward slot
+    std::array<bcc::Ivec, 4> across{};       // the vertex across face v: x + y − p_v
+    // Per local vertex, its slot in the cube's neighbourhood (tets3.cpp): the
+    // corner m + 2 (bx, by, bz) is bx + 2 by + 4 bz, the centre m + (1,1,1) is 8,
+    // and the centre below it along axis a is 9 + a.
+    std::array<int, 4> slot_in_cube{};
+};
+const std::array<TetShape, 12>& tet_shapes();
+
+// The tetrahedra of the cubes [lo, hi) (cube indices) of a warped window.
+struct Emitted {
+    Buffer<std::array<std::int32_t, 4>> tets;   // window-compact vertex ids
+    std::vector<std::uint64_t> tet_key;          // blocks only
+    std::vector<CutOff> cut_off;                 // faces on the lattice's cut-off
+    Buffer<Point3> vertices;
+    std::vector<std::uint8_t> on_level_set;
+    std::vector<std::uint64_t> vertex_key;       // blocks only
+    std::int64_t all_zero_left_out = 0;          // all-zero background tetrahedra (never output)
+    std::int64_t cut_points = 0, warped_vertices = 0;
+    // With verify_keys: output background tetrahedra whose key is not in
+    // the face rule's certificate, and the first one's code; output
+    // tetrahedra that fail their own key's claim (key_claim_holds), and the
+    // first one's key.
+    std::int64_t uncovered_keys = 0;
+    std::string first_uncovered;
+    std::int64_t key_claim_failures = 0;
+    std::string first_key_claim_failure;
+};
+// Quads split by `rule`; verify_keys against its certificate.
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule,
+                  bool verify_keys = false);
+
+// Whether the certificate of `rule` is compiled in and at these alphas.
+bool certificate_applies(const bcc::Alphas& alphas, FaceRule rule);
+
+// The claim of the canonical key of background tetrahedron p (local order)
+// with post-warp signs `sign` and global warp directions `warp`
+// (generic_bcc_keys.hpp: key_of), or nothing if the certificate of `rule`
+// does not list it (certify/bcc_claim.cpp); the key's code in *code.
+std::optional<BccKeyBound> key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
+                                         const std::array<int, 4>& warp, FaceRule rule, std::string* code = nullptr);
+
+// Whether tetrahedron q satisfies a key's claim with the certificate's own
+// test (generic_bcc.hpp, "Angle forms"), in double precision: volume > 0 and
+// per edge, with d = n_c·n_d and N = |n_c|²|n_d|²,
+//     θ >= θmin  <=>  d <= 0  or  d² <= C_min N,
+//     θ <= θmax  <=>  d >= 0  or  d² <= C_max N.
+bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max);
+
+// The boundary faces of a mesh whose level-set vertices are flagged: the
+// faces on the lattice's cut-off, and the unmatched ones of the candidate
+// faces with all three vertices on the level set; throws std::logic_error
+// for a face in three tetrahedra.
+void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const CutOff> cut_off);
+
+// The report's certification, quality and resolution fields
+// (certify/verify3.cpp); `verified`: emit_tets checked every tetrahedron.
+void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, bool verified, Mesh3dReport& r);
+
+}  // namespace warpmesh::uniform3d
