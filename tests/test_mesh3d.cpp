@@ -313,6 +313,10 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     mesh_checked(*make_volume_levelset3(v, lo), 0.6);
     lo.mode.labels = {9};
     BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "the region is empty"));
+    // Issue 50: a listed label absent from the volume was ignored when
+    // another label filled the region (--label 3,9 meshed label 3 alone).
+    lo.mode.labels = {3, 9};
+    BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "no voxel has the label(s) 9 (of 3,9)"));
     // Grey mode: the same ball as values 0..100, inside above 50.
     for (double& x : v.values) x = x == 3 ? 100 : 0;
     VolumeLevelSet3Options go;

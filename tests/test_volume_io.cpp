@@ -306,6 +306,31 @@ BOOST_AUTO_TEST_CASE(nrrd_oblique_unsupported_and_truncated_inputs_are_refused) 
 
 // --- NIfTI -----------------------------------------------------------------------
 
+// Issue 50: a volume with more data than its header implies was read
+// silently (the extra bytes ignored), though the dims or the type must then
+// be wrong and the voxels misread.  Raw and ascii NRRD with attached data and
+// uncompressed NIfTI are refused, naming the byte counts; gzip was already.
+BOOST_AUTO_TEST_CASE(more_data_than_the_header_implies_is_refused) {
+    Nrrd n;
+    n.type = T::i16, n.sizes = {4, 4, 2};
+    n.values = values_for(T::i16, 32);
+    Bytes raw = nrrd(n);
+    BOOST_TEST(error_of([&] { decode(raw); }).empty());
+    raw.push_back(0), raw.push_back(0);
+    BOOST_TEST(refused_with(raw, "more than the 64 bytes of voxels"));
+    BOOST_TEST(error_of([&] { decode(text("NRRD0001\ntype: float\ndimension: 2\nsizes: 3 2\nencoding: ascii\n\n"
+                                           "1 2 3\n4.5 5 6\n \n")); }).empty());
+    BOOST_TEST(refused_with(text("NRRD0001\ntype: float\ndimension: 2\nsizes: 3 2\nencoding: ascii\n\n1 2 3\n4.5 5 6 7\n"),
+                            "more ascii data than the 6 values"));
+    Nifti m;
+    m.type = T::u8, m.dim = {3, 2, 2, 2, 1, 1, 1, 1};
+    m.values = values_for(T::u8, 8);
+    Bytes nii = nifti(m);
+    BOOST_TEST(error_of([&] { decode(nii); }).empty());
+    nii.push_back(7);
+    BOOST_TEST(refused_with(nii, "the header implies (vox_offset, dims and datatype)"));
+}
+
 BOOST_AUTO_TEST_CASE(nifti_1_and_2_every_type_byte_order_and_gzip) {
     for (int version : {1, 2})
         for (T t : all_types)

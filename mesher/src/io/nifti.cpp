@@ -266,6 +266,11 @@ Volume decode_nifti(std::span<const std::uint8_t> bytes, const std::string& name
     if (file.size() < need)
         fail("NIfTI", name, "truncated data: expected " + std::to_string(need) +
                                 " bytes (header, extensions and voxels), found " + std::to_string(file.size()));
+    // More bytes than the header implies: the dims or the datatype do not
+    // describe the data (a wrong header), so the voxels would be misread.
+    if (file.size() > need)
+        fail("NIfTI", name, "the file has " + std::to_string(file.size()) + " bytes, more than the " + std::to_string(need) +
+                                " the header implies (vox_offset, dims and datatype): a wrong header?");
     Volume v;
     v.format = H.v2 ? "NIfTI-2" : "NIfTI-1";
     v.source = name;

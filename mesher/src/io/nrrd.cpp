@@ -331,6 +331,8 @@ std::vector<double> decode_ascii(std::span<const std::uint8_t> data, const Layou
     }
     if (values.size() < L.n)
         bad(name, "truncated data: expected " + std::to_string(L.n) + " values, found " + std::to_string(values.size()));
+    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r' || *p == ',') ++p;
+    if (*p) bad(name, "more ascii data than the " + std::to_string(L.n) + " values the header implies (sizes): a wrong header?");
     *integer = true;
     for (double x : values) *integer = *integer && x == std::floor(x);
     return values;
@@ -365,6 +367,11 @@ std::vector<double> decode_binary(std::span<const std::uint8_t> data, const Layo
         if (data.size() < need)
             bad(name, "truncated data: expected " + std::to_string(need) + " bytes of voxels, found " +
                           std::to_string(data.size()));
+        // More: the sizes or the type do not describe the data (with byte
+        // skip -1 the voxels are the last bytes, by definition).
+        if (data.size() > need)
+            bad(name, "the data has " + std::to_string(data.size()) + " bytes, more than the " + std::to_string(need) +
+                          " bytes of voxels the header implies (sizes and type): a wrong header?");
     }
     return decode_samples("NRRD", name, data, L.type, L.swap, L.n, integer);
 }

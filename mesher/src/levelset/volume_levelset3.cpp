@@ -339,8 +339,15 @@ std::string labels_text(const ImageLevelSetOptions& m) {
 std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
     const auto& m = o.mode;
     if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs --label L,... or --label nonzero");
+    // Which of the listed labels occur: every one must (a label in no voxel
+    // is a typo or the wrong volume, refused as 2D's --materials does).
+    std::vector<char> seen(m.labels.size(), 0);
     auto in_region = [&](double x) {
-        return m.label_nonzero ? x != 0 : std::find(m.labels.begin(), m.labels.end(), static_cast<int>(x)) != m.labels.end();
+        if (m.label_nonzero) return x != 0;
+        const auto it = std::find(m.labels.begin(), m.labels.end(), static_cast<int>(x));
+        if (it == m.labels.end()) return false;
+        seen[static_cast<std::size_t>(it - m.labels.begin())] = 1;
+        return true;
     };
     // The region's bounding box, a row of voxels (x fastest) at a time.
     std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
@@ -362,6 +369,12 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
             hi = {std::max(hi[0], last), std::max(hi[1], j), std::max(hi[2], k)};
         }
     if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
+    std::string absent;
+    for (std::size_t i = 0; i < m.labels.size(); ++i)
+        if (!seen[i]) absent += (absent.empty() ? "" : ",") + std::to_string(m.labels[i]);
+    if (!absent.empty())
+        throw InputError(v.source + ": no voxel has the label(s) " + absent + " (of " + labels_text(m) +
+                         "): a typo, or the wrong volume?");
     const std::array<std::int64_t, 3> region_lo = lo, region_hi = hi;
     std::array<std::int64_t, 3> n{};
     std::uint64_t count = 1;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "plane.hpp"
 #include "warpmesh/mesh2d/materials.hpp"
 
 namespace warpmesh {
@@ -19,8 +20,11 @@ public:
     PairCurve(const MaterialField& f, int a, int b) : f_(f), a_(a), b_(b) {}
     double value(double x, double y) const override { return f_.phi(a_, x, y) - f_.phi(b_, x, y); }
     Box bounds() const override { return f_.bounds(); }
-    // fa < 0 < fb: a's phi is the smaller at `a`, b's at `b`.
-    double cut_parameter(Vec2 a, Vec2 b, double, double) const override { return f_.cut_parameter(a, b, a_, b_); }
+    // fa < 0 < fb: a's phi is the smaller at `a`, b's at `b`; fa > 0 > fb:
+    // the other way round (the field's search starts at `a` either way).
+    double cut_parameter(Vec2 a, Vec2 b, double fa, double) const override {
+        return fa < 0 ? f_.cut_parameter(a, b, a_, b_) : f_.cut_parameter(a, b, b_, a_);
+    }
     std::string describe() const override { return "phi_" + std::to_string(a_) + " - phi_" + std::to_string(b_); }
 
 private:
@@ -29,6 +33,12 @@ private:
 };
 
 }  // namespace
+
+Vec2 zero_on_segment(const LevelSet& g, Vec2 p, Vec2 q, double gp, double gq) {
+    using namespace plane;
+    if (q.x < p.x || (q.x == p.x && q.y < p.y)) std::swap(p, q), std::swap(gp, gq);
+    return p + g.cut_parameter(p, q, gp, gq) * (q - p);
+}
 
 SlideCurves::SlideCurves(const MaterialField& field) : field_(&field) {
     for (int m = 0; m < field.count(); ++m) {

@@ -15,8 +15,9 @@
 // a's side.  A boundary edge's curve is (m, 0), negative inside its material
 // as f is for one region (the refinement's boundary splits rely on it); an
 // interface's is (min(a, b), max(a, b)), one curve whichever side is left
-// (the sign does not matter there: the tangent and the projection's bracket
-// are taken from g itself).  Its cut_parameter is the field's (MaterialField::cut_parameter:
+// (the sign does not matter there: the tangent is taken from g itself, and
+// its zeros are found by zero_on_segment, whose point does not depend on g's
+// sign).  Its cut_parameter is the field's (MaterialField::cut_parameter:
 // exact on label images along the axes, a bracketed root elsewhere); its
 // value is the field's phi, so a vertex projected onto it lies on the
 // interface the mesher's cut points lie on.
@@ -72,6 +73,17 @@ private:
     mutable std::map<std::pair<int, int>, std::int32_t> ids_;
     mutable std::vector<std::unique_ptr<LevelSet>> curves_;
 };
+
+// The zero of g on the segment between p and q, given g(p) = gp and g(q) =
+// gq of strictly opposite signs: the root is searched from the endpoint that
+// comes first in (x, y) order, whichever sign g has there, so the point
+// depends on the segment and on g's zero set only, never on g's sign.  That
+// is what keeps the pass independent of label numbers: the curve of two
+// materials is phi_a - phi_b for material numbers a < b, which follow the
+// label values, so renumbering the labels can reverse its sign; a search from
+// the negative end then started from the other end and its point differed in
+// the last bits, and so did every move and insertion after it (issue 50).
+Vec2 zero_on_segment(const LevelSet& g, Vec2 p, Vec2 q, double gp, double gq);
 
 // Per region tag: the signed area change of a move or a refined patch.
 using AreaChange = std::vector<std::pair<std::int32_t, double>>;

@@ -532,9 +532,8 @@ bool Optimizer::project_to_levelset(const LevelSet& f, Vec2 p, Vec2 n, double re
     }
     const Vec2 a = p - reach * n, b = p + reach * n;
     const double fa = f.value(a.x, a.y), fb = f.value(b.x, b.y);
-    if (!(fa < 0 && fb > 0)) return false;
-    const double u = f.cut_parameter(a, b, fa, fb);
-    out = a + u * (b - a);
+    if (!((fa < 0 && fb > 0) || (fa > 0 && fb < 0))) return false;
+    out = zero_on_segment(f, a, b, fa, fb);
     return std::abs(f.value(out.x, out.y)) <= 1e-10 * s_;
 }
 

@@ -242,11 +242,10 @@ private:
         Candidate c{mid, a, b, 0, true, curve};
         if (g.value(mid.x, mid.y) == 0) return c;
         for (const double r : {0.05, 0.15, 0.5}) {
-            Vec2 lo = mid + r * across, hi = mid - r * across;
-            double glo = g.value(lo.x, lo.y), ghi = g.value(hi.x, hi.y);
-            if (glo > 0) std::swap(lo, hi), std::swap(glo, ghi);
-            if (!(glo < 0 && ghi > 0)) continue;
-            c.p = lo + g.cut_parameter(lo, hi, glo, ghi) * (hi - lo);
+            const Vec2 lo = mid + r * across, hi = mid - r * across;
+            const double glo = g.value(lo.x, lo.y), ghi = g.value(hi.x, hi.y);
+            if (!((glo < 0 && ghi > 0) || (glo > 0 && ghi < 0))) continue;
+            c.p = zero_on_segment(g, lo, hi, glo, ghi);
             if (std::abs(g.value(c.p.x, c.p.y)) <= 1e-10 * p_.spacing) return c;
             return std::nullopt;
         }
