@@ -39,6 +39,11 @@ std::uint64_t mesh_bytes_per_square(bool materials, bool graded) {
 
 std::uint64_t mesh_bytes_per_material() { return 1536; }
 
+// The peak with --optimize less the peak without, over the triangles,
+// rounded up (docs/performance.md, "The per-unit costs behind --max-memory").
+std::uint64_t optimize_bytes_per_triangle(bool materials) { return materials ? 128 : 64; }
+std::uint64_t optimize_bytes_per_square(bool materials) { return 2 * optimize_bytes_per_triangle(materials); }
+
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
                   const std::string& advice) {
     const std::uint64_t now = resident_bytes();

@@ -21,6 +21,11 @@
 //                        (mesh(); analytic shapes with --graded excepted:
 //                        their memory follows the boundary's length, which
 //                        the shape string does not bound in advance)
+//   optimising (2D)      optimize_bytes_per_square(...) a lattice square in
+//                        the admission of a uniform mesh, then, with the
+//                        mesh made, optimize_bytes_per_triangle(...) a
+//                        triangle before the pass starts (graded meshes have
+//                        far fewer triangles than squares)
 #pragma once
 
 #include <cstdint>
@@ -42,6 +47,11 @@ std::uint64_t field_bytes_per_pixel(FieldKind kind);
 std::uint64_t mesh_bytes_per_square(bool materials, bool graded);
 // And a material (its report, names and tables), on top: at most 65 536.
 std::uint64_t mesh_bytes_per_material();
+// What the optimisation pass (--optimize) adds, above the mesh it works on:
+// a triangle of the mesh (its stars, kinds, curves and trial buffers), and a
+// lattice square of a uniform mesh (two triangles a square at most).
+std::uint64_t optimize_bytes_per_triangle(bool materials);
+std::uint64_t optimize_bytes_per_square(bool materials);
 
 // Throws InputError "<what> needs about N MB (<how>), more than the
 // --max-memory limit of L MB; raise --max-memory ..., or <advice>" when
