@@ -18,7 +18,8 @@
 
 #include "brain_crop.hpp"
 #include "support.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 #include "warpmesh/io/volume.hpp"
 
 using namespace warpmesh;
@@ -51,8 +52,9 @@ void compare_rule(const std::string& name, const LevelSet3& f, double spacing, s
     o.spacing = spacing;
     if (rule) o.face_rule = *rule;
     o.verify = true;
-    Mesh3dReport r;
-    const TetMesh m = mesh3d(f, o, &r);
+    const Mesh3dResult res = mesh3d(f, o);
+    const TetMesh& m = res.mesh;
+    const Mesh3dReport& r = res.report;
     BOOST_TEST(check_tet_mesh(m).ok);
     const std::string text = canonical(m, r);
     const std::string path = std::string(WARPMESH_SOURCE_DIR) + "/tests/expected/" + name + ".txt";

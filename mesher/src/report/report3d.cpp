@@ -1,4 +1,4 @@
-// report3d.cpp — the 3D mesher's report (mesh3d.hpp: Mesh3dReport) as text
+// report3d.cpp — the 3D mesher's report (report3d.hpp: Mesh3dReport) as text
 // (what `warpmesh mesh3d` prints) and as one JSON object (--report FILE, the
 // Python module's report dict): the same module and the same conventions as
 // the 2D report (report.cpp: json_number's shortest round-trip numbers, null
@@ -11,8 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"  // bcc_certificate_path
 #include "warpmesh/report/report.hpp"
+#include "warpmesh/report/report3d.hpp"
 
 namespace warpmesh {
 
