@@ -39,10 +39,10 @@ Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nul
     BOOST_TEST(r.tets == static_cast<std::int64_t>(m.tets.size()));
     BOOST_TEST(r.certified_tets == r.tets);  // all-zero background tetrahedra are never output
     BOOST_TEST(r.uncertified_tets == 0);
-    BOOST_TEST(r.min_dihedral_deg >= r.certified_min_deg);
-    BOOST_TEST(r.max_dihedral_deg <= r.certified_max_deg);
+    BOOST_TEST(r.quality.min_dihedral_deg >= r.certified_min_deg);
+    BOOST_TEST(r.quality.max_dihedral_deg <= r.certified_max_deg);
     for (std::int32_t t : m.boundary_tag) BOOST_TEST(t == boundary_level_set);
-    BOOST_TEST(r.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
+    BOOST_TEST(r.quality.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
     if (out) *out = std::move(m);
     return r;
 }
@@ -127,7 +127,7 @@ BOOST_AUTO_TEST_CASE(shapes_conform_and_stay_within_the_certified_bounds) {
     for (const char* spec : specs) {
         const auto f = parse_shape3(spec);
         const Mesh3dReport r = mesh_checked(*f, 0.1);
-        if (const auto v = f->exact_volume()) BOOST_TEST(std::abs(r.volume - *v) < 0.03 * *v, spec << ": volume " << r.volume << " vs " << *v);
+        if (const auto v = f->exact_volume()) BOOST_TEST(std::abs(r.quality.volume - *v) < 0.03 * *v, spec << ": volume " << r.quality.volume << " vs " << *v);
         BOOST_TEST(r.warnings.size() <= 1u);
     }
 }
@@ -139,7 +139,7 @@ BOOST_AUTO_TEST_CASE(lattice_points_exactly_on_the_level_set) {
     // vertices on three planes.
     const auto f = parse_shape3("box:-1,-1,-1,1,1,1");
     const Mesh3dReport r = mesh_checked(*f, 0.25);
-    BOOST_TEST(std::abs(r.volume - 8) < 1e-9, "volume " << r.volume);
+    BOOST_TEST(std::abs(r.quality.volume - 8) < 1e-9, "volume " << r.quality.volume);
 }
 
 BOOST_AUTO_TEST_CASE(random_quadrics_and_rbfs_conform_and_verify) {
@@ -212,8 +212,8 @@ BOOST_AUTO_TEST_CASE(quality_pass_equals_the_angle_forms_at_every_edge) {
             const auto f = bcc::dihedral_forms<double>(q);
             for (std::size_t k = 0; k < 6; ++k) cmax = std::max(cmax, cos_of(f.dot[k], f.nn[k])), cmin = std::min(cmin, cos_of(f.dot[k], f.nn[k]));
         }
-        BOOST_TEST(r.min_dihedral_deg == deg(cmax), spec);
-        BOOST_TEST(r.max_dihedral_deg == deg(cmin), spec);
+        BOOST_TEST(r.quality.min_dihedral_deg == deg(cmax), spec);
+        BOOST_TEST(r.quality.max_dihedral_deg == deg(cmin), spec);
     }
 }
 
@@ -313,7 +313,7 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     TetMesh m;
     const Mesh3dReport r = mesh_checked(*ball, 0.8, &m);
     const double exact = 4.0 / 3.0 * std::numbers::pi * 216;
-    BOOST_TEST(std::abs(r.volume - exact) < 0.15 * exact, "volume " << r.volume);
+    BOOST_TEST(std::abs(r.quality.volume - exact) < 0.15 * exact, "volume " << r.quality.volume);
     // The ball's centre in physical coordinates: origin + 11.5 a0 + 9.5 * 1.25 a1 + 7.5 * 1.5 a2.
     Point3 c{0, 0, 0};
     for (const Point3& p : m.vertices) c = {c.x + p.x, c.y + p.y, c.z + p.z};
@@ -333,7 +333,7 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     go.mode.iso = 50;
     const auto grey = make_volume_levelset3(v, go);
     const Mesh3dReport g = mesh_checked(*grey, 0.8);
-    BOOST_TEST(std::abs(g.volume - exact) < 0.2 * exact, "volume " << g.volume);
+    BOOST_TEST(std::abs(g.quality.volume - exact) < 0.2 * exact, "volume " << g.quality.volume);
 }
 
 // Volume cut points solve the trilinear interpolant's cubic per voxel cell

@@ -104,8 +104,8 @@ Mesh3dReport mesh_delaunay(const LevelSet3& f, const Mesh3dOptions& o, TetMesh* 
 // The rule's sampled range at (0.2675, 0.39) (proofs/README.md, "Towards θmin
 // ≥ 12°" (e): 11.787°–161.20°), with a margin.
 void within_the_rules_range(const Mesh3dReport& r, const std::string& what) {
-    BOOST_TEST(r.min_dihedral_deg >= 11.7, what << ": " << r.min_dihedral_deg);
-    BOOST_TEST(r.max_dihedral_deg <= 161.3, what << ": " << r.max_dihedral_deg);
+    BOOST_TEST(r.quality.min_dihedral_deg >= 11.7, what << ": " << r.quality.min_dihedral_deg);
+    BOOST_TEST(r.quality.max_dihedral_deg <= 161.3, what << ": " << r.quality.max_dihedral_deg);
 }
 
 bool same_tets(const TetMesh& a, const TetMesh& b) { return a.tets == b.tets && a.vertices.size() == b.vertices.size(); }

@@ -38,7 +38,7 @@ std::string canonical(const TetMesh& m, const Mesh3dReport& r) {
     s << "tets " << r.tets << " vertices " << r.vertices << " boundary " << r.boundary_faces << " cut_points " << r.cut_points
       << " warped " << r.warped << " all_zero_left_out " << r.all_zero_left_out << "\n";
     char angles[96];
-    std::snprintf(angles, sizeof angles, "dihedral %.9f %.9f\n", r.min_dihedral_deg, r.max_dihedral_deg);
+    std::snprintf(angles, sizeof angles, "dihedral %.9f %.9f\n", r.quality.min_dihedral_deg, r.quality.max_dihedral_deg);
     s << angles;
     for (const Point3& p : m.vertices) s << "v " << num(p.x) << ' ' << num(p.y) << ' ' << num(p.z) << '\n';
     for (const auto& t : m.tets) s << "t " << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << t[3] << '\n';

@@ -613,9 +613,9 @@ int run_slices(const CliOptions& o) {
 
 // ---- warpmesh mesh3d ------------------------------------------------------------------
 //
-// The 3D mesher (mesh3d.hpp) behind the same option names and parsing as
-// `mesh`.  Options of `mesh` that would have no effect in 3D are refused with
-// the reason, never ignored.
+// The 3D pipeline (pipeline/mesh3d.hpp: validate, mesh3d) behind the same
+// option names and parsing as `mesh`.  Options of `mesh` that would have no
+// effect in 3D are refused with the reason, never ignored.
 
 // Why an option of `mesh` is refused by mesh3d (empty: it applies).
 std::string refused_in_3d(const std::string& option) {

@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
                     static_cast<double>(r.tets) / cpu, peak / static_cast<double>(r.tets));
         if (o.quality)
             std::printf(" min_dihedral=%.3f max_dihedral=%.3f radius_ratio_min=%.4f boundary_vertex_f_max=%.3g boundary_centroid_f_max=%.3g",
-                        r.min_dihedral_deg, r.max_dihedral_deg, r.radius_ratio_min, r.boundary_vertex_f_max, r.boundary_centroid_f_max);
+                        r.quality.min_dihedral_deg, r.quality.max_dihedral_deg, r.quality.radius_ratio_min, r.quality.boundary_vertex_f_max, r.quality.boundary_centroid_f_max);
         if (check) std::printf(" check_ok=%d", check_tet_mesh(m).ok ? 1 : 0);
         std::printf(" certified=%lld uncertified=%lld verified=%d boundary_faces=%lld\n", static_cast<long long>(r.certified_tets),
                     static_cast<long long>(r.uncertified_tets), r.verified ? 1 : 0, static_cast<long long>(r.boundary_faces));

@@ -90,9 +90,9 @@ Mesh3dOptions mesh3d_options(const py::dict& kw) {
     Mesh3dOptions o;
     if (kw.contains("spacing")) o.spacing = kw["spacing"].cast<double>();
     if (kw.contains("face_rule")) {
-        const auto name = kw["face_rule"].cast<std::string>();
-        const std::optional<FaceRule> rule = parse_face_rule(name);
-        if (!rule) throw InputError("face_rule must be 'parity' or 'delaunay', got '" + name + "'");
+        const py::object name = kw["face_rule"];
+        const std::optional<FaceRule> rule = py::isinstance<py::str>(name) ? parse_face_rule(name.cast<std::string>()) : std::nullopt;
+        if (!rule) throw InputError("face_rule must be 'parity' or 'delaunay', got " + py::repr(name).cast<std::string>());
         o.face_rule = *rule;
     }
     if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();

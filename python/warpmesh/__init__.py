@@ -594,7 +594,7 @@ def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False,
     if inside is not None:
         o["inside"] = _choice("inside", inside, ("above", "below"))
     if face_rule is not None:
-        o["face_rule"] = _choice("face_rule", face_rule, ("parity", "delaunay"))
+        o["face_rule"] = face_rule  # the library's parser (parse_face_rule)
     if max_memory_mb is not None:
         o["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
     if threads is not None:

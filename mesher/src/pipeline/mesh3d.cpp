@@ -125,14 +125,7 @@ Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions
     r.uncertified_reason = c.uncertified_reason;
     if (!c.certified) r.warnings.push_back(c.uncertified_reason);
     r.verified = c.certified && m.verified;
-    if (o.quality) {
-        const TetQuality q = measure_quality3(m.mesh, f);
-        r.volume = q.volume;
-        r.min_dihedral_deg = q.min_dihedral_deg, r.max_dihedral_deg = q.max_dihedral_deg;
-        r.radius_ratio_histogram = q.radius_ratio_histogram;
-        r.radius_ratio_min = q.radius_ratio_min, r.radius_ratio_mean = q.radius_ratio_mean;
-        r.boundary_vertex_f_max = q.boundary_vertex_f_max, r.boundary_centroid_f_max = q.boundary_centroid_f_max;
-    }
+    if (o.quality) r.quality = measure_quality3(m.mesh, f);
     const NonmanifoldBoundary nb = nonmanifold_boundary(m.mesh);
     r.nonmanifold_boundary_edges = nb.edges, r.nonmanifold_boundary_vertices = nb.vertices;
     const ResolutionCheck3 res = check_resolution3(m.mesh, f, spacing);

@@ -6,12 +6,12 @@
 // (report3d.cpp; report.hpp's conventions).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "warpmesh/mesh3d/generic_bcc.hpp"  // FaceRule
+#include "warpmesh/post/tet_checks.hpp"     // TetQuality
 
 namespace warpmesh {
 
@@ -25,17 +25,9 @@ struct Mesh3dReport {
     // output (proofs/README.md, step 6), counted here; their volume, within
     // the α-band of the surface, is not in the mesh.
     std::int64_t all_zero_left_out = 0;
-    double volume = 0;               // sum of the tetrahedra's volumes
-    // Measured quality (Mesh3dOptions::quality; TetQuality).
-    double min_dihedral_deg = 0, max_dihedral_deg = 0;
-    static constexpr int radius_ratio_bins = 10;  // bin i: [i/10, (i+1)/10), 1 in the last
-    std::array<std::int64_t, radius_ratio_bins> radius_ratio_histogram{};
-    double radius_ratio_min = 0, radius_ratio_mean = 0;  // 3 r_in / R_circ (1: regular)
-    // Boundary fidelity: max |f| at the boundary vertices (0 up to the root
-    // finder's tolerance) and at the boundary faces' centroids (the surface's
-    // deviation between its vertices; a distance for signed-distance level
-    // sets), in the level set's units.
-    double boundary_vertex_f_max = 0, boundary_centroid_f_max = 0;
+    // Measured quality (Mesh3dOptions::quality): the volume, dihedral
+    // extremes, radius ratios, the boundary's fidelity to the level set.
+    TetQuality quality;
     // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
     std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
     // Certification by the face rule's certificate (bcc_certificate_path):
