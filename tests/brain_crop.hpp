@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/levelset/levelset3.hpp"
 #include "warpmesh/io/volume.hpp"
 
 namespace warpmesh::testing {

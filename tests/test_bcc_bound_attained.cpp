@@ -25,6 +25,7 @@
 
 #include "bcc_stuffing.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;
@@ -109,14 +110,13 @@ Realised realise(const Case& c, const bcc_prover::Key& k, double along, double a
     Lattice3 L;
     L.spacing = 1;
     L.cubes = {4, 4, 4};
-    Mesh3dOptions o;
+    BccOptions o;
     o.alphas = bcc::Alphas{std::llround(along * 1e6), 1000000, std::llround(ashort * 1e6), 1000000};
-    Mesh3dReport r;
-    const TetMesh m = mesh3d_on(f, o, L, &r);
+    const TetMesh m = mesh_bcc(f, L, o).mesh;
     BOOST_TEST(check_tet_mesh(m).ok, c.code);
     Realised out;
-    out.mesh_min_deg = r.min_dihedral_deg;
-    const auto ps = bcc_prover::key_params(k, *o.alphas);
+    out.mesh_min_deg = measure_quality3(m, f).min_dihedral_deg;
+    const auto ps = bcc_prover::key_params(k, o.alphas);
     BOOST_REQUIRE(ps.size() == x.size());
     const auto pts = bcc_prover::key_points(k, ps, x.data());
     const bcc::Stencil st = bcc::stencil(k.sign, k.parity);

@@ -17,7 +17,7 @@
 #include "bcc_stuffing.hpp"
 #include "warpmesh/certify/bcc_certified.hpp"
 #include "warpmesh/core/errors.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
 
 using namespace warpmesh;
 

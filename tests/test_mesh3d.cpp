@@ -14,7 +14,10 @@
 
 #include "brain_crop.hpp"
 #include "support.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 #include "mesh3d/uniform3d.hpp"
 #include "warpmesh/io/volume.hpp"
 
@@ -27,18 +30,19 @@ Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nul
     Mesh3dOptions o;
     o.spacing = spacing;
     o.verify = true;  // throws std::logic_error if a certified tetrahedron leaves the claim
-    Mesh3dReport r;
-    TetMesh m = mesh3d(f, o, &r);
+    Mesh3dResult res = mesh3d(f, o);
+    const Mesh3dReport r = res.report;
+    TetMesh m = std::move(res.mesh);
     const TetMeshCheck c = check_tet_mesh(m);
     BOOST_TEST(c.ok, f.describe() << ": " << (c.problems.empty() ? "" : c.problems.front()));
     BOOST_TEST(r.verified);
     BOOST_TEST(r.tets == static_cast<std::int64_t>(m.tets.size()));
     BOOST_TEST(r.certified_tets == r.tets);  // all-zero background tetrahedra are never output
     BOOST_TEST(r.uncertified_tets == 0);
-    BOOST_TEST(r.min_dihedral_deg >= r.certified_min_deg);
-    BOOST_TEST(r.max_dihedral_deg <= r.certified_max_deg);
+    BOOST_TEST(r.quality.min_dihedral_deg >= r.certified_min_deg);
+    BOOST_TEST(r.quality.max_dihedral_deg <= r.certified_max_deg);
     for (std::int32_t t : m.boundary_tag) BOOST_TEST(t == boundary_level_set);
-    BOOST_TEST(r.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
+    BOOST_TEST(r.quality.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
     if (out) *out = std::move(m);
     return r;
 }
@@ -84,6 +88,15 @@ std::unique_ptr<LevelSet3> random_level_set(std::mt19937& rng, int kind) {
         Box3{-1.2, -1.2, -1.2, 1.2, 1.2, 1.2}, "rbf");
 }
 
+// The meshing stage's options of the pipeline's.
+BccOptions stage(const Mesh3dOptions& o) {
+    BccOptions b;
+    b.face_rule = o.face_rule;
+    b.alphas = o.alphas_in_use();
+    b.threads = o.threads;
+    return b;
+}
+
 // The lattice's cubes cut in eight blocks at cube indices `cut` (each in
 // (0, L.cubes[a])), each meshed on its own (mesh3d_block).
 std::vector<TetBlock> eight_blocks(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, const std::array<std::int64_t, 3>& cut) {
@@ -95,7 +108,7 @@ std::vector<TetBlock> eight_blocks(const LevelSet3& f, const Mesh3dOptions& o, c
             r.lo[a] = high ? cut[a] : 0;
             r.hi[a] = high ? L.cubes[a] : cut[a];
         }
-        blocks.push_back(mesh3d_block(f, o, L, r));
+        blocks.push_back(mesh_bcc_block(f, L, stage(o), r));
     }
     return blocks;
 }
@@ -114,7 +127,7 @@ BOOST_AUTO_TEST_CASE(shapes_conform_and_stay_within_the_certified_bounds) {
     for (const char* spec : specs) {
         const auto f = parse_shape3(spec);
         const Mesh3dReport r = mesh_checked(*f, 0.1);
-        if (const auto v = f->exact_volume()) BOOST_TEST(std::abs(r.volume - *v) < 0.03 * *v, spec << ": volume " << r.volume << " vs " << *v);
+        if (const auto v = f->exact_volume()) BOOST_TEST(std::abs(r.quality.volume - *v) < 0.03 * *v, spec << ": volume " << r.quality.volume << " vs " << *v);
         BOOST_TEST(r.warnings.size() <= 1u);
     }
 }
@@ -126,7 +139,7 @@ BOOST_AUTO_TEST_CASE(lattice_points_exactly_on_the_level_set) {
     // vertices on three planes.
     const auto f = parse_shape3("box:-1,-1,-1,1,1,1");
     const Mesh3dReport r = mesh_checked(*f, 0.25);
-    BOOST_TEST(std::abs(r.volume - 8) < 1e-9, "volume " << r.volume);
+    BOOST_TEST(std::abs(r.quality.volume - 8) < 1e-9, "volume " << r.quality.volume);
 }
 
 BOOST_AUTO_TEST_CASE(random_quadrics_and_rbfs_conform_and_verify) {
@@ -186,8 +199,9 @@ BOOST_AUTO_TEST_CASE(quality_pass_equals_the_angle_forms_at_every_edge) {
     for (const char* spec : specs) {
         Mesh3dOptions o;
         o.spacing = 0.1;
-        Mesh3dReport r;
-        const TetMesh m = mesh3d(*parse_shape3(spec), o, &r);
+        const Mesh3dResult res = mesh3d(*parse_shape3(spec), o);
+        const Mesh3dReport& r = res.report;
+        const TetMesh& m = res.mesh;
         double cmax = -1, cmin = 1;
         for (const auto& t : m.tets) {
             std::array<bcc::Vec<double>, 4> q{};
@@ -198,8 +212,8 @@ BOOST_AUTO_TEST_CASE(quality_pass_equals_the_angle_forms_at_every_edge) {
             const auto f = bcc::dihedral_forms<double>(q);
             for (std::size_t k = 0; k < 6; ++k) cmax = std::max(cmax, cos_of(f.dot[k], f.nn[k])), cmin = std::min(cmin, cos_of(f.dot[k], f.nn[k]));
         }
-        BOOST_TEST(r.min_dihedral_deg == deg(cmax), spec);
-        BOOST_TEST(r.max_dihedral_deg == deg(cmin), spec);
+        BOOST_TEST(r.quality.min_dihedral_deg == deg(cmax), spec);
+        BOOST_TEST(r.quality.max_dihedral_deg == deg(cmin), spec);
     }
 }
 
@@ -240,14 +254,14 @@ BOOST_AUTO_TEST_CASE(output_is_identical_for_any_thread_count) {
     Mesh3dOptions o;
     o.spacing = 0.09;
     o.threads = 1;
-    const TetMesh one = mesh3d(*f, o);
+    const TetMesh one = mesh3d(*f, o).mesh;
     o.threads = 2;
-    const TetMesh two = mesh3d(*f, o);
+    const TetMesh two = mesh3d(*f, o).mesh;
     // Three threads: slabs split unevenly, more threads than the CI's two
     // cores.  (Not five: LLVM 14's OpenMP runtime leaks its thread table when
     // a team grows past its initial capacity, which LeakSanitizer reports.)
     o.threads = 3;
-    const TetMesh three = mesh3d(*f, o);
+    const TetMesh three = mesh3d(*f, o).mesh;
     BOOST_TEST(same(one, two));
     BOOST_TEST(same(one, three));
 }
@@ -258,10 +272,10 @@ BOOST_AUTO_TEST_CASE(blocks_merge_into_exactly_the_whole_mesh) {
         const auto f = random_level_set(rng, trial % 2);
         Mesh3dOptions o;
         o.spacing = 0.11;
-        const Lattice3 L = lattice3_for(*f, o.spacing);
+        const Lattice3 L = lattice3d(*f, o);
         TetMesh whole;
         try {
-            whole = mesh3d_on(*f, o, L);
+            whole = mesh3d(*f, o).mesh;
         } catch (const InputError&) {
             continue;
         }
@@ -299,7 +313,7 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     TetMesh m;
     const Mesh3dReport r = mesh_checked(*ball, 0.8, &m);
     const double exact = 4.0 / 3.0 * std::numbers::pi * 216;
-    BOOST_TEST(std::abs(r.volume - exact) < 0.15 * exact, "volume " << r.volume);
+    BOOST_TEST(std::abs(r.quality.volume - exact) < 0.15 * exact, "volume " << r.quality.volume);
     // The ball's centre in physical coordinates: origin + 11.5 a0 + 9.5 * 1.25 a1 + 7.5 * 1.5 a2.
     Point3 c{0, 0, 0};
     for (const Point3& p : m.vertices) c = {c.x + p.x, c.y + p.y, c.z + p.z};
@@ -323,7 +337,7 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     go.mode.iso = 50;
     const auto grey = make_volume_levelset3(v, go);
     const Mesh3dReport g = mesh_checked(*grey, 0.8);
-    BOOST_TEST(std::abs(g.volume - exact) < 0.2 * exact, "volume " << g.volume);
+    BOOST_TEST(std::abs(g.quality.volume - exact) < 0.2 * exact, "volume " << g.quality.volume);
 }
 
 // Volume cut points solve the trilinear interpolant's cubic per voxel cell
@@ -439,11 +453,10 @@ BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     BOOST_TEST(throws_containing([&] { parse_shape3("sphere:0,0,0"); }, "sphere takes 4 numbers"));
     BOOST_TEST(throws_containing([&] { parse_shape3("torus:0,0,0,1,2"); }, "0 < r < R"));
     o.spacing = -1;
-    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "--spacing"));
+    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "spacing must be a positive number"));
     // Coarse: a sphere of radius 1 at spacing 0.7 (less than 4 cubes across).
     o.spacing = 0.7;
-    Mesh3dReport r;
-    mesh3d(*parse_shape3("union(sphere:0,0,0,3;sphere:6,0,0,1)"), o, &r);
+    const Mesh3dReport r = mesh3d(*parse_shape3("union(sphere:0,0,0,3;sphere:6,0,0,1)"), o).report;
     BOOST_REQUIRE(!r.warnings.empty());
     bool named = false;
     for (const auto& w : r.warnings) named = named || (w.find("too coarse") != std::string::npos && w.find("--spacing 0.") != std::string::npos);
@@ -474,13 +487,16 @@ BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones
     const std::array<bcc::Ivec, 4> p = bcc::background_tet({4, 2, 6}, 5);
     std::string code;
     // One outside vertex, nothing warped: a certified key.
-    const std::optional<BccKeyBound> bound = uniform3d::key_certified(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, FaceRule::parity, &code);
+    const bcc::Config key = bcc::key_of(p, {-1, -1, -1, 1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay});
+    code = bcc::code_of(key);
+    const std::optional<BccKeyBound> bound = bcc_certified_bound(key, FaceRule::parity);
     BOOST_TEST(bound.has_value(), code);
     BOOST_TEST(bound->min_deg >= bcc_certified_theorem()->min_deg);
     // Vertices 0 and 1 warped towards each other along their common edge:
     // excluded by the consistency rules (proofs/README.md), so no key.
     const int d01 = bcc::direction_of(bcc::sub(p[1], p[0])), d10 = bcc::direction_of(bcc::sub(p[0], p[1]));
-    BOOST_TEST(!uniform3d::key_certified(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay}, FaceRule::parity, &code).has_value(), code);
+    const bcc::Config impossible = bcc::key_of(p, {0, 0, -1, 1}, {d01, d10, bcc::stay, bcc::stay});
+    BOOST_TEST(!bcc_certified_bound(impossible, FaceRule::parity).has_value(), bcc::code_of(impossible));
 }
 
 // --verify's per-key test (key_claim_holds) accepts the background
@@ -510,8 +526,9 @@ BOOST_AUTO_TEST_CASE(key_claim_test_accepts_the_background_tet_and_rejects_slive
 BOOST_AUTO_TEST_CASE(whole_background_tet_key_claim_accepts_it_and_a_tighter_one_rejects_it) {
     const std::array<bcc::Ivec, 4> p = bcc::background_tet({2, 4, 6}, 7);
     std::string code;
-    const std::optional<BccKeyBound> b =
-        uniform3d::key_certified(p, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, FaceRule::parity, &code);
+    const bcc::Config key = bcc::key_of(p, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay});
+    code = bcc::code_of(key);
+    const std::optional<BccKeyBound> b = bcc_certified_bound(key, FaceRule::parity);
     BOOST_REQUIRE(b.has_value());
     BOOST_TEST(code == "-,-,-,-/0");
     std::array<Point3, 4> q{};
@@ -670,14 +687,14 @@ BOOST_AUTO_TEST_CASE(region_at_the_lattice_upper_corner_leaves_no_isolated_verte
     const FunctionLevelSet3 upper([](double, double, double z) { return 0.3 - z; }, {-1, -1, -1, 1, 1, 1}, "z > 0.3");
     Mesh3dOptions o;
     o.spacing = 0.15;
-    const TetMesh m = mesh3d(upper, o);
+    const TetMesh m = mesh3d(upper, o).mesh;
     const TetMeshCheck c = check_tet_mesh(m);
     BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
     BOOST_TEST(c.unused_vertices == 0);
     // Blocks agree, the upper block holding the corner.
-    const Lattice3 L = lattice3_for(upper, o.spacing);
+    const Lattice3 L = lattice3d(upper, o);
     const std::array<std::int64_t, 3> cut{L.cubes[0] / 2, L.cubes[1] / 2, L.cubes[2] / 2};
-    BOOST_TEST(same(merge_tet_blocks(eight_blocks(upper, o, L, cut)), mesh3d_on(upper, o, L)));
+    BOOST_TEST(same(merge_tet_blocks(eight_blocks(upper, o, L, cut)), m));
 }
 
 BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {
@@ -688,8 +705,9 @@ BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {
     Mesh3dOptions o;
     o.spacing = 0.15;
     o.verify = true;
-    Mesh3dReport r;
-    const TetMesh m = mesh3d(half, o, &r);
+    const Mesh3dResult res = mesh3d(half, o);
+    const Mesh3dReport& r = res.report;
+    const TetMesh& m = res.mesh;
     const TetMeshCheck c = check_tet_mesh(m);
     BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
     std::int64_t level = 0, domain = 0;
@@ -707,10 +725,10 @@ BOOST_AUTO_TEST_CASE(region_cut_off_by_the_lattice_is_closed_by_domain_faces) {
     BOOST_TEST(level > 0);
     BOOST_TEST(domain > 0);
     // Blocks agree there too.
-    const Lattice3 L = lattice3_for(half, o.spacing);
+    const Lattice3 L = lattice3d(half, o);
     std::vector<TetBlock> blocks;
     const std::int64_t cut = L.cubes[2] / 3;
-    blocks.push_back(mesh3d_block(half, o, L, {{0, 0, 0}, {L.cubes[0], L.cubes[1], cut}}));
-    blocks.push_back(mesh3d_block(half, o, L, {{0, 0, cut}, L.cubes}));
-    BOOST_TEST(same(merge_tet_blocks(blocks), mesh3d_on(half, o, L)));
+    blocks.push_back(mesh3d_block(half, o, {{0, 0, 0}, {L.cubes[0], L.cubes[1], cut}}));
+    blocks.push_back(mesh3d_block(half, o, {{0, 0, cut}, L.cubes}));
+    BOOST_TEST(same(merge_tet_blocks(blocks), m));
 }

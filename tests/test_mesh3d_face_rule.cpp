@@ -16,8 +16,10 @@
 #include "brain_crop.hpp"
 #include "support.hpp"
 #include "mesh3d/uniform3d.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
-#include "warpmesh/report/report.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
+#include "warpmesh/report/report3d.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;
@@ -89,8 +91,9 @@ Mesh3dOptions delaunay_options(double spacing) {
 // Meshes with the Delaunay face rule and checks the mesh (conforming,
 // positive, closed boundary) and the report's rule; the mesh in *out.
 Mesh3dReport mesh_delaunay(const LevelSet3& f, const Mesh3dOptions& o, TetMesh* out = nullptr) {
-    Mesh3dReport r;
-    TetMesh m = mesh3d(f, o, &r);
+    Mesh3dResult res = mesh3d(f, o);
+    const Mesh3dReport r = res.report;
+    TetMesh m = std::move(res.mesh);
     const TetMeshCheck c = check_tet_mesh(m);
     BOOST_TEST(c.ok, f.describe() << ": " << (c.problems.empty() ? "" : c.problems.front()));
     BOOST_TEST((r.face_rule == FaceRule::delaunay));
@@ -101,8 +104,8 @@ Mesh3dReport mesh_delaunay(const LevelSet3& f, const Mesh3dOptions& o, TetMesh* 
 // The rule's sampled range at (0.2675, 0.39) (proofs/README.md, "Towards θmin
 // ≥ 12°" (e): 11.787°–161.20°), with a margin.
 void within_the_rules_range(const Mesh3dReport& r, const std::string& what) {
-    BOOST_TEST(r.min_dihedral_deg >= 11.7, what << ": " << r.min_dihedral_deg);
-    BOOST_TEST(r.max_dihedral_deg <= 161.3, what << ": " << r.max_dihedral_deg);
+    BOOST_TEST(r.quality.min_dihedral_deg >= 11.7, what << ": " << r.quality.min_dihedral_deg);
+    BOOST_TEST(r.quality.max_dihedral_deg <= 161.3, what << ": " << r.quality.max_dihedral_deg);
 }
 
 bool same_tets(const TetMesh& a, const TetMesh& b) { return a.tets == b.tets && a.vertices.size() == b.vertices.size(); }
@@ -206,7 +209,7 @@ BOOST_AUTO_TEST_CASE(sphere_torus_and_quadrics_conform_within_the_rules_range_an
         Mesh3dOptions po = delaunay_options(s);
         po.face_rule = FaceRule::parity;
         po.alphas = bcc::delaunay_alphas;  // the same warping: only the diagonals differ
-        p = mesh3d(*f, po);
+        p = mesh3d(*f, po).mesh;
         BOOST_TEST(d.vertices.size() == p.vertices.size(), spec);
         BOOST_TEST(!same_tets(d, p), spec << ": the Delaunay face rule changed nothing");
     }
@@ -233,26 +236,26 @@ BOOST_AUTO_TEST_CASE(brain_crop_conforms_and_differs_from_parity) {
     Mesh3dOptions po = delaunay_options(1.5);
     po.face_rule = FaceRule::parity;
     po.alphas = bcc::delaunay_alphas;
-    BOOST_TEST(!same_tets(d, mesh3d(*f, po)));
+    BOOST_TEST(!same_tets(d, mesh3d(*f, po).mesh));
 }
 
 BOOST_AUTO_TEST_CASE(delaunay_blocks_merge_into_exactly_the_whole_mesh) {
     const auto f = parse_shape3("union(torus:0,0,0,1,0.35;sphere:0.3,0.2,0.1,0.6)");
     const Mesh3dOptions o = delaunay_options(0.11);
-    const Lattice3 L = lattice3_for(*f, o.spacing);
-    const TetMesh whole = mesh3d_on(*f, o, L);
+    const Lattice3 L = lattice3d(*f, o);
+    const TetMesh whole = mesh3d(*f, o).mesh;
     std::vector<TetBlock> blocks;
     const std::int64_t cx = L.cubes[0] / 3, cz = L.cubes[2] / 2;
     for (const auto& [lo, hi] : {std::pair<std::array<std::int64_t, 3>, std::array<std::int64_t, 3>>{{0, 0, 0}, {cx, L.cubes[1], cz}},
                                  {{cx, 0, 0}, {L.cubes[0], L.cubes[1], cz}},
                                  {{0, 0, cz}, L.cubes}})
-        blocks.push_back(mesh3d_block(*f, o, L, CubeRange{lo, hi}));
+        blocks.push_back(mesh3d_block(*f, o, CubeRange{lo, hi}));
     const TetMesh merged = merge_tet_blocks(blocks);
     BOOST_TEST(merged.tets == whole.tets);
     BOOST_TEST(merged.boundary == whole.boundary);
     Mesh3dOptions two = o;
     two.threads = 2;
-    BOOST_TEST(mesh3d(*f, two).tets == whole.tets);
+    BOOST_TEST(mesh3d(*f, two).mesh.tets == whole.tets);
 }
 
 // The failure prevented: a face quad split one way by one tetrahedron and the
@@ -269,7 +272,7 @@ BOOST_AUTO_TEST_CASE(ties_and_near_ties_never_split_a_shared_face_two_ways) {
     Mesh3dOptions po = delaunay_options(0.2);
     po.face_rule = FaceRule::parity;
     po.alphas = bcc::delaunay_alphas;
-    BOOST_TEST(same_tets(d, mesh3d(exact, po)));
+    BOOST_TEST(same_tets(d, mesh3d(exact, po).mesh));
     for (int ulps : {1, 2, 4}) {
         const TiedCuts near(ulps);
         for (double s : {0.2, 0.13}) {
@@ -289,10 +292,9 @@ BOOST_AUTO_TEST_CASE(delaunay_mesh_is_never_reported_with_the_parity_certificate
         Mesh3dOptions o = delaunay_options(0.15);
         o.verify = true;
         if (parity_alphas) o.alphas = bcc::parity_alphas;
-        Mesh3dReport r;
-        mesh3d(*f, o, &r);
+        const Mesh3dReport r = mesh3d(*f, o).report;
         const auto claim = bcc_claim(FaceRule::delaunay);
-        const bool own = uniform3d::certificate_applies(o.alphas_in_use(), FaceRule::delaunay);
+        const bool own = bcc_certificate_applies(o.alphas_in_use(), FaceRule::delaunay);
         BOOST_TEST(r.certified == own);
         if (r.certified) {
             BOOST_TEST(r.certified_min_deg == claim->min_deg);
@@ -316,8 +318,7 @@ BOOST_AUTO_TEST_CASE(delaunay_mesh_is_never_reported_with_the_parity_certificate
         Mesh3dOptions o;
         o.spacing = 0.15;
         if (rule) o.face_rule = *rule;
-        Mesh3dReport r;
-        mesh3d(*f, o, &r);
+        const Mesh3dReport r = mesh3d(*f, o).report;
         BOOST_TEST((r.face_rule == (rule ? *rule : FaceRule::delaunay)));
         BOOST_TEST(r.certified == bcc_claim(r.face_rule).has_value());
         if (r.certified) BOOST_TEST(to_json(r).find(std::string("\"proofs/") + name + "\"") != std::string::npos);

@@ -18,7 +18,8 @@
 
 #include "brain_crop.hpp"
 #include "support.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 #include "warpmesh/io/volume.hpp"
 
 using namespace warpmesh;
@@ -37,7 +38,7 @@ std::string canonical(const TetMesh& m, const Mesh3dReport& r) {
     s << "tets " << r.tets << " vertices " << r.vertices << " boundary " << r.boundary_faces << " cut_points " << r.cut_points
       << " warped " << r.warped << " all_zero_left_out " << r.all_zero_left_out << "\n";
     char angles[96];
-    std::snprintf(angles, sizeof angles, "dihedral %.9f %.9f\n", r.min_dihedral_deg, r.max_dihedral_deg);
+    std::snprintf(angles, sizeof angles, "dihedral %.9f %.9f\n", r.quality.min_dihedral_deg, r.quality.max_dihedral_deg);
     s << angles;
     for (const Point3& p : m.vertices) s << "v " << num(p.x) << ' ' << num(p.y) << ' ' << num(p.z) << '\n';
     for (const auto& t : m.tets) s << "t " << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << t[3] << '\n';
@@ -51,8 +52,9 @@ void compare_rule(const std::string& name, const LevelSet3& f, double spacing, s
     o.spacing = spacing;
     if (rule) o.face_rule = *rule;
     o.verify = true;
-    Mesh3dReport r;
-    const TetMesh m = mesh3d(f, o, &r);
+    const Mesh3dResult res = mesh3d(f, o);
+    const TetMesh& m = res.mesh;
+    const Mesh3dReport& r = res.report;
     BOOST_TEST(check_tet_mesh(m).ok);
     const std::string text = canonical(m, r);
     const std::string path = std::string(WARPMESH_SOURCE_DIR) + "/tests/expected/" + name + ".txt";

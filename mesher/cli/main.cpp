@@ -35,6 +35,7 @@
 #include "warpmesh/mesh2d/materials.hpp"
 #include "warpmesh/pipeline/slices.hpp"
 #include "warpmesh/io/volume.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
 #include "warpmesh/warpmesh.hpp"
 #ifdef WARPMESH_HAVE_PROVER
 #include "warpmesh/prove.hpp"
@@ -317,7 +318,11 @@ bool parse_mesher_option(const std::string& a, Args& args, CliOptions& o) {
     else if (a == "--no-certify") m.certify = false;
     else if (a == "--min-spacing") m.min_spacing = parse_number(a, args.value(a));
     else if (a == "--guarantee") m.guarantee = parse_choice(a, args.value(a), {"flat", "any"}) == 0 ? Guarantee::flat : Guarantee::any;
-    else if (a == "--face-rule") o.face_rule = parse_choice(a, args.value(a), {"parity", "delaunay"}) == 1 ? FaceRule::delaunay : FaceRule::parity;
+    else if (a == "--face-rule") {
+        const std::string v = args.value(a);
+        parse_choice(a, v, {face_rule_name(face_rules[0]), face_rule_name(face_rules[1])});  // the message for a bad name
+        o.face_rule = *parse_face_rule(v);
+    }
     else return false;
     return true;
 }
@@ -608,9 +613,9 @@ int run_slices(const CliOptions& o) {
 
 // ---- warpmesh mesh3d ------------------------------------------------------------------
 //
-// The 3D mesher (mesh3d.hpp) behind the same option names and parsing as
-// `mesh`.  Options of `mesh` that would have no effect in 3D are refused with
-// the reason, never ignored.
+// The 3D pipeline (pipeline/mesh3d.hpp: validate, mesh3d) behind the same
+// option names and parsing as `mesh`.  Options of `mesh` that would have no
+// effect in 3D are refused with the reason, never ignored.
 
 // Why an option of `mesh` is refused by mesh3d (empty: it applies).
 std::string refused_in_3d(const std::string& option) {
@@ -633,22 +638,39 @@ std::string refused_in_3d(const std::string& option) {
     return "it is an option of the 2D mesher (warpmesh mesh)";
 }
 
+// The input the command line names: a volume file or --shape SPEC.
+Mesh3dInput mesh3d_input(const CliOptions& o) {
+    if (o.shape.empty()) return VolumeFile{o.input};
+    return Shape3{o.shape};
+}
+
+// The library's options from the command line's.
+Mesh3dOptions mesh3d_options(const CliOptions& o) {
+    Mesh3dOptions mo;
+    if (o.has("--spacing")) mo.spacing = o.mesh.spacing;
+    mo.face_rule = o.face_rule;  // and the rule's alphas (face_rule_alphas)
+    mo.verify = o.has("--verify") && o.mesh.verify;
+    mo.max_memory = o.mesh.max_memory;
+    mo.max_voxels = static_cast<std::uint64_t>(std::max<std::int64_t>(o.max_pixels, 0));
+    mo.labels = o.labels;
+    mo.iso = o.iso;
+    if (o.has("--inside")) mo.inside_above = o.inside_above;
+    if (o.has("--units")) mo.units = o.units_pixels ? Units::pixels : Units::physical;
+    mo.voxel_size = o.pixel_size;
+    return mo;
+}
+
 CliOptions parse_mesh3d_options(int argc, char** argv) {
     CliOptions o = parse_arguments(argc, argv);
     for (const auto& option : o.given)
         if (const std::string why = refused_in_3d(option); !why.empty())
             throw UsageError(option + " has no effect in 3D (warpmesh mesh3d): " + why);
     if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input volume or --shape SPEC");
-    if (!o.shape.empty() && (o.iso || o.labels || o.has("--inside")))
-        throw UsageError("--iso, --inside and --label apply to volumes, not to --shape");
-    if (!o.shape.empty() && (o.has("--units") || !o.pixel_size.empty()))
-        throw UsageError("--units and --pixel-size apply to volumes, not to --shape");
-    if (!o.shape.empty() && !o.has("--spacing"))
-        throw UsageError("--shape needs --spacing S (the lattice's cube side, in the shape's units)");
-    if (o.labels && o.iso) throw UsageError("--iso (threshold mode) and --label (label mode) exclude each other");
-    if (o.labels && o.has("--inside")) throw UsageError("--inside applies to threshold mode (--iso), not to --label");
-    if (o.has("--spacing") && !(o.mesh.spacing > 0)) throw UsageError("--spacing must be positive");
-    if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
+    try {
+        validate(mesh3d_input(o), mesh3d_options(o));
+    } catch (const InputError& e) {
+        throw UsageError(e.what());
+    }
     return o;
 }
 
@@ -668,52 +690,18 @@ struct Progress {
     }
 };
 
-// The level set of the input: the volume's (label or threshold mode, in mm
-// or voxels) or the shape's.
-std::unique_ptr<LevelSet3> level_set_3d(const CliOptions& o, double& default_spacing, Progress& progress) {
-    if (!o.shape.empty()) return parse_shape3(o.shape);
-    progress.stage("reading " + o.input);
-    Volume v = read_input(o);
-    const bool pixels = o.units_pixels || (!v.physical && o.pixel_size.empty());
-    if (o.units_pixels) {
-        v.spacing = {1, 1, 1}, v.origin = {0, 0, 0}, v.axes = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-        v.physical = false;
-    }
-    default_spacing = pixels ? 1.0 : std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
-    progress.large = progress.large || v.voxel_count() >= (std::int64_t{1} << 22);
-    VolumeLevelSet3Options lo;
-    lo.max_memory = o.mesh.max_memory;
-    if (o.labels) {
-        lo.mode = label_options(*o.labels);
-    } else {
-        lo.mode.iso = o.iso;
-        lo.mode.inside_above = o.inside_above;
-    }
-    progress.stage(std::string(o.labels ? "signed distance of the labels" : "threshold level set") + " of " +
-                   std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) +
-                   " voxels");
-    return make_volume_levelset3(v, lo);
-}
-
 int run_mesh3d(int argc, char** argv) {
     const CliOptions o = parse_mesh3d_options(argc, argv);
     for (const auto& out : o.outputs) check_output_path_3d(out);
     if (!o.report.empty()) check_writable(o.report);
     Progress progress;
     progress.terminal = !o.quiet && ::isatty(STDERR_FILENO);
-    double spacing = 1;
-    const std::unique_ptr<LevelSet3> f = level_set_3d(o, spacing, progress);
-    Mesh3dOptions mo;
-    mo.spacing = o.has("--spacing") ? o.mesh.spacing : spacing;
-    mo.face_rule = o.face_rule;  // and the rule's alphas (face_rule_alphas)
-    mo.verify = o.has("--verify") && o.mesh.verify;
-    mo.max_memory = o.mesh.max_memory;
-    const Lattice3 lattice = lattice3_for(*f, mo.spacing);
-    progress.large = progress.large || lattice.point_count() >= (std::int64_t{1} << 24);
-    progress.stage("meshing a BCC lattice of " + std::to_string(lattice.point_count()) + " points at spacing " +
-                   json_number(mo.spacing));
-    Mesh3dReport report;
-    const TetMesh mesh = mesh3d_on(*f, mo, lattice, &report);
+    const Mesh3dResult r = mesh3d(mesh3d_input(o), mesh3d_options(o), [&](const std::string& stage) {
+        progress.large = true;
+        progress.stage(stage);
+    });
+    const TetMesh& mesh = r.mesh;
+    const Mesh3dReport& report = r.report;
     StagedOutputs staged;
     WriteOptions wo = o.formats;
     wo.msh = o.msh;
@@ -723,7 +711,7 @@ int run_mesh3d(int argc, char** argv) {
         staged.write(out, [&](const std::string& path) { write_mesh(mesh, path, wo); }, wo);
     }
     if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_text_file(path, to_json(report)); });
-    print_warnings(report.warnings);
+    print_warnings(r.warnings);
     staged.commit();
     progress.stage("done");
     if (!o.quiet) std::cout << to_text(report);

@@ -21,7 +21,8 @@
 #include <string>
 
 #include "warpmesh/core/errors.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 #include "warpmesh/io/volume.hpp"
 
 namespace {
@@ -62,12 +63,12 @@ int main(int argc, char** argv) {
         else if (a == "--iso") iso = std::stod(next());
         else if (a == "--spacing") o.spacing = std::stod(next());
         else if (a == "--face-rule") {
-            const std::string r = next();
-            if (r != "parity" && r != "delaunay") {
+            const std::optional<FaceRule> rule = parse_face_rule(next());
+            if (!rule) {
                 std::cerr << "--face-rule expects parity or delaunay\n";
                 return 2;
             }
-            o.face_rule = r == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
+            o.face_rule = *rule;
         } else if (a == "--threads") o.threads = std::stoi(next());
         else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
         else if (a == "--quality") o.quality = true;
@@ -85,20 +86,14 @@ int main(int argc, char** argv) {
         } else {
             const Volume v = read_volume(volume_path);
             VolumeLevelSet3Options vo;
-            if (!label.empty()) {
-                vo.mode.mode = ImageMode::label;
-                if (label == "nonzero") vo.mode.label_nonzero = true;
-                else {
-                    std::istringstream s(label);
-                    for (std::string t; std::getline(s, t, ',');) vo.mode.labels.push_back(std::stoi(t));
-                }
-            }
+            if (!label.empty()) vo.mode = label_options(label);
             vo.mode.iso = iso;
             f = make_volume_levelset3(v, vo);
         }
-        Mesh3dReport r;
         const double cpu0 = cpu_seconds();
-        const TetMesh m = mesh3d(*f, o, &r);
+        const Mesh3dResult result = mesh3d(*f, o);
+        const TetMesh& m = result.mesh;
+        const Mesh3dReport& r = result.report;
         const double cpu = cpu_seconds() - cpu0;
         const double peak = static_cast<double>(peak_rss());
         std::printf("tets=%lld vertices=%lld seconds=%.3f tets_per_second=%.0f cpu_seconds=%.3f tets_per_cpu_second=%.0f peak_bytes_per_tet=%.1f",
@@ -106,7 +101,7 @@ int main(int argc, char** argv) {
                     static_cast<double>(r.tets) / cpu, peak / static_cast<double>(r.tets));
         if (o.quality)
             std::printf(" min_dihedral=%.3f max_dihedral=%.3f radius_ratio_min=%.4f boundary_vertex_f_max=%.3g boundary_centroid_f_max=%.3g",
-                        r.min_dihedral_deg, r.max_dihedral_deg, r.radius_ratio_min, r.boundary_vertex_f_max, r.boundary_centroid_f_max);
+                        r.quality.min_dihedral_deg, r.quality.max_dihedral_deg, r.quality.radius_ratio_min, r.quality.boundary_vertex_f_max, r.quality.boundary_centroid_f_max);
         if (check) std::printf(" check_ok=%d", check_tet_mesh(m).ok ? 1 : 0);
         std::printf(" certified=%lld uncertified=%lld verified=%d boundary_faces=%lld\n", static_cast<long long>(r.certified_tets),
                     static_cast<long long>(r.uncertified_tets), r.verified ? 1 : 0, static_cast<long long>(r.boundary_faces));

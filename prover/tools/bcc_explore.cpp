@@ -68,7 +68,7 @@ struct Extremes {
 };
 
 // ---- geometric face rules (the faces mode; not the mesher's rule) ------------
-enum class FaceRule { parity, shorter, maxmin, delaunay };
+enum class ExploreRule { parity, shorter, maxmin, delaunay };
 using Points = std::array<bcc::Vec<double>, 10>;
 
 double min_angle_deg(const bcc::Vec<double>& p, const bcc::Vec<double>& q, const bcc::Vec<double>& r) {
@@ -88,7 +88,7 @@ double min_angle_deg(const bcc::Vec<double>& p, const bcc::Vec<double>& q, const
 // (a, b, cut(b, r), cut(a, r)) is split by a–cut(b, r).  The quad is planar
 // (on the warped face), and both tetrahedra sharing the face see the same
 // four points, so any rule of these points is conforming.
-bool face_takes_a(FaceRule rule, const Points& P, int a, int b, int r, int parity) {
+bool face_takes_a(ExploreRule rule, const Points& P, int a, int b, int r, int parity) {
     const int ca = bcc::cut_point(a, r), cb = bcc::cut_point(b, r);
     const auto d2 = [&](int i, int j) {
         double t = 0;
@@ -98,8 +98,8 @@ bool face_takes_a(FaceRule rule, const Points& P, int a, int b, int r, int parit
     };
     const auto p = [&](int i) { return P[static_cast<std::size_t>(i)]; };
     double x = 0, y = 0;  // x: a–cb's merit, y: b–ca's (larger wins)
-    if (rule == FaceRule::shorter) x = -d2(a, cb), y = -d2(b, ca);
-    if (rule == FaceRule::delaunay) {
+    if (rule == ExploreRule::shorter) x = -d2(a, cb), y = -d2(b, ca);
+    if (rule == ExploreRule::delaunay) {
         // The quad is convex, so a–cb is Delaunay iff the angles opposite it,
         // at b in (a, b, cb) and at ca in (a, cb, ca), sum to at most π:
         // cot + cot >= 0, i.e. (u·v)(u'×v')·N + (u'·v')(u×v)·N >= 0 with N
@@ -116,7 +116,7 @@ bool face_takes_a(FaceRule rule, const Points& P, int a, int b, int r, int parit
         const double g = dot(u, v) * std::abs(dot(cross(u2, v2), n)) + dot(u2, v2) * std::abs(dot(cross(u, v), n));
         x = g, y = -g;
     }
-    if (rule == FaceRule::maxmin)
+    if (rule == ExploreRule::maxmin)
         x = std::min(min_angle_deg(p(a), p(b), p(cb)), min_angle_deg(p(a), p(cb), p(ca))),
         y = std::min(min_angle_deg(p(a), p(b), p(ca)), min_angle_deg(p(b), p(cb), p(ca)));
     return x != y ? x > y : bcc::face_takes_a(a, b, r, parity);
@@ -135,7 +135,7 @@ double min_dihedral_deg(const bcc::Stencil& st, const Points& P) {
 // generic_bcc.hpp's stencil() with the face quads split by `rule` (the
 // prism's inside quad, as there, turns against quad 0, but for maxmin and
 // delaunay: see below).  count = -1: cyclic.
-bcc::Stencil rule_stencil(FaceRule rule, const std::array<int, 4>& sign, int parity, const Points& P) {
+bcc::Stencil rule_stencil(ExploreRule rule, const std::array<int, 4>& sign, int parity, const Points& P) {
     std::array<int, 4> neg{}, pos{};
     int nn = 0, np = 0;
     for (int i = 0; i < 4; ++i) {
@@ -155,14 +155,14 @@ bcc::Stencil rule_stencil(FaceRule rule, const std::array<int, 4>& sign, int par
         const std::array<int, 3> bot{a, bcc::cut_point(a, r0), bcc::cut_point(a, r1)}, top{b, bcc::cut_point(b, r0), bcc::cut_point(b, r1)};
         const bool f0 = face_takes_a(rule, P, a, b, r0, parity), f2 = !face_takes_a(rule, P, a, b, r1, parity);
         bcc::prism_tets(s, bot, top, {f0, !f0, f2});
-        if (rule < FaceRule::maxmin || f0 == f2) return s;  // f0 == f2: the inside diagonal is forced
+        if (rule < ExploreRule::maxmin || f0 == f2) return s;  // f0 == f2: the inside diagonal is forced
         // The inside quad (on the surface, in this tetrahedron only: any
         // choice is conforming) takes, for maxmin, the diagonal whose three
         // tetrahedra have the larger smallest dihedral angle; for delaunay the
         // shorter one, bot[1]–top[2] or bot[2]–top[1] (ties: as parity).
         bcc::Stencil t;
         bcc::prism_tets(t, bot, top, {f0, f0, f2});
-        if (rule == FaceRule::maxmin) return min_dihedral_deg(t, P) > min_dihedral_deg(s, P) ? t : s;
+        if (rule == ExploreRule::maxmin) return min_dihedral_deg(t, P) > min_dihedral_deg(s, P) ? t : s;
         const auto d2 = [&](int i, int j) {
             double q = 0;
             for (std::size_t c = 0; c < 3; ++c) {
@@ -193,9 +193,9 @@ bcc::Stencil rule_stencil(FaceRule rule, const std::array<int, 4>& sign, int par
 // Smallest and largest dihedral angle over the key's output tetrahedra at x
 // (the face quads split by `rule`; parity: generic_bcc.hpp's stencil).
 Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>& ps, const std::vector<double>& x,
-                  FaceRule rule = FaceRule::parity) {
+                  ExploreRule rule = ExploreRule::parity) {
     const auto pts = bcc_prover::key_points(k, ps, x.data());
-    const bcc::Stencil st = rule == FaceRule::parity ? bcc::stencil(k.sign, k.parity) : rule_stencil(rule, k.sign, k.parity, pts);
+    const bcc::Stencil st = rule == ExploreRule::parity ? bcc::stencil(k.sign, k.parity) : rule_stencil(rule, k.sign, k.parity, pts);
     Extremes e;
     if (st.count < 0) {
         e.cyclic = true;
@@ -213,7 +213,7 @@ Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>
 // Random restarts and a shrinking-step pattern search for the objective
 // (sign = +1: minimise the smallest angle; -1: maximise the largest).
 std::pair<double, std::vector<double>> search(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>& ps, int n,
-                                              int sign, std::mt19937& rng, bool& inverted, FaceRule rule = FaceRule::parity,
+                                              int sign, std::mt19937& rng, bool& inverted, ExploreRule rule = ExploreRule::parity,
                                               long* cyclic = nullptr) {
     const auto obj = [&](const std::vector<double>& x) {
         const Extremes e = evaluate(k, ps, x, rule);
@@ -248,7 +248,7 @@ std::pair<double, std::vector<double>> search(const bcc_prover::Key& k, const st
     return {sign > 0 ? fb : -fb, best};
 }
 
-int run_search(const bcc::Alphas& al, int n, FaceRule rule = FaceRule::parity) {
+int run_search(const bcc::Alphas& al, int n, ExploreRule rule = ExploreRule::parity) {
     const auto keys = bcc_prover::enumerate_keys();
     std::mt19937 rng(29);
     struct Row {
@@ -271,7 +271,7 @@ int run_search(const bcc::Alphas& al, int n, FaceRule rule = FaceRule::parity) {
     std::sort(mins.begin(), mins.end(), [](const Row& a, const Row& b) { return a.v < b.v; });
     std::sort(maxs.begin(), maxs.end(), [](const Row& a, const Row& b) { return a.v > b.v; });
     std::printf("keys %zu, keys with an inverted sample %d", keys.size(), inverted);
-    if (rule != FaceRule::parity) std::printf(", cyclic prism samples %ld", cyclic);
+    if (rule != ExploreRule::parity) std::printf(", cyclic prism samples %ld", cyclic);
     std::printf("\n");
     for (int i = 0; i < 8 && i < static_cast<int>(mins.size()); ++i) {
         std::printf("min %.4f  %s  at", mins[static_cast<std::size_t>(i)].v, mins[static_cast<std::size_t>(i)].code.c_str());
@@ -477,10 +477,10 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "bcc_explore: face rule %s is not parity, shorter, maxmin or delaunay\n", r.c_str());
             return 2;
         }
-        const FaceRule rule = r == "parity"    ? FaceRule::parity
-                              : r == "shorter" ? FaceRule::shorter
-                              : r == "maxmin"  ? FaceRule::maxmin
-                                               : FaceRule::delaunay;
+        const ExploreRule rule = r == "parity"    ? ExploreRule::parity
+                              : r == "shorter" ? ExploreRule::shorter
+                              : r == "maxmin"  ? ExploreRule::maxmin
+                                               : ExploreRule::delaunay;
         return run_search(alphas_of(argv[3], argv[4]), argc > 5 ? std::atoi(argv[5]) : 64, rule);
     }
     if (mode == "counterexample" && argc == 4) return run_counterexample(alphas_of(argv[2], argv[3]));

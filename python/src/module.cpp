@@ -23,6 +23,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/pipeline/mesh3d.hpp"
 #include "warpmesh/warpmesh.hpp"
 
 namespace py = pybind11;
@@ -75,18 +76,40 @@ py::dict cell_data_views(py::object self, const Result& r) {
     return d;
 }
 
-// A face rule by name ("parity", "delaunay"; __init__.py checks it first).
-FaceRule face_rule_of(const std::string& name) {
-    if (name == "parity") return FaceRule::parity;
-    if (name == "delaunay") return FaceRule::delaunay;
-    throw InputError("face_rule must be 'parity' or 'delaunay', got '" + name + "'");
+// What mesh3d returns to Python: the pipeline's result (mesh, report, warnings).
+using Mesh3dResult = warpmesh::Mesh3dResult;
+
+// A volume from a numpy array (z, y, x) and its geometry: voxel_size (mm;
+// none: voxel units) and origin; the input of the 3D pipeline.
+struct Volume3 {
+    Volume volume;
+};
+
+// The 3D pipeline's options from keywords (__init__.py converts them).
+Mesh3dOptions mesh3d_options(const py::dict& kw) {
+    Mesh3dOptions o;
+    if (kw.contains("spacing")) o.spacing = kw["spacing"].cast<double>();
+    if (kw.contains("face_rule")) {
+        const py::object name = kw["face_rule"];
+        const std::optional<FaceRule> rule = py::isinstance<py::str>(name) ? parse_face_rule(name.cast<std::string>()) : std::nullopt;
+        if (!rule) throw InputError("face_rule must be 'parity' or 'delaunay', got " + py::repr(name).cast<std::string>());
+        o.face_rule = *rule;
+    }
+    if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
+    if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();  // bytes
+    if (kw.contains("threads")) o.threads = kw["threads"].cast<int>();
+    if (kw.contains("labels")) o.labels = kw["labels"].cast<std::string>();
+    if (kw.contains("iso")) o.iso = kw["iso"].cast<double>();
+    if (kw.contains("inside")) o.inside_above = kw["inside"].cast<std::string>() == "above";
+    if (kw.contains("voxel_size")) o.voxel_size = kw["voxel_size"].cast<std::vector<double>>();
+    return o;
 }
 
-// What mesh3d returns to Python: the mesh and its report.
-struct Mesh3dResult {
-    TetMesh mesh;
-    Mesh3dReport report;
-};
+// The pipeline's input: a shape string or a Volume3.
+Mesh3dInput mesh3d_input(const py::object& input) {
+    if (py::isinstance<py::str>(input)) return Shape3{input.cast<std::string>()};
+    return std::cref(input.cast<const Volume3&>().volume);
+}
 
 MeshOptions mesh_options(const py::dict& kw) {
     MeshOptions o;
@@ -275,38 +298,32 @@ std::vector<T> from_array(const py::dict& d, const char* name, std::size_t per) 
     return out;
 }
 
-// The block API (mesh3d.hpp, "Blocks"): the lattice of a level set, one
-// block of its cubes, the merge; warpmesh.lattice3d, mesh3d_block and
+// The block API (pipeline/mesh3d.hpp, "Blocks"): the lattice of an input,
+// one block of its cubes, the merge; warpmesh.lattice3d, mesh3d_block and
 // merge_blocks in __init__.py.
 void bind_blocks(py::module_& m) {
     m.def(
         "lattice3",
-        [](const LevelSet3& f, double spacing) {
-            const Lattice3 l = lattice3_for(f, spacing);
-            return py::make_tuple(l.cubes, l.point_count());
+        [](const py::object& input, const py::dict& kw) {
+            const Mesh3dOptions o = mesh3d_options(kw);
+            const Mesh3dInput in = mesh3d_input(input);
+            py::gil_scoped_release release;
+            return lattice3d(in, o).cubes;
         },
-        py::arg("levelset"), py::arg("spacing"));
+        py::arg("input"), py::arg("options"));
     m.def(
         "mesh3d_block",
-        [](const LevelSet3& f, double spacing, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi,
-           std::optional<std::string> face_rule) {
-            const Lattice3 lattice = lattice3_for(f, spacing);
-            for (std::size_t a = 0; a < 3; ++a)
-                if (lo[a] < 0 || lo[a] >= hi[a] || hi[a] > lattice.cubes[a])
-                    throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) +
-                                     ", " + std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
-                                     ") with lo < hi along every axis");
-            Mesh3dOptions o;
-            o.spacing = spacing;
-            if (face_rule) o.face_rule = face_rule_of(*face_rule);
+        [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, const py::dict& kw) {
+            const Mesh3dOptions o = mesh3d_options(kw);
+            const Mesh3dInput in = mesh3d_input(input);
             TetBlock b;
             {
                 py::gil_scoped_release release;
-                b = mesh3d_block(f, o, lattice, CubeRange{lo, hi});
+                b = mesh3d_block(in, o, CubeRange{lo, hi});
             }
             return block_to_dict(std::move(b));
         },
-        py::arg("levelset"), py::arg("spacing"), py::arg("lo"), py::arg("hi"), py::arg("face_rule") = py::none());
+        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("options"));
     m.def(
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {
@@ -321,26 +338,18 @@ void bind_blocks(py::module_& m) {
                 b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
                 blocks.push_back(std::move(b));
             }
-            Mesh3dResult r;
             py::gil_scoped_release release;
-            try {
-                r.mesh = merge_tet_blocks(blocks);
-            } catch (const std::invalid_argument& e) {
-                throw InputError(std::string("the blocks do not merge: ") + e.what());
-            }
-            r.report.vertices = static_cast<std::int64_t>(r.mesh.vertices.size());
-            r.report.tets = static_cast<std::int64_t>(r.mesh.tets.size());
-            r.report.boundary_faces = static_cast<std::int64_t>(r.mesh.boundary.size());
-            return r;
+            return merge_mesh3d_blocks(blocks);
         },
         py::arg("blocks"));
 }
 
-// The 3D mesher: volume_levelset3 / shape_levelset3 then mesh3d, and
-// mesh3d_function (a Python callable f(x, y, z) on a box): the
-// warpmesh.mesh3d() of python/warpmesh/__init__.py, which checks and
-// converts their arguments.
+// The 3D pipeline (pipeline/mesh3d.hpp) on a shape string or a Volume3,
+// and mesh3d_function (a Python callable f(x, y, z) on a box): the
+// warpmesh.mesh3d() of python/warpmesh/__init__.py, which converts their
+// arguments.
 void bind_mesh3d(py::module_& m) {
+    using Voxels = py::array_t<double, py::array::c_style | py::array::forcecast>;
     py::class_<Mesh3dResult> result(m, "Mesh3dResult");
     static_assert(sizeof(Point3) == 3 * sizeof(double));
     def_view<double>(result, "points", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.vertices; });
@@ -349,59 +358,34 @@ void bind_mesh3d(py::module_& m) {
     def_view<std::int32_t>(result, "boundary_faces", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary; });
     def_view<std::int32_t>(result, "boundary_tags", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary_tag; });
     result.def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const Mesh3dResult&>()); })
-        .def_property_readonly("warnings", [](const Mesh3dResult& r) { return r.report.warnings; })
+        .def_property_readonly("warnings", [](const Mesh3dResult& r) { return r.warnings; })
         .def("to_json", [](const Mesh3dResult& r) { return to_json(r.report); })
         .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); });
     def_write(result, [](const Mesh3dResult&) { return WriteOptions{}; });
 
-    // The mesher on f with options (spacing, face_rule, verify, max_memory), the GIL released.
-    auto run3d = [](const LevelSet3& f, const py::dict& kw, std::optional<int> threads) {
-        Mesh3dOptions o;
-        o.spacing = kw["spacing"].cast<double>();
-        if (kw.contains("face_rule")) o.face_rule = face_rule_of(kw["face_rule"].cast<std::string>());
-        if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
-        if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();
-        if (threads) o.threads = *threads;
-        Mesh3dResult r;
-        py::gil_scoped_release release;
-        r.mesh = mesh3d(f, o, &r.report);
-        return r;
-    };
-    using Voxels = py::array_t<double, py::array::c_style | py::array::forcecast>;
-    // An opaque level set (a volume's or a shape's), for the block API.
-    py::class_<LevelSet3>(m, "LevelSet3").def("__repr__", [](const LevelSet3& f) { return f.describe(); });
-    m.def("shape_levelset3", [](const std::string& spec) { return parse_shape3(spec); }, py::arg("spec"));
-    m.def(
-        "volume_levelset3",
-        [](const Voxels& a, bool integer_valued, std::array<double, 3> voxel_size, std::array<double, 3> origin,
-           bool physical, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels,
-           bool nonzero, const py::dict& kw) {
-            if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
-            Volume v;
-            v.dims = {a.shape(2), a.shape(1), a.shape(0)};
-            v.values.assign(a.data(), a.data() + a.size());
-            v.spacing = voxel_size, v.origin = origin, v.physical = physical;
-            v.integer_valued = integer_valued;
-            v.format = "numpy", v.source = "the array";
-            VolumeLevelSet3Options lo;
-            if (kw.contains("max_memory")) lo.max_memory = kw["max_memory"].cast<std::uint64_t>();
-            if (labels || nonzero) {
-                lo.mode.mode = ImageMode::label;
-                lo.mode.label_nonzero = nonzero;
-                if (labels) lo.mode.labels = *labels;
-            } else {
-                lo.mode.iso = iso;
-                lo.mode.inside_above = inside_above;
-            }
-            py::gil_scoped_release release;
-            return make_volume_levelset3(v, lo);
-        },
-        py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"), py::arg("physical"),
-        py::arg("iso"), py::arg("inside_above"), py::arg("labels"), py::arg("nonzero"), py::arg("options"));
+    py::class_<Volume3>(m, "Volume3")
+        .def(py::init([](const Voxels& a, bool integer_valued, std::optional<std::array<double, 3>> voxel_size,
+                         std::array<double, 3> origin) {
+                 if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
+                 Volume3 v;
+                 v.volume.dims = {a.shape(2), a.shape(1), a.shape(0)};
+                 v.volume.values.assign(a.data(), a.data() + a.size());
+                 if (voxel_size) v.volume.spacing = *voxel_size;
+                 v.volume.origin = origin, v.volume.physical = voxel_size.has_value();
+                 v.volume.integer_valued = integer_valued;
+                 v.volume.format = "numpy", v.volume.source = "the array";
+                 return v;
+             }),
+             py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"));
     m.def(
         "mesh3d",
-        [run3d](const LevelSet3& f, std::optional<int> threads, const py::dict& kw) { return run3d(f, kw, threads); },
-        py::arg("levelset"), py::arg("threads"), py::arg("options"));
+        [](const py::object& input, const py::dict& kw) {
+            const Mesh3dOptions o = mesh3d_options(kw);
+            const Mesh3dInput in = mesh3d_input(input);
+            py::gil_scoped_release release;
+            return mesh3d(in, o);
+        },
+        py::arg("input"), py::arg("options"));
     bind_blocks(m);
     // A Python callable, evaluated with the GIL held: one thread (OpenMP
     // threads would only queue for the GIL).  An exception in it must not
@@ -409,7 +393,7 @@ void bind_mesh3d(py::module_& m) {
     // point is taken as outside, and InputError is raised after meshing.
     m.def(
         "mesh3d_function",
-        [run3d](py::function f, std::array<double, 6> box, const py::dict& kw) {
+        [](py::function f, std::array<double, 6> box, const py::dict& kw) {
             auto error = std::make_shared<std::string>();
             FunctionLevelSet3 ls(
                 [f, error](double x, double y, double z) {
@@ -426,10 +410,13 @@ void bind_mesh3d(py::module_& m) {
                     return 1.0;
                 },
                 Box3{box[0], box[1], box[2], box[3], box[4], box[5]}, "a Python function");
+            Mesh3dOptions o = mesh3d_options(kw);
+            o.threads = 1;
             std::optional<Mesh3dResult> r;
             std::string failure;
             try {
-                r = run3d(ls, kw, 1);
+                py::gil_scoped_release release;
+                r = mesh3d(std::cref(static_cast<const LevelSet3&>(ls)), o);
             } catch (const InputError& e) {
                 failure = e.what();
             }

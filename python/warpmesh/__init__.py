@@ -551,36 +551,58 @@ def _volume(volume):
     return a, bool(np.issubdtype(a.dtype, np.integer))
 
 
-def _levelset3(volume, label, labels, iso, inside, voxel_size, origin, max_memory_mb):
-    """The level set of a numpy volume or a shape string (the C++ object)
-    and the default spacing (None for a shape)."""
-    _choice("inside", inside, ("above", "below"))
+def _labels3(label, labels):
+    """label= / labels= as the library's label list ("3", "51,52", "1-9",
+    "nonzero"), or None."""
     if label is not None and labels is not None:
         raise InputError("label and labels are the same option: give one")
     label = labels if label is None else label
-    if label is not None and iso is not None:
-        raise InputError("iso (threshold mode) and label (label mode) exclude each other")
+    if label is None or isinstance(label, str):
+        return label
+    if np.isscalar(label):
+        return str(_label_value(label))
+    try:
+        return ",".join(str(_label_value(v)) for v in label)
+    except TypeError:
+        raise InputError(f"labels must be an int, a list of ints or a string, got {label!r}") from None
+
+
+def _input3(volume, voxel_size, origin, options):
+    """The pipeline's input: a shape string, or a numpy volume with its
+    geometry (voxel_size, origin); a voxel_size given with a shape goes to
+    the options (the library refuses it)."""
+    size = None if voxel_size is None else _triple("voxel_size", voxel_size, True)
     if isinstance(volume, str):
-        if label is not None or iso is not None or voxel_size is not None:
-            raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
-        return _core.shape_levelset3(volume), None
+        if size is not None:
+            options["voxel_size"] = list(size)
+        return volume
     a, integer_valued = _volume(volume)
-    size = _triple("voxel_size", 1.0 if voxel_size is None else voxel_size, True)
-    label_list, nonzero = _labels(label)
-    options = {} if max_memory_mb is None else {"max_memory": _integer("max_memory_mb", max_memory_mb, 1) << 20}
-    f = _core.volume_levelset3(a, integer_valued, size, _triple("origin", origin, False), voxel_size is not None,
-                               None if iso is None else _number("iso", iso), inside == "above", label_list, nonzero,
-                               options)
-    return f, min(size)
+    return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False))
 
 
-def _spacing3(spacing, default):
-    if spacing is None and default is None:
-        raise InputError("spacing is required for a shape or a function (the lattice's cube side)")
-    return _number("spacing", default if spacing is None else spacing)
+def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False, max_memory_mb=None, threads=None):
+    """The keywords as the library's option names (each converted, not
+    checked against the others: the library does that)."""
+    o = {"verify": bool(verify)}
+    if spacing is not None:
+        o["spacing"] = _number("spacing", spacing)
+    label = _labels3(label, labels)
+    if label is not None:
+        o["labels"] = label
+    if iso is not None:
+        o["iso"] = _number("iso", iso)
+    if inside is not None:
+        o["inside"] = _choice("inside", inside, ("above", "below"))
+    if face_rule is not None:
+        o["face_rule"] = face_rule  # the library's parser (parse_face_rule)
+    if max_memory_mb is not None:
+        o["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
+    if threads is not None:
+        o["threads"] = _threads(threads)
+    return o
 
 
-def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
+def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
            origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, max_memory_mb=None, threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
@@ -602,8 +624,8 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
                 between voxel centres, interpolated trilinearly.  (labels= is
                 the same, as in mesh().)
     iso         threshold mode instead: inside where the trilinear volume is
-                above iso (inside="above") or below it; default the middle of
-                the value range
+                above iso (inside="above", the default) or below it
+                (inside="below"); default the middle of the value range
     voxel_size  (sx, sy, sz) in mm (one number: cubic voxels), origin the
                 position of voxel (0, 0, 0); without voxel_size the volume is
                 meshed in voxel units
@@ -623,16 +645,10 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
     Returns a TetMesh.  Raises InputError (a ValueError) for every bad input.
     Volumes too large for one machine: mesh3d_block and merge_blocks.
     """
-    options = {"verify": bool(verify)}
-    if face_rule is not None:
-        options["face_rule"] = _choice("face_rule", face_rule, ("parity", "delaunay"))
-    if max_memory_mb is not None:
-        options["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
-    threads = _threads(threads)
     if callable(volume) and not isinstance(volume, str):
         if label is not None or labels is not None or iso is not None or voxel_size is not None:
             raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
-        options["spacing"] = _spacing3(spacing, None)
+        options = _options3(spacing, None, None, None, inside, face_rule, verify, max_memory_mb)
         if box is None:
             raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
         b = [_number("box", v) for v in np.asarray(box, dtype=object).ravel()]
@@ -642,25 +658,24 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="a
     else:
         if box is not None:
             raise InputError("box applies to a function, not to a volume or a shape")
-        f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, max_memory_mb)
-        options["spacing"] = _spacing3(spacing, default)
-        core = _core.mesh3d(f, threads, options)
+        options = _options3(spacing, label, labels, iso, inside, face_rule, verify, max_memory_mb, threads)
+        core = _core.mesh3d(_input3(volume, voxel_size, origin, options), options)
     m = TetMesh(core)
     for w in m.warnings:
         warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=2)
     return m
 
 
-def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside="above", voxel_size=None,
+def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
               origin=(0.0, 0.0, 0.0)):
     """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
     to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
     (volumes and shape strings)."""
-    f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
-    return tuple(int(n) for n in _core.lattice3(f, _spacing3(spacing, default))[0])
+    options = _options3(spacing, label, labels, iso, inside)
+    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options), options))
 
 
-def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside="above",
+def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None,
                  voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
@@ -669,14 +684,12 @@ def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=N
     worker needs only its input); blocks that tile the lattice merge into
     exactly mesh3d's mesh (with the same face_rule).  Arguments as mesh3d's
     (volumes and shape strings)."""
-    f, default = _levelset3(volume, label, labels, iso, inside, voxel_size, origin, None)
+    options = _options3(spacing, label, labels, iso, inside, face_rule)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:
         raise InputError("lo and hi must be triples of cube indices")
-    if face_rule is not None:
-        face_rule = _choice("face_rule", face_rule, ("parity", "delaunay"))
-    return _core.mesh3d_block(f, _spacing3(spacing, default), lo, hi, face_rule)
+    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options), lo, hi, options)
 
 
 def merge_blocks(blocks):

@@ -137,7 +137,7 @@ def test_bad_input_and_2d_formats_write_nothing(tmp_path):
     r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.3", "-o", "x.svg"], tmp_path, expect=1)
     assert "2D format" in r.stderr
     r = mesh3d(["--shape", "sphere:0,0,0,1", "-o", "x.vtu"], tmp_path, expect=2)
-    assert "--shape needs --spacing" in r.stderr
+    assert "spacing is required for a shape" in r.stderr
     r = mesh3d(["--shape", "sphere:0,0,0,-1", "--spacing", "0.3", "-o", "x.vtu"], tmp_path, expect=1)
     assert "sphere" in r.stderr
     labels = np.zeros((6, 6, 6))

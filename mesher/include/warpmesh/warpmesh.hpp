@@ -6,7 +6,11 @@
 //   image.hpp           read_image / decode_image: PGM, PNG (warpmesh::io)
 //   image_levelset.hpp  images → level sets: threshold or labels
 //   materials.hpp       multi-material fields (label images, shapes) for mesh(field, options)
-//   mesh3d.hpp          3D: level sets, shapes, volumes → tetrahedral meshes (BCC lattice)
+//   pipeline/mesh3d.hpp 3D: mesh3d(volume file, volume, shape or level set, options) → tetrahedra + report
+//   levelset3.hpp       3D level sets: shapes ("sphere:0,0,0,1", ...), volumes, any callable
+//   mesh3d/mesh3d.hpp   the 3D meshing stage (BCC lattice), its lattice and blocks
+//   tet_checks.hpp      checks and quality of any tetrahedral mesh
+//   report3d.hpp        the 3D report (Mesh3dReport) as text and JSON
 //   tet_mesh.hpp        the 3D mesh: vertices, tetrahedra, boundary faces
 //   mesh.hpp            the mesh: vertices, triangles, regions, boundary, interfaces
 //   certified.hpp       the proofs' angle bounds and the certification summary
@@ -30,7 +34,11 @@
 #include "warpmesh/levelset/levelset.hpp"
 #include "warpmesh/mesh2d/materials.hpp"
 #include "warpmesh/core/mesh.hpp"
+#include "warpmesh/levelset/levelset3.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
+#include "warpmesh/report/report3d.hpp"
 #include "warpmesh/post/mesh_checks.hpp"
 #include "warpmesh/post/optimize.hpp"
 #include "warpmesh/pipeline/mesh2d.hpp"

@@ -1,43 +1,29 @@
-// bcc_claim.cpp — the 3D mesher's view of the compiled-in certificates
-// (mesh3d.hpp: bcc_claim; uniform3d.hpp: key_certified,
-// certificate_applies), read from the table of the face rule in use — each
-// rule's certificate is its own table (bcc_certified.hpp), so a mesh is never
+// bcc_claim.cpp — the claims of the compiled-in 3D certificates as the
+// pipeline uses them (bcc_certified.hpp: bcc_claim, bcc_certificate_applies,
+// bcc_key_claims, bcc_certification), read from the table of the face rule
+// in use — each rule's certificate is its own table, so a mesh is never
 // checked or reported against another rule's claims — which
 // cmake/certified_table.cmake compiles in and bcc_certified.cpp parses:
 //   alphas   the violation thresholds the proof is about;
 //   per key  its claim C_min, C_max (cos² thresholds, dyadic rationals);
 //   theorem  the extremes of the keys' claims (the certificate's `claim`).
-// θ >= θmin and θ <= θmax (θmax > 90°) are compared through cos² (verify3.cpp);
-// the degrees are for reports only.
-#include "mesh3d/uniform3d.hpp"
+// θ >= θmin and θ <= θmax (θmax > 90°) are compared through cos² (the
+// mesher's check, mesh3d/tets3.cpp); the degrees are for reports only.
+//
+// Certification.  The certificate of the mesh's face rule (proofs/bcc.cert
+// for parity, proofs/bcc_delaunay.cert for the Delaunay face rule; never the
+// other rule's) claims, at its alphas, for every key with output (a −
+// vertex), that every output tetrahedron is positively oriented with every
+// dihedral angle θ in the key's own [θmin, θmax], within the theorem.  Every
+// output tetrahedron comes from such a key (all-zero background tetrahedra
+// are never output), so at the certificate's alphas none is uncertified.
 #include "warpmesh/certify/bcc_certified.hpp"
-#include "warpmesh/mesh3d/generic_bcc_keys.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
 
 #include <cmath>
 
 namespace warpmesh {
 
-std::optional<BccKeyBound> uniform3d::key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
-                                                    const std::array<int, 4>& warp, FaceRule rule, std::string* code) {
-    const bcc::Config key = bcc::key_of(p, sign, warp);
-    if (code) *code = bcc::code_of(key);
-    return bcc_certified_bound(key, rule);
-}
-
-bool uniform3d::key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max) {
-    std::array<bcc::Vec<double>, 4> p{};
-    for (std::size_t k = 0; k < 4; ++k) p[k] = {q[k].x, q[k].y, q[k].z};
-    const auto f = bcc::dihedral_forms<double>(p);
-    bool ok = f.volume6 > 0;
-    for (std::size_t k = 0; k < 6; ++k) {
-        const double d = f.dot[k], d2 = d * d;
-        ok = ok && (d <= 0 || d2 <= cos2_min * f.nn[k]) && (d >= 0 || d2 <= cos2_max * f.nn[k]);
-    }
-    return ok;
-}
-
-bool uniform3d::certificate_applies(const bcc::Alphas& a, FaceRule rule) {
+bool bcc_certificate_applies(const bcc::Alphas& a, FaceRule rule) {
     const std::optional<bcc::Alphas> c = bcc_certified_alphas(rule);
     return c && c->long_num * a.long_den == a.long_num * c->long_den && c->short_num * a.short_den == a.short_num * c->short_den;
 }
@@ -48,6 +34,30 @@ std::optional<BccClaim> bcc_claim(FaceRule rule) {
     if (!a || !t) return std::nullopt;
     return BccClaim{*a, t->min_deg, t->max_deg, std::ldexp(static_cast<double>(t->cmin_num), -40),
                     std::ldexp(static_cast<double>(t->cmax_num), -40)};
+}
+
+BccKeyClaims bcc_key_claims(FaceRule rule) {
+    BccKeyClaims c;
+    c.claim = [rule](const bcc::Config& key) -> std::optional<BccKeyClaim> {
+        const std::optional<BccKeyBound> b = bcc_certified_bound(key, rule);
+        if (!b) return std::nullopt;
+        return BccKeyClaim{std::ldexp(static_cast<double>(b->cmin_num), -40), std::ldexp(static_cast<double>(b->cmax_num), -40)};
+    };
+    c.source = bcc_certificate_path(rule);
+    return c;
+}
+
+BccCertification bcc_certification(FaceRule rule, const bcc::Alphas& alphas) {
+    BccCertification c;
+    const std::optional<BccClaim> claim = bcc_claim(rule);
+    const std::string cert = bcc_certificate_path(rule);
+    c.certified = bcc_certificate_applies(alphas, rule);
+    if (c.certified) c.min_deg = claim->min_deg, c.max_deg = claim->max_deg;
+    else
+        c.uncertified_reason = claim ? "no certificate for these alphas: " + cert + " (face rule " + face_rule_name(rule) + ") is at other alphas"
+                                     : std::string("this build has no certificate of the ") + face_rule_name(rule) + " face rule (" + cert +
+                                           "): the angles are measured, not certified";
+    return c;
 }
 
 }  // namespace warpmesh

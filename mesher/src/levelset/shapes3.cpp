@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "warpmesh/core/errors.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/levelset/levelset3.hpp"
 #include "core/root_finder.hpp"
 #include "shape_syntax.hpp"
 

@@ -1,4 +1,4 @@
-// volume_levelset3.cpp — the level set of a 3D volume (mesh3d.hpp:
+// volume_levelset3.cpp — the level set of a 3D volume (levelset3.hpp:
 // make_volume_levelset3): a trilinear interpolant of per-voxel values, the
 // grey values themselves (threshold mode) or a signed distance (label mode).
 //
@@ -36,7 +36,7 @@
 #include "warpmesh/core/buffer.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/core/memory.hpp"
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/levelset/levelset3.hpp"
 #include "warpmesh/io/volume.hpp"
 #include "core/root_finder.hpp"
 
@@ -338,7 +338,7 @@ std::string labels_text(const ImageLevelSetOptions& m) {
 
 std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
     const auto& m = o.mode;
-    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs --label L,... or --label nonzero");
+    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs labels: a label list (e.g. 3 or 51,52) or nonzero");
     // Which of the listed labels occur: every one must (a label in no voxel
     // is a typo or the wrong volume, refused as 2D's --materials does).
     std::vector<char> seen(m.labels.size(), 0);
@@ -415,7 +415,7 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
 std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
     const auto [mn, mx] = std::minmax_element(v.values.begin(), v.values.end());
     const double iso = o.mode.iso ? *o.mode.iso : v.maxval > 0 ? 0.5 * v.maxval : 0.5 * (*mn + *mx);
-    if (!std::isfinite(iso)) throw InputError("--iso must be a finite number");
+    if (!std::isfinite(iso)) throw InputError("the iso value must be a finite number");
     const std::uint64_t count = static_cast<std::uint64_t>(v.voxel_count());
     check_memory(count * 4, o.max_memory, "the volume's grey values (" + std::to_string(count) + " voxels)", "4 bytes a voxel",
                  "crop or downsample the volume");

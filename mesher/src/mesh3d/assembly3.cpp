@@ -1,5 +1,5 @@
 // assembly3.cpp — stage 6: the mesh from the emitted tetrahedra (boundary
-// faces, tags), the whole-lattice mesher mesh3d, and blocks and their merge.
+// faces, tags), the whole-lattice mesher mesh_bcc, and blocks and their merge.
 //
 // Boundary faces.  A face of an output tetrahedron is on the boundary iff no
 // other output tetrahedron has it.  By the stencils' construction a face can
@@ -105,7 +105,7 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
 namespace {
 
 // The window of cubes [lo − halo, hi + halo) ∩ the lattice, sampled, cut and warped.
-Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, const CubeRange& r, std::int64_t halo, bool blocked) {
+Window prepare(const LevelSet3& f, const BccOptions& o, const Lattice3& L, const CubeRange& r, std::int64_t halo, bool blocked) {
     bcc::Ivec lo{}, hi{};
     for (std::size_t a = 0; a < 3; ++a) {
         lo[a] = static_cast<int>(2 * std::max<std::int64_t>(0, r.lo[a] - halo));
@@ -117,21 +117,20 @@ Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, co
     // numbering's use byte and two ids (9); the cut parameters are surface-sized.
     check_memory(static_cast<std::uint64_t>(w.grid.count()) * 24, o.max_memory,
                  "the 3D lattice of " + std::to_string(w.grid.count()) + " points", "24 bytes a lattice point",
-                 "choose a larger --spacing");
+                 "choose a larger spacing");
     sample_signs(f, w);
     find_cuts(f, w);
     Buffer<double>().swap(w.value);  // f is not needed past the cut points
-    warp_points(o.alphas_in_use(), w, blocked);
+    warp_points(o.alphas, w, blocked);
     return w;
 }
 
-void check_options(const Mesh3dOptions& o) {
-    const bcc::Alphas a = o.alphas_in_use();
+void check_options(const BccOptions& o) {
+    const bcc::Alphas a = o.alphas;
     const bool ok = a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
                     2 * a.short_num < a.short_den;
     if (!ok) throw InputError("the alphas must lie in (0, 1/2)");
     if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
-    if (!(o.spacing > 0 && std::isfinite(o.spacing))) throw InputError("--spacing must be a positive number");
 }
 
 struct Threads {
@@ -164,57 +163,42 @@ TetMesh to_mesh(Emitted&& e) {
 }  // namespace
 }  // namespace uniform3d
 
-TetMesh mesh3d_on(const LevelSet3& f, const Mesh3dOptions& options, const Lattice3& lattice, Mesh3dReport* report) {
+BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o) {
     using namespace uniform3d;
-    Mesh3dOptions o = options;
-    o.spacing = lattice.spacing;
     check_options(o);
     const Threads threads(o.threads);
     const auto start = std::chrono::steady_clock::now();
     const CubeRange all{{0, 0, 0}, lattice.cubes};
     Window w = prepare(f, o, lattice, all, 0, false);
-    const bool verify_keys = o.verify && certificate_applies(o.alphas_in_use(), o.face_rule);
-    Emitted e = emit_tets(w, all, false, o.max_memory, o.face_rule, verify_keys);
-    const std::string cert = bcc_certificate_path(o.face_rule);
+    Emitted e = emit_tets(w, all, false, o.max_memory, o.face_rule, o.verify);
     if (e.uncovered_keys > 0)
-        throw std::logic_error("mesh3d --verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " + cert +
-                               " does not list (first: " + e.first_uncovered + ")");
+        throw std::logic_error("mesh3d verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " +
+                               o.verify->source + " does not list (first: " + e.first_uncovered + ")");
     if (e.key_claim_failures > 0)
-        throw std::logic_error("mesh3d --verify: " + std::to_string(e.key_claim_failures) + " tetrahedra fail their key's claim in " + cert +
-                               " (first key: " + e.first_key_claim_failure + ")");
+        throw std::logic_error("mesh3d verify: " + std::to_string(e.key_claim_failures) + " tetrahedra fail their key's claim in " +
+                               o.verify->source + " (first key: " + e.first_key_claim_failure + ")");
     const std::int64_t warped = w.warp_count;
     w = Window{};
     if (e.tets.empty())
         throw InputError("the region is empty: no tetrahedron inside at spacing " + std::to_string(lattice.spacing) + " (" + f.describe() + ")");
-    Mesh3dReport r;
+    BccMesh r;
     r.lattice_points = lattice.point_count();
     r.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
     r.cut_points = e.cut_points;
     r.warped = warped;
     r.all_zero_left_out = e.all_zero_left_out;
-    TetMesh mesh = to_mesh(std::move(e));
+    r.verified = o.verify != nullptr;
+    r.mesh = to_mesh(std::move(e));
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    r.vertices = static_cast<std::int64_t>(mesh.vertices.size());
-    r.tets = static_cast<std::int64_t>(mesh.tets.size());
-    r.boundary_faces = static_cast<std::int64_t>(mesh.boundary.size());
-    finish_report(mesh, f, o, verify_keys, r);
-    if (report) *report = std::move(r);
-    return mesh;
+    return r;
 }
 
-TetMesh mesh3d(const LevelSet3& f, const Mesh3dOptions& options, Mesh3dReport* report) {
-    uniform3d::check_options(options);
-    return mesh3d_on(f, options, lattice3_for(f, options.spacing), report);
-}
-
-TetBlock mesh3d_block(const LevelSet3& f, const Mesh3dOptions& options, const Lattice3& lattice, const CubeRange& block) {
+TetBlock mesh_bcc_block(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o, const CubeRange& block) {
     using namespace uniform3d;
-    Mesh3dOptions o = options;
-    o.spacing = lattice.spacing;
     check_options(o);
     for (std::size_t a = 0; a < 3; ++a)
         if (!(block.lo[a] >= 0 && block.lo[a] <= block.hi[a] && block.hi[a] <= lattice.cubes[a]))
-            throw InputError("mesh3d_block: the block is not a range of the lattice's cubes");
+            throw InputError("mesh_bcc_block: the block is not a range of the lattice's cubes");
     const Threads threads(o.threads);
     for (std::int64_t halo = 2;; halo *= 2) {
         Window w = prepare(f, o, lattice, block, halo, true);

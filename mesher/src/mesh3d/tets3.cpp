@@ -19,15 +19,17 @@
 // from the (signs, diagonals) table after delaunay_choice (face_rule3.cpp)
 // decides the diagonals exactly from the cut parameters.  A stencil's count
 // and points do not depend on its diagonals, so pass A is the same for both.
-// With verify_keys every output tetrahedron is checked against its own
-// background tetrahedron's key claim in the face rule's certificate as it is
-// written (the whole ones against the claim of the all-− key, looked up once).
+// With verify every output tetrahedron is checked against its own
+// background tetrahedron's key claim (BccKeyClaims: the face rule's
+// certificate's, given by the pipeline) as it is written (the whole ones
+// against the claim of the all-− key, looked up once).
 #include <atomic>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
 
 #include "uniform3d.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"  // key_of, code_of
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/core/memory.hpp"
 
@@ -191,7 +193,7 @@ Numbering number(const Grid& g, const Marks& marks) {
     Numbering out;
     out.points = np.back(), out.cuts = nc.back();
     if (out.points + out.cuts >= INT32_MAX)
-        throw InputError("the 3D mesh would have more than 2^31 vertices; choose a larger --spacing or mesh in blocks (mesh3d_block)");
+        throw InputError("the 3D mesh would have more than 2^31 vertices; choose a larger spacing or mesh in blocks (mesh3d_block)");
     const std::size_t n = static_cast<std::size_t>(g.count());
     out.id.resize(n), out.cut_id.resize(n);  // every element written below
 #pragma omp parallel for schedule(dynamic, 1)
@@ -240,11 +242,11 @@ void place_vertices(const Window& w, const Marks& marks, const Numbering& num, b
 }
 
 // Pass B: the tetrahedra, with (blocks) their keys, and the sparse lists.
-// The key check of --verify for one output background tetrahedron: its key's
-// claim, or nothing (counted in `uncovered`) if the certificate
-// does not list the key; its code in *code.
-std::optional<BccKeyBound> check_key(const Layout& lay, const bcc::Ivec& m, const Neighbourhood& n, int index, std::int64_t& uncovered,
-                                     std::string& first, std::string* code) {
+// The key check of verify for one output background tetrahedron: its key's
+// claim, or nothing (counted in `uncovered`) if the claims do not list the
+// key; its code in *code.
+std::optional<BccKeyClaim> check_key(const Layout& lay, const BccKeyClaims& claims, const bcc::Ivec& m, const Neighbourhood& n, int index,
+                                     std::int64_t& uncovered, std::string& first, std::string* code) {
     const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
     std::array<bcc::Ivec, 4> p{};
     std::array<int, 4> sign{}, warp{};
@@ -254,19 +256,21 @@ std::optional<BccKeyBound> check_key(const Layout& lay, const bcc::Ivec& m, cons
         sign[k] = n.sign[slot];
         warp[k] = lay.w.warp[static_cast<std::size_t>(n.at[slot])];
     }
-    std::optional<BccKeyBound> bound = key_certified(p, sign, warp, lay.rule, code);
-    if (bound) return bound;
+    const bcc::Config key = bcc::key_of(p, sign, warp);
+    *code = bcc::code_of(key);
+    std::optional<BccKeyClaim> claim = claims.claim(key);
+    if (claim) return claim;
     ++uncovered;
 #pragma omp critical
     if (first.empty()) first = *code;
     return std::nullopt;
 }
 
-// --verify's per-key check of the output tetrahedra [t0, t1) of one
+// verify's per-key check of the output tetrahedra [t0, t1) of one
 // background tetrahedron against its key's claim (vertices already placed).
-void check_claim(const Emitted& out, std::int64_t t0, std::int64_t t1, const BccKeyBound& b, const std::string& code,
+void check_claim(const Emitted& out, std::int64_t t0, std::int64_t t1, const BccKeyClaim& b, const std::string& code,
                  std::int64_t& failures, std::string& first) {
-    const double c_min = std::ldexp(static_cast<double>(b.cmin_num), -40), c_max = std::ldexp(static_cast<double>(b.cmax_num), -40);
+    const double c_min = b.cos2_min, c_max = b.cos2_max;
     for (std::int64_t t = t0; t < t1; ++t) {
         const auto& tet = out.tets[static_cast<std::size_t>(t)];
         std::array<Point3, 4> q{};
@@ -294,7 +298,7 @@ void write_whole_cube(const Layout& lay, const Neighbourhood& n, const Numbering
 }
 
 void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
-                std::span<const std::int64_t> start, bool keys, bool verify_keys, Emitted& out) {
+                std::span<const std::int64_t> start, bool keys, const BccKeyClaims* verify, Emitted& out) {
     const Lattice3& L = lay.w.grid.lattice;
     const std::int64_t layers = range.hi[2] - range.lo[2];
     std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
@@ -302,11 +306,13 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     // A whole background tetrahedron's key (four − vertices, none warped; the
     // same for every index), looked up once.
     std::string whole_code;
-    std::optional<BccKeyBound> whole_bound;
-    if (verify_keys) {
-        whole_bound = key_certified(lay.shapes[0].offset, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay}, lay.rule, &whole_code);
+    std::optional<BccKeyClaim> whole_bound;
+    if (verify) {
+        const bcc::Config whole = bcc::key_of(lay.shapes[0].offset, {-1, -1, -1, -1}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay});
+        whole_code = bcc::code_of(whole);
+        whole_bound = verify->claim(whole);
         if (!whole_bound)
-            throw std::logic_error(std::string("mesh3d --verify: ") + bcc_certificate_path(lay.rule) + " does not list the key " + whole_code +
+            throw std::logic_error("mesh3d verify: " + verify->source + " does not list the key " + whole_code +
                                    " of a whole background tetrahedron");
     }
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures, all_zero_left_out, cyclic)
@@ -318,7 +324,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
             if (n.all_outside) return;
             const bool near_edge = cx < 2 || cy < 2 || cz < 2 || cx >= L.cubes[0] - 2 || cy >= L.cubes[1] - 2 || cz >= L.cubes[2] - 2;
             const std::uint64_t cube_key = static_cast<std::uint64_t>((cz * L.cubes[1] + cy) * L.cubes[0] + cx) * 48;
-            if (n.all_inside && !near_edge && !verify_keys) return write_whole_cube(lay, n, num, keys, cube_key, t, out);
+            if (n.all_inside && !near_edge && !verify) return write_whole_cube(lay, n, num, keys, cube_key, t, out);
             for (int index = 0; index < 12; ++index) {
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
@@ -331,9 +337,9 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
                     cyclic += d->cyclic;  // never, with exact signs (generic_bcc.hpp); reported below
                     if (!d->cyclic) p = d;
                 }
-                std::optional<BccKeyBound> bound;
+                std::optional<BccKeyClaim> bound;
                 std::string code;
-                if (verify_keys) bound = n.all_inside ? whole_bound : check_key(lay, m, n, index, uncovered, out.first_uncovered, &code);
+                if (verify) bound = n.all_inside ? whole_bound : check_key(lay, *verify, m, n, index, uncovered, out.first_uncovered, &code);
                 const std::int64_t t0 = t;
                 std::array<std::int32_t, 10> vid{};
                 for (int q = 0; q < 10; ++q) {
@@ -374,21 +380,33 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
 
 }  // namespace
 
-Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule, bool verify_keys) {
+bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max) {
+    std::array<bcc::Vec<double>, 4> p{};
+    for (std::size_t k = 0; k < 4; ++k) p[k] = {q[k].x, q[k].y, q[k].z};
+    const auto f = bcc::dihedral_forms<double>(p);
+    bool ok = f.volume6 > 0;
+    for (std::size_t k = 0; k < 6; ++k) {
+        const double d = f.dot[k], d2 = d * d;
+        ok = ok && (d <= 0 || d2 <= cos2_min * f.nn[k]) && (d >= 0 || d2 <= cos2_max * f.nn[k]);
+    }
+    return ok;
+}
+
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule, const BccKeyClaims* verify) {
     const Layout lay(w, rule);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
     Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);
     const std::int64_t tet_count = start.back();
     if (tet_count >= INT32_MAX)
-        throw InputError("the 3D mesh would have more than 2^31 tetrahedra; choose a larger --spacing or mesh in blocks (mesh3d_block)");
+        throw InputError("the 3D mesh would have more than 2^31 tetrahedra; choose a larger spacing or mesh in blocks (mesh3d_block)");
     Numbering num = number(w.grid, marks);
     const std::int64_t vertex_count = num.points + num.cuts;
     // The output: 16 bytes a tetrahedron (+4 for its region, written later,
     // +8 for a block's keys), 25 a vertex (+8 with keys).
     check_memory(static_cast<std::uint64_t>(tet_count) * (20 + (keys ? 8 : 0)) + static_cast<std::uint64_t>(vertex_count) * 33,
                  max_memory, "the 3D mesh of " + std::to_string(tet_count) + " tetrahedra", "about 24 bytes a tetrahedron",
-                 "choose a larger --spacing");
+                 "choose a larger spacing");
     Emitted out;
     out.cut_points = num.cuts;
     out.vertices.resize(static_cast<std::size_t>(vertex_count));  // each written once by place_vertices
@@ -397,7 +415,7 @@ Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint6
     place_vertices(w, marks, num, keys, out);
     out.tets.resize(static_cast<std::size_t>(tet_count));  // each written once by write_tets
     if (keys) out.tet_key.resize(static_cast<std::size_t>(tet_count));
-    write_tets(lay, range, marks, num, start, keys, verify_keys, out);
+    write_tets(lay, range, marks, num, start, keys, verify, out);
     return out;
 }
 

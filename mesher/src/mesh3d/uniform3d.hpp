@@ -7,7 +7,7 @@
 //   stencils3.cpp    the stencil tables (generic_bcc.hpp's stencil_with) and faces
 //   face_rule3.cpp   the Delaunay face rule's exact decisions (stage 5's helper)
 //   tets3.cpp        background tetrahedra → output tetrahedra, two passes
-//   assembly3.cpp    vertices, boundary faces, blocks and their merge, mesh3d
+//   assembly3.cpp    vertices, boundary faces, blocks and their merge, mesh_bcc
 #pragma once
 
 #include <algorithm>
@@ -17,9 +17,8 @@
 
 #include <optional>
 
-#include "warpmesh/certify/bcc_certified.hpp"
-#include "warpmesh/mesh3d/generic_bcc.hpp"
 #include "warpmesh/core/buffer.hpp"
+#include "warpmesh/mesh3d/generic_bcc.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
 
 namespace warpmesh::uniform3d {
@@ -181,28 +180,18 @@ struct Emitted {
     std::vector<std::uint64_t> vertex_key;       // blocks only
     std::int64_t all_zero_left_out = 0;          // all-zero background tetrahedra (never output)
     std::int64_t cut_points = 0, warped_vertices = 0;
-    // With verify_keys: output background tetrahedra whose key is not in
-    // the face rule's certificate, and the first one's code; output
-    // tetrahedra that fail their own key's claim (key_claim_holds), and the
-    // first one's key.
+    // With verify: output background tetrahedra whose key has no claim, and
+    // the first one's code; output tetrahedra that fail their own key's
+    // claim (key_claim_holds), and the first one's key.
     std::int64_t uncovered_keys = 0;
     std::string first_uncovered;
     std::int64_t key_claim_failures = 0;
     std::string first_key_claim_failure;
 };
-// Quads split by `rule`; verify_keys against its certificate.
+// Quads split by `rule`; with `verify`, every tetrahedron checked against
+// its key's claim.
 Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule,
-                  bool verify_keys = false);
-
-// Whether the certificate of `rule` is compiled in and at these alphas.
-bool certificate_applies(const bcc::Alphas& alphas, FaceRule rule);
-
-// The claim of the canonical key of background tetrahedron p (local order)
-// with post-warp signs `sign` and global warp directions `warp`
-// (generic_bcc_keys.hpp: key_of), or nothing if the certificate of `rule`
-// does not list it (certify/bcc_claim.cpp); the key's code in *code.
-std::optional<BccKeyBound> key_certified(const std::array<bcc::Ivec, 4>& p, const std::array<int, 4>& sign,
-                                         const std::array<int, 4>& warp, FaceRule rule, std::string* code = nullptr);
+                  const BccKeyClaims* verify = nullptr);
 
 // Whether tetrahedron q satisfies a key's claim with the certificate's own
 // test (generic_bcc.hpp, "Angle forms"), in double precision: volume > 0 and
@@ -216,9 +205,5 @@ bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos
 // faces with all three vertices on the level set; throws std::logic_error
 // for a face in three tetrahedra.
 void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const CutOff> cut_off);
-
-// The report's certification, quality and resolution fields
-// (certify/verify3.cpp); `verified`: emit_tets checked every tetrahedron.
-void finish_report(const TetMesh& mesh, const LevelSet3& f, const Mesh3dOptions& o, bool verified, Mesh3dReport& r);
 
 }  // namespace warpmesh::uniform3d

@@ -1,5 +1,5 @@
 // tet_checks.cpp — tet_mesh.hpp's invariants, checked from scratch
-// (check_tet_mesh, mesh3d.hpp), by sorting every face of every tetrahedron:
+// (check_tet_mesh, tet_checks.hpp), by sorting every face of every tetrahedron:
 // nothing is taken from the mesher.  And the boundary's non-manifold edges
 // and vertices (nonmanifold_boundary), from the boundary list alone.
 //
@@ -12,7 +12,7 @@
 #include <span>
 #include <tuple>
 
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 
 namespace warpmesh {
 namespace {

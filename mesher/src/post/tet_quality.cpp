@@ -1,5 +1,5 @@
 // tet_quality.cpp — quality of tetrahedra: dihedral angles, radius ratio,
-// and the quality fields of a 3D report (mesh3d.hpp).
+// and the quality of a mesh of a level set (tet_checks.hpp).
 //
 // The dihedral angle at edge (a, b), with c, d the other vertices, is the
 // angle between n_c = e × (pc − pa) and n_d = e × (pd − pa), e = pb − pa
@@ -35,7 +35,8 @@
 #include <emmintrin.h>
 #endif
 
-#include "mesh3d/uniform3d.hpp"
+#include "warpmesh/mesh3d/generic_bcc.hpp"
+#include "warpmesh/post/tet_checks.hpp"
 
 namespace warpmesh {
 namespace {
@@ -136,7 +137,7 @@ double degrees(double cosine) { return std::acos(cosine) * 180 / std::numbers::p
 // The running sums of the pass (one per thread, then combined).
 struct Tally {
     double cmax = -1, cmin = 1, rr_min = 1, rr_sum = 0, volume = 0;
-    std::array<std::int64_t, Mesh3dReport::radius_ratio_bins> hist{};
+    std::array<std::int64_t, TetQuality::radius_ratio_bins> hist{};
 
     void add_angles(const bcc::DihedralForms<double>& f) {
         for (std::size_t k = 0; k < 6; ++k) {
@@ -147,7 +148,7 @@ struct Tally {
     }
     void add_size(double q, double volume6) {
         rr_min = std::min(rr_min, q), rr_sum += q;
-        ++hist[static_cast<std::size_t>(std::min(Mesh3dReport::radius_ratio_bins - 1, static_cast<int>(q * Mesh3dReport::radius_ratio_bins)))];
+        ++hist[static_cast<std::size_t>(std::min(TetQuality::radius_ratio_bins - 1, static_cast<int>(q * TetQuality::radius_ratio_bins)))];
         volume += volume6 / 6;
     }
     // Whether may_exceed is false at all twelve checks of both lanes of a
@@ -172,7 +173,7 @@ struct Tally {
 };
 
 // Max |f| at the level-set boundary's vertices (each once) and at its faces' centroids.
-void boundary_fidelity(const TetMesh& mesh, const LevelSet3& f, Mesh3dReport& r) {
+void boundary_fidelity(const TetMesh& mesh, const LevelSet3& f, TetQuality& r) {
     double fv = 0, fc = 0;
     std::vector<std::uint8_t> seen(mesh.vertices.size(), 0);
     for (std::size_t i = 0; i < mesh.boundary.size(); ++i) {
@@ -199,7 +200,8 @@ std::array<double, 6> dihedral_angles_deg(const std::array<Point3, 4>& p) {
 
 double radius_ratio(const std::array<Point3, 4>& p) { return measure_one(p).radius_ratio; }
 
-void measure_quality3(const TetMesh& mesh, const LevelSet3& f, Mesh3dReport& r) {
+TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f) {
+    TetQuality r;
     Tally all;
     const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
 #pragma omp parallel
@@ -230,6 +232,7 @@ void measure_quality3(const TetMesh& mesh, const LevelSet3& f, Mesh3dReport& r) 
     r.radius_ratio_min = all.rr_min, r.radius_ratio_mean = T ? all.rr_sum / static_cast<double>(T) : 0;
     r.radius_ratio_histogram = all.hist, r.volume = all.volume;
     boundary_fidelity(mesh, f, r);
+    return r;
 }
 
 }  // namespace warpmesh

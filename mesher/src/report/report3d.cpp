@@ -1,4 +1,4 @@
-// report3d.cpp — the 3D mesher's report (mesh3d.hpp: Mesh3dReport) as text
+// report3d.cpp — the 3D mesher's report (report3d.hpp: Mesh3dReport) as text
 // (what `warpmesh mesh3d` prints) and as one JSON object (--report FILE, the
 // Python module's report dict): the same module and the same conventions as
 // the 2D report (report.cpp: json_number's shortest round-trip numbers, null
@@ -11,8 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"  // bcc_certificate_path
 #include "warpmesh/report/report.hpp"
+#include "warpmesh/report/report3d.hpp"
 
 namespace warpmesh {
 
@@ -36,27 +37,27 @@ std::string json_strings(const std::vector<std::string>& items) {
 std::string to_json(const Mesh3dReport& r) {
     const auto n = [](auto x) { return json_number(x); };
     std::string hist = "[";
-    for (std::size_t k = 0; k < r.radius_ratio_histogram.size(); ++k)
-        hist += (k ? ", " : "") + n(static_cast<std::int64_t>(r.radius_ratio_histogram[k]));
+    for (std::size_t k = 0; k < r.quality.radius_ratio_histogram.size(); ++k)
+        hist += (k ? ", " : "") + n(static_cast<std::int64_t>(r.quality.radius_ratio_histogram[k]));
     hist += "]";
     const ReportFields fields = {
         {"dimension", "3"},
         {"vertices", n(r.vertices)},
         {"tetrahedra", n(r.tets)},
         {"boundary_faces", n(r.boundary_faces)},
-        {"volume", n(r.volume)},
+        {"volume", n(r.quality.volume)},
         {"lattice_points", n(r.lattice_points)},
         {"background_tetrahedra", n(r.background_tets)},
         {"cut_points", n(r.cut_points)},
         {"warped_points", n(r.warped)},
         {"all_zero_left_out", n(r.all_zero_left_out)},
-        {"min_dihedral_deg", n(r.min_dihedral_deg)},
-        {"max_dihedral_deg", n(r.max_dihedral_deg)},
-        {"radius_ratio_min", n(r.radius_ratio_min)},
-        {"radius_ratio_mean", n(r.radius_ratio_mean)},
+        {"min_dihedral_deg", n(r.quality.min_dihedral_deg)},
+        {"max_dihedral_deg", n(r.quality.max_dihedral_deg)},
+        {"radius_ratio_min", n(r.quality.radius_ratio_min)},
+        {"radius_ratio_mean", n(r.quality.radius_ratio_mean)},
         {"radius_ratio_histogram", hist},
-        {"boundary_vertex_f_max", n(r.boundary_vertex_f_max)},
-        {"boundary_centroid_f_max", n(r.boundary_centroid_f_max)},
+        {"boundary_vertex_f_max", n(r.quality.boundary_vertex_f_max)},
+        {"boundary_centroid_f_max", n(r.quality.boundary_centroid_f_max)},
         {"nonmanifold_boundary_edges", n(r.nonmanifold_boundary_edges)},
         {"nonmanifold_boundary_vertices", n(r.nonmanifold_boundary_vertices)},
         {"face_rule", json_string(face_rule_name(r.face_rule))},
@@ -80,24 +81,24 @@ std::string to_json(const Mesh3dReport& r) {
 std::string to_text(const Mesh3dReport& r) {
     std::ostringstream o;
     o << "mesh: " << r.vertices << " vertices, " << r.tets << " tetrahedra, " << r.boundary_faces << " boundary triangles\n";
-    o << "  volume " << fmt(r.volume, 10) << "; lattice " << r.lattice_points << " points, " << r.warped << " warped, "
+    o << "  volume " << fmt(r.quality.volume, 10) << "; lattice " << r.lattice_points << " points, " << r.warped << " warped, "
       << r.cut_points << " cut points; all-zero background tetrahedra left out: " << r.all_zero_left_out << '\n';
-    o << "dihedral angles: min " << fmt(r.min_dihedral_deg) << " deg, max " << fmt(r.max_dihedral_deg) << " deg\n";
-    o << "radius ratio 3 r_in / R_circ (1 = regular): min " << fmt(r.radius_ratio_min, 4) << ", mean "
-      << fmt(r.radius_ratio_mean, 4) << '\n';
+    o << "dihedral angles: min " << fmt(r.quality.min_dihedral_deg) << " deg, max " << fmt(r.quality.max_dihedral_deg) << " deg\n";
+    o << "radius ratio 3 r_in / R_circ (1 = regular): min " << fmt(r.quality.radius_ratio_min, 4) << ", mean "
+      << fmt(r.quality.radius_ratio_mean, 4) << '\n';
     std::int64_t peak = 0;
-    for (const std::int64_t c : r.radius_ratio_histogram) peak = std::max(peak, c);
-    for (std::size_t k = 0; peak > 0 && k < r.radius_ratio_histogram.size(); ++k) {
-        const std::int64_t c = r.radius_ratio_histogram[k];
+    for (const std::int64_t c : r.quality.radius_ratio_histogram) peak = std::max(peak, c);
+    for (std::size_t k = 0; peak > 0 && k < r.quality.radius_ratio_histogram.size(); ++k) {
+        const std::int64_t c = r.quality.radius_ratio_histogram[k];
         if (!c) continue;
         char row[64];
         std::snprintf(row, sizeof row, "  [%.1f, %.1f%c %12lld  ", static_cast<double>(k) / 10, static_cast<double>(k + 1) / 10,
-                      k + 1 == r.radius_ratio_histogram.size() ? ']' : ')', static_cast<long long>(c));
+                      k + 1 == r.quality.radius_ratio_histogram.size() ? ']' : ')', static_cast<long long>(c));
         const auto bar = static_cast<std::size_t>(std::llround(40.0 * static_cast<double>(c) / static_cast<double>(peak)));
         o << row << std::string(bar ? bar : 1, '#') << '\n';
     }
-    o << "boundary: |f| at vertices <= " << fmt(r.boundary_vertex_f_max, 3) << ", at face centroids <= "
-      << fmt(r.boundary_centroid_f_max, 3) << "; non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices "
+    o << "boundary: |f| at vertices <= " << fmt(r.quality.boundary_vertex_f_max, 3) << ", at face centroids <= "
+      << fmt(r.quality.boundary_centroid_f_max, 3) << "; non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices "
       << r.nonmanifold_boundary_vertices << '\n';
     o << "face rule: " << face_rule_name(r.face_rule) << '\n';
     if (r.certified)

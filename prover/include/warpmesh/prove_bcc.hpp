@@ -61,10 +61,11 @@ struct Param {
 std::vector<Param> key_params(const Key& k, const bcc::Alphas& al);
 
 // ---- the face rule -----------------------------------------------------------
-// Which rule splits the quads (generic_bcc.hpp, "The diagonal choices"):
-// parity (the mesher's, proofs/bcc.cert) or the Delaunay face rule
-// (proofs/bcc_delaunay.cert).  The key space is the same for both.
-enum class FaceRule { parity, delaunay };
+// Which rule splits the quads (generic_bcc.hpp, "The diagonal choices":
+// FaceRule, its names and parser): parity (the mesher's, proofs/bcc.cert) or
+// the Delaunay face rule (proofs/bcc_delaunay.cert).  The key space is the
+// same for both.
+using warpmesh::FaceRule;
 
 // ---- the proof ---------------------------------------------------------------
 // The claim: every dihedral angle θ has cos θ <= 0 or cos²θ <= cmin (θ >=

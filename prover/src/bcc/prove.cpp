@@ -85,8 +85,7 @@ int prove_bcc_main(int argc, char** argv) {
         if (a == "--out" && more) out = argv[++i];
         else if (a == "--alphas" && i + 2 < argc) la = argv[++i], sa = argv[++i];
         else if (a == "--extremes") extremes = true;
-        else if (a == "--face-rule" && more && (std::string(argv[i + 1]) == "parity" || std::string(argv[i + 1]) == "delaunay"))
-            rule = std::string(argv[++i]) == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
+        else if (a == "--face-rule" && more && parse_face_rule(argv[i + 1])) rule = *parse_face_rule(argv[++i]);
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
         else if (a == "--threads" && more) {

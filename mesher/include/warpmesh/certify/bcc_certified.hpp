@@ -13,16 +13,13 @@
 #include <cstdint>
 #include <optional>
 
-#include "warpmesh/mesh3d/generic_bcc.hpp"
+#include <string>
+
+#include "warpmesh/mesh3d/generic_bcc.hpp"  // FaceRule, Alphas
+#include "warpmesh/mesh3d/mesh3d.hpp"       // BccKeyClaims
 
 namespace warpmesh {
 
-// The rule that splits the quads of the 3D stencils (generic_bcc.hpp, "The
-// diagonal choices"): parity (`parity_diagonals`) or the Delaunay face rule
-// (`delaunay_diagonals`).
-enum class FaceRule { parity, delaunay };
-// "parity", "delaunay".
-const char* face_rule_name(FaceRule rule);
 // The certificate of a rule: "proofs/bcc.cert", "proofs/bcc_delaunay.cert".
 const char* bcc_certificate_path(FaceRule rule);
 
@@ -45,5 +42,36 @@ std::optional<BccKeyBound> bcc_certified_bound(const bcc::Config& canonical_key,
 std::optional<bcc::Alphas> bcc_certified_alphas(FaceRule rule = FaceRule::parity);
 // The whole certificate's theorem: the extremes of the keys' claims.
 std::optional<BccKeyBound> bcc_certified_theorem(FaceRule rule = FaceRule::parity);
+
+// The claim of a face rule's certificate (compiled in): its alphas and the
+// dihedral bounds, or nullopt when the build has none.
+struct BccClaim {
+    bcc::Alphas alphas;
+    double min_deg, max_deg;
+    // cos² thresholds as the certificate states them (dyadic rationals).
+    double cos2_min, cos2_max;
+};
+std::optional<BccClaim> bcc_claim(FaceRule rule = FaceRule::parity);
+
+// Whether the certificate of `rule` is compiled in and at these alphas
+// (equal rationals).
+bool bcc_certificate_applies(const bcc::Alphas& alphas, FaceRule rule);
+
+// The per-key claims of the certificate of `rule` (cos² thresholds
+// p / 2^40), named by its path, for the mesher's verification
+// (mesh3d.hpp: BccOptions::verify).
+BccKeyClaims bcc_key_claims(FaceRule rule);
+
+// The certification of a mesh split by `rule` at `alphas`: certified iff
+// the rule's certificate applies (bcc_certificate_applies); then every
+// output tetrahedron comes from a certified key (all-zero background
+// tetrahedra are never output) and its angles lie in the theorem's [min_deg,
+// max_deg]; else the reason, naming the certificate.
+struct BccCertification {
+    bool certified = false;
+    double min_deg = 0, max_deg = 0;
+    std::string uncertified_reason;  // empty when certified
+};
+BccCertification bcc_certification(FaceRule rule, const bcc::Alphas& alphas);
 
 }  // namespace warpmesh

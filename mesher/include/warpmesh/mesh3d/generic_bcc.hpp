@@ -112,6 +112,8 @@
 #include <array>
 #include <cassert>
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 #include "warpmesh/mesh2d/generic_square.hpp"  // Truth, ScalarOps
 
@@ -549,6 +551,27 @@ constexpr Stencil stencil_with(const std::array<int, 4>& sign, const Diagonals& 
 constexpr Stencil stencil(const std::array<int, 4>& sign, int parity) {
     return stencil_with(sign, parity_diagonals(sign, parity));
 }
+
+}  // namespace warpmesh::bcc
+
+namespace warpmesh {
+
+// The rule that fills in the diagonal choices of a mesh (above): parity
+// (`parity_diagonals`) or the Delaunay face rule (`delaunay_diagonals`).
+// Its name, and the one parser of names ("parity", "delaunay"; nothing for
+// any other string).
+enum class FaceRule { parity, delaunay };
+inline constexpr std::array<FaceRule, 2> face_rules{FaceRule::parity, FaceRule::delaunay};
+constexpr const char* face_rule_name(FaceRule rule) { return rule == FaceRule::delaunay ? "delaunay" : "parity"; }
+constexpr std::optional<FaceRule> parse_face_rule(std::string_view name) {
+    for (const FaceRule rule : face_rules)
+        if (name == face_rule_name(rule)) return rule;
+    return std::nullopt;
+}
+
+}  // namespace warpmesh
+
+namespace warpmesh::bcc {
 
 // ---------------------------------------------------------------------------
 // A configuration of the generic tetrahedron (the prover's key, the mesher's

@@ -18,7 +18,12 @@
 
 #include <cstdint>
 
+#include <optional>
+#include <string>
+
 #include "warpmesh/core/mesh.hpp"
+#include "warpmesh/core/tet_mesh.hpp"
+#include "warpmesh/levelset/levelset3.hpp"
 
 namespace warpmesh {
 
@@ -36,5 +41,17 @@ inline constexpr double default_min_squares_across = 4;
 
 ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double finest = 0,
                                  double min_squares = default_min_squares_across);
+
+// 3D: a closed boundary component (boundary_level_set faces joined by
+// shared vertices) of area A enclosing the volume V has the width 6V/A (a
+// sphere's diameter); it is resolved at 4 spacings across, and f's
+// feature_size() (when known) at 2.  f.resolution() plays `finest`.  The
+// warning names the spacing that resolves the input.
+struct ResolutionCheck3 {
+    double narrowest_width = 0;     // the narrowest component's 6V/A (0 without one)
+    double suggested_spacing = 0;   // 0: resolved
+    std::optional<std::string> warning;
+};
+ResolutionCheck3 check_resolution3(const TetMesh& mesh, const LevelSet3& f, double spacing);
 
 }  // namespace warpmesh

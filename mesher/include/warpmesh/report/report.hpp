@@ -30,7 +30,6 @@ struct QualityReport;             // quality.hpp
 struct CertifiedSummary;          // certified.hpp
 struct MaterialResult;            // materials.hpp
 struct MeshResult;                // pipeline.hpp
-struct Mesh3dReport;              // mesh3d.hpp
 enum class DiagonalRule : std::uint8_t;  // generic_square.hpp
 enum class LatticeMetric : std::uint8_t;  // generic_square.hpp
 
@@ -86,14 +85,6 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
 std::string to_json(const MeshResult& result);
 std::string to_text(const MeshResult& result);
 
-// ---- the 3D mesher (mesh3d.hpp) ------------------------------------------------------
-// The report of mesh3d as one JSON object ("dimension": 3, counts (with
-// "all_zero_left_out", the all-zero background tetrahedra), measured
-// dihedral extremes and radius ratios, boundary fidelity, the boundary's
-// non-manifold edges and vertices, "certified":
-// {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
-// warnings, seconds) and as text (report3d.cpp).
-std::string to_json(const Mesh3dReport& report);
-std::string to_text(const Mesh3dReport& report);
+// The 3D report: report3d.hpp.
 
 }  // namespace warpmesh

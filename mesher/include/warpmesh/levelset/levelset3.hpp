@@ -1,0 +1,116 @@
+// levelset3.hpp — level sets in 3D: f(x, y, z) < 0 inside, > 0 outside, 0
+// on the boundary; what the 3D mesher (mesh3d/mesh3d.hpp) meshes.  Any
+// callable (FunctionLevelSet3), the analytic shapes (parse_shape3) and the
+// level set of a volume (make_volume_levelset3).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "warpmesh/core/memory.hpp"
+#include "warpmesh/core/tet_mesh.hpp"            // Point3
+#include "warpmesh/levelset/image_levelset.hpp"  // ImageLevelSetOptions: the volume modes
+
+namespace warpmesh {
+
+struct Volume;  // volume.hpp
+
+struct Box3 {
+    double xmin, ymin, zmin, xmax, ymax, zmax;
+};
+
+class LevelSet3 {
+public:
+    virtual ~LevelSet3() = default;
+    // f at a point; finite wherever the mesher asks.
+    virtual double value(double x, double y, double z) const = 0;
+    // A box containing the region {f <= 0} (volumes: the volume's extent).
+    // The lattice covers it with a margin (lattice3_for).
+    virtual Box3 bounds() const = 0;
+    // The parameter u in (0, 1) of a zero of f on a + u (b − a), given f(a) =
+    // fa and f(b) = fb of strictly opposite signs.  Default: bracketed_root3.
+    virtual double cut_parameter(Point3 a, Point3 b, double fa, double fb) const;
+    // The thinnest feature of the region (a sphere's radius, a torus's tube
+    // radius, half a box's smallest side; volumes: the largest inscribed
+    // distance of the region — for a label volume only while it is within
+    // the distance band, else 0), for the coarse-spacing warning; 0: unknown.
+    virtual double feature_size() const { return 0; }
+    // The input's own resolution (volumes: the smallest voxel spacing; 0 for
+    // analytic level sets): the coarse-spacing warning never suggests a
+    // spacing below it and is silent at a spacing at or below it.
+    virtual double resolution() const { return 0; }
+    // Exact volume of {f <= 0} where known (analytic shapes), for tests.
+    virtual std::optional<double> exact_volume() const { return std::nullopt; }
+    virtual std::string describe() const = 0;
+};
+
+// Illinois regula falsi with a bisection step every eighth iteration, to
+// convergence (the bracket shrinks to a few ulps or f = 0 is hit), keeping a
+// strict sign bracket: the result lies in (0, 1).  The same root finder as
+// 2D's bracketed_root (one implementation, src/core/root_finder.hpp).
+double bracketed_root3(const LevelSet3& f, Point3 a, Point3 b, double fa, double fb);
+
+// A level set from any callable (tests, Python): f and a box around the region.
+class FunctionLevelSet3 final : public LevelSet3 {
+public:
+    FunctionLevelSet3(std::function<double(double, double, double)> f, Box3 box, std::string name = "function");
+    double value(double x, double y, double z) const override { return f_(x, y, z); }
+    Box3 bounds() const override { return box_; }
+    std::string describe() const override { return name_; }
+
+private:
+    std::function<double(double, double, double)> f_;
+    Box3 box_;
+    std::string name_;
+};
+
+// Analytic shapes, the 3D siblings of shapes.hpp, with the same syntax:
+//   sphere:cx,cy,cz,r            f = |p − c| − r
+//   ellipsoid:cx,cy,cz,a,b,c     f = min(a,b,c) (|((x−cx)/a, (y−cy)/b, (z−cz)/c)| − 1)
+//   torus:cx,cy,cz,R,r           axis z: f = |(ρ − R, z − cz)| − r, ρ = |(x−cx, y−cy)|, 0 < r < R
+//   box:x0,y0,z0,x1,y1,z1        f = max(x0 − x, x − x1, y0 − y, ...)
+//   cylinder:x0,y0,z0,x1,y1,z1,r the capped cylinder of radius r around the
+//                                segment p0 p1: f = max(dist to the axis − r,
+//                                |t − L/2| − L/2), t the position along the axis
+//   union(S;S[;S...])  intersect(S;S[;S...])  diff(S;S[;S...])  (nestable)
+// union = min, intersection = max, difference = max(f1, −f2).  Throws
+// InputError naming the string and the problem (an unknown shape, a wrong
+// number of parameters, a non-positive radius or size, an intersection of
+// shapes whose boxes are disjoint: the region is empty).
+std::unique_ptr<LevelSet3> parse_shape3(const std::string& spec);
+
+// The level set of a volume (volume.hpp's geometry: physical coordinates in
+// mm, or voxel indices for a non-physical volume), in the modes of 2D images
+// (ImageLevelSetOptions; its `geometry` is ignored, the volume has its own):
+//   threshold  f = iso − G (inside_above, the default) or G − iso, G the
+//              trilinear interpolant of the voxel values; iso defaults to the
+//              middle of the value range;
+//   label      the region is the voxels whose value is in `labels` (or every
+//              non-zero voxel with label_nonzero); f is the signed distance
+//              between voxel centres, d_out − h/2 outside and −(d_in − h/2)
+//              inside (d the exact Euclidean distance, spacing-weighted, to the
+//              nearest voxel centre of the other class; h/2 puts the boundary
+//              midway between a voxel inside and its 6-neighbour outside along
+//              each axis), interpolated trilinearly.  It is computed exactly
+//              only in a band of `band` voxels around the boundary (farther, f
+//              is clamped to ±band × the largest spacing: the sign is all the
+//              mesher needs there), on the region's bounding box plus that
+//              band, as 4-byte floats.
+// The region is cut off at the hull of the voxel centres (f = max(the
+// interpolant at the nearest point of the hull, the box distance to the hull
+// in f's units): continuous, and a region reaching the volume's edge is
+// closed there by boundary faces on the level set).  Memory: refused
+// (InputError naming the memory limit) before anything is allocated when the field would take the resident memory above max_memory.
+// Throws InputError for label mode on non-integer values, labels absent from
+// the volume (an empty region), a volume less than 2 voxels along an axis.
+struct VolumeLevelSet3Options {
+    ImageLevelSetOptions mode;  // threshold / label, iso, inside_above, labels, label_nonzero
+    int band = 4;               // voxels of exact distance around the boundary (label mode), >= 2
+    std::uint64_t max_memory = default_max_memory;
+};
+std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options);
+
+}  // namespace warpmesh

@@ -1,0 +1,120 @@
+// pipeline/mesh3d.hpp — the 3D pipeline: an input (a volume file, a volume,
+// an analytic shape or a level set) and options in, a tetrahedral mesh of
+// its region, the typed report and the warnings out.  The command line's
+// `warpmesh mesh3d` and Python's warpmesh.mesh3d, lattice3d and mesh3d_block
+// call these and nothing else.
+//
+//   warpmesh::Mesh3dOptions o;
+//   o.spacing = 0.1;
+//   warpmesh::Mesh3dResult r = warpmesh::mesh3d(warpmesh::Shape3{"sphere:0,0,0,1"}, o);
+//   // r.mesh (tet_mesh.hpp), r.report (report3d.hpp: to_text, to_json), r.warnings
+//
+// The stages, in order: the input's level set (levelset3.hpp: a volume read
+// and its geometry overridden, then make_volume_levelset3 in label or
+// threshold mode; parse_shape3), the lattice (lattice3_for), the mesher
+// (mesh3d.hpp: mesh_bcc, verified against the certificate's per-key claims
+// with `verify`), the certification (bcc_certified.hpp: bcc_certification),
+// the measurements (tet_checks.hpp: measure_quality3, nonmanifold_boundary;
+// resolution.hpp: check_resolution3).  Options are checked once, here
+// (validate), with messages naming the options by their field names.
+// Defined in warpmesh::io (it reads volumes).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "warpmesh/core/memory.hpp"
+#include "warpmesh/core/tet_mesh.hpp"
+#include "warpmesh/io/volume.hpp"  // Volume, Units
+#include "warpmesh/levelset/levelset3.hpp"
+#include "warpmesh/mesh3d/mesh3d.hpp"
+#include "warpmesh/report/report3d.hpp"
+
+namespace warpmesh {
+
+// Every option of the 3D pipeline, one field each (the command line's and
+// Python's option tables set them by name).
+struct Mesh3dOptions {
+    // The lattice's cube side, in the input's units (> 0, finite).  None: a
+    // volume's default, its smallest voxel size (1 in voxel units); shapes
+    // and level sets need one.
+    std::optional<double> spacing;
+    FaceRule face_rule = default_face_rule;  // how the stencils' quads are split (mesh3d.hpp)
+    // Violation thresholds (α_long, α_short) in (0, 1/2); none: face_rule_alphas(face_rule).
+    std::optional<bcc::Alphas> alphas;
+    // Check every tetrahedron, once, against its own background
+    // tetrahedron's key claim in the face rule's certificate (only when the
+    // certificate applies); a violation is a std::logic_error (a bug).
+    bool verify = false;
+    // Measure dihedral angles, radius ratios and the boundary's distance to
+    // the level set for the report (a second pass over the mesh).
+    bool quality = true;
+    int threads = 0;                                // OpenMP threads (>= 0); 0 = the OpenMP default
+    std::uint64_t max_memory = default_max_memory;  // refuse (InputError) inputs, lattices and meshes above it
+    // ---- volumes only
+    std::uint64_t max_voxels = std::uint64_t{1} << 28;  // refuse larger volume files (read_volume), >= 1
+    // Label mode: the region is the voxels with these labels ("3", "51,52",
+    // "1000-1035,2000", or "nonzero"; label_options).  Without: threshold mode.
+    std::optional<std::string> labels;
+    std::optional<double> iso;          // threshold mode: the iso value (default: the middle of the value range)
+    std::optional<bool> inside_above;   // threshold mode: inside above iso (default) or below it
+    int band = 4;                       // label mode: voxels of exact distance around the boundary, >= 2
+    // Units of a volume file: physical (mm; refused for a file without a
+    // physical voxel size, unless voxel_size gives one) or pixels (voxel
+    // indices).  None: mm when the volume has a physical size.
+    std::optional<Units> units;
+    // Voxel size override (x[, y[, z]], missing entries repeat the last), mm.
+    std::vector<double> voxel_size;
+
+    bcc::Alphas alphas_in_use() const { return alphas ? *alphas : face_rule_alphas(face_rule); }
+};
+
+// The input: a volume file (read_volume), a volume already read, an analytic
+// shape (parse_shape3's syntax) or a level set of the caller's.
+struct VolumeFile {
+    std::string path;
+};
+struct Shape3 {
+    std::string spec;
+};
+using Mesh3dInput = std::variant<VolumeFile, std::reference_wrapper<const Volume>, Shape3, std::reference_wrapper<const LevelSet3>>;
+
+// Throws InputError naming the option if an option is out of range, two
+// options exclude each other, or an option does not apply to the input
+// (volume options on a shape or a level set; no spacing for one).  The
+// pipeline calls it; clients may call it early (before reading anything).
+void validate(const Mesh3dInput& input, const Mesh3dOptions& options);
+
+struct Mesh3dResult {
+    TetMesh mesh;
+    Mesh3dReport report;
+    Lattice3 lattice;                   // the lattice the mesh was made on
+    std::vector<std::string> warnings;  // the input's (the volume reader's), then report.warnings
+};
+
+// Stage lines for long runs ("meshing a BCC lattice of N points at spacing
+// s"): called only for large inputs (2^22 voxels or 2^24 lattice points).
+using Mesh3dProgress = std::function<void(const std::string& stage)>;
+
+// Mesh the input's region.  Throws InputError for bad options (validate),
+// an unreadable volume, an empty region, a lattice or mesh over max_memory;
+// a spacing too coarse for the input gives a warning naming one that
+// resolves it.
+Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& options, const Mesh3dProgress& progress = {});
+
+// Blocks (mesh3d.hpp, "Blocks"): the lattice mesh3d uses for this input
+// (its cubes, to split into blocks), the mesh of the cubes [lo, hi) of it
+// (0 <= lo < hi <= cubes along every axis; InputError otherwise), and the
+// merge of blocks that tile it — equal to mesh3d's mesh, with the counts of
+// the report only.  A worker needs only the input and the options.
+Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
+TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
+Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
+
+}  // namespace warpmesh

@@ -1,0 +1,61 @@
+// report3d.hpp — the 3D mesher's typed report: what the pipeline
+// (pipeline/mesh3d.hpp) measured and certified, filled from the stages'
+// results (mesh3d/mesh3d.hpp: BccMesh; post/tet_checks.hpp: TetQuality,
+// nonmanifold_boundary; post/resolution.hpp: check_resolution3;
+// certify/bcc_certified.hpp: bcc_certification), and its text and JSON
+// (report3d.cpp; report.hpp's conventions).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "warpmesh/mesh3d/generic_bcc.hpp"  // FaceRule
+#include "warpmesh/post/tet_checks.hpp"     // TetQuality
+
+namespace warpmesh {
+
+struct Mesh3dReport {
+    // Counts.
+    std::int64_t lattice_points = 0, background_tets = 0;  // in the lattice
+    std::int64_t cut_points = 0;    // cut points kept (vertices)
+    std::int64_t warped = 0;        // lattice points warped onto the level set
+    std::int64_t vertices = 0, tets = 0, boundary_faces = 0;
+    // All-zero background tetrahedra (four vertices on the level set): never
+    // output (proofs/README.md, step 6), counted here; their volume, within
+    // the α-band of the surface, is not in the mesh.
+    std::int64_t all_zero_left_out = 0;
+    // Measured quality (Mesh3dOptions::quality): the volume, dihedral
+    // extremes, radius ratios, the boundary's fidelity to the level set.
+    TetQuality quality;
+    // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
+    std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
+    // Certification by the face rule's certificate (bcc_certificate_path):
+    // certified: it is compiled in and its alphas are the options'; the
+    // bounds then hold for every tetrahedron (each comes from a certified
+    // key: uncertified is 0), else every tetrahedron is uncertified and a
+    // warning says why.  verified: every tetrahedron was checked against its
+    // own key's claim (Mesh3dOptions::verify).
+    FaceRule face_rule = FaceRule::parity;  // the rule the mesh was split by
+    bool certified = false;
+    double certified_min_deg = 0, certified_max_deg = 0;
+    std::int64_t certified_tets = 0, uncertified_tets = 0;
+    std::string uncertified_reason;  // why not certified (also a warning); empty when certified
+    bool verified = false;
+    // The resolution check: the narrowest closed boundary component's width
+    // 6V/A (a sphere's diameter), and a spacing resolving it (0: resolved).
+    double narrowest_width = 0, suggested_spacing = 0;
+    std::vector<std::string> warnings;  // e.g. the spacing is too coarse
+    double seconds = 0;                 // meshing time (without the quality pass)
+};
+
+// The report as one JSON object ("dimension": 3, counts (with
+// "all_zero_left_out", the all-zero background tetrahedra), measured
+// dihedral extremes and radius ratios, boundary fidelity, the boundary's
+// non-manifold edges and vertices, "certified":
+// {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
+// warnings, seconds) and as text.
+std::string to_json(const Mesh3dReport& report);
+std::string to_text(const Mesh3dReport& report);
+
+}  // namespace warpmesh

@@ -1,0 +1,208 @@
+// pipeline/mesh3d.cpp — the 3D pipeline (pipeline/mesh3d.hpp): the input's
+// level set, the lattice, the mesher, the certification, the measurements,
+// the report.
+#include "warpmesh/pipeline/mesh3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <type_traits>
+
+#include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/post/resolution.hpp"
+#include "warpmesh/post/tet_checks.hpp"
+#include "warpmesh/report/report.hpp"  // json_number
+
+namespace warpmesh {
+namespace {
+
+bool is_volume(const Mesh3dInput& input) { return input.index() <= 1; }
+
+bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
+
+// The volume-only options given with a shape or a level set.
+void check_volume_options(const Mesh3dOptions& o) {
+    if (o.labels || o.iso || o.inside_above || o.units || !o.voxel_size.empty())
+        throw InputError("labels, iso, inside, units and voxel_size apply to volumes, not to shapes or level sets");
+}
+
+// The input's level set, its default spacing, and the input's warnings.
+struct Prepared {
+    std::unique_ptr<LevelSet3> owned;
+    const LevelSet3* f = nullptr;
+    double default_spacing = 0;  // 0: none (shapes, level sets)
+    bool large = false;          // a volume of 2^22 voxels or more (progress)
+    std::vector<std::string> warnings;
+};
+
+// The options' geometry of a volume: voxel_size, units.
+bool overrides_geometry(const Mesh3dOptions& o) { return !o.voxel_size.empty() || o.units; }
+void apply_geometry(Volume& v, const Mesh3dOptions& o) {
+    if (!o.voxel_size.empty()) set_pixel_size(v, o.voxel_size);
+    if (o.units == Units::physical && !v.physical)
+        throw InputError("units mm: '" + v.source + "' (" + v.format + ") gives no physical voxel size; give one (voxel_size)");
+    if (o.units == Units::pixels) {
+        v.spacing = {1, 1, 1}, v.origin = {0, 0, 0}, v.axes = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+        v.physical = false;
+    }
+}
+
+void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p) {
+    p.default_spacing = v.physical ? std::min({v.spacing[0], v.spacing[1], v.spacing[2]}) : 1.0;
+    VolumeLevelSet3Options lo;
+    lo.max_memory = o.max_memory;
+    lo.band = o.band;
+    if (o.labels) {
+        lo.mode = label_options(*o.labels);
+    } else {
+        lo.mode.iso = o.iso;
+        lo.mode.inside_above = o.inside_above.value_or(true);
+    }
+    p.large = v.voxel_count() >= (std::int64_t{1} << 22);
+    if (progress && p.large)
+        progress(std::string(o.labels ? "signed distance of the labels" : "threshold level set") + " of " + std::to_string(v.dims[0]) +
+                 " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " voxels");
+    p.owned = make_volume_levelset3(v, lo);
+    p.f = p.owned.get();
+}
+
+Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress) {
+    validate(input, o);
+    Prepared p;
+    std::visit(
+        [&](const auto& in) {
+            using T = std::decay_t<decltype(in)>;
+            if constexpr (std::is_same_v<T, VolumeFile>) {
+                Volume v = read_volume(in.path, {o.max_voxels, o.max_memory});
+                p.warnings = v.warnings;
+                apply_geometry(v, o);
+                volume_level_set(v, o, progress, p);
+            } else if constexpr (std::is_same_v<T, std::reference_wrapper<const Volume>>) {
+                p.warnings = in.get().warnings;
+                if (!overrides_geometry(o)) return volume_level_set(in.get(), o, progress, p);
+                Volume v = in.get();  // a copy, to override its geometry
+                apply_geometry(v, o);
+                volume_level_set(v, o, progress, p);
+            } else if constexpr (std::is_same_v<T, Shape3>) {
+                p.owned = parse_shape3(in.spec);
+                p.f = p.owned.get();
+            } else {
+                p.f = &in.get();
+            }
+        },
+        input);
+    return p;
+}
+
+double spacing_of(const Mesh3dOptions& o, const Prepared& p) { return o.spacing ? *o.spacing : p.default_spacing; }
+
+BccOptions stage_options(const Mesh3dOptions& o) {
+    BccOptions b;
+    b.face_rule = o.face_rule;
+    b.alphas = o.alphas_in_use();
+    b.threads = o.threads;
+    b.max_memory = o.max_memory;
+    return b;
+}
+
+// The report from the stage's counts, the certification and the measurements.
+Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
+    Mesh3dReport r;
+    r.lattice_points = m.lattice_points, r.background_tets = m.background_tets;
+    r.cut_points = m.cut_points, r.warped = m.warped, r.all_zero_left_out = m.all_zero_left_out;
+    r.seconds = m.seconds;
+    r.vertices = static_cast<std::int64_t>(m.mesh.vertices.size());
+    r.tets = static_cast<std::int64_t>(m.mesh.tets.size());
+    r.boundary_faces = static_cast<std::int64_t>(m.mesh.boundary.size());
+    const BccCertification c = bcc_certification(o.face_rule, o.alphas_in_use());
+    r.face_rule = o.face_rule;
+    r.certified = c.certified;
+    r.uncertified_tets = c.certified ? 0 : r.tets;
+    r.certified_tets = r.tets - r.uncertified_tets;
+    r.certified_min_deg = c.min_deg, r.certified_max_deg = c.max_deg;
+    r.uncertified_reason = c.uncertified_reason;
+    if (!c.certified) r.warnings.push_back(c.uncertified_reason);
+    r.verified = c.certified && m.verified;
+    if (o.quality) r.quality = measure_quality3(m.mesh, f);
+    const NonmanifoldBoundary nb = nonmanifold_boundary(m.mesh);
+    r.nonmanifold_boundary_edges = nb.edges, r.nonmanifold_boundary_vertices = nb.vertices;
+    const ResolutionCheck3 res = check_resolution3(m.mesh, f, spacing);
+    r.narrowest_width = res.narrowest_width, r.suggested_spacing = res.suggested_spacing;
+    if (res.warning) r.warnings.push_back(*res.warning);
+    return r;
+}
+
+}  // namespace
+
+void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    if (o.spacing && !positive_finite(*o.spacing)) throw InputError("spacing must be a positive number");
+    if (!o.spacing && !is_volume(input))
+        throw InputError("spacing is required for a shape or a level set (the lattice's cube side, in its units)");
+    if (!is_volume(input)) check_volume_options(o);
+    const bcc::Alphas a = o.alphas_in_use();
+    if (!(a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
+          2 * a.short_num < a.short_den))
+        throw InputError("the alphas must lie in (0, 1/2)");
+    if (o.threads < 0) throw InputError("threads must be 0 (the default) or more");
+    if (o.max_voxels < 1) throw InputError("max_voxels must be positive");
+    if (o.band < 2) throw InputError("band must be at least 2 voxels");
+    if (o.labels && o.iso) throw InputError("iso (threshold mode) and labels (label mode) exclude each other");
+    if (o.labels && o.inside_above) throw InputError("inside applies to threshold mode (iso), not to labels");
+    if (o.labels) label_options(*o.labels);  // throws for a bad label list
+    if (o.iso && !std::isfinite(*o.iso)) throw InputError("iso must be a finite number");
+    if (o.voxel_size.size() > 3) throw InputError("voxel_size takes one to three sizes (x[, y[, z]])");
+    for (const double s : o.voxel_size)
+        if (!(s > 1e-12 && s < 1e12)) throw InputError("voxel_size: " + std::to_string(s) + " is not a positive size");
+}
+
+Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress) {
+    const Prepared p = level_set_of(input, o, progress);
+    const double spacing = spacing_of(o, p);
+    Mesh3dResult r;
+    r.lattice = lattice3_for(*p.f, spacing);
+    if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
+        progress("meshing a BCC lattice of " + std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
+    BccOptions b = stage_options(o);
+    const bool verify = o.verify && bcc_certificate_applies(b.alphas, o.face_rule);
+    const BccKeyClaims claims = verify ? bcc_key_claims(o.face_rule) : BccKeyClaims{};
+    if (verify) b.verify = &claims;
+    BccMesh m = mesh_bcc(*p.f, r.lattice, b);
+    r.report = report_of(m, *p.f, o, spacing);
+    r.mesh = std::move(m.mesh);
+    r.warnings = p.warnings;
+    r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
+    return r;
+}
+
+Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    const Prepared p = level_set_of(input, o, {});
+    return lattice3_for(*p.f, spacing_of(o, p));
+}
+
+TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
+    const Prepared p = level_set_of(input, o, {});
+    const Lattice3 lattice = lattice3_for(*p.f, spacing_of(o, p));
+    for (std::size_t a = 0; a < 3; ++a)
+        if (block.lo[a] < 0 || block.lo[a] >= block.hi[a] || block.hi[a] > lattice.cubes[a])
+            throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) + ", " +
+                             std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
+                             ") with lo < hi along every axis");
+    return mesh_bcc_block(*p.f, lattice, stage_options(o), block);
+}
+
+Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {
+    Mesh3dResult r;
+    try {
+        r.mesh = merge_tet_blocks(blocks);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("the blocks do not merge: ") + e.what());
+    }
+    r.report.vertices = static_cast<std::int64_t>(r.mesh.vertices.size());
+    r.report.tets = static_cast<std::int64_t>(r.mesh.tets.size());
+    r.report.boundary_faces = static_cast<std::int64_t>(r.mesh.boundary.size());
+    return r;
+}
+
+}  // namespace warpmesh
