@@ -194,6 +194,8 @@ public:
     double feature_size() const override { return feature_; }
     double resolution() const override { return resolution_; }
     std::string describe() const override { return name_; }
+    std::optional<double> reference_volume() const override { return reference_volume_; }
+    void set_reference_volume(double v) { reference_volume_ = v; }
 
 private:
     // Index coordinates t of a physical point X: t_n = ((X − origin)·a_n) / s_n.
@@ -254,6 +256,7 @@ private:
     double feature_, resolution_ = 0, per_mm_ = 1;
     std::array<double, 3> spacing_{1, 1, 1};
     std::string name_;
+    std::optional<double> reference_volume_;
     std::array<int, 3> perm_{0, 1, 2};
     std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};
 };
@@ -349,8 +352,9 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
         seen[static_cast<std::size_t>(it - m.labels.begin())] = 1;
         return true;
     };
-    // The region's bounding box, a row of voxels (x fastest) at a time.
+    // The region's bounding box and voxel count, a row of voxels (x fastest) at a time.
     std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
+    std::int64_t region_voxels = 0;
     for (std::int64_t k = 0; k < v.dims[2]; ++k)
         for (std::int64_t j = 0; j < v.dims[1]; ++j) {
             const double* row = v.values.data() + v.dims[0] * (j + v.dims[1] * k);
@@ -361,6 +365,7 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
                 if (!(x >= 0 && x <= 65535) || static_cast<double>(static_cast<std::int32_t>(x)) != x)
                     throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(x) + ")");
                 if (!in_region(x)) continue;
+                ++region_voxels;
                 if (first < 0) first = i;
                 last = i;
             }
@@ -408,8 +413,10 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
     }
     if (!std::isfinite(feature)) feature = 0;  // unknown: deeper than the band somewhere
     Buffer<float>().swap(out);
-    return std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
-                                             v.source + " (label " + labels_text(m) + ")");
+    auto f = std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
+                                               v.source + " (label " + labels_text(m) + ")");
+    f->set_reference_volume(static_cast<double>(region_voxels) * v.spacing[0] * v.spacing[1] * v.spacing[2]);
+    return f;
 }
 
 std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevelSet3Options& o) {

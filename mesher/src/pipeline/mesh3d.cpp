@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <type_traits>
@@ -66,6 +67,11 @@ void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgr
                  " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " voxels");
     p.owned = make_volume_levelset3(v, lo);
     p.f = p.owned.get();
+    // Neither labels nor iso: threshold mode at a guessed iso, which for a
+    // label volume meshes whatever lies above half its largest label.  Say so.
+    if (!o.labels && !o.iso)
+        p.warnings.push_back("neither labels nor iso given: threshold mode, " + p.f->describe() +
+                             "; a label volume needs labels (nonzero, or a list such as 3 or 51,52)");
 }
 
 Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress) {
@@ -107,6 +113,21 @@ BccOptions stage_options(const Mesh3dOptions& o) {
     return b;
 }
 
+// The mesh's volume against the one the input gives its region (a label
+// volume's voxels): more than 5 % apart, a warning.  Parts of a region
+// thinner than about the spacing (noisy labels, thin sheets) are lost or
+// thickened by the lattice, and the mesh looks closed and valid all the same.
+void volume_warning(double meshed, double reference, double spacing, std::vector<std::string>& warnings) {
+    if (!(reference > 0) || std::abs(meshed - reference) <= 0.05 * reference) return;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the mesh's volume, %.6g, is %.1f %% %s the region's voxels' (%.6g): parts thinner than about the spacing "
+                  "%g are %s; a smaller spacing follows the voxels more closely",
+                  meshed, 100 * std::abs(meshed - reference) / reference, meshed < reference ? "below" : "above", reference,
+                  spacing, meshed < reference ? "lost" : "thickened");
+    warnings.emplace_back(text);
+}
+
 // The report from the stage's counts, the certification and the measurements.
 Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
     Mesh3dReport r;
@@ -128,6 +149,8 @@ Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions
     if (o.quality) r.quality = measure_quality3(m.mesh, f);
     const NonmanifoldBoundary nb = nonmanifold_boundary(m.mesh);
     r.nonmanifold_boundary_edges = nb.edges, r.nonmanifold_boundary_vertices = nb.vertices;
+    if (o.quality)
+        if (const auto ref = f.reference_volume()) volume_warning(r.quality.volume, *ref, spacing, r.warnings);
     const ResolutionCheck3 res = check_resolution3(m.mesh, f, spacing);
     r.narrowest_width = res.narrowest_width, r.suggested_spacing = res.suggested_spacing;
     if (res.warning) r.warnings.push_back(*res.warning);

@@ -124,7 +124,14 @@ ResolutionCheck3 check_resolution3(const TetMesh& mesh, const LevelSet3& f, doub
     std::ostringstream w;
     w << "--spacing " << s << " is too coarse for this input: its narrowest part is about "
       << (r.narrowest_width > 0 ? r.narrowest_width : 2 * feature) << " across (resolved at " << min_cubes_across
-      << " cubes across); --spacing " << r.suggested_spacing << " resolves it";
+      << " cubes across); ";
+    // A part narrower than the input's own resolution (a voxel) is resolved
+    // only as far as the voxels resolve it: say so rather than promise it.
+    if (two_digits(want) < finest)
+        w << "that is below the input's resolution, " << finest << " (its voxel size): --spacing " << r.suggested_spacing
+          << ", the finest that means anything for it, resolves what the voxels resolve";
+    else
+        w << "--spacing " << r.suggested_spacing << " resolves it";
     r.warning = w.str();
     return r;
 }

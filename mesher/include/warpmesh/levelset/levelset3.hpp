@@ -44,6 +44,10 @@ public:
     virtual double resolution() const { return 0; }
     // Exact volume of {f <= 0} where known (analytic shapes), for tests.
     virtual std::optional<double> exact_volume() const { return std::nullopt; }
+    // The volume the input itself gives the region, where it gives one
+    // (label volumes: the region's voxels times a voxel's volume); the 3D
+    // pipeline warns when the mesh's volume is far from it.
+    virtual std::optional<double> reference_volume() const { return std::nullopt; }
     virtual std::string describe() const = 0;
 };
 
