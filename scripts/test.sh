@@ -16,6 +16,9 @@ stage() { echo "== [$SECONDS s] $*"; }
 stage "build (Release)"
 "$root/scripts/build.sh"
 
+stage "layering (scripts/check-layers.py)"
+python3 "$root/scripts/check-layers.py"
+
 stage "unit and property tests"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 

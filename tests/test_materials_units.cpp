@@ -27,6 +27,7 @@
 #include "warpmesh/pipeline/mesh2d.hpp"
 #include "warpmesh/post/quality.hpp"
 #include "warpmesh/io/volume.hpp"
+#include "warpmesh/pipeline/slices.hpp"
 
 namespace fs = std::filesystem;
 using namespace warpmesh;

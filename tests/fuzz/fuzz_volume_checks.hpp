@@ -17,6 +17,7 @@
 
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/io/volume.hpp"
+#include "warpmesh/pipeline/slices.hpp"
 
 namespace warpmesh::fuzz {
 

@@ -46,7 +46,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/output.hpp"
-#include "warpmesh/post/quality.hpp"
+#include "warpmesh/core/triangle_shape.hpp"
 #include "warpmesh/io/writers.hpp"
 
 namespace warpmesh {

@@ -13,7 +13,7 @@
 
 #include <unistd.h>
 
-#include "warpmesh/post/quality.hpp"
+#include "warpmesh/core/triangle_shape.hpp"
 
 namespace warpmesh {
 

@@ -30,7 +30,6 @@
 
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/levelset/image_levelset.hpp"
-#include "warpmesh/mesh2d/lattice.hpp"
 #include "levelset/knot_walk.hpp"
 
 #ifdef _OPENMP

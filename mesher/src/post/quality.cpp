@@ -6,8 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "plane.hpp"
-
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -16,21 +14,10 @@ namespace warpmesh {
 
 namespace {
 
-using plane::deg_per_rad;
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 // Lattice meshes are full of exact right angles; atan2 may return them as
 // 90.00000000000001°.  Counts "over 90°/120°" ignore such rounding.
 constexpr double angle_slack_deg = 1e-9;
-
-using plane::cross;  // the vector operations the optimisation pass uses too (plane.hpp)
-using plane::dot;
-using plane::operator-;
-
-// Angle at p between p→q and p→r, in degrees, in [0, 180].
-double angle_at(Vec2 p, Vec2 q, Vec2 r) {
-    const Vec2 u = q - p, v = r - p;
-    return std::atan2(std::abs(cross(u, v)), dot(u, v)) * deg_per_rad;
-}
 
 // Per-thread partial results of the triangle pass.
 struct Partial {
@@ -44,53 +31,7 @@ struct Partial {
     std::int64_t nonpositive = 0;
 };
 
-
-// Everything the report needs from one triangle, from the squared side
-// lengths (no hypot, two atan2).
-struct Shape {
-    TriangleAngles angles;
-    double ratio;       // 2 r_in / R_circ
-    double twice_area;  // signed: > 0 for counter-clockwise
-};
-
-Shape shape(Vec2 a, Vec2 b, Vec2 c) {
-    // Squared side lengths opposite a, b, c.
-    const Vec2 ab = b - a, bc = c - b, ca = a - c;
-    const double l[3] = {dot(bc, bc), dot(ca, ca), dot(ab, ab)};
-    const Vec2 p[3] = {a, b, c};
-    // The vertex opposite the shortest side has the smallest angle, the vertex
-    // opposite the longest side the largest (law of sines).
-    int imin = 0, imax = 0;
-    for (int i = 1; i < 3; ++i) {
-        if (l[i] < l[imin]) imin = i;
-        if (l[i] > l[imax]) imax = i;
-    }
-    if (imin == imax) imax = (imin + 1) % 3;  // all sides equal (or all zero)
-    auto at = [&](int i) { return angle_at(p[i], p[(i + 1) % 3], p[(i + 2) % 3]); };
-
-    const double x = cross(ab, c - a);
-    const double la = std::sqrt(l[0]), lb = std::sqrt(l[1]), lc = std::sqrt(l[2]);
-    const double denom = (la + lb + lc) * la * lb * lc;
-    const double ratio = denom > 0 ? std::min(1.0, 4 * x * x / denom) : 0.0;
-    return {{at(imin), at(imax)}, ratio, x};
-}
-
 }  // namespace
-
-TriangleAngles triangle_angles(Vec2 a, Vec2 b, Vec2 c) { return shape(a, b, c).angles; }
-
-double triangle_min_angle(Vec2 a, Vec2 b, Vec2 c) {  // shape()'s imin, and its angle
-    const Vec2 ab = b - a, bc = c - b, ca = a - c;
-    const double l[3] = {dot(bc, bc), dot(ca, ca), dot(ab, ab)};
-    const Vec2 p[3] = {a, b, c};
-    int imin = 0;
-    for (int i = 1; i < 3; ++i)
-        if (l[i] < l[imin]) imin = i;
-    return angle_at(p[imin], p[(imin + 1) % 3], p[(imin + 2) % 3]);
-}
-
-double radius_ratio(Vec2 a, Vec2 b, Vec2 c) { return shape(a, b, c).ratio; }
-
 
 QualityReport compute_quality(const Mesh& mesh, std::vector<std::pair<std::string, double>> phase_seconds) {
     QualityReport q;
@@ -117,7 +58,7 @@ QualityReport compute_quality(const Mesh& mesh, std::vector<std::pair<std::strin
             const auto& t = mesh.triangles[static_cast<std::size_t>(k)];
             const Vec2 a = mesh.vertices[static_cast<std::size_t>(t[0])], b = mesh.vertices[static_cast<std::size_t>(t[1])],
                        c = mesh.vertices[static_cast<std::size_t>(t[2])];
-            const Shape sh = shape(a, b, c);
+            const TriangleShape sh = triangle_shape(a, b, c);
             const TriangleAngles& ang = sh.angles;
             p.min_angle = std::min(p.min_angle, ang.min_deg);
             p.max_angle = std::max(p.max_angle, ang.max_deg);

@@ -39,6 +39,13 @@ struct Image {
     }
 };
 
+// Where the pixel centres lie: pixel (c, y), y = H - 1 - row, at
+// (x0 + c sx, y0 + y sy); sx, sy > 0.  The default is pixel units.
+struct PixelGeometry {
+    double x0 = 0, y0 = 0, sx = 1, sy = 1;
+    bool is_pixels() const { return x0 == 0 && y0 == 0 && sx == 1 && sy == 1; }
+};
+
 // Images with more pixels than this are refused before any pixel memory is
 // allocated (2^28 pixels: 512 MiB of 16-bit samples).
 inline constexpr std::uint64_t default_max_pixels = std::uint64_t{1} << 28;

@@ -1,5 +1,6 @@
 // volume.hpp — 3D scalar volumes (NRRD, NIfTI-1/2, TIFF; PGM/PNG as one
-// slice) and the 2D slices the mesher meshes.
+// slice) and where their 2D slices lie (the slices' level sets and material
+// fields, load_slice: pipeline/slices.hpp).
 //
 // Geometry.  Voxel (i, j, k) sits at the physical point
 //
@@ -32,10 +33,9 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/core/memory.hpp"
+#include "warpmesh/core/mesh.hpp"
 #include "warpmesh/io/image.hpp"
-#include "warpmesh/levelset/image_levelset.hpp"
-#include "warpmesh/levelset/levelset.hpp"
-#include "warpmesh/mesh2d/materials.hpp"
 
 namespace warpmesh {
 
@@ -133,22 +133,6 @@ struct SlicePlane {
 
 enum class Units { physical, pixels };
 
-struct SliceOptions {
-    // Which slice; none: the only one (k = 0) of a single-slice volume or
-    // image, refused for a volume of several slices.
-    std::optional<SliceSpec> slice;
-    Units units = Units::physical;           // pixels: x = ia, y = ib
-    ImageLevelSetOptions levelset;           // threshold or label mode (its geometry is replaced)
-    // Multi-material instead of one level set: the label image's materials
-    // ("all" or a label list, as make_label_materials reads it), placed in
-    // the same units.
-    std::optional<std::string> materials;
-    // load_slice refuses (InputError naming --max-memory) a slice whose
-    // level set or material field would take the resident memory above this
-    // (memory.hpp).
-    std::uint64_t max_memory = default_max_memory;
-};
-
 // Where a slice lies in the chosen units.
 struct SlicePlacement {
     // Pixel (ia, ib) of the slice at (x0 + ia sx, y0 + ib sy): the physical
@@ -164,23 +148,10 @@ struct SlicePlacement {
     bool placed = false;
 };
 
-// The placement of a slice as load_slice places it (no values are read).
+// The placement of a slice as load_slice (pipeline/slices.hpp) places it (no
+// values are read).
 // Throws InputError as load_slice for the slice.
 SlicePlacement place_slice(const Volume& volume, const std::optional<SliceSpec>& slice, Units units);
-
-// A slice ready to mesh: the level set (or with SliceOptions::materials the
-// material field) in the slice's 2D coordinates, and where it is.
-struct LoadedSlice : SlicePlacement {
-    std::unique_ptr<LevelSet> f;                // one region (null with materials)
-    std::unique_ptr<MaterialField> materials;   // multi-material (null without)
-    int width = 0, height = 0;  // pixels along x and y
-    SliceSpec slice;            // which slice (k = 0 for an image)
-    std::string format;         // of the file read
-};
-
-// The JSON fields a report adds for a placed slice: "units", "slice"
-// ({"axis", "index"}), "plane" ({"origin", "x_axis", "y_axis", "normal"}).
-std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& slice);
 
 // The output name of slice `index` from a pattern with exactly one printf
 // integer field, %d, %Nd or %0Nd (N < 20), and any number of %% (a '%').
@@ -193,28 +164,9 @@ std::string slice_file_name(const std::string& pattern, std::int64_t index);
 // order of every mesh file written).  Written atomically; throws OutputError.
 void write_points_3d(const Mesh& mesh, const SlicePlane& plane, const std::string& path);
 
-// The level set (or the materials) of one slice.  Throws InputError for an
-// index outside the volume, a slice less than 2 x 2 pixels, label mode or
-// materials on values that are not integers in 0..65535, and whatever
-// make_image_levelset (make_label_materials) refuses (e.g. an empty region,
-// labels absent from the slice).
-LoadedSlice load_slice(const Volume& volume, const SliceOptions& options);
-
-// The slice as a 16-bit image in pixel units, placed as load_slice places
-// it with Units::pixels: its first in-plane index axis along the columns, its
-// second upwards (row 0 at the top, y = rows - 1 - row).  For label images
-// (Python's read_image; place_slice gives where its pixels lie).  maxval:
-// the volume's, else the largest sample (at least 1).  Throws InputError as
-// load_slice for the slice, and for a sample that is not an integer in
-// 0..65535.
-Image slice_image(const Volume& volume, const std::optional<SliceSpec>& slice);
-
 // Replace a volume's spacing by a user-given pixel size (--pixel-size
 // SX[,SY[,SZ]]; missing entries repeat the last), making it physical (mm).
 // Throws InputError for a size that is not positive and finite.
 void set_pixel_size(Volume& volume, std::span<const double> size);
-
-// The level set of an input file: read_volume, then load_slice.
-LoadedSlice load_level_set(const std::string& path, const SliceOptions& options, const VolumeLimits& limits = {});
 
 }  // namespace warpmesh

@@ -39,14 +39,7 @@ namespace warpmesh {
 
 enum class ImageMode { threshold, label };
 
-// Where the pixel centres lie: pixel (c, y), y = H - 1 - row, at
-// (x0 + c sx, y0 + y sy); sx, sy > 0.  The default is pixel units.
-struct PixelGeometry {
-    double x0 = 0, y0 = 0, sx = 1, sy = 1;
-    bool is_pixels() const { return x0 == 0 && y0 == 0 && sx == 1 && sy == 1; }
-};
-
-// ", pixel SX x SY, origin (X0, Y0)" for descriptions, "" in pixel units.
+// ", pixel SX x SY, origin (X0, Y0)" for descriptions (PixelGeometry: image.hpp), "" in pixel units.
 std::string pixel_geometry_text(const PixelGeometry& geometry);
 
 struct ImageLevelSetOptions {

@@ -1,7 +1,7 @@
 // lattice.hpp — the uniform lattice of squares and the per-point arrays the
 // pipeline stages exchange.
 //
-//   lattice.cpp     → Lattice, sampling f at the lattice points
+//   lattice.cpp     → lattices over a box (Lattice: levelset.hpp), sampling f at its points
 //   signs.cpp       → sign of f at each point
 //   cut_points.cpp  → cut edges and their cut points
 //   warp.cpp        → which endpoint of each cut edge moves, and where
@@ -19,21 +19,6 @@
 #include "warpmesh/core/mesh.hpp"
 
 namespace warpmesh {
-
-// Points (i, j), 0 <= i <= nx, 0 <= j <= ny, at (x0 + i s, y0 + j s); point
-// index i + j (nx + 1).  Square (i, j) has corners A = (i, j), B = (i+1, j),
-// C = (i, j+1), D = (i+1, j+1) — the generic square's labelling.
-struct Lattice {
-    double x0 = 0, y0 = 0, s = 1;
-    std::int64_t nx = 0, ny = 0;  // number of squares along x and y
-
-    std::int64_t points_x() const { return nx + 1; }
-    std::int64_t point_count() const { return (nx + 1) * (ny + 1); }
-    std::int64_t index(std::int64_t i, std::int64_t j) const { return i + j * (nx + 1); }
-    Vec2 position(std::int64_t i, std::int64_t j) const {
-        return {x0 + static_cast<double>(i) * s, y0 + static_cast<double>(j) * s};
-    }
-};
 
 // The lattice of spacing s whose points cover box: x0 = xmin, and as many
 // whole squares as fit (at least one).

@@ -1,4 +1,7 @@
-// slices.hpp — meshing a range of slices of one volume (`--slices k=0:113`).
+// slices.hpp — the slices of a volume as the 2D pipeline's input: one slice
+// loaded as a level set or a material field (load_slice, `--slice k=60`),
+// and a range of slices meshed (mesh_slices, `--slices k=0:113`).  Where a
+// slice lies is io/volume.hpp's (place_slice).
 //
 // The volume is read once by the caller; mesh_slices loads each slice of the
 // range (load_slice), hands it to the caller's `mesh_one`, which meshes it and
@@ -19,10 +22,69 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/post/quality.hpp"
 #include "warpmesh/io/volume.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"
+#include "warpmesh/levelset/levelset.hpp"
+#include "warpmesh/mesh2d/materials.hpp"
+#include "warpmesh/post/quality.hpp"
 
 namespace warpmesh {
+
+// ---------------------------------------------------------------------------
+// One slice.
+
+struct SliceOptions {
+    // Which slice; none: the only one (k = 0) of a single-slice volume or
+    // image, refused for a volume of several slices.
+    std::optional<SliceSpec> slice;
+    Units units = Units::physical;           // pixels: x = ia, y = ib
+    ImageLevelSetOptions levelset;           // threshold or label mode (its geometry is replaced)
+    // Multi-material instead of one level set: the label image's materials
+    // ("all" or a label list, as make_label_materials reads it), placed in
+    // the same units.
+    std::optional<std::string> materials;
+    // load_slice refuses (InputError naming --max-memory) a slice whose
+    // level set or material field would take the resident memory above this
+    // (memory.hpp).
+    std::uint64_t max_memory = default_max_memory;
+};
+
+// A slice ready to mesh: the level set (or with SliceOptions::materials the
+// material field) in the slice's 2D coordinates, and where it is.
+struct LoadedSlice : SlicePlacement {
+    std::unique_ptr<LevelSet> f;                // one region (null with materials)
+    std::unique_ptr<MaterialField> materials;   // multi-material (null without)
+    int width = 0, height = 0;  // pixels along x and y
+    SliceSpec slice;            // which slice (k = 0 for an image)
+    std::string format;         // of the file read
+};
+
+// The level set (or the materials) of one slice.  Throws InputError for an
+// index outside the volume, a slice less than 2 x 2 pixels, label mode or
+// materials on values that are not integers in 0..65535, and whatever
+// make_image_levelset (make_label_materials) refuses (e.g. an empty region,
+// labels absent from the slice).
+LoadedSlice load_slice(const Volume& volume, const SliceOptions& options);
+
+// The level set of an input file: read_volume, then load_slice.
+LoadedSlice load_level_set(const std::string& path, const SliceOptions& options, const VolumeLimits& limits = {});
+
+// The slice as a 16-bit image in pixel units, placed as load_slice places
+// it with Units::pixels: its first in-plane index axis along the columns, its
+// second upwards (row 0 at the top, y = rows - 1 - row).  For label images
+// (Python's read_image; place_slice gives where its pixels lie).  maxval:
+// the volume's, else the largest sample (at least 1).  Throws InputError as
+// load_slice for the slice, and for a sample that is not an integer in
+// 0..65535.
+Image slice_image(const Volume& volume, const std::optional<SliceSpec>& slice);
+
+// The JSON fields a report adds for a placed slice: "units", "slice"
+// ({"axis", "index"}), "plane" ({"origin", "x_axis", "y_axis", "normal"}).
+std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& slice);
+
+// ---------------------------------------------------------------------------
+// A range of slices.
+
 
 // What the caller reports for one meshed slice.
 struct SliceMeshed {

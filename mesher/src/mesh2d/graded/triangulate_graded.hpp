@@ -6,7 +6,6 @@
 
 #include "mesh2d/graded/quadtree.hpp"
 #include "mesh2d/graded/tiles.hpp"
-#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/mesh2d/lattice.hpp"
 
 namespace warpmesh {

@@ -8,18 +8,8 @@
 #include <limits>
 
 #include "warpmesh/mesh2d/lattice.hpp"
-#include "core/root_finder.hpp"
 
 namespace warpmesh {
-
-// The bracketed root finder (root_finder.hpp) on g(u) = f(a + u (b - a)).
-double bracketed_root(const LevelSet& f, Vec2 a, Vec2 b, double fa, double fb) {
-    return bracketed_root_of([&](double u) { return f.value(a.x + u * (b.x - a.x), a.y + u * (b.y - a.y)); }, fa, fb);
-}
-
-double LevelSet::cut_parameter(Vec2 a, Vec2 b, double fa, double fb) const {
-    return bracketed_root(*this, a, b, fa, fb);
-}
 
 std::vector<CutEdge> find_cut_edges(const LevelSet& f, const Lattice& lattice, std::span<const double> values,
                                     std::span<const std::int8_t> signs) {

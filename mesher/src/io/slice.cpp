@@ -1,22 +1,20 @@
-// slice.cpp — from a volume to the level set of one of its slices, in
-// millimetres or pixels (the conventions are in volume.hpp).
+// slice.cpp — where the slices of a volume lie, in millimetres or pixels
+// (the conventions are in volume.hpp): slice names parsed, a slice checked,
+// its values and its placement; output names per slice.
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 
+#include "io/slice_detail.hpp"
 #include "warpmesh/core/errors.hpp"
-#include "warpmesh/report/report.hpp"
-#include "warpmesh/mesh2d/materials.hpp"
-#include "warpmesh/core/memory.hpp"
-#include "warpmesh/post/quality.hpp"
 #include "warpmesh/io/volume.hpp"
 
 namespace warpmesh {
 namespace {
 
-constexpr const char* axis_names = "ijk";
+using slice_detail::axis_names;
 
 int axis_of(const std::string& text, const std::string& what) {
     if (text.size() < 2 || text[1] != '=' || (text[0] != 'i' && text[0] != 'j' && text[0] != 'k'))
@@ -37,10 +35,6 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-std::string json_vec(const Vec3& v) {
-    return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
-}
 
 }  // namespace
 
@@ -73,16 +67,7 @@ void set_pixel_size(Volume& volume, std::span<const double> size) {
     volume.physical = true;
 }
 
-namespace {
-
-// The slice a SliceOptions::slice names, checked: its normal axis n, in-plane
-// axes a < b, size W x H, and name for messages.
-struct CheckedSlice {
-    SliceSpec spec;
-    int n, a, b;
-    std::int64_t W, H;
-    std::string name;
-};
+namespace slice_detail {
 
 CheckedSlice check_slice(const Volume& v, const std::optional<SliceSpec>& slice) {
     const bool one_slice = v.dims[2] == 1;
@@ -105,10 +90,6 @@ CheckedSlice check_slice(const Volume& v, const std::optional<SliceSpec>& slice)
     if (W > 0x7fffffff || H > 0x7fffffff) throw InputError("'" + name + "': slice too large");
     return {spec, n, a, b, W, H, name};
 }
-
-}  // namespace
-
-namespace {
 
 // The slice's values, y-up: pixel (ia, ib) at ia + W ib.
 std::vector<double> slice_values(const Volume& v, const CheckedSlice& c) {
@@ -151,59 +132,10 @@ SlicePlacement placement(const Volume& v, const CheckedSlice& c, Units units, bo
     return out;
 }
 
-}  // namespace
+}  // namespace slice_detail
 
 SlicePlacement place_slice(const Volume& v, const std::optional<SliceSpec>& slice, Units units) {
-    return placement(v, check_slice(v, slice), units, slice.has_value());
-}
-
-Image slice_image(const Volume& v, const std::optional<SliceSpec>& slice) {
-    const CheckedSlice c = check_slice(v, slice);
-    Image img = label_image(static_cast<int>(c.W), static_cast<int>(c.H), slice_values(v, c), c.name, "a label slice");
-    if (v.maxval >= 0) img.maxval = v.maxval;
-    return img;
-}
-
-LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
-    const CheckedSlice c = check_slice(v, options.slice);
-    // Materials: make_label_materials makes the same admission check.
-    if (!options.materials) {
-        const FieldKind kind = options.levelset.mode == ImageMode::label ? FieldKind::label : FieldKind::threshold;
-        check_memory(static_cast<std::uint64_t>(c.W * c.H) * field_bytes_per_pixel(kind), options.max_memory,
-                     "the level set of '" + c.name + "'",
-                     std::to_string(c.W) + " x " + std::to_string(c.H) + " pixels at " +
-                         std::to_string(field_bytes_per_pixel(kind)) + " bytes each",
-                     "crop or downsample the image");
-    }
-    LoadedSlice out;
-    static_cast<SlicePlacement&>(out) = placement(v, c, options.units, options.slice.has_value());
-    out.width = static_cast<int>(c.W), out.height = static_cast<int>(c.H);
-    out.slice = c.spec;
-    out.format = v.format;
-    const std::vector<double> values = slice_values(v, c);
-    if (options.materials) {
-        Image img = label_image(out.width, out.height, values, c.name, "--materials");
-        if (v.maxval >= 0) img.maxval = v.maxval;
-        out.materials = make_label_materials(img, *options.materials, out.geometry, options.max_memory);
-    } else {
-        ImageLevelSetOptions lo = options.levelset;
-        lo.geometry = out.geometry;
-        out.f = make_raster_levelset(out.width, out.height, values, c.name, lo, v.maxval);
-    }
-    return out;
-}
-
-LoadedSlice load_level_set(const std::string& path, const SliceOptions& options, const VolumeLimits& limits) {
-    return load_slice(read_volume(path, limits), options);
-}
-
-std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& s) {
-    if (!s.placed) return {};
-    return {{"units", json_string(s.units)},
-            {"slice", "{\"axis\": \"" + std::string(1, axis_names[s.slice.axis]) + "\", \"index\": " +
-                          std::to_string(s.slice.index) + ", \"format\": " + json_string(s.format) + "}"},
-            {"plane", "{\"origin\": " + json_vec(s.plane.origin) + ", \"x_axis\": " + json_vec(s.plane.x_axis) +
-                          ", \"y_axis\": " + json_vec(s.plane.y_axis) + ", \"normal\": " + json_vec(s.plane.normal) + "}"}};
+    return slice_detail::placement(v, slice_detail::check_slice(v, slice), units, slice.has_value());
 }
 
 std::string slice_file_name(const std::string& pattern, std::int64_t index) {
