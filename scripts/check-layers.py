@@ -92,11 +92,6 @@ RULES = {
 # comment is merged; the lead removes each entry with that merge.  An entry
 # whose violation is gone fails the check ("stale"), so this list empties.
 KNOWN = {
-    # branch pipe3d: FaceRule moves to mesh3d/generic_bcc.hpp, LevelSet3 to levelset/levelset3.hpp
-    ("mesher/include/warpmesh/mesh3d/mesh3d.hpp", "mesher/include/warpmesh/certify/bcc_certified.hpp"),
-    ("mesher/src/mesh3d/uniform3d.hpp", "mesher/include/warpmesh/certify/bcc_certified.hpp"),
-    ("mesher/src/levelset/shapes3.cpp", "mesher/include/warpmesh/mesh3d/mesh3d.hpp"),
-    ("mesher/src/levelset/volume_levelset3.cpp", "mesher/include/warpmesh/mesh3d/mesh3d.hpp"),
     # branch report2d: the typed 2D report
     ("mesher/include/warpmesh/post/quality.hpp", "mesher/include/warpmesh/report/report.hpp"),
     ("mesher/src/report/report.cpp", "mesher/include/warpmesh/pipeline/mesh2d.hpp"),
