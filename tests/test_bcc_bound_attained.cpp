@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
 #include "warpmesh/post/tet_checks.hpp"
 #include "warpmesh/prove_bcc.hpp"
@@ -86,7 +86,7 @@ const Ivec shift{2, 2, 4};  // the reference tetrahedron inside the 4³-cube lat
 Ivec at(const Ivec& p) { return bcc::add(p, shift); }
 
 double smallest_deg(const std::array<bcc::Vec<double>, 4>& p) {
-    const auto a = testing::dihedral_degrees(p);
+    const auto a = bcc_stuffing::dihedral_degrees(p);
     return *std::min_element(a.begin(), a.end());
 }
 

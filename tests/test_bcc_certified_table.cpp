@@ -1,20 +1,21 @@
 // The 3D certified table compiled into the mesher (bcc_certified.hpp, from
 // proofs/bcc.cert by cmake/certified_table.cmake): its alphas are the
 // certificate's, every key of the enumeration has a claim, the theorem is
-// their extremes, and on stuffed random quadrics (tests/bcc_stuffing.hpp, the
+// their extremes, and on stuffed random quadrics (warpmesh/bcc_stuffing.hpp, the
 // mesher's contract at the certificate's alphas) every output tetrahedron's
 // dihedral angles lie within its background tetrahedron's key's claim,
 // looked up through bcc::key_of from global signs and warps.
 #define BOOST_TEST_MODULE bcc_certified_table
 #include <random>
 
-#include "bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "support.hpp"
 #include "warpmesh/certify/bcc_certified.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;
+using namespace warpmesh::bcc_stuffing;
 
 BOOST_AUTO_TEST_CASE(every_key_has_a_claim_and_the_theorem_is_their_extreme) {
     const auto al = bcc_certified_alphas();

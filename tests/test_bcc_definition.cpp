@@ -1,6 +1,6 @@
 // The 3D definition (generic_bcc.hpp): the lattice and its background
 // tetrahedra, the parity rule and its local bit, the stencils, and a small
-// stuffing of random level sets (bcc_stuffing.hpp) that must be conforming
+// stuffing of random level sets (warpmesh/bcc_stuffing.hpp) that must be conforming
 // and positively oriented, with every background tetrahedron reproduced by
 // its local configuration (the prover's key and parameters).
 #define BOOST_TEST_MODULE bcc_definition
@@ -8,11 +8,12 @@
 #include <random>
 #include <set>
 
-#include "bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;
+using namespace warpmesh::bcc_stuffing;
 
 namespace {
 

@@ -6,11 +6,12 @@
 #define BOOST_TEST_MODULE bcc_delaunay_rule
 #include <random>
 
-#include "bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;
+using namespace warpmesh::bcc_stuffing;
 
 namespace {
 

@@ -3,8 +3,8 @@
 // prover's superset (proofs/bcc_half.cert, checked by warpmesh-check-bcc) but
 // in the mesher's own warping.  The library refuses α = 1/2 (its alphas must
 // lie in (0, 1/2)), so the realisation runs the mesher's contract
-// (generic_bcc.hpp, steps 1–6) through the test-only stuffing
-// (tests/bcc_stuffing.hpp) on a piecewise-linear function: values at the
+// (generic_bcc.hpp, steps 1–6) through the prover's reference stuffing
+// (warpmesh/bcc_stuffing.hpp) on a piecewise-linear function: values at the
 // lattice points of a 2³ block, linear along each lattice edge (the cut
 // points are the edges' interpolated zeros).
 #define BOOST_TEST_MODULE bcc_half_rule
@@ -14,7 +14,7 @@
 #include <cmath>
 #include <string>
 
-#include "bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "warpmesh/certify/bcc_certified.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/pipeline/mesh3d.hpp"
@@ -44,12 +44,12 @@ double lattice_value(const bcc::Ivec& q) {
     return -1;
 }
 
-testing::Stuffed stuff_block(const bcc::Alphas& al) {
+bcc_stuffing::Stuffed stuff_block(const bcc::Alphas& al) {
     const auto f = [](double x, double y, double z) {
         return lattice_value({static_cast<int>(std::lround(2 * x)), static_cast<int>(std::lround(2 * y)),
                               static_cast<int>(std::lround(2 * z))});
     };
-    return testing::stuff(f, 2, 1.0, al);
+    return bcc_stuffing::stuff(f, 2, 1.0, al);
 }
 
 struct Worst {
@@ -59,7 +59,7 @@ struct Worst {
     std::array<double, 4> t{};  // its warp fractions (local order; 0 for an unwarped vertex)
 };
 
-Worst worst_tetrahedron(const testing::Stuffed& m) {
+Worst worst_tetrahedron(const bcc_stuffing::Stuffed& m) {
     Worst w;
     for (const auto& bt : m.background)
         for (int k = bt.first; k < bt.first + bt.count; ++k) {
@@ -67,7 +67,7 @@ Worst worst_tetrahedron(const testing::Stuffed& m) {
             for (std::size_t v = 0; v < 4; ++v) p[v] = m.points[static_cast<std::size_t>(m.tets[static_cast<std::size_t>(k)][v])];
             const double v6 = bcc::dihedral_forms(p).volume6;
             if (v6 < w.volume6) w.volume6 = v6, w.key = bcc::code_of(bcc::canonical(bt.config)), w.t = bt.t;
-            for (double a : testing::dihedral_degrees(p)) w.min_deg = std::min(w.min_deg, a), w.max_deg = std::max(w.max_deg, a);
+            for (double a : bcc_stuffing::dihedral_degrees(p)) w.min_deg = std::min(w.min_deg, a), w.max_deg = std::max(w.max_deg, a);
         }
     return w;
 }

@@ -7,12 +7,13 @@
 #include <random>
 #include <set>
 
-#include "bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "support.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::testing;
+using namespace warpmesh::bcc_stuffing;
 namespace bp = warpmesh::bcc_prover;
 
 namespace {

@@ -33,13 +33,13 @@ struct Q {
 Q operator+(const Q& a, const Q& b) { return {a.q + b.q}; }
 Q operator-(const Q& a, const Q& b) { return {a.q - b.q}; }
 Q operator*(const Q& a, const Q& b) { return {a.q * b.q}; }
-bool operator<(const Q& a, const Q& b) { return a.q < b.q; }
 
 }  // namespace
 
 template <>
 struct warpmesh::ScalarOps<Q> {
     static Q from_int(int v) { return {boost::multiprecision::cpp_rational(v)}; }
+    static Truth positive(const Q& a) { return truth(a.q > 0); }
 };
 
 namespace {

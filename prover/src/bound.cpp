@@ -5,82 +5,18 @@
 #include <algorithm>
 #include <cmath>
 
-#include <boost/numeric/interval.hpp>
-
+#include "warpmesh/numerics/dual.hpp"
+#include "warpmesh/numerics/interval.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh {
 
-namespace ia = boost::numeric::interval_lib;
-// Outward rounding by the "opposite" trick: the FPU stays in upward mode and a
-// lower bound is computed as -((-x) op y).  The operations do not switch the
-// mode (switching it per operation cost ~80% of the run time); every entry
-// point below holds a `RoundUp` guard, which sets upward rounding for its scope
-// and restores the caller's mode.  Without the guard the enclosures would not
-// be outward: interval code must not run outside one.
-using I = boost::numeric::interval<
-    double, ia::policies<ia::save_state_nothing<ia::rounded_arith_opp<double>>, ia::checking_base<double>>>;
-using RoundUp = ia::save_state<ia::rounded_arith_opp<double>>;
-
-
-// Intervals: `less` and `positive` answer yes/no only when decided on the whole
-// box.  `less` further demands a relative margin of 1e-9: where the prover says
-// "decided", the exact values differ by more than 1e-9 relative, so the
-// mesher's double evaluation (within a few ulps of the exact value) takes the
-// same diagonal.  An empty interval (NaN ends, from a division by [0,0]) is
-// never decided.
-template <>
-struct ScalarOps<I> {
-    static I from_int(int v) { return I(static_cast<double>(v)); }
-    static bool bad(const I& a) { return std::isnan(a.lower()) || std::isnan(a.upper()); }
-    static Truth positive(const I& a) {
-        if (bad(a)) return Truth::maybe;
-        if (a.lower() > 0) return Truth::yes;
-        if (a.upper() <= 0) return Truth::no;
-        return Truth::maybe;
-    }
-    static Truth less(const I& a, const I& b) {
-        if (bad(a) || bad(b)) return Truth::maybe;
-        const double mag = std::max({std::fabs(a.lower()), std::fabs(a.upper()), std::fabs(b.lower()),
-                                     std::fabs(b.upper())});
-        const double m = 1e-9 * mag;  // >= 0; fl(x + m) >= x, so the tests below imply the exact ones
-        if (a.upper() + m < b.lower()) return Truth::yes;
-        if (a.lower() >= b.upper() + m) return Truth::no;
-        return Truth::maybe;
-    }
-    static I max(const I& a, const I& b) {
-        if (bad(a) || bad(b)) return I::whole();
-        return boost::numeric::max(a, b);
-    }
-};
-
-
-// Forward-mode dual numbers over intervals: value and the partial derivatives
-// with respect to the (at most 4) t variables.  Positions are affine in t, the
-// angle forms quadratic; only + - * are needed.
-struct DI {
-    I v;
-    std::array<I, 4> d;
-};
-inline DI operator+(const DI& a, const DI& b) {
-    DI r{a.v + b.v, {}};
-    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] + b.d[i];
-    return r;
-}
-inline DI operator-(const DI& a, const DI& b) {
-    DI r{a.v - b.v, {}};
-    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] - b.d[i];
-    return r;
-}
-inline DI operator*(const DI& a, const DI& b) {
-    DI r{a.v * b.v, {}};
-    for (int i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
-    return r;
-}
-template <>
-struct ScalarOps<DI> {
-    static DI from_int(int v) { return DI{I(static_cast<double>(v)), {I(0.), I(0.), I(0.), I(0.)}}; }
-};
+// Outward-rounded intervals (numerics/interval.hpp: every entry point below
+// holds a RoundUp guard) and dual numbers over them (numerics/dual.hpp):
+// value and the partial derivatives with respect to the (at most 4) t
+// variables.  Positions are affine in t, the angle forms quadratic.
+using I = Interval;
+using DI = Dual<Interval>;
 
 namespace prover {
 namespace {

@@ -25,7 +25,7 @@
 // Nothing else is imposed (superset, as for the sign keys).
 #include <map>
 
-#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/square_keys.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh::prover {

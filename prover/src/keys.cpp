@@ -1,9 +1,10 @@
 // keys.cpp — the configuration keys of the generic square: enumeration under
 // the consistency rules, their variables, and flat compatibility.  See
 // proofs/README.md ("Configuration space").  The key code and the flatness
-// test are the mesher's (certified.hpp: key_code, stencil_admits_flat): one
-// copy on the untrusted side; the independent checker has its own, on purpose.
-#include "warpmesh/certify/certified.hpp"
+// test are the mesher's (mesh2d/square_keys.hpp: key_code,
+// stencil_admits_flat): one copy on the untrusted side; the independent
+// checker has its own, on purpose.
+#include "warpmesh/mesh2d/square_keys.hpp"
 #include "warpmesh/prove.hpp"
 
 namespace warpmesh::prover {
@@ -42,7 +43,7 @@ bool consistent(const Key& k) {
 }
 
 
-// Stencil index (certified.hpp's stencil_offsets) of the lattice neighbour
+// Stencil index (square_keys.hpp's stencil_offsets) of the lattice neighbour
 // outside the square that corner c slides towards: 4 + 2c + axis (0 = x, 1 = y).
 int outward_index(int c, Warp w) { return 4 + 2 * c + (warp_dy(w) != 0 ? 1 : 0); }
 

@@ -40,7 +40,7 @@
 #include <string>
 #include <vector>
 
-#include "../../tests/bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;
@@ -81,7 +81,7 @@ Witness witness(const bcc_prover::Key& k, const std::array<long long, 4>& ends, 
     for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[0][static_cast<std::size_t>(v)]];
     Witness w;
     if (bcc::dihedral_forms(p).volume6 <= 0) return w;  // the statement wants a positive tetrahedron
-    for (double a : testing::dihedral_degrees(p)) w.deg = std::min(w.deg, a);
+    for (double a : bcc_stuffing::dihedral_degrees(p)) w.deg = std::min(w.deg, a);
     w.line = line;
     return w;
 }

@@ -8,7 +8,7 @@
 //                                         for the smallest and largest
 //                                         dihedral angle; worst keys printed
 //   bcc_explore shapes L S [TRIALS]       random quadrics stuffed on a 6³
-//                                         block (tests/bcc_stuffing.hpp)
+//                                         block (bcc_stuffing.hpp)
 //   bcc_explore counterexample L S        the counter-example certificate
 //                                         (proofs/bcc_half.cert at 0.5 0.5):
 //                                         the most negative 6·volume of an
@@ -49,7 +49,7 @@
 #include <random>
 #include <string>
 
-#include "../../tests/bcc_stuffing.hpp"
+#include "warpmesh/bcc_stuffing.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 using namespace warpmesh;
@@ -127,7 +127,7 @@ double min_dihedral_deg(const bcc::Stencil& st, const Points& P) {
     for (int j = 0; j < st.count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
         for (std::size_t v = 0; v < 4; ++v) p[v] = P[st.tet[static_cast<std::size_t>(j)][v]];
-        for (double x : testing::dihedral_degrees(p)) m = std::min(m, x);
+        for (double x : bcc_stuffing::dihedral_degrees(p)) m = std::min(m, x);
     }
     return m;
 }
@@ -205,7 +205,7 @@ Extremes evaluate(const bcc_prover::Key& k, const std::vector<bcc_prover::Param>
         std::array<bcc::Vec<double>, 4> p{};
         for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
         if (bcc::dihedral_forms(p).volume6 <= 0) e.inverted = true;
-        for (double a : testing::dihedral_degrees(p)) e.min = std::min(e.min, a), e.max = std::max(e.max, a);
+        for (double a : bcc_stuffing::dihedral_degrees(p)) e.min = std::min(e.min, a), e.max = std::max(e.max, a);
     }
     return e;
 }
@@ -350,7 +350,7 @@ int run_shapes(const bcc::Alphas& al, int trials, const std::array<double, 4>* b
         const auto f = [&](double x, double y, double z) {
             return a * (x - cx) * (x - cx) + b * (y - cy) * (y - cy) + c * (z - cz) * (z - cz) + xy * (x - cx) * (y - cy) - r * r;
         };
-        const testing::Stuffed m = testing::stuff(f, 6, 1.0, al, by_sign);
+        const bcc_stuffing::Stuffed m = bcc_stuffing::stuff(f, 6, 1.0, al, by_sign);
         all_zero += m.all_zero_left_out;
         for (const auto& bt : m.background) {
             for (int k = bt.first; k < bt.first + bt.count; ++k) {
@@ -358,7 +358,7 @@ int run_shapes(const bcc::Alphas& al, int trials, const std::array<double, 4>* b
                 std::array<bcc::Vec<double>, 4> p{};
                 for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = m.points[static_cast<std::size_t>(t[static_cast<std::size_t>(v)])];
                 if (bcc::dihedral_forms(p).volume6 <= 0) all.inverted = true;
-                for (double x : testing::dihedral_degrees(p)) all.min = std::min(all.min, x), all.max = std::max(all.max, x);
+                for (double x : bcc_stuffing::dihedral_degrees(p)) all.min = std::min(all.min, x), all.max = std::max(all.max, x);
                 ++tets;
             }
         }

@@ -22,7 +22,7 @@ CLEAN = {
     "mesher/include/warpmesh/core/mesh.hpp": ["#pragma once", "#include <vector>"],
     "mesher/include/warpmesh/numerics/interval.hpp": ['#include "warpmesh/core/mesh.hpp"'],
     "mesher/include/warpmesh/mesh2d/generic_square.hpp": ['#include "warpmesh/numerics/interval.hpp"'],
-    "mesher/include/warpmesh/mesh3d/generic_bcc.hpp": ['#include "warpmesh/mesh2d/generic_square.hpp"'],
+    "mesher/include/warpmesh/mesh3d/generic_bcc.hpp": ['#include "warpmesh/numerics/interval.hpp"'],
     "mesher/include/warpmesh/certify/certified.hpp": ['#include "warpmesh/mesh2d/generic_square.hpp"'],
     "mesher/include/warpmesh/pipeline/mesh2d.hpp": ['#include "warpmesh/certify/certified.hpp"'],
     "mesher/include/warpmesh/warpmesh.hpp": ['#include "warpmesh/pipeline/mesh2d.hpp"'],

@@ -45,7 +45,6 @@ int char_warp(char c) {
         default: return 9;
     }
 }
-constexpr char warp_chars[] = {'s', 'R', 'L', 'U', 'D'};
 
 constexpr int raw_keys = 15 * 15 * 15 * 15;
 int raw_index(const std::array<CornerState, 4>& cs) {
@@ -168,30 +167,6 @@ std::string_view certified_junction_table_text(DiagonalRule rule) {
                                             : std::string_view{};
 }
 
-std::string junction_key_code(const std::array<MaterialCorner, 4>& cs) {
-    std::string s;
-    for (const auto& c : cs) {
-        s += static_cast<char>('a' + c.material);
-        s += warp_chars[static_cast<int>(c.warp)];
-    }
-    return s;
-}
-
-std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 4>& cs) {
-    std::array<MaterialCorner, 4> out{};
-    std::uint16_t next = 0;
-    for (std::size_t q = 0; q < 4; ++q) {
-        out[q] = {next, cs[q].warp};
-        for (std::size_t e = 0; e < q; ++e)
-            if (cs[e].material == cs[q].material) {
-                out[q].material = out[e].material;
-                break;
-            }
-        if (out[q].material == next) ++next;
-    }
-    return out;
-}
-
 const CertifiedBound* certified_junction_bound(const std::array<MaterialCorner, 4>& letters, DiagonalRule rule) {
     for (const auto& c : letters)
         if (c.material > 3 || static_cast<int>(c.warp) >= warp_count) return nullptr;
@@ -278,15 +253,6 @@ std::string compare_cert_keys(const std::vector<CertKeyLine>& a, const std::vect
                    ", qmax " + x.qmax + " vs " + y.qmax;
     }
     return "";
-}
-
-std::string key_code(const std::array<CornerState, 4>& cs) {
-    std::string s;
-    for (const auto& c : cs) {
-        s += c.sign < 0 ? '-' : c.sign == 0 ? '0' : '+';
-        s += warp_chars[static_cast<int>(c.warp)];
-    }
-    return s;
 }
 
 const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& cs, LatticeMetric metric) {

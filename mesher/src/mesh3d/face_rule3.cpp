@@ -15,7 +15,9 @@
 // them (face_form linear, inside_form quadratic).  First a filter: the forms
 // are evaluated in double together with a rigorous bound on their rounding
 // error (`Filtered`: running error analysis, below); a comparison with zero
-// is decided when |value| exceeds the bound.  Otherwise the whole choice is
+// is decided when |value| exceeds the bound, and is `maybe` otherwise (the
+// three-valued comparison of warpmesh/numerics/scalar.hpp, as the provers'
+// intervals answer it).  Where a sign is undecided the whole choice is
 // evaluated again exactly: near a tie, which on a lattice aligned with the
 // voxels is common (equal fractions, 1/2 above all), so exactly is made cheap.
 //
@@ -36,21 +38,18 @@
 //     x ± y: v = fl(x.v ± y.v),   e = x.e + y.e + ε |v|
 //     x · y: v = fl(x.v · y.v),   e = |x.v| y.e + |y.v| x.e + x.e y.e + ε |v| + η
 // The bound itself is computed in rounded arithmetic, off by at most a
-// relative (1 + ε)^k after k operations; a comparison inflates it by 2^-40,
-// which covers k < 2^12 (the forms take a few dozen).
+// relative (1 + ε)^k after k operations; a comparison with zero inflates it
+// by 2^-40, which covers k < 2^12 (the forms take a few dozen).
 #include <boost/multiprecision/cpp_int.hpp>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "uniform3d.hpp"
 
 namespace warpmesh {
 namespace {
-
-// Set by a Filtered comparison that the bound cannot decide (per thread:
-// stage 5 runs on OpenMP threads).
-thread_local bool undecided = false;
 
 struct Filtered {
     double v = 0, e = 0;
@@ -69,14 +68,6 @@ Filtered operator*(const Filtered& a, const Filtered& b) {
     const double v = a.v * b.v;
     return {v, std::fabs(a.v) * b.e + std::fabs(b.v) * a.e + a.e * b.e + eps * std::fabs(v) + std::numeric_limits<double>::denorm_min()};
 }
-// a < b if the bound decides it; otherwise false, and `undecided` is set.
-bool operator<(const Filtered& a, const Filtered& b) {
-    const Filtered d = a - b;
-    const double bound = d.e * (1 + 0x1p-40);
-    if (d.v < -bound) return true;
-    if (!(d.v > bound)) undecided = true;
-    return false;
-}
 
 // An exact fixed-point value n · 2^(-58 k), k <= 2 (see "Exactly").
 struct Fixed {
@@ -94,7 +85,6 @@ Fixed operator-(const Fixed& a, const Fixed& b) {
     return {lift(a, k).n - lift(b, k).n, k};
 }
 Fixed operator*(const Fixed& a, const Fixed& b) { return {a.n * b.n, a.k + b.k}; }  // degrees add up to <= 2
-bool operator<(const Fixed& a, const Fixed& b) { return (a - b).n < 0; }
 
 // An exact rational.
 struct Exact {
@@ -103,21 +93,30 @@ struct Exact {
 Exact operator+(const Exact& a, const Exact& b) { return {a.q + b.q}; }
 Exact operator-(const Exact& a, const Exact& b) { return {a.q - b.q}; }
 Exact operator*(const Exact& a, const Exact& b) { return {a.q * b.q}; }
-bool operator<(const Exact& a, const Exact& b) { return a.q < b.q; }
 
 }  // namespace
 
+// `positive` is three-valued for Filtered: decided where |a.v| exceeds the
+// bound (inflated, see "The bound"), `maybe` otherwise; exact for the others.
 template <>
 struct ScalarOps<Filtered> {
     static Filtered from_int(int v) { return {static_cast<double>(v), 0}; }  // small integers: exact
+    static Truth positive(const Filtered& a) {
+        const double bound = a.e * (1 + 0x1p-40);
+        if (a.v > bound) return Truth::yes;
+        if (a.v < -bound) return Truth::no;
+        return Truth::maybe;
+    }
 };
 template <>
 struct ScalarOps<Fixed> {
     static Fixed from_int(int v) { return {v, 0}; }
+    static Truth positive(const Fixed& a) { return truth(a.n > 0); }
 };
 template <>
 struct ScalarOps<Exact> {
     static Exact from_int(int v) { return {boost::multiprecision::cpp_rational(v)}; }
+    static Truth positive(const Exact& a) { return truth(a.q > 0); }
 };
 
 namespace {
@@ -126,28 +125,26 @@ Filtered scalar(double u, Filtered) { return {u, 0}; }
 Fixed scalar(double u, Fixed) { return {static_cast<__int128>(std::ldexp(u, fixed_bits)), 1}; }  // exact for u in [2^-6, 1)
 Exact scalar(double u, Exact) { return {boost::multiprecision::cpp_rational(u)}; }  // exact: a double is a dyadic rational
 
-// delaunay_diagonals in scalar T on the local fractions of u (see
-// delaunay_choice).
+// decided_delaunay_diagonals in scalar T on the local fractions of u (see
+// delaunay_choice): std::nullopt where T leaves a sign undecided.
 template <class T>
-bcc::Diagonals diagonals_in(const std::array<int, 4>& sign, int parity, const std::array<double, 6>& u, unsigned from_upper) {
+std::optional<bcc::Diagonals> diagonals_in(const std::array<int, 4>& sign, int parity, const std::array<double, 6>& u, unsigned from_upper) {
     std::array<T, 6> local{};
     for (std::size_t e = 0; e < 6; ++e) {
         const T x = scalar(u[e], T{});
         local[e] = (from_upper >> e & 1u) ? ScalarOps<T>::from_int(1) - x : x;
     }
-    return bcc::delaunay_diagonals<T>(sign, parity, local);
+    return bcc::decided_delaunay_diagonals<T>(sign, parity, local);
 }
 
 }  // namespace
 
 bcc::Diagonals uniform3d::delaunay_choice(const std::array<int, 4>& sign, int parity, const std::array<double, 6>& u,
                                           unsigned from_upper) {
-    undecided = false;
-    const bcc::Diagonals d = diagonals_in<Filtered>(sign, parity, u, from_upper);
-    if (!undecided) return d;
+    if (const auto d = diagonals_in<Filtered>(sign, parity, u, from_upper)) return *d;
     bool fixed = true;  // every fraction the choice reads in [2^-6, 1) (unread ones are 0)
     for (double x : u) fixed = fixed && (x == 0 || (x >= 0x1p-6 && x < 1));
-    return fixed ? diagonals_in<Fixed>(sign, parity, u, from_upper) : diagonals_in<Exact>(sign, parity, u, from_upper);
+    return (fixed ? diagonals_in<Fixed>(sign, parity, u, from_upper) : diagonals_in<Exact>(sign, parity, u, from_upper)).value();
 }
 
 }  // namespace warpmesh

@@ -64,7 +64,7 @@ inline bool fan_key(DiagonalRule rule, const Key& k) {
     return rule == DiagonalRule::fan && (k.junction ? all_inside(k.m) : all_inside(k.s));
 }
 
-// The key's code: key_code(s) (certified.hpp, e.g. "-R+U-L-R"), or for a
+// The key's code: key_code(s) (mesh2d/square_keys.hpp, e.g. "-R+U-L-R"), or for a
 // junction key its letters and warps (junction_key_code, e.g. "aRaUbscs").
 std::string code_of(const Key& k);
 
@@ -79,7 +79,7 @@ std::vector<Key> junction_keys();
 // keys of a class have the same configurations and decisions.
 std::vector<int> junction_classes(DiagonalRule rule, const std::vector<Key>& keys, const std::vector<int>& ids);
 
-// A key's 8-character code is key_code(key.s) (certified.hpp).
+// A key's 8-character code is key_code(key.s) (mesh2d/square_keys.hpp).
 // All keys satisfying the consistency rules of proofs/README.md, in the
 // canonical order (corner A's state most significant).
 std::vector<Key> consistent_keys();

@@ -5,107 +5,25 @@
 // "The BCC certificate").
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
-#include <boost/numeric/interval.hpp>
-
+#include "warpmesh/numerics/dual.hpp"
+#include "warpmesh/numerics/interval.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 namespace warpmesh {
 
-namespace bia = boost::numeric::interval_lib;
-// Outward rounding as in the 2D prover (bound.cpp): the FPU stays in upward
-// mode inside a RoundUp guard and lower bounds are computed as -((-x) op y).
-// checking_no_nan: a type of its own (the 2D prover specialises ScalarOps for
-// its interval type); no NaN can arise (no division but by the alphas'
-// denominators).
-using BI = boost::numeric::interval<
-    double, bia::policies<bia::save_state_nothing<bia::rounded_arith_opp<double>>, bia::checking_no_nan<double>>>;
-using BRoundUp = bia::save_state<bia::rounded_arith_opp<double>>;
-
-template <>
-struct ScalarOps<BI> {
-    static BI from_int(int v) { return BI(static_cast<double>(v)); }
-};
-
+// Outward-rounded intervals, as in the 2D prover (numerics/interval.hpp:
+// every entry point below holds a RoundUp guard), and dual numbers over them
+// (numerics/dual.hpp): value and the partials in the (at most 4) parameters
+// (DI), and the second partials too (D2).  Points are affine in the
+// parameters, the forms polynomials.
 namespace bcc_prover {
-namespace {
+using BI = Interval;
+using DI = Dual<Interval>;
+using D2 = Dual2<Interval>;
 
-// Forward-mode dual numbers over intervals: value and the partial
-// derivatives in the (at most 4) parameters.  Points are affine in the
-// parameters, the forms polynomials; only + - * are needed.
-struct DI {
-    BI v;
-    std::array<BI, 4> d;
-};
-DI operator+(const DI& a, const DI& b) {
-    DI r{a.v + b.v, {}};
-    for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] + b.d[i];
-    return r;
-}
-DI operator-(const DI& a, const DI& b) {
-    DI r{a.v - b.v, {}};
-    for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] - b.d[i];
-    return r;
-}
-DI operator*(const DI& a, const DI& b) {
-    DI r{a.v * b.v, {}};
-    for (std::size_t i = 0; i < 4; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
-    return r;
-}
-// Second order: value, partials and the second partials h[i][j] (i <= j).
-struct D2 {
-    BI v;
-    std::array<BI, 4> d;
-    std::array<std::array<BI, 4>, 4> h;
-};
-D2 operator+(const D2& a, const D2& b) {
-    D2 r = a;
-    r.v = a.v + b.v;
-    for (std::size_t i = 0; i < 4; ++i) {
-        r.d[i] = a.d[i] + b.d[i];
-        for (std::size_t j = i; j < 4; ++j) r.h[i][j] = a.h[i][j] + b.h[i][j];
-    }
-    return r;
-}
-D2 operator-(const D2& a, const D2& b) {
-    D2 r = a;
-    r.v = a.v - b.v;
-    for (std::size_t i = 0; i < 4; ++i) {
-        r.d[i] = a.d[i] - b.d[i];
-        for (std::size_t j = i; j < 4; ++j) r.h[i][j] = a.h[i][j] - b.h[i][j];
-    }
-    return r;
-}
-D2 operator*(const D2& a, const D2& b) {
-    D2 r = a;
-    r.v = a.v * b.v;
-    for (std::size_t i = 0; i < 4; ++i) {
-        r.d[i] = a.d[i] * b.v + a.v * b.d[i];
-        for (std::size_t j = i; j < 4; ++j) r.h[i][j] = a.h[i][j] * b.v + a.v * b.h[i][j] + a.d[i] * b.d[j] + a.d[j] * b.d[i];
-    }
-    return r;
-}
-
-}  // namespace
-}  // namespace bcc_prover
-
-template <>
-struct ScalarOps<bcc_prover::DI> {
-    static bcc_prover::DI from_int(int v) { return {BI(static_cast<double>(v)), {BI(0.), BI(0.), BI(0.), BI(0.)}}; }
-};
-template <>
-struct ScalarOps<bcc_prover::D2> {
-    static bcc_prover::D2 from_int(int v) {
-        bcc_prover::D2 r;
-        r.v = BI(static_cast<double>(v));
-        for (auto& x : r.d) x = BI(0.);
-        for (auto& row : r.h) row.fill(BI(0.));
-        return r;
-    }
-};
-
-namespace bcc_prover {
 namespace {
 
 // The dihedral and face-angle forms of one output tetrahedron.
@@ -151,13 +69,6 @@ Box centre(const Box& b) {
     return m;
 }
 
-// The signs an enclosure admits: +1 if it is positive, −1 if negative, both
-// if it contains 0.
-std::vector<int> admitted(const BI& x) {
-    if (x.lower() > 0) return {1};
-    if (x.upper() < 0) return {-1};
-    return {-1, 1};
-}
 bool same(const bcc::Stencil& a, const bcc::Stencil& b) {
     if (a.count != b.count) return false;
     for (std::size_t j = 0; j < static_cast<std::size_t>(a.count); ++j)
@@ -302,17 +213,25 @@ bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const 
 }  // namespace
 
 std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Param>& ps, const Box& b) {
-    const BRoundUp guard;
+    const RoundUp guard;
     std::array<BI, 6> u{};
     for (std::size_t i = 0; i < ps.size(); ++i)
         if (ps[i].index >= 4) u[static_cast<std::size_t>(ps[i].index - 4)] = BI(b.lo[i], b.hi[i]);
     // adm[f]: the signs admitted for the quad of the face without vertex f
-    // ({0}: no quad there); adm[4]: for the inside quad.
+    // ({0}: no quad there); adm[4]: for the inside quad.  A sign the box
+    // decides is admitted alone; an undecided one, or a zero (whose parity
+    // fallback takes one of the two diagonals), admits both.
+    const bcc::DelaunaySigns s = bcc::delaunay_signs(k.sign, u);
+    const auto admitted = [](const std::optional<int>& x, bool quad) {
+        if (!quad) return std::vector<int>{0};
+        if (x && *x != 0) return std::vector<int>{*x};
+        return std::vector<int>{-1, 1};
+    };
     std::array<std::vector<int>, 5> adm;
     for (int f = 0, a, bb, r; f < 4; ++f)
-        adm[static_cast<std::size_t>(f)] = quad_face(k, f, a, bb, r) ? admitted(bcc::face_form(a, bb, r, u)) : std::vector<int>{0};
+        adm[static_cast<std::size_t>(f)] = admitted(s.face[static_cast<std::size_t>(f)], quad_face(k, f, a, bb, r));
     int a = -1, bb = -1, r0 = -1, r1 = -1;
-    adm[4] = inside_quad(k, a, bb, r0, r1) ? admitted(bcc::inside_form(a, bb, r0, r1, u)) : std::vector<int>{0};
+    adm[4] = admitted(s.inside, inside_quad(k, a, bb, r0, r1));
     std::vector<bcc::Stencil> out;
     std::array<std::size_t, 5> at{};  // an odometer over the combinations
     for (bool more = true; more;) {
@@ -333,7 +252,7 @@ std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Pa
 }
 
 KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth, long max_leaves, FaceRule rule) {
-    const BRoundUp guard;
+    const RoundUp guard;
     KeyProof out;
     const std::vector<Param> ps = key_params(k, al);
     Box root;

@@ -31,6 +31,7 @@
 
 #include "warpmesh/mesh2d/generic_square.hpp"
 #include "warpmesh/mesh2d/lattice.hpp"
+#include "warpmesh/mesh2d/square_keys.hpp"  // key_code, junction keys, flatness
 
 namespace warpmesh {
 
@@ -39,9 +40,6 @@ struct CertifiedBound {
     double min_cot, max_cot;   // qmax, qmin of the key line: min_cot <= cot(angle) <= max_cot (rhombic: r)
     bool flat_compatible;
 };
-
-// The key code of a square's corner states, e.g. "-R+U-L-R".
-std::string key_code(const std::array<CornerState, 4>& corners);
 
 // The bound of the key, or nullptr if the key is not in the compiled-in table.
 const CertifiedBound* certified_bound(DiagonalRule rule, const std::array<CornerState, 4>& corners,
@@ -63,15 +61,8 @@ struct CertifiedTheorem {
 };
 CertifiedTheorem certified_theorem(DiagonalRule rule, LatticeMetric metric = LatticeMetric::square);
 
-// Junction keys (multi-material squares whose corners carry 3 or 4
-// materials; proofs/materials.cert for the separating rule,
-// proofs/materials_fan.cert for the fan rule): `corners[c].material`
-// is corner c's material class, the letters 0..3 in order of first appearance
-// A, B, C, D, and the code is letters and warps, e.g. "aRaUbscs".
-std::string junction_key_code(const std::array<MaterialCorner, 4>& corners);
-// The corners' material classes in first-appearance order (materials → 0..3),
-// warps kept: the key of a square with materials `corners`.
-std::array<MaterialCorner, 4> junction_letters(const std::array<MaterialCorner, 4>& corners);
+// Junction keys (square_keys.hpp), certified by proofs/materials.cert (the
+// separating rule) and proofs/materials_fan.cert (the fan rule).
 // The bound of a junction key (letters as junction_letters gives them) under
 // `rule` (separating or fan), or nullptr if it is not in the rule's
 // compiled-in table (maxmin: none, the rule is refused with materials).
@@ -102,23 +93,6 @@ std::vector<CertKeyLine> parse_cert_key_lines(std::string_view text);
 std::string compare_cert_keys(const std::vector<CertKeyLine>& a, const std::vector<CertKeyLine>& b);
 // p/q or an integer → double (via __int128 and long double).
 double parse_rational(std::string_view text);
-
-// ---- flatness ----------------------------------------------------------------
-// The 12-point stencil of square (i, j), in the order
-//   A, B, C, D, A:(-1,0), A:(0,-1), B:(2,0), B:(1,-1), C:(-1,1), C:(0,2), D:(2,1), D:(1,2)
-// (offsets from A).  True iff some affine a x + b y + c has exactly these signs
-// (0 = on the line).  Exact (integer) test, cached.
-inline constexpr std::array<std::array<int, 2>, 12> stencil_offsets{{{0, 0}, {1, 0}, {0, 1}, {1, 1},
-                                                                     {-1, 0}, {0, -1}, {2, 0}, {1, -1},
-                                                                     {-1, 1}, {0, 2}, {2, 1}, {1, 2}}};
-bool stencil_is_flat(const std::array<std::int8_t, 12>& signs);
-// True iff some affine a x + b y + c has the signs `signs[q]` at the stencil
-// points q in `known` (bit q), whatever its signs elsewhere.  `known` must
-// contain the four corners (bits 0-3; else std::invalid_argument).  The
-// prover's flat-compatible keys: the corners' signs and the outside
-// neighbours of the outward slides.  stencil_admits_flat(s, 0xfff) ==
-// stencil_is_flat(s).
-bool stencil_admits_flat(const std::array<std::int8_t, 12>& signs, std::uint16_t known);
 
 // ---- certification of a mesh -------------------------------------------------
 struct CertifyOptions {

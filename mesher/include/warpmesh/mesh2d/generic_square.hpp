@@ -4,7 +4,8 @@
 // proof is about.  The mesher instantiates it with `double`; the prover
 // instantiates it with outward-rounded intervals and certifies, box by box,
 // exactly what this code decides.  Nothing here may depend on how the scalar
-// is represented beyond the few operations of `ScalarOps<T>` below.
+// is represented beyond the few operations of `ScalarOps<T>`
+// (warpmesh/numerics/scalar.hpp).
 //
 // The generic square is the unit square with corners
 //
@@ -38,39 +39,10 @@
 
 #include <array>
 #include <cstdint>
-#include <type_traits>
+
+#include "warpmesh/numerics/scalar.hpp"  // Truth, ScalarOps
 
 namespace warpmesh {
-
-// ---------------------------------------------------------------------------
-// Three-valued truth.  For exact scalars (double) every test is `yes` or `no`;
-// for intervals a test that depends on the point of the box is `maybe`.
-enum class Truth : std::uint8_t { no = 0, yes = 1, maybe = 2 };
-
-constexpr Truth truth(bool b) { return b ? Truth::yes : Truth::no; }
-// Kleene's strong three-valued logic.
-constexpr Truth operator!(Truth a) {
-    return a == Truth::maybe ? Truth::maybe : truth(a == Truth::no);
-}
-constexpr Truth operator&&(Truth a, Truth b) {
-    if (a == Truth::no || b == Truth::no) return Truth::no;
-    if (a == Truth::yes && b == Truth::yes) return Truth::yes;
-    return Truth::maybe;
-}
-constexpr Truth operator||(Truth a, Truth b) { return !(!a && !b); }
-
-// The operations the generic code needs from a scalar type.  The primary
-// template serves the built-in floating types; the prover specialises it for
-// its interval type (outward rounding, and `maybe` when a comparison is not
-// decided on the whole interval).
-template <class T>
-struct ScalarOps {
-    static_assert(std::is_floating_point_v<T>, "specialise ScalarOps for this scalar");
-    static T from_int(int v) { return static_cast<T>(v); }
-    static Truth positive(const T& a) { return truth(a > 0); }
-    static Truth less(const T& a, const T& b) { return truth(a < b); }
-    static T max(const T& a, const T& b) { return a < b ? b : a; }
-};
 
 // ---------------------------------------------------------------------------
 // Corners, warp states, diagonals.

@@ -115,7 +115,7 @@
 #include <optional>
 #include <string_view>
 
-#include "warpmesh/mesh2d/generic_square.hpp"  // Truth, ScalarOps
+#include "warpmesh/numerics/scalar.hpp"  // ScalarOps, decided_sign
 
 namespace warpmesh::bcc {
 
@@ -471,20 +471,47 @@ constexpr Diagonals resolve_delaunay(const std::array<int, 4>& sign, int parity,
     return d;
 }
 
-// The Delaunay rule's choices at exact (or double) cut fractions u; T needs
-// < against zero.  The faces with a quad and the prism are read off `sign`.
+// The signs of the Delaunay forms at cut fractions u, where the scalar
+// decides them (decided_sign: the three-valued comparison with zero):
+// face[f] that of face_form on the face without vertex f, inside that of
+// inside_form; 0 where the face holds no quad, or there is no inside quad
+// (read off `sign`).  Exact scalars decide every sign; an enclosure (the
+// prover's intervals, the mesher's filtered doubles) leaves std::nullopt
+// where it cannot tell.
+struct DelaunaySigns {
+    std::array<std::optional<int>, 4> face{0, 0, 0, 0};
+    std::optional<int> inside = 0;
+};
 template <class T>
-Diagonals delaunay_diagonals(const std::array<int, 4>& sign, int parity, const std::array<T, 6>& u) {
-    const T zero = ScalarOps<T>::from_int(0);
-    const auto sgn = [&](const T& x) { return x < zero ? -1 : zero < x ? 1 : 0; };
-    std::array<int, 4> fs{};
+DelaunaySigns delaunay_signs(const std::array<int, 4>& sign, const std::array<T, 6>& u) {
+    DelaunaySigns s;
     for (int f = 0; f < 4; ++f) {
         int a = -1, b = -1, r = -1;
-        if (quad_face(sign, f, a, b, r)) fs[static_cast<std::size_t>(f)] = sgn(face_form(a, b, r, u));
+        if (quad_face(sign, f, a, b, r)) s.face[static_cast<std::size_t>(f)] = decided_sign(face_form(a, b, r, u));
     }
     int a = -1, b = -1, r0 = -1, r1 = -1;
-    const int is = inside_quad(sign, a, b, r0, r1) ? sgn(inside_form(a, b, r0, r1, u)) : 0;
-    return resolve_delaunay(sign, parity, fs, is);
+    if (inside_quad(sign, a, b, r0, r1)) s.inside = decided_sign(inside_form(a, b, r0, r1, u));
+    return s;
+}
+
+// The Delaunay rule's choices at cut fractions u, or std::nullopt where the
+// scalar leaves a sign undecided (never for exact scalars, double included).
+template <class T>
+std::optional<Diagonals> decided_delaunay_diagonals(const std::array<int, 4>& sign, int parity, const std::array<T, 6>& u) {
+    const DelaunaySigns s = delaunay_signs(sign, u);
+    std::array<int, 4> fs{};
+    for (std::size_t f = 0; f < 4; ++f) {
+        if (!s.face[f]) return std::nullopt;
+        fs[f] = *s.face[f];
+    }
+    if (!s.inside) return std::nullopt;
+    return resolve_delaunay(sign, parity, fs, *s.inside);
+}
+
+// The Delaunay rule's choices at exact (or double) cut fractions u.
+template <class T>
+Diagonals delaunay_diagonals(const std::array<int, 4>& sign, int parity, const std::array<T, 6>& u) {
+    return decided_delaunay_diagonals(sign, parity, u).value();
 }
 
 // The output tetrahedra of a background tetrahedron with post-warp signs

@@ -19,7 +19,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/square_keys.hpp"
 
 namespace warpmesh {
 

@@ -1,6 +1,7 @@
 // bcc_stuffing.hpp — a small reference implementation of the 3D mesher's
-// contract (generic_bcc.hpp, steps 1–6) on a block of n³ cubes, for the tests
-// and the explorer (prover/tools/bcc_explore.cpp).  It is not the 3D mesher:
+// contract (generic_bcc.hpp, steps 1–6) on a block of n³ cubes, for the
+// prover's tools (bcc_explore, bcc_ceiling) and the tests; in double, with
+// acos in dihedral_degrees: never on the proof path.  It is not the 3D mesher:
 // it exists to check the definition (conformity, orientation) and to map each
 // background tetrahedron to its configuration in the local frame (the
 // prover's key and parameters).
@@ -17,7 +18,7 @@
 #include "warpmesh/mesh3d/generic_bcc.hpp"
 #include "warpmesh/mesh3d/generic_bcc_keys.hpp"
 
-namespace warpmesh::testing {
+namespace warpmesh::bcc_stuffing {
 
 // One background tetrahedron that produced output: its configuration in the
 // local frame, the parameters, and the global ids of its output tetrahedra.
@@ -275,4 +276,4 @@ inline std::array<double, 6> dihedral_degrees(const std::array<bcc::Vec<double>,
     return a;
 }
 
-}  // namespace warpmesh::testing
+}  // namespace warpmesh::bcc_stuffing

@@ -1,9 +1,9 @@
-// report.cpp — the targets (sampled extremes, not part of the proof), the
-// exact rational witnesses, rigorous degrees for the log, and the certificate
-// text: run_proof drives key enumeration (keys.cpp) and branch and bound
-// (bound.cpp) in passes — sample_keys, set_targets, prove_keys (first_pass,
-// second_pass per key) — and writes what they proved (write_claim,
-// write_key, write_leaf; format: proofs/README.md).
+// run_proof.cpp — the 2D proof driver: the targets (sampled extremes, not
+// part of the proof), the exact rational witnesses, rigorous degrees for the
+// log, and the certificate text: run_proof drives key enumeration (keys.cpp)
+// and branch and bound (bound.cpp) in passes — sample_keys, set_targets,
+// prove_keys (first_pass, second_pass per key) — and writes what they proved
+// (write_claim, write_key, write_leaf; format: proofs/README.md).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -15,7 +15,7 @@
 
 #include <boost/multiprecision/cpp_int.hpp>
 
-#include "warpmesh/certify/certified.hpp"
+#include "warpmesh/mesh2d/square_keys.hpp"
 #include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove.hpp"
 
@@ -156,7 +156,7 @@ Extreme search_from(DiagonalRule rule, const Key& k, const std::vector<int>& var
     return top;
 }
 
-// ---- exact rationals for the report -------------------------------------------
+// ---- exact rationals for the log and the certificate --------------------------
 std::string qstr(const Q& q) {
     std::ostringstream s;
     s << q;
