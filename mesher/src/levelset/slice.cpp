@@ -7,7 +7,6 @@
 #include <cstdio>
 
 #include "warpmesh/core/errors.hpp"
-#include "warpmesh/report/report.hpp"
 #include "warpmesh/mesh2d/materials.hpp"
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/post/quality.hpp"
@@ -37,10 +36,6 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-std::string json_vec(const Vec3& v) {
-    return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
-}
 
 }  // namespace
 
@@ -195,15 +190,6 @@ LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
 
 LoadedSlice load_level_set(const std::string& path, const SliceOptions& options, const VolumeLimits& limits) {
     return load_slice(read_volume(path, limits), options);
-}
-
-std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& s) {
-    if (!s.placed) return {};
-    return {{"units", json_string(s.units)},
-            {"slice", "{\"axis\": \"" + std::string(1, axis_names[s.slice.axis]) + "\", \"index\": " +
-                          std::to_string(s.slice.index) + ", \"format\": " + json_string(s.format) + "}"},
-            {"plane", "{\"origin\": " + json_vec(s.plane.origin) + ", \"x_axis\": " + json_vec(s.plane.x_axis) +
-                          ", \"y_axis\": " + json_vec(s.plane.y_axis) + ", \"normal\": " + json_vec(s.plane.normal) + "}"}};
 }
 
 std::string slice_file_name(const std::string& pattern, std::int64_t index) {

@@ -178,10 +178,6 @@ struct LoadedSlice : SlicePlacement {
     std::string format;         // of the file read
 };
 
-// The JSON fields a report adds for a placed slice: "units", "slice"
-// ({"axis", "index"}), "plane" ({"origin", "x_axis", "y_axis", "normal"}).
-std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& slice);
-
 // The output name of slice `index` from a pattern with exactly one printf
 // integer field, %d, %Nd or %0Nd (N < 20), and any number of %% (a '%').
 // Throws InputError for a pattern without such a field, with several, or
