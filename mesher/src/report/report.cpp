@@ -64,6 +64,12 @@ std::string json_number(double x) {
 
 std::string json_number(std::int64_t i) { return std::to_string(i); }
 
+std::string report_detail::json_strings(const std::vector<std::string>& items) {
+    std::string r = "[";
+    for (std::size_t k = 0; k < items.size(); ++k) r += (k ? ", " : "") + json_string(items[k]);
+    return r + "]";
+}
+
 const char* rule_name(DiagonalRule rule) {
     return rule == DiagonalRule::maxmin ? "maxmin" : rule == DiagonalRule::separating ? "separating" : "fan";
 }

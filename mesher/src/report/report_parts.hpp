@@ -5,6 +5,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "warpmesh/report/report.hpp"
 
@@ -22,6 +23,9 @@ public:
 private:
     std::string text_ = "{\n";
 };
+
+// A JSON array of strings, e.g. warnings: ["a", "b"].
+std::string json_strings(const std::vector<std::string>& items);
 
 // A number for the text report: shortest of `digits` significant digits
 // ("%g"-like), "n/a" when not finite.

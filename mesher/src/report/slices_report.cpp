@@ -25,10 +25,7 @@ std::int64_t SliceBatch::triangles() const {
 namespace {
 // ", \"warnings\": [...]", or nothing for a slice without warnings.
 std::string warnings_json(const std::vector<std::string>& warnings) {
-    if (warnings.empty()) return {};
-    std::string j = ", \"warnings\": [";
-    for (std::size_t k = 0; k < warnings.size(); ++k) j += (k ? ", " : "") + json_string(warnings[k]);
-    return j + "]";
+    return warnings.empty() ? std::string() : ", \"warnings\": " + report_detail::json_strings(warnings);
 }
 
 }  // namespace
