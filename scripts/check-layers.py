@@ -90,9 +90,6 @@ RULES = {
 # comment is merged; the lead removes each entry with that merge.  An entry
 # whose violation is gone fails the check ("stale"), so this list empties.
 KNOWN = {
-    # branch report2d: the typed 2D report
-    ("mesher/include/warpmesh/post/quality.hpp", "mesher/include/warpmesh/report/report.hpp"),
-    ("mesher/src/report/report.cpp", "mesher/include/warpmesh/pipeline/mesh2d.hpp"),
     # branch layers, NOT done there (a follow-up): the 2D stages still run the
     # certification post-pass themselves (mesh_uniform, mesh_graded,
     # mesh_materials take CertifyOptions and return a CertifiedSummary); it

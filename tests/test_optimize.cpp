@@ -286,8 +286,8 @@ BOOST_AUTO_TEST_CASE(optimised_graded_mesh_keeps_the_max_size) {
                     longest2 = std::max(longest2, (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y));
                 }
             BOOST_TEST(longest2 <= H * H, "H " << H << " graded " << graded << " longest " << std::sqrt(longest2));
-            BOOST_REQUIRE(r.optimized);
-            BOOST_TEST(r.optimized->min_angle_after > r.optimized->min_angle_before + 5);
+            BOOST_REQUIRE(r.report.optimize);
+            BOOST_TEST(r.report.optimize->min_angle_after > r.report.optimize->min_angle_before + 5);
         }
 }
 
@@ -555,9 +555,9 @@ BOOST_AUTO_TEST_CASE(refinement_keeps_the_max_size) {
         MeshOptions o;
         o.graded = graded, o.max_size = H, o.optimize = true;
         const MeshResult r = mesh(*f, o);
-        BOOST_REQUIRE(r.optimized);
-        BOOST_TEST(r.optimized->inserted_vertices > 0);
-        BOOST_TEST(r.optimized->min_angle_after >= 28);
+        BOOST_REQUIRE(r.report.optimize);
+        BOOST_TEST(r.report.optimize->inserted_vertices > 0);
+        BOOST_TEST(r.report.optimize->min_angle_after >= 28);
         double longest2 = 0;
         for (const auto& t : r.mesh.triangles)
             for (int k = 0; k < 3; ++k) {
@@ -719,8 +719,8 @@ BOOST_AUTO_TEST_CASE(issue27_optimised_mesh_keeps_the_certified_max_angle) {
             BOOST_TEST(mx <= r.certified.max_deg);
             BOOST_TEST(mn >= r.certified.min_deg);
             BOOST_TEST(check_mesh(r.mesh).ok());
-            BOOST_REQUIRE(r.optimized);
-            BOOST_TEST(r.optimized->max_angle_after <= r.certified.max_deg);
+            BOOST_REQUIRE(r.report.optimize);
+            BOOST_TEST(r.report.optimize->max_angle_after <= r.certified.max_deg);
         }
     }
 }

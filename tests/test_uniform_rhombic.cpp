@@ -140,19 +140,16 @@ BOOST_AUTO_TEST_CASE(issue33_rhombic_is_certified_by_its_own_certificates) {
         const CertifiedTheorem th = certified_theorem(rule, LatticeMetric::rhombic);
         BOOST_TEST(r.certified.min_deg >= th.min_deg_any);
         BOOST_TEST(r.certified.max_deg <= th.max_deg_any);
-        BOOST_TEST(r.report.min_angle_deg >= r.certified.min_deg - 1e-9);
-        BOOST_TEST(r.report.max_angle_deg <= r.certified.max_deg + 1e-9);
-        BOOST_TEST(r.certified_text.find(std::string("proofs/rhombic_") + (rule == DiagonalRule::maxmin ? "maxmin" : "separating") +
-                                         ".cert, every triangle verified") != std::string::npos,
-                   r.certified_text);
+        BOOST_TEST(r.report.quality.min_angle_deg >= r.certified.min_deg - 1e-9);
+        BOOST_TEST(r.report.quality.max_angle_deg <= r.certified.max_deg + 1e-9);
+        const std::string text = to_text(r), json = to_json(r);
+        BOOST_TEST(text.find(std::string("proofs/rhombic_") + (rule == DiagonalRule::maxmin ? "maxmin" : "separating") +
+                             ".cert, every triangle verified") != std::string::npos,
+                   text);
         BOOST_TEST(r.mesh.cell_data.size() == 1u);  // certified_min_angle
         for (const auto& w : r.warnings) BOOST_TEST(w.find("uncertified") == std::string::npos, w);
-        bool metric = false;
-        for (const auto& [k, v] : r.report.extra) {
-            BOOST_TEST(!(k == "certified" && v == "null"));
-            metric = metric || (k == "lattice_metric" && v == "\"rhombic\"");
-        }
-        BOOST_TEST(metric);
+        BOOST_TEST(json.find("\"certified\": null") == std::string::npos, json);
+        BOOST_TEST(json.find("\"lattice_metric\": \"rhombic\"") != std::string::npos, json);
     }
     const auto f2 = parse_shape("circle:0,0,5");
     for (auto [set, what] : {std::pair<void (*)(MeshOptions&), const char*>{[](MeshOptions& o) { o.graded = true; }, "--graded"},
@@ -180,7 +177,7 @@ BOOST_AUTO_TEST_CASE(issue33_rhombic_guarantee_flat_reaches_the_flat_theorem) {
     BOOST_TEST(r.certified.nonflat_squares == 0);
     BOOST_TEST(r.certified.verified);
     BOOST_TEST(r.certified.min_deg >= certified_theorem(DiagonalRule::maxmin, LatticeMetric::rhombic).min_deg_flat);
-    BOOST_TEST(r.report.min_angle_deg >= r.certified.min_deg - 1e-9);
+    BOOST_TEST(r.report.quality.min_angle_deg >= r.certified.min_deg - 1e-9);
 }
 
 // The command line: --verify and --svg-color certified work on the rhombic

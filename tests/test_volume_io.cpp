@@ -754,7 +754,7 @@ BOOST_AUTO_TEST_CASE(mesh_slices_skips_empty_slices_and_rethrows_other_errors) {
     so.levelset.labels = std::vector<int>{7};
     const auto mesh_one = [](const LoadedSlice& s) {
         MeshOptions m;
-        return SliceMeshed{mesh(*s.f, m).report, "slice " + std::to_string(s.slice.index)};
+        return SliceMeshed{mesh(*s.f, m).report.quality, "slice " + std::to_string(s.slice.index)};
     };
     const SliceBatch b = mesh_slices(v, SliceRange{2, 0, 3}, so, mesh_one);
     BOOST_TEST_REQUIRE(b.slices.size() == 3u);

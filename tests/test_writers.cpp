@@ -29,6 +29,7 @@
 #include "io/atomic_file.hpp"
 #include "warpmesh/core/mesh.hpp"
 #include "warpmesh/post/quality.hpp"
+#include "warpmesh/report/report.hpp"
 #include "warpmesh/io/writers.hpp"
 
 namespace fs = std::filesystem;
@@ -1041,25 +1042,34 @@ BOOST_AUTO_TEST_CASE(quality_report_of_hand_computed_meshes) {
 }
 
 BOOST_AUTO_TEST_CASE(quality_text_and_json) {
-    QualityReport q = compute_quality(grid_mesh(), {{"sample", 0.125}, {"triangulate", 0.5}});
-    q.extra.push_back({"lattice", "[5, 3]"});
-    q.extra.push_back({"rule", json_string("max-min \"quoted\"")});
+    const QualityReport q = compute_quality(grid_mesh(), {{"sample", 0.125}, {"triangulate", 0.5}});
     const std::string text = quality_text(q);
     BOOST_TEST(text.find("30 triangles") != std::string::npos, text);
     BOOST_TEST(text.find("minimum-angle histogram") != std::string::npos, text);
     BOOST_TEST(text.find("total") != std::string::npos, text);
     BOOST_TEST_MESSAGE(text);
 
-    const std::string json = quality_json(q, {{"elapsed", json_number(1.5)}});
+    const std::string json = quality_json(q);
     BOOST_TEST(json.find("\"triangles\": 30") != std::string::npos, json);
-    BOOST_TEST(json.find("\"lattice\": [5, 3]") != std::string::npos, json);
-    BOOST_TEST(json.find("\"rule\": \"max-min \\\"quoted\\\"\"") != std::string::npos, json);
-    BOOST_TEST(json.find("\"elapsed\": 1.5") != std::string::npos, json);
     BOOST_TEST(json.find("\"total_seconds\": 0.625") != std::string::npos, json);
     BOOST_TEST(json.find("\"triangles_by_region\": {\"3\": 18, \"8\": 12}") != std::string::npos, json);
+    BOOST_TEST(json.substr(json.size() - 3) == "\n}\n", json);
+
+    // The 2D report: the quality's fields first, then each stage's in order.
+    Mesh2dReport r;
+    r.quality = q;
+    r.lattice.input = "max-min \"quoted\"";
+    r.lattice.nx = 5, r.lattice.ny = 3;
+    r.certified.requested = true;  // no certificates: null
+    const std::string full = to_json(r);
+    BOOST_TEST(full.find(json.substr(0, json.size() - 3) + ",\n  \"input\": \"max-min \\\"quoted\\\"\"") == 0u, full);
+    BOOST_TEST(full.find("\"lattice\": [5, 3]") != std::string::npos, full);
+    BOOST_TEST(full.find("\"certified\": null") != std::string::npos, full);
+    BOOST_TEST(full.find("\"repeat\"") == std::string::npos, full);  // only when > 1
+    BOOST_TEST(to_text(r) == text);  // no certification, materials or optimisation lines
 
     TempDir dir;
-    write_quality_json(dir.file("report.json"), q, {{"elapsed", json_number(1.5)}});
+    write_quality_json(dir.file("report.json"), q);
     BOOST_TEST(slurp(dir.file("report.json")) == json);
     if (have_python3()) {
         BOOST_TEST(python_ok("import sys, json; d = json.load(open(sys.argv[1])); "

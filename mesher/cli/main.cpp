@@ -517,8 +517,7 @@ MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice
     m.input = o.shapes ? *o.shapes : o.shape.empty() ? o.input : o.shape;
     if (input && !o.has("--spacing")) m.spacing = input->pixel_min;  // mm inputs: the smaller pixel size
     MeshResult r = mesh(f, m);
-    if (input)
-        for (auto& field : slice_report_fields(*input)) r.report.extra.push_back(std::move(field));
+    if (input) r.report.slice = slice_figures(*input);
     WriteOptions wo = write_options(r, o.svg_min_angle, o.svg_certified);
     if (o.svg_region && !o.svg_certified) wo.svg.color_by_cell_data = wo.png.color_by_cell_data = "region";
     wo.msh = o.msh;
@@ -529,7 +528,7 @@ MeshResult mesh_and_stage(const CliOptions& o, const Field& f, const LoadedSlice
     }
     if (!o.points_3d.empty())
         staged.write(o.points_3d, [&](const std::string& path) { write_points_3d(r.mesh, input->plane, path); });
-    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_quality_json(path, r.report); });
+    if (!o.report.empty()) staged.write(o.report, [&](const std::string& path) { write_text_file(path, to_json(r)); });
     return r;
 }
 
@@ -599,7 +598,7 @@ int run_slices(const CliOptions& o) {
             if (!o.points_3d.empty()) ok.points_3d = name(o.points_3d, k);
             ok.report.clear();
             MeshResult r = mesh_and_stage(ok, input, staged);
-            SliceMeshed m{std::move(r.report), {}, std::move(r.warnings)};
+            SliceMeshed m{std::move(r.report.quality), {}, std::move(r.warnings)};
             for (const auto& out : ok.outputs) m.outputs += (m.outputs.empty() ? "" : ", ") + out;
             return m;
         },

@@ -6,20 +6,14 @@
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/pipeline/slices.hpp"
-#include "warpmesh/report/report.hpp"
 
 namespace warpmesh {
 namespace {
 
-using slice_detail::axis_names;
 using slice_detail::CheckedSlice;
 using slice_detail::check_slice;
 using slice_detail::placement;
 using slice_detail::slice_values;
-
-std::string json_vec(const Vec3& v) {
-    return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
-}
 
 }  // namespace
 
@@ -61,15 +55,6 @@ LoadedSlice load_slice(const Volume& v, const SliceOptions& options) {
 
 LoadedSlice load_level_set(const std::string& path, const SliceOptions& options, const VolumeLimits& limits) {
     return load_slice(read_volume(path, limits), options);
-}
-
-std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& s) {
-    if (!s.placed) return {};
-    return {{"units", json_string(s.units)},
-            {"slice", "{\"axis\": \"" + std::string(1, axis_names[s.slice.axis]) + "\", \"index\": " +
-                          std::to_string(s.slice.index) + ", \"format\": " + json_string(s.format) + "}"},
-            {"plane", "{\"origin\": " + json_vec(s.plane.origin) + ", \"x_axis\": " + json_vec(s.plane.x_axis) +
-                          ", \"y_axis\": " + json_vec(s.plane.y_axis) + ", \"normal\": " + json_vec(s.plane.normal) + "}"}};
 }
 
 }  // namespace warpmesh

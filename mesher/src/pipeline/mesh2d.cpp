@@ -1,5 +1,11 @@
-// pipeline.cpp — mesh(): lattice, mesher, certification, refinement, report
-// (pipeline.hpp).
+// mesh2d.cpp — the 2D pipeline (pipeline/mesh2d.hpp: mesh()): the lattice,
+// the mesher (uniform or graded, one region or materials) with its
+// certification, Guarantee::flat's refinement, the resolution check, the
+// optimisation pass, the boundary fidelity, the quality measurement.  Each
+// stage is a function here or in its own module; mesh() runs them in order
+// and fills the typed report (report.hpp: Mesh2dReport) with their figures;
+// its text and JSON are the report module's (only the warnings, messages,
+// are written here).
 #include "warpmesh/pipeline/mesh2d.hpp"
 
 #include <sys/resource.h>
@@ -86,30 +92,6 @@ void check_lattice_memory(const Lattice& lattice, bool domain, int materials, co
                  "use a larger --spacing");
 }
 
-using Extra = ReportFields;
-
-// The report's first fields: input, level set (or material field), rule,
-// spacing, repeat, lattice.
-void report_head(Extra& extra, const MeshOptions& o, const std::string& describe, double spacing, const Lattice& lattice) {
-    extra.emplace_back("input", json_string(o.input));
-    extra.emplace_back("levelset", json_string(describe));
-    extra.emplace_back("rule", json_string(rule_name(o.rule)));
-    extra.emplace_back("spacing", json_number(spacing));
-    if (o.repeat > 1) extra.emplace_back("repeat", std::to_string(o.repeat));  // phase times: the fastest run
-    extra.emplace_back("lattice", "[" + std::to_string(lattice.nx) + ", " + std::to_string(lattice.ny) + "]");
-}
-
-// The "certified" field (null without certificates) and res.certified_text.
-void report_certified(Extra& extra, MeshResult& res, DiagonalRule rule, bool junctions,
-                      LatticeMetric metric = LatticeMetric::square) {
-    if (!res.certified.available) {
-        extra.emplace_back("certified", "null");
-        return;
-    }
-    extra.emplace_back("certified", certified_json(res.certified, rule, junctions, metric));
-    res.certified_text = certified_text(res.certified, rule, metric);
-}
-
 }  // namespace
 
 namespace {
@@ -171,6 +153,126 @@ void validate(const MeshOptions& o) {
     }
 }
 
+namespace {
+
+using Phases = std::vector<std::pair<std::string, double>>;
+
+// The report's lattice part: what is meshed (options.input, `describe`) and
+// on which lattice (of this spacing).
+LatticeFigures lattice_figures(const MeshOptions& o, std::string describe, double spacing, const Lattice& lattice) {
+    LatticeFigures l;
+    l.input = o.input;
+    l.levelset = std::move(describe);
+    l.rule = o.rule;
+    l.spacing = spacing;
+    l.repeat = o.repeat;
+    l.nx = lattice.nx, l.ny = lattice.ny;
+    l.metric = o.lattice;
+    return l;
+}
+
+// A graded mesh's size control for the report, only when the options set one
+// (a max size or a grading other than 2: default reports unchanged).
+std::optional<SizeControlFigures> size_control(const MeshOptions& o, std::int64_t max_cell, int buffer) {
+    if (o.max_size == 0 && o.grading == max_grading) return std::nullopt;
+    return SizeControlFigures{o.max_size, max_cell, o.grading, buffer};
+}
+
+// One region on one lattice: the uniform or graded mesher (the fastest of
+// o.repeat runs) with its certification, its phase times and its counts.
+struct RegionMeshed {
+    Mesh mesh;
+    CertifiedSummary certified;
+    Phases phases;
+    MesherFigures figures;
+};
+
+RegionMeshed mesh_region(const LevelSet& f, const Lattice& lattice, const MeshOptions& o, const CertifyOptions& certify) {
+    RegionMeshed out;
+    MesherFigures& m = out.figures;
+    m.graded = o.graded;
+    auto counts = [&](const auto& r) {
+        m.cut_edges = r.cut_edges, m.warped_points = r.warped_points;
+        m.warped_squares = r.stats.warped_squares, m.separating_overrides = r.stats.forced_diagonals;
+    };
+    if (o.graded) {
+        const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, lattice.s);
+        const int buffer = grading_buffer(o.grading);
+        GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, max_cell, certify, buffer); });
+        out.phases = {{"tiles", r.times.tiles}, {"warp", r.times.warp}, {"quadtree", r.times.quadtree}, {"triangulate", r.times.triangulate}};
+        if (o.certify) out.phases.emplace_back("certify", r.times.certify);
+        counts(r);
+        m.leaves_per_level = std::move(r.leaves_per_level);
+        m.size_control = size_control(o, max_cell, buffer);
+        m.sampled_points = r.sampled_points;
+        out.mesh = std::move(r.mesh);
+        out.certified = std::move(r.certified);
+    } else {
+        UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(f, lattice, o.rule, certify, o.lattice); });
+        out.phases = {{"sample", r.times.sample}, {"signs", r.times.signs}, {"cut_points", r.times.cut_points},
+                      {"warp", r.times.warp},     {"triangulate", r.times.triangulate}};
+        if (o.certify) out.phases.emplace_back("certify", r.times.certify);
+        counts(r);
+        out.mesh = std::move(r.mesh);
+        out.certified = std::move(r.certified);
+    }
+    return out;
+}
+
+// Guarantee::flat stopped at min_spacing with squares still not flat: the
+// warning naming them (the first 10, with their keys).
+std::string flat_warning(const CertifiedSummary& cert, double spacing, double min_spacing) {
+    std::ostringstream w;
+    w << "--guarantee flat: " << cert.nonflat_squares << " warped square(s) are still not flat at spacing " << spacing
+      << " (--min-spacing " << min_spacing << "); the mesh is written with its true guarantee " << cert.min_deg
+      << " deg; non-flat squares (i, j) key:";
+    for (std::size_t e = 0; e < cert.nonflat_examples.size() && e < 10; ++e)
+        w << (e ? "," : "") << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1] << ") "
+          << cert.nonflat_keys[e];
+    return w.str();
+}
+
+// The resolution check (resolution.hpp): a warning when some boundary loop is
+// narrower than default_min_squares_across squares.  Images (`domain`): a
+// spacing below one pixel adds no detail.
+std::optional<std::string> resolution_warning(const Mesh& mesh, double spacing, bool domain) {
+    const ResolutionCheck rc = check_resolution(mesh, spacing, domain ? 1.0 : 0.0);
+    if (!rc.unresolved) return std::nullopt;
+    std::ostringstream w;
+    w << "spacing " << spacing << " is too coarse for this input: " << rc.unresolved << " of " << rc.loops
+      << " boundary loop(s) (components or holes) are less than " << default_min_squares_across
+      << " squares across (narrowest width 4*area/perimeter = " << approx(rc.narrowest) << "); spacing "
+      << approx(rc.suggested_spacing) << " or less would resolve them";
+    return w.str();
+}
+
+// The optimisation pass on one region (optimize.hpp) after certification:
+// it keeps --max-size and the certified bounds.
+OptimizeReport optimize_region(Mesh& mesh, const LevelSet& f, double spacing, const MeshOptions& o,
+                               const CertifiedSummary& cert) {
+    OptimizeOptions oo;
+    oo.spacing = spacing;
+    oo.max_edge = o.max_size;  // the pass keeps --max-size
+    oo.refine_below_deg = 30;  // Steiner points where moves and flips leave a triangle below 30°
+    if (cert.available) oo.certified_floor = cert.min_deg, oo.certified_max = cert.max_deg;
+    return optimize_mesh(mesh, f, oo);
+}
+
+// The report's last parts once res.mesh and res.certified are final: the
+// quality measurement with the phase times, the process's peak memory, the
+// certification (with MeshOptions::certify; null without certificates, then
+// also a warning).  `junctions`: a multi-material mesh.
+void finish_report(MeshResult& res, Phases phases, const MeshOptions& o, bool junctions) {
+    if (o.certify && !res.certified.available)
+        res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
+    res.report.quality = compute_quality(res.mesh, std::move(phases));
+    res.report.peak_memory_mb = peak_memory_mb();
+    res.report.certified = {o.certify, junctions, res.certified};
+    res.report.certified.summary.nonflat_boxes = {};  // for pictures: MeshResult::certified keeps them
+}
+
+}  // namespace
+
 MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     validate(o);
     if (!o.max_size_of.empty())
@@ -183,116 +285,111 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     const LevelSet& f = rhombic ? static_cast<const LevelSet&>(*on_rhombic) : f0;
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify, o.lattice};
     MeshResult res;
-    Mesh& mesh = res.mesh;
-    CertifiedSummary& cert = res.certified;
-    std::vector<std::pair<std::string, double>> phases;
-    ReportFields extra;
+    Phases phases;
+    // Guarantee::flat: halve the spacing while some warped square is not
+    // flat, but not below min_spacing.
     double spacing = o.spacing;
     const double min_spacing = o.min_spacing ? *o.min_spacing : o.spacing / 16;
     for (;;) {
         res.lattice = make_lattice(f.bounds(), f.bounds_are_domain(), spacing, o);
-        const Lattice& lattice = res.lattice;
-        check_lattice_memory(lattice, f.bounds_are_domain(), 0, o);
-        extra.clear();
-        report_head(extra, o, f.describe(), spacing, lattice);
-        if (o.graded) {
-            const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, lattice.s);
-            const int buffer = grading_buffer(o.grading);
-            GradedResult r =
-                fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, max_cell, certify, buffer); });
-            mesh = std::move(r.mesh);
-            cert = std::move(r.certified);
-            phases = {{"tiles", r.times.tiles},
-                      {"warp", r.times.warp},
-                      {"quadtree", r.times.quadtree},
-                      {"triangulate", r.times.triangulate}};
-            if (o.certify) phases.emplace_back("certify", r.times.certify);
-            std::string levels = "[";
-            for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k)
-                levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
-            extra.emplace_back("graded", "true");
-            extra.emplace_back("leaves_per_level", levels + "]");
-            if (o.max_size != 0 || o.grading != max_grading) {  // (only then: default reports unchanged)
-                extra.emplace_back("max_size", o.max_size != 0 ? json_number(o.max_size) : "null");
-                extra.emplace_back("max_cell", json_number(max_cell));
-                extra.emplace_back("grading", json_number(o.grading));
-                extra.emplace_back("grading_buffer", json_number(std::int64_t{buffer}));
-            }
-            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-            extra.emplace_back("warped_points", std::to_string(r.warped_points));
-            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
-            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
-            extra.emplace_back("sampled_points", std::to_string(r.sampled_points));
-        } else {
-            UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(f, lattice, o.rule, certify, o.lattice); });
-            mesh = std::move(r.mesh);
-            cert = std::move(r.certified);
-            phases = {{"sample", r.times.sample},
-                      {"signs", r.times.signs},
-                      {"cut_points", r.times.cut_points},
-                      {"warp", r.times.warp},
-                      {"triangulate", r.times.triangulate}};
-            if (o.certify) phases.emplace_back("certify", r.times.certify);
-            extra.emplace_back("graded", "false");
-            if (rhombic) extra.emplace_back("lattice_metric", json_string("rhombic"));
-            extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-            extra.emplace_back("warped_points", std::to_string(r.warped_points));
-            extra.emplace_back("warped_squares", std::to_string(r.stats.warped_squares));
-            extra.emplace_back("separating_overrides", std::to_string(r.stats.forced_diagonals));
-        }
+        check_lattice_memory(res.lattice, f.bounds_are_domain(), 0, o);
+        RegionMeshed m = mesh_region(f, res.lattice, o, certify);
+        res.mesh = std::move(m.mesh);
+        res.certified = std::move(m.certified);
+        phases = std::move(m.phases);
+        res.report.lattice = lattice_figures(o, f.describe(), spacing, res.lattice);
+        res.report.mesher = std::move(m.figures);
+        const CertifiedSummary& cert = res.certified;
         if (o.guarantee != Guarantee::flat || !cert.available || cert.nonflat_squares == 0) break;
         if (spacing / 2 < min_spacing) {
-            std::ostringstream w;
-            w << "--guarantee flat: " << cert.nonflat_squares << " warped square(s) are still not flat at spacing "
-              << spacing << " (--min-spacing " << min_spacing << "); the mesh is written with its true guarantee "
-              << cert.min_deg << " deg; non-flat squares (i, j) key:";
-            for (std::size_t e = 0; e < cert.nonflat_examples.size() && e < 10; ++e)
-                w << (e ? "," : "") << " (" << cert.nonflat_examples[e][0] << ", " << cert.nonflat_examples[e][1]
-                  << ") " << cert.nonflat_keys[e];
-            res.warnings.push_back(w.str());
+            res.warnings.push_back(flat_warning(cert, spacing, min_spacing));
             break;
         }
         spacing /= 2;
         ++res.refinements;
     }
     res.spacing = spacing;
-    if (rhombic) map_rhombic(mesh);
-    if (mesh.triangles.empty())
+    if (rhombic) map_rhombic(res.mesh);
+    if (res.mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
-    // Images: a spacing below one pixel adds no detail (resolution.hpp).
-    if (const ResolutionCheck rc = check_resolution(mesh, res.lattice.s, f0.bounds_are_domain() ? 1.0 : 0.0);
-        rc.unresolved) {
-        std::ostringstream w;
-        w << "spacing " << res.lattice.s << " is too coarse for this input: " << rc.unresolved << " of " << rc.loops
-          << " boundary loop(s) (components or holes) are less than " << default_min_squares_across
-          << " squares across (narrowest width 4*area/perimeter = " << approx(rc.narrowest) << "); spacing "
-          << approx(rc.suggested_spacing) << " or less would resolve them";
-        res.warnings.push_back(w.str());
-    }
+    if (auto w = resolution_warning(res.mesh, res.lattice.s, f0.bounds_are_domain())) res.warnings.push_back(std::move(*w));
     if (o.optimize) {
-        OptimizeOptions oo;
-        oo.spacing = res.lattice.s;
-        oo.max_edge = o.max_size;  // the pass keeps --max-size
-        oo.refine_below_deg = 30;  // Steiner points where moves and flips leave a triangle below 30°
-        if (cert.available) oo.certified_floor = cert.min_deg, oo.certified_max = cert.max_deg;
-        res.optimized = optimize_mesh(mesh, f0, oo);
-        phases.emplace_back("optimize", res.optimized->seconds);
-        extra.emplace_back("optimize", optimize_json(*res.optimized));
+        res.report.optimize = optimize_region(res.mesh, f0, res.lattice.s, o, res.certified);
+        phases.emplace_back("optimize", res.report.optimize->seconds);
     }
-    if (cert.available && !f0.bounds_are_domain()) measure_fidelity(mesh, f0, res.lattice.s, cert);
-    if (o.certify && !cert.available)
-        res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
-
-    res.report = compute_quality(mesh, phases);
-    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
-    if (o.guarantee == Guarantee::flat) extra.emplace_back("refinements", std::to_string(res.refinements));
-    if (o.certify) report_certified(extra, res, o.rule, false, o.lattice);
-    res.report.extra = std::move(extra);
+    if (res.certified.available && !f0.bounds_are_domain()) measure_fidelity(res.mesh, f0, res.lattice.s, res.certified);
+    if (o.guarantee == Guarantee::flat) res.report.refinements = res.refinements;
+    finish_report(res, std::move(phases), o, false);
     return res;
 }
 
 namespace {
+
+// The size caps of some materials (MeshOptions::max_size_of) resolved against
+// the field: per material number its largest quadtree cell and its cap, and
+// the report's entries.  Throws InputError for a tag that is no material, or
+// the background when it is not output.
+struct MaterialCaps {
+    std::vector<std::int64_t> max_cell_of;    // per material number (mesh_materials_graded; empty: no cap)
+    std::vector<std::optional<double>> cap;   // per material number
+    std::vector<MaterialCapFigures> figures;  // in the options' order
+};
+
+MaterialCaps material_caps(const MaterialField& field, const MeshOptions& o, double spacing, std::int64_t max_cell) {
+    MaterialCaps caps;
+    caps.cap.resize(static_cast<std::size_t>(field.count()));
+    for (const auto& [tag, h] : o.max_size_of) {
+        int m = 0;
+        while (m < field.count() && field.tag(m) != tag) ++m;
+        if (m == field.count()) {
+            std::string known;  // the first 20
+            for (int q = 1; q < field.count() && q <= 20; ++q) known += (q > 1 ? ", " : "") + std::to_string(field.tag(q));
+            if (field.count() > 21) known += ", ...";
+            throw InputError("--max-size-of " + std::to_string(tag) + "=H: no material has tag " + std::to_string(tag) +
+                             " (the materials: " + known + ")");
+        }
+        if (m == 0 && !o.keep_background)
+            throw InputError("--max-size-of 0=H: the background (tag 0) is not output; add --background keep to mesh it");
+        if (caps.max_cell_of.empty()) caps.max_cell_of.assign(static_cast<std::size_t>(field.count()), 0);
+        caps.max_cell_of[static_cast<std::size_t>(m)] = max_cell_for_size(h, spacing);
+        caps.cap[static_cast<std::size_t>(m)] = h;
+        caps.figures.push_back({tag, h, o.graded ? std::optional(largest_cell(max_cell, h, spacing)) : std::nullopt});
+    }
+    return caps;
+}
+
+// The multi-material mesher's phase times (the pipeline adds "optimize").
+Phases material_phases(const MaterialResult& r, const MeshOptions& o) {
+    Phases phases = {{"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}};
+    if (o.graded) phases.emplace_back("quadtree", r.quadtree_seconds);
+    phases.emplace_back("triangulate", r.times.triangulate);
+    if (o.certify) phases.emplace_back("certify", r.times.certify);
+    return phases;
+}
+
+// The multi-material mesher's counts for the report.
+MesherFigures material_mesher_figures(const MaterialResult& r, const MeshOptions& o, std::int64_t max_cell, int buffer,
+                                      std::vector<MaterialCapFigures> caps) {
+    MesherFigures m;
+    m.graded = o.graded;
+    if (o.graded) {
+        m.leaves_per_level = r.leaves_per_level;
+        m.size_control = size_control(o, max_cell, buffer);
+    }
+    m.max_size_of = std::move(caps);
+    m.cut_edges = r.cut_edges, m.warped_points = r.warped_points;
+    m.warped_squares = r.warped_squares, m.separating_overrides = r.forced_diagonals;
+    return m;
+}
+
+// The materials' figures of the (final) multi-material mesh.
+MaterialsFigures materials_figures(const MaterialResult& r) {
+    return {r.materials,        static_cast<std::int64_t>(r.mesh.interfaces.size()),
+            r.third_material_edges, r.centroid_triangles,
+            r.mixed_triangles,  r.junction_squares,
+            r.junction_examples, r.certified.available};
+}
 
 // The optimisation pass on a multi-material mesh (optimize.hpp) after
 // certification, with the material figures updated.  --max-size and every
@@ -326,82 +423,34 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     res.spacing = o.spacing;
     res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
     check_lattice_memory(res.lattice, field.bounds_are_domain(), field.count(), o);
-    ReportFields extra;
-    report_head(extra, o, field.describe(), o.spacing, res.lattice);
+    res.report.lattice = lattice_figures(o, field.describe(), o.spacing, res.lattice);
     const MaterialOptions mo{o.keep_background, o.rule, certify};
     // Size control (graded: the cells; uniform: bounded by the spacing).
     const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, res.lattice.s);
     const int buffer = grading_buffer(o.grading);
-    std::vector<std::int64_t> max_cell_of;  // per material number (mesh_materials_graded)
-    std::vector<std::optional<double>> cap(static_cast<std::size_t>(field.count()));
-    std::string caps = "[";
-    for (const auto& [tag, h] : o.max_size_of) {
-        int m = 0;
-        while (m < field.count() && field.tag(m) != tag) ++m;
-        if (m == field.count()) {
-            std::string known;  // the first 20
-            for (int q = 1; q < field.count() && q <= 20; ++q) known += (q > 1 ? ", " : "") + std::to_string(field.tag(q));
-            if (field.count() > 21) known += ", ...";
-            throw InputError("--max-size-of " + std::to_string(tag) + "=H: no material has tag " + std::to_string(tag) +
-                             " (the materials: " + known + ")");
-        }
-        if (m == 0 && !o.keep_background)
-            throw InputError("--max-size-of 0=H: the background (tag 0) is not output; add --background keep to mesh it");
-        if (max_cell_of.empty()) max_cell_of.assign(static_cast<std::size_t>(field.count()), 0);
-        const std::int64_t K = max_cell_for_size(h, res.lattice.s);
-        max_cell_of[static_cast<std::size_t>(m)] = K;
-        cap[static_cast<std::size_t>(m)] = h;
-        caps += std::string(caps.size() > 1 ? ", " : "") + "{\"tag\": " + std::to_string(tag) + ", \"max_size\": " + json_number(h) +
-                ", \"max_cell\": " + (o.graded ? json_number(largest_cell(max_cell, h, res.lattice.s)) : std::string("null")) + "}";
-    }
+    MaterialCaps caps = material_caps(field, o, res.lattice.s, max_cell);
     MaterialResult r = fastest_of(o.repeat, [&] {
-        return o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, max_cell_of)
+        return o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, caps.max_cell_of)
                         : mesh_materials(field, res.lattice, mo);
     });
     if (!o.max_size_of.empty()) {
-        for (std::size_t m = 0; m < r.materials.size(); ++m) r.materials[m].max_size = cap[m];
+        for (std::size_t m = 0; m < r.materials.size(); ++m) r.materials[m].max_size = caps.cap[m];
         measure_longest_edges(r);
     }
-    std::vector<std::pair<std::string, double>> phases = {{"sample", r.times.sample}, {"cut_points", r.times.cut_points}, {"warp", r.times.warp}};
-    if (o.graded) phases.emplace_back("quadtree", r.quadtree_seconds);
-    phases.emplace_back("triangulate", r.times.triangulate);
-    if (o.certify) phases.emplace_back("certify", r.times.certify);
-    extra.emplace_back("graded", o.graded ? "true" : "false");
-    if (o.graded) {
-        std::string levels = "[";
-        for (std::size_t k = 0; k < r.leaves_per_level.size(); ++k) levels += (k ? ", " : "") + std::to_string(r.leaves_per_level[k]);
-        extra.emplace_back("leaves_per_level", levels + "]");
-        if (o.max_size != 0 || o.grading != max_grading) {  // as for one region (only then: default reports unchanged)
-            extra.emplace_back("max_size", o.max_size != 0 ? json_number(o.max_size) : "null");
-            extra.emplace_back("max_cell", json_number(max_cell));
-            extra.emplace_back("grading", json_number(o.grading));
-            extra.emplace_back("grading_buffer", json_number(std::int64_t{buffer}));
-        }
-    }
-    if (!o.max_size_of.empty()) extra.emplace_back("max_size_of", caps + "]");
-    extra.emplace_back("cut_edges", std::to_string(r.cut_edges));
-    extra.emplace_back("warped_points", std::to_string(r.warped_points));
-    extra.emplace_back("warped_squares", std::to_string(r.warped_squares));
-    extra.emplace_back("separating_overrides", std::to_string(r.forced_diagonals));
+    Phases phases = material_phases(r, o);
+    res.report.mesher = material_mesher_figures(r, o, max_cell, buffer, std::move(caps.figures));
     if (o.optimize) {
-        res.optimized = optimize_materials(r, field, res.lattice.s, o);
-        phases.emplace_back("optimize", res.optimized->seconds);
-        extra.emplace_back("optimize", optimize_json(*res.optimized));
+        res.report.optimize = optimize_materials(r, field, res.lattice.s, o);
+        phases.emplace_back("optimize", res.report.optimize->seconds);
     }
-    for (auto& e : material_report_json(r)) extra.push_back(std::move(e));
-    res.materials_text = material_report_text(r, &res.warnings);
+    res.report.materials = materials_figures(r);
+    for (std::string& w : material_warnings(*res.report.materials)) res.warnings.push_back(std::move(w));
     res.mesh = std::move(r.mesh);
     res.certified = std::move(r.certified);
     if (res.mesh.triangles.empty())
         throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
                          "(check --materials, or use a smaller --spacing); nothing written");
-    const CertifiedSummary& cert = res.certified;
-    if (o.certify && !cert.available)
-        res.warnings.emplace_back("this build has no certificates (proofs/*.cert); no certified bounds");
-    res.report = compute_quality(res.mesh, phases);
-    extra.emplace_back("peak_memory_mb", json_number(peak_memory_mb()));
-    if (o.certify) report_certified(extra, res, o.rule, true);
-    res.report.extra = std::move(extra);
+    finish_report(res, std::move(phases), o, true);
     return res;
 }
 

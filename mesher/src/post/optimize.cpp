@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 #include <iterator>
 #include <unordered_set>
@@ -1036,14 +1035,6 @@ OptimizeReport Optimizer::run() {
     return r;
 }
 
-std::string fmt(double x) {
-    if (!std::isfinite(x)) return "n/a";
-    std::ostringstream o;
-    o.precision(6);
-    o << x;
-    return o.str();
-}
-
 OptimizeReport optimize(Mesh& mesh, const SlideCurves& curves, const OptimizeOptions& options) {
     if (!(options.spacing > 0) || !std::isfinite(options.spacing))
         throw std::invalid_argument("optimize_mesh: the spacing must be positive and finite");
@@ -1060,45 +1051,6 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options) {
     return optimize(mesh, SlideCurves(field), options);
-}
-
-std::string optimize_text(const OptimizeReport& r) {
-    std::ostringstream o;
-    o << "optimize             min angle " << fmt(r.min_angle_before) << " -> " << fmt(r.min_angle_after)
-      << " deg, max angle " << fmt(r.max_angle_before) << " -> " << fmt(r.max_angle_after) << " deg, mean minimum "
-      << fmt(r.mean_min_angle_before) << " -> " << fmt(r.mean_min_angle_after) << " deg\n";
-    o << "                     " << r.moves << " moves, " << r.flips << " flips, " << r.sweeps << " sweeps over "
-      << r.active_vertices << " movable vertices of " << r.band_triangles << " band triangles, " << fmt(r.seconds)
-      << " s\n";
-    if (r.inserted_vertices)
-        o << "                     refinement: " << r.refined_triangles << " bad triangles re-triangulated, "
-          << r.inserted_vertices << " vertices inserted (" << r.boundary_splits << " on boundary edges"
-          << (r.interface_splits ? ", " + std::to_string(r.interface_splits) + " on interfaces" : std::string()) << ")\n";
-    if (r.removed_vertices)
-        o << "                     " << r.removed_vertices << " interior vertices removed (their stars re-triangulated)\n";
-    o << "                     certified floor " << fmt(r.certified_floor)
-      << " deg (every triangle stays above it: monotone rule); boundary distance to f = 0 "
-      << fmt(r.boundary_distance_before) << " -> " << fmt(r.boundary_distance_after) << "\n";
-    return o.str();
-}
-
-std::string optimize_json(const OptimizeReport& r) {
-    auto n = [](double x) { return json_number(x); };
-    return "{\"min_angle_before_deg\": " + n(r.min_angle_before) + ", \"min_angle_after_deg\": " + n(r.min_angle_after) +
-           ", \"max_angle_before_deg\": " + n(r.max_angle_before) + ", \"max_angle_after_deg\": " + n(r.max_angle_after) +
-           ", \"mean_min_angle_before_deg\": " + n(r.mean_min_angle_before) +
-           ", \"mean_min_angle_after_deg\": " + n(r.mean_min_angle_after) + ", \"certified_floor_deg\": " +
-           n(r.certified_floor) + ", \"boundary_distance_before\": " + n(r.boundary_distance_before) +
-           ", \"boundary_distance_after\": " + n(r.boundary_distance_after) +
-           ", \"moves\": " + json_number(r.moves) + ", \"flips\": " + json_number(r.flips) +
-           ", \"sweeps\": " + json_number(static_cast<std::int64_t>(r.sweeps)) +
-           ", \"movable_vertices\": " + json_number(r.active_vertices) +
-           ", \"band_triangles\": " + json_number(r.band_triangles) +
-           ", \"refined_triangles\": " + json_number(r.refined_triangles) +
-           ", \"inserted_vertices\": " + json_number(r.inserted_vertices) +
-           ", \"boundary_splits\": " + json_number(r.boundary_splits) + ", \"interface_splits\": " +
-           json_number(r.interface_splits) + ", \"removed_vertices\": " + json_number(r.removed_vertices) +
-           ", \"seconds\": " + n(r.seconds) + "}";
 }
 
 }  // namespace warpmesh

@@ -1,5 +1,6 @@
-// material_report.cpp — the multi-material part of the reports
-// (report.hpp; the figures are MaterialResult's, materials.hpp): per material its triangles, area, perimeter and reference
+// material_report.cpp — the multi-material part of the 2D report
+// (report.hpp: MaterialsFigures, MaterialResult's figures of the output mesh,
+// materials.hpp): per material its triangles, area, perimeter and reference
 // (pixel-count) area; the junction squares (3 or 4 materials) with their
 // junction keys and certified bounds (proofs/materials.cert);
 // the edges where a third material lies between a cut edge's two.
@@ -9,8 +10,7 @@
 #include <vector>
 #include <sstream>
 
-#include "warpmesh/mesh2d/materials.hpp"
-#include "warpmesh/report/report.hpp"
+#include "report_parts.hpp"
 
 namespace warpmesh {
 
@@ -21,7 +21,7 @@ bool lost_material(const MaterialStats& s) {
     return (s.tag != 0 || s.output) && s.triangles == 0 && (!s.reference_area || *s.reference_area > 0);
 }
 
-bool any_cap(const MaterialResult& r) {
+bool any_cap(const MaterialsFigures& r) {
     return std::any_of(r.materials.begin(), r.materials.end(), [](const MaterialStats& s) { return s.max_size.has_value(); });
 }
 
@@ -30,8 +30,7 @@ std::string tags_text(const std::array<std::int32_t, 4>& t) {
 }
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> material_report_json(const MaterialResult& r) {
-    std::vector<std::pair<std::string, std::string>> out;
+void report_detail::material_fields(JsonObject& out, const MaterialsFigures& r) {
     const bool capped = any_cap(r);
     std::string m = "[";
     for (std::size_t k = 0; k < r.materials.size(); ++k) {
@@ -47,29 +46,37 @@ std::vector<std::pair<std::string, std::string>> material_report_json(const Mate
                  ", \"longest_edge\": " + (s.output ? json_number(s.longest_edge) : std::string("null"));
         m += "}";
     }
-    out.emplace_back("materials", m + "]");
-    std::string lost = "[";  // materials lost at this spacing (material_report_text warns of them)
+    out.field("materials", m + "]");
+    std::string lost = "[";  // materials lost at this spacing (material_warnings)
     for (const MaterialStats& s : r.materials)
         if (lost_material(s)) lost += std::string(lost.size() > 1 ? ", " : "") + std::to_string(s.tag);
-    out.emplace_back("materials_without_triangles", lost + "]");
-    out.emplace_back("interface_edges", std::to_string(r.mesh.interfaces.size()));
-    out.emplace_back("third_material_edges", std::to_string(r.third_material_edges));
-    out.emplace_back("centroid_material_triangles", std::to_string(r.centroid_triangles));
-    out.emplace_back("mixed_triangles", std::to_string(r.mixed_triangles));
+    out.field("materials_without_triangles", lost + "]");
+    out.field("interface_edges", std::to_string(r.interface_edges));
+    out.field("third_material_edges", std::to_string(r.third_material_edges));
+    out.field("centroid_material_triangles", std::to_string(r.centroid_material_triangles));
+    out.field("mixed_triangles", std::to_string(r.mixed_triangles));
     // Junction squares are certified when certification ran (certified.available).
     std::string j = "{\"count\": " + std::to_string(r.junction_squares) +
-                    ", \"certified\": " + (r.certified.available ? "true" : "false") + ", \"examples\": [";
+                    ", \"certified\": " + (r.junctions_certified ? "true" : "false") + ", \"examples\": [";
     for (std::size_t k = 0; k < r.junction_examples.size(); ++k) {
         const JunctionSquare& e = r.junction_examples[k];
         j += std::string(k ? ", " : "") + "{\"i\": " + std::to_string(e.i) + ", \"j\": " + std::to_string(e.j) +
              ", \"materials\": " + tags_text(e.tags) + ", \"key\": " + json_string(e.pattern) +
              ", \"min_angle_deg\": " + json_number(e.min_deg) + ", \"max_angle_deg\": " + json_number(e.max_deg) + "}";
     }
-    out.emplace_back("junction_squares", j + "]}");
-    return out;
+    out.field("junction_squares", j + "]}");
 }
 
-std::string material_report_text(const MaterialResult& r, std::vector<std::string>* warnings) {
+std::vector<std::string> material_warnings(const MaterialsFigures& r) {
+    std::vector<std::string> warnings;
+    for (const MaterialStats& s : r.materials)
+        if (lost_material(s))
+            warnings.push_back("material " + std::to_string(s.tag) + " (" + s.name +
+                               ") got no triangle: it is lost at this spacing (use a smaller --spacing)");
+    return warnings;
+}
+
+std::string report_detail::materials_text(const MaterialsFigures& r) {
     std::ostringstream t;
     t.precision(6);
     const bool capped = any_cap(r);
@@ -84,14 +91,11 @@ std::string material_report_text(const MaterialResult& r, std::vector<std::strin
             if (s.max_size) t << " (max size " << *s.max_size << ")";
         }
         t << "\n";
-        if (warnings && lost_material(s))
-            warnings->push_back("material " + std::to_string(s.tag) + " (" + s.name +
-                                ") got no triangle: it is lost at this spacing (use a smaller --spacing)");
     }
-    t << "interface edges      " << r.mesh.interfaces.size() << "\n";
+    t << "interface edges      " << r.interface_edges << "\n";
     t << "third-material edges " << r.third_material_edges << " (cut edges whose cut point lies in a third material)\n";
     t << "junction squares     " << r.junction_squares
-      << (r.certified.available ? " (3 or 4 materials: junction keys, proofs/materials.cert)\n"
+      << (r.junctions_certified ? " (3 or 4 materials: junction keys, proofs/materials.cert)\n"
                                 : " (3 or 4 materials; not certified: certification off)\n");
     for (const JunctionSquare& e : r.junction_examples)
         t << "  (" << e.i << ", " << e.j << ") materials " << tags_text(e.tags) << " key " << e.pattern << " certified ["

@@ -1,6 +1,7 @@
 // report.cpp — the reports' text and JSON (report.hpp): JSON values, the
-// quality report, the certification's part, a mesh result's whole report.
-// The multi-material part is material_report.cpp.
+// quality report, the certification's part, the optimisation pass's part.
+// The multi-material part is material_report.cpp, the whole 2D report
+// report2d.cpp.
 #include "warpmesh/report/report.hpp"
 
 #include <algorithm>
@@ -10,10 +11,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
-#include "warpmesh/certify/certified.hpp"
-#include "warpmesh/post/optimize.hpp"
-#include "warpmesh/pipeline/mesh2d.hpp"
-#include "warpmesh/post/quality.hpp"
+#include "report_parts.hpp"
 
 namespace warpmesh {
 
@@ -25,14 +23,14 @@ std::string tag_name(std::int32_t tag) {
     return "tag " + std::to_string(tag);
 }
 
-std::string fmt(double x, int digits = 6) {
+}  // namespace
+
+std::string report_detail::fmt(double x, int digits) {
     if (!std::isfinite(x)) return "n/a";
     char buf[64];
     const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
     return std::string(buf, r.ptr);
 }
-
-}  // namespace
 
 std::string json_string(std::string_view s) {
     std::string r = "\"";
@@ -66,11 +64,18 @@ std::string json_number(double x) {
 
 std::string json_number(std::int64_t i) { return std::to_string(i); }
 
+std::string report_detail::json_strings(const std::vector<std::string>& items) {
+    std::string r = "[";
+    for (std::size_t k = 0; k < items.size(); ++k) r += (k ? ", " : "") + json_string(items[k]);
+    return r + "]";
+}
+
 const char* rule_name(DiagonalRule rule) {
     return rule == DiagonalRule::maxmin ? "maxmin" : rule == DiagonalRule::separating ? "separating" : "fan";
 }
 
 std::string quality_text(const QualityReport& q) {
+    using report_detail::fmt;
     std::ostringstream o;
     o << "mesh: " << q.vertices << " vertices, " << q.triangles << " triangles, " << q.boundary_edges
       << " boundary edges\n";
@@ -120,12 +125,8 @@ std::string quality_text(const QualityReport& q) {
     return o.str();
 }
 
-std::string quality_json(const QualityReport& q, const std::vector<std::pair<std::string, std::string>>& extra) {
-    std::string o = "{\n";
-    auto field = [&](std::string_view key, const std::string& value) {
-        if (o.size() > 2) o += ",\n";
-        o += "  " + json_string(key) + ": " + value;
-    };
+void report_detail::quality_fields(JsonObject& json, const QualityReport& q) {
+    auto field = [&](std::string_view key, const std::string& value) { json.field(key, value); };
     auto num = [](double x) { return json_number(x); };
     auto integer = [](std::int64_t i) { return json_number(i); };
     field("vertices", integer(q.vertices));
@@ -161,14 +162,16 @@ std::string quality_json(const QualityReport& q, const std::vector<std::pair<std
     }
     field("phase_seconds", phases + "}");
     field("total_seconds", num(total));
-    for (const auto& [key, value] : q.extra) field(key, value);
-    for (const auto& [key, value] : extra) field(key, value);
-    return o + "\n}\n";
 }
 
-void write_quality_json(const std::string& path, const QualityReport& report,
-                        const std::vector<std::pair<std::string, std::string>>& extra) {
-    const std::string text = quality_json(report, extra);
+std::string quality_json(const QualityReport& q) {
+    report_detail::JsonObject json;
+    report_detail::quality_fields(json, q);
+    return json.close();
+}
+
+void write_quality_json(const std::string& path, const QualityReport& report) {
+    const std::string text = quality_json(report);
     write_file_atomically(path, [&](std::ostream& os) { os << text; });
 }
 
@@ -221,11 +224,44 @@ std::string certified_text(const CertifiedSummary& cert, DiagonalRule rule, Latt
     return t.str();
 }
 
-std::string to_json(const MeshResult& r) { return quality_json(r.report); }
+std::string optimize_text(const OptimizeReport& r) {
+    using report_detail::fmt;
+    std::ostringstream o;
+    o << "optimize             min angle " << fmt(r.min_angle_before) << " -> " << fmt(r.min_angle_after)
+      << " deg, max angle " << fmt(r.max_angle_before) << " -> " << fmt(r.max_angle_after) << " deg, mean minimum "
+      << fmt(r.mean_min_angle_before) << " -> " << fmt(r.mean_min_angle_after) << " deg\n";
+    o << "                     " << r.moves << " moves, " << r.flips << " flips, " << r.sweeps << " sweeps over "
+      << r.active_vertices << " movable vertices of " << r.band_triangles << " band triangles, " << fmt(r.seconds)
+      << " s\n";
+    if (r.inserted_vertices)
+        o << "                     refinement: " << r.refined_triangles << " bad triangles re-triangulated, "
+          << r.inserted_vertices << " vertices inserted (" << r.boundary_splits << " on boundary edges"
+          << (r.interface_splits ? ", " + std::to_string(r.interface_splits) + " on interfaces" : std::string()) << ")\n";
+    if (r.removed_vertices)
+        o << "                     " << r.removed_vertices << " interior vertices removed (their stars re-triangulated)\n";
+    o << "                     certified floor " << fmt(r.certified_floor)
+      << " deg (every triangle stays above it: monotone rule); boundary distance to f = 0 "
+      << fmt(r.boundary_distance_before) << " -> " << fmt(r.boundary_distance_after) << "\n";
+    return o.str();
+}
 
-std::string to_text(const MeshResult& r) {
-    return quality_text(r.report) + r.certified_text + r.materials_text +
-           (r.optimized ? optimize_text(*r.optimized) : "");
+std::string optimize_json(const OptimizeReport& r) {
+    auto n = [](double x) { return json_number(x); };
+    return "{\"min_angle_before_deg\": " + n(r.min_angle_before) + ", \"min_angle_after_deg\": " + n(r.min_angle_after) +
+           ", \"max_angle_before_deg\": " + n(r.max_angle_before) + ", \"max_angle_after_deg\": " + n(r.max_angle_after) +
+           ", \"mean_min_angle_before_deg\": " + n(r.mean_min_angle_before) +
+           ", \"mean_min_angle_after_deg\": " + n(r.mean_min_angle_after) + ", \"certified_floor_deg\": " +
+           n(r.certified_floor) + ", \"boundary_distance_before\": " + n(r.boundary_distance_before) +
+           ", \"boundary_distance_after\": " + n(r.boundary_distance_after) +
+           ", \"moves\": " + json_number(r.moves) + ", \"flips\": " + json_number(r.flips) +
+           ", \"sweeps\": " + json_number(static_cast<std::int64_t>(r.sweeps)) +
+           ", \"movable_vertices\": " + json_number(r.active_vertices) +
+           ", \"band_triangles\": " + json_number(r.band_triangles) +
+           ", \"refined_triangles\": " + json_number(r.refined_triangles) +
+           ", \"inserted_vertices\": " + json_number(r.inserted_vertices) +
+           ", \"boundary_splits\": " + json_number(r.boundary_splits) + ", \"interface_splits\": " +
+           json_number(r.interface_splits) + ", \"removed_vertices\": " + json_number(r.removed_vertices) +
+           ", \"seconds\": " + n(r.seconds) + "}";
 }
 
 }  // namespace warpmesh

@@ -1,12 +1,12 @@
-// pipeline.hpp — the library's entry point: a level set in, a certified mesh
-// and its quality report out.
+// mesh2d.hpp — the 2D pipeline, the library's entry point: a level set (or
+// a material field) in, a certified mesh and its typed report out.
 //
 //   auto f = warpmesh::parse_shape("circle:0,0,1");
 //   warpmesh::MeshOptions o;
 //   o.spacing = 0.05;
 //   warpmesh::MeshResult r = warpmesh::mesh(*f, o);
 //   // r.mesh.vertices, r.mesh.triangles, r.mesh.region, r.mesh.boundary, ...
-//   std::cout << warpmesh::to_text(r);  // report.hpp: to_text, to_json
+//   std::cout << warpmesh::to_text(r);  // the report (report.hpp): to_text, to_json
 //
 // Images: read_image (image.hpp), then image_levelset (below) gives the level
 // set; the rest is the same.
@@ -16,7 +16,10 @@
 // certification against the compiled-in proofs and its verification, the
 // `--guarantee flat` refinement, the optional optimisation pass, the
 // resolution check (resolution.hpp: a warning when the spacing is too coarse
-// for the input), the boundary-fidelity measurement, and the report.  It prints nothing: warnings are returned in MeshResult::warnings.
+// for the input), the boundary-fidelity measurement, and the report: it fills
+// a Mesh2dReport with each stage's figures, which the report module
+// (report.hpp) writes as text and JSON.  It prints nothing: warnings are
+// returned in MeshResult::warnings.
 #pragma once
 
 #include <cstdint>
@@ -32,9 +35,7 @@
 #include "warpmesh/mesh2d/lattice.hpp"
 #include "warpmesh/levelset/levelset.hpp"
 #include "warpmesh/core/mesh.hpp"
-#include "warpmesh/post/optimize.hpp"
-#include "warpmesh/post/quality.hpp"
-#include "warpmesh/report/report.hpp"  // to_json, to_text of a MeshResult
+#include "warpmesh/report/report.hpp"  // Mesh2dReport, to_json, to_text
 #include "warpmesh/io/writers.hpp"
 
 namespace warpmesh {
@@ -135,12 +136,19 @@ struct MeshResult {
     Lattice lattice;             // the lattice of the returned mesh (after refinements)
     double spacing = 0;          // its spacing
     int refinements = 0;         // halvings made by Guarantee::flat
-    QualityReport report;        // quality, phase times and the "extra" JSON fields
-    std::string certified_text;  // the certification's lines of to_text ("" without)
-    std::string materials_text;  // multi-material meshes: per material, interfaces, junction squares
-    std::optional<OptimizeReport> optimized;  // with MeshOptions::optimize: before/after figures
+    // Each stage's figures (report.hpp): the quality with the phase times,
+    // the lattice, the mesher's counts, the optimisation pass (report.optimize,
+    // with MeshOptions::optimize: before/after figures), the materials, the
+    // certification (a copy of `certified` without the boxes).
+    Mesh2dReport report;
     std::vector<std::string> warnings;  // e.g. Guarantee::flat stopped at min_spacing; no certificates in this build
 };
+
+// The result's report as one JSON object (what `warpmesh mesh --report`
+// writes) and as text (what the command line prints): report.hpp's
+// to_json/to_text of result.report.
+inline std::string to_json(const MeshResult& result) { return to_json(result.report); }
+inline std::string to_text(const MeshResult& result) { return to_text(result.report); }
 
 // Mesh the region {f <= 0}.  (max_size_of is refused: InputError.)
 //
@@ -169,8 +177,8 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& options);
 // shapes; uniform, or with `graded` the quadtree whose finest band follows
 // every interface (mesh_materials_graded, materials.hpp).  The report adds
 // the per-material figures, interface and junction-square counts
-// (report.hpp: material_report_json/_text); a material that got no triangle is a
-// warning.  With optimize, the pass for materials (optimize_mesh(Mesh&, const
+// (report.hpp: MaterialsFigures); a material that got no triangle is a
+// warning (material_warnings).  With optimize, the pass for materials (optimize_mesh(Mesh&, const
 // MaterialField&, ...)) runs after certification, as for one region, and the
 // per-material figures are those of the optimised mesh.  Throws InputError as
 // mesh(f), for options that do not apply to several materials

@@ -9,6 +9,9 @@
 // processed in parallel (one OpenMP thread each, dynamic schedule); the
 // callback must therefore be safe to call concurrently for different slices.
 //
+// The batch's report (SliceBatch) and its text and JSON are the report
+// module's (report/slices_report.hpp).
+//
 // A slice that cannot be meshed for a reason of its own — load_slice or
 // mesh_one throws InputError (an empty region, a slice too small) — is
 // *skipped*: its outcome carries the message and the batch goes on.  Any
@@ -27,6 +30,8 @@
 #include "warpmesh/levelset/levelset.hpp"
 #include "warpmesh/mesh2d/materials.hpp"
 #include "warpmesh/post/quality.hpp"
+#include "warpmesh/report/report.hpp"
+#include "warpmesh/report/slices_report.hpp"  // SliceOutcome, SliceBatch, to_json, to_text, batch_warnings
 
 namespace warpmesh {
 
@@ -78,9 +83,10 @@ LoadedSlice load_level_set(const std::string& path, const SliceOptions& options,
 // 0..65535.
 Image slice_image(const Volume& volume, const std::optional<SliceSpec>& slice);
 
-// The JSON fields a report adds for a placed slice: "units", "slice"
-// ({"axis", "index"}), "plane" ({"origin", "x_axis", "y_axis", "normal"}).
-std::vector<std::pair<std::string, std::string>> slice_report_fields(const LoadedSlice& slice);
+// Where a slice lies, for its report (Mesh2dReport::slice: "units", "slice",
+// "plane"): a placed slice only (SlicePlacement::placed; a plain image in
+// pixel units has none, its report stays what it always was).
+std::optional<SliceFigures> slice_figures(const LoadedSlice& slice);
 
 // ---------------------------------------------------------------------------
 // A range of slices.
@@ -93,42 +99,10 @@ struct SliceMeshed {
     std::vector<std::string> warnings;  // the slice's (MeshResult::warnings), not printed by mesh_one
 };
 
-struct SliceOutcome {
-    std::int64_t index = 0;
-    std::optional<QualityReport> report;  // set iff the slice was meshed
-    std::string outputs;                  // the caller's SliceMeshed::outputs
-    std::string skipped;                  // why the slice was skipped (iff no report)
-    std::string plane;                    // the slice's placement, JSON (see slice_report_fields)
-    std::vector<std::string> warnings;    // the caller's SliceMeshed::warnings
-};
-
-struct SliceBatch {
-    std::string input, format;  // file name and format of the volume
-    SliceRange range;
-    std::vector<SliceOutcome> slices;  // range.first .. range.end - 1, in order
-    double read_seconds = 0;           // as passed in by the caller
-    double total_seconds = 0;          // read_seconds + the loop's wall time
-
-    std::int64_t meshed() const;
-    std::int64_t triangles() const;  // over the meshed slices
-};
-
 // Mesh slices range.first .. range.end - 1 along range.axis.  `options` is
 // used for every slice with its `slice` replaced.  Throws InputError when the
 // range reaches beyond the volume, or when every slice is skipped.
 SliceBatch mesh_slices(const Volume& volume, const SliceRange& range, const SliceOptions& options,
                        const std::function<SliceMeshed(const LoadedSlice&)>& mesh_one, double read_seconds = 0);
-
-// The batch summary: JSON (one object: input, format, axis, first, end,
-// slices [{index, outputs, triangles, vertices, area, min_angle_deg,
-// max_angle_deg, plane[, warnings]} or {index, skipped}], meshed, skipped, triangles,
-// read_seconds, total_seconds) and text (one line per slice and a total).
-std::string to_json(const SliceBatch& batch);
-std::string to_text(const SliceBatch& batch);
-
-// The slices' warnings, each once with the slices that gave it, in the order
-// of their first slice: "slice k=4: W" or "slices k=3, 4, 7: W" (a warning
-// repeated word for word by many slices is one line).
-std::vector<std::string> batch_warnings(const SliceBatch& batch);
 
 }  // namespace warpmesh

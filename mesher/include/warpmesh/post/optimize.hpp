@@ -240,9 +240,8 @@ OptimizeReport optimize_mesh(Mesh& mesh, const LevelSet& f, const OptimizeOption
 // room within rounding of zero as none (a label exact before the pass).
 OptimizeReport optimize_mesh(Mesh& mesh, const MaterialField& field, const OptimizeOptions& options = {});
 
-// The report as text lines (for stdout) and as a JSON object (the report's
-// "optimize" field).
-std::string optimize_text(const OptimizeReport& report);
-std::string optimize_json(const OptimizeReport& report);
+// The pass's report as text lines and as a JSON object (the report's
+// "optimize" field) are the report module's (report.hpp: optimize_text,
+// optimize_json).
 
 }  // namespace warpmesh

@@ -1,5 +1,5 @@
 // quality.hpp — a quality report of a mesh: its measurement.  Its text and
-// JSON (quality_text, quality_json, the JSON values) are report.hpp's.
+// JSON (quality_text, quality_json) are the report module's (report.hpp).
 //
 // This is the *reporting* path: angles are computed in floating point with
 // std::atan2 and are not part of any proof.  compute_quality is one parallel
@@ -16,9 +16,6 @@
 
 #include "warpmesh/core/mesh.hpp"
 #include "warpmesh/core/triangle_shape.hpp"  // triangle_angles, triangle_min_angle, radius_ratio
-// The report's formatting, declared there; included here for the clients that
-// took json_number and quality_json from this header before report.hpp.
-#include "warpmesh/report/report.hpp"
 
 namespace warpmesh {
 
@@ -49,10 +46,6 @@ struct QualityReport {
 
     // Wall time per pipeline phase, in order, as passed to compute_quality.
     std::vector<std::pair<std::string, double>> phase_seconds;
-
-    // Further JSON fields the caller appends (report.hpp: ReportFields), after
-    // the fields above, in order.
-    ReportFields extra;
 };
 
 QualityReport compute_quality(const Mesh& mesh, std::vector<std::pair<std::string, double>> phase_seconds = {});
