@@ -34,6 +34,8 @@
 #include "warpmesh/post/mesh_checks.hpp"
 #include "warpmesh/post/optimize.hpp"
 #include "warpmesh/pipeline/mesh2d.hpp"
+#include "warpmesh/pipeline/mesh3d_options.hpp"
+#include "warpmesh/pipeline/options.hpp"
 #include "warpmesh/post/quality.hpp"
 #include "warpmesh/report/report.hpp"
 #include "warpmesh/post/resolution.hpp"

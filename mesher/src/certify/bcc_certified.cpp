@@ -50,8 +50,9 @@ BccTable parse_table(std::string_view text) {
         std::string a, b, c;
         ls >> a >> b >> c;
         if (a == "face-rule") {
-            if (b != "delaunay" && b != "parity") return BccTable{};  // a rule this mesher does not know: no table
-            t.rule = b == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
+            const std::optional<FaceRule> rule = value_of(face_rule_names, b);
+            if (!rule) return BccTable{};  // a rule this mesher does not know: no table
+            t.rule = *rule;
             continue;
         }
         if (a == "alphas") {
@@ -83,7 +84,7 @@ const BccTable& table(FaceRule rule) {
 
 }  // namespace
 
-const char* face_rule_name(FaceRule rule) { return rule == FaceRule::delaunay ? "delaunay" : "parity"; }
+const char* face_rule_name(FaceRule rule) { return name_of(face_rule_names, rule).data(); }
 
 const char* bcc_certificate_path(FaceRule rule) {
     return rule == FaceRule::delaunay ? "proofs/bcc_delaunay.cert" : "proofs/bcc.cert";

@@ -117,7 +117,7 @@ Window prepare(const LevelSet3& f, const Mesh3dOptions& o, const Lattice3& L, co
     // numbering's use byte and two ids (9); the cut parameters are surface-sized.
     check_memory(static_cast<std::uint64_t>(w.grid.count()) * 24, o.max_memory,
                  "the 3D lattice of " + std::to_string(w.grid.count()) + " points", "24 bytes a lattice point",
-                 "choose a larger --spacing");
+                 "choose a larger {spacing}");
     sample_signs(f, w);
     find_cuts(f, w);
     Buffer<double>().swap(w.value);  // f is not needed past the cut points
@@ -131,7 +131,7 @@ void check_options(const Mesh3dOptions& o) {
                     2 * a.short_num < a.short_den;
     if (!ok) throw InputError("the alphas must lie in (0, 1/2)");
     if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
-    if (!(o.spacing > 0 && std::isfinite(o.spacing))) throw InputError("--spacing must be a positive number");
+    if (!(o.spacing > 0 && std::isfinite(o.spacing))) throw OptionError("spacing", "{spacing} must be a positive number");
 }
 
 struct Threads {

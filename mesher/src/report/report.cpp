@@ -67,7 +67,7 @@ std::string json_number(double x) {
 std::string json_number(std::int64_t i) { return std::to_string(i); }
 
 const char* rule_name(DiagonalRule rule) {
-    return rule == DiagonalRule::maxmin ? "maxmin" : rule == DiagonalRule::separating ? "separating" : "fan";
+    return name_of(diagonal_rule_names, rule).data();
 }
 
 std::string quality_text(const QualityReport& q) {

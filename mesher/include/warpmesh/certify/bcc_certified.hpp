@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <optional>
 
+#include "warpmesh/core/names.hpp"
+
 #include "warpmesh/mesh3d/generic_bcc.hpp"
 
 namespace warpmesh {
@@ -21,6 +23,10 @@ namespace warpmesh {
 // diagonal choices"): parity (`parity_diagonals`) or the Delaunay face rule
 // (`delaunay_diagonals`).
 enum class FaceRule { parity, delaunay };
+// Their names (reports, certificates' face-rule line, --face-rule, Python's
+// face_rule=); parse with value_of(face_rule_names, name).
+inline constexpr std::array<Named<FaceRule>, 2> face_rule_names{
+    {{FaceRule::parity, "parity"}, {FaceRule::delaunay, "delaunay"}}};
 // "parity", "delaunay".
 const char* face_rule_name(FaceRule rule);
 // The certificate of a rule: "proofs/bcc.cert", "proofs/bcc_delaunay.cert".

@@ -43,8 +43,8 @@ std::uint64_t mesh_bytes_per_square(bool materials, bool graded);
 // And a material (its report, names and tables), on top: at most 65 536.
 std::uint64_t mesh_bytes_per_material();
 
-// Throws InputError "<what> needs about N MB (<how>), more than the
-// --max-memory limit of L MB; raise --max-memory ..., or <advice>" when
+// Throws OptionError (max_memory) "<what> needs about N MB (<how>), more than the
+// {max_memory} limit of L MB; raise {max_memory} ..., or <advice>" when
 // resident_bytes() + need > max_memory.
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
                   const std::string& advice);
