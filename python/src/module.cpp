@@ -92,9 +92,9 @@ std::vector<const OptionDoc*> all_docs() {
 // A Python number as the text the tables read: ints as they are, floats as
 // the shortest text that reads back (non-finite ones as "nan", "inf": the
 // table refuses them, naming the keyword).
-std::string number_text(const std::string& name, py::handle v) {
+std::string number_text(const std::string& name, py::handle v, const std::string& part = "") {
     if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || !PyNumber_Check(v.ptr()))
-        throw OptionError(name, "{" + name + "} expects a number, got " + py::repr(v).cast<std::string>());
+        throw OptionError(name, "{" + name + "}" + part + " expects a number, got " + py::repr(v).cast<std::string>());
     if (PyIndex_Check(v.ptr())) return py::str(py::int_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
     const double x = py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>();
     char buf[32];
@@ -120,7 +120,7 @@ std::vector<std::string> option_texts(const OptionDoc& d, py::handle v) {
                 throw OptionError(name, "{" + name + "} must be a dict {label: size}, got " +
                                             std::string(py::str(v.get_type().attr("__name__"))));
             std::vector<std::string> texts;
-            for (const auto& [k, x] : v.cast<py::dict>()) texts.push_back(number_text(name + " label", k) + "=" + number_text(name + " size", x));
+            for (const auto& [k, x] : v.cast<py::dict>()) texts.push_back(number_text(name, k, " label") + "=" + number_text(name, x, " size"));
             return texts;
         }
     }

@@ -25,10 +25,10 @@ import warnings
 import numpy as np
 
 from . import _core
-from ._core import InputError, OutputError, png_supported, certified_table_available
+from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
 __all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image",
-           "write", "Mesh", "TetMesh", "Image", "InputError", "OutputError", "png_supported",
+           "write", "Mesh", "TetMesh", "Image", "InputError", "OptionError", "OutputError", "png_supported",
            "certified_table_available"]
 
 # The CLI's --max-squares and --max-pixels defaults.
