@@ -62,12 +62,12 @@ int main(int argc, char** argv) {
         else if (a == "--iso") iso = std::stod(next());
         else if (a == "--spacing") o.spacing = std::stod(next());
         else if (a == "--face-rule") {
-            const std::string r = next();
-            if (r != "parity" && r != "delaunay") {
+            const std::optional<FaceRule> r = value_of(face_rule_names, next());
+            if (!r) {
                 std::cerr << "--face-rule expects parity or delaunay\n";
                 return 2;
             }
-            o.face_rule = r == "delaunay" ? FaceRule::delaunay : FaceRule::parity;
+            o.face_rule = *r;
         } else if (a == "--threads") o.threads = std::stoi(next());
         else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
         else if (a == "--quality") o.quality = true;
