@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -92,14 +91,11 @@ std::vector<const OptionDoc*> all_docs() {
 // A Python number as the text the tables read: ints as they are, floats as
 // the shortest text that reads back (non-finite ones as "nan", "inf": the
 // table refuses them, naming the keyword).
-std::string number_text(const std::string& name, py::handle v, const std::string& part = "") {
+std::string keyword_number(const std::string& name, py::handle v, const std::string& part = "") {
     if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || !PyNumber_Check(v.ptr()))
         throw OptionError(name, "{" + name + "}" + part + " expects a number, got " + py::repr(v).cast<std::string>());
     if (PyIndex_Check(v.ptr())) return py::str(py::int_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
-    const double x = py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>();
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x);
-    return std::string(buf, r.ptr);
+    return warpmesh::number_text(py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>());
 }
 
 // The texts of keyword `name`'s value for its table entry (several for a
@@ -109,7 +105,7 @@ std::vector<std::string> option_texts(const OptionDoc& d, py::handle v) {
     switch (d.kind) {
         case OptionKind::flag: return {PyObject_IsTrue(v.ptr()) ? "true" : "false"};
         case OptionKind::number:
-        case OptionKind::integer: return {number_text(name, v)};
+        case OptionKind::integer: return {keyword_number(name, v)};
         case OptionKind::choice:
         case OptionKind::text:
             if (!py::isinstance<py::str>(v))
@@ -120,7 +116,7 @@ std::vector<std::string> option_texts(const OptionDoc& d, py::handle v) {
                 throw OptionError(name, "{" + name + "} must be a dict {label: size}, got " +
                                             std::string(py::str(v.get_type().attr("__name__"))));
             std::vector<std::string> texts;
-            for (const auto& [k, x] : v.cast<py::dict>()) texts.push_back(number_text(name, k, " label") + "=" + number_text(name, x, " size"));
+            for (const auto& [k, x] : v.cast<py::dict>()) texts.push_back(keyword_number(name, k, " label") + "=" + keyword_number(name, x, " size"));
             return texts;
         }
     }

@@ -95,6 +95,12 @@ std::string options_help(std::span<const OptionDoc* const> docs, std::span<const
     return out;
 }
 
+std::string number_text(double x) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    return std::string(buf, r.ptr);
+}
+
 double OptionValue::number() const {
     double v = 0;
     const char* end = text.data() + text.size();
@@ -110,6 +116,12 @@ std::int64_t OptionValue::integer() const {
     const auto [ptr, ec] = std::from_chars(text.data(), end, v);
     if (text.empty() || ec != std::errc() || ptr != end) fail("expects an integer, got '" + std::string(text) + "'");
     return v;
+}
+
+std::uint64_t OptionValue::megabytes() const {
+    const std::int64_t mb = integer();
+    if (mb < 1 || mb > (std::int64_t{1} << 40)) fail("expects megabytes, 1 to 2^40, got " + std::to_string(mb));
+    return static_cast<std::uint64_t>(mb) << 20;
 }
 
 bool OptionValue::flag() const {

@@ -1,6 +1,5 @@
 // options2d.cpp — the options of the 2D pipeline by name, and their
 // validation (mesh2d.hpp: mesh2d_option_table, validate).
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -10,13 +9,6 @@
 namespace warpmesh {
 
 namespace {
-
-// A number as a message shows it: the shortest text that reads back.
-std::string shown(double x) {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x);
-    return std::string(buf, r.ptr);
-}
 
 [[noreturn]] void fail(const char* option, std::string message) { throw OptionError(option, std::move(message)); }
 
@@ -109,11 +101,7 @@ std::vector<O> entries() {
     t.push_back(entry("max_memory", OptionKind::integer, "MB", input,
                       "refuse, before the work, inputs whose reading or meshing would take more than about MB "
                       "megabytes (default 2048)",
-                      [](MeshOptions& o, const OptionValue& v) {
-                          const std::int64_t mb = v.integer();
-                          if (mb < 1 || mb > (std::int64_t{1} << 40)) v.fail("expects megabytes, 1 to 2^40, got " + std::to_string(mb));
-                          o.max_memory = static_cast<std::uint64_t>(mb) << 20;
-                      }));
+                      [](MeshOptions& o, const OptionValue& v) { o.max_memory = v.megabytes(); }));
     t.push_back(entry("background", OptionKind::choice, "", input,
                       "with several materials: output the background's triangles (keep) or not (drop, default; it "
                       "still bounds the materials)",
@@ -128,7 +116,7 @@ std::vector<O> entries() {
 
 // A size bound H (max_size, max_size_of's; `what` names it, marked).
 void check_size(double h, double spacing, const char* option, const std::string& what) {
-    if (!(h > 0) || !std::isfinite(h)) fail(option, what + " must be positive and finite (got " + shown(h) + ")");
+    if (!(h > 0) || !std::isfinite(h)) fail(option, what + " must be positive and finite (got " + number_text(h) + ")");
     if (h < std::sqrt(5.0) * spacing) {
         std::ostringstream m;
         m << what << " " << h << " is below sqrt(5) * spacing = " << std::sqrt(5.0) * spacing
@@ -140,7 +128,7 @@ void check_size(double h, double spacing, const char* option, const std::string&
 
 // Each option's range.
 void check_values(const MeshOptions& o, const GivenOptions& given) {
-    if (!(o.spacing > 0) || o.spacing > 1e9) fail("spacing", "{spacing} must be positive and at most 1e9 (got " + shown(o.spacing) + ")");
+    if (!(o.spacing > 0) || o.spacing > 1e9) fail("spacing", "{spacing} must be positive and at most 1e9 (got " + number_text(o.spacing) + ")");
     if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0 || (o.max_cell == 0 && given.contains("max_cell")))
         fail("max_cell", "{max_cell} must be a power of two >= 1, in lattice squares (got " + std::to_string(o.max_cell) +
                              "; leave it out for cells as coarse as the domain allows)");
@@ -155,11 +143,11 @@ void check_values(const MeshOptions& o, const GivenOptions& given) {
                 fail("max_size_of", "{max_size_of}: material " + std::to_string(tag) + " is given twice");
     }
     if (!(o.grading >= min_grading && o.grading <= max_grading))
-        fail("grading", "{grading} must be between 1.1 and 2 (got " + shown(o.grading) +
+        fail("grading", "{grading} must be between 1.1 and 2 (got " + number_text(o.grading) +
                             "; 2: neighbouring cells differ by a factor 2 at most; G < 2: sizes grow by at most a "
                             "factor G per cell on average; a quadtree's templates allow no more than 2)");
     if (o.min_spacing && !(*o.min_spacing > 0))
-        fail("min_spacing", "{min_spacing} must be positive (got " + shown(*o.min_spacing) + ")");
+        fail("min_spacing", "{min_spacing} must be positive (got " + number_text(*o.min_spacing) + ")");
     if (o.max_squares < 1) fail("max_squares", "{max_squares} must be positive (got " + std::to_string(o.max_squares) + ")");
     if (o.repeat < 1 || o.repeat > 1000) fail("repeat", "{repeat} expects 1 to 1000 (got " + std::to_string(o.repeat) + ")");
 }
@@ -187,17 +175,15 @@ void check_contradictions(const MeshOptions& o, const GivenOptions& given) {
     }
 }
 
-void validate_given(const MeshOptions& o, const GivenOptions& given) {
-    check_values(o, given);
-    check_contradictions(o, given);
-}
-
 }  // namespace
 
-void validate(const MeshOptions& options, const GivenOptions& given) { validate_given(options, given); }
+void validate(const MeshOptions& options, const GivenOptions& given) {
+    check_values(options, given);
+    check_contradictions(options, given);
+}
 
 const OptionTable<MeshOptions>& mesh2d_option_table() {
-    static const OptionTable<MeshOptions> table{entries(), validate_given};
+    static const OptionTable<MeshOptions> table{entries(), validate};
     return table;
 }
 

@@ -1,6 +1,5 @@
 // options3d.cpp — the options of the 3D mesher by name, and their validation
 // (mesh3d_options.hpp).
-#include <charconv>
 #include <cmath>
 
 #include "warpmesh/pipeline/mesh3d_options.hpp"
@@ -38,29 +37,19 @@ std::vector<O> entries() {
     t.push_back(entry("max_memory", OptionKind::integer, "MB",
                       "refuse, before the work, inputs whose reading or meshing would take more than about MB "
                       "megabytes (default 2048)",
-                      [](Mesh3dOptions& o, const OptionValue& v) {
-                          const std::int64_t mb = v.integer();
-                          if (mb < 1 || mb > (std::int64_t{1} << 40))
-                              v.fail("expects megabytes, 1 to 2^40, got " + std::to_string(mb));
-                          o.max_memory = static_cast<std::uint64_t>(mb) << 20;
-                      }));
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.max_memory = v.megabytes(); }));
     return t;
-}
-
-void validate_given(const Mesh3dOptions& o, const GivenOptions&) {
-    if (!(o.spacing > 0 && std::isfinite(o.spacing))) {
-        char buf[32];
-        const auto r = std::to_chars(buf, buf + sizeof buf, o.spacing);
-        throw OptionError("spacing", "{spacing} must be positive and finite (got " + std::string(buf, r.ptr) + ")");
-    }
 }
 
 }  // namespace
 
-void validate(const Mesh3dOptions& options, const GivenOptions& given) { validate_given(options, given); }
+void validate(const Mesh3dOptions& o, const GivenOptions&) {
+    if (!(o.spacing > 0 && std::isfinite(o.spacing)))
+        throw OptionError("spacing", "{spacing} must be positive and finite (got " + number_text(o.spacing) + ")");
+}
 
 const OptionTable<Mesh3dOptions>& mesh3d_option_table() {
-    static const OptionTable<Mesh3dOptions> table{entries(), validate_given};
+    static const OptionTable<Mesh3dOptions> table{entries(), validate};
     return table;
 }
 

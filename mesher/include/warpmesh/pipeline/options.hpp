@@ -74,6 +74,10 @@ std::string spell_options(std::string_view text, std::span<const OptionDoc* cons
 std::string options_help(std::span<const OptionDoc* const> docs, std::span<const std::string_view> groups,
                          Spelling spelling, std::size_t column = 25, std::size_t width = 89);
 
+// A number as options' texts and messages show it: the shortest text that
+// reads back ("0.5", "1e+30", "nan").
+std::string number_text(double x);
+
 // One value given for an option (`name`, `text`), read as its kind; a bad
 // text is an OptionError "{name} expects ..., got 'text'".  `part` names a
 // part of a composite value in messages (max_size_of's " T", " H").
@@ -82,6 +86,8 @@ struct OptionValue {
     double number() const;
     std::int64_t integer() const;
     bool flag() const;  // "true" or "false"
+    // Megabytes, an integer in [1, 2^40], as bytes.
+    std::uint64_t megabytes() const;
     template <class E, std::size_t N>
     E choice(const std::array<Named<E>, N>& names) const {
         if (const auto v = value_of(names, text)) return *v;
