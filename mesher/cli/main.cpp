@@ -115,6 +115,15 @@ CliOption cli_option(std::string_view name, OptionKind kind, std::string_view me
     return o;
 }
 
+// An option with a fixed set of words, those of `names`.
+template <class E, std::size_t N>
+CliOption cli_choice(std::string_view name, const std::array<Named<E>, N>& names, std::string_view group,
+                     std::string_view help, void (*set)(CliOptions&, const OptionValue&)) {
+    CliOption o = cli_option(name, OptionKind::choice, "", group, help, set);
+    o.choices = words_of(names);
+    return o;
+}
+
 constexpr std::array<Named<bool>, 2> inside_names{{{true, "above"}, {false, "below"}}};
 constexpr std::array<Named<bool>, 2> units_names{{{false, "mm"}, {true, "pixels"}}};
 constexpr std::array<Named<int>, 2> msh_version_names{{{41, "4.1"}, {22, "2.2"}}};
@@ -139,15 +148,18 @@ void set_pixel_size(CliOptions& o, const OptionValue& v) {
 }
 void set_shape(CliOptions& o, const OptionValue& v) { o.shape = std::string(v.text); }
 
+CliOption inside_option(std::string_view group) {
+    return cli_choice("inside", inside_names, group, "threshold mode: objects brighter (above, default) or darker than V",
+                      set_inside);
+}
+
 // The input options of `mesh` (images, volumes' slices, shapes).
 std::vector<CliOption> input_options_2d() {
     std::vector<CliOption> t;
     t.push_back(cli_option("iso", OptionKind::number, "V", images,
                            "threshold mode: the region is where the bilinear image is above V (default: half the "
                            "maximum value)", set_iso));
-    t.push_back(cli_option("inside", OptionKind::choice, "", images,
-                           "threshold mode: objects brighter (above, default) or darker than V", set_inside));
-    t.back().choices = words_of(inside_names);
+    t.push_back(inside_option(images));
     t.push_back(cli_option("label", OptionKind::text, "L[,L...]|nonzero", images,
                            "label mode: the region is the pixels with one of these labels, or every non-zero pixel. "
                            "f is the signed distance to the region's boundary, interpolated bilinearly", set_label));
@@ -197,9 +209,7 @@ std::vector<CliOption> input_options_3d() {
     t.push_back(cli_option("iso", OptionKind::number, "V", volumes,
                            "threshold mode instead: the region is where the trilinear volume is above V (default: the "
                            "middle of the value range)", set_iso));
-    t.push_back(cli_option("inside", OptionKind::choice, "", volumes,
-                           "threshold mode: objects brighter (above, default) or darker than V", set_inside));
-    t.back().choices = words_of(inside_names);
+    t.push_back(inside_option(volumes));
     t.push_back(cli_option("units", OptionKind::choice, "", volumes,
                            "mesh in the file's physical coordinates (mm, default for NRRD and NIfTI) or in voxels "
                            "(default for TIFF)", set_units));
