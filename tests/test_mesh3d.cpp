@@ -453,7 +453,8 @@ BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     BOOST_TEST(throws_containing([&] { parse_shape3("sphere:0,0,0"); }, "sphere takes 4 numbers"));
     BOOST_TEST(throws_containing([&] { parse_shape3("torus:0,0,0,1,2"); }, "0 < r < R"));
     o.spacing = -1;
-    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "spacing must be a positive number"));
+    // The library's words (OptionError naming the option; the CLI prints --spacing).
+    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "spacing must be positive and finite (got -1)"));
     // Coarse: a sphere of radius 1 at spacing 0.7 (less than 4 cubes across).
     o.spacing = 0.7;
     const Mesh3dReport r = mesh3d(*parse_shape3("union(sphere:0,0,0,3;sphere:6,0,0,1)"), o).report;
@@ -480,7 +481,7 @@ BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     // Memory: a lattice of ~10^9 points is refused before it is allocated.
     o.spacing = 0.002;
     o.max_memory = std::uint64_t{256} << 20;
-    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "--max-memory"));
+    BOOST_TEST(throws_containing([&] { mesh3d(*parse_shape3("sphere:0,0,0,1"), o); }, "more than the max_memory limit of 256 MB"));
 }
 
 BOOST_AUTO_TEST_CASE(key_lookup_finds_certified_keys_and_refuses_impossible_ones) {

@@ -151,16 +151,17 @@ BOOST_AUTO_TEST_CASE(issue33_rhombic_is_certified_by_its_own_certificates) {
         BOOST_TEST(json.find("\"certified\": null") == std::string::npos, json);
         BOOST_TEST(json.find("\"lattice_metric\": \"rhombic\"") != std::string::npos, json);
     }
+    // The library's words (the CLI prints --graded, --diagonal fan, --lattice rhombic).
     const auto f2 = parse_shape("circle:0,0,5");
-    for (auto [set, what] : {std::pair<void (*)(MeshOptions&), const char*>{[](MeshOptions& o) { o.graded = true; }, "--graded"},
-                             {[](MeshOptions& o) { o.rule = DiagonalRule::fan; }, "--diagonal fan"},
-                             {[](MeshOptions& o) { o.max_size = 10; }, "--max-size"}}) {
+    for (auto [set, what] : {std::pair<void (*)(MeshOptions&), const char*>{[](MeshOptions& o) { o.graded = true; }, "graded=true"},
+                             {[](MeshOptions& o) { o.rule = DiagonalRule::fan; }, "rule=fan"},
+                             {[](MeshOptions& o) { o.max_size = 10; }, "max_size"}}) {
         MeshOptions o = rhombic_options(1);
         set(o);
-        BOOST_TEST(testing::input_error_containing([&] { mesh(*f2, o); }, std::string(what) + " is not available with --lattice rhombic"));
+        BOOST_TEST(testing::input_error_containing([&] { mesh(*f2, o); }, std::string(what) + " is not available with lattice=rhombic"));
     }
     const auto field = parse_material_shapes("1=circle:0,0,5;2=circle:3,0,3");
-    BOOST_TEST(testing::input_error_containing([&] { mesh(*field, rhombic_options(1)); }, "--lattice rhombic is not available"));
+    BOOST_TEST(testing::input_error_containing([&] { mesh(*field, rhombic_options(1)); }, "lattice=rhombic is not available"));
 }
 
 // --guarantee flat on the rhombic lattice: the spacing is halved until every

@@ -47,7 +47,7 @@ using namespace warpmesh;
 
 constexpr const char* version = "0.1.0";
 
-constexpr const char* usage = R"(warpmesh — conforming triangle meshes of 2D level sets by lattice warping
+constexpr const char* commands = R"(warpmesh — conforming triangle meshes of 2D level sets by lattice warping
 
 usage:
   warpmesh mesh INPUT -o OUT [options]     mesh an image (PGM P2/P5 8/16-bit, PNG, TIFF)
@@ -55,180 +55,35 @@ usage:
   warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
   warpmesh mesh3d INPUT|--shape SPEC -o OUT [opts]
                                            tetrahedra of a volume (NRRD, NIfTI, TIFF) or
-                                           a 3D shape: see "3D" below
+                                           a 3D shape (warpmesh mesh3d --help)
   warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
   warpmesh --help | --version
+)";
 
-input (images):
-  --iso V                threshold mode: the region is where the bilinear image is
-                         above V (default: half the maximum value)
-  --inside above|below   threshold mode: objects brighter (above, default) or darker than V
-  --label L[,L...]       label mode: the region is the pixels with one of these labels;
-  --label nonzero        or every non-zero pixel.  f is the signed distance to the
-                         region's boundary, interpolated bilinearly
-  --max-pixels N         refuse images and volumes with more pixels (voxels) than N
-                         (default 268435456)
-  --max-memory MB        refuse, before the work, inputs whose reading or meshing would
-                         take more than about MB megabytes (default 2048)
-  --materials all|L,...  multi-material mesh of a label image: every label (all; 0 is the
-                         background) or these labels, every other pixel one background
-                         material; interfaces between materials are mesh edges
-                         (2D images and volume slices, in the units below, as for one
-                         region)
-  --background drop|keep with --materials/--shapes: output the background's triangles
-                         (keep) or not (drop, default; it still bounds the materials)
+constexpr const char* usage3d = R"(warpmesh mesh3d — tetrahedra by BCC lattice warping, dihedral angles certified
+(proofs/bcc_delaunay.cert for the default face rule, proofs/bcc.cert for parity)
 
-input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF):
-  --slice AXIS=INDEX     mesh one slice: AXIS is the index axis i, j or k, e.g. k=60
-  --slices AXIS=A:B      mesh slices A .. B-1, in parallel, one output per slice: -o and
-                         --also need a %d field (out_%03d.vtu); --report is a summary
-  --units mm|pixels      mesh in the file's physical coordinates (mm, default for NRRD
-                         and NIfTI) or in pixels (default for PGM, PNG and TIFF)
-                         (--units, --pixel-size, --slice, --slices and --points-3d apply
-                         to --label, --iso and --materials alike)
-  --pixel-size SX[,SY[,SZ]]  pixel (voxel) size in mm, for any input; implies mm
-  --points-3d FILE       also write the mesh's vertices at their 3D positions (CSV x,y,z,
-                         in vertex order; with --slices a %d pattern)
-
-input (shapes):
-  --shape SPEC           circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2
-                         flower:cx,cy,a,b,k  rect:x0,y0,x1,y1
-                         union(S;S)  intersect(S;S)  diff(S;S)   (nestable; an intersection
-                         of shapes with disjoint bounding boxes is the empty set)
-  --shapes T=S;T=S...    analytic materials, region tag T for shape S; a later shape wins
-                         where they overlap; outside all: background (tag 0)
-
-lattice and algorithm:
-  --spacing S            lattice spacing, in the input's units: mm for physical inputs
-                         (default: the smaller pixel size), else pixels (default 1)
-  --diagonal RULE        separating (default): the mesh boundary follows the level set;
-                         maxmin: the paper's rule, the diagonal with the larger minimum angle;
-                         fan: separating, but a square whose corners are all inside and
-                         whose diagonals both have an angle below atan(1/3) = 18.43 deg
-                         gets 4 triangles around its centroid: certified minimum angle
-                         18.4349 deg on every input (uniform and --graded
-                         meshes of two phases; not with several materials)
-  --lattice rhombic      the 60-degree rhombic lattice (interior triangles equilateral,
-                         edges of length --spacing) instead of the square one (default):
-                         lower error per unknown, lower certified bounds
-                         (proofs/rhombic_*.cert: separating [10.8933, 158.2133] deg,
-                         maxmin [12.8294, 150.0200] deg); uniform one-region meshes,
-                         --diagonal separating or maxmin
-  --graded               graded mesh on a 2:1-balanced quadtree: finest along the boundary
-                         (with --materials/--shapes: along every interface)
-  --max-cell K           graded: largest cell, K lattice squares wide (a power of two;
-                         default: as coarse as the domain allows)
-  --max-size H           every triangle's longest edge at most H (input units; H >= sqrt(5)
-                         * spacing); graded: caps the cells (the smaller of this and
-                         --max-cell wins); uniform: the spacing already bounds it (checked)
-  --max-size-of T=H      with --materials/--shapes: the triangles of material T (its label
-                         or tag) have their longest edge at most H (rules as --max-size;
-                         the smaller of the two wins; repeatable, each T once; graded:
-                         caps that material's cells; uniform: checked)
-  --grading G            graded, 1.1 <= G <= 2 (default 2: 2:1 balance): cell sizes grow
-                         away from the boundary by at most a factor G per cell on average
-                         (--grading and --max-cell need --graded; --max-size and --max-cell
-                         need a positive value: leave them out for no bound)
-  --max-squares N        refuse lattices with more than N squares (default 1073741824)
-  --optimize             after meshing, move the boundary band's vertices (boundary ones
-                         along the level set, interface ones along their interface) and
-                         flip its interior edges to raise the worst angles; no triangle's
-                         star gets a smaller minimum angle (materials: no label's area
-                         error grows, junctions stay put)
-
-certificates (proofs/*.cert, compiled in):
-  --verify / --no-verify check every triangle of a warped square against its key's
-                         certified angle interval (default: on); a violation exits
-                         with code 3, naming the square
-  --no-certify           skip the per-square bounds (no certified_min_angle, no report)
-  --guarantee flat       halve the spacing until every warped square's 12-point
-                         stencil is flat (theorem F applies); --guarantee any: no refinement
-  --min-spacing S        --guarantee flat stops before the spacing drops below S
-                         (default: spacing/16)
-
-output:
-  -o, --output FILE      the mesh; the format follows the extension:
-                         .vtu (VTK XML), .msh (Gmsh), .xdmf (FEniCSx; + _facets.xdmf),
-                         .inp (Abaqus/CalculiX), .node/.ele (Triangle), .svg or .png
-  --msh-version V        .msh format version: 4.1 (default) or 2.2
-  --ascii                every output as text (.vtu, .msh, .xdmf are binary by default)
-  --compress             .vtu: zlib-compressed appended binary (default: raw binary)
-  --xdmf-inline          .xdmf: heavy data inline as XML, no .h5 (for tiny meshes)
-  --msh-cell-data        also write per-triangle data (certified_min_angle) into .msh
-  --also FILE            write the mesh to another file as well (repeatable)
-  --svg-color minangle   colour SVG/PNG triangles by their minimum angle
-  --svg-color certified  colour them by the certified minimum angle of their square
-  --svg-color region     colour them by region (label); interfaces drawn
-  --report FILE          the quality report as JSON (it is printed as text on stdout too)
-  --quiet                do not print the text report
-  --threads N            OpenMP threads (default: all cores)
-  --repeat N             (benchmarks) mesh N times in this process and report the
-                         fastest run's phase times; the mesh is the same every time
-
-3D (warpmesh mesh3d): tetrahedra by BCC lattice warping, dihedral angles certified
-(proofs/bcc.cert).  The options of mesh, meaning the same:
-  INPUT                  a volume: --label L[,L...]|nonzero (label mode: signed distance
-                         between voxel centres) or --iso V [--inside above|below]
-                         (threshold mode, trilinear); --units mm|pixels, --pixel-size,
-                         --max-pixels, --max-memory as for slices
-  --shape SPEC           sphere:cx,cy,cz,r  ellipsoid:cx,cy,cz,a,b,c  torus:cx,cy,cz,R,r
-                         box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r
-                         union(S;S)  intersect(S;S)  diff(S;S)   (needs --spacing)
-  --spacing S            the BCC lattice's cube side (default: the smallest voxel size)
-  --face-rule parity|delaunay
-                         how the stencils' quads are split: delaunay (the default:
-                         each face quad by the empty-circle test, at alphas (0.2675,
-                         0.39), proofs/bcc_delaunay.cert) or parity (Labelle and
-                         Shewchuk's rule at (0.285, 0.3985), proofs/bcc.cert)
-  --verify / --no-verify check every certified tetrahedron against the certificate
-                         (default: off in 3D)
-  -o, --also             .vtu, .msh, .xdmf (+ _facets.xdmf), .inp (C3D4) or .mesh (medit);
-                         --ascii, --compress, --xdmf-inline, --msh-version, --msh-cell-data
-  --report FILE, --quiet, --threads N
-  Other options of mesh have no effect in 3D and are refused.
+usage:
+  warpmesh mesh3d INPUT -o OUT [options]   a volume (NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz,
+                                           multi-page TIFF): label mode (--label) or
+                                           threshold mode (--iso)
+  warpmesh mesh3d --shape SPEC --spacing S -o OUT [options]
 )";
 
 struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-double parse_number(const std::string& opt, const std::string& text) {
-    double v = 0;
-    const char* end = text.data() + text.size();
-    auto [ptr, ec] = std::from_chars(text.data(), end, v);
-    if (ec != std::errc() || ptr != end || !std::isfinite(v))
-        throw UsageError(opt + " expects a finite number, got '" + text + "'");
-    return v;
-}
-
-std::int64_t parse_integer(const std::string& opt, const std::string& text) {
-    std::int64_t v = 0;
-    const char* end = text.data() + text.size();
-    auto [ptr, ec] = std::from_chars(text.data(), end, v);
-    if (ec != std::errc() || ptr != end) throw UsageError(opt + " expects an integer, got '" + text + "'");
-    return v;
-}
-
-// The value of an option with a fixed set of words: its index in `words`.
-std::size_t parse_choice(const std::string& opt, const std::string& v, std::initializer_list<const char*> words) {
-    std::string list;
-    std::size_t k = 0;
-    for (const char* w : words) {
-        if (v == w) return k;
-        list += std::string(k == 0 ? "" : k + 1 == words.size() ? " or " : ", ") + "'" + w + "'";
-        ++k;
-    }
-    throw UsageError(opt + " expects " + list + ", got '" + v + "'");
-}
-
-// The command line's options: the library's MeshOptions (pipeline.hpp) and
-// what concerns input and output.
+// The command line's options: the library's MeshOptions (pipeline/mesh2d.hpp)
+// or Mesh3dOptions (mesh3d.hpp), set through their option tables, and what
+// concerns input and output.
 struct CliOptions {
     std::string input, shape;
     std::vector<std::string> outputs;
     std::string report;
     MeshOptions mesh;
-    FaceRule face_rule = default_face_rule;  // 3D only (Mesh3dOptions::face_rule)
+    Mesh3dOptions mesh3;
+    GivenOptions given2d, given3d;  // by name, for the tables' validate
     std::optional<double> iso;
     bool inside_above = true;
     std::optional<std::string> labels;
@@ -245,11 +100,253 @@ struct CliOptions {
     bool units_pixels = false;
     std::vector<double> pixel_size;
     std::string points_3d;
-    // Every option given (for the checks of combinations, e.g. --grading
-    // without --graded).
+    // Every flag given (for the checks of combinations, e.g. --iso with --shape).
     std::set<std::string> given;
     bool has(const char* option) const { return given.count(option) != 0; }
 };
+
+// ---- the command line's own options (input and output), in the tables' form --------
+
+using CliOption = Option<CliOptions>;
+
+CliOption cli_option(std::string_view name, OptionKind kind, std::string_view metavar, std::string_view group,
+                     std::string_view help, void (*set)(CliOptions&, const OptionValue&)) {
+    CliOption o;
+    o.name = name, o.kind = kind, o.metavar = metavar, o.group = group, o.help = help, o.set = set;
+    return o;
+}
+
+// An option with a fixed set of words, those of `names`.
+template <class E, std::size_t N>
+CliOption cli_choice(std::string_view name, const std::array<Named<E>, N>& names, std::string_view group,
+                     std::string_view help, void (*set)(CliOptions&, const OptionValue&)) {
+    CliOption o = cli_option(name, OptionKind::choice, "", group, help, set);
+    o.choices = words_of(names);
+    return o;
+}
+
+constexpr std::array<Named<bool>, 2> inside_names{{{true, "above"}, {false, "below"}}};
+constexpr std::array<Named<bool>, 2> units_names{{{false, "mm"}, {true, "pixels"}}};
+constexpr std::array<Named<int>, 2> msh_version_names{{{41, "4.1"}, {22, "2.2"}}};
+constexpr std::array<Named<int>, 3> svg_color_names{{{0, "minangle"}, {1, "certified"}, {2, "region"}}};
+
+constexpr std::string_view images = "input (images)", volumes = "input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF)",
+                           shapes = "input (shapes)", output_group = "output";
+
+void set_iso(CliOptions& o, const OptionValue& v) { o.iso = v.number(); }
+void set_inside(CliOptions& o, const OptionValue& v) { o.inside_above = v.choice(inside_names); }
+void set_label(CliOptions& o, const OptionValue& v) { o.labels = std::string(v.text); }
+void set_max_pixels(CliOptions& o, const OptionValue& v) {
+    o.max_pixels = v.integer();
+    if (o.max_pixels < 1) v.fail("must be positive");
+}
+void set_units(CliOptions& o, const OptionValue& v) { o.units_pixels = v.choice(units_names); }
+void set_pixel_size(CliOptions& o, const OptionValue& v) {
+    std::stringstream list{std::string(v.text)};
+    o.pixel_size.clear();
+    for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(OptionValue{v.name, item}.number());
+    if (o.pixel_size.empty() || o.pixel_size.size() > 3) v.fail("expects SX[,SY[,SZ]]");
+}
+void set_shape(CliOptions& o, const OptionValue& v) { o.shape = std::string(v.text); }
+
+CliOption inside_option(std::string_view group) {
+    return cli_choice("inside", inside_names, group, "threshold mode: objects brighter (above, default) or darker than V",
+                      set_inside);
+}
+
+// The input options of `mesh` (images, volumes' slices, shapes).
+std::vector<CliOption> input_options_2d() {
+    std::vector<CliOption> t;
+    t.push_back(cli_option("iso", OptionKind::number, "V", images,
+                           "threshold mode: the region is where the bilinear image is above V (default: half the "
+                           "maximum value)", set_iso));
+    t.push_back(inside_option(images));
+    t.push_back(cli_option("label", OptionKind::text, "L[,L...]|nonzero", images,
+                           "label mode: the region is the pixels with one of these labels, or every non-zero pixel. "
+                           "f is the signed distance to the region's boundary, interpolated bilinearly", set_label));
+    t.push_back(cli_option("max_pixels", OptionKind::integer, "N", images,
+                           "refuse images and volumes with more pixels (voxels) than N (default 268435456)",
+                           set_max_pixels));
+    t.push_back(cli_option("materials", OptionKind::text, "all|L,...", images,
+                           "multi-material mesh of a label image: every label (all; 0 is the background) or these "
+                           "labels, every other pixel one background material; interfaces between materials are mesh "
+                           "edges (2D images and volume slices, in the units below, as for one region)",
+                           [](CliOptions& o, const OptionValue& v) { o.materials = std::string(v.text); }));
+    t.push_back(cli_option("slice", OptionKind::text, "AXIS=INDEX", volumes,
+                           "mesh one slice: AXIS is the index axis i, j or k, e.g. k=60",
+                           [](CliOptions& o, const OptionValue& v) { o.slice = std::string(v.text); }));
+    t.push_back(cli_option("slices", OptionKind::text, "AXIS=A:B", volumes,
+                           "mesh slices A .. B-1, in parallel, one output per slice: {output} and {also} need a %d "
+                           "field (out_%03d.vtu); {report} is a summary",
+                           [](CliOptions& o, const OptionValue& v) { o.slices = std::string(v.text); }));
+    t.push_back(cli_option("units", OptionKind::choice, "", volumes,
+                           "mesh in the file's physical coordinates (mm, default for NRRD and NIfTI) or in pixels "
+                           "(default for PGM, PNG and TIFF) ({units}, {pixel_size}, {slice}, {slices} and {points_3d} "
+                           "apply to {label}, {iso} and {materials} alike)", set_units));
+    t.back().choices = words_of(units_names);
+    t.push_back(cli_option("pixel_size", OptionKind::text, "SX[,SY[,SZ]]", volumes,
+                           "pixel (voxel) size in mm, for any input; implies mm", set_pixel_size));
+    t.push_back(cli_option("points_3d", OptionKind::text, "FILE", volumes,
+                           "also write the mesh's vertices at their 3D positions (CSV x,y,z, in vertex order; with "
+                           "{slices} a %d pattern)",
+                           [](CliOptions& o, const OptionValue& v) { o.points_3d = std::string(v.text); }));
+    t.push_back(cli_option("shape", OptionKind::text, "SPEC", shapes,
+                           "circle:cx,cy,r ellipse:cx,cy,a,b annulus:cx,cy,r1,r2 flower:cx,cy,a,b,k rect:x0,y0,x1,y1 "
+                           "union(S;S) intersect(S;S) diff(S;S) (nestable; an intersection of shapes with disjoint "
+                           "bounding boxes is the empty set)", set_shape));
+    t.push_back(cli_option("shapes", OptionKind::text, "T=S;T=S...", shapes,
+                           "analytic materials, region tag T for shape S; a later shape wins where they overlap; "
+                           "outside all: background (tag 0)",
+                           [](CliOptions& o, const OptionValue& v) { o.shapes = std::string(v.text); }));
+    return t;
+}
+
+// The input options of `mesh3d` (volumes, shapes).
+std::vector<CliOption> input_options_3d() {
+    std::vector<CliOption> t;
+    t.push_back(cli_option("label", OptionKind::text, "L[,L...]|nonzero", volumes,
+                           "label mode: the region is the voxels with one of these labels, or every non-zero voxel; "
+                           "f is the signed distance between voxel centres, interpolated trilinearly", set_label));
+    t.push_back(cli_option("iso", OptionKind::number, "V", volumes,
+                           "threshold mode instead: the region is where the trilinear volume is above V (default: the "
+                           "middle of the value range)", set_iso));
+    t.push_back(inside_option(volumes));
+    t.push_back(cli_option("units", OptionKind::choice, "", volumes,
+                           "mesh in the file's physical coordinates (mm, default for NRRD and NIfTI) or in voxels "
+                           "(default for TIFF)", set_units));
+    t.back().choices = words_of(units_names);
+    t.push_back(cli_option("pixel_size", OptionKind::text, "SX[,SY[,SZ]]", volumes,
+                           "voxel size in mm; implies mm", set_pixel_size));
+    t.push_back(cli_option("max_pixels", OptionKind::integer, "N", volumes,
+                           "refuse volumes with more voxels than N (default 268435456)", set_max_pixels));
+    t.push_back(cli_option("shape", OptionKind::text, "SPEC", shapes,
+                           "sphere:cx,cy,cz,r ellipsoid:cx,cy,cz,a,b,c torus:cx,cy,cz,R,r box:x0,y0,z0,x1,y1,z1 "
+                           "cylinder:x0,y0,z0,x1,y1,z1,r union(S;S) intersect(S;S) diff(S;S) (needs {spacing})",
+                           set_shape));
+    return t;
+}
+
+// The output options (2D: every one; 3D: meshes, formats, report).
+std::vector<CliOption> output_options(bool three_d) {
+    std::vector<CliOption> t;
+    t.push_back(cli_option("output", OptionKind::text, "FILE", output_group,
+                           three_d ? "(or -o FILE) the mesh; the format follows the extension: .vtu (VTK XML), .msh "
+                                     "(Gmsh), .xdmf (FEniCSx; + _facets.xdmf), .inp (Abaqus/CalculiX, C3D4) or .mesh "
+                                     "(medit)"
+                                   : "(or -o FILE) the mesh; the format follows the extension: .vtu (VTK XML), .msh "
+                                     "(Gmsh), .xdmf (FEniCSx; + _facets.xdmf), .inp (Abaqus/CalculiX), .node/.ele "
+                                     "(Triangle), .svg or .png",
+                           [](CliOptions& o, const OptionValue& v) { o.outputs.insert(o.outputs.begin(), std::string(v.text)); }));
+    t.push_back(cli_option("msh_version", OptionKind::choice, "", output_group,
+                           ".msh format version: 4.1 (default) or 2.2",
+                           [](CliOptions& o, const OptionValue& v) { o.msh.version = v.choice(msh_version_names); }));
+    t.back().choices = words_of(msh_version_names);
+    t.push_back(cli_option("ascii", OptionKind::flag, "", output_group,
+                           "every output as text (.vtu, .msh, .xdmf are binary by default)",
+                           [](CliOptions& o, const OptionValue& v) { o.formats.ascii = v.flag(); }));
+    t.push_back(cli_option("compress", OptionKind::flag, "", output_group,
+                           ".vtu: zlib-compressed appended binary (default: raw binary)", [](CliOptions& o, const OptionValue& v) {
+                               if (v.flag()) o.formats.vtu.encoding = VtuOptions::Encoding::zlib;
+                           }));
+    t.push_back(cli_option("xdmf_inline", OptionKind::flag, "", output_group,
+                           ".xdmf: heavy data inline as XML, no .h5 (for tiny meshes)",
+                           [](CliOptions& o, const OptionValue& v) { o.formats.xdmf.hdf5 = !v.flag(); }));
+    t.push_back(cli_option("msh_cell_data", OptionKind::flag, "", output_group,
+                           "also write per-element data (certified_min_angle) into .msh",
+                           [](CliOptions& o, const OptionValue& v) { o.msh.cell_data = v.flag(); }));
+    t.push_back(cli_option("also", OptionKind::text, "FILE", output_group,
+                           "write the mesh to another file as well (repeatable)",
+                           [](CliOptions& o, const OptionValue& v) { o.outputs.push_back(std::string(v.text)); }));
+    if (!three_d) {
+        t.push_back(cli_option("svg_color", OptionKind::choice, "", output_group,
+                               "colour SVG/PNG triangles by their minimum angle (minangle), by the certified minimum "
+                               "angle of their square (certified), or by region, interfaces drawn (region)",
+                               [](CliOptions& o, const OptionValue& v) {
+                                   const int c = v.choice(svg_color_names);
+                                   (c == 0 ? o.svg_min_angle : c == 1 ? o.svg_certified : o.svg_region) = true;
+                               }));
+        t.back().choices = words_of(svg_color_names);
+    }
+    t.push_back(cli_option("report", OptionKind::text, "FILE", output_group,
+                           "the quality report as JSON (it is printed as text on stdout too)",
+                           [](CliOptions& o, const OptionValue& v) { o.report = std::string(v.text); }));
+    t.push_back(cli_option("quiet", OptionKind::flag, "", output_group, "do not print the text report",
+                           [](CliOptions& o, const OptionValue& v) { o.quiet = v.flag(); }));
+    t.push_back(cli_option("threads", OptionKind::integer, "N", output_group, "OpenMP threads (default: all cores)",
+                           [](CliOptions&, const OptionValue& v) {
+                               const std::int64_t n = v.integer();
+                               if (n < 1 || n > 1024) v.fail("expects 1 to 1024, got " + std::to_string(n));
+#ifdef _OPENMP
+                               omp_set_num_threads(static_cast<int>(n));
+#endif
+                           }));
+    return t;
+}
+
+// A command's options: its own (input, output) around the library's table.
+struct Command {
+    std::vector<CliOption> input, output;
+    const OptionTable<MeshOptions>* table2d = nullptr;
+    const OptionTable<Mesh3dOptions>* table3d = nullptr;
+    std::vector<std::string_view> groups;
+
+    // Every option, in the help's order: input, the library's, output.
+    std::vector<const OptionDoc*> docs() const {
+        std::vector<const OptionDoc*> d;
+        for (const auto& o : input) d.push_back(&o);
+        if (table2d)
+            for (const OptionDoc* o : table2d->docs()) d.push_back(o);
+        if (table3d)
+            for (const OptionDoc* o : table3d->docs()) d.push_back(o);
+        for (const auto& o : output) d.push_back(&o);
+        return d;
+    }
+    std::string help() const {
+        const auto d = docs();
+        return options_help(d, groups, Spelling::cli);
+    }
+    // The option of this flag and the value a flag sets ("true"/"false"; none: it takes one).
+    const OptionDoc* find(std::string_view flag, std::optional<std::string_view>& fixed) const {
+        for (const OptionDoc* d : docs()) {
+            if (d->kind == OptionKind::flag && !d->off_flag.empty() && flag == d->off_flag) {
+                fixed = "false";
+                return d;
+            }
+            if (flag == cli_flag(*d)) {
+                if (d->kind == OptionKind::flag) fixed = "true";
+                return d;
+            }
+        }
+        return nullptr;
+    }
+    // Sets option d from text in o.
+    void set(CliOptions& o, const OptionDoc* d, std::string_view text) const {
+        for (const auto* own : {&input, &output})
+            for (const auto& c : *own)
+                if (&c == d) return c.set(o, OptionValue{c.name, text});
+        if (table2d) table2d->set(o.mesh, o.given2d, d->name, text);
+        else table3d->set(o.mesh3, o.given3d, d->name, text);
+    }
+};
+
+const Command& mesh_command() {
+    static const Command c{input_options_2d(), output_options(false), &mesh2d_option_table(), nullptr,
+                           {images, volumes, shapes, "lattice and algorithm", "certificates", output_group}};
+    return c;
+}
+
+const Command& mesh3d_command() {
+    static const Command c{input_options_3d(), output_options(true), nullptr, &mesh3d_option_table(),
+                           {volumes, shapes, "lattice and algorithm", output_group}};
+    return c;
+}
+
+// Every option's doc, for spelling a library message with the command line's flags.
+std::string spelled(const OptionError& e) {
+    std::vector<const OptionDoc*> d = mesh_command().docs();
+    for (const OptionDoc* x : mesh3d_command().docs()) d.push_back(x);
+    return spell_options(e.message(), d, Spelling::cli);
+}
 
 // The arguments, one at a time; value() takes the current option's value.
 struct Args {
@@ -262,131 +359,56 @@ struct Args {
     }
 };
 
-// Each parse_*_option reads option `a` (and its value) into `o` and returns
-// true, or returns false when `a` is none of its options.
-
-// Inputs: images, volumes and units, shapes, materials.
-bool parse_input_option(const std::string& a, Args& args, CliOptions& o) {
-    if (a == "--shape") o.shape = args.value(a);
-    else if (a == "--shapes") o.shapes = args.value(a);
-    else if (a == "--slice") o.slice = args.value(a);
-    else if (a == "--slices") o.slices = args.value(a);
-    else if (a == "--units") o.units_pixels = parse_choice(a, args.value(a), {"mm", "pixels"}) == 1;
-    else if (a == "--pixel-size") {
-        std::stringstream list(args.value(a));
-        o.pixel_size.clear();
-        for (std::string item; std::getline(list, item, ',');) o.pixel_size.push_back(parse_number(a, item));
-        if (o.pixel_size.empty() || o.pixel_size.size() > 3) throw UsageError("--pixel-size expects SX[,SY[,SZ]]");
-    } else if (a == "--iso") o.iso = parse_number(a, args.value(a));
-    else if (a == "--inside") o.inside_above = parse_choice(a, args.value(a), {"above", "below"}) == 0;
-    else if (a == "--label") o.labels = args.value(a);
-    else if (a == "--materials") o.materials = args.value(a);
-    else if (a == "--background") o.mesh.keep_background = parse_choice(a, args.value(a), {"drop", "keep"}) == 1;
-    else if (a == "--max-pixels") o.max_pixels = parse_integer(a, args.value(a));
-    else if (a == "--max-memory") {
-        const std::int64_t mb = parse_integer(a, args.value(a));
-        if (mb < 1 || mb > (std::int64_t{1} << 40)) throw UsageError("--max-memory expects megabytes, 1 to 2^40");
-        o.mesh.max_memory = static_cast<std::uint64_t>(mb) << 20;
-    } else return false;
-    return true;
+// Why an option of `mesh` is refused by mesh3d.
+std::string refused_in_3d(const std::string& option) {
+    if (option == "--materials" || option == "--shapes" || option == "--background" || option == "--max-size-of")
+        return "multi-material 3D meshes are not built yet (docs/3d.md); mesh one region with --label L,...";
+    if (option == "--graded" || option == "--max-cell" || option == "--max-size" || option == "--grading")
+        return "graded (octree) 3D meshes are not built yet (docs/3d.md); the size is the --spacing";
+    if (option == "--slice" || option == "--slices" || option == "--points-3d")
+        return "mesh3d meshes the whole volume in 3D; it applies to 2D meshes of slices (warpmesh mesh)";
+    if (option == "--diagonal" || option == "--guarantee" || option == "--min-spacing")
+        return "3D splits the BCC stencils' quads by --face-rule parity|delaunay, certified as they are";
+    if (option == "--svg-color") return "pictures are 2D (.svg, .png); 3D meshes go to .vtu, .msh, .xdmf, .inp or .mesh";
+    if (option == "--no-certify") return "every 3D mesh is looked up in the certificate (it costs nothing)";
+    return "it is an option of the 2D mesher (warpmesh mesh)";
 }
 
-// The lattice, the algorithm, size control and the certificates.
-bool parse_mesher_option(const std::string& a, Args& args, CliOptions& o) {
-    MeshOptions& m = o.mesh;
-    if (a == "--spacing") m.spacing = parse_number(a, args.value(a));
-    else if (a == "--diagonal") {
-        constexpr DiagonalRule rules[] = {DiagonalRule::maxmin, DiagonalRule::separating, DiagonalRule::fan};
-        m.rule = rules[parse_choice(a, args.value(a), {"maxmin", "separating", "fan"})];
-    } else if (a == "--lattice") {
-        m.lattice = parse_choice(a, args.value(a), {"square", "rhombic"}) == 1 ? LatticeMetric::rhombic : LatticeMetric::square;
-    } else if (a == "--graded") m.graded = true;
-    else if (a == "--optimize") m.optimize = true;
-    else if (a == "--max-cell") m.max_cell = parse_integer(a, args.value(a));
-    else if (a == "--max-size") m.max_size = parse_number(a, args.value(a));
-    else if (a == "--grading") m.grading = parse_number(a, args.value(a));
-    else if (a == "--max-size-of") {
-        const std::string v = args.value(a);
-        const std::size_t eq = v.find('=');
-        if (eq == std::string::npos) throw UsageError("--max-size-of expects T=H (a material's tag and a size), got '" + v + "'");
-        const std::int64_t tag = parse_integer(a + " T", v.substr(0, eq));
-        if (tag < 0 || tag > 65535) throw UsageError("--max-size-of T=H: T must be a label or tag 0..65535, got " + std::to_string(tag));
-        m.max_size_of.emplace_back(static_cast<std::int32_t>(tag), parse_number(a + " H", v.substr(eq + 1)));
-    } else if (a == "--max-squares") m.max_squares = parse_integer(a, args.value(a));
-    else if (a == "--verify") m.verify = true;
-    else if (a == "--no-verify") m.verify = false;
-    else if (a == "--no-certify") m.certify = false;
-    else if (a == "--min-spacing") m.min_spacing = parse_number(a, args.value(a));
-    else if (a == "--guarantee") m.guarantee = parse_choice(a, args.value(a), {"flat", "any"}) == 0 ? Guarantee::flat : Guarantee::any;
-    else if (a == "--face-rule") {
-        const std::string v = args.value(a);
-        parse_choice(a, v, {face_rule_name(face_rules[0]), face_rule_name(face_rules[1])});  // the message for a bad name
-        o.face_rule = *parse_face_rule(v);
+// The options of `command`, before the checks of combinations; an option of
+// the other command is refused with the reason.
+CliOptions parse_arguments(const Command& command, const Command& other, int argc, char** argv) {
+    CliOptions o;
+    Args args{argc, argv};
+    const bool three_d = command.table3d != nullptr;
+    for (; args.i < argc; ++args.i) {
+        const std::string a = std::string(argv[args.i]) == "-o" ? "--output" : argv[args.i];
+        std::optional<std::string_view> fixed;
+        if (const OptionDoc* d = command.find(a, fixed)) {
+            command.set(o, d, fixed ? std::string(*fixed) : args.value(argv[args.i]));
+            o.given.insert(a);
+        } else if (other.find(a, fixed)) {
+            throw UsageError(three_d ? a + " has no effect in 3D (warpmesh mesh3d): " + refused_in_3d(a)
+                                     : a + " applies to 3D meshes (warpmesh mesh3d)" +
+                                           (a == "--face-rule" ? ": it splits the BCC stencils' quads; 2D's diagonals are --diagonal"
+                                                               : std::string()));
+        } else if (!a.empty() && a[0] == '-') {
+            throw UsageError("unknown option '" + a + "'");
+        } else if (o.input.empty()) {
+            o.input = a;
+        } else {
+            throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
+        }
     }
-    else return false;
-    return true;
+    if (o.outputs.empty() && o.report.empty() && o.quiet)
+        throw UsageError("nothing to do: no -o, no --report and --quiet");
+    return o;
 }
 
-// Outputs, formats, the report, and how the run goes.
-bool parse_output_option(const std::string& a, Args& args, CliOptions& o) {
-    if (a == "-o" || a == "--output") o.outputs.insert(o.outputs.begin(), args.value(a));
-    else if (a == "--also") o.outputs.push_back(args.value(a));
-    else if (a == "--report") o.report = args.value(a);
-    else if (a == "--points-3d") o.points_3d = args.value(a);
-    else if (a == "--msh-version") o.msh.version = parse_choice(a, args.value(a), {"4.1", "2.2"}) == 0 ? 41 : 22;
-    else if (a == "--msh-cell-data") o.msh.cell_data = true;
-    else if (a == "--ascii") o.formats.ascii = true;
-    else if (a == "--compress") o.formats.vtu.encoding = VtuOptions::Encoding::zlib;
-    else if (a == "--xdmf-inline") o.formats.xdmf.hdf5 = false;
-    else if (a == "--svg-color") {
-        const std::size_t c = parse_choice(a, args.value(a), {"minangle", "certified", "region"});
-        (c == 0 ? o.svg_min_angle : c == 1 ? o.svg_certified : o.svg_region) = true;
-    } else if (a == "--quiet") o.quiet = true;
-    else if (a == "--repeat") {
-        o.mesh.repeat = parse_integer(a, args.value(a));
-        if (o.mesh.repeat < 1 || o.mesh.repeat > 1000) throw UsageError("--repeat expects 1 to 1000");
-    } else if (a == "--threads") {
-        const std::int64_t n = parse_integer(a, args.value(a));
-        if (n < 1 || n > 1024) throw UsageError("--threads expects 1 to 1024");
-#ifdef _OPENMP
-        omp_set_num_threads(static_cast<int>(n));
-#endif
-    } else return false;
-    return true;
-}
-
-// Options that have no effect in this combination are refused rather than
-// silently ignored; so are values that only look like sizes (--max-size 0,
-// --max-cell 0: the library's "no bound", which the user gets by leaving the
-// option out).
-void check_mesher_options(const CliOptions& o) {
-    const MeshOptions& m = o.mesh;
-    try {
-        validate(m);
-    } catch (const InputError& e) {
-        throw UsageError(e.what());
-    }
-    if (o.has("--max-size") && !(m.max_size > 0))
-        throw UsageError("--max-size must be positive and finite (leave it out for no size bound)");
-    if (o.has("--max-cell") && m.max_cell < 1)
-        throw UsageError("--max-cell must be a power of two >= 1, in lattice squares (leave it out for cells as coarse "
-                         "as the domain allows)");
-    for (const char* option : {"--grading", "--max-cell"})
-        if (o.has(option) && !m.graded)
-            throw UsageError(std::string(option) + " applies to graded meshes: add --graded (a uniform mesh's size is its spacing)");
-    if (o.has("--min-spacing") && m.guarantee != Guarantee::flat)
-        throw UsageError("--min-spacing applies to --guarantee flat");
-    if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
-    if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
-    if (o.has("--face-rule"))
-        throw UsageError("--face-rule applies to 3D meshes (warpmesh mesh3d): it splits the BCC stencils' quads; 2D's diagonals are --diagonal");
-}
-
+// The combinations of the command line's own options (inputs, pictures, batches).
 void check_input_options(const CliOptions& o) {
     const MeshOptions& m = o.mesh;
     if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
         throw UsageError("give exactly one of an input image or --shape SPEC (or --shapes SPEC)");
-    if (o.max_pixels < 1) throw UsageError("--max-pixels must be positive");
     const bool analytic = !o.shape.empty() || o.shapes;
     if (analytic && (o.iso || o.labels || o.has("--inside")))
         throw UsageError("--iso, --inside and --label apply to images, not to --shape/--shapes");
@@ -401,33 +423,21 @@ void check_input_options(const CliOptions& o) {
     if (o.has("--background") && !o.materials && !o.shapes) throw UsageError("--background applies to --materials and --shapes");
     if (!m.max_size_of.empty() && !o.materials && !o.shapes)
         throw UsageError("--max-size-of applies to --materials and --shapes (one region: use --max-size)");
-    if (o.materials || o.shapes) {
-        if (m.guarantee == Guarantee::flat) throw UsageError("--guarantee flat is not available with --materials/--shapes");
-    }
-}
-
-// The options of `mesh` and `mesh3d`, before the checks of combinations.
-CliOptions parse_arguments(int argc, char** argv) {
-    CliOptions o;
-    Args args{argc, argv};
-    for (; args.i < argc; ++args.i) {
-        const std::string a = argv[args.i];
-        if (parse_input_option(a, args, o) || parse_mesher_option(a, args, o) || parse_output_option(a, args, o))
-            o.given.insert(a);
-        else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "'");
-        else if (o.input.empty()) o.input = a;
-        else throw UsageError("more than one input: '" + o.input + "' and '" + a + "'");
-    }
-    if (o.outputs.empty() && o.report.empty() && o.quiet)
-        throw UsageError("nothing to do: no -o, no --report and --quiet");
-    return o;
+    if ((o.materials || o.shapes) && m.guarantee == Guarantee::flat)
+        throw UsageError("--guarantee flat is not available with --materials/--shapes");
+    if (o.svg_certified && !m.certify) throw UsageError("--svg-color certified needs the certification (drop --no-certify)");
+    if (o.slices && m.repeat > 1) throw UsageError("--repeat does not combine with --slices");
 }
 
 CliOptions parse_mesh_options(int argc, char** argv) {
-    CliOptions o = parse_arguments(argc, argv);
-    check_input_options(o);
-    check_mesher_options(o);
-    return o;
+    try {
+        CliOptions o = parse_arguments(mesh_command(), mesh3d_command(), argc, argv);
+        check_input_options(o);
+        mesh2d_option_table().validate(o.mesh, o.given2d);
+        return o;
+    } catch (const OptionError& e) {
+        throw UsageError(spelled(e));
+    }
 }
 
 // All outputs of one run appear together or not at all.  Each is first written
@@ -616,40 +626,15 @@ int run_slices(const CliOptions& o) {
 // option names and parsing as `mesh`.  Options of `mesh` that would have no
 // effect in 3D are refused with the reason, never ignored.
 
-// Why an option of `mesh` is refused by mesh3d (empty: it applies).
-std::string refused_in_3d(const std::string& option) {
-    static const std::set<std::string> applies = {
-        "--shape",   "--iso",       "--inside", "--label",  "--units",       "--pixel-size", "--max-pixels",
-        "--max-memory", "--spacing", "--verify", "--no-verify", "-o",        "--output",     "--also",
-        "--report",  "--quiet",     "--threads", "--ascii", "--compress",    "--xdmf-inline", "--msh-version",
-        "--msh-cell-data", "--face-rule"};
-    if (applies.count(option)) return {};
-    if (option == "--materials" || option == "--shapes" || option == "--background" || option == "--max-size-of")
-        return "multi-material 3D meshes are not built yet (docs/3d.md); mesh one region with --label L,...";
-    if (option == "--graded" || option == "--max-cell" || option == "--max-size" || option == "--grading")
-        return "graded (octree) 3D meshes are not built yet (docs/3d.md); the size is the --spacing";
-    if (option == "--slice" || option == "--slices" || option == "--points-3d")
-        return "mesh3d meshes the whole volume in 3D; it applies to 2D meshes of slices (warpmesh mesh)";
-    if (option == "--diagonal" || option == "--guarantee" || option == "--min-spacing")
-        return "3D splits the BCC stencils' quads by --face-rule parity|delaunay, certified as they are";
-    if (option == "--svg-color") return "pictures are 2D (.svg, .png); 3D meshes go to .vtu, .msh, .xdmf, .inp or .mesh";
-    if (option == "--no-certify") return "every 3D mesh is looked up in the certificate (it costs nothing)";
-    return "it is an option of the 2D mesher (warpmesh mesh)";
-}
-
 // The input the command line names: a volume file or --shape SPEC.
 Mesh3dInput mesh3d_input(const CliOptions& o) {
     if (o.shape.empty()) return VolumeFile{o.input};
     return Shape3{o.shape};
 }
 
-// The library's options from the command line's.
+// The library's options: the table's (o.mesh3) and the volume's input options.
 Mesh3dOptions mesh3d_options(const CliOptions& o) {
-    Mesh3dOptions mo;
-    if (o.has("--spacing")) mo.spacing = o.mesh.spacing;
-    mo.face_rule = o.face_rule;  // and the rule's alphas (face_rule_alphas)
-    mo.verify = o.has("--verify") && o.mesh.verify;
-    mo.max_memory = o.mesh.max_memory;
+    Mesh3dOptions mo = o.mesh3;
     mo.max_voxels = static_cast<std::uint64_t>(std::max<std::int64_t>(o.max_pixels, 0));
     mo.labels = o.labels;
     mo.iso = o.iso;
@@ -660,17 +645,18 @@ Mesh3dOptions mesh3d_options(const CliOptions& o) {
 }
 
 CliOptions parse_mesh3d_options(int argc, char** argv) {
-    CliOptions o = parse_arguments(argc, argv);
-    for (const auto& option : o.given)
-        if (const std::string why = refused_in_3d(option); !why.empty())
-            throw UsageError(option + " has no effect in 3D (warpmesh mesh3d): " + why);
-    if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input volume or --shape SPEC");
     try {
-        validate(mesh3d_input(o), mesh3d_options(o));
+        CliOptions o = parse_arguments(mesh3d_command(), mesh_command(), argc, argv);
+        if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input volume or --shape SPEC");
+        mesh3d_option_table().validate(o.mesh3, o.given3d);
+        validate(mesh3d_input(o), mesh3d_options(o));  // the input's options: one check, the library's
+        o.mesh.max_memory = o.mesh3.max_memory;
+        return o;
+    } catch (const OptionError& e) {
+        throw UsageError(spelled(e));
     } catch (const InputError& e) {
         throw UsageError(e.what());
     }
-    return o;
 }
 
 // Stage lines on stderr ("warpmesh: meshing ... (12.3 s)"), only on a
@@ -735,13 +721,14 @@ void tune_malloc() {
 int main(int argc, char** argv) {
     tune_malloc();
     try {
+        const std::string help = std::string(commands) + "\n" + mesh_command().help();
         if (argc < 2) {
-            std::cerr << usage;
+            std::cerr << help;
             return 2;
         }
         const std::string cmd = argv[1];
         if (cmd == "--help" || cmd == "-h" || cmd == "help") {
-            std::cout << usage;
+            std::cout << help;
             return 0;
         }
         if (cmd == "--version") {
@@ -751,7 +738,7 @@ int main(int argc, char** argv) {
         if (cmd == "mesh" || cmd == "mesh3d") {
             for (int i = 2; i < argc; ++i)
                 if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-                    std::cout << usage;
+                    std::cout << (cmd == "mesh" ? help : std::string(usage3d) + "\n" + mesh3d_command().help());
                     return 0;
                 }
             return cmd == "mesh" ? run_mesh(argc - 2, argv + 2) : run_mesh3d(argc - 2, argv + 2);
@@ -768,6 +755,9 @@ int main(int argc, char** argv) {
     } catch (const UsageError& e) {
         std::cerr << "warpmesh: " << e.what() << "\n";
         return 2;
+    } catch (const OptionError& e) {
+        std::cerr << "warpmesh: error: " << spelled(e) << "\n";
+        return 1;
     } catch (const InputError& e) {
         std::cerr << "warpmesh: error: " << e.what() << "\n";
         return 1;

@@ -57,19 +57,19 @@ int prove_main(int argc, char** argv) {
             ++i;
 #endif
         } else if (a == "--rule" && i + 1 < argc) {  // one rule only (development; key_table.txt then holds it alone)
-            const std::string r = argv[++i];
-            if (r != "maxmin" && r != "separating" && r != "fan") {
+            const std::optional<DiagonalRule> r = value_of(diagonal_rule_names, argv[++i]);
+            if (!r) {
                 std::fprintf(stderr, "warpmesh prove: --rule expects maxmin, separating or fan\n");
                 return 2;
             }
-            rules = {r == "maxmin" ? DiagonalRule::maxmin : r == "separating" ? DiagonalRule::separating : DiagonalRule::fan};
+            rules = {*r};
         } else if (a == "--lattice" && i + 1 < argc) {
-            const std::string l = argv[++i];
-            if (l != "square" && l != "rhombic") {
+            const std::optional<LatticeMetric> l = value_of(lattice_metric_names, argv[++i]);
+            if (!l) {
                 std::fprintf(stderr, "warpmesh prove: --lattice expects square or rhombic\n");
                 return 2;
             }
-            metric = l == "rhombic" ? LatticeMetric::rhombic : LatticeMetric::square;
+            metric = *l;
         } else if (a == "--keys" && i + 1 < argc) {  // indices into prover::consistent_keys()
             use_subset = sign_subset = true;
             const long n = static_cast<long>(prover::consistent_keys().size());

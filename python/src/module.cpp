@@ -85,18 +85,85 @@ struct Volume3 {
     Volume volume;
 };
 
-// The 3D pipeline's options from keywords (__init__.py converts them).
-Mesh3dOptions mesh3d_options(const py::dict& kw) {
-    Mesh3dOptions o;
-    if (kw.contains("spacing")) o.spacing = kw["spacing"].cast<double>();
-    if (kw.contains("face_rule")) {
-        const py::object name = kw["face_rule"];
-        const std::optional<FaceRule> rule = py::isinstance<py::str>(name) ? parse_face_rule(name.cast<std::string>()) : std::nullopt;
-        if (!rule) throw InputError("face_rule must be 'parity' or 'delaunay', got " + py::repr(name).cast<std::string>());
-        o.face_rule = *rule;
+// The pipeline's input: a shape string or a Volume3.
+Mesh3dInput mesh3d_input(const py::object& input) {
+    if (py::isinstance<py::str>(input)) return Shape3{input.cast<std::string>()};
+    return std::cref(input.cast<const Volume3&>().volume);
+}
+
+// Every option's doc (both tables), for spelling messages as keywords.
+std::vector<const OptionDoc*> all_docs() {
+    std::vector<const OptionDoc*> d = mesh2d_option_table().docs();
+    for (const OptionDoc* x : mesh3d_option_table().docs()) d.push_back(x);
+    return d;
+}
+
+// A Python number as the text the tables read: ints as they are, floats as
+// the shortest text that reads back (non-finite ones as "nan", "inf": the
+// table refuses them, naming the keyword).
+std::string keyword_number(const std::string& name, py::handle v, const std::string& part = "") {
+    if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || !PyNumber_Check(v.ptr()))
+        throw OptionError(name, "{" + name + "}" + part + " expects a number, got " + py::repr(v).cast<std::string>());
+    if (PyIndex_Check(v.ptr())) return py::str(py::int_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
+    return warpmesh::number_text(py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>());
+}
+
+// The texts of keyword `name`'s value for its table entry (several for a
+// dict of pairs), or OptionError naming the keyword when its type is wrong.
+std::vector<std::string> option_texts(const OptionDoc& d, py::handle v) {
+    const std::string name(d.name);
+    switch (d.kind) {
+        case OptionKind::flag: return {PyObject_IsTrue(v.ptr()) ? "true" : "false"};
+        case OptionKind::number:
+        case OptionKind::integer: return {keyword_number(name, v)};
+        case OptionKind::choice:
+        case OptionKind::text:
+            if (!py::isinstance<py::str>(v))
+                throw OptionError(name, "{" + name + "} expects a string, got " + py::repr(v).cast<std::string>());
+            return {v.cast<std::string>()};
+        case OptionKind::pairs: {
+            if (!py::isinstance<py::dict>(v))
+                throw OptionError(name, "{" + name + "} must be a dict {label: size}, got " +
+                                            std::string(py::str(v.get_type().attr("__name__"))));
+            std::vector<std::string> texts;
+            for (const auto& [k, x] : v.cast<py::dict>()) texts.push_back(keyword_number(name, k, " label") + "=" + keyword_number(name, x, " size"));
+            return texts;
+        }
     }
-    if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
-    if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();  // bytes
+    return {};
+}
+
+// Options from Python keywords through a table (the library parses and
+// validates them); `input` names the input in the report.
+template <class Options>
+Options options_from(const OptionTable<Options>& table, const py::dict& kw, Options o = {}) {
+    GivenOptions given;
+    for (const auto& [key, value] : kw) {
+        const std::string name = py::str(key).cast<std::string>();
+        if (name == "input") continue;
+        const Option<Options>* entry = table.find(name);
+        if (!entry) throw OptionError(name, "unknown option '" + name + "'");
+        for (const std::string& text : option_texts(*entry, value)) table.set(o, given, name, text);
+    }
+    table.validate(o, given);
+    return o;
+}
+
+MeshOptions mesh_options(const py::dict& kw) {
+    MeshOptions o;
+    if (kw.contains("input")) o.input = kw["input"].cast<std::string>();
+    return options_from(mesh2d_option_table(), kw, o);
+}
+
+// The 3D pipeline's options from keywords (__init__.py converts them): the
+// table's (spacing, face_rule, verify, max_memory in MB) set and checked by
+// the table, as the command line's; the input's (labels, iso, inside,
+// voxel_size) and threads, checked by the pipeline's validate.
+Mesh3dOptions mesh3d_options(const py::dict& kw) {
+    py::dict table_kw;
+    for (const auto& [key, value] : kw)
+        if (mesh3d_option_table().find(py::str(key).cast<std::string>())) table_kw[key] = value;
+    Mesh3dOptions o = options_from(mesh3d_option_table(), table_kw);
     if (kw.contains("threads")) o.threads = kw["threads"].cast<int>();
     if (kw.contains("labels")) o.labels = kw["labels"].cast<std::string>();
     if (kw.contains("iso")) o.iso = kw["iso"].cast<double>();
@@ -105,43 +172,27 @@ Mesh3dOptions mesh3d_options(const py::dict& kw) {
     return o;
 }
 
-// The pipeline's input: a shape string or a Volume3.
-Mesh3dInput mesh3d_input(const py::object& input) {
-    if (py::isinstance<py::str>(input)) return Shape3{input.cast<std::string>()};
-    return std::cref(input.cast<const Volume3&>().volume);
-}
-
-MeshOptions mesh_options(const py::dict& kw) {
-    MeshOptions o;
-    if (kw.contains("spacing")) o.spacing = kw["spacing"].cast<double>();
-    if (kw.contains("rule")) {
-        const auto r = kw["rule"].cast<std::string>();
-        if (r == "separating") o.rule = DiagonalRule::separating;
-        else if (r == "maxmin") o.rule = DiagonalRule::maxmin;
-        else if (r == "fan") o.rule = DiagonalRule::fan;
-        else throw InputError("rule must be 'separating', 'maxmin' or 'fan', got '" + r + "'");
+// The table of "mesh2d" or "mesh3d" for __init__.py: per option its name,
+// kind, metavar, choices, help group, help (spelled as keywords) and the
+// command line's flag.
+py::list option_table(const std::string& which) {
+    const std::vector<const OptionDoc*> docs = which == "mesh2d" ? mesh2d_option_table().docs() : mesh3d_option_table().docs();
+    constexpr const char* kinds[] = {"flag", "number", "integer", "choice", "pairs", "text"};
+    py::list out;
+    for (const OptionDoc* d : docs) {
+        py::dict e;
+        e["name"] = std::string(d->name);
+        e["kind"] = kinds[static_cast<int>(d->kind)];
+        e["metavar"] = std::string(d->metavar);
+        std::vector<std::string> choices(d->choices.begin(), d->choices.end());
+        e["choices"] = choices;
+        e["group"] = std::string(d->group);
+        e["help"] = spell_options(d->help, all_docs(), Spelling::python);
+        e["flag"] = cli_flag(*d);
+        e["off_flag"] = std::string(d->off_flag);
+        out.append(e);
     }
-    if (kw.contains("graded")) o.graded = kw["graded"].cast<bool>();
-    if (kw.contains("max_cell")) o.max_cell = kw["max_cell"].cast<std::int64_t>();
-    if (kw.contains("max_size")) o.max_size = kw["max_size"].cast<double>();
-    if (kw.contains("grading")) o.grading = kw["grading"].cast<double>();
-    if (kw.contains("max_size_of"))  // {label: size}
-        for (const auto& [tag, size] : kw["max_size_of"].cast<py::dict>())
-            o.max_size_of.emplace_back(tag.cast<std::int32_t>(), size.cast<double>());
-    if (kw.contains("max_squares")) o.max_squares = kw["max_squares"].cast<std::int64_t>();
-    if (kw.contains("certify")) o.certify = kw["certify"].cast<bool>();
-    if (kw.contains("verify")) o.verify = kw["verify"].cast<bool>();
-    if (kw.contains("guarantee")) {
-        const auto g = kw["guarantee"].cast<std::string>();
-        if (g == "flat") o.guarantee = Guarantee::flat;
-        else if (g == "any") o.guarantee = Guarantee::any;
-        else throw InputError("guarantee must be None, 'any' or 'flat', got '" + g + "'");
-    }
-    if (kw.contains("min_spacing")) o.min_spacing = kw["min_spacing"].cast<double>();
-    if (kw.contains("input")) o.input = kw["input"].cast<std::string>();
-    if (kw.contains("optimize")) o.optimize = kw["optimize"].cast<bool>();
-    if (kw.contains("max_memory")) o.max_memory = kw["max_memory"].cast<std::uint64_t>();  // bytes
-    return o;
+    return out;
 }
 
 // f: a LevelSet, or a MaterialField (multi-material meshes).
@@ -209,6 +260,7 @@ void bind_meshing(py::module_& m) {
         "mesh_image",
         [](const Pixels& pixels, int maxval, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels, bool nonzero,
            const std::string& source, const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
+            const MeshOptions o = mesh_options(kw);
             const Image img = to_image(pixels, maxval, source);
             ImageLevelSetOptions io;
             io.geometry = pixel_geometry(geometry);
@@ -221,7 +273,7 @@ void bind_meshing(py::module_& m) {
                 io.inside_above = inside_above;
             }
             const std::unique_ptr<LevelSet> f = image_levelset(img, io);
-            return run(*f, mesh_options(kw), threads);
+            return run(*f, o, threads);
         },
         py::arg("pixels"), py::arg("maxval"), py::arg("iso"), py::arg("inside_above"), py::arg("labels"),
         py::arg("nonzero"), py::arg("source"), py::arg("geometry"), py::arg("threads"), py::arg("options"));
@@ -229,8 +281,9 @@ void bind_meshing(py::module_& m) {
     m.def(
         "mesh_shape",
         [](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
+            const MeshOptions o = mesh_options(kw);
             const std::unique_ptr<LevelSet> f = parse_shape(spec);
-            return run(*f, mesh_options(kw), threads);
+            return run(*f, o, threads);
         },
         py::arg("spec"), py::arg("threads"), py::arg("options"));
 
@@ -238,26 +291,24 @@ void bind_meshing(py::module_& m) {
     // are the background, tag 0) in one conforming mesh (materials.hpp).
     m.def(
         "mesh_materials",
-        [](const Pixels& pixels, int maxval, const std::string& spec, bool keep_background, const std::string& source,
+        [](const Pixels& pixels, int maxval, const std::string& spec, const std::string& source,
            const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
             const Image img = to_image(pixels, maxval, source);
-            MeshOptions o = mesh_options(kw);
-            o.keep_background = keep_background;
+            const MeshOptions o = mesh_options(kw);
             const std::unique_ptr<MaterialField> field = make_label_materials(img, spec, pixel_geometry(geometry), o.max_memory);
             return run(*field, o, threads);
         },
-        py::arg("pixels"), py::arg("maxval"), py::arg("spec"), py::arg("keep_background"), py::arg("source"),
+        py::arg("pixels"), py::arg("maxval"), py::arg("spec"), py::arg("source"),
         py::arg("geometry"), py::arg("threads"), py::arg("options"));
 
     m.def(
         "mesh_shapes",
-        [](const std::string& spec, bool keep_background, std::optional<int> threads, const py::dict& kw) {
+        [](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
+            const MeshOptions o = mesh_options(kw);
             const std::unique_ptr<MaterialField> field = parse_material_shapes(spec);
-            MeshOptions o = mesh_options(kw);
-            o.keep_background = keep_background;
             return run(*field, o, threads);
         },
-        py::arg("spec"), py::arg("keep_background"), py::arg("threads"), py::arg("options"));
+        py::arg("spec"), py::arg("threads"), py::arg("options"));
 }
 
 // A TetBlock as a dict of numpy arrays (picklable: dask ships blocks between
@@ -482,12 +533,22 @@ void bind_read_image(py::module_& m) {
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "warpmesh C++ core (use the `warpmesh` package)";
-    py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+    const auto& input_error = py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+    // OptionError: an InputError whose message names the options as keywords.
+    static py::exception<OptionError> option_error(m, "OptionError", input_error.ptr());
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const OptionError& e) {
+            PyErr_SetString(option_error.ptr(), spell_options(e.message(), all_docs(), Spelling::python).c_str());
+        }
+    });
     py::register_exception<OutputError>(m, "OutputError", PyExc_OSError);
     bind_result(m);
     bind_meshing(m);
     bind_mesh3d(m);
     bind_read_image(m);
+    m.def("option_table", &option_table, py::arg("which"));
     m.def("png_supported", &png_supported);
     m.def("certified_table_available", &certified_table_available);
 }

@@ -25,10 +25,10 @@ import warnings
 import numpy as np
 
 from . import _core
-from ._core import InputError, OutputError, png_supported, certified_table_available
+from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
 __all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image",
-           "write", "Mesh", "TetMesh", "Image", "InputError", "OutputError", "png_supported",
+           "write", "Mesh", "TetMesh", "Image", "InputError", "OptionError", "OutputError", "png_supported",
            "certified_table_available"]
 
 # The CLI's --max-squares and --max-pixels defaults.
@@ -231,29 +231,50 @@ def write(result, path, *, ascii=False, compress=False, xdmf_inline=False):
     result.write(path, ascii=ascii, compress=compress, xdmf_inline=xdmf_inline)
 
 
-def _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify, max_squares, input,
-             max_size=None, grading=2.0, max_size_of=None, optimize=False, max_memory=_MAX_MEMORY_MB):
-    _choice("rule", rule, ("separating", "maxmin", "fan"))
-    if guarantee is not None:
-        _choice("guarantee", guarantee, ("any", "flat"))
-    o = dict(spacing=_number("spacing", spacing), rule=rule, graded=bool(graded),
-             max_cell=_integer("max_cell", max_cell, 0), max_squares=_integer("max_squares", max_squares),
-             certify=bool(certify), verify=bool(verify), guarantee="any" if guarantee is None else guarantee,
-             input=input, optimize=bool(optimize), max_memory=_max_memory(max_memory))
-    if min_spacing is not None:
-        o["min_spacing"] = _number("min_spacing", min_spacing)
-    if max_size is not None:
-        # None is "no bound"; 0 is not a size (the CLI refuses --max-size 0 too).
-        o["max_size"] = _number("max_size", max_size)
-        if not o["max_size"] > 0:
-            raise InputError("max_size must be positive and finite (None for no size bound)")
-    o["grading"] = _number("grading", grading)
-    if max_size_of is not None:
-        if not isinstance(max_size_of, dict):
-            raise InputError(f"max_size_of must be a dict {{label: size}}, got {type(max_size_of).__name__}")
-        o["max_size_of"] = {_integer("max_size_of label", k): _number("max_size_of size", v)
-                            for k, v in max_size_of.items()}
-    return o
+# The library's option tables (pipeline/options.hpp): per option its name (the
+# keyword), kind, metavar, choices, help group, help (options named as
+# keywords) and the CLI's flag.  The functions below pass the keywords of
+# these tables to the library, which parses and validates them (OptionError,
+# a subclass of InputError, naming the keyword).
+_OPTIONS2D = _core.option_table("mesh2d")
+_OPTIONS3D = _core.option_table("mesh3d")
+_MISSING = object()
+
+
+def _same(a, b):
+    """Whether a keyword's value is its default (bools only equal bools)."""
+    if a is b:
+        return True
+    if isinstance(a, (bool, np.bool_)) != isinstance(b, (bool, np.bool_)):
+        return False
+    try:
+        return bool(a == b)
+    except Exception:
+        return False
+
+
+def _given(table, function, values):
+    """The table's keywords among `values` (a call's locals()) that differ from
+    `function`'s defaults: a keyword left at its default is as if not given
+    (None where the default is not None is given: the library refuses it)."""
+    defaults = function.__kwdefaults__
+    names = {o["name"] for o in table}
+    return {k: v for k, v in values.items() if k in names and not _same(v, defaults.get(k, _MISSING))}
+
+
+def _options_doc(table, skip=()):
+    """The docstring lines of a table's keywords: name, then its help."""
+    import textwrap
+
+    lines = []
+    for o in table:
+        if o["name"] in skip:
+            continue
+        value = " or ".join(repr(c) for c in o["choices"]) if o["choices"] else o["metavar"]
+        text = (f"{value}: " if value else "") + o["help"] + f" (the CLI's {o['flag']})"
+        lines += textwrap.wrap(text, 79, initial_indent=f"    {o['name']:<11} ", subsequent_indent=" " * 16,
+                               break_on_hyphens=False)
+    return "\n".join(lines)
 
 
 def _threads(threads):
@@ -330,8 +351,8 @@ def _pixels(image):
 
 def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=None,
          pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule="separating",
-         guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None,
-         optimize=False, max_memory=_MAX_MEMORY_MB):
+         lattice="square", guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES,
+         threads=None, optimize=False, max_memory=_MAX_MEMORY_MB, repeat=1):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
 
     image       2D array of integers in 0..65535 or booleans (a uint8 image from
@@ -348,48 +369,22 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
                 labels, interfaces between them as edges (Mesh.interfaces); the
                 other pixels are the background (tag 0), whose triangles are
                 kept only with background="keep".  Uniform or graded (the finest
-                band follows every interface), separating rule.
+                band follows every interface); every rule but maxmin
     spacing     lattice spacing in the image's units: pixels (default 1), or
                 millimetres for an Image read_image placed in mm (default its
                 smaller pixel size; anisotropic pixels are meshed as the CLI
-                meshes them).  pixel_size scales the output coordinates of an
-                image in pixels (square pixels: angles and bounds are
-                unchanged)
-    graded      graded mesh (quadtree, finest along the boundary); max_cell the
-                largest cell in lattice squares (power of two, 0 = no limit)
-    max_size    every triangle's longest edge at most this, in pixels (before
-                pixel_size; >= sqrt(5) * spacing; None = no bound); graded
-                meshes cap their cells with it, uniform ones are bounded by
-                the spacing already (checked)
-    grading     graded, in [1.1, 2]: cell sizes grow away from the boundary by
-                at most this factor per cell on average (2: 2:1 balance)
-    max_size_of materials only: {label: size}, the longest edge of that
-                label's triangles at most size (pixels; as max_size, the
-                smaller of the two wins; graded meshes cap the label's cells);
-                the report's "materials" then give each label's "max_size"
-                and measured "longest_edge"
-    rule        "separating" (the boundary follows the level set), "maxmin",
-                or "fan" (separating, with the centroid fan on interior
-                squares: certified minimum angle 18.4349 deg on every input),
-                as the CLI's --diagonal
-    guarantee   None / "any", or "flat": halve the spacing (not below
-                min_spacing, default spacing / 16) until every warped square's
-                stencil is flat, so that the flat theorem's bound applies
-    certify     per-triangle certified bounds from the compiled-in proofs;
-                verify checks every triangle against them
+                meshes them)
+    pixel_size  scales the output coordinates of an image in pixels (square
+                pixels: angles and bounds are unchanged)
     threads     OpenMP threads for this call (default: all cores)
-    optimize    the CLI's --optimize: after meshing, a monotone pass raises the
-                worst angles (no star's minimum angle falls, the certified
-                bounds hold); with materials, interface vertices slide along
-                their interface, junctions stay put, no label's area error
-                grows (docs/optimisation.md)
-    max_memory  megabytes, as the CLI's --max-memory (default 2048): inputs
-                whose meshing would take the resident memory above it are
-                refused before the work
+
+    The options (the library's table, as the CLI's; a keyword left at its
+    default is as if not given):
+%(options)s
 
     Returns a Mesh.  Raises InputError (a ValueError) for every bad input:
-    an argument of the wrong type or value, an empty region, a lattice over
-    max_squares, labels absent from the image, ...
+    an argument of the wrong type or value (OptionError, naming the keyword),
+    an empty region, a lattice over max_squares, labels absent from the image, ...
     """
     a, maxval = _pixels(image)
     _choice("inside", inside, ("above", "below"))
@@ -404,60 +399,54 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
         spacing = 1.0 if geometry is None else min(geometry[2], geometry[3])
     source = getattr(image, "source", "") or "<array>"
     threads = _threads(threads)
+    options = dict(_given(_OPTIONS2D, mesh, locals()), input=source)
     if materials is not None:
         if labels is not None or iso is not None:
             raise InputError("materials (multi-material mode) excludes iso and labels")
-        _choice("background", background, ("drop", "keep"))
         spec = materials if isinstance(materials, str) else \
             ",".join(str(_label_value(m)) for m in np.atleast_1d(np.asarray(materials, dtype=object)))
-        core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, background == "keep",
-                                    source, geometry, threads,
-                                    _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify,
-                                             verify, max_squares, source, max_size, grading, max_size_of, optimize,
-                                             max_memory))
+        core = _core.mesh_materials(a.astype(np.uint16, copy=False), int(maxval), spec, source, geometry, threads,
+                                    options)
         return _finish(core, scale)
-    if max_size_of is not None:
-        raise InputError("max_size_of applies to multi-material meshes (materials=...); use max_size")
     label_list, nonzero = _labels(labels)
     core = _core.mesh_image(a.astype(np.uint16, copy=False), int(maxval),
                             None if iso is None else _number("iso", iso), inside == "above", label_list, nonzero,
-                            source, geometry, threads,
-                            _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, source, max_size, grading, None, optimize, max_memory))
+                            source, geometry, threads, options)
     return _finish(core, scale)
 
 
 def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating",
-               guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES, threads=None,
-               optimize=False, max_memory=_MAX_MEMORY_MB):
+               lattice="square", guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES,
+               threads=None, optimize=False, max_memory=_MAX_MEMORY_MB, repeat=1):
     """Mesh an analytic shape given as the CLI's --shape string:
     circle:cx,cy,r  ellipse:cx,cy,a,b  annulus:cx,cy,r1,r2  flower:cx,cy,a,b,k
     rect:x0,y0,x1,y1  union(S;S)  intersect(S;S)  diff(S;S).  Options as in
     mesh(); the report also gives the boundary fidelity."""
     if not isinstance(spec, str):
         raise InputError(f"the shape must be a string such as \"circle:0,0,1\", got {spec!r}")
-    core = _core.mesh_shape(spec, _threads(threads),
-                            _options(spacing, rule, graded, max_cell, guarantee, min_spacing, certify, verify,
-                                     max_squares, spec, max_size, grading, None, optimize, max_memory))
-    return _finish(core)
+    options = dict(_given(_OPTIONS2D, mesh_shape, locals()), input=spec)
+    return _finish(_core.mesh_shape(spec, _threads(threads), options))
 
 
 def mesh_shapes(spec, *, background="drop", spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0,
-                max_size_of=None, rule="separating", certify=True, verify=True, max_squares=_MAX_SQUARES,
-                threads=None, optimize=False, max_memory=_MAX_MEMORY_MB):
+                max_size_of=None, rule="separating", lattice="square", guarantee=None, min_spacing=None, certify=True,
+                verify=True, max_squares=_MAX_SQUARES, threads=None, optimize=False, max_memory=_MAX_MEMORY_MB,
+                repeat=1):
     """Mesh analytic materials given as the CLI's --shapes string,
     "TAG=SHAPE;TAG=SHAPE;..." (e.g. "1=circle:0,0,10;2=circle:6,0,8"; a later
     shape wins where shapes overlap; outside them the background, tag 0, kept
     with background="keep"), in one conforming mesh whose regions are the tags
     and whose interfaces are mesh edges.  Options as in mesh() with materials
-    (the separating rule; guarantee="flat" does not apply)."""
+    (every rule but maxmin; guarantee="flat" and lattice="rhombic" do not
+    apply)."""
     if not isinstance(spec, str):
         raise InputError(f"the shapes must be a string such as \"1=circle:0,0,1;2=circle:1,0,1\", got {spec!r}")
-    _choice("background", background, ("drop", "keep"))
-    core = _core.mesh_shapes(spec, background == "keep", _threads(threads),
-                             _options(spacing, rule, graded, max_cell, None, None, certify, verify, max_squares, spec,
-                                      max_size, grading, max_size_of, optimize, max_memory))
-    return _finish(core)
+    options = dict(_given(_OPTIONS2D, mesh_shapes, locals()), input=spec)
+    return _finish(_core.mesh_shapes(spec, _threads(threads), options))
+
+
+if mesh.__doc__:  # (None under python -OO)
+    mesh.__doc__ = mesh.__doc__ % {"options": _options_doc(_OPTIONS2D, skip=("spacing",))}
 
 
 class TetMesh:
@@ -580,7 +569,7 @@ def _input3(volume, voxel_size, origin, options):
     return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False))
 
 
-def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False, max_memory_mb=None, threads=None):
+def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False, max_memory=None, threads=None):
     """The keywords as the library's option names (each converted, not
     checked against the others: the library does that)."""
     o = {"verify": bool(verify)}
@@ -595,18 +584,20 @@ def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False,
         o["inside"] = _choice("inside", inside, ("above", "below"))
     if face_rule is not None:
         o["face_rule"] = face_rule  # the library's parser (parse_face_rule)
-    if max_memory_mb is not None:
-        o["max_memory"] = _integer("max_memory_mb", max_memory_mb, 1) << 20
+    if max_memory is not None:
+        o["max_memory"] = max_memory  # MB, the table's unit (its setter checks it)
     if threads is not None:
         o["threads"] = _threads(threads)
     return o
 
 
 def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
-           origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, max_memory_mb=None, threads=None):
+           origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, max_memory=None, max_memory_mb=None,
+           threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
-    proofs/bcc.cert).
+    proofs/bcc_delaunay.cert for the default face rule, proofs/bcc.cert for
+    parity).
 
     volume      one of
                 * a 3D numpy array indexed (z, y, x), as SimpleITK's
@@ -629,26 +620,23 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
     voxel_size  (sx, sy, sz) in mm (one number: cubic voxels), origin the
                 position of voxel (0, 0, 0); without voxel_size the volume is
                 meshed in voxel units
-    spacing     the lattice's cube side, in the volume's units (default the
-                smallest voxel size, or 1 voxel); required for shapes and
-                functions
-    face_rule   "parity" or "delaunay": how the stencils' quads are split, as
-                the CLI's --face-rule (default: the library's, delaunay); each
-                rule meshes at its own alphas, delaunay (0.2675, 0.39) and
-                parity (0.285, 0.3985), and is certified by its own
-                certificate (proofs/bcc_delaunay.cert, proofs/bcc.cert)
-    verify      check every certified tetrahedron against the certificate
-    max_memory_mb  refuse (InputError) inputs whose meshing would take more
-                (default 2048, as the CLI's --max-memory)
     threads     OpenMP threads for this call (default: all cores)
+
+    The options (the library's table, as the CLI's; max_memory_mb is
+    max_memory's former name):
+%(options)s
 
     Returns a TetMesh.  Raises InputError (a ValueError) for every bad input.
     Volumes too large for one machine: mesh3d_block and merge_blocks.
     """
+    if max_memory_mb is not None:
+        if max_memory is not None:
+            raise InputError("max_memory_mb is max_memory's former name: give one of them")
+        max_memory = max_memory_mb
     if callable(volume) and not isinstance(volume, str):
         if label is not None or labels is not None or iso is not None or voxel_size is not None:
             raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
-        options = _options3(spacing, None, None, None, inside, face_rule, verify, max_memory_mb)
+        options = _options3(spacing, None, None, None, inside, face_rule, verify, max_memory)
         if box is None:
             raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
         b = [_number("box", v) for v in np.asarray(box, dtype=object).ravel()]
@@ -658,12 +646,16 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
     else:
         if box is not None:
             raise InputError("box applies to a function, not to a volume or a shape")
-        options = _options3(spacing, label, labels, iso, inside, face_rule, verify, max_memory_mb, threads)
+        options = _options3(spacing, label, labels, iso, inside, face_rule, verify, max_memory, threads)
         core = _core.mesh3d(_input3(volume, voxel_size, origin, options), options)
     m = TetMesh(core)
     for w in m.warnings:
         warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=2)
     return m
+
+
+if mesh3d.__doc__:  # (None under python -OO)
+    mesh3d.__doc__ = mesh3d.__doc__ % {"options": _options_doc(_OPTIONS3D)}
 
 
 def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,

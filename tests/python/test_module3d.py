@@ -106,7 +106,7 @@ def test_face_rule_delaunay_gives_the_cli_mesh_and_blocks_merge_into_it(tmp_path
 
 @pytest.mark.parametrize("call, message", [
     (lambda: warpmesh.mesh3d(np.zeros((4, 4))), "3D array"),
-    (lambda: warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.2, face_rule="Delaunay"), "face_rule must be 'parity' or 'delaunay'"),
+    (lambda: warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.2, face_rule="Delaunay"), "^face_rule expects 'parity' or 'delaunay'"),
     (lambda: warpmesh.mesh3d_block("sphere:0,0,0,1", (0, 0, 0), (1, 1, 1), spacing=0.2, face_rule=1), "face_rule"),
     (lambda: warpmesh.mesh3d(ball(), label=4, iso=1), "exclude each other"),
     (lambda: warpmesh.mesh3d(ball(), label=9), "empty"),

@@ -28,6 +28,8 @@
 //   pipeline/mesh2d.hpp        mesh(level set, options) → mesh + certified bounds + report
 //   pipeline/slices.hpp        a volume's slices: one loaded (load_slice), a range meshed
 //   pipeline/mesh3d.hpp        3D: mesh3d(volume file, volume, shape or level set, options) → tetrahedra + report
+//   pipeline/options.hpp       options by name: the tables behind the command line's help and parser and Python's keywords
+//   pipeline/mesh3d_options.hpp  the 3D options' table (mesh2d.hpp holds the 2D one)
 //
 // The stages below mesh() (mesh2d/uniform.hpp, mesh2d/graded.hpp,
 // mesh2d/lattice.hpp, the generic models mesh2d/generic_square.hpp and
@@ -60,3 +62,5 @@
 #include "warpmesh/pipeline/mesh2d.hpp"
 #include "warpmesh/pipeline/slices.hpp"
 #include "warpmesh/pipeline/mesh3d.hpp"
+#include "warpmesh/pipeline/mesh3d_options.hpp"
+#include "warpmesh/pipeline/options.hpp"

@@ -51,9 +51,9 @@ void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::strin
     const double mb = static_cast<double>(now) / 1048576.0 + static_cast<double>(need) / 1048576.0;
     char total[32];
     std::snprintf(total, sizeof total, "%.0f", mb);
-    throw InputError(what + " needs about " + total + " MB (" + how + "), more than the --max-memory limit of " +
-                     std::to_string(max_memory >> 20) + " MB; raise --max-memory if this machine has the memory, or " +
-                     advice);
+    throw OptionError("max_memory", what + " needs about " + total + " MB (" + how + "), more than the {max_memory} limit of " +
+                                        std::to_string(max_memory >> 20) +
+                                        " MB; raise {max_memory} if this machine has the memory, or " + advice);
 }
 
 }  // namespace warpmesh

@@ -117,7 +117,7 @@ Window prepare(const LevelSet3& f, const BccOptions& o, const Lattice3& L, const
     // numbering's use byte and two ids (9); the cut parameters are surface-sized.
     check_memory(static_cast<std::uint64_t>(w.grid.count()) * 24, o.max_memory,
                  "the 3D lattice of " + std::to_string(w.grid.count()) + " points", "24 bytes a lattice point",
-                 "choose a larger spacing");
+                 "choose a larger {spacing}");
     sample_signs(f, w);
     find_cuts(f, w);
     Buffer<double>().swap(w.value);  // f is not needed past the cut points

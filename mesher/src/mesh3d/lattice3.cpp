@@ -19,7 +19,7 @@ std::int64_t Lattice3::point_index(const bcc::Ivec& q) const {
 
 Lattice3 lattice3_for(const LevelSet3& f, double spacing) {
     if (!(spacing > 0 && std::isfinite(spacing)))
-        throw InputError("spacing must be a positive number (got " + std::to_string(spacing) + ")");
+        throw OptionError("spacing", "{spacing} must be a positive number (got " + std::to_string(spacing) + ")");
     const Box3 b = f.bounds();
     if (!std::isfinite(b.xmin + b.xmax + b.ymin + b.ymax + b.zmin + b.zmax) || !(b.xmin <= b.xmax) ||
         !(b.ymin <= b.ymax) || !(b.zmin <= b.zmax))
@@ -31,7 +31,7 @@ Lattice3 lattice3_for(const LevelSet3& f, double spacing) {
     std::int64_t total = 1;
     for (int a = 0; a < 3; ++a) {
         const double n = std::ceil((hi[a] - lo[a]) / spacing) + 4;  // two cubes of margin each side
-        if (!(n <= 1 << 20)) throw InputError("the 3D lattice is too large: " + std::to_string(n) + " cubes along one axis at spacing " + std::to_string(spacing) + "; choose a larger spacing");
+        if (!(n <= 1 << 20)) throw OptionError("spacing", "the 3D lattice is too large: " + std::to_string(n) + " cubes along one axis at {spacing} " + std::to_string(spacing) + "; choose a larger {spacing}");
         L.cubes[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(n);
         origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n * spacing;
         total *= static_cast<std::int64_t>(n) + 1;
@@ -39,8 +39,8 @@ Lattice3 lattice3_for(const LevelSet3& f, double spacing) {
     }
     L.origin = {origin[0], origin[1], origin[2]};
     if (L.point_count() >= std::numeric_limits<std::int32_t>::max())
-        throw InputError("the 3D lattice has more than 2^31 points at spacing " + std::to_string(spacing) +
-                         "; choose a larger spacing (or mesh in blocks: mesh3d_block)");
+        throw OptionError("spacing", "the 3D lattice has more than 2^31 points at {spacing} " + std::to_string(spacing) +
+                                     "; choose a larger {spacing} (or mesh in blocks: mesh3d_block)");
     return L;
 }
 

@@ -193,7 +193,7 @@ Numbering number(const Grid& g, const Marks& marks) {
     Numbering out;
     out.points = np.back(), out.cuts = nc.back();
     if (out.points + out.cuts >= INT32_MAX)
-        throw InputError("the 3D mesh would have more than 2^31 vertices; choose a larger spacing or mesh in blocks (mesh3d_block)");
+        throw OptionError("spacing", "the 3D mesh would have more than 2^31 vertices; choose a larger {spacing} or mesh in blocks (mesh3d_block)");
     const std::size_t n = static_cast<std::size_t>(g.count());
     out.id.resize(n), out.cut_id.resize(n);  // every element written below
 #pragma omp parallel for schedule(dynamic, 1)
@@ -399,14 +399,14 @@ Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint6
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);
     const std::int64_t tet_count = start.back();
     if (tet_count >= INT32_MAX)
-        throw InputError("the 3D mesh would have more than 2^31 tetrahedra; choose a larger spacing or mesh in blocks (mesh3d_block)");
+        throw OptionError("spacing", "the 3D mesh would have more than 2^31 tetrahedra; choose a larger {spacing} or mesh in blocks (mesh3d_block)");
     Numbering num = number(w.grid, marks);
     const std::int64_t vertex_count = num.points + num.cuts;
     // The output: 16 bytes a tetrahedron (+4 for its region, written later,
     // +8 for a block's keys), 25 a vertex (+8 with keys).
     check_memory(static_cast<std::uint64_t>(tet_count) * (20 + (keys ? 8 : 0)) + static_cast<std::uint64_t>(vertex_count) * 33,
                  max_memory, "the 3D mesh of " + std::to_string(tet_count) + " tetrahedra", "about 24 bytes a tetrahedron",
-                 "choose a larger spacing");
+                 "choose a larger {spacing}");
     Emitted out;
     out.cut_points = num.cuts;
     out.vertices.resize(static_cast<std::size_t>(vertex_count));  // each written once by place_vertices

@@ -63,15 +63,15 @@ Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOption
     if (!domain) {
         const double w = (b.xmax - b.xmin) / spacing + 2, h = (b.ymax - b.ymin) / spacing + 2;
         if (!(w * h <= static_cast<double>(o.max_squares)))
-            throw InputError("the lattice would have about " + approx(w) + " x " + approx(h) +
-                             " squares, more than --max-squares " + std::to_string(o.max_squares) +
-                             " (use a larger --spacing)");
+            throw OptionError("max_squares", "the lattice would have about " + approx(w) + " x " + approx(h) +
+                                                 " squares, more than {max_squares} " + std::to_string(o.max_squares) +
+                                                 " (use a larger {spacing})");
         return lattice_around(b, spacing);
     }
     const double w = (b.xmax - b.xmin) / spacing, h = (b.ymax - b.ymin) / spacing;
     if (!(w * h <= static_cast<double>(o.max_squares)))
-        throw InputError("spacing " + approx(spacing) + " gives about " + approx(w * h) +
-                         " lattice squares, more than --max-squares " + std::to_string(o.max_squares));
+        throw OptionError("max_squares", "spacing " + approx(spacing) + " gives about " + approx(w * h) +
+                                             " lattice squares, more than {max_squares} " + std::to_string(o.max_squares));
     return lattice_over(b, spacing);
 }
 
@@ -89,7 +89,7 @@ void check_lattice_memory(const Lattice& lattice, bool domain, int materials, co
                      std::to_string(per) + " bytes each" +
                      (materials > 0 ? ", " + std::to_string(materials) + " materials at " + std::to_string(per_material) + " bytes each"
                                     : std::string()),
-                 "use a larger --spacing");
+                 "use a larger {spacing}");
 }
 
 }  // namespace
@@ -105,53 +105,6 @@ std::int64_t largest_cell(std::int64_t max_cell, double max_size, double spacing
 }
 
 }  // namespace
-
-void validate(const MeshOptions& o) {
-    if (!(o.spacing > 0) || o.spacing > 1e9) throw InputError("--spacing must be positive and at most 1e9");
-    if (o.max_cell < 0 || (o.max_cell & (o.max_cell - 1)) != 0) throw InputError("--max-cell must be a power of two");
-    // A size bound H (--max-size, --max-size-of T=H; `what` names it).
-    const auto check_size = [&](double h, const std::string& what) {
-        if (!(h > 0) || !std::isfinite(h)) throw InputError(what + " must be positive and finite");
-        if (h < std::sqrt(5.0) * o.spacing) {
-            std::ostringstream m;
-            m << what << " " << h << " is below sqrt(5) * spacing = " << std::sqrt(5.0) * o.spacing
-              << ": triangles of the boundary band reach edges of sqrt(5) * spacing; use --spacing "
-              << h / std::sqrt(5.0) << " or less";
-            throw InputError(m.str());
-        }
-    };
-    if (o.max_size != 0) check_size(o.max_size, "--max-size");
-    for (std::size_t k = 0; k < o.max_size_of.size(); ++k) {
-        const std::int32_t tag = o.max_size_of[k].first;
-        check_size(o.max_size_of[k].second, "--max-size-of " + std::to_string(tag) + "=H: H");
-        for (std::size_t q = 0; q < k; ++q)
-            if (o.max_size_of[q].first == tag)
-                throw InputError("--max-size-of: material " + std::to_string(tag) + " is given twice");
-    }
-    if (!(o.grading >= min_grading && o.grading <= max_grading))
-        throw InputError("--grading must be between 1.1 and 2 (2: neighbouring cells differ by a factor 2 at most; "
-                         "G < 2: sizes grow by at most a factor G per cell on average; a quadtree's "
-                         "templates allow no more than 2)");
-    // Graded-only options are refused for a uniform mesh, not ignored.
-    if (!o.graded && o.grading != max_grading)
-        throw InputError("--grading applies to graded meshes: add --graded (a uniform mesh's size is its spacing)");
-    if (!o.graded && o.max_cell != 0)
-        throw InputError("--max-cell applies to graded meshes: add --graded (a uniform mesh's size is its spacing)");
-    if (o.min_spacing && !(*o.min_spacing > 0)) throw InputError("--min-spacing must be positive");
-    if (o.guarantee == Guarantee::flat && !o.certify)
-        throw InputError("--guarantee flat needs the certification (drop --no-certify)");
-    if (o.max_squares < 1) throw InputError("--max-squares must be positive");
-    if (o.repeat < 1 || o.repeat > 1000) throw InputError("--repeat expects 1 to 1000");
-    if (o.lattice == LatticeMetric::rhombic) {
-        const char* what = o.graded                            ? "--graded"
-                           : o.max_size != 0                   ? "--max-size"
-                           : o.rule == DiagonalRule::fan       ? "--diagonal fan"
-                                                               : nullptr;
-        if (what)
-            throw InputError(std::string(what) + " is not available with --lattice rhombic (uniform meshes with "
-                             "--diagonal separating or maxmin only)");
-    }
-}
 
 namespace {
 
@@ -276,7 +229,7 @@ void finish_report(MeshResult& res, Phases phases, const MeshOptions& o, bool ju
 MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     validate(o);
     if (!o.max_size_of.empty())
-        throw InputError("--max-size-of applies to multi-material meshes (--materials/--shapes); use --max-size");
+        throw OptionError("max_size_of", "{max_size_of} applies to multi-material meshes; use {max_size}");
     // The rhombic lattice (rhombic.hpp): f0∘P meshed and certified in lattice coordinates
     // (proofs/rhombic_<rule>.cert), then mapped by P; --optimize and the report see f0.
     const bool rhombic = o.lattice == LatticeMetric::rhombic;
@@ -311,8 +264,8 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     res.spacing = spacing;
     if (rhombic) map_rhombic(res.mesh);
     if (res.mesh.triangles.empty())
-        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
-                         "(check --iso/--inside/--label, or use a smaller --spacing); nothing written");
+        throw OptionError("spacing", "the region is empty at this spacing: no triangle has all three corners inside "
+                                     "(check {iso}/{inside}/{label}, or use a smaller {spacing}); nothing written");
     if (auto w = resolution_warning(res.mesh, res.lattice.s, f0.bounds_are_domain())) res.warnings.push_back(std::move(*w));
     if (o.optimize) {
         res.report.optimize = optimize_region(res.mesh, f0, res.lattice.s, o, res.certified);
@@ -346,11 +299,11 @@ MaterialCaps material_caps(const MaterialField& field, const MeshOptions& o, dou
             std::string known;  // the first 20
             for (int q = 1; q < field.count() && q <= 20; ++q) known += (q > 1 ? ", " : "") + std::to_string(field.tag(q));
             if (field.count() > 21) known += ", ...";
-            throw InputError("--max-size-of " + std::to_string(tag) + "=H: no material has tag " + std::to_string(tag) +
+            throw OptionError("max_size_of", "{max_size_of} " + std::to_string(tag) + "=H: no material has tag " + std::to_string(tag) +
                              " (the materials: " + known + ")");
         }
         if (m == 0 && !o.keep_background)
-            throw InputError("--max-size-of 0=H: the background (tag 0) is not output; add --background keep to mesh it");
+            throw OptionError("max_size_of", "{max_size_of} 0=H: the background (tag 0) is not output; add {background=keep} to mesh it");
         if (caps.max_cell_of.empty()) caps.max_cell_of.assign(static_cast<std::size_t>(field.count()), 0);
         caps.max_cell_of[static_cast<std::size_t>(m)] = max_cell_for_size(h, spacing);
         caps.cap[static_cast<std::size_t>(m)] = h;
@@ -415,9 +368,9 @@ OptimizeReport optimize_materials(MaterialResult& r, const MaterialField& field,
 
 MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     validate(o);
-    if (o.guarantee == Guarantee::flat) throw InputError("--guarantee flat is not available with --materials/--shapes");
+    if (o.guarantee == Guarantee::flat) throw OptionError("guarantee", "{guarantee=flat} is not available with several materials");
     if (o.lattice != LatticeMetric::square)
-        throw InputError("--lattice rhombic is not available with --materials/--shapes (one region only)");
+        throw OptionError("lattice", "{lattice=rhombic} is not available with several materials (one region only)");
     const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
     MeshResult res;
     res.spacing = o.spacing;
@@ -448,8 +401,8 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     res.mesh = std::move(r.mesh);
     res.certified = std::move(r.certified);
     if (res.mesh.triangles.empty())
-        throw InputError("the region is empty at this spacing: no triangle has all three corners inside "
-                         "(check --materials, or use a smaller --spacing); nothing written");
+        throw OptionError("spacing", "the region is empty at this spacing: no triangle has all three corners inside "
+                                     "(check {materials}, or use a smaller {spacing}); nothing written");
     finish_report(res, std::move(phases), o, true);
     return res;
 }

@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/pipeline/mesh3d_options.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/post/resolution.hpp"
 #include "warpmesh/post/tet_checks.hpp"
@@ -21,7 +22,6 @@ namespace {
 
 bool is_volume(const Mesh3dInput& input) { return input.index() <= 1; }
 
-bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
 
 // The volume-only options given with a shape or a level set.
 void check_volume_options(const Mesh3dOptions& o) {
@@ -160,7 +160,7 @@ Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions
 }  // namespace
 
 void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
-    if (o.spacing && !positive_finite(*o.spacing)) throw InputError("spacing must be a positive number");
+    validate(o);  // the table's options (mesh3d_options.hpp)
     if (!o.spacing && !is_volume(input))
         throw InputError("spacing is required for a shape or a level set (the lattice's cube side, in its units)");
     if (!is_volume(input)) check_volume_options(o);

@@ -71,7 +71,7 @@ std::string report_detail::json_strings(const std::vector<std::string>& items) {
 }
 
 const char* rule_name(DiagonalRule rule) {
-    return rule == DiagonalRule::maxmin ? "maxmin" : rule == DiagonalRule::separating ? "separating" : "fan";
+    return name_of(diagonal_rule_names, rule).data();
 }
 
 std::string quality_text(const QualityReport& q) {

@@ -131,11 +131,11 @@ int interval_choice(DiagonalRule rule, const Key& key, const std::array<double, 
 
 // "maxmin", "separating" or "fan": the certificate's rule line and file name.
 inline const char* rule_name(DiagonalRule r) {
-    return r == DiagonalRule::maxmin ? "maxmin" : r == DiagonalRule::separating ? "separating" : "fan";
+    return name_of(diagonal_rule_names, r).data();
 }
 
 // "square" or "rhombic": the certificate's metric line (format 4).
-inline const char* metric_name(LatticeMetric m) { return m == LatticeMetric::square ? "square" : "rhombic"; }
+inline const char* metric_name(LatticeMetric m) { return name_of(lattice_metric_names, m).data(); }
 
 // Runs the whole proof for a rule and returns the certificate text.  `key_subset`
 // (indices into consistent_keys()) restricts the run, for tests; the claims are

@@ -53,8 +53,8 @@ std::uint64_t mesh_bytes_per_material();
 std::uint64_t optimize_bytes_per_triangle(bool materials);
 std::uint64_t optimize_bytes_per_square(bool materials);
 
-// Throws InputError "<what> needs about N MB (<how>), more than the
-// --max-memory limit of L MB; raise --max-memory ..., or <advice>" when
+// Throws OptionError (max_memory) "<what> needs about N MB (<how>), more than the
+// {max_memory} limit of L MB; raise {max_memory} ..., or <advice>" when
 // resident_bytes() + need > max_memory.
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
                   const std::string& advice);

@@ -42,6 +42,8 @@
 
 #include "warpmesh/numerics/scalar.hpp"  // Truth, ScalarOps
 
+#include "warpmesh/core/names.hpp"
+
 namespace warpmesh {
 
 // ---------------------------------------------------------------------------
@@ -69,6 +71,10 @@ enum class Diagonal : std::uint8_t { AD = 0, BC = 1 };
 // no diagonal is valid with worst cotangent <= fan_threshold_cot — is split
 // into four triangles around the centroid of its corners (choose_diagonal).
 enum class DiagonalRule : std::uint8_t { maxmin = 0, separating = 1, fan = 2 };
+// Their names (reports, certificates, --diagonal, Python's rule=), the
+// default first; parse with value_of(diagonal_rule_names, name).
+inline constexpr std::array<Named<DiagonalRule>, 3> diagonal_rule_names{
+    {{DiagonalRule::separating, "separating"}, {DiagonalRule::maxmin, "maxmin"}, {DiagonalRule::fan, "fan"}}};
 
 // The two triangles of each diagonal, counter-clockwise on the unwarped square.
 inline constexpr std::array<std::array<int, 3>, 2> diagonal_triangles(Diagonal d) {
@@ -161,6 +167,9 @@ struct TriangleForms {
 // cotangents: the fan is not defined on the rhombic metric (refused by the
 // pipeline).
 enum class LatticeMetric : std::uint8_t { square = 0, rhombic = 1 };
+// Their names (certificates' metric line, --lattice, Python's lattice=).
+inline constexpr std::array<Named<LatticeMetric>, 2> lattice_metric_names{
+    {{LatticeMetric::square, "square"}, {LatticeMetric::rhombic, "rhombic"}}};
 
 template <class T>
 TriangleForms<T> triangle_forms(const Point<T>& p0, const Point<T>& p1, const Point<T>& p2,

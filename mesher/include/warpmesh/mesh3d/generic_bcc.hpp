@@ -115,6 +115,7 @@
 #include <optional>
 #include <string_view>
 
+#include "warpmesh/core/names.hpp"
 #include "warpmesh/numerics/scalar.hpp"  // ScalarOps, decided_sign
 
 namespace warpmesh::bcc {
@@ -585,16 +586,15 @@ namespace warpmesh {
 
 // The rule that fills in the diagonal choices of a mesh (above): parity
 // (`parity_diagonals`) or the Delaunay face rule (`delaunay_diagonals`).
-// Its name, and the one parser of names ("parity", "delaunay"; nothing for
-// any other string).
+// Its names (reports, the certificates' face-rule line, the options'
+// face_rule), one table read both ways: face_rule_name, and the one parser
+// of names, parse_face_rule ("parity", "delaunay"; nothing for any other).
 enum class FaceRule { parity, delaunay };
+inline constexpr std::array<Named<FaceRule>, 2> face_rule_names{
+    {{FaceRule::parity, "parity"}, {FaceRule::delaunay, "delaunay"}}};
 inline constexpr std::array<FaceRule, 2> face_rules{FaceRule::parity, FaceRule::delaunay};
-constexpr const char* face_rule_name(FaceRule rule) { return rule == FaceRule::delaunay ? "delaunay" : "parity"; }
-constexpr std::optional<FaceRule> parse_face_rule(std::string_view name) {
-    for (const FaceRule rule : face_rules)
-        if (name == face_rule_name(rule)) return rule;
-    return std::nullopt;
-}
+constexpr const char* face_rule_name(FaceRule rule) { return name_of(face_rule_names, rule).data(); }
+constexpr std::optional<FaceRule> parse_face_rule(std::string_view name) { return value_of(face_rule_names, name); }
 
 }  // namespace warpmesh
 

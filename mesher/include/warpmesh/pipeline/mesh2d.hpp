@@ -35,6 +35,7 @@
 #include "warpmesh/mesh2d/lattice.hpp"
 #include "warpmesh/levelset/levelset.hpp"
 #include "warpmesh/core/mesh.hpp"
+#include "warpmesh/pipeline/options.hpp"
 #include "warpmesh/report/report.hpp"  // Mesh2dReport, to_json, to_text
 #include "warpmesh/io/writers.hpp"
 
@@ -84,7 +85,7 @@ struct MeshOptions {
     // lattice-sized allocation).
     std::int64_t max_squares = std::int64_t{1} << 30;
     // Refuse, before any lattice-sized allocation, a mesh whose estimated
-    // peak memory is above this many bytes (InputError naming --max-memory):
+    // peak memory is above this many bytes (OptionError naming max_memory):
     // the process's resident memory when mesh() starts (the input and its
     // level set or material field) plus the pipeline's bytes a lattice
     // square (memory_per_square).
@@ -111,7 +112,7 @@ struct MeshOptions {
     // background's triangles (region 0) too; false: it only bounds the
     // materials.  Ignored by mesh(const LevelSet&, ...).
     bool keep_background = false;
-    // The lattice (`--lattice`).  LatticeMetric::rhombic meshes on the
+    // The lattice.  LatticeMetric::rhombic meshes on the
     // 60-degree rhombic lattice (equilateral interior triangles; the lattice
     // edges have length `spacing`): uniform meshes of one region only, with
     // the separating or maxmin rule, certified by proofs/rhombic_<rule>.cert
@@ -124,11 +125,21 @@ struct MeshOptions {
     std::string input;
 };
 
-// Throws InputError naming the option (with the command line's spelling) if
-// an option is out of range or options contradict each other (max_size_of:
-// a size out of range or a tag given twice; its tags are checked against the
-// materials by mesh()).  mesh() calls it.
-void validate(const MeshOptions& options);
+// Throws OptionError (errors.hpp) naming the option if an option is out of
+// range or options contradict each other (max_size_of: a size out of range or
+// a tag given twice; its tags are checked against the materials by mesh()).
+// `given`: the options a client set by name (mesh2d_option_table), which
+// refuses a few values that only look like settings (max_size 0, max_cell 0:
+// the defaults, "no bound", which one gets by leaving the option out) and
+// options given that do not apply (grading 2 without graded).  mesh() calls
+// it with nothing given.
+void validate(const MeshOptions& options, const GivenOptions& given = {});
+
+// The options of mesh() by name (options.hpp): the command line's `warpmesh
+// mesh` options and Python's keywords of mesh, mesh_shape and mesh_shapes are
+// this table's entries, their help its help; its validate is validate().
+// (input, cell_data: set by the clients, not options.)
+const OptionTable<MeshOptions>& mesh2d_option_table();
 
 struct MeshResult {
     Mesh mesh;                   // mesh.hpp: vertices, triangles, region, boundary (+ tags), interfaces, cell data

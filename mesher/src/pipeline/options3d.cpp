@@ -1,0 +1,56 @@
+// options3d.cpp — the options of the 3D mesher by name, and their validation
+// (mesh3d_options.hpp).
+#include <cmath>
+
+#include "warpmesh/pipeline/mesh3d_options.hpp"
+
+namespace warpmesh {
+
+namespace {
+
+using O = Option<Mesh3dOptions>;
+
+O entry(std::string_view name, OptionKind kind, std::string_view metavar, std::string_view help,
+        void (*set)(Mesh3dOptions&, const OptionValue&)) {
+    O o;
+    o.name = name, o.kind = kind, o.metavar = metavar, o.group = "lattice and algorithm", o.help = help, o.set = set;
+    return o;
+}
+
+std::vector<O> entries() {
+    std::vector<O> t;
+    t.push_back(entry("spacing", OptionKind::number, "S",
+                      "the BCC lattice's cube side, in the input's units (default: the smallest voxel size; required "
+                      "for shapes)",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.spacing = v.number(); }));
+    t.push_back(entry("face_rule", OptionKind::choice, "",
+                      "how the stencils' quads are split: delaunay (the default: each face quad by the empty-circle "
+                      "test, at alphas (0.2675, 0.39), certified by proofs/bcc_delaunay.cert) or parity (Labelle and "
+                      "Shewchuk's rule at (0.285, 0.3985), certified by proofs/bcc.cert)",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.face_rule = v.choice(face_rule_names); }));
+    t.back().choices = words_of(face_rule_names);
+    t.push_back(entry("verify", OptionKind::flag, "",
+                      "check every tetrahedron against its key's claim in the face rule's certificate (default: "
+                      "off in 3D)",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.verify = v.flag(); }));
+    t.back().off_flag = "--no-verify";
+    t.push_back(entry("max_memory", OptionKind::integer, "MB",
+                      "refuse, before the work, inputs whose reading or meshing would take more than about MB "
+                      "megabytes (default 2048)",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.max_memory = v.megabytes(); }));
+    return t;
+}
+
+}  // namespace
+
+void validate(const Mesh3dOptions& o, const GivenOptions&) {
+    if (o.spacing && !(*o.spacing > 0 && std::isfinite(*o.spacing)))
+        throw OptionError("spacing", "{spacing} must be positive and finite (got " + number_text(*o.spacing) + ")");
+}
+
+const OptionTable<Mesh3dOptions>& mesh3d_option_table() {
+    static const OptionTable<Mesh3dOptions> table{entries(), validate};
+    return table;
+}
+
+}  // namespace warpmesh
