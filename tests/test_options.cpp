@@ -49,8 +49,8 @@ Run run(const std::string& args) {
 std::string good_text(const OptionDoc& d) {
     switch (d.kind) {
         case OptionKind::flag: return "";
-        case OptionKind::number:
-        case OptionKind::integer: return "1";
+        case OptionKind::number: return "1";
+        case OptionKind::integer: return "2";  // in every integer entry's range (band >= 2, max_cell a power of two)
         case OptionKind::choice: return std::string(d.choices.front());
         case OptionKind::pairs: return "1=4";
         case OptionKind::text: return "x";

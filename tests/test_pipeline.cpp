@@ -10,6 +10,10 @@
 #include <random>
 #include <tuple>
 
+#include "support.hpp"
+#include "warpmesh/core/memory.hpp"
+#include "warpmesh/levelset/shapes.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
 #include "warpmesh/post/mesh_checks.hpp"
 #include "warpmesh/mesh2d/uniform.hpp"
 
@@ -309,4 +313,23 @@ BOOST_AUTO_TEST_CASE(separating_rule_applies_to_unwarped_squares_with_zero_corne
     BOOST_TEST(check_mesh(sep.mesh).ok());
     const auto mm = mesh_uniform(g, g.lat, DiagonalRule::maxmin);
     BOOST_TEST(mm.mesh.triangles.empty());
+}
+
+// Issue 50: --max-memory did not count --optimize (`--shape circle:0,0,1
+// --spacing 0.000471 --optimize` was admitted at an estimated 1940 MB under
+// the default 2048 MB and peaked at 2383 MB).  Now the admission of a uniform
+// mesh counts the pass (optimize_bytes_per_square), and the pass is admitted
+// again on the mesh's triangles before it starts.  A limit that admits the
+// mesh without the pass refuses it with the pass, naming the option.
+BOOST_AUTO_TEST_CASE(max_memory_counts_the_optimisation_pass) {
+    const auto f = parse_shape("circle:0,0,1");
+    MeshOptions o;
+    o.spacing = 0.004;  // about 250 000 lattice squares
+    const std::uint64_t squares = 520 * 520;
+    o.max_memory = resident_bytes() + squares * (mesh_bytes_per_square(false, false) + optimize_bytes_per_square(false) / 2);
+    o.optimize = true;
+    BOOST_TEST(testing::throws_containing([&] { mesh(*f, o); }, "max_memory limit of"));
+    BOOST_TEST(testing::throws_containing([&] { mesh(*f, o); }, "the optimisation pass included"));
+    o.optimize = false;
+    BOOST_TEST(mesh(*f, o).mesh.triangles.size() > 0);
 }

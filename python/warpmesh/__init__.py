@@ -569,12 +569,11 @@ def _input3(volume, voxel_size, origin, options):
     return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False))
 
 
-def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False, max_memory=None, threads=None):
-    """The keywords as the library's option names (each converted, not
-    checked against the others: the library does that)."""
-    o = {"verify": bool(verify)}
-    if spacing is not None:
-        o["spacing"] = _number("spacing", spacing)
+def _options3(function, values, label, labels, iso, inside, threads=None):
+    """The library's options of a call: the table's keywords given (a call's
+    locals(); the table converts and checks them, as the CLI's flags) and
+    the input's, converted here (checked against the others by the library)."""
+    o = _given(_OPTIONS3D, function, values)
     label = _labels3(label, labels)
     if label is not None:
         o["labels"] = label
@@ -582,18 +581,14 @@ def _options3(spacing, label, labels, iso, inside, face_rule=None, verify=False,
         o["iso"] = _number("iso", iso)
     if inside is not None:
         o["inside"] = _choice("inside", inside, ("above", "below"))
-    if face_rule is not None:
-        o["face_rule"] = face_rule  # the library's parser (parse_face_rule)
-    if max_memory is not None:
-        o["max_memory"] = max_memory  # MB, the table's unit (its setter checks it)
     if threads is not None:
         o["threads"] = _threads(threads)
     return o
 
 
 def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
-           origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, max_memory=None, max_memory_mb=None,
-           threads=None):
+           origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, band=None, max_memory=None,
+           max_memory_mb=None, threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
     proofs/bcc_delaunay.cert for the default face rule, proofs/bcc.cert for
@@ -636,7 +631,7 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
     if callable(volume) and not isinstance(volume, str):
         if label is not None or labels is not None or iso is not None or voxel_size is not None:
             raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
-        options = _options3(spacing, None, None, None, inside, face_rule, verify, max_memory)
+        options = _options3(mesh3d, locals(), None, None, None, inside)
         if box is None:
             raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
         b = [_number("box", v) for v in np.asarray(box, dtype=object).ravel()]
@@ -646,7 +641,7 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
     else:
         if box is not None:
             raise InputError("box applies to a function, not to a volume or a shape")
-        options = _options3(spacing, label, labels, iso, inside, face_rule, verify, max_memory, threads)
+        options = _options3(mesh3d, locals(), label, labels, iso, inside, threads)
         core = _core.mesh3d(_input3(volume, voxel_size, origin, options), options)
     m = TetMesh(core)
     for w in m.warnings:
@@ -659,16 +654,16 @@ if mesh3d.__doc__:  # (None under python -OO)
 
 
 def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
-              origin=(0.0, 0.0, 0.0)):
+              origin=(0.0, 0.0, 0.0), band=None):
     """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
     to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
     (volumes and shape strings)."""
-    options = _options3(spacing, label, labels, iso, inside)
+    options = _options3(lattice3d, locals(), label, labels, iso, inside)
     return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options), options))
 
 
 def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None,
-                 voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None):
+                 voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
@@ -676,7 +671,7 @@ def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=N
     worker needs only its input); blocks that tile the lattice merge into
     exactly mesh3d's mesh (with the same face_rule).  Arguments as mesh3d's
     (volumes and shape strings)."""
-    options = _options3(spacing, label, labels, iso, inside, face_rule)
+    options = _options3(mesh3d_block, locals(), label, labels, iso, inside)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:

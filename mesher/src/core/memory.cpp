@@ -48,11 +48,14 @@ void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::strin
                   const std::string& advice) {
     const std::uint64_t now = resident_bytes();
     if (need <= max_memory && now <= max_memory - need) return;
-    const double mb = static_cast<double>(now) / 1048576.0 + static_cast<double>(need) / 1048576.0;
-    char total[32];
-    std::snprintf(total, sizeof total, "%.0f", mb);
-    throw OptionError("max_memory", what + " needs about " + total + " MB (" + how + "), more than the {max_memory} limit of " +
-                                        std::to_string(max_memory >> 20) +
+    // The stage's own need and what the process holds already (the input,
+    // and in Python the caller's arrays too), each stated, so the sum reads.
+    char text[160];
+    std::snprintf(text, sizeof text, " needs about %.0f MB (", static_cast<double>(need) / 1048576.0);
+    std::string msg = what + text + how + ")";
+    std::snprintf(text, sizeof text, " on top of the %.0f MB this process holds already, %.0f MB in all,",
+                  static_cast<double>(now) / 1048576.0, static_cast<double>(now + need) / 1048576.0);
+    throw OptionError("max_memory", msg + text + " more than the {max_memory} limit of " + std::to_string(max_memory >> 20) +
                                         " MB; raise {max_memory} if this machine has the memory, or " + advice);
 }
 

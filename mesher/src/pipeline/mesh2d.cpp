@@ -79,17 +79,30 @@ Lattice make_lattice(const Box& b, bool domain, double spacing, const MeshOption
 // graded meshes of analytic shapes (not domain-bounded) are sized by their
 // boundary, not their squares, and are not estimated.
 // materials: their count (0: one region).
+// With optimize, a uniform mesh's admission counts the pass too (two
+// triangles a square at most), so such a run is refused before the meshing;
+// a graded mesh's pass is checked on its triangles (check_optimize_memory).
 void check_lattice_memory(const Lattice& lattice, bool domain, int materials, const MeshOptions& o) {
     if (o.graded && !domain) return;
     const std::uint64_t squares = static_cast<std::uint64_t>(lattice.nx) * static_cast<std::uint64_t>(lattice.ny);
-    const std::uint64_t per = mesh_bytes_per_square(materials > 0, o.graded);
+    const std::uint64_t per =
+        mesh_bytes_per_square(materials > 0, o.graded) + (o.optimize && !o.graded ? optimize_bytes_per_square(materials > 0) : 0);
     const std::uint64_t per_material = mesh_bytes_per_material();
     check_memory(squares * per + static_cast<std::uint64_t>(materials) * per_material, o.max_memory, "meshing",
                  std::to_string(lattice.nx) + " x " + std::to_string(lattice.ny) + " lattice squares at " +
-                     std::to_string(per) + " bytes each" +
+                     std::to_string(per) + " bytes each" + (o.optimize && !o.graded ? ", the optimisation pass included" : "") +
                      (materials > 0 ? ", " + std::to_string(materials) + " materials at " + std::to_string(per_material) + " bytes each"
                                     : std::string()),
                  "use a larger {spacing}");
+}
+
+// The optimisation pass's admission, with the mesh made: its bytes a
+// triangle above what the process holds (memory.hpp).
+void check_optimize_memory(const Mesh& mesh, bool materials, const MeshOptions& o) {
+    const std::uint64_t per = optimize_bytes_per_triangle(materials);
+    check_memory(static_cast<std::uint64_t>(mesh.triangles.size()) * per, o.max_memory, "the optimisation pass",
+                 std::to_string(mesh.triangles.size()) + " triangles at " + std::to_string(per) + " bytes each",
+                 "use a larger {spacing}, or leave out {optimize}");
 }
 
 }  // namespace
@@ -208,6 +221,7 @@ OptimizeReport optimize_region(Mesh& mesh, const LevelSet& f, double spacing, co
     oo.max_edge = o.max_size;  // the pass keeps --max-size
     oo.refine_below_deg = 30;  // Steiner points where moves and flips leave a triangle below 30°
     if (cert.available) oo.certified_floor = cert.min_deg, oo.certified_max = cert.max_deg;
+    check_optimize_memory(mesh, false, o);
     return optimize_mesh(mesh, f, oo);
 }
 
@@ -357,6 +371,7 @@ OptimizeReport optimize_materials(MaterialResult& r, const MaterialField& field,
     // junction and interface triangles reach it only with Steiner points.
     oo.refine_below_deg = 35;
     if (r.certified.available) oo.certified_floor = r.certified.min_deg, oo.certified_max = r.certified.max_deg;
+    check_optimize_memory(r.mesh, true, o);
     const RegionMeasures before = measure_regions(r.mesh);
     OptimizeReport report = optimize_mesh(r.mesh, field, oo);
     update_material_stats(r, before, measure_regions(r.mesh));

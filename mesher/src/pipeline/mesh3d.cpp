@@ -170,7 +170,6 @@ void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
         throw InputError("the alphas must lie in (0, 1/2)");
     if (o.threads < 0) throw InputError("threads must be 0 (the default) or more");
     if (o.max_voxels < 1) throw InputError("max_voxels must be positive");
-    if (o.band < 2) throw InputError("band must be at least 2 voxels");
     if (o.labels && o.iso) throw InputError("iso (threshold mode) and labels (label mode) exclude each other");
     if (o.labels && o.inside_above) throw InputError("inside applies to threshold mode (iso), not to labels");
     if (o.labels) label_options(*o.labels);  // throws for a bad label list

@@ -1,6 +1,8 @@
 // options3d.cpp — the options of the 3D mesher by name, and their validation
 // (mesh3d_options.hpp).
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include "warpmesh/pipeline/mesh3d_options.hpp"
 
@@ -9,6 +11,12 @@ namespace warpmesh {
 namespace {
 
 using O = Option<Mesh3dOptions>;
+
+// The label distance band in voxels: 2 to 1000 (OptionError otherwise).
+int band_in_range(std::int64_t n) {
+    if (n < 2 || n > 1000) throw OptionError("band", "{band} must be 2 to 1000 voxels (got " + std::to_string(n) + ")");
+    return static_cast<int>(n);
+}
 
 O entry(std::string_view name, OptionKind kind, std::string_view metavar, std::string_view help,
         void (*set)(Mesh3dOptions&, const OptionValue&)) {
@@ -34,6 +42,12 @@ std::vector<O> entries() {
                       "off in 3D)",
                       [](Mesh3dOptions& o, const OptionValue& v) { o.verify = v.flag(); }));
     t.back().off_flag = "--no-verify";
+    t.push_back(entry("band", OptionKind::integer, "N",
+                      "label mode: the voxels around the region's boundary within which its signed distance is "
+                      "exact (default 4, 2 to 1000); farther it is clamped, as only its sign matters to the mesher "
+                      "there, so a wider band costs memory and time and lets the coarse-spacing check measure "
+                      "thicker parts",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.band = band_in_range(v.integer()); }));
     t.push_back(entry("max_memory", OptionKind::integer, "MB",
                       "refuse, before the work, inputs whose reading or meshing would take more than about MB "
                       "megabytes (default 2048)",
@@ -46,6 +60,7 @@ std::vector<O> entries() {
 void validate(const Mesh3dOptions& o, const GivenOptions&) {
     if (o.spacing && !(*o.spacing > 0 && std::isfinite(*o.spacing)))
         throw OptionError("spacing", "{spacing} must be positive and finite (got " + number_text(*o.spacing) + ")");
+    band_in_range(o.band);
 }
 
 const OptionTable<Mesh3dOptions>& mesh3d_option_table() {

@@ -53,9 +53,10 @@ std::uint64_t mesh_bytes_per_material();
 std::uint64_t optimize_bytes_per_triangle(bool materials);
 std::uint64_t optimize_bytes_per_square(bool materials);
 
-// Throws OptionError (max_memory) "<what> needs about N MB (<how>), more than the
+// Throws OptionError (max_memory) "<what> needs about N MB (<how>) on top of
+// the R MB this process holds already, N + R MB in all, more than the
 // {max_memory} limit of L MB; raise {max_memory} ..., or <advice>" when
-// resident_bytes() + need > max_memory.
+// R = resident_bytes() and R + need > max_memory.
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
                   const std::string& advice);
 
