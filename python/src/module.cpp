@@ -445,6 +445,9 @@ void bind_mesh3d(py::module_& m) {
     m.def(
         "mesh3d_function",
         [](py::function f, std::array<double, 6> box, const py::dict& kw) {
+            // The function's first failure, in the user's words: its Python
+            // exception's type and message (not pybind11's wrapping with a
+            // traceback), or a value that is no finite number.
             auto error = std::make_shared<std::string>();
             FunctionLevelSet3 ls(
                 [f, error](double x, double y, double z) {
@@ -453,10 +456,13 @@ void bind_mesh3d(py::module_& m) {
                     try {
                         const double v = f(x, y, z).cast<double>();
                         if (std::isfinite(v)) return v;
-                        *error = "f(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
-                                 ") is not finite";
+                        *error = "gave f(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
+                                 "), which is not a finite number";
+                    } catch (py::error_already_set& e) {
+                        *error = "raised " + py::str(e.type().attr("__name__")).cast<std::string>() + ": " +
+                                 py::str(e.value()).cast<std::string>();
                     } catch (const std::exception& e) {
-                        *error = e.what();
+                        *error = std::string("failed: ") + e.what();
                     }
                     return 1.0;
                 },
@@ -471,7 +477,7 @@ void bind_mesh3d(py::module_& m) {
             } catch (const InputError& e) {
                 failure = e.what();
             }
-            if (!error->empty()) throw InputError("the level-set function failed: " + *error);
+            if (!error->empty()) throw InputError("the level-set function " + *error);
             if (!r) throw InputError(failure);
             return std::move(*r);
         },
