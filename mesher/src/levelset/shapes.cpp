@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <set>
 #include <string_view>
 
 #include "warpmesh/core/errors.hpp"
@@ -427,6 +428,37 @@ std::unique_ptr<Shape> parse_shape(const std::string& spec) {
     } catch (const InputError& e) {
         throw InputError("shape '" + spec + "': " + e.what());
     }
+}
+
+std::vector<std::pair<std::int32_t, std::string>> parse_tagged_shapes(const std::string& spec, const char* example) {
+    auto bad = [&](const std::string& why) {
+        return InputError("bad --shapes '" + spec + "': " + why + " (expected TAG=SHAPE;TAG=SHAPE..., e.g. \"" + example +
+                          "\", tags 1..65535)");
+    };
+    std::vector<std::string> items;
+    std::string cur;
+    int depth = 0;
+    for (char ch : spec) {  // split on ';' outside parentheses (CSG shapes use ';' inside)
+        if (ch == '(') ++depth;
+        if (ch == ')') --depth;
+        if (ch == ';' && depth == 0) items.push_back(cur), cur.clear();
+        else cur += ch;
+    }
+    items.push_back(cur);
+    std::vector<std::pair<std::int32_t, std::string>> out;
+    std::set<std::int32_t> seen;
+    for (const std::string& item : items) {
+        const std::size_t eq = item.find('=');
+        if (eq == std::string::npos) throw bad("'" + item + "' has no TAG=");
+        const std::string_view t = shape_syntax::trim(std::string_view(item).substr(0, eq));
+        int v = 0;
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (t.empty() || ec != std::errc{} || end != t.data() + t.size() || v < 1 || v > 65535)
+            throw bad("tag '" + std::string(t) + "' is not an integer in 1..65535");
+        if (!seen.insert(v).second) throw bad("tag " + std::to_string(v) + " is given twice");
+        out.emplace_back(v, item.substr(eq + 1));
+    }
+    return out;
 }
 
 }  // namespace warpmesh

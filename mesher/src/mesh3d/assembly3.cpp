@@ -33,8 +33,6 @@ namespace warpmesh {
 namespace uniform3d {
 namespace {
 
-// The face opposite vertex v of a positively oriented tetrahedron, outward.
-constexpr std::array<std::array<int, 3>, 4> outward_face{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
 
 struct FaceRef {
     std::array<std::int32_t, 3> sorted;
@@ -133,22 +131,6 @@ void check_options(const BccOptions& o) {
     if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
 }
 
-struct Threads {
-    int saved = 0;
-    explicit Threads(int n) {
-#ifdef _OPENMP
-        saved = omp_get_max_threads();
-        if (n > 0) omp_set_num_threads(n);
-#else
-        (void)n;
-#endif
-    }
-    ~Threads() {
-#ifdef _OPENMP
-        omp_set_num_threads(saved);
-#endif
-    }
-};
 
 TetMesh to_mesh(Emitted&& e) {
     TetMesh m;
@@ -166,7 +148,7 @@ TetMesh to_mesh(Emitted&& e) {
 BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o) {
     using namespace uniform3d;
     check_options(o);
-    const Threads threads(o.threads);
+    const ThreadCount threads(o.threads);
     const auto start = std::chrono::steady_clock::now();
     const CubeRange all{{0, 0, 0}, lattice.cubes};
     Window w = prepare(f, o, lattice, all, 0, false);
@@ -199,7 +181,7 @@ TetBlock mesh_bcc_block(const LevelSet3& f, const Lattice3& lattice, const BccOp
     for (std::size_t a = 0; a < 3; ++a)
         if (!(block.lo[a] >= 0 && block.lo[a] <= block.hi[a] && block.hi[a] <= lattice.cubes[a]))
             throw InputError("mesh_bcc_block: the block is not a range of the lattice's cubes");
-    const Threads threads(o.threads);
+    const ThreadCount threads(o.threads);
     for (std::int64_t halo = 2;; halo *= 2) {
         Window w = prepare(f, o, lattice, block, halo, true);
         // The points the block's tetrahedra use: doubled coordinates [2 lo − 1, 2 hi].

@@ -65,8 +65,10 @@ RowSteps row_steps(const Grid& g, int z, std::int64_t r) {
 }
 
 // Pass 1 of find_cuts on plane z: each point's mask of cut forward edges
-// (endpoints of strictly opposite signs); returns their number.
-std::int64_t mark_cut_edges(const Grid& g, int z, Window& w) {
+// (differs(p, q): endpoints of strictly opposite signs, or of different
+// materials); returns their number.
+template <class Differs>
+std::int64_t mark_cut_edges(const Grid& g, int z, Window& w, const Differs& differs) {
     const bool centres = ((g.lo[2] + z) & 1) != 0;
     const std::int64_t width = centres ? g.centre_w : g.corner_w, rows = centres ? g.centre_h : g.corner_h;
     std::int64_t count = 0;
@@ -79,11 +81,10 @@ std::int64_t mark_cut_edges(const Grid& g, int z, Window& w) {
         if (!std::all_of(rs.row_ok.begin(), rs.row_ok.end(), [](bool ok) { return ok; })) c_hi = c_lo;
         for (std::int64_t c = 0; c < width; ++c) {
             const std::int64_t p = row + c;
-            const int sp = w.sign[static_cast<std::size_t>(p)];
             const bool all = c >= c_lo && c < c_hi;
             unsigned mask = 0;
             for (int s = 0; s < 7; ++s)
-                if ((all || rs.exists(s, c)) && sp * w.sign[static_cast<std::size_t>(p + rs.step[static_cast<std::size_t>(s)])] < 0) mask |= 1u << s;
+                if ((all || rs.exists(s, c)) && differs(p, p + rs.step[static_cast<std::size_t>(s)])) mask |= 1u << s;
             w.cut_mask[static_cast<std::size_t>(p)] = static_cast<std::uint8_t>(mask);
             count += slot_count(mask);
         }
@@ -91,9 +92,10 @@ std::int64_t mark_cut_edges(const Grid& g, int z, Window& w) {
     return count;
 }
 
-}  // namespace
-
-void find_cuts(const LevelSet3& f, Window& w) {
+// Both passes of find_cuts: the masks (differs), then each cut edge's
+// parameter from its lower endpoint (cut(p, q, lower position, upper position)).
+template <class Differs, class Cut>
+void find_cuts_by(Window& w, const Differs& differs, const Cut& cut) {
     const Grid& g = w.grid;
     const std::size_t n = static_cast<std::size_t>(g.count());
     const int planes = g.hi[2] - g.lo[2] + 1;
@@ -102,7 +104,7 @@ void find_cuts(const LevelSet3& f, Window& w) {
     std::vector<std::int64_t> per_plane(static_cast<std::size_t>(planes) + 1, 0);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int z = 0; z < planes; ++z) {
-        per_plane[static_cast<std::size_t>(z) + 1] = mark_cut_edges(g, z, w);
+        per_plane[static_cast<std::size_t>(z) + 1] = mark_cut_edges(g, z, w, differs);
     }
     for (int z = 0; z < planes; ++z) per_plane[static_cast<std::size_t>(z) + 1] += per_plane[static_cast<std::size_t>(z)];
     if (per_plane.back() >= std::int64_t{UINT32_MAX}) throw std::length_error("more than 2^32 cut edges in one window");
@@ -118,12 +120,34 @@ void find_cuts(const LevelSet3& f, Window& w) {
             for (int s = 0; s < 7; ++s) {
                 if (!(mask >> s & 1u)) continue;
                 const bcc::Ivec q = forward_neighbour(pq, s);
-                w.cut_u[static_cast<std::size_t>(at++)] =
-                    f.cut_parameter(g.lattice.position(pq), g.lattice.position(q), w.value[static_cast<std::size_t>(p)],
-                                    w.value[static_cast<std::size_t>(g.index(q))]);
+                w.cut_u[static_cast<std::size_t>(at++)] = cut(p, g.index(q), g.lattice.position(pq), g.lattice.position(q));
             }
         }
     }
+}
+
+}  // namespace
+
+void find_cuts(const LevelSet3& f, Window& w) {
+    find_cuts_by(
+        w, [&](std::int64_t p, std::int64_t q) { return w.sign[static_cast<std::size_t>(p)] * w.sign[static_cast<std::size_t>(q)] < 0; },
+        [&](std::int64_t p, std::int64_t q, Point3 a, Point3 b) {
+            return f.cut_parameter(a, b, w.value[static_cast<std::size_t>(p)], w.value[static_cast<std::size_t>(q)]);
+        });
+}
+
+void find_material_cuts(const MaterialField3& field, std::span<const std::uint16_t> material, bool merge_outside, Window& w) {
+    const auto field_material = [&](std::int64_t p) {
+        const int m = material[static_cast<std::size_t>(p)];
+        return m == outside_code ? outside_material : m;
+    };
+    find_cuts_by(
+        w,
+        [&](std::int64_t p, std::int64_t q) {
+            const std::uint16_t a = material[static_cast<std::size_t>(p)], b = material[static_cast<std::size_t>(q)];
+            return a != b && !(merge_outside && (a == 0 || a == outside_code) && (b == 0 || b == outside_code));
+        },
+        [&](std::int64_t p, std::int64_t q, Point3 a, Point3 b) { return field.cut_parameter(a, b, field_material(p), field_material(q)); });
 }
 
 }  // namespace warpmesh::uniform3d

@@ -17,13 +17,14 @@ std::int64_t Lattice3::point_index(const bcc::Ivec& q) const {
     return uniform3d::Grid::whole(*this).index(q);
 }
 
-Lattice3 lattice3_for(const LevelSet3& f, double spacing) {
+Lattice3 lattice3_for(const LevelSet3& f, double spacing) { return lattice3_for(f.bounds(), spacing, f.describe()); }
+
+Lattice3 lattice3_for(const Box3& b, double spacing, const std::string& what) {
     if (!(spacing > 0 && std::isfinite(spacing)))
         throw OptionError("spacing", "{spacing} must be a positive number (got " + std::to_string(spacing) + ")");
-    const Box3 b = f.bounds();
     if (!std::isfinite(b.xmin + b.xmax + b.ymin + b.ymax + b.zmin + b.zmax) || !(b.xmin <= b.xmax) ||
         !(b.ymin <= b.ymax) || !(b.zmin <= b.zmax))
-        throw InputError("the level set's bounding box is not finite (" + f.describe() + ")");
+        throw InputError("the bounding box of " + what + " is not finite");
     Lattice3 L;
     L.spacing = spacing;
     const double lo[3] = {b.xmin, b.ymin, b.zmin}, hi[3] = {b.xmax, b.ymax, b.zmax};

@@ -123,10 +123,6 @@ void for_cubes_in_layer(const CubeRange& r, std::int64_t cz, Body&& body) {
             body(bcc::Ivec{static_cast<int>(2 * cx), static_cast<int>(2 * cy), static_cast<int>(2 * cz)}, cx, cy);
 }
 
-struct Marks {
-    ZeroBuffer<std::uint8_t> point, cut;  // per window point: used; bit s: its cut point s used
-};
-
 // Pass A: the tetrahedra of each layer (prefix sums: layer l starts at
 // start[l]) and the used marks.
 std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& range, Marks& marks) {
@@ -173,11 +169,7 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
     return start;
 }
 
-// Vertex ids: per point its id (if used) and the id of its first used cut point.
-struct Numbering {
-    Buffer<std::int32_t> id, cut_id;
-    std::int64_t points = 0, cuts = 0;
-};
+}  // namespace
 
 Numbering number(const Grid& g, const Marks& marks) {
     const int planes = g.hi[2] - g.lo[2] + 1;
@@ -206,6 +198,8 @@ Numbering number(const Grid& g, const Marks& marks) {
     }
     return out;
 }
+
+namespace {
 
 // The used vertices' positions, level-set flags and (blocks) global keys.
 void place_vertices(const Window& w, const Marks& marks, const Numbering& num, bool keys, Emitted& out) {

@@ -8,6 +8,8 @@
 //   face_rule3.cpp   the Delaunay face rule's exact decisions (stage 5's helper)
 //   tets3.cpp        background tetrahedra → output tetrahedra, two passes
 //   assembly3.cpp    vertices, boundary faces, blocks and their merge, mesh_bcc
+//   materials3.cpp   multi-material meshes (mesh_bcc_materials): the points' materials,
+//                    the junction stencils, boundary and interfaces
 #pragma once
 
 #include <algorithm>
@@ -17,8 +19,13 @@
 
 #include <optional>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "warpmesh/core/buffer.hpp"
 #include "warpmesh/mesh3d/generic_bcc.hpp"
+#include "warpmesh/levelset/materials3.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
 
 namespace warpmesh::uniform3d {
@@ -51,6 +58,26 @@ struct Grid {
 }  // namespace warpmesh::uniform3d
 
 namespace warpmesh::uniform3d {
+
+// OpenMP's thread count for one call (0: the default), restored on exit.
+struct ThreadCount {
+    int saved = 0;
+    explicit ThreadCount(int n) {
+#ifdef _OPENMP
+        saved = omp_get_max_threads();
+        if (n > 0) omp_set_num_threads(n);
+#else
+        (void)n;
+#endif
+    }
+    ~ThreadCount() {
+#ifdef _OPENMP
+        omp_set_num_threads(saved);
+#endif
+    }
+    ThreadCount(const ThreadCount&) = delete;
+    ThreadCount& operator=(const ThreadCount&) = delete;
+};
 
 // The forward lattice edges of a point: the 7 directions (of 14) whose far
 // endpoint comes later in the (z, y, x) order — +x, +y, +z and the four
@@ -169,6 +196,32 @@ struct TetShape {
     std::array<int, 4> slot_in_cube{};
 };
 const std::array<TetShape, 12>& tet_shapes();
+
+// The vertices a stage's tetrahedra use (per window point: used; bit s: its
+// cut point s used), and their numbering: per point its id (if used) and the
+// id of its first used cut point — lattice points in (z, y, x) order, then
+// cut points by (lower endpoint, slot) (mesh3d.hpp, "Vertex numbering").
+struct Marks {
+    ZeroBuffer<std::uint8_t> point, cut;
+};
+struct Numbering {
+    Buffer<std::int32_t> id, cut_id;
+    std::int64_t points = 0, cuts = 0;
+};
+Numbering number(const Grid& g, const Marks& marks);
+
+// The face opposite local vertex v of a positively oriented tetrahedron,
+// oriented outward.
+inline constexpr std::array<std::array<int, 3>, 4> outward_face{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
+
+// Multi-material windows (materials3.cpp): a point's material code — the
+// field's material, or outside_code for outside_material — and the cut
+// points of the edges whose ends' codes differ, each where the field puts
+// the interface (MaterialField3::cut_parameter).  With merge_outside (the
+// background is not output), the background and the outside count as one
+// material: no cut between them.
+inline constexpr std::uint16_t outside_code = 65535;
+void find_material_cuts(const MaterialField3& field, std::span<const std::uint16_t> material, bool merge_outside, Window& w);
 
 // The tetrahedra of the cubes [lo, hi) (cube indices) of a warped window.
 struct Emitted {

@@ -96,6 +96,38 @@ NonmanifoldBoundary nonmanifold_boundary(const TetMesh& m) {
     return out;
 }
 
+// The interfaces listed against the faces between two regions (`between`:
+// the two tetrahedra's entries in `faces`): each listed once, oriented out
+// of its first region's tetrahedron, the other tetrahedron of its second.
+void check_interfaces(const TetMesh& m, const std::vector<Face>& faces, const std::vector<std::array<std::size_t, 2>>& between, TetMeshCheck& c) {
+    if (m.interface_regions.size() != m.interfaces.size()) note(c, "interfaces and interface_regions differ in length");
+    std::vector<std::pair<std::array<std::int32_t, 3>, std::size_t>> listed;
+    for (std::size_t k = 0; k < m.interfaces.size(); ++k) {
+        std::array<std::int32_t, 3> s = m.interfaces[k];
+        std::sort(s.begin(), s.end());
+        listed.emplace_back(s, k);
+    }
+    std::sort(listed.begin(), listed.end());
+    if (listed.size() != between.size())
+        ++c.interface_mismatch, note(c, std::to_string(listed.size()) + " interface faces listed, " + std::to_string(between.size()) +
+                                            " faces between two regions");
+    for (const auto& [e0, e1] : between) {
+        const auto it = std::lower_bound(listed.begin(), listed.end(), std::make_pair(faces[e0].sorted, std::size_t{0}));
+        if (it == listed.end() || it->first != faces[e0].sorted) {
+            ++c.interface_mismatch, note(c, "a face between two regions is not listed as an interface");
+            continue;
+        }
+        const std::size_t k = it->second;
+        if (k >= m.interface_regions.size()) continue;
+        const std::int32_t r0 = m.region[static_cast<std::size_t>(faces[e0].owner)], r1 = m.region[static_cast<std::size_t>(faces[e1].owner)];
+        const auto& want = m.interface_regions[k];
+        const Face& first = r0 == want[0] ? faces[e0] : faces[e1];
+        const bool regions_ok = (r0 == want[0] && r1 == want[1]) || (r1 == want[0] && r0 == want[1]);
+        if (!regions_ok || !same_orientation(first.oriented, m.interfaces[k]))
+            ++c.interface_mismatch, note(c, "interface face " + std::to_string(k) + " has the wrong regions or orientation");
+    }
+}
+
 TetMeshCheck check_tet_mesh(const TetMesh& m) {
     TetMeshCheck c;
     const std::int64_t V = static_cast<std::int64_t>(m.vertices.size());
@@ -134,6 +166,9 @@ TetMeshCheck check_tet_mesh(const TetMesh& m) {
             note(c, "boundary face " + std::to_string(k) + " has an unknown tag");
     }
     std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return std::tie(a.sorted, a.owner) < std::tie(b.sorted, b.owner); });
+    // The faces between two regions: (sorted, the two tetrahedra's entries).
+    std::vector<std::array<std::size_t, 2>> between;
+    const bool regions = m.region.size() == m.tets.size();
     for (std::size_t i = 0; i < faces.size();) {
         std::size_t j = i;
         int tets = 0, listed = 0;
@@ -148,11 +183,15 @@ TetMeshCheck check_tet_mesh(const TetMesh& m) {
         else if (tets == 1 && !same_orientation(faces[i].oriented, faces[i + 1].oriented))  // listed (owner < 0) sorts first
             ++c.boundary_mismatch, note(c, name + " is not oriented outward");
         else if (tets == 0) ++c.boundary_mismatch, note(c, name + " is listed as boundary but in no tetrahedron");
+        if (tets == 2 && regions &&
+            m.region[static_cast<std::size_t>(faces[j - 1].owner)] != m.region[static_cast<std::size_t>(faces[j - 2].owner)])
+            between.push_back({j - 2, j - 1});
         i = j;
     }
+    check_interfaces(m, faces, between, c);
     for (std::int64_t v = 0; v < V; ++v)
         if (!used[static_cast<std::size_t>(v)]) ++c.unused_vertices, note(c, "vertex " + std::to_string(v) + " is in no tetrahedron");
-    if (m.region.size() != m.tets.size()) note(c, "region and tets differ in length");
+    if (!regions) note(c, "region and tets differ in length");
     const NonmanifoldBoundary nb = nonmanifold_boundary(m);
     c.nonmanifold_boundary_edges = nb.edges, c.nonmanifold_boundary_vertices = nb.vertices;
     return c;

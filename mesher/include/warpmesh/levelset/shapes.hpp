@@ -24,7 +24,9 @@
 
 #include <memory>
 #include <optional>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "warpmesh/levelset/levelset.hpp"
@@ -163,5 +165,12 @@ std::unique_ptr<Shape> make_csg(CsgOp op, std::unique_ptr<Shape> a, std::unique_
 // Throws InputError naming the string and the problem; a shape that is
 // empty as a whole is refused ("the region is empty (...)").
 std::unique_ptr<Shape> parse_shape(const std::string& spec);
+
+// The items of a multi-material shapes spec, "TAG=SHAPE;TAG=SHAPE..." (2D
+// --shapes and 3D alike), split at the ';' outside parentheses: each tag
+// (an integer in 1..65535, each once) and its shape's text, in order.
+// Throws InputError naming the spec and the problem (`example` completes
+// the message: e.g. "1=circle:0,0,10;2=circle:6,0,8").
+std::vector<std::pair<std::int32_t, std::string>> parse_tagged_shapes(const std::string& spec, const char* example);
 
 }  // namespace warpmesh

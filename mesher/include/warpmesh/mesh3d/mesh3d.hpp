@@ -69,6 +69,8 @@ struct Lattice3 {
 // InputError for a spacing that is not positive and finite, or a lattice of
 // more than 2^31 points or cubes.
 Lattice3 lattice3_for(const LevelSet3& f, double spacing);
+// The same over a box (`what` names its source in messages).
+Lattice3 lattice3_for(const Box3& box, double spacing, const std::string& what);
 
 // ---------------------------------------------------------------------------
 // The face rule (generic_bcc.hpp, "The diagonal choices") splits the quads of
@@ -125,12 +127,34 @@ struct BccMesh {
     std::int64_t all_zero_left_out = 0;
     bool verified = false;          // every tetrahedron was checked (BccOptions::verify)
     double seconds = 0;             // meshing time
+    // Multi-material meshes (mesh_bcc_materials): the background tetrahedra
+    // where three or four materials meet (junctions, split by the cone
+    // stencil: generic_bcc_materials.hpp) and the tetrahedra they output.
+    std::int64_t junction_background_tets = 0, junction_tets = 0;
 };
 
 // Mesh {f <= 0} on `lattice`.  Throws InputError for bad options, a lattice or
 // a mesh over max_memory (before allocating it), an empty region ("no
 // tetrahedron inside at spacing s").
 BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& options);
+
+// ---------------------------------------------------------------------------
+// Multi-material meshes: every material of a field (levelset/materials3.hpp)
+// in one conforming mesh on `lattice`, split as generic_bcc_materials.hpp
+// says (the parity face rule: options.face_rule must be parity).  Each
+// tetrahedron's region is its material's tag; the background's tetrahedra
+// are output only with keep_background; every face between two materials is
+// listed in `interfaces` (oriented from interface_regions[k][0] into [1]);
+// the faces against the background (dropped), outside the field's domain or
+// on the lattice's cut-off are the boundary (boundary_level_set, or
+// boundary_domain on the cut-off).  All-zero background tetrahedra are left
+// out (counted), as for one region.  Vertex order: lattice points, cut
+// points (as mesh_bcc), then the face points of junction faces (by their
+// vertices' lattice indices), then the junctions' centres (in tetrahedron
+// order).  `region_names` lists every output material.  Throws InputError as
+// mesh_bcc does, and for a mesh with no tetrahedron.
+class MaterialField3;
+BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background);
 
 // ---------------------------------------------------------------------------
 // Blocks (issue 30's "beyond one machine").  The cubes [lo, hi) of the

@@ -21,13 +21,15 @@ struct TetMeshCheck {
     std::int64_t nonmanifold_faces = 0; // faces in more than two tetrahedra
     std::int64_t boundary_mismatch = 0; // boundary faces missing, extra or not outward
     std::int64_t unused_vertices = 0;
+    std::int64_t interface_mismatch = 0; // interfaces missing, extra, or with the wrong regions or orientation
     // Not problems (ok stays true): the boundary's non-manifold places
     // (nonmanifold_boundary below), counted.
     std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
 };
 // From scratch: positive orientation, every face in one or two tetrahedra,
 // the one-tetrahedron faces exactly the boundary list, each oriented as its
-// tetrahedron sees it from outside, every vertex used, tags per face; and the
+// tetrahedron sees it from outside, every vertex used, tags per face, the
+// interfaces exactly the faces between two regions (tet_mesh.hpp); and the
 // boundary's non-manifold edges and vertices, counted.
 TetMeshCheck check_tet_mesh(const TetMesh& mesh);
 

@@ -110,36 +110,11 @@ private:
 }  // namespace
 
 std::unique_ptr<MaterialField> parse_material_shapes(const std::string& spec) {
-    auto bad = [&](const std::string& why) {
-        return InputError("bad --shapes '" + spec + "': " + why +
-                          " (expected TAG=SHAPE;TAG=SHAPE..., e.g. \"1=circle:0,0,10;2=circle:6,0,8\", tags 1..65535)");
-    };
-    std::vector<std::string> items;
-    std::string cur;
-    int depth = 0;
-    for (char ch : spec) {  // split on ';' outside parentheses (CSG shapes use ';' inside)
-        if (ch == '(') ++depth;
-        if (ch == ')') --depth;
-        if (ch == ';' && depth == 0) items.push_back(cur), cur.clear();
-        else cur += ch;
-    }
-    items.push_back(cur);
     std::vector<std::int32_t> tags{0};
     std::vector<std::unique_ptr<Shape>> shapes;
-    std::set<std::int32_t> seen;
-    for (const std::string& item : items) {
-        const std::size_t eq = item.find('=');
-        if (eq == std::string::npos) throw bad("'" + item + "' has no TAG=");
-        std::string t = item.substr(0, eq);
-        t.erase(0, t.find_first_not_of(' '));
-        t.erase(t.find_last_not_of(' ') + 1);
-        int v = 0;
-        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-        if (t.empty() || ec != std::errc{} || end != t.data() + t.size() || v < 1 || v > 65535)
-            throw bad("tag '" + t + "' is not an integer in 1..65535");
-        if (!seen.insert(v).second) throw bad("tag " + std::to_string(v) + " is given twice");
-        tags.push_back(v);
-        shapes.push_back(parse_shape(item.substr(eq + 1)));
+    for (auto& [tag, shape] : parse_tagged_shapes(spec, "1=circle:0,0,10;2=circle:6,0,8")) {
+        tags.push_back(tag);
+        shapes.push_back(parse_shape(shape));
     }
     return std::make_unique<ShapeMaterials>(std::move(tags), std::move(shapes), spec);
 }

@@ -1,0 +1,247 @@
+// volume_materials3.cpp — the materials of a label volume (materials3.hpp:
+// make_volume_materials3): a material index per voxel, phi_m from each
+// voxel's 3 x 3 x 3 neighbourhood, the winner among a voxel cell's corner
+// labels, and cut points as zeros of phi_a − phi_b.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "../core/root_finder.hpp"
+#include "warpmesh/core/errors.hpp"
+#include "warpmesh/io/volume.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"  // parse_label_list
+#include "warpmesh/levelset/materials3.hpp"
+
+namespace warpmesh {
+namespace {
+
+// "3, 41, 42" (the first few of a list).
+std::string list_some(const std::vector<int>& v) {
+    std::string s;
+    for (std::size_t k = 0; k < v.size() && k < 12; ++k) s += (k ? ", " : "") + std::to_string(v[k]);
+    if (v.size() > 12) s += ", ... (" + std::to_string(v.size()) + " in all)";
+    return s;
+}
+
+class VolumeMaterials3 final : public MaterialField3 {
+public:
+    VolumeMaterials3(const Volume& v, const std::string& spec, std::uint64_t max_memory);
+
+    int count() const override { return static_cast<int>(tags_.size()); }
+    std::int32_t tag(int m) const override { return tags_[static_cast<std::size_t>(m)]; }
+    std::string name(int m) const override { return m == 0 ? "background" : "label_" + std::to_string(tag(m)); }
+    Box3 bounds() const override { return bounds_; }
+    std::string describe() const override { return "materials " + spec_ + " of '" + source_ + "'"; }
+    double resolution() const override { return resolution_; }
+    std::optional<double> reference_volume(int m) const override {
+        return static_cast<double>(voxels_[static_cast<std::size_t>(m)]) * voxel_volume_;
+    }
+    int material_at(Point3 p) const override;
+    double cut_parameter(Point3 a, Point3 b, int ma, int mb) const override;
+
+private:
+    using Index3 = std::array<double, 3>;
+    Index3 to_index(Point3 p) const {
+        const double q[3] = {p.x, p.y, p.z};
+        Index3 x{};
+        for (std::size_t a = 0; a < 3; ++a) x[a] = sign_[a] * (q[axis_[a]] - origin_[axis_[a]]) / spacing_[a];
+        return x;
+    }
+    bool in_hull(const Index3& x) const {
+        for (std::size_t a = 0; a < 3; ++a)
+            if (!(x[a] >= 0 && x[a] <= static_cast<double>(n_[a] - 1))) return false;
+        return true;
+    }
+    std::int64_t at(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + n_[0] * (j + n_[1] * k); }
+    // D_m at voxel (i, j, k) (materials3.hpp).
+    double voxel_phi(int m, std::int64_t i, std::int64_t j, std::int64_t k) const;
+    // The cell of x (its lowest corner, clamped so that the cell exists) and x's offset in it.
+    void cell_of(const Index3& x, std::array<std::int64_t, 3>& c, Index3& f) const {
+        for (std::size_t a = 0; a < 3; ++a) {
+            c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(x[a])), 0, n_[a] - 2);
+            f[a] = x[a] - static_cast<double>(c[a]);
+        }
+    }
+    double phi(int m, const Index3& x) const;
+
+    std::array<std::int64_t, 3> n_{};
+    std::array<std::size_t, 3> axis_{};  // the physical axis of index axis a
+    std::array<double, 3> sign_{}, spacing_{}, origin_{};
+    std::vector<std::uint16_t> mat_;          // per voxel
+    std::vector<std::int32_t> tags_;          // per material
+    std::vector<std::int64_t> voxels_;        // per material
+    double voxel_volume_ = 1, resolution_ = 1;
+    Box3 bounds_{};
+    std::string source_, spec_;
+};
+
+VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std::uint64_t max_memory)
+    : n_(v.dims), source_(v.source), spec_(spec) {
+    for (std::size_t a = 0; a < 3; ++a)
+        if (n_[a] < 2)
+            throw InputError("volume '" + source_ + "': multi-material meshing needs at least 2 voxels along every axis (got " +
+                             std::to_string(n_[0]) + " x " + std::to_string(n_[1]) + " x " + std::to_string(n_[2]) + ")");
+    check_memory(static_cast<std::uint64_t>(v.voxel_count()) * 2, max_memory, "the material field of '" + source_ + "'",
+                 "2 bytes a voxel", "");
+    std::vector<std::int64_t> hist(65536, 0);
+    for (std::size_t q = 0; q < v.values.size(); ++q) {
+        const double x = v.values[q];
+        if (!(x >= 0 && x <= 65535 && x == std::floor(x))) {
+            const std::int64_t i = static_cast<std::int64_t>(q) % n_[0], j = static_cast<std::int64_t>(q) / n_[0] % n_[1],
+                               k = static_cast<std::int64_t>(q) / (n_[0] * n_[1]);
+            throw InputError("volume '" + source_ + "': materials need integer labels in 0..65535, but voxel (" + std::to_string(i) +
+                             ", " + std::to_string(j) + ", " + std::to_string(k) + ") is " + std::to_string(x));
+        }
+        ++hist[static_cast<std::size_t>(x)];
+    }
+    std::vector<int> present, labels;
+    for (int l = 0; l < 65536; ++l)
+        if (hist[static_cast<std::size_t>(l)]) present.push_back(l);
+    if (spec == "all") {
+        for (int l : present)
+            if (l != 0) labels.push_back(l);
+        if (labels.empty()) throw InputError("volume '" + source_ + "': materials all: no label other than 0 (the background) is present");
+    } else {
+        labels = parse_label_list(spec);
+        if (std::binary_search(labels.begin(), labels.end(), 0))
+            throw InputError("materials: label 0 is the background (every voxel not listed); list only other labels");
+        std::vector<int> absent;
+        for (int l : labels)
+            if (!hist[static_cast<std::size_t>(l)]) absent.push_back(l);
+        if (!absent.empty())
+            throw InputError("volume '" + source_ + "': materials names label(s) not present in the volume: " + list_some(absent) +
+                             " (labels present: " + list_some(present) + ")");
+    }
+    std::vector<std::uint16_t> material_of(65536, 0);
+    tags_.push_back(0);
+    for (std::size_t k = 0; k < labels.size(); ++k) {
+        material_of[static_cast<std::size_t>(labels[k])] = static_cast<std::uint16_t>(k + 1);
+        tags_.push_back(labels[k]);
+    }
+    voxels_.assign(tags_.size(), 0);
+    mat_.resize(v.values.size());
+    for (std::size_t q = 0; q < v.values.size(); ++q) {
+        mat_[q] = material_of[static_cast<std::size_t>(v.values[q])];
+        ++voxels_[mat_[q]];
+    }
+    // Geometry (volume.hpp: axis-aligned, each axes[a] a signed unit vector).
+    double lo[3], hi[3];
+    for (std::size_t a = 0; a < 3; ++a) {
+        for (std::size_t c = 0; c < 3; ++c)
+            if (v.axes[a][c] != 0) axis_[a] = c, sign_[a] = v.axes[a][c] > 0 ? 1 : -1;
+        spacing_[a] = v.spacing[a];
+        origin_[a] = v.origin[a];
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
+        const std::size_t c = axis_[a];
+        const double e0 = origin_[c], e1 = origin_[c] + sign_[a] * spacing_[a] * static_cast<double>(n_[a] - 1);
+        lo[c] = std::min(e0, e1), hi[c] = std::max(e0, e1);
+    }
+    bounds_ = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
+    voxel_volume_ = spacing_[0] * spacing_[1] * spacing_[2];
+    resolution_ = std::min({spacing_[0], spacing_[1], spacing_[2]});
+}
+
+double VolumeMaterials3::voxel_phi(int m, std::int64_t i, std::int64_t j, std::int64_t k) const {
+    const bool own = mat_[static_cast<std::size_t>(at(i, j, k))] == m;
+    int best = 4;  // squared distance, capped at 2 voxel steps
+    for (int dk = -1; dk <= 1; ++dk)
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                const std::int64_t a = i + di, b = j + dj, c = k + dk;
+                if (a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2]) continue;
+                const int d2 = di * di + dj * dj + dk * dk;
+                if (d2 < best && (mat_[static_cast<std::size_t>(at(a, b, c))] == m) != own) best = d2;
+            }
+    static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
+    const double d = root[static_cast<std::size_t>(best)];
+    return own ? 0.5 - d : d - 0.5;
+}
+
+double VolumeMaterials3::phi(int m, const Index3& x) const {
+    std::array<std::int64_t, 3> c{};
+    Index3 f{};
+    cell_of(x, c, f);
+    double s = 0;
+    for (int q = 0; q < 8; ++q) {
+        const int bi = q & 1, bj = q >> 1 & 1, bk = q >> 2;
+        const double w = (bi ? f[0] : 1 - f[0]) * (bj ? f[1] : 1 - f[1]) * (bk ? f[2] : 1 - f[2]);
+        if (w != 0) s += w * voxel_phi(m, c[0] + bi, c[1] + bj, c[2] + bk);
+    }
+    return s;
+}
+
+int VolumeMaterials3::material_at(Point3 p) const {
+    const Index3 x = to_index(p);
+    if (!in_hull(x)) return outside_material;
+    std::array<std::int64_t, 3> c{};
+    Index3 f{};
+    cell_of(x, c, f);
+    std::array<int, 8> corner{};
+    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat_[static_cast<std::size_t>(at(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2)))];
+    if (std::all_of(corner.begin(), corner.end(), [&](int m) { return m == corner[0]; })) return corner[0];
+    // The candidates: the corners' materials; the smallest phi wins.
+    std::array<int, 8> cand{};
+    std::array<double, 8> value{};
+    int n = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (const int m : corner) {
+        if (std::find(cand.begin(), cand.begin() + n, m) != cand.begin() + n) continue;
+        cand[static_cast<std::size_t>(n)] = m;
+        value[static_cast<std::size_t>(n)] = phi(m, x);
+        best = std::min(best, value[static_cast<std::size_t>(n)]);
+        ++n;
+    }
+    // A tie: the tied material of the nearest corner; equally near ones, the
+    // last in (z, y, x) order.
+    int winner = -1;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int q = 0; q < 8; ++q) {
+        const int m = corner[static_cast<std::size_t>(q)];
+        const std::size_t k = static_cast<std::size_t>(std::find(cand.begin(), cand.begin() + n, m) - cand.begin());
+        if (value[k] != best) continue;
+        double d2 = 0;
+        for (std::size_t a = 0; a < 3; ++a) {
+            const double d = (q >> a & 1) ? 1 - f[a] : f[a];
+            d2 += d * d;
+        }
+        if (d2 <= nearest) nearest = d2, winner = m;
+    }
+    return winner;
+}
+
+double VolumeMaterials3::cut_parameter(Point3 a, Point3 b, int ma, int mb) const {
+    const Index3 xa = to_index(a), xb = to_index(b);
+    const auto x_at = [&](double u) {
+        return Index3{xa[0] + u * (xb[0] - xa[0]), xa[1] + u * (xb[1] - xa[1]), xa[2] + u * (xb[2] - xa[2])};
+    };
+    if (ma == outside_material || mb == outside_material) {
+        // Where the segment crosses the hull: the inside end's last point in it.
+        const bool a_in = ma != outside_material;
+        const Index3 &in = a_in ? xa : xb, &out = a_in ? xb : xa;
+        double t = 1;  // along in -> out
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double limit = out[k] < 0 ? 0 : out[k] > static_cast<double>(n_[k] - 1) ? static_cast<double>(n_[k] - 1) : out[k];
+            if (limit != out[k]) t = std::min(t, (limit - in[k]) / (out[k] - in[k]));
+        }
+        return inside_unit_interval(a_in ? t : 1 - t);
+    }
+    const auto g = [&](double u) {
+        const Index3 x = x_at(u);
+        return phi(ma, x) - phi(mb, x);
+    };
+    const double g0 = g(0), g1 = g(1);
+    if (!(g0 < 0)) return inside_unit_interval(0);  // a tie at a: the cut is at a
+    if (!(g1 > 0)) return inside_unit_interval(1);
+    return bracketed_root_of(g, g0, g1);
+}
+
+}  // namespace
+
+std::unique_ptr<MaterialField3> make_volume_materials3(const Volume& volume, const std::string& spec, std::uint64_t max_memory) {
+    return std::make_unique<VolumeMaterials3>(volume, spec, max_memory);
+}
+
+}  // namespace warpmesh
