@@ -14,6 +14,7 @@
 #include <set>
 
 #include "support.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
 #include "warpmesh/io/volume.hpp"
 #include "warpmesh/levelset/materials3.hpp"
 #include "warpmesh/mesh3d/generic_bcc_materials.hpp"
@@ -24,11 +25,33 @@ using namespace warpmesh;
 
 namespace {
 
+// The parity rule at its certificate's alphas, every two-material
+// tetrahedron verified against its side's key claim (a violation throws),
+// all-zero background tetrahedra output when within the certificate's claim.
 BccOptions parity_options() {
+    static const BccKeyClaims claims = bcc_key_claims(FaceRule::parity);
     BccOptions o;
     o.face_rule = FaceRule::parity;
     o.alphas = face_rule_alphas(FaceRule::parity);
+    o.verify = &claims;
+    const BccClaim c = bcc_claim(FaceRule::parity).value();
+    o.fill_claim = BccKeyClaim{c.cos2_min, c.cos2_max};
     return o;
+}
+
+// The dihedral extremes of the tetrahedra of `m` that are not junction ones
+// are within the parity certificate's bounds (verify checks the
+// two-material ones against their keys; this checks the filled all-zero ones
+// too, from scratch).
+void check_angles(const TetMesh& m, double min_deg, double max_deg, const std::string& what) {
+    double lo = 180, hi = 0;
+    for (std::size_t t = 0; t < m.tets.size(); ++t) {
+        std::array<Point3, 4> p{};
+        for (std::size_t k = 0; k < 4; ++k) p[k] = m.vertices[static_cast<std::size_t>(m.tets[t][k])];
+        for (const double a : dihedral_angles_deg(p)) lo = std::min(lo, a), hi = std::max(hi, a);
+    }
+    BOOST_TEST(lo >= min_deg, what << ": min " << lo);
+    BOOST_TEST(hi <= max_deg, what << ": max " << hi);
 }
 
 double tet_volume(const TetMesh& m, std::size_t t) {
@@ -136,6 +159,9 @@ BOOST_AUTO_TEST_CASE(nested_spheres_are_two_conforming_materials) {
     const Lattice3 L = lattice3_for(f->bounds(), 0.08, f->describe());
     const BccMesh m = mesh_bcc_materials(*f, L, parity_options(), false);
     check_valid(m.mesh, "nested spheres");
+    BOOST_TEST(m.verified);
+    const BccClaim claim = bcc_claim(FaceRule::parity).value();
+    check_angles(m.mesh, claim.min_deg, claim.max_deg, "nested spheres");
     const auto v = region_volumes(m.mesh);
     BOOST_TEST(v.size() == 2u);
     const double inner = 4.0 / 3 * std::numbers::pi * 0.125, shell = 4.0 / 3 * std::numbers::pi - inner;
@@ -169,8 +195,7 @@ BOOST_AUTO_TEST_CASE(random_label_volumes_mesh_validly_and_ignore_label_numbers)
     std::mt19937 rng(7);
     for (int trial = 0; trial < 12; ++trial) {
         const Volume v = random_labels(14, {3, 17, 5, 900}, rng);
-        std::vector<int> map{0, 0, 0, 0};
-        Volume w = v;  // 3 -> 61, 17 -> 2, 5 -> 40000, 900 -> 8
+        Volume w = v;
         const std::map<int, int> bijection{{0, 0}, {3, 61}, {17, 2}, {5, 40000}, {900, 8}};
         for (double& x : w.values) x = bijection.at(static_cast<int>(x));
         const double spacing = trial % 3 == 0 ? 1.0 : trial % 3 == 1 ? 0.7 : 1.3;
@@ -180,6 +205,10 @@ BOOST_AUTO_TEST_CASE(random_label_volumes_mesh_validly_and_ignore_label_numbers)
             const BccMesh a = mesh_bcc_materials(*f, L, parity_options(), keep);
             const BccMesh b = mesh_bcc_materials(*g, L, parity_options(), keep);
             check_valid(a.mesh, "random labels " + std::to_string(trial));
+            if (a.junction_tets == 0) {
+                const BccClaim claim = bcc_claim(FaceRule::parity).value();
+                check_angles(a.mesh, claim.min_deg, claim.max_deg, "random labels " + std::to_string(trial));
+            }
             BOOST_TEST(a.mesh.tets.size() == b.mesh.tets.size());
             BOOST_TEST(a.mesh.vertices.size() == b.mesh.vertices.size());
             bool same = a.mesh.tets.size() == b.mesh.tets.size() && a.mesh.vertices.size() == b.mesh.vertices.size();
@@ -216,6 +245,24 @@ BOOST_AUTO_TEST_CASE(label_volumes_follow_the_voxel_counts) {
         const double ref = *f->reference_volume(mi);
         BOOST_TEST(std::abs(vol.at(label) - ref) < 0.05 * ref, "label " << label << ": " << vol.at(label) << " vs " << ref);
     }
+}
+
+// Planes through the lattice near its points make all-zero background
+// tetrahedra (four warped vertices): the flat ones are left out, counted,
+// the others output within the claim; without a fill claim, all are left out.
+BOOST_AUTO_TEST_CASE(all_zero_tetrahedra_are_filled_only_within_the_claim) {
+    const auto f = parse_material_shapes3("1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1");
+    const Lattice3 L = lattice3_for(f->bounds(), 0.05, f->describe());
+    const BccMesh m = mesh_bcc_materials(*f, L, parity_options(), false);
+    check_valid(m.mesh, "three boxes");
+    BOOST_TEST(m.all_zero_left_out + m.all_zero_filled > 0);
+    BccOptions none = parity_options();
+    none.fill_claim.reset();
+    const BccMesh n = mesh_bcc_materials(*f, L, none, false);
+    check_valid(n.mesh, "three boxes, no fill");
+    BOOST_TEST(n.all_zero_filled == 0);
+    BOOST_TEST(n.all_zero_left_out == m.all_zero_left_out + m.all_zero_filled);
+    BOOST_TEST(n.mesh.tets.size() + static_cast<std::size_t>(m.all_zero_filled) == m.mesh.tets.size());
 }
 
 // Bad input: label 0 listed, absent labels named, non-integer labels.

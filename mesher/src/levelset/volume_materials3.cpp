@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "../core/root_finder.hpp"
@@ -55,8 +56,10 @@ private:
         return true;
     }
     std::int64_t at(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + n_[0] * (j + n_[1] * k); }
-    // D_m at voxel (i, j, k) (materials3.hpp).
-    double voxel_phi(int m, std::int64_t i, std::int64_t j, std::int64_t k) const;
+    // D_m (materials3.hpp) at the 8 corners of cell c (corner q = (i + (q & 1),
+    // j + (q >> 1 & 1), k + (q >> 2))) for each material ms[m] (at most 8), in out[m].
+    void corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const;
+    static double trilinear(const std::array<double, 8>& d, const Index3& f);
     // The cell of x (its lowest corner, clamped so that the cell exists) and x's offset in it.
     void cell_of(const Index3& x, std::array<std::int64_t, 3>& c, Index3& f) const {
         for (std::size_t a = 0; a < 3; ++a) {
@@ -64,7 +67,6 @@ private:
             f[a] = x[a] - static_cast<double>(c[a]);
         }
     }
-    double phi(int m, const Index3& x) const;
 
     std::array<std::int64_t, 3> n_{};
     std::array<std::size_t, 3> axis_{};  // the physical axis of index axis a
@@ -144,32 +146,37 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
     resolution_ = std::min({spacing_[0], spacing_[1], spacing_[2]});
 }
 
-double VolumeMaterials3::voxel_phi(int m, std::int64_t i, std::int64_t j, std::int64_t k) const {
-    const bool own = mat_[static_cast<std::size_t>(at(i, j, k))] == m;
-    int best = 4;  // squared distance, capped at 2 voxel steps
-    for (int dk = -1; dk <= 1; ++dk)
-        for (int dj = -1; dj <= 1; ++dj)
-            for (int di = -1; di <= 1; ++di) {
-                const std::int64_t a = i + di, b = j + dj, c = k + dk;
-                if (a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2]) continue;
-                const int d2 = di * di + dj * dj + dk * dk;
-                if (d2 < best && (mat_[static_cast<std::size_t>(at(a, b, c))] == m) != own) best = d2;
-            }
+void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const {
     static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
-    const double d = root[static_cast<std::size_t>(best)];
-    return own ? 0.5 - d : d - 0.5;
+    for (int q = 0; q < 8; ++q) {
+        const std::int64_t i = c[0] + (q & 1), j = c[1] + (q >> 1 & 1), k = c[2] + (q >> 2);
+        const int own = mat_[static_cast<std::size_t>(at(i, j, k))];
+        // One pass over the 3 x 3 x 3 neighbourhood: the nearest voxel not of
+        // `own` (own's d) and the nearest of each other material asked for.
+        std::array<int, 8> best{4, 4, 4, 4, 4, 4, 4, 4};
+        int best_other = 4;
+        for (int dk = -1; dk <= 1; ++dk)
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    const std::int64_t a = i + di, b = j + dj, e = k + dk;
+                    if (a < 0 || b < 0 || e < 0 || a >= n_[0] || b >= n_[1] || e >= n_[2]) continue;
+                    const int label = mat_[static_cast<std::size_t>(at(a, b, e))];
+                    if (label == own) continue;
+                    const int d2 = di * di + dj * dj + dk * dk;
+                    best_other = std::min(best_other, d2);
+                    for (std::size_t m = 0; m < ms.size(); ++m)
+                        if (ms[m] == label) best[m] = std::min(best[m], d2);
+                }
+        for (std::size_t m = 0; m < ms.size(); ++m)
+            out[m][static_cast<std::size_t>(q)] = ms[m] == own ? 0.5 - root[static_cast<std::size_t>(best_other)]
+                                                              : root[static_cast<std::size_t>(best[m])] - 0.5;
+    }
 }
 
-double VolumeMaterials3::phi(int m, const Index3& x) const {
-    std::array<std::int64_t, 3> c{};
-    Index3 f{};
-    cell_of(x, c, f);
+double VolumeMaterials3::trilinear(const std::array<double, 8>& d, const Index3& f) {
     double s = 0;
-    for (int q = 0; q < 8; ++q) {
-        const int bi = q & 1, bj = q >> 1 & 1, bk = q >> 2;
-        const double w = (bi ? f[0] : 1 - f[0]) * (bj ? f[1] : 1 - f[1]) * (bk ? f[2] : 1 - f[2]);
-        if (w != 0) s += w * voxel_phi(m, c[0] + bi, c[1] + bj, c[2] + bk);
-    }
+    for (int q = 0; q < 8; ++q)
+        s += (q & 1 ? f[0] : 1 - f[0]) * (q >> 1 & 1 ? f[1] : 1 - f[1]) * (q >> 2 ? f[2] : 1 - f[2]) * d[static_cast<std::size_t>(q)];
     return s;
 }
 
@@ -184,16 +191,14 @@ int VolumeMaterials3::material_at(Point3 p) const {
     if (std::all_of(corner.begin(), corner.end(), [&](int m) { return m == corner[0]; })) return corner[0];
     // The candidates: the corners' materials; the smallest phi wins.
     std::array<int, 8> cand{};
-    std::array<double, 8> value{};
     int n = 0;
+    for (const int m : corner)
+        if (std::find(cand.begin(), cand.begin() + n, m) == cand.begin() + n) cand[static_cast<std::size_t>(n++)] = m;
+    std::array<std::array<double, 8>, 8> d{};
+    corner_phis(c, std::span<const int>(cand.data(), static_cast<std::size_t>(n)), std::span<std::array<double, 8>>(d.data(), static_cast<std::size_t>(n)));
+    std::array<double, 8> value{};
     double best = std::numeric_limits<double>::infinity();
-    for (const int m : corner) {
-        if (std::find(cand.begin(), cand.begin() + n, m) != cand.begin() + n) continue;
-        cand[static_cast<std::size_t>(n)] = m;
-        value[static_cast<std::size_t>(n)] = phi(m, x);
-        best = std::min(best, value[static_cast<std::size_t>(n)]);
-        ++n;
-    }
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) best = std::min(best, value[k] = trilinear(d[k], f));
     // A tie: the tied material of the nearest corner; equally near ones, the
     // last in (z, y, x) order.
     int winner = -1;
@@ -228,9 +233,26 @@ double VolumeMaterials3::cut_parameter(Point3 a, Point3 b, int ma, int mb) const
         }
         return inside_unit_interval(a_in ? t : 1 - t);
     }
+    // phi_ma − phi_mb, the corners' D recomputed only when x leaves the cell
+    // in use (first the midpoint's): trilinear interpolants of neighbouring
+    // cells agree on their common face, exactly (the weights of the corners
+    // off the face are 0).
+    const std::array<int, 2> ms{ma, mb};
+    std::array<std::int64_t, 3> cell{};
+    Index3 f{};
+    cell_of(x_at(0.5), cell, f);
+    std::array<std::array<double, 8>, 2> d{};
+    corner_phis(cell, ms, d);
     const auto g = [&](double u) {
         const Index3 x = x_at(u);
-        return phi(ma, x) - phi(mb, x);
+        bool inside = true;
+        for (std::size_t a = 0; a < 3; ++a) inside = inside && x[a] >= static_cast<double>(cell[a]) && x[a] <= static_cast<double>(cell[a] + 1);
+        if (!inside) {
+            cell_of(x, cell, f);
+            corner_phis(cell, ms, d);
+        }
+        for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - static_cast<double>(cell[a]);
+        return trilinear(d[0], f) - trilinear(d[1], f);
     };
     const double g0 = g(0), g1 = g(1);
     if (!(g0 < 0)) return inside_unit_interval(0);  // a tie at a: the cut is at a

@@ -8,6 +8,7 @@
 // interfaces.
 #include <algorithm>
 #include <atomic>
+#include <optional>
 #include <chrono>
 #include <stdexcept>
 #include <tuple>
@@ -15,6 +16,7 @@
 #include "uniform3d.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/core/memory.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"  // key_of
 #include "warpmesh/mesh3d/generic_bcc_materials.hpp"
 
 #ifdef _OPENMP
@@ -34,8 +36,11 @@ struct Split {
     int count = 0;
     std::array<bcc::OutTet, 24> tet{};
     std::array<std::uint16_t, 24> material{};
+    std::array<std::uint8_t, 24> side{};  // 0, 1: a two-material side's letter; junction_side; fill_side
+    std::array<int, 4> letter{};
     bool all_zero = false, junction = false;
 };
+inline constexpr std::uint8_t junction_side = 2, fill_side = 3;
 
 // The junction stencils by (letters, parity): letters coded (l + 1) 5^i.
 const std::vector<bcc::MaterialStencil>& junction_table() {
@@ -54,14 +59,17 @@ const std::vector<bcc::MaterialStencil>& junction_table() {
 
 struct MaterialLayout {
     const Window& w;
+    const MaterialField3& field;
+    std::optional<BccKeyClaim> fill;   // all-zero background tetrahedra meeting it are output
     std::span<const std::uint16_t> mat;
     std::vector<std::uint8_t> output;  // per material code: output it
     bool merge_outside = false;        // the background dropped: it and the outside are one (no cut between them)
     const std::array<TetShape, 12>& shapes = tet_shapes();
     std::int64_t plane_pair = 0;
 
-    MaterialLayout(const Window& win, std::span<const std::uint16_t> material, int count, bool keep_background)
-        : w(win), mat(material), output(65536, 0), merge_outside(!keep_background) {
+    MaterialLayout(const Window& win, const MaterialField3& f, const std::optional<BccKeyClaim>& fill_claim,
+                   std::span<const std::uint16_t> material, int count, bool keep_background)
+        : w(win), field(f), fill(fill_claim), mat(material), output(65536, 0), merge_outside(!keep_background) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
         for (int m = keep_background ? 0 : 1; m < count; ++m) output[static_cast<std::size_t>(m)] = 1;
     }
@@ -76,13 +84,50 @@ struct MaterialLayout {
         for (std::size_t k = 0; k < 4; ++k) p[k] = point_at(m, shapes[static_cast<std::size_t>(index)].slot_in_cube[k]);
         return p;
     }
-    void push(Split& s, const bcc::OutTet& t, std::uint16_t material) const {
+    void push(Split& s, const bcc::OutTet& t, std::uint16_t material, std::uint8_t side) const {
         if (!output[material]) return;
         s.tet[static_cast<std::size_t>(s.count)] = t;
+        s.side[static_cast<std::size_t>(s.count)] = side;
         s.material[static_cast<std::size_t>(s.count++)] = material;
     }
     Split split(const std::array<std::int64_t, 4>& p, int parity) const;
+    // An all-zero background tetrahedron's material (mesh3d.hpp): the
+    // material at its centroid if it is output and the warped tetrahedron
+    // meets the fill claim with a margin; else -1 (left out).
+    int fill_material(const std::array<std::int64_t, 4>& p) const;
+    // A cube whose 12 background tetrahedra all exist and whose 12 points
+    // (TetShape::slot_in_cube) are unwarped and of one material: that
+    // material's code (its tetrahedra are whole), else -1.
+    int whole_cube(const bcc::Ivec& m) const {
+        if (m[0] == 0 || m[1] == 0 || m[2] == 0) return -1;
+        int code = -1;
+        for (int k = 0; k < 12; ++k) {
+            const std::size_t p = static_cast<std::size_t>(point_at(m, k));
+            if (w.warp[p] != bcc::stay) return -1;
+            int c = mat[p];
+            if (merge_outside && c == outside_code) c = 0;
+            if (code >= 0 && c != code) return -1;
+            code = c;
+        }
+        return code;
+    }
 };
+
+int MaterialLayout::fill_material(const std::array<std::int64_t, 4>& p) const {
+    if (!fill) return -1;
+    std::array<Point3, 4> q{};
+    Point3 c{0, 0, 0};
+    for (std::size_t k = 0; k < 4; ++k) {
+        q[k] = w.point_position(p[k]);
+        c.x += 0.25 * q[k].x, c.y += 0.25 * q[k].y, c.z += 0.25 * q[k].z;
+    }
+    // The claim tightened by a relative 1e-9, so that double rounding in the
+    // forms cannot let a tetrahedron just outside it through.
+    if (!key_claim_holds(q, fill->cos2_min * (1 - 1e-9), fill->cos2_max * (1 - 1e-9))) return -1;
+    const int m = field.material_at(c);
+    if (m == outside_material) return -1;
+    return output[static_cast<std::size_t>(m)] ? m : -1;
+}
 
 Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) const {
     std::array<std::uint16_t, 4> m{};
@@ -94,12 +139,14 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
     }
     const std::array<int, 4> letter = bcc::letters_of(m, warped);
     const int k = bcc::letter_count(letter);
+    Split s;
+    s.letter = letter;
     std::array<std::uint16_t, 4> material_of{};
     for (std::size_t i = 0; i < 4; ++i)
         if (letter[i] >= 0) material_of[static_cast<std::size_t>(letter[i])] = m[i];
-    Split s;
     if (k == 0) {
         s.all_zero = true;
+        if (const int f = fill_material(p); f >= 0) push(s, bcc::OutTet{0, 1, 2, 3}, static_cast<std::uint16_t>(f), fill_side);
         return s;
     }
     if (k >= 3) {
@@ -108,7 +155,7 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
         const bcc::MaterialStencil& st = junction_table()[static_cast<std::size_t>(code * 2 + parity)];
         s.junction = true;
         for (int t = 0; t < st.count; ++t)
-            push(s, st.tet[static_cast<std::size_t>(t)].tet, material_of[static_cast<std::size_t>(st.tet[static_cast<std::size_t>(t)].letter)]);
+            push(s, st.tet[static_cast<std::size_t>(t)].tet, material_of[static_cast<std::size_t>(st.tet[static_cast<std::size_t>(t)].letter)], junction_side);
         return s;
     }
     // One or two letters: the one-region stencil of each side (code = Σ (sign + 1) 3^i).
@@ -119,7 +166,7 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
             code = code * 3 + (l < 0 ? 1 : l == side ? 0 : 2);
         }
         const bcc::Stencil& st = plan(code, parity).stencil;
-        for (int t = 0; t < st.count; ++t) push(s, st.tet[static_cast<std::size_t>(t)], material_of[static_cast<std::size_t>(side)]);
+        for (int t = 0; t < st.count; ++t) push(s, st.tet[static_cast<std::size_t>(t)], material_of[static_cast<std::size_t>(side)], static_cast<std::uint8_t>(side));
     }
     return s;
 }
@@ -129,6 +176,14 @@ void for_cubes_in_layer(const Lattice3& L, std::int64_t cz, Body&& body) {
     for (std::int64_t cy = 0; cy < L.cubes[1]; ++cy)
         for (std::int64_t cx = 0; cx < L.cubes[0]; ++cx)
             body(bcc::Ivec{static_cast<int>(2 * cx), static_cast<int>(2 * cy), static_cast<int>(2 * cz)});
+}
+
+// Whether cube m touches the lattice's cut-off (its tetrahedra may have
+// faces there: the general path records them).
+bool in_lattice_edge(const Lattice3& L, const bcc::Ivec& m) {
+    for (std::size_t a = 0; a < 3; ++a)
+        if (m[a] < 4 || m[a] >= 2 * L.cubes[a] - 4) return true;
+    return false;
 }
 
 // A face point's name: its face's three lattice points (window indices), sorted.
@@ -142,7 +197,7 @@ Key3 face_key(const std::array<std::int64_t, 4>& p, int f) {
 
 // Pass A's per-layer results.
 struct LayerCount {
-    std::int64_t tets = 0, centres = 0, all_zero = 0, junctions = 0, junction_tets = 0;
+    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, junctions = 0, junction_tets = 0;
     std::vector<Key3> faces;  // face points used
 };
 
@@ -153,12 +208,21 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
     for (std::int64_t cz = 0; cz < L.cubes[2]; ++cz) {
         LayerCount& c = layers[static_cast<std::size_t>(cz)];
         for_cubes_in_layer(L, cz, [&](const bcc::Ivec& m) {
+            if (const int whole = lay.whole_cube(m); whole >= 0) {
+                if (!lay.output[static_cast<std::size_t>(whole)]) return;
+                c.tets += 12;
+                for (int k = 0; k < 12; ++k)
+                    if (k != 7)  // the corner m + (2, 2, 2) belongs to the cubes above
+                        std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(lay.point_at(m, k))]).store(1, std::memory_order_relaxed);
+                return;
+            }
             for (int index = 0; index < 12; ++index) {
                 if (m[static_cast<std::size_t>(index / 4)] == 0) continue;  // the cube below does not exist
                 const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
                 const std::array<std::int64_t, 4> p = lay.points(m, index);
                 const Split s = lay.split(p, sh.parity);
                 c.all_zero += s.all_zero;
+                c.filled += s.all_zero && s.count > 0;
                 c.junctions += s.junction;
                 if (s.count == 0) continue;
                 c.tets += s.count;
@@ -205,14 +269,58 @@ struct Places {
     std::vector<std::int64_t> tet_start, centre_start;
 };
 
+// verify's counts: keys without a claim, tetrahedra outside their key's claim.
+struct VerifyCounts {
+    std::int64_t uncovered = 0, failures = 0;
+};
+
+// verify's check of the tetrahedra [t0, t0 + s.count) of a two-material
+// background tetrahedron with lattice points p: each side's tetrahedra
+// against its one-region key's claim (generic_bcc_materials.hpp, k = 2).
+void verify_sides(const MaterialLayout& lay, const BccKeyClaims& claims, const std::array<std::int64_t, 4>& p, const Split& s,
+                  const TetMesh& mesh, std::int64_t t0, VerifyCounts& counts) {
+    std::array<bcc::Ivec, 4> q{};
+    std::array<int, 4> warp{};
+    for (std::size_t k = 0; k < 4; ++k) q[k] = lay.w.grid.point(p[k]), warp[k] = lay.w.warp[static_cast<std::size_t>(p[k])];
+    for (std::uint8_t side = 0; side < 2; ++side) {
+        std::array<int, 4> sign{};
+        for (std::size_t k = 0; k < 4; ++k) sign[k] = s.letter[k] < 0 ? 0 : s.letter[k] == side ? -1 : 1;
+        std::optional<BccKeyClaim> claim;
+        bool looked = false;
+        for (int k = 0; k < s.count; ++k) {
+            if (s.side[static_cast<std::size_t>(k)] != side) continue;
+            if (!looked) {
+                claim = claims.claim(bcc::key_of(q, sign, warp)), looked = true;
+                if (!claim) ++counts.uncovered;
+            }
+            if (!claim) continue;
+            std::array<Point3, 4> x{};
+            for (std::size_t v = 0; v < 4; ++v) x[v] = mesh.vertices[static_cast<std::size_t>(mesh.tets[static_cast<std::size_t>(t0 + k)][v])];
+            if (!key_claim_holds(x, claim->cos2_min, claim->cos2_max)) ++counts.failures;
+        }
+    }
+}
+
 // Pass B for one layer: the tetrahedra, their regions and centres, and the
-// faces on the lattice's cut-off.
+// faces on the lattice's cut-off (and, with claims, verify's checks).
 void write_layer(const MaterialLayout& lay, const MaterialField3& field, const Marks& marks, const Places& at, std::int64_t cz,
-                 TetMesh& mesh, std::vector<std::uint8_t>& on_interface, std::vector<CutOff>& cut_off) {
+                 const BccKeyClaims* verify, TetMesh& mesh, std::vector<std::uint8_t>& on_interface, std::vector<CutOff>& cut_off,
+                 VerifyCounts& counts) {
     const Window& w = lay.w;
     const Lattice3& L = w.grid.lattice;
     std::int64_t t = at.tet_start[static_cast<std::size_t>(cz)], centre = at.centre_start[static_cast<std::size_t>(cz)];
+    const bcc::OutTet& whole_order = plan(0, 0).stencil.tet[0];  // the all-− stencil's vertex order
     for_cubes_in_layer(L, cz, [&](const bcc::Ivec& m) {
+        if (const int whole = lay.whole_cube(m); whole >= 0 && !in_lattice_edge(L, m)) {
+            if (!lay.output[static_cast<std::size_t>(whole)]) return;
+            for (int index = 0; index < 12; ++index, ++t) {
+                const std::array<std::int64_t, 4> p = lay.points(m, index);
+                mesh.tets[static_cast<std::size_t>(t)] = {at.num.id[static_cast<std::size_t>(p[whole_order[0]])], at.num.id[static_cast<std::size_t>(p[whole_order[1]])],
+                                                           at.num.id[static_cast<std::size_t>(p[whole_order[2]])], at.num.id[static_cast<std::size_t>(p[whole_order[3]])]};
+                mesh.region[static_cast<std::size_t>(t)] = field.tag(whole);
+            }
+            return;
+        }
         for (int index = 0; index < 12; ++index) {
             if (m[static_cast<std::size_t>(index / 4)] == 0) continue;
             const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
@@ -242,6 +350,7 @@ void write_layer(const MaterialLayout& lay, const MaterialField3& field, const M
                 on_interface[static_cast<std::size_t>(vid[14])] = 1;
                 ++centre;
             }
+            const std::int64_t t0 = t;
             unsigned missing = 0;  // bit v: no background tetrahedron across the face without v
             for (int v = 0; v < 4; ++v) missing |= in_lattice(L, bcc::add(m, sh.across[static_cast<std::size_t>(v)])) ? 0u : 1u << v;
             for (int k = 0; k < s.count; ++k, ++t) {
@@ -264,6 +373,7 @@ void write_layer(const MaterialLayout& lay, const MaterialField3& field, const M
                     }
                 if (faces) cut_off.push_back({t, static_cast<std::uint8_t>(faces)});
             }
+            if (verify && !s.junction && !s.all_zero) verify_sides(lay, *verify, p, s, mesh, t0, counts);
         }
     });
 }
@@ -348,7 +458,8 @@ void find_faces(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<const
 
 // Number every vertex and write the mesh (pass B).
 TetMesh assemble(const MaterialLayout& lay, const MaterialField3& field, const Marks& marks, std::vector<LayerCount>& layers,
-                 std::uint64_t max_memory, std::vector<std::uint8_t>& on_interface, std::int64_t& cut_points) {
+                 const BccOptions& options, std::vector<std::uint8_t>& on_interface, std::int64_t& cut_points) {
+    const std::uint64_t max_memory = options.max_memory;
     const Window& w = lay.w;
     Places at;
     at.num = number(w.grid, marks);
@@ -379,9 +490,16 @@ TetMesh assemble(const MaterialLayout& lay, const MaterialField3& field, const M
         on_interface[static_cast<std::size_t>(at.face_base) + i] = 1;
     }
     std::vector<std::vector<CutOff>> cut_off(layers.size());
+    std::vector<VerifyCounts> counts(layers.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t cz = 0; cz < static_cast<std::int64_t>(layers.size()); ++cz)
-        write_layer(lay, field, marks, at, cz, mesh, on_interface, cut_off[static_cast<std::size_t>(cz)]);
+        write_layer(lay, field, marks, at, cz, options.verify, mesh, on_interface, cut_off[static_cast<std::size_t>(cz)],
+                    counts[static_cast<std::size_t>(cz)]);
+    VerifyCounts total;
+    for (const VerifyCounts& c : counts) total.uncovered += c.uncovered, total.failures += c.failures;
+    if (total.uncovered || total.failures)
+        throw std::logic_error("mesh_bcc_materials verify: " + std::to_string(total.uncovered) + " keys without a claim in " +
+                               options.verify->source + ", " + std::to_string(total.failures) + " tetrahedra outside their key's claim");
     std::vector<CutOff> all;
     for (const auto& c : cut_off) all.insert(all.end(), c.begin(), c.end());
     find_faces(mesh, on_interface, all);
@@ -420,14 +538,15 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
         }
     find_material_cuts(field, std::span<const std::uint16_t>(material.data(), n), !keep_background, w);
     warp_points(options.alphas, w, false);
-    const MaterialLayout lay(w, std::span<const std::uint16_t>(material.data(), n), field.count(), keep_background);
+    const MaterialLayout lay(w, field, options.fill_claim, std::span<const std::uint16_t>(material.data(), n), field.count(), keep_background);
     Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     std::vector<LayerCount> layers = count_and_mark(lay, marks);
     BccMesh out;
     for (const LayerCount& l : layers)
-        out.all_zero_left_out += l.all_zero, out.junction_background_tets += l.junctions, out.junction_tets += l.junction_tets;
+        out.all_zero_left_out += l.all_zero - l.filled, out.all_zero_filled += l.filled, out.junction_background_tets += l.junctions, out.junction_tets += l.junction_tets;
     std::vector<std::uint8_t> on_interface;
-    out.mesh = assemble(lay, field, marks, layers, options.max_memory, on_interface, out.cut_points);
+    out.mesh = assemble(lay, field, marks, layers, options, on_interface, out.cut_points);
+    out.verified = options.verify != nullptr;
     if (out.mesh.tets.empty())
         throw InputError("no tetrahedron of any material at spacing " + std::to_string(lattice.spacing) + " (" + field.describe() + ")");
     for (int m = keep_background ? 0 : 1; m < field.count(); ++m) out.mesh.region_names.emplace_back(field.tag(m), field.name(m));

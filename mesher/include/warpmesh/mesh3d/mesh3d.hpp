@@ -113,6 +113,11 @@ struct BccOptions {
     // tetrahedron's key claim; a key without a claim or a violation throws
     // std::logic_error (an internal failure, not bad input).
     const BccKeyClaims* verify = nullptr;
+    // Multi-material meshes (mesh_bcc_materials): an all-zero background
+    // tetrahedron is output iff, with its vertices where warping put them, it
+    // meets this claim (the certificate's bounds, checked in double precision
+    // with a relative margin of 1e-9 on cos²); none: every one is left out.
+    std::optional<BccKeyClaim> fill_claim;
 };
 
 // The stage's mesh and its counts.
@@ -131,6 +136,7 @@ struct BccMesh {
     // where three or four materials meet (junctions, split by the cone
     // stencil: generic_bcc_materials.hpp) and the tetrahedra they output.
     std::int64_t junction_background_tets = 0, junction_tets = 0;
+    std::int64_t all_zero_filled = 0;  // all-zero background tetrahedra output (fill_claim)
 };
 
 // Mesh {f <= 0} on `lattice`.  Throws InputError for bad options, a lattice or
@@ -147,8 +153,15 @@ BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& 
 // listed in `interfaces` (oriented from interface_regions[k][0] into [1]);
 // the faces against the background (dropped), outside the field's domain or
 // on the lattice's cut-off are the boundary (boundary_level_set, or
-// boundary_domain on the cut-off).  All-zero background tetrahedra are left
-// out (counted), as for one region.  Vertex order: lattice points, cut
+// boundary_domain on the cut-off).  An all-zero background tetrahedron
+// (four warped vertices, every one on an interface) has no key; it is
+// output, with the material at its centroid, iff it meets
+// options.fill_claim — so every output tetrahedron is within the claimed
+// bounds — and is otherwise left out (counted in all_zero_left_out; its
+// faces are then boundary faces: a void of the α-band's thickness or less).
+// With options.verify, every tetrahedron of a two-material background
+// tetrahedron is checked against its side's key claim (each side is a
+// one-region key); junction tetrahedra have no key yet.  Vertex order: lattice points, cut
 // points (as mesh_bcc), then the face points of junction faces (by their
 // vertices' lattice indices), then the junctions' centres (in tetrahedron
 // order).  `region_names` lists every output material.  Throws InputError as
