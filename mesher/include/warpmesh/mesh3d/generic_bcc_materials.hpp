@@ -119,6 +119,32 @@ constexpr void push_letter(MaterialStencil& s, int p0, int p1, int p2, int p3, i
     s.tet[static_cast<std::size_t>(s.count++)] = {t, letter};
 }
 
+// The 15 points of a junction in the reference frame (doubled coordinates):
+// generic_points' ten (vertex i warped along c.warp[i] by t[i], cut point e
+// at fraction u[e] of its edge) and, from them, face point f the average of
+// the face's three cut points (meaningful only on a face of three letters)
+// and the centre the average of the four vertices — the positions the
+// mesher computes (materials3.cpp), as polynomials in (t, u) for the prover.
+template <class T>
+std::array<Vec<T>, 15> junction_points(const Config& c, const std::array<T, 4>& t, const std::array<T, 6>& u) {
+    using O = ScalarOps<T>;
+    const std::array<Vec<T>, 10> g = generic_points(c, t, u);
+    std::array<Vec<T>, 15> p{};
+    for (std::size_t q = 0; q < 10; ++q) p[q] = g[q];
+    for (int f = 0; f < 4; ++f) {
+        std::array<int, 3> v{};
+        for (int i = 0, n = 0; i < 4; ++i)
+            if (i != f) v[static_cast<std::size_t>(n++)] = i;
+        const std::array<int, 3> e{cut_point(v[0], v[1]), cut_point(v[1], v[2]), cut_point(v[2], v[0])};
+        for (std::size_t k = 0; k < 3; ++k)
+            p[static_cast<std::size_t>(face_point(f))][k] =
+                (g[static_cast<std::size_t>(e[0])][k] + g[static_cast<std::size_t>(e[1])][k] + g[static_cast<std::size_t>(e[2])][k]) / O::from_int(3);
+    }
+    for (std::size_t k = 0; k < 3; ++k)
+        p[centre_point][k] = (g[0][k] + g[1][k] + g[2][k] + g[3][k]) / O::from_int(4);
+    return p;
+}
+
 // The cone stencil of a junction (k >= 3; see above).
 constexpr MaterialStencil junction_stencil(const std::array<int, 4>& letter, int parity) {
     MaterialStencil s;
