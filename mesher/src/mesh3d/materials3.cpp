@@ -38,9 +38,10 @@ struct Split {
     std::array<std::uint16_t, 24> material{};
     std::array<std::uint8_t, 24> side{};  // 0, 1: a two-material side's letter; junction_side; fill_side
     std::array<int, 4> letter{};
-    bool all_zero = false, junction = false;
+    bool all_zero = false, junction = false, void_left = false;
 };
 inline constexpr std::uint8_t junction_side = 2, fill_side = 3;
+inline constexpr int void_fill = -2;
 
 // The junction stencils by (letters, parity): letters coded (l + 1) 5^i.
 const std::vector<bcc::MaterialStencil>& junction_table() {
@@ -93,7 +94,9 @@ struct MaterialLayout {
     Split split(const std::array<std::int64_t, 4>& p, int parity) const;
     // An all-zero background tetrahedron's material (mesh3d.hpp): the
     // material at its centroid if it is output and the warped tetrahedron
-    // meets the fill claim with a margin; else -1 (left out).
+    // meets the fill claim with a margin; -1 if that material is not output
+    // (left out, as it would be anyway); void_fill if it is but the claim
+    // fails (left out: a void inside the materials).
     int fill_material(const std::array<std::int64_t, 4>& p) const;
     // A cube whose 12 background tetrahedra all exist and whose 12 points
     // (TetShape::slot_in_cube) are unwarped and of one material: that
@@ -114,19 +117,18 @@ struct MaterialLayout {
 };
 
 int MaterialLayout::fill_material(const std::array<std::int64_t, 4>& p) const {
-    if (!fill) return -1;
     std::array<Point3, 4> q{};
     Point3 c{0, 0, 0};
     for (std::size_t k = 0; k < 4; ++k) {
         q[k] = w.point_position(p[k]);
         c.x += 0.25 * q[k].x, c.y += 0.25 * q[k].y, c.z += 0.25 * q[k].z;
     }
+    const int m = field.material_at(c);
+    if (m == outside_material || !output[static_cast<std::size_t>(m)]) return -1;
     // The claim tightened by a relative 1e-9, so that double rounding in the
     // forms cannot let a tetrahedron just outside it through.
-    if (!key_claim_holds(q, fill->cos2_min * (1 - 1e-9), fill->cos2_max * (1 - 1e-9))) return -1;
-    const int m = field.material_at(c);
-    if (m == outside_material) return -1;
-    return output[static_cast<std::size_t>(m)] ? m : -1;
+    if (!fill || !key_claim_holds(q, fill->cos2_min * (1 - 1e-9), fill->cos2_max * (1 - 1e-9))) return void_fill;
+    return m;
 }
 
 Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) const {
@@ -146,7 +148,9 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
         if (letter[i] >= 0) material_of[static_cast<std::size_t>(letter[i])] = m[i];
     if (k == 0) {
         s.all_zero = true;
-        if (const int f = fill_material(p); f >= 0) push(s, bcc::OutTet{0, 1, 2, 3}, static_cast<std::uint16_t>(f), fill_side);
+        const int f = fill_material(p);
+        if (f >= 0) push(s, bcc::OutTet{0, 1, 2, 3}, static_cast<std::uint16_t>(f), fill_side);
+        s.void_left = f == void_fill;
         return s;
     }
     if (k >= 3) {
@@ -197,7 +201,7 @@ Key3 face_key(const std::array<std::int64_t, 4>& p, int f) {
 
 // Pass A's per-layer results.
 struct LayerCount {
-    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, junctions = 0, junction_tets = 0;
+    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, voids = 0, junctions = 0, junction_tets = 0;
     std::vector<Key3> faces;  // face points used
 };
 
@@ -223,6 +227,7 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
                 const Split s = lay.split(p, sh.parity);
                 c.all_zero += s.all_zero;
                 c.filled += s.all_zero && s.count > 0;
+                c.voids += s.void_left;
                 c.junctions += s.junction;
                 if (s.count == 0) continue;
                 c.tets += s.count;
@@ -543,7 +548,7 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
     std::vector<LayerCount> layers = count_and_mark(lay, marks);
     BccMesh out;
     for (const LayerCount& l : layers)
-        out.all_zero_left_out += l.all_zero - l.filled, out.all_zero_filled += l.filled, out.junction_background_tets += l.junctions, out.junction_tets += l.junction_tets;
+        out.all_zero_left_out += l.all_zero - l.filled, out.all_zero_filled += l.filled, out.all_zero_voids += l.voids, out.junction_background_tets += l.junctions, out.junction_tets += l.junction_tets;
     std::vector<std::uint8_t> on_interface;
     out.mesh = assemble(lay, field, marks, layers, options, on_interface, out.cut_points);
     out.verified = options.verify != nullptr;

@@ -137,6 +137,9 @@ struct BccMesh {
     // stencil: generic_bcc_materials.hpp) and the tetrahedra they output.
     std::int64_t junction_background_tets = 0, junction_tets = 0;
     std::int64_t all_zero_filled = 0;  // all-zero background tetrahedra output (fill_claim)
+    // Of all_zero_left_out, those whose centroid lies in an output material
+    // (the claim failed): voids inside the mesh, their faces boundary faces.
+    std::int64_t all_zero_voids = 0;
 };
 
 // Mesh {f <= 0} on `lattice`.  Throws InputError for bad options, a lattice or
