@@ -1,10 +1,13 @@
 // cgal_mesh3.cpp — the CGAL Mesh_3 peer of scripts/bench.sh's 3D section
 // (built only by that script; warpmesh does not depend on CGAL).
 //
-// usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H
-//   RAW: NX*NY*NZ unsigned bytes, x fastest, 0 = outside and any other value
-//   a label (the script writes the SPL atlas binarised: the region warpmesh
-//   meshes with --label nonzero); SX SY SZ the voxel size in mm.
+// usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H [u16] [optimise]
+//   RAW: NX*NY*NZ unsigned bytes (or, with u16, little-endian 16-bit
+//   labels), x fastest, 0 = outside and any other value a label (the script
+//   writes the SPL atlas binarised, the region warpmesh meshes with --label
+//   nonzero, or every label renumbered 1..N for the multi-material
+//   comparison); SX SY SZ the voxel size in mm.  `optimise`: perturb and
+//   exude after the refinement (CGAL's sliver removal).
 // Meshes the labelled image with Labeled_mesh_domain_3 and the criteria
 //   facet_angle 25, facet_size H, facet_distance SX / 2,
 //   cell_radius_edge_ratio 3, cell_size H
@@ -12,7 +15,8 @@
 // optimisers (lloyd/odt/perturb/exude off: the refinement alone, the fastest
 // CGAL configuration), one thread.  Prints one line of JSON: the meshing time
 // in seconds (make_mesh_3 only, no I/O), the tetrahedra in the complex, their
-// minimum and maximum dihedral angles in degrees.
+// minimum and maximum dihedral angles in degrees, and the number of labels
+// (subdomains) that got a tetrahedron.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Image_3.h>
 #include <CGAL/Labeled_mesh_domain_3.h>
@@ -29,6 +33,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -57,19 +62,22 @@ std::array<double, 6> dihedrals(const std::array<K::Point_3, 4>& p) {
 }
 
 int main(int argc, char** argv) {
-    if (argc != 9) {
-        std::cerr << "usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H\n";
+    const std::vector<std::string> flags(argv + std::min(argc, 9), argv + argc);
+    const bool u16 = std::count(flags.begin(), flags.end(), "u16") > 0, optimise = std::count(flags.begin(), flags.end(), "optimise") > 0;
+    if (argc < 9 || static_cast<std::size_t>(argc - 9) != static_cast<std::size_t>(u16) + static_cast<std::size_t>(optimise)) {
+        std::cerr << "usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H [u16] [optimise]\n";
         return 2;
     }
     const int nx = std::stoi(argv[2]), ny = std::stoi(argv[3]), nz = std::stoi(argv[4]);
     const double sx = std::stod(argv[5]), sy = std::stod(argv[6]), sz = std::stod(argv[7]), h = std::stod(argv[8]);
-    std::vector<unsigned char> raw(static_cast<std::size_t>(nx) * ny * nz);
+    const std::size_t bytes = static_cast<std::size_t>(nx) * ny * nz * (u16 ? 2 : 1);
+    std::vector<unsigned char> raw(bytes);
     std::ifstream in(argv[1], std::ios::binary);
     if (!in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size()))) {
         std::cerr << "cgal_mesh3: cannot read " << raw.size() << " bytes from " << argv[1] << "\n";
         return 1;
     }
-    _image* img = ::_createImage(nx, ny, nz, 1, static_cast<float>(sx), static_cast<float>(sy), static_cast<float>(sz), 1,
+    _image* img = ::_createImage(nx, ny, nz, 1, static_cast<float>(sx), static_cast<float>(sy), static_cast<float>(sz), u16 ? 2 : 1,
                                  WK_FIXED, SGN_UNSIGNED);
     std::memcpy(img->data, raw.data(), raw.size());
     const CGAL::Image_3 image(img);
@@ -78,18 +86,22 @@ int main(int argc, char** argv) {
                             params::cell_radius_edge_ratio = 3, params::cell_size = h);
 
     const auto t0 = std::chrono::steady_clock::now();
-    const C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_lloyd(), params::no_odt(),
-                                              params::no_perturb(), params::no_exude());
+    const C3t3 c3t3 = optimise ? CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_lloyd(), params::no_odt(), params::perturb(),
+                                                         params::exude())
+                               : CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_lloyd(), params::no_odt(),
+                                                         params::no_perturb(), params::no_exude());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     double lo = 180, hi = 0;
     std::size_t count = 0;
+    std::set<int> labels;
     for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c, ++count) {
         std::array<K::Point_3, 4> p;
         for (int i = 0; i < 4; ++i) p[static_cast<std::size_t>(i)] = c3t3.triangulation().point(c->vertex(i)).point();
         for (const double d : dihedrals(p)) lo = std::min(lo, d), hi = std::max(hi, d);
+        labels.insert(static_cast<int>(c3t3.subdomain_index(c)));
     }
-    std::printf("{\"seconds\": %.3f, \"tetrahedra\": %zu, \"min_dihedral_deg\": %.3f, \"max_dihedral_deg\": %.3f}\n",
-                seconds, count, lo, hi);
+    std::printf("{\"seconds\": %.3f, \"tetrahedra\": %zu, \"min_dihedral_deg\": %.3f, \"max_dihedral_deg\": %.3f, \"labels\": %zu}\n",
+                seconds, count, lo, hi, labels.size());
     return 0;
 }

@@ -148,25 +148,40 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
 
 void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const {
     static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
+    // The labels of the 4 x 4 x 4 voxels around the cell (-1 beyond the
+    // volume), block[(z + 1) 16 + (y + 1) 4 + (x + 1)] for x, y, z in -1..2.
+    std::array<int, 64> block;  // every entry written below
+    for (int z = -1; z <= 2; ++z)
+        for (int y = -1; y <= 2; ++y)
+            for (int x = -1; x <= 2; ++x) {
+                const std::int64_t i = c[0] + x, j = c[1] + y, k = c[2] + z;
+                const bool in = i >= 0 && j >= 0 && k >= 0 && i < n_[0] && j < n_[1] && k < n_[2];
+                block[static_cast<std::size_t>((z + 1) * 16 + (y + 1) * 4 + (x + 1))] = in ? mat_[static_cast<std::size_t>(at(i, j, k))] : -1;
+            }
+    // The 26 neighbours' offsets in the block and their squared distances.
+    static constexpr auto neighbours = [] {
+        std::array<std::pair<int, int>, 26> n{};
+        int m = 0;
+        for (int z = -1; z <= 1; ++z)
+            for (int y = -1; y <= 1; ++y)
+                for (int x = -1; x <= 1; ++x)
+                    if (x || y || z) n[static_cast<std::size_t>(m++)] = {z * 16 + y * 4 + x, x * x + y * y + z * z};
+        return n;
+    }();
     for (int q = 0; q < 8; ++q) {
-        const std::int64_t i = c[0] + (q & 1), j = c[1] + (q >> 1 & 1), k = c[2] + (q >> 2);
-        const int own = mat_[static_cast<std::size_t>(at(i, j, k))];
-        // One pass over the 3 x 3 x 3 neighbourhood: the nearest voxel not of
-        // `own` (own's d) and the nearest of each other material asked for.
+        const int centre = ((q >> 2) + 1) * 16 + ((q >> 1 & 1) + 1) * 4 + (q & 1) + 1;
+        const int own = block[static_cast<std::size_t>(centre)];
+        // The nearest voxel not of `own` (own's d) and the nearest of each
+        // other material asked for.
         std::array<int, 8> best{4, 4, 4, 4, 4, 4, 4, 4};
         int best_other = 4;
-        for (int dk = -1; dk <= 1; ++dk)
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di = -1; di <= 1; ++di) {
-                    const std::int64_t a = i + di, b = j + dj, e = k + dk;
-                    if (a < 0 || b < 0 || e < 0 || a >= n_[0] || b >= n_[1] || e >= n_[2]) continue;
-                    const int label = mat_[static_cast<std::size_t>(at(a, b, e))];
-                    if (label == own) continue;
-                    const int d2 = di * di + dj * dj + dk * dk;
-                    best_other = std::min(best_other, d2);
-                    for (std::size_t m = 0; m < ms.size(); ++m)
-                        if (ms[m] == label) best[m] = std::min(best[m], d2);
-                }
+        for (const auto& [offset, d2] : neighbours) {
+            const int label = block[static_cast<std::size_t>(centre + offset)];
+            if (label == own || label < 0) continue;
+            best_other = std::min(best_other, d2);
+            for (std::size_t m = 0; m < ms.size(); ++m)
+                if (ms[m] == label) best[m] = std::min(best[m], d2);
+        }
         for (std::size_t m = 0; m < ms.size(); ++m)
             out[m][static_cast<std::size_t>(q)] = ms[m] == own ? 0.5 - root[static_cast<std::size_t>(best_other)]
                                                               : root[static_cast<std::size_t>(best[m])] - 0.5;
@@ -194,7 +209,7 @@ int VolumeMaterials3::material_at(Point3 p) const {
     int n = 0;
     for (const int m : corner)
         if (std::find(cand.begin(), cand.begin() + n, m) == cand.begin() + n) cand[static_cast<std::size_t>(n++)] = m;
-    std::array<std::array<double, 8>, 8> d{};
+    std::array<std::array<double, 8>, 8> d;  // the first n written by corner_phis
     corner_phis(c, std::span<const int>(cand.data(), static_cast<std::size_t>(n)), std::span<std::array<double, 8>>(d.data(), static_cast<std::size_t>(n)));
     std::array<double, 8> value{};
     double best = std::numeric_limits<double>::infinity();
@@ -233,31 +248,59 @@ double VolumeMaterials3::cut_parameter(Point3 a, Point3 b, int ma, int mb) const
         }
         return inside_unit_interval(a_in ? t : 1 - t);
     }
-    // phi_ma − phi_mb, the corners' D recomputed only when x leaves the cell
-    // in use (first the midpoint's): trilinear interpolants of neighbouring
-    // cells agree on their common face, exactly (the weights of the corners
-    // off the face are 0).
-    const std::array<int, 2> ms{ma, mb};
-    std::array<std::int64_t, 3> cell{};
-    Index3 f{};
-    cell_of(x_at(0.5), cell, f);
-    std::array<std::array<double, 8>, 2> d{};
-    corner_phis(cell, ms, d);
-    const auto g = [&](double u) {
-        const Index3 x = x_at(u);
-        bool inside = true;
-        for (std::size_t a = 0; a < 3; ++a) inside = inside && x[a] >= static_cast<double>(cell[a]) && x[a] <= static_cast<double>(cell[a] + 1);
-        if (!inside) {
-            cell_of(x, cell, f);
-            corner_phis(cell, ms, d);
+    // g = phi_ma − phi_mb along the segment, cell by cell: the segment's
+    // pieces between the voxel-cell faces it crosses; on each, g is the
+    // (cubic) restriction of one cell's trilinear interpolants, and it is
+    // continuous across the faces (the weights of the corners off a face are
+    // 0 there).  The cut is g's first zero from a: found in the first piece
+    // where g turns positive.
+    std::array<double, 64> small;  // the breaks, on the stack unless the segment crosses many cells
+    std::vector<double> large;
+    std::size_t count = 0;
+    std::span<double> breaks(small);
+    const auto add = [&](double t) {
+        if (count == breaks.size()) {
+            large.assign(breaks.begin(), breaks.end());
+            large.resize(2 * large.size());
+            breaks = large;
         }
-        for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - static_cast<double>(cell[a]);
-        return trilinear(d[0], f) - trilinear(d[1], f);
+        breaks[count++] = t;
     };
-    const double g0 = g(0), g1 = g(1);
-    if (!(g0 < 0)) return inside_unit_interval(0);  // a tie at a: the cut is at a
-    if (!(g1 > 0)) return inside_unit_interval(1);
-    return bracketed_root_of(g, g0, g1);
+    add(0), add(1);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const double lo = std::min(xa[k], xb[k]), hi = std::max(xa[k], xb[k]);
+        for (double z = std::floor(lo) + 1; z < hi; ++z) add((z - xa[k]) / (xb[k] - xa[k]));
+    }
+    breaks = breaks.first(count);
+    std::sort(breaks.begin(), breaks.end());
+    const std::array<int, 2> ms{ma, mb};
+    std::array<std::array<double, 8>, 2> d;  // written by corner_phis before use
+    double g_start = 0;
+    for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
+        const double t0 = breaks[i], t1 = breaks[i + 1];
+        if (!(t1 > t0)) continue;
+        std::array<std::int64_t, 3> cell{};
+        Index3 f{};
+        cell_of(x_at(0.5 * (t0 + t1)), cell, f);
+        corner_phis(cell, ms, d);
+        const auto g = [&](double u) {
+            const Index3 x = x_at(u);
+            for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - static_cast<double>(cell[a]);
+            return trilinear(d[0], f) - trilinear(d[1], f);
+        };
+        if (i == 0) {
+            g_start = g(0);
+            if (!(g_start < 0)) return inside_unit_interval(0);  // a tie at a: the cut is at a
+        }
+        const double g_end = g(t1);
+        if (g_end == 0) return inside_unit_interval(t1);
+        if (g_end > 0) {
+            const double v = bracketed_root_of([&](double w) { return g(t0 + w * (t1 - t0)); }, g_start, g_end);
+            return inside_unit_interval(t0 + v * (t1 - t0));
+        }
+        g_start = g_end;
+    }
+    return inside_unit_interval(1);  // never positive before b: the cut is at b
 }
 
 }  // namespace
