@@ -19,7 +19,7 @@ std::int64_t Lattice3::point_index(const bcc::Ivec& q) const {
 
 Lattice3 lattice3_for(const LevelSet3& f, double spacing) { return lattice3_for(f.bounds(), spacing, f.describe()); }
 
-Lattice3 lattice3_for(const Box3& b, double spacing, const std::string& what) {
+Lattice3 lattice3_for(const Box3& b, double spacing, const std::string& what, bool at_min) {
     if (!(spacing > 0 && std::isfinite(spacing)))
         throw OptionError("spacing", "{spacing} must be a positive number (got " + std::to_string(spacing) + ")");
     if (!std::isfinite(b.xmin + b.xmax + b.ymin + b.ymax + b.zmin + b.zmax) || !(b.xmin <= b.xmax) ||
@@ -34,7 +34,7 @@ Lattice3 lattice3_for(const Box3& b, double spacing, const std::string& what) {
         const double n = std::ceil((hi[a] - lo[a]) / spacing) + 4;  // two cubes of margin each side
         if (!(n <= 1 << 20)) throw OptionError("spacing", "the 3D lattice is too large: " + std::to_string(n) + " cubes along one axis at {spacing} " + std::to_string(spacing) + "; choose a larger {spacing}");
         L.cubes[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(n);
-        origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n * spacing;
+        origin[a] = at_min ? lo[a] - 2 * spacing : 0.5 * (lo[a] + hi[a]) - 0.5 * n * spacing;
         total *= static_cast<std::int64_t>(n) + 1;
         if (total > (std::int64_t{1} << 40)) total = std::int64_t{1} << 40;
     }

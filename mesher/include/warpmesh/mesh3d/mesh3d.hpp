@@ -69,8 +69,16 @@ struct Lattice3 {
 // InputError for a spacing that is not positive and finite, or a lattice of
 // more than 2^31 points or cubes.
 Lattice3 lattice3_for(const LevelSet3& f, double spacing);
-// The same over a box (`what` names its source in messages).
-Lattice3 lattice3_for(const Box3& box, double spacing, const std::string& what);
+// The same over a box (`what` names its source in messages); with at_min,
+// a lattice corner lies at the box's minimum (two cubes in from the
+// lattice's own corner) instead of the box being centred.  The
+// multi-material mesher uses at_min for volumes: the box's minimum is the
+// first voxel centre, so lattice planes pass through voxel centres and, at a
+// spacing equal to the voxel size, the voxel interfaces (midway between
+// centres) lie on lattice planes instead of a quarter spacing off them, where
+// planar interfaces warp all four vertices of background tetrahedra onto
+// themselves (flat all-zero tetrahedra, left out as voids).
+Lattice3 lattice3_for(const Box3& box, double spacing, const std::string& what, bool at_min = false);
 
 // ---------------------------------------------------------------------------
 // The face rule (generic_bcc.hpp, "The diagonal choices") splits the quads of
