@@ -23,6 +23,15 @@
 #                               libcgal-dev (benchmark-only) and builds
 #                               bench/peers/cgal_mesh3.cpp.  The atlas NRRD is
 #                               WARPMESH_BRAIN_NRRD or /work/shared/data/*/orig/hncma-atlas.nrrd
+#   scripts/bench.sh --cgal3d-materials
+#                               every label of the SPL brain and abdomen atlases
+#                               (--materials all) against CGAL Mesh_3 on the same
+#                               labelled volumes (renumbered 1..N, 16-bit), one
+#                               thread each, in one run: tetrahedra, time, tetrahedra
+#                               per second, min/max dihedral angle, labels kept,
+#                               CGAL with refinement only and with perturb + exude.
+#                               Atlases: WARPMESH_BRAIN_NRRD, WARPMESH_ABDOMEN_NRRD
+#                               (default /work/shared/data/*/orig/{hncma-atlas,seg}.nrrd)
 #   scripts/bench.sh --accuracy [--before EXE] [--cgal]
 #                               accuracy per unknown (issue 33): FEniCSx Poisson,
 #                               P1 and P2, on the disc and the flower, warpmesh
@@ -184,6 +193,59 @@ PY
       "$tmp/c.json" "$h" "$user" "$rss"
   done
   echo "  (CGAL: wall s = make_mesh_3 only; CPU s = the whole process, reading and the image domain included)"
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--cgal3d-materials" ]; then
+  # CGAL is benchmark-only: installed here, never by setup.sh.
+  if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
+  fi
+  brain="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  abdomen="${WARPMESH_ABDOMEN_NRRD:-$(ls /work/shared/data/spl_abdomen/orig/seg.nrrd 2>/dev/null | head -1)}"
+  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "every label; one thread each; s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); tets/s from it"
+  printf "%-44s %10s %8s %9s %9s %9s %7s\n" mesher tetrahedra "s" "tets/s" "min dih" "max dih" labels
+  for case in "brain:$brain:${WARPMESH_BENCH_BRAIN_SPACINGS:-1 2.9}:${WARPMESH_BENCH_BRAIN_CGAL:-4}" \
+              "abdomen:$abdomen:${WARPMESH_BENCH_ABDOMEN_SPACINGS:-0.9375 2.5}:${WARPMESH_BENCH_ABDOMEN_CGAL:-4}"; do
+    IFS=: read -r name nrrd spacings sizes <<<"$case"
+    [ -f "$nrrd" ] || { echo "$name: the atlas NRRD was not found (set WARPMESH_${name^^}_NRRD)" >&2; continue; }
+    # The labels renumbered 1..N as little-endian 16-bit voxels for CGAL's Image_3.
+    geometry=$(/usr/bin/python3 - "$nrrd" "$tmp/$name.raw" <<'PY'
+import gzip, re, sys, numpy as np
+raw = open(sys.argv[1], "rb").read()
+at = raw.index(b"\n\n")
+head = raw[:at].decode()
+sizes = [int(x) for x in re.search(r"sizes: (\d+) (\d+) (\d+)", head).groups()]
+dirs = re.search(r"space directions: (.*)", head).group(1)
+spacing = [max(abs(float(v)) for v in d.strip("()").split(",")) for d in dirs.split()]
+kind = {"short": "<i2", "unsigned short": "<u2", "unsigned char": "u1", "uchar": "u1", "int": "<i4"}[re.search(r"type: (.*)", head).group(1).strip()]
+data = raw[at + 2:]
+a = np.frombuffer(gzip.decompress(data) if "gzip" in head else data, kind).astype(np.int64)
+labels = np.unique(a); labels = labels[labels != 0]
+lut = np.zeros(int(a.max()) + 1, np.uint16); lut[labels] = np.arange(1, len(labels) + 1)
+lut[a].astype("<u2").tofile(sys.argv[2])
+print(*sizes, *spacing)
+PY
+)
+    for s in $spacings; do
+      "$exe" mesh3d "$nrrd" --materials all --spacing "$s" --threads 1 --report "$tmp/w.json" --quiet 2>/dev/null
+      /usr/bin/python3 -c "import json,sys; w=json.load(open(sys.argv[1])); kept=sum(1 for m in w['materials'] if m['tetrahedra'] > 0); print('%-44s %10d %8.2f %9.0f %9.3f %9.3f %7d' % ('warpmesh mesh3d ' + sys.argv[2] + ', spacing ' + sys.argv[3], w['tetrahedra'], w['seconds'], w['tetrahedra'] / w['seconds'], w['min_dihedral_deg'], w['max_dihedral_deg'], kept))" \
+        "$tmp/w.json" "$name" "$s"
+    done
+    for h in $sizes; do
+      for mode in "" optimise; do
+        # shellcheck disable=SC2086
+        "$tmp/cgal_mesh3" "$tmp/$name.raw" $geometry "$h" u16 $mode > "$tmp/c.json"
+        /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1])); print('%-44s %10d %8.2f %9.0f %9.3f %9.3f %7d' % ('CGAL Mesh_3 ' + sys.argv[2] + ', size ' + sys.argv[3] + (', perturb+exude' if sys.argv[4] else ''), c['tetrahedra'], c['seconds'], c['tetrahedra'] / c['seconds'], c['min_dihedral_deg'], c['max_dihedral_deg'], c['labels']))" \
+          "$tmp/c.json" "$name" "$h" "$mode"
+      done
+    done
+  done
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
   exit 0
 fi
