@@ -29,6 +29,8 @@
 // extremes are then the same doubles as cos evaluated at every edge.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numbers>
 
 #ifdef __SSE2__
@@ -201,6 +203,29 @@ std::array<double, 6> dihedral_angles_deg(const std::array<Point3, 4>& p) {
 double radius_ratio(const std::array<Point3, 4>& p) { return measure_one(p).radius_ratio; }
 
 TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f) {
+    TetQuality r = measure_quality3(mesh);
+    boundary_fidelity(mesh, f, r);
+    return r;
+}
+
+std::vector<RegionMeasure> measure_regions3(const TetMesh& mesh) {
+    std::map<std::int32_t, RegionMeasure> by_tag;
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+        std::array<bcc::Vec<double>, 4> q{};
+        for (std::size_t k = 0; k < 4; ++k) {
+            const Point3& p = mesh.vertices[static_cast<std::size_t>(mesh.tets[t][k])];
+            q[k] = {p.x, p.y, p.z};
+        }
+        RegionMeasure& m = by_tag[mesh.region[t]];
+        m.tag = mesh.region[t], ++m.tets;
+        m.volume += bcc::dot(bcc::vsub(q[1], q[0]), bcc::cross(bcc::vsub(q[2], q[0]), bcc::vsub(q[3], q[0]))) / 6;
+    }
+    std::vector<RegionMeasure> out;
+    for (const auto& [tag, m] : by_tag) out.push_back(m);
+    return out;
+}
+
+TetQuality measure_quality3(const TetMesh& mesh) {
     TetQuality r;
     Tally all;
     const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
@@ -231,7 +256,7 @@ TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f) {
     r.min_dihedral_deg = degrees(all.cmax), r.max_dihedral_deg = degrees(all.cmin);
     r.radius_ratio_min = all.rr_min, r.radius_ratio_mean = T ? all.rr_sum / static_cast<double>(T) : 0;
     r.radius_ratio_histogram = all.hist, r.volume = all.volume;
-    boundary_fidelity(mesh, f, r);
+    r.boundary_vertex_f_max = r.boundary_centroid_f_max = std::numeric_limits<double>::quiet_NaN();
     return r;
 }
 

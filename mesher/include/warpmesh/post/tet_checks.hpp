@@ -65,5 +65,16 @@ struct TetQuality {
     double boundary_vertex_f_max = 0, boundary_centroid_f_max = 0;
 };
 TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f);
+// The same for a mesh of no one level set (several materials): the
+// boundary's fidelity is not measured (NaN).
+TetQuality measure_quality3(const TetMesh& mesh);
+
+// Per region tag, in increasing order: its tetrahedra and their volume.
+struct RegionMeasure {
+    std::int32_t tag = 0;
+    std::int64_t tets = 0;
+    double volume = 0;
+};
+std::vector<RegionMeasure> measure_regions3(const TetMesh& mesh);
 
 }  // namespace warpmesh
