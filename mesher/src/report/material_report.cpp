@@ -67,12 +67,15 @@ void report_detail::material_fields(JsonObject& out, const MaterialsFigures& r) 
     out.field("junction_squares", j + "]}");
 }
 
+std::string report_detail::lost_material_warning(std::int32_t tag, const std::string& name, std::string_view cell) {
+    return "material " + std::to_string(tag) + " (" + name + ") got no " + std::string(cell) +
+           ": it is lost at this spacing (use a smaller --spacing)";
+}
+
 std::vector<std::string> material_warnings(const MaterialsFigures& r) {
     std::vector<std::string> warnings;
     for (const MaterialStats& s : r.materials)
-        if (lost_material(s))
-            warnings.push_back("material " + std::to_string(s.tag) + " (" + s.name +
-                               ") got no triangle: it is lost at this spacing (use a smaller --spacing)");
+        if (lost_material(s)) warnings.push_back(report_detail::lost_material_warning(s.tag, s.name, "triangle"));
     return warnings;
 }
 

@@ -2,37 +2,91 @@
 // (what `warpmesh mesh3d` prints) and as one JSON object (--report FILE, the
 // Python module's report dict): the same module and the same conventions as
 // the 2D report (report.cpp: json_number's shortest round-trip numbers, null
-// when not finite).
+// when not finite); several materials as the 2D multi-material report
+// (material_report.cpp: the same lost-material warning, "materials" per
+// material with its reference measure beside the mesh's).
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "report_parts.hpp"
 #include "warpmesh/certify/bcc_certified.hpp"  // bcc_certificate_path
-#include "warpmesh/report/report.hpp"
 #include "warpmesh/report/report3d.hpp"
 
 namespace warpmesh {
 
 namespace {
 
-std::string fmt(double x, int digits = 6) {
-    if (!std::isfinite(x)) return "n/a";
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, digits);
-    return std::string(buf, r.ptr);
+using report_detail::fmt;
+using report_detail::json_strings;
+
+// (volume − reference) / reference, NaN without a positive reference.
+double relative_error(const Material3Figures& m) {
+    return m.reference_volume && *m.reference_volume > 0 ? (m.volume - *m.reference_volume) / *m.reference_volume : NAN;
 }
 
-std::string json_strings(const std::vector<std::string>& items) {
-    std::string r = "[";
-    for (std::size_t k = 0; k < items.size(); ++k) r += (k ? ", " : "") + json_string(items[k]);
-    return r + "]";
+// A material with voxels (or an analytic one) that got no tetrahedron.
+bool lost(const Material3Figures& m) { return m.tets == 0 && (!m.voxels || *m.voxels > 0); }
+
+// The multi-material fields, in order (to_json's "materials" ... "junctions").
+void material_fields(const Materials3Figures& ms, ReportFields& fields) {
+    const auto n = [](auto x) { return json_number(x); };
+    std::string list = "[", lost_tags = "[";
+    for (const Material3Figures& m : ms.materials) {
+        list += std::string(list.size() > 1 ? ", " : "") + "{\"tag\": " + n(std::int64_t{m.tag}) + ", \"name\": " + json_string(m.name) +
+                ", \"tetrahedra\": " + n(m.tets) + ", \"volume\": " + n(m.volume) +
+                ", \"voxels\": " + (m.voxels ? n(*m.voxels) : "null") +
+                ", \"reference_volume\": " + (m.reference_volume ? n(*m.reference_volume) : "null") +
+                ", \"relative_error\": " + n(relative_error(m)) + "}";
+        if (lost(m)) lost_tags += std::string(lost_tags.size() > 1 ? ", " : "") + n(std::int64_t{m.tag});
+    }
+    fields.emplace_back("materials", list + "]");
+    fields.emplace_back("materials_without_tetrahedra", lost_tags + "]");
+    fields.emplace_back("interface_faces", n(ms.interface_faces));
+    fields.emplace_back("junctions", "{\"background_tetrahedra\": " + n(ms.junction_background_tets) + ", \"tetrahedra\": " +
+                                         n(ms.junction_tets) + ", \"certified\": false}");
+}
+
+// The multi-material lines of the text report.
+std::string materials_text(const Materials3Figures& ms) {
+    std::ostringstream o;
+    o << "materials: " << ms.materials.size() << " (tag name: tetrahedra, volume; label volumes: voxels' volume, relative error)\n";
+    for (const Material3Figures& m : ms.materials) {
+        o << "  " << m.tag << " " << m.name << ": " << m.tets << " tetrahedra, volume " << fmt(m.volume, 8);
+        if (m.reference_volume)
+            o << "; " << (m.voxels ? std::to_string(*m.voxels) : std::string("?")) << " voxels, volume " << fmt(*m.reference_volume, 8)
+              << ", error " << fmt(100 * relative_error(m), 3) << " %";
+        o << '\n';
+    }
+    o << "interface faces: " << ms.interface_faces << "; junctions (3 or 4 materials): " << ms.junction_background_tets
+      << " background tetrahedra, " << ms.junction_tets << " tetrahedra, not certified yet\n";
+    return o.str();
 }
 
 }  // namespace
+
+std::vector<std::string> material_warnings(const Materials3Figures& ms) {
+    std::vector<std::string> warnings;
+    for (const Material3Figures& m : ms.materials) {
+        if (lost(m)) {
+            warnings.push_back(report_detail::lost_material_warning(m.tag, m.name, "tetrahedron"));
+            continue;
+        }
+        const double e = relative_error(m);
+        if (m.tag == 0 || !m.voxels || *m.voxels < 1000 || !(std::abs(e) > 0.05)) continue;  // (labels, not the background)
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "material %d (%s): the mesh's volume, %.6g, is %.1f %% %s its %lld voxels' (%.6g): parts thinner than "
+                      "about the spacing are %s; a smaller spacing follows the voxels more closely",
+                      static_cast<int>(m.tag), m.name.c_str(), m.volume, 100 * std::abs(e), e < 0 ? "below" : "above",
+                      static_cast<long long>(*m.voxels), *m.reference_volume, e < 0 ? "lost" : "thickened");
+        warnings.emplace_back(text);
+    }
+    return warnings;
+}
 
 std::string to_json(const Mesh3dReport& r) {
     const auto n = [](auto x) { return json_number(x); };
@@ -40,7 +94,7 @@ std::string to_json(const Mesh3dReport& r) {
     for (std::size_t k = 0; k < r.quality.radius_ratio_histogram.size(); ++k)
         hist += (k ? ", " : "") + n(static_cast<std::int64_t>(r.quality.radius_ratio_histogram[k]));
     hist += "]";
-    const ReportFields fields = {
+    ReportFields fields = {
         {"dimension", "3"},
         {"vertices", n(r.vertices)},
         {"tetrahedra", n(r.tets)},
@@ -60,18 +114,22 @@ std::string to_json(const Mesh3dReport& r) {
         {"boundary_centroid_f_max", n(r.quality.boundary_centroid_f_max)},
         {"nonmanifold_boundary_edges", n(r.nonmanifold_boundary_edges)},
         {"nonmanifold_boundary_vertices", n(r.nonmanifold_boundary_vertices)},
+    };
+    if (r.materials) material_fields(*r.materials, fields);
+    const ReportFields certification = {
         {"face_rule", json_string(face_rule_name(r.face_rule))},
         {"certified", r.certified ? "{\"certificate\": " + json_string(bcc_certificate_path(r.face_rule)) + ", \"min_dihedral_deg\": " + n(r.certified_min_deg) + ", \"max_dihedral_deg\": " +
                                         n(r.certified_max_deg) + ", \"certified_tetrahedra\": " + n(r.certified_tets) +
                                         ", \"uncertified_tetrahedra\": " + n(r.uncertified_tets) +
                                         ", \"verified\": " + (r.verified ? "true" : "false") + "}"
                                   : "null"},
-        {"uncertified_reason", r.certified ? "null" : json_string(r.uncertified_reason)},
+        {"uncertified_reason", r.uncertified_reason.empty() ? "null" : json_string(r.uncertified_reason)},
         {"narrowest_width", n(r.narrowest_width)},
         {"suggested_spacing", r.suggested_spacing > 0 ? n(r.suggested_spacing) : "null"},
         {"warnings", json_strings(r.warnings)},
         {"seconds", n(r.seconds)},
     };
+    fields.insert(fields.end(), certification.begin(), certification.end());
     std::string out = "{";
     for (std::size_t k = 0; k < fields.size(); ++k)
         out += (k ? ",\n  " : "\n  ") + json_string(fields[k].first) + ": " + fields[k].second;
@@ -97,14 +155,18 @@ std::string to_text(const Mesh3dReport& r) {
         const auto bar = static_cast<std::size_t>(std::llround(40.0 * static_cast<double>(c) / static_cast<double>(peak)));
         o << row << std::string(bar ? bar : 1, '#') << '\n';
     }
-    o << "boundary: |f| at vertices <= " << fmt(r.quality.boundary_vertex_f_max, 3) << ", at face centroids <= "
-      << fmt(r.quality.boundary_centroid_f_max, 3) << "; non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices "
-      << r.nonmanifold_boundary_vertices << '\n';
+    o << "boundary: ";
+    if (std::isfinite(r.quality.boundary_vertex_f_max))  // (several materials: no level set)
+        o << "|f| at vertices <= " << fmt(r.quality.boundary_vertex_f_max, 3) << ", at face centroids <= "
+          << fmt(r.quality.boundary_centroid_f_max, 3) << "; ";
+    o << "non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices " << r.nonmanifold_boundary_vertices << '\n';
+    if (r.materials) o << materials_text(*r.materials);
     o << "face rule: " << face_rule_name(r.face_rule) << '\n';
     if (r.certified)
         o << "certified (" << bcc_certificate_path(r.face_rule) << "): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
           << fmt(r.certified_max_deg, 5) << "] deg for " << r.certified_tets << " tetrahedra"
-          << (r.verified ? ", each verified" : "") << "; uncertified: " << r.uncertified_tets << '\n';
+          << (r.verified ? ", each verified" : "") << "; uncertified: " << r.uncertified_tets
+          << (r.uncertified_reason.empty() ? "" : " (" + r.uncertified_reason + ")") << '\n';
     else
         o << "certified: no (" << (r.uncertified_reason.empty() ? "not looked up" : r.uncertified_reason) << "); uncertified: " << r.tets << '\n';
     o << "time: " << fmt(r.seconds, 4) << " s";

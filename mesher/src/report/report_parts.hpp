@@ -41,4 +41,8 @@ std::string slice_plane_json(const SliceFigures& slice);
 void material_fields(JsonObject& json, const MaterialsFigures& m);
 std::string materials_text(const MaterialsFigures& m);
 
+// The warning for a material that got no cell ("triangle", "tetrahedron")
+// at this spacing, in 2D's and 3D's reports alike.
+std::string lost_material_warning(std::int32_t tag, const std::string& name, std::string_view cell);
+
 }  // namespace warpmesh::report_detail

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,29 @@
 #include "warpmesh/post/tet_checks.hpp"     // TetQuality
 
 namespace warpmesh {
+
+// One material of a multi-material mesh (mesh3d.hpp: mesh_bcc_materials):
+// its output tetrahedra and their volume, and, for a label volume, its
+// voxels and their volume (MaterialField3::reference_volume).
+struct Material3Figures {
+    std::int32_t tag = 0;  // its region tag (a label volume: the label; the background 0)
+    std::string name;      // "label_41", "material_2", "background"
+    std::int64_t tets = 0;
+    double volume = 0;
+    std::optional<std::int64_t> voxels;      // label volumes
+    std::optional<double> reference_volume;  // voxels x a voxel's volume
+};
+
+// The multi-material part of the report: every material that is output
+// (the background only when kept), the faces between two materials
+// (TetMesh::interfaces), and the junctions: background tetrahedra where
+// three or four materials meet and the tetrahedra they output (the cone
+// stencil, generic_bcc_materials.hpp; no certificate yet).
+struct Materials3Figures {
+    std::vector<Material3Figures> materials;
+    std::int64_t interface_faces = 0;
+    std::int64_t junction_background_tets = 0, junction_tets = 0;
+};
 
 struct Mesh3dReport {
     // Counts.
@@ -26,21 +50,25 @@ struct Mesh3dReport {
     // the α-band of the surface, is not in the mesh.
     std::int64_t all_zero_left_out = 0;
     // Measured quality (Mesh3dOptions::quality): the volume, dihedral
-    // extremes, radius ratios, the boundary's fidelity to the level set.
+    // extremes, radius ratios, the boundary's fidelity to the level set
+    // (not finite for several materials: no level set).
     TetQuality quality;
+    std::optional<Materials3Figures> materials;  // several materials
     // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
     std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
     // Certification by the face rule's certificate (bcc_certificate_path):
     // certified: it is compiled in and its alphas are the options'; the
-    // bounds then hold for every tetrahedron (each comes from a certified
-    // key: uncertified is 0), else every tetrahedron is uncertified and a
-    // warning says why.  verified: every tetrahedron was checked against its
-    // own key's claim (Mesh3dOptions::verify).
+    // bounds then hold for every certified tetrahedron (each comes from a
+    // certified key), else every tetrahedron is uncertified and a warning
+    // says why.  With several materials the junction tetrahedra are
+    // uncertified (no certificate covers the cone stencil yet), the reason
+    // saying so.  verified: every tetrahedron was checked against its own
+    // key's claim (Mesh3dOptions::verify).
     FaceRule face_rule = FaceRule::parity;  // the rule the mesh was split by
     bool certified = false;
     double certified_min_deg = 0, certified_max_deg = 0;
     std::int64_t certified_tets = 0, uncertified_tets = 0;
-    std::string uncertified_reason;  // why not certified (also a warning); empty when certified
+    std::string uncertified_reason;  // why some are uncertified; empty when none is
     bool verified = false;
     // The resolution check: the narrowest closed boundary component's width
     // 6V/A (a sphere's diameter), and a spacing resolving it (0: resolved).
@@ -52,10 +80,19 @@ struct Mesh3dReport {
 // The report as one JSON object ("dimension": 3, counts (with
 // "all_zero_left_out", the all-zero background tetrahedra), measured
 // dihedral extremes and radius ratios, boundary fidelity, the boundary's
-// non-manifold edges and vertices, "certified":
+// non-manifold edges and vertices; several materials: "materials" (per
+// material tag, name, tetrahedra, volume, voxels, reference_volume,
+// relative_error), "materials_without_tetrahedra", "interface_faces",
+// "junctions" {background_tetrahedra, tetrahedra, certified}; "certified":
 // {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
-// warnings, seconds) and as text.
+// "uncertified_reason", warnings, seconds) and as text.
 std::string to_json(const Mesh3dReport& report);
 std::string to_text(const Mesh3dReport& report);
+
+// The warnings of several materials, each naming its material: one per
+// material that got no tetrahedron (lost at this spacing; a label with no
+// voxel is not a loss), and one per label (not the background) of at least 1000 voxels whose
+// volume is more than 5 % off its voxels' (thin parts lost or thickened).
+std::vector<std::string> material_warnings(const Materials3Figures& materials);
 
 }  // namespace warpmesh
