@@ -92,7 +92,7 @@ std::unique_ptr<LevelSet3> random_level_set(std::mt19937& rng, int kind) {
 // The meshing stage's options of the pipeline's.
 BccOptions stage(const Mesh3dOptions& o) {
     BccOptions b;
-    b.face_rule = o.face_rule;
+    b.face_rule = o.face_rule_in_use();
     b.alphas = o.alphas_in_use();
     b.threads = o.threads;
     return b;

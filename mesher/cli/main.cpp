@@ -3,6 +3,8 @@
 //   warpmesh mesh INPUT -o OUT [options]      mesh an image
 //   warpmesh mesh --shape SPEC -o OUT         mesh an analytic shape
 //   warpmesh mesh3d INPUT|--shape SPEC -o OUT tetrahedra of a volume or a 3D shape
+//   warpmesh mesh3d INPUT --materials all|L,... -o OUT, or --shapes T=S;...
+//                                             every material in one mesh
 //   warpmesh prove [--out DIR] [--threads N]  run the angle prover
 //
 // Exit codes: 0 success, 1 bad input or output (a clear message, nothing
@@ -55,7 +57,8 @@ usage:
   warpmesh mesh --shape SPEC -o OUT [opts] mesh an analytic shape
   warpmesh mesh3d INPUT|--shape SPEC -o OUT [opts]
                                            tetrahedra of a volume (NRRD, NIfTI, TIFF) or
-                                           a 3D shape (warpmesh mesh3d --help)
+                                           a 3D shape, one region or several materials
+                                           (warpmesh mesh3d --help)
   warpmesh prove [--out DIR] [--threads N] run the interval-arithmetic angle prover
   warpmesh --help | --version
 )";
@@ -67,7 +70,13 @@ usage:
   warpmesh mesh3d INPUT -o OUT [options]   a volume (NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz,
                                            multi-page TIFF): label mode (--label) or
                                            threshold mode (--iso)
+  warpmesh mesh3d INPUT --materials all|L,L,... -o OUT [options]
+                                           every label of a label volume in one mesh,
+                                           region tag = label, interfaces tagged by pair
+                                           (parity face rule; junctions not certified yet)
   warpmesh mesh3d --shape SPEC --spacing S -o OUT [options]
+  warpmesh mesh3d --shapes "T=S;T=S" --spacing S -o OUT [options]
+                                           analytic materials (tag T, shape S as --shape)
 )";
 
 struct UsageError : std::runtime_error {
@@ -131,7 +140,7 @@ constexpr std::array<Named<int>, 2> msh_version_names{{{41, "4.1"}, {22, "2.2"}}
 constexpr std::array<Named<int>, 3> svg_color_names{{{0, "minangle"}, {1, "certified"}, {2, "region"}}};
 
 constexpr std::string_view images = "input (images)", volumes = "input (volumes: NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, multi-page TIFF)",
-                           shapes = "input (shapes)", output_group = "output";
+                           shapes = "input (shapes)", materials_group = "input (materials)", output_group = "output";
 
 void set_iso(CliOptions& o, const OptionValue& v) { o.iso = v.number(); }
 void set_inside(CliOptions& o, const OptionValue& v) { o.inside_above = v.choice(inside_names); }
@@ -148,6 +157,8 @@ void set_pixel_size(CliOptions& o, const OptionValue& v) {
     if (o.pixel_size.empty() || o.pixel_size.size() > 3) v.fail("expects SX[,SY[,SZ]]");
 }
 void set_shape(CliOptions& o, const OptionValue& v) { o.shape = std::string(v.text); }
+void set_materials(CliOptions& o, const OptionValue& v) { o.materials = std::string(v.text); }
+void set_shapes(CliOptions& o, const OptionValue& v) { o.shapes = std::string(v.text); }
 
 CliOption inside_option(std::string_view group) {
     return cli_choice("inside", inside_names, group, "threshold mode: objects brighter (above, default) or darker than V",
@@ -171,7 +182,7 @@ std::vector<CliOption> input_options_2d() {
                            "multi-material mesh of a label image: every label (all; 0 is the background) or these "
                            "labels, every other pixel one background material; interfaces between materials are mesh "
                            "edges (2D images and volume slices, in the units below, as for one region)",
-                           [](CliOptions& o, const OptionValue& v) { o.materials = std::string(v.text); }));
+                           set_materials));
     t.push_back(cli_option("slice", OptionKind::text, "AXIS=INDEX", volumes,
                            "mesh one slice: AXIS is the index axis i, j or k, e.g. k=60",
                            [](CliOptions& o, const OptionValue& v) { o.slice = std::string(v.text); }));
@@ -197,7 +208,7 @@ std::vector<CliOption> input_options_2d() {
     t.push_back(cli_option("shapes", OptionKind::text, "T=S;T=S...", shapes,
                            "analytic materials, region tag T for shape S; a later shape wins where they overlap; "
                            "outside all: background (tag 0)",
-                           [](CliOptions& o, const OptionValue& v) { o.shapes = std::string(v.text); }));
+                           set_shapes));
     return t;
 }
 
@@ -223,6 +234,16 @@ std::vector<CliOption> input_options_3d() {
                            "sphere:cx,cy,cz,r ellipsoid:cx,cy,cz,a,b,c torus:cx,cy,cz,R,r box:x0,y0,z0,x1,y1,z1 "
                            "cylinder:x0,y0,z0,x1,y1,z1,r union(S;S) intersect(S;S) diff(S;S) (needs {spacing})",
                            set_shape));
+    t.push_back(cli_option("materials", OptionKind::text, "all|L,...", materials_group,
+                           "every label of a label volume in one mesh (all; 0 is the background) or these labels, "
+                           "every other voxel the background: each tetrahedron's region is its label, every face "
+                           "between two materials is tagged by the pair (interface_A_B); split by the parity face "
+                           "rule, whose certificate covers all but the junction tetrahedra (three or four materials)",
+                           set_materials));
+    t.push_back(cli_option("shapes", OptionKind::text, "T=S;T=S...", materials_group,
+                           "analytic materials, region tag T (1 to 65535) for 3D shape S (as {shape}); a later shape "
+                           "wins where they overlap; outside all: background (tag 0); needs {spacing}",
+                           set_shapes));
     return t;
 }
 
@@ -337,7 +358,7 @@ const Command& mesh_command() {
 
 const Command& mesh3d_command() {
     static const Command c{input_options_3d(), output_options(true), nullptr, &mesh3d_option_table(),
-                           {volumes, shapes, "lattice and algorithm", output_group}};
+                           {volumes, shapes, materials_group, "lattice and algorithm", output_group}};
     return c;
 }
 
@@ -361,8 +382,8 @@ struct Args {
 
 // Why an option of `mesh` is refused by mesh3d.
 std::string refused_in_3d(const std::string& option) {
-    if (option == "--materials" || option == "--shapes" || option == "--background" || option == "--max-size-of")
-        return "multi-material 3D meshes are not built yet (docs/3d.md); mesh one region with --label L,...";
+    if (option == "--max-size-of")
+        return "per-material sizes need graded (octree) 3D meshes, not built yet (docs/3d.md); the size is the --spacing";
     if (option == "--graded" || option == "--max-cell" || option == "--max-size" || option == "--grading")
         return "graded (octree) 3D meshes are not built yet (docs/3d.md); the size is the --spacing";
     if (option == "--slice" || option == "--slices" || option == "--points-3d")
@@ -626,8 +647,9 @@ int run_slices(const CliOptions& o) {
 // option names and parsing as `mesh`.  Options of `mesh` that would have no
 // effect in 3D are refused with the reason, never ignored.
 
-// The input the command line names: a volume file or --shape SPEC.
+// The input the command line names: a volume file, --shape SPEC or --shapes SPEC.
 Mesh3dInput mesh3d_input(const CliOptions& o) {
+    if (o.shapes) return MaterialShapes3{*o.shapes};
     if (o.shape.empty()) return VolumeFile{o.input};
     return Shape3{o.shape};
 }
@@ -641,13 +663,17 @@ Mesh3dOptions mesh3d_options(const CliOptions& o) {
     if (o.has("--inside")) mo.inside_above = o.inside_above;
     if (o.has("--units")) mo.units = o.units_pixels ? Units::pixels : Units::physical;
     mo.voxel_size = o.pixel_size;
+    mo.materials = o.materials;
     return mo;
 }
 
 CliOptions parse_mesh3d_options(int argc, char** argv) {
     try {
         CliOptions o = parse_arguments(mesh3d_command(), mesh_command(), argc, argv);
-        if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input volume or --shape SPEC");
+        if (!o.input.empty() + !o.shape.empty() + o.shapes.has_value() != 1)
+            throw UsageError("give exactly one of an input volume, --shape SPEC or --shapes SPEC");
+        if (o.has("--background") && !o.materials && !o.shapes)
+            throw UsageError("--background applies to several materials (--materials, --shapes)");
         mesh3d_option_table().validate(o.mesh3, o.given3d);
         validate(mesh3d_input(o), mesh3d_options(o));  // the input's options: one check, the library's
         o.mesh.max_memory = o.mesh3.max_memory;

@@ -35,6 +35,67 @@ def executable(var):
     return path
 
 
+def run_mesh3d(args, cwd, expect=0):
+    """Runs `warpmesh mesh3d ARGS` in `cwd`; fails the test with its stderr
+    unless it exits `expect`."""
+    cmd = [executable("WARPMESH_EXE"), "mesh3d", *map(str, args)]
+    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=300)
+    assert r.returncode == expect, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}"
+    return r
+
+
+def write_nrrd(path, labels, spacing=(1.0, 1.0, 1.0)):
+    """A raw NRRD of uint8 labels in mm; numpy's (k, j, i) order is NRRD's i fastest."""
+    k, j, i = labels.shape
+    head = (f"NRRD0004\ntype: uint8\ndimension: 3\nsizes: {i} {j} {k}\nspace: left-posterior-superior\n"
+            f"space directions: ({spacing[0]},0,0) (0,{spacing[1]},0) (0,0,{spacing[2]})\n"
+            "space origin: (0,0,0)\nencoding: raw\n\n")
+    pathlib.Path(path).write_bytes(head.encode() + np.asarray(labels).astype(np.uint8).tobytes())
+
+
+def run_calculix(directory, deck):
+    """Writes DIRECTORY/job.inp (`deck`), runs CalculiX (ccx) on it and
+    returns the displacements its *NODE PRINT wrote to job.dat, per node set:
+    {SET: {node (0-based): [ux, uy, uz]}}.  Fails the test when ccx is
+    missing, exits non-zero or reports an *ERROR."""
+    ccx = "/usr/bin/ccx"
+    if not os.path.exists(ccx):
+        pytest.fail("ccx not found: install Debian's calculix-ccx (scripts/setup.sh)")
+    directory = pathlib.Path(directory)
+    (directory / "job.inp").write_text(deck)
+    r = subprocess.run([ccx, "-i", "job"], cwd=directory, capture_output=True, text=True, timeout=120)
+    out = r.stdout + r.stderr
+    assert r.returncode == 0 and "*ERROR" not in out, out
+    # job.dat: per printed set a header line, then "node ux uy uz" lines.
+    printed, current = {}, None
+    for line in (directory / "job.dat").read_text().splitlines():
+        if "displacements" in line:
+            current = line.split("for set ")[1].split()[0]
+            printed[current] = {}
+        elif line.split() and current:
+            node, *u = line.split()
+            printed[current][int(node) - 1] = [float(v) for v in u]
+    return printed
+
+
+def p1_l2_error(mesh, boundary, exact, rhs, k=1.0):
+    """The L² error against `exact` (a UFL expression) of the P1 Lagrange
+    solution of -div(k grad u) = rhs with u = 0 on the facets `boundary`
+    (CG with GAMG to 1e-12; the error integrated at quadrature degree 4)."""
+    import ufl
+    from dolfinx import fem
+    from dolfinx.fem.petsc import LinearProblem
+    from petsc4py import PETSc
+    V = fem.FunctionSpace(mesh, ("Lagrange", 1))
+    u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    bc = fem.dirichletbc(PETSc.ScalarType(0.0), fem.locate_dofs_topological(V, mesh.topology.dim - 1, boundary), V)
+    problem = LinearProblem(k * ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx, rhs * v * ufl.dx, bcs=[bc],
+                            petsc_options={"ksp_type": "cg", "pc_type": "gamg", "ksp_rtol": 1e-12})
+    uh = problem.solve()
+    dx = ufl.dx(metadata={"quadrature_degree": 4})
+    return np.sqrt(fem.assemble_scalar(fem.form((uh - exact) ** 2 * dx)))
+
+
 def run_warpmesh(args, cwd):
     """Runs `warpmesh mesh ARGS --quiet` in `cwd`; fails the test with its
     stderr on a non-zero exit."""
@@ -148,7 +209,7 @@ def read_xdmf(path):
     with XDMFFile(MPI.COMM_WORLD, path + ".xdmf", "r") as f:
         mesh = f.read_mesh(name="mesh")
         cells = f.read_meshtags(mesh, name="mesh")
-    mesh.topology.create_connectivity(1, 2)
+    mesh.topology.create_connectivity(mesh.topology.dim - 1, mesh.topology.dim)
     with XDMFFile(MPI.COMM_WORLD, path + "_facets.xdmf", "r") as f:
         facets = f.read_meshtags(mesh, name="facets")
     return mesh, cells, facets

@@ -6,28 +6,11 @@ message and nothing written.
 """
 import json
 import os
-import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import executable, require
-
-
-def mesh3d(args, cwd, expect=0):
-    cmd = [executable("WARPMESH_EXE"), "mesh3d", *map(str, args)]
-    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=300)
-    assert r.returncode == expect, f"{' '.join(cmd)} exited {r.returncode}: {r.stderr}"
-    return r
-
-
-def write_nrrd(path, labels, spacing=(1.0, 1.0, 1.0)):
-    """A raw NRRD of uint8 labels; numpy's (k, j, i) order is NRRD's i fastest."""
-    k, j, i = labels.shape
-    head = (f"NRRD0004\ntype: uint8\ndimension: 3\nsizes: {i} {j} {k}\nspace: left-posterior-superior\n"
-            f"space directions: ({spacing[0]},0,0) (0,{spacing[1]},0) (0,0,{spacing[2]})\n"
-            "space origin: (0,0,0)\nencoding: raw\n\n")
-    path.write_bytes(head.encode() + labels.astype(np.uint8).tobytes())
+from conftest import require, run_mesh3d as mesh3d, write_nrrd
 
 
 def tet_volumes(points, tets):
@@ -92,7 +75,8 @@ def test_label_volume_in_mm(tmp_path):
 
 @pytest.mark.parametrize("args, message", [
     (["--graded"], "--graded has no effect in 3D"),
-    (["--materials", "all"], "multi-material 3D meshes are not built yet"),
+    (["--materials", "all"], "materials apply to volumes, not to shapes"),
+    (["--max-size-of", "1=0.1"], "per-material sizes need graded (octree) 3D meshes"),
     (["--slice", "k=3"], "--slice has no effect in 3D"),
     (["--diagonal", "fan"], "--face-rule parity|delaunay"),
     (["--face-rule", "maxmin"], "--face-rule expects 'parity' or 'delaunay', got 'maxmin'"),

@@ -17,7 +17,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import (Reference, executable, require, run_warpmesh, tagged_cells, tagged_edges, write_pgm)
+from conftest import (Reference, executable, require, run_calculix, run_warpmesh, tagged_cells, tagged_edges,
+                      write_pgm)
 
 # Files of one case: STEM.node/.ele/.poly (the reference), STEM.msh (4.1),
 # STEM-22.msh (2.2), STEM-data.msh (4.1 with cell data), STEM.vtu,
@@ -425,24 +426,9 @@ def test_calculix_solves_with_the_inp_sets_and_surfaces(two_region, tmp_path):
     edges, as element faces).  Pressure acts into the body, so where the
     interface meets the bottom the material moves up and at the top down —
     faces on the wrong side of their edges would pull instead."""
-    ccx = "/usr/bin/ccx"
-    if not os.path.exists(ccx):
-        pytest.fail("ccx not found: install Debian's calculix-ccx (scripts/setup.sh)")
     import shutil
     shutil.copy(two_region + ".inp", tmp_path / "two.inp")
-    (tmp_path / "job.inp").write_text(CALCULIX_DECK)
-    r = subprocess.run([ccx, "-i", "job"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
-    out = r.stdout + r.stderr
-    assert r.returncode == 0 and "*ERROR" not in out, out
-    # job.dat: per printed set a header line, then "node ux uy uz" lines.
-    printed, current = {}, None
-    for line in (tmp_path / "job.dat").read_text().splitlines():
-        if "displacements" in line:
-            current = line.split("for set ")[1].split()[0]
-            printed[current] = {}
-        elif line.split() and current:
-            node, *u = line.split()
-            printed[current][int(node) - 1] = [float(v) for v in u]
+    printed = run_calculix(tmp_path, CALCULIX_DECK)
     ref = Reference(two_region)
     assert set(printed["DOMAIN_BORDER"]) == set(np.unique(ref.segments[ref.segment_tags == 2]).tolist())
     assert all(u == [0.0, 0.0, 0.0] for u in printed["DOMAIN_BORDER"].values())

@@ -1,6 +1,6 @@
 // pipeline/mesh3d.cpp — the 3D pipeline (pipeline/mesh3d.hpp): the input's
-// level set, the lattice, the mesher, the certification, the measurements,
-// the report.
+// level set (or material field), the lattice, the mesher, the
+// certification, the measurements, the report.
 #include "warpmesh/pipeline/mesh3d.hpp"
 
 #include <algorithm>
@@ -11,6 +11,8 @@
 #include <type_traits>
 
 #include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/levelset/image_levelset.hpp"  // parse_label_list
+#include "warpmesh/levelset/materials3.hpp"
 #include "warpmesh/pipeline/mesh3d_options.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/post/resolution.hpp"
@@ -21,18 +23,49 @@ namespace warpmesh {
 namespace {
 
 bool is_volume(const Mesh3dInput& input) { return input.index() <= 1; }
-
+bool is_material_shapes(const Mesh3dInput& input) { return std::holds_alternative<MaterialShapes3>(input); }
 
 // The volume-only options given with a shape or a level set.
 void check_volume_options(const Mesh3dOptions& o) {
-    if (o.labels || o.iso || o.inside_above || o.units || !o.voxel_size.empty())
-        throw InputError("labels, iso, inside, units and voxel_size apply to volumes, not to shapes or level sets");
+    if (o.labels || o.iso || o.inside_above || o.units || !o.voxel_size.empty() || o.materials)
+        throw InputError("labels, iso, inside, units, voxel_size and materials apply to volumes, not to shapes or level sets");
 }
 
-// The input's level set, its default spacing, and the input's warnings.
+// The options of several materials: materials excludes the region options,
+// keep_background needs several materials, which take the parity face rule
+// and are not verified yet.
+void check_material_options(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    if (o.materials && (o.labels || o.iso || o.inside_above))
+        throw OptionError("materials", "{materials} (every label its own region) excludes labels, iso and inside (one region)");
+    if (o.materials && *o.materials != "all") {
+        try {
+            parse_label_list(*o.materials);
+        } catch (const InputError&) {
+            throw OptionError("materials", "{materials} expects all or a label list such as 3,41,42 or 1000-1035, got '" +
+                                               *o.materials + "'");
+        }
+    }
+    if (!several_materials(input, o)) {
+        if (o.keep_background)
+            throw OptionError("background", "{background=keep} applies to several materials ({materials}, or material shapes)");
+        return;
+    }
+    if (o.face_rule_in_use(is_material_shapes(input)) != FaceRule::parity)
+        throw OptionError("face_rule", "{face_rule=delaunay} is not available with several materials: the two sides of an "
+                                       "interface must split their shared quads alike, which the parity rule does "
+                                       "({face_rule=parity}, the default there)");
+    if (o.verify)
+        throw OptionError("verify", "{verify} is not available with several materials yet: the junction tetrahedra (three "
+                                    "or four materials) have no certificate to verify them against");
+}
+
+// The input's level set (or material field), its default spacing, and the
+// input's warnings.
 struct Prepared {
     std::unique_ptr<LevelSet3> owned;
     const LevelSet3* f = nullptr;
+    std::unique_ptr<MaterialField3> field;  // several materials (then no f)
+    double voxel_volume = 0;                // a label volume's voxel (materials: voxel counts)
     double default_spacing = 0;  // 0: none (shapes, level sets)
     bool large = false;          // a volume of 2^22 voxels or more (progress)
     std::vector<std::string> warnings;
@@ -52,6 +85,14 @@ void apply_geometry(Volume& v, const Mesh3dOptions& o) {
 
 void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p) {
     p.default_spacing = v.physical ? std::min({v.spacing[0], v.spacing[1], v.spacing[2]}) : 1.0;
+    p.large = v.voxel_count() >= (std::int64_t{1} << 22);
+    const std::string size = std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " voxels";
+    if (o.materials) {
+        if (progress && p.large) progress("materials " + *o.materials + " of " + size);
+        p.field = make_volume_materials3(v, *o.materials, o.max_memory);
+        p.voxel_volume = v.spacing[0] * v.spacing[1] * v.spacing[2];
+        return;
+    }
     VolumeLevelSet3Options lo;
     lo.max_memory = o.max_memory;
     lo.band = o.band;
@@ -61,10 +102,8 @@ void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgr
         lo.mode.iso = o.iso;
         lo.mode.inside_above = o.inside_above.value_or(true);
     }
-    p.large = v.voxel_count() >= (std::int64_t{1} << 22);
     if (progress && p.large)
-        progress(std::string(o.labels ? "signed distance of the labels" : "threshold level set") + " of " + std::to_string(v.dims[0]) +
-                 " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " voxels");
+        progress(std::string(o.labels ? "signed distance of the labels" : "threshold level set") + " of " + size);
     p.owned = make_volume_levelset3(v, lo);
     p.f = p.owned.get();
     // Neither labels nor iso: threshold mode at a guessed iso, which for a
@@ -94,6 +133,8 @@ Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Me
             } else if constexpr (std::is_same_v<T, Shape3>) {
                 p.owned = parse_shape3(in.spec);
                 p.f = p.owned.get();
+            } else if constexpr (std::is_same_v<T, MaterialShapes3>) {
+                p.field = parse_material_shapes3(in.spec);
             } else {
                 p.f = &in.get();
             }
@@ -104,10 +145,10 @@ Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Me
 
 double spacing_of(const Mesh3dOptions& o, const Prepared& p) { return o.spacing ? *o.spacing : p.default_spacing; }
 
-BccOptions stage_options(const Mesh3dOptions& o) {
+BccOptions stage_options(const Mesh3dOptions& o, bool material_shapes) {
     BccOptions b;
-    b.face_rule = o.face_rule;
-    b.alphas = o.alphas_in_use();
+    b.face_rule = o.face_rule_in_use(material_shapes);
+    b.alphas = o.alphas_in_use(material_shapes);
     b.threads = o.threads;
     b.max_memory = o.max_memory;
     return b;
@@ -128,8 +169,11 @@ void volume_warning(double meshed, double reference, double spacing, std::vector
     warnings.emplace_back(text);
 }
 
-// The report from the stage's counts, the certification and the measurements.
-Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
+// The report's counts of the stage's mesh, its non-manifold boundary, and
+// its certification by the certificate of `rule` at `alphas`: when it
+// applies, every tetrahedron but the junctions' (several materials: no
+// certificate yet) is certified.
+Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas) {
     Mesh3dReport r;
     r.lattice_points = m.lattice_points, r.background_tets = m.background_tets;
     r.cut_points = m.cut_points, r.warped = m.warped, r.all_zero_left_out = m.all_zero_left_out;
@@ -137,18 +181,27 @@ Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions
     r.vertices = static_cast<std::int64_t>(m.mesh.vertices.size());
     r.tets = static_cast<std::int64_t>(m.mesh.tets.size());
     r.boundary_faces = static_cast<std::int64_t>(m.mesh.boundary.size());
-    const BccCertification c = bcc_certification(o.face_rule, o.alphas_in_use());
-    r.face_rule = o.face_rule;
+    const NonmanifoldBoundary nb = nonmanifold_boundary(m.mesh);
+    r.nonmanifold_boundary_edges = nb.edges, r.nonmanifold_boundary_vertices = nb.vertices;
+    const BccCertification c = bcc_certification(rule, alphas);
+    r.face_rule = rule;
     r.certified = c.certified;
-    r.uncertified_tets = c.certified ? 0 : r.tets;
+    r.uncertified_tets = c.certified ? m.junction_tets : r.tets;
     r.certified_tets = r.tets - r.uncertified_tets;
     r.certified_min_deg = c.min_deg, r.certified_max_deg = c.max_deg;
     r.uncertified_reason = c.uncertified_reason;
-    if (!c.certified) r.warnings.push_back(c.uncertified_reason);
+    if (c.certified && m.junction_tets > 0)
+        r.uncertified_reason = std::to_string(m.junction_tets) + " junction tetrahedra (where three or four materials meet) "
+                               "have no certificate yet; the bounds hold for the other " + std::to_string(r.certified_tets);
+    if (!r.uncertified_reason.empty()) r.warnings.push_back(r.uncertified_reason);
     r.verified = c.certified && m.verified;
+    return r;
+}
+
+// The report of one region from the stage's counts, the certification and the measurements.
+Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
+    Mesh3dReport r = certified_counts(m, o.face_rule_in_use(), o.alphas_in_use());
     if (o.quality) r.quality = measure_quality3(m.mesh, f);
-    const NonmanifoldBoundary nb = nonmanifold_boundary(m.mesh);
-    r.nonmanifold_boundary_edges = nb.edges, r.nonmanifold_boundary_vertices = nb.vertices;
     if (o.quality)
         if (const auto ref = f.reference_volume()) volume_warning(r.quality.volume, *ref, spacing, r.warnings);
     const ResolutionCheck3 res = check_resolution3(m.mesh, f, spacing);
@@ -157,14 +210,59 @@ Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions
     return r;
 }
 
+// Per output material: its tetrahedra and volume (measure_regions3), its
+// voxels and their volume; the interface faces; the junctions.
+Materials3Figures material_figures(const BccMesh& m, const MaterialField3& field, double voxel_volume, bool keep_background) {
+    Materials3Figures f;
+    const std::vector<RegionMeasure> regions = measure_regions3(m.mesh);
+    for (int k = keep_background ? 0 : 1; k < field.count(); ++k) {
+        Material3Figures x;
+        x.tag = field.tag(k), x.name = field.name(k);
+        for (const RegionMeasure& g : regions)
+            if (g.tag == x.tag) x.tets = g.tets, x.volume = g.volume;
+        x.reference_volume = field.reference_volume(k);
+        if (x.reference_volume && voxel_volume > 0) x.voxels = std::llround(*x.reference_volume / voxel_volume);
+        f.materials.push_back(std::move(x));
+    }
+    f.interface_faces = static_cast<std::int64_t>(m.mesh.interfaces.size());
+    f.junction_background_tets = m.junction_background_tets, f.junction_tets = m.junction_tets;
+    return f;
+}
+
+// Several materials: the lattice over the field's bounds, the parity face
+// rule, the report with the materials' figures and warnings.
+void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOptions& o, double spacing,
+                    const Mesh3dProgress& progress, Mesh3dResult& r) {
+    r.lattice = lattice3_for(p.field->bounds(), spacing, p.field->describe());
+    if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
+        progress("meshing " + std::to_string(p.field->count() - 1) + " materials on a BCC lattice of " +
+                 std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
+    const bool shapes = is_material_shapes(input);
+    BccMesh m = mesh_bcc_materials(*p.field, r.lattice, stage_options(o, shapes), o.keep_background);
+    r.report = certified_counts(m, o.face_rule_in_use(shapes), o.alphas_in_use(shapes));
+    if (o.quality) r.report.quality = measure_quality3(m.mesh);
+    r.report.materials = material_figures(m, *p.field, p.voxel_volume, o.keep_background);
+    for (std::string& w : material_warnings(*r.report.materials)) r.report.warnings.push_back(std::move(w));
+    r.mesh = std::move(m.mesh);
+}
+
+// Blocks of several materials are not built yet.
+void refuse_material_blocks(const Mesh3dInput& input, const Mesh3dOptions& o, const char* what) {
+    if (several_materials(input, o))
+        throw InputError(std::string(what) + ": several materials are not meshed in blocks yet; mesh the whole input with mesh3d");
+}
+
 }  // namespace
+
+bool several_materials(const Mesh3dInput& input, const Mesh3dOptions& o) { return o.materials || is_material_shapes(input); }
 
 void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
     validate(o);  // the table's options (mesh3d_options.hpp)
     if (!o.spacing && !is_volume(input))
-        throw InputError("spacing is required for a shape or a level set (the lattice's cube side, in its units)");
+        throw InputError("spacing is required for a shape, material shapes or a level set (the lattice's cube side, in its units)");
     if (!is_volume(input)) check_volume_options(o);
-    const bcc::Alphas a = o.alphas_in_use();
+    check_material_options(input, o);
+    const bcc::Alphas a = o.alphas_in_use(is_material_shapes(input));
     if (!(a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
           2 * a.short_num < a.short_den))
         throw InputError("the alphas must lie in (0, 1/2)");
@@ -183,27 +281,34 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const Prepared p = level_set_of(input, o, progress);
     const double spacing = spacing_of(o, p);
     Mesh3dResult r;
+    r.warnings = p.warnings;
+    if (p.field) {
+        mesh_materials(p, input, o, spacing, progress, r);
+        r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
+        return r;
+    }
     r.lattice = lattice3_for(*p.f, spacing);
     if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
         progress("meshing a BCC lattice of " + std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
-    BccOptions b = stage_options(o);
-    const bool verify = o.verify && bcc_certificate_applies(b.alphas, o.face_rule);
-    const BccKeyClaims claims = verify ? bcc_key_claims(o.face_rule) : BccKeyClaims{};
+    BccOptions b = stage_options(o, false);
+    const bool verify = o.verify && bcc_certificate_applies(b.alphas, b.face_rule);
+    const BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (verify) b.verify = &claims;
     BccMesh m = mesh_bcc(*p.f, r.lattice, b);
     r.report = report_of(m, *p.f, o, spacing);
     r.mesh = std::move(m.mesh);
-    r.warnings = p.warnings;
     r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
     return r;
 }
 
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    refuse_material_blocks(input, o, "lattice3d");
     const Prepared p = level_set_of(input, o, {});
     return lattice3_for(*p.f, spacing_of(o, p));
 }
 
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
+    refuse_material_blocks(input, o, "mesh3d_block");
     const Prepared p = level_set_of(input, o, {});
     const Lattice3 lattice = lattice3_for(*p.f, spacing_of(o, p));
     for (std::size_t a = 0; a < 3; ++a)
@@ -211,7 +316,7 @@ TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const Cu
             throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) + ", " +
                              std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
                              ") with lo < hi along every axis");
-    return mesh_bcc_block(*p.f, lattice, stage_options(o), block);
+    return mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
 }
 
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {

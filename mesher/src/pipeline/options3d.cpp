@@ -12,6 +12,8 @@ namespace {
 
 using O = Option<Mesh3dOptions>;
 
+constexpr std::array<Named<bool>, 2> background_names{{{false, "drop"}, {true, "keep"}}};
+
 // The label distance band in voxels: 2 to 1000 (OptionError otherwise).
 int band_in_range(std::int64_t n) {
     if (n < 2 || n > 1000) throw OptionError("band", "{band} must be 2 to 1000 voxels (got " + std::to_string(n) + ")");
@@ -32,9 +34,10 @@ std::vector<O> entries() {
                       "for shapes)",
                       [](Mesh3dOptions& o, const OptionValue& v) { o.spacing = v.number(); }));
     t.push_back(entry("face_rule", OptionKind::choice, "",
-                      "how the stencils' quads are split: delaunay (the default: each face quad by the empty-circle "
-                      "test, at alphas (0.2675, 0.39), certified by proofs/bcc_delaunay.cert) or parity (Labelle and "
-                      "Shewchuk's rule at (0.285, 0.3985), certified by proofs/bcc.cert)",
+                      "how the stencils' quads are split: delaunay (the default for one region: each face quad by the "
+                      "empty-circle test, at alphas (0.2675, 0.39), certified by proofs/bcc_delaunay.cert) or parity "
+                      "(Labelle and Shewchuk's rule at (0.285, 0.3985), certified by proofs/bcc.cert; the default and "
+                      "the only rule for several materials, whose two sides of an interface must agree)",
                       [](Mesh3dOptions& o, const OptionValue& v) { o.face_rule = v.choice(face_rule_names); }));
     t.back().choices = words_of(face_rule_names);
     t.push_back(entry("verify", OptionKind::flag, "",
@@ -48,6 +51,12 @@ std::vector<O> entries() {
                       "there, so a wider band costs memory and time and lets the coarse-spacing check measure "
                       "thicker parts",
                       [](Mesh3dOptions& o, const OptionValue& v) { o.band = band_in_range(v.integer()); }));
+    t.push_back(entry("background", OptionKind::choice, "",
+                      "with several materials: output the background's tetrahedra too, region 0 (keep), or not "
+                      "(drop, default; it still bounds the materials)",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.keep_background = v.choice(background_names); }));
+    t.back().group = "input (materials)";
+    t.back().choices = words_of(background_names);
     t.push_back(entry("max_memory", OptionKind::integer, "MB",
                       "refuse, before the work, inputs whose reading or meshing would take more than about MB "
                       "megabytes (default 2048)",

@@ -77,12 +77,15 @@ std::vector<std::string> material_warnings(const Materials3Figures& ms) {
         }
         const double e = relative_error(m);
         if (m.tag == 0 || !m.voxels || *m.voxels < 1000 || !(std::abs(e) > 0.05)) continue;  // (labels, not the background)
-        char text[320];
+        char text[400];
         std::snprintf(text, sizeof text,
                       "material %d (%s): the mesh's volume, %.6g, is %.1f %% %s its %lld voxels' (%.6g): parts thinner than "
                       "about the spacing are %s; a smaller spacing follows the voxels more closely",
                       static_cast<int>(m.tag), m.name.c_str(), m.volume, 100 * std::abs(e), e < 0 ? "below" : "above",
-                      static_cast<long long>(*m.voxels), *m.reference_volume, e < 0 ? "lost" : "thickened");
+                      static_cast<long long>(*m.voxels), *m.reference_volume,
+                      e < 0 ? "lost (and, where the label reaches the volume's edge, the half voxel beyond the outermost "
+                              "voxel centres)"
+                            : "thickened");
         warnings.emplace_back(text);
     }
     return warnings;

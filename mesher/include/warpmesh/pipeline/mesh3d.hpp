@@ -15,7 +15,17 @@
 // (mesh3d.hpp: mesh_bcc, verified against the certificate's per-key claims
 // with `verify`), the certification (bcc_certified.hpp: bcc_certification),
 // the measurements (tet_checks.hpp: measure_quality3, nonmanifold_boundary;
-// resolution.hpp: check_resolution3).  Options are checked once, here
+// resolution.hpp: check_resolution3).
+//
+// Several materials (a label volume with `materials`, or MaterialShapes3):
+// the input's material field (levelset/materials3.hpp:
+// make_volume_materials3, parse_material_shapes3), the lattice over its
+// bounds, mesh_bcc_materials under the parity face rule (every tetrahedron
+// tagged by its material, every face between two materials in
+// TetMesh::interfaces), then the report with per-material figures: the
+// parity certificate covers every tetrahedron but the junctions' (three or
+// four materials meet), which have no certificate yet and are counted as
+// uncertified.  Options are checked once, here
 // (validate), with messages naming the options by their field names.
 // Defined in warpmesh::io (it reads volumes).
 #pragma once
@@ -45,8 +55,13 @@ struct Mesh3dOptions {
     // volume's default, its smallest voxel size (1 in voxel units); shapes
     // and level sets need one.
     std::optional<double> spacing;
-    FaceRule face_rule = default_face_rule;  // how the stencils' quads are split (mesh3d.hpp)
-    // Violation thresholds (α_long, α_short) in (0, 1/2); none: face_rule_alphas(face_rule).
+    // How the stencils' quads are split (mesh3d.hpp).  None: the input's
+    // default (face_rule_in_use): the parity rule for several materials,
+    // whose two sides of an interface must agree (generic_bcc_materials.hpp),
+    // default_face_rule for one region.  Delaunay with several materials is
+    // refused (validate).
+    std::optional<FaceRule> face_rule;
+    // Violation thresholds (α_long, α_short) in (0, 1/2); none: face_rule_alphas(face_rule_in_use()).
     std::optional<bcc::Alphas> alphas;
     // Check every tetrahedron, once, against its own background
     // tetrahedron's key claim in the face rule's certificate (only when the
@@ -71,23 +86,53 @@ struct Mesh3dOptions {
     std::optional<Units> units;
     // Voxel size override (x[, y[, z]], missing entries repeat the last), mm.
     std::vector<double> voxel_size;
+    // Several materials of a label volume: "all" (every label but 0, which
+    // is the background) or a label list ("3,41,42", "1000-1035"; every
+    // other voxel joins the background); make_volume_materials3.  Excludes
+    // labels, iso and inside.
+    std::optional<std::string> materials;
+    // ---- several materials (materials, or a MaterialShapes3 input)
+    // Output the background's tetrahedra too (region 0); false: it only
+    // bounds the materials.
+    bool keep_background = false;
 
-    bcc::Alphas alphas_in_use() const { return alphas ? *alphas : face_rule_alphas(face_rule); }
+    // The rule and alphas the mesh is split at: the options', else the
+    // input's defaults.  `material_shapes`: the input is MaterialShapes3
+    // (several materials without `materials`).
+    FaceRule face_rule_in_use(bool material_shapes = false) const {
+        return face_rule ? *face_rule : (materials || material_shapes) ? FaceRule::parity : default_face_rule;
+    }
+    bcc::Alphas alphas_in_use(bool material_shapes = false) const {
+        return alphas ? *alphas : face_rule_alphas(face_rule_in_use(material_shapes));
+    }
 };
 
 // The input: a volume file (read_volume), a volume already read, an analytic
-// shape (parse_shape3's syntax) or a level set of the caller's.
+// shape (parse_shape3's syntax), a level set of the caller's, or analytic
+// materials ("1=sphere:0,0,0,1;2=sphere:0,0,0,0.5": parse_material_shapes3's
+// syntax, tag=shape, a later shape winning where they overlap).
 struct VolumeFile {
     std::string path;
 };
 struct Shape3 {
     std::string spec;
 };
-using Mesh3dInput = std::variant<VolumeFile, std::reference_wrapper<const Volume>, Shape3, std::reference_wrapper<const LevelSet3>>;
+struct MaterialShapes3 {
+    std::string spec;
+};
+using Mesh3dInput = std::variant<VolumeFile, std::reference_wrapper<const Volume>, Shape3, std::reference_wrapper<const LevelSet3>,
+                                 MaterialShapes3>;
+
+// Whether the input is meshed as several materials (options.materials, or
+// MaterialShapes3).
+bool several_materials(const Mesh3dInput& input, const Mesh3dOptions& options);
 
 // Throws InputError naming the option if an option is out of range, two
 // options exclude each other, or an option does not apply to the input
-// (volume options on a shape or a level set; no spacing for one).  The
+// (volume options on a shape or a level set; no spacing for one; materials
+// on anything but a volume, or with labels, iso or inside; keep_background
+// with one region; the Delaunay face rule or verify with several
+// materials).  The
 // pipeline calls it; clients may call it early (before reading anything).
 void validate(const Mesh3dInput& input, const Mesh3dOptions& options);
 
@@ -112,7 +157,9 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& options, cons
 // (its cubes, to split into blocks), the mesh of the cubes [lo, hi) of it
 // (0 <= lo < hi <= cubes along every axis; InputError otherwise), and the
 // merge of blocks that tile it — equal to mesh3d's mesh, with the counts of
-// the report only.  A worker needs only the input and the options.
+// the report only.  A worker needs only the input and the options.  Several
+// materials are not meshed in blocks yet: lattice3d and mesh3d_block throw
+// InputError for them.
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);

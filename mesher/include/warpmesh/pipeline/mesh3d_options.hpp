@@ -14,7 +14,7 @@ namespace warpmesh {
 // calls it, then checks what depends on the input.
 void validate(const Mesh3dOptions& options, const GivenOptions& given = {});
 
-// spacing, face_rule, verify, band, max_memory (threads, alphas, quality: set by
+// spacing, face_rule, verify, band, background, max_memory (threads, alphas, quality: set by
 // the clients and by tests, not options).
 const OptionTable<Mesh3dOptions>& mesh3d_option_table();
 
