@@ -85,9 +85,12 @@ struct Volume3 {
     Volume volume;
 };
 
-// The pipeline's input: a shape string or a Volume3.
+// The pipeline's input: a shape string, a Volume3, a VolumeFile (a path) or
+// MaterialShapes3 ("T=S;T=S").
 Mesh3dInput mesh3d_input(const py::object& input) {
     if (py::isinstance<py::str>(input)) return Shape3{input.cast<std::string>()};
+    if (py::isinstance<MaterialShapes3>(input)) return input.cast<MaterialShapes3>();
+    if (py::isinstance<VolumeFile>(input)) return input.cast<VolumeFile>();
     return std::cref(input.cast<const Volume3&>().volume);
 }
 
@@ -169,6 +172,7 @@ Mesh3dOptions mesh3d_options(const py::dict& kw) {
     if (kw.contains("iso")) o.iso = kw["iso"].cast<double>();
     if (kw.contains("inside")) o.inside_above = kw["inside"].cast<std::string>() == "above";
     if (kw.contains("voxel_size")) o.voxel_size = kw["voxel_size"].cast<std::vector<double>>();
+    if (kw.contains("materials")) o.materials = kw["materials"].cast<std::string>();
     return o;
 }
 
@@ -408,7 +412,11 @@ void bind_mesh3d(py::module_& m) {
     def_view<std::int32_t>(result, "regions", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.region; });
     def_view<std::int32_t>(result, "boundary_faces", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary; });
     def_view<std::int32_t>(result, "boundary_tags", 1, [](const Mesh3dResult& r) -> const auto& { return r.mesh.boundary_tag; });
+    def_view<std::int32_t>(result, "interfaces", 3, [](const Mesh3dResult& r) -> const auto& { return r.mesh.interfaces; });
+    def_view<std::int32_t>(result, "interface_regions", 2,
+                           [](const Mesh3dResult& r) -> const auto& { return r.mesh.interface_regions; });
     result.def_property_readonly("cell_data", [](py::object self) { return cell_data_views(self, self.cast<const Mesh3dResult&>()); })
+        .def_property_readonly("region_names", [](const Mesh3dResult& r) { return r.mesh.region_names; })
         .def_property_readonly("warnings", [](const Mesh3dResult& r) { return r.warnings; })
         .def("to_json", [](const Mesh3dResult& r) { return to_json(r.report); })
         .def("to_text", [](const Mesh3dResult& r) { return to_text(r.report); });
@@ -428,6 +436,9 @@ void bind_mesh3d(py::module_& m) {
                  return v;
              }),
              py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"));
+    py::class_<VolumeFile>(m, "VolumeFile").def(py::init([](std::string path) { return VolumeFile{std::move(path)}; }), py::arg("path"));
+    py::class_<MaterialShapes3>(m, "MaterialShapes3")
+        .def(py::init([](std::string spec) { return MaterialShapes3{std::move(spec)}; }), py::arg("spec"));
     m.def(
         "mesh3d",
         [](const py::object& input, const py::dict& kw) {

@@ -12,6 +12,8 @@ with certified angle bounds.
 
     >>> t = warpmesh.mesh3d(labels_zyx, label="nonzero", voxel_size=(1, 1, 1.5))
     >>> t.points.shape, t.tetrahedra.shape            # (n, 3) float64, (t, 4) int32
+    >>> a = warpmesh.mesh3d(labels_zyx, materials="all")  # every label, one mesh
+    >>> a.regions, a.interfaces, a.interface_regions  # label per tetrahedron, shared faces
 
 The functions release the GIL while meshing (threads can mesh in parallel; the
 mesher itself uses OpenMP threads, `threads=` per call).  Every bad input
@@ -20,6 +22,7 @@ file it cannot read) raises warpmesh.InputError, a subclass of ValueError; an
 output that cannot be written raises OSError (warpmesh.OutputError).
 """
 import json
+import os
 import warnings
 
 import numpy as np
@@ -460,10 +463,18 @@ class TetMesh:
       regions         (t,)   int32     region tag per tetrahedron (1)
       boundary_faces  (b, 3) int32     the faces of one tetrahedron, normal
                                        (p1 - p0) x (p2 - p0) pointing out
-      boundary_tags   (b,)   int32     1 = on the level set, 2 = on the lattice border
-    report (dict, the CLI's --report JSON: counts, measured and certified
-    dihedral bounds, radius ratios, boundary fidelity), warnings (list of str,
-    also issued as Python warnings).
+      boundary_tags   (b,)   int32     1 = on the level set (or against the dropped
+                                       background), 2 = on the lattice border
+      interfaces      (k, 3) int32     faces between two regions (several materials;
+                                       else empty), normal pointing from
+                                       interface_regions[:, 0] into [:, 1]
+      interface_regions (k, 2) int32   those two regions' tags
+    region_names (dict tag -> name, several materials: "label_41",
+    "material_2", "background"), report (dict, the CLI's --report JSON:
+    counts, measured and certified dihedral bounds, radius ratios, boundary
+    fidelity; several materials: "materials", per material its tetrahedra,
+    volume and voxels' volume, "interface_faces", "junctions"), warnings
+    (list of str, also issued as Python warnings).
     """
 
     def __init__(self, core):
@@ -476,6 +487,9 @@ class TetMesh:
     regions = property(lambda self: self._core.regions)
     boundary_faces = property(lambda self: self._core.boundary_faces)
     boundary_tags = property(lambda self: self._core.boundary_tags)
+    interfaces = property(lambda self: self._core.interfaces)
+    interface_regions = property(lambda self: self._core.interface_regions)
+    region_names = property(lambda self: dict(self._core.region_names))
     cell_data = property(lambda self: self._core.cell_data)
 
     @property
@@ -556,12 +570,23 @@ def _labels3(label, labels):
         raise InputError(f"labels must be an int, a list of ints or a string, got {label!r}") from None
 
 
-def _input3(volume, voxel_size, origin, options):
-    """The pipeline's input: a shape string, or a numpy volume with its
-    geometry (voxel_size, origin); a voxel_size given with a shape goes to
-    the options (the library refuses it)."""
+def _input3(volume, voxel_size, origin, options, shapes=None):
+    """The pipeline's input: a shape string, material shapes (shapes=), a
+    volume file (an os.PathLike path), or a numpy volume with its geometry
+    (voxel_size, origin); a voxel_size given with a shape goes to the options
+    (the library refuses it)."""
     size = None if voxel_size is None else _triple("voxel_size", voxel_size, True)
-    if isinstance(volume, str):
+    if shapes is not None:
+        if volume is not None:
+            raise InputError("give a volume or shapes=, not both")
+        if not isinstance(shapes, str):
+            raise InputError(f"shapes must be a string such as \"1=sphere:0,0,0,1;2=sphere:0,0,0,0.5\", got {shapes!r}")
+        volume = _core.MaterialShapes3(shapes)
+    elif volume is None:
+        raise InputError("give a volume (an array, a path or a shape string) or shapes=")
+    elif isinstance(volume, os.PathLike):
+        volume = _core.VolumeFile(os.fspath(volume))
+    if isinstance(volume, (str, _core.MaterialShapes3, _core.VolumeFile)):
         if size is not None:
             options["voxel_size"] = list(size)
         return volume
@@ -569,11 +594,15 @@ def _input3(volume, voxel_size, origin, options):
     return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False))
 
 
-def _options3(function, values, label, labels, iso, inside, threads=None):
+def _options3(function, values, label, labels, iso, inside, threads=None, materials=None):
     """The library's options of a call: the table's keywords given (a call's
     locals(); the table converts and checks them, as the CLI's flags) and
     the input's, converted here (checked against the others by the library)."""
     o = _given(_OPTIONS3D, function, values)
+    if materials is not None:
+        if not isinstance(materials, str):
+            materials = _labels3(materials, None)
+        o["materials"] = materials
     label = _labels3(label, labels)
     if label is not None:
         o["labels"] = label
@@ -586,18 +615,22 @@ def _options3(function, values, label, labels, iso, inside, threads=None):
     return o
 
 
-def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
-           origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False, band=None, max_memory=None,
-           max_memory_mb=None, threads=None):
+def mesh3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
+           background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False,
+           band=None, max_memory=None, max_memory_mb=None, threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
     proofs/bcc_delaunay.cert for the default face rule, proofs/bcc.cert for
-    parity).
+    parity); or of several materials in one conforming mesh (materials= of a
+    label volume, shapes= of analytic materials).
 
     volume      one of
                 * a 3D numpy array indexed (z, y, x), as SimpleITK's
                   GetArrayFromImage and tifffile give it: voxel (i, j, k) =
                   volume[k, j, i] lies at origin + (i sx, j sy, k sz);
+                * a volume file as a path (pathlib.Path or another
+                  os.PathLike: NRRD, NIfTI, multi-page TIFF, in mm when it
+                  gives a voxel size), as the CLI's INPUT;
                 * a shape string as the CLI's --shape: sphere:cx,cy,cz,r
                   ellipsoid:cx,cy,cz,a,b,c  torus:cx,cy,cz,R,r
                   box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r and
@@ -612,9 +645,22 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
     iso         threshold mode instead: inside where the trilinear volume is
                 above iso (inside="above", the default) or below it
                 (inside="below"); default the middle of the value range
+    materials   several materials of a label volume in one mesh: "all" (every
+                label but 0, the background) or labels (an int list or
+                "3,41,42", "1000-1035"); every other voxel is the background.
+                Each tetrahedron's region is its label (regions), the faces
+                between two materials are listed (interfaces,
+                interface_regions); report["materials"] gives each material's
+                volume beside its voxels'.  Split by the parity face rule,
+                certified but for the junction tetrahedra (three or four
+                materials meet), which have no certificate yet.
+    shapes      instead of volume: analytic materials as the CLI's --shapes,
+                "1=sphere:0,0,0,1;2=sphere:0,0,0,0.5" (tag=shape; a later
+                shape wins where they overlap; outside all: the background,
+                tag 0); needs spacing
     voxel_size  (sx, sy, sz) in mm (one number: cubic voxels), origin the
                 position of voxel (0, 0, 0); without voxel_size the volume is
-                meshed in voxel units
+                meshed in voxel units (a file: its own geometry)
     threads     OpenMP threads for this call (default: all cores)
 
     The options (the library's table, as the CLI's; max_memory_mb is
@@ -629,8 +675,11 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
             raise InputError("max_memory_mb is max_memory's former name: give one of them")
         max_memory = max_memory_mb
     if callable(volume) and not isinstance(volume, str):
-        if label is not None or labels is not None or iso is not None or voxel_size is not None:
-            raise InputError("label, iso and voxel_size apply to volumes (numpy arrays), not to shapes or functions")
+        if label is not None or labels is not None or iso is not None or voxel_size is not None or materials is not None:
+            raise InputError("label, iso, voxel_size and materials apply to volumes (numpy arrays), not to shapes or "
+                             "functions")
+        if shapes is not None:
+            raise InputError("give a function or shapes=, not both")
         options = _options3(mesh3d, locals(), None, None, None, inside)
         if box is None:
             raise InputError("a function needs box=(xmin, ymin, zmin, xmax, ymax, zmax) around its region")
@@ -641,8 +690,8 @@ def mesh3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=No
     else:
         if box is not None:
             raise InputError("box applies to a function, not to a volume or a shape")
-        options = _options3(mesh3d, locals(), label, labels, iso, inside, threads)
-        core = _core.mesh3d(_input3(volume, voxel_size, origin, options), options)
+        options = _options3(mesh3d, locals(), label, labels, iso, inside, threads, materials)
+        core = _core.mesh3d(_input3(volume, voxel_size, origin, options, shapes), options)
     m = TetMesh(core)
     for w in m.warnings:
         warnings.warn("warpmesh: " + w, RuntimeWarning, stacklevel=2)

@@ -22,7 +22,8 @@ INPUT_KEYWORDS = {
     warpmesh.mesh: {"iso", "inside", "labels", "materials", "pixel_size", "threads"},
     warpmesh.mesh_shape: {"threads"},
     warpmesh.mesh_shapes: {"threads"},
-    warpmesh.mesh3d: {"label", "labels", "iso", "inside", "voxel_size", "origin", "box", "threads", "max_memory_mb"},
+    warpmesh.mesh3d: {"label", "labels", "iso", "inside", "materials", "shapes", "voxel_size", "origin", "box", "threads",
+                      "max_memory_mb"},
 }
 
 
