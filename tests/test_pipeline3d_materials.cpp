@@ -129,10 +129,13 @@ BOOST_AUTO_TEST_CASE(nested_spheres_report_each_material_and_are_certified) {
 }
 
 BOOST_AUTO_TEST_CASE(junction_tetrahedra_are_counted_uncertified_with_the_reason) {
+    Mesh3dOptions o = spaced(0.1);
+    o.verify = true;  // every two-material side against its key (a violation throws std::logic_error)
     const Mesh3dResult r = mesh3d(
-        MaterialShapes3{"1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4"},
-        spaced(0.1));
+        MaterialShapes3{"1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4"}, o);
     const Mesh3dReport& rep = r.report;
+    BOOST_TEST(rep.verified);
+    BOOST_TEST(check_tet_mesh(r.mesh).ok);
     BOOST_TEST(rep.materials->junction_background_tets > 0);
     BOOST_TEST(rep.materials->junction_tets > 0);
     BOOST_TEST(rep.certified);
@@ -142,6 +145,18 @@ BOOST_AUTO_TEST_CASE(junction_tetrahedra_are_counted_uncertified_with_the_reason
     BOOST_TEST(warned(r, "have no certificate yet"));
     BOOST_TEST(to_json(rep).find("\"uncertified_tetrahedra\": " + std::to_string(rep.uncertified_tets)) != std::string::npos);
     BOOST_TEST(to_text(rep).find("uncertified: " + std::to_string(rep.uncertified_tets) + " (") != std::string::npos);
+    // The certified ones are within the certificate's bounds, the filled all-zero ones included.
+    BOOST_TEST(rep.materials->all_zero_filled + r.report.all_zero_left_out > 0);
+    BOOST_TEST(to_json(rep).find("\"all_zero_filled\": " + std::to_string(rep.materials->all_zero_filled)) != std::string::npos);
+    double lo = 180, hi = 0;
+    for (std::size_t t = 0; t < r.mesh.tets.size(); ++t) {
+        std::array<Point3, 4> p{};
+        for (std::size_t k = 0; k < 4; ++k) p[k] = r.mesh.vertices[static_cast<std::size_t>(r.mesh.tets[t][k])];
+        for (const double a : dihedral_angles_deg(p)) lo = std::min(lo, a), hi = std::max(hi, a);
+    }
+    BOOST_TEST_MESSAGE("dihedral angles " << lo << " .. " << hi << " (junctions included)");
+    BOOST_TEST(lo > 0);
+    BOOST_TEST(hi < 180);
 }
 
 // A label volume: voxel counts and their volume per label; a label of one
@@ -200,8 +215,6 @@ BOOST_AUTO_TEST_CASE(options_that_do_not_apply_to_several_materials_are_refused_
     BOOST_TEST(option_error([&] { validate(std::cref(v), o); }, "materials", "expects all or a label list"));
     o.materials = "all", o.face_rule = FaceRule::delaunay;
     BOOST_TEST(option_error([&] { validate(std::cref(v), o); }, "face_rule", "face_rule=delaunay is not available with several materials"));
-    o.face_rule = FaceRule::parity, o.verify = true;
-    BOOST_TEST(option_error([&] { validate(std::cref(v), o); }, "verify", "not available with several materials yet"));
     // keep_background with one region; materials on a shape.
     Mesh3dOptions one = spaced(0.3);
     one.keep_background = true;

@@ -49,7 +49,7 @@ def labelled(tmp_path_factory):
     write_nrrd(d / "l.nrrd", labels_volume(), (0.5, 0.5, 0.5))
     outs = ["l.msh", "l.vtu", "l.xdmf", "l.inp", "l.mesh"]
     r = mesh3d(["l.nrrd", "--materials", "all", "--spacing", "1", "-o", outs[0],
-                *[a for o in outs[1:] for a in ("--also", o)], "--report", "l.json"], d)
+                *[a for o in outs[1:] for a in ("--also", o)], "--report", "l.json", "--verify"], d)
     mesh3d(["l.nrrd", "--materials", "all", "--spacing", "1", "--msh-version", "2.2", "-o", "l22.msh", "--quiet"], d)
     return d, r, json.loads((d / "l.json").read_text())
 
@@ -70,6 +70,7 @@ def test_report_gives_every_label_with_its_voxels(labelled):
     assert "material 9 (label_9) got no tetrahedron" in r.stderr
     assert "  5 label_5: " in r.stdout and "interface faces: " in r.stdout
     assert report["face_rule"] == "parity" and report["certified"]["certificate"] == "proofs/bcc.cert"
+    assert report["certified"]["verified"] and "each verified" in r.stdout  # --verify: every two-material side
     # The files agree with the report: tetrahedra and volume per region.
     m = meshio.read(d / "l.vtu")
     tets, region = m.cells_dict["tetra"], m.cell_data["region"][0]
@@ -167,7 +168,6 @@ def test_shapes_and_background_keep(tmp_path):
     (["l.nrrd", "--materials", "0,3"], 1, "label 0 is the background"),
     (["l.nrrd", "--materials", "3,4"], 1, "not present in the volume: 4"),
     (["l.nrrd", "--materials", "all", "--face-rule", "delaunay"], 2, "--face-rule delaunay is not available with several"),
-    (["l.nrrd", "--materials", "all", "--verify"], 2, "--verify is not available with several materials yet"),
     (["l.nrrd", "--label", "3", "--background", "keep"], 2, "--background applies to several materials"),
     (["--shape", "sphere:0,0,0,1", "--spacing", "0.3", "--materials", "all"], 2, "materials apply to volumes"),
     (["--shapes", NESTED], 2, "spacing is required"),

@@ -32,8 +32,7 @@ void check_volume_options(const Mesh3dOptions& o) {
 }
 
 // The options of several materials: materials excludes the region options,
-// keep_background needs several materials, which take the parity face rule
-// and are not verified yet.
+// keep_background needs several materials, which take the parity face rule.
 void check_material_options(const Mesh3dInput& input, const Mesh3dOptions& o) {
     if (o.materials && (o.labels || o.iso || o.inside_above))
         throw OptionError("materials", "{materials} (every label its own region) excludes labels, iso and inside (one region)");
@@ -54,9 +53,6 @@ void check_material_options(const Mesh3dInput& input, const Mesh3dOptions& o) {
         throw OptionError("face_rule", "{face_rule=delaunay} is not available with several materials: the two sides of an "
                                        "interface must split their shared quads alike, which the parity rule does "
                                        "({face_rule=parity}, the default there)");
-    if (o.verify)
-        throw OptionError("verify", "{verify} is not available with several materials yet: the junction tetrahedra (three "
-                                    "or four materials) have no certificate to verify them against");
 }
 
 // The input's level set (or material field), its default spacing, and the
@@ -172,7 +168,8 @@ void volume_warning(double meshed, double reference, double spacing, std::vector
 // The report's counts of the stage's mesh, its non-manifold boundary, and
 // its certification by the certificate of `rule` at `alphas`: when it
 // applies, every tetrahedron but the junctions' (several materials: no
-// certificate yet) is certified.
+// certificate yet) is certified — each from a certified key, or an all-zero
+// background tetrahedron output only because it meets the claim.
 Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas) {
     Mesh3dReport r;
     r.lattice_points = m.lattice_points, r.background_tets = m.background_tets;
@@ -226,6 +223,7 @@ Materials3Figures material_figures(const BccMesh& m, const MaterialField3& field
     }
     f.interface_faces = static_cast<std::int64_t>(m.mesh.interfaces.size());
     f.junction_background_tets = m.junction_background_tets, f.junction_tets = m.junction_tets;
+    f.all_zero_filled = m.all_zero_filled, f.all_zero_voids = m.all_zero_voids;
     return f;
 }
 
@@ -238,8 +236,16 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
         progress("meshing " + std::to_string(p.field->count() - 1) + " materials on a BCC lattice of " +
                  std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
     const bool shapes = is_material_shapes(input);
-    BccMesh m = mesh_bcc_materials(*p.field, r.lattice, stage_options(o, shapes), o.keep_background);
-    r.report = certified_counts(m, o.face_rule_in_use(shapes), o.alphas_in_use(shapes));
+    BccOptions b = stage_options(o, shapes);
+    // Within the parity certificate: an all-zero background tetrahedron is
+    // output iff it meets the certificate's claim, and verify checks every
+    // two-material side against its key's claim.
+    const bool certified = bcc_certificate_applies(b.alphas, b.face_rule);
+    if (const auto c = bcc_claim(b.face_rule); certified && c) b.fill_claim = BccKeyClaim{c->cos2_min, c->cos2_max};
+    const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
+    if (o.verify && certified) b.verify = &claims;
+    BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
+    r.report = certified_counts(m, b.face_rule, b.alphas);
     if (o.quality) r.report.quality = measure_quality3(m.mesh);
     r.report.materials = material_figures(m, *p.field, p.voxel_volume, o.keep_background);
     for (std::string& w : material_warnings(*r.report.materials)) r.report.warnings.push_back(std::move(w));

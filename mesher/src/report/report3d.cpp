@@ -48,6 +48,8 @@ void material_fields(const Materials3Figures& ms, ReportFields& fields) {
     fields.emplace_back("interface_faces", n(ms.interface_faces));
     fields.emplace_back("junctions", "{\"background_tetrahedra\": " + n(ms.junction_background_tets) + ", \"tetrahedra\": " +
                                          n(ms.junction_tets) + ", \"certified\": false}");
+    fields.emplace_back("all_zero_filled", n(ms.all_zero_filled));
+    fields.emplace_back("all_zero_voids", n(ms.all_zero_voids));
 }
 
 // The multi-material lines of the text report.
@@ -63,6 +65,8 @@ std::string materials_text(const Materials3Figures& ms) {
     }
     o << "interface faces: " << ms.interface_faces << "; junctions (3 or 4 materials): " << ms.junction_background_tets
       << " background tetrahedra, " << ms.junction_tets << " tetrahedra, not certified yet\n";
+    o << "all-zero background tetrahedra: " << ms.all_zero_filled << " output within the certificate's claim, "
+      << ms.all_zero_voids << " left out inside a material (voids)\n";
     return o.str();
 }
 

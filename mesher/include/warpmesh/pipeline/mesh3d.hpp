@@ -22,10 +22,11 @@
 // make_volume_materials3, parse_material_shapes3), the lattice over its
 // bounds, mesh_bcc_materials under the parity face rule (every tetrahedron
 // tagged by its material, every face between two materials in
-// TetMesh::interfaces), then the report with per-material figures: the
+// TetMesh::interfaces; all-zero background tetrahedra output iff they meet
+// the certificate's claim), then the report with per-material figures: the
 // parity certificate covers every tetrahedron but the junctions' (three or
 // four materials meet), which have no certificate yet and are counted as
-// uncertified.  Options are checked once, here
+// uncertified; `verify` checks every two-material side against its key.  Options are checked once, here
 // (validate), with messages naming the options by their field names.
 // Defined in warpmesh::io (it reads volumes).
 #pragma once
@@ -131,8 +132,7 @@ bool several_materials(const Mesh3dInput& input, const Mesh3dOptions& options);
 // options exclude each other, or an option does not apply to the input
 // (volume options on a shape or a level set; no spacing for one; materials
 // on anything but a volume, or with labels, iso or inside; keep_background
-// with one region; the Delaunay face rule or verify with several
-// materials).  The
+// with one region; the Delaunay face rule with several materials).  The
 // pipeline calls it; clients may call it early (before reading anything).
 void validate(const Mesh3dInput& input, const Mesh3dOptions& options);
 

@@ -30,13 +30,17 @@ struct Material3Figures {
 
 // The multi-material part of the report: every material that is output
 // (the background only when kept), the faces between two materials
-// (TetMesh::interfaces), and the junctions: background tetrahedra where
-// three or four materials meet and the tetrahedra they output (the cone
-// stencil, generic_bcc_materials.hpp; no certificate yet).
+// (TetMesh::interfaces), the junctions: background tetrahedra where three
+// or four materials meet and the tetrahedra they output (the cone stencil,
+// generic_bcc_materials.hpp; no certificate yet), and the all-zero
+// background tetrahedra output because they meet the certificate's claim
+// (filled) or left out inside an output material (voids; mesh3d.hpp:
+// BccMesh).
 struct Materials3Figures {
     std::vector<Material3Figures> materials;
     std::int64_t interface_faces = 0;
     std::int64_t junction_background_tets = 0, junction_tets = 0;
+    std::int64_t all_zero_filled = 0, all_zero_voids = 0;
 };
 
 struct Mesh3dReport {
@@ -83,7 +87,8 @@ struct Mesh3dReport {
 // non-manifold edges and vertices; several materials: "materials" (per
 // material tag, name, tetrahedra, volume, voxels, reference_volume,
 // relative_error), "materials_without_tetrahedra", "interface_faces",
-// "junctions" {background_tetrahedra, tetrahedra, certified}; "certified":
+// "junctions" {background_tetrahedra, tetrahedra, certified},
+// "all_zero_filled", "all_zero_voids"; "certified":
 // {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
 // "uncertified_reason", warnings, seconds) and as text.
 std::string to_json(const Mesh3dReport& report);
