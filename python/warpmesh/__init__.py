@@ -460,7 +460,8 @@ class TetMesh:
                                        with voxel_size, else voxel units; a shape's units)
       tetrahedra      (t, 4) int32     vertex indices, every tetrahedron positively
                                        oriented: det(p1 - p0, p2 - p0, p3 - p0) > 0
-      regions         (t,)   int32     region tag per tetrahedron (1)
+      regions         (t,)   int32     region tag per tetrahedron (1; several
+                                       materials: the material's tag, a label's value)
       boundary_faces  (b, 3) int32     the faces of one tetrahedron, normal
                                        (p1 - p0) x (p2 - p0) pointing out
       boundary_tags   (b,)   int32     1 = on the level set (or against the dropped
