@@ -144,6 +144,25 @@ def test_xdmf_medit_and_inp_carry_the_regions_and_interfaces(labelled):
     assert "interface_3_5" in inp.point_sets and "interface_3_7" in inp.point_sets
 
 
+def test_units_voxel_size_and_memory_apply_to_materials(tmp_path):
+    """--units pixels meshes in voxel indices (the 0.5 mm voxels' volumes
+    x 8), --pixel-size overrides the header's voxel size, --max-memory
+    refuses before meshing."""
+    write_nrrd(tmp_path / "l.nrrd", labels_volume(), (0.5, 0.5, 0.5))
+    runs = {"mm": ["--spacing", "1"], "px": ["--units", "pixels", "--spacing", "2"], "big": ["--pixel-size", "1", "--spacing", "2"]}
+    reports = {}
+    for name, args in runs.items():
+        mesh3d(["l.nrrd", "--materials", "3,5", *args, "--report", f"{name}.json", "--quiet"], tmp_path)
+        reports[name] = {m["tag"]: m for m in json.loads((tmp_path / f"{name}.json").read_text())["materials"]}
+    for tag in (3, 5):
+        mm, px, big = (reports[n][tag] for n in ("mm", "px", "big"))
+        assert mm["voxels"] == px["voxels"] == big["voxels"]
+        assert px["reference_volume"] == 8 * mm["reference_volume"] == big["reference_volume"]
+        assert abs(px["volume"] / mm["volume"] - 8) < 1e-6 * 8 and abs(big["volume"] - px["volume"]) < 1e-6 * px["volume"]
+    r = mesh3d(["l.nrrd", "--materials", "all", "--spacing", "0.01", "--max-memory", "1", "-o", "x.msh"], tmp_path, expect=1)
+    assert "--max-memory" in r.stderr and not (tmp_path / "x.msh").exists()
+
+
 def test_shapes_and_background_keep(tmp_path):
     """--shapes: analytic materials; --background keep adds the background
     (region 0; in .msh, whose tags are positive, the largest tag + 1, named
