@@ -190,6 +190,22 @@ BOOST_AUTO_TEST_CASE(label_volumes_report_voxels_and_name_lost_and_thin_labels) 
     BOOST_TEST(!warned(r, "material 3 "));
     BOOST_TEST(to_json(rep).find("\"materials_without_tetrahedra\": [" + std::string(plate.tets == 0 ? "8, 11" : "11") + "]") !=
                std::string::npos);
+    // Planar interfaces a quarter spacing off lattice planes would be
+    // flattened into voids: at twice the voxel size the lattice is centred,
+    // and the block and the plate keep their faces with the background.
+    BOOST_TEST(rep.materials->all_zero_voids == 0);
+    // At the voxel size (the default) a lattice corner sits on a voxel
+    // centre (two cubes in from the lattice's corner: voxel 0's, at x = 0),
+    // so the voxel interfaces lie on lattice planes: no voids either.
+    Mesh3dOptions d;
+    d.materials = "3,8";
+    const Mesh3dResult at = mesh3d(std::cref(v), d);
+    BOOST_TEST(at.lattice.spacing == 0.5);
+    BOOST_TEST(at.lattice.origin.x == -2 * 0.5);
+    BOOST_TEST(mesh3d(std::cref(v), o).lattice.origin.x != -2 * 1.0);  // twice the voxel size: centred
+    BOOST_TEST(at.report.materials->all_zero_voids == 0);
+    BOOST_TEST(check_tet_mesh(at.mesh).ok);
+    BOOST_TEST(std::abs(material(at.report, 3).volume / *material(at.report, 3).reference_volume - 1) < 0.05);
     // Only some labels: the others join the background; the background kept never warns of its volume.
     o.materials = "3,11";
     o.keep_background = true;

@@ -62,6 +62,7 @@ struct Prepared {
     const LevelSet3* f = nullptr;
     std::unique_ptr<MaterialField3> field;  // several materials (then no f)
     double voxel_volume = 0;                // a label volume's voxel (materials: voxel counts)
+    std::array<double, 3> voxel{0, 0, 0};   // a label volume's voxel sizes (materials)
     double default_spacing = 0;  // 0: none (shapes, level sets)
     bool large = false;          // a volume of 2^22 voxels or more (progress)
     std::vector<std::string> warnings;
@@ -87,6 +88,7 @@ void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgr
         if (progress && p.large) progress("materials " + *o.materials + " of " + size);
         p.field = make_volume_materials3(v, *o.materials, o.max_memory);
         p.voxel_volume = v.spacing[0] * v.spacing[1] * v.spacing[2];
+        p.voxel = v.spacing;
         return;
     }
     VolumeLevelSet3Options lo;
@@ -227,11 +229,29 @@ Materials3Figures material_figures(const BccMesh& m, const MaterialField3& field
     return f;
 }
 
-// Several materials: the lattice over the field's bounds, the parity face
+// Whether a lattice with a corner on a voxel centre has the voxel
+// interfaces (midway between centres) on its planes of points (spaced half
+// the spacing apart): iff voxel / spacing is an odd integer along every axis
+// (the default spacing, the voxel size, is).  Otherwise such a lattice can
+// put them a quarter spacing off its planes, where planar interfaces warp
+// whole background tetrahedra flat (left out: voids), and the lattice is
+// centred on the field instead.
+bool lattice_on_voxel_interfaces(const std::array<double, 3>& voxel, double spacing) {
+    for (const double v : voxel) {
+        const double k = std::round(v / spacing);
+        if (!(v > 0) || std::abs(v / spacing - k) > 1e-9 * k || std::fmod(k, 2.0) != 1) return false;
+    }
+    return true;
+}
+
+// Several materials: the lattice over the field's bounds (a label volume's
+// with a corner at its first voxel centre where that puts the voxel
+// interfaces on lattice planes: lattice3_for's at_min), the parity face
 // rule, the report with the materials' figures and warnings.
 void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOptions& o, double spacing,
                     const Mesh3dProgress& progress, Mesh3dResult& r) {
-    r.lattice = lattice3_for(p.field->bounds(), spacing, p.field->describe());
+    const bool at_min = o.materials && lattice_on_voxel_interfaces(p.voxel, spacing);
+    r.lattice = lattice3_for(p.field->bounds(), spacing, p.field->describe(), at_min);
     if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
         progress("meshing " + std::to_string(p.field->count() - 1) + " materials on a BCC lattice of " +
                  std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
