@@ -4,7 +4,8 @@
 // meeting shapes and of random label volumes are valid (orientation,
 // conformity, boundary, interfaces exactly the faces between two regions);
 // renumbering the labels gives the same mesh; per-material volumes follow
-// the shapes and the voxels.
+// the shapes and the voxels; blocks (mesh_bcc_materials_block) tiling the
+// lattice in any way merge into exactly the whole mesh.
 #define BOOST_TEST_MODULE mesh3d_materials
 #include <algorithm>
 #include <cmath>
@@ -90,6 +91,75 @@ Volume random_labels(int n, const std::vector<int>& values, std::mt19937& rng) {
                         v.values[static_cast<std::size_t>(i + n * (j + n * k))] = label;
     }
     return v;
+}
+
+// Every array of two meshes equal (positions bit for bit).
+bool identical(const TetMesh& a, const TetMesh& b, std::string& why) {
+    const auto same_points = [](const Point3& p, const Point3& q) { return p.x == q.x && p.y == q.y && p.z == q.z; };
+    if (a.vertices.size() != b.vertices.size()) return why = "vertex counts", false;
+    for (std::size_t i = 0; i < a.vertices.size(); ++i)
+        if (!same_points(a.vertices[i], b.vertices[i])) return why = "vertex " + std::to_string(i), false;
+    if (a.tets.size() != b.tets.size()) return why = "tetrahedron counts", false;
+    for (std::size_t t = 0; t < a.tets.size(); ++t)
+        if (a.tets[t] != b.tets[t] || a.region[t] != b.region[t]) return why = "tetrahedron " + std::to_string(t), false;
+    if (a.boundary != b.boundary || a.boundary_tag != b.boundary_tag) return why = "boundary", false;
+    if (a.interfaces != b.interfaces || a.interface_regions != b.interface_regions) return why = "interfaces", false;
+    if (a.region_names != b.region_names) return why = "region names", false;
+    return true;
+}
+
+// The blocks of the lattice's cubes cut along each axis at `cuts[a]` (cube
+// indices, ascending, inside (0, cubes[a])), each meshed on its own, in a
+// shuffled order.
+std::vector<TetBlock> material_blocks(const MaterialField3& f, const Lattice3& L, bool keep, const std::array<std::vector<std::int64_t>, 3>& cuts,
+                                      std::mt19937& rng) {
+    std::array<std::vector<std::int64_t>, 3> ends;
+    for (std::size_t a = 0; a < 3; ++a) {
+        ends[a] = {0};
+        ends[a].insert(ends[a].end(), cuts[a].begin(), cuts[a].end());
+        ends[a].push_back(L.cubes[a]);
+    }
+    std::vector<TetBlock> blocks;
+    for (std::size_t k = 0; k + 1 < ends[2].size(); ++k)
+        for (std::size_t j = 0; j + 1 < ends[1].size(); ++j)
+            for (std::size_t i = 0; i + 1 < ends[0].size(); ++i) {
+                const CubeRange r{{ends[0][i], ends[1][j], ends[2][k]}, {ends[0][i + 1], ends[1][j + 1], ends[2][k + 1]}};
+                blocks.push_back(mesh_bcc_materials_block(f, L, parity_options(), keep, r));
+            }
+    std::shuffle(blocks.begin(), blocks.end(), rng);
+    return blocks;
+}
+
+// The tilings the block tests use: 2x1x1, 2x2x2 at the middle, and uneven:
+// random cuts, 1 or 2 a side, and a block one cube thick.
+std::vector<std::array<std::vector<std::int64_t>, 3>> tilings(const Lattice3& L, std::mt19937& rng) {
+    const auto mid = [&](std::size_t a) { return std::vector<std::int64_t>{L.cubes[a] / 2}; };
+    std::vector<std::array<std::vector<std::int64_t>, 3>> out{{mid(0), {}, {}}, {mid(0), mid(1), mid(2)}};
+    std::array<std::vector<std::int64_t>, 3> uneven;
+    for (std::size_t a = 0; a < 3; ++a) {
+        std::set<std::int64_t> c;
+        const int n = std::uniform_int_distribution<int>(1, 2)(rng);
+        for (int k = 0; k < n; ++k) c.insert(std::uniform_int_distribution<std::int64_t>(1, L.cubes[a] - 1)(rng));
+        if (a == 0) c.insert(1);  // a block one cube thick
+        uneven[a].assign(c.begin(), c.end());
+    }
+    out.push_back(uneven);
+    return out;
+}
+
+// Blocks of f's mesh on L, tiled every way, with the background dropped and
+// kept, merge into exactly mesh_bcc_materials' mesh.
+void check_blocks_merge(const MaterialField3& f, const Lattice3& L, std::mt19937& rng, const std::string& what) {
+    for (const bool keep : {false, true}) {
+        const TetMesh whole = mesh_bcc_materials(f, L, parity_options(), keep).mesh;
+        for (const auto& cuts : tilings(L, rng)) {
+            const std::vector<TetBlock> blocks = material_blocks(f, L, keep, cuts, rng);
+            const TetMesh merged = merge_tet_blocks(blocks);
+            std::string why;
+            BOOST_TEST(identical(merged, whole, why), what << (keep ? ", background kept" : "") << ", " << blocks.size()
+                                                           << " blocks: " << why);
+        }
+    }
 }
 
 }  // namespace
@@ -285,4 +355,79 @@ BOOST_AUTO_TEST_CASE(bad_material_volumes_are_refused_by_name) {
     BOOST_CHECK_THROW(parse_material_shapes3("1=sphere:0,0,0,1;1=sphere:0,0,0,2"), InputError);
     const auto f = parse_material_shapes3("1=sphere:0,0,0,1");
     BOOST_CHECK_THROW(mesh_bcc_materials(*f, lattice3_for(f->bounds(), 0.2, "s"), BccOptions{}, false), InputError);  // Delaunay
+}
+
+// Blocks merge into exactly the whole multi-material mesh: nested spheres,
+// meeting shapes with junctions, random label volumes.
+BOOST_AUTO_TEST_CASE(material_blocks_merge_into_exactly_the_whole_mesh) {
+    std::mt19937 rng(47);
+    const auto spheres = parse_material_shapes3("1=sphere:0,0,0,1;2=sphere:0,0,0,0.5");
+    check_blocks_merge(*spheres, lattice3_for(spheres->bounds(), 0.15, spheres->describe()), rng, "nested spheres");
+    const auto meeting = parse_material_shapes3(
+        "1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4");
+    const Lattice3 L = lattice3_for(meeting->bounds(), 0.1, meeting->describe());
+    BOOST_TEST(mesh_bcc_materials(*meeting, L, parity_options(), false).junction_tets > 0);
+    check_blocks_merge(*meeting, L, rng, "meeting shapes");
+    for (int trial = 0; trial < testing::scaled(4); ++trial) {
+        const Volume v = random_labels(14, {3, 17, 5, 900}, rng);
+        const auto f = make_volume_materials3(v, "all");
+        const double spacing = trial % 2 == 0 ? 1.0 : 0.7;
+        check_blocks_merge(*f, lattice3_for(f->bounds(), spacing, f->describe()), rng, "random labels " + std::to_string(trial));
+    }
+}
+
+// A block's window grows by its halo until it decides the block's points as
+// the whole lattice does: blocks one cube thick along planes of warped
+// points and all-zero background tetrahedra (filled and left out) merge
+// into the whole mesh; a block's keys are sorted and it has a region per
+// tetrahedron.
+BOOST_AUTO_TEST_CASE(thin_material_blocks_along_junction_planes_merge_exactly) {
+    const auto f = parse_material_shapes3(
+        "1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4");
+    const Lattice3 L = lattice3_for(f->bounds(), 0.05, f->describe());
+    const BccMesh whole = mesh_bcc_materials(*f, L, parity_options(), false);
+    BOOST_TEST(whole.all_zero_filled > 0);
+    BOOST_TEST(whole.all_zero_left_out > 0);
+    BOOST_TEST(whole.junction_tets > 0);
+    const std::int64_t x = static_cast<std::int64_t>((0.03 - L.origin.x) / L.spacing), y = static_cast<std::int64_t>((0.013 - L.origin.y) / L.spacing);
+    std::vector<TetBlock> blocks;
+    const std::array<std::int64_t, 5> xs{0, x, x + 1, x + 2, L.cubes[0]}, ys{0, y, y + 1, y + 2, L.cubes[1]};
+    for (std::size_t i = 0; i + 1 < xs.size(); ++i)
+        for (std::size_t j = 0; j + 1 < ys.size(); ++j)
+            blocks.push_back(mesh_bcc_materials_block(*f, L, parity_options(), false, {{xs[i], ys[j], 0}, {xs[i + 1], ys[j + 1], L.cubes[2]}}));
+    for (const TetBlock& b : blocks) {
+        BOOST_TEST(std::is_sorted(b.vertex_key.begin(), b.vertex_key.end()));
+        BOOST_TEST(std::is_sorted(b.tet_key.begin(), b.tet_key.end()));
+        BOOST_TEST(b.region.size() == b.tets.size());
+        BOOST_TEST(b.region_names == whole.mesh.region_names);
+    }
+    std::string why;
+    BOOST_TEST(identical(merge_tet_blocks(blocks), whole.mesh, why), why);
+}
+
+// A block outside the lattice is refused; so are blocks of different meshes
+// in one merge, and one-region blocks keep their one region.
+BOOST_AUTO_TEST_CASE(material_blocks_outside_the_lattice_are_refused) {
+    const auto f = parse_material_shapes3("1=sphere:0,0,0,1;2=sphere:0,0,0,0.5");
+    const Lattice3 L = lattice3_for(f->bounds(), 0.2, f->describe());
+    const auto refused = [&](const CubeRange& r) {
+        BOOST_CHECK_EXCEPTION(mesh_bcc_materials_block(*f, L, parity_options(), false, r), InputError, [](const InputError& e) {
+            return std::string(e.what()).find("not a range of the lattice's cubes") != std::string::npos;
+        });
+    };
+    refused({{0, 0, 0}, {L.cubes[0] + 1, L.cubes[1], L.cubes[2]}});
+    refused({{-1, 0, 0}, {2, 2, 2}});
+    refused({{3, 0, 0}, {2, 2, 2}});
+    BOOST_CHECK_THROW(mesh_bcc_materials_block(*f, L, BccOptions{}, false, {{0, 0, 0}, L.cubes}), InputError);  // Delaunay
+    const CubeRange all{{0, 0, 0}, L.cubes};
+    const std::vector<TetBlock> mixed{mesh_bcc_materials_block(*f, L, parity_options(), false, {{0, 0, 0}, {L.cubes[0] / 2, L.cubes[1], L.cubes[2]}}),
+                                      mesh_bcc_materials_block(*f, L, parity_options(), true, {{L.cubes[0] / 2, 0, 0}, L.cubes})};
+    BOOST_CHECK_THROW(merge_tet_blocks(mixed), std::invalid_argument);
+    const auto ball = parse_shape3("sphere:0,0,0,1");
+    BccOptions one;
+    const std::vector<TetBlock> single{mesh_bcc_block(*ball, L, one, all)};
+    const TetMesh m = merge_tet_blocks(single);
+    BOOST_TEST(m.region_names.empty());
+    BOOST_TEST(m.interfaces.empty());
+    BOOST_TEST(std::all_of(m.region.begin(), m.region.end(), [](std::int32_t r) { return r == 1; }));
 }

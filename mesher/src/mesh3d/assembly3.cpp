@@ -1,5 +1,6 @@
 // assembly3.cpp — stage 6: the mesh from the emitted tetrahedra (boundary
-// faces, tags), the whole-lattice mesher mesh_bcc, and blocks and their merge.
+// faces, tags, interfaces), the whole-lattice mesher mesh_bcc, and blocks
+// (their windows, for one region and for several materials) and their merge.
 //
 // Boundary faces.  A face of an output tetrahedron is on the boundary iff no
 // other output tetrahedron has it.  By the stencils' construction a face can
@@ -14,7 +15,9 @@
 // matched by sorting their vertex triples; the unmatched ones are the
 // boundary, oriented as their tetrahedron sees them from outside, tagged
 // boundary_level_set when all three vertices are on the level set, else
-// boundary_domain.
+// boundary_domain.  With several materials (materials3.cpp) the flagged
+// vertices are those on an interface, and a matched candidate whose two
+// tetrahedra have different regions is an interface face.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -84,17 +87,26 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
     faces.erase(std::unique(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) { return a.tet == b.tet && a.opposite == b.opposite; }), faces.end());
     mesh.boundary.clear();
     mesh.boundary_tag.clear();
+    mesh.interfaces.clear();
+    mesh.interface_regions.clear();
+    const auto outward = [&](const FaceRef& r) {
+        const auto& tet = mesh.tets[static_cast<std::size_t>(r.tet)];
+        const auto& f = outward_face[static_cast<std::size_t>(r.opposite)];
+        return std::array<std::int32_t, 3>{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
+    };
     for (std::size_t i = 0; i < faces.size();) {
         std::size_t j = i;
         while (j < faces.size() && faces[j].sorted == faces[i].sorted) ++j;
         if (j - i > 2) throw std::logic_error("mesh3d: a face in more than two tetrahedra (vertex " + std::to_string(faces[i].sorted[0]) + ")");
+        const std::int32_t ra = mesh.region[static_cast<std::size_t>(faces[i].tet)];
         if (j - i == 1) {
-            const auto& tet = mesh.tets[static_cast<std::size_t>(faces[i].tet)];
-            const auto& f = outward_face[static_cast<std::size_t>(faces[i].opposite)];
-            const std::array<std::int32_t, 3> b{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
+            const std::array<std::int32_t, 3> b = outward(faces[i]);
             mesh.boundary.push_back(b);
             const bool level = on[static_cast<std::size_t>(b[0])] && on[static_cast<std::size_t>(b[1])] && on[static_cast<std::size_t>(b[2])];
             mesh.boundary_tag.push_back(level ? boundary_level_set : boundary_domain);
+        } else if (const std::int32_t rb = mesh.region[static_cast<std::size_t>(faces[i + 1].tet)]; ra != rb) {
+            mesh.interfaces.push_back(outward(faces[i]));  // out of the first tetrahedron, into the other
+            mesh.interface_regions.push_back({ra, rb});
         }
         i = j;
     }
@@ -102,15 +114,68 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
 
 namespace {
 
-// The window of cubes [lo − halo, hi + halo) ∩ the lattice, sampled, cut and warped.
-Window prepare(const LevelSet3& f, const BccOptions& o, const Lattice3& L, const CubeRange& r, std::int64_t halo, bool blocked) {
+// The window of the cubes [lo − halo, hi + halo) ∩ the lattice.
+Grid block_grid(const Lattice3& L, const CubeRange& r, std::int64_t halo) {
     bcc::Ivec lo{}, hi{};
     for (std::size_t a = 0; a < 3; ++a) {
         lo[a] = static_cast<int>(2 * std::max<std::int64_t>(0, r.lo[a] - halo));
         hi[a] = static_cast<int>(2 * std::min<std::int64_t>(L.cubes[a], r.hi[a] + halo));
     }
-    Window w;
-    w.grid = Grid::window(L, lo, hi);
+    return Grid::window(L, lo, hi);
+}
+
+}  // namespace
+
+Window block_window(const Lattice3& L, const CubeRange& block, const std::function<void(Window&)>& prepare) {
+    for (std::int64_t halo = 2;; halo *= 2) {
+        Window w;
+        w.grid = block_grid(L, block, halo);
+        prepare(w);
+        bool whole = true;
+        for (std::size_t a = 0; a < 3; ++a) whole = whole && block.lo[a] - halo <= 0 && block.hi[a] + halo >= L.cubes[a];
+        bool exact = true;  // no tainted point among the block's: doubled coordinates [2 lo − 1, 2 hi]
+        for (std::int64_t p = 0; p < w.grid.count() && exact && !whole; ++p) {
+            if (!w.taint[static_cast<std::size_t>(p)]) continue;
+            const bcc::Ivec q = w.grid.point(p);
+            bool inside = true;
+            for (std::size_t a = 0; a < 3; ++a) inside = inside && q[a] >= 2 * block.lo[a] - 1 && q[a] <= 2 * block.hi[a];
+            exact = !inside;
+        }
+        if (exact || whole) return w;
+    }
+}
+
+void check_options(const BccOptions& o) {
+    const bcc::Alphas a = o.alphas;
+    const bool ok = a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
+                    2 * a.short_num < a.short_den;
+    if (!ok) throw InputError("the alphas must lie in (0, 1/2)");
+    if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
+}
+
+void check_block(const Lattice3& lattice, const CubeRange& block, const std::string& what) {
+    for (std::size_t a = 0; a < 3; ++a)
+        if (!(block.lo[a] >= 0 && block.lo[a] <= block.hi[a] && block.hi[a] <= lattice.cubes[a]))
+            throw InputError(what + ": the block is not a range of the lattice's cubes");
+}
+
+TetBlock make_block(std::vector<std::uint64_t>&& vertex_key, std::span<const Point3> vertices, std::vector<std::uint8_t>&& on,
+                    std::span<const std::array<std::int32_t, 4>> tets, std::vector<std::uint64_t>&& tet_key, std::span<const CutOff> cut_off) {
+    TetBlock b;
+    b.vertex_key = std::move(vertex_key);
+    b.vertices.assign(vertices.begin(), vertices.end());
+    b.on_level_set = std::move(on);
+    b.tets.assign(tets.begin(), tets.end());
+    b.tet_key = std::move(tet_key);
+    b.lattice_edge.assign(b.tets.size(), 0);
+    for (const CutOff& c : cut_off) b.lattice_edge[static_cast<std::size_t>(c.first)] = c.second;
+    return b;
+}
+
+namespace {
+
+// f sampled, cut and warped on the window's grid (set beforehand).
+void prepare(const LevelSet3& f, const BccOptions& o, bool blocked, Window& w) {
     // Per point: f (8), sign, warp, cut mask (3), first cut (4), the
     // numbering's use byte and two ids (9); the cut parameters are surface-sized.
     check_memory(static_cast<std::uint64_t>(w.grid.count()) * 24, o.max_memory,
@@ -120,15 +185,6 @@ Window prepare(const LevelSet3& f, const BccOptions& o, const Lattice3& L, const
     find_cuts(f, w);
     Buffer<double>().swap(w.value);  // f is not needed past the cut points
     warp_points(o.alphas, w, blocked);
-    return w;
-}
-
-void check_options(const BccOptions& o) {
-    const bcc::Alphas a = o.alphas;
-    const bool ok = a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
-                    2 * a.short_num < a.short_den;
-    if (!ok) throw InputError("the alphas must lie in (0, 1/2)");
-    if (o.face_rule != FaceRule::parity && o.face_rule != FaceRule::delaunay) throw InputError("the face rule must be parity or delaunay");
 }
 
 
@@ -151,7 +207,9 @@ BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& 
     const ThreadCount threads(o.threads);
     const auto start = std::chrono::steady_clock::now();
     const CubeRange all{{0, 0, 0}, lattice.cubes};
-    Window w = prepare(f, o, lattice, all, 0, false);
+    Window w;
+    w.grid = Grid::whole(lattice);
+    prepare(f, o, false, w);
     Emitted e = emit_tets(w, all, false, o.max_memory, o.face_rule, o.verify);
     if (e.uncovered_keys > 0)
         throw std::logic_error("mesh3d verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " +
@@ -178,49 +236,29 @@ BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& 
 TetBlock mesh_bcc_block(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o, const CubeRange& block) {
     using namespace uniform3d;
     check_options(o);
-    for (std::size_t a = 0; a < 3; ++a)
-        if (!(block.lo[a] >= 0 && block.lo[a] <= block.hi[a] && block.hi[a] <= lattice.cubes[a]))
-            throw InputError("mesh_bcc_block: the block is not a range of the lattice's cubes");
+    check_block(lattice, block, "mesh_bcc_block");
     const ThreadCount threads(o.threads);
-    for (std::int64_t halo = 2;; halo *= 2) {
-        Window w = prepare(f, o, lattice, block, halo, true);
-        // The points the block's tetrahedra use: doubled coordinates [2 lo − 1, 2 hi].
-        bool exact = true;
-        for (std::int64_t p = 0; p < w.grid.count() && exact; ++p) {
-            if (!w.taint[static_cast<std::size_t>(p)]) continue;
-            const bcc::Ivec q = w.grid.point(p);
-            bool inside = true;
-            for (std::size_t a = 0; a < 3; ++a) inside = inside && q[a] >= 2 * block.lo[a] - 1 && q[a] <= 2 * block.hi[a];
-            exact = !inside;
-        }
-        bool whole = true;
-        for (std::size_t a = 0; a < 3; ++a) whole = whole && block.lo[a] - halo <= 0 && block.hi[a] + halo >= lattice.cubes[a];
-        if (!exact && !whole) continue;
-        Emitted e = emit_tets(w, block, true, o.max_memory, o.face_rule);
-        TetBlock b;
-        b.vertex_key = std::move(e.vertex_key);
-        b.vertices.assign(e.vertices.begin(), e.vertices.end());
-        b.on_level_set = std::move(e.on_level_set);
-        b.tets.assign(e.tets.begin(), e.tets.end());
-        b.tet_key = std::move(e.tet_key);
-        b.lattice_edge.assign(b.tets.size(), 0);
-        for (const CutOff& c : e.cut_off) b.lattice_edge[static_cast<std::size_t>(c.first)] = c.second;
-        return b;
-    }
+    const Window w = block_window(lattice, block, [&](Window& win) { prepare(f, o, true, win); });
+    Emitted e = emit_tets(w, block, true, o.max_memory, o.face_rule);
+    return make_block(std::move(e.vertex_key), e.vertices, std::move(e.on_level_set), e.tets, std::move(e.tet_key), e.cut_off);
 }
 
-TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
-    struct V {
-        std::uint64_t key;
-        Point3 p;
-        std::uint8_t on;
-    };
-    std::vector<V> vs;
+namespace {
+
+struct KeyedVertex {
+    std::uint64_t key;
+    Point3 p;
+    std::uint8_t on;
+};
+
+// The blocks' vertices by key, each once; throws if two blocks place one differently.
+std::vector<KeyedVertex> merged_vertices(std::span<const TetBlock> blocks) {
+    std::vector<KeyedVertex> vs;
     for (const TetBlock& b : blocks)
         for (std::size_t i = 0; i < b.vertex_key.size(); ++i) vs.push_back({b.vertex_key[i], b.vertices[i], b.on_level_set[i]});
-    std::sort(vs.begin(), vs.end(), [](const V& a, const V& b) { return a.key < b.key; });
-    std::vector<V> unique;
-    for (const V& v : vs) {
+    std::sort(vs.begin(), vs.end(), [](const KeyedVertex& a, const KeyedVertex& b) { return a.key < b.key; });
+    std::vector<KeyedVertex> unique;
+    for (const KeyedVertex& v : vs) {
         if (!unique.empty() && unique.back().key == v.key) {
             if (unique.back().p.x != v.p.x || unique.back().p.y != v.p.y || unique.back().p.z != v.p.z)
                 throw std::invalid_argument("merge_tet_blocks: two blocks place vertex " + std::to_string(v.key) + " differently");
@@ -228,25 +266,47 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
         }
         unique.push_back(v);
     }
+    return unique;
+}
+
+// The blocks' region names, the same in every block (empty: one region).
+std::vector<std::pair<std::int32_t, std::string>> merged_region_names(std::span<const TetBlock> blocks) {
+    for (const TetBlock& b : blocks) {
+        if (b.region_names != blocks.front().region_names)
+            throw std::invalid_argument("merge_tet_blocks: the blocks name different regions (blocks of different meshes)");
+        if (!b.region.empty() && b.region.size() != b.tets.size())
+            throw std::invalid_argument("merge_tet_blocks: a block's regions do not match its tetrahedra");
+    }
+    return blocks.empty() ? std::vector<std::pair<std::int32_t, std::string>>{} : blocks.front().region_names;
+}
+
+}  // namespace
+
+TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
+    const std::vector<KeyedVertex> unique = merged_vertices(blocks);
     struct T {
         std::uint64_t key;
         std::array<std::int32_t, 4> tet;
+        std::int32_t region;
         std::uint8_t cut_off;
     };
+    TetMesh m;
+    m.region_names = merged_region_names(blocks);
     std::vector<T> ts;
     for (const TetBlock& b : blocks)
         for (std::size_t i = 0; i < b.tets.size(); ++i) {
             std::array<std::int32_t, 4> t{};
             for (std::size_t k = 0; k < 4; ++k) {
                 const std::uint64_t key = b.vertex_key[static_cast<std::size_t>(b.tets[i][k])];
-                t[k] = static_cast<std::int32_t>(std::lower_bound(unique.begin(), unique.end(), key, [](const V& a, std::uint64_t k2) { return a.key < k2; }) - unique.begin());
+                t[k] = static_cast<std::int32_t>(
+                    std::lower_bound(unique.begin(), unique.end(), key, [](const KeyedVertex& a, std::uint64_t k2) { return a.key < k2; }) -
+                    unique.begin());
             }
-            ts.push_back({b.tet_key[i], t, b.lattice_edge[i]});
+            ts.push_back({b.tet_key[i], t, b.region.empty() ? 1 : b.region[i], b.lattice_edge[i]});
         }
     std::sort(ts.begin(), ts.end(), [](const T& a, const T& b) { return a.key < b.key; });
     for (std::size_t i = 1; i < ts.size(); ++i)
         if (ts[i].key == ts[i - 1].key) throw std::invalid_argument("merge_tet_blocks: two blocks give the same tetrahedron");
-    TetMesh m;
     m.vertices.resize(unique.size());
     std::vector<std::uint8_t> on(unique.size());
     for (std::size_t i = 0; i < unique.size(); ++i) m.vertices[i] = unique[i].p, on[i] = unique[i].on;
@@ -255,7 +315,7 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
     std::vector<uniform3d::CutOff> cut_off;
     for (std::size_t i = 0; i < ts.size(); ++i) {
         m.tets[i] = ts[i].tet;
-        m.region[i] = 1;
+        m.region[i] = ts[i].region;
         if (ts[i].cut_off) cut_off.push_back({static_cast<std::int64_t>(i), ts[i].cut_off});
     }
     uniform3d::find_boundary(m, on, cut_off);

@@ -1,17 +1,22 @@
 // materials3.cpp — the multi-material 3D mesher (mesh3d.hpp:
-// mesh_bcc_materials): every lattice point's material, the cut points
-// between materials, closest-first warping (warp3.cpp, unchanged: a cut
-// edge is one whose ends' materials differ), then every background
-// tetrahedron split by generic_bcc_materials.hpp's rule, in two passes over
-// the cube layers as tets3.cpp does (count and mark, then number and write),
-// and the boundary and interfaces from the faces whose vertices all lie on
-// interfaces.
+// mesh_bcc_materials, mesh_bcc_materials_block).  On a window of the
+// lattice — the whole lattice, or a block's cubes grown by a halo until no
+// point of the block's is tainted (assembly3.cpp: block_window) — every
+// point's material, the cut points between materials, closest-first warping
+// (warp3.cpp, unchanged: a cut edge is one whose ends' materials differ),
+// then every background tetrahedron of the range's cubes split by
+// generic_bcc_materials.hpp's rule, in two passes over the cube layers as
+// tets3.cpp does (count and mark, then number and write).  The boundary and
+// the interfaces are the faces whose vertices all lie on interfaces
+// (assembly3.cpp: find_boundary), found on the whole mesh or, for blocks,
+// after merge_tet_blocks.  Every vertex and tetrahedron has a global key
+// (GlobalKeys) whose order is the whole mesh's order, so that the whole
+// lattice is the one-window case and blocks merge into it exactly.
 #include <algorithm>
 #include <atomic>
-#include <optional>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
-#include <tuple>
 
 #include "uniform3d.hpp"
 #include "warpmesh/core/errors.hpp"
@@ -28,7 +33,6 @@ namespace uniform3d {
 namespace {
 
 using Key3 = std::array<std::int64_t, 3>;
-
 
 // The split of one background tetrahedron: output tetrahedra over its 15
 // local points (generic_bcc_materials.hpp) and their material codes.
@@ -58,6 +62,55 @@ const std::vector<bcc::MaterialStencil>& junction_table() {
     return table;
 }
 
+// The global keys (mesh3d.hpp, "Blocks"), whose order is the whole mesh's
+// vertex and tetrahedron order.  With P the lattice's points:
+//   lattice point q                  index(q)
+//   cut point (lower end q, slot s)  P + 7 index(q) + s
+//   face point of a junction face    8P + 49 index(q0) + 7 s1 + s2: q0 the
+//                                    face's lowest point, s1 < s2 the forward
+//                                    slots of its two edges from q0
+//   centre of background tet (c, i)  57P + 12 c + i: c the cube's index in
+//                                    (z, y, x) order, i background_tet's index
+//   output tetrahedron k of (c, i)   24 (12 c + i) + k
+struct GlobalKeys {
+    struct FaceName {
+        int lowest = 0, s1 = 0, s2 = 0;  // q0's local vertex, the slots
+    };
+    Grid whole;
+    std::array<std::int64_t, 3> cubes{};
+    std::uint64_t P = 0;
+    std::array<std::array<FaceName, 4>, 12> face_name{};  // per background tetrahedron index, face (without vertex f)
+
+    explicit GlobalKeys(const Lattice3& L) : whole(Grid::whole(L)), cubes(L.cubes), P(static_cast<std::uint64_t>(L.point_count())) {
+        for (std::size_t index = 0; index < 12; ++index) {
+            const TetShape& sh = tet_shapes()[index];
+            for (int f = 0; f < 4; ++f)
+                for (int v = 0; v < 4; ++v) {
+                    if (v == f) continue;
+                    const int a = (v + 1) % 4 == f ? (v + 2) % 4 : (v + 1) % 4, b = 6 - f - v - a;
+                    const std::size_t ea = static_cast<std::size_t>(bcc::edge_index(v, a)), eb = static_cast<std::size_t>(bcc::edge_index(v, b));
+                    if (sh.lower[ea] != v || sh.lower[eb] != v) continue;  // v is not the face's lowest point
+                    face_name[index][static_cast<std::size_t>(f)] = {v, std::min(sh.slot[ea], sh.slot[eb]), std::max(sh.slot[ea], sh.slot[eb])};
+                }
+        }
+    }
+    std::uint64_t point(const bcc::Ivec& q) const { return static_cast<std::uint64_t>(whole.index(q)); }
+    std::uint64_t cut(const bcc::Ivec& q, int slot) const { return P + 7 * point(q) + static_cast<std::uint64_t>(slot); }
+    // Face f of background tetrahedron `index` of cube m.
+    std::uint64_t face(const bcc::Ivec& m, int index, int f) const {
+        const FaceName& n = face_name[static_cast<std::size_t>(index)][static_cast<std::size_t>(f)];
+        const bcc::Ivec q0 = bcc::add(m, tet_shapes()[static_cast<std::size_t>(index)].offset[static_cast<std::size_t>(n.lowest)]);
+        return 8 * P + 49 * point(q0) + static_cast<std::uint64_t>(7 * n.s1 + n.s2);
+    }
+    std::uint64_t background(const bcc::Ivec& m, int index) const {
+        const std::int64_t c = ((m[2] / 2) * cubes[1] + m[1] / 2) * cubes[0] + m[0] / 2;
+        return static_cast<std::uint64_t>(12 * c + index);
+    }
+    std::uint64_t centre(const bcc::Ivec& m, int index) const { return 57 * P + background(m, index); }
+    std::uint64_t tet(const bcc::Ivec& m, int index, int k) const { return 24 * background(m, index) + static_cast<std::uint64_t>(k); }
+};
+
+// The cubes `range` of a warped window and what they output.
 struct MaterialLayout {
     const Window& w;
     const MaterialField3& field;
@@ -67,12 +120,16 @@ struct MaterialLayout {
     bool merge_outside = false;        // the background dropped: it and the outside are one (no cut between them)
     const std::array<TetShape, 12>& shapes = tet_shapes();
     std::int64_t plane_pair = 0;
+    CubeRange range;
+    GlobalKeys keys;
+    bool keyed = false;                // write every vertex's and tetrahedron's key (blocks)
 
     MaterialLayout(const Window& win, const MaterialField3& f, const std::optional<BccKeyClaim>& fill_claim,
-                   std::span<const std::uint16_t> material, int count, bool keep_background)
-        : w(win), field(f), fill(fill_claim), mat(material), output(65536, 0), merge_outside(!keep_background) {
+                   std::span<const std::uint16_t> material, bool keep_background, const CubeRange& cubes, bool with_keys)
+        : w(win), field(f), fill(fill_claim), mat(material), output(65536, 0), merge_outside(!keep_background), range(cubes),
+          keys(win.grid.lattice), keyed(with_keys) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
-        for (int m = keep_background ? 0 : 1; m < count; ++m) output[static_cast<std::size_t>(m)] = 1;
+        for (int m = keep_background ? 0 : 1; m < f.count(); ++m) output[static_cast<std::size_t>(m)] = 1;
     }
     // The window index of the point in neighbourhood slot k of cube m (TetShape::slot_in_cube).
     std::int64_t point_at(const bcc::Ivec& m, int k) const {
@@ -175,12 +232,6 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
     return s;
 }
 
-template <class Body>
-void for_cubes_in_layer(const Lattice3& L, std::int64_t cz, Body&& body) {
-    for (std::int64_t cy = 0; cy < L.cubes[1]; ++cy)
-        for (std::int64_t cx = 0; cx < L.cubes[0]; ++cx)
-            body(bcc::Ivec{static_cast<int>(2 * cx), static_cast<int>(2 * cy), static_cast<int>(2 * cz)});
-}
 
 // Whether cube m touches the lattice's cut-off (its tetrahedra may have
 // faces there: the general path records them).
@@ -190,28 +241,66 @@ bool in_lattice_edge(const Lattice3& L, const bcc::Ivec& m) {
     return false;
 }
 
-// A face point's name: its face's three lattice points (window indices), sorted.
-Key3 face_key(const std::array<std::int64_t, 4>& p, int f) {
-    Key3 k{};
-    for (int i = 0, n = 0; i < 4; ++i)
-        if (i != f) k[static_cast<std::size_t>(n++)] = p[static_cast<std::size_t>(i)];
-    std::sort(k.begin(), k.end());
-    return k;
-}
-
-// Pass A's per-layer results.
-struct LayerCount {
-    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, voids = 0, junctions = 0, junction_tets = 0;
-    std::vector<Key3> faces;  // face points used
+// A junction face's point: its global key and its face's three lattice
+// points (window indices, ascending: the (z, y, x) order).
+struct FacePoint {
+    std::uint64_t key = 0;
+    Key3 points{};
+    bool operator<(const FacePoint& o) const { return key < o.key; }
 };
 
+FacePoint face_point_of(const MaterialLayout& lay, const bcc::Ivec& m, int index, const std::array<std::int64_t, 4>& p, int f) {
+    FacePoint fp;
+    fp.key = lay.keys.face(m, index, f);
+    for (int i = 0, n = 0; i < 4; ++i)
+        if (i != f) fp.points[static_cast<std::size_t>(n++)] = p[static_cast<std::size_t>(i)];
+    std::sort(fp.points.begin(), fp.points.end());
+    return fp;
+}
+
+// Pass A's per-layer results (and, summed, the window's).
+struct LayerCount {
+    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, voids = 0, junctions = 0, junction_tets = 0;
+    std::vector<FacePoint> faces;  // face points used
+};
+
+// Pass A for one split background tetrahedron (index, lattice points p) of cube m.
+void count_split(const MaterialLayout& lay, const bcc::Ivec& m, int index, const std::array<std::int64_t, 4>& p, const Split& s, Marks& marks,
+                 LayerCount& c) {
+    const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
+    c.all_zero += s.all_zero;
+    c.filled += s.all_zero && s.count > 0;
+    c.voids += s.void_left;
+    c.junctions += s.junction;
+    if (s.count == 0) return;
+    c.tets += s.count;
+    c.junction_tets += s.junction ? s.count : 0;
+    unsigned used = 0;
+    for (int t = 0; t < s.count; ++t)
+        for (const std::uint8_t q : s.tet[static_cast<std::size_t>(t)]) used |= 1u << q;
+    for (int q = 0; q < 15; ++q) {
+        if (!(used >> q & 1u)) continue;
+        if (q < 4) {
+            std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(p[static_cast<std::size_t>(q)])]).store(1, std::memory_order_relaxed);
+        } else if (q < 10) {
+            const std::size_t owner = static_cast<std::size_t>(p[static_cast<std::size_t>(sh.lower[static_cast<std::size_t>(q - 4)])]);
+            std::atomic_ref<std::uint8_t>(marks.cut[owner]).fetch_or(static_cast<std::uint8_t>(1u << sh.slot[static_cast<std::size_t>(q - 4)]),
+                                                                     std::memory_order_relaxed);
+        } else if (q < 14) {
+            c.faces.push_back(face_point_of(lay, m, index, p, q - 10));
+        } else {
+            ++c.centres;
+        }
+    }
+}
+
 std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) {
-    const Lattice3& L = lay.w.grid.lattice;
-    std::vector<LayerCount> layers(static_cast<std::size_t>(L.cubes[2]));
+    const CubeRange& r = lay.range;
+    std::vector<LayerCount> layers(static_cast<std::size_t>(r.hi[2] - r.lo[2]));
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::int64_t cz = 0; cz < L.cubes[2]; ++cz) {
-        LayerCount& c = layers[static_cast<std::size_t>(cz)];
-        for_cubes_in_layer(L, cz, [&](const bcc::Ivec& m) {
+    for (std::int64_t l = 0; l < r.hi[2] - r.lo[2]; ++l) {
+        LayerCount& c = layers[static_cast<std::size_t>(l)];
+        for_cubes_in_layer(r, r.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
             if (const int whole = lay.whole_cube(m); whole >= 0) {
                 if (!lay.output[static_cast<std::size_t>(whole)]) return;
                 c.tets += 12;
@@ -222,33 +311,8 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
             }
             for (int index = 0; index < 12; ++index) {
                 if (m[static_cast<std::size_t>(index / 4)] == 0) continue;  // the cube below does not exist
-                const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
                 const std::array<std::int64_t, 4> p = lay.points(m, index);
-                const Split s = lay.split(p, sh.parity);
-                c.all_zero += s.all_zero;
-                c.filled += s.all_zero && s.count > 0;
-                c.voids += s.void_left;
-                c.junctions += s.junction;
-                if (s.count == 0) continue;
-                c.tets += s.count;
-                c.junction_tets += s.junction ? s.count : 0;
-                unsigned used = 0;
-                for (int t = 0; t < s.count; ++t)
-                    for (const std::uint8_t q : s.tet[static_cast<std::size_t>(t)]) used |= 1u << q;
-                for (int q = 0; q < 15; ++q) {
-                    if (!(used >> q & 1u)) continue;
-                    if (q < 4) {
-                        std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(p[static_cast<std::size_t>(q)])]).store(1, std::memory_order_relaxed);
-                    } else if (q < 10) {
-                        const std::size_t owner = static_cast<std::size_t>(p[static_cast<std::size_t>(sh.lower[static_cast<std::size_t>(q - 4)])]);
-                        std::atomic_ref<std::uint8_t>(marks.cut[owner]).fetch_or(static_cast<std::uint8_t>(1u << sh.slot[static_cast<std::size_t>(q - 4)]),
-                                                                                 std::memory_order_relaxed);
-                    } else if (q < 14) {
-                        c.faces.push_back(face_key(p, q - 10));
-                    } else {
-                        ++c.centres;
-                    }
-                }
+                count_split(lay, m, index, p, lay.split(p, lay.shapes[static_cast<std::size_t>(index)].parity), marks, c);
             }
         });
     }
@@ -269,9 +333,22 @@ Point3 cut_between(const Window& w, std::int64_t a, std::int64_t b) {
 // tetrahedron and first centre.
 struct Places {
     Numbering num;
-    std::vector<Key3> faces;  // sorted, unique: face point i has id face_base + i
+    std::vector<FacePoint> faces;  // sorted by key, unique: face point i has id face_base + i
     std::int64_t face_base = 0, centre_base = 0;
     std::vector<std::int64_t> tet_start, centre_start;
+};
+
+// One window's output: the mesh without its boundary and interfaces (found
+// by find_boundary on the whole mesh or the merged blocks), the vertices'
+// interface flags, the faces on the lattice's cut-off, the keys (blocks) and
+// the counts.
+struct MaterialOutput {
+    TetMesh mesh;
+    std::vector<std::uint8_t> on_interface;
+    std::vector<CutOff> cut_off;
+    std::vector<std::uint64_t> vertex_key, tet_key;
+    std::int64_t cut_points = 0;
+    LayerCount count;
 };
 
 // verify's counts: keys without a claim, tetrahedra outside their key's claim.
@@ -306,23 +383,75 @@ void verify_sides(const MaterialLayout& lay, const BccKeyClaims& claims, const s
     }
 }
 
-// Pass B for one layer: the tetrahedra, their regions and centres, and the
-// faces on the lattice's cut-off (and, with claims, verify's checks).
-void write_layer(const MaterialLayout& lay, const MaterialField3& field, const Marks& marks, const Places& at, std::int64_t cz,
-                 const BccKeyClaims* verify, TetMesh& mesh, std::vector<std::uint8_t>& on_interface, std::vector<CutOff>& cut_off,
-                 VerifyCounts& counts) {
-    const Window& w = lay.w;
-    const Lattice3& L = w.grid.lattice;
-    std::int64_t t = at.tet_start[static_cast<std::size_t>(cz)], centre = at.centre_start[static_cast<std::size_t>(cz)];
+// The faces of output tetrahedron o (bit f: the face without vertex f) on a
+// background face with nothing behind it (bit v of `missing`: the face
+// without local vertex v).
+unsigned faces_on_cut_off(const bcc::OutTet& o, unsigned missing) {
+    unsigned faces = 0;
+    for (int f = 0; f < 4; ++f)
+        for (int v = 0; v < 4; ++v) {
+            if (!(missing >> v & 1u)) continue;
+            bool on = true;
+            for (int j = 0; j < 4; ++j) {
+                if (j == f) continue;
+                const int q = o[static_cast<std::size_t>(j)];
+                on = on && (q < 4 ? q != v : q < 10 ? bcc::tet_edges[static_cast<std::size_t>(q - 4)][0] != v && bcc::tet_edges[static_cast<std::size_t>(q - 4)][1] != v
+                                       : q - 10 == v);
+            }
+            if (on) faces |= 1u << f;
+        }
+    return faces;
+}
+
+// The ids of the 15 local points of split background tetrahedron (index,
+// lattice points p) of cube m: vertices, cut points and, for a junction, its
+// used face points and its centre (placed here, the centre's id `centre`).
+std::array<std::int32_t, 15> point_ids(const MaterialLayout& lay, const Marks& marks, const Places& at, const bcc::Ivec& m, int index,
+                                       const std::array<std::int64_t, 4>& p, const Split& s, std::int64_t centre, MaterialOutput& out) {
+    const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
+    std::array<std::int32_t, 15> vid{};
+    for (int q = 0; q < 4; ++q) vid[static_cast<std::size_t>(q)] = at.num.id[static_cast<std::size_t>(p[static_cast<std::size_t>(q)])];
+    for (int e = 0; e < 6; ++e) {
+        const std::size_t owner = static_cast<std::size_t>(p[static_cast<std::size_t>(sh.lower[static_cast<std::size_t>(e)])]);
+        const int slot = sh.slot[static_cast<std::size_t>(e)];
+        vid[static_cast<std::size_t>(4 + e)] = at.num.cut_id[owner] + slot_count(marks.cut[owner] & ((1u << slot) - 1));
+    }
+    if (!s.junction) return vid;
+    for (int f = 0; f < 4; ++f) {
+        const FacePoint key{lay.keys.face(m, index, f), {}};
+        const auto it = std::lower_bound(at.faces.begin(), at.faces.end(), key);
+        if (it != at.faces.end() && it->key == key.key) vid[static_cast<std::size_t>(10 + f)] = static_cast<std::int32_t>(at.face_base + (it - at.faces.begin()));
+    }
+    vid[14] = static_cast<std::int32_t>(at.centre_base + centre);
+    Point3 c{0, 0, 0};
+    for (const std::int64_t q : p) {
+        const Point3 x = lay.w.point_position(q);
+        c.x += 0.25 * x.x, c.y += 0.25 * x.y, c.z += 0.25 * x.z;
+    }
+    out.mesh.vertices[static_cast<std::size_t>(vid[14])] = c;
+    out.on_interface[static_cast<std::size_t>(vid[14])] = 1;
+    if (lay.keyed) out.vertex_key[static_cast<std::size_t>(vid[14])] = lay.keys.centre(m, index);
+    return vid;
+}
+
+// Pass B for layer l of the range: the tetrahedra, their regions (and keys)
+// and centres, and the faces on the lattice's cut-off (and, with claims,
+// verify's checks).
+void write_layer(const MaterialLayout& lay, const Marks& marks, const Places& at, std::int64_t l, const BccKeyClaims* verify,
+                 MaterialOutput& out, std::vector<CutOff>& cut_off, VerifyCounts& counts) {
+    const Lattice3& L = lay.w.grid.lattice;
+    TetMesh& mesh = out.mesh;
+    std::int64_t t = at.tet_start[static_cast<std::size_t>(l)], centre = at.centre_start[static_cast<std::size_t>(l)];
     const bcc::OutTet& whole_order = plan(0, 0).stencil.tet[0];  // the all-− stencil's vertex order
-    for_cubes_in_layer(L, cz, [&](const bcc::Ivec& m) {
+    for_cubes_in_layer(lay.range, lay.range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
         if (const int whole = lay.whole_cube(m); whole >= 0 && !in_lattice_edge(L, m)) {
             if (!lay.output[static_cast<std::size_t>(whole)]) return;
             for (int index = 0; index < 12; ++index, ++t) {
                 const std::array<std::int64_t, 4> p = lay.points(m, index);
                 mesh.tets[static_cast<std::size_t>(t)] = {at.num.id[static_cast<std::size_t>(p[whole_order[0]])], at.num.id[static_cast<std::size_t>(p[whole_order[1]])],
                                                            at.num.id[static_cast<std::size_t>(p[whole_order[2]])], at.num.id[static_cast<std::size_t>(p[whole_order[3]])]};
-                mesh.region[static_cast<std::size_t>(t)] = field.tag(whole);
+                mesh.region[static_cast<std::size_t>(t)] = lay.field.tag(whole);
+                if (lay.keyed) out.tet_key[static_cast<std::size_t>(t)] = lay.keys.tet(m, index, 0);
             }
             return;
         }
@@ -332,59 +461,28 @@ void write_layer(const MaterialLayout& lay, const MaterialField3& field, const M
             const std::array<std::int64_t, 4> p = lay.points(m, index);
             const Split s = lay.split(p, sh.parity);
             if (s.count == 0) continue;
-            std::array<std::int32_t, 15> vid{};
-            for (int q = 0; q < 4; ++q) vid[static_cast<std::size_t>(q)] = at.num.id[static_cast<std::size_t>(p[static_cast<std::size_t>(q)])];
-            for (int e = 0; e < 6; ++e) {
-                const std::size_t owner = static_cast<std::size_t>(p[static_cast<std::size_t>(sh.lower[static_cast<std::size_t>(e)])]);
-                const int slot = sh.slot[static_cast<std::size_t>(e)];
-                vid[static_cast<std::size_t>(4 + e)] = at.num.cut_id[owner] + slot_count(marks.cut[owner] & ((1u << slot) - 1));
-            }
-            if (s.junction) {
-                for (int f = 0; f < 4; ++f) {
-                    const auto it = std::lower_bound(at.faces.begin(), at.faces.end(), face_key(p, f));
-                    if (it != at.faces.end() && *it == face_key(p, f))
-                        vid[static_cast<std::size_t>(10 + f)] = static_cast<std::int32_t>(at.face_base + (it - at.faces.begin()));
-                }
-                vid[14] = static_cast<std::int32_t>(at.centre_base + centre);
-                Point3 c{0, 0, 0};
-                for (const std::int64_t q : p) {
-                    const Point3 x = w.point_position(q);
-                    c.x += 0.25 * x.x, c.y += 0.25 * x.y, c.z += 0.25 * x.z;
-                }
-                mesh.vertices[static_cast<std::size_t>(vid[14])] = c;
-                on_interface[static_cast<std::size_t>(vid[14])] = 1;
-                ++centre;
-            }
+            const std::array<std::int32_t, 15> vid = point_ids(lay, marks, at, m, index, p, s, centre, out);
+            centre += s.junction;
             const std::int64_t t0 = t;
             unsigned missing = 0;  // bit v: no background tetrahedron across the face without v
             for (int v = 0; v < 4; ++v) missing |= in_lattice(L, bcc::add(m, sh.across[static_cast<std::size_t>(v)])) ? 0u : 1u << v;
             for (int k = 0; k < s.count; ++k, ++t) {
                 const bcc::OutTet& o = s.tet[static_cast<std::size_t>(k)];
                 mesh.tets[static_cast<std::size_t>(t)] = {vid[o[0]], vid[o[1]], vid[o[2]], vid[o[3]]};
-                mesh.region[static_cast<std::size_t>(t)] = field.tag(s.material[static_cast<std::size_t>(k)]);
+                mesh.region[static_cast<std::size_t>(t)] = lay.field.tag(s.material[static_cast<std::size_t>(k)]);
+                if (lay.keyed) out.tet_key[static_cast<std::size_t>(t)] = lay.keys.tet(m, index, k);
                 if (!missing) continue;
-                unsigned faces = 0;  // its faces on a background face v with nothing behind
-                for (int f = 0; f < 4; ++f)
-                    for (int v = 0; v < 4; ++v) {
-                        if (!(missing >> v & 1u)) continue;
-                        bool on = true;
-                        for (int j = 0; j < 4; ++j) {
-                            if (j == f) continue;
-                            const int q = o[static_cast<std::size_t>(j)];
-                            on = on && (q < 4 ? q != v : q < 10 ? bcc::tet_edges[static_cast<std::size_t>(q - 4)][0] != v && bcc::tet_edges[static_cast<std::size_t>(q - 4)][1] != v
-                                                   : q - 10 == v);
-                        }
-                        if (on) faces |= 1u << f;
-                    }
-                if (faces) cut_off.push_back({t, static_cast<std::uint8_t>(faces)});
+                if (const unsigned faces = faces_on_cut_off(o, missing)) cut_off.push_back({t, static_cast<std::uint8_t>(faces)});
             }
             if (verify && !s.junction && !s.all_zero) verify_sides(lay, *verify, p, s, mesh, t0, counts);
         }
     });
 }
 
-// The vertices of the lattice and cut points (positions, interface flags).
-void place_points(const Window& w, const Marks& marks, const Numbering& num, TetMesh& mesh, std::vector<std::uint8_t>& on_interface) {
+// The vertices of the lattice and cut points (positions, interface flags,
+// keys).
+void place_points(const MaterialLayout& lay, const Marks& marks, const Numbering& num, MaterialOutput& out) {
+    const Window& w = lay.w;
     const Grid& g = w.grid;
     const int planes = g.hi[2] - g.lo[2] + 1;
 #pragma omp parallel for schedule(dynamic, 1)
@@ -396,119 +494,129 @@ void place_points(const Window& w, const Marks& marks, const Numbering& num, Tet
             if (marks.point[static_cast<std::size_t>(p)]) {
                 const std::size_t v = static_cast<std::size_t>(num.id[static_cast<std::size_t>(p)]);
                 const bool warped = w.warp[static_cast<std::size_t>(p)] != bcc::stay;
-                mesh.vertices[v] = warped ? w.point_position(p) : w.lattice_position(q);
-                on_interface[v] = warped;
+                out.mesh.vertices[v] = warped ? w.point_position(p) : w.lattice_position(q);
+                out.on_interface[v] = warped;
+                if (lay.keyed) out.vertex_key[v] = lay.keys.point(q);
             }
             std::size_t v = static_cast<std::size_t>(num.cut_id[static_cast<std::size_t>(p)]);
-            for (int s = 0; s < 7; ++s)
-                if (cut >> s & 1u) mesh.vertices[v] = w.cut_position(q, s, w.u(p, s)), on_interface[v++] = 1;
+            for (int s = 0; s < 7; ++s) {
+                if (!(cut >> s & 1u)) continue;
+                out.mesh.vertices[v] = w.cut_position(q, s, w.u(p, s)), out.on_interface[v] = 1;
+                if (lay.keyed) out.vertex_key[v] = lay.keys.cut(q, s);
+                ++v;
+            }
         }
 }
 
-struct FaceRef {
-    std::array<std::int32_t, 3> sorted;
-    std::int64_t tet;
-    int opposite;
-    bool operator<(const FaceRef& o) const { return std::tie(sorted, tet, opposite) < std::tie(o.sorted, o.tet, o.opposite); }
-};
-
-// The boundary and the interfaces: the faces with three interface vertices
-// and those on the cut-off, matched by sorting (mesh3d.hpp).
-void find_faces(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<const CutOff> cut_off) {
-    std::vector<FaceRef> faces;
-    std::vector<std::uint8_t> off_faces;  // per cut_off entry: matched below
-    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-        const auto& tet = mesh.tets[t];
-        for (int v = 0; v < 4; ++v) {
-            const auto& f = outward_face[static_cast<std::size_t>(v)];
-            std::array<std::int32_t, 3> s{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
-            if (!(on[static_cast<std::size_t>(s[0])] && on[static_cast<std::size_t>(s[1])] && on[static_cast<std::size_t>(s[2])])) continue;
-            std::sort(s.begin(), s.end());
-            faces.push_back({s, static_cast<std::int64_t>(t), v});
-        }
-    }
-    for (const CutOff& c : cut_off)
-        for (int v = 0; v < 4; ++v) {
-            if (!(c.second >> v & 1u)) continue;
-            const auto& tet = mesh.tets[static_cast<std::size_t>(c.first)];
-            const auto& f = outward_face[static_cast<std::size_t>(v)];
-            std::array<std::int32_t, 3> s{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
-            std::sort(s.begin(), s.end());
-            faces.push_back({s, c.first, v});
-        }
-    std::sort(faces.begin(), faces.end());
-    faces.erase(std::unique(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) { return a.sorted == b.sorted && a.tet == b.tet; }),
-                faces.end());
-    const auto outward = [&](const FaceRef& r) {
-        const auto& tet = mesh.tets[static_cast<std::size_t>(r.tet)];
-        const auto& f = outward_face[static_cast<std::size_t>(r.opposite)];
-        return std::array<std::int32_t, 3>{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
-    };
-    for (std::size_t i = 0; i < faces.size();) {
-        std::size_t j = i + 1;
-        while (j < faces.size() && faces[j].sorted == faces[i].sorted) ++j;
-        if (j - i > 2) throw std::logic_error("mesh_bcc_materials: a face in three tetrahedra");
-        const FaceRef& a = faces[i];
-        if (j - i == 1) {
-            const bool level = on[static_cast<std::size_t>(a.sorted[0])] && on[static_cast<std::size_t>(a.sorted[1])] && on[static_cast<std::size_t>(a.sorted[2])];
-            mesh.boundary.push_back(outward(a));
-            mesh.boundary_tag.push_back(level ? boundary_level_set : boundary_domain);
-        } else if (mesh.region[static_cast<std::size_t>(a.tet)] != mesh.region[static_cast<std::size_t>(faces[i + 1].tet)]) {
-            mesh.interfaces.push_back(outward(a));  // from a's tetrahedron (the first in order) into the other
-            mesh.interface_regions.push_back({mesh.region[static_cast<std::size_t>(a.tet)], mesh.region[static_cast<std::size_t>(faces[i + 1].tet)]});
-        }
-        i = j;
+// The junction face points, each the average of its face's three cut points.
+void place_face_points(const MaterialLayout& lay, const Places& at, MaterialOutput& out) {
+    for (std::size_t i = 0; i < at.faces.size(); ++i) {
+        const Key3& k = at.faces[i].points;
+        const Point3 a = cut_between(lay.w, k[0], k[1]), b = cut_between(lay.w, k[1], k[2]), c = cut_between(lay.w, k[2], k[0]);
+        const std::size_t v = static_cast<std::size_t>(at.face_base) + i;
+        out.mesh.vertices[v] = {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+        out.on_interface[v] = 1;
+        if (lay.keyed) out.vertex_key[v] = at.faces[i].key;
     }
 }
 
-// Number every vertex and write the mesh (pass B).
-TetMesh assemble(const MaterialLayout& lay, const MaterialField3& field, const Marks& marks, std::vector<LayerCount>& layers,
-                 const BccOptions& options, std::vector<std::uint8_t>& on_interface, std::int64_t& cut_points) {
-    const std::uint64_t max_memory = options.max_memory;
-    const Window& w = lay.w;
+// The numbering of every vertex kind (mesh3d.hpp's vertex order), from pass A.
+Places places_of(const MaterialLayout& lay, const Marks& marks, std::vector<LayerCount>& layers) {
     Places at;
-    at.num = number(w.grid, marks);
-    cut_points = at.num.cuts;
-    for (auto& l : layers) at.faces.insert(at.faces.end(), l.faces.begin(), l.faces.end()), std::vector<Key3>().swap(l.faces);
+    at.num = number(lay.w.grid, marks);
+    for (auto& l : layers) at.faces.insert(at.faces.end(), l.faces.begin(), l.faces.end()), std::vector<FacePoint>().swap(l.faces);
     std::sort(at.faces.begin(), at.faces.end());
-    at.faces.erase(std::unique(at.faces.begin(), at.faces.end()), at.faces.end());
+    at.faces.erase(std::unique(at.faces.begin(), at.faces.end(), [](const FacePoint& a, const FacePoint& b) { return a.key == b.key; }),
+                   at.faces.end());
     at.face_base = at.num.points + at.num.cuts;
     at.centre_base = at.face_base + static_cast<std::int64_t>(at.faces.size());
     at.tet_start.assign(layers.size() + 1, 0), at.centre_start.assign(layers.size() + 1, 0);
     for (std::size_t l = 0; l < layers.size(); ++l)
         at.tet_start[l + 1] = at.tet_start[l] + layers[l].tets, at.centre_start[l + 1] = at.centre_start[l] + layers[l].centres;
+    return at;
+}
+
+// Number every vertex and write the mesh (pass B).
+MaterialOutput assemble(const MaterialLayout& lay, const Marks& marks, std::vector<LayerCount>& layers, std::uint64_t max_memory,
+                        const BccKeyClaims* verify) {
+    const Places at = places_of(lay, marks, layers);
     const std::int64_t tets = at.tet_start.back(), vertices = at.centre_base + at.centre_start.back();
     if (tets >= INT32_MAX || vertices >= INT32_MAX)
         throw OptionError("spacing", "the 3D mesh would have more than 2^31 tetrahedra or vertices; choose a larger {spacing}");
-    check_memory(static_cast<std::uint64_t>(tets) * 20 + static_cast<std::uint64_t>(vertices) * 25, max_memory,
+    const std::uint64_t keyed = lay.keyed ? 8 : 0;
+    check_memory(static_cast<std::uint64_t>(tets) * (20 + keyed) + static_cast<std::uint64_t>(vertices) * (25 + keyed), max_memory,
                  "the 3D mesh of " + std::to_string(tets) + " tetrahedra", "about 24 bytes a tetrahedron", "choose a larger {spacing}");
-    TetMesh mesh;
-    mesh.vertices.resize(static_cast<std::size_t>(vertices));
-    mesh.tets.resize(static_cast<std::size_t>(tets));
-    mesh.region.resize(static_cast<std::size_t>(tets));
-    on_interface.assign(static_cast<std::size_t>(vertices), 0);
-    place_points(w, marks, at.num, mesh, on_interface);
-    for (std::size_t i = 0; i < at.faces.size(); ++i) {
-        const Key3& k = at.faces[i];
-        const Point3 a = cut_between(w, k[0], k[1]), b = cut_between(w, k[1], k[2]), c = cut_between(w, k[2], k[0]);
-        mesh.vertices[static_cast<std::size_t>(at.face_base) + i] = {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
-        on_interface[static_cast<std::size_t>(at.face_base) + i] = 1;
-    }
+    MaterialOutput out;
+    out.cut_points = at.num.cuts;
+    out.mesh.vertices.resize(static_cast<std::size_t>(vertices));
+    out.mesh.tets.resize(static_cast<std::size_t>(tets));
+    out.mesh.region.resize(static_cast<std::size_t>(tets));
+    out.on_interface.assign(static_cast<std::size_t>(vertices), 0);
+    if (lay.keyed) out.vertex_key.resize(static_cast<std::size_t>(vertices)), out.tet_key.resize(static_cast<std::size_t>(tets));
+    place_points(lay, marks, at.num, out);
+    place_face_points(lay, at, out);
     std::vector<std::vector<CutOff>> cut_off(layers.size());
     std::vector<VerifyCounts> counts(layers.size());
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::int64_t cz = 0; cz < static_cast<std::int64_t>(layers.size()); ++cz)
-        write_layer(lay, field, marks, at, cz, options.verify, mesh, on_interface, cut_off[static_cast<std::size_t>(cz)],
-                    counts[static_cast<std::size_t>(cz)]);
+    for (std::int64_t l = 0; l < static_cast<std::int64_t>(layers.size()); ++l)
+        write_layer(lay, marks, at, l, verify, out, cut_off[static_cast<std::size_t>(l)], counts[static_cast<std::size_t>(l)]);
     VerifyCounts total;
     for (const VerifyCounts& c : counts) total.uncovered += c.uncovered, total.failures += c.failures;
     if (total.uncovered || total.failures)
         throw std::logic_error("mesh_bcc_materials verify: " + std::to_string(total.uncovered) + " keys without a claim in " +
-                               options.verify->source + ", " + std::to_string(total.failures) + " tetrahedra outside their key's claim");
-    std::vector<CutOff> all;
-    for (const auto& c : cut_off) all.insert(all.end(), c.begin(), c.end());
-    find_faces(mesh, on_interface, all);
-    return mesh;
+                               verify->source + ", " + std::to_string(total.failures) + " tetrahedra outside their key's claim");
+    for (const auto& c : cut_off) out.cut_off.insert(out.cut_off.end(), c.begin(), c.end());
+    for (const LayerCount& l : layers) {
+        LayerCount& c = out.count;
+        c.tets += l.tets, c.centres += l.centres, c.all_zero += l.all_zero, c.filled += l.filled, c.voids += l.voids;
+        c.junctions += l.junctions, c.junction_tets += l.junction_tets;
+    }
+    return out;
+}
+
+void check_material_options(const BccOptions& options) {
+    if (options.face_rule != FaceRule::parity)
+        throw InputError("multi-material 3D meshes split their quads by the parity face rule (face_rule parity); the Delaunay "
+                         "face rule can make the two sides of an interface disagree");
+    check_options(options);
+}
+
+// The window's points' materials (the field's, or outside_code), their cut
+// points and closest-first warping (`blocked`: with taint, for blocks).
+void prepare_materials(const MaterialField3& field, const BccOptions& options, bool keep_background, bool blocked, Window& w,
+                       Buffer<std::uint16_t>& material) {
+    const std::size_t n = static_cast<std::size_t>(w.grid.count());
+    check_memory(static_cast<std::uint64_t>(n) * 12, options.max_memory, "the 3D lattice of " + std::to_string(n) + " points",
+                 "about 12 bytes a lattice point", "choose a larger {spacing}");
+    material.resize(n);
+    w.sign.resize(n);
+    const int planes = w.grid.hi[2] - w.grid.lo[2] + 1;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int z = 0; z < planes; ++z)
+        for (std::int64_t p = w.grid.plane_start[static_cast<std::size_t>(z)]; p < w.grid.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
+            const int m = field.material_at(w.grid.lattice.position(w.grid.point_in_plane(z, p)));
+            material[static_cast<std::size_t>(p)] = m == outside_material ? outside_code : static_cast<std::uint16_t>(m);
+            w.sign[static_cast<std::size_t>(p)] = -1;  // warp_points sets 0 on the warped points
+        }
+    find_material_cuts(field, std::span<const std::uint16_t>(material.data(), n), !keep_background, w);
+    warp_points(options.alphas, w, blocked);
+}
+
+// The output of the cubes `range` of a prepared window (keyed: with global
+// keys; verify: every two-material tetrahedron checked).
+MaterialOutput emit_materials(const MaterialField3& field, const Window& w, const Buffer<std::uint16_t>& material, const CubeRange& range,
+                              const BccOptions& options, bool keep_background, bool keyed, const BccKeyClaims* verify) {
+    const std::size_t n = static_cast<std::size_t>(w.grid.count());
+    const MaterialLayout lay(w, field, options.fill_claim, std::span<const std::uint16_t>(material.data(), n), keep_background, range, keyed);
+    Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
+    std::vector<LayerCount> layers = count_and_mark(lay, marks);
+    return assemble(lay, marks, layers, options.max_memory, verify);
+}
+
+std::vector<std::pair<std::int32_t, std::string>> output_names(const MaterialField3& field, bool keep_background) {
+    std::vector<std::pair<std::int32_t, std::string>> names;
+    for (int m = keep_background ? 0 : 1; m < field.count(); ++m) names.emplace_back(field.tag(m), field.name(m));
+    return names;
 }
 
 }  // namespace
@@ -516,50 +624,45 @@ TetMesh assemble(const MaterialLayout& lay, const MaterialField3& field, const M
 
 BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background) {
     using namespace uniform3d;
-    if (options.face_rule != FaceRule::parity)
-        throw InputError("multi-material 3D meshes split their quads by the parity face rule (face_rule parity); the Delaunay "
-                         "face rule can make the two sides of an interface disagree");
-    const auto a = options.alphas;
-    if (!(a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
-          2 * a.short_num < a.short_den))
-        throw InputError("the alphas must lie in (0, 1/2)");
+    check_material_options(options);
     const ThreadCount threads(options.threads);
     const auto start = std::chrono::steady_clock::now();
     Window w;
     w.grid = Grid::whole(lattice);
-    const std::size_t n = static_cast<std::size_t>(w.grid.count());
-    check_memory(static_cast<std::uint64_t>(n) * 12, options.max_memory, "the 3D lattice of " + std::to_string(n) + " points",
-                 "about 12 bytes a lattice point", "choose a larger {spacing}");
-    Buffer<std::uint16_t> material(n);
-    w.sign.resize(n);
-    const int planes = w.grid.hi[2] - w.grid.lo[2] + 1;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int z = 0; z < planes; ++z)
-        for (std::int64_t p = w.grid.plane_start[static_cast<std::size_t>(z)]; p < w.grid.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
-            const int m = field.material_at(w.grid.lattice.position(w.grid.point_in_plane(z, p)));
-            material[static_cast<std::size_t>(p)] =
-                m == outside_material ? outside_code : static_cast<std::uint16_t>(m);
-            w.sign[static_cast<std::size_t>(p)] = -1;  // warp_points sets 0 on the warped points
-        }
-    find_material_cuts(field, std::span<const std::uint16_t>(material.data(), n), !keep_background, w);
-    warp_points(options.alphas, w, false);
-    const MaterialLayout lay(w, field, options.fill_claim, std::span<const std::uint16_t>(material.data(), n), field.count(), keep_background);
-    Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
-    std::vector<LayerCount> layers = count_and_mark(lay, marks);
-    BccMesh out;
-    for (const LayerCount& l : layers)
-        out.all_zero_left_out += l.all_zero - l.filled, out.all_zero_filled += l.filled, out.all_zero_voids += l.voids, out.junction_background_tets += l.junctions, out.junction_tets += l.junction_tets;
-    std::vector<std::uint8_t> on_interface;
-    out.mesh = assemble(lay, field, marks, layers, options, on_interface, out.cut_points);
-    out.verified = options.verify != nullptr;
-    if (out.mesh.tets.empty())
+    Buffer<std::uint16_t> material;
+    prepare_materials(field, options, keep_background, false, w, material);
+    MaterialOutput e = emit_materials(field, w, material, CubeRange{{0, 0, 0}, lattice.cubes}, options, keep_background, false, options.verify);
+    if (e.mesh.tets.empty())
         throw InputError("no tetrahedron of any material at spacing " + std::to_string(lattice.spacing) + " (" + field.describe() + ")");
-    for (int m = keep_background ? 0 : 1; m < field.count(); ++m) out.mesh.region_names.emplace_back(field.tag(m), field.name(m));
+    find_boundary(e.mesh, e.on_interface, e.cut_off);
+    BccMesh out;
+    out.mesh = std::move(e.mesh);
+    out.mesh.region_names = output_names(field, keep_background);
+    const LayerCount& c = e.count;
+    out.all_zero_left_out = c.all_zero - c.filled, out.all_zero_filled = c.filled, out.all_zero_voids = c.voids;
+    out.junction_background_tets = c.junctions, out.junction_tets = c.junction_tets;
+    out.cut_points = e.cut_points;
+    out.verified = options.verify != nullptr;
     out.lattice_points = lattice.point_count();
     out.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
     out.warped = w.warp_count;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
+}
+
+TetBlock mesh_bcc_materials_block(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background,
+                                  const CubeRange& block) {
+    using namespace uniform3d;
+    check_material_options(options);
+    check_block(lattice, block, "mesh_bcc_materials_block");
+    const ThreadCount threads(options.threads);
+    Buffer<std::uint16_t> material;
+    const Window w = block_window(lattice, block, [&](Window& win) { prepare_materials(field, options, keep_background, true, win, material); });
+    MaterialOutput e = emit_materials(field, w, material, block, options, keep_background, true, nullptr);
+    TetBlock b = make_block(std::move(e.vertex_key), e.mesh.vertices, std::move(e.on_interface), e.mesh.tets, std::move(e.tet_key), e.cut_off);
+    b.region.assign(e.mesh.region.begin(), e.mesh.region.end());
+    b.region_names = output_names(field, keep_background);
+    return b;
 }
 
 }  // namespace warpmesh

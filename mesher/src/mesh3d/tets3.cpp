@@ -116,13 +116,6 @@ struct Layout {
     }
 };
 
-template <class Body>
-void for_cubes_in_layer(const CubeRange& r, std::int64_t cz, Body&& body) {
-    for (std::int64_t cy = r.lo[1]; cy < r.hi[1]; ++cy)
-        for (std::int64_t cx = r.lo[0]; cx < r.hi[0]; ++cx)
-            body(bcc::Ivec{static_cast<int>(2 * cx), static_cast<int>(2 * cy), static_cast<int>(2 * cz)}, cx, cy);
-}
-
 // Pass A: the tetrahedra of each layer (prefix sums: layer l starts at
 // start[l]) and the used marks.
 std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& range, Marks& marks) {

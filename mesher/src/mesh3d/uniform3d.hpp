@@ -7,17 +7,18 @@
 //   stencils3.cpp    the stencil tables (generic_bcc.hpp's stencil_with) and faces
 //   face_rule3.cpp   the Delaunay face rule's exact decisions (stage 5's helper)
 //   tets3.cpp        background tetrahedra → output tetrahedra, two passes
-//   assembly3.cpp    vertices, boundary faces, blocks and their merge, mesh_bcc
-//   materials3.cpp   multi-material meshes (mesh_bcc_materials): the points' materials,
-//                    the junction stencils, boundary and interfaces
+//   assembly3.cpp    vertices, boundary faces and interfaces, blocks (their
+//                    windows) and their merge, mesh_bcc
+//   materials3.cpp   multi-material meshes (mesh_bcc_materials, of the whole lattice
+//                    or a block): the points' materials, the junction stencils
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
-
-#include <optional>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -110,6 +111,15 @@ inline bool in_lattice(const Lattice3& L, const bcc::Ivec& q) {
         if (q[a] < odd || q[a] > 2 * L.cubes[a] - odd) return false;
     }
     return true;
+}
+
+// The cubes of layer cz (cube index along z) of a range, in (y, x) order:
+// body(m, cx, cy), m the cube's lowest corner in doubled coordinates.
+template <class Body>
+void for_cubes_in_layer(const CubeRange& r, std::int64_t cz, Body&& body) {
+    for (std::int64_t cy = r.lo[1]; cy < r.hi[1]; ++cy)
+        for (std::int64_t cx = r.lo[0]; cx < r.hi[0]; ++cx)
+            body(bcc::Ivec{static_cast<int>(2 * cx), static_cast<int>(2 * cy), static_cast<int>(2 * cz)}, cx, cy);
 }
 
 // The per-point data of a window through the stages.
@@ -253,10 +263,32 @@ Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint6
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N.
 bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max);
 
-// The boundary faces of a mesh whose level-set vertices are flagged: the
-// faces on the lattice's cut-off, and the unmatched ones of the candidate
-// faces with all three vertices on the level set; throws std::logic_error
-// for a face in three tetrahedra.
+// The boundary faces of a mesh whose level-set (or interface) vertices are
+// flagged: the faces on the lattice's cut-off, and the unmatched ones of the
+// candidate faces with all three vertices flagged; and its interfaces: the
+// matched candidates whose two tetrahedra's regions (mesh.region, set
+// before) differ, oriented out of the tetrahedron that comes first.  Both
+// lists sorted by their vertex triples.  Throws std::logic_error for a face
+// in three tetrahedra.
 void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const CutOff> cut_off);
+
+// Throws InputError for alphas not in (0, 1/2) or an unknown face rule.
+void check_options(const BccOptions& o);
+// Throws InputError unless 0 <= lo <= hi <= lattice.cubes (`what` names the
+// caller).
+void check_block(const Lattice3& lattice, const CubeRange& block, const std::string& what);
+// Blocks: a window around `block` whose decisions on the block's points are
+// the whole lattice's.  For halo = 2, 4, 8, ..., `prepare(w)` fills the
+// window of the cubes [lo − halo, hi + halo) ∩ the lattice (w.grid, set
+// beforehand) — samples, cuts and warps it with warp_points(..., blocked =
+// true) — until no tainted point has doubled coordinates in [2 lo − 1, 2 hi]
+// (every vertex of the block's background tetrahedra) or the window is the
+// whole lattice.
+Window block_window(const Lattice3& lattice, const CubeRange& block, const std::function<void(Window&)>& prepare);
+// A block of the given vertices (keys, positions, level-set or interface
+// flags) and tetrahedra (keys; lattice_edge from the cut-off faces), one
+// region (TetBlock::region empty).
+TetBlock make_block(std::vector<std::uint64_t>&& vertex_key, std::span<const Point3> vertices, std::vector<std::uint8_t>&& on,
+                    std::span<const std::array<std::int32_t, 4>> tets, std::vector<std::uint64_t>&& tet_key, std::span<const CutOff> cut_off);
 
 }  // namespace warpmesh::uniform3d

@@ -36,6 +36,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "warpmesh/core/memory.hpp"
@@ -172,11 +173,15 @@ BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& 
 // faces are then boundary faces: a void of the α-band's thickness or less).
 // With options.verify, every tetrahedron of a two-material background
 // tetrahedron is checked against its side's key claim (each side is a
-// one-region key); junction tetrahedra have no key yet.  Vertex order: lattice points, cut
-// points (as mesh_bcc), then the face points of junction faces (by their
-// vertices' lattice indices), then the junctions' centres (in tetrahedron
-// order).  `region_names` lists every output material.  Throws InputError as
-// mesh_bcc does, and for a mesh with no tetrahedron.
+// one-region key); junction tetrahedra have no key yet.  Vertex order:
+// lattice points, cut points (as mesh_bcc), then the face points of
+// junction faces, by (the face's lowest lattice point's index, the forward
+// slots s1 < s2 of its two edges from that point), then the junctions'
+// centres, in the order of their background tetrahedra (cube, index);
+// tetrahedra in the order of their background tetrahedron (cube, index),
+// then the stencil's.  The interfaces, like the boundary, are sorted by their
+// vertex triples.  `region_names` lists every output material.  Throws
+// InputError as mesh_bcc does, and for a mesh with no tetrahedron.
 class MaterialField3;
 BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background);
 
@@ -190,23 +195,54 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
 // index + the edge's slot among the 7 forward directions).  merge_tet_blocks
 // of blocks that tile the lattice's cubes equals mesh_bcc(f, lattice,
 // options) exactly: vertices, tetrahedra, boundary and tags.
+//
+// Multi-material blocks (mesh_bcc_materials_block) do the same for
+// mesh_bcc_materials: the block's window is grown until no point of its
+// background tetrahedra is decided differently from the whole lattice, and
+// the keys, with P = point_count(), follow mesh_bcc_materials' order:
+// lattice points and cut points as above; the face point of a junction face
+// 8P + 49 × (its lowest point's index) + 7 s1 + s2 (the forward slots s1 <
+// s2 of the face's two edges from that point); the centre of background
+// tetrahedron i (background_tet's index) of cube c (its index in (z, y, x)
+// order) 57P + 12c + i; tetrahedra 24 (12c + i) + k, k the stencil's order
+// (one-region blocks' tetrahedra: 48c + 4i + k).  Their merge equals
+// mesh_bcc_materials(field, lattice, options, keep_background) exactly:
+// vertices, tetrahedra, regions, boundary and tags, interfaces and their
+// regions, region_names.
 struct CubeRange {
     std::array<std::int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};
 };
 struct TetBlock {
     std::vector<std::uint64_t> vertex_key;        // sorted, one per vertex
     std::vector<Point3> vertices;
-    std::vector<std::uint8_t> on_level_set;       // per vertex: zero lattice point or cut point
+    // Per vertex: one region, a zero lattice point or a cut point (on the
+    // level set); several materials, a vertex on an interface (a warped
+    // lattice point, a cut point, a junction's face point or centre).  The
+    // merge's boundary and interface faces have three such vertices or lie
+    // on the lattice's cut-off.
+    std::vector<std::uint8_t> on_level_set;
     std::vector<std::array<std::int32_t, 4>> tets;  // indices into vertices
     std::vector<std::uint64_t> tet_key;           // sorted: the tetrahedra's global order
     std::vector<std::uint8_t> lattice_edge;       // per tet: bit f set if its face without vertex f is on the lattice's cut-off
+    // Several materials: per tet its region tag, and the mesh's region_names
+    // (the same in every block).  Both empty for one region (tag 1).
+    std::vector<std::int32_t> region;
+    std::vector<std::pair<std::int32_t, std::string>> region_names;
 };
 // Throws InputError unless 0 <= lo <= hi <= lattice.cubes (options.verify is
 // not used: blocks are not verified).
 TetBlock mesh_bcc_block(const LevelSet3& f, const Lattice3& lattice, const BccOptions& options, const CubeRange& block);
+// The cubes [lo, hi) of mesh_bcc_materials(field, lattice, options,
+// keep_background).  Throws InputError as mesh_bcc_materials does for bad
+// options and unless 0 <= lo <= hi <= lattice.cubes; a block with no
+// tetrahedron is not an error (options.verify is not used).
+TetBlock mesh_bcc_materials_block(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background,
+                                  const CubeRange& block);
 // Merge blocks tiling the lattice (any order): vertices by key, tetrahedra by
-// key, boundary faces found as in mesh_bcc.  Throws std::invalid_argument if
-// two blocks give the same key different positions or a tetrahedron twice.
+// key with their regions, boundary faces and interfaces found as in mesh_bcc
+// and mesh_bcc_materials.  Throws std::invalid_argument if two blocks give
+// the same key different positions or a tetrahedron twice, or name their
+// regions differently.
 TetMesh merge_tet_blocks(std::span<const TetBlock> blocks);
 
 }  // namespace warpmesh
