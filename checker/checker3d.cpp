@@ -1769,10 +1769,14 @@ int check_junctions(const std::vector<std::string>& body, bool progress) {
                  " deg of the claim");
     }
     long leaves = 0;
-    for (std::size_t i = 0; i < keys.size(); ++i) {
+    const bool terminal = ::isatty(STDERR_FILENO) == 1;
+    for (std::size_t i = 0; i < keys.size(); ++i) {  // a progress line per key, rewritten in place on a terminal
         for (const JFace& f : keys[i].face) leaves += replay(f.m, f.tets, f.root, f.splits, entries[i].claim, false);
-        if (progress) std::cerr << "checked " << i + 1 << " of " << keys.size() << " junction keys, " << leaves << " leaves\n" << std::flush;
+        if (progress)
+            std::cerr << (terminal ? "\r" : "") << "checked " << i + 1 << " of " << keys.size() << " junction keys, " << leaves << " leaves"
+                      << (terminal ? "\033[K" : "\n") << std::flush;
     }
+    if (progress && terminal) std::cerr << "\r\033[K";
     print_theorem(al + ", " + as + ", junction keys", text, claim, entries, wit, ext, leaves);
     return 0;
 }

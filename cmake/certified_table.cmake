@@ -16,7 +16,7 @@
 # and --verify, mesher/src/certify/bcc_claim.cpp, read it there).
 # The junction keys' certificate proofs/bcc_junctions.cert (multi-material
 # meshes) as certified_bcc_junction_keys: its `alphas` line and per key
-# "CODE CMIN CMAX" (warpmesh_bcc_junction_table_text), parsed there too.
+# "CODE CMIN CMAX" (warpmesh_bcc_table_text), parsed there too.
 # Regenerated whenever a certificate changes (CMAKE_CONFIGURE_DEPENDS), and
 # when proofs/bcc_delaunay.cert or proofs/bcc_junctions.cert appears or goes
 # (CONFIGURE_DEPENDS globs).
@@ -24,7 +24,11 @@
 # "certified": null for that rule.  Used by the main build and by the fuzz
 # build (tests/fuzz), so that both compile the same table.
 
-# The 3D table text of one certificate (empty when it is missing).
+# The 3D table text of one certificate (empty when it is missing): its
+# `face-rule` and `alphas` lines and per key "CODE CMIN CMAX", from a key line
+# "key CODE m <root box> CMIN CMAX CFACE ..." (bcc.cert, bcc_delaunay.cert)
+# or "key CODE CMIN CMAX CFACE" (bcc_junctions.cert: its face lines are not
+# compiled in).
 function(warpmesh_bcc_table_text cert out)
   set(text "")
   if(EXISTS ${cert})
@@ -39,24 +43,8 @@ function(warpmesh_bcc_table_text cert out)
         if(line MATCHES "^key ([^ ]+) [0-9]${skip} ([0-9]+/1099511627776) ([0-9]+/1099511627776) ")
           string(APPEND text "${CMAKE_MATCH_1} ${CMAKE_MATCH_2} ${CMAKE_MATCH_3}\n")
         endif()
-      endif()
-    endforeach()
-  endif()
-  set(${out} "${text}" PARENT_SCOPE)
-endfunction()
-
-# The junction keys' table text (proofs/bcc_junctions.cert, empty when it is
-# missing): its `alphas` line and per key "CODE CMIN CMAX" from the key's line
-# "key CODE CMIN CMAX CFACE" (its face lines are not compiled in).
-function(warpmesh_bcc_junction_table_text cert out)
-  set(text "")
-  if(EXISTS ${cert})
-    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${cert})
-    file(STRINGS ${cert} lines REGEX "^(key|alphas) ")
-    foreach(line IN LISTS lines)
-      if(line MATCHES "^alphas ")
-        string(APPEND text "${line}\n")
       elseif(line MATCHES "^key ([^ ]+) ([0-9]+/1099511627776) ([0-9]+/1099511627776) [0-9]+/1099511627776$")
+        # A junction key's line (proofs/bcc_junctions.cert): its claim alone.
         string(APPEND text "${CMAKE_MATCH_1} ${CMAKE_MATCH_2} ${CMAKE_MATCH_3}\n")
       endif()
     endforeach()
@@ -98,7 +86,7 @@ function(warpmesh_certified_table out root)
   if(NOT junction_cert)
     message(STATUS "warpmesh: no proofs/bcc_junctions.cert; multi-material junction tetrahedra are not certified")
   endif()
-  warpmesh_bcc_junction_table_text(${root}/proofs/bcc_junctions.cert text)
+  warpmesh_bcc_table_text(${root}/proofs/bcc_junctions.cert text)
   string(APPEND cpp "extern const std::string_view certified_bcc_junction_keys;\nconst std::string_view certified_bcc_junction_keys = R\"WMCERT(${text})WMCERT\";\n")
   string(APPEND cpp "}  // namespace warpmesh::generated\n")
   file(CONFIGURE OUTPUT ${out} CONTENT "${cpp}" @ONLY)

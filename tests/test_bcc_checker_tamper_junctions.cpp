@@ -31,12 +31,6 @@ std::vector<std::string> cert() {
     return l;
 }
 
-std::string join(const std::vector<std::string>& f) {
-    std::string s;
-    for (const auto& w : f) s += (s.empty() ? "" : " ") + w;
-    return s;
-}
-
 // The first face line whose split string starts with a split, and its fields:
 // "face F m" + 2m root ends, then m + m + m witness coordinates (min, max,
 // face), then SPLITS.
@@ -101,22 +95,22 @@ BOOST_AUTO_TEST_CASE(key_code_repeated_not_canonical_or_malformed) {
     auto a = l;
     auto f = fields(a[k2]);
     f[1] = fields(a[k])[1];
-    a[k2] = join(f);
+    a[k2] = join_fields(f);
     expect_bcc_rejected(a, "jrepeated", "unexpected or repeated");
     auto b = l;
     f = fields(b[k]);
     f[1] = "b,b,a,c/0";  // not by first appearance
-    b[k] = join(f);
+    b[k] = join_fields(f);
     expect_bcc_rejected(b, "jletters", "unexpected or repeated");
     auto c = l;
     f = fields(c[k]);
     f[1] = "a,b,c,c/0";  // an image of a,a,b,c/0 (the pairs exchanged, re-lettered): consistent, not canonical
-    c[k] = join(f);
+    c[k] = join_fields(f);
     expect_bcc_rejected(c, "jnoncanonical", "unexpected or repeated");
     auto d = l;
     f = fields(d[k]);
     f[1] = "a,a,b,0s/0";  // a warp that is no direction
-    d[k] = join(f);
+    d[k] = join_fields(f);
     expect_bcc_rejected(d, "jcode", "bad junction key code");
     auto e = l;
     e[k] = "key " + fields(l[k])[1] + " 1/2 1/2";  // a claim missing
@@ -130,13 +124,13 @@ BOOST_AUTO_TEST_CASE(key_claim_beyond_a_witness_or_not_the_extremes) {
         auto a = l;
         auto f = fields(a[k]);
         f[j] = "258427994931/1099511627776";
-        a[k] = join(f);
+        a[k] = join_fields(f);
         expect_bcc_rejected(a, "jkeyclaim" + std::to_string(j), "contradicts its key's claim");
     }
     auto b = l;  // the global claim stronger than every key's
     auto c = fields(b[line_of(b, "claim")]);
     c[1] = "258427994931/1099511627776";
-    b[line_of(b, "claim")] = join(c);
+    b[line_of(b, "claim")] = join_fields(c);
     expect_bcc_rejected(b, "jclaim", "not the keys' extremes");
 }
 
@@ -154,7 +148,7 @@ BOOST_AUTO_TEST_CASE(theorem_loosened_is_not_tight) {
         auto kf = fields(l[k]);
         const std::string loose = j != 1 ? "1099511627775/1099511627776" : "1099511627000/1099511627776";  // 0.05 / 179.9 deg
         kf[2 + j] = loose, cf[1 + j] = loose;
-        l[k] = join(kf), l[c] = join(cf);
+        l[k] = join_fields(kf), l[c] = join_fields(cf);
         const char* kind[3] = {"min", "max", "face"};
         expect_bcc_rejected(l, std::string("jloose") + kind[j], std::string("theorem's ") + kind[j] + " witness");
     }
@@ -169,7 +163,7 @@ BOOST_AUTO_TEST_CASE(face_index_or_parameter_count_changed) {
     auto b = l;
     auto f = fields(b[k + 1]);
     f[2] = std::to_string(std::stoul(f[2]) + 1);
-    b[k + 1] = join(f);
+    b[k + 1] = join_fields(f);
     expect_bcc_rejected(b, "jfacecount", "wrong parameter count");
     auto c = l;
     c[k + 1] = "fase" + c[k + 1].substr(4);
@@ -183,13 +177,13 @@ BOOST_AUTO_TEST_CASE(witness_moved_outside_contradicting_or_garbled) {
         auto a = l;
         auto f = ff.f;
         f[w] = "16777216/16777216";  // t or u = 1: outside [0, alpha] and [alpha, 1 - alpha]
-        a[ff.line] = join(f);
+        a[ff.line] = join_fields(f);
         expect_bcc_rejected(a, "jwoutside" + std::to_string(w), "witness outside");
     }
     auto b = l;
     auto f = ff.f;
     f[ff.wmax] = "1/3";
-    b[ff.line] = join(f);
+    b[ff.line] = join_fields(f);
     expect_bcc_rejected(b, "jwnondyadic", "not dyadic");
     // The key's min claim tightened to its own witness's angle less 2^-40:
     // some face's min witness then contradicts it.
@@ -198,7 +192,7 @@ BOOST_AUTO_TEST_CASE(witness_moved_outside_contradicting_or_garbled) {
     auto kf = fields(c[k]);
     const std::string num = kf[2].substr(0, kf[2].find('/'));
     kf[2] = std::to_string(std::stoll(num) - 1000000000) + "/1099511627776";  // about 0.05 deg stronger
-    c[k] = join(kf);
+    c[k] = join_fields(kf);
     expect_bcc_rejected(c, "jwcontradicts", "contradicts its key's claim");
 }
 
@@ -208,12 +202,12 @@ BOOST_AUTO_TEST_CASE(root_box_narrowed_or_leaf_boxes_changed) {
     auto a = l;
     auto f = ff.f;
     f[3] = "0/1048576", f[4] = "1/1048576";  // the first side no longer reaches the exact box's end
-    a[ff.line] = join(f);
+    a[ff.line] = join_fields(f);
     expect_bcc_rejected(a, "jroot", "root box does not contain");
     auto b = l;
     f = ff.f;
     f.back() = "0";  // the root box declared a leaf
-    b[ff.line] = join(f);
+    b[ff.line] = join_fields(f);
     expect_bcc_rejected(b, "jleaf", "leaf not verified");
     // Two sibling leaves merged into their parent (a split followed by two
     // leaves becomes one leaf): a box the prover had to split.  (Another
@@ -225,16 +219,16 @@ BOOST_AUTO_TEST_CASE(root_box_narrowed_or_leaf_boxes_changed) {
     while (at + 2 < f.back().size() && !(f.back()[at] != '0' && f.back()[at + 1] == '0' && f.back()[at + 2] == '0')) ++at;
     BOOST_REQUIRE(at + 2 < f.back().size());
     f.back().replace(at, 3, "0");
-    c[ff.line] = join(f);
+    c[ff.line] = join_fields(f);
     expect_bcc_rejected(c, "jmerged", "leaf not verified");
     auto d = l;
     f = ff.f;
     f.back() += "0";
-    d[ff.line] = join(f);
+    d[ff.line] = join_fields(f);
     expect_bcc_rejected(d, "jlong", "split string too long");
     auto e = l;
     f = ff.f;
     f.back()[0] = static_cast<char>('1' + ff.m);
-    e[ff.line] = join(f);
+    e[ff.line] = join_fields(f);
     expect_bcc_rejected(e, "jside", "bad split string");
 }

@@ -296,16 +296,7 @@ constexpr std::array<int, 9> encode(const JunctionKey& k) {
 
 // The canonical junction key: the smallest image under the 8 symmetries;
 // `*which` gets the index of the symmetry that maps k to it (the first, on ties).
-constexpr JunctionKey canonical(const JunctionKey& k, int* which = nullptr) {
-    JunctionKey best = transform(k, symmetries[0]);
-    int w = 0;
-    for (int i = 1; i < 8; ++i) {
-        const JunctionKey t = transform(k, symmetries[static_cast<std::size_t>(i)]);
-        if (encode(t) < encode(best)) best = t, w = i;
-    }
-    if (which) *which = w;
-    return best;
-}
+constexpr JunctionKey canonical(const JunctionKey& k, int* which = nullptr) { return smallest_image(k, which); }
 
 // The canonical junction key of background tetrahedron p (local order) from
 // its vertices' letters (letters_of, local order) and *global* warp
