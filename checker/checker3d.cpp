@@ -61,6 +61,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <gmp.h>
@@ -489,18 +490,20 @@ std::set<std::array<int, 4>> mapped(const std::vector<Tet>& ts, const std::array
     }
     return s;
 }
+// The image of warp direction w under s's linear part (STAY stays).
+int map_dir(int w, const Sym& s) {
+    if (w == STAY) return STAY;
+    int d[3] = {0, 0, 0};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) d[r] += s.L[r][c] * OFF[w][c];
+    for (int v = 0; v < 14; ++v)
+        if (OFF[v][0] == d[0] && OFF[v][1] == d[1] && OFF[v][2] == d[2]) return v;
+    fail("a symmetry maps a lattice direction to none");
+}
 // The image of k under s, its parity bit the one whose output is the image of k's output.
 Key image(const Key& k, const Sym& s) {
     Key m;
-    for (int i = 0; i < 4; ++i) {
-        m.sign[s.p[i]] = k.sign[i];
-        if (k.warp[i] == STAY) continue;
-        int d[3] = {0, 0, 0};
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) d[r] += s.L[r][c] * OFF[k.warp[i]][c];
-        for (int w = 0; w < 14; ++w)
-            if (OFF[w][0] == d[0] && OFF[w][1] == d[1] && OFF[w][2] == d[2]) m.warp[s.p[i]] = w;
-    }
+    for (int i = 0; i < 4; ++i) m.sign[s.p[i]] = k.sign[i], m.warp[s.p[i]] = map_dir(k.warp[i], s);
     const auto want = mapped(oriented(k), s.p);
     for (m.parity = 0; m.parity < (parity_quad(m) ? 2 : 1); ++m.parity)
         if (mapped(oriented(m), {0, 1, 2, 3}) == want) return m;
@@ -628,8 +631,8 @@ T dot3(const P3<T>& a, const P3<T>& b) {
 // d = n_c·n_d and N = |n_c|²|n_d|² of edge e = (a, b) of tetrahedron t (its
 // own vertex order), faces through the other two vertices c < d:
 // n_c = (p_b − p_a) × (p_c − p_a).
-template <class T>
-void edge_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int e, T& dt, T& nn) {
+template <class T, std::size_t N>
+void edge_forms(const std::array<P3<T>, N>& pt, const Tet& t, int e, T& dt, T& nn) {
     const int a = EDGE[e][0], bb = EDGE[e][1];
     int c = 0;
     while (c == a || c == bb) ++c;
@@ -641,8 +644,8 @@ void edge_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int e, T& dt, T& 
 // s = u·v and M = |u|²|v|² of face angle q of tetrahedron t: at vertex a =
 // q / 3 of the face without vertex o (the (q % 3)-th other vertex), u, v to
 // its other two vertices b < c.
-template <class T>
-void angle_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int q, T& s, T& M) {
+template <class T, std::size_t N>
+void angle_forms(const std::array<P3<T>, N>& pt, const Tet& t, int q, T& s, T& M) {
     const int a = q / 3, o = q % 3 < a ? q % 3 : q % 3 + 1;
     int b = 0;
     while (b == a || b == o) ++b;
@@ -655,8 +658,8 @@ void angle_forms(const std::array<P3<T>, 10>& pt, const Tet& t, int q, T& s, T& 
 // of them >= 0: θ >= θmin); 13 + 2e: d, 14 + 2e: c_max N − 2^40 d² (one >= 0:
 // θ <= θmax); per face angle q: 25 + 2q: −s, 26 + 2q: c_face M − 2^40 s²
 // (one >= 0: φ >= φmin; s degree 2, M degree 4).
-template <class T>
-std::array<T, 49> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const Claim& cl) {
+template <class T, std::size_t N>
+std::array<T, 49> tet_forms(const std::array<P3<T>, N>& pt, const Tet& t, const Claim& cl) {
     std::array<T, 49> f{};
     const P3<T>&p0 = pt[t[0]], &p1 = pt[t[1]], &p2 = pt[t[2]], &p3 = pt[t[3]];
     f[0] = dot3(sub3(p1, p0), cross3(sub3(p2, p0), sub3(p3, p0)));
@@ -679,23 +682,46 @@ std::array<T, 49> tet_forms(const std::array<P3<T>, 10>& pt, const Tet& t, const
     return f;
 }
 // Form f alone (as tet_forms(pt, t, cl)[f], in the same order).
-template <class T>
-T form_at(const std::array<P3<T>, 10>& pt, const Tet& t, int f, const Claim& cl) {
+template <class T, std::size_t N>
+T form_at(const std::array<P3<T>, N>& pt, const Tet& t, int f, const Claim& cl) {
     if (f == 0) return dot3(sub3(pt[t[1]], pt[t[0]]), cross3(sub3(pt[t[2]], pt[t[0]]), sub3(pt[t[3]], pt[t[0]])));
-    T dt{}, nn{}, c{}, two40{};
-    two40.v = point(pow2(40));
+    const auto constant = [](const Z& z) {  // z with no partials
+        T c{};
+        if constexpr (std::is_same_v<T, I>) c = point(z);
+        else c.v = point(z);
+        return c;
+    };
+    T dt{}, nn{};
+    const T two40 = constant(pow2(40));
     if (f >= 25) {
         angle_forms(pt, t, (f - 25) / 2, dt, nn);
         if ((f - 25) % 2 == 0) return T{} - dt;
-        c.v = point(cl.cface);
-        return c * nn - two40 * (dt * dt);
+        return constant(cl.cface) * nn - two40 * (dt * dt);
     }
     const int g = (f - 1) % 12, e = g / 2;
     edge_forms(pt, t, e, dt, nn);
     if (g % 2 == 0) return f < 13 ? T{} - dt : dt;
-    c.v = point(f < 13 ? cl.cmin : cl.cmax);
-    return c * nn - two40 * (dt * dt);
+    return constant(f < 13 ? cl.cmin : cl.cmax) * nn - two40 * (dt * dt);
 }
+// ---- what a leaf is verified on ---------------------------------------------------
+// A one-region key's ten points (points) or a junction face's fifteen
+// (jpoints, below: times 12), over the parameters ps (for a junction face,
+// only those its tetrahedra depend on).
+struct Model {
+    Key k;  // the warps (one region: and the signs)
+    std::vector<Param> ps;
+    bool junction = false;
+};
+template <class T>
+std::array<P3<T>, 15> jpoints(const Model& m, const Box& b, int K);
+// f(the model's points on b, times 2^K) for T = I, D, D2; one region keeps
+// its ten points (no cost for the five it does not have).
+template <class T, class F>
+auto on_points(const Model& m, const Box& b, int K, F&& f) {
+    if (m.junction) return f(jpoints<T>(m, b, K));
+    return f(points<T>(m.k, m.ps, b, K));
+}
+
 // ---- the Delaunay face rule (format 5) -------------------------------------------
 // Its own forms, from the points (times 2^K).  The quad (a, b, cut(b,r),
 // cut(a,r)) of a face (a, b, r) lies in a lattice face (a, b, r unmoved).
@@ -777,9 +803,9 @@ Box centre(const Box& b) {
 // + sum_i g_ii(b) [0, R_i²] + 2 sum_{i<l} g_il(b) [-R_i R_l, R_i R_l]
 // (R_i = 2^K r_i, the half-widths; the partials at the point m, the second
 // partials on the box; g is the scaled form, its partials in t).
-I taylor2(const Key& k, const std::vector<Param>& ps, const Tet& t, const Box& b, int K, int f, const Claim& cl) {
-    const D g = form_at(points<D>(k, ps, centre(b), K), t, f, cl);
-    const D2 h = form_at(points<D2>(k, ps, b, K), t, f, cl);
+I taylor2(const Model& m, const Tet& t, const Box& b, int K, int f, const Claim& cl) {
+    const D g = on_points<D>(m, centre(b), K, [&](const auto& pt) { return form_at(pt, t, f, cl); });
+    const D2 h = on_points<D2>(m, b, K, [&](const auto& pt) { return form_at(pt, t, f, cl); });
     std::vector<Z> R;
     for (const Side& s : b) R.push_back(half(scaled(width(s.lo, s.hi), K)));
     I sum = g.v * point(pow2(2 * K + 1));
@@ -796,12 +822,11 @@ I taylor2(const Key& k, const std::vector<Param>& ps, const Tet& t, const Box& b
 // there), then the face where every variable whose partial has a decided
 // sign is fixed at its worse end, again (re-evaluated there); where none is,
 // the second-order Taylor form on that face.  K: b's scale.
-bool holds(const Key& k, const std::vector<Param>& ps, const Tet& t, Box b, int K, int f, bool strict, const Claim& cl,
-           D g, I mid_value) {
+bool holds(const Model& m, const Tet& t, Box b, int K, int f, bool strict, const Claim& cl, D g, I mid_value) {
     for (bool first = true;; first = false) {
         const auto pos = [&](const Z& x) { return strict ? sgn(x) > 0 : sgn(x) >= 0; };
         if (pos(g.v.lo)) return true;
-        I mv = (first ? mid_value : tet_forms(points<I>(k, ps, centre(b), K), t, cl)[f]) * point(pow2(K));
+        I mv = (first ? mid_value : on_points<I>(m, centre(b), K, [&](const auto& pt) { return form_at(pt, t, f, cl); })) * point(pow2(K));
         for (std::size_t i = 0; i < b.size(); ++i) {
             const Dy w = width(b[i].lo, b[i].hi);
             if (w.m == 0) continue;
@@ -815,54 +840,55 @@ bool holds(const Key& k, const std::vector<Param>& ps, const Tet& t, Box b, int 
             if (sgn(g.d[i].lo) >= 0) b[i].hi = b[i].lo, fixed = true;
             else if (sgn(g.d[i].hi) <= 0) b[i].lo = b[i].hi, fixed = true;
         }
-        if (!fixed) return pos(taylor2(k, ps, t, b, K, f, cl).lo);
-        g = tet_forms(points<D>(k, ps, b, K), t, cl)[f];
+        if (!fixed) return pos(taylor2(m, t, b, K, f, cl).lo);
+        g = on_points<D>(m, b, K, [&](const auto& pt) { return form_at(pt, t, f, cl); });
     }
 }
-bool verify_leaf(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const Box& b, const Claim& cl) {
+bool verify_leaf(const Model& m, const std::vector<Tet>& tets, const Box& b, const Claim& cl) {
     const int K = leaf_exponent(b);
-    const auto pv = points<I>(k, ps, b, K);
-    std::vector<std::array<I, 49>> fv;
-    bool all = true;  // the natural enclosures alone, without partials, often suffice
-    for (const Tet& t : tets) {
-        fv.push_back(tet_forms(pv, t, cl));
-        const auto& f = fv.back();
-        const auto P = [&](int x) { return sgn(f[x].lo) >= 0; };
-        all = all && sgn(f[0].lo) > 0;
-        for (int e = 0; e < 6 && all; ++e) all = (P(1 + 2 * e) || P(2 + 2 * e)) && (P(13 + 2 * e) || P(14 + 2 * e));
-        for (int q = 0; q < 12 && all; ++q) all = P(25 + 2 * q) || P(26 + 2 * q);
-    }
+    // The natural enclosures alone, without partials, often suffice.
+    const bool all = on_points<I>(m, b, K, [&](const auto& pv) {
+        for (const Tet& t : tets) {
+            const auto f = tet_forms(pv, t, cl);
+            const auto P = [&](int x) { return sgn(f[x].lo) >= 0; };
+            if (sgn(f[0].lo) <= 0) return false;
+            for (int e = 0; e < 6; ++e)
+                if (!((P(1 + 2 * e) || P(2 + 2 * e)) && (P(13 + 2 * e) || P(14 + 2 * e)))) return false;
+            for (int q = 0; q < 12; ++q)
+                if (!(P(25 + 2 * q) || P(26 + 2 * q))) return false;
+        }
+        return true;
+    });
     if (all) return true;
-    const auto pd = points<D>(k, ps, b, K);
-    const auto pm = points<I>(k, ps, centre(b), K);
-    for (const Tet& t : tets) {
-        const auto fb = tet_forms(pd, t, cl);
-        const auto fm = tet_forms(pm, t, cl);
-        const auto H = [&](int f, bool strict) { return holds(k, ps, t, b, K, f, strict, cl, fb[f], fm[f]); };
-        if (!H(0, true)) return false;
-        // Either alternative proves a bound; the one matching the sign of d at
-        // the centre is tried first (only the cost depends on the order).
-        for (int e = 0; e < 6; ++e) {
-            const bool acute = sgn(fm[13 + 2 * e].lo) > 0;
-            const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
-            if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
-            if (!(acute ? H(s2, false) || H(q2, false) : H(q2, false) || H(s2, false))) return false;
+    const auto each = [&](const auto& pd, const auto& pm) {
+        for (const Tet& t : tets) {
+            const auto fb = tet_forms(pd, t, cl);
+            const auto fm = tet_forms(pm, t, cl);
+            const auto H = [&](int f, bool strict) { return holds(m, t, b, K, f, strict, cl, fb[f], fm[f]); };
+            if (!H(0, true)) return false;
+            // Either alternative proves a bound; the one matching the sign of d at
+            // the centre is tried first (only the cost depends on the order).
+            for (int e = 0; e < 6; ++e) {
+                const bool acute = sgn(fm[13 + 2 * e].lo) > 0;
+                const int s1 = 1 + 2 * e, q1 = 2 + 2 * e, s2 = 13 + 2 * e, q2 = 14 + 2 * e;
+                if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
+                if (!(acute ? H(s2, false) || H(q2, false) : H(q2, false) || H(s2, false))) return false;
+            }
+            for (int q = 0; q < 12; ++q) {  // face angles: as the minimum, s in place of d
+                const bool acute = sgn(fm[25 + 2 * q].hi) < 0;
+                const int s1 = 25 + 2 * q, q1 = 26 + 2 * q;
+                if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
+            }
         }
-        for (int q = 0; q < 12; ++q) {  // face angles: as the minimum, s in place of d
-            const bool acute = sgn(fm[25 + 2 * q].hi) < 0;
-            const int s1 = 25 + 2 * q, q1 = 26 + 2 * q;
-            if (!(acute ? H(q1, false) || H(s1, false) : H(s1, false) || H(q1, false))) return false;
-        }
-    }
-    return true;
+        return true;
+    };
+    return on_points<D>(m, b, K, [&](const auto& pd) { return on_points<I>(m, centre(b), K, [&](const auto& pm) { return each(pd, pm); }); });
 }
 // Replays the bisection: '1' + j splits side j at its midpoint, lower half
 // first; '0' is a leaf, verified (Delaunay: every tetrahedron the rule
 // admits on the leaf).
-long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const std::string& splits, const Claim& cl,
-            bool delaunay) {
-    const std::vector<Tet> tets = oriented(k);
-    delaunay = delaunay && tets.size() > 1;  // a single output tetrahedron: no quad, nothing to choose
+long replay(const Model& m, const std::vector<Tet>& tets, const Box& root, const std::string& splits, const Claim& cl, bool delaunay) {
+    delaunay = delaunay && !m.junction && tets.size() > 1;  // a single output tetrahedron: no quad, nothing to choose
     std::vector<Box> stack{root};
     std::size_t at = 0;
     long leaves = 0;
@@ -872,8 +898,8 @@ long replay(const Key& k, const std::vector<Param>& ps, const Box& root, const s
         if (at >= splits.size()) fail("split string too short");
         const char c = splits[at++];
         if (c == '0') {
-            const auto at = [&] { return delaunay_tets(k, points<I>(k, ps, b, leaf_exponent(b))); };
-            if (!verify_leaf(k, ps, delaunay ? at() : tets, b, cl)) fail("leaf not verified");
+            const auto at = [&] { return delaunay_tets(m.k, points<I>(m.k, m.ps, b, leaf_exponent(b))); };
+            if (!verify_leaf(m, delaunay ? at() : tets, b, cl)) fail("leaf not verified");
             ++leaves;
             continue;
         }
@@ -910,21 +936,11 @@ bool larger(const Cos2& a, const Cos2& b) {
     const int c = cmp(a.p * b.q, b.p * a.q);
     return a.acute ? c < 0 : c > 0;
 }
-// The exact cos² of the extreme angle of the key's output at the witness w
-// (dyadic, inside the exact box), by kind: 0 the smallest dihedral angle
-// (the largest d²/N over the edges with d > 0), 1 the largest (the largest
-// d²/N over the edges with d <= 0; if every angle is acute, the smallest
-// d²/N), 2 the smallest face angle (the largest s²/M with s > 0).
-// Delaunay: the stencil the rule chooses at the witness.
-Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<Tet>& tets, const std::vector<Dy>& w, int kind,
-                  bool delaunay) {
-    Box b;
-    int K = 0;
-    for (const Dy& x : w) b.push_back(Side{x, x}), K = std::max(K, x.e);
-    const auto pt = points<I>(k, ps, b, K);
-    bool found = false;
-    Cos2 best;
-    for (const Tet& t : delaunay ? delaunay_tets(k, pt) : tets)
+// The extreme over `tets` at the exact points pt (witness_cos2's, by kind);
+// found: whether some angle qualified.
+template <std::size_t N>
+int extreme_cos2(const std::vector<Tet>& tets, const std::array<P3<I>, N>& pt, int kind, bool& found, Cos2& best) {
+    for (const Tet& t : tets)
         for (int e = 0; e < (kind == 2 ? 12 : 6); ++e) {
             I dt, nn;
             if (kind == 2) angle_forms(pt, t, e, dt, nn);
@@ -932,6 +948,25 @@ Cos2 witness_cos2(const Key& k, const std::vector<Param>& ps, const std::vector<
             const Cos2 c{dt.lo * dt.lo, nn.lo, sgn(dt.lo) > 0};
             if (kind != 1 ? c.acute && (!found || larger(best, c)) : !found || larger(c, best)) best = c, found = true;
         }
+    return 0;
+}
+// The exact cos² of the extreme angle of the key's output at the witness w
+// (dyadic, inside the exact box), by kind: 0 the smallest dihedral angle
+// (the largest d²/N over the edges with d > 0), 1 the largest (the largest
+// d²/N over the edges with d <= 0; if every angle is acute, the smallest
+// d²/N), 2 the smallest face angle (the largest s²/M with s > 0).
+// Delaunay: the stencil the rule chooses at the witness.
+Cos2 witness_cos2(const Model& m, const std::vector<Tet>& tets, const std::vector<Dy>& w, int kind, bool delaunay) {
+    Box b;
+    int K = 0;
+    for (const Dy& x : w) b.push_back(Side{x, x}), K = std::max(K, x.e);
+    bool found = false;
+    Cos2 best;
+    on_points<I>(m, b, K, [&](const auto& pt) {
+        if constexpr (std::tuple_size_v<std::decay_t<decltype(pt)>> == 10)
+            if (delaunay) return extreme_cos2(delaunay_tets(m.k, pt), pt, kind, found, best);
+        return extreme_cos2(tets, pt, kind, found, best);
+    });
     if (!found) fail("min witness without an acute angle");
     return best;
 }
@@ -1021,6 +1056,51 @@ const Z& claim_of(const Claim& c, int j) { return j == 0 ? c.cmin : j == 1 ? c.c
 // WFACE_0 .. SPLITS":
 // the root box containing the exact box, the key's claim, its witnesses
 // inside the exact box, and a complete preorder bisection.
+// x >= n / d (d > 0), exactly.
+bool ge(const Dy& a, std::int64_t n, std::int64_t d) {
+    return static_cast<__int128>(a.m) * d >= static_cast<__int128>(n) * (static_cast<__int128>(1) << a.e);
+}
+// The root box of parameters ps from `in`: dyadic ends containing each exact
+// parameter box, each side narrower than 1.
+Box parse_root(std::istream& in, const std::vector<Param>& ps, const std::string& code) {
+    Box root;
+    std::string lo, hi;
+    for (const Param& p : ps) {
+        if (!(in >> lo >> hi)) fail("bad root box for " + code);
+        const Dy l = parse_dyadic(lo), h = parse_dyadic(hi);
+        if (!(le(l, p.lo_num, p.den) && ge(h, p.hi_num, p.den) && cmp(width(l, h), Dy{1, 0}) < 0))
+            fail("root box does not contain the parameter box of " + code);
+        root.push_back(Side{l, h});
+    }
+    return root;
+}
+// The three witnesses (min, max, face) from `in`, each a point of the exact box.
+std::array<std::vector<Dy>, 3> parse_witnesses(std::istream& in, const std::vector<Param>& ps, const std::string& code) {
+    std::array<std::vector<Dy>, 3> out;
+    std::string x;
+    for (std::vector<Dy>& w : out)
+        for (const Param& p : ps) {
+            if (!(in >> x)) fail("bad witness for " + code);
+            const Dy v = parse_dyadic(x);
+            if (!(ge(v, p.lo_num, p.den) && le(v, p.hi_num, p.den))) fail("witness outside the parameter box of " + code);
+            w.push_back(v);
+        }
+    return out;
+}
+// The split string, the line's last word: a complete preorder bisection of
+// an m-parameter box.
+std::string parse_splits(std::istream& in, int m, const std::string& code) {
+    std::string splits, word;
+    if (!(in >> splits) || splits.size() > 50000000 || (in >> word)) fail("bad split string for " + code);
+    long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
+    for (const char ch : splits) {
+        if (open == 0) fail("split string too long for " + code);
+        if (ch < '0' || ch >= '1' + m) fail("bad split string for " + code);
+        open += ch == '0' ? -1 : 1;
+    }
+    if (open != 0) fail("split string too short for " + code);
+    return splits;
+}
 Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t ashort, std::int64_t den,
                      const std::set<std::array<int, 9>>& expected, std::set<std::array<int, 9>>& seen) {
     std::istringstream ks(line);
@@ -1031,35 +1111,12 @@ Entry parse_key_line(const std::string& line, std::int64_t along, std::int64_t a
     if (!expected.count(en.k.enc()) || !seen.insert(en.k.enc()).second) fail("unexpected or repeated key " + code);
     en.ps = params(en.k, along, ashort, den);
     if (m != static_cast<int>(en.ps.size())) fail("wrong parameter count for " + code);
-    const auto ge = [](const Dy& a, std::int64_t n, std::int64_t d) {
-        return static_cast<__int128>(a.m) * d >= static_cast<__int128>(n) * (static_cast<__int128>(1) << a.e);
-    };
-    std::string lo, hi;
-    for (const Param& p : en.ps) {
-        if (!(ks >> lo >> hi)) fail("bad root box for " + code);
-        const Dy l = parse_dyadic(lo), h = parse_dyadic(hi);
-        if (!(le(l, p.lo_num, p.den) && ge(h, p.hi_num, p.den) && cmp(width(l, h), Dy{1, 0}) < 0))
-            fail("root box does not contain the parameter box of " + code);
-        en.root.push_back(Side{l, h});
-    }
-    std::string fa;
+    en.root = parse_root(ks, en.ps, code);
+    std::string lo, hi, fa;
     if (!(ks >> lo >> hi >> fa)) fail("bad claim for " + code);
     en.claim = Claim{claim_threshold(lo), claim_threshold(hi), claim_threshold(fa)};
-    for (std::vector<Dy>& w : en.w)
-        for (const Param& p : en.ps) {
-            if (!(ks >> lo)) fail("bad witness for " + code);
-            const Dy x = parse_dyadic(lo);
-            if (!(ge(x, p.lo_num, p.den) && le(x, p.hi_num, p.den))) fail("witness outside the parameter box of " + code);
-            w.push_back(x);
-        }
-    if (!(ks >> en.splits) || en.splits.size() > 50000000 || (ks >> word)) fail("bad split string for " + code);
-    long open = 1;  // a preorder bisection: every '1' opens two subtrees, every '0' closes one
-    for (const char ch : en.splits) {
-        if (open == 0) fail("split string too long for " + code);
-        if (ch < '0' || ch >= '1' + m) fail("bad split string for " + code);
-        open += ch == '0' ? -1 : 1;
-    }
-    if (open != 0) fail("split string too short for " + code);
+    en.w = parse_witnesses(ks, en.ps, code);
+    en.splits = parse_splits(ks, m, code);
     return en;
 }
 
@@ -1076,7 +1133,7 @@ Witnessed check_witnesses(const Entry& en, bool delaunay) {
     const std::vector<Tet> tets = oriented(en.k);
     Witnessed w{};
     for (int j = 0; j < 3; ++j) {
-        w.c[j] = witness_cos2(en.k, en.ps, tets, en.w[j], j, delaunay);
+        w.c[j] = witness_cos2(Model{en.k, en.ps, false}, tets, en.w[j], j, delaunay);
         const Z& c = claim_of(en.claim, j);
         if ((j != 1 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), c * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
         w.tight[j] = tight(c, w.c[j], tol_den(j), j == 1);
@@ -1352,6 +1409,378 @@ int check_ceiling(const std::vector<std::string>& body) {
     return 3;  // verified, but the statement is a limit, not a bound
 }
 
+// The alphas of a bound certificate ("alphas L S"): exact rationals with one
+// denominator below 2^31 (returned in den), both in (0, 1/2).
+std::pair<std::int64_t, std::int64_t> bound_alphas(const std::string& al, const std::string& as, std::int64_t& den) {
+    const auto [ln, ld] = parse_q(al);
+    const auto [sn, sd] = parse_q(as);
+    if (ld != sd || ld >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
+    if (!(ln > 0 && 2 * ln < ld && sn > 0 && 2 * sn < sd)) fail("alphas out of (0, 1/2)");
+    den = ld;
+    return {ln, sn};
+}
+
+// ---- the junction certificate (proofs/bcc_junctions.cert) ---------------------------
+// Format (proofs/README.md, "Junction keys (3D, bcc_junctions.cert)"):
+//   warpmesh-bcc-junctions 1
+//   alphas L S                 as in a bound certificate (one denominator, in (0, 1/2))
+//   claim CMIN CMAX CFACE      the keys' extremes
+//   keys N                     every canonical junction key
+//   then per key, in any order: `key CODE CMIN CMAX CFACE` and its four face
+//   lines `face F m lo_0 hi_0 .. WMIN_0 .. WMAX_0 .. WFACE_0 .. SPLITS`, F = 0..3.
+// A junction background tetrahedron has three or four materials among its
+// unwarped vertices (letters by first appearance, -1 the warped vertex);
+// its output is the cone stencil: every face subdivided by a rule of the
+// face alone, each triangle joined to the centre.  Its points, times 12 so
+// that they are integers times 2^K: vertices and cut points as one region's
+// (times 12), face point f 4 (sum of the face's three cut points), the
+// centre 3 (sum of the four vertices).  A face's tetrahedra use the face's
+// points and the centre only, so they depend only on the face's cut
+// fractions and on the warp (the centre moves with the warped vertex): each
+// face is verified on its own box (its parameters: the warp t, then the
+// cut edges of the face by local edge index), every leaf against its key's
+// claim.  The key's claim is the extremes of nothing but itself: each face's
+// witnesses must agree with it, and its tightness is measured against the
+// most extreme of its faces' witnesses.
+struct JKey {
+    std::array<int, 4> letter{}, warp{STAY, STAY, STAY, STAY};
+    int parity = 0;
+    std::array<int, 9> enc() const { return {letter[0], warp[0], letter[1], warp[1], letter[2], warp[2], letter[3], warp[3], parity}; }
+};
+// Letters renamed by first appearance in local order (-1 kept).
+std::array<int, 4> relettered(const std::array<int, 4>& l) {
+    std::map<int, int> name;
+    std::array<int, 4> out{};
+    for (int i = 0; i < 4; ++i) out[i] = l[i] < 0 ? -1 : name.emplace(l[i], static_cast<int>(name.size())).first->second;
+    return out;
+}
+int letter_count(const JKey& k) {
+    std::set<int> s;
+    for (int l : k.letter)
+        if (l >= 0) s.insert(l);
+    return static_cast<int>(s.size());
+}
+// The three vertices of the face without vertex f, ascending.
+std::array<int, 3> face_of(int f) {
+    std::array<int, 3> v{};
+    for (int i = 0, n = 0; i < 4; ++i)
+        if (i != f) v[n++] = i;
+    return v;
+}
+bool cut_edge(const JKey& k, int a, int b) { return k.letter[a] >= 0 && k.letter[b] >= 0 && k.letter[a] != k.letter[b]; }
+// Whether the stencil splits a quad by the parity rule: a face of three
+// unwarped vertices and two letters whose equal pair is a long edge.
+bool jparity_matters(const JKey& k) {
+    for (int f = 0; f < 4; ++f) {
+        const auto [a, b, c] = face_of(f);
+        if (k.letter[a] < 0 || k.letter[b] < 0 || k.letter[c] < 0) continue;
+        const int cuts = cut_edge(k, a, b) + cut_edge(k, b, c) + cut_edge(k, a, c);
+        if (cuts == 2 && ((!cut_edge(k, a, b) && edge_of(a, b) < 2) || (!cut_edge(k, b, c) && edge_of(b, c) < 2) ||
+                          (!cut_edge(k, a, c) && edge_of(a, c) < 2)))
+            return true;
+    }
+    return false;
+}
+bool jconsistent(const JKey& k) {
+    for (int i = 0; i < 4; ++i) {
+        if (k.letter[i] < -1 || k.letter[i] > 3) return false;
+        if ((k.letter[i] < 0) != (k.warp[i] != STAY) || k.warp[i] < 0 || k.warp[i] > STAY) return false;
+    }
+    if (relettered(k.letter) != k.letter || letter_count(k) < 3) return false;
+    return k.parity == 0 || (k.parity == 1 && jparity_matters(k));
+}
+// Points: 0..3 the vertices, 4 + e the cut points, 10 + f the face points, 14 the centre.
+const int CENTRE = 14;
+// Face f's cone tetrahedra (point indices; orientation fixed by jorient).
+std::vector<Tet> jface_tets(const JKey& k, int f) {
+    const auto [a, b, c] = face_of(f);
+    const auto L = [&](int v) { return k.letter[v]; };
+    const int cuts = cut_edge(k, a, b) + cut_edge(k, b, c) + cut_edge(k, a, c);
+    std::vector<Tet> out;
+    if (cuts == 0) return {{a, b, c, CENTRE}};  // one letter, a vertex warped
+    if (cuts == 3) {                           // three letters: around the face point
+        for (int x : {a, b, c})
+            for (int y : {a, b, c})
+                if (x != y) out.push_back({x, cut(x, y), 10 + f, CENTRE});
+        return out;
+    }
+    if (L(a) < 0 || L(b) < 0 || L(c) < 0) {  // two letters x, y and the warped z: the cut edge's halves
+        const int z = L(a) < 0 ? a : L(b) < 0 ? b : c, x = z == a ? b : a, y = a + b + c - x - z;
+        return {{x, cut(x, y), z, CENTRE}, {cut(x, y), y, z, CENTRE}};
+    }
+    // Two letters, none warped: the odd vertex y's triangle, and the quad of
+    // the equal pair x1 < x2, split as the parity rule says.
+    const int y = !cut_edge(k, a, b) ? c : !cut_edge(k, b, c) ? a : b;
+    const int x1 = y == a ? b : a, x2 = y == c ? b : c;
+    const int c1 = cut(x1, y), c2 = cut(x2, y);
+    out.push_back({y, c1, c2, CENTRE});
+    if (diag_a(x1, x2, y, k.parity)) out.push_back({x1, x2, c2, CENTRE}), out.push_back({x1, c2, c1, CENTRE});
+    else out.push_back({x1, x2, c1, CENTRE}), out.push_back({x2, c2, c1, CENTRE});
+    return out;
+}
+// Reference positions times 12: vertices 12 REF, cut points 6 (sum of the
+// ends), face points 4 (sum of the face's vertices), the centre 3 (sum of all).
+std::array<long, 3> jref(int q) {
+    std::array<long, 3> p{};
+    for (int c = 0; c < 3; ++c) {
+        if (q < 4) p[c] = 12L * REF[q][c];
+        else if (q < 10) p[c] = 6L * (REF[EDGE[q - 4][0]][c] + REF[EDGE[q - 4][1]][c]);
+        else
+            for (int i = 0; i < 4; ++i) p[c] += (q == CENTRE ? 3L : i == q - 10 ? 0L : 4L) * REF[i][c];
+    }
+    return p;
+}
+// The tetrahedra positively oriented in the reference configuration.
+std::vector<Tet> jorient(std::vector<Tet> ts) {
+    for (Tet& t : ts) {
+        std::array<long, 3> d[3];
+        const auto p0 = jref(t[0]);
+        for (int v = 1; v < 4; ++v) {
+            const auto pv = jref(t[v]);
+            for (int c = 0; c < 3; ++c) d[v - 1][c] = pv[c] - p0[c];
+        }
+        const long vol = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
+                         d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+        if (vol == 0) fail("flat junction stencil tetrahedron");
+        if (vol < 0) std::swap(t[2], t[3]);
+    }
+    return ts;
+}
+std::vector<Tet> jstencil(const JKey& k) {
+    std::vector<Tet> all;
+    for (int f = 0; f < 4; ++f)
+        for (const Tet& t : jface_tets(k, f)) all.push_back(t);
+    return jorient(all);
+}
+// The image of a point index under the vertex permutation p.
+int jmap(int q, const std::array<int, 4>& p) {
+    if (q < 4) return p[q];
+    if (q < 10) return cut(p[EDGE[q - 4][0]], p[EDGE[q - 4][1]]);
+    return q == CENTRE ? CENTRE : 10 + p[q - 10];
+}
+std::set<std::array<int, 4>> jmapped(const std::vector<Tet>& ts, const std::array<int, 4>& p) {
+    std::set<std::array<int, 4>> s;
+    for (const Tet& t : ts) {
+        std::array<int, 4> q{jmap(t[0], p), jmap(t[1], p), jmap(t[2], p), jmap(t[3], p)};
+        std::sort(q.begin(), q.end());
+        s.insert(q);
+    }
+    return s;
+}
+// The image of k under s: letters and warps moved, re-lettered by first
+// appearance, the parity bit the one whose stencil is the image of k's.
+JKey jimage(const JKey& k, const Sym& s) {
+    JKey m;
+    std::array<int, 4> letter{};
+    for (int i = 0; i < 4; ++i) letter[s.p[i]] = k.letter[i], m.warp[s.p[i]] = map_dir(k.warp[i], s);
+    m.letter = relettered(letter);
+    const auto want = jmapped(jstencil(k), s.p);
+    for (m.parity = 0; m.parity < (jparity_matters(m) ? 2 : 1); ++m.parity)
+        if (jmapped(jstencil(m), {0, 1, 2, 3}) == want) return m;
+    fail("junction stencil does not commute with a symmetry");
+}
+// Every canonical consistent junction key (the smallest image of each).
+std::set<std::array<int, 9>> junction_keys(const std::vector<Sym>& syms) {
+    std::set<std::array<int, 9>> out;
+    std::array<int, 4> st{};
+    for (st[0] = 0; st[0] < 18; ++st[0])
+        for (st[1] = 0; st[1] < 18; ++st[1])
+            for (st[2] = 0; st[2] < 18; ++st[2])
+                for (st[3] = 0; st[3] < 18; ++st[3])
+                    for (int par = 0; par < 2; ++par) {
+                        JKey k;
+                        for (int i = 0; i < 4; ++i) k.letter[i] = st[i] < 4 ? st[i] : -1, k.warp[i] = st[i] < 4 ? STAY : st[i] - 4;
+                        k.parity = par;
+                        if (!jconsistent(k)) continue;
+                        std::array<int, 9> best = jimage(k, syms[0]).enc();
+                        for (const Sym& s : syms) best = std::min(best, jimage(k, s).enc());
+                        out.insert(best);
+                    }
+    return out;
+}
+// "a,b,0h,c/0": per vertex a letter a..d, or 0 and a warp direction a..n; the parity bit.
+JKey parse_jcode(const std::string& s) {
+    JKey k;
+    std::size_t at = 0;
+    const auto bad = [&] { fail("bad junction key code " + s.substr(0, 40)); };
+    for (int i = 0; i < 4; ++i) {
+        if (at >= s.size()) bad();
+        const char c = s[at++];
+        if (c >= 'a' && c <= 'd') k.letter[i] = c - 'a';
+        else if (c == '0' && at < s.size() && s[at] >= 'a' && s[at] <= 'n') k.letter[i] = -1, k.warp[i] = s[at++] - 'a';
+        else bad();
+        if (at >= s.size() || s[at++] != (i < 3 ? ',' : '/')) bad();
+    }
+    if (at + 1 != s.size() || (s[at] != '0' && s[at] != '1')) bad();
+    k.parity = s[at] - '0';
+    return k;
+}
+// Face f's parameters: t of the warped vertex (the centre moves with it),
+// then u of each cut edge of the face (both ends unwarped, letters differ)
+// by local edge index.
+std::vector<Param> jface_params(const JKey& k, int f, std::int64_t along, std::int64_t ashort, std::int64_t den) {
+    std::vector<Param> ps;
+    for (int i = 0; i < 4; ++i)
+        if (k.warp[i] != STAY) ps.push_back({i, 0, k.warp[i] < 6 ? along : ashort, den});
+    for (int e = 0; e < 6; ++e)
+        if (EDGE[e][0] != f && EDGE[e][1] != f && cut_edge(k, EDGE[e][0], EDGE[e][1])) {
+            const std::int64_t a = e < 2 ? along : ashort;
+            ps.push_back({4 + e, a, den - a, den});
+        }
+    return ps;
+}
+// The parameters point q depends on (bit i: t of vertex i; bit 4 + e: u of edge e).
+unsigned depends(const JKey& k, int q) {
+    unsigned d = 0;
+    if (q < 4) return k.warp[q] != STAY ? 1u << q : 0u;
+    if (q < 10) return 1u << q;
+    for (int i = 0; i < 4; ++i) {
+        if (q == CENTRE && k.warp[i] != STAY) d |= 1u << i;
+        for (int j = i + 1; j < 4; ++j)
+            if (q != CENTRE && i != q - 10 && j != q - 10) d |= 1u << (4 + edge_of(i, j));
+    }
+    return d;
+}
+template <class T>
+T times(int c, const T& x) {  // c · x, c a small integer
+    if constexpr (std::is_same_v<T, I>) return point(zint(c)) * x;
+    else {
+        T r{};
+        r.v = point(zint(c));
+        return r * x;
+    }
+}
+// The 15 points times 12, times 2^K (see above), from one region's ten.
+template <class T>
+std::array<P3<T>, 15> jpoints(const Model& m, const Box& b, int K) {
+    const auto g = points<T>(m.k, m.ps, b, K);
+    std::array<P3<T>, 15> p{};
+    for (int c = 0; c < 3; ++c) {
+        for (int q = 0; q < 10; ++q) p[q][c] = times(12, g[q][c]);
+        for (int f = 0; f < 4; ++f) {
+            const auto [a, bb, cc] = face_of(f);
+            p[10 + f][c] = times(4, g[cut(a, bb)][c] + g[cut(bb, cc)][c] + g[cut(cc, a)][c]);
+        }
+        p[CENTRE][c] = times(3, g[0][c] + g[1][c] + g[2][c] + g[3][c]);
+    }
+    return p;
+}
+struct JFace {
+    Model m;
+    std::vector<Tet> tets;
+    Box root;
+    std::array<std::vector<Dy>, 3> w;
+    std::string splits;
+};
+struct JEntry {
+    Entry key;  // its code, key and claim (the rest unused)
+    std::array<JFace, 4> face;
+};
+// One face line, "face F m lo_0 hi_0 .. WMIN_0 .. WMAX_0 .. WFACE_0 .. SPLITS",
+// of key k (F must be `f`): its tetrahedra, parameters (their count must be
+// m), root box, witnesses and split string.
+JFace parse_face_line(const std::string& line, const JKey& k, const std::string& code, int f, std::int64_t along, std::int64_t ashort,
+                      std::int64_t den) {
+    std::istringstream in(line);
+    std::string word;
+    int F = -1, m = -1;
+    const std::string name = code + " face " + std::to_string(f);
+    if (!(in >> word >> F >> m) || word != "face" || F != f) fail("expected face line " + std::to_string(f) + " of " + code);
+    JFace face;
+    face.m = Model{Key{}, jface_params(k, f, along, ashort, den), true};
+    for (int i = 0; i < 4; ++i) face.m.k.warp[i] = k.warp[i];
+    if (m != static_cast<int>(face.m.ps.size())) fail("wrong parameter count for " + name);
+    face.tets = jorient(jface_tets(k, f));
+    unsigned have = 0;  // the parameters of the face; every point of its tetrahedra depends on these only
+    for (const Param& p : face.m.ps) have |= 1u << p.index;
+    for (const Tet& t : face.tets)
+        for (int q : t)
+            if ((depends(k, q) & ~have) != 0) fail("a point of " + name + " depends on a parameter outside the face");
+    face.root = parse_root(in, face.m.ps, name);
+    face.w = parse_witnesses(in, face.m.ps, name);
+    face.splits = parse_splits(in, m, name);
+    return face;
+}
+// "key CODE CMIN CMAX CFACE" and its four face lines from body[at].
+JEntry parse_junction(const std::vector<std::string>& body, std::size_t at, std::int64_t along, std::int64_t ashort, std::int64_t den,
+                      const std::set<std::array<int, 9>>& expected, std::set<std::array<int, 9>>& seen) {
+    std::istringstream ks(body[at]);
+    std::string word, code, lo, hi, fa;
+    if (!(ks >> word >> code >> lo >> hi >> fa) || word != "key" || (ks >> word)) fail("bad junction key line");
+    const JKey k = parse_jcode(code);
+    if (!expected.count(k.enc()) || !seen.insert(k.enc()).second) fail("unexpected or repeated junction key " + code);
+    JEntry en;
+    en.key.code = code;
+    en.key.claim = Claim{claim_threshold(lo), claim_threshold(hi), claim_threshold(fa)};
+    for (int f = 0; f < 4; ++f) en.face[f] = parse_face_line(body[at + 1 + f], k, code, f, along, ashort, den);
+    return en;
+}
+// Every face witness agrees with its key's claim (as check_witnesses); the
+// key's witness of each kind is its faces' most extreme, tight or not
+// against the key's claim.
+Witnessed junction_witnesses(const JEntry& en) {
+    Witnessed w{};
+    for (int j = 0; j < 3; ++j) {
+        const Z& c = claim_of(en.key.claim, j);
+        for (int f = 0; f < 4; ++f) {
+            const Cos2 x = witness_cos2(en.face[f].m, en.face[f].tets, en.face[f].w[j], j, false);
+            if ((j != 1 || !x.acute) && cmp(x.p * pow2(40), c * x.q) > 0)
+                fail("a witness of " + en.key.code + " face " + std::to_string(f) + " contradicts its key's claim");
+            if (f == 0 || (j != 1 ? larger(w.c[j], x) : larger(x, w.c[j]))) w.c[j] = x;
+        }
+        w.tight[j] = tight(c, w.c[j], tol_den(j), j == 1);
+    }
+    return w;
+}
+int check_junctions(const std::vector<std::string>& body, bool progress) {
+    if (body.size() < 4) fail("a junction certificate has alphas, claim and keys lines");
+    std::istringstream a(body[1]), c(body[2]), n(body[3]);
+    std::string word, al, as;
+    std::array<std::string, 3> text;
+    long nkeys = -1;
+    if (!(a >> word >> al >> as) || word != "alphas" || (a >> word)) fail("bad alphas line");
+    if (!(c >> word >> text[0] >> text[1] >> text[2]) || word != "claim" || (c >> word)) fail("bad claim line");
+    if (!(n >> word >> nkeys) || word != "keys" || nkeys < 0 || nkeys > 100000 || (n >> word)) fail("bad keys line");
+    std::int64_t den = 0;
+    const auto [ln, sn] = bound_alphas(al, as, den);
+    const Claim claim{claim_threshold(text[0]), claim_threshold(text[1]), claim_threshold(text[2])};
+    if (static_cast<long>(body.size()) != 4 + 5 * nkeys) fail("junction key count mismatch (a key line and four face lines per key)");
+    const auto expected = junction_keys(symmetries());
+    if (static_cast<long>(expected.size()) != nkeys) fail("the certificate does not list every junction key");
+    std::vector<JEntry> keys;
+    std::vector<Entry> entries;
+    std::vector<Witnessed> wit;
+    std::set<std::array<int, 9>> seen;
+    for (long i = 0; i < nkeys; ++i) {
+        keys.push_back(parse_junction(body, 4 + 5 * static_cast<std::size_t>(i), ln, sn, den, expected, seen));
+        entries.push_back(keys.back().key);
+        wit.push_back(junction_witnesses(keys.back()));
+    }
+    std::size_t ext[3] = {0, 0, 0};
+    for (int j = 0; j < 3; ++j) {  // the claim is the keys' extremes, and tight: as check's
+        Z worst = zint(0);
+        for (std::size_t i = 0; i < keys.size(); ++i) {
+            if (cmp(claim_of(entries[i].claim, j), worst) > 0) worst = claim_of(entries[i].claim, j);
+            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
+        }
+        if (cmp(worst, claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
+        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
+            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
+                 " deg of the claim");
+    }
+    long leaves = 0;
+    const bool terminal = ::isatty(STDERR_FILENO) == 1;
+    for (std::size_t i = 0; i < keys.size(); ++i) {  // a progress line per key, rewritten in place on a terminal
+        for (const JFace& f : keys[i].face) leaves += replay(f.m, f.tets, f.root, f.splits, entries[i].claim, false);
+        if (progress)
+            std::cerr << (terminal ? "\r" : "") << "checked " << i + 1 << " of " << keys.size() << " junction keys, " << leaves << " leaves"
+                      << (terminal ? "\033[K" : "\n") << std::flush;
+    }
+    if (progress && terminal) std::cerr << "\r\033[K";
+    print_theorem(al + ", " + as + ", junction keys", text, claim, entries, wit, ext, leaves);
+    return 0;
+}
+
 // Parses the header, every key line and witness (cheap), then verifies the
 // leaves; prints the theorem.
 // The certificate's lines, '#' comments and blank lines dropped.  Hostile
@@ -1389,9 +1818,10 @@ int check(std::istream& in, bool progress) {
     const std::vector<std::string> body = read_body(in);
     if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
     if (!body.empty() && body[0] == "warpmesh-bcc-ceiling 1") return check_ceiling(body);
+    if (!body.empty() && body[0] == "warpmesh-bcc-junctions 1") return check_junctions(body, progress);
     const bool delaunay = !body.empty() && body[0] == "warpmesh-bcc-certificate 5";
     if (body.size() < 4 || (body[0] != "warpmesh-bcc-certificate 4" && !delaunay))
-        fail("not a BCC certificate (format 4 or 5), counter-example or ceiling (format 1)");
+        fail("not a BCC certificate (format 4 or 5), counter-example, ceiling or junction certificate (format 1)");
     // Format 5: one face-rule line, right after the header; format 4: none.
     long rules = 0;
     for (const std::string& l : body) rules += l.rfind("face-rule", 0) == 0;
@@ -1406,10 +1836,8 @@ int check(std::istream& in, bool progress) {
     if (!(a >> word >> al >> as) || word != "alphas") fail("bad alphas line");
     if (!(c >> word >> text[0] >> text[1] >> text[2]) || word != "claim" || (c >> word)) fail("bad claim line");
     if (!(n >> word >> nkeys) || word != "keys" || nkeys < 0 || nkeys > 1000000) fail("bad keys line");
-    const auto [ln, ld] = parse_q(al);
-    const auto [sn, sd] = parse_q(as);
-    if (ld != sd || ld >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
-    if (!(ln > 0 && 2 * ln < ld && sn > 0 && 2 * sn < sd)) fail("alphas out of (0, 1/2)");
+    std::int64_t ld = 0;
+    const auto [ln, sn] = bound_alphas(al, as, ld);
     const Claim claim{claim_threshold(text[0]), claim_threshold(text[1]), claim_threshold(text[2])};
     if (static_cast<long>(body.size()) != static_cast<long>(h) + 3 + nkeys) fail("key count mismatch");
     const auto expected = canonical_keys(symmetries());
@@ -1442,7 +1870,8 @@ int check(std::istream& in, bool progress) {
     // Second pass: every leaf verified against its key's claim.
     long leaves = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        leaves += replay(entries[i].k, entries[i].ps, entries[i].root, entries[i].splits, entries[i].claim, delaunay);
+        leaves += replay(Model{entries[i].k, entries[i].ps, false}, oriented(entries[i].k), entries[i].root, entries[i].splits, entries[i].claim,
+                         delaunay);
         if (progress && ((i + 1) % 50 == 0 || i + 1 == entries.size()))
             std::cerr << (terminal ? "\r" : "") << "checked " << i + 1 << " of " << entries.size() << " keys, " << leaves
                       << " leaves" << (terminal ? "\033[K" : "\n") << std::flush;

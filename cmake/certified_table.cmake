@@ -14,13 +14,21 @@
 # claim, without the root box, witnesses and split string), which
 # mesher/src/certify/bcc_certified.cpp parses (the 3D mesher's certification
 # and --verify, mesher/src/certify/bcc_claim.cpp, read it there).
+# The junction keys' certificate proofs/bcc_junctions.cert (multi-material
+# meshes) as certified_bcc_junction_keys: its `alphas` line and per key
+# "CODE CMIN CMAX" (warpmesh_bcc_table_text), parsed there too.
 # Regenerated whenever a certificate changes (CMAKE_CONFIGURE_DEPENDS), and
-# when proofs/bcc_delaunay.cert appears or goes (a CONFIGURE_DEPENDS glob).
+# when proofs/bcc_delaunay.cert or proofs/bcc_junctions.cert appears or goes
+# (CONFIGURE_DEPENDS globs).
 # A missing certificate gives an empty table: the mesher then reports
 # "certified": null for that rule.  Used by the main build and by the fuzz
 # build (tests/fuzz), so that both compile the same table.
 
-# The 3D table text of one certificate (empty when it is missing).
+# The 3D table text of one certificate (empty when it is missing): its
+# `face-rule` and `alphas` lines and per key "CODE CMIN CMAX", from a key line
+# "key CODE m <root box> CMIN CMAX CFACE ..." (bcc.cert, bcc_delaunay.cert)
+# or "key CODE CMIN CMAX CFACE" (bcc_junctions.cert: its face lines are not
+# compiled in).
 function(warpmesh_bcc_table_text cert out)
   set(text "")
   if(EXISTS ${cert})
@@ -35,6 +43,9 @@ function(warpmesh_bcc_table_text cert out)
         if(line MATCHES "^key ([^ ]+) [0-9]${skip} ([0-9]+/1099511627776) ([0-9]+/1099511627776) ")
           string(APPEND text "${CMAKE_MATCH_1} ${CMAKE_MATCH_2} ${CMAKE_MATCH_3}\n")
         endif()
+      elseif(line MATCHES "^key ([^ ]+) ([0-9]+/1099511627776) ([0-9]+/1099511627776) [0-9]+/1099511627776$")
+        # A junction key's line (proofs/bcc_junctions.cert): its claim alone.
+        string(APPEND text "${CMAKE_MATCH_1} ${CMAKE_MATCH_2} ${CMAKE_MATCH_3}\n")
       endif()
     endforeach()
   endif()
@@ -69,6 +80,14 @@ function(warpmesh_certified_table out root)
   endif()
   warpmesh_bcc_table_text(${root}/proofs/bcc_delaunay.cert text)
   string(APPEND cpp "extern const std::string_view certified_bcc_delaunay_keys;\nconst std::string_view certified_bcc_delaunay_keys = R\"WMCERT(${text})WMCERT\";\n")
+  # The junction keys of multi-material meshes (the parity face rule's cone
+  # stencil where three or four materials meet), compiled in when present.
+  file(GLOB junction_cert CONFIGURE_DEPENDS ${root}/proofs/bcc_junctions.cert)
+  if(NOT junction_cert)
+    message(STATUS "warpmesh: no proofs/bcc_junctions.cert; multi-material junction tetrahedra are not certified")
+  endif()
+  warpmesh_bcc_table_text(${root}/proofs/bcc_junctions.cert text)
+  string(APPEND cpp "extern const std::string_view certified_bcc_junction_keys;\nconst std::string_view certified_bcc_junction_keys = R\"WMCERT(${text})WMCERT\";\n")
   string(APPEND cpp "}  // namespace warpmesh::generated\n")
   file(CONFIGURE OUTPUT ${out} CONTENT "${cpp}" @ONLY)
 endfunction()

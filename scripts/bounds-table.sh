@@ -4,12 +4,13 @@
 #
 #   { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
 #     build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert;
-#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
+#     build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
 # row per certificate in input order: the parity face rule, the Delaunay face
-# rule) come after the 2D rows; its counter-example for the α = ½
-# closer-endpoint rule (no bound: an inverted tetrahedron) follows, and the
+# rule, the junction keys of multi-material meshes) come after the 2D rows;
+# its counter-example for the α = ½ closer-endpoint rule (no bound: an
+# inverted tetrahedron) follows, and the
 # ceiling (no thresholds, with any face rule, reach its angle) is the last.
 #
 # scripts/test.sh runs the checker, pipes its output through this script and
@@ -33,6 +34,7 @@ awk '
     # BCC theorem (alphas A, B[, Delaunay face rule]): ... t in [LO, HI] deg ...
     al = $0; sub(/^BCC theorem \(alphas /, "", al); sub(/\):.*/, "", al)
     faces3[++n3] = al ~ /Delaunay face rule/ ? "Delaunay" : "parity"
+    junction3[n3] = al ~ /junction keys/
     a3[n3] = al
     t3 = $0; sub(/.*: t in \[/, "", t3); sub(/\] deg.*/, "", t3); split(t3, tt, ", ")
     lo3[n3] = tt[1]; hi3[n3] = tt[2]
@@ -90,7 +92,9 @@ awk '
       }
     for (i = 1; i <= n3; ++i) {
       split(a3[i], aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
-      printf "| BCC closest-first, %s faces (3D dihedral, α %.5f / %.5f) | all keys with output | %s° | %s° | %s | %s | %s |\n", faces3[i], p[1] / p[2], q[1] / q[2], lo3[i], hi3[i], r3[i], wit3[i, "min"], wit3[i, "max"]
+      what3 = junction3[i] ? "BCC multi-material junctions (3 or 4 materials), " : "BCC closest-first, "
+      conf3 = junction3[i] ? "all junction keys" : "all keys with output"
+      printf "| %s%s faces (3D dihedral, α %.5f / %.5f) | %s | %s° | %s° | %s | %s | %s |\n", what3, faces3[i], p[1] / p[2], q[1] / q[2], conf3, lo3[i], hi3[i], r3[i], wit3[i, "min"], wit3[i, "max"]
     }
     if (kx != "") {
       split(ax, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")

@@ -57,6 +57,7 @@ GENERIC_MODELS = {
     "mesher/include/warpmesh/mesh2d/square_keys.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc_keys.hpp",
+    "mesher/include/warpmesh/mesh3d/generic_bcc_materials.hpp",
 }
 PROVER_LAYERS = {"core", "numerics"}
 

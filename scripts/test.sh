@@ -61,6 +61,21 @@ if [ -x "$build/checker/warpmesh-check" ]; then
     echo "test: these proofs/bcc_delaunay.cert keys differ from the prover's fresh output" >&2
     exit 1
   fi
+  # The junction keys' certificate (multi-material meshes, proofs/README.md
+  # "Junction keys (3D, bcc_junctions.cert)"): a key's five lines (its key
+  # line and its four face lines) depend on the key alone; every 2nd key
+  # rerun, its lines byte-identical to the certificate's.
+  njun="$(sed -n 's/^keys //p' "$root/proofs/bcc_junctions.cert")"
+  "$build/prover/warpmesh-prove-bcc" --junctions --threads "$(nproc)" --keys "$(seq -s, 0 2 $((njun - 1)))" \
+    --out "$fresh/bcc_junctions.sample" 2>"$fresh/bcc_junctions.sample.log" || { cat "$fresh/bcc_junctions.sample.log" >&2; exit 1; }
+  grep -E '^(key|face) ' "$fresh/bcc_junctions.sample" >"$fresh/bcc_junctions.sample.lines"
+  awk 'NR == FNR { if ($1 == "key") want[$2] = 1; next } $1 == "key" { on = ($2 in want) } on && ($1 == "key" || $1 == "face")' \
+    "$fresh/bcc_junctions.sample" "$root/proofs/bcc_junctions.cert" >"$fresh/bcc_junctions.committed.lines"
+  if ! cmp -s "$fresh/bcc_junctions.sample.lines" "$fresh/bcc_junctions.committed.lines"; then
+    echo "test: these proofs/bcc_junctions.cert keys differ from the prover's fresh output" >&2
+    diff "$fresh/bcc_junctions.committed.lines" "$fresh/bcc_junctions.sample.lines" | cut -c1-200 >&2 || true
+    exit 1
+  fi
   # The 3D counter-example (the alpha = 1/2 closer-endpoint rule inverts a
   # tetrahedron) and the 3D ceiling (no thresholds reach 11.88 deg): their
   # writers are deterministic, the files byte-identical.
@@ -85,6 +100,8 @@ if [ -x "$build/checker/warpmesh-check" ]; then
   pids+=($!)
   "$build/checker/warpmesh-check-bcc" "$root/proofs/bcc_delaunay.cert" >"$fresh/bcc_delaunay.cert.check3d" 2>&1 &
   pids+=($!)
+  "$build/checker/warpmesh-check-bcc" "$root/proofs/bcc_junctions.cert" >"$fresh/bcc_junctions.cert.check3d" 2>&1 &
+  pids+=($!)
   no_bound=(bcc_half bcc_ceiling)  # a counter-example and a ceiling: NO BOUND statements
   no_bound_pids=()
   for c in "${no_bound[@]}"; do
@@ -102,9 +119,9 @@ if [ -x "$build/checker/warpmesh-check" ]; then
   done
   cat "$fresh"/*.check "$fresh"/*.check3d
   [ "$status" -eq 0 ] || { echo "test: the checker rejected a certificate" >&2; exit 1; }
-  # Every key of both 3D certificates is tight (proofs/README.md): the
-  # checker's counts read "N of N".
-  for c in bcc bcc_delaunay; do
+  # Every key of the three 3D bound certificates is tight (proofs/README.md):
+  # the checker's counts read "N of N".
+  for c in bcc bcc_delaunay bcc_junctions; do
     if grep -E '^  key (min|max|face) claims: ' "$fresh/$c.cert.check3d" | grep -vE ': ([0-9]+) of \1 within' >&2; then
       echo "test: proofs/$c.cert has keys whose claims are not tight (above)" >&2
       exit 1
@@ -116,7 +133,7 @@ if [ -x "$build/checker/warpmesh-check" ]; then
     sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
     if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
       echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
-      echo "      { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh" >&2
+      echo "      { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh" >&2
       diff "$fresh/page.md" "$fresh/table.md" >&2 || true
       exit 1
     fi

@@ -87,6 +87,13 @@ inline std::vector<std::string> with_line(std::vector<std::string> lines, const 
     return lines;
 }
 
+// Fields joined by single spaces (a line again).
+inline std::string join_fields(const std::vector<std::string>& f) {
+    std::string s;
+    for (const auto& w : f) s += (s.empty() ? "" : " ") + w;
+    return s;
+}
+
 // A line's whitespace-separated fields.
 inline std::vector<std::string> fields(const std::string& line) {
     std::istringstream ss(line);

@@ -63,3 +63,36 @@ BOOST_AUTO_TEST_CASE(stuffed_tetrahedra_lie_within_their_keys_claims) {
     }
     BOOST_TEST(checked > 1000);
 }
+
+// The junction keys' table (proofs/bcc_junctions.cert): at the parity rule's
+// alphas (multi-material meshes use them), every canonical junction key has
+// a claim within the one-region floor of proofs/bcc.cert, the theorem is
+// their extremes, and the certification reports it at those alphas only.
+BOOST_AUTO_TEST_CASE(every_junction_key_has_a_claim_within_the_one_region_floor) {
+    const auto al = bcc_junction_certified_alphas();
+    BOOST_REQUIRE(al.has_value());
+    BOOST_TEST((al->long_num * bcc::parity_alphas.long_den == bcc::parity_alphas.long_num * al->long_den &&
+                al->short_num * bcc::parity_alphas.short_den == bcc::parity_alphas.short_num * al->short_den));
+    const auto th = bcc_junction_certified_theorem();
+    const auto floor = bcc_certified_theorem(FaceRule::parity);
+    BOOST_REQUIRE((th.has_value() && floor.has_value()));
+    double worst_min = 90, worst_max = 90;
+    for (const auto& k : bcc_prover::enumerate_junction_keys()) {
+        const auto b = bcc_junction_certified_bound(k);
+        BOOST_REQUIRE_MESSAGE(b.has_value(), bcc::code_of(k));
+        worst_min = std::min(worst_min, b->min_deg), worst_max = std::max(worst_max, b->max_deg);
+    }
+    BOOST_TEST(worst_min == th->min_deg);
+    BOOST_TEST(worst_max == th->max_deg);
+    BOOST_TEST(th->cmin_num <= floor->cmin_num);  // at least the one-region floor: cos² no larger
+    BOOST_TEST(th->cmax_num <= floor->cmax_num);
+    const BccCertification c = bcc_junction_certification(bcc::parity_alphas);
+    BOOST_TEST(c.certified);
+    BOOST_TEST(c.min_deg == th->min_deg);
+    BOOST_TEST(!bcc_junction_certification(bcc::delaunay_alphas).certified);
+    // The key of a junction background tetrahedron as the mesher computes it:
+    // letters (0, 0, 1, 2) and parity of background tetrahedron 0 of the cube at the origin.
+    const auto p = bcc::background_tet({2, 2, 2}, 0);
+    const bcc::JunctionKey k = bcc::junction_key_of(p, {0, 0, 1, 2}, {bcc::stay, bcc::stay, bcc::stay, bcc::stay});
+    BOOST_TEST(bcc_junction_certified_bound(k).has_value(), bcc::code_of(k));
+}

@@ -39,12 +39,6 @@ std::size_t first_split_key(const std::vector<std::string>& l) {
     return 0;
 }
 
-std::string join(const std::vector<std::string>& f) {
-    std::string s;
-    for (const auto& w : f) s += (s.empty() ? "" : " ") + w;
-    return s;
-}
-
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(header_changed) {
@@ -101,7 +95,7 @@ BOOST_AUTO_TEST_CASE(key_claim_raised_to_61_degrees) {
         auto kf = key_fields(l[k]);
         // A minimum of 61 deg: the witness contradicts it (a triangle has an angle <= 60 deg).
         kf.f[kf.cmin + static_cast<std::size_t>(j)] = "258427994931/1099511627776";
-        l[k] = join(kf.f);
+        l[k] = join_fields(kf.f);
         expect_bcc_rejected(l, j == 0 ? "keyclaim" : "keyfaceclaim", "contradicts its claim");
     }
 }
@@ -123,8 +117,8 @@ BOOST_AUTO_TEST_CASE(theorem_loosened_is_not_tight) {
         const std::string loose = j != 1 ? "1099511627775/1099511627776" : "1099511627000/1099511627776";  // 0.05 / 179.9 deg
         kf.f[kf.cmin + static_cast<std::size_t>(j)] = loose;
         cf[1 + static_cast<std::size_t>(j)] = loose;
-        l[k] = join(kf.f);
-        l[c] = join(cf);
+        l[k] = join_fields(kf.f);
+        l[c] = join_fields(cf);
         const char* kind[3] = {"min", "max", "face"};
         expect_bcc_rejected(l, std::string("loose") + kind[j], std::string("theorem's ") + kind[j] + " witness");
     }
@@ -136,17 +130,17 @@ BOOST_AUTO_TEST_CASE(witness_moved_outside_the_box_or_garbled) {
     auto a = l;
     auto kf = key_fields(a[k]);
     kf.f[kf.wmin] = "16777216/16777216";  // t or u = 1: outside [0, alpha] and [alpha, 1 - alpha]
-    a[k] = join(kf.f);
+    a[k] = join_fields(kf.f);
     expect_bcc_rejected(a, "outside", "witness outside");
     auto b = l;
     kf = key_fields(b[k]);
     kf.f[kf.wmax] = "1/3";
-    b[k] = join(kf.f);
+    b[k] = join_fields(kf.f);
     expect_bcc_rejected(b, "nondyadic", "not dyadic");
     auto c = l;  // format 4: the face-angle witness
     kf = key_fields(c[k]);
     kf.f[kf.wface] = "16777216/16777216";
-    c[k] = join(kf.f);
+    c[k] = join_fields(kf.f);
     expect_bcc_rejected(c, "faceoutside", "witness outside");
 }
 
@@ -171,7 +165,7 @@ BOOST_AUTO_TEST_CASE(key_code_repeated_or_not_canonical) {
     auto b = l;
     auto f = fields(b[k]);
     f[1] = "+,-,-,-/0";  // an image of -,-,-,+/0 under a symmetry, not the canonical one
-    b[k] = join(f);
+    b[k] = join_fields(f);
     expect_bcc_rejected(b, "noncanonical", "unexpected or repeated");
 }
 
@@ -181,7 +175,7 @@ BOOST_AUTO_TEST_CASE(root_box_narrowed) {
     auto f = fields(l[k]);
     f[4] = "1/1048576";  // t or u box no longer reaches the exact box's end
     f[3] = "0/1048576";
-    l[k] = join(f);
+    l[k] = join_fields(f);
     expect_bcc_rejected(l, "root", "root box does not contain");
 }
 
@@ -191,17 +185,17 @@ BOOST_AUTO_TEST_CASE(split_string_edited) {
     auto a = l;
     auto f = fields(a[k]);
     f.back() = "0";  // the root box declared a leaf
-    a[k] = join(f);
+    a[k] = join_fields(f);
     expect_bcc_rejected(a, "leaf", "leaf not verified");
     auto b = l;
     f = fields(b[k]);
     f.back() += "0";
-    b[k] = join(f);
+    b[k] = join_fields(f);
     expect_bcc_rejected(b, "long", "split string too long");
     auto c = l;
     f = fields(c[k]);
     f.back().pop_back();
-    c[k] = join(f);
+    c[k] = join_fields(f);
     expect_bcc_rejected(c, "short", "split string too short");
 }
 
@@ -228,12 +222,12 @@ BOOST_AUTO_TEST_CASE(split_side_out_of_range_or_changed) {
     auto kf = key_fields(a[k]);
     BOOST_REQUIRE(kf.m >= 2);
     kf.f.back()[0] = static_cast<char>('1' + kf.m);
-    a[k] = join(kf.f);
+    a[k] = join_fields(kf.f);
     expect_bcc_rejected(a, "side", "bad split string");
     auto b = l;
     kf = key_fields(b[k]);
     kf.f.back()[0] = kf.f.back()[0] == '1' ? '2' : '1';
-    b[k] = join(kf.f);
+    b[k] = join_fields(kf.f);
     expect_bcc_rejected(b, "otherside", "leaf not verified");
 }
 
@@ -249,10 +243,10 @@ BOOST_AUTO_TEST_CASE(issue29_acute_max_witness_passes_the_witness_stage) {
     auto kf = key_fields(l[k]);
     BOOST_REQUIRE(kf.m == 3);
     kf.f[kf.wmax] = "4194304/16777216", kf.f[kf.wmax + 1] = "524288/16777216", kf.f[kf.wmax + 2] = "3145728/16777216";
-    l[k] = join(kf.f);
+    l[k] = join_fields(kf.f);
     const std::size_t s = first_split_key(l);
     auto f = fields(l[s]);
     f.back() = "0";
-    l[s] = join(f);
+    l[s] = join_fields(f);
     expect_bcc_rejected(l, "acute", "leaf not verified");
 }

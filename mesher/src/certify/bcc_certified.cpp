@@ -1,7 +1,8 @@
 // bcc_certified.cpp — parses the per-key claims of the 3D certificates
 // compiled in by cmake/certified_table.cmake (proofs/bcc.cert and, when the
 // build has it, proofs/bcc_delaunay.cert: "face-rule RULE" if the certificate
-// names one, "alphas L S", then "CODE CMIN CMAX" per key, claims p / 2^40).
+// names one, "alphas L S", then "CODE CMIN CMAX" per key, claims p / 2^40;
+// and, in the same form, the junction keys of proofs/bcc_junctions.cert).
 // Each table is the rule its own text names (none: parity), whichever
 // constant it came in; bcc_certified.hpp states the contract.
 #include "warpmesh/certify/bcc_certified.hpp"
@@ -15,11 +16,13 @@
 #include <string_view>
 
 #include "warpmesh/mesh3d/generic_bcc_keys.hpp"
+#include "warpmesh/mesh3d/generic_bcc_materials.hpp"
 
 namespace warpmesh {
 namespace generated {
 extern const std::string_view certified_bcc_keys;
 extern const std::string_view certified_bcc_delaunay_keys;
+extern const std::string_view certified_bcc_junction_keys;
 }
 
 namespace {
@@ -82,7 +85,27 @@ const BccTable& table(FaceRule rule) {
     return none;
 }
 
+// The junction keys' table (proofs/bcc_junctions.cert; empty without it).
+const BccTable& junction_table() {
+    static const BccTable t = [] {
+        BccTable j = parse_table(generated::certified_bcc_junction_keys);
+        return j.alphas && !j.keys.empty() ? j : BccTable{};
+    }();
+    return t;
+}
+
 }  // namespace
+
+std::optional<BccKeyBound> bcc_junction_certified_bound(const bcc::JunctionKey& canonical_key) {
+    const BccTable& t = junction_table();
+    const auto it = t.keys.find(bcc::code_of(canonical_key));
+    if (it == t.keys.end()) return std::nullopt;
+    return it->second;
+}
+
+std::optional<bcc::Alphas> bcc_junction_certified_alphas() { return junction_table().alphas; }
+
+std::optional<BccKeyBound> bcc_junction_certified_theorem() { return junction_table().theorem; }
 
 const char* bcc_certificate_path(FaceRule rule) {
     return rule == FaceRule::delaunay ? "proofs/bcc_delaunay.cert" : "proofs/bcc.cert";

@@ -10,6 +10,13 @@
 // θ >= θmin and θ <= θmax (θmax > 90°) are compared through cos² (the
 // mesher's check, mesh3d/tets3.cpp); the degrees are for reports only.
 //
+// Junctions.  Where three or four materials meet, the multi-material mesher
+// splits the background tetrahedron by the cone stencil; its canonical
+// junction key has its own claim in proofs/bcc_junctions.cert (the parity
+// face rule), added to the parity rule's key claims (junction_claim) and
+// certified on its own (bcc_junction_certification) at that certificate's
+// alphas.
+//
 // Certification.  The certificate of the mesh's face rule (proofs/bcc.cert
 // for parity, proofs/bcc_delaunay.cert for the Delaunay face rule; never the
 // other rule's) claims, at its alphas, for every key with output (a −
@@ -44,6 +51,27 @@ BccKeyClaims bcc_key_claims(FaceRule rule) {
         return BccKeyClaim{std::ldexp(static_cast<double>(b->cmin_num), -40), std::ldexp(static_cast<double>(b->cmax_num), -40)};
     };
     c.source = bcc_certificate_path(rule);
+    if (rule == FaceRule::parity && bcc_junction_certified_alphas()) {
+        c.junction_claim = [](const bcc::JunctionKey& key) -> std::optional<BccKeyClaim> {
+            const std::optional<BccKeyBound> b = bcc_junction_certified_bound(key);
+            if (!b) return std::nullopt;
+            return BccKeyClaim{std::ldexp(static_cast<double>(b->cmin_num), -40), std::ldexp(static_cast<double>(b->cmax_num), -40)};
+        };
+        c.source += " and proofs/bcc_junctions.cert";
+    }
+    return c;
+}
+
+BccCertification bcc_junction_certification(const bcc::Alphas& a) {
+    BccCertification c;
+    const std::optional<bcc::Alphas> j = bcc_junction_certified_alphas();
+    const std::optional<BccKeyBound> t = bcc_junction_certified_theorem();
+    c.certified = j && t && j->long_num * a.long_den == a.long_num * j->long_den && j->short_num * a.short_den == a.short_num * j->short_den;
+    if (c.certified) c.min_deg = t->min_deg, c.max_deg = t->max_deg;
+    else
+        c.uncertified_reason = j ? "no certificate of the junction keys for these alphas: proofs/bcc_junctions.cert is at other alphas"
+                                 : "this build has no certificate of the junction keys (proofs/bcc_junctions.cert): the angles of "
+                                   "junction tetrahedra are measured, not certified";
     return c;
 }
 

@@ -434,6 +434,29 @@ std::array<std::int32_t, 15> point_ids(const MaterialLayout& lay, const Marks& m
     return vid;
 }
 
+// verify's check of the tetrahedra [t0, t0 + s.count) of a junction
+// background tetrahedron (three or four materials) with lattice points p:
+// each against the claim of its canonical junction key
+// (generic_bcc_materials.hpp, junction_key_of; proofs/bcc_junctions.cert),
+// when the claims have junction keys (BccKeyClaims::junction_claim).
+void verify_junction(const MaterialLayout& lay, const BccKeyClaims& claims, const std::array<std::int64_t, 4>& p, const Split& s,
+                     const TetMesh& mesh, std::int64_t t0, VerifyCounts& counts) {
+    if (!claims.junction_claim || s.count == 0) return;
+    std::array<bcc::Ivec, 4> q{};
+    std::array<int, 4> warp{};
+    for (std::size_t k = 0; k < 4; ++k) q[k] = lay.w.grid.point(p[k]), warp[k] = lay.w.warp[static_cast<std::size_t>(p[k])];
+    const std::optional<BccKeyClaim> claim = claims.junction_claim(bcc::junction_key_of(q, s.letter, warp));
+    if (!claim) {
+        ++counts.uncovered;
+        return;
+    }
+    for (int k = 0; k < s.count; ++k) {
+        std::array<Point3, 4> x{};
+        for (std::size_t v = 0; v < 4; ++v) x[v] = mesh.vertices[static_cast<std::size_t>(mesh.tets[static_cast<std::size_t>(t0 + k)][v])];
+        if (!key_claim_holds(x, claim->cos2_min, claim->cos2_max)) ++counts.failures;
+    }
+}
+
 // Pass B for layer l of the range: the tetrahedra, their regions (and keys)
 // and centres, and the faces on the lattice's cut-off (and, with claims,
 // verify's checks).
@@ -475,6 +498,7 @@ void write_layer(const MaterialLayout& lay, const Marks& marks, const Places& at
                 if (const unsigned faces = faces_on_cut_off(o, missing)) cut_off.push_back({t, static_cast<std::uint8_t>(faces)});
             }
             if (verify && !s.junction && !s.all_zero) verify_sides(lay, *verify, p, s, mesh, t0, counts);
+            if (verify && s.junction) verify_junction(lay, *verify, p, s, mesh, t0, counts);
         }
     });
 }

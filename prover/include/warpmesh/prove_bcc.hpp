@@ -2,6 +2,7 @@
 // (generic_bcc.hpp; proofs/README.md, "The BCC space").
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "warpmesh/mesh3d/generic_bcc.hpp"
 #include "warpmesh/mesh3d/generic_bcc_keys.hpp"
+#include "warpmesh/mesh3d/generic_bcc_materials.hpp"
 
 namespace warpmesh::bcc_prover {
 
@@ -59,6 +61,42 @@ struct Param {
     double root_lo, root_hi;
 };
 std::vector<Param> key_params(const Key& k, const bcc::Alphas& al);
+// One parameter: t of vertex i warped along direction w; u of local edge e.
+Param warp_param(int i, int w, const bcc::Alphas& al);
+Param cut_param(int e, const bcc::Alphas& al);
+
+// ---- junction keys (proofs/README.md, "Junction keys (3D, bcc_junctions.cert)") ----
+// A background tetrahedron where three or four materials meet
+// (generic_bcc_materials.hpp: JunctionKey, its symmetries, canonical form
+// and code; the cone stencil junction_stencil over junction_points).
+using bcc::JunctionKey;
+// The consistency rules of the junction key space: letters by first
+// appearance with at least three of them (so at most one vertex warped);
+// the warped vertex, and only it, carries a warp direction, one of the 14
+// (a vertex with a material never moved; a warped vertex moved along a cut
+// lattice edge; its material is not recorded, so a warp along a
+// tetrahedron edge constrains nothing the key holds: the vertex it went
+// towards is unwarped, being not the warped one, and its material differs
+// from a material the key does not name); the parity bit 0 where the cone
+// stencil has no quad on a long edge (has_junction_parity_quad).
+bool junction_consistent(const JunctionKey& k);
+// Every canonical consistent junction key, in canonical order (encode).
+std::vector<JunctionKey> enumerate_junction_keys();
+// The key's parameters: t of the warped vertex in [0, α_e] (its direction's
+// edge type), then u in [α_e, 1 − α_e] of each edge whose ends are unwarped
+// with different letters (the cut edges), by local edge index.
+std::vector<Param> junction_params(const JunctionKey& k, const bcc::Alphas& al);
+// The cone tetrahedra of face f (the face without local vertex f) of the
+// key's stencil, in the stencil's order: those whose three points other
+// than the centre lie on face f (bcc::point_on_face).
+std::vector<bcc::OutTet> junction_face_tets(const JunctionKey& k, int f);
+// The parameters those tetrahedra depend on, a sub-list of junction_params
+// in its order: t of the warped vertex (the centre, the average of the four
+// vertices, moves with it) and u of the cut edges of face f (its cut points
+// and its face point, the average of its three cut points).  No point of a
+// face's tetrahedra depends on any other parameter, so a claim proved over
+// the sub-list's box holds over the key's whole box.
+std::vector<Param> junction_face_params(const JunctionKey& k, int f, const bcc::Alphas& al);
 
 // ---- the face rule -----------------------------------------------------------
 // Which rule splits the quads (generic_bcc.hpp, "The diagonal choices":
@@ -97,6 +135,34 @@ struct KeyProof {
     std::array<double, 4> fail_point{};  // the failed box's centre
     Box fail_box;                        // the failed box
 };
+// What the branch and bound and the witness search run on: a one-region
+// key's stencil under a face rule (generic_points), or the cone tetrahedra
+// of one face of a junction key (junction_points12), with its parameters
+// (at most 4: a one-region key has at most 4, a junction face its face's
+// three cut edges and the warp).  `seed` seeds the witness search (the
+// key's code; a junction face's: its code and the face), so a subject's
+// proof is reproducible alone.
+struct Subject {
+    Key key;  // one region: the key; junction: junction_config (its warps)
+    std::vector<Param> ps;
+    FaceRule rule = FaceRule::parity;
+    bool junction = false;
+    std::vector<bcc::OutTet> tets;  // junction: the face's cone tetrahedra
+    std::string seed;
+};
+Subject region_subject(const Key& k, const bcc::Alphas& al, FaceRule rule = FaceRule::parity);
+Subject junction_subject(const JunctionKey& k, int face, const bcc::Alphas& al);
+// The subject's 15 points (one region: generic_points' ten, the rest 0;
+// junction: junction_points12) at t, u.
+template <class T>
+std::array<bcc::Vec<T>, 15> subject_points(const Subject& s, const std::array<T, 4>& t, const std::array<T, 6>& u) {
+    if (s.junction) return bcc::junction_points12<T>(s.key, t, u);
+    const std::array<bcc::Vec<T>, 10> g = bcc::generic_points<T>(s.key, t, u);
+    std::array<bcc::Vec<T>, 15> p{};
+    std::copy(g.begin(), g.end(), p.begin());
+    return p;
+}
+
 // Branch and bound over the key's root box (bound.cpp), giving up after
 // max_leaves verified leaves.  With the Delaunay rule every claim is proved,
 // box by box, for every stencil the rule admits on the box
@@ -110,6 +176,8 @@ struct KeyProof {
 inline constexpr int default_max_depth = 48;
 KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth = default_max_depth, long max_leaves = 1L << 40,
                    FaceRule rule = FaceRule::parity);
+// The same for any subject (prove_key is it on region_subject).
+KeyProof prove_subject(const Subject& s, const Claim& c, int max_depth = default_max_depth, long max_leaves = 1L << 40);
 // The stencils the Delaunay face rule admits on box b of key k's parameters
 // ps: each quad face's face_form and (n- = 2, n+ = 2) the inside_form,
 // enclosed in outward-rounded intervals, admit the sign +1, −1 or both (an
@@ -136,6 +204,9 @@ double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<
 // on the 2^-24 grid; deterministic per key.
 Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start = nullptr,
                        FaceRule rule = FaceRule::parity);
+// The same for any subject (its own parameters and seed).
+Witness search_subject(const Subject& s, int sign, const std::array<double, 4>* start = nullptr);
+double subject_witness_cos(const Subject& s, const std::array<double, 4>& x, int sign);
 // The claim's cos² for a witness with this cos: the angle moved outward by
 // margin_deg, to first order, rounded up to 2^-40.
 double claim_cos2(double cos, double margin_deg);
@@ -167,8 +238,27 @@ Claim cap_claim(double min_deg, double max_deg);
 inline constexpr double default_cap_min_deg = 10.763, default_cap_max_deg = 164.752;
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = default_max_depth,
                          FaceRule rule = FaceRule::parity);
+// The same for any subject (prove_key_tight is it on region_subject).
+KeyProof prove_subject_tight(const Subject& s, Margins mg = {}, int max_depth = default_max_depth);
+// One claim for several subjects (a junction key's four faces): made from
+// the most extreme of their witnesses (each searched on its own subject) as
+// prove_key_tight makes it, every subject proved against it; a failure at a
+// point more extreme than the failed subject's witness moves that witness
+// there, and doubles the margin unless that made it the most extreme.  One
+// proof per subject, all with the same claim (ok false in the first that
+// failed, if any).  prove_subject_tight is it on one subject.
+std::vector<KeyProof> prove_tight(const std::vector<Subject>& subs, Margins mg = {}, int max_depth = default_max_depth);
 // The key's line of the certificate (proofs/README.md, "The BCC certificate").
 std::string certificate_line(const Key& k, const KeyProof& p);
+// A proof's fields as certificate_line writes them after the code: "m lo_0
+// hi_0 .. CMIN CMAX CFACE WMIN_0 .. WMAX_0 .. WFACE_0 .. SPLITS" (without
+// the claim: a junction face line, whose claim is its key's).
+std::string proof_fields(const KeyProof& p, bool with_claim = true);
+// `warpmesh-prove-bcc --junctions` (prove_junctions.cpp): proves every face
+// of `keys` (prove_subject_tight on junction_subject) and writes the
+// junction certificate to `out`; with `extremes`, prints the witness
+// search's extremes instead.  0: written, 1: a face not proved.
+int prove_junctions(const std::vector<JunctionKey>& keys, const bcc::Alphas& al, const Margins& mg, bool extremes, const std::string& out);
 // `warpmesh-prove-bcc` (prove.cpp).
 int prove_bcc_main(int argc, char** argv);
 

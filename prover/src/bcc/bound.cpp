@@ -32,33 +32,34 @@ struct TetForms {
     bcc::DihedralForms<T> di;
     bcc::FaceAngleForms<T> fa;
 };
-// The key's ten points on box b (T = DI: with partials; T = D2: and second
-// partials).
+// The subject's points on box b (T = DI: with partials; T = D2: and second
+// partials); parameters not in the subject's list are 0 (no point its
+// tetrahedra use depends on them).
 template <class T = DI>
-std::array<bcc::Vec<T>, 10> box_points(const Key& k, const std::vector<Param>& ps, const Box& b) {
+std::array<bcc::Vec<T>, 15> box_points(const Subject& s, const Box& b) {
     const T zero = ScalarOps<T>::from_int(0);
     std::array<T, 4> t{zero, zero, zero, zero};
     std::array<T, 6> u{zero, zero, zero, zero, zero, zero};
-    for (std::size_t i = 0; i < ps.size(); ++i) {
+    for (std::size_t i = 0; i < s.ps.size(); ++i) {
         T x = zero;
         x.v = BI(b.lo[i], b.hi[i]);
         x.d[i] = BI(1.);
-        if (ps[i].index < 4) t[static_cast<std::size_t>(ps[i].index)] = x;
-        else u[static_cast<std::size_t>(ps[i].index - 4)] = x;
+        if (s.ps[i].index < 4) t[static_cast<std::size_t>(s.ps[i].index)] = x;
+        else u[static_cast<std::size_t>(s.ps[i].index - 4)] = x;
     }
-    return bcc::generic_points<T>(k, t, u);
+    return subject_points<T>(s, t, u);
 }
-// The forms of output tetrahedron `tet` (points of the generic tetrahedron).
+// The forms of output tetrahedron `tet` (points of the subject).
 template <class T>
-TetForms<T> tet_forms(const std::array<bcc::Vec<T>, 10>& pts, const bcc::OutTet& tet) {
+TetForms<T> tet_forms(const std::array<bcc::Vec<T>, 15>& pts, const bcc::OutTet& tet) {
     std::array<bcc::Vec<T>, 4> p{};
     for (std::size_t v = 0; v < 4; ++v) p[v] = pts[tet[v]];
     return {bcc::dihedral_forms(p), bcc::face_angle_forms(p)};
 }
 // The forms of the output tetrahedra `tets` on box b.
 template <class T = DI>
-std::vector<TetForms<T>> all_forms(const Key& k, const std::vector<Param>& ps, const Box& b, const std::vector<bcc::OutTet>& tets) {
-    const auto pts = box_points<T>(k, ps, b);
+std::vector<TetForms<T>> all_forms(const Subject& s, const Box& b, const std::vector<bcc::OutTet>& tets) {
+    const auto pts = box_points<T>(s, b);
     std::vector<TetForms<T>> out;
     for (const bcc::OutTet& tet : tets) out.push_back(tet_forms(pts, tet));
     return out;
@@ -76,11 +77,13 @@ bool same(const bcc::Stencil& a, const bcc::Stencil& b) {
     return true;
 }
 
-// The output tetrahedra to verify on box b: the key's stencil (parity), or
-// every tetrahedron of every admissible stencil, each once (Delaunay).
-std::vector<bcc::OutTet> box_tets(const Key& k, const std::vector<Param>& ps, const Box& b, FaceRule rule) {
-    const std::vector<bcc::Stencil> sts =
-        rule == FaceRule::parity ? std::vector<bcc::Stencil>{bcc::stencil(k.sign, k.parity)} : admissible_stencils(k, ps, b);
+// The output tetrahedra to verify on box b: a junction face's cone
+// tetrahedra; the key's stencil (parity), or every tetrahedron of every
+// admissible stencil, each once (Delaunay).
+std::vector<bcc::OutTet> box_tets(const Subject& s, const Box& b) {
+    if (s.junction) return s.tets;
+    const std::vector<bcc::Stencil> sts = s.rule == FaceRule::parity ? std::vector<bcc::Stencil>{bcc::stencil(s.key.sign, s.key.parity)}
+                                                                     : admissible_stencils(s.key, s.ps, b);
     std::vector<bcc::OutTet> out;
     for (const bcc::Stencil& st : sts)
         for (std::size_t j = 0; j < static_cast<std::size_t>(st.count); ++j)
@@ -112,13 +115,35 @@ T form_of(const TetForms<T>& tf, int f, const Claim& c) {
     return cc * df.nn[static_cast<std::size_t>(e)] - d * d;
 }
 
+// Form f alone (form_of(tet_forms(pts, tet), f, c), computed alike: the same
+// operations in the same order, so the same enclosure).
+template <class T>
+T one_form(const std::array<bcc::Vec<T>, 15>& pts, const bcc::OutTet& tet, int f, const Claim& c) {
+    std::array<bcc::Vec<T>, 4> p{};
+    for (std::size_t v = 0; v < 4; ++v) p[v] = pts[tet[v]];
+    if (f == 0) return bcc::volume6_form(p);
+    const T zero = ScalarOps<T>::from_int(0);
+    T d = zero, nn = zero, cc = zero;
+    if (f >= 25) {
+        bcc::face_angle_form(p, (f - 25) / 2, d, nn);
+        if ((f - 25) % 2 == 0) return zero - d;
+        cc.v = BI(c.cface);
+        return cc * nn - d * d;
+    }
+    const int g = (f - 1) % 12;
+    bcc::dihedral_form(p, g / 2, d, nn);
+    if (g % 2 == 0) return f < 13 ? zero - d : d;
+    cc.v = BI(f < 13 ? c.cmin : c.cmax);
+    return cc * nn - d * d;
+}
+
 // The second-order Taylor form of form f of tetrahedron j on box b around its
 // centre m: g(m) + sum_i g_i(m) [-r_i, r_i] + sum_i g_ii(b) [0, r_i²] / 2
 // + sum_{i<l} g_il(b) [-r_i r_l, r_i r_l] (the partials at the point m, the
 // second partials on the box).
-BI taylor2(const Key& k, const std::vector<Param>& ps, const Box& b, const bcc::OutTet& tet, int f, const Claim& c) {
-    const DI g = form_of(tet_forms(box_points(k, ps, centre(b)), tet), f, c);
-    const D2 h = form_of(tet_forms(box_points<D2>(k, ps, b), tet), f, c);
+BI taylor2(const Subject& s, const Box& b, const bcc::OutTet& tet, int f, const Claim& c) {
+    const DI g = one_form(box_points(s, centre(b)), tet, f, c);
+    const D2 h = one_form(box_points<D2>(s, b), tet, f, c);
     BI t = g.v;
     for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i) {
         const BI r = BI(0.5 * (b.hi[i] - b.lo[i]));
@@ -140,11 +165,10 @@ BI taylor2(const Key& k, const std::vector<Param>& ps, const Box& b, const bcc::
 // second-order Taylor form on that face.  The checker applies it exactly.
 // `g` is the form on b, `mid` its value at the centre (both precomputed for
 // all forms of the box).
-bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, const bcc::OutTet& tet, int f, const Claim& c, bool strict,
-                 DI g, BI mid) {
+bool verify_form(const Subject& s, Box b, const bcc::OutTet& tet, int f, const Claim& c, bool strict, DI g, BI mid) {
     for (bool first = true;; first = false) {
         if (strict ? g.v.lower() > 0 : g.v.lower() >= 0) return true;
-        BI mv = first ? mid : form_of(tet_forms(box_points(k, ps, centre(b)), tet), f, c).v;
+        BI mv = first ? mid : one_form(box_points(s, centre(b)), tet, f, c).v;
         for (std::size_t i = 0; i < static_cast<std::size_t>(b.m); ++i)
             if (b.lo[i] != b.hi[i]) {
                 const double r = 0.5 * (b.hi[i] - b.lo[i]);
@@ -158,10 +182,10 @@ bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, const bcc::O
             else if (g.d[i].upper() <= 0) b.lo[i] = b.hi[i], fixed = true;
         }
         if (!fixed) {
-            const BI t = taylor2(k, ps, b, tet, f, c);
+            const BI t = taylor2(s, b, tet, f, c);
             return strict ? t.lower() > 0 : t.lower() >= 0;
         }
-        g = form_of(tet_forms(box_points(k, ps, b), tet), f, c);
+        g = one_form(box_points(s, b), tet, f, c);
     }
 }
 
@@ -173,13 +197,12 @@ bool verify_form(const Key& k, const std::vector<Param>& ps, Box b, const bcc::O
 // chooses the side to split.  Per edge: minimum holds if -d >= 0 on the box
 // or C_min N - d² >= 0; maximum if d >= 0 or C_max N - d² >= 0
 // (generic_bcc.hpp, "Angle forms"); per face angle: -s >= 0 or F M - s² >= 0.
-bool verify_box(const Key& k, const std::vector<Param>& ps, const Box& b, const Claim& c, FaceRule rule, int* fail,
-                std::array<double, 4>& smear) {
-    const std::vector<bcc::OutTet> tets = box_tets(k, ps, b, rule);
-    const auto fb = all_forms(k, ps, b, tets), fm = all_forms(k, ps, centre(b), tets);
+bool verify_box(const Subject& s, const Box& b, const Claim& c, int* fail, std::array<double, 4>& smear) {
+    const std::vector<bcc::OutTet> tets = box_tets(s, b);
+    const auto fb = all_forms(s, b, tets), fm = all_forms(s, centre(b), tets);
     const auto ok = [&](int j, int f, bool strict) {
         const auto J = static_cast<std::size_t>(j);
-        return verify_form(k, ps, b, tets[J], f, c, strict, form_of(fb[J], f, c), form_of(fm[J], f, c).v);
+        return verify_form(s, b, tets[J], f, c, strict, form_of(fb[J], f, c), form_of(fm[J], f, c).v);
     };
     const auto failed = [&](int j, int f, int kind) {
         const DI g = form_of(fb[static_cast<std::size_t>(j)], f, c);
@@ -252,9 +275,13 @@ std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Pa
 }
 
 KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_depth, long max_leaves, FaceRule rule) {
+    return prove_subject(region_subject(k, al, rule), c, max_depth, max_leaves);
+}
+
+KeyProof prove_subject(const Subject& sub, const Claim& c, int max_depth, long max_leaves) {
     const RoundUp guard;
     KeyProof out;
-    const std::vector<Param> ps = key_params(k, al);
+    const std::vector<Param>& ps = sub.ps;
     Box root;
     root.m = static_cast<int>(ps.size());
     for (std::size_t i = 0; i < ps.size(); ++i) root.lo[i] = ps[i].root_lo, root.hi[i] = ps[i].root_hi;
@@ -271,7 +298,7 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
         stack.pop_back();
         int fail = 0;
         std::array<double, 4> smear{};
-        if (verify_box(k, ps, it.b, c, rule, &fail, smear)) {
+        if (verify_box(sub, it.b, c, &fail, smear)) {
             out.splits += '0';
             ++out.leaves;
             continue;
@@ -320,12 +347,14 @@ KeyProof prove_key(const Key& k, const bcc::Alphas& al, const Claim& c, int max_
 // WMIN_{m-1} WMAX_0 .. WMAX_{m-1} WFACE_0 .. WFACE_{m-1} SPLITS": root box
 // ends (multiples of 2^-20), the key's claim (2^-40), its witnesses (2^-24),
 // the split string.
-std::string certificate_line(const Key& k, const KeyProof& p) {
+std::string certificate_line(const Key& k, const KeyProof& p) { return "key " + code_of(k) + " " + proof_fields(p); }
+
+std::string proof_fields(const KeyProof& p, bool with_claim) {
     std::ostringstream o;
-    o << "key " << code_of(k) << " " << p.root.m;
+    o << p.root.m;
     const auto dy = [&](double x, int e) { o << " " << static_cast<long long>(std::ldexp(x, e)) << "/" << (1LL << e); };
     for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.root.lo[j], 20), dy(p.root.hi[j], 20);
-    dy(p.claim.cmin, 40), dy(p.claim.cmax, 40), dy(p.claim.cface, 40);
+    if (with_claim) dy(p.claim.cmin, 40), dy(p.claim.cmax, 40), dy(p.claim.cface, 40);
     for (const Witness* w : {&p.wmin, &p.wmax, &p.wface})
         for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(w->x[j], 24);
     o << " " << p.splits;

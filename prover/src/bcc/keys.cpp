@@ -67,23 +67,26 @@ double dyadic_ceil(double x) { return std::ceil(std::ldexp(x, 20)) / 1048576.0; 
 // Root boxes: x = num/den rounded to nearest is within 2^-53 relative of the
 // exact value, far below 2^-20, so flooring/ceiling x·2^20 with a margin of
 // one unit is safe: lo = floor(x·2^20 − 1)/2^20 <= exact, hi likewise.
+Param warp_param(int i, int w, const bcc::Alphas& al) {
+    const double a = bcc::is_long_direction(w) ? static_cast<double>(al.long_num) / static_cast<double>(al.long_den)
+                                               : static_cast<double>(al.short_num) / static_cast<double>(al.short_den);
+    return {i, 0.0, a, 0.0, dyadic_ceil(a + 0x1p-20)};
+}
+Param cut_param(int e, const bcc::Alphas& al) {
+    const double a = bcc::edge_is_long(e) ? static_cast<double>(al.long_num) / static_cast<double>(al.long_den)
+                                          : static_cast<double>(al.short_num) / static_cast<double>(al.short_den);
+    return {4 + e, a, 1 - a, dyadic_floor(a - 0x1p-20), dyadic_ceil(1 - a + 0x1p-20)};
+}
+
 std::vector<Param> key_params(const Key& k, const bcc::Alphas& al) {
-    const double along = static_cast<double>(al.long_num) / static_cast<double>(al.long_den);
-    const double ashort = static_cast<double>(al.short_num) / static_cast<double>(al.short_den);
     std::vector<Param> out;
     for (int i = 0; i < 4; ++i) {
         const int w = k.warp[static_cast<std::size_t>(i)];
-        if (k.sign[static_cast<std::size_t>(i)] == 0 && w != bcc::stay) {
-            const double a = bcc::is_long_direction(w) ? along : ashort;
-            out.push_back({i, 0.0, a, 0.0, dyadic_ceil(a + 0x1p-20)});
-        }
+        if (k.sign[static_cast<std::size_t>(i)] == 0 && w != bcc::stay) out.push_back(warp_param(i, w, al));
     }
     for (int e = 0; e < 6; ++e) {
         const auto& ed = bcc::tet_edges[static_cast<std::size_t>(e)];
-        if (k.sign[static_cast<std::size_t>(ed[0])] * k.sign[static_cast<std::size_t>(ed[1])] < 0) {
-            const double a = bcc::edge_is_long(e) ? along : ashort;
-            out.push_back({4 + e, a, 1 - a, dyadic_floor(a - 0x1p-20), dyadic_ceil(1 - a + 0x1p-20)});
-        }
+        if (k.sign[static_cast<std::size_t>(ed[0])] * k.sign[static_cast<std::size_t>(ed[1])] < 0) out.push_back(cut_param(e, al));
     }
     return out;
 }

@@ -74,10 +74,11 @@ int print_extremes(const std::vector<Key>& keys, const bcc::Alphas& al, FaceRule
 }  // namespace
 
 int prove_bcc_main(int argc, char** argv) {
-    std::string out = "proofs/bcc.cert", la = "0.285", sa = "0.3985";  // bcc::parity_alphas
+    std::string la = "0.285", sa = "0.3985";  // bcc::parity_alphas
+    std::optional<std::string> out;
     double cap_min = default_cap_min_deg, cap_max = default_cap_max_deg;
     std::optional<std::string> key_list;  // --keys, parsed against the enumeration below
-    bool extremes = false;
+    bool extremes = false, junctions = false;
     FaceRule rule = FaceRule::parity;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -85,6 +86,7 @@ int prove_bcc_main(int argc, char** argv) {
         if (a == "--out" && more) out = argv[++i];
         else if (a == "--alphas" && i + 2 < argc) la = argv[++i], sa = argv[++i];
         else if (a == "--extremes") extremes = true;
+        else if (a == "--junctions") junctions = true;
         else if (a == "--face-rule" && more && parse_face_rule(argv[i + 1])) rule = *parse_face_rule(argv[++i]);
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
@@ -97,7 +99,7 @@ int prove_bcc_main(int argc, char** argv) {
         } else if (a == "--keys" && more) {
             key_list = argv[++i];
         } else {
-            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes] [--face-rule parity|delaunay]\n");
+            std::fprintf(stderr, "usage: warpmesh-prove-bcc [--out FILE] [--alphas L S] [--cap-min-deg D] [--cap-max-deg D] [--threads N] [--keys I,J,..] [--extremes] [--face-rule parity|delaunay] [--junctions]\n");
             return 2;
         }
     }
@@ -107,16 +109,30 @@ int prove_bcc_main(int argc, char** argv) {
         std::fprintf(stderr, "warpmesh-prove-bcc: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180\n");
         return 2;
     }
-    const std::vector<Key> all = enumerate_keys();
+    if (junctions && rule != FaceRule::parity) {
+        std::fprintf(stderr, "warpmesh-prove-bcc: --junctions proves the parity face rule's junctions (multi-material meshes use it)\n");
+        return 2;
+    }
+    // --junctions: the junction keys, numbered in canonical order as --keys reads them.
+    const std::vector<Key> all = junctions ? std::vector<Key>{} : enumerate_keys();
+    const std::size_t nkeys = junctions ? enumerate_junction_keys().size() : all.size();
     std::vector<int> subset;
     std::string bad;
-    if (key_list && !prover::parse_key_list(*key_list, static_cast<long>(all.size()), subset, bad)) {
-        std::fprintf(stderr, "warpmesh-prove-bcc: --keys expects key indices 0..%zu separated by commas (bad: '%s')\n", all.size() - 1,
+    if (key_list && !prover::parse_key_list(*key_list, static_cast<long>(nkeys), subset, bad)) {
+        std::fprintf(stderr, "warpmesh-prove-bcc: --keys expects key indices 0..%zu separated by commas (bad: '%s')\n", nkeys - 1,
                      bad.c_str());
         return 2;
     }
     Margins mg;
     mg.cap = cap_claim(cap_min, cap_max);
+    if (junctions) {
+        const std::vector<JunctionKey> jall = enumerate_junction_keys();
+        std::vector<JunctionKey> jkeys;
+        if (subset.empty()) jkeys = jall;
+        else
+            for (int k : subset) jkeys.push_back(jall[static_cast<std::size_t>(k)]);
+        return prove_junctions(jkeys, al, mg, extremes, out.value_or("proofs/bcc_junctions.cert"));
+    }
     std::vector<Key> keys;
     if (subset.empty()) keys = all;
     else
@@ -165,10 +181,11 @@ int prove_bcc_main(int argc, char** argv) {
                  180 - std::acos(std::sqrt(claim.cmax)) * 180 / M_PI, std::acos(std::sqrt(claim.cface)) * 180 / M_PI,
                  keys.size(), failed, leaves, secs);
     if (failed) return 1;
-    std::ofstream f(out, std::ios::binary);
+    const std::string path = out.value_or("proofs/bcc.cert");
+    std::ofstream f(path, std::ios::binary);
     f << cert.str();
     if (!f) {
-        std::fprintf(stderr, "warpmesh-prove-bcc: cannot write %s\n", out.c_str());
+        std::fprintf(stderr, "warpmesh-prove-bcc: cannot write %s\n", path.c_str());
         return 1;
     }
     return 0;

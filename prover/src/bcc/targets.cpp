@@ -21,11 +21,12 @@ namespace {
 // pts: the largest cos of a dihedral angle (smallest angle, sign = +1) or the
 // smallest (largest angle, sign = −1), as +cos resp. −cos so that larger is
 // more extreme; sign = 2: the largest cos of a face angle.
-double stencil_extreme(const bcc::Stencil& st, const std::array<bcc::Vec<double>, 10>& pts, int sign) {
+template <std::size_t N>
+double tets_extreme(const bcc::OutTet* tets, int count, const std::array<bcc::Vec<double>, N>& pts, int sign) {
     double best = -2;
-    for (int j = 0; j < st.count; ++j) {
+    for (int j = 0; j < count; ++j) {
         std::array<bcc::Vec<double>, 4> p{};
-        for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[st.tet[static_cast<std::size_t>(j)][static_cast<std::size_t>(v)]];
+        for (int v = 0; v < 4; ++v) p[static_cast<std::size_t>(v)] = pts[tets[j][static_cast<std::size_t>(v)]];
         if (sign == 2) {
             const auto fa = bcc::face_angle_forms(p);
             for (std::size_t q = 0; q < 12; ++q)
@@ -41,9 +42,8 @@ double stencil_extreme(const bcc::Stencil& st, const std::array<bcc::Vec<double>
     }
     return best;
 }
-// The same over the key's output at x (the rule's stencil there).
-double extreme_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign, FaceRule rule) {
-    return stencil_extreme(stencil_at(k, ps, x.data(), rule), key_points(k, ps, x.data()), sign);
+double stencil_extreme(const bcc::Stencil& st, const std::array<bcc::Vec<double>, 10>& pts, int sign) {
+    return tets_extreme(st.tet.data(), st.count, pts, sign);
 }
 
 // The grid point (multiple of 2^-24) nearest x inside the exact box [lo, hi]
@@ -83,8 +83,27 @@ bcc::Stencil stencil_at(const Key& k, const std::vector<Param>& ps, const double
     return bcc::stencil_with(k.sign, bcc::delaunay_diagonals(k.sign, k.parity, u));
 }
 
+namespace {
+// The cos of the extreme angle (stencil_extreme's) over the subject's output
+// at x: a junction face's cone tetrahedra, or the key's stencil under its
+// rule there.
+double extreme_cos(const Subject& s, const std::array<double, 4>& x, int sign) {
+    std::array<double, 4> t{};
+    std::array<double, 6> u{};
+    split_params(s.ps, x.data(), t, u);
+    if (s.junction) return tets_extreme(s.tets.data(), static_cast<int>(s.tets.size()), subject_points(s, t, u), sign);
+    return stencil_extreme(stencil_at(s.key, s.ps, x.data(), s.rule), key_points(s.key, s.ps, x.data()), sign);
+}
+}  // namespace
+
+double subject_witness_cos(const Subject& s, const std::array<double, 4>& x, int sign) {
+    return (sign == -1 ? -1 : 1) * extreme_cos(s, x, sign);
+}
+
 double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<double, 4>& x, int sign, FaceRule rule) {
-    return (sign == -1 ? -1 : 1) * extreme_cos(k, ps, x, sign, rule);
+    Subject s;
+    s.key = k, s.ps = ps, s.rule = rule;
+    return subject_witness_cos(s, x, sign);
 }
 
 namespace {
@@ -186,8 +205,9 @@ std::vector<Tie> delaunay_ties(const Key& k, const std::vector<Param>& ps) {
 // tie by 1, 2, 4 or 8 grid steps either way (parameter ib) to the most
 // extreme of the rule's own values, on the worse side.  Returns the best of
 // those and w (value fb).
-Witness follow_ties(const Key& k, const std::vector<Param>& ps, int sign, std::vector<std::array<double, 4>> starts, Witness w,
-                    double fb) {
+Witness follow_ties(const Subject& sub, int sign, std::vector<std::array<double, 4>> starts, Witness w, double fb) {
+    const Key& k = sub.key;
+    const std::vector<Param>& ps = sub.ps;
     starts.push_back(w.x);
     for (const Tie& tie : delaunay_ties(k, ps)) {
         const auto on_tie = [&](std::array<double, 4> y) {
@@ -211,7 +231,7 @@ Witness follow_ties(const Key& k, const std::vector<Param>& ps, int sign, std::v
             for (double d : {-8.0, -4.0, -2.0, -1.0, 1.0, 2.0, 4.0, 8.0}) {
                 std::array<double, 4> y = x;
                 y[tie.ib] = snap(x[tie.ib] + d * 0x1p-24, ps[tie.ib]);
-                const double g = extreme_cos(k, ps, y, sign, FaceRule::delaunay);
+                const double g = extreme_cos(sub, y, sign);
                 if (g > fb + 1e-15) fb = g, w.x = y;
             }
         }
@@ -226,8 +246,15 @@ Witness follow_ties(const Key& k, const std::vector<Param>& ps, int sign, std::v
 // search on the 2^-24 grid, from `start` if given (Delaunay: then the face
 // quads' ties followed, follow_ties).
 Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start, FaceRule rule) {
-    std::mt19937 rng(static_cast<unsigned>(std::hash<std::string>{}(code_of(k)) & 0xffffffffu) + static_cast<unsigned>(sign + 1));
-    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(k, ps, x, sign, rule); };
+    Subject s;
+    s.key = k, s.ps = ps, s.rule = rule, s.seed = code_of(k);
+    return search_subject(s, sign, start);
+}
+
+Witness search_subject(const Subject& sub, int sign, const std::array<double, 4>* start) {
+    const std::vector<Param>& ps = sub.ps;
+    std::mt19937 rng(static_cast<unsigned>(std::hash<std::string>{}(sub.seed) & 0xffffffffu) + static_cast<unsigned>(sign + 1));
+    const auto obj = [&](const std::array<double, 4>& x) { return extreme_cos(sub, x, sign); };
     Witness w;
     double fb = -3;
     const int n = start ? 0 : 48;
@@ -246,7 +273,7 @@ Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, con
     }
     pattern_search(obj, ps, w.x, fb, 0.25, 0x1p-24);
     w.cos = (sign == -1 ? -1 : 1) * fb;
-    return rule == FaceRule::delaunay ? follow_ties(k, ps, sign, std::move(starts), w, fb) : w;
+    return !sub.junction && sub.rule == FaceRule::delaunay ? follow_ties(sub, sign, std::move(starts), w, fb) : w;
 }
 
 // The claim cos² c + 2 sqrt(c (1 − c)) δ + δ² (δ the margin in radians:
@@ -292,24 +319,25 @@ double key_claim(double cos, double margin_deg, double cap, double tight_deg) {
 // their dyadic enclosure) snaps onto a range's end, which may lie on the tie
 // itself, where the rule takes the parity diagonal and the worse stencil is
 // one step away.  The most extreme of these points is taken.
-std::array<double, 4> fail_probe(const Key& k, const std::vector<Param>& ps, const KeyProof& p, int sign, FaceRule rule) {
+std::array<double, 4> fail_probe(const Subject& sub, const KeyProof& p, int sign) {
+    const std::vector<Param>& ps = sub.ps;
     std::array<double, 4> x{};
     for (std::size_t i = 0; i < ps.size(); ++i) x[i] = snap(p.fail_point[i], ps[i]);
-    if (rule == FaceRule::parity) return x;
+    if (sub.junction || sub.rule == FaceRule::parity) return x;
     std::vector<std::array<double, 4>> points{x};
     for (unsigned c = 0; c < 1u << ps.size(); ++c) {
         std::array<double, 4> y{};
         for (std::size_t i = 0; i < ps.size(); ++i) y[i] = snap((c >> i & 1u) ? p.fail_box.hi[i] : p.fail_box.lo[i], ps[i]);
         points.push_back(y);
     }
-    double best = extreme_cos(k, ps, x, sign, rule);
+    double best = extreme_cos(sub, x, sign);
     unsigned steps = 1;
     for (std::size_t i = 0; i < ps.size(); ++i) steps *= 3;
     for (const auto& y0 : points)
         for (unsigned d = 0; d < steps; ++d) {
             std::array<double, 4> y = y0;
             for (unsigned i = 0, e = d; i < ps.size(); ++i, e /= 3) y[i] = snap(y[i] + (static_cast<double>(e % 3) - 1) * 0x1p-24, ps[i]);
-            const double f = extreme_cos(k, ps, y, sign, rule);
+            const double f = extreme_cos(sub, y, sign);
             if (f > best) best = f, x = y;
         }
     return x;
@@ -318,54 +346,79 @@ std::array<double, 4> fail_probe(const Key& k, const std::vector<Param>& ps, con
 }  // namespace
 
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg, int max_depth, FaceRule rule) {
-    const std::vector<Param> ps = key_params(k, al);
+    return prove_subject_tight(region_subject(k, al, rule), mg, max_depth);
+}
+
+KeyProof prove_subject_tight(const Subject& sub, Margins mg, int max_depth) { return prove_tight({sub}, mg, max_depth)[0]; }
+
+std::vector<KeyProof> prove_tight(const std::vector<Subject>& subs, Margins mg, int max_depth) {
     // Per kind j: 0 the smallest dihedral angle, 1 the largest, 2 the
     // smallest face angle; `sign` as in extreme_cos, `dir` +1 where a larger
-    // cos is more extreme.
+    // cos is more extreme.  w[i][j]: subject i's witness; the claim is made
+    // from the most extreme subject's (ext(j), the first on ties).
     const int sign[3] = {1, -1, 2}, dir[3] = {1, -1, 1};
-    Witness w[3] = {search_witness(k, ps, 1, nullptr, rule), search_witness(k, ps, -1, nullptr, rule),
-                    search_witness(k, ps, 2, nullptr, rule)};
+    const std::size_t n = subs.size();
+    std::vector<std::array<Witness, 3>> w(n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (int j = 0; j < 3; ++j) w[i][static_cast<std::size_t>(j)] = search_subject(subs[i], sign[j]);
+    const auto ext = [&](int j) {
+        std::size_t e = 0;
+        for (std::size_t i = 1; i < n; ++i)
+            if (dir[j] * w[i][static_cast<std::size_t>(j)].cos > dir[j] * w[e][static_cast<std::size_t>(j)].cos) e = i;
+        return w[e][static_cast<std::size_t>(j)];
+    };
     const double start[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     double margin[3] = {mg.min_deg, mg.max_deg, mg.face_deg};
     long budget = mg.budget;
     const auto widen = [&](int j) { margin[j] = std::min(2 * margin[j], 64 * start[j]); };
-    KeyProof p;
+    std::vector<KeyProof> p(n);
+    const auto prove_all = [&](const Claim& c, long leaves) {  // the first subject that fails, or n
+        for (std::size_t i = 0; i < n; ++i) {
+            p[i] = prove_subject(subs[i], c, max_depth, leaves);
+            p[i].claim = c, p[i].wmin = w[i][0], p[i].wmax = w[i][1], p[i].wface = w[i][2];
+            if (!p[i].ok) return i;
+        }
+        return n;
+    };
     for (int attempt = 0; attempt < 32; ++attempt) {
         // A largest angle below 90 deg (cos > 0) is claimed as 90 deg + the
         // margin; no claim is looser than the caps.
-        const Claim c{key_claim(w[0].cos, margin[0], mg.cap.cmin, mg.tight_min_deg),
-                      key_claim(std::min(w[1].cos, 0.0), margin[1], mg.cap.cmax, mg.tight_max_deg),
-                      key_claim(w[2].cos, margin[2], mg.cap.cface, mg.tight_min_deg)};
+        const Claim c{key_claim(ext(0).cos, margin[0], mg.cap.cmin, mg.tight_min_deg),
+                      key_claim(std::min(ext(1).cos, 0.0), margin[1], mg.cap.cmax, mg.tight_max_deg),
+                      key_claim(ext(2).cos, margin[2], mg.cap.cface, mg.tight_min_deg)};
         // No budget once a margin reached 64 times its start: prove or fail.
         bool last = false;
         for (int j = 0; j < 3; ++j) last = last || margin[j] >= 64 * start[j];
-        p = prove_key(k, al, c, max_depth, last ? 1L << 40 : budget, rule);
-        p.claim = c, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
-        if (p.ok || p.fail_kind == 0) return p;
-        if (p.fail_kind == 3) {
+        const std::size_t f = prove_all(c, last ? 1L << 40 : budget);
+        if (f == n || p[f].fail_kind == 0) return p;
+        if (p[f].fail_kind == 3) {
             // Over budget: first every margin to twice its start (still
             // within tight), then the budget doubles up to max_budget, then
             // the margin that caused most splits doubles (and any other that
             // caused at least a quarter as many).
-            const long f[3] = {p.split_fails[1], p.split_fails[2], p.split_fails[4]};
-            const long most = std::max({f[0], f[1], f[2]});
+            const long fk[3] = {p[f].split_fails[1], p[f].split_fails[2], p[f].split_fails[4]};
+            const long most = std::max({fk[0], fk[1], fk[2]});
             if (margin[0] < 2 * start[0] && margin[1] < 2 * start[1] && margin[2] < 2 * start[2]) widen(0), widen(1), widen(2);
             else if (budget < mg.max_budget) budget *= 2;
             else
                 for (int j = 0; j < 3; ++j)
-                    if (4 * f[j] >= most) widen(j);
+                    if (4 * fk[j] >= most) widen(j);
             continue;
         }
-        const int j = p.fail_kind == 4 ? 2 : p.fail_kind - 1;
-        const std::array<double, 4> x = fail_probe(k, ps, p, sign[j], rule);
-        if (dir[j] * witness_cos(k, ps, x, sign[j], rule) > dir[j] * w[j].cos + 1e-12)
-            w[j] = search_witness(k, ps, sign[j], &x, rule);
-        else if (margin[j] < 64 * start[j]) widen(j);
+        // A failure at a point more extreme than the failed subject's witness
+        // moves that witness there; unless that makes it the most extreme, the
+        // margin doubles.
+        const int j = p[f].fail_kind == 4 ? 2 : p[f].fail_kind - 1;
+        const auto J = static_cast<std::size_t>(j);
+        const double before = ext(j).cos;
+        const std::array<double, 4> x = fail_probe(subs[f], p[f], sign[j]);
+        if (dir[j] * subject_witness_cos(subs[f], x, sign[j]) > dir[j] * w[f][J].cos + 1e-12) w[f][J] = search_subject(subs[f], sign[j], &x);
+        if (dir[j] * ext(j).cos > dir[j] * before + 1e-12) continue;
+        if (margin[j] < 64 * start[j]) widen(j);
         else break;  // nothing left to change
     }
     // Last resort: the caps themselves, no budget.
-    p = prove_key(k, al, mg.cap, max_depth, 1L << 40, rule);
-    p.claim = mg.cap, p.wmin = w[0], p.wmax = w[1], p.wface = w[2];
+    prove_all(mg.cap, 1L << 40);
     return p;
 }
 

@@ -15,7 +15,8 @@
 
 #include <string>
 
-#include "warpmesh/mesh3d/generic_bcc.hpp"  // FaceRule, Alphas
+#include "warpmesh/mesh3d/generic_bcc.hpp"            // FaceRule, Alphas
+#include "warpmesh/mesh3d/generic_bcc_materials.hpp"  // JunctionKey
 #include "warpmesh/mesh3d/mesh3d.hpp"       // BccKeyClaims
 
 namespace warpmesh {
@@ -59,7 +60,9 @@ bool bcc_certificate_applies(const bcc::Alphas& alphas, FaceRule rule);
 
 // The per-key claims of the certificate of `rule` (cos² thresholds
 // p / 2^40), named by its path, for the mesher's verification
-// (mesh3d.hpp: BccOptions::verify).
+// (mesh3d.hpp: BccOptions::verify); for the parity rule also the junction
+// keys' (BccKeyClaims::junction_claim, proofs/bcc_junctions.cert) when the
+// build has that certificate.
 BccKeyClaims bcc_key_claims(FaceRule rule);
 
 // The certification of a mesh split by `rule` at `alphas`: certified iff
@@ -73,5 +76,26 @@ struct BccCertification {
     std::string uncertified_reason;  // empty when certified
 };
 BccCertification bcc_certification(FaceRule rule, const bcc::Alphas& alphas);
+
+// ---- junction keys (proofs/bcc_junctions.cert) ------------------------------------
+// Multi-material meshes split a background tetrahedron where three or four
+// materials meet by the cone stencil (generic_bcc_materials.hpp); its
+// canonical junction key (bcc::junction_key_of) has its own claim in
+// proofs/bcc_junctions.cert, compiled in when the build has it (the parity
+// face rule, the only one multi-material meshes use).  Two-material
+// tetrahedra are one-region keys of proofs/bcc.cert.
+
+// The claim of a canonical junction key, or nothing without the certificate.
+std::optional<BccKeyBound> bcc_junction_certified_bound(const bcc::JunctionKey& canonical_key);
+// The alphas the junction certificate was proved for, or nothing without it.
+std::optional<bcc::Alphas> bcc_junction_certified_alphas();
+// The junction certificate's theorem: the extremes of its keys' claims.
+std::optional<BccKeyBound> bcc_junction_certified_theorem();
+// The certification of a multi-material mesh's junction tetrahedra at
+// `alphas`: certified iff the junction certificate is compiled in and at
+// these alphas (then every junction tetrahedron's dihedral angles lie in
+// its theorem's [min_deg, max_deg], every one positively oriented); else
+// the reason.
+BccCertification bcc_junction_certification(const bcc::Alphas& alphas);
 
 }  // namespace warpmesh

@@ -676,21 +676,29 @@ T dot(const Vec<T>& a, const Vec<T>& b) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+// Six times the signed volume.
+template <class T>
+T volume6_form(const std::array<Vec<T>, 4>& p) {
+    return dot(vsub(p[1], p[0]), cross(vsub(p[2], p[0]), vsub(p[3], p[0])));
+}
+// The forms of edge k alone (dihedral_forms' dot[k] and nn[k], computed alike).
+template <class T>
+void dihedral_form(const std::array<Vec<T>, 4>& p, int k, T& d_out, T& nn_out) {
+    const int a = tet_edges[static_cast<std::size_t>(k)][0], b = tet_edges[static_cast<std::size_t>(k)][1];
+    int c = 0;
+    while (c == a || c == b) ++c;
+    const int d = 6 - a - b - c;
+    const Vec<T> e = vsub(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(a)]);
+    const Vec<T> nc = cross(e, vsub(p[static_cast<std::size_t>(c)], p[static_cast<std::size_t>(a)]));
+    const Vec<T> nd = cross(e, vsub(p[static_cast<std::size_t>(d)], p[static_cast<std::size_t>(a)]));
+    d_out = dot(nc, nd);
+    nn_out = dot(nc, nc) * dot(nd, nd);
+}
 template <class T>
 DihedralForms<T> dihedral_forms(const std::array<Vec<T>, 4>& p) {
     DihedralForms<T> f{};
-    f.volume6 = dot(vsub(p[1], p[0]), cross(vsub(p[2], p[0]), vsub(p[3], p[0])));
-    for (int k = 0; k < 6; ++k) {
-        const int a = tet_edges[static_cast<std::size_t>(k)][0], b = tet_edges[static_cast<std::size_t>(k)][1];
-        int c = 0;
-        while (c == a || c == b) ++c;
-        const int d = 6 - a - b - c;
-        const Vec<T> e = vsub(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(a)]);
-        const Vec<T> nc = cross(e, vsub(p[static_cast<std::size_t>(c)], p[static_cast<std::size_t>(a)]));
-        const Vec<T> nd = cross(e, vsub(p[static_cast<std::size_t>(d)], p[static_cast<std::size_t>(a)]));
-        f.dot[static_cast<std::size_t>(k)] = dot(nc, nd);
-        f.nn[static_cast<std::size_t>(k)] = dot(nc, nc) * dot(nd, nd);
-    }
+    f.volume6 = volume6_form(p);
+    for (int k = 0; k < 6; ++k) dihedral_form(p, k, f.dot[static_cast<std::size_t>(k)], f.nn[static_cast<std::size_t>(k)]);
     return f;
 }
 
@@ -703,20 +711,23 @@ struct FaceAngleForms {
     std::array<T, 12> dot;  // u · v
     std::array<T, 12> nn;   // |u|² |v|²
 };
+// The forms of face angle q = 3a + k alone (face_angle_forms' dot[q], nn[q]).
+template <class T>
+void face_angle_form(const std::array<Vec<T>, 4>& p, int q, T& s_out, T& m_out) {
+    const int a = q / 3, k = q % 3;
+    const int o = k < a ? k : k + 1;  // the vertex off the face
+    int b = 0;
+    while (b == a || b == o) ++b;
+    const int c = 6 - a - o - b;
+    const Vec<T> u = vsub(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(a)]);
+    const Vec<T> v = vsub(p[static_cast<std::size_t>(c)], p[static_cast<std::size_t>(a)]);
+    s_out = dot(u, v);
+    m_out = dot(u, u) * dot(v, v);
+}
 template <class T>
 FaceAngleForms<T> face_angle_forms(const std::array<Vec<T>, 4>& p) {
     FaceAngleForms<T> f{};
-    for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) {
-            const int o = k < a ? k : k + 1;  // the vertex off the face
-            int b = 0;
-            while (b == a || b == o) ++b;
-            const int c = 6 - a - o - b;
-            const Vec<T> u = vsub(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(a)]);
-            const Vec<T> v = vsub(p[static_cast<std::size_t>(c)], p[static_cast<std::size_t>(a)]);
-            f.dot[static_cast<std::size_t>(3 * a + k)] = dot(u, v);
-            f.nn[static_cast<std::size_t>(3 * a + k)] = dot(u, u) * dot(v, v);
-        }
+    for (int q = 0; q < 12; ++q) face_angle_form(p, q, f.dot[static_cast<std::size_t>(q)], f.nn[static_cast<std::size_t>(q)]);
     return f;
 }
 

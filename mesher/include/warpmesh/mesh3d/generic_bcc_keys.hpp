@@ -161,16 +161,20 @@ constexpr std::array<int, 9> encode(const Config& k) {
 // The canonical key of a configuration: its smallest image under the 8
 // symmetries (the identity is symmetry 0); `*which` gets the index of the
 // symmetry that maps the configuration to it (the first, on ties).
-constexpr Config canonical(const Config& k, int* which = nullptr) {
-    Config best = transform(k, symmetries[0]);
+// (Any key type with `transform` and `encode`: junction keys too,
+// generic_bcc_materials.hpp.)
+template <class K>
+constexpr K smallest_image(const K& k, int* which) {
+    K best = transform(k, symmetries[0]);
     int w = 0;
     for (int i = 1; i < 8; ++i) {
-        const Config t = transform(k, symmetries[static_cast<std::size_t>(i)]);
+        const K t = transform(k, symmetries[static_cast<std::size_t>(i)]);
         if (encode(t) < encode(best)) best = t, w = i;
     }
     if (which) *which = w;
     return best;
 }
+constexpr Config canonical(const Config& k, int* which = nullptr) { return smallest_image(k, which); }
 
 // The canonical key of background tetrahedron p (local order) from its
 // vertices' signs and global warp directions: what the mesher looks up.

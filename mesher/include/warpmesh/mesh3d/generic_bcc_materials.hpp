@@ -57,7 +57,10 @@
 #include <array>
 #include <cstdint>
 
+#include <string>
+
 #include "warpmesh/mesh3d/generic_bcc.hpp"
+#include "warpmesh/mesh3d/generic_bcc_keys.hpp"  // symmetries, Symmetry, local_frame
 
 namespace warpmesh::bcc {
 
@@ -119,18 +122,34 @@ constexpr void push_letter(MaterialStencil& s, int p0, int p1, int p2, int p3, i
     s.tet[static_cast<std::size_t>(s.count++)] = {t, letter};
 }
 
-// The 15 points of a junction in the reference frame (doubled coordinates):
-// generic_points' ten (vertex i warped along c.warp[i] by t[i], cut point e
-// at fraction u[e] of its edge) and, from them, face point f the average of
-// the face's three cut points (meaningful only on a face of three letters)
-// and the centre the average of the four vertices — the positions the
-// mesher computes (materials3.cpp), as polynomials in (t, u) for the prover.
+// Whether point q (of the 15) lies on the face without local vertex f: a
+// vertex other than f, a cut point of an edge without f, or f's own face
+// point (the centre lies on no face).  A junction's output tetrahedron is
+// (three points of one face, the centre): it belongs to the face all three lie on.
+constexpr bool point_on_face(int q, int f) {
+    if (q < 4) return q != f;
+    if (q < 10) return tet_edges[static_cast<std::size_t>(q - 4)][0] != f && tet_edges[static_cast<std::size_t>(q - 4)][1] != f;
+    return q == face_point(f);
+}
+
+// The 15 points of a junction in the reference frame, times 12 (doubled
+// coordinates times 12): generic_points' ten times 12 (vertex i warped along
+// c.warp[i] by t[i], cut point e at fraction u[e] of its edge), face point f
+// four times the sum of the face's three cut points (12 times their average;
+// meaningful only on a face of three letters) and the centre three times the
+// sum of the four vertices (12 times their average) — the positions the
+// mesher computes (materials3.cpp), scaled.  Only + − × on the scalar, so
+// these are exact polynomials in (t, u) for every scalar, the prover's dual
+// intervals included; the angle and orientation forms (generic_bcc.hpp,
+// "Angle forms") are homogeneous, so their signs and every comparison
+// d² <= C N are those of the unscaled points.
 template <class T>
-std::array<Vec<T>, 15> junction_points(const Config& c, const std::array<T, 4>& t, const std::array<T, 6>& u) {
+std::array<Vec<T>, 15> junction_points12(const Config& c, const std::array<T, 4>& t, const std::array<T, 6>& u) {
     using O = ScalarOps<T>;
     const std::array<Vec<T>, 10> g = generic_points(c, t, u);
     std::array<Vec<T>, 15> p{};
-    for (std::size_t q = 0; q < 10; ++q) p[q] = g[q];
+    for (std::size_t q = 0; q < 10; ++q)
+        for (std::size_t k = 0; k < 3; ++k) p[q][k] = O::from_int(12) * g[q][k];
     for (int f = 0; f < 4; ++f) {
         std::array<int, 3> v{};
         for (int i = 0, n = 0; i < 4; ++i)
@@ -138,10 +157,22 @@ std::array<Vec<T>, 15> junction_points(const Config& c, const std::array<T, 4>& 
         const std::array<int, 3> e{cut_point(v[0], v[1]), cut_point(v[1], v[2]), cut_point(v[2], v[0])};
         for (std::size_t k = 0; k < 3; ++k)
             p[static_cast<std::size_t>(face_point(f))][k] =
-                (g[static_cast<std::size_t>(e[0])][k] + g[static_cast<std::size_t>(e[1])][k] + g[static_cast<std::size_t>(e[2])][k]) / O::from_int(3);
+                O::from_int(4) * (g[static_cast<std::size_t>(e[0])][k] + g[static_cast<std::size_t>(e[1])][k] + g[static_cast<std::size_t>(e[2])][k]);
     }
-    for (std::size_t k = 0; k < 3; ++k)
-        p[centre_point][k] = (g[0][k] + g[1][k] + g[2][k] + g[3][k]) / O::from_int(4);
+    for (std::size_t k = 0; k < 3; ++k) p[centre_point][k] = O::from_int(3) * (g[0][k] + g[1][k] + g[2][k] + g[3][k]);
+    return p;
+}
+
+// The 15 points of a junction in the reference frame (doubled coordinates):
+// junction_points12 / 12 — vertices and cut points as generic_points, face
+// point f the average of the face's three cut points, the centre the
+// average of the four vertices.
+template <class T>
+std::array<Vec<T>, 15> junction_points(const Config& c, const std::array<T, 4>& t, const std::array<T, 6>& u) {
+    const std::array<Vec<T>, 10> g = generic_points(c, t, u);
+    std::array<Vec<T>, 15> p = junction_points12(c, t, u);
+    for (std::size_t q = 0; q < 15; ++q)
+        for (std::size_t k = 0; k < 3; ++k) p[q][k] = q < 10 ? g[q][k] : p[q][k] / ScalarOps<T>::from_int(12);
     return p;
 }
 
@@ -187,6 +218,120 @@ constexpr MaterialStencil junction_stencil(const std::array<int, 4>& letter, int
             }
         }
     }
+    return s;
+}
+
+// ---------------------------------------------------------------------------
+// JUNCTION KEYS (proofs/README.md, "Junction keys (3D, bcc_junctions.cert)").
+// A junction background tetrahedron's configuration in its local frame:
+// per vertex its letter (-1: warped; else 0..3 by first appearance among the
+// unwarped vertices in local order, as letters_of gives them) and, for the
+// warped vertex, the lattice direction (local frame, 0..13) along which it
+// moved (`stay` for the others); and the parity bit, kept only where the
+// cone stencil splits a quad on a long edge (else 0).  Keys are taken up to
+// the 8 symmetries of the reference tetrahedron (generic_bcc_keys.hpp), as
+// one-region keys are: an image moves letters and warps with the vertices
+// and warp directions with the linear part, *re-letters* by first
+// appearance (renaming materials changes no geometry), and takes the parity
+// bit that maps the decision on each long-edge face to the decision on its
+// image (`transform`'s rule; tests/test_bcc_junction_keys.cpp checks that
+// images have the same output, point for point).  The canonical key is the
+// image with the smallest encoding (letter, warp per vertex, then the bit).
+struct JunctionKey {
+    std::array<int, 4> letter{};
+    std::array<int, 4> warp{stay, stay, stay, stay};
+    int parity = 0;
+};
+
+// Letters renamed by first appearance in local order (-1 stays -1).
+constexpr std::array<int, 4> first_appearance(const std::array<int, 4>& letter) {
+    std::array<int, 4> rename{-1, -1, -1, -1}, out{-1, -1, -1, -1};
+    int n = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+        const int l = letter[i];
+        if (l < 0) continue;
+        if (rename[static_cast<std::size_t>(l)] < 0) rename[static_cast<std::size_t>(l)] = n++;
+        out[i] = rename[static_cast<std::size_t>(l)];
+    }
+    return out;
+}
+
+// Whether the cone stencil of these letters splits a quad on a long edge
+// (a face of three unwarped vertices and two letters whose equal pair is a
+// long edge: face_takes_a reads the parity bit there, and nowhere else).
+constexpr bool has_junction_parity_quad(const std::array<int, 4>& letter) {
+    for (std::size_t e = 0; e < 2; ++e) {
+        const int a = tet_edges[e][0], b = tet_edges[e][1];
+        const int la = letter[static_cast<std::size_t>(a)], lb = letter[static_cast<std::size_t>(b)];
+        if (la < 0 || la != lb) continue;
+        for (int r = 0; r < 4; ++r) {
+            const int lr = letter[static_cast<std::size_t>(r)];
+            if (r != a && r != b && lr >= 0 && lr != la) return true;
+        }
+    }
+    return false;
+}
+
+// The image of a junction key under a symmetry (see above); the parity bit
+// as `transform` maps it for one-region keys, 0 where unused.
+constexpr JunctionKey transform(const JunctionKey& k, const Symmetry& s) {
+    JunctionKey out;
+    std::array<int, 4> letter{};
+    for (std::size_t i = 0; i < 4; ++i) {
+        const auto j = static_cast<std::size_t>(s.perm[i]);
+        letter[j] = k.letter[i];
+        const int w = k.warp[i];
+        out.warp[j] = w == stay ? stay : direction_of(apply(s.lin, neighbour_offsets[static_cast<std::size_t>(w)]));
+    }
+    out.letter = first_appearance(letter);
+    const auto P = [&](int i) { return s.perm[static_cast<std::size_t>(i)]; };
+    out.parity = face_takes_a(P(0), P(1), P(2), 0) == face_takes_a(0, 1, 2, k.parity) ? 0 : 1;
+    if (!has_junction_parity_quad(out.letter)) out.parity = 0;
+    return out;
+}
+
+constexpr std::array<int, 9> encode(const JunctionKey& k) {
+    return {k.letter[0], k.warp[0], k.letter[1], k.warp[1], k.letter[2], k.warp[2], k.letter[3], k.warp[3], k.parity};
+}
+
+// The canonical junction key: the smallest image under the 8 symmetries;
+// `*which` gets the index of the symmetry that maps k to it (the first, on ties).
+constexpr JunctionKey canonical(const JunctionKey& k, int* which = nullptr) { return smallest_image(k, which); }
+
+// The canonical junction key of background tetrahedron p (local order) from
+// its vertices' letters (letters_of, local order) and *global* warp
+// directions (`stay` for unwarped vertices): what the mesher looks up
+// (bcc_certified.hpp, bcc_junction_certified_bound).
+constexpr JunctionKey junction_key_of(const std::array<Ivec, 4>& p, const std::array<int, 4>& letter,
+                                      const std::array<int, 4>& global_warp) {
+    const Linear col = local_frame(p);
+    JunctionKey k;
+    k.letter = first_appearance(letter);
+    for (std::size_t i = 0; i < 4; ++i) k.warp[i] = k.letter[i] < 0 ? pull_direction(col, global_warp[i]) : stay;
+    k.parity = tet_parity(p);
+    return canonical(k);
+}
+
+// The configuration junction_points reads (the warps; signs: - unwarped, 0 warped).
+constexpr Config junction_config(const JunctionKey& k) {
+    Config c;
+    for (std::size_t i = 0; i < 4; ++i) c.sign[i] = k.letter[i] < 0 ? 0 : -1, c.warp[i] = k.warp[i];
+    c.parity = k.parity;
+    return c;
+}
+
+// A junction key's code, e.g. "a,b,0h,c/0": per vertex its letter (a..d) or
+// 0 and its warp direction (a..n = neighbour_offsets 0..13); the parity
+// bit.  proofs/bcc_junctions.cert and the compiled table name keys by it.
+inline std::string code_of(const JunctionKey& k) {
+    std::string s;
+    for (std::size_t i = 0; i < 4; ++i) {
+        if (i) s += ',';
+        if (k.letter[i] >= 0) s += static_cast<char>('a' + k.letter[i]);
+        else s += '0', s += static_cast<char>('a' + k.warp[i]);
+    }
+    s += '/';
+    s += static_cast<char>('0' + k.parity);
     return s;
 }
 

@@ -46,6 +46,10 @@
 
 namespace warpmesh {
 
+namespace bcc {
+struct JunctionKey;  // generic_bcc_materials.hpp
+}
+
 // ---------------------------------------------------------------------------
 // The lattice.  Cubes [0, cubes[a]) along each axis of side `spacing`; the
 // point with doubled coordinates q is at origin + q · spacing / 2; corners
@@ -109,6 +113,11 @@ struct BccKeyClaim {
 struct BccKeyClaims {
     std::function<std::optional<BccKeyClaim>(const bcc::Config& canonical_key)> claim;
     std::string source;
+    // Multi-material meshes: the claims of canonical junction keys
+    // (bcc::junction_key_of; proofs/bcc_junctions.cert), checked against
+    // every tetrahedron of a junction background tetrahedron; empty: those
+    // are not checked.
+    std::function<std::optional<BccKeyClaim>(const bcc::JunctionKey& canonical_key)> junction_claim;
 };
 
 // What the meshing stage is told.  Throws InputError for alphas not in
