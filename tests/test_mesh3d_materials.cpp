@@ -371,8 +371,9 @@ BOOST_AUTO_TEST_CASE(material_blocks_merge_into_exactly_the_whole_mesh) {
     for (int trial = 0; trial < testing::scaled(4); ++trial) {
         const Volume v = random_labels(14, {3, 17, 5, 900}, rng);
         const auto f = make_volume_materials3(v, "all");
+        // Even trials: lattice points on the voxel centres (exact ties between materials).
         const double spacing = trial % 2 == 0 ? 1.0 : 0.7;
-        check_blocks_merge(*f, lattice3_for(f->bounds(), spacing, f->describe()), rng, "random labels " + std::to_string(trial));
+        check_blocks_merge(*f, lattice3_for(f->bounds(), spacing, f->describe(), trial % 2 == 0), rng, "random labels " + std::to_string(trial));
     }
 }
 
