@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "support.hpp"
+#include "warpmesh/certify/bcc_certified.hpp"
 #include "warpmesh/io/volume.hpp"
 #include "warpmesh/pipeline/mesh3d.hpp"
 #include "warpmesh/pipeline/mesh3d_options.hpp"
@@ -128,9 +129,13 @@ BOOST_AUTO_TEST_CASE(nested_spheres_report_each_material_and_are_certified) {
     BOOST_TEST(k.report.materials->materials.front().tets > 0);
 }
 
-BOOST_AUTO_TEST_CASE(junction_tetrahedra_are_counted_uncertified_with_the_reason) {
+// Junctions (three or four materials meet) are certified by
+// proofs/bcc_junctions.cert where the build has it, and verified; their
+// tetrahedra are within the bounds as measured.  Without it they are
+// counted uncertified, with the reason.
+BOOST_AUTO_TEST_CASE(junction_tetrahedra_are_certified_by_their_own_certificate) {
     Mesh3dOptions o = spaced(0.1);
-    o.verify = true;  // every two-material side against its key (a violation throws std::logic_error)
+    o.verify = true;  // every tetrahedron against its key, junctions' included (a violation throws std::logic_error)
     const Mesh3dResult r = mesh3d(
         MaterialShapes3{"1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4"}, o);
     const Mesh3dReport& rep = r.report;
@@ -139,13 +144,22 @@ BOOST_AUTO_TEST_CASE(junction_tetrahedra_are_counted_uncertified_with_the_reason
     BOOST_TEST(rep.materials->junction_background_tets > 0);
     BOOST_TEST(rep.materials->junction_tets > 0);
     BOOST_TEST(rep.certified);
-    BOOST_TEST(rep.uncertified_tets == rep.materials->junction_tets);
-    BOOST_TEST(rep.certified_tets == rep.tets - rep.materials->junction_tets);
-    BOOST_TEST(rep.uncertified_reason.find("junction tetrahedra") != std::string::npos);
-    BOOST_TEST(warned(r, "have no certificate yet"));
-    BOOST_TEST(to_json(rep).find("\"uncertified_tetrahedra\": " + std::to_string(rep.uncertified_tets)) != std::string::npos);
-    BOOST_TEST(to_text(rep).find("uncertified: " + std::to_string(rep.uncertified_tets) + " (") != std::string::npos);
-    // The certified ones are within the certificate's bounds, the filled all-zero ones included.
+    const auto theorem = bcc_junction_certified_theorem();
+    BOOST_TEST(rep.materials->junctions_certified == theorem.has_value());
+    if (theorem) {
+        BOOST_TEST(rep.uncertified_tets == 0);
+        BOOST_TEST(rep.certified_tets == rep.tets);
+        BOOST_TEST(rep.uncertified_reason.empty());
+        BOOST_TEST(rep.certified_min_deg == std::min(theorem->min_deg, bcc_claim(FaceRule::parity)->min_deg));
+        BOOST_TEST(to_json(rep).find("\"certified\": true, \"certificate\": \"proofs/bcc_junctions.cert\"") != std::string::npos);
+        BOOST_TEST(to_text(rep).find("certified by proofs/bcc_junctions.cert") != std::string::npos);
+    } else {
+        BOOST_TEST(rep.uncertified_tets == rep.materials->junction_tets);
+        BOOST_TEST(rep.certified_tets == rep.tets - rep.materials->junction_tets);
+        BOOST_TEST(rep.uncertified_reason.find("junction tetrahedra") != std::string::npos);
+        BOOST_TEST(warned(r, "are not certified"));
+    }
+    // Every tetrahedron, junctions and filled all-zero ones included, within the certified bounds.
     BOOST_TEST(rep.materials->all_zero_filled + r.report.all_zero_left_out > 0);
     BOOST_TEST(to_json(rep).find("\"all_zero_filled\": " + std::to_string(rep.materials->all_zero_filled)) != std::string::npos);
     double lo = 180, hi = 0;
@@ -155,8 +169,8 @@ BOOST_AUTO_TEST_CASE(junction_tetrahedra_are_counted_uncertified_with_the_reason
         for (const double a : dihedral_angles_deg(p)) lo = std::min(lo, a), hi = std::max(hi, a);
     }
     BOOST_TEST_MESSAGE("dihedral angles " << lo << " .. " << hi << " (junctions included)");
-    BOOST_TEST(lo > 0);
-    BOOST_TEST(hi < 180);
+    BOOST_TEST(rep.certified_min_deg <= lo);
+    BOOST_TEST(hi <= rep.certified_max_deg);
 }
 
 // A label volume: voxel counts and their volume per label; a label of one

@@ -73,7 +73,8 @@ usage:
   warpmesh mesh3d INPUT --materials all|L,L,... -o OUT [options]
                                            every label of a label volume in one mesh,
                                            region tag = label, interfaces tagged by pair
-                                           (parity face rule; junctions not certified yet)
+                                           (parity face rule; proofs/bcc.cert, and
+                                           proofs/bcc_junctions.cert where 3 or 4 meet)
   warpmesh mesh3d --shape SPEC --spacing S -o OUT [options]
   warpmesh mesh3d --shapes "T=S;T=S" --spacing S -o OUT [options]
                                            analytic materials (tag T, shape S as --shape)
@@ -238,7 +239,8 @@ std::vector<CliOption> input_options_3d() {
                            "every label of a label volume in one mesh (all; 0 is the background) or these labels, "
                            "every other voxel the background: each tetrahedron's region is its label, every face "
                            "between two materials is tagged by the pair (interface_A_B); split by the parity face "
-                           "rule, whose certificate covers all but the junction tetrahedra (three or four materials)",
+                           "rule, certified by proofs/bcc.cert and, where three or four materials meet (junctions), "
+                           "proofs/bcc_junctions.cert",
                            set_materials));
     t.push_back(cli_option("shapes", OptionKind::text, "T=S;T=S...", materials_group,
                            "analytic materials, region tag T (1 to 65535) for 3D shape S (as {shape}); a later shape "

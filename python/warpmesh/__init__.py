@@ -653,8 +653,8 @@ def mesh3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, insi
                 between two materials are listed (interfaces,
                 interface_regions); report["materials"] gives each material's
                 volume beside its voxels'.  Split by the parity face rule,
-                certified but for the junction tetrahedra (three or four
-                materials meet), which have no certificate yet.
+                certified by proofs/bcc.cert and, where three or four
+                materials meet (junctions), proofs/bcc_junctions.cert.
     shapes      instead of volume: analytic materials as the CLI's --shapes,
                 "1=sphere:0,0,0,1;2=sphere:0,0,0,0.5" (tag=shape; a later
                 shape wins where they overlap; outside all: the background,

@@ -204,7 +204,7 @@ def test_bad_input_is_refused_with_a_message_and_nothing_written(tmp_path, args,
 def test_help_describes_the_materials():
     r = subprocess.run([executable("WARPMESH_EXE"), "mesh3d", "--help"], capture_output=True, text=True, check=True)
     assert "--materials all|L,L,..." in r.stdout and "--shapes \"T=S;T=S\"" in r.stdout
-    assert "junctions not certified yet" in r.stdout and "--background drop|keep" in r.stdout
+    assert "proofs/bcc_junctions.cert where 3 or 4 meet" in r.stdout and "--background drop|keep" in r.stdout
 
 
 # ---- CalculiX: three materials in series -------------------------------------------

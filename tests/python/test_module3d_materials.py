@@ -77,15 +77,19 @@ def test_shapes_give_the_cli_mesh_with_interfaces(tmp_path):
     assert set(np.unique(one.regions).tolist()) == {1, 2} and one.report["face_rule"] == "parity"
 
 
-def test_junctions_are_reported_uncertified_with_a_warning():
+def test_junctions_are_certified_and_verified():
+    """Where three or four materials meet, the tetrahedra are certified by
+    proofs/bcc_junctions.cert (the build has it) and checked with verify."""
     spec = "1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        m = warpmesh.mesh3d(shapes=spec, spacing=0.1)
+        m = warpmesh.mesh3d(shapes=spec, spacing=0.1, verify=True)
     j = m.report["junctions"]
-    assert j["tetrahedra"] > 0 and j["certified"] is False
-    assert m.report["certified"]["uncertified_tetrahedra"] == j["tetrahedra"]
-    assert any("junction tetrahedra" in str(w.message) for w in caught)
+    assert j["tetrahedra"] > 0 and j["certified"] is True and j["certificate"] == "proofs/bcc_junctions.cert"
+    c = m.report["certified"]
+    assert c["uncertified_tetrahedra"] == 0 and c["certified_tetrahedra"] == len(m.tetrahedra) and c["verified"]
+    assert c["min_dihedral_deg"] <= m.report["min_dihedral_deg"] and m.report["max_dihedral_deg"] <= c["max_dihedral_deg"]
+    assert not any("junction" in str(w.message) for w in caught)
 
 
 @pytest.mark.parametrize("call, message", [

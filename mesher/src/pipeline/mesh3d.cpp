@@ -169,10 +169,13 @@ void volume_warning(double meshed, double reference, double spacing, std::vector
 
 // The report's counts of the stage's mesh, its non-manifold boundary, and
 // its certification by the certificate of `rule` at `alphas`: when it
-// applies, every tetrahedron but the junctions' (several materials: no
-// certificate yet) is certified — each from a certified key, or an all-zero
-// background tetrahedron output only because it meets the claim.
-Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas) {
+// applies, every tetrahedron but the junctions' is certified — each from a
+// certified key, or an all-zero background tetrahedron output only because
+// it meets the claim; the junctions' (several materials) too when
+// `junctions`, their certification (proofs/bcc_junctions.cert), applies,
+// the bounds then the extremes of both theorems.
+Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas,
+                              const BccCertification& junctions = {}) {
     Mesh3dReport r;
     r.lattice_points = m.lattice_points, r.background_tets = m.background_tets;
     r.cut_points = m.cut_points, r.warped = m.warped, r.all_zero_left_out = m.all_zero_left_out;
@@ -185,13 +188,17 @@ Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas
     const BccCertification c = bcc_certification(rule, alphas);
     r.face_rule = rule;
     r.certified = c.certified;
-    r.uncertified_tets = c.certified ? m.junction_tets : r.tets;
+    const bool junctions_certified = m.junction_tets == 0 || junctions.certified;
+    r.uncertified_tets = !c.certified ? r.tets : junctions_certified ? 0 : m.junction_tets;
     r.certified_tets = r.tets - r.uncertified_tets;
     r.certified_min_deg = c.min_deg, r.certified_max_deg = c.max_deg;
+    if (c.certified && m.junction_tets > 0 && junctions.certified)
+        r.certified_min_deg = std::min(c.min_deg, junctions.min_deg), r.certified_max_deg = std::max(c.max_deg, junctions.max_deg);
     r.uncertified_reason = c.uncertified_reason;
-    if (c.certified && m.junction_tets > 0)
-        r.uncertified_reason = std::to_string(m.junction_tets) + " junction tetrahedra (where three or four materials meet) "
-                               "have no certificate yet; the bounds hold for the other " + std::to_string(r.certified_tets);
+    if (c.certified && !junctions_certified)
+        r.uncertified_reason = std::to_string(m.junction_tets) + " junction tetrahedra (where three or four materials meet) are "
+                               "not certified (" + junctions.uncertified_reason + "); the bounds hold for the other " +
+                               std::to_string(r.certified_tets);
     if (!r.uncertified_reason.empty()) r.warnings.push_back(r.uncertified_reason);
     r.verified = c.certified && m.verified;
     return r;
@@ -259,15 +266,18 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     BccOptions b = stage_options(o, shapes);
     // Within the parity certificate: an all-zero background tetrahedron is
     // output iff it meets the certificate's claim, and verify checks every
-    // two-material side against its key's claim.
+    // two-material side against its key's claim and every junction
+    // tetrahedron against its junction key's (bcc_key_claims).
     const bool certified = bcc_certificate_applies(b.alphas, b.face_rule);
     if (const auto c = bcc_claim(b.face_rule); certified && c) b.fill_claim = BccKeyClaim{c->cos2_min, c->cos2_max};
     const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (o.verify && certified) b.verify = &claims;
     BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
-    r.report = certified_counts(m, b.face_rule, b.alphas);
+    const BccCertification junctions = bcc_junction_certification(b.alphas);
+    r.report = certified_counts(m, b.face_rule, b.alphas, junctions);
     if (o.quality) r.report.quality = measure_quality3(m.mesh);
     r.report.materials = material_figures(m, *p.field, p.voxel_volume, o.keep_background);
+    r.report.materials->junctions_certified = r.report.certified && junctions.certified;
     for (std::string& w : material_warnings(*r.report.materials)) r.report.warnings.push_back(std::move(w));
     r.mesh = std::move(m.mesh);
 }

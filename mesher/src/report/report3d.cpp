@@ -47,7 +47,9 @@ void material_fields(const Materials3Figures& ms, ReportFields& fields) {
     fields.emplace_back("materials_without_tetrahedra", lost_tags + "]");
     fields.emplace_back("interface_faces", n(ms.interface_faces));
     fields.emplace_back("junctions", "{\"background_tetrahedra\": " + n(ms.junction_background_tets) + ", \"tetrahedra\": " +
-                                         n(ms.junction_tets) + ", \"certified\": false}");
+                                         n(ms.junction_tets) + ", \"certified\": " + (ms.junctions_certified ? "true" : "false") +
+                                         ", \"certificate\": " +
+                                         (ms.junctions_certified ? json_string("proofs/bcc_junctions.cert") : std::string("null")) + "}");
     fields.emplace_back("all_zero_filled", n(ms.all_zero_filled));
     fields.emplace_back("all_zero_voids", n(ms.all_zero_voids));
 }
@@ -64,7 +66,8 @@ std::string materials_text(const Materials3Figures& ms) {
         o << '\n';
     }
     o << "interface faces: " << ms.interface_faces << "; junctions (3 or 4 materials): " << ms.junction_background_tets
-      << " background tetrahedra, " << ms.junction_tets << " tetrahedra, not certified yet\n";
+      << " background tetrahedra, " << ms.junction_tets << " tetrahedra"
+      << (ms.junctions_certified ? ", certified by proofs/bcc_junctions.cert\n" : ", not certified\n");
     o << "all-zero background tetrahedra: " << ms.all_zero_filled << " output within the certificate's claim, "
       << ms.all_zero_voids << " left out inside a material (voids)\n";
     return o.str();
@@ -170,7 +173,9 @@ std::string to_text(const Mesh3dReport& r) {
     if (r.materials) o << materials_text(*r.materials);
     o << "face rule: " << face_rule_name(r.face_rule) << '\n';
     if (r.certified)
-        o << "certified (" << bcc_certificate_path(r.face_rule) << "): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
+        o << "certified (" << bcc_certificate_path(r.face_rule)
+          << (r.materials && r.materials->junctions_certified && r.materials->junction_tets > 0 ? " and proofs/bcc_junctions.cert" : "")
+          << "): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
           << fmt(r.certified_max_deg, 5) << "] deg for " << r.certified_tets << " tetrahedra"
           << (r.verified ? ", each verified" : "") << "; uncertified: " << r.uncertified_tets
           << (r.uncertified_reason.empty() ? "" : " (" + r.uncertified_reason + ")") << '\n';

@@ -182,7 +182,8 @@ BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& 
 // faces are then boundary faces: a void of the α-band's thickness or less).
 // With options.verify, every tetrahedron of a two-material background
 // tetrahedron is checked against its side's key claim (each side is a
-// one-region key); junction tetrahedra have no key yet.  Vertex order:
+// one-region key), every junction tetrahedron against its junction key's
+// (BccKeyClaims::junction_claim).  Vertex order:
 // lattice points, cut points (as mesh_bcc), then the face points of
 // junction faces, by (the face's lowest lattice point's index, the forward
 // slots s1 < s2 of its two edges from that point), then the junctions'

@@ -25,8 +25,9 @@
 // TetMesh::interfaces; all-zero background tetrahedra output iff they meet
 // the certificate's claim), then the report with per-material figures: the
 // parity certificate covers every tetrahedron but the junctions' (three or
-// four materials meet), which have no certificate yet and are counted as
-// uncertified; `verify` checks every two-material side against its key.  Options are checked once, here
+// four materials meet), which the junction certificate covers
+// (proofs/bcc_junctions.cert; without it they are counted uncertified);
+// `verify` checks every tetrahedron against its key's claim.  Options are checked once, here
 // (validate), with messages naming the options by their field names.
 // Defined in warpmesh::io (it reads volumes).
 #pragma once

@@ -32,7 +32,8 @@ struct Material3Figures {
 // (the background only when kept), the faces between two materials
 // (TetMesh::interfaces), the junctions: background tetrahedra where three
 // or four materials meet and the tetrahedra they output (the cone stencil,
-// generic_bcc_materials.hpp; no certificate yet), and the all-zero
+// generic_bcc_materials.hpp), certified when proofs/bcc_junctions.cert
+// applies (Mesh3dReport's counts and bounds include them), and the all-zero
 // background tetrahedra output because they meet the certificate's claim
 // (filled) or left out inside an output material (voids; mesh3d.hpp:
 // BccMesh).
@@ -40,6 +41,7 @@ struct Materials3Figures {
     std::vector<Material3Figures> materials;
     std::int64_t interface_faces = 0;
     std::int64_t junction_background_tets = 0, junction_tets = 0;
+    bool junctions_certified = false;
     std::int64_t all_zero_filled = 0, all_zero_voids = 0;
 };
 
@@ -65,8 +67,8 @@ struct Mesh3dReport {
     // bounds then hold for every certified tetrahedron (each comes from a
     // certified key), else every tetrahedron is uncertified and a warning
     // says why.  With several materials the junction tetrahedra are
-    // uncertified (no certificate covers the cone stencil yet), the reason
-    // saying so.  verified: every tetrahedron was checked against its own
+    // certified by the junction certificate where it applies, else
+    // uncertified, the reason saying so.  verified: every tetrahedron was checked against its own
     // key's claim (Mesh3dOptions::verify).
     FaceRule face_rule = FaceRule::parity;  // the rule the mesh was split by
     bool certified = false;
@@ -87,7 +89,7 @@ struct Mesh3dReport {
 // non-manifold edges and vertices; several materials: "materials" (per
 // material tag, name, tetrahedra, volume, voxels, reference_volume,
 // relative_error), "materials_without_tetrahedra", "interface_faces",
-// "junctions" {background_tetrahedra, tetrahedra, certified},
+// "junctions" {background_tetrahedra, tetrahedra, certified, certificate},
 // "all_zero_filled", "all_zero_voids"; "certified":
 // {min/max_dihedral_deg, certified/uncertified tetrahedra, verified} or null,
 // "uncertified_reason", warnings, seconds) and as text.
