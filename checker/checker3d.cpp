@@ -1,4 +1,4 @@
-// warpmesh-check-bcc — independent checker of the 3D certificate proofs/bcc.cert.
+// warpmesh-check-bcc — independent checker of the 3D certificates (proofs/bcc.cert and its kin).
 //
 // Shares no code with the prover or the mesher (no project header).  From
 // the rules of proofs/README.md ("The BCC space") it re-derives the
@@ -27,6 +27,11 @@
 // 1", see check_ceiling): a quadtree over the threshold pairs, each box with
 // an exact point of a single-tetrahedron key's space, valid at every pair of
 // the box, where a dihedral angle is below the stated one.
+// And the junction certificate (proofs/bcc_junctions.cert,
+// "warpmesh-bcc-junctions 1", see check_junctions): the background
+// tetrahedra of multi-material meshes where three or four materials meet,
+// split by the cone stencil, re-derived here on their own (keys, stencils,
+// symmetries, the 15 points), each key verified face by face.
 // No global state.  Any failure: exit 1; exit 0 only when the printed
 // theorem (an angle bound) holds; exit 3 when a counter-example or ceiling
 // certificate holds (verified, NO BOUND), as warpmesh-check does for

@@ -1,5 +1,7 @@
 // prove_bcc.hpp — the 3D prover for the BCC generic tetrahedron
-// (generic_bcc.hpp; proofs/README.md, "The BCC space").
+// (generic_bcc.hpp; proofs/README.md, "The BCC space") and for the junction
+// keys of multi-material meshes (generic_bcc_materials.hpp; proofs/README.md,
+// "Junction keys (3D, bcc_junctions.cert)").
 #pragma once
 
 #include <algorithm>

@@ -1,7 +1,9 @@
 // generic_bcc_materials.hpp — the multi-material generic tetrahedron: how a
 // background tetrahedron whose vertices carry several materials is split,
 // written once (the multi-material 3D mesher, mesh3d/mesh3d.hpp:
-// mesh_bcc_materials; the 3D prover's junction keys when they come).
+// mesh_bcc_materials; the 3D prover's junction keys, prover/src/bcc/
+// junctions.cpp, and their certificate proofs/bcc_junctions.cert, which the
+// mesher looks up by junction_key_of below).
 //
 // THE MODEL.  After warping (generic_bcc.hpp, steps 1–5, with "a lattice
 // edge is cut iff its endpoints' materials differ"), each vertex of a
