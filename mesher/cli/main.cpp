@@ -648,8 +648,7 @@ CliOptions parse_mesh3d_options(int argc, char** argv) {
     try {
         CliOptions o = parse_arguments(mesh3d_command(), mesh_command(), argc, argv);
         if (o.input.empty() == o.shape.empty()) throw UsageError("give exactly one of an input volume or --shape SPEC");
-        mesh3d_option_table().validate(o.mesh3, o.given3d);
-        validate(mesh3d_input(o), mesh3d_options(o));  // the input's options: one check, the library's
+        validate(mesh3d_input(o), mesh3d_options(o));  // the table's and the input's options: one check, the library's
         o.mesh.max_memory = o.mesh3.max_memory;
         return o;
     } catch (const OptionError& e) {
