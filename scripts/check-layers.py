@@ -90,16 +90,7 @@ RULES = {
 # (including file, included file) pairs tolerated until the branch named in the
 # comment is merged; the lead removes each entry with that merge.  An entry
 # whose violation is gone fails the check ("stale"), so this list empties.
-KNOWN = {
-    # branch layers, NOT done there (a follow-up): the 2D stages still run the
-    # certification post-pass themselves (mesh_uniform, mesh_graded,
-    # mesh_materials take CertifyOptions and return a CertifiedSummary); it
-    # moves up into src/pipeline/mesh2d.cpp, as in 3D, the stages returning
-    # what certification reads (signs, warped points, keyed squares).
-    ("mesher/include/warpmesh/mesh2d/uniform.hpp", "mesher/include/warpmesh/certify/certified.hpp"),
-    ("mesher/include/warpmesh/mesh2d/graded.hpp", "mesher/include/warpmesh/certify/certified.hpp"),
-    ("mesher/include/warpmesh/mesh2d/materials.hpp", "mesher/include/warpmesh/certify/certified.hpp"),
-}
+KNOWN: set[tuple[str, str]] = set()
 
 # ---- the check ----------------------------------------------------------------
 

@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "certified_stage.hpp"
 #include "witness_image.hpp"
 #include "warpmesh/certify/certified.hpp"
 #include "warpmesh/mesh2d/graded.hpp"
@@ -18,6 +19,7 @@
 #include "warpmesh/mesh2d/uniform.hpp"
 
 using namespace warpmesh;
+using warpmesh::testing::certified, warpmesh::testing::with_keys;
 
 namespace {
 const Buffer<double>& cell(const Mesh& m) {
@@ -52,14 +54,13 @@ BOOST_AUTO_TEST_CASE(random_levelsets_verify_and_guarantee) {
             for (int graded = 0; graded < 2; ++graded) {
                 Mesh mesh;
                 CertifiedSummary c;
-                const CertifyOptions opt{true, true, true};
                 try {
                     if (graded) {
-                        auto res = mesh_graded(*f, lat, r, 0, opt);
+                        auto res = certified(mesh_graded(*f, lat, r, 0, with_keys), lat, r);
                         mesh = std::move(res.mesh);
                         c = res.certified;
                     } else {
-                        auto res = mesh_uniform(*f, lat, r, opt);
+                        auto res = certified(mesh_uniform(*f, lat, r, with_keys), lat, r);
                         mesh = std::move(res.mesh);
                         c = res.certified;
                     }
@@ -94,14 +95,18 @@ BOOST_AUTO_TEST_CASE(nonflat_low_bound_removed_by_refinement) {
         const std::string spec = random_shape(rng, it);
         const auto f = parse_shape(spec);
         double s = 0.5 + 2.5 * u(rng);
-        auto res = mesh_uniform(*f, lattice_around(f->bounds(), s), DiagonalRule::maxmin, CertifyOptions{true, true, true});
+        const auto mesh_at = [&](double spacing) {
+            const Lattice lat = lattice_around(f->bounds(), spacing);
+            return certified(mesh_uniform(*f, lat, DiagonalRule::maxmin, with_keys), lat, DiagonalRule::maxmin);
+        };
+        auto res = mesh_at(s);
         if (!(res.certified.nonflat_squares > 0 && res.certified.keyed_min_deg < flat_deg - 1e-6)) continue;
         found = true;
         BOOST_TEST_MESSAGE(spec << " at spacing " << s << ": certified " << res.certified.keyed_min_deg
                                 << " deg, non-flat " << res.certified.nonflat_keys.front());
         for (int ref = 0; ref < 6 && res.certified.nonflat_squares > 0; ++ref) {
             s /= 2;
-            res = mesh_uniform(*f, lattice_around(f->bounds(), s), DiagonalRule::maxmin, CertifyOptions{true, true, true});
+            res = mesh_at(s);
         }
         BOOST_TEST(res.certified.nonflat_squares == 0);
         BOOST_TEST(res.certified.keyed_min_deg >= flat_deg);

@@ -3,6 +3,7 @@
 #define BOOST_TEST_MODULE certified_table
 #include <boost/test/unit_test.hpp>
 
+#include "certified_stage.hpp"
 #include "support.hpp"
 
 #include <array>
@@ -20,9 +21,6 @@ using namespace warpmesh;
 
 namespace {
 using warpmesh::testing::slurp;
-const char* rule_name(DiagonalRule r) {
-    return r == DiagonalRule::maxmin ? "maxmin" : r == DiagonalRule::separating ? "separating" : "fan";
-}
 // A junction key code ("aRaUbscs") as letters and warps.
 std::array<MaterialCorner, 4> junction_from_code(const std::string& code) {
     std::array<MaterialCorner, 4> m{};
@@ -172,13 +170,11 @@ BOOST_AUTO_TEST_CASE(unknown_junction_key_is_an_internal_error) {
     m.vertices[0] = {0, 0}, m.vertices[1] = {1, 0}, m.vertices[2] = {0, 1}, m.vertices[3] = {1, 1};
     m.triangles.resize(2);
     m.triangles[0] = {0, 1, 3}, m.triangles[1] = {0, 3, 2};
-    const std::vector<KeyedSquare> keyed{{0, 0, 2}};
-    const auto junction = [](std::int64_t, std::int64_t, std::array<std::int8_t, 12>& st) {
-        st = {0, 0, 1, 2};  // letters a a b c
-        return false;
-    };
+    SquareKeys keys;
+    keys.squares = {{0, 0, 2}};
+    keys.stencils = {KeyedStencil{{0, 0, 1, 2}, {}, true}};  // letters a a b c, no corner moved
     try {
-        certify_squares(m, l, junction, {}, DiagonalRule::separating, keyed, CertifyOptions{true, false, true});
+        certify_keys(m, l, keys, DiagonalRule::separating, CertifyOptions{true, false, true});
         BOOST_FAIL("no error for an unknown junction key");
     } catch (const std::logic_error& e) {
         BOOST_TEST(std::string(e.what()).find("asasbscs") != std::string::npos, e.what());
@@ -271,7 +267,7 @@ BOOST_AUTO_TEST_CASE(flatness) {
 
 namespace {
 // `count` random analytic shapes (seed `seed`) at random spacings and offsets,
-// both rules, meshed and verified in `metric`: certify_mesh throws on any key
+// both rules, meshed and verified in `metric`: certify_keys throws on any key
 // that is not in the metric's table or any triangle outside its key's bound.
 // Returns the keyed squares.
 std::int64_t mesh_random_shapes(std::uint32_t seed, int count, LatticeMetric metric) {
@@ -282,8 +278,8 @@ std::int64_t mesh_random_shapes(std::uint32_t seed, int count, LatticeMetric met
         const auto f = parse_shape(random_shape(rng, it));
         const Lattice lat = lattice_around(f->bounds(), 0.3 + 1.5 * u(rng));
         for (DiagonalRule r : {DiagonalRule::maxmin, DiagonalRule::separating}) {
-            UniformResult res;
-            BOOST_REQUIRE_NO_THROW(res = mesh_uniform(*f, lat, r, CertifyOptions{true, false, true, metric}, metric));
+            testing::Certified<UniformResult> res;
+            BOOST_REQUIRE_NO_THROW(res = testing::certified(mesh_uniform(*f, lat, r, testing::with_keys, metric), lat, r, {true, false, true}));
             BOOST_REQUIRE(res.certified.available);
             BOOST_TEST(res.certified.verified);
             BOOST_TEST(res.certified.min_deg >= certified_theorem(r, metric).min_deg_any);

@@ -19,6 +19,7 @@
 
 #include <unistd.h>
 
+#include "certified_stage.hpp"
 #include "witness_image.hpp"
 #include "warpmesh/certify/certified.hpp"
 #include "warpmesh/io/image.hpp"
@@ -203,9 +204,9 @@ BOOST_AUTO_TEST_CASE(fan_rule_with_materials_lifts_the_witness_and_its_junctions
     const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_mat_" + std::to_string(::getpid()));
     const WitnessMaterials f(witness_levelset(dir));
     const Lattice lattice = lattice_over(f.bounds(), 1.0);
-    const CertifyOptions cert{true, true, true};
-    const MaterialResult sep = mesh_materials(f, lattice, {true, DiagonalRule::separating, cert});
-    const MaterialResult fan = mesh_materials(f, lattice, {true, DiagonalRule::fan, cert});
+    using testing::certified, testing::with_keys;
+    const auto sep = certified(mesh_materials(f, lattice, {true, DiagonalRule::separating, with_keys}), lattice, DiagonalRule::separating);
+    const auto fan = certified(mesh_materials(f, lattice, {true, DiagonalRule::fan, with_keys}), lattice, DiagonalRule::fan);
     BOOST_TEST(sep.certified.min_deg < 15.01);
     BOOST_TEST(compute_quality(sep.mesh).min_angle_deg < 15.01);  // the witness, realised with materials
     BOOST_TEST(fan.junction_squares > 0);
@@ -218,8 +219,8 @@ BOOST_AUTO_TEST_CASE(fan_rule_with_materials_lifts_the_witness_and_its_junctions
     BOOST_TEST(chk.ok(), (chk.messages.empty() ? "" : chk.messages.front()));
     BOOST_TEST(fan.mesh.interfaces.size() == sep.mesh.interfaces.size());  // the fan is inside material 1
     for (const bool keep : {true, false}) {
-        const MaterialResult u = mesh_materials(f, lattice, {keep, DiagonalRule::fan, cert});
-        const MaterialResult g = mesh_materials_graded(f, lattice, {keep, DiagonalRule::fan, cert}, 4);
+        const auto u = certified(mesh_materials(f, lattice, {keep, DiagonalRule::fan, with_keys}), lattice, DiagonalRule::fan);
+        const auto g = certified(mesh_materials_graded(f, lattice, {keep, DiagonalRule::fan, with_keys}, 4), lattice, DiagonalRule::fan);
         BOOST_TEST(g.mesh.vertices.size() <= u.mesh.vertices.size());
         BOOST_TEST(check_mesh(g.mesh).ok());
         BOOST_TEST(g.certified.min_deg == u.certified.min_deg);

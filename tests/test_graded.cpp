@@ -26,6 +26,7 @@
 #include "warpmesh/post/mesh_checks.hpp"
 #include "warpmesh/levelset/shapes.hpp"
 #include "warpmesh/mesh2d/uniform.hpp"
+#include "certified_stage.hpp"
 #include "support.hpp"
 #include "without_range.hpp"
 #include "mesh2d/graded/point_set.hpp"
@@ -153,7 +154,7 @@ struct Compared {
 Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule rule, std::int64_t K,
                               bool integer_coordinates = true, int buffer = 0) {
     const UniformResult u = mesh_uniform(f, l, rule);
-    const GradedResult g = mesh_graded(f, l, rule, K, CertifyOptions{false, false, false}, buffer);
+    const GradedResult g = mesh_graded(f, l, rule, K, {}, buffer);
     const MeshCheck chk = check_mesh(g.mesh);
     BOOST_TEST(chk.ok());
     for (const auto& msg : chk.messages) BOOST_TEST_MESSAGE(msg);
@@ -171,7 +172,7 @@ Compared compare_with_uniform(const LevelSet& f, const Lattice& l, DiagonalRule 
     BOOST_TEST(leaves == finest + static_cast<std::int64_t>(t.leaves.coarse.size()));
     // The range bounds only skip work: the same mesh, bit for bit, as with
     // every tile sampled.
-    const GradedResult all = mesh_graded(testing::WithoutRange(f), l, rule, K, CertifyOptions{false, false, false}, buffer);
+    const GradedResult all = mesh_graded(testing::WithoutRange(f), l, rule, K, {}, buffer);
     BOOST_TEST(testing::same_mesh(all.mesh, g.mesh));
     BOOST_TEST(all.sampled_points >= l.point_count());  // tiles share their border points
     BOOST_TEST(g.sampled_points <= all.sampled_points);
@@ -351,7 +352,8 @@ BOOST_AUTO_TEST_CASE(max_size_bounds_every_edge_of_the_graded_mesh) {
                 for (const int n : {0, 3}) {
                     const Lattice l = lattice_around(f->bounds(), s);
                     const std::int64_t K = max_cell_for_size(H, s);
-                    const GradedResult g = mesh_graded(*f, l, DiagonalRule::separating, K, {}, n);
+                    const auto g = testing::certified(mesh_graded(*f, l, DiagonalRule::separating, K, {true, false}, n), l,
+                                                      DiagonalRule::separating, {true, true, false});
                     BOOST_TEST(check_mesh(g.mesh).ok());
                     BOOST_TEST(g.leaves_per_level.size() == static_cast<std::size_t>(std::countr_zero(static_cast<std::uint64_t>(K))) + 1);
                     double longest = 0;
@@ -961,7 +963,7 @@ BOOST_AUTO_TEST_CASE(fan_rule_graded_mesh_has_the_uniform_fans) {
             compare_with_uniform(*f, l, DiagonalRule::fan, K);
             const UniformResult u = mesh_uniform(*f, l, DiagonalRule::fan);
             const UniformResult usep = mesh_uniform(*f, l, DiagonalRule::separating);
-            const GradedResult g = mesh_graded(*f, l, DiagonalRule::fan, K, CertifyOptions{true, true, true});
+            const auto g = testing::certified(mesh_graded(*f, l, DiagonalRule::fan, K, testing::with_keys), l, DiagonalRule::fan);
             const GradedResult gsep = mesh_graded(*f, l, DiagonalRule::separating, K);
             // The same fans: as many centres, and the same band triangles.
             const std::int64_t fans = static_cast<std::int64_t>(u.mesh.vertices.size() - usep.mesh.vertices.size());

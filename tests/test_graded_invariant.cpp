@@ -70,11 +70,12 @@ BOOST_AUTO_TEST_CASE(square_with_zero_corner_left_coarse_is_detected) {
     BOOST_TEST(bad.first.find("zero-valued corner") != std::string::npos, bad.first);
 }
 
+// The pipeline asks for the check with --verify (KeyOptions::check_invariant).
 BOOST_AUTO_TEST_CASE(verify_runs_the_invariant_check) {
     const Lattice l = integer_lattice(64);
     const Circle f(30.3, 33.7, 17.2);
-    const GradedResult with = mesh_graded(f, l, DiagonalRule::maxmin, 0, CertifyOptions{true, false, true});
+    const GradedResult with = mesh_graded(f, l, DiagonalRule::maxmin, 0, KeyOptions{true, true});
     BOOST_TEST(with.invariant_squares > 0);
-    const GradedResult without = mesh_graded(f, l, DiagonalRule::maxmin, 0, CertifyOptions{true, false, false});
+    const GradedResult without = mesh_graded(f, l, DiagonalRule::maxmin, 0, KeyOptions{true, false});
     BOOST_TEST(without.invariant_squares == -1);
 }

@@ -13,6 +13,7 @@
 #include <numeric>
 #include <random>
 
+#include "certified_stage.hpp"
 #include "label_images.hpp"
 #include "same_mesh.hpp"
 #include "support.hpp"
@@ -23,6 +24,7 @@
 
 using namespace warpmesh;
 using warpmesh::testing::scaled;
+using Certified = warpmesh::testing::Certified<MaterialResult>;
 
 namespace {
 
@@ -76,7 +78,7 @@ auto tag_map(const std::map<std::uint16_t, std::uint16_t>& map) {
 }
 
 // a and b are the same mesh up to the tag map (0 → 0).
-void require_same_up_to_relabelling(const MaterialResult& a, const MaterialResult& b,
+void require_same_up_to_relabelling(const Certified& a, const Certified& b,
                                     const std::map<std::uint16_t, std::uint16_t>& map) {
     const auto tag = tag_map(map);
     testing::require_same_points_and_triangles(a.mesh, b.mesh, tag);
@@ -105,11 +107,11 @@ void require_same_up_to_relabelling(const MaterialResult& a, const MaterialResul
     }
 }
 
-MaterialResult mesh_it(const Image& img, double s, bool graded, bool keep, DiagonalRule rule = DiagonalRule::separating) {
+Certified mesh_it(const Image& img, double s, bool graded, bool keep, DiagonalRule rule = DiagonalRule::separating) {
     const auto f = make_label_materials(img, "all");
     const Lattice l = lattice_over(f->bounds(), s);
-    const MaterialOptions o{keep, rule, {true, false, true}};
-    return graded ? mesh_materials_graded(*f, l, o, 4) : mesh_materials(*f, l, o);
+    const MaterialOptions o{keep, rule, testing::with_keys};
+    return testing::certified(graded ? mesh_materials_graded(*f, l, o, 4) : mesh_materials(*f, l, o), l, rule, {true, false, true});
 }
 
 }  // namespace
@@ -125,7 +127,7 @@ BOOST_AUTO_TEST_CASE(random_label_images_are_meshed_the_same_under_any_renumberi
         for (const double s : {1.0, 0.5, 0.25, 0.7310585786}) {
             const bool graded = trial % 2 == 1, keep = trial % 3 != 0;
             BOOST_TEST_CONTEXT("trial " << trial << " spacing " << s << (graded ? " graded" : " uniform")) {
-                const MaterialResult a = mesh_it(img, s, graded, keep), b = mesh_it(other, s, graded, keep);
+                const Certified a = mesh_it(img, s, graded, keep), b = mesh_it(other, s, graded, keep);
                 require_same_up_to_relabelling(a, b, map);
                 ties += s <= 1 && a.warped_points > 0;
             }
@@ -146,7 +148,7 @@ BOOST_AUTO_TEST_CASE(brain_one_pixel_label_is_not_lost_after_renumbering) {
     const Image img = read_image(std::string(WARPMESH_TEST_DATA) + "/issue28_one_pixel_label_renumbered.pgm");
     const std::map<std::uint16_t, std::uint16_t> reverse{{2, 1029}, {1005, 1011}, {1011, 1005}, {1029, 2}};
     for (const bool graded : {false, true}) {
-        const MaterialResult a = mesh_it(img, 1, graded, false), b = mesh_it(relabel(img, reverse), 1, graded, false);
+        const Certified a = mesh_it(img, 1, graded, false), b = mesh_it(relabel(img, reverse), 1, graded, false);
         require_same_up_to_relabelling(a, b, reverse);
         std::map<std::int32_t, std::int64_t> tris;
         for (const auto& m : a.materials) tris[m.tag] = m.triangles;

@@ -27,6 +27,7 @@
 #include <omp.h>
 #endif
 
+#include "certified_stage.hpp"
 #include "label_images.hpp"
 #include "same_mesh.hpp"
 #include "support.hpp"
@@ -42,7 +43,10 @@
 
 using namespace warpmesh;
 namespace fs = std::filesystem;
+using warpmesh::testing::certified;
+using warpmesh::testing::Certified;
 using warpmesh::testing::scaled;
+using warpmesh::testing::with_keys;
 
 namespace {
 
@@ -155,8 +159,8 @@ std::set<EdgeKey> boundary_keys(const Mesh& m) {
 // as vertex positions); the coarse leaves tile exactly the rest of each
 // material (the same per-material areas and perimeters, to rounding), with
 // no more triangles; and the band invariant was checked (verify).
-void check_graded_against_uniform(const MaterialField& f, const Lattice& l, const MaterialResult& g, const MaterialResult& u,
-                                  bool keep) {
+void check_graded_against_uniform(const MaterialField& f, const Lattice& l, const Certified<MaterialResult>& g,
+                                  const Certified<MaterialResult>& u, bool keep) {
     BOOST_REQUIRE(g.graded);
     check_material_mesh(f, l, g, keep);
     BOOST_REQUIRE_GE(g.invariant_squares, 0);
@@ -205,14 +209,14 @@ BOOST_AUTO_TEST_CASE(random_discs_give_conforming_meshes_without_mixed_triangles
         const RandomDiscs f(rng, 2 + trial % 5, 8);
         const Lattice l = lattice_over(f.bounds(), spacing(rng));
         const bool keep = trial % 2 == 0;
-        const MaterialResult r = mesh_materials(f, l, {keep, DiagonalRule::separating, {true, true, true}});
+        const auto r = certified(mesh_materials(f, l, {keep, DiagonalRule::separating, with_keys}), l, DiagonalRule::separating);
         check_material_mesh(f, l, r, keep);
         junctions += r.junction_squares;
         centroid += r.centroid_triangles;
         interfaces += static_cast<std::int64_t>(r.mesh.interfaces.size());
         // The same field graded (max cell 0, 2, 4, 8 in turn).
         const std::int64_t max_cell = trial % 4 ? std::int64_t{1} << (trial % 4) : 0;
-        const MaterialResult g = mesh_materials_graded(f, l, {keep, DiagonalRule::separating, {true, true, true}}, max_cell);
+        const auto g = certified(mesh_materials_graded(f, l, {keep, DiagonalRule::separating, with_keys}, max_cell), l, DiagonalRule::separating);
         check_graded_against_uniform(f, l, g, r, keep);
         graded_tris += static_cast<std::int64_t>(g.mesh.triangles.size());
         uniform_tris += static_cast<std::int64_t>(r.mesh.triangles.size());
@@ -253,8 +257,8 @@ BOOST_AUTO_TEST_CASE(fan_rule_with_materials_is_conforming_and_certified_at_18_4
             f = owned.get();
         }
         const Lattice l = lattice_over(f->bounds(), trial % 4 == 1 ? 1.0 : spacing(rng));
-        const MaterialResult sep = mesh_materials(*f, l, {true, DiagonalRule::separating, {true, true, true}});
-        const MaterialResult r = mesh_materials(*f, l, {true, DiagonalRule::fan, {true, true, true}});
+        const auto sep = certified(mesh_materials(*f, l, {true, DiagonalRule::separating, with_keys}), l, DiagonalRule::separating);
+        const auto r = certified(mesh_materials(*f, l, {true, DiagonalRule::fan, with_keys}), l, DiagonalRule::fan);
         const auto n = static_cast<std::int64_t>(r.mesh.vertices.size() - sep.mesh.vertices.size());  // the fans' centres
         BOOST_TEST_CONTEXT("trial " << trial << " spacing " << l.s) {
             check_material_mesh(*f, l, r, true, n);
@@ -267,8 +271,8 @@ BOOST_AUTO_TEST_CASE(fan_rule_with_materials_is_conforming_and_certified_at_18_4
                 BOOST_REQUIRE(r.mesh.triangles == sep.mesh.triangles);
                 BOOST_REQUIRE(r.mesh.region == sep.mesh.region);
             }
-            const MaterialResult g = mesh_materials_graded(*f, l, {trial % 3 == 0, DiagonalRule::fan, {true, true, true}}, 4);
-            const MaterialResult u = trial % 3 == 0 ? r : mesh_materials(*f, l, {false, DiagonalRule::fan, {true, true, true}});
+            const auto g = certified(mesh_materials_graded(*f, l, {trial % 3 == 0, DiagonalRule::fan, with_keys}, 4), l, DiagonalRule::fan);
+            const auto u = trial % 3 == 0 ? r : certified(mesh_materials(*f, l, {false, DiagonalRule::fan, with_keys}), l, DiagonalRule::fan);
             check_graded_against_uniform(*f, l, g, u, trial % 3 == 0);
         }
         fans += n;
@@ -296,10 +300,10 @@ BOOST_AUTO_TEST_CASE(random_label_images_give_conforming_meshes_without_mixed_tr
         }
         const Lattice l = lattice_over(f->bounds(), spacings[static_cast<std::size_t>(trial % 4)]);
         const bool keep = trial % 3 != 0;
-        const MaterialResult r = mesh_materials(*f, l, {keep, DiagonalRule::separating, {true, true, true}});
+        const auto r = certified(mesh_materials(*f, l, {keep, DiagonalRule::separating, with_keys}), l, DiagonalRule::separating);
         check_material_mesh(*f, l, r, keep);
         junctions += r.junction_squares;
-        const MaterialResult g = mesh_materials_graded(*f, l, {keep, DiagonalRule::separating, {true, true, true}}, 0);
+        const auto g = certified(mesh_materials_graded(*f, l, {keep, DiagonalRule::separating, with_keys}, 0), l, DiagonalRule::separating);
         check_graded_against_uniform(*f, l, g, r, keep);
     }
     BOOST_TEST(junctions > scaled(50));
@@ -449,7 +453,7 @@ BOOST_AUTO_TEST_CASE(analytic_materials_converge) {
 BOOST_AUTO_TEST_CASE(junction_squares_are_certified_and_verified) {
     const auto f = parse_material_shapes("1=circle:0,0,10;2=circle:7.3,0.9,6.2");
     const Lattice l = lattice_around(f->bounds(), 0.5);
-    const MaterialResult r = mesh_materials(*f, l, {false, DiagonalRule::separating, {true, true, true}});
+    const auto r = certified(mesh_materials(*f, l, {false, DiagonalRule::separating, with_keys}), l, DiagonalRule::separating);
     BOOST_REQUIRE(certified_table_available());
     BOOST_REQUIRE(certified_junction_key_count() > 0);
     BOOST_REQUIRE(r.certified.available);
@@ -484,15 +488,16 @@ BOOST_AUTO_TEST_CASE(graded_atlas_slice_keeps_the_uniform_band_and_coarsens_insi
     for (const double s : {1.0, 0.5}) {
         if (s < 1 && warpmesh::testing::test_scale() < 1) continue;  // the finer lattice only at full scale
         const Lattice l = lattice_over(f->bounds(), s);
-        const MaterialResult u = mesh_materials(*f, l, {false, DiagonalRule::separating, {true, true, true}});
-        const MaterialResult g = mesh_materials_graded(*f, l, {false, DiagonalRule::separating, {true, true, true}}, 0);
+        const auto u = certified(mesh_materials(*f, l, {false, DiagonalRule::separating, with_keys}), l, DiagonalRule::separating);
+        const auto g = certified(mesh_materials_graded(*f, l, {false, DiagonalRule::separating, with_keys}, 0), l, DiagonalRule::separating);
         check_graded_against_uniform(*f, l, g, u, false);
         BOOST_TEST_MESSAGE("atlas s = " << s << ": uniform " << u.mesh.triangles.size() << ", graded " << g.mesh.triangles.size()
                                         << " triangles");
         // Thin structures: little interior at s = 1 (28128 against 30590), more at s = 1/2 (93488 against 131060).
         BOOST_TEST(g.mesh.triangles.size() < u.mesh.triangles.size());
         if (s < 1) BOOST_TEST(g.mesh.triangles.size() * 5 < u.mesh.triangles.size() * 4);  // at least 20 % fewer
-        const MaterialResult gk = mesh_materials_graded(*f, l, {true, DiagonalRule::separating, {true, true, false}}, 8);
+        const auto gk = certified(mesh_materials_graded(*f, l, {true, DiagonalRule::separating, {true, false}}, 8), l,
+                                  DiagonalRule::separating, {true, true, false});
         BOOST_TEST(gk.leaves_per_level.size() == 4u);  // max cell 8: levels 0 .. 3
         check_material_mesh(*f, l, gk, true);
     }
@@ -517,7 +522,7 @@ BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_th
         const RandomDiscs f(rng, 2 + trial % 4, 16);
         const Lattice l = lattice_over(f.bounds(), spacing(rng));
         const bool keep = trial % 3 == 0;
-        const MaterialOptions o{keep, DiagonalRule::separating, {true, true, true}};
+        const MaterialOptions o{keep, DiagonalRule::separating, with_keys};
         const std::int64_t K = trial % 5 ? std::int64_t{1} << (2 + trial % 4) : 0;  // 0, 8, 16, 32, 4
         const int buffer = std::array<int, 4>{0, 2, 3, 8}[static_cast<std::size_t>(trial % 4)];
         std::vector<std::int64_t> caps(static_cast<std::size_t>(f.count()));
@@ -527,9 +532,9 @@ BOOST_AUTO_TEST_CASE(random_graded_sized_materials_respect_every_cap_and_keep_th
             caps[m] = c == 0 ? 0 : std::int64_t{1} << (c - 1);  // 0 (none), 1, 2, 4
         }
         BOOST_TEST_CONTEXT("trial " << trial << " s " << l.s << " K " << K << " buffer " << buffer) {
-            const MaterialResult u = mesh_materials(f, l, o);
-            const MaterialResult g0 = mesh_materials_graded(f, l, o, K, buffer);
-            const MaterialResult g = mesh_materials_graded(f, l, o, K, buffer, caps);
+            const auto u = certified(mesh_materials(f, l, o), l, o.rule);
+            const auto g0 = certified(mesh_materials_graded(f, l, o, K, buffer), l, o.rule);
+            const auto g = certified(mesh_materials_graded(f, l, o, K, buffer, caps), l, o.rule);
             check_graded_against_uniform(f, l, g0, u, keep);
             check_graded_against_uniform(f, l, g, u, keep);
             const auto longest = longest_edge_per_tag(g.mesh);

@@ -31,6 +31,7 @@
 #include "warpmesh/mesh2d/uniform.hpp"
 #include "post/plane.hpp"
 #include "warpmesh/core/errors.hpp"
+#include "certified_stage.hpp"
 #include "support.hpp"
 
 using namespace warpmesh;
@@ -38,7 +39,12 @@ using warpmesh::testing::scaled;
 
 namespace {
 
-const CertifyOptions with_cells{true, true, false};
+// A stage's mesh (the separating rule) with its certified cell data
+// "certified_min_angle" (certified_stage.hpp).
+template <class Result>
+Mesh with_cells(Result r, const Lattice& lat) {
+    return testing::certified(std::move(r), lat, DiagonalRule::separating, {true, true, false}).mesh;
+}
 
 OptimizeOptions at_spacing(double s) {
     OptimizeOptions o;
@@ -46,7 +52,10 @@ OptimizeOptions at_spacing(double s) {
     return o;
 }
 
-Mesh uniform_mesh(const LevelSet& f, double s) { return mesh_uniform(f, lattice_around(f.bounds(), s), DiagonalRule::separating, with_cells).mesh; }
+Mesh uniform_mesh(const LevelSet& f, double s) {
+    const Lattice lat = lattice_around(f.bounds(), s);
+    return with_cells(mesh_uniform(f, lat, DiagonalRule::separating, testing::with_keys), lat);
+}
 
 const Buffer<double>* certified(const Mesh& m) {
     for (const auto& [name, v] : m.cell_data)
@@ -144,8 +153,8 @@ BOOST_AUTO_TEST_CASE(optimised_mesh_is_valid_and_keeps_boundary_regions_and_cert
                 const auto f = parse_shape(spec);
                 const double s = 0.7;
                 const Lattice lat = lattice_around(f->bounds(), s);
-                Mesh m = graded ? mesh_graded(*f, lat, DiagonalRule::separating, 0, with_cells).mesh
-                                : mesh_uniform(*f, lat, DiagonalRule::separating, with_cells).mesh;
+                Mesh m = graded ? with_cells(mesh_graded(*f, lat, DiagonalRule::separating, 0, testing::with_keys), lat)
+                                : with_cells(mesh_uniform(*f, lat, DiagonalRule::separating, testing::with_keys), lat);
                 const Mesh before = m;
                 CertifiedSummary fid0, fid1;
                 measure_fidelity(before, *f, s, fid0);
@@ -191,7 +200,7 @@ BOOST_AUTO_TEST_CASE(border_vertices_slide_along_the_lattice_border_only) {
     // A disc cut by the lattice's left border at x = -6: boundary tag 2 there.
     const Circle f(0, 0, 10);
     const Lattice lat = lattice_over(Box{-6, -12, 12, 12}, 0.75);
-    Mesh m = mesh_uniform(f, lat, DiagonalRule::separating, with_cells).mesh;
+    Mesh m = with_cells(mesh_uniform(f, lat, DiagonalRule::separating, testing::with_keys), lat);
     const Mesh before = m;
     optimize_mesh(m, f, at_spacing(0.75));
     BOOST_TEST(check_mesh(m).ok());
@@ -518,7 +527,8 @@ BOOST_AUTO_TEST_CASE(a_pinch_vertex_of_an_image_stays_put) {
 BOOST_AUTO_TEST_CASE(refinement_splits_boundary_edges_on_the_level_set) {
     const Circle f(0, 0, 10);
     const double s = 0.7;
-    const Mesh before = mesh_uniform(f, lattice_over(Box{-6, -12, 12, 12}, s), DiagonalRule::separating, with_cells).mesh;
+    const Lattice lat = lattice_over(Box{-6, -12, 12, 12}, s);
+    const Mesh before = with_cells(mesh_uniform(f, lat, DiagonalRule::separating, testing::with_keys), lat);
     Mesh m = before;
     OptimizeOptions o = at_spacing(s);
     o.refine_below_deg = 44;

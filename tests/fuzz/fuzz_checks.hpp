@@ -24,6 +24,7 @@
 #include "warpmesh/certify/certified.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/mesh2d/graded.hpp"
+#include "../certified_stage.hpp"
 #include "../mesh_math.hpp"
 #include "mesh2d/graded/quadtree.hpp"
 #include "mesh2d/graded/tiles.hpp"
@@ -265,14 +266,15 @@ inline void run_materials_case(const PipelineCase& c, const Lattice& lattice) {
     } catch (const InputError&) {  // no label but 0
         return;
     }
-    const MaterialOptions o{c.keep_background, DiagonalRule::separating, {true, true, true}};
-    const MaterialResult u = mesh_materials(*f, lattice, o);
+    using testing::certified;
+    const MaterialOptions o{c.keep_background, DiagonalRule::separating, testing::with_keys};
+    const auto u = certified(mesh_materials(*f, lattice, o), lattice, o.rule);
     std::vector<std::int64_t> caps(static_cast<std::size_t>(f->count()), 0);
     for (int m = 1; m < f->count(); ++m) {
         const std::int32_t tag = f->tag(m);  // a label 1..3
         caps[static_cast<std::size_t>(m)] = c.max_cell_of[static_cast<std::size_t>(tag)];
     }
-    const MaterialResult g = mesh_materials_graded(*f, lattice, o, c.max_cell, c.grading_buffer, caps);
+    const auto g = certified(mesh_materials_graded(*f, lattice, o, c.max_cell, c.grading_buffer, caps), lattice, o.rule);
     const MeshCheck mc = check_mesh(g.mesh);
     if (!mc.ok()) violation("graded materials: check_mesh failed: " + (mc.messages.empty() ? std::string() : mc.messages[0]));
     if (g.mixed_triangles != 0) violation("graded materials: a mixed triangle");
@@ -342,20 +344,20 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         return false;
     }
     const Lattice lattice = c.around ? lattice_around(f->bounds(), c.spacing) : lattice_over(f->bounds(), c.spacing);
-    const CertifyOptions verify{true, true, true};
-    const UniformResult u = mesh_uniform(*f, lattice, c.rule, verify);
+    using testing::certified, testing::with_keys;  // certified and verified (--verify): a violation throws
+    const auto u = certified(mesh_uniform(*f, lattice, c.rule, with_keys), lattice, c.rule);
     check_mesh_invariants(u.mesh, lattice, c.rule, "uniform");
     if (c.rule == DiagonalRule::separating) {
         // The fan rule: within its own (unconditional) certified bounds, every
         // square verified against its key, and the separating rule's boundary
         // (a fan's centre is never a boundary vertex).
-        const UniformResult fan = mesh_uniform(*f, lattice, DiagonalRule::fan, verify);
+        const auto fan = certified(mesh_uniform(*f, lattice, DiagonalRule::fan, with_keys), lattice, DiagonalRule::fan);
         check_mesh_invariants(fan.mesh, lattice, DiagonalRule::fan, "uniform fan");
         if (boundary_coords(u.mesh) != boundary_coords(fan.mesh)) violation("fan and separating boundaries differ");
         if (fan.mesh.triangles.size() < u.mesh.triangles.size()) violation("fan rule lost triangles");
     }
     if (c.graded) {
-        const GradedResult g = mesh_graded(*f, lattice, c.rule, c.max_cell, verify, c.grading_buffer);
+        const auto g = certified(mesh_graded(*f, lattice, c.rule, c.max_cell, with_keys, c.grading_buffer), lattice, c.rule);
         check_mesh_invariants(g.mesh, lattice, c.rule, "graded");
         if (c.max_size != 0)
             for (std::size_t t = 0; t < g.mesh.triangles.size(); ++t)
@@ -378,7 +380,8 @@ inline bool run_pipeline_case(const PipelineCase& c) {
         if (!qc.ok()) violation("check_quadtree failed: " + (qc.messages.empty() ? std::string() : qc.messages[0]));
         // The range bounds skip tiles but change nothing: the same mesh as
         // with every tile sampled.
-        const GradedResult all = mesh_graded(testing::WithoutRange(*f), lattice, c.rule, c.max_cell, verify, c.grading_buffer);
+        const auto all =
+            certified(mesh_graded(testing::WithoutRange(*f), lattice, c.rule, c.max_cell, with_keys, c.grading_buffer), lattice, c.rule);
         if (!testing::same_mesh(all.mesh, g.mesh)) violation("graded mesh differs from the one with every tile sampled");
     }
     if (c.materials) run_materials_case(c, lattice);

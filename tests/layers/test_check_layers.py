@@ -3,8 +3,10 @@
 
 Builds a small tree that obeys every rule (the check passes on it), then
 plants one violation per rule in a copy of it and requires exit status 1 and
-the violation's `file:line: includes X` line, and one stale entry of the
-temporary KNOWN list: the layering check cannot pass silently.  Usage: test_check_layers.py [path/to/check-layers.py]
+the violation's `file:line: includes X` line; and one entry planted in the
+temporary KNOWN list, tolerated while its violation stands and a failure
+(stale) once it is gone: the layering check cannot pass silently.
+Usage: test_check_layers.py [path/to/check-layers.py]
 """
 
 import importlib.util
@@ -89,19 +91,25 @@ def main():
             status, out = run(tree)
             if status != 1 or expected not in out:
                 failures.append(f"{path} + {line!r}: exit {status}, expected 1 and {expected!r} in:\n{out}")
-        # A KNOWN entry whose violation is gone (its file no longer includes
-        # the header) fails the check, so the temporary list empties.
+        # The temporary KNOWN list (empty when no branch is open): an entry
+        # tolerates its violation, and an entry whose violation is gone (its
+        # file no longer includes the header) fails the check, so the list
+        # empties.  One entry planted in the module, checked in process.
         spec = importlib.util.spec_from_file_location("check_layers", SCRIPT)
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
-        for src, target in sorted(module.KNOWN)[:1]:
-            cases += 1
-            tree = os.path.join(tmp, "stale")
-            shutil.copytree(clean, tree)
-            write_tree(tree, {src: ["#pragma once"]})
-            status, out = run(tree)
-            if status != 1 or f"{src}:1: includes {target}: stale KNOWN entry" not in out:
-                failures.append(f"stale KNOWN entry {src}: exit {status}, expected 1 and the stale line in:\n{out}")
+        src, target, line = PLANTED[3][0], "mesher/src/mesh2d/square_code.hpp", PLANTED[3][1]
+        module.KNOWN = {(src, target)}
+        cases += 2
+        tolerated = os.path.join(tmp, "known")
+        shutil.copytree(clean, tolerated)
+        write_tree(tolerated, {src: CLEAN[src] + [line]})
+        violations, known, _ = module.check(tolerated)
+        if violations or known != 1:
+            failures.append(f"KNOWN entry {src} -> {target} not tolerated ({known} known):\n" + "\n".join(violations))
+        violations, _, _ = module.check(clean)
+        if f"{src}:1: includes {target}: stale KNOWN entry" not in "\n".join(violations):
+            failures.append(f"stale KNOWN entry {src}: expected the stale line in:\n" + "\n".join(violations))
     for f in failures:
         print("FAIL:", f)
     print(f"{cases - len(failures)}/{cases} cases pass")

@@ -270,19 +270,6 @@ std::size_t certified_key_count(DiagonalRule rule, LatticeMetric metric) { retur
 CertifiedTheorem certified_theorem(DiagonalRule rule, LatticeMetric metric) { return table(rule, metric).theorem; }
 
 // ---------------------------------------------------------------------------
-CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
-                              std::span<const WarpedPoint> warped, DiagonalRule rule,
-                              std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
-    const auto signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
-        for (std::size_t q = 0; q < 12; ++q) {
-            const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
-            st[q] = (x < 0 || y < 0 || x > lattice.nx || y > lattice.ny) ? off_lattice : sign_at(x, y);
-        }
-        return true;
-    };
-    return certify_squares(mesh, lattice, signs, warped, rule, keyed_squares, options);
-}
-
 namespace {
 
 // Plain lattice squares and graded templates: 45°, 45°, 90°; plain rhombi:
@@ -291,12 +278,12 @@ constexpr double lattice_deg = 45.0;
 double plain_min_deg(LatticeMetric m) { return m == LatticeMetric::rhombic ? 60.0 : lattice_deg; }
 double plain_max_deg(LatticeMetric m) { return m == LatticeMetric::rhombic ? 60.0 : 90.0; }
 
-// The key of a keyed square: its corners' states from the stencil signs st
-// (sign keys) or, when square_signs said so, its corners' material classes
-// (a junction square, 3 or 4 materials: st[0..3]), with its corners' warps;
-// and the key's certified bound, null if the certificate lacks the key.  A
-// junction key is in proofs/materials.cert (separating rule only: the
-// max-min rule cannot mesh several materials).
+// The key of a keyed square from its stencil (mesh2d/lattice.hpp:
+// KeyedStencil): its corners' states from the stencil's signs (sign keys) or,
+// for a junction square (3 or 4 materials), its corners' material classes
+// with its corners' warps; and the key's certified bound, null if the
+// certificate lacks the key.  A junction key is in proofs/materials.cert or
+// materials_fan.cert (the max-min rule cannot mesh several materials).
 struct SquareKey {
     std::array<CornerState, 4> cs{};
     std::array<MaterialCorner, 4> jm{};
@@ -306,17 +293,14 @@ struct SquareKey {
     std::string code() const { return junction ? junction_key_code(jm) : key_code(cs); }  // only where reported
 };
 
-template <class WarpOf>
-SquareKey square_key(const std::array<std::int8_t, 12>& st, bool junction, const std::array<std::int64_t, 4>& p, WarpOf&& warp_of,
-                     DiagonalRule rule, LatticeMetric metric) {
+SquareKey square_key(const KeyedStencil& st, DiagonalRule rule, LatticeMetric metric) {
     SquareKey key;
-    key.junction = junction;
+    key.junction = st.junction;
     for (std::size_t c = 0; c < 4; ++c) {
-        const WarpedPoint* w = warp_of(p[c]);
-        key.cs[c] = {st[c], w ? w->dir : Warp::stay};
-        key.jm[c] = {static_cast<std::uint16_t>(st[c]), key.cs[c].warp};
+        key.cs[c] = {st.signs[c], st.warps[c]};
+        key.jm[c] = {static_cast<std::uint16_t>(st.signs[c]), st.warps[c]};
     }
-    if (junction) key.bound = certified_junction_bound(key.jm, rule);
+    if (key.junction) key.bound = certified_junction_bound(key.jm, rule);
     else key.bound = certified_bound(rule, key.cs, metric);
     return key;
 }
@@ -369,7 +353,7 @@ struct KeyedTotals {
 // the first 20 with their keys; examples are (square, key) pairs.
 void fill_summary(CertifiedSummary& sum, const Lattice& lattice, const KeyedTotals& t, std::int64_t ntris,
                   std::vector<std::int64_t> junction_list, std::vector<std::pair<std::int64_t, std::string>> examples,
-                  const CertifyOptions& options) {
+                  const CertifyOptions& options, LatticeMetric metric) {
     const std::int64_t nx = lattice.nx;
     double gmin = t.gmin, gmax = t.gmax;
     sum.junction_squares = t.junctions;
@@ -377,7 +361,7 @@ void fill_summary(CertifiedSummary& sum, const Lattice& lattice, const KeyedTota
     if (junction_list.size() > 20) junction_list.resize(20);
     sum.junction_list = std::move(junction_list);
     if (t.keyed_tris < ntris)
-        gmin = std::min(gmin, plain_min_deg(options.metric)), gmax = std::max(gmax, plain_max_deg(options.metric));
+        gmin = std::min(gmin, plain_min_deg(metric)), gmax = std::max(gmax, plain_max_deg(metric));
     sum.min_deg = gmin;
     sum.max_deg = gmax;
     sum.keyed_min_deg = t.keyed ? t.kmin : std::numeric_limits<double>::quiet_NaN();
@@ -398,19 +382,16 @@ void fill_summary(CertifiedSummary& sum, const Lattice& lattice, const KeyedTota
 
 }  // namespace
 
-CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,
-                                 std::span<const WarpedPoint> warped, DiagonalRule rule,
-                                 std::span<const KeyedSquare> keyed_squares, const CertifyOptions& options) {
+CertifiedSummary certify_keys(Mesh& mesh, const Lattice& lattice, const SquareKeys& keys, DiagonalRule rule,
+                              const CertifyOptions& options) {
     CertifiedSummary sum;
-    if (!options.enabled || !certified_table_available(options.metric)) return sum;
+    const LatticeMetric metric = keys.metric;
+    if (!options.enabled || !certified_table_available(metric)) return sum;
     sum.available = true;
     const std::int64_t ntris = static_cast<std::int64_t>(mesh.triangles.size());
-    const std::int64_t nx = lattice.nx, nxp = lattice.points_x();
-    auto warp_of = [&](std::int64_t p) -> const WarpedPoint* {
-        auto it = std::lower_bound(warped.begin(), warped.end(), p,
-                                   [](const WarpedPoint& w, std::int64_t q) { return w.p < q; });
-        return (it != warped.end() && it->p == p) ? &*it : nullptr;
-    };
+    const std::int64_t nx = lattice.nx;
+    const std::span<const KeyedSquare> keyed_squares = keys.squares;
+    if (keys.stencils.size() != keyed_squares.size()) throw std::logic_error("certify_keys: one stencil per keyed square is needed");
     Buffer<double> cell;  // every element written: lattice_deg first, then the keyed squares' bounds
     double gmin = std::numeric_limits<double>::infinity(), gmax = -gmin, kmin = gmin;
     if (options.cell_data) cell.resize(static_cast<std::size_t>(ntris));
@@ -423,7 +404,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
 
     if (options.cell_data) {
 #pragma omp parallel for schedule(static)
-        for (std::int64_t k = 0; k < ntris; ++k) cell[static_cast<std::size_t>(k)] = plain_min_deg(options.metric);
+        for (std::int64_t k = 0; k < ntris; ++k) cell[static_cast<std::size_t>(k)] = plain_min_deg(metric);
     }
     std::int64_t keyed_tris = 0;
     const std::int64_t nkeyed = static_cast<std::int64_t>(keyed_squares.size());
@@ -435,16 +416,14 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         const std::int64_t sq = ksq.square, k0 = ksq.first, k1 = ksq.first + ksq.count;
         if (k0 < 0 || ksq.count < 1 || k1 > ntris) {  // no exception may leave an OpenMP region
             std::lock_guard<std::mutex> lock(mu);
-            failure = "certify_mesh: bad triangle provenance for square " + std::to_string(sq);
+            failure = "certify_keys: bad triangle provenance for square " + std::to_string(sq);
             continue;
         }
         keyed_tris += k1 - k0;
         const std::int64_t i = sq % nx, j = sq / nx;
-        const std::int64_t pa = lattice.index(i, j);
-        const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
-        std::array<std::int8_t, 12> st{};
-        const bool junction = !square_signs(i, j, st);
-        const SquareKey key = square_key(st, junction, p, warp_of, rule, options.metric);
+        const KeyedStencil& st = keys.stencils[static_cast<std::size_t>(ks)];
+        const bool junction = st.junction;
+        const SquareKey key = square_key(st, rule, metric);
         const CertifiedBound* b = key.bound;
         if (!b) {
             std::lock_guard<std::mutex> lock(mu);
@@ -468,9 +447,9 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
             if (options.cell_data) cell[static_cast<std::size_t>(k)] = b->min_deg;
             if (!options.verify) continue;
             const TriangleForms<double> f =
-                square_frame_forms(mesh, lattice, i, j, mesh.triangles[static_cast<std::size_t>(k)], options.metric);
+                square_frame_forms(mesh, lattice, i, j, mesh.triangles[static_cast<std::size_t>(k)], metric);
             if (!within_bound(f, *b)) {
-                const std::string m = violation(i, j, key.code(), k, f, *b, options.metric);
+                const std::string m = violation(i, j, key.code(), k, f, *b, metric);
                 std::lock_guard<std::mutex> lock(mu);
                 if (failure.empty() || k < failure_tri) failure = m, failure_tri = k;
             }
@@ -478,8 +457,8 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
         ++keyed;
         // Flatness of the 12-point stencil; a stencil leaving the lattice is not flat.
         // Junction squares count as not flat: no flat theorem covers them.
-        const bool inside = std::find(st.begin(), st.end(), off_lattice) == st.end();
-        if (!junction && inside && stencil_is_flat(st)) ++flat_count;
+        const bool inside = std::find(st.signs.begin(), st.signs.end(), off_lattice) == st.signs.end();
+        if (!junction && inside && stencil_is_flat(st.signs)) ++flat_count;
         else {
             ++nonflat;
             std::lock_guard<std::mutex> lock(mu);
@@ -488,7 +467,7 @@ CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const Squar
     }
     if (!failure.empty()) throw std::logic_error(failure);
     fill_summary(sum, lattice, {gmin, gmax, kmin, keyed, flat_count, nonflat, junctions, keyed_tris}, ntris,
-                 std::move(junction_list), std::move(examples), options);
+                 std::move(junction_list), std::move(examples), options, metric);
     if (options.cell_data) mesh.cell_data.emplace_back("certified_min_angle", std::move(cell));
     return sum;
 }

@@ -1,6 +1,6 @@
 // mesh2d.cpp — the 2D pipeline (pipeline/mesh2d.hpp: mesh()): the lattice,
-// the mesher (uniform or graded, one region or materials) with its
-// certification, Guarantee::flat's refinement, the resolution check, the
+// the mesher (uniform or graded, one region or materials), the certification
+// of the keys it recorded, Guarantee::flat's refinement, the resolution check, the
 // optimisation pass, the boundary fidelity, the quality measurement.  Each
 // stage is a function here or in its own module; mesh() runs them in order
 // and fills the typed report (report.hpp: Mesh2dReport) with their figures;
@@ -11,9 +11,11 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/mesh2d/graded.hpp"
@@ -28,20 +30,47 @@ namespace warpmesh {
 
 namespace {
 
-// Run `mesh` n times and return the last result with the fastest run's phase
-// times.  The earlier runs are kept only for their times (each freed before
-// the next; the heap keeps their pages, so the process's peak resident memory
-// can exceed one run's).
+// A stage's result (uniform.hpp, graded.hpp, materials.hpp) and its
+// certification.
+template <class Result>
+struct Certified {
+    Result r;
+    CertifiedSummary certified;
+};
+
+// The stage's result certified as `options` say (certify, below; nothing
+// without options.enabled), its keys then freed.
+template <class Result>
+Certified<Result> certified_run(Result r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options) {
+    Certified<Result> c{std::move(r), {}};
+    if (options.enabled) c.certified = certify(c.r, lattice, rule, options);
+    c.r.keys = {};
+    return c;
+}
+
+// Run `mesh` (a stage and its certification) n times and return the last
+// run with the fastest run's phase times.  The earlier runs are kept only for
+// their times (each freed before the next; the heap keeps their pages, so the
+// process's peak resident memory can exceed one run's).
 template <class Run>
 auto fastest_of(std::int64_t n, Run&& mesh) {
-    decltype(mesh().times) fastest{};
+    decltype(mesh().r.times) fastest{};
     for (std::int64_t k = 1; k < n; ++k) {
-        const auto t = mesh().times;
+        const auto t = mesh().r.times;
         if (k == 1 || t.total() < fastest.total()) fastest = t;
     }
-    auto r = mesh();
-    if (n > 1 && fastest.total() < r.times.total()) r.times = fastest;
-    return r;
+    auto c = mesh();
+    if (n > 1 && fastest.total() < c.r.times.total()) c.r.times = fastest;
+    return c;
+}
+
+// The certification of a stage's keys, timed with their gathering.
+template <class Result>
+CertifiedSummary certify_stage(Result& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CertifiedSummary c = certify_keys(r.mesh, lattice, r.keys, rule, options);
+    r.times.certify = r.keys.seconds + seconds_since(t0);
+    return c;
 }
 
 // A count or size for a message: "%.4g" never overflows (1e+30, inf).
@@ -157,6 +186,7 @@ RegionMeshed mesh_region(const LevelSet& f, const Lattice& lattice, const MeshOp
     RegionMeshed out;
     MesherFigures& m = out.figures;
     m.graded = o.graded;
+    const KeyOptions keys{certify.enabled, certify.verify};
     auto counts = [&](const auto& r) {
         m.cut_edges = r.cut_edges, m.warped_points = r.warped_points;
         m.warped_squares = r.stats.warped_squares, m.separating_overrides = r.stats.forced_diagonals;
@@ -164,7 +194,9 @@ RegionMeshed mesh_region(const LevelSet& f, const Lattice& lattice, const MeshOp
     if (o.graded) {
         const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, lattice.s);
         const int buffer = grading_buffer(o.grading);
-        GradedResult r = fastest_of(o.repeat, [&] { return mesh_graded(f, lattice, o.rule, max_cell, certify, buffer); });
+        auto [r, certified] = fastest_of(o.repeat, [&] {
+            return certified_run(mesh_graded(f, lattice, o.rule, max_cell, keys, buffer), lattice, o.rule, certify);
+        });
         out.phases = {{"tiles", r.times.tiles}, {"warp", r.times.warp}, {"quadtree", r.times.quadtree}, {"triangulate", r.times.triangulate}};
         if (o.certify) out.phases.emplace_back("certify", r.times.certify);
         counts(r);
@@ -172,15 +204,17 @@ RegionMeshed mesh_region(const LevelSet& f, const Lattice& lattice, const MeshOp
         m.size_control = size_control(o, max_cell, buffer);
         m.sampled_points = r.sampled_points;
         out.mesh = std::move(r.mesh);
-        out.certified = std::move(r.certified);
+        out.certified = std::move(certified);
     } else {
-        UniformResult r = fastest_of(o.repeat, [&] { return mesh_uniform(f, lattice, o.rule, certify, o.lattice); });
+        auto [r, certified] = fastest_of(o.repeat, [&] {
+            return certified_run(mesh_uniform(f, lattice, o.rule, keys, o.lattice), lattice, o.rule, certify);
+        });
         out.phases = {{"sample", r.times.sample}, {"signs", r.times.signs}, {"cut_points", r.times.cut_points},
                       {"warp", r.times.warp},     {"triangulate", r.times.triangulate}};
         if (o.certify) out.phases.emplace_back("certify", r.times.certify);
         counts(r);
         out.mesh = std::move(r.mesh);
-        out.certified = std::move(r.certified);
+        out.certified = std::move(certified);
     }
     return out;
 }
@@ -250,7 +284,7 @@ MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
     std::optional<RhombicLevelSet> on_rhombic;
     if (rhombic) on_rhombic.emplace(f0);
     const LevelSet& f = rhombic ? static_cast<const LevelSet&>(*on_rhombic) : f0;
-    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify, o.lattice};
+    const CertifyOptions certify{o.certify, o.certify && o.cell_data, o.certify && o.verify};
     MeshResult res;
     Phases phases;
     // Guarantee::flat: halve the spacing while some warped square is not
@@ -350,19 +384,21 @@ MesherFigures material_mesher_figures(const MaterialResult& r, const MeshOptions
     return m;
 }
 
-// The materials' figures of the (final) multi-material mesh.
-MaterialsFigures materials_figures(const MaterialResult& r) {
+// The materials' figures of the (final) multi-material mesh; `certified`:
+// certification ran (with certificates).
+MaterialsFigures materials_figures(const MaterialResult& r, bool certified) {
     return {r.materials,        static_cast<std::int64_t>(r.mesh.interfaces.size()),
             r.third_material_edges, r.centroid_triangles,
             r.mixed_triangles,  r.junction_squares,
-            r.junction_examples, r.certified.available};
+            r.junction_examples, certified};
 }
 
 // The optimisation pass on a multi-material mesh (optimize.hpp) after
 // certification, with the material figures updated.  --max-size and every
 // --max-size-of cap hold after it: the smallest of them bounds the edges the
 // pass makes.
-OptimizeReport optimize_materials(MaterialResult& r, const MaterialField& field, double spacing, const MeshOptions& o) {
+OptimizeReport optimize_materials(MaterialResult& r, const CertifiedSummary& cert, const MaterialField& field, double spacing,
+                                  const MeshOptions& o) {
     OptimizeOptions oo;
     oo.spacing = spacing;
     oo.max_edge = o.max_size;
@@ -370,7 +406,7 @@ OptimizeReport optimize_materials(MaterialResult& r, const MaterialField& field,
     // Refinement below 35° (one region: 30°): issue 28's target at 2 px;
     // junction and interface triangles reach it only with Steiner points.
     oo.refine_below_deg = 35;
-    if (r.certified.available) oo.certified_floor = r.certified.min_deg, oo.certified_max = r.certified.max_deg;
+    if (cert.available) oo.certified_floor = cert.min_deg, oo.certified_max = cert.max_deg;
     check_optimize_memory(r.mesh, true, o);
     const RegionMeasures before = measure_regions(r.mesh);
     OptimizeReport report = optimize_mesh(r.mesh, field, oo);
@@ -392,14 +428,15 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
     check_lattice_memory(res.lattice, field.bounds_are_domain(), field.count(), o);
     res.report.lattice = lattice_figures(o, field.describe(), o.spacing, res.lattice);
-    const MaterialOptions mo{o.keep_background, o.rule, certify};
+    const MaterialOptions mo{o.keep_background, o.rule, KeyOptions{certify.enabled, certify.verify}};
     // Size control (graded: the cells; uniform: bounded by the spacing).
     const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, res.lattice.s);
     const int buffer = grading_buffer(o.grading);
     MaterialCaps caps = material_caps(field, o, res.lattice.s, max_cell);
-    MaterialResult r = fastest_of(o.repeat, [&] {
-        return o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, caps.max_cell_of)
-                        : mesh_materials(field, res.lattice, mo);
+    auto [r, certified] = fastest_of(o.repeat, [&] {
+        return certified_run(o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, caps.max_cell_of)
+                                      : mesh_materials(field, res.lattice, mo),
+                             res.lattice, o.rule, certify);
     });
     if (!o.max_size_of.empty()) {
         for (std::size_t m = 0; m < r.materials.size(); ++m) r.materials[m].max_size = caps.cap[m];
@@ -408,18 +445,39 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     Phases phases = material_phases(r, o);
     res.report.mesher = material_mesher_figures(r, o, max_cell, buffer, std::move(caps.figures));
     if (o.optimize) {
-        res.report.optimize = optimize_materials(r, field, res.lattice.s, o);
+        res.report.optimize = optimize_materials(r, certified, field, res.lattice.s, o);
         phases.emplace_back("optimize", res.report.optimize->seconds);
     }
-    res.report.materials = materials_figures(r);
+    res.report.materials = materials_figures(r, certified.available);
     for (std::string& w : material_warnings(*res.report.materials)) res.warnings.push_back(std::move(w));
     res.mesh = std::move(r.mesh);
-    res.certified = std::move(r.certified);
+    res.certified = std::move(certified);
     if (res.mesh.triangles.empty())
         throw OptionError("spacing", "the region is empty at this spacing: no triangle has all three corners inside "
                                      "(check {materials}, or use a smaller {spacing}); nothing written");
     finish_report(res, std::move(phases), o, true);
     return res;
+}
+
+CertifiedSummary certify(UniformResult& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options) {
+    return certify_stage(r, lattice, rule, options);
+}
+
+CertifiedSummary certify(GradedResult& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options) {
+    return certify_stage(r, lattice, rule, options);
+}
+
+CertifiedSummary certify(MaterialResult& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options) {
+    CertifiedSummary c = certify_stage(r, lattice, rule, options);
+    if (!c.available) r.junction_squares = 0, r.junction_examples.clear();
+    for (JunctionSquare& js : r.junction_examples) {
+        const CertifiedBound* b = certified_junction_bound(js.key, rule);  // certify_keys found it
+        if (!b)
+            throw std::logic_error("junction square (" + std::to_string(js.i) + ", " + std::to_string(js.j) + ") key " + js.pattern +
+                                   " not in proofs/" + (rule == DiagonalRule::fan ? "materials_fan" : "materials") + ".cert");
+        js.min_deg = b->min_deg, js.max_deg = b->max_deg;
+    }
+    return c;
 }
 
 WriteOptions write_options(const MeshResult& r, bool color_min_angle, bool color_certified) {

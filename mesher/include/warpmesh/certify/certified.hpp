@@ -23,7 +23,6 @@
 
 #include <array>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -99,10 +98,6 @@ struct CertifyOptions {
     bool enabled = true;    // compute the per-square bounds and the summary
     bool cell_data = true;  // add mesh.cell_data "certified_min_angle"
     bool verify = false;    // check every triangle of a keyed square against its interval
-    // The lattice: its certificates' tables, its forms for --verify (in
-    // lattice coordinates: the mesh is certified before the rhombic map P),
-    // and its unkeyed triangles (square: 45-45-90; rhombic: equilateral).
-    LatticeMetric metric = LatticeMetric::square;
 };
 
 // Squares "through the rule" are the finest squares with a warped or
@@ -131,29 +126,20 @@ struct CertifiedSummary {
     std::int64_t boundary_edges_off_levelset = 0;
 };
 
-// `keyed` = the squares through the rule with their triangles, from the
-// triangulation (TriangulateStats::keyed_squares); every other triangle is a
-// plain lattice or template triangle (45°, 45°, 90°).  Throws std::logic_error
-// (→ internal error) for an unknown key or, with verify, for a triangle outside
-// its interval.  `sign_at(i, j)` is the sign of f at lattice point (i, j)
-// (a flat array for the uniform mesher, tiles for the graded one).
-using SignAt = std::function<std::int8_t(std::int64_t, std::int64_t)>;
-CertifiedSummary certify_mesh(Mesh& mesh, const Lattice& lattice, const SignAt& sign_at,
-                              std::span<const WarpedPoint> warped, DiagonalRule rule,
-                              std::span<const KeyedSquare> keyed, const CertifyOptions& options);
-
-// The general form behind certify_mesh.  `square_signs(i, j, signs)` fills
-// the signs the certificate sees at the 12 stencil points of square (i, j)
-// (stencil_offsets order: the corners first; off_lattice for a point outside
-// the lattice, which makes the stencil non-flat) and returns true; for a
-// junction square (3 or 4 materials, see junction_squares) it returns false
-// with signs[0..3] = the corners' material classes (junction_letters: 0..3),
-// and the square is looked up among the junction keys.
-inline constexpr std::int8_t off_lattice = 9;
-using SquareSigns = std::function<bool(std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& signs)>;
-CertifiedSummary certify_squares(Mesh& mesh, const Lattice& lattice, const SquareSigns& square_signs,
-                                 std::span<const WarpedPoint> warped, DiagonalRule rule,
-                                 std::span<const KeyedSquare> keyed, const CertifyOptions& options);
+// The certification of a 2D mesh from the keys its mesher recorded
+// (mesh2d/lattice.hpp: SquareKeys, in their lattice metric: its
+// certificates' tables, its forms for verify, in lattice coordinates, and
+// its plain triangles — square: 45-45-90; rhombic: equilateral): every keyed
+// square's key looked up (a junction square's among the junction keys), its
+// triangles given its bound (cell data "certified_min_angle" with
+// options.cell_data) and, with options.verify, checked against it; every
+// other triangle is a plain lattice or template triangle.  Throws
+// std::logic_error (→ internal error) for an unknown key or, with verify, for
+// a triangle outside its interval.  An empty summary (available false)
+// without options.enabled or without the metric's certificates in this
+// build.
+CertifiedSummary certify_keys(Mesh& mesh, const Lattice& lattice, const SquareKeys& keys, DiagonalRule rule,
+                              const CertifyOptions& options);
 
 // The largest distance from the mesh's level-set boundary edges to f = 0,
 // sampled at 9 points per edge (endpoints included) as |f| / |grad f| with a

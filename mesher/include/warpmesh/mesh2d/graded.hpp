@@ -26,7 +26,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/mesh2d/lattice.hpp"
 
 namespace warpmesh {
@@ -34,7 +33,7 @@ namespace warpmesh {
 struct GradedTimes {
     double tiles = 0;  // classify tiles, sample, signs, cut points
     double warp = 0, quadtree = 0, triangulate = 0;  // seconds
-    double certify = 0;  // certification post-pass (certified.hpp), if asked
+    double certify = 0;  // the certification, when the pipeline runs it (as PhaseTimes::certify)
     double total() const { return tiles + warp + quadtree + triangulate + certify; }
 };
 
@@ -46,8 +45,8 @@ struct GradedResult {
     std::int64_t warped_points = 0;
     std::int64_t sampled_points = 0;  // evaluations of f (neighbouring sampled tiles share a border)
     std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, inside or outside
-    CertifiedSummary certified;  // available = false unless certification ran
     std::int64_t invariant_squares = -1;  // squares check_critical_squares_finest checked (-1: not run)
+    SquareKeys keys;  // with keys.keys: what certification reads (empty otherwise)
 };
 
 // Size control.
@@ -79,14 +78,16 @@ int grading_buffer(double grading);
 std::int64_t max_cell_for_size(double max_size, double spacing);
 
 // tiles (sample → signs → cut points where the level set can pass) → warp →
-// quadtree → leaves → triangulate [→ certify].  max_cell is K, the largest
-// leaf width in squares: a power of two, or 0 for as coarse as the lattice
-// allows; grading_buffer is n above (0: plain 2:1 balance).  Throws
+// quadtree → leaves → triangulate.  max_cell is K, the largest leaf width in
+// squares: a power of two, or 0 for as coarse as the lattice allows;
+// grading_buffer is n above (0: plain 2:1 balance); `keys` what is recorded
+// for the certification (lattice.hpp: KeyOptions; with check_invariant,
+// invariant_squares is set).  Throws
 // InputError if f is not finite at a sampled point, std::invalid_argument if
 // max_cell is negative or not a power of two or grading_buffer is not in
 // 0 .. max_grading_buffer, std::length_error if the mesh needs more than
 // 32-bit indices.  The mesh does not depend on the thread count.
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
-                         const CertifyOptions& certify = CertifyOptions{false, false, false}, int grading_buffer = 0);
+                         KeyOptions keys = {}, int grading_buffer = 0);
 
 }  // namespace warpmesh

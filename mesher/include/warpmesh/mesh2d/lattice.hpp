@@ -15,6 +15,7 @@
 
 #include "warpmesh/core/buffer.hpp"
 #include "warpmesh/mesh2d/generic_square.hpp"
+#include "warpmesh/mesh2d/square_keys.hpp"  // stencil_offsets, off_lattice
 #include "warpmesh/levelset/levelset.hpp"
 #include "warpmesh/core/mesh.hpp"
 
@@ -120,6 +121,40 @@ struct KeyedSquare {
     std::int64_t square;
     std::int64_t first;
     std::int32_t count;
+};
+
+// What certification reads of a 2D mesh (certify/certified.hpp: certify_keys),
+// recorded by the meshers when asked (KeyOptions::keys): the squares through
+// the rule with their output triangles, in the mesher's order, and per square
+// what its key is made of — the signs the certificate sees at its 12 stencil
+// points (stencil_offsets order; off_lattice for a point outside the
+// lattice, which makes the stencil non-flat) and its corners' warps; for a
+// junction square (a multi-material square whose corners carry 3 or 4
+// materials) signs[0..3] are its corners' material classes (junction_letters:
+// 0..3) and the square is keyed by its junction key.  The metric is the
+// lattice's the squares were meshed in (rhombic: lattice coordinates, before
+// the map by P).  A few entries per boundary square, nothing per triangle.
+struct KeyedStencil {
+    std::array<std::int8_t, 12> signs{};
+    std::array<Warp, 4> warps{};  // corners A, B, C, D (Warp::stay: not warped)
+    bool junction = false;
+};
+struct SquareKeys {
+    std::vector<KeyedSquare> squares;
+    std::vector<KeyedStencil> stencils;  // one per square
+    LatticeMetric metric = LatticeMetric::square;
+    double seconds = 0;  // gathering the stencils (part of the report's "certify" phase)
+};
+
+// What a 2D mesher records besides the mesh, for the certification that
+// follows it (the pipeline's, pipeline/mesh2d.cpp): `keys`, its SquareKeys;
+// `check_invariant` (graded meshers), the quadtree's invariant that the
+// certificates rest on, checked on the leaves (graded/quadtree.hpp,
+// check_critical_squares_finest; std::logic_error if violated) — the
+// pipeline asks for it with --verify.
+struct KeyOptions {
+    bool keys = false;
+    bool check_invariant = false;
 };
 
 struct TriangulateStats {

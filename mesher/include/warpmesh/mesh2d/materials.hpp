@@ -68,7 +68,9 @@
 // outside neighbour (not in the key).  The separating test reads the
 // materials only through "differ", which the letters preserve.  So junction
 // squares are looked up, bounded and verified like the others; an unknown
-// junction key is an internal error.
+// junction key is an internal error.  The meshers record these keys
+// (KeyOptions::keys: SquareKeys, with the junction squares named); the
+// pipeline certifies them (pipeline/mesh2d.hpp: certify).
 #pragma once
 
 #include <cstdint>
@@ -78,7 +80,6 @@
 #include <string>
 #include <vector>
 
-#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/io/image.hpp"
 #include "warpmesh/levelset/image_levelset.hpp"
 #include "warpmesh/mesh2d/lattice.hpp"
@@ -162,7 +163,7 @@ std::unique_ptr<MaterialField> parse_material_shapes(const std::string& spec);
 struct MaterialOptions {
     bool keep_background = false;  // false: the background's triangles are not output
     DiagonalRule rule = DiagonalRule::separating;  // maxmin is refused
-    CertifyOptions certify{false, false, false};
+    KeyOptions keys;  // what is recorded for the certification (lattice.hpp)
 };
 
 struct MaterialStats {
@@ -187,7 +188,8 @@ struct JunctionSquare {
     std::int64_t i, j;
     std::array<std::int32_t, 4> tags;  // corner materials A, B, C, D
     std::string pattern;               // its junction key, e.g. "aRaUbscs": corners' partition letters and warps
-    double min_deg = 0, max_deg = 0;   // the key's certified bounds (every angle of its triangles in between)
+    std::array<MaterialCorner, 4> key{};  // the same key: letters (material classes 0..3) and warps
+    double min_deg = 0, max_deg = 0;   // the key's certified bounds (every angle of its triangles in between; certification's)
 };
 
 struct MaterialResult {
@@ -198,9 +200,13 @@ struct MaterialResult {
     std::int64_t mixed_triangles = 0;       // two staying corners of different materials: 0 (proved)
     std::int64_t centroid_triangles = 0;    // all corners moved: material at the centroid
     std::vector<MaterialStats> materials;   // index = material number
-    CertifiedSummary certified;             // junction squares included
-    std::int64_t junction_squares = 0;      // keyed squares with 3 or 4 materials (junction keys)
-    std::vector<JunctionSquare> junction_examples;  // the first 20
+    // With MaterialOptions::keys.keys (else empty): what certification reads,
+    // junction squares included; the keyed squares with 3 or 4 materials
+    // (junction keys) and the first 20 of them (by square index), their
+    // bounds left to the certification.
+    SquareKeys keys;
+    std::int64_t junction_squares = 0;
+    std::vector<JunctionSquare> junction_examples;
     // mesh_materials_graded only:
     bool graded = false;
     std::vector<std::int64_t> leaves_per_level;  // index = level; all leaves, background included
@@ -228,9 +234,9 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
 // max_cell wins; nothing else changes (the band, interfaces and boundary
 // are the same).  std::invalid_argument if a cell size is not 0 or a power
 // of two, max_cell_of's size is wrong or the buffer is out of
-// 0 .. max_grading_buffer.  With options.certify.verify the band invariant
-// is checked on the leaves (std::logic_error if violated).  Throws as
-// mesh_materials.
+// 0 .. max_grading_buffer.  With options.keys.check_invariant the band
+// invariant is checked on the leaves (std::logic_error if violated).  Throws
+// as mesh_materials.
 MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& lattice, const MaterialOptions& options,
                                      std::int64_t max_cell, int grading_buffer = 0,
                                      std::span<const std::int64_t> max_cell_of = {});

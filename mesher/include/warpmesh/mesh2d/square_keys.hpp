@@ -36,6 +36,9 @@ inline constexpr std::array<std::array<int, 2>, 12> stencil_offsets{{{0, 0}, {1,
                                                                      {-1, 0}, {0, -1}, {2, 0}, {1, -1},
                                                                      {-1, 1}, {0, 2}, {2, 1}, {1, 2}}};
 bool stencil_is_flat(const std::array<std::int8_t, 12>& signs);
+// The sign given a stencil point outside the lattice: such a stencil is not
+// flat (certification counts the square as non-flat).
+inline constexpr std::int8_t off_lattice = 9;
 // True iff some affine a x + b y + c has the signs `signs[q]` at the stencil
 // points q in `known` (bit q), whatever its signs elsewhere.  `known` must
 // contain the four corners (bits 0-3; else std::invalid_argument).  The

@@ -1,14 +1,15 @@
 // uniform.hpp — the paper's uniform lattice-warping mesher, end to end.
 #pragma once
 
-#include "warpmesh/certify/certified.hpp"
 #include "warpmesh/mesh2d/lattice.hpp"
 
 namespace warpmesh {
 
 struct PhaseTimes {
     double sample = 0, signs = 0, cut_points = 0, warp = 0, triangulate = 0;  // seconds
-    double certify = 0;  // certification post-pass (certified.hpp), if asked
+    // The certification, when the pipeline runs it (pipeline/mesh2d.hpp:
+    // certify): the keys' gathering (SquareKeys::seconds) and their lookup.
+    double certify = 0;
     double total() const { return sample + signs + cut_points + warp + triangulate + certify; }
 };
 
@@ -34,18 +35,18 @@ struct UniformResult {
     TriangulateStats stats;
     std::int64_t cut_edges = 0;
     std::int64_t warped_points = 0;
-    CertifiedSummary certified;  // available = false unless certification ran
+    SquareKeys keys;  // with keys.keys: what certification reads (empty otherwise)
 };
 
 // lattice → signs → cut points → warp → triangulate.
-// With `certify`, also the per-square certified bounds (certified.hpp): cell
-// data "certified_min_angle", the summary, and optionally the verification.
+// With `keys.keys`, also the mesh's SquareKeys (lattice.hpp), which the
+// pipeline certifies (pipeline/mesh2d.hpp: certify; cell data
+// "certified_min_angle", the summary, optionally the verification).
 // `metric`: LatticeMetric::rhombic meshes f in lattice coordinates with the
 // rhombic rule: f is then f∘P and the mesh's vertices are in lattice
-// coordinates (rhombic.hpp maps them); certified in that metric whatever
-// certify.metric says (the rhombic tables, the rhombic forms for verify).
-UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
-                           const CertifyOptions& certify = CertifyOptions{false, false, false},
+// coordinates (rhombic.hpp maps them); its keys are in that metric, and so
+// certified (the rhombic tables, the rhombic forms for verify).
+UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, KeyOptions keys = {},
                            LatticeMetric metric = LatticeMetric::square);
 
 }  // namespace warpmesh

@@ -197,6 +197,21 @@ MeshResult mesh(const LevelSet& f, const MeshOptions& options);
 // for a max_size_of tag that is no material (or the dropped background).
 MeshResult mesh(const MaterialField& field, const MeshOptions& options);
 
+// mesh()'s certification of one 2D stage's mesh, for callers of the stages
+// (uniform.hpp, graded.hpp, materials.hpp) that asked them for their keys
+// (KeyOptions::keys): certify_keys (certified.hpp) on r.mesh and r.keys, in
+// the keys' lattice metric; its time, with the keys' gathering, in
+// r.times.certify.  A multi-material result's junction examples get their
+// keys' bounds; without certificates in this build (an empty summary) its
+// junction figures are cleared, as none is certified.  Throws as
+// certify_keys.
+struct UniformResult;   // uniform.hpp
+struct GradedResult;    // graded.hpp
+struct MaterialResult;  // materials.hpp
+CertifiedSummary certify(UniformResult& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options);
+CertifiedSummary certify(GradedResult& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options);
+CertifiedSummary certify(MaterialResult& r, const Lattice& lattice, DiagonalRule rule, const CertifyOptions& options);
+
 // Write options for pictures of this result: the warped squares whose stencil
 // is not flat outlined in SVGs, with a note; with color_certified, pictures
 // coloured by "certified_min_angle" (needs the cell data).

@@ -8,6 +8,7 @@
 
 #include "warpmesh/mesh2d/graded.hpp"
 
+#include "mesh2d/gather_keys.hpp"
 #include "mesh2d/graded/quadtree.hpp"
 #include "mesh2d/graded/tiles.hpp"
 #include "mesh2d/graded/triangulate_graded.hpp"
@@ -31,7 +32,7 @@ std::int64_t max_cell_for_size(double max_size, double spacing) {
 }
 
 GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, std::int64_t max_cell,
-                         const CertifyOptions& certify, int grading_buffer) {
+                         KeyOptions keys, int grading_buffer) {
     using clock = std::chrono::steady_clock;
     GradedResult r;
     const TiledFront front = warp_tiles(f, lattice);
@@ -47,7 +48,7 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
     const Quadtree tree = build_quadtree(lattice, signs, warped, max_cell, grading_buffer);
     const Leaves leaves = quadtree_leaves(tree, &r.leaves_per_level, /*drop_outside=*/true);
     r.times.quadtree = seconds_since(t0);
-    if (certify.verify) {  // the invariant the certificates rest on, from the leaf list
+    if (keys.check_invariant) {  // the invariant the certificates rest on, from the leaf list
         const CriticalSquaresCheck inv = check_critical_squares_finest(leaves, signs, warped);
         if (!inv.ok()) throw std::logic_error(inv.first);
         r.invariant_squares = inv.squares;
@@ -55,16 +56,15 @@ GradedResult mesh_graded(const LevelSet& f, const Lattice& lattice, DiagonalRule
 
     t0 = clock::now();
     std::vector<KeyedSquare> keyed;
-    if (certify.enabled) r.stats.keyed_squares = &keyed;
+    if (keys.keys) r.stats.keyed_squares = &keyed;
     r.mesh = triangulate_graded(f, lattice, signs, tree, leaves, warped, rule, &r.stats);
     r.times.triangulate = seconds_since(t0);
     r.stats.keyed_squares = nullptr;
-    if (certify.enabled) {
-        t0 = clock::now();
-        const auto sign_at = [&signs](std::int64_t i, std::int64_t j) { return signs(i, j); };
-        r.certified = certify_mesh(r.mesh, lattice, sign_at, warped, rule, keyed, certify);
-        r.times.certify = seconds_since(t0);
-    }
+    if (keys.keys)
+        r.keys = gather_keys(lattice, std::move(keyed), warped, LatticeMetric::square, [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
+            stencil_signs(lattice, i, j, signs, st);
+            return false;
+        });
     return r;
 }
 

@@ -395,8 +395,9 @@ QuadtreeCheck check_quadtree(const Quadtree& tree, const TiledSigns& signs);
 // (cheap: O(warped points + sampled tiles' points), binary searches in
 // `parents`): every lattice square with a warped or zero-valued corner is a
 // finest leaf (hence has no split side).  mesh_graded runs it whenever
-// CertifyOptions::verify is set (`warpmesh --verify`, release builds
-// included) and throws std::logic_error with `first` on a violation.
+// KeyOptions::check_invariant is set (the pipeline sets it with `warpmesh
+// --verify`, release builds included) and throws std::logic_error with
+// `first` on a violation.
 struct CriticalSquaresCheck {
     std::int64_t critical_points = 0;  // warped points, then zero-valued ones (a point may be both: counted twice)
     std::int64_t squares = 0;          // squares around them checked (with repetitions)

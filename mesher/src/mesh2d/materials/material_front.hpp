@@ -8,8 +8,9 @@
 //                      certifies, on its material corners;
 //   warped_square      a warped square's diagonal, its two triangles'
 //                      materials and areas (both meshers' inner loop);
-//   material_squares   the certification post-pass: the keyed squares with
-//                      one or two materials looked up, junction squares listed;
+//   record_material_keys  what the certification reads: the keyed squares'
+//                      stencils (one or two materials) or junction keys,
+//                      junction squares listed;
 //   finish_materials   per-material statistics and region names.
 #pragma once
 
@@ -135,11 +136,12 @@ inline WarpedSquare warped_square(const MaterialFront& front, const Lattice& lat
     return w;
 }
 
-// The certification post-pass (materials.hpp, "Certification") on r.mesh:
-// fills r.certified, r.junction_squares, r.junction_examples, r.times.certify.
-// `keyed`: the finest warped squares that emit a triangle, with their triangles.
-void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const MaterialFront& front,
-                           std::span<const KeyedSquare> keyed, const MaterialOptions& options, const MaterialField& field);
+// What the certification reads of r.mesh (materials.hpp, "Certification"):
+// fills r.keys, r.junction_squares, r.junction_examples (their bounds left to
+// the certification).  `keyed`: the finest warped squares that emit a
+// triangle, with their triangles.
+void record_material_keys(MaterialResult& r, const Lattice& lattice, const MaterialFront& front, std::vector<KeyedSquare> keyed,
+                          const MaterialField& field);
 
 // r.materials from the per-material triangle counts, doubled areas and
 // perimeters of the full tiling; region names of the output materials with

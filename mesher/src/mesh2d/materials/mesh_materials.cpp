@@ -1,5 +1,6 @@
 // mesh_materials.cpp — the multi-material uniform mesher (materials.hpp):
-// materials per point → cut edges → warp → triangulate → certify.
+// materials per point → cut edges → warp → triangulate [→ the keys the
+// certification reads].
 //
 // The triangulation is four passes, each parallel over rows and deterministic
 // (as triangulate.cpp, whose square codes and side tables it shares):
@@ -23,6 +24,7 @@
 #include <omp.h>
 #endif
 
+#include "mesh2d/gather_keys.hpp"
 #include "mesh2d/square_code.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "mesh2d/materials/material_front.hpp"
@@ -203,23 +205,20 @@ void measure_longest_edges(MaterialResult& r) {
         s.longest_edge = s.output && s.tag >= 0 && s.tag <= top ? std::sqrt(longest2[static_cast<std::size_t>(s.tag)]) : 0.0;
 }
 
-void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const MaterialFront& front,
-                           std::span<const KeyedSquare> keyed, const MaterialOptions& options, const MaterialField& field) {
+void record_material_keys(MaterialResult& r, const Lattice& lattice, const MaterialFront& front, std::vector<KeyedSquare> keyed,
+                          const MaterialField& field) {
     const auto t0 = clock::now();
     const std::int64_t nxp = lattice.points_x(), nx = lattice.nx, ny = lattice.ny;
     const Buffer<std::uint16_t>& mat = front.mat;
     const Buffer<std::uint8_t>& moved = front.moved;
-    const std::vector<WarpedPoint>& warped = front.warped;
-    auto warp_of = [&](std::int64_t p) -> const WarpedPoint& { return front.warp_of(p); };
-    auto tag = [&](std::uint16_t m) { return field.tag(m); };
     // A square with one or two materials: the material of its first staying
     // corner (A, B, C, D; none stays: A's) is '-', every other point of the
     // stencil '+' (materials.hpp: why this is a key of the proof; the choice
     // reads no material number, and under the fan rule '-' is the staying
     // corners' common material, so "all inside" is the fan's condition).
     // A junction square (3 or 4 materials): its corners' material classes,
-    // for its junction key (certify_squares).
-    const auto square_signs = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
+    // for its junction key.
+    const auto stencil = [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
         const std::int64_t pa = lattice.index(i, j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         const std::array<std::uint16_t, 4> m{mat[static_cast<std::size_t>(p[0])], mat[static_cast<std::size_t>(p[1])],
@@ -233,38 +232,39 @@ void certify_material_mesh(MaterialResult& r, const Lattice& lattice, const Mate
                 const auto letters = junction_letters({MaterialCorner{m[0], Warp::stay}, MaterialCorner{m[1], Warp::stay},
                                                        MaterialCorner{m[2], Warp::stay}, MaterialCorner{m[3], Warp::stay}});
                 for (std::size_t q = 0; q < 4; ++q) st[q] = static_cast<std::int8_t>(letters[q].material);
-                return false;
+                return true;
             }
         for (std::size_t q = 0; q < 12; ++q) {
             const std::int64_t x = i + stencil_offsets[q][0], y = j + stencil_offsets[q][1];
             st[q] = (x < 0 || y < 0 || x > nx || y > ny) ? off_lattice
                     : mat[static_cast<std::size_t>(lattice.index(x, y))] == inside ? std::int8_t{-1} : std::int8_t{1};
         }
-        return true;
+        return false;
     };
-    r.certified = certify_squares(r.mesh, lattice, square_signs, warped, options.rule, keyed, options.certify);
-    r.junction_squares = r.certified.junction_squares;
-    for (const std::int64_t sq : r.certified.junction_list) {
-        JunctionSquare js{sq % nx, sq / nx, {}, {}};
+    r.keys = gather_keys(lattice, std::move(keyed), front.warped, LatticeMetric::square, stencil);
+    // The junction squares: their count, and the first 20 by square index
+    // with their corners' tags and their junction keys.
+    std::vector<std::int64_t> junctions;
+    for (std::size_t k = 0; k < r.keys.squares.size(); ++k)
+        if (r.keys.stencils[k].junction) junctions.push_back(r.keys.squares[k].square);
+    r.junction_squares = static_cast<std::int64_t>(junctions.size());
+    std::sort(junctions.begin(), junctions.end());
+    if (junctions.size() > 20) junctions.resize(20);
+    for (const std::int64_t sq : junctions) {
+        JunctionSquare js{sq % nx, sq / nx, {}, {}, {}};
         const std::int64_t pa = lattice.index(js.i, js.j);
         const std::array<std::int64_t, 4> p{pa, pa + 1, pa + nxp, pa + nxp + 1};
         std::array<MaterialCorner, 4> mc{};
         for (std::size_t q = 0; q < 4; ++q) {
             const std::uint16_t m = mat[static_cast<std::size_t>(p[q])];
-            js.tags[q] = tag(m);
-            mc[q] = {m, moved[static_cast<std::size_t>(p[q])] ? warp_of(p[q]).dir : Warp::stay};
+            js.tags[q] = field.tag(m);
+            mc[q] = {m, moved[static_cast<std::size_t>(p[q])] ? front.warp_of(p[q]).dir : Warp::stay};
         }
-        const auto letters = junction_letters(mc);
-        js.pattern = junction_key_code(letters);
-        const CertifiedBound* b = certified_junction_bound(letters, options.rule);  // certify_squares found it
-        if (!b)
-            throw std::logic_error("junction square (" + std::to_string(js.i) + ", " + std::to_string(js.j) + ") key " +
-                                   js.pattern + " not in proofs/" + (options.rule == DiagonalRule::fan ? "materials_fan" : "materials") +
-                                   ".cert");
-        js.min_deg = b->min_deg, js.max_deg = b->max_deg;
+        js.key = junction_letters(mc);
+        js.pattern = junction_key_code(js.key);
         r.junction_examples.push_back(std::move(js));
     }
-    r.times.certify = seconds_since(t0);
+    r.keys.seconds = seconds_since(t0);
 }
 
 namespace {
@@ -522,7 +522,7 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
     if (lattice_vertices + pass.row_fans.back() > INT32_MAX) throw std::length_error("mesh too large for 32-bit vertex indices");
     mesh.vertices.resize(static_cast<std::size_t>(lattice_vertices + pass.row_fans.back()));  // centres written in pass 3
     const std::vector<std::vector<KeyedSquare>> keyed_rows =
-        fill_triangles(lattice, pass, vid, lattice_vertices, tag, options.certify.enabled, mesh);
+        fill_triangles(lattice, pass, vid, lattice_vertices, tag, options.keys.keys, mesh);
     const std::vector<std::vector<double>> perim = material_edges(lattice, front, pass, vid, tag, nthreads, mesh);
     r.times.triangulate = seconds_since(t0);
 
@@ -539,11 +539,11 @@ MaterialResult mesh_materials(const MaterialField& field, const Lattice& lattice
         finish_materials(r, field, drop, count, area, per);
     }
 
-    // ---- 5. certify ------------------------------------------------------------------
-    if (options.certify.enabled) {
+    // ---- 5. keys, for the certification ------------------------------------------------
+    if (options.keys.keys) {
         std::vector<KeyedSquare> keyed;
         for (const auto& row : keyed_rows) keyed.insert(keyed.end(), row.begin(), row.end());
-        certify_material_mesh(r, lattice, front, keyed, options, field);
+        record_material_keys(r, lattice, front, std::move(keyed), field);
     }
     return r;
 }

@@ -14,7 +14,7 @@
 // Its invariant then reads: every square with a corner on a cut edge between
 // different materials is a finest leaf with no split side — a square of the
 // uniform multi-material mesh, with the same diagonal and triangles
-// (check_critical_squares_finest checks it under CertifyOptions::verify).  A
+// (check_critical_squares_finest checks it under KeyOptions::check_invariant).  A
 // coarse leaf holds only non-critical points, 4-connected inside it, so they
 // all carry one material, the leaf's; a finest square across a side of a
 // coarse leaf shares two of them, and its triangle along that side has two
@@ -412,7 +412,7 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     MaterialResult r;
     r.graded = true;
     const MaterialFront front = material_front(field, lattice, r);
-    const Leaves leaves = material_leaves(lattice, front, codes, max_cell, grading_buffer, options.certify.verify, r);
+    const Leaves leaves = material_leaves(lattice, front, codes, max_cell, grading_buffer, options.keys.check_invariant, r);
 
     // ---- triangles of the leaves --------------------------------------------------
     const auto t0 = clock::now();
@@ -435,7 +435,7 @@ MaterialResult mesh_materials_graded(const MaterialField& field, const Lattice& 
     r.times.triangulate = seconds_since(t0);
     finish_materials(r, field, drop, count, area2, perim);
 
-    if (options.certify.enabled) certify_material_mesh(r, lattice, front, tiling.keyed, options, field);
+    if (options.keys.keys) record_material_keys(r, lattice, front, std::move(tiling.keyed), field);
     return r;
 }
 

@@ -3,6 +3,8 @@
 
 #include "warpmesh/mesh2d/uniform.hpp"
 
+#include "mesh2d/gather_keys.hpp"
+
 namespace warpmesh {
 
 namespace {
@@ -31,8 +33,7 @@ WarpedLattice warp_lattice(const LevelSet& f, const Lattice& lattice) {
     return w;
 }
 
-UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule,
-                           const CertifyOptions& certify, LatticeMetric metric) {
+UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRule rule, KeyOptions keys, LatticeMetric metric) {
     UniformResult r;
     const WarpedLattice w = warp_lattice(f, lattice);
     r.times.sample = w.sample, r.times.signs = w.signs_seconds, r.times.cut_points = w.cut_points, r.times.warp = w.warp;
@@ -43,17 +44,16 @@ UniformResult mesh_uniform(const LevelSet& f, const Lattice& lattice, DiagonalRu
 
     auto t0 = clock::now();
     std::vector<KeyedSquare> keyed;
-    if (certify.enabled) r.stats.keyed_squares = &keyed;
+    if (keys.keys) r.stats.keyed_squares = &keyed;
     r.mesh = triangulate(f, lattice, signs, warped, rule, &r.stats, metric);
     r.times.triangulate = seconds_since(t0);
     r.stats.keyed_squares = nullptr;
-    if (certify.enabled) {
-        t0 = clock::now();
+    if (keys.keys) {
         const auto sign_at = [&](std::int64_t i, std::int64_t j) { return signs[static_cast<std::size_t>(lattice.index(i, j))]; };
-        CertifyOptions in_metric = certify;  // certified in the mesh's own lattice metric
-        in_metric.metric = metric;
-        r.certified = certify_mesh(r.mesh, lattice, sign_at, warped, rule, keyed, in_metric);
-        r.times.certify = seconds_since(t0);
+        r.keys = gather_keys(lattice, std::move(keyed), warped, metric, [&](std::int64_t i, std::int64_t j, std::array<std::int8_t, 12>& st) {
+            stencil_signs(lattice, i, j, sign_at, st);
+            return false;
+        });
     }
     return r;
 }
