@@ -47,6 +47,14 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/build.sh" >/dev/null
 exe="${WARPMESH_BUILD_DIR:-$root/build}/mesher/warpmesh"
 tmp="$(mktemp -d)"
+# CGAL is benchmark-only: installed here (the CGAL sections), never by setup.sh.
+install_cgal() {
+  if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
+  fi
+}
 trap 'rm -rf "$tmp"' EXIT
 brain="$root/mesher/examples/brain_axial_s128_labels16.pgm"
 
@@ -121,11 +129,7 @@ if [ "${1:-}" = "--accuracy" ]; then
     case "$1" in
       --before) extra+=(--before "$2"); shift 2 ;;
       --cgal)
-        if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
-          SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-          $SUDO apt-get update -qq
-          DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
-        fi
+        install_cgal
         g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh2.cpp" -o "$tmp/cgal_mesh2" -lgmp -lmpfr
         extra+=(--cgal "$tmp/cgal_mesh2"); shift ;;
       *) echo "usage: $0 --accuracy [--before EXE] [--cgal]" >&2; exit 2 ;;
@@ -156,12 +160,7 @@ if [ "${1:-}" = "--writers" ]; then
 fi
 
 if [ "${1:-}" = "--cgal3d" ]; then
-  # CGAL is benchmark-only: installed here, never by setup.sh.
-  if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
-    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
-  fi
+  install_cgal
   nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
   [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
   g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
@@ -198,12 +197,7 @@ PY
 fi
 
 if [ "${1:-}" = "--cgal3d-materials" ]; then
-  # CGAL is benchmark-only: installed here, never by setup.sh.
-  if ! dpkg -s libcgal-dev >/dev/null 2>&1; then
-    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends libcgal-dev >/dev/null
-  fi
+  install_cgal
   brain="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
   abdomen="${WARPMESH_ABDOMEN_NRRD:-$(ls /work/shared/data/spl_abdomen/orig/seg.nrrd 2>/dev/null | head -1)}"
   g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr

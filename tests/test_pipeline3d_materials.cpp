@@ -260,13 +260,27 @@ BOOST_AUTO_TEST_CASE(options_that_do_not_apply_to_several_materials_are_refused_
     BOOST_TEST(input_error_containing([&] { validate(MaterialShapes3{nested}, iso); }, "apply to volumes"));
     BOOST_TEST(input_error_containing([&] { mesh3d(MaterialShapes3{"1=sphere:0,0,0,1;1=sphere:0,0,0,2"}, spaced(0.3)); },
                                       "tag 1 is given twice"));
-    // Blocks of several materials: not yet.
-    BOOST_TEST(input_error_containing([&] { lattice3d(MaterialShapes3{nested}, spaced(0.3)); }, "not meshed in blocks yet"));
-    Mesh3dOptions m = spaced(1);
-    m.materials = "all";
-    BOOST_TEST(input_error_containing([&] { mesh3d_block(std::cref(v), m, CubeRange{{0, 0, 0}, {1, 1, 1}}); },
-                                      "not meshed in blocks yet"));
 }
+
+// Blocks of several materials through the pipeline: the lattice mesh3d uses,
+// and blocks tiling it merge into exactly mesh3d's mesh.
+BOOST_AUTO_TEST_CASE(material_blocks_merge_into_the_pipeline_mesh) {
+    const std::string nested = "1=sphere:0,0,0,1;2=sphere:0,0,0,0.5";
+    const Mesh3dOptions o = spaced(0.3);
+    const Mesh3dResult whole = mesh3d(MaterialShapes3{nested}, o);
+    const Lattice3 L = lattice3d(MaterialShapes3{nested}, o);
+    BOOST_TEST(L.cubes == whole.lattice.cubes);
+    BOOST_TEST(L.origin.x == whole.lattice.origin.x);
+    const std::int64_t half = L.cubes[0] / 2;
+    const std::vector<TetBlock> blocks{mesh3d_block(MaterialShapes3{nested}, o, CubeRange{{0, 0, 0}, {half, L.cubes[1], L.cubes[2]}}),
+                                       mesh3d_block(MaterialShapes3{nested}, o, CubeRange{{half, 0, 0}, L.cubes})};
+    const Mesh3dResult merged = merge_mesh3d_blocks(blocks);
+    bool same = merged.mesh.tets.size() == whole.mesh.tets.size() && merged.mesh.vertices.size() == whole.mesh.vertices.size();
+    for (std::size_t t = 0; same && t < whole.mesh.tets.size(); ++t)
+        same = merged.mesh.tets[t] == whole.mesh.tets[t] && merged.mesh.region[t] == whole.mesh.region[t];
+    BOOST_TEST(same);
+    BOOST_TEST(merged.mesh.interfaces.size() == whole.mesh.interfaces.size());
+    BOOST_TEST(merged.mesh.region_names.size() == whole.mesh.region_names.size());}
 
 // The quality without a level set is the quality with one, the boundary's
 // fidelity aside; the regions' volumes add up to it.

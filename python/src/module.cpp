@@ -336,6 +336,11 @@ py::dict block_to_dict(TetBlock&& b) {
     d["tets"] = owned(std::move(b.tets), 4);
     d["tet_key"] = owned(std::move(b.tet_key), 1);
     d["lattice_edge"] = owned(std::move(b.lattice_edge), 1);
+    // Several materials: the regions and their names (empty for one region).
+    d["region"] = owned(std::move(b.region), 1);
+    py::list names;
+    for (const auto& [tag, name] : b.region_names) names.append(py::make_tuple(tag, name));
+    d["region_names"] = names;
     return d;
 }
 
@@ -391,6 +396,12 @@ void bind_blocks(py::module_& m) {
                 b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
                 b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
                 b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
+                if (d.contains("region")) b.region = from_array<std::int32_t>(d, "region", 1);
+                if (d.contains("region_names"))
+                    for (const auto& item : d["region_names"].cast<py::list>()) {
+                        const auto pair = item.cast<py::tuple>();
+                        b.region_names.emplace_back(pair[0].cast<std::int32_t>(), pair[1].cast<std::string>());
+                    }
                 blocks.push_back(std::move(b));
             }
             py::gil_scoped_release release;

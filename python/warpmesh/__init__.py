@@ -703,30 +703,32 @@ if mesh3d.__doc__:  # (None under python -OO)
     mesh3d.__doc__ = mesh3d.__doc__ % {"options": _options_doc(_OPTIONS3D)}
 
 
-def lattice3d(volume, *, spacing=None, label=None, labels=None, iso=None, inside=None, voxel_size=None,
-              origin=(0.0, 0.0, 0.0), band=None):
+def lattice3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
+              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None):
     """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
     to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
-    (volumes and shape strings)."""
-    options = _options3(lattice3d, locals(), label, labels, iso, inside)
-    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options), options))
+    (volumes, shape strings, materials= and shapes=)."""
+    options = _options3(lattice3d, locals(), label, labels, iso, inside, materials=materials)
+    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes), options))
 
 
-def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None,
-                 voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None):
+def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None,
+                 shapes=None, background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
     arrays (picklable), for merge_blocks.  Blocks mesh independently (a
     worker needs only its input); blocks that tile the lattice merge into
-    exactly mesh3d's mesh (with the same face_rule).  Arguments as mesh3d's
-    (volumes and shape strings)."""
-    options = _options3(mesh3d_block, locals(), label, labels, iso, inside)
+    exactly mesh3d's mesh (with the same face_rule; several materials: with
+    their regions, interfaces and region names).  Arguments as mesh3d's
+    (volumes, shape strings, materials= and shapes=; volume=None with
+    shapes=)."""
+    options = _options3(mesh3d_block, locals(), label, labels, iso, inside, materials=materials)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:
         raise InputError("lo and hi must be triples of cube indices")
-    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options), lo, hi, options)
+    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes), lo, hi, options)
 
 
 def merge_blocks(blocks):

@@ -705,4 +705,39 @@ ImageLevelSetOptions label_options(const std::string& spec) {
     return o;
 }
 
+namespace {
+
+// "3, 41, 42" (the first `limit` of a list, and how many in all).
+std::string list_some(const std::vector<int>& v, std::size_t limit = 12) {
+    std::string s;
+    for (std::size_t i = 0; i < v.size() && i < limit; ++i) s += (i ? ", " : "") + std::to_string(v[i]);
+    if (v.size() > limit) s += ", ... (" + std::to_string(v.size()) + " in all)";
+    return s;
+}
+
+}  // namespace
+
+std::vector<int> select_material_labels(std::span<const std::int64_t> count, const std::string& spec, const LabelSource& where) {
+    std::vector<int> present, labels;
+    for (std::size_t l = 0; l < count.size(); ++l)
+        if (count[l]) present.push_back(static_cast<int>(l));
+    if (spec == "all") {
+        for (int l : present)
+            if (l != 0) labels.push_back(l);
+        if (labels.empty())
+            throw InputError(where.source + ": " + where.option + " all: no label other than 0 (the background) is present");
+        return labels;
+    }
+    labels = parse_label_list(spec);
+    if (std::binary_search(labels.begin(), labels.end(), 0))
+        throw InputError(where.option + ": label 0 is the background (every " + where.element + " not listed); list only other labels");
+    std::vector<int> absent;
+    for (int l : labels)
+        if (static_cast<std::size_t>(l) >= count.size() || !count[static_cast<std::size_t>(l)]) absent.push_back(l);
+    if (!absent.empty())
+        throw InputError(where.source + ": " + where.option + " names label(s) not present in the " + where.container + ": " +
+                         list_some(absent) + " (labels present: " + list_some(present) + ")");
+    return labels;
+}
+
 }  // namespace warpmesh

@@ -18,13 +18,6 @@
 namespace warpmesh {
 namespace {
 
-// "3, 41, 42" (the first few of a list).
-std::string list_some(const std::vector<int>& v) {
-    std::string s;
-    for (std::size_t k = 0; k < v.size() && k < 12; ++k) s += (k ? ", " : "") + std::to_string(v[k]);
-    if (v.size() > 12) s += ", ... (" + std::to_string(v.size()) + " in all)";
-    return s;
-}
 
 class VolumeMaterials3 final : public MaterialField3 {
 public:
@@ -98,24 +91,7 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
         }
         ++hist[static_cast<std::size_t>(x)];
     }
-    std::vector<int> present, labels;
-    for (int l = 0; l < 65536; ++l)
-        if (hist[static_cast<std::size_t>(l)]) present.push_back(l);
-    if (spec == "all") {
-        for (int l : present)
-            if (l != 0) labels.push_back(l);
-        if (labels.empty()) throw InputError("volume '" + source_ + "': materials all: no label other than 0 (the background) is present");
-    } else {
-        labels = parse_label_list(spec);
-        if (std::binary_search(labels.begin(), labels.end(), 0))
-            throw InputError("materials: label 0 is the background (every voxel not listed); list only other labels");
-        std::vector<int> absent;
-        for (int l : labels)
-            if (!hist[static_cast<std::size_t>(l)]) absent.push_back(l);
-        if (!absent.empty())
-            throw InputError("volume '" + source_ + "': materials names label(s) not present in the volume: " + list_some(absent) +
-                             " (labels present: " + list_some(present) + ")");
-    }
+    const std::vector<int> labels = select_material_labels(hist, spec, {"volume '" + source_ + "'", "materials", "voxel", "volume"});
     std::vector<std::uint16_t> material_of(65536, 0);
     tags_.push_back(0);
     for (std::size_t k = 0; k < labels.size(); ++k) {

@@ -255,21 +255,35 @@ bool lattice_on_voxel_interfaces(const std::array<double, 3>& voxel, double spac
 // with a corner at its first voxel centre where that puts the voxel
 // interfaces on lattice planes: lattice3_for's at_min), the parity face
 // rule, the report with the materials' figures and warnings.
+// The lattice of several materials: over the field's bounds, for a label
+// volume with a corner at its first voxel centre where that puts the voxel
+// interfaces on lattice planes (lattice3_for's at_min).  mesh3d, lattice3d
+// and mesh3d_block all use it, so that blocks merge into mesh3d's mesh.
+Lattice3 material_lattice(const Prepared& p, const Mesh3dOptions& o, double spacing) {
+    const bool at_min = o.materials && lattice_on_voxel_interfaces(p.voxel, spacing);
+    return lattice3_for(p.field->bounds(), spacing, p.field->describe(), at_min);
+}
+
+// The stage's options for several materials: within the parity
+// certificate (`certified`), an all-zero background tetrahedron is output
+// iff it meets the certificate's claim — the same for a mesh and its blocks.
+BccOptions material_stage_options(const Mesh3dInput& input, const Mesh3dOptions& o, bool& certified) {
+    BccOptions b = stage_options(o, is_material_shapes(input));
+    certified = bcc_certificate_applies(b.alphas, b.face_rule);
+    if (const auto c = bcc_claim(b.face_rule); certified && c) b.fill_claim = BccKeyClaim{c->cos2_min, c->cos2_max};
+    return b;
+}
+
 void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOptions& o, double spacing,
                     const Mesh3dProgress& progress, Mesh3dResult& r) {
-    const bool at_min = o.materials && lattice_on_voxel_interfaces(p.voxel, spacing);
-    r.lattice = lattice3_for(p.field->bounds(), spacing, p.field->describe(), at_min);
+    r.lattice = material_lattice(p, o, spacing);
     if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
         progress("meshing " + std::to_string(p.field->count() - 1) + " materials on a BCC lattice of " +
                  std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
-    const bool shapes = is_material_shapes(input);
-    BccOptions b = stage_options(o, shapes);
-    // Within the parity certificate: an all-zero background tetrahedron is
-    // output iff it meets the certificate's claim, and verify checks every
-    // two-material side against its key's claim and every junction
-    // tetrahedron against its junction key's (bcc_key_claims).
-    const bool certified = bcc_certificate_applies(b.alphas, b.face_rule);
-    if (const auto c = bcc_claim(b.face_rule); certified && c) b.fill_claim = BccKeyClaim{c->cos2_min, c->cos2_max};
+    bool certified = false;
+    BccOptions b = material_stage_options(input, o, certified);
+    // verify checks every two-material side against its key's claim and
+    // every junction tetrahedron against its junction key's (bcc_key_claims).
     const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (o.verify && certified) b.verify = &claims;
     BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
@@ -282,11 +296,6 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     r.mesh = std::move(m.mesh);
 }
 
-// Blocks of several materials are not built yet.
-void refuse_material_blocks(const Mesh3dInput& input, const Mesh3dOptions& o, const char* what) {
-    if (several_materials(input, o))
-        throw InputError(std::string(what) + ": several materials are not meshed in blocks yet; mesh the whole input with mesh3d");
-}
 
 }  // namespace
 
@@ -338,21 +347,21 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
 }
 
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
-    refuse_material_blocks(input, o, "lattice3d");
     const Prepared p = level_set_of(input, o, {});
-    return lattice3_for(*p.f, spacing_of(o, p));
+    return p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
 }
 
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
-    refuse_material_blocks(input, o, "mesh3d_block");
     const Prepared p = level_set_of(input, o, {});
-    const Lattice3 lattice = lattice3_for(*p.f, spacing_of(o, p));
+    const Lattice3 lattice = p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
     for (std::size_t a = 0; a < 3; ++a)
         if (block.lo[a] < 0 || block.lo[a] >= block.hi[a] || block.hi[a] > lattice.cubes[a])
             throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) + ", " +
                              std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
                              ") with lo < hi along every axis");
-    return mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
+    if (!p.field) return mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
+    bool certified = false;
+    return mesh_bcc_materials_block(*p.field, lattice, material_stage_options(input, o, certified), o.keep_background, block);
 }
 
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,17 @@ void check_pixel_geometry(const PixelGeometry& geometry, int w, int h);
 // "3", "51,52", "1000-1035,2000" → the labels (sorted, without duplicates),
 // each in 0..65535.  Throws InputError on anything else.
 std::vector<int> parse_label_list(const std::string& list);
+
+// The labels a multi-material spec selects (2D and 3D alike): "all" — every
+// label present (count[l] > 0) but 0, the background — or a label list
+// (parse_label_list).  Throws InputError: no label but 0 with "all", label 0
+// in the list, labels not present (named, with those present).  `source`
+// names the input ("image 'a.pgm'"), `option` the option as the client
+// spells it ("--materials"), `element` the input's element ("pixel").
+struct LabelSource {
+    std::string source, option, element, container;  // container: "image", "volume"
+};
+std::vector<int> select_material_labels(std::span<const std::int64_t> count, const std::string& spec, const LabelSource& where);
 
 // Why a sample value is no label, for messages: "label 70000, out of range:
 // labels are 0..65535 (16-bit); ..." or "value 2.5, not an integer ...".

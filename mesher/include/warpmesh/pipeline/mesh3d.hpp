@@ -159,8 +159,8 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& options, cons
 // (0 <= lo < hi <= cubes along every axis; InputError otherwise), and the
 // merge of blocks that tile it — equal to mesh3d's mesh, with the counts of
 // the report only.  A worker needs only the input and the options.  Several
-// materials are not meshed in blocks yet: lattice3d and mesh3d_block throw
-// InputError for them.
+// materials too (mesh3d.hpp: mesh_bcc_materials_block): the merge carries
+// their regions, interfaces and region names.
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);

@@ -133,12 +133,6 @@ private:
     std::vector<Mixed> mixed_;
 };
 
-std::string list_some(const std::vector<int>& v, std::size_t limit = 12) {
-    std::string s;
-    for (std::size_t i = 0; i < v.size() && i < limit; ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-    if (v.size() > limit) s += ", ... (" + std::to_string(v.size()) + " in all)";
-    return s;
-}
 
 LabelMaterials::LabelMaterials(const Image& image, const std::string& spec, const PixelGeometry& geometry)
     : w_(image.width), h_(image.height), g_(geometry), source_(image.source), spec_(spec) {
@@ -147,25 +141,7 @@ LabelMaterials::LabelMaterials(const Image& image, const std::string& spec, cons
     check_pixel_geometry(g_, w_, h_);
     std::vector<std::int64_t> hist(65536, 0);
     for (const std::uint16_t v : image.pixels) ++hist[v];
-    std::vector<int> present;
-    for (int v = 0; v < 65536; ++v)
-        if (hist[static_cast<std::size_t>(v)]) present.push_back(v);
-    std::vector<int> labels;
-    if (spec == "all") {
-        for (int v : present)
-            if (v != 0) labels.push_back(v);
-        if (labels.empty()) throw InputError("image '" + source_ + "': --materials all: no label other than 0 (the background) is present");
-    } else {
-        labels = parse_label_list(spec);
-        if (std::binary_search(labels.begin(), labels.end(), 0))
-            throw InputError("--materials: label 0 is the background (every pixel not listed); list only other labels");
-        std::vector<int> absent;
-        for (int l : labels)
-            if (!hist[static_cast<std::size_t>(l)]) absent.push_back(l);
-        if (!absent.empty())
-            throw InputError("image '" + source_ + "': --materials names label(s) not present in the image: " + list_some(absent) +
-                             " (labels present: " + list_some(present) + ")");
-    }
+    const std::vector<int> labels = select_material_labels(hist, spec, {"image '" + source_ + "'", "--materials", "pixel", "image"});
     if (labels.size() > 65535)
         throw InputError("image '" + source_ + "': " + std::to_string(labels.size()) + " labels, more than 65535 materials");
     std::vector<std::uint16_t> material_of(65536, 0);
