@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Fresh machine → every test and the proof re-checked.  Installs, builds, runs
 # the CTest suites, reruns the prover and compares with the committed
-# certificates, runs the independent checker on them, then the whole suite
-# again under ASan + UBSan in one clang build that also holds the five
-# libFuzzer targets (scripts/sanitize.sh), and runs those for
+# certificates, runs the independent checker on them, then the readers',
+# writers' and meshers' tests again under ASan + UBSan in one clang build that
+# also holds the five libFuzzer targets (scripts/sanitize.sh), and runs those for
 # WARPMESH_FUZZ_SECONDS of wall time in all (default 30, two at a time;
 # scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed;
 # docs/performance.md, "The test suite", gives a measured run.
@@ -123,7 +123,7 @@ if [ -x "$build/checker/warpmesh-check" ]; then
   done
 fi
 
-stage "the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+stage "the readers', writers' and meshers' tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 "$root/scripts/sanitize.sh"
 
 stage "fuzzing"
