@@ -19,7 +19,9 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
 asan="${WARPMESH_ASAN_BUILD_DIR:-$root/build-asan}"
-"$root/scripts/sanitize.sh" build
+# (scripts/test.sh, which has just built and tested build-asan/, skips this
+# second configure and build check with WARPMESH_FUZZ_BUILT=1.)
+[ "${WARPMESH_FUZZ_BUILT:-0}" = 1 ] || "$root/scripts/sanitize.sh" build
 build="$asan/fuzz"
 mkdir -p "$build"
 bin="$asan/tests/fuzz"

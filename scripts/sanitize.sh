@@ -1,23 +1,30 @@
 #!/usr/bin/env bash
-# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer,
-# and the libFuzzer targets built in the same tree.
+# The tests of the readers, writers and meshers under AddressSanitizer +
+# UndefinedBehaviorSanitizer, and the libFuzzer targets built in the same tree.
 #
 #   scripts/sanitize.sh          build build-asan/, run CTest there
 #   scripts/sanitize.sh build    only build (scripts/fuzz.sh uses this)
 #
 # Configures build-asan/ with clang (WARPMESH_SANITIZE=ON, WARPMESH_FUZZ=ON,
-# -O1 and line tables only): the library, the warpmesh binary that
-# test_cli_errors runs, the prover, the checker, every test and the five fuzz
-# targets.  clang, not g++: it compiles the Boost.Test suites under the
-# sanitizers about ten times faster, and the fuzzers need it anyway.  Any
-# sanitizer report fails the test that triggered it (UBSan does not recover;
-# ASan aborts).  The randomised suites run with WARPMESH_TEST_SCALE (default
-# here 0.25: a quarter of their cases; tests/support.hpp, scaled()), and the
-# checker tamper cases that rerun the checker on long certificate prefixes
-# are skipped (full_scale_only()), since every case costs several times more
-# under ASan; the Release run (scripts/test.sh) runs them all.  Installs clang-14, its sanitizer and
-# fuzzer runtimes (libclang-rt-14-dev) and its OpenMP runtime (libomp-14-dev,
-# so the parallel paths run under the sanitizers too) if missing.
+# -O1 and line tables only): the library, the warpmesh binary that the
+# command-line tests run, the tests listed in tests/CMakeLists.txt
+# (WARPMESH_SANITIZED_TESTS: image and volume readers, writers, the 2D and 3D
+# meshers and the optimisation pass, the command line on hostile inputs, the
+# golden meshes, the random stress over every option and format, the 3D
+# command line) and the five fuzz targets.  The prover's and checkers' tests
+# run in the Release build only; WARPMESH_SANITIZE_ALL=ON (environment) builds
+# and runs every test here (a reconfigure of build-asan/ switches it).  clang,
+# not g++: it compiles the Boost.Test suites under the sanitizers about ten
+# times faster, and the fuzzers need it anyway.  Any sanitizer report fails
+# the test that triggered it (UBSan does not recover; ASan aborts).  The
+# randomised suites run with WARPMESH_TEST_SCALE (default here 0.25: a
+# quarter of their cases; tests/support.hpp, scaled()), and (with
+# WARPMESH_SANITIZE_ALL) the checker tamper cases that rerun the checker on
+# long certificate prefixes are skipped (full_scale_only()), since every case
+# costs several times more under ASan; the Release run (scripts/test.sh) runs
+# them all.  Installs clang-14, its sanitizer and fuzzer runtimes
+# (libclang-rt-14-dev) and its OpenMP runtime (libomp-14-dev, so the parallel
+# paths run under the sanitizers too) if missing.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_ASAN_BUILD_DIR:-$root/build-asan}"
@@ -41,7 +48,7 @@ t0=$SECONDS
 # (-g1) are what the sanitizers' stack traces need.  Override with
 # WARPMESH_ASAN_FLAGS.
 cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++-14 -DWARPMESH_SANITIZE=ON -DWARPMESH_FUZZ=ON \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="${WARPMESH_ASAN_FLAGS:--O1 -g1 -DNDEBUG}" >/dev/null
+  -DWARPMESH_SANITIZE_ALL="${WARPMESH_SANITIZE_ALL:-OFF}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="${WARPMESH_ASAN_FLAGS:--O1 -g1 -DNDEBUG}" >/dev/null
 cmake --build "$build" -j "$jobs" >/dev/null
 echo "sanitize: built in $((SECONDS - t0)) s"
 [ "${1:-}" = build ] && exit 0

@@ -1,17 +1,25 @@
 #!/usr/bin/env bash
 # Fresh machine → every test and the proof re-checked.  Installs, builds, runs
 # the CTest suites, reruns the prover and compares with the committed
-# certificates, runs the independent checker on them, then the whole suite
-# again under ASan + UBSan in one clang build that also holds the five
-# libFuzzer targets (scripts/sanitize.sh), and runs those for
+# certificates, runs the independent checker on them, then the readers',
+# writers' and meshers' tests again under ASan + UBSan in one clang build that
+# also holds the five libFuzzer targets (scripts/sanitize.sh), and runs those for
 # WARPMESH_FUZZ_SECONDS of wall time in all (default 30, two at a time;
 # scripts/fuzz.sh splits it).  Each stage prints the seconds elapsed;
 # docs/performance.md, "The test suite", gives a measured run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${WARPMESH_BUILD_DIR:-$root/build}"
-# Each stage is announced with the wall seconds elapsed since the start.
-stage() { echo "== [$SECONDS s] $*"; }
+# Each stage is announced with the wall seconds elapsed since the start and
+# the CPU seconds (user + system) its programs have used since: on a shared
+# machine the wall time says as much about the others' load as about the
+# suite, the CPU time much less.
+cpu_times="$(mktemp)"
+trap 'rm -f "$cpu_times"' EXIT
+stage() {
+  times >"$cpu_times"  # in this shell: the second line is the waited-for children's
+  echo "== [$SECONDS s, $(awk 'NR == 2 {for (i = 1; i <= NF; i++) {split($i, t, "m"); s += t[1] * 60 + t[2]}} END {printf "%d", s}' "$cpu_times") s CPU] $*"
+}
 "$root/scripts/setup.sh"
 stage "build (Release)"
 "$root/scripts/build.sh"
@@ -25,7 +33,7 @@ ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 if [ -x "$build/checker/warpmesh-check" ]; then
   stage "rerun the proof and compare with proofs/"
   fresh="$(mktemp -d)"
-  trap 'rm -rf "$fresh"' EXIT
+  trap 'rm -rf "$fresh" "$cpu_times"' EXIT
   "$build/mesher/warpmesh" prove --out "$fresh" --threads "$(nproc)"
   "$build/mesher/warpmesh" prove --lattice rhombic --out "$fresh" --threads "$(nproc)"
   status=0
@@ -140,9 +148,10 @@ if [ -x "$build/checker/warpmesh-check" ]; then
   done
 fi
 
-stage "the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+stage "the readers', writers' and meshers' tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 "$root/scripts/sanitize.sh"
 
 stage "fuzzing"
-"$root/scripts/fuzz.sh" "${WARPMESH_FUZZ_SECONDS:-30}"
+WARPMESH_FUZZ_BUILT=1 "$root/scripts/fuzz.sh" "${WARPMESH_FUZZ_SECONDS:-30}"
+stage "done"
 echo "test: all passed in $SECONDS s"

@@ -2,6 +2,8 @@
 // certification of a mesh: per-triangle bound, flatness, verification.
 #include "warpmesh/certify/certified.hpp"
 
+#include "warpmesh/mesh2d/lattice.hpp"  // SquareKeys, Lattice, Mesh, LevelSet
+
 #include <algorithm>
 #include <array>
 #include <charconv>

@@ -22,6 +22,7 @@
 #include "warpmesh/mesh2d/materials.hpp"
 #include "warpmesh/report/report.hpp"
 #include "warpmesh/core/memory.hpp"
+#include "warpmesh/post/optimize.hpp"
 #include "warpmesh/post/resolution.hpp"
 #include "warpmesh/mesh2d/uniform.hpp"
 #include "mesh2d/uniform/rhombic.hpp"

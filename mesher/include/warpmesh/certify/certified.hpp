@@ -29,10 +29,16 @@
 #include <vector>
 
 #include "warpmesh/mesh2d/generic_square.hpp"
-#include "warpmesh/mesh2d/lattice.hpp"
 #include "warpmesh/mesh2d/square_keys.hpp"  // key_code, junction keys, flatness
 
 namespace warpmesh {
+
+// Only named below (the report includes this header, and needs none of them).
+struct Lattice;     // levelset/levelset.hpp
+class LevelSet;     // levelset/levelset.hpp
+struct Mesh;        // core/mesh.hpp
+struct Vec2;        // core/mesh.hpp
+struct SquareKeys;  // mesh2d/lattice.hpp
 
 struct CertifiedBound {
     double min_deg, max_deg;   // arccot(max_cot), arccot(min_cot): every angle in [min_deg, max_deg]

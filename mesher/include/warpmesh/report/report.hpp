@@ -4,9 +4,10 @@
 // Python module's report dict holds).  The figures come from their stages:
 // the quality measurement (quality.hpp: compute_quality), the certification
 // (certified.hpp: CertifiedSummary), the multi-material mesher
-// (materials.hpp: MaterialStats, JunctionSquare), the optimisation pass
-// (optimize.hpp: OptimizeReport), the 3D pipeline (mesh3d.hpp:
-// Mesh3dReport).  The 2D pipeline (pipeline/mesh2d.hpp: mesh()) fills a
+// (material_stats.hpp: MaterialStats, JunctionSquare), the optimisation pass
+// (optimize_report.hpp: OptimizeReport), the 3D pipeline (mesh3d.hpp:
+// Mesh3dReport).  It includes only the headers of these figures, not their
+// stages' (many files include it, through pipeline/mesh2d.hpp).  The 2D pipeline (pipeline/mesh2d.hpp: mesh()) fills a
 // Mesh2dReport, the 3D one a Mesh3dReport; this module only formats them.
 //
 // The JSON report of a 2D mesh is one object: the quality's fields in a
@@ -29,11 +30,11 @@
 #include <utility>
 #include <vector>
 
-#include "warpmesh/certify/certified.hpp"
-#include "warpmesh/mesh2d/generic_square.hpp"
-#include "warpmesh/mesh2d/materials.hpp"
-#include "warpmesh/post/optimize.hpp"
-#include "warpmesh/post/quality.hpp"
+#include "warpmesh/certify/certified.hpp"       // CertifiedSummary
+#include "warpmesh/mesh2d/generic_square.hpp"    // DiagonalRule, LatticeMetric
+#include "warpmesh/mesh2d/material_stats.hpp"    // MaterialStats, JunctionSquare
+#include "warpmesh/post/optimize_report.hpp"     // OptimizeReport
+#include "warpmesh/post/quality.hpp"             // QualityReport
 
 namespace warpmesh {
 
