@@ -325,8 +325,8 @@ py::dict block_to_dict(TetBlock&& b) {
         const auto rows = heap->size();
         if constexpr (std::is_same_v<T, Point3>)
             return py::array_t<double>({rows, cols}, heap->empty() ? nullptr : &heap->front().x, owner);
-        else if constexpr (std::is_same_v<T, std::array<std::int32_t, 4>>)
-            return py::array_t<std::int32_t>({rows, cols}, heap->empty() ? nullptr : heap->front().data(), owner);
+        else if constexpr (requires { std::tuple_size<T>::value; })
+            return py::array_t<typename T::value_type>({rows, cols}, heap->empty() ? nullptr : heap->front().data(), owner);
         else return py::array_t<T>({rows}, heap->data(), owner);
     };
     py::dict d;
@@ -341,21 +341,106 @@ py::dict block_to_dict(TetBlock&& b) {
     py::list names;
     for (const auto& [tag, name] : b.region_names) names.append(py::make_tuple(tag, name));
     d["region_names"] = names;
+    // What the block is a part of, and what the merge's report needs.
+    d["lattice"] = py::dict(py::arg("spacing") = b.lattice.spacing,
+                            py::arg("origin") = std::array<double, 3>{b.lattice.origin.x, b.lattice.origin.y, b.lattice.origin.z},
+                            py::arg("cubes") = b.lattice.cubes);
+    d["lo"] = b.range.lo, d["hi"] = b.range.hi;
+    d["face_rule"] = std::string(face_rule_name(b.face_rule));
+    d["alphas"] = std::array<std::int64_t, 4>{b.alphas.long_num, b.alphas.long_den, b.alphas.short_num, b.alphas.short_den};
+    d["counts"] = std::array<std::int64_t, 6>{b.warped, b.all_zero_left_out, b.all_zero_filled, b.all_zero_voids,
+                                              b.junction_background_tets, b.junction_tets};
+    d["open_faces"] = owned(std::move(b.open_faces), 3);
+    const BlockFacts& f = b.facts;
+    py::list materials;
+    for (const BlockFacts::Material& m : f.materials) materials.append(py::make_tuple(m.tag, m.name, m.voxels, m.reference_volume));
+    d["facts"] = py::dict(py::arg("source") = f.source, py::arg("quality") = f.quality, py::arg("reference_volume") = f.reference_volume,
+                          py::arg("feature_size") = f.feature_size, py::arg("resolution") = f.resolution,
+                          py::arg("open_face_f") = owned(std::vector<std::array<double, 2>>(f.open_face_f), 2),
+                          py::arg("materials") = materials, py::arg("warnings") = f.warnings);
     return d;
 }
 
-// The scalar a row of T is made of (Point3: double; a tetrahedron: int32).
+// The scalar a row of T is made of (Point3: double; an array: its elements').
 template <class T>
-using Scalar = std::conditional_t<std::is_same_v<T, Point3>, double,
-                                  std::conditional_t<std::is_same_v<T, std::array<std::int32_t, 4>>, std::int32_t, T>>;
+struct ScalarOf {
+    using type = T;
+};
+template <>
+struct ScalarOf<Point3> {
+    using type = double;
+};
+template <class U, std::size_t N>
+struct ScalarOf<std::array<U, N>> {
+    using type = U;
+};
+template <class T>
+using Scalar = typename ScalarOf<T>::type;
+
+// d[name], or InputError naming the missing entry.
+py::object entry(const py::dict& d, const char* name) {
+    if (!d.contains(name))
+        throw InputError(std::string("a block without '") + name + "': give the dicts mesh3d_block returns, unchanged");
+    return d[name];
+}
 
 template <class T>
 std::vector<T> from_array(const py::dict& d, const char* name, std::size_t per) {
-    const auto a = d[name].cast<py::array_t<Scalar<T>, py::array::c_style | py::array::forcecast>>();
+    const auto a = entry(d, name).cast<py::array_t<Scalar<T>, py::array::c_style | py::array::forcecast>>();
     if (static_cast<std::size_t>(a.size()) % per) throw InputError(std::string("block array '") + name + "' has a bad shape");
     std::vector<T> out(static_cast<std::size_t>(a.size()) / per);
     if (!out.empty()) std::memcpy(out.data(), a.data(), out.size() * sizeof(T));
     return out;
+}
+
+// A block from its dict (block_to_dict's); InputError for a missing entry
+// or a value of the wrong type.
+TetBlock block_from_dict(const py::dict& d) {
+    TetBlock b;
+    try {
+        b.vertex_key = from_array<std::uint64_t>(d, "vertex_key", 1);
+        b.vertices = from_array<Point3>(d, "vertices", 3);
+        b.on_level_set = from_array<std::uint8_t>(d, "on_level_set", 1);
+        b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
+        b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
+        b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
+        b.region = from_array<std::int32_t>(d, "region", 1);
+        for (const auto& item : entry(d, "region_names").cast<py::list>()) {
+            const auto pair = item.cast<py::tuple>();
+            b.region_names.emplace_back(pair[0].cast<std::int32_t>(), pair[1].cast<std::string>());
+        }
+        const py::dict lattice = entry(d, "lattice").cast<py::dict>();
+        b.lattice.spacing = entry(lattice, "spacing").cast<double>();
+        const auto origin = entry(lattice, "origin").cast<std::array<double, 3>>();
+        b.lattice.origin = {origin[0], origin[1], origin[2]};
+        b.lattice.cubes = entry(lattice, "cubes").cast<std::array<std::int64_t, 3>>();
+        b.range = {entry(d, "lo").cast<std::array<std::int64_t, 3>>(), entry(d, "hi").cast<std::array<std::int64_t, 3>>()};
+        const auto rule = parse_face_rule(entry(d, "face_rule").cast<std::string>());
+        if (!rule) throw InputError("a block's face_rule is not parity or delaunay");
+        b.face_rule = *rule;
+        const auto a = entry(d, "alphas").cast<std::array<std::int64_t, 4>>();
+        b.alphas = {a[0], a[1], a[2], a[3]};
+        const auto c = entry(d, "counts").cast<std::array<std::int64_t, 6>>();
+        b.warped = c[0], b.all_zero_left_out = c[1], b.all_zero_filled = c[2], b.all_zero_voids = c[3];
+        b.junction_background_tets = c[4], b.junction_tets = c[5];
+        b.open_faces = from_array<std::array<std::int32_t, 3>>(d, "open_faces", 3);
+        const py::dict f = entry(d, "facts").cast<py::dict>();
+        BlockFacts& x = b.facts;
+        x.source = entry(f, "source").cast<std::string>();
+        x.quality = entry(f, "quality").cast<bool>();
+        x.reference_volume = entry(f, "reference_volume").cast<std::optional<double>>();
+        x.feature_size = entry(f, "feature_size").cast<double>(), x.resolution = entry(f, "resolution").cast<double>();
+        x.open_face_f = from_array<std::array<double, 2>>(f, "open_face_f", 2);
+        for (const auto& item : entry(f, "materials").cast<py::list>()) {
+            const auto m = item.cast<py::tuple>();
+            x.materials.push_back({m[0].cast<std::int32_t>(), m[1].cast<std::string>(), m[2].cast<std::optional<std::int64_t>>(),
+                                   m[3].cast<std::optional<double>>()});
+        }
+        x.warnings = entry(f, "warnings").cast<std::vector<std::string>>();
+    } catch (const py::cast_error& e) {
+        throw InputError(std::string("a block with an entry of the wrong type (give the dicts mesh3d_block returns): ") + e.what());
+    }
+    return b;
 }
 
 // The block API (pipeline/mesh3d.hpp, "Blocks"): the lattice of an input,
@@ -388,22 +473,7 @@ void bind_blocks(py::module_& m) {
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {
             std::vector<TetBlock> blocks;
-            for (const py::dict& d : dicts) {
-                TetBlock b;
-                b.vertex_key = from_array<std::uint64_t>(d, "vertex_key", 1);
-                b.vertices = from_array<Point3>(d, "vertices", 3);
-                b.on_level_set = from_array<std::uint8_t>(d, "on_level_set", 1);
-                b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
-                b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
-                b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
-                if (d.contains("region")) b.region = from_array<std::int32_t>(d, "region", 1);
-                if (d.contains("region_names"))
-                    for (const auto& item : d["region_names"].cast<py::list>()) {
-                        const auto pair = item.cast<py::tuple>();
-                        b.region_names.emplace_back(pair[0].cast<std::int32_t>(), pair[1].cast<std::string>());
-                    }
-                blocks.push_back(std::move(b));
-            }
+            for (const py::dict& d : dicts) blocks.push_back(block_from_dict(d));
             py::gil_scoped_release release;
             return merge_mesh3d_blocks(blocks);
         },

@@ -717,10 +717,13 @@ def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=N
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
-    arrays (picklable), for merge_blocks.  Blocks mesh independently (a
-    worker needs only its input); blocks that tile the lattice merge into
-    exactly mesh3d's mesh (with the same face_rule; several materials: with
-    their regions, interfaces and region names).  Arguments as mesh3d's
+    arrays (picklable), for merge_blocks, with the block's lattice
+    ("lattice": spacing, origin, cubes), range ("lo", "hi"), "face_rule",
+    "alphas" and the facts of its input the merged report needs.  Blocks mesh
+    independently (a worker needs only its input); blocks that tile the
+    lattice merge into exactly mesh3d's mesh and report (with the same
+    face_rule; several materials: with their regions, interfaces and region
+    names).  Arguments as mesh3d's
     (volumes, shape strings, materials= and shapes=; volume=None with
     shapes=)."""
     options = _options3(mesh3d_block, locals(), label, labels, iso, inside, materials=materials)
@@ -734,6 +737,18 @@ def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=N
 def merge_blocks(blocks):
     """One TetMesh from blocks that tile the lattice (any order): vertices and
     tetrahedra in the global order, the boundary found again; equal to
-    mesh3d's mesh of the same input.  Its report has the counts only.
-    Raises InputError when the blocks do not fit together."""
-    return TetMesh(_core.merge_tet_blocks(list(blocks)))
+    mesh3d's mesh of the same input, and its report to mesh3d's (counts,
+    face rule, certified bounds, volume, dihedral extremes, radius ratios,
+    boundary fidelity, non-manifold counts, materials; but "seconds", and
+    "verified": blocks are not verified).
+
+    Every block carries its lattice, cube range ("lo", "hi"), face rule and
+    alphas, and what it was made from; raises InputError naming what is
+    wrong for an empty list, a missing block (the cubes no block covers),
+    blocks that overlap or a block given twice, and blocks of different
+    lattices, face rules, alphas, inputs or options."""
+    blocks = list(blocks)
+    for i, b in enumerate(blocks):
+        if not isinstance(b, dict):
+            raise InputError(f"block {i} is a {type(b).__name__}, not a block: give the dicts mesh3d_block returns")
+    return TetMesh(_core.merge_tet_blocks(blocks))

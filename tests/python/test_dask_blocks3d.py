@@ -2,7 +2,10 @@
 blocks on a dask LocalCluster merges into exactly the single-process mesh —
 points, tetrahedra, boundary faces and tags, bit for bit — for two block
 sizes and either worker count, and for a shape in any block order; a block
-given twice and a block outside the lattice are refused."""
+given twice and a block outside the lattice are refused.  Issue 49: the
+blocks of a random partition of a label volume (one region, several
+materials) merge into mesh3d's mesh and report; drop, repeat or shift any
+block and the merge is refused, naming what is wrong."""
 import importlib.util
 
 import numpy as np
@@ -39,6 +42,7 @@ def test_blocks_on_a_local_cluster_equal_the_whole_mesh(root, workers, block):
     assert count == np.prod([-(-n // block) for n in cubes]) > 1
     assert len(whole.tetrahedra) > 1000
     assert same(merged, whole)
+    assert mod.same_report(merged, whole)
 
 
 def test_blocks_of_a_shape_in_any_order_and_a_gap_refused():
@@ -51,3 +55,88 @@ def test_blocks_of_a_shape_in_any_order_and_a_gap_refused():
         warpmesh.merge_blocks([blocks[0], blocks[0]])
     with pytest.raises(warpmesh.InputError, match="lattice"):
         warpmesh.mesh3d_block("torus:0,0,0,1,0.35", (0, 0, 0), (cubes[0] + 1, 1, 1), spacing=0.1)
+
+
+def kmeans_labels(n=22, k=4, seed=49):
+    """A label volume of k nearest-centre cells (labels 1..k) inside a ball,
+    0 outside: several materials meeting at junctions."""
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(3, n - 3, size=(k, 3))
+    z, y, x = np.indices((n, n, n)).astype(float)
+    d = np.stack([(x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2 for c in centres])
+    v = (np.argmin(d, axis=0) + 1).astype(np.uint8)
+    v[(x - n / 2) ** 2 + (y - n / 2) ** 2 + (z - n / 2) ** 2 > (0.42 * n) ** 2] = 0
+    return v
+
+
+def random_partition(cubes, rng):
+    """The [lo, hi) ranges of a random grid partition of the cubes (0 to 2
+    cuts along every axis), at least two blocks."""
+    while True:
+        cuts = [sorted({0, n, *rng.integers(1, n, size=rng.integers(0, 3))}) for n in cubes]
+        ranges = [((x0, y0, z0), (x1, y1, z1)) for z0, z1 in zip(cuts[2], cuts[2][1:]) for y0, y1 in zip(cuts[1], cuts[1][1:])
+                  for x0, x1 in zip(cuts[0], cuts[0][1:])]
+        if len(ranges) >= 2:
+            return [(tuple(int(v) for v in lo), tuple(int(v) for v in hi)) for lo, hi in ranges]
+
+
+def report_without_time(m):
+    r = dict(m.report)
+    r.pop("seconds")
+    return r
+
+
+@pytest.mark.parametrize("options", [{"label": [1, 3], "spacing": 1.3, "voxel_size": (1.0, 1.0, 1.2)},
+                                     {"materials": "all", "spacing": 1.0}])
+def test_merge_refuses_a_lost_repeated_or_shifted_block(options):
+    volume = kmeans_labels()
+    rng = np.random.default_rng(7)
+    whole = warpmesh.mesh3d(volume, **options)
+    cubes = warpmesh.lattice3d(volume, **options)
+    for trial in range(2):
+        ranges = random_partition(cubes, rng)
+        blocks = [warpmesh.mesh3d_block(volume, lo, hi, **options) for lo, hi in ranges]
+        order = rng.permutation(len(blocks))
+        merged = warpmesh.merge_blocks([blocks[i] for i in order])
+        assert same(merged, whole)
+        assert report_without_time(merged) == report_without_time(whole)
+        assert merged.certified == whole.certified and merged.report["quality"]["volume"] > 0 if "quality" in whole.report \
+            else merged.certified == whole.certified
+        k = int(rng.integers(len(blocks)))
+        lo, hi = ranges[k]
+        with pytest.raises(warpmesh.InputError, match=r"are in no block.*a block is missing"):
+            warpmesh.merge_blocks(blocks[:k] + blocks[k + 1:])
+        with pytest.raises(warpmesh.InputError, match=r"given twice"):
+            warpmesh.merge_blocks(blocks + [blocks[k]])
+        # Shifted by a cube along an axis where the block is not the lattice's whole width.
+        a = next(a for a in range(3) if hi[a] - lo[a] < cubes[a])
+        step = 1 if hi[a] < cubes[a] else -1
+        moved = [list(lo), list(hi)]
+        moved[0][a] += step
+        moved[1][a] += step
+        shifted = blocks[:k] + [warpmesh.mesh3d_block(volume, moved[0], moved[1], **options)] + blocks[k + 1:]
+        with pytest.raises(warpmesh.InputError, match=r"overlap in the cubes"):
+            warpmesh.merge_blocks(shifted)
+    with pytest.raises(warpmesh.InputError, match="no blocks to merge"):
+        warpmesh.merge_blocks([])
+
+
+def test_merge_refuses_blocks_of_different_meshes():
+    volume = kmeans_labels()
+    cubes = warpmesh.lattice3d(volume, label=1, spacing=1.5)
+    half = cubes[0] // 2
+    left, right = ((0, 0, 0), (half, cubes[1], cubes[2])), ((half, 0, 0), cubes)
+    a = warpmesh.mesh3d_block(volume, *left, label=1, spacing=1.5)
+    # Another distance band: the same lattice, another level set.
+    with pytest.raises(warpmesh.InputError, match="different inputs"):
+        warpmesh.merge_blocks([a, warpmesh.mesh3d_block(volume, *right, label=1, spacing=1.5, band=6)])
+    with pytest.raises(warpmesh.InputError, match="face rules parity and delaunay"):
+        warpmesh.merge_blocks([a, warpmesh.mesh3d_block(volume, *right, label=1, spacing=1.5, face_rule="parity")])
+    with pytest.raises(warpmesh.InputError, match="lattices spacing 1.4"):
+        warpmesh.merge_blocks([a, warpmesh.mesh3d_block(volume, *right, label=1, spacing=1.4)])
+    broken = dict(a)
+    del broken["facts"]
+    with pytest.raises(warpmesh.InputError, match="a block without 'facts'"):
+        warpmesh.merge_blocks([broken])
+    with pytest.raises(warpmesh.InputError, match="not a block"):
+        warpmesh.merge_blocks([a, "b"])

@@ -204,36 +204,69 @@ Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas
     return r;
 }
 
-// The report of one region from the stage's counts, the certification and the measurements.
-Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
-    Mesh3dReport r = certified_counts(m, o.face_rule_in_use(), o.alphas_in_use());
-    if (o.quality) r.quality = measure_quality3(m.mesh, f);
-    if (o.quality)
-        if (const auto ref = f.reference_volume()) volume_warning(r.quality.volume, *ref, spacing, r.warnings);
-    const ResolutionCheck3 res = check_resolution3(m.mesh, f, spacing);
+// What the report of one region needs of its input besides the mesh (the
+// level set's, or merged blocks' BlockFacts).
+struct RegionFacts {
+    std::optional<double> reference_volume;
+    double feature_size = 0, resolution = 0;
+};
+RegionFacts facts_of(const LevelSet3& f) { return {f.reference_volume(), f.feature_size(), f.resolution()}; }
+
+// The report of one region from the stage's counts, the certification by
+// `rule` at `alphas`, the mesh's quality (measured by the caller: none
+// without Mesh3dOptions::quality) and the resolution check.
+Mesh3dReport region_report(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas, const std::optional<TetQuality>& quality,
+                           const RegionFacts& facts, double spacing) {
+    Mesh3dReport r = certified_counts(m, rule, alphas);
+    if (quality) {
+        r.quality = *quality;
+        if (facts.reference_volume) volume_warning(r.quality.volume, *facts.reference_volume, spacing, r.warnings);
+    }
+    const ResolutionCheck3 res = check_resolution3(m.mesh, facts.feature_size, facts.resolution, spacing);
     r.narrowest_width = res.narrowest_width, r.suggested_spacing = res.suggested_spacing;
     if (res.warning) r.warnings.push_back(*res.warning);
     return r;
 }
 
-// Per output material: its tetrahedra and volume (measure_regions3), its
-// voxels and their volume; the interface faces; the junctions.
-Materials3Figures material_figures(const BccMesh& m, const MaterialField3& field, double voxel_volume, bool keep_background) {
-    Materials3Figures f;
-    const std::vector<RegionMeasure> regions = measure_regions3(m.mesh);
+// Per output material (the background only when kept): its tag, name and,
+// for a label volume, its voxels.
+std::vector<BlockFacts::Material> material_facts(const MaterialField3& field, double voxel_volume, bool keep_background) {
+    std::vector<BlockFacts::Material> out;
     for (int k = keep_background ? 0 : 1; k < field.count(); ++k) {
-        Material3Figures x;
+        BlockFacts::Material x;
         x.tag = field.tag(k), x.name = field.name(k);
-        for (const RegionMeasure& g : regions)
-            if (g.tag == x.tag) x.tets = g.tets, x.volume = g.volume;
         x.reference_volume = field.reference_volume(k);
         if (x.reference_volume && voxel_volume > 0) x.voxels = std::llround(*x.reference_volume / voxel_volume);
-        f.materials.push_back(std::move(x));
+        out.push_back(std::move(x));
+    }
+    return out;
+}
+
+// The report of several materials: the counts and certification (the
+// junctions' by proofs/bcc_junctions.cert), the quality, per output
+// material its tetrahedra and volume (measure_regions3) beside its voxels,
+// the interface faces, the junctions, the materials' warnings.
+Mesh3dReport materials_report(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas, bool quality,
+                              std::span<const BlockFacts::Material> materials) {
+    const BccCertification junctions = bcc_junction_certification(alphas);
+    Mesh3dReport r = certified_counts(m, rule, alphas, junctions);
+    if (quality) r.quality = measure_quality3(m.mesh);
+    Materials3Figures f;
+    const std::vector<RegionMeasure> regions = measure_regions3(m.mesh);
+    for (const BlockFacts::Material& x : materials) {
+        Material3Figures g;
+        g.tag = x.tag, g.name = x.name, g.voxels = x.voxels, g.reference_volume = x.reference_volume;
+        for (const RegionMeasure& region : regions)
+            if (region.tag == g.tag) g.tets = region.tets, g.volume = region.volume;
+        f.materials.push_back(std::move(g));
     }
     f.interface_faces = static_cast<std::int64_t>(m.mesh.interfaces.size());
     f.junction_background_tets = m.junction_background_tets, f.junction_tets = m.junction_tets;
     f.all_zero_filled = m.all_zero_filled, f.all_zero_voids = m.all_zero_voids;
-    return f;
+    f.junctions_certified = r.certified && junctions.certified;
+    for (std::string& w : material_warnings(f)) r.warnings.push_back(std::move(w));
+    r.materials = std::move(f);
+    return r;
 }
 
 // Whether a lattice with a corner on a voxel centre has the voxel
@@ -287,12 +320,7 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (o.verify && certified) b.verify = &claims;
     BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
-    const BccCertification junctions = bcc_junction_certification(b.alphas);
-    r.report = certified_counts(m, b.face_rule, b.alphas, junctions);
-    if (o.quality) r.report.quality = measure_quality3(m.mesh);
-    r.report.materials = material_figures(m, *p.field, p.voxel_volume, o.keep_background);
-    r.report.materials->junctions_certified = r.report.certified && junctions.certified;
-    for (std::string& w : material_warnings(*r.report.materials)) r.report.warnings.push_back(std::move(w));
+    r.report = materials_report(m, b.face_rule, b.alphas, o.quality, material_facts(*p.field, p.voxel_volume, o.keep_background));
     r.mesh = std::move(m.mesh);
 }
 
@@ -340,7 +368,8 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (verify) b.verify = &claims;
     BccMesh m = mesh_bcc(*p.f, r.lattice, b);
-    r.report = report_of(m, *p.f, o, spacing);
+    r.report = region_report(m, b.face_rule, b.alphas, o.quality ? std::optional(measure_quality3(m.mesh, *p.f)) : std::nullopt,
+                             facts_of(*p.f), spacing);
     r.mesh = std::move(m.mesh);
     r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
     return r;
@@ -359,21 +388,111 @@ TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const Cu
             throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) + ", " +
                              std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
                              ") with lo < hi along every axis");
-    if (!p.field) return mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
-    bool certified = false;
-    return mesh_bcc_materials_block(*p.field, lattice, material_stage_options(input, o, certified), o.keep_background, block);
+    TetBlock b;
+    BlockFacts& facts = b.facts;
+    if (!p.field) {
+        b = mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
+        facts.source = p.f->describe();
+        const RegionFacts region = facts_of(*p.f);
+        facts.reference_volume = region.reference_volume;
+        facts.feature_size = region.feature_size, facts.resolution = region.resolution;
+        facts.open_face_f.reserve(b.open_faces.size());
+        for (const auto& face : b.open_faces) {
+            std::array<Point3, 3> q;
+            for (std::size_t k = 0; k < 3; ++k) q[k] = b.vertices[static_cast<std::size_t>(face[k])];
+            facts.open_face_f.push_back(face_fidelity(q, *p.f));
+        }
+    } else {
+        bool certified = false;
+        b = mesh_bcc_materials_block(*p.field, lattice, material_stage_options(input, o, certified), o.keep_background, block);
+        facts.source = p.field->describe();
+        facts.materials = material_facts(*p.field, p.voxel_volume, o.keep_background);
+    }
+    facts.source += "; band " + std::to_string(o.band) + (o.keep_background ? "; background kept" : "");
+    facts.quality = o.quality;
+    facts.warnings = p.warnings;
+    return b;
 }
 
+namespace {
+
+// Blocks of one mesh carry the same facts (but their own measurements);
+// each one-region block one measurement per open face.
+void check_block_facts(std::span<const TetBlock> blocks) {
+    const BlockFacts& a = blocks.front().facts;
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        const BlockFacts& b = blocks[i].facts;
+        const std::string which = "block " + std::to_string(i);
+        if (b.source.empty() || b.open_face_f.size() != (b.materials.empty() ? blocks[i].open_faces.size() : 0))
+            throw InputError("the blocks do not merge: " + which + " was not made by mesh3d_block (it has no facts of its input)");
+        if (b.source != a.source)
+            throw InputError("the blocks do not merge: " + which + " and block 0 are of different inputs ('" + b.source + "' and '" +
+                             a.source + "')");
+        if (b.quality != a.quality || b.reference_volume != a.reference_volume || b.feature_size != a.feature_size ||
+            b.resolution != a.resolution || b.materials != a.materials || b.warnings != a.warnings)
+            throw InputError("the blocks do not merge: " + which + " and block 0 are of different inputs or options");
+    }
+}
+
+// The merged boundary's fidelity to the level set: its level-set faces'
+// measurements, each made by the one block that has the face open.
+void merged_fidelity(const TetMesh& mesh, std::span<const TetBlock> blocks, TetQuality& q) {
+    struct Face {
+        std::array<std::uint64_t, 3> key;
+        std::array<double, 2> f;
+    };
+    std::vector<Face> faces;
+    std::vector<std::uint64_t> keys;  // the merged vertices' keys, in their order
+    for (const TetBlock& b : blocks) {
+        keys.insert(keys.end(), b.vertex_key.begin(), b.vertex_key.end());
+        for (std::size_t i = 0; i < b.open_faces.size(); ++i) {
+            Face x{{}, b.facts.open_face_f[i]};
+            for (std::size_t k = 0; k < 3; ++k) x.key[k] = b.vertex_key[static_cast<std::size_t>(b.open_faces[i][k])];
+            std::sort(x.key.begin(), x.key.end());
+            faces.push_back(x);
+        }
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
+    double fv = 0, fc = 0;
+    for (std::size_t i = 0; i < mesh.boundary.size(); ++i) {
+        if (mesh.boundary_tag[i] != boundary_level_set) continue;
+        std::array<std::uint64_t, 3> key;
+        for (std::size_t k = 0; k < 3; ++k) key[k] = keys[static_cast<std::size_t>(mesh.boundary[i][k])];
+        std::sort(key.begin(), key.end());
+        const auto at = std::lower_bound(faces.begin(), faces.end(), key, [](const Face& a, const auto& k) { return a.key < k; });
+        if (at == faces.end() || at->key != key) throw std::logic_error("merge_mesh3d_blocks: a boundary face open in no block");
+        fv = std::max(fv, at->f[0]), fc = std::max(fc, at->f[1]);
+    }
+    q.boundary_vertex_f_max = fv, q.boundary_centroid_f_max = fc;
+}
+
+}  // namespace
+
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {
-    Mesh3dResult r;
+    if (!blocks.empty()) check_block_facts(blocks);
+    BccMesh m;
     try {
-        r.mesh = merge_tet_blocks(blocks);
+        m = merge_bcc_blocks(blocks);
     } catch (const std::invalid_argument& e) {
         throw InputError(std::string("the blocks do not merge: ") + e.what());
     }
-    r.report.vertices = static_cast<std::int64_t>(r.mesh.vertices.size());
-    r.report.tets = static_cast<std::int64_t>(r.mesh.tets.size());
-    r.report.boundary_faces = static_cast<std::int64_t>(r.mesh.boundary.size());
+    const TetBlock& first = blocks.front();
+    const BlockFacts& facts = first.facts;
+    Mesh3dResult r;
+    r.lattice = first.lattice;
+    if (!facts.materials.empty()) {
+        r.report = materials_report(m, first.face_rule, first.alphas, facts.quality, facts.materials);
+    } else {
+        std::optional<TetQuality> quality;
+        if (facts.quality) quality = measure_quality3(m.mesh), merged_fidelity(m.mesh, blocks, *quality);
+        r.report = region_report(m, first.face_rule, first.alphas, quality, {facts.reference_volume, facts.feature_size, facts.resolution},
+                                 first.lattice.spacing);
+    }
+    r.warnings = facts.warnings;
+    r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
+    r.mesh = std::move(m.mesh);
     return r;
 }
 

@@ -157,10 +157,18 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& options, cons
 // Blocks (mesh3d.hpp, "Blocks"): the lattice mesh3d uses for this input
 // (its cubes, to split into blocks), the mesh of the cubes [lo, hi) of it
 // (0 <= lo < hi <= cubes along every axis; InputError otherwise), and the
-// merge of blocks that tile it — equal to mesh3d's mesh, with the counts of
-// the report only.  A worker needs only the input and the options.  Several
-// materials too (mesh3d.hpp: mesh_bcc_materials_block): the merge carries
-// their regions, interfaces and region names.
+// merge of blocks that tile it — equal to mesh3d's mesh and report (but its
+// seconds and verified: blocks are not verified).  A worker needs only the
+// input and the options.  Each block carries its lattice, cube range, face
+// rule and alphas, and the facts of its input the report needs
+// (BlockFacts: the input's description, the level set's reference volume,
+// feature size and resolution, its own open faces' fidelity to the level
+// set; several materials: the materials' voxels); the merge refuses
+// (InputError naming what is wrong) an empty list and blocks that do not
+// tile one lattice exactly once or come from different inputs or options
+// (mesh3d.hpp: merge_bcc_blocks).  Several materials too (mesh3d.hpp:
+// mesh_bcc_materials_block): the merge carries their regions, interfaces
+// and region names.
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
