@@ -85,6 +85,48 @@ struct Volume3 {
     Volume volume;
 };
 
+// A volume's geometry and what its reader says of it, as a dict (the
+// Python Volume's attributes): spacing, origin, axes (axes[a] the unit
+// direction of index axis a: volume.hpp), physical, integer_valued, maxval,
+// format, space, source, warnings.
+py::dict volume_geometry(const Volume& v) {
+    py::dict d;
+    d["spacing"] = v.spacing, d["origin"] = v.origin, d["axes"] = v.axes;
+    d["physical"] = v.physical, d["integer_valued"] = v.integer_valued, d["maxval"] = v.maxval;
+    d["format"] = v.format, d["space"] = v.space, d["source"] = v.source, d["warnings"] = v.warnings;
+    return d;
+}
+
+// The geometry of a dict of volume_geometry's onto a volume (its values
+// set), refusing axes that are not a signed permutation (the readers').
+void set_volume_geometry(Volume& v, const py::dict& d) {
+    try {
+        v.spacing = d["spacing"].cast<Vec3>(), v.origin = d["origin"].cast<Vec3>();
+        v.axes = d["axes"].cast<std::array<Vec3, 3>>();
+        v.physical = d["physical"].cast<bool>(), v.integer_valued = d["integer_valued"].cast<bool>();
+        v.maxval = d["maxval"].cast<int>();
+        v.format = d["format"].cast<std::string>(), v.space = d["space"].cast<std::string>();
+        v.source = d["source"].cast<std::string>(), v.warnings = d["warnings"].cast<std::vector<std::string>>();
+    } catch (const py::error_already_set& e) {
+        throw InputError(std::string("a volume's geometry is incomplete: ") + e.what());
+    } catch (const py::cast_error& e) {
+        throw InputError(std::string("a volume's geometry has a value of the wrong type: ") + e.what());
+    }
+    for (const double s : v.spacing)
+        if (!(s > 0) || !std::isfinite(s)) throw InputError("a volume's spacing must be positive and finite");
+    std::array<bool, 3> used{};
+    for (Vec3& a : v.axes) {
+        const std::optional<Vec3> e = axis_aligned(a);
+        if (!e) throw InputError("a volume's axes must be axis-aligned (each +-e_x, +-e_y or +-e_z), as the readers accept");
+        for (std::size_t k = 0; k < 3; ++k)
+            if ((*e)[k] != 0) {
+                if (used[k]) throw InputError("a volume's axes must be a permutation of the coordinate axes");
+                used[k] = true;
+            }
+        a = *e;
+    }
+}
+
 // The pipeline's input: a shape string, a Volume3, a VolumeFile (a path) or
 // MaterialShapes3 ("T=S;T=S").
 Mesh3dInput mesh3d_input(const py::object& input) {
@@ -505,7 +547,7 @@ void bind_mesh3d(py::module_& m) {
 
     py::class_<Volume3>(m, "Volume3")
         .def(py::init([](const Voxels& a, bool integer_valued, std::optional<std::array<double, 3>> voxel_size,
-                         std::array<double, 3> origin) {
+                         std::array<double, 3> origin, std::optional<py::dict> geometry) {
                  if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
                  Volume3 v;
                  v.volume.dims = {a.shape(2), a.shape(1), a.shape(0)};
@@ -514,9 +556,11 @@ void bind_mesh3d(py::module_& m) {
                  v.volume.origin = origin, v.volume.physical = voxel_size.has_value();
                  v.volume.integer_valued = integer_valued;
                  v.volume.format = "numpy", v.volume.source = "the array";
+                 if (geometry) set_volume_geometry(v.volume, *geometry);
                  return v;
              }),
-             py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"));
+             py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"),
+             py::arg("geometry") = std::nullopt);
     py::class_<VolumeFile>(m, "VolumeFile").def(py::init([](std::string path) { return VolumeFile{std::move(path)}; }), py::arg("path"));
     py::class_<MaterialShapes3>(m, "MaterialShapes3")
         .def(py::init([](std::string spec) { return MaterialShapes3{std::move(spec)}; }), py::arg("spec"));
@@ -625,6 +669,20 @@ void bind_read_image(py::module_& m) {
         },
         py::arg("path"), py::arg("slice") = std::nullopt, py::arg("units") = std::nullopt,
         py::arg("max_pixels") = default_max_pixels, py::arg("max_memory") = default_max_memory);
+    // (values, geometry): a volume as the command line reads it (read_volume:
+    // NRRD, NIfTI, TIFF, PGM, PNG), values a float64 array (z, y, x) that owns
+    // the decoded samples (no copy), geometry a dict of volume_geometry's.
+    m.def(
+        "read_volume",
+        [](const std::string& path, std::uint64_t max_voxels, std::uint64_t max_memory) {
+            auto v = std::make_unique<Volume>(read_volume(path, {max_voxels, max_memory}));
+            const std::array<py::ssize_t, 3> shape{v->dims[2], v->dims[1], v->dims[0]};
+            py::dict geometry = volume_geometry(*v);
+            double* data = v->values.data();
+            py::capsule owner(v.release(), [](void* p) { delete static_cast<Volume*>(p); });
+            return py::make_tuple(py::array_t<double>(shape, data, owner), geometry);
+        },
+        py::arg("path"), py::arg("max_voxels"), py::arg("max_memory"));
 }
 
 }  // namespace

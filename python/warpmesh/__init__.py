@@ -30,7 +30,8 @@ import numpy as np
 from . import _core
 from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image",
+__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image", "read_volume",
+           "Volume",
            "write", "Mesh", "TetMesh", "Image", "InputError", "OptionError", "OutputError", "png_supported",
            "certified_table_available"]
 
@@ -105,6 +106,70 @@ def read_image(path, *, slice=None, units=None, max_pixels=_MAX_PIXELS, max_memo
     pixels, maxval, placement = _core.read_image(str(path), None if slice is None else str(slice), units,
                                                  _integer("max_pixels", max_pixels, 1), _max_memory(max_memory))
     return Image(pixels, maxval, path, placement)
+
+
+class Volume:
+    """A volume as read_volume() reads it (the CLI's reader): the samples and
+    where its voxels lie.
+
+      data        (nz, ny, nx) float64 array owning the samples: voxel (i, j, k)
+                  is data[k, j, i] (also np.asarray(volume))
+      spacing     (si, sj, sk) the voxel sizes along the index axes i, j, k
+                  (mm when physical, else 1)
+      origin      (x, y, z) of voxel (0, 0, 0)
+      direction   3x3 array whose column a is the unit direction of index axis
+                  a (ITK's direction matrix; only signed permutations: the
+                  readers refuse oblique volumes)
+      affine      4x4 voxel-to-world matrix: (x, y, z, 1) = affine @ (i, j, k, 1)
+      units       "mm" (physical: the file gives a voxel size) or "pixels"
+      integer_valued, format ("NRRD", "NIfTI-1", "TIFF", ...), source (the
+      path), warnings (what the reader accepted but says)
+
+    mesh3d(volume, ...) meshes it where the CLI meshes the file: the same
+    points and tetrahedra."""
+
+    def __init__(self, data, geometry):
+        self.data = data
+        self._geometry = dict(geometry)
+        g = self._geometry
+        self.spacing = tuple(float(x) for x in g["spacing"])
+        self.origin = tuple(float(x) for x in g["origin"])
+        self.direction = np.array(g["axes"], dtype=float).T
+        self.units = "mm" if g["physical"] else "pixels"
+        self.physical = bool(g["physical"])
+        self.integer_valued = bool(g["integer_valued"])
+        self.format, self.source, self.warnings = g["format"], g["source"], list(g["warnings"])
+
+    @property
+    def affine(self):
+        a = np.eye(4)
+        a[:3, :3] = self.direction * np.asarray(self.spacing)
+        a[:3, 3] = self.origin
+        return a
+
+    shape = property(lambda self: self.data.shape)
+    dtype = property(lambda self: self.data.dtype)
+
+    def __array__(self, dtype=None, copy=None):
+        return self.data if dtype is None else self.data.astype(dtype)
+
+    def __repr__(self):
+        nz, ny, nx = self.data.shape
+        return (f"<warpmesh.Volume {nx} x {ny} x {nz} voxels of {self.spacing} {self.units}, {self.format} "
+                f"'{self.source}'>")
+
+
+def read_volume(path, *, max_voxels=_MAX_PIXELS, max_memory=_MAX_MEMORY_MB):
+    """Read a volume the way the CLI's mesh3d reads it: NRRD (.nrrd, .nhdr),
+    NIfTI-1/2 (.nii, .nii.gz), multi-page TIFF (and PGM/PNG as one slice),
+    recognised by content.  Returns a Volume: the samples as a float64 numpy
+    array (z, y, x) with the voxel-to-world matrix (affine), spacing, origin
+    and direction.  mesh3d(read_volume(path), ...) gives the CLI's mesh of
+    the file.  max_voxels and max_memory (megabytes) refuse, before reading,
+    a volume that would not fit (the CLI's --max-pixels, --max-memory).
+    Raises InputError naming the file and the problem."""
+    data, geometry = _core.read_volume(os.fspath(path), _integer("max_voxels", max_voxels, 1), _max_memory(max_memory))
+    return Volume(data, geometry)
 
 
 class Mesh:
@@ -585,8 +650,14 @@ def _input3(volume, voxel_size, origin, options, shapes=None):
         volume = _core.MaterialShapes3(shapes)
     elif volume is None:
         raise InputError("give a volume (an array, a path or a shape string) or shapes=")
-    elif isinstance(volume, os.PathLike):
+    elif isinstance(volume, os.PathLike) or (isinstance(volume, str) and os.path.isfile(volume)):
         volume = _core.VolumeFile(os.fspath(volume))
+    if isinstance(volume, Volume):
+        if tuple(origin) != (0.0, 0.0, 0.0):
+            raise InputError("a Volume carries its origin (read_volume): give origin only with a numpy array")
+        if size is not None:
+            options["voxel_size"] = list(size)
+        return _core.Volume3(volume.data, volume.integer_valued, None, (0.0, 0.0, 0.0), volume._geometry)
     if isinstance(volume, (str, _core.MaterialShapes3, _core.VolumeFile)):
         if size is not None:
             options["voxel_size"] = list(size)
@@ -629,9 +700,11 @@ def mesh3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, insi
                 * a 3D numpy array indexed (z, y, x), as SimpleITK's
                   GetArrayFromImage and tifffile give it: voxel (i, j, k) =
                   volume[k, j, i] lies at origin + (i sx, j sy, k sz);
-                * a volume file as a path (pathlib.Path or another
-                  os.PathLike: NRRD, NIfTI, multi-page TIFF, in mm when it
-                  gives a voxel size), as the CLI's INPUT;
+                * a volume file as a path (a str naming a file,
+                  pathlib.Path or another os.PathLike: NRRD, NIfTI,
+                  multi-page TIFF, in mm when it gives a voxel size), as the
+                  CLI's INPUT, or a Volume read_volume() read: the CLI's mesh
+                  of the file (its direction matrix too);
                 * a shape string as the CLI's --shape: sphere:cx,cy,cz,r
                   ellipsoid:cx,cy,cz,a,b,c  torus:cx,cy,cz,R,r
                   box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r and
