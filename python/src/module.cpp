@@ -399,7 +399,8 @@ py::dict block_to_dict(TetBlock&& b) {
     d["facts"] = py::dict(py::arg("source") = f.source, py::arg("quality") = f.quality, py::arg("reference_volume") = f.reference_volume,
                           py::arg("feature_size") = f.feature_size, py::arg("resolution") = f.resolution,
                           py::arg("open_face_f") = owned(std::vector<std::array<double, 2>>(f.open_face_f), 2),
-                          py::arg("materials") = materials, py::arg("warnings") = f.warnings);
+                          py::arg("materials") = materials, py::arg("warnings") = f.warnings, py::arg("part") = f.part,
+                          py::arg("voxel_volume") = f.voxel_volume);
     return d;
 }
 
@@ -479,6 +480,7 @@ TetBlock block_from_dict(const py::dict& d) {
                                    m[3].cast<std::optional<double>>()});
         }
         x.warnings = entry(f, "warnings").cast<std::vector<std::string>>();
+        x.part = entry(f, "part").cast<bool>(), x.voxel_volume = entry(f, "voxel_volume").cast<double>();
     } catch (const py::cast_error& e) {
         throw InputError(std::string("a block with an entry of the wrong type (give the dicts mesh3d_block returns): ") + e.what());
     }
@@ -511,6 +513,16 @@ void bind_blocks(py::module_& m) {
             return block_to_dict(std::move(b));
         },
         py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("options"));
+    m.def(
+        "block_voxels",
+        [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, std::int64_t halo,
+           const py::dict& kw) {
+            const Mesh3dOptions o = mesh3d_options(kw);
+            const Mesh3dInput in = mesh3d_input(input);
+            py::gil_scoped_release release;
+            return block_voxels(in, o, CubeRange{lo, hi}, halo);
+        },
+        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("halo"), py::arg("options"));
     m.def(
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {
@@ -547,7 +559,8 @@ void bind_mesh3d(py::module_& m) {
 
     py::class_<Volume3>(m, "Volume3")
         .def(py::init([](const Voxels& a, bool integer_valued, std::optional<std::array<double, 3>> voxel_size,
-                         std::array<double, 3> origin, std::optional<py::dict> geometry) {
+                         std::array<double, 3> origin, std::optional<py::dict> geometry,
+                         std::optional<std::array<std::array<std::int64_t, 3>, 2>> part) {
                  if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
                  Volume3 v;
                  v.volume.dims = {a.shape(2), a.shape(1), a.shape(0)};
@@ -557,10 +570,12 @@ void bind_mesh3d(py::module_& m) {
                  v.volume.integer_valued = integer_valued;
                  v.volume.format = "numpy", v.volume.source = "the array";
                  if (geometry) set_volume_geometry(v.volume, *geometry);
+                 // A part of a larger volume: (offset, whole dimensions), both (i, j, k).
+                 if (part) v.volume.part_offset = (*part)[0], v.volume.whole_dims = (*part)[1];
                  return v;
              }),
              py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"),
-             py::arg("geometry") = std::nullopt);
+             py::arg("geometry") = std::nullopt, py::arg("part") = std::nullopt);
     py::class_<VolumeFile>(m, "VolumeFile").def(py::init([](std::string path) { return VolumeFile{std::move(path)}; }), py::arg("path"));
     py::class_<MaterialShapes3>(m, "MaterialShapes3")
         .def(py::init([](std::string spec) { return MaterialShapes3{std::move(spec)}; }), py::arg("spec"));

@@ -30,7 +30,8 @@ import numpy as np
 from . import _core
 from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image", "read_volume",
+__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "block_voxels", "mesh3d_block_read",
+           "read_image", "read_volume",
            "Volume",
            "write", "Mesh", "TetMesh", "Image", "InputError", "OptionError", "OutputError", "png_supported",
            "certified_table_available"]
@@ -636,7 +637,22 @@ def _labels3(label, labels):
         raise InputError(f"labels must be an int, a list of ints or a string, got {label!r}") from None
 
 
-def _input3(volume, voxel_size, origin, options, shapes=None):
+def _part(region, volume):
+    """region=(start, shape) in numpy's (z, y, x) order as the library's
+    part: (offset, whole dimensions) in (i, j, k) order."""
+    try:
+        start, whole = (tuple(_integer("region", v, 0) for v in t) for t in region)
+    except (TypeError, ValueError):
+        raise InputError(f"region must be (start, shape): the part's first voxel (z, y, x) in the whole volume and the "
+                         f"whole's shape (nz, ny, nx), got {region!r}") from None
+    if len(start) != 3 or len(whole) != 3:
+        raise InputError(f"region must be (start, shape), each three integers (z, y, x), got {region!r}")
+    if any(s + n > w for s, n, w in zip(start, np.shape(volume), whole)):
+        raise InputError(f"the part (shape {np.shape(volume)} at {start}) does not lie in the whole volume of shape {whole}")
+    return start[::-1], whole[::-1]
+
+
+def _input3(volume, voxel_size, origin, options, shapes=None, region=None):
     """The pipeline's input: a shape string, material shapes (shapes=), a
     volume file (an os.PathLike path), or a numpy volume with its geometry
     (voxel_size, origin); a voxel_size given with a shape goes to the options
@@ -663,7 +679,8 @@ def _input3(volume, voxel_size, origin, options, shapes=None):
             options["voxel_size"] = list(size)
         return volume
     a, integer_valued = _volume(volume)
-    return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False))
+    part = None if region is None else _part(region, a)
+    return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False), None, part)
 
 
 def _options3(function, values, label, labels, iso, inside, threads=None, materials=None):
@@ -777,16 +794,38 @@ if mesh3d.__doc__:  # (None under python -OO)
 
 
 def lattice3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
-              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None):
+              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None, region=None):
     """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
     to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
-    (volumes, shape strings, materials= and shapes=)."""
+    (volumes, shape strings, materials= and shapes=); region as
+    mesh3d_block's (then any part will do: the lattice is the whole's)."""
     options = _options3(lattice3d, locals(), label, labels, iso, inside, materials=materials)
-    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes), options))
+    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes, region), options))
+
+
+def block_voxels(shape, lo, hi, *, halo=2, materials=None, spacing=None, background="drop", voxel_size=None,
+                 origin=(0.0, 0.0, 0.0)):
+    """The voxels a block of a label volume of `shape` (nz, ny, nx) reads,
+    as (start, stop) in (z, y, x) order: volume[z0:z1, y0:y1, x0:x1] is the
+    part to give mesh3d_block(part, lo, hi, region=(start, shape), ...).  The
+    block's cubes [lo, hi) grown by `halo` cubes (the window the block's
+    warping decisions are made in: 2 cubes, doubled while a decision in the
+    block depends on its edge), the voxel cells around it and their
+    3 x 3 x 3 neighbourhoods (the materials' phi), one voxel for rounding.
+    Several materials (materials= a label list) only; no voxel is read."""
+    shape = tuple(_integer("shape", n, 2) for n in shape)
+    options = _options3(block_voxels, locals(), None, None, None, None, materials=materials)
+    lo = tuple(_integer("lo", v, 0) for v in lo)
+    hi = tuple(_integer("hi", v, 1) for v in hi)
+    part = np.zeros((1, 1, 1), np.uint8)
+    box = _core.block_voxels(_input3(part, voxel_size, origin, options, None, ((0, 0, 0), shape)), lo, hi,
+                             _integer("halo", halo, 0), options)
+    return tuple(int(v) for v in box[0][::-1]), tuple(int(v) for v in box[1][::-1])
 
 
 def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None,
-                 shapes=None, background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None):
+                 shapes=None, background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None,
+                 region=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
@@ -798,13 +837,43 @@ def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=N
     face_rule; several materials: with their regions, interfaces and region
     names).  Arguments as mesh3d's
     (volumes, shape strings, materials= and shapes=; volume=None with
-    shapes=)."""
+    shapes=).
+
+    region=(start, shape): `volume` is only a part of a label volume of
+    `shape` (nz, ny, nx), starting at voxel `start` (z, y, x) of it (a slice
+    of a numpy memmap, a zarr or HDF5 region; origin is the whole's); with
+    materials= a label list, the block reads only this part — block_voxels
+    names the part it needs — and the blocks merge into exactly the whole
+    volume's mesh and report.  Raises InputError if the part lacks a voxel
+    the block read (take block_voxels with a larger halo)."""
     options = _options3(mesh3d_block, locals(), label, labels, iso, inside, materials=materials)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:
         raise InputError("lo and hi must be triples of cube indices")
-    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes), lo, hi, options)
+    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes, region), lo, hi, options)
+
+
+def mesh3d_block_read(read, shape, lo, hi, *, halo=2, **options):
+    """mesh3d_block of a block that reads only its part of a label volume of
+    `shape` (nz, ny, nx): read(start, stop) returns the voxels
+    volume[z0:z1, y0:y1, x0:x1] (a numpy memmap's, a zarr array's, an HDF5
+    dataset's slice), called with block_voxels' box, and again with twice the
+    halo while the block's window needs more.  Options as mesh3d_block's
+    (materials= a label list)."""
+    shape = tuple(int(n) for n in shape)
+    while True:
+        start, stop = block_voxels(shape, lo, hi, halo=halo, **{k: v for k, v in options.items() if k in _BLOCK_VOXELS})
+        part = read(start, stop)
+        try:
+            return mesh3d_block(part, lo, hi, region=(start, shape), **options)
+        except InputError as e:
+            if "part of the volume is too small" not in str(e) or (start == (0, 0, 0) and stop == shape):
+                raise
+            halo *= 2
+
+
+_BLOCK_VOXELS = ("materials", "spacing", "background", "voxel_size", "origin")
 
 
 def merge_blocks(blocks):

@@ -45,6 +45,22 @@ def test_blocks_on_a_local_cluster_equal_the_whole_mesh(root, workers, block):
     assert mod.same_report(merged, whole)
 
 
+def test_blocks_reading_their_parts_on_a_local_cluster(root, tmp_path):
+    """examples/dask_blocks3d.py --parts: every worker reads only its block's
+    part of a .npy memmap; the merge is the whole volume's mesh and report."""
+    distributed = require("distributed", "python3-distributed")
+    mod = load_example(root)
+    volume = mod.demo_volume(32)
+    np.save(tmp_path / "v.npy", volume)
+    options = {"materials": "1,2", "spacing": 1.1}
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        merged, count = mod.mesh_parts_in_blocks(client, tmp_path / "v.npy", 10, **options)
+    whole = warpmesh.mesh3d(volume, **options)
+    assert count > 8 and len(whole.tetrahedra) > 1000
+    assert same(merged, whole) and mod.same_report(merged, whole)
+
+
 def test_blocks_of_a_shape_in_any_order_and_a_gap_refused():
     cubes = warpmesh.lattice3d("torus:0,0,0,1,0.35", spacing=0.1)
     blocks = [warpmesh.mesh3d_block("torus:0,0,0,1,0.35", lo, hi, spacing=0.1)
@@ -140,3 +156,48 @@ def test_merge_refuses_blocks_of_different_meshes():
         warpmesh.merge_blocks([broken])
     with pytest.raises(warpmesh.InputError, match="not a block"):
         warpmesh.merge_blocks([a, "b"])
+
+
+@pytest.mark.parametrize("options", [{"materials": "1,2,3,4", "spacing": 1.0},
+                                     {"materials": "2,4", "background": "keep", "spacing": 1.3,
+                                      "voxel_size": (1.0, 0.9, 1.2), "origin": (5.0, -3.0, 2.0)}])
+def test_blocks_that_read_only_their_part_merge_into_the_whole_mesh(tmp_path, options):
+    """Issue 49, item 1: each block reads only the voxels block_voxels names
+    (a region of a .npy memmap) and is meshed from that part; the blocks
+    merge into exactly the whole volume's mesh and report."""
+    path = tmp_path / "labels.npy"
+    np.save(path, kmeans_labels(26))
+    volume = np.load(path, mmap_mode="r")
+    whole = warpmesh.mesh3d(np.asarray(volume), **options)
+    cubes = warpmesh.lattice3d(volume[:2, :2, :2], region=((0, 0, 0), volume.shape), **options)
+    assert cubes == warpmesh.lattice3d(np.asarray(volume), **options)
+    read = []
+
+    def region(start, stop):
+        read.append(int(np.prod(np.subtract(stop, start))))
+        return volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2]]
+
+    halves = [[(0, n // 2), (n // 2, n)] for n in cubes]
+    ranges = [((x[0], y[0], z[0]), (x[1], y[1], z[1])) for x in halves[0] for y in halves[1] for z in halves[2]]
+    blocks = [warpmesh.mesh3d_block_read(region, volume.shape, lo, hi, **options) for lo, hi in ranges]
+    assert max(read) < 0.6 * volume.size
+    merged = warpmesh.merge_blocks(blocks)
+    assert same(merged, whole) and merged.region_names == whole.region_names
+    assert np.array_equal(merged.interfaces, whole.interfaces)
+    assert report_without_time(merged) == report_without_time(whole)
+    # A part too small for its block is refused, naming what it needs.
+    lo, hi = (0, 0, 0), (cubes[0] // 2, cubes[1], cubes[2])
+    start, stop = warpmesh.block_voxels(volume.shape, lo, hi, **options)
+    small = volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2] - 4]
+    with pytest.raises(warpmesh.InputError, match="too small"):
+        warpmesh.mesh3d_block(small, lo, hi, region=(start, volume.shape), **options)
+
+
+def test_a_part_needs_listed_materials():
+    volume = kmeans_labels()
+    with pytest.raises(warpmesh.InputError, match="materials only"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), label=1, spacing=1.0)
+    with pytest.raises(warpmesh.InputError, match="needs its materials listed"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), materials="all")
+    with pytest.raises(warpmesh.InputError, match="does not lie in the whole"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((15, 0, 0), volume.shape), materials="1,2")

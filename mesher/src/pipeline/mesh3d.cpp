@@ -66,6 +66,10 @@ struct Prepared {
     double default_spacing = 0;  // 0: none (shapes, level sets)
     bool large = false;          // a volume of 2^22 voxels or more (progress)
     std::vector<std::string> warnings;
+    // A part of a volume (Volume::is_part): its geometry (the options'
+    // overrides applied; no values) and its values.
+    std::optional<Volume> part;
+    const std::vector<double>* part_values = nullptr;
 };
 
 // The options' geometry of a volume: voxel_size, units.
@@ -81,6 +85,14 @@ void apply_geometry(Volume& v, const Mesh3dOptions& o) {
 }
 
 void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p) {
+    if (v.is_part()) {
+        if (!o.materials)
+            throw InputError("a part of a volume is meshed with materials only: one region's level set is a distance "
+                             "transform of the whole region (its band and bounding box)");
+        p.part = Volume{};
+        p.part->dims = v.dims, p.part->spacing = v.spacing, p.part->origin = v.origin, p.part->axes = v.axes;
+        p.part->part_offset = v.part_offset, p.part->whole_dims = v.whole_dims;
+    }
     p.default_spacing = v.physical ? std::min({v.spacing[0], v.spacing[1], v.spacing[2]}) : 1.0;
     p.large = v.voxel_count() >= (std::int64_t{1} << 22);
     const std::string size = std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " voxels";
@@ -124,6 +136,7 @@ Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Me
                 volume_level_set(v, o, progress, p);
             } else if constexpr (std::is_same_v<T, std::reference_wrapper<const Volume>>) {
                 p.warnings = in.get().warnings;
+                p.part_values = &in.get().values;
                 if (!overrides_geometry(o)) return volume_level_set(in.get(), o, progress, p);
                 Volume v = in.get();  // a copy, to override its geometry
                 apply_geometry(v, o);
@@ -325,6 +338,90 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
 }
 
 
+// Blocks of a part of a volume.  Along index axis a, the world axis c it
+// runs along (axes[a] = ±e_c), and the cube boundaries of the lattice along
+// world axis c: origin_c + n spacing.
+std::size_t world_axis(const Volume& g, std::size_t a) {
+    for (std::size_t c = 0; c < 3; ++c)
+        if (g.axes[a][c] != 0) return c;
+    return a;
+}
+double cube_boundary(const Lattice3& L, std::size_t c, std::int64_t n) {
+    const double o = c == 0 ? L.origin.x : c == 1 ? L.origin.y : L.origin.z;
+    return o + static_cast<double>(n) * L.spacing;
+}
+
+// The whole volume's voxels [lo, hi) (index order i, j, k) that the block
+// `range` reads with its window grown by `halo` cubes: the window's box in
+// index coordinates (as the material field maps points), its voxel cells'
+// corners and their 3 x 3 x 3 neighbourhoods (materials3.hpp's phi), one
+// voxel more for rounding.
+std::array<std::array<std::int64_t, 3>, 2> voxels_of_block(const Volume& g, const Lattice3& L, const CubeRange& range, std::int64_t halo) {
+    const std::array<std::int64_t, 3> n = g.is_part() ? g.whole_dims : g.dims;
+    std::array<std::array<std::int64_t, 3>, 2> box{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        const std::size_t c = world_axis(g, a);
+        const double sign = g.axes[a][c] > 0 ? 1 : -1;
+        const std::int64_t w0 = std::max<std::int64_t>(0, range.lo[c] - halo), w1 = std::min(L.cubes[c], range.hi[c] + halo);
+        const double t0 = sign * (cube_boundary(L, c, w0) - g.origin[c]) / g.spacing[a];
+        const double t1 = sign * (cube_boundary(L, c, w1) - g.origin[c]) / g.spacing[a];
+        box[0][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::min(t0, t1))) - 2, 0, n[a]);
+        box[1][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::max(t0, t1))) + 4, 0, n[a]);
+    }
+    return box;
+}
+
+// Per output material (the background first when kept), the part's voxels
+// whose centres lie in the cubes `range` (half-open along every world axis:
+// each voxel of the whole volume is counted by exactly one block).
+std::vector<std::int64_t> owned_voxels(const Volume& g, std::span<const double> values, const MaterialField3& field,
+                                       bool keep_background, const Lattice3& L, const CubeRange& range) {
+    std::vector<int> material_of(65536, 0);
+    for (int m = 1; m < field.count(); ++m) material_of[static_cast<std::size_t>(field.tag(m))] = m;
+    std::vector<std::int64_t> count(static_cast<std::size_t>(field.count()), 0);
+    std::array<std::size_t, 3> c{};
+    for (std::size_t a = 0; a < 3; ++a) c[a] = world_axis(g, a);
+    std::array<std::int64_t, 3> i{};
+    for (i[2] = 0; i[2] < g.dims[2]; ++i[2])
+        for (i[1] = 0; i[1] < g.dims[1]; ++i[1])
+            for (i[0] = 0; i[0] < g.dims[0]; ++i[0]) {
+                bool own = true;
+                for (std::size_t a = 0; a < 3 && own; ++a) {
+                    const double x = g.origin[c[a]] + static_cast<double>(g.part_offset[a] + i[a]) * g.spacing[a] * g.axes[a][c[a]];
+                    own = cube_boundary(L, c[a], range.lo[c[a]]) <= x && x < cube_boundary(L, c[a], range.hi[c[a]]);
+                }
+                if (own) ++count[static_cast<std::size_t>(material_of[static_cast<std::size_t>(values[static_cast<std::size_t>(i[0] + g.dims[0] * (i[1] + g.dims[1] * i[2]))])])];
+            }
+    if (!keep_background) count.erase(count.begin());
+    return count;
+}
+
+std::string voxel_box_text(const std::array<std::array<std::int64_t, 3>, 2>& b) {
+    auto t = [](const std::array<std::int64_t, 3>& x) {
+        return "(" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " + std::to_string(x[2]) + ")";
+    };
+    return "[" + t(b[0]) + ", " + t(b[1]) + ")";
+}
+
+// A block of a part: its materials' voxels are its own cubes'; refused when
+// the part lacked voxels the block read.
+void part_block_facts(const Prepared& p, const Lattice3& L, const CubeRange& range, bool keep_background, BlockFacts& facts) {
+    const Volume& g = *p.part;
+    const auto need = voxels_of_block(g, L, range, 0);
+    bool covers = !p.field->read_outside_part();
+    for (std::size_t a = 0; a < 3; ++a)
+        covers = covers && g.part_offset[a] <= need[0][a] && need[1][a] <= g.part_offset[a] + g.dims[a];
+    if (!covers)
+        throw InputError("the block's part of the volume is too small: the block read voxels outside the part's " +
+                         voxel_box_text({g.part_offset, {g.part_offset[0] + g.dims[0], g.part_offset[1] + g.dims[1],
+                                                         g.part_offset[2] + g.dims[2]}}) +
+                         " (i, j, k): its window grew beyond the halo the part was cut for; cut it with twice the halo (block_voxels)");
+    const std::vector<std::int64_t> own = owned_voxels(g, *p.part_values, *p.field, keep_background, L, range);
+    for (std::size_t k = 0; k < facts.materials.size(); ++k) facts.materials[k].voxels = own[k], facts.materials[k].reference_volume.reset();
+    facts.part = true;
+    facts.voxel_volume = p.voxel_volume;
+}
+
 }  // namespace
 
 bool several_materials(const Mesh3dInput& input, const Mesh3dOptions& o) { return o.materials || is_material_shapes(input); }
@@ -407,11 +504,20 @@ TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const Cu
         b = mesh_bcc_materials_block(*p.field, lattice, material_stage_options(input, o, certified), o.keep_background, block);
         facts.source = p.field->describe();
         facts.materials = material_facts(*p.field, p.voxel_volume, o.keep_background);
+        if (p.part) part_block_facts(p, lattice, block, o.keep_background, facts);
     }
     facts.source += "; band " + std::to_string(o.band) + (o.keep_background ? "; background kept" : "");
     facts.quality = o.quality;
     facts.warnings = p.warnings;
     return b;
+}
+
+std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block,
+                                                        std::int64_t halo) {
+    const Prepared p = level_set_of(input, o, {});
+    if (!p.part) throw InputError("block_voxels: the input is not a part of a volume (give the whole volume's dimensions)");
+    if (halo < 0) throw InputError("block_voxels: the halo must be 0 or more cubes");
+    return voxels_of_block(*p.part, material_lattice(p, o, spacing_of(o, p)), block, halo);
 }
 
 namespace {
@@ -428,10 +534,30 @@ void check_block_facts(std::span<const TetBlock> blocks) {
         if (b.source != a.source)
             throw InputError("the blocks do not merge: " + which + " and block 0 are of different inputs ('" + b.source + "' and '" +
                              a.source + "')");
+        bool same_materials = b.materials.size() == a.materials.size();
+        for (std::size_t k = 0; same_materials && k < a.materials.size(); ++k)
+            same_materials = b.materials[k].tag == a.materials[k].tag && b.materials[k].name == a.materials[k].name &&
+                             (a.part || b.materials[k] == a.materials[k]);
         if (b.quality != a.quality || b.reference_volume != a.reference_volume || b.feature_size != a.feature_size ||
-            b.resolution != a.resolution || b.materials != a.materials || b.warnings != a.warnings)
+            b.resolution != a.resolution || !same_materials || b.warnings != a.warnings || b.part != a.part ||
+            b.voxel_volume != a.voxel_volume)
             throw InputError("the blocks do not merge: " + which + " and block 0 are of different inputs or options");
     }
+}
+
+// The materials' figures of merged blocks: of parts, every block's own
+// voxels summed.
+std::vector<BlockFacts::Material> merged_materials(std::span<const TetBlock> blocks) {
+    const BlockFacts& a = blocks.front().facts;
+    std::vector<BlockFacts::Material> out = a.materials;
+    if (!a.part) return out;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        std::int64_t voxels = 0;
+        for (const TetBlock& b : blocks) voxels += b.facts.materials[k].voxels.value_or(0);
+        out[k].voxels = voxels;
+        out[k].reference_volume = static_cast<double>(voxels) * a.voxel_volume;
+    }
+    return out;
 }
 
 // The merged boundary's fidelity to the level set: its level-set faces'
@@ -483,7 +609,7 @@ Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {
     Mesh3dResult r;
     r.lattice = first.lattice;
     if (!facts.materials.empty()) {
-        r.report = materials_report(m, first.face_rule, first.alphas, facts.quality, facts.materials);
+        r.report = materials_report(m, first.face_rule, first.alphas, facts.quality, merged_materials(blocks));
     } else {
         std::optional<TetQuality> quality;
         if (facts.quality) quality = measure_quality3(m.mesh), merged_fidelity(m.mesh, blocks, *quality);

@@ -246,6 +246,11 @@ struct BlockFacts {
     };
     std::vector<Material> materials;
     std::vector<std::string> warnings;  // the input's (the volume reader's, threshold mode's guess)
+    // A block of a part of a volume (Volume::is_part): its materials'
+    // voxels are those of its own cubes (each voxel's centre lies in one
+    // block's cubes), summed by the merge, times voxel_volume.
+    bool part = false;
+    double voxel_volume = 0;
 };
 struct TetBlock {
     std::vector<std::uint64_t> vertex_key;        // sorted, one per vertex

@@ -173,4 +173,23 @@ Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
 
+// Blocks that read only their part of a volume (several materials, listed:
+// "all" depends on the whole volume).  The input is a Volume that is a part
+// of the whole (Volume::is_part: its offset and the whole's dimensions; the
+// whole's origin); the lattice is the whole's (the field's bounds are the
+// whole volume's hull), and a block of a part that holds the voxels
+// block_voxels names merges with the others into exactly mesh3d's mesh of
+// the whole volume, report included (each block counts the materials'
+// voxels of its own cubes).  block_voxels: the whole volume's voxels
+// [lo, hi) (index order i, j, k) a block reads when its window is its cubes
+// grown by `halo` cubes: the window's box, its voxel cells' corners and their
+// 3 x 3 x 3 neighbourhoods (phi, levelset/materials3.hpp), one voxel more for
+// rounding.  The window is grown from 2 cubes, doubling while a warping
+// decision in the block depends on its edge (mesh3d.hpp, "Blocks"), so halo
+// 2 covers most blocks; mesh3d_block refuses (InputError) a part that lacks
+// a voxel the block read, and a part of a volume in one-region mode (its
+// level set is a distance transform of the whole region).
+std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block,
+                                                        std::int64_t halo = 2);
+
 }  // namespace warpmesh
