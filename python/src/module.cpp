@@ -523,6 +523,33 @@ void bind_blocks(py::module_& m) {
             return block_voxels(in, o, CubeRange{lo, hi}, halo);
         },
         py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("halo"), py::arg("options"));
+    // Partitioned output (pipeline/mesh3d.hpp): a block as a .vtu piece,
+    // blocks as pieces and their .pvtu, a .pvtu of pieces written elsewhere.
+    const auto vtu_options = [](bool compress) {
+        VtuOptions o;
+        if (compress) o.encoding = VtuOptions::Encoding::zlib;
+        return o;
+    };
+    m.def(
+        "write_block_vtu",
+        [vtu_options](const py::dict& d, const std::string& path, bool compress) {
+            const TetBlock b = block_from_dict(d);
+            py::gil_scoped_release release;
+            write_block_vtu(b, path, vtu_options(compress));
+        },
+        py::arg("block"), py::arg("path"), py::arg("compress"));
+    m.def(
+        "write_blocks_pvtu",
+        [vtu_options](const std::string& path, const std::vector<py::dict>& dicts, bool compress) {
+            std::vector<TetBlock> blocks;
+            for (const py::dict& d : dicts) blocks.push_back(block_from_dict(d));
+            py::gil_scoped_release release;
+            return write_blocks_pvtu(path, blocks, vtu_options(compress));
+        },
+        py::arg("path"), py::arg("blocks"), py::arg("compress"));
+    m.def(
+        "write_pvtu", [](const std::string& path, const std::vector<std::string>& pieces) { write_pvtu(path, pieces); },
+        py::arg("path"), py::arg("pieces"));
     m.def(
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {

@@ -31,6 +31,7 @@ from . import _core
 from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
 __all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "block_voxels", "mesh3d_block_read",
+           "write_blocks", "write_block", "write_pvtu",
            "read_image", "read_volume",
            "Volume",
            "write", "Mesh", "TetMesh", "Image", "InputError", "OptionError", "OutputError", "png_supported",
@@ -876,6 +877,41 @@ def mesh3d_block_read(read, shape, lo, hi, *, halo=2, **options):
 _BLOCK_VOXELS = ("materials", "spacing", "background", "voxel_size", "origin")
 
 
+def write_blocks(path, blocks, *, compress=False):
+    """Write blocks as a partitioned mesh, never merged in one process: one
+    .vtu piece per block (STEM_0000.vtu, ...: its tetrahedra, their
+    "region", its vertices; point and cell arrays "GlobalIds" hold the
+    vertices' and tetrahedra's global keys, equal wherever pieces share a
+    vertex) and the .pvtu at `path` listing them, which ParaView/VTK read as
+    one mesh.  The merged mesh (merge_blocks) numbers its vertices in the
+    keys' order.  Refused (InputError, nothing written) unless the blocks tile
+    one lattice exactly once.  Returns the pieces' file names."""
+    path = os.fspath(path)
+    if not path.lower().endswith(".pvtu"):
+        raise InputError(f"write_blocks writes a .pvtu (and its .vtu pieces), got {path!r}")
+    return list(_core.write_blocks_pvtu(path, _block_list(blocks), bool(compress)))
+
+
+def write_block(block, path, *, compress=False):
+    """Write one block as a .vtu piece (as write_blocks does), e.g. on the
+    worker that meshed it; write_pvtu(path, pieces) then lists the pieces."""
+    _core.write_block_vtu(_block_list([block])[0], os.fspath(path), bool(compress))
+
+
+def write_pvtu(path, pieces):
+    """The .pvtu listing .vtu pieces written by write_block (their names
+    relative to the .pvtu's folder)."""
+    _core.write_pvtu(os.fspath(path), [os.fspath(p) for p in pieces])
+
+
+def _block_list(blocks):
+    blocks = list(blocks)
+    for i, b in enumerate(blocks):
+        if not isinstance(b, dict):
+            raise InputError(f"block {i} is a {type(b).__name__}, not a block: give the dicts mesh3d_block returns")
+    return blocks
+
+
 def merge_blocks(blocks):
     """One TetMesh from blocks that tile the lattice (any order): vertices and
     tetrahedra in the global order, the boundary found again; equal to
@@ -889,8 +925,4 @@ def merge_blocks(blocks):
     wrong for an empty list, a missing block (the cubes no block covers),
     blocks that overlap or a block given twice, and blocks of different
     lattices, face rules, alphas, inputs or options."""
-    blocks = list(blocks)
-    for i, b in enumerate(blocks):
-        if not isinstance(b, dict):
-            raise InputError(f"block {i} is a {type(b).__name__}, not a block: give the dicts mesh3d_block returns")
-    return TetMesh(_core.merge_tet_blocks(blocks))
+    return TetMesh(_core.merge_tet_blocks(_block_list(blocks)))

@@ -622,4 +622,34 @@ Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {
     return r;
 }
 
+void write_block_vtu(const TetBlock& b, const std::string& path, const VtuOptions& options) {
+    TetMesh m;
+    m.vertices.assign(b.vertices.begin(), b.vertices.end());
+    m.tets.assign(b.tets.begin(), b.tets.end());
+    m.region.resize(m.tets.size());
+    if (b.region.empty()) std::fill(m.region.begin(), m.region.end(), 1);
+    else std::copy(b.region.begin(), b.region.end(), m.region.begin());
+    m.region_names = b.region_names;
+    VtuOptions o = options;
+    o.point_global_ids = b.vertex_key, o.cell_global_ids = b.tet_key;
+    write_vtu(m, path, o);
+}
+
+std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options) {
+    if (const auto problem = tiling_problem(blocks)) throw InputError("the blocks do not make one mesh: " + *problem);
+    const std::size_t slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    std::string stem = path.substr(dir.size());
+    if (const std::size_t dot = stem.rfind('.'); dot != std::string::npos) stem.resize(dot);
+    std::vector<std::string> pieces;
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        char number[16];
+        std::snprintf(number, sizeof number, "_%04zu.vtu", i);
+        pieces.push_back(stem + number);
+        write_block_vtu(blocks[i], dir + pieces.back(), options);
+    }
+    write_pvtu(path, pieces);
+    return pieces;
+}
+
 }  // namespace warpmesh

@@ -44,6 +44,7 @@
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/core/tet_mesh.hpp"
 #include "warpmesh/io/volume.hpp"  // Volume, Units
+#include "warpmesh/io/writers.hpp"  // VtuOptions
 #include "warpmesh/levelset/levelset3.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
 #include "warpmesh/report/report3d.hpp"
@@ -189,6 +190,17 @@ Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
 // 2 covers most blocks; mesh3d_block refuses (InputError) a part that lacks
 // a voxel the block read, and a part of a volume in one-region mode (its
 // level set is a distance transform of the whole region).
+// Partitioned output, for meshes never merged in one process: a block as a
+// .vtu piece (its tetrahedra with their regions and its vertices; the
+// GlobalIds point and cell arrays hold their keys, equal in every piece that
+// shares a vertex — the merged mesh numbers its vertices in the keys' order),
+// and the blocks as pieces STEM_NNNN.vtu beside a .pvtu that lists them
+// (write_pvtu), written only if they tile one lattice exactly once
+// (InputError as merge_mesh3d_blocks; OutputError when a file cannot be
+// written).  write_blocks_pvtu returns the pieces' file names.
+void write_block_vtu(const TetBlock& block, const std::string& path, const VtuOptions& options = {});
+std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options = {});
+
 std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block,
                                                         std::int64_t halo = 2);
 
