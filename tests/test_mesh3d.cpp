@@ -290,6 +290,101 @@ BOOST_AUTO_TEST_CASE(blocks_merge_into_exactly_the_whole_mesh) {
     }
 }
 
+namespace {
+
+// The report of a mesh as JSON, its meshing time left out (the merge's is 0).
+std::string report_json(Mesh3dReport r) {
+    r.seconds = 0;
+    return to_json(r);
+}
+
+// A random partition of L's cubes: 0 to 2 random cuts along every axis.
+std::vector<CubeRange> random_partition(const Lattice3& L, std::mt19937& rng) {
+    std::array<std::vector<std::int64_t>, 3> cuts;
+    for (std::size_t a = 0; a < 3; ++a) {
+        std::set<std::int64_t> c{0, L.cubes[a]};
+        const int k = std::uniform_int_distribution<int>(0, 2)(rng);
+        for (int i = 0; i < k; ++i) c.insert(std::uniform_int_distribution<std::int64_t>(1, L.cubes[a] - 1)(rng));
+        cuts[a].assign(c.begin(), c.end());
+    }
+    std::vector<CubeRange> out;
+    for (std::size_t z = 0; z + 1 < cuts[2].size(); ++z)
+        for (std::size_t y = 0; y + 1 < cuts[1].size(); ++y)
+            for (std::size_t x = 0; x + 1 < cuts[0].size(); ++x)
+                out.push_back({{cuts[0][x], cuts[1][y], cuts[2][z]}, {cuts[0][x + 1], cuts[1][y + 1], cuts[2][z + 1]}});
+    return out;
+}
+
+}  // namespace
+
+// Issue 49 (a merge that cannot lose a piece): a random partition's blocks
+// merge into mesh3d's mesh and report (face rule, certified bounds and
+// counts, volume, dihedral extremes, non-manifold counts, boundary
+// fidelity); with any block dropped, given twice or shifted by a cube the
+// merge is refused, naming what is wrong; so are an empty list and blocks of
+// another spacing, face rule or input.
+BOOST_AUTO_TEST_CASE(merge_refuses_a_lost_repeated_or_shifted_block_and_reports_as_mesh3d) {
+    std::mt19937 rng(49);
+    const auto torus = parse_shape3("torus:0,0,0,1,0.4");
+    for (int trial = 0; trial < scaled(3); ++trial) {
+        Mesh3dOptions o;
+        o.spacing = 0.17;
+        if (trial == 1) o.face_rule = FaceRule::parity;
+        const Mesh3dResult whole = mesh3d(*torus, o);
+        const Lattice3 L = lattice3d(*torus, o);
+        std::vector<CubeRange> ranges;
+        while (ranges.size() < 2) ranges = random_partition(L, rng);
+        std::vector<TetBlock> blocks;
+        for (const CubeRange& r : ranges) blocks.push_back(mesh3d_block(*torus, o, r));
+        std::shuffle(blocks.begin(), blocks.end(), rng);
+        const Mesh3dResult merged = merge_mesh3d_blocks(blocks);
+        BOOST_TEST(same(merged.mesh, whole.mesh), "trial " << trial);
+        BOOST_TEST(report_json(merged.report) == report_json(whole.report), "trial " << trial);
+        BOOST_TEST(merged.report.quality.volume > 0);
+        BOOST_TEST(merged.report.certified);
+        BOOST_TEST(merged.warnings == whole.warnings);
+
+        const std::size_t k = std::uniform_int_distribution<std::size_t>(0, blocks.size() - 1)(rng);
+        std::vector<TetBlock> dropped = blocks;
+        dropped.erase(dropped.begin() + static_cast<std::ptrdiff_t>(k));
+        BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks(dropped); }, "are in no block"));
+        std::vector<TetBlock> twice = blocks;
+        twice.push_back(blocks[k]);
+        BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks(twice); }, "given twice"));
+        // Shifted by one cube along an axis where it fits in the lattice.
+        CubeRange r = blocks[k].range;
+        std::size_t a = 0;
+        while (r.hi[a] == L.cubes[a] && r.lo[a] == 0) ++a;
+        const std::int64_t step = r.hi[a] < L.cubes[a] ? 1 : -1;
+        r.lo[a] += step, r.hi[a] += step;
+        std::vector<TetBlock> shifted = blocks;
+        shifted[k] = mesh3d_block(*torus, o, r);
+        BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks(shifted); }, "overlap in the cubes"));
+    }
+    BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks({}); }, "no blocks to merge"));
+    Mesh3dOptions o;
+    o.spacing = 0.17;
+    const Lattice3 L = lattice3d(*torus, o);
+    const std::int64_t half = L.cubes[0] / 2;
+    const CubeRange left{{0, 0, 0}, {half, L.cubes[1], L.cubes[2]}}, right{{half, 0, 0}, L.cubes};
+    // Another face rule, another spacing, another shape on the same lattice.
+    Mesh3dOptions parity = o;
+    parity.face_rule = FaceRule::parity;
+    BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks(std::vector{mesh3d_block(*torus, o, left), mesh3d_block(*torus, parity, right)}); },
+                                      "face rules parity and delaunay"));
+    Mesh3dOptions finer = o;
+    finer.spacing = 0.16;
+    BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks(std::vector{mesh3d_block(*torus, o, left), mesh3d_block(*torus, finer, right)}); },
+                                      "different meshes: lattices spacing 0.16"));
+    const auto thinner = parse_shape3("torus:0,0,0,1,0.39");
+    BOOST_TEST(lattice3d(*thinner, o).cubes == L.cubes);
+    BOOST_TEST(input_error_containing([&] { merge_mesh3d_blocks(std::vector{mesh3d_block(*torus, o, left), mesh3d_block(*thinner, o, right)}); },
+                                      "different inputs"));
+    // The stage's merge makes the same checks (blocks not from the pipeline).
+    const std::vector<TetBlock> one{mesh_bcc_block(*torus, L, stage(o), left)};
+    BOOST_TEST(throws_containing<std::invalid_argument>([&] { merge_tet_blocks(one); }, "the cubes [(" + std::to_string(half)));
+}
+
 BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     // A ball of label 3 (radius 6 mm) and a slab of label 5 in a 24 x 20 x 16
     // volume with anisotropic spacing and a flipped, permuted orientation.

@@ -280,7 +280,22 @@ BOOST_AUTO_TEST_CASE(material_blocks_merge_into_the_pipeline_mesh) {
         same = merged.mesh.tets[t] == whole.mesh.tets[t] && merged.mesh.region[t] == whole.mesh.region[t];
     BOOST_TEST(same);
     BOOST_TEST(merged.mesh.interfaces.size() == whole.mesh.interfaces.size());
-    BOOST_TEST(merged.mesh.region_names.size() == whole.mesh.region_names.size());}
+    BOOST_TEST(merged.mesh.region_names.size() == whole.mesh.region_names.size());
+    // The merged mesh's report is mesh3d's (its meshing time aside):
+    // materials, junctions, certification, quality; here and with
+    // junctions, where three balls meet.
+    for (const std::string spec : {nested, std::string("1=sphere:0,0,0,1;2=sphere:0.9,0,0,0.6;3=sphere:0.5,0.5,0,0.5")}) {
+        const Mesh3dResult one = mesh3d(MaterialShapes3{spec}, o);
+        const Lattice3 M = lattice3d(MaterialShapes3{spec}, o);
+        const std::int64_t cut = M.cubes[2] / 3;
+        const std::vector<TetBlock> parts{mesh3d_block(MaterialShapes3{spec}, o, CubeRange{{0, 0, cut}, M.cubes}),
+                                          mesh3d_block(MaterialShapes3{spec}, o, CubeRange{{0, 0, 0}, {M.cubes[0], M.cubes[1], cut}})};
+        Mesh3dReport a = merge_mesh3d_blocks(parts).report, b = one.report;
+        a.seconds = b.seconds = 0;
+        BOOST_TEST(to_json(a) == to_json(b), spec);
+        if (spec != nested) BOOST_TEST(a.materials->junction_tets > 0);
+    }
+}
 
 // The quality without a level set is the quality with one, the boundary's
 // fidelity aside; the regions' volumes add up to it.

@@ -85,6 +85,48 @@ struct Volume3 {
     Volume volume;
 };
 
+// A volume's geometry and what its reader says of it, as a dict (the
+// Python Volume's attributes): spacing, origin, axes (axes[a] the unit
+// direction of index axis a: volume.hpp), physical, integer_valued, maxval,
+// format, space, source, warnings.
+py::dict volume_geometry(const Volume& v) {
+    py::dict d;
+    d["spacing"] = v.spacing, d["origin"] = v.origin, d["axes"] = v.axes;
+    d["physical"] = v.physical, d["integer_valued"] = v.integer_valued, d["maxval"] = v.maxval;
+    d["format"] = v.format, d["space"] = v.space, d["source"] = v.source, d["warnings"] = v.warnings;
+    return d;
+}
+
+// The geometry of a dict of volume_geometry's onto a volume (its values
+// set), refusing axes that are not a signed permutation (the readers').
+void set_volume_geometry(Volume& v, const py::dict& d) {
+    try {
+        v.spacing = d["spacing"].cast<Vec3>(), v.origin = d["origin"].cast<Vec3>();
+        v.axes = d["axes"].cast<std::array<Vec3, 3>>();
+        v.physical = d["physical"].cast<bool>(), v.integer_valued = d["integer_valued"].cast<bool>();
+        v.maxval = d["maxval"].cast<int>();
+        v.format = d["format"].cast<std::string>(), v.space = d["space"].cast<std::string>();
+        v.source = d["source"].cast<std::string>(), v.warnings = d["warnings"].cast<std::vector<std::string>>();
+    } catch (const py::error_already_set& e) {
+        throw InputError(std::string("a volume's geometry is incomplete: ") + e.what());
+    } catch (const py::cast_error& e) {
+        throw InputError(std::string("a volume's geometry has a value of the wrong type: ") + e.what());
+    }
+    for (const double s : v.spacing)
+        if (!(s > 0) || !std::isfinite(s)) throw InputError("a volume's spacing must be positive and finite");
+    std::array<bool, 3> used{};
+    for (Vec3& a : v.axes) {
+        const std::optional<Vec3> e = axis_aligned(a);
+        if (!e) throw InputError("a volume's axes must be axis-aligned (each +-e_x, +-e_y or +-e_z), as the readers accept");
+        for (std::size_t k = 0; k < 3; ++k)
+            if ((*e)[k] != 0) {
+                if (used[k]) throw InputError("a volume's axes must be a permutation of the coordinate axes");
+                used[k] = true;
+            }
+        a = *e;
+    }
+}
+
 // The pipeline's input: a shape string, a Volume3, a VolumeFile (a path) or
 // MaterialShapes3 ("T=S;T=S").
 Mesh3dInput mesh3d_input(const py::object& input) {
@@ -325,8 +367,8 @@ py::dict block_to_dict(TetBlock&& b) {
         const auto rows = heap->size();
         if constexpr (std::is_same_v<T, Point3>)
             return py::array_t<double>({rows, cols}, heap->empty() ? nullptr : &heap->front().x, owner);
-        else if constexpr (std::is_same_v<T, std::array<std::int32_t, 4>>)
-            return py::array_t<std::int32_t>({rows, cols}, heap->empty() ? nullptr : heap->front().data(), owner);
+        else if constexpr (requires { std::tuple_size<T>::value; })
+            return py::array_t<typename T::value_type>({rows, cols}, heap->empty() ? nullptr : heap->front().data(), owner);
         else return py::array_t<T>({rows}, heap->data(), owner);
     };
     py::dict d;
@@ -341,21 +383,108 @@ py::dict block_to_dict(TetBlock&& b) {
     py::list names;
     for (const auto& [tag, name] : b.region_names) names.append(py::make_tuple(tag, name));
     d["region_names"] = names;
+    // What the block is a part of, and what the merge's report needs.
+    d["lattice"] = py::dict(py::arg("spacing") = b.lattice.spacing,
+                            py::arg("origin") = std::array<double, 3>{b.lattice.origin.x, b.lattice.origin.y, b.lattice.origin.z},
+                            py::arg("cubes") = b.lattice.cubes);
+    d["lo"] = b.range.lo, d["hi"] = b.range.hi;
+    d["face_rule"] = std::string(face_rule_name(b.face_rule));
+    d["alphas"] = std::array<std::int64_t, 4>{b.alphas.long_num, b.alphas.long_den, b.alphas.short_num, b.alphas.short_den};
+    d["counts"] = std::array<std::int64_t, 6>{b.warped, b.all_zero_left_out, b.all_zero_filled, b.all_zero_voids,
+                                              b.junction_background_tets, b.junction_tets};
+    d["open_faces"] = owned(std::move(b.open_faces), 3);
+    const BlockFacts& f = b.facts;
+    py::list materials;
+    for (const BlockFacts::Material& m : f.materials) materials.append(py::make_tuple(m.tag, m.name, m.voxels, m.reference_volume));
+    d["facts"] = py::dict(py::arg("source") = f.source, py::arg("quality") = f.quality, py::arg("reference_volume") = f.reference_volume,
+                          py::arg("feature_size") = f.feature_size, py::arg("resolution") = f.resolution,
+                          py::arg("open_face_f") = owned(std::vector<std::array<double, 2>>(f.open_face_f), 2),
+                          py::arg("materials") = materials, py::arg("warnings") = f.warnings, py::arg("part") = f.part,
+                          py::arg("voxel_volume") = f.voxel_volume);
     return d;
 }
 
-// The scalar a row of T is made of (Point3: double; a tetrahedron: int32).
+// The scalar a row of T is made of (Point3: double; an array: its elements').
 template <class T>
-using Scalar = std::conditional_t<std::is_same_v<T, Point3>, double,
-                                  std::conditional_t<std::is_same_v<T, std::array<std::int32_t, 4>>, std::int32_t, T>>;
+struct ScalarOf {
+    using type = T;
+};
+template <>
+struct ScalarOf<Point3> {
+    using type = double;
+};
+template <class U, std::size_t N>
+struct ScalarOf<std::array<U, N>> {
+    using type = U;
+};
+template <class T>
+using Scalar = typename ScalarOf<T>::type;
+
+// d[name], or InputError naming the missing entry.
+py::object entry(const py::dict& d, const char* name) {
+    if (!d.contains(name))
+        throw InputError(std::string("a block without '") + name + "': give the dicts mesh3d_block returns, unchanged");
+    return d[name];
+}
 
 template <class T>
 std::vector<T> from_array(const py::dict& d, const char* name, std::size_t per) {
-    const auto a = d[name].cast<py::array_t<Scalar<T>, py::array::c_style | py::array::forcecast>>();
+    const auto a = entry(d, name).cast<py::array_t<Scalar<T>, py::array::c_style | py::array::forcecast>>();
     if (static_cast<std::size_t>(a.size()) % per) throw InputError(std::string("block array '") + name + "' has a bad shape");
     std::vector<T> out(static_cast<std::size_t>(a.size()) / per);
     if (!out.empty()) std::memcpy(out.data(), a.data(), out.size() * sizeof(T));
     return out;
+}
+
+// A block from its dict (block_to_dict's); InputError for a missing entry
+// or a value of the wrong type.
+TetBlock block_from_dict(const py::dict& d) {
+    TetBlock b;
+    try {
+        b.vertex_key = from_array<std::uint64_t>(d, "vertex_key", 1);
+        b.vertices = from_array<Point3>(d, "vertices", 3);
+        b.on_level_set = from_array<std::uint8_t>(d, "on_level_set", 1);
+        b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
+        b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
+        b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
+        b.region = from_array<std::int32_t>(d, "region", 1);
+        for (const auto& item : entry(d, "region_names").cast<py::list>()) {
+            const auto pair = item.cast<py::tuple>();
+            b.region_names.emplace_back(pair[0].cast<std::int32_t>(), pair[1].cast<std::string>());
+        }
+        const py::dict lattice = entry(d, "lattice").cast<py::dict>();
+        b.lattice.spacing = entry(lattice, "spacing").cast<double>();
+        const auto origin = entry(lattice, "origin").cast<std::array<double, 3>>();
+        b.lattice.origin = {origin[0], origin[1], origin[2]};
+        b.lattice.cubes = entry(lattice, "cubes").cast<std::array<std::int64_t, 3>>();
+        b.range = {entry(d, "lo").cast<std::array<std::int64_t, 3>>(), entry(d, "hi").cast<std::array<std::int64_t, 3>>()};
+        const auto rule = parse_face_rule(entry(d, "face_rule").cast<std::string>());
+        if (!rule) throw InputError("a block's face_rule is not parity or delaunay");
+        b.face_rule = *rule;
+        const auto a = entry(d, "alphas").cast<std::array<std::int64_t, 4>>();
+        b.alphas = {a[0], a[1], a[2], a[3]};
+        const auto c = entry(d, "counts").cast<std::array<std::int64_t, 6>>();
+        b.warped = c[0], b.all_zero_left_out = c[1], b.all_zero_filled = c[2], b.all_zero_voids = c[3];
+        b.junction_background_tets = c[4], b.junction_tets = c[5];
+        b.open_faces = from_array<std::array<std::int32_t, 3>>(d, "open_faces", 3);
+        const py::dict f = entry(d, "facts").cast<py::dict>();
+        BlockFacts& x = b.facts;
+        x.source = entry(f, "source").cast<std::string>();
+        x.quality = entry(f, "quality").cast<bool>();
+        x.reference_volume = entry(f, "reference_volume").cast<std::optional<double>>();
+        x.feature_size = entry(f, "feature_size").cast<double>(), x.resolution = entry(f, "resolution").cast<double>();
+        x.open_face_f = from_array<std::array<double, 2>>(f, "open_face_f", 2);
+        for (const auto& item : entry(f, "materials").cast<py::list>()) {
+            const auto m = item.cast<py::tuple>();
+            x.materials.push_back({m[0].cast<std::int32_t>(), m[1].cast<std::string>(), m[2].cast<std::optional<std::int64_t>>(),
+                                   m[3].cast<std::optional<double>>()});
+        }
+        x.warnings = entry(f, "warnings").cast<std::vector<std::string>>();
+        x.part = entry(f, "part").cast<bool>(), x.voxel_volume = entry(f, "voxel_volume").cast<double>();
+    } catch (const py::cast_error& e) {
+        throw InputError(std::string("a block with an entry of the wrong type (give the dicts mesh3d_block returns): ") + e.what());
+    }
+    return b;
 }
 
 // The block API (pipeline/mesh3d.hpp, "Blocks"): the lattice of an input,
@@ -385,25 +514,47 @@ void bind_blocks(py::module_& m) {
         },
         py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("options"));
     m.def(
+        "block_voxels",
+        [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, std::int64_t halo,
+           const py::dict& kw) {
+            const Mesh3dOptions o = mesh3d_options(kw);
+            const Mesh3dInput in = mesh3d_input(input);
+            py::gil_scoped_release release;
+            return block_voxels(in, o, CubeRange{lo, hi}, halo);
+        },
+        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("halo"), py::arg("options"));
+    // Partitioned output (pipeline/mesh3d.hpp): a block as a .vtu piece,
+    // blocks as pieces and their .pvtu, a .pvtu of pieces written elsewhere.
+    const auto vtu_options = [](bool compress) {
+        VtuOptions o;
+        if (compress) o.encoding = VtuOptions::Encoding::zlib;
+        return o;
+    };
+    m.def(
+        "write_block_vtu",
+        [vtu_options](const py::dict& d, const std::string& path, bool compress) {
+            const TetBlock b = block_from_dict(d);
+            py::gil_scoped_release release;
+            write_block_vtu(b, path, vtu_options(compress));
+        },
+        py::arg("block"), py::arg("path"), py::arg("compress"));
+    m.def(
+        "write_blocks_pvtu",
+        [vtu_options](const std::string& path, const std::vector<py::dict>& dicts, bool compress) {
+            std::vector<TetBlock> blocks;
+            for (const py::dict& d : dicts) blocks.push_back(block_from_dict(d));
+            py::gil_scoped_release release;
+            return write_blocks_pvtu(path, blocks, vtu_options(compress));
+        },
+        py::arg("path"), py::arg("blocks"), py::arg("compress"));
+    m.def(
+        "write_pvtu", [](const std::string& path, const std::vector<std::string>& pieces) { write_pvtu(path, pieces); },
+        py::arg("path"), py::arg("pieces"));
+    m.def(
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {
             std::vector<TetBlock> blocks;
-            for (const py::dict& d : dicts) {
-                TetBlock b;
-                b.vertex_key = from_array<std::uint64_t>(d, "vertex_key", 1);
-                b.vertices = from_array<Point3>(d, "vertices", 3);
-                b.on_level_set = from_array<std::uint8_t>(d, "on_level_set", 1);
-                b.tets = from_array<std::array<std::int32_t, 4>>(d, "tets", 4);
-                b.tet_key = from_array<std::uint64_t>(d, "tet_key", 1);
-                b.lattice_edge = from_array<std::uint8_t>(d, "lattice_edge", 1);
-                if (d.contains("region")) b.region = from_array<std::int32_t>(d, "region", 1);
-                if (d.contains("region_names"))
-                    for (const auto& item : d["region_names"].cast<py::list>()) {
-                        const auto pair = item.cast<py::tuple>();
-                        b.region_names.emplace_back(pair[0].cast<std::int32_t>(), pair[1].cast<std::string>());
-                    }
-                blocks.push_back(std::move(b));
-            }
+            for (const py::dict& d : dicts) blocks.push_back(block_from_dict(d));
             py::gil_scoped_release release;
             return merge_mesh3d_blocks(blocks);
         },
@@ -435,7 +586,8 @@ void bind_mesh3d(py::module_& m) {
 
     py::class_<Volume3>(m, "Volume3")
         .def(py::init([](const Voxels& a, bool integer_valued, std::optional<std::array<double, 3>> voxel_size,
-                         std::array<double, 3> origin) {
+                         std::array<double, 3> origin, std::optional<py::dict> geometry,
+                         std::optional<std::array<std::array<std::int64_t, 3>, 2>> part) {
                  if (a.ndim() != 3) throw InputError("the volume must be a 3D array (z, y, x)");
                  Volume3 v;
                  v.volume.dims = {a.shape(2), a.shape(1), a.shape(0)};
@@ -444,9 +596,13 @@ void bind_mesh3d(py::module_& m) {
                  v.volume.origin = origin, v.volume.physical = voxel_size.has_value();
                  v.volume.integer_valued = integer_valued;
                  v.volume.format = "numpy", v.volume.source = "the array";
+                 if (geometry) set_volume_geometry(v.volume, *geometry);
+                 // A part of a larger volume: (offset, whole dimensions), both (i, j, k).
+                 if (part) v.volume.part_offset = (*part)[0], v.volume.whole_dims = (*part)[1];
                  return v;
              }),
-             py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"));
+             py::arg("volume"), py::arg("integer_valued"), py::arg("voxel_size"), py::arg("origin"),
+             py::arg("geometry") = std::nullopt, py::arg("part") = std::nullopt);
     py::class_<VolumeFile>(m, "VolumeFile").def(py::init([](std::string path) { return VolumeFile{std::move(path)}; }), py::arg("path"));
     py::class_<MaterialShapes3>(m, "MaterialShapes3")
         .def(py::init([](std::string spec) { return MaterialShapes3{std::move(spec)}; }), py::arg("spec"));
@@ -555,6 +711,20 @@ void bind_read_image(py::module_& m) {
         },
         py::arg("path"), py::arg("slice") = std::nullopt, py::arg("units") = std::nullopt,
         py::arg("max_pixels") = default_max_pixels, py::arg("max_memory") = default_max_memory);
+    // (values, geometry): a volume as the command line reads it (read_volume:
+    // NRRD, NIfTI, TIFF, PGM, PNG), values a float64 array (z, y, x) that owns
+    // the decoded samples (no copy), geometry a dict of volume_geometry's.
+    m.def(
+        "read_volume",
+        [](const std::string& path, std::uint64_t max_voxels, std::uint64_t max_memory) {
+            auto v = std::make_unique<Volume>(read_volume(path, {max_voxels, max_memory}));
+            const std::array<py::ssize_t, 3> shape{v->dims[2], v->dims[1], v->dims[0]};
+            py::dict geometry = volume_geometry(*v);
+            double* data = v->values.data();
+            py::capsule owner(v.release(), [](void* p) { delete static_cast<Volume*>(p); });
+            return py::make_tuple(py::array_t<double>(shape, data, owner), geometry);
+        },
+        py::arg("path"), py::arg("max_voxels"), py::arg("max_memory"));
 }
 
 }  // namespace

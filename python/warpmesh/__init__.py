@@ -30,7 +30,10 @@ import numpy as np
 from . import _core
 from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
-__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "read_image",
+__all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "block_voxels", "mesh3d_block_read",
+           "write_blocks", "write_block", "write_pvtu",
+           "read_image", "read_volume",
+           "Volume",
            "write", "Mesh", "TetMesh", "Image", "InputError", "OptionError", "OutputError", "png_supported",
            "certified_table_available"]
 
@@ -105,6 +108,70 @@ def read_image(path, *, slice=None, units=None, max_pixels=_MAX_PIXELS, max_memo
     pixels, maxval, placement = _core.read_image(str(path), None if slice is None else str(slice), units,
                                                  _integer("max_pixels", max_pixels, 1), _max_memory(max_memory))
     return Image(pixels, maxval, path, placement)
+
+
+class Volume:
+    """A volume as read_volume() reads it (the CLI's reader): the samples and
+    where its voxels lie.
+
+      data        (nz, ny, nx) float64 array owning the samples: voxel (i, j, k)
+                  is data[k, j, i] (also np.asarray(volume))
+      spacing     (si, sj, sk) the voxel sizes along the index axes i, j, k
+                  (mm when physical, else 1)
+      origin      (x, y, z) of voxel (0, 0, 0)
+      direction   3x3 array whose column a is the unit direction of index axis
+                  a (ITK's direction matrix; only signed permutations: the
+                  readers refuse oblique volumes)
+      affine      4x4 voxel-to-world matrix: (x, y, z, 1) = affine @ (i, j, k, 1)
+      units       "mm" (physical: the file gives a voxel size) or "pixels"
+      integer_valued, format ("NRRD", "NIfTI-1", "TIFF", ...), source (the
+      path), warnings (what the reader accepted but says)
+
+    mesh3d(volume, ...) meshes it where the CLI meshes the file: the same
+    points and tetrahedra."""
+
+    def __init__(self, data, geometry):
+        self.data = data
+        self._geometry = dict(geometry)
+        g = self._geometry
+        self.spacing = tuple(float(x) for x in g["spacing"])
+        self.origin = tuple(float(x) for x in g["origin"])
+        self.direction = np.array(g["axes"], dtype=float).T
+        self.units = "mm" if g["physical"] else "pixels"
+        self.physical = bool(g["physical"])
+        self.integer_valued = bool(g["integer_valued"])
+        self.format, self.source, self.warnings = g["format"], g["source"], list(g["warnings"])
+
+    @property
+    def affine(self):
+        a = np.eye(4)
+        a[:3, :3] = self.direction * np.asarray(self.spacing)
+        a[:3, 3] = self.origin
+        return a
+
+    shape = property(lambda self: self.data.shape)
+    dtype = property(lambda self: self.data.dtype)
+
+    def __array__(self, dtype=None, copy=None):
+        return self.data if dtype is None else self.data.astype(dtype)
+
+    def __repr__(self):
+        nz, ny, nx = self.data.shape
+        return (f"<warpmesh.Volume {nx} x {ny} x {nz} voxels of {self.spacing} {self.units}, {self.format} "
+                f"'{self.source}'>")
+
+
+def read_volume(path, *, max_voxels=_MAX_PIXELS, max_memory=_MAX_MEMORY_MB):
+    """Read a volume the way the CLI's mesh3d reads it: NRRD (.nrrd, .nhdr),
+    NIfTI-1/2 (.nii, .nii.gz), multi-page TIFF (and PGM/PNG as one slice),
+    recognised by content.  Returns a Volume: the samples as a float64 numpy
+    array (z, y, x) with the voxel-to-world matrix (affine), spacing, origin
+    and direction.  mesh3d(read_volume(path), ...) gives the CLI's mesh of
+    the file.  max_voxels and max_memory (megabytes) refuse, before reading,
+    a volume that would not fit (the CLI's --max-pixels, --max-memory).
+    Raises InputError naming the file and the problem."""
+    data, geometry = _core.read_volume(os.fspath(path), _integer("max_voxels", max_voxels, 1), _max_memory(max_memory))
+    return Volume(data, geometry)
 
 
 class Mesh:
@@ -571,7 +638,22 @@ def _labels3(label, labels):
         raise InputError(f"labels must be an int, a list of ints or a string, got {label!r}") from None
 
 
-def _input3(volume, voxel_size, origin, options, shapes=None):
+def _part(region, volume):
+    """region=(start, shape) in numpy's (z, y, x) order as the library's
+    part: (offset, whole dimensions) in (i, j, k) order."""
+    try:
+        start, whole = (tuple(_integer("region", v, 0) for v in t) for t in region)
+    except (TypeError, ValueError):
+        raise InputError(f"region must be (start, shape): the part's first voxel (z, y, x) in the whole volume and the "
+                         f"whole's shape (nz, ny, nx), got {region!r}") from None
+    if len(start) != 3 or len(whole) != 3:
+        raise InputError(f"region must be (start, shape), each three integers (z, y, x), got {region!r}")
+    if any(s + n > w for s, n, w in zip(start, np.shape(volume), whole)):
+        raise InputError(f"the part (shape {np.shape(volume)} at {start}) does not lie in the whole volume of shape {whole}")
+    return start[::-1], whole[::-1]
+
+
+def _input3(volume, voxel_size, origin, options, shapes=None, region=None):
     """The pipeline's input: a shape string, material shapes (shapes=), a
     volume file (an os.PathLike path), or a numpy volume with its geometry
     (voxel_size, origin); a voxel_size given with a shape goes to the options
@@ -585,14 +667,21 @@ def _input3(volume, voxel_size, origin, options, shapes=None):
         volume = _core.MaterialShapes3(shapes)
     elif volume is None:
         raise InputError("give a volume (an array, a path or a shape string) or shapes=")
-    elif isinstance(volume, os.PathLike):
+    elif isinstance(volume, os.PathLike) or (isinstance(volume, str) and os.path.isfile(volume)):
         volume = _core.VolumeFile(os.fspath(volume))
+    if isinstance(volume, Volume):
+        if tuple(origin) != (0.0, 0.0, 0.0):
+            raise InputError("a Volume carries its origin (read_volume): give origin only with a numpy array")
+        if size is not None:
+            options["voxel_size"] = list(size)
+        return _core.Volume3(volume.data, volume.integer_valued, None, (0.0, 0.0, 0.0), volume._geometry)
     if isinstance(volume, (str, _core.MaterialShapes3, _core.VolumeFile)):
         if size is not None:
             options["voxel_size"] = list(size)
         return volume
     a, integer_valued = _volume(volume)
-    return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False))
+    part = None if region is None else _part(region, a)
+    return _core.Volume3(a, integer_valued, size, _triple("origin", origin, False), None, part)
 
 
 def _options3(function, values, label, labels, iso, inside, threads=None, materials=None):
@@ -629,9 +718,11 @@ def mesh3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, insi
                 * a 3D numpy array indexed (z, y, x), as SimpleITK's
                   GetArrayFromImage and tifffile give it: voxel (i, j, k) =
                   volume[k, j, i] lies at origin + (i sx, j sy, k sz);
-                * a volume file as a path (pathlib.Path or another
-                  os.PathLike: NRRD, NIfTI, multi-page TIFF, in mm when it
-                  gives a voxel size), as the CLI's INPUT;
+                * a volume file as a path (a str naming a file,
+                  pathlib.Path or another os.PathLike: NRRD, NIfTI,
+                  multi-page TIFF, in mm when it gives a voxel size), as the
+                  CLI's INPUT, or a Volume read_volume() read: the CLI's mesh
+                  of the file (its direction matrix too);
                 * a shape string as the CLI's --shape: sphere:cx,cy,cz,r
                   ellipsoid:cx,cy,cz,a,b,c  torus:cx,cy,cz,R,r
                   box:x0,y0,z0,x1,y1,z1  cylinder:x0,y0,z0,x1,y1,z1,r and
@@ -704,36 +795,134 @@ if mesh3d.__doc__:  # (None under python -OO)
 
 
 def lattice3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
-              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None):
+              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None, region=None):
     """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
     to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
-    (volumes, shape strings, materials= and shapes=)."""
+    (volumes, shape strings, materials= and shapes=); region as
+    mesh3d_block's (then any part will do: the lattice is the whole's)."""
     options = _options3(lattice3d, locals(), label, labels, iso, inside, materials=materials)
-    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes), options))
+    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes, region), options))
+
+
+def block_voxels(shape, lo, hi, *, halo=2, materials=None, spacing=None, background="drop", voxel_size=None,
+                 origin=(0.0, 0.0, 0.0)):
+    """The voxels a block of a label volume of `shape` (nz, ny, nx) reads,
+    as (start, stop) in (z, y, x) order: volume[z0:z1, y0:y1, x0:x1] is the
+    part to give mesh3d_block(part, lo, hi, region=(start, shape), ...).  The
+    block's cubes [lo, hi) grown by `halo` cubes (the window the block's
+    warping decisions are made in: 2 cubes, doubled while a decision in the
+    block depends on its edge), the voxel cells around it and their
+    3 x 3 x 3 neighbourhoods (the materials' phi), one voxel for rounding.
+    Several materials (materials= a label list) only; no voxel is read."""
+    shape = tuple(_integer("shape", n, 2) for n in shape)
+    options = _options3(block_voxels, locals(), None, None, None, None, materials=materials)
+    lo = tuple(_integer("lo", v, 0) for v in lo)
+    hi = tuple(_integer("hi", v, 1) for v in hi)
+    part = np.zeros((1, 1, 1), np.uint8)
+    box = _core.block_voxels(_input3(part, voxel_size, origin, options, None, ((0, 0, 0), shape)), lo, hi,
+                             _integer("halo", halo, 0), options)
+    return tuple(int(v) for v in box[0][::-1]), tuple(int(v) for v in box[1][::-1])
 
 
 def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None,
-                 shapes=None, background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None):
+                 shapes=None, background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None,
+                 region=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
-    arrays (picklable), for merge_blocks.  Blocks mesh independently (a
-    worker needs only its input); blocks that tile the lattice merge into
-    exactly mesh3d's mesh (with the same face_rule; several materials: with
-    their regions, interfaces and region names).  Arguments as mesh3d's
+    arrays (picklable), for merge_blocks, with the block's lattice
+    ("lattice": spacing, origin, cubes), range ("lo", "hi"), "face_rule",
+    "alphas" and the facts of its input the merged report needs.  Blocks mesh
+    independently (a worker needs only its input); blocks that tile the
+    lattice merge into exactly mesh3d's mesh and report (with the same
+    face_rule; several materials: with their regions, interfaces and region
+    names).  Arguments as mesh3d's
     (volumes, shape strings, materials= and shapes=; volume=None with
-    shapes=)."""
+    shapes=).
+
+    region=(start, shape): `volume` is only a part of a label volume of
+    `shape` (nz, ny, nx), starting at voxel `start` (z, y, x) of it (a slice
+    of a numpy memmap, a zarr or HDF5 region; origin is the whole's); with
+    materials= a label list, the block reads only this part — block_voxels
+    names the part it needs — and the blocks merge into exactly the whole
+    volume's mesh and report.  Raises InputError if the part lacks a voxel
+    the block read (take block_voxels with a larger halo)."""
     options = _options3(mesh3d_block, locals(), label, labels, iso, inside, materials=materials)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:
         raise InputError("lo and hi must be triples of cube indices")
-    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes), lo, hi, options)
+    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes, region), lo, hi, options)
+
+
+def mesh3d_block_read(read, shape, lo, hi, *, halo=2, **options):
+    """mesh3d_block of a block that reads only its part of a label volume of
+    `shape` (nz, ny, nx): read(start, stop) returns the voxels
+    volume[z0:z1, y0:y1, x0:x1] (a numpy memmap's, a zarr array's, an HDF5
+    dataset's slice), called with block_voxels' box, and again with twice the
+    halo while the block's window needs more.  Options as mesh3d_block's
+    (materials= a label list)."""
+    shape = tuple(int(n) for n in shape)
+    while True:
+        start, stop = block_voxels(shape, lo, hi, halo=halo, **{k: v for k, v in options.items() if k in _BLOCK_VOXELS})
+        part = read(start, stop)
+        try:
+            return mesh3d_block(part, lo, hi, region=(start, shape), **options)
+        except InputError as e:
+            if "part of the volume is too small" not in str(e) or (start == (0, 0, 0) and stop == shape):
+                raise
+            halo *= 2
+
+
+_BLOCK_VOXELS = ("materials", "spacing", "background", "voxel_size", "origin")
+
+
+def write_blocks(path, blocks, *, compress=False):
+    """Write blocks as a partitioned mesh, never merged in one process: one
+    .vtu piece per block (STEM_0000.vtu, ...: its tetrahedra, their
+    "region", its vertices; point and cell arrays "GlobalIds" hold the
+    vertices' and tetrahedra's global keys, equal wherever pieces share a
+    vertex) and the .pvtu at `path` listing them, which ParaView/VTK read as
+    one mesh.  The merged mesh (merge_blocks) numbers its vertices in the
+    keys' order.  Refused (InputError, nothing written) unless the blocks tile
+    one lattice exactly once.  Returns the pieces' file names."""
+    path = os.fspath(path)
+    if not path.lower().endswith(".pvtu"):
+        raise InputError(f"write_blocks writes a .pvtu (and its .vtu pieces), got {path!r}")
+    return list(_core.write_blocks_pvtu(path, _block_list(blocks), bool(compress)))
+
+
+def write_block(block, path, *, compress=False):
+    """Write one block as a .vtu piece (as write_blocks does), e.g. on the
+    worker that meshed it; write_pvtu(path, pieces) then lists the pieces."""
+    _core.write_block_vtu(_block_list([block])[0], os.fspath(path), bool(compress))
+
+
+def write_pvtu(path, pieces):
+    """The .pvtu listing .vtu pieces written by write_block (their names
+    relative to the .pvtu's folder)."""
+    _core.write_pvtu(os.fspath(path), [os.fspath(p) for p in pieces])
+
+
+def _block_list(blocks):
+    blocks = list(blocks)
+    for i, b in enumerate(blocks):
+        if not isinstance(b, dict):
+            raise InputError(f"block {i} is a {type(b).__name__}, not a block: give the dicts mesh3d_block returns")
+    return blocks
 
 
 def merge_blocks(blocks):
     """One TetMesh from blocks that tile the lattice (any order): vertices and
     tetrahedra in the global order, the boundary found again; equal to
-    mesh3d's mesh of the same input.  Its report has the counts only.
-    Raises InputError when the blocks do not fit together."""
-    return TetMesh(_core.merge_tet_blocks(list(blocks)))
+    mesh3d's mesh of the same input, and its report to mesh3d's (counts,
+    face rule, certified bounds, volume, dihedral extremes, radius ratios,
+    boundary fidelity, non-manifold counts, materials; but "seconds", and
+    "verified": blocks are not verified).
+
+    Every block carries its lattice, cube range ("lo", "hi"), face rule and
+    alphas, and what it was made from; raises InputError naming what is
+    wrong for an empty list, a missing block (the cubes no block covers),
+    blocks that overlap or a block given twice, and blocks of different
+    lattices, face rules, alphas, inputs or options."""
+    return TetMesh(_core.merge_tet_blocks(_block_list(blocks)))

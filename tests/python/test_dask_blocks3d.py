@@ -2,7 +2,10 @@
 blocks on a dask LocalCluster merges into exactly the single-process mesh —
 points, tetrahedra, boundary faces and tags, bit for bit — for two block
 sizes and either worker count, and for a shape in any block order; a block
-given twice and a block outside the lattice are refused."""
+given twice and a block outside the lattice are refused.  Issue 49: the
+blocks of a random partition of a label volume (one region, several
+materials) merge into mesh3d's mesh and report; drop, repeat or shift any
+block and the merge is refused, naming what is wrong."""
 import importlib.util
 
 import numpy as np
@@ -39,6 +42,23 @@ def test_blocks_on_a_local_cluster_equal_the_whole_mesh(root, workers, block):
     assert count == np.prod([-(-n // block) for n in cubes]) > 1
     assert len(whole.tetrahedra) > 1000
     assert same(merged, whole)
+    assert mod.same_report(merged, whole)
+
+
+def test_blocks_reading_their_parts_on_a_local_cluster(root, tmp_path):
+    """examples/dask_blocks3d.py --parts: every worker reads only its block's
+    part of a .npy memmap; the merge is the whole volume's mesh and report."""
+    distributed = require("distributed", "python3-distributed")
+    mod = load_example(root)
+    volume = mod.demo_volume(32)
+    np.save(tmp_path / "v.npy", volume)
+    options = {"materials": "1,2", "spacing": 1.1}
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        merged, count = mod.mesh_parts_in_blocks(client, tmp_path / "v.npy", 10, **options)
+    whole = warpmesh.mesh3d(volume, **options)
+    assert count > 8 and len(whole.tetrahedra) > 1000
+    assert same(merged, whole) and mod.same_report(merged, whole)
 
 
 def test_blocks_of_a_shape_in_any_order_and_a_gap_refused():
@@ -51,3 +71,133 @@ def test_blocks_of_a_shape_in_any_order_and_a_gap_refused():
         warpmesh.merge_blocks([blocks[0], blocks[0]])
     with pytest.raises(warpmesh.InputError, match="lattice"):
         warpmesh.mesh3d_block("torus:0,0,0,1,0.35", (0, 0, 0), (cubes[0] + 1, 1, 1), spacing=0.1)
+
+
+def kmeans_labels(n=22, k=4, seed=49):
+    """A label volume of k nearest-centre cells (labels 1..k) inside a ball,
+    0 outside: several materials meeting at junctions."""
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(3, n - 3, size=(k, 3))
+    z, y, x = np.indices((n, n, n)).astype(float)
+    d = np.stack([(x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2 for c in centres])
+    v = (np.argmin(d, axis=0) + 1).astype(np.uint8)
+    v[(x - n / 2) ** 2 + (y - n / 2) ** 2 + (z - n / 2) ** 2 > (0.42 * n) ** 2] = 0
+    return v
+
+
+def random_partition(cubes, rng):
+    """The [lo, hi) ranges of a random grid partition of the cubes (0 to 2
+    cuts along every axis), at least two blocks."""
+    while True:
+        cuts = [sorted({0, n, *rng.integers(1, n, size=rng.integers(0, 3))}) for n in cubes]
+        ranges = [((x0, y0, z0), (x1, y1, z1)) for z0, z1 in zip(cuts[2], cuts[2][1:]) for y0, y1 in zip(cuts[1], cuts[1][1:])
+                  for x0, x1 in zip(cuts[0], cuts[0][1:])]
+        if len(ranges) >= 2:
+            return [(tuple(int(v) for v in lo), tuple(int(v) for v in hi)) for lo, hi in ranges]
+
+
+def report_without_time(m):
+    r = dict(m.report)
+    r.pop("seconds")
+    return r
+
+
+@pytest.mark.parametrize("options", [{"label": [1, 3], "spacing": 1.3, "voxel_size": (1.0, 1.0, 1.2)},
+                                     {"materials": "all", "spacing": 1.0}])
+def test_merge_refuses_a_lost_repeated_or_shifted_block(options):
+    volume = kmeans_labels()
+    rng = np.random.default_rng(7)
+    whole = warpmesh.mesh3d(volume, **options)
+    cubes = warpmesh.lattice3d(volume, **options)
+    for trial in range(2):
+        ranges = random_partition(cubes, rng)
+        blocks = [warpmesh.mesh3d_block(volume, lo, hi, **options) for lo, hi in ranges]
+        order = rng.permutation(len(blocks))
+        merged = warpmesh.merge_blocks([blocks[i] for i in order])
+        assert same(merged, whole)
+        assert report_without_time(merged) == report_without_time(whole)
+        assert merged.certified == whole.certified and merged.report["quality"]["volume"] > 0 if "quality" in whole.report \
+            else merged.certified == whole.certified
+        k = int(rng.integers(len(blocks)))
+        lo, hi = ranges[k]
+        with pytest.raises(warpmesh.InputError, match=r"are in no block.*a block is missing"):
+            warpmesh.merge_blocks(blocks[:k] + blocks[k + 1:])
+        with pytest.raises(warpmesh.InputError, match=r"given twice"):
+            warpmesh.merge_blocks(blocks + [blocks[k]])
+        # Shifted by a cube along an axis where the block is not the lattice's whole width.
+        a = next(a for a in range(3) if hi[a] - lo[a] < cubes[a])
+        step = 1 if hi[a] < cubes[a] else -1
+        moved = [list(lo), list(hi)]
+        moved[0][a] += step
+        moved[1][a] += step
+        shifted = blocks[:k] + [warpmesh.mesh3d_block(volume, moved[0], moved[1], **options)] + blocks[k + 1:]
+        with pytest.raises(warpmesh.InputError, match=r"overlap in the cubes"):
+            warpmesh.merge_blocks(shifted)
+    with pytest.raises(warpmesh.InputError, match="no blocks to merge"):
+        warpmesh.merge_blocks([])
+
+
+def test_merge_refuses_blocks_of_different_meshes():
+    volume = kmeans_labels()
+    cubes = warpmesh.lattice3d(volume, label=1, spacing=1.5)
+    half = cubes[0] // 2
+    left, right = ((0, 0, 0), (half, cubes[1], cubes[2])), ((half, 0, 0), cubes)
+    a = warpmesh.mesh3d_block(volume, *left, label=1, spacing=1.5)
+    # Another distance band: the same lattice, another level set.
+    with pytest.raises(warpmesh.InputError, match="different inputs"):
+        warpmesh.merge_blocks([a, warpmesh.mesh3d_block(volume, *right, label=1, spacing=1.5, band=6)])
+    with pytest.raises(warpmesh.InputError, match="face rules parity and delaunay"):
+        warpmesh.merge_blocks([a, warpmesh.mesh3d_block(volume, *right, label=1, spacing=1.5, face_rule="parity")])
+    with pytest.raises(warpmesh.InputError, match="lattices spacing 1.4"):
+        warpmesh.merge_blocks([a, warpmesh.mesh3d_block(volume, *right, label=1, spacing=1.4)])
+    broken = dict(a)
+    del broken["facts"]
+    with pytest.raises(warpmesh.InputError, match="a block without 'facts'"):
+        warpmesh.merge_blocks([broken])
+    with pytest.raises(warpmesh.InputError, match="not a block"):
+        warpmesh.merge_blocks([a, "b"])
+
+
+@pytest.mark.parametrize("options", [{"materials": "1,2,3,4", "spacing": 1.0},
+                                     {"materials": "2,4", "background": "keep", "spacing": 1.3,
+                                      "voxel_size": (1.0, 0.9, 1.2), "origin": (5.0, -3.0, 2.0)}])
+def test_blocks_that_read_only_their_part_merge_into_the_whole_mesh(tmp_path, options):
+    """Issue 49, item 1: each block reads only the voxels block_voxels names
+    (a region of a .npy memmap) and is meshed from that part; the blocks
+    merge into exactly the whole volume's mesh and report."""
+    path = tmp_path / "labels.npy"
+    np.save(path, kmeans_labels(26))
+    volume = np.load(path, mmap_mode="r")
+    whole = warpmesh.mesh3d(np.asarray(volume), **options)
+    cubes = warpmesh.lattice3d(volume[:2, :2, :2], region=((0, 0, 0), volume.shape), **options)
+    assert cubes == warpmesh.lattice3d(np.asarray(volume), **options)
+    read = []
+
+    def region(start, stop):
+        read.append(int(np.prod(np.subtract(stop, start))))
+        return volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2]]
+
+    halves = [[(0, n // 2), (n // 2, n)] for n in cubes]
+    ranges = [((x[0], y[0], z[0]), (x[1], y[1], z[1])) for x in halves[0] for y in halves[1] for z in halves[2]]
+    blocks = [warpmesh.mesh3d_block_read(region, volume.shape, lo, hi, **options) for lo, hi in ranges]
+    assert max(read) < 0.6 * volume.size
+    merged = warpmesh.merge_blocks(blocks)
+    assert same(merged, whole) and merged.region_names == whole.region_names
+    assert np.array_equal(merged.interfaces, whole.interfaces)
+    assert report_without_time(merged) == report_without_time(whole)
+    # A part too small for its block is refused, naming what it needs.
+    lo, hi = (0, 0, 0), (cubes[0] // 2, cubes[1], cubes[2])
+    start, stop = warpmesh.block_voxels(volume.shape, lo, hi, **options)
+    small = volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2] - 4]
+    with pytest.raises(warpmesh.InputError, match="too small"):
+        warpmesh.mesh3d_block(small, lo, hi, region=(start, volume.shape), **options)
+
+
+def test_a_part_needs_listed_materials():
+    volume = kmeans_labels()
+    with pytest.raises(warpmesh.InputError, match="materials only"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), label=1, spacing=1.0)
+    with pytest.raises(warpmesh.InputError, match="needs its materials listed"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), materials="all")
+    with pytest.raises(warpmesh.InputError, match="does not lie in the whole"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((15, 0, 0), volume.shape), materials="1,2")

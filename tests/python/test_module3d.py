@@ -124,3 +124,68 @@ def test_face_rule_delaunay_gives_the_cli_mesh_and_blocks_merge_into_it(tmp_path
 def test_bad_arguments_raise_input_error(call, message):
     with pytest.raises(warpmesh.InputError, match=message):
         call()
+
+
+def nifti1(path, volume, affine):
+    """A minimal single-file NIfTI-1 (.nii) of a uint8 volume (z, y, x) with
+    an sform voxel-to-world matrix (the qform left unset)."""
+    import struct
+    nz, ny, nx = volume.shape
+    h = bytearray(352)
+    struct.pack_into("<i", h, 0, 348)
+    struct.pack_into("<8h", h, 40, 3, nx, ny, nz, 1, 1, 1, 1)
+    struct.pack_into("<hh", h, 70, 2, 8)  # datatype uint8, bitpix
+    spacing = np.linalg.norm(affine[:3, :3], axis=0)
+    struct.pack_into("<8f", h, 76, 1.0, *spacing, 1, 1, 1, 1)
+    struct.pack_into("<fff", h, 108, 352.0, 1.0, 0.0)  # vox_offset, scl_slope, scl_inter
+    h[123] = 2  # xyzt_units: mm
+    struct.pack_into("<hh", h, 252, 0, 1)  # qform_code, sform_code
+    for r in range(3):
+        struct.pack_into("<4f", h, 280 + 16 * r, *affine[r])
+    h[344:348] = b"n+1\0"
+    path.write_bytes(bytes(h) + np.ascontiguousarray(volume, dtype=np.uint8).tobytes())
+
+
+@pytest.mark.parametrize("fixture", ["nrrd", "nifti"])
+def test_read_volume_gives_the_cli_mesh(root, tmp_path, fixture):
+    """Issue 49, item 6: read_volume reads a file as the CLI does (its samples
+    and voxel-to-world matrix: the bundled crop's permuted, flipped NRRD
+    directions, a NIfTI's sform), and mesh3d of what it returns — or of the
+    path as a str — is the CLI's mesh of the file, point for point."""
+    meshio = require("meshio", "python3-meshio")
+    if fixture == "nrrd":
+        path = root / "tests" / "data" / "brain_crop22_labels.nrrd"
+        options, flags = {"label": 26, "spacing": 1.5}, ["--label", "26", "--spacing", "1.5"]
+    else:
+        path = tmp_path / "ball.nii"
+        affine = np.array([[0, 0, -1.5, 40], [1.25, 0, 0, -7], [0, 1, 0, 3], [0, 0, 0, 1]], float)
+        nifti1(path, ball((20, 22, 24), 6.5, 4), affine)
+        options, flags = {"label": 4}, ["--label", "4"]
+    v = warpmesh.read_volume(path)
+    assert v.units == "mm" and v.integer_valued and v.source == str(path)
+    if fixture == "nrrd":
+        assert v.shape == (22, 22, 22) and v.format == "NRRD"
+        # space directions (0,1,0) (0,0,-1) (1,0,0), origin (2,-33,5): voxel (i, j, k) at (2 + k, -33 + i, 5 - j).
+        assert np.array_equal(v.affine, [[0, 0, 1, 2], [1, 0, 0, -33], [0, -1, 0, 5], [0, 0, 0, 1]])
+        assert (np.asarray(v) == 26).sum() > 100
+    else:
+        assert np.allclose(v.affine, affine) and v.format == "NIfTI-1"
+        assert np.array_equal(np.asarray(v), ball((20, 22, 24), 6.5, 4))
+    subprocess.run([executable("WARPMESH_EXE"), "mesh3d", str(path), *flags, "-o", tmp_path / "cli.vtu", "--quiet"],
+                   check=True, timeout=120)
+    cli = meshio.read(tmp_path / "cli.vtu")
+    for t in (warpmesh.mesh3d(v, **options), warpmesh.mesh3d(str(path), **options)):
+        assert len(t.tetrahedra) > 500
+        assert np.array_equal(cli.points, t.points) and np.array_equal(cli.cells_dict["tetra"], t.tetrahedra)
+    # The bare array with spacing and origin but no direction is another mesh (the issue's 245 054 against 245 169).
+    bare = warpmesh.mesh3d(np.asarray(v), voxel_size=v.spacing, origin=v.origin, **options)
+    assert bare.points.shape != cli.points.shape or not np.array_equal(bare.points, cli.points)
+    # Blocks of a Volume merge into the same mesh.
+    cubes = warpmesh.lattice3d(v, **options)
+    blocks = [warpmesh.mesh3d_block(v, lo, hi, **options)
+              for lo, hi in [((0, 0, 0), (cubes[0] // 2, cubes[1], cubes[2])), ((cubes[0] // 2, 0, 0), cubes)]]
+    assert np.array_equal(warpmesh.merge_blocks(blocks).points, cli.points)
+    with pytest.raises(warpmesh.InputError, match="carries its origin"):
+        warpmesh.mesh3d(v, origin=(1, 2, 3), **options)
+    with pytest.raises(warpmesh.InputError, match="brain_crop22|no such|cannot"):
+        warpmesh.read_volume(tmp_path / "brain_crop22_missing.nrrd")

@@ -102,7 +102,7 @@ struct Sections {
     std::vector<Array> points, cells, point_data, cell_data;
 };
 
-Sections arrays_of(const detail::MeshView& mesh, const std::vector<std::int32_t>& markers) {
+Sections arrays_of(const detail::MeshView& mesh, const std::vector<std::int32_t>& markers, const VtuOptions& o) {
     const detail::Cells cells = mesh.cells;
     const std::size_t nv = mesh.num_vertices, nt = cells.size();
     const auto per = static_cast<std::int64_t>(cells.kind.nodes);
@@ -126,6 +126,14 @@ Sections arrays_of(const detail::MeshView& mesh, const std::vector<std::int32_t>
     s.point_data.push_back(direct("Int32", "boundary_marker", 1, nv, markers.data()));
     s.cell_data.push_back(direct("Int32", "region", 1, nt, mesh.region.data()));
     for (const auto& [name, values] : mesh.cell_data) s.cell_data.push_back(direct("Float64", name, 1, nt, values.data()));
+    if (!o.point_global_ids.empty() || !o.cell_global_ids.empty()) {
+        if (o.point_global_ids.size() != nv || o.cell_global_ids.size() != nt)
+            throw OutputError("the global ids of a .vtu piece must be one per point and one per cell");
+        const std::uint64_t* pid = o.point_global_ids.data();
+        const std::uint64_t* cid = o.cell_global_ids.data();
+        s.point_data.push_back(scalars<std::int64_t>("Int64", "GlobalIds", nv, [pid](std::size_t i) { return static_cast<std::int64_t>(pid[i]); }));
+        s.cell_data.push_back(scalars<std::int64_t>("Int64", "GlobalIds", nt, [cid](std::size_t i) { return static_cast<std::int64_t>(cid[i]); }));
+    }
     return s;
 }
 
@@ -162,8 +170,11 @@ void put_xml(std::ostream& os, const detail::MeshView& mesh, const Sections& s, 
     }
     section("      <Points>\n", "      </Points>\n", s.points);
     section("      <Cells>\n", "      </Cells>\n", s.cells);
-    section("      <PointData Scalars=\"boundary_marker\">\n", "      </PointData>\n", s.point_data);
-    section("      <CellData Scalars=\"region\">\n", "      </CellData>\n", s.cell_data);
+    const bool ids = s.point_data.size() > 1;  // the global ids follow boundary_marker
+    section(ids ? "      <PointData Scalars=\"boundary_marker\" GlobalIds=\"GlobalIds\">\n" : "      <PointData Scalars=\"boundary_marker\">\n",
+            "      </PointData>\n", s.point_data);
+    section(ids ? "      <CellData Scalars=\"region\" GlobalIds=\"GlobalIds\">\n" : "      <CellData Scalars=\"region\">\n",
+            "      </CellData>\n", s.cell_data);
     const std::string_view end = "    </Piece>\n  </UnstructuredGrid>\n";
     detail::write_bytes(os, end.data(), end.size());
 }
@@ -277,7 +288,7 @@ void write_zlib(std::ostream& os, const detail::MeshView& mesh, const Sections& 
 void write_view(const detail::MeshView& mesh, std::ostream& os, const VtuOptions& options) {
     detail::check_mesh_arrays(mesh, "<vtu stream>");
     const auto markers = detail::vertex_markers(mesh, detail::facet_groups(mesh));
-    const Sections s = arrays_of(mesh, markers);
+    const Sections s = arrays_of(mesh, markers, options);
     switch (options.encoding) {
         case VtuOptions::Encoding::raw: write_raw(os, mesh, s); break;
         case VtuOptions::Encoding::zlib: write_zlib(os, mesh, s); break;
@@ -297,6 +308,21 @@ void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& opti
 }
 void write_vtu(const TetMesh& mesh, const std::string& path, const VtuOptions& options) {
     detail::write_mesh_file(mesh, path, [&](const detail::MeshView& v, std::ostream& os) { write_view(v, os, options); });
+}
+
+void write_pvtu(const std::string& path, std::span<const std::string> pieces) {
+    write_file_atomically(path, [&](std::ostream& os) {
+    os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+          "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n"
+          "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n"
+          "    <PPointData Scalars=\"boundary_marker\" GlobalIds=\"GlobalIds\">\n"
+          "      <PDataArray type=\"Int32\" Name=\"boundary_marker\"/>\n      <PDataArray type=\"Int64\" Name=\"GlobalIds\"/>\n"
+          "    </PPointData>\n    <PCellData Scalars=\"region\" GlobalIds=\"GlobalIds\">\n"
+          "      <PDataArray type=\"Int32\" Name=\"region\"/>\n      <PDataArray type=\"Int64\" Name=\"GlobalIds\"/>\n"
+          "    </PCellData>\n";
+    for (const std::string& piece : pieces) os << "    <Piece Source=\"" << detail::xml_escape(piece) << "\"/>\n";
+    os << "  </PUnstructuredGrid>\n</VTKFile>\n";
+    });
 }
 
 }  // namespace warpmesh

@@ -4,6 +4,7 @@
 // labels, and cut points as zeros of phi_a − phi_b.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -28,6 +29,7 @@ public:
     std::string name(int m) const override { return m == 0 ? "background" : "label_" + std::to_string(tag(m)); }
     Box3 bounds() const override { return bounds_; }
     std::string describe() const override { return "materials " + spec_ + " of '" + source_ + "'"; }
+    bool read_outside_part() const override { return outside_.load(); }
     double resolution() const override { return resolution_; }
     std::optional<double> reference_volume(int m) const override {
         return static_cast<double>(voxels_[static_cast<std::size_t>(m)]) * voxel_volume_;
@@ -48,7 +50,16 @@ private:
             if (!(x[a] >= 0 && x[a] <= static_cast<double>(n_[a] - 1))) return false;
         return true;
     }
-    std::int64_t at(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + n_[0] * (j + n_[1] * k); }
+    // The material index of whole-volume voxel (i, j, k): of a part, the
+    // background (flagged) outside it.
+    std::uint16_t mat(std::int64_t i, std::int64_t j, std::int64_t k) const {
+        i -= off_[0], j -= off_[1], k -= off_[2];
+        if (part_ && !(i >= 0 && j >= 0 && k >= 0 && i < pn_[0] && j < pn_[1] && k < pn_[2])) {
+            outside_.store(true, std::memory_order_relaxed);
+            return 0;
+        }
+        return mat_[static_cast<std::size_t>(i + pn_[0] * (j + pn_[1] * k))];
+    }
     // D_m (materials3.hpp) at the 8 corners of cell c (corner q = (i + (q & 1),
     // j + (q >> 1 & 1), k + (q >> 2))) for each material ms[m] (at most 8), in out[m].
     void corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const;
@@ -61,7 +72,11 @@ private:
         }
     }
 
-    std::array<std::int64_t, 3> n_{};
+    std::array<std::int64_t, 3> n_{};  // the (whole) volume's voxels
+    // A part (Volume::is_part): its voxels and offset in the whole.
+    bool part_ = false;
+    std::array<std::int64_t, 3> pn_{}, off_{0, 0, 0};
+    mutable std::atomic<bool> outside_{false};
     std::array<std::size_t, 3> axis_{};  // the physical axis of index axis a
     std::array<double, 3> sign_{}, spacing_{}, origin_{};
     std::vector<std::uint16_t> mat_;          // per voxel
@@ -73,7 +88,13 @@ private:
 };
 
 VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std::uint64_t max_memory)
-    : n_(v.dims), source_(v.source), spec_(spec) {
+    : n_(v.is_part() ? v.whole_dims : v.dims), part_(v.is_part()), pn_(v.dims), off_(v.part_offset), source_(v.source), spec_(spec) {
+    if (part_ && spec == "all")
+        throw InputError("volume '" + source_ + "': a part of a volume needs its materials listed (materials all depends on the "
+                         "whole volume's labels)");
+    for (std::size_t a = 0; a < 3; ++a)
+        if (part_ && !(off_[a] >= 0 && v.dims[a] >= 1 && off_[a] + v.dims[a] <= n_[a]))
+            throw InputError("volume '" + source_ + "': the part does not lie in the whole volume");
     for (std::size_t a = 0; a < 3; ++a)
         if (n_[a] < 2)
             throw InputError("volume '" + source_ + "': multi-material meshing needs at least 2 voxels along every axis (got " +
@@ -84,13 +105,17 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
     for (std::size_t q = 0; q < v.values.size(); ++q) {
         const double x = v.values[q];
         if (!(x >= 0 && x <= 65535 && x == std::floor(x))) {
-            const std::int64_t i = static_cast<std::int64_t>(q) % n_[0], j = static_cast<std::int64_t>(q) / n_[0] % n_[1],
-                               k = static_cast<std::int64_t>(q) / (n_[0] * n_[1]);
+            const std::int64_t i = off_[0] + static_cast<std::int64_t>(q) % pn_[0], j = off_[1] + static_cast<std::int64_t>(q) / pn_[0] % pn_[1],
+                               k = off_[2] + static_cast<std::int64_t>(q) / (pn_[0] * pn_[1]);
             throw InputError("volume '" + source_ + "': materials need integer labels in 0..65535, but voxel (" + std::to_string(i) +
                              ", " + std::to_string(j) + ", " + std::to_string(k) + ") is " + std::to_string(x));
         }
         ++hist[static_cast<std::size_t>(x)];
     }
+    // A part need not hold every listed label: the whole has them.
+    if (part_)
+        for (const int l : parse_label_list(spec))
+            if (l > 0 && l < 65536) ++hist[static_cast<std::size_t>(l)];
     const std::vector<int> labels = select_material_labels(hist, spec, {"volume '" + source_ + "'", "materials", "voxel", "volume"});
     std::vector<std::uint16_t> material_of(65536, 0);
     tags_.push_back(0);
@@ -132,7 +157,7 @@ void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::sp
             for (int x = -1; x <= 2; ++x) {
                 const std::int64_t i = c[0] + x, j = c[1] + y, k = c[2] + z;
                 const bool in = i >= 0 && j >= 0 && k >= 0 && i < n_[0] && j < n_[1] && k < n_[2];
-                block[static_cast<std::size_t>((z + 1) * 16 + (y + 1) * 4 + (x + 1))] = in ? mat_[static_cast<std::size_t>(at(i, j, k))] : -1;
+                block[static_cast<std::size_t>((z + 1) * 16 + (y + 1) * 4 + (x + 1))] = in ? mat(i, j, k) : -1;
             }
     // The 26 neighbours' offsets in the block and their squared distances.
     static constexpr auto neighbours = [] {
@@ -178,7 +203,7 @@ int VolumeMaterials3::material_at(Point3 p) const {
     Index3 f{};
     cell_of(x, c, f);
     std::array<int, 8> corner{};
-    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat_[static_cast<std::size_t>(at(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2)))];
+    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2));
     if (std::all_of(corner.begin(), corner.end(), [&](int m) { return m == corner[0]; })) return corner[0];
     // The candidates: the corners' materials; the smallest phi wins.
     std::array<int, 8> cand{};

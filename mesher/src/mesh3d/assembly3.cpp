@@ -1,6 +1,8 @@
 // assembly3.cpp — stage 6: the mesh from the emitted tetrahedra (boundary
 // faces, tags, interfaces), the whole-lattice mesher mesh_bcc, and blocks
-// (their windows, for one region and for several materials) and their merge.
+// (their windows, for one region and for several materials; their own
+// counts and open faces) and their merge (after tiling3.cpp's check that
+// they tile one lattice exactly once).
 //
 // Boundary faces.  A face of an output tetrahedron is on the boundary iff no
 // other output tetrahedron has it.  By the stencils' construction a face can
@@ -159,9 +161,20 @@ void check_block(const Lattice3& lattice, const CubeRange& block, const std::str
             throw InputError(what + ": the block is not a range of the lattice's cubes");
 }
 
-TetBlock make_block(std::vector<std::uint64_t>&& vertex_key, std::span<const Point3> vertices, std::vector<std::uint8_t>&& on,
-                    std::span<const std::array<std::int32_t, 4>> tets, std::vector<std::uint64_t>&& tet_key, std::span<const CutOff> cut_off) {
+TetBlock make_block(const Window& w, const CubeRange& range, const BccOptions& o, std::vector<std::uint64_t>&& vertex_key,
+                    std::span<const Point3> vertices, std::vector<std::uint8_t>&& on, std::span<const std::array<std::int32_t, 4>> tets,
+                    std::vector<std::uint64_t>&& tet_key, std::span<const CutOff> cut_off) {
     TetBlock b;
+    b.lattice = w.grid.lattice, b.range = range, b.face_rule = o.face_rule, b.alphas = o.alphas;
+    for (const auto& [p, position] : w.warped) {
+        const bcc::Ivec q = w.grid.point(p);
+        bool own = true;
+        for (std::size_t a = 0; a < 3; ++a) {
+            const std::int64_t c = std::min<std::int64_t>(q[a] / 2, b.lattice.cubes[a] - 1);
+            own = own && c >= range.lo[a] && c < range.hi[a];
+        }
+        b.warped += own;
+    }
     b.vertex_key = std::move(vertex_key);
     b.vertices.assign(vertices.begin(), vertices.end());
     b.on_level_set = std::move(on);
@@ -240,7 +253,14 @@ TetBlock mesh_bcc_block(const LevelSet3& f, const Lattice3& lattice, const BccOp
     const ThreadCount threads(o.threads);
     const Window w = block_window(lattice, block, [&](Window& win) { prepare(f, o, true, win); });
     Emitted e = emit_tets(w, block, true, o.max_memory, o.face_rule);
-    return make_block(std::move(e.vertex_key), e.vertices, std::move(e.on_level_set), e.tets, std::move(e.tet_key), e.cut_off);
+    TetBlock b = make_block(w, block, o, std::move(e.vertex_key), e.vertices, std::vector<std::uint8_t>(e.on_level_set), e.tets,
+                            std::move(e.tet_key), e.cut_off);
+    b.all_zero_left_out = e.all_zero_left_out;
+    // The block's own boundary: its level-set faces are the open ones.
+    TetMesh own = to_mesh(std::move(e));
+    for (std::size_t i = 0; i < own.boundary.size(); ++i)
+        if (own.boundary_tag[i] == boundary_level_set) b.open_faces.push_back(own.boundary[i]);
+    return b;
 }
 
 namespace {
@@ -280,9 +300,39 @@ std::vector<std::pair<std::int32_t, std::string>> merged_region_names(std::span<
     return blocks.empty() ? std::vector<std::pair<std::int32_t, std::string>>{} : blocks.front().region_names;
 }
 
+// Throws unless a block's arrays agree in length and index its vertices,
+// and every tetrahedron lies in one of its cubes (its key names its
+// background tetrahedron's cube: 48 c + 4 i + k for one region, 24 (12 c +
+// i) + k for several materials).
+void check_block_arrays(std::span<const TetBlock> blocks) {
+    for (std::size_t n = 0; n < blocks.size(); ++n) {
+        const TetBlock& b = blocks[n];
+        const std::size_t V = b.vertices.size(), T = b.tets.size();
+        bool ok = b.vertex_key.size() == V && b.on_level_set.size() == V && b.tet_key.size() == T && b.lattice_edge.size() == T &&
+                  (b.region.empty() || b.region.size() == T);
+        for (const auto& t : b.tets)
+            for (const std::int32_t v : t) ok = ok && v >= 0 && static_cast<std::size_t>(v) < V;
+        for (const auto& f : b.open_faces)
+            for (const std::int32_t v : f) ok = ok && v >= 0 && static_cast<std::size_t>(v) < V;
+        if (!ok) throw std::invalid_argument("merge_tet_blocks: block " + std::to_string(n) + "'s arrays do not fit together");
+        const std::array<std::int64_t, 3>& C = b.lattice.cubes;
+        const std::uint64_t per_cube = b.region.empty() ? 48 : 288;
+        for (const std::uint64_t key : b.tet_key) {
+            const std::int64_t c = static_cast<std::int64_t>(key / per_cube);
+            const std::array<std::int64_t, 3> x{c % C[0], c / C[0] % C[1], c / (C[0] * C[1])};
+            for (std::size_t a = 0; a < 3; ++a)
+                if (x[a] < b.range.lo[a] || x[a] >= b.range.hi[a])
+                    throw std::invalid_argument("merge_tet_blocks: block " + std::to_string(n) +
+                                                " has a tetrahedron outside its cube range (a block altered after it was made)");
+        }
+    }
+}
+
 }  // namespace
 
-TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
+BccMesh merge_bcc_blocks(std::span<const TetBlock> blocks) {
+    if (const auto problem = tiling_problem(blocks)) throw std::invalid_argument(*problem);
+    check_block_arrays(blocks);
     const std::vector<KeyedVertex> unique = merged_vertices(blocks);
     struct T {
         std::uint64_t key;
@@ -290,7 +340,8 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
         std::int32_t region;
         std::uint8_t cut_off;
     };
-    TetMesh m;
+    BccMesh r;
+    TetMesh& m = r.mesh;
     m.region_names = merged_region_names(blocks);
     std::vector<T> ts;
     for (const TetBlock& b : blocks)
@@ -319,7 +370,19 @@ TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) {
         if (ts[i].cut_off) cut_off.push_back({static_cast<std::int64_t>(i), ts[i].cut_off});
     }
     uniform3d::find_boundary(m, on, cut_off);
-    return m;
+    const Lattice3& L = blocks.front().lattice;
+    const std::uint64_t P = static_cast<std::uint64_t>(L.point_count());
+    r.lattice_points = L.point_count();
+    r.background_tets = 12 * L.cubes[0] * L.cubes[1] * L.cubes[2];
+    for (const KeyedVertex& v : unique) r.cut_points += v.key >= P && v.key < 8 * P;
+    for (const TetBlock& b : blocks) {
+        r.warped += b.warped, r.all_zero_left_out += b.all_zero_left_out;
+        r.all_zero_filled += b.all_zero_filled, r.all_zero_voids += b.all_zero_voids;
+        r.junction_background_tets += b.junction_background_tets, r.junction_tets += b.junction_tets;
+    }
+    return r;
 }
+
+TetMesh merge_tet_blocks(std::span<const TetBlock> blocks) { return merge_bcc_blocks(blocks).mesh; }
 
 }  // namespace warpmesh

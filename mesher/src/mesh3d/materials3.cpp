@@ -683,9 +683,13 @@ TetBlock mesh_bcc_materials_block(const MaterialField3& field, const Lattice3& l
     Buffer<std::uint16_t> material;
     const Window w = block_window(lattice, block, [&](Window& win) { prepare_materials(field, options, keep_background, true, win, material); });
     MaterialOutput e = emit_materials(field, w, material, block, options, keep_background, true, nullptr);
-    TetBlock b = make_block(std::move(e.vertex_key), e.mesh.vertices, std::move(e.on_interface), e.mesh.tets, std::move(e.tet_key), e.cut_off);
+    TetBlock b = make_block(w, block, options, std::move(e.vertex_key), e.mesh.vertices, std::move(e.on_interface), e.mesh.tets,
+                            std::move(e.tet_key), e.cut_off);
     b.region.assign(e.mesh.region.begin(), e.mesh.region.end());
     b.region_names = output_names(field, keep_background);
+    const LayerCount& c = e.count;
+    b.all_zero_left_out = c.all_zero - c.filled, b.all_zero_filled = c.filled, b.all_zero_voids = c.voids;
+    b.junction_background_tets = c.junctions, b.junction_tets = c.junction_tets;
     return b;
 }
 

@@ -9,6 +9,7 @@
 //   tets3.cpp        background tetrahedra → output tetrahedra, two passes
 //   assembly3.cpp    vertices, boundary faces and interfaces, blocks (their
 //                    windows) and their merge, mesh_bcc
+//   tiling3.cpp      whether blocks tile one lattice exactly once (the merge's check)
 //   materials3.cpp   multi-material meshes (mesh_bcc_materials, of the whole lattice
 //                    or a block): the points' materials, the junction stencils
 #pragma once
@@ -285,10 +286,13 @@ void check_block(const Lattice3& lattice, const CubeRange& block, const std::str
 // (every vertex of the block's background tetrahedra) or the window is the
 // whole lattice.
 Window block_window(const Lattice3& lattice, const CubeRange& block, const std::function<void(Window&)>& prepare);
-// A block of the given vertices (keys, positions, level-set or interface
+// The block `range` of the window's lattice, split by o's face rule and
+// alphas, with the given vertices (keys, positions, level-set or interface
 // flags) and tetrahedra (keys; lattice_edge from the cut-off faces), one
-// region (TetBlock::region empty).
-TetBlock make_block(std::vector<std::uint64_t>&& vertex_key, std::span<const Point3> vertices, std::vector<std::uint8_t>&& on,
-                    std::span<const std::array<std::int32_t, 4>> tets, std::vector<std::uint64_t>&& tet_key, std::span<const CutOff> cut_off);
+// region (TetBlock::region empty), and the window's warped points that are
+// the block's counted.
+TetBlock make_block(const Window& w, const CubeRange& range, const BccOptions& o, std::vector<std::uint64_t>&& vertex_key,
+                    std::span<const Point3> vertices, std::vector<std::uint8_t>&& on, std::span<const std::array<std::int32_t, 4>> tets,
+                    std::vector<std::uint64_t>&& tet_key, std::span<const CutOff> cut_off);
 
 }  // namespace warpmesh::uniform3d

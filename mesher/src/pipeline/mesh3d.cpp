@@ -66,6 +66,10 @@ struct Prepared {
     double default_spacing = 0;  // 0: none (shapes, level sets)
     bool large = false;          // a volume of 2^22 voxels or more (progress)
     std::vector<std::string> warnings;
+    // A part of a volume (Volume::is_part): its geometry (the options'
+    // overrides applied; no values) and its values.
+    std::optional<Volume> part;
+    const std::vector<double>* part_values = nullptr;
 };
 
 // The options' geometry of a volume: voxel_size, units.
@@ -81,6 +85,14 @@ void apply_geometry(Volume& v, const Mesh3dOptions& o) {
 }
 
 void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p) {
+    if (v.is_part()) {
+        if (!o.materials)
+            throw InputError("a part of a volume is meshed with materials only: one region's level set is a distance "
+                             "transform of the whole region (its band and bounding box)");
+        p.part = Volume{};
+        p.part->dims = v.dims, p.part->spacing = v.spacing, p.part->origin = v.origin, p.part->axes = v.axes;
+        p.part->part_offset = v.part_offset, p.part->whole_dims = v.whole_dims;
+    }
     p.default_spacing = v.physical ? std::min({v.spacing[0], v.spacing[1], v.spacing[2]}) : 1.0;
     p.large = v.voxel_count() >= (std::int64_t{1} << 22);
     const std::string size = std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " voxels";
@@ -124,6 +136,7 @@ Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Me
                 volume_level_set(v, o, progress, p);
             } else if constexpr (std::is_same_v<T, std::reference_wrapper<const Volume>>) {
                 p.warnings = in.get().warnings;
+                p.part_values = &in.get().values;
                 if (!overrides_geometry(o)) return volume_level_set(in.get(), o, progress, p);
                 Volume v = in.get();  // a copy, to override its geometry
                 apply_geometry(v, o);
@@ -204,36 +217,69 @@ Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas
     return r;
 }
 
-// The report of one region from the stage's counts, the certification and the measurements.
-Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
-    Mesh3dReport r = certified_counts(m, o.face_rule_in_use(), o.alphas_in_use());
-    if (o.quality) r.quality = measure_quality3(m.mesh, f);
-    if (o.quality)
-        if (const auto ref = f.reference_volume()) volume_warning(r.quality.volume, *ref, spacing, r.warnings);
-    const ResolutionCheck3 res = check_resolution3(m.mesh, f, spacing);
+// What the report of one region needs of its input besides the mesh (the
+// level set's, or merged blocks' BlockFacts).
+struct RegionFacts {
+    std::optional<double> reference_volume;
+    double feature_size = 0, resolution = 0;
+};
+RegionFacts facts_of(const LevelSet3& f) { return {f.reference_volume(), f.feature_size(), f.resolution()}; }
+
+// The report of one region from the stage's counts, the certification by
+// `rule` at `alphas`, the mesh's quality (measured by the caller: none
+// without Mesh3dOptions::quality) and the resolution check.
+Mesh3dReport region_report(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas, const std::optional<TetQuality>& quality,
+                           const RegionFacts& facts, double spacing) {
+    Mesh3dReport r = certified_counts(m, rule, alphas);
+    if (quality) {
+        r.quality = *quality;
+        if (facts.reference_volume) volume_warning(r.quality.volume, *facts.reference_volume, spacing, r.warnings);
+    }
+    const ResolutionCheck3 res = check_resolution3(m.mesh, facts.feature_size, facts.resolution, spacing);
     r.narrowest_width = res.narrowest_width, r.suggested_spacing = res.suggested_spacing;
     if (res.warning) r.warnings.push_back(*res.warning);
     return r;
 }
 
-// Per output material: its tetrahedra and volume (measure_regions3), its
-// voxels and their volume; the interface faces; the junctions.
-Materials3Figures material_figures(const BccMesh& m, const MaterialField3& field, double voxel_volume, bool keep_background) {
-    Materials3Figures f;
-    const std::vector<RegionMeasure> regions = measure_regions3(m.mesh);
+// Per output material (the background only when kept): its tag, name and,
+// for a label volume, its voxels.
+std::vector<BlockFacts::Material> material_facts(const MaterialField3& field, double voxel_volume, bool keep_background) {
+    std::vector<BlockFacts::Material> out;
     for (int k = keep_background ? 0 : 1; k < field.count(); ++k) {
-        Material3Figures x;
+        BlockFacts::Material x;
         x.tag = field.tag(k), x.name = field.name(k);
-        for (const RegionMeasure& g : regions)
-            if (g.tag == x.tag) x.tets = g.tets, x.volume = g.volume;
         x.reference_volume = field.reference_volume(k);
         if (x.reference_volume && voxel_volume > 0) x.voxels = std::llround(*x.reference_volume / voxel_volume);
-        f.materials.push_back(std::move(x));
+        out.push_back(std::move(x));
+    }
+    return out;
+}
+
+// The report of several materials: the counts and certification (the
+// junctions' by proofs/bcc_junctions.cert), the quality, per output
+// material its tetrahedra and volume (measure_regions3) beside its voxels,
+// the interface faces, the junctions, the materials' warnings.
+Mesh3dReport materials_report(const BccMesh& m, FaceRule rule, const bcc::Alphas& alphas, bool quality,
+                              std::span<const BlockFacts::Material> materials) {
+    const BccCertification junctions = bcc_junction_certification(alphas);
+    Mesh3dReport r = certified_counts(m, rule, alphas, junctions);
+    if (quality) r.quality = measure_quality3(m.mesh);
+    Materials3Figures f;
+    const std::vector<RegionMeasure> regions = measure_regions3(m.mesh);
+    for (const BlockFacts::Material& x : materials) {
+        Material3Figures g;
+        g.tag = x.tag, g.name = x.name, g.voxels = x.voxels, g.reference_volume = x.reference_volume;
+        for (const RegionMeasure& region : regions)
+            if (region.tag == g.tag) g.tets = region.tets, g.volume = region.volume;
+        f.materials.push_back(std::move(g));
     }
     f.interface_faces = static_cast<std::int64_t>(m.mesh.interfaces.size());
     f.junction_background_tets = m.junction_background_tets, f.junction_tets = m.junction_tets;
     f.all_zero_filled = m.all_zero_filled, f.all_zero_voids = m.all_zero_voids;
-    return f;
+    f.junctions_certified = r.certified && junctions.certified;
+    for (std::string& w : material_warnings(f)) r.warnings.push_back(std::move(w));
+    r.materials = std::move(f);
+    return r;
 }
 
 // Whether a lattice with a corner on a voxel centre has the voxel
@@ -287,15 +333,94 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (o.verify && certified) b.verify = &claims;
     BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
-    const BccCertification junctions = bcc_junction_certification(b.alphas);
-    r.report = certified_counts(m, b.face_rule, b.alphas, junctions);
-    if (o.quality) r.report.quality = measure_quality3(m.mesh);
-    r.report.materials = material_figures(m, *p.field, p.voxel_volume, o.keep_background);
-    r.report.materials->junctions_certified = r.report.certified && junctions.certified;
-    for (std::string& w : material_warnings(*r.report.materials)) r.report.warnings.push_back(std::move(w));
+    r.report = materials_report(m, b.face_rule, b.alphas, o.quality, material_facts(*p.field, p.voxel_volume, o.keep_background));
     r.mesh = std::move(m.mesh);
 }
 
+
+// Blocks of a part of a volume.  Along index axis a, the world axis c it
+// runs along (axes[a] = ±e_c), and the cube boundaries of the lattice along
+// world axis c: origin_c + n spacing.
+std::size_t world_axis(const Volume& g, std::size_t a) {
+    for (std::size_t c = 0; c < 3; ++c)
+        if (g.axes[a][c] != 0) return c;
+    return a;
+}
+double cube_boundary(const Lattice3& L, std::size_t c, std::int64_t n) {
+    const double o = c == 0 ? L.origin.x : c == 1 ? L.origin.y : L.origin.z;
+    return o + static_cast<double>(n) * L.spacing;
+}
+
+// The whole volume's voxels [lo, hi) (index order i, j, k) that the block
+// `range` reads with its window grown by `halo` cubes: the window's box in
+// index coordinates (as the material field maps points), its voxel cells'
+// corners and their 3 x 3 x 3 neighbourhoods (materials3.hpp's phi), one
+// voxel more for rounding.
+std::array<std::array<std::int64_t, 3>, 2> voxels_of_block(const Volume& g, const Lattice3& L, const CubeRange& range, std::int64_t halo) {
+    const std::array<std::int64_t, 3> n = g.is_part() ? g.whole_dims : g.dims;
+    std::array<std::array<std::int64_t, 3>, 2> box{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        const std::size_t c = world_axis(g, a);
+        const double sign = g.axes[a][c] > 0 ? 1 : -1;
+        const std::int64_t w0 = std::max<std::int64_t>(0, range.lo[c] - halo), w1 = std::min(L.cubes[c], range.hi[c] + halo);
+        const double t0 = sign * (cube_boundary(L, c, w0) - g.origin[c]) / g.spacing[a];
+        const double t1 = sign * (cube_boundary(L, c, w1) - g.origin[c]) / g.spacing[a];
+        box[0][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::min(t0, t1))) - 2, 0, n[a]);
+        box[1][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::max(t0, t1))) + 4, 0, n[a]);
+    }
+    return box;
+}
+
+// Per output material (the background first when kept), the part's voxels
+// whose centres lie in the cubes `range` (half-open along every world axis:
+// each voxel of the whole volume is counted by exactly one block).
+std::vector<std::int64_t> owned_voxels(const Volume& g, std::span<const double> values, const MaterialField3& field,
+                                       bool keep_background, const Lattice3& L, const CubeRange& range) {
+    std::vector<int> material_of(65536, 0);
+    for (int m = 1; m < field.count(); ++m) material_of[static_cast<std::size_t>(field.tag(m))] = m;
+    std::vector<std::int64_t> count(static_cast<std::size_t>(field.count()), 0);
+    std::array<std::size_t, 3> c{};
+    for (std::size_t a = 0; a < 3; ++a) c[a] = world_axis(g, a);
+    std::array<std::int64_t, 3> i{};
+    for (i[2] = 0; i[2] < g.dims[2]; ++i[2])
+        for (i[1] = 0; i[1] < g.dims[1]; ++i[1])
+            for (i[0] = 0; i[0] < g.dims[0]; ++i[0]) {
+                bool own = true;
+                for (std::size_t a = 0; a < 3 && own; ++a) {
+                    const double x = g.origin[c[a]] + static_cast<double>(g.part_offset[a] + i[a]) * g.spacing[a] * g.axes[a][c[a]];
+                    own = cube_boundary(L, c[a], range.lo[c[a]]) <= x && x < cube_boundary(L, c[a], range.hi[c[a]]);
+                }
+                if (own) ++count[static_cast<std::size_t>(material_of[static_cast<std::size_t>(values[static_cast<std::size_t>(i[0] + g.dims[0] * (i[1] + g.dims[1] * i[2]))])])];
+            }
+    if (!keep_background) count.erase(count.begin());
+    return count;
+}
+
+std::string voxel_box_text(const std::array<std::array<std::int64_t, 3>, 2>& b) {
+    auto t = [](const std::array<std::int64_t, 3>& x) {
+        return "(" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " + std::to_string(x[2]) + ")";
+    };
+    return "[" + t(b[0]) + ", " + t(b[1]) + ")";
+}
+
+// A block of a part: its materials' voxels are its own cubes'; refused when
+// the part lacked voxels the block read.
+void part_block_facts(const Prepared& p, const Lattice3& L, const CubeRange& range, bool keep_background, BlockFacts& facts) {
+    const Volume& g = *p.part;
+    const auto need = voxels_of_block(g, L, range, 0);
+    bool covers = !p.field->read_outside_part();
+    for (std::size_t a = 0; a < 3; ++a)
+        covers = covers && g.part_offset[a] <= need[0][a] && need[1][a] <= g.part_offset[a] + g.dims[a];
+    if (!covers)
+        throw InputError("the block's part of the volume is too small: the block read voxels outside the part's " +
+                         voxel_box_text({g.part_offset, {g.part_offset[0] + g.dims[0], g.part_offset[1] + g.dims[1],
+                                                         g.part_offset[2] + g.dims[2]}}) +
+                         " (i, j, k): its window grew beyond the halo the part was cut for; cut it with twice the halo (block_voxels)");
+    const std::vector<std::int64_t> own = owned_voxels(g, *p.part_values, *p.field, keep_background, L, range);
+    for (std::size_t k = 0; k < facts.materials.size(); ++k) facts.materials[k].voxels = own[k], facts.materials[k].reference_volume.reset();
+    facts.part = true;
+    facts.voxel_volume = p.voxel_volume;
+}
 
 }  // namespace
 
@@ -340,7 +465,8 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (verify) b.verify = &claims;
     BccMesh m = mesh_bcc(*p.f, r.lattice, b);
-    r.report = report_of(m, *p.f, o, spacing);
+    r.report = region_report(m, b.face_rule, b.alphas, o.quality ? std::optional(measure_quality3(m.mesh, *p.f)) : std::nullopt,
+                             facts_of(*p.f), spacing);
     r.mesh = std::move(m.mesh);
     r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
     return r;
@@ -359,22 +485,171 @@ TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const Cu
             throw InputError("block [lo, hi) must lie in the lattice's cubes (" + std::to_string(lattice.cubes[0]) + ", " +
                              std::to_string(lattice.cubes[1]) + ", " + std::to_string(lattice.cubes[2]) +
                              ") with lo < hi along every axis");
-    if (!p.field) return mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
-    bool certified = false;
-    return mesh_bcc_materials_block(*p.field, lattice, material_stage_options(input, o, certified), o.keep_background, block);
+    TetBlock b;
+    BlockFacts& facts = b.facts;
+    if (!p.field) {
+        b = mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
+        facts.source = p.f->describe();
+        const RegionFacts region = facts_of(*p.f);
+        facts.reference_volume = region.reference_volume;
+        facts.feature_size = region.feature_size, facts.resolution = region.resolution;
+        facts.open_face_f.reserve(b.open_faces.size());
+        for (const auto& face : b.open_faces) {
+            std::array<Point3, 3> q;
+            for (std::size_t k = 0; k < 3; ++k) q[k] = b.vertices[static_cast<std::size_t>(face[k])];
+            facts.open_face_f.push_back(face_fidelity(q, *p.f));
+        }
+    } else {
+        bool certified = false;
+        b = mesh_bcc_materials_block(*p.field, lattice, material_stage_options(input, o, certified), o.keep_background, block);
+        facts.source = p.field->describe();
+        facts.materials = material_facts(*p.field, p.voxel_volume, o.keep_background);
+        if (p.part) part_block_facts(p, lattice, block, o.keep_background, facts);
+    }
+    facts.source += "; band " + std::to_string(o.band) + (o.keep_background ? "; background kept" : "");
+    facts.quality = o.quality;
+    facts.warnings = p.warnings;
+    return b;
 }
 
+std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block,
+                                                        std::int64_t halo) {
+    const Prepared p = level_set_of(input, o, {});
+    if (!p.part) throw InputError("block_voxels: the input is not a part of a volume (give the whole volume's dimensions)");
+    if (halo < 0) throw InputError("block_voxels: the halo must be 0 or more cubes");
+    return voxels_of_block(*p.part, material_lattice(p, o, spacing_of(o, p)), block, halo);
+}
+
+namespace {
+
+// Blocks of one mesh carry the same facts (but their own measurements);
+// each one-region block one measurement per open face.
+void check_block_facts(std::span<const TetBlock> blocks) {
+    const BlockFacts& a = blocks.front().facts;
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        const BlockFacts& b = blocks[i].facts;
+        const std::string which = "block " + std::to_string(i);
+        if (b.source.empty() || b.open_face_f.size() != (b.materials.empty() ? blocks[i].open_faces.size() : 0))
+            throw InputError("the blocks do not merge: " + which + " was not made by mesh3d_block (it has no facts of its input)");
+        if (b.source != a.source)
+            throw InputError("the blocks do not merge: " + which + " and block 0 are of different inputs ('" + b.source + "' and '" +
+                             a.source + "')");
+        bool same_materials = b.materials.size() == a.materials.size();
+        for (std::size_t k = 0; same_materials && k < a.materials.size(); ++k)
+            same_materials = b.materials[k].tag == a.materials[k].tag && b.materials[k].name == a.materials[k].name &&
+                             (a.part || b.materials[k] == a.materials[k]);
+        if (b.quality != a.quality || b.reference_volume != a.reference_volume || b.feature_size != a.feature_size ||
+            b.resolution != a.resolution || !same_materials || b.warnings != a.warnings || b.part != a.part ||
+            b.voxel_volume != a.voxel_volume)
+            throw InputError("the blocks do not merge: " + which + " and block 0 are of different inputs or options");
+    }
+}
+
+// The materials' figures of merged blocks: of parts, every block's own
+// voxels summed.
+std::vector<BlockFacts::Material> merged_materials(std::span<const TetBlock> blocks) {
+    const BlockFacts& a = blocks.front().facts;
+    std::vector<BlockFacts::Material> out = a.materials;
+    if (!a.part) return out;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        std::int64_t voxels = 0;
+        for (const TetBlock& b : blocks) voxels += b.facts.materials[k].voxels.value_or(0);
+        out[k].voxels = voxels;
+        out[k].reference_volume = static_cast<double>(voxels) * a.voxel_volume;
+    }
+    return out;
+}
+
+// The merged boundary's fidelity to the level set: its level-set faces'
+// measurements, each made by the one block that has the face open.
+void merged_fidelity(const TetMesh& mesh, std::span<const TetBlock> blocks, TetQuality& q) {
+    struct Face {
+        std::array<std::uint64_t, 3> key;
+        std::array<double, 2> f;
+    };
+    std::vector<Face> faces;
+    std::vector<std::uint64_t> keys;  // the merged vertices' keys, in their order
+    for (const TetBlock& b : blocks) {
+        keys.insert(keys.end(), b.vertex_key.begin(), b.vertex_key.end());
+        for (std::size_t i = 0; i < b.open_faces.size(); ++i) {
+            Face x{{}, b.facts.open_face_f[i]};
+            for (std::size_t k = 0; k < 3; ++k) x.key[k] = b.vertex_key[static_cast<std::size_t>(b.open_faces[i][k])];
+            std::sort(x.key.begin(), x.key.end());
+            faces.push_back(x);
+        }
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
+    double fv = 0, fc = 0;
+    for (std::size_t i = 0; i < mesh.boundary.size(); ++i) {
+        if (mesh.boundary_tag[i] != boundary_level_set) continue;
+        std::array<std::uint64_t, 3> key;
+        for (std::size_t k = 0; k < 3; ++k) key[k] = keys[static_cast<std::size_t>(mesh.boundary[i][k])];
+        std::sort(key.begin(), key.end());
+        const auto at = std::lower_bound(faces.begin(), faces.end(), key, [](const Face& a, const auto& k) { return a.key < k; });
+        if (at == faces.end() || at->key != key) throw std::logic_error("merge_mesh3d_blocks: a boundary face open in no block");
+        fv = std::max(fv, at->f[0]), fc = std::max(fc, at->f[1]);
+    }
+    q.boundary_vertex_f_max = fv, q.boundary_centroid_f_max = fc;
+}
+
+}  // namespace
+
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks) {
-    Mesh3dResult r;
+    if (!blocks.empty()) check_block_facts(blocks);
+    BccMesh m;
     try {
-        r.mesh = merge_tet_blocks(blocks);
+        m = merge_bcc_blocks(blocks);
     } catch (const std::invalid_argument& e) {
         throw InputError(std::string("the blocks do not merge: ") + e.what());
     }
-    r.report.vertices = static_cast<std::int64_t>(r.mesh.vertices.size());
-    r.report.tets = static_cast<std::int64_t>(r.mesh.tets.size());
-    r.report.boundary_faces = static_cast<std::int64_t>(r.mesh.boundary.size());
+    const TetBlock& first = blocks.front();
+    const BlockFacts& facts = first.facts;
+    Mesh3dResult r;
+    r.lattice = first.lattice;
+    if (!facts.materials.empty()) {
+        r.report = materials_report(m, first.face_rule, first.alphas, facts.quality, merged_materials(blocks));
+    } else {
+        std::optional<TetQuality> quality;
+        if (facts.quality) quality = measure_quality3(m.mesh), merged_fidelity(m.mesh, blocks, *quality);
+        r.report = region_report(m, first.face_rule, first.alphas, quality, {facts.reference_volume, facts.feature_size, facts.resolution},
+                                 first.lattice.spacing);
+    }
+    r.warnings = facts.warnings;
+    r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
+    r.mesh = std::move(m.mesh);
     return r;
+}
+
+void write_block_vtu(const TetBlock& b, const std::string& path, const VtuOptions& options) {
+    TetMesh m;
+    m.vertices.assign(b.vertices.begin(), b.vertices.end());
+    m.tets.assign(b.tets.begin(), b.tets.end());
+    m.region.resize(m.tets.size());
+    if (b.region.empty()) std::fill(m.region.begin(), m.region.end(), 1);
+    else std::copy(b.region.begin(), b.region.end(), m.region.begin());
+    m.region_names = b.region_names;
+    VtuOptions o = options;
+    o.point_global_ids = b.vertex_key, o.cell_global_ids = b.tet_key;
+    write_vtu(m, path, o);
+}
+
+std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options) {
+    if (const auto problem = tiling_problem(blocks)) throw InputError("the blocks do not make one mesh: " + *problem);
+    const std::size_t slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    std::string stem = path.substr(dir.size());
+    if (const std::size_t dot = stem.rfind('.'); dot != std::string::npos) stem.resize(dot);
+    std::vector<std::string> pieces;
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        char number[16];
+        std::snprintf(number, sizeof number, "_%04zu.vtu", i);
+        pieces.push_back(stem + number);
+        write_block_vtu(blocks[i], dir + pieces.back(), options);
+    }
+    write_pvtu(path, pieces);
+    return pieces;
 }
 
 }  // namespace warpmesh

@@ -112,13 +112,15 @@ ResolutionCheck check_resolution(const Mesh& mesh, double spacing, double finest
 }
 
 ResolutionCheck3 check_resolution3(const TetMesh& mesh, const LevelSet3& f, double s) {
+    return check_resolution3(mesh, f.feature_size(), f.resolution(), s);
+}
+
+ResolutionCheck3 check_resolution3(const TetMesh& mesh, double feature, double finest, double s) {
     ResolutionCheck3 r;
     r.narrowest_width = narrowest_width(mesh);
     double want = 0;
     if (r.narrowest_width > 0 && r.narrowest_width < min_cubes_across * s) want = r.narrowest_width / min_cubes_across;
-    const double feature = f.feature_size();
     if (feature > 0 && feature < 2 * s) want = want > 0 ? std::min(want, feature / 2) : feature / 2;
-    const double finest = f.resolution();
     if (want <= 0 || s <= finest) return r;
     r.suggested_spacing = std::max(two_digits(want), finest);
     std::ostringstream w;

@@ -174,18 +174,25 @@ struct Tally {
     }
 };
 
+Point3 centroid(const std::array<Point3, 3>& p) {
+    Point3 c{0, 0, 0};
+    for (const Point3& x : p) c = {c.x + x.x / 3, c.y + x.y / 3, c.z + x.z / 3};
+    return c;
+}
+
 // Max |f| at the level-set boundary's vertices (each once) and at its faces' centroids.
 void boundary_fidelity(const TetMesh& mesh, const LevelSet3& f, TetQuality& r) {
     double fv = 0, fc = 0;
     std::vector<std::uint8_t> seen(mesh.vertices.size(), 0);
     for (std::size_t i = 0; i < mesh.boundary.size(); ++i) {
         if (mesh.boundary_tag[i] != boundary_level_set) continue;
-        Point3 c{0, 0, 0};
-        for (std::int32_t v : mesh.boundary[i]) {
-            const Point3& p = mesh.vertices[static_cast<std::size_t>(v)];
+        std::array<Point3, 3> face;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::int32_t v = mesh.boundary[i][k];
+            const Point3& p = face[k] = mesh.vertices[static_cast<std::size_t>(v)];
             if (!seen[static_cast<std::size_t>(v)]) seen[static_cast<std::size_t>(v)] = 1, fv = std::max(fv, std::abs(f.value(p.x, p.y, p.z)));
-            c = {c.x + p.x / 3, c.y + p.y / 3, c.z + p.z / 3};
         }
+        const Point3 c = centroid(face);
         fc = std::max(fc, std::abs(f.value(c.x, c.y, c.z)));
     }
     r.boundary_vertex_f_max = fv, r.boundary_centroid_f_max = fc;
@@ -201,6 +208,13 @@ std::array<double, 6> dihedral_angles_deg(const std::array<Point3, 4>& p) {
 }
 
 double radius_ratio(const std::array<Point3, 4>& p) { return measure_one(p).radius_ratio; }
+
+std::array<double, 2> face_fidelity(const std::array<Point3, 3>& face, const LevelSet3& f) {
+    double fv = 0;
+    for (const Point3& p : face) fv = std::max(fv, std::abs(f.value(p.x, p.y, p.z)));
+    const Point3 c = centroid(face);
+    return {fv, std::abs(f.value(c.x, c.y, c.z))};
+}
 
 TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f) {
     TetQuality r = measure_quality3(mesh);

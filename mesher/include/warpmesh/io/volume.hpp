@@ -56,6 +56,12 @@ struct Volume {
     // What the reader accepted but a user should hear about (e.g. a NIfTI
     // scl_slope that is NaN, read as no scaling), one line each.
     std::vector<std::string> warnings;
+    // A part of a larger volume (a block's region, pipeline/mesh3d.hpp): its
+    // voxel (i, j, k) is the whole volume's (i, j, k) + part_offset, the
+    // whole has whole_dims voxels, and origin is the whole's voxel (0, 0, 0).
+    // whole_dims all 0: the volume is whole.
+    std::array<std::int64_t, 3> part_offset{0, 0, 0}, whole_dims{0, 0, 0};
+    bool is_part() const { return whole_dims[0] > 0; }
 
     std::int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
     double at(std::int64_t i, std::int64_t j, std::int64_t k) const {

@@ -33,6 +33,7 @@
 #include <charconv>
 #include <cstdint>
 #include <ostream>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -101,6 +102,10 @@ struct VtuOptions {
     // binary, each array compressed in blocks with zlib; ascii: inline text.
     enum class Encoding { raw, zlib, ascii };
     Encoding encoding = Encoding::raw;
+    // A piece of a partitioned mesh (write_pvtu): per point and per cell its
+    // global id (Int64 arrays "GlobalIds", VTK's global-id attribute, so that
+    // readers match the points pieces share); empty: none.
+    std::span<const std::uint64_t> point_global_ids, cell_global_ids;
 };
 
 struct XdmfOptions {
@@ -174,6 +179,12 @@ void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& opti
 void write_vtu(const Mesh& mesh, std::ostream& out, const VtuOptions& options = {});
 void write_vtu(const TetMesh& mesh, const std::string& path, const VtuOptions& options = {});
 void write_vtu(const TetMesh& mesh, std::ostream& out, const VtuOptions& options = {});
+// The collection file of a partitioned tetrahedral mesh (.pvtu, VTK's
+// PUnstructuredGrid): its pieces, .vtu files written by write_vtu with
+// global ids (named as given, relative to the .pvtu's folder), each with the
+// arrays write_vtu writes (boundary_marker, GlobalIds; region, GlobalIds),
+// and no cell data arrays but those.  Written atomically; OutputError.
+void write_pvtu(const std::string& path, std::span<const std::string> pieces);
 
 // Gmsh MSH 4.1 or 2.2, binary or ASCII; see write_msh.cpp for the
 // entity/physical layout: one named physical group per region, per boundary

@@ -58,6 +58,10 @@ public:
     // The input's own resolution (volumes: the smallest voxel spacing; 0 for
     // shapes), as LevelSet3::resolution.
     virtual double resolution() const { return 0; }
+    // A field of a part of a volume (Volume::is_part): whether any material
+    // or cut was asked of a point whose voxels lie outside the part (it was
+    // then answered as the background): the caller's region was too small.
+    virtual bool read_outside_part() const { return false; }
 };
 
 // The materials of a label volume (volume.hpp's geometry: millimetres, or

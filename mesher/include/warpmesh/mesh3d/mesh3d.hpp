@@ -222,6 +222,36 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
 struct CubeRange {
     std::array<std::int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};
 };
+// What the merged mesh's report needs of the input a block was made from
+// (the pipeline's mesh3d_block fills it, merge_mesh3d_blocks reads it; the
+// stage leaves it empty): blocks of one mesh carry the same facts, and
+// open_face_f holds the block's own measurements.
+struct BlockFacts {
+    std::string source;  // the input and the options that shape the mesh (blocks of different ones are refused)
+    bool quality = false;  // measure the merged mesh's quality (Mesh3dOptions::quality)
+    // One region: the level set's reference volume, feature size and
+    // resolution (levelset3.hpp), and per TetBlock::open_faces its max |f| at
+    // the three vertices and |f| at the centroid (tet_checks.hpp: face_fidelity).
+    std::optional<double> reference_volume;
+    double feature_size = 0, resolution = 0;
+    std::vector<std::array<double, 2>> open_face_f;
+    // Several materials: every output material's tag, name and, for a
+    // label volume, its voxels' count and volume.
+    struct Material {
+        std::int32_t tag = 0;
+        std::string name;
+        std::optional<std::int64_t> voxels;
+        std::optional<double> reference_volume;
+        bool operator==(const Material&) const = default;
+    };
+    std::vector<Material> materials;
+    std::vector<std::string> warnings;  // the input's (the volume reader's, threshold mode's guess)
+    // A block of a part of a volume (Volume::is_part): its materials'
+    // voxels are those of its own cubes (each voxel's centre lies in one
+    // block's cubes), summed by the merge, times voxel_volume.
+    bool part = false;
+    double voxel_volume = 0;
+};
 struct TetBlock {
     std::vector<std::uint64_t> vertex_key;        // sorted, one per vertex
     std::vector<Point3> vertices;
@@ -238,6 +268,25 @@ struct TetBlock {
     // (the same in every block).  Both empty for one region (tag 1).
     std::vector<std::int32_t> region;
     std::vector<std::pair<std::int32_t, std::string>> region_names;
+    // What the block is a part of: the lattice, its cubes [lo, hi) of it,
+    // the face rule and alphas it was split by.  The merge refuses blocks
+    // that do not tile one lattice exactly once under one rule.
+    Lattice3 lattice;
+    CubeRange range;
+    FaceRule face_rule = default_face_rule;
+    bcc::Alphas alphas = face_rule_alphas(default_face_rule);
+    // The stage's counts of the block's own cubes and lattice points (each
+    // lattice point is the block's whose cube min(⌊q/2⌋, cubes − 1) along
+    // every axis is), summed by the merge into BccMesh's.
+    std::int64_t warped = 0, all_zero_left_out = 0, all_zero_filled = 0, all_zero_voids = 0;
+    std::int64_t junction_background_tets = 0, junction_tets = 0;
+    // One region: the faces of the block's tetrahedra that no other of its
+    // tetrahedra shares and whose three vertices are on the level set,
+    // outward (as find_boundary orients them), in block vertex indices —
+    // every level-set boundary face of the merged mesh is one of them, in
+    // exactly one block.  Empty for several materials.
+    std::vector<std::array<std::int32_t, 3>> open_faces;
+    BlockFacts facts;
 };
 // Throws InputError unless 0 <= lo <= hi <= lattice.cubes (options.verify is
 // not used: blocks are not verified).
@@ -250,9 +299,19 @@ TetBlock mesh_bcc_materials_block(const MaterialField3& field, const Lattice3& l
                                   const CubeRange& block);
 // Merge blocks tiling the lattice (any order): vertices by key, tetrahedra by
 // key with their regions, boundary faces and interfaces found as in mesh_bcc
-// and mesh_bcc_materials.  Throws std::invalid_argument if two blocks give
-// the same key different positions or a tetrahedron twice, or name their
-// regions differently.
+// and mesh_bcc_materials; the counts of BccMesh summed over the blocks
+// (cut_points: the merged mesh's cut-point vertices; seconds 0, verified
+// false).  Throws std::invalid_argument, naming what is wrong, for no block,
+// blocks of different lattices, face rules or alphas, blocks whose cube
+// ranges do not cover the lattice's cubes exactly once (a gap: the first
+// cubes no block covers; an overlap or a block given twice: the two
+// blocks), a tetrahedron outside its block's range, two blocks giving a key
+// different positions or a tetrahedron twice, or naming their regions
+// differently.  merge_tet_blocks: its mesh only.
+BccMesh merge_bcc_blocks(std::span<const TetBlock> blocks);
 TetMesh merge_tet_blocks(std::span<const TetBlock> blocks);
+// The first of the problems above with the blocks' lattices, rules and
+// ranges (not their contents), or nothing; the merge throws it.
+std::optional<std::string> tiling_problem(std::span<const TetBlock> blocks);
 
 }  // namespace warpmesh

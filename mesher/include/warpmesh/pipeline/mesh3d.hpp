@@ -44,6 +44,7 @@
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/core/tet_mesh.hpp"
 #include "warpmesh/io/volume.hpp"  // Volume, Units
+#include "warpmesh/io/writers.hpp"  // VtuOptions
 #include "warpmesh/levelset/levelset3.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
 #include "warpmesh/report/report3d.hpp"
@@ -157,12 +158,50 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& options, cons
 // Blocks (mesh3d.hpp, "Blocks"): the lattice mesh3d uses for this input
 // (its cubes, to split into blocks), the mesh of the cubes [lo, hi) of it
 // (0 <= lo < hi <= cubes along every axis; InputError otherwise), and the
-// merge of blocks that tile it — equal to mesh3d's mesh, with the counts of
-// the report only.  A worker needs only the input and the options.  Several
-// materials too (mesh3d.hpp: mesh_bcc_materials_block): the merge carries
-// their regions, interfaces and region names.
+// merge of blocks that tile it — equal to mesh3d's mesh and report (but its
+// seconds and verified: blocks are not verified).  A worker needs only the
+// input and the options.  Each block carries its lattice, cube range, face
+// rule and alphas, and the facts of its input the report needs
+// (BlockFacts: the input's description, the level set's reference volume,
+// feature size and resolution, its own open faces' fidelity to the level
+// set; several materials: the materials' voxels); the merge refuses
+// (InputError naming what is wrong) an empty list and blocks that do not
+// tile one lattice exactly once or come from different inputs or options
+// (mesh3d.hpp: merge_bcc_blocks).  Several materials too (mesh3d.hpp:
+// mesh_bcc_materials_block): the merge carries their regions, interfaces
+// and region names.
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
+
+// Blocks that read only their part of a volume (several materials, listed:
+// "all" depends on the whole volume).  The input is a Volume that is a part
+// of the whole (Volume::is_part: its offset and the whole's dimensions; the
+// whole's origin); the lattice is the whole's (the field's bounds are the
+// whole volume's hull), and a block of a part that holds the voxels
+// block_voxels names merges with the others into exactly mesh3d's mesh of
+// the whole volume, report included (each block counts the materials'
+// voxels of its own cubes).  block_voxels: the whole volume's voxels
+// [lo, hi) (index order i, j, k) a block reads when its window is its cubes
+// grown by `halo` cubes: the window's box, its voxel cells' corners and their
+// 3 x 3 x 3 neighbourhoods (phi, levelset/materials3.hpp), one voxel more for
+// rounding.  The window is grown from 2 cubes, doubling while a warping
+// decision in the block depends on its edge (mesh3d.hpp, "Blocks"), so halo
+// 2 covers most blocks; mesh3d_block refuses (InputError) a part that lacks
+// a voxel the block read, and a part of a volume in one-region mode (its
+// level set is a distance transform of the whole region).
+// Partitioned output, for meshes never merged in one process: a block as a
+// .vtu piece (its tetrahedra with their regions and its vertices; the
+// GlobalIds point and cell arrays hold their keys, equal in every piece that
+// shares a vertex — the merged mesh numbers its vertices in the keys' order),
+// and the blocks as pieces STEM_NNNN.vtu beside a .pvtu that lists them
+// (write_pvtu), written only if they tile one lattice exactly once
+// (InputError as merge_mesh3d_blocks; OutputError when a file cannot be
+// written).  write_blocks_pvtu returns the pieces' file names.
+void write_block_vtu(const TetBlock& block, const std::string& path, const VtuOptions& options = {});
+std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options = {});
+
+std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block,
+                                                        std::int64_t halo = 2);
 
 }  // namespace warpmesh

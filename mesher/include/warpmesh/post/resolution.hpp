@@ -53,5 +53,7 @@ struct ResolutionCheck3 {
     std::optional<std::string> warning;
 };
 ResolutionCheck3 check_resolution3(const TetMesh& mesh, const LevelSet3& f, double spacing);
+// The same from f's feature_size() and resolution() (merged blocks: no f).
+ResolutionCheck3 check_resolution3(const TetMesh& mesh, double feature_size, double resolution, double spacing);
 
 }  // namespace warpmesh

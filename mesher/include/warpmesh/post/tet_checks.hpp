@@ -65,6 +65,10 @@ struct TetQuality {
     double boundary_vertex_f_max = 0, boundary_centroid_f_max = 0;
 };
 TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f);
+// One boundary face's fidelity as measure_quality3 measures it: max |f| at
+// its three vertices, and |f| at its centroid (the vertices in the order
+// given: the boundary face's, outward).
+std::array<double, 2> face_fidelity(const std::array<Point3, 3>& face, const LevelSet3& f);
 // The same for a mesh of no one level set (several materials): the
 // boundary's fidelity is not measured (NaN).
 TetQuality measure_quality3(const TetMesh& mesh);
