@@ -69,8 +69,16 @@ void check_against_uniform(const Mesh3dInput& in, Mesh3dOptions o, const std::st
     BOOST_TEST(f.template_tets > 0, what);
     BOOST_TEST(f.leaves_per_level.size() >= 2u);
     BOOST_TEST(f.leaves_per_level[1] > 0, what);
+    // proofs/bcc_graded.cert: no template below the uniform floor or above its
+    // ceiling, so the graded theorem is the uniform one; every tetrahedron verified.
+    BOOST_TEST(f.templates_certified);
+    BOOST_TEST(f.template_min_deg >= u.report.certified_min_deg);
+    BOOST_TEST(f.template_max_deg <= u.report.certified_max_deg);
     BOOST_TEST(g.report.certified);
-    BOOST_TEST(g.report.verified == f.templates_certified);
+    BOOST_TEST(g.report.certified_min_deg == u.report.certified_min_deg);
+    BOOST_TEST(g.report.certified_max_deg == u.report.certified_max_deg);
+    BOOST_TEST(g.report.uncertified_tets == 0);
+    BOOST_TEST(g.report.verified);
     BOOST_TEST(g.report.quality.min_dihedral_deg >= std::min(u.report.quality.min_dihedral_deg, 30.0) - 1e-9, what);
     BOOST_TEST(g.report.quality.max_dihedral_deg <= std::max(u.report.quality.max_dihedral_deg, 135.0) + 1e-9, what);
     BOOST_TEST(std::abs(f.longest_edge - longest_edge_by_hand(g.mesh)) < 1e-12);

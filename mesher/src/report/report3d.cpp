@@ -207,6 +207,7 @@ std::string to_text(const Mesh3dReport& r) {
     if (r.certified)
         o << "certified (" << bcc_certificate_path(r.face_rule)
           << (r.materials && r.materials->junctions_certified && r.materials->junction_tets > 0 ? " and proofs/bcc_junctions.cert" : "")
+          << (r.graded && r.graded->templates_certified && r.graded->template_tets > 0 ? " and proofs/bcc_graded.cert" : "")
           << "): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
           << fmt(r.certified_max_deg, 5) << "] deg for " << r.certified_tets << " tetrahedra"
           << (r.verified ? ", each verified" : "") << "; uncertified: " << r.uncertified_tets
