@@ -119,10 +119,19 @@ struct Layout {
 };
 
 // Graded meshes: the templates of cube c's leaf (when c is its origin) that
-// are output, those inside.  Each template's four vertices must have one
-// strict sign (octree3.hpp's invariant), else std::logic_error.
+// are output, those inside.  Each template of an inside leaf must have four
+// vertices of one strict sign (octree3.hpp's invariant), else std::logic_error.
 int inside_templates(const Layout& lay, const graded3::Cube& c, graded3::Templates& out) {
-    graded3::Templates all{};
+    // A leaf's templates all share its centre's sign: none is output unless it is inside.
+    const int l = lay.tree->level_at(c);
+    const int side = 1 << l;
+    bcc::Ivec centre{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (c[a] & (side - 1)) return 0;  // not the leaf's origin
+        centre[a] = static_cast<int>(2 * c[a]) + side;
+    }
+    if (lay.w.sign[static_cast<std::size_t>(lay.w.grid.index(centre))] > 0) return 0;
+    graded3::Templates all;  // (not zeroed: per cube)
     const int k = graded3::leaf_templates(*lay.tree, c, all);
     int n = 0;
     for (int i = 0; i < k; ++i) {
@@ -163,7 +172,7 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
         for_cubes_in_layer(range, range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
             unsigned mask = 0xFFFu;
             if (lay.tree) {
-                graded3::Templates t{};
+                graded3::Templates t;
                 const int k = inside_templates(lay, {cx, cy, range.lo[2] + l}, t);
                 count += k;
                 for (int i = 0; i < k; ++i)
@@ -331,7 +340,7 @@ void write_whole_cube(const Layout& lay, const Neighbourhood& n, const Numbering
 // (vertex ids of their lattice points); with a claim, each checked against it.
 void write_templates(const Layout& lay, const graded3::Cube& c, const Numbering& num, const std::optional<BccKeyClaim>& claim,
                      std::int64_t& t, std::int64_t& failures, std::string& first, Emitted& out) {
-    graded3::Templates tt{};
+    graded3::Templates tt;
     const int k = inside_templates(lay, c, tt);
     for (int i = 0; i < k; ++i, ++t) {
         std::array<std::int32_t, 4> v{};

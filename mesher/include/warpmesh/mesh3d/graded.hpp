@@ -5,9 +5,9 @@
 //
 // The lattice's signs, cut points and warps are the uniform mesher's, on
 // the whole lattice at the finest spacing.  The octree's leaves are the
-// finest cubes wherever a point could warp (every cube one of whose
-// background tetrahedra has a point on the level set or on a cut edge, and
-// the cubes near the lattice's border), coarser inside and outside, at most
+// finest cubes wherever the stencils act (every cube one of whose
+// background tetrahedra has a vertex on the level set or is cut, and the
+// cubes near the lattice's border), coarser inside and outside, at most
 // 2^max_level cubes wide, 2:1 balanced across faces and edges.  Between two
 // finest leaves the uniform lattice's background tetrahedra are split by
 // the uniform stencils, exactly as mesh_bcc splits them, so the uniform

@@ -1,5 +1,5 @@
 // octree3.cpp — the graded mesher's balanced octree (octree3.hpp): the
-// critical points and cubes, the coarsenable cells per level (with the
+// critical cubes, the coarsenable cells per level (with the
 // grading buffer), the leaves, 2:1 balance across faces and edges, and the
 // templates of a leaf (generic_octree.hpp's fans).
 #include "mesh3d/graded/octree3.hpp"
@@ -16,32 +16,8 @@ using uniform3d::Window;
 // Cell classes: critical, or coarsenable inside (−) or outside (+).
 constexpr std::uint8_t critical = 0, inside = 1, outside = 2;
 
-// Per lattice point: critical (octree3.hpp).
-std::vector<std::uint8_t> critical_points(const Window& w) {
-    const Grid& g = w.grid;
-    std::vector<std::uint8_t> crit(static_cast<std::size_t>(g.count()));
-    const int planes = g.hi[2] - g.lo[2] + 1;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int z = 0; z < planes; ++z)
-        for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p)
-            if (w.sign[static_cast<std::size_t>(p)] == 0) crit[static_cast<std::size_t>(p)] = 1;
-    // The far endpoints of cut edges lie in the next plane at most: serial.
-    for (int z = 0; z < planes; ++z)
-        for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
-            const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
-            if (!mask) continue;
-            crit[static_cast<std::size_t>(p)] = 1;
-            const bcc::Ivec q = g.point_in_plane(z, p);
-            for (int s = 0; s < 7; ++s)
-                if (mask >> s & 1u)
-                    crit[static_cast<std::size_t>(g.index(bcc::add(q, bcc::neighbour_offsets[static_cast<std::size_t>(uniform3d::forward_direction[static_cast<std::size_t>(s)])])))] = 1;
-        }
-    return crit;
-}
-
-// Level 0: each cube's class from its 15 points.
+// Level 0: each cube's class from the post-warp signs of its 15 points.
 std::vector<std::uint8_t> cube_classes(const Window& w, const std::array<std::int64_t, 3>& n) {
-    const std::vector<std::uint8_t> crit = critical_points(w);
     const Grid& g = w.grid;
     std::vector<std::uint8_t> cls(static_cast<std::size_t>(n[0] * n[1] * n[2]), critical);
 #pragma omp parallel for schedule(dynamic, 1)
@@ -58,14 +34,9 @@ std::vector<std::uint8_t> cube_classes(const Window& w, const std::array<std::in
                     lo[static_cast<std::size_t>(a)] -= 2, hi[static_cast<std::size_t>(a)] += 2;
                     pts[static_cast<std::size_t>(9 + 2 * a)] = lo, pts[static_cast<std::size_t>(10 + 2 * a)] = hi;
                 }
-                int sign = 0;
-                bool ok = true;
-                for (const bcc::Ivec& q : pts) {
-                    const std::size_t p = static_cast<std::size_t>(g.index(q));
-                    const int s = w.sign[p];
-                    ok = ok && !crit[p] && (sign == 0 || s == sign);
-                    sign = s;
-                }
+                const int sign = w.sign[static_cast<std::size_t>(g.index(pts[0]))];
+                bool ok = sign != 0;
+                for (std::size_t k = 1; k < pts.size() && ok; ++k) ok = w.sign[static_cast<std::size_t>(g.index(pts[k]))] == sign;
                 if (ok) cls[static_cast<std::size_t>((z * n[1] + y) * n[0] + x)] = sign < 0 ? inside : outside;
             }
     return cls;
@@ -241,7 +212,7 @@ int leaf_templates(const Octree3& t, const Cube& c, Templates& out) {
                     if (side_split(t, {(P[0] + Q[0]) / 2, (P[1] + Q[1]) / 2, (P[2] + Q[2]) / 2}, l)) split |= 1u << k;
                 }
             }
-            std::array<bcc::LatticeTet, 8> fan{};
+            std::array<bcc::LatticeTet, 8> fan;
             const int k = bcc::piece_tets(bcc::face_piece(cx, cy, f0, a, 2 * n, split), fan);
             for (int i = 0; i < k; ++i) out[static_cast<std::size_t>(count++)] = fan[static_cast<std::size_t>(i)];
         }

@@ -3,33 +3,38 @@
 // of its tetrahedra mesh3d/generic_octree.hpp).
 //
 // THE FINEST-BAND INVARIANT (what lets the uniform certificate apply).  A
-// lattice point is *critical* if its post-warp sign is 0 (on the level set,
-// warped or not) or it is an endpoint of a lattice edge cut before warping;
-// every other point is unwarped with a strict sign, and so are its lattice
-// neighbours' signs (else the edge between would be cut).  A cube is
-// critical if one of the 15 points its background tetrahedra touch — its 8
-// corners, its centre, the centres of its 6 face neighbours — is critical,
-// or if it lies within 2 cubes of the lattice's border.  Critical cubes are
-// finest leaves.  Then every background tetrahedron with a critical vertex
-// has both its cubes finest (a corner's 8 cubes contain it; a centre's cube
-// and its 6 face neighbours list it), so it is a fan tetrahedron of an
-// equal-size finest piece, i.e. the uniform lattice's, split by its stencil
-// exactly as the uniform mesher splits it (the signs, cut points and warps
-// are the uniform mesher's, computed on the whole lattice); and every
-// template (generic_octree.hpp) has four non-critical vertices: each lies
-// in the closure of a non-critical cube (the template's leaves are coarse,
-// or finest but non-critical beside a coarse one), and a non-critical
-// cube's 15 points share one strict sign (they are joined by lattice edges,
-// none cut), as do two face-adjacent non-critical cubes (they share
-// corners).  So a template is output whole (all four inside) or not at all.
+// background tetrahedron is *active* if, after warping, one of its vertices
+// is on the level set (sign 0: warped, or f = 0 at the lattice point) or two
+// have opposite signs (an edge of it is cut): only then does its stencil do
+// more than output it whole or not at all.  Its four points (the centres of
+// its two cubes, two corners of their shared face) are among the 15 points
+// of each of its cubes: a cube's 8 corners, its centre and its 6 face
+// neighbours' centres.  A cube is *critical* if its 15 points are not all of
+// one strict sign, or it lies within 2 cubes of the lattice's border (so no
+// template touches the border, where the uniform path names the cut-off
+// faces).  Critical cubes are finest leaves, so every active background
+// tetrahedron has both its cubes finest: it is a fan tetrahedron of an
+// equal-size finest piece (generic_octree.hpp), i.e. the uniform lattice's,
+// split by its stencil exactly as the uniform mesher splits it (the signs,
+// cut points and warps are the uniform mesher's, computed on the whole
+// lattice).  Every template has four vertices of one strict sign: they lie
+// in the 15-point sets of non-critical cubes of one class (a coarse leaf's
+// cubes all have its class; a finest leaf X beside a coarser leaf Y: the
+// cube of Y against X lists X's centre and the piece's corners, and Y's
+// centre is a corner of one of Y's cubes; two equal coarse leaves share
+// their face's corners), and no point of a non-critical cube is warped (a
+// warped point has sign 0).  So a template is output whole (inside) or not
+// at all.
 // A cell of level l ≥ 1 is *coarsenable* if its 8 children are coarsenable
 // (level 0: non-critical) with one sign, and, with a grading buffer n ≥ 2,
 // every cell of its level within n cells (max norm) is coarsenable too
 // (sizes then grow by at most 2^(1/n) per cell on average, as in 2D,
 // docs/graded.md); the leaves are the largest coarsenable cells up to
 // max_level, then refined until 2:1 balanced across faces and edges (splits
-// only refine, so the invariant stays).  `build_octree3` checks it where it
-// is cheap (tets3.cpp: every template's four vertices, as it is written).
+// only refine, so the invariant stays).  Stage 5 checks it where it is
+// cheap (tets3.cpp: every inside template's four vertices, as it is
+// written); tests/test_mesh3d_graded.cpp checks every active background
+// tetrahedron.
 #pragma once
 
 #include <array>
