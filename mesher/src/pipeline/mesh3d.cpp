@@ -374,12 +374,12 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const double spacing = spacing_of(o, p);
     Mesh3dResult r;
     r.warnings = p.warnings;
+    if (o.max_size) check_max_size(*o.max_size, spacing);  // (a volume's default spacing is known now)
     if (p.field) {
         mesh_materials(p, input, o, spacing, progress, r);
         r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
         return r;
     }
-    if (o.max_size) check_max_size(*o.max_size, spacing);
     r.lattice = lattice3_for(*p.f, spacing);
     if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
         progress(std::string(o.graded ? "meshing a graded octree over" : "meshing") + " a BCC lattice of " +
