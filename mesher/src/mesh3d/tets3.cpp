@@ -348,7 +348,7 @@ void write_templates(const Layout& lay, const graded3::Cube& c, const Numbering&
         for (std::size_t j = 0; j < 4; ++j) {
             const bcc::Ivec& p = tt[static_cast<std::size_t>(i)][j];
             v[j] = num.id[static_cast<std::size_t>(lay.w.grid.index(p))];
-            q[j] = lay.w.lattice_position(p);
+            if (claim) q[j] = lay.w.lattice_position(p);
         }
         out.tets[static_cast<std::size_t>(t)] = v;
         if (claim && !key_claim_holds(q, claim->cos2_min, claim->cos2_max)) {

@@ -16,29 +16,30 @@ using uniform3d::Window;
 // Cell classes: critical, or coarsenable inside (−) or outside (+).
 constexpr std::uint8_t critical = 0, inside = 1, outside = 2;
 
-// Level 0: each cube's class from the post-warp signs of its 15 points.
+// Level 0: each cube's class from the post-warp signs of its 15 points
+// (indices by offsets from the cube's lowest corner and its centre, as
+// tets3.cpp's neighbourhood).
 std::vector<std::uint8_t> cube_classes(const Window& w, const std::array<std::int64_t, 3>& n) {
     const Grid& g = w.grid;
+    const std::int64_t plane_pair = g.corner_w * g.corner_h + g.centre_w * g.centre_h;
+    std::array<std::int64_t, 8> corner{};
+    for (int b = 0; b < 8; ++b) corner[static_cast<std::size_t>(b)] = (b & 1) + ((b >> 1) & 1) * g.corner_w + (b >> 2) * plane_pair;
+    const std::array<std::int64_t, 6> centre{-1, 1, -g.centre_w, g.centre_w, -plane_pair, plane_pair};
     std::vector<std::uint8_t> cls(static_cast<std::size_t>(n[0] * n[1] * n[2]), critical);
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t z = 2; z < n[2] - 2; ++z)
-        for (std::int64_t y = 2; y < n[1] - 2; ++y)
+        for (std::int64_t y = 2; y < n[1] - 2; ++y) {
+            const bcc::Ivec m{4, static_cast<int>(2 * y), static_cast<int>(2 * z)};
+            const std::int64_t k0 = g.index(m), c0 = g.index(bcc::add(m, {1, 1, 1}));
             for (std::int64_t x = 2; x < n[0] - 2; ++x) {
-                const bcc::Ivec m{static_cast<int>(2 * x), static_cast<int>(2 * y), static_cast<int>(2 * z)};
-                const bcc::Ivec c = bcc::add(m, {1, 1, 1});
-                std::array<bcc::Ivec, 15> pts{};
-                for (int b = 0; b < 8; ++b) pts[static_cast<std::size_t>(b)] = bcc::add(m, {2 * (b & 1), (b & 2), (b & 4) / 2});
-                pts[8] = c;
-                for (int a = 0; a < 3; ++a) {
-                    bcc::Ivec lo = c, hi = c;
-                    lo[static_cast<std::size_t>(a)] -= 2, hi[static_cast<std::size_t>(a)] += 2;
-                    pts[static_cast<std::size_t>(9 + 2 * a)] = lo, pts[static_cast<std::size_t>(10 + 2 * a)] = hi;
-                }
-                const int sign = w.sign[static_cast<std::size_t>(g.index(pts[0]))];
+                const std::int64_t k = k0 + (x - 2), c = c0 + (x - 2);
+                const int sign = w.sign[static_cast<std::size_t>(c)];
                 bool ok = sign != 0;
-                for (std::size_t k = 1; k < pts.size() && ok; ++k) ok = w.sign[static_cast<std::size_t>(g.index(pts[k]))] == sign;
+                for (std::size_t i = 0; i < 8 && ok; ++i) ok = w.sign[static_cast<std::size_t>(k + corner[i])] == sign;
+                for (std::size_t i = 0; i < 6 && ok; ++i) ok = w.sign[static_cast<std::size_t>(c + centre[i])] == sign;
                 if (ok) cls[static_cast<std::size_t>((z * n[1] + y) * n[0] + x)] = sign < 0 ? inside : outside;
             }
+        }
     return cls;
 }
 
@@ -137,19 +138,30 @@ Octree3 build_octree3(const Window& w, int max_level, int buffer) {
         if (buffer > 1) erode(cls.back(), m, buffer);
     }
     const int top = static_cast<int>(cls.size()) - 1;
+    // The leaves: each cube at the level of its largest coarsenable cell
+    // (a coarsenable cell's children are coarsenable): top down, a cell is
+    // written once, when its parent is not coarsenable.
     t.level.assign(static_cast<std::size_t>(t.cubes[0] * t.cubes[1] * t.cubes[2]), 0);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t z = 0; z < t.cubes[2]; ++z)
-        for (std::int64_t y = 0; y < t.cubes[1]; ++y)
-            for (std::int64_t x = 0; x < t.cubes[0]; ++x) {
-                int l = top;
-                for (; l > 0; --l) {
-                    const auto& n = dims[static_cast<std::size_t>(l)];
-                    const std::int64_t X = x >> l, Y = y >> l, Z = z >> l;
-                    if (X < n[0] && Y < n[1] && Z < n[2] && cls[static_cast<std::size_t>(l)][static_cast<std::size_t>((Z * n[1] + Y) * n[0] + X)] != critical) break;
+    for (int l = top; l > 0; --l) {
+        const auto& n = dims[static_cast<std::size_t>(l)];
+        const std::int64_t side = std::int64_t{1} << l;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (std::int64_t Z = 0; Z < n[2]; ++Z)
+            for (std::int64_t Y = 0; Y < n[1]; ++Y)
+                for (std::int64_t X = 0; X < n[0]; ++X) {
+                    if (cls[static_cast<std::size_t>(l)][static_cast<std::size_t>((Z * n[1] + Y) * n[0] + X)] == critical) continue;
+                    if (l < top) {
+                        const auto& p = dims[static_cast<std::size_t>(l) + 1];
+                        const std::int64_t PX = X >> 1, PY = Y >> 1, PZ = Z >> 1;
+                        if (PX < p[0] && PY < p[1] && PZ < p[2] &&
+                            cls[static_cast<std::size_t>(l) + 1][static_cast<std::size_t>((PZ * p[1] + PY) * p[0] + PX)] != critical)
+                            continue;  // inside a coarser leaf, written at its level
+                    }
+                    for (std::int64_t z = Z * side; z < (Z + 1) * side; ++z)
+                        for (std::int64_t y = Y * side; y < (Y + 1) * side; ++y)
+                            std::fill_n(t.level.begin() + t.index({X * side, y, z}), side, static_cast<std::int8_t>(l));
                 }
-                t.level[static_cast<std::size_t>(t.index({x, y, z}))] = static_cast<std::int8_t>(l);
-            }
+    }
     balance(t, top);
     t.leaves_per_level.assign(static_cast<std::size_t>(top) + 1, 0);
     for (const std::int8_t l : t.level) t.leaves_per_level[static_cast<std::size_t>(l)] += 1;
