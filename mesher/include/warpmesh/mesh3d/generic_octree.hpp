@@ -13,7 +13,7 @@
 // two face-adjacent leaves X and Y share, the face of the smaller one (or
 // their common face) — form a bipyramid around the segment cX–cY of their
 // centres, which crosses the piece's interior (equal leaves: at its centre;
-// Y twice X's size: at a third of the way from the corner of Y's face that
+// Y twice X's size: two thirds of the way from the corner of Y's face that
 // the piece shares, towards the centre of Y's face).  The bipyramid is cut
 // into the *fan*
 //
