@@ -32,6 +32,9 @@
 // tetrahedra of multi-material meshes where three or four materials meet,
 // split by the cone stencil, re-derived here on their own (keys, stencils,
 // symmetries, the 15 points), each key verified face by face.
+// And the graded templates' certificate (proofs/bcc_graded.cert,
+// "warpmesh-bcc-graded 1", see check_graded): the tetrahedra of a graded
+// mesh's octree transitions, re-derived from the fan rule and checked exactly.
 // No global state.  Any failure: exit 1; exit 0 only when the printed
 // theorem (an angle bound) holds; exit 3 when a counter-example or ceiling
 // certificate holds (verified, NO BOUND), as warpmesh-check does for
@@ -1414,6 +1417,212 @@ int check_ceiling(const std::vector<std::string>& body) {
     return 3;  // verified, but the statement is a limit, not a bound
 }
 
+// ---- the graded templates (proofs/bcc_graded.cert) ----------------------------------
+// Format (proofs/README.md, "Graded transitions (3D, bcc_graded.cert)"):
+//   warpmesh-bcc-graded 1
+//   claim CMIN CMAX CFACE        dyadic p/2^40: cos² bounds of the smallest and the
+//                                largest dihedral angle and of the smallest face angle
+//   configs 17
+//   config K N                   then N lines, the fan of configuration K:
+//   tet x0 y0 z0 .. x3 y3 z3 WMIN WMAX WFACE
+// The octree's fan rule is re-derived here on its own (not read from the
+// certificate): a face piece between the centres cx, cy of two leaves, its
+// ring the square's corners with the midpoints of its split sides in cyclic
+// order, and the fan (cx, cy, ring[i], ring[i+1]), the last two swapped where
+// the orientation is negative.  Configuration K < 16: two equal leaves,
+// X = [0,4]³ above the piece [0,4]² × {0}, Y = [0,4]² × [-4,0], side k split
+// iff bit k of K; K = 16: Y = [0,8]² × [-8,0] twice X's size.  The listed
+// tetrahedra must be exactly those, in that order.  Each is verified exactly
+// (integers): 6·volume > 0, per edge d <= 0 or d²·2^40 <= CMIN·N and d >= 0
+// or d²·2^40 <= CMAX·N, per face angle s <= 0 or s²·2^40 <= CFACE·M; its
+// witnesses must be its own exact extremes ("-" where it has no such angle:
+// no obtuse dihedral angle), and the claim within 0.01° of the extreme
+// witness.  Beyond the 17, every placement the octree makes — the piece
+// normal to each axis, Y below or above X, and for K = 16 X's face in each
+// quadrant of Y's — is derived and checked against the claim too, so the
+// theorem does not rest on the symmetry argument.
+using G3 = std::array<std::int64_t, 3>;
+using GTet = std::array<G3, 4>;
+G3 gsub(const G3& a, const G3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+std::array<Z, 3> gcross(const G3& a, const G3& b) {
+    return {zint(a[1]) * zint(b[2]) - zint(a[2]) * zint(b[1]), zint(a[2]) * zint(b[0]) - zint(a[0]) * zint(b[2]),
+            zint(a[0]) * zint(b[1]) - zint(a[1]) * zint(b[0])};
+}
+Z gdot(const std::array<Z, 3>& a, const std::array<Z, 3>& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+std::array<Z, 3> gz(const G3& a) { return {zint(a[0]), zint(a[1]), zint(a[2])}; }
+Z gvolume6(const GTet& t) { return gdot(gz(gsub(t[1], t[0])), gcross(gsub(t[2], t[0]), gsub(t[3], t[0]))); }
+// The fan of the piece: face with lowest corner f0 normal to axis a, side d.
+std::vector<GTet> graded_fan(const G3& cx, const G3& cy, const G3& f0, int a, std::int64_t d, unsigned split) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    const std::int64_t ub[5] = {0, 1, 1, 0, 0}, uc[5] = {0, 0, 1, 1, 0};
+    std::vector<G3> ring;
+    for (int k = 0; k < 4; ++k) {
+        G3 q = f0;
+        q[b] += d * ub[k], q[c] += d * uc[k];
+        ring.push_back(q);
+        if (split >> k & 1u) {
+            G3 m = f0;
+            m[b] += d * (ub[k] + ub[k + 1]) / 2, m[c] += d * (uc[k] + uc[k + 1]) / 2;
+            ring.push_back(m);
+        }
+    }
+    std::vector<GTet> fan;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+        GTet t{cx, cy, ring[i], ring[(i + 1) % ring.size()]};
+        const int s = sgn(gvolume6(t));
+        if (s == 0) fail("a fan tetrahedron is flat");
+        if (s < 0) std::swap(t[2], t[3]);
+        fan.push_back(t);
+    }
+    return fan;
+}
+// Configuration k in the frame of the certificate.
+std::vector<GTet> graded_config(int k) {
+    if (k < 16) return graded_fan({2, 2, 2}, {2, 2, -2}, {0, 0, 0}, 2, 4, static_cast<unsigned>(k));
+    return graded_fan({2, 2, 2}, {4, 4, -4}, {0, 0, 0}, 2, 4, 0);
+}
+// The exact extremes of one tetrahedron: kind 0 the largest d²/N with d > 0,
+// 1 the largest with d < 0, 2 the largest s²/M with s > 0 (found[kind]:
+// whether it has one); and whether it meets the claim.
+struct GradedAngles {
+    std::array<Cos2, 3> w;
+    std::array<bool, 3> found{false, false, false};
+    bool within = true;
+};
+GradedAngles graded_angles(const GTet& t, const Claim& cl) {
+    GradedAngles g;
+    const auto keep = [&](int kind, const Z& x, const Z& n) {
+        const Cos2 c{x * x, n, kind != 1};
+        if (!g.found[kind] || cmp(c.p * g.w[kind].q, g.w[kind].p * c.q) > 0) g.w[kind] = c, g.found[kind] = true;
+    };
+    for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+            int c = 0;
+            while (c == i || c == j) ++c;
+            const int d = 6 - i - j - c;
+            const G3 e = gsub(t[j], t[i]);
+            const std::array<Z, 3> nc = gcross(e, gsub(t[c], t[i])), nd = gcross(e, gsub(t[d], t[i]));
+            const Z x = gdot(nc, nd), n = gdot(nc, nc) * gdot(nd, nd);
+            if (sgn(x) == 0) continue;
+            const int kind = sgn(x) > 0 ? 0 : 1;
+            g.within = g.within && cmp(pow2(40) * x * x, (kind == 0 ? cl.cmin : cl.cmax) * n) <= 0;
+            keep(kind, x, n);
+        }
+    for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+            for (int c = b + 1; c < 4; ++c) {
+                if (b == a || c == a) continue;
+                const std::array<Z, 3> u = gz(gsub(t[b], t[a])), v = gz(gsub(t[c], t[a]));
+                const Z s = gdot(u, v), m = gdot(u, u) * gdot(v, v);
+                if (sgn(s) <= 0) continue;
+                g.within = g.within && cmp(pow2(40) * s * s, cl.cface * m) <= 0;
+                keep(2, s, m);
+            }
+    return g;
+}
+// One tet line against the derived tetrahedron; returns its angles.
+GradedAngles graded_tet_line(const std::string& line, const GTet& t, const Claim& cl, int k) {
+    std::istringstream in(line);
+    std::string word;
+    if (!(in >> word) || word != "tet") fail("configuration " + std::to_string(k) + ": bad tet line '" + line.substr(0, 60) + "'");
+    for (const G3& v : t)
+        for (const std::int64_t x : v) {
+            std::string s;
+            if (!(in >> s) || parse_int(s) != x) fail("configuration " + std::to_string(k) + ": a tetrahedron is not the fan's");
+        }
+    if (sgn(gvolume6(t)) <= 0) fail("configuration " + std::to_string(k) + ": a tetrahedron is not positively oriented");
+    const GradedAngles g = graded_angles(t, cl);
+    if (!g.within) fail("configuration " + std::to_string(k) + ": a tetrahedron is outside the claim");
+    for (int kind = 0; kind < 3; ++kind) {
+        std::string s;
+        if (!(in >> s)) fail("configuration " + std::to_string(k) + ": a tet line without its witnesses");
+        if (s == "-" ? g.found[kind] : !g.found[kind]) fail("configuration " + std::to_string(k) + ": a witness is not the tetrahedron's");
+        if (s == "-") continue;
+        const auto [p, q] = parse_q(s);
+        if (cmp(zint(p) * g.w[kind].q, g.w[kind].p * zint(q)) != 0)
+            fail("configuration " + std::to_string(k) + ": a witness is not the tetrahedron's extreme");
+    }
+    if (in >> word) fail("configuration " + std::to_string(k) + ": trailing fields on a tet line");
+    return g;
+}
+// Every placement of every configuration (above) within the claim; the count.
+long graded_placements(const Claim& cl) {
+    long n = 0;
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+            G3 cx{2, 2, 2}, f0{0, 0, 0};
+            if (side) f0[a] = 4;
+            const std::int64_t s = side ? 1 : -1;
+            std::vector<std::vector<GTet>> fans;
+            for (unsigned split = 0; split < 16; ++split) {
+                G3 cy = cx;
+                cy[a] += 4 * s;
+                fans.push_back(graded_fan(cx, cy, f0, a, 4, split));
+            }
+            for (int qb = 0; qb < 2; ++qb)
+                for (int qc = 0; qc < 2; ++qc) {
+                    G3 cy{};  // Y: side 8, X's face its quadrant (qb, qc)
+                    cy[a] = side ? 8 : -4;
+                    cy[(a + 1) % 3] = 4 - 4 * qb;
+                    cy[(a + 2) % 3] = 4 - 4 * qc;
+                    fans.push_back(graded_fan(cx, cy, f0, a, 4, 0));
+                }
+            for (const auto& fan : fans)
+                for (const GTet& t : fan) {
+                    if (sgn(gvolume6(t)) <= 0 || !graded_angles(t, cl).within) fail("a placement of a configuration is outside the claim");
+                    ++n;
+                }
+        }
+    return n;
+}
+int check_graded(const std::vector<std::string>& body) {
+    if (body.size() < 3) fail("a graded certificate has a claim, a configs line and configurations");
+    std::istringstream c(body[1]), n(body[2]);
+    std::string word;
+    std::array<std::string, 3> text;
+    long configs = -1;
+    if (!(c >> word >> text[0] >> text[1] >> text[2]) || word != "claim" || (c >> word)) fail("bad claim line");
+    if (!(n >> word >> configs) || word != "configs" || (n >> word)) fail("bad configs line");
+    if (configs != 17) fail("the certificate does not list the 17 configurations");
+    const Claim cl{claim_threshold(text[0]), claim_threshold(text[1]), claim_threshold(text[2])};
+    std::size_t at = 3;
+    std::array<Cos2, 3> worst;
+    std::array<bool, 3> found{false, false, false};
+    long tets = 0;
+    for (int k = 0; k < 17; ++k) {
+        const std::vector<GTet> fan = graded_config(k);
+        std::istringstream h(at < body.size() ? body[at] : std::string());
+        long kk = -1, count = -1;
+        if (!(h >> word >> kk >> count) || word != "config" || kk != k || (h >> word)) fail("configuration " + std::to_string(k) + ": bad config line");
+        if (count != static_cast<long>(fan.size())) fail("configuration " + std::to_string(k) + ": not the fan's tetrahedron count");
+        ++at;
+        for (const GTet& t : fan) {
+            if (at >= body.size()) fail("the certificate ends inside configuration " + std::to_string(k));
+            const GradedAngles g = graded_tet_line(body[at++], t, cl, k);
+            for (int kind = 0; kind < 3; ++kind)
+                if (g.found[kind] && (!found[kind] || cmp(g.w[kind].p * worst[kind].q, worst[kind].p * g.w[kind].q) > 0))
+                    worst[kind] = g.w[kind], found[kind] = true;
+            ++tets;
+        }
+    }
+    if (at != body.size()) fail("lines after the configurations");
+    for (int kind = 0; kind < 3; ++kind)
+        if (!found[kind] || !tight(claim_of(cl, kind), worst[kind], 1800000000, kind == 1))
+            fail("the claim is not within 0.01 deg of its witness (kind " + std::to_string(kind) + ")");
+    const long placements = graded_placements(cl);
+    // Degrees for the message only, the claim's rounded outward to 4 decimals.
+    const auto down = [](double x) { return std::floor(x * 1e4) / 1e4; };
+    const auto up = [](double x) { return std::ceil(x * 1e4) / 1e4; };
+    std::cout << std::fixed << std::setprecision(4) << "BCC graded templates: the " << tets
+              << " tetrahedra of the 17 fan configurations (re-derived, " << placements
+              << " placements checked) are positively oriented with every dihedral angle in ["
+              << down(degrees(Cos2{cl.cmin, pow2(40), true})) << ", " << up(degrees(Cos2{cl.cmax, pow2(40), false}))
+              << "] deg and every face angle >= " << down(degrees(Cos2{cl.cface, pow2(40), true}))
+              << " deg (rounded outward); witnesses " << degrees(worst[0]) << ", " << degrees(worst[1]) << ", "
+              << degrees(worst[2]) << " deg\n";
+    return 0;
+}
+
 // The alphas of a bound certificate ("alphas L S"): exact rationals with one
 // denominator below 2^31 (returned in den), both in (0, 1/2).
 std::pair<std::int64_t, std::int64_t> bound_alphas(const std::string& al, const std::string& as, std::int64_t& den) {
@@ -1824,9 +2033,10 @@ int check(std::istream& in, bool progress) {
     if (!body.empty() && body[0] == "warpmesh-bcc-counterexample 1") return check_counterexample(body);
     if (!body.empty() && body[0] == "warpmesh-bcc-ceiling 1") return check_ceiling(body);
     if (!body.empty() && body[0] == "warpmesh-bcc-junctions 1") return check_junctions(body, progress);
+    if (!body.empty() && body[0] == "warpmesh-bcc-graded 1") return check_graded(body);
     const bool delaunay = !body.empty() && body[0] == "warpmesh-bcc-certificate 5";
     if (body.size() < 4 || (body[0] != "warpmesh-bcc-certificate 4" && !delaunay))
-        fail("not a BCC certificate (format 4 or 5), counter-example, ceiling or junction certificate (format 1)");
+        fail("not a BCC certificate (format 4 or 5), counter-example, ceiling, junction or graded certificate (format 1)");
     // Format 5: one face-rule line, right after the header; format 4: none.
     long rules = 0;
     for (const std::string& l : body) rules += l.rfind("face-rule", 0) == 0;

@@ -4,11 +4,13 @@
 #
 #   { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
 #     build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert;
-#     build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
+#     build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_graded.cert;
+#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
 # row per certificate in input order: the parity face rule, the Delaunay face
-# rule, the junction keys of multi-material meshes) come after the 2D rows;
+# rule, the junction keys of multi-material meshes) come after the 2D rows,
+# then the graded meshes' transition templates;
 # its counter-example for the α = ½ closer-endpoint rule (no bound: an
 # inverted tetrahedron) follows, and the
 # ceiling (no thresholds, with any face rule, reach its angle) is the last.
@@ -46,6 +48,14 @@ awk '
     kx = $0; sub(/.*: key /, "", kx); sub(/ at .*/, "", kx)
     px = $0; sub(/.* at \(/, "", px); sub(/\):.*/, "", px)
     vx = $0; sub(/.* has 6\*volume /, "", vx); sub(/ .*/, "", vx)
+    next
+  }
+  /^BCC graded templates: / {
+    # BCC graded templates: the N tetrahedra of the 17 fan configurations (...) are ... in [LO, HI] deg and ...; witnesses A, B, C deg
+    gn = $0; sub(/^BCC graded templates: the /, "", gn); sub(/ tetrahedra.*/, "", gn)
+    gt = $0; sub(/.*dihedral angle in \[/, "", gt); sub(/\] deg.*/, "", gt); split(gt, gg, ", ")
+    gw = $0; sub(/.*; witnesses /, "", gw); sub(/ deg$/, "", gw); split(gw, gv, ", ")
+    glo = gg[1]; ghi = gg[2]
     next
   }
   /^BCC ceiling: / {
@@ -96,6 +106,8 @@ awk '
       conf3 = junction3[i] ? "all junction keys" : "all keys with output"
       printf "| %s%s faces (3D dihedral, α %.5f / %.5f) | %s | %s° | %s° | %s | %s | %s |\n", what3, faces3[i], p[1] / p[2], q[1] / q[2], conf3, lo3[i], hi3[i], r3[i], wit3[i, "min"], wit3[i, "max"]
     }
+    if (glo != "")
+      printf "| BCC graded transitions (3D dihedral, the templates of graded meshes, any α) | all 17 fan configurations (%s tetrahedra) | %s° | %s° | %s° … %s° | %s° (exact) | %s° (exact) |\n", gn, glo, ghi, glo, ghi, gv[1], gv[2]
     if (kx != "") {
       split(ax, aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
       printf "| BCC closer-endpoint (3D dihedral, α %.5f / %.5f) | all keys with output | no bound | no bound | inverted | `%s` at (%s): 6·volume %s (doubled coordinates) | — |\n", p[1] / p[2], q[1] / q[2], kx, px, vx

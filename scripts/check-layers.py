@@ -58,6 +58,7 @@ GENERIC_MODELS = {
     "mesher/include/warpmesh/mesh3d/generic_bcc.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc_keys.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc_materials.hpp",
+    "mesher/include/warpmesh/mesh3d/generic_octree.hpp",
 }
 PROVER_LAYERS = {"core", "numerics"}
 

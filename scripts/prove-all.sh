@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Reruns every proof whole — the 2D certificates, the 3D proofs/bcc.cert,
 # proofs/bcc_delaunay.cert (the Delaunay face rule), proofs/bcc_junctions.cert
-# (the junction keys of multi-material meshes), the 3D
+# (the junction keys of multi-material meshes), proofs/bcc_graded.cert (the
+# graded meshes' transition templates), the 3D
 # counter-example proofs/bcc_half.cert and the 3D ceiling proofs/bcc_ceiling.cert
 # (scripts/test.sh reruns the 3D one on a sample of its keys) — into OUTDIR
 # (default: a temporary directory) and compares each with proofs/ byte for
@@ -22,11 +23,12 @@ alphas="$(awk '/^alphas /{split($2, a, "/"); split($3, b, "/"); printf "%.5f %.5
 "$build/prover/warpmesh-prove-bcc" --face-rule delaunay --alphas 0.2675 0.39 --cap-min-deg 11.781 --cap-max-deg 161.253 \
   --threads "$(nproc)" --out "$out/bcc_delaunay.cert"  # proofs/README.md, "The Delaunay face rule (certified)"
 "$build/prover/warpmesh-prove-bcc" --junctions --threads "$(nproc)" --out "$out/bcc_junctions.cert"  # multi-material junctions
+"$build/prover/warpmesh-prove-bcc" --graded --out "$out/bcc_graded.cert"  # the graded meshes' transition templates
 echo "== [$SECONDS s] 3D proofs done"
 "$build/prover/bcc_explore" counterexample 0.5 0.5 >"$out/bcc_half.cert"  # the alpha = 1/2 counter-example
 "$build/prover/bcc_ceiling" 11.88 >"$out/bcc_ceiling.cert"  # no thresholds reach 11.88 deg
 status=0
-for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc,bcc_delaunay,bcc_junctions,bcc_half,bcc_ceiling}.cert "$root"/proofs/key_table.txt; do
+for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc,bcc_delaunay,bcc_junctions,bcc_graded,bcc_half,bcc_ceiling}.cert "$root"/proofs/key_table.txt; do
   if ! cmp -s "$cert" "$out/$(basename "$cert")"; then
     echo "prove-all: $(basename "$cert") differs from the prover's fresh output ($out)" >&2
     status=1

@@ -102,11 +102,16 @@ BOOST_AUTO_TEST_CASE(every_3d_entry_is_in_the_help_and_the_parser_of_mesh3d_and_
     check_table(mesh3d_option_table(), "mesh3d");
     const Run help = run("mesh3d --help");
     // 3D help only, naming the default rule's certificate (issue 50).
-    for (const char* flag : {"--diagonal", "--graded", "--max-size-of", "--slice", "--svg-color", "--optimize"}) {
+    for (const char* flag : {"--diagonal", "--max-cell", "--max-size-of", "--slice", "--svg-color", "--optimize"}) {
         BOOST_TEST_INFO(flag);
         BOOST_TEST(help.out.find(flag) == std::string::npos);
     }
     BOOST_TEST(help.out.find("proofs/bcc_delaunay.cert") != std::string::npos);
+    // Graded meshes (issue 48).
+    for (const char* flag : {"\n  --graded", "\n  --max-size H", "\n  --grading G"}) {
+        BOOST_TEST_INFO(flag);
+        BOOST_TEST(help.out.find(flag) != std::string::npos);
+    }
     // Several materials (issue 47): a volume's labels, analytic materials, the background.
     for (const char* flag : {"\n  --materials all|L,...", "\n  --shapes T=S;T=S...", "\n  --background drop|keep"}) {
         BOOST_TEST_INFO(flag);

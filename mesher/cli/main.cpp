@@ -385,9 +385,9 @@ struct Args {
 // Why an option of `mesh` is refused by mesh3d.
 std::string refused_in_3d(const std::string& option) {
     if (option == "--max-size-of")
-        return "per-material sizes need graded (octree) 3D meshes, not built yet (docs/3d.md); the size is the --spacing";
-    if (option == "--graded" || option == "--max-cell" || option == "--max-size" || option == "--grading")
-        return "graded (octree) 3D meshes are not built yet (docs/3d.md); the size is the --spacing";
+        return "per-material sizes need graded meshes of several materials, not built yet in 3D (docs/3d.md); --graded "
+               "meshes one region, --max-size bounds every tetrahedron";
+    if (option == "--max-cell") return "3D graded meshes bound their cells by --max-size, in the input's units";
     if (option == "--slice" || option == "--slices" || option == "--points-3d")
         return "mesh3d meshes the whole volume in 3D; it applies to 2D meshes of slices (warpmesh mesh)";
     if (option == "--diagonal" || option == "--guarantee" || option == "--min-spacing")

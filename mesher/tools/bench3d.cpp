@@ -10,7 +10,7 @@
 //
 //   warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V]
 //                    --spacing S [--face-rule parity|delaunay] [--threads N] [--max-memory MB]
-//                    [--quality] [--verify] [--check]
+//                    [--graded [--max-size H] [--grading G]] [--quality] [--verify] [--check]
 #include <sys/resource.h>
 
 #include <cstdio>
@@ -71,11 +71,14 @@ int main(int argc, char** argv) {
             o.face_rule = *rule;
         } else if (a == "--threads") o.threads = std::stoi(next());
         else if (a == "--max-memory") o.max_memory = std::stoull(next()) << 20;
+        else if (a == "--graded") o.graded = true;
+        else if (a == "--max-size") o.max_size = std::stod(next());
+        else if (a == "--grading") o.grading = std::stod(next());
         else if (a == "--quality") o.quality = true;
         else if (a == "--verify") o.verify = true;
         else if (a == "--check") check = true;
         else {
-            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--face-rule parity|delaunay] [--threads N] [--max-memory MB] [--quality] [--verify] [--check]\n";
+            std::cerr << "usage: warpmesh-bench3d --shape SPEC | --volume FILE [--label L,...|nonzero] [--iso V] --spacing S [--face-rule parity|delaunay] [--threads N] [--max-memory MB] [--graded [--max-size H] [--grading G]] [--quality] [--verify] [--check]\n";
             return 2;
         }
     }
@@ -103,6 +106,7 @@ int main(int argc, char** argv) {
             std::printf(" min_dihedral=%.3f max_dihedral=%.3f radius_ratio_min=%.4f boundary_vertex_f_max=%.3g boundary_centroid_f_max=%.3g",
                         r.quality.min_dihedral_deg, r.quality.max_dihedral_deg, r.quality.radius_ratio_min, r.quality.boundary_vertex_f_max, r.quality.boundary_centroid_f_max);
         if (check) std::printf(" check_ok=%d", check_tet_mesh(m).ok ? 1 : 0);
+        if (r.graded) std::printf(" template_tets=%lld longest_edge=%.6g", static_cast<long long>(r.graded->template_tets), r.graded->longest_edge);
         std::printf(" certified=%lld uncertified=%lld verified=%d boundary_faces=%lld\n", static_cast<long long>(r.certified_tets),
                     static_cast<long long>(r.uncertified_tets), r.verified ? 1 : 0, static_cast<long long>(r.boundary_faces));
         for (const auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -74,9 +74,11 @@ def test_label_volume_in_mm(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--graded"], "--graded has no effect in 3D"),
+    (["--max-cell", "4"], "--max-cell has no effect in 3D (warpmesh mesh3d): 3D graded meshes bound their cells by --max-size"),
     (["--materials", "all"], "materials apply to volumes, not to shapes"),
-    (["--max-size-of", "1=0.1"], "per-material sizes need graded (octree) 3D meshes"),
+    (["--max-size-of", "1=0.1"], "per-material sizes need graded meshes of several materials"),
+    (["--grading", "1.5"], "--grading applies to graded meshes: add --graded"),
+    (["--graded", "--max-size", "0.5"], "--max-size 0.5 is below 2 * spacing = 0.6"),
     (["--slice", "k=3"], "--slice has no effect in 3D"),
     (["--diagonal", "fan"], "--face-rule parity|delaunay"),
     (["--face-rule", "maxmin"], "--face-rule expects 'parity' or 'delaunay', got 'maxmin'"),
@@ -87,6 +89,27 @@ def test_options_without_effect_in_3d_are_refused(tmp_path, args, message):
     r = mesh3d(["--shape", "sphere:0,0,0,1", "--spacing", "0.3", "-o", "x.vtu", *args], tmp_path, expect=2)
     assert message in r.stderr
     assert not os.listdir(tmp_path)
+
+
+def test_graded_sphere_keeps_max_size_and_the_uniform_boundary(tmp_path):
+    """--graded (issue 48): a conforming mesh (meshio: every tetrahedron
+    positive) with the uniform mesh's boundary and volume, fewer tetrahedra,
+    every edge within --max-size, and the report's graded figures."""
+    meshio = require("meshio", "python3-meshio")
+    args = ["--shape", "sphere:0,0,0,1", "--spacing", "0.1"]
+    mesh3d([*args, "-o", "u.vtu", "--report", "u.json", "--quiet"], tmp_path)
+    r = mesh3d([*args, "--graded", "--max-size", "0.45", "-o", "g.vtu", "--report", "g.json"], tmp_path)
+    assert "graded: leaves per level" in r.stdout
+    u, g = (json.loads((tmp_path / f"{n}.json").read_text()) for n in ("u", "g"))
+    assert g["tetrahedra"] < u["tetrahedra"] and g["boundary_faces"] == u["boundary_faces"]
+    assert abs(g["volume"] - u["volume"]) < 1e-9 * u["volume"]
+    assert g["graded"]["template_tetrahedra"] > 0 and g["graded"]["max_size"] == 0.45
+    m = meshio.read(tmp_path / "g.vtu")
+    tets = m.cells_dict["tetra"]
+    assert (tet_volumes(m.points, tets) > 0).all() and len(tets) == g["tetrahedra"]
+    edges = np.concatenate([m.points[tets[:, i]] - m.points[tets[:, j]] for i in range(4) for j in range(i + 1, 4)])
+    assert np.linalg.norm(edges, axis=1).max() <= 0.45 * (1 + 1e-12)
+    assert abs(np.linalg.norm(edges, axis=1).max() - g["graded"]["longest_edge"]) < 1e-12
 
 
 def test_face_rule_delaunay_is_the_default_and_never_reported_with_the_parity_certificate(tmp_path):

@@ -189,3 +189,22 @@ def test_read_volume_gives_the_cli_mesh(root, tmp_path, fixture):
         warpmesh.mesh3d(v, origin=(1, 2, 3), **options)
     with pytest.raises(warpmesh.InputError, match="brain_crop22|no such|cannot"):
         warpmesh.read_volume(tmp_path / "brain_crop22_missing.nrrd")
+
+
+def test_graded_keywords():
+    """graded=, max_size=, grading= (issue 48): the CLI's --graded, --max-size,
+    --grading; a graded ball has the uniform one's boundary with fewer
+    tetrahedra, its edges within max_size; several materials are refused."""
+    u = warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1)
+    g = warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1, graded=True, max_size=0.45)
+    assert len(g.tetrahedra) < len(u.tetrahedra) and len(g.boundary_faces) == len(u.boundary_faces)
+    r = g.report["graded"]
+    assert r["max_size"] == 0.45 and r["grading_buffer"] == 0 and r["template_tetrahedra"] > 0
+    assert warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1, graded=True, grading=1.5).report["graded"]["grading_buffer"] == 2
+    p, t = g.points, g.tetrahedra
+    edges = np.concatenate([p[t[:, i]] - p[t[:, j]] for i in range(4) for j in range(i + 1, 4)])
+    assert np.linalg.norm(edges, axis=1).max() <= 0.45 * (1 + 1e-12)
+    with pytest.raises(warpmesh.InputError, match="graded meshes of several materials are not built yet"):
+        warpmesh.mesh3d(shapes="1=sphere:0,0,0,1;2=sphere:0,0,0,0.5", spacing=0.2, graded=True)
+    with pytest.raises(warpmesh.InputError, match="^max_size 0.1 is below 2 \\* spacing"):
+        warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1, graded=True, max_size=0.1)

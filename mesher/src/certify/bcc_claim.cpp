@@ -27,6 +27,8 @@
 #include "warpmesh/certify/bcc_certified.hpp"
 
 #include <cmath>
+#include <sstream>
+#include <string_view>
 
 namespace warpmesh {
 
@@ -74,6 +76,46 @@ BccCertification bcc_junction_certification(const bcc::Alphas& a) {
                                    "junction tetrahedra are measured, not certified";
     return c;
 }
+
+namespace generated {
+extern const std::string_view certified_bcc_graded_claim;
+}
+
+namespace {
+
+// The templates' claim line "claim CMIN CMAX CFACE" (rationals p/q), or
+// nothing (no certificate in the build, or a line that does not parse).
+std::optional<BccKeyClaim> graded_claim() {
+    std::istringstream in{std::string(generated::certified_bcc_graded_claim)};
+    std::string word;
+    BccKeyClaim c;
+    if (!(in >> word) || word != "claim") return std::nullopt;
+    for (double* x : {&c.cos2_min, &c.cos2_max}) {
+        long double p = 0, q = 0;
+        char slash = 0;
+        if (!(in >> p >> slash >> q) || slash != '/' || !(q > 0)) return std::nullopt;
+        *x = static_cast<double>(p / q);
+    }
+    return c;
+}
+
+}  // namespace
+
+BccCertification bcc_template_certification() {
+    BccCertification c;
+    const std::optional<BccKeyClaim> claim = graded_claim();
+    c.certified = claim.has_value();
+    if (c.certified) {
+        c.min_deg = std::acos(std::sqrt(claim->cos2_min)) * 180 / M_PI;
+        c.max_deg = 180 - std::acos(std::sqrt(claim->cos2_max)) * 180 / M_PI;
+    } else {
+        c.uncertified_reason = "this build has no certificate of the graded templates (proofs/bcc_graded.cert): their angles are "
+                               "measured, not certified";
+    }
+    return c;
+}
+
+BccKeyClaim bcc_template_claim() { return graded_claim().value_or(BccKeyClaim{}); }
 
 BccCertification bcc_certification(FaceRule rule, const bcc::Alphas& alphas) {
     BccCertification c;

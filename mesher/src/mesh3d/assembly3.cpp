@@ -212,6 +212,29 @@ TetMesh to_mesh(Emitted&& e) {
 }
 
 }  // namespace
+
+void prepare_window(const LevelSet3& f, const BccOptions& o, Window& w) { prepare(f, o, false, w); }
+
+BccMesh finish_mesh(Emitted&& e, const LevelSet3& f, const Lattice3& lattice, const BccOptions& o, std::int64_t warped) {
+    if (e.uncovered_keys > 0)
+        throw std::logic_error("mesh3d verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " +
+                               o.verify->source + " does not list (first: " + e.first_uncovered + ")");
+    if (e.key_claim_failures > 0)
+        throw std::logic_error("mesh3d verify: " + std::to_string(e.key_claim_failures) + " tetrahedra fail their key's claim in " +
+                               o.verify->source + " (first key: " + e.first_key_claim_failure + ")");
+    if (e.tets.empty())
+        throw InputError("the region is empty: no tetrahedron inside at spacing " + std::to_string(lattice.spacing) + " (" + f.describe() + ")");
+    BccMesh r;
+    r.lattice_points = lattice.point_count();
+    r.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
+    r.cut_points = e.cut_points;
+    r.warped = warped;
+    r.all_zero_left_out = e.all_zero_left_out;
+    r.verified = o.verify != nullptr;
+    r.mesh = to_mesh(std::move(e));
+    return r;
+}
+
 }  // namespace uniform3d
 
 BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o) {
@@ -224,24 +247,9 @@ BccMesh mesh_bcc(const LevelSet3& f, const Lattice3& lattice, const BccOptions& 
     w.grid = Grid::whole(lattice);
     prepare(f, o, false, w);
     Emitted e = emit_tets(w, all, false, o.max_memory, o.face_rule, o.verify);
-    if (e.uncovered_keys > 0)
-        throw std::logic_error("mesh3d verify: " + std::to_string(e.uncovered_keys) + " background tetrahedra have a key that " +
-                               o.verify->source + " does not list (first: " + e.first_uncovered + ")");
-    if (e.key_claim_failures > 0)
-        throw std::logic_error("mesh3d verify: " + std::to_string(e.key_claim_failures) + " tetrahedra fail their key's claim in " +
-                               o.verify->source + " (first key: " + e.first_key_claim_failure + ")");
     const std::int64_t warped = w.warp_count;
     w = Window{};
-    if (e.tets.empty())
-        throw InputError("the region is empty: no tetrahedron inside at spacing " + std::to_string(lattice.spacing) + " (" + f.describe() + ")");
-    BccMesh r;
-    r.lattice_points = lattice.point_count();
-    r.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
-    r.cut_points = e.cut_points;
-    r.warped = warped;
-    r.all_zero_left_out = e.all_zero_left_out;
-    r.verified = o.verify != nullptr;
-    r.mesh = to_mesh(std::move(e));
+    BccMesh r = finish_mesh(std::move(e), f, lattice, o, warped);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }

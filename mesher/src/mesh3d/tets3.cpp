@@ -29,6 +29,7 @@
 #include <stdexcept>
 
 #include "uniform3d.hpp"
+#include "mesh3d/graded/octree3.hpp"
 #include "warpmesh/mesh3d/generic_bcc_keys.hpp"  // key_of, code_of
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/core/memory.hpp"
@@ -47,6 +48,7 @@ struct Neighbourhood {
 struct Layout {
     const Window& w;
     const FaceRule rule;
+    const graded3::Octree3* tree = nullptr;  // graded meshes
     const std::array<TetShape, 12>& shapes = tet_shapes();
     std::span<const Plan> plans = uniform3d::plans();  // looked up once, not per tetrahedron
     std::span<const Plan> by_diagonals = uniform3d::diagonal_plans();
@@ -57,7 +59,7 @@ struct Layout {
     // none does, and marking it would leave a vertex in no tetrahedron).
     unsigned whole_slots = 0;
 
-    Layout(const Window& win, FaceRule face_rule) : w(win), rule(face_rule) {
+    Layout(const Window& win, FaceRule face_rule, const graded3::Octree3* octree) : w(win), rule(face_rule), tree(octree) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
         for (const TetShape& s : shapes)
             for (int k : s.slot_in_cube) whole_slots |= 1u << k;
@@ -116,6 +118,46 @@ struct Layout {
     }
 };
 
+// Graded meshes: the templates of cube c's leaf (when c is its origin) that
+// are output, those inside.  Each template of an inside leaf must have four
+// vertices of one strict sign (octree3.hpp's invariant), else std::logic_error.
+int inside_templates(const Layout& lay, const graded3::Cube& c, graded3::Templates& out) {
+    // A leaf's templates all share its centre's sign: none is output unless it is inside.
+    const int l = lay.tree->level_at(c);
+    const int side = 1 << l;
+    bcc::Ivec centre{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (c[a] & (side - 1)) return 0;  // not the leaf's origin
+        centre[a] = static_cast<int>(2 * c[a]) + side;
+    }
+    if (lay.w.sign[static_cast<std::size_t>(lay.w.grid.index(centre))] > 0) return 0;
+    graded3::Templates all;  // (not zeroed: per cube)
+    const int k = graded3::leaf_templates(*lay.tree, c, all);
+    int n = 0;
+    for (int i = 0; i < k; ++i) {
+        int s0 = 0;
+        for (const bcc::Ivec& q : all[static_cast<std::size_t>(i)]) {
+            const int s = lay.w.sign[static_cast<std::size_t>(lay.w.grid.index(q))];
+            if (s == 0 || (s0 != 0 && s != s0))
+                throw std::logic_error("mesh3d graded: a template tetrahedron has a vertex on or across the level set "
+                                       "(the finest-band invariant of octree3.hpp failed)");
+            s0 = s;
+        }
+        if (s0 < 0) out[static_cast<std::size_t>(n++)] = all[static_cast<std::size_t>(i)];
+    }
+    return n;
+}
+
+// Graded meshes: which of cube c's background tetrahedra the stencils split
+// (all without a tree); false when c belongs to a coarser leaf (templates only).
+bool fine_cube(const Layout& lay, const graded3::Cube& c, unsigned& mask) {
+    mask = 0xFFFu;
+    if (!lay.tree) return true;
+    if (lay.tree->level_at(c) > 0) return false;
+    mask = graded3::uniform_mask(*lay.tree, c);
+    return true;
+}
+
 // Pass A: the tetrahedra of each layer (prefix sums: layer l starts at
 // start[l]) and the used marks.
 std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& range, Marks& marks) {
@@ -127,16 +169,26 @@ std::vector<std::int64_t> count_and_mark(const Layout& lay, const CubeRange& ran
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t l = 0; l < layers; ++l) {
         std::int64_t count = 0;
-        for_cubes_in_layer(range, range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
+        for_cubes_in_layer(range, range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
+            unsigned mask = 0xFFFu;
+            if (lay.tree) {
+                graded3::Templates t;
+                const int k = inside_templates(lay, {cx, cy, range.lo[2] + l}, t);
+                count += k;
+                for (int i = 0; i < k; ++i)
+                    for (const bcc::Ivec& q : t[static_cast<std::size_t>(i)]) mark_point(lay.w.grid.index(q));
+                if (!fine_cube(lay, {cx, cy, range.lo[2] + l}, mask)) return;
+            }
             const Neighbourhood n = lay.around(m);
             if (n.all_outside) return;
-            if (n.all_inside) {
+            if (n.all_inside && mask == 0xFFFu) {
                 count += 12;
                 for (int k = 0; k < 12; ++k)
                     if (lay.whole_slots >> k & 1u) mark_point(n.at[static_cast<std::size_t>(k)]);
                 return;
             }
             for (int index = 0; index < 12; ++index) {
+                if (!(mask >> index & 1u)) continue;
                 bool all_zero = false;
                 int code = 0;
                 const Plan* p = lay.split(m, n, index, all_zero, code);  // any face rule's count and points
@@ -284,12 +336,36 @@ void write_whole_cube(const Layout& lay, const Neighbourhood& n, const Numbering
     }
 }
 
+// Graded meshes: the inside templates of cube c's leaf, written from t on
+// (vertex ids of their lattice points); with a claim, each checked against it.
+void write_templates(const Layout& lay, const graded3::Cube& c, const Numbering& num, const std::optional<BccKeyClaim>& claim,
+                     std::int64_t& t, std::int64_t& failures, std::string& first, Emitted& out) {
+    graded3::Templates tt;
+    const int k = inside_templates(lay, c, tt);
+    for (int i = 0; i < k; ++i, ++t) {
+        std::array<std::int32_t, 4> v{};
+        std::array<Point3, 4> q{};
+        for (std::size_t j = 0; j < 4; ++j) {
+            const bcc::Ivec& p = tt[static_cast<std::size_t>(i)][j];
+            v[j] = num.id[static_cast<std::size_t>(lay.w.grid.index(p))];
+            if (claim) q[j] = lay.w.lattice_position(p);
+        }
+        out.tets[static_cast<std::size_t>(t)] = v;
+        if (claim && !key_claim_holds(q, claim->cos2_min, claim->cos2_max)) {
+            ++failures;
+#pragma omp critical
+            if (first.empty()) first = "template";
+        }
+    }
+}
+
 void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, const Numbering& num,
                 std::span<const std::int64_t> start, bool keys, const BccKeyClaims* verify, Emitted& out) {
     const Lattice3& L = lay.w.grid.lattice;
     const std::int64_t layers = range.hi[2] - range.lo[2];
     std::vector<std::vector<CutOff>> edge(static_cast<std::size_t>(layers));
-    std::int64_t uncovered = 0, failures = 0, all_zero_left_out = 0, cyclic = 0;
+    std::int64_t uncovered = 0, failures = 0, all_zero_left_out = 0, cyclic = 0, templates = 0;
+    const std::optional<BccKeyClaim> template_claim = verify ? verify->template_claim : std::nullopt;
     // A whole background tetrahedron's key (four − vertices, none warped; the
     // same for every index), looked up once.
     std::string whole_code;
@@ -302,17 +378,25 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
             throw std::logic_error("mesh3d verify: " + verify->source + " does not list the key " + whole_code +
                                    " of a whole background tetrahedron");
     }
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures, all_zero_left_out, cyclic)
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : uncovered, failures, all_zero_left_out, cyclic, templates)
     for (std::int64_t l = 0; l < layers; ++l) {
         std::int64_t t = start[static_cast<std::size_t>(l)];
         const std::int64_t cz = range.lo[2] + l;
         for_cubes_in_layer(range, cz, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
+            unsigned mask = 0xFFFu;
+            if (lay.tree) {
+                const std::int64_t t0 = t;
+                write_templates(lay, {cx, cy, cz}, num, template_claim, t, failures, out.first_key_claim_failure, out);
+                templates += t - t0;
+                if (!fine_cube(lay, {cx, cy, cz}, mask)) return;
+            }
             const Neighbourhood n = lay.around(m);
             if (n.all_outside) return;
             const bool near_edge = cx < 2 || cy < 2 || cz < 2 || cx >= L.cubes[0] - 2 || cy >= L.cubes[1] - 2 || cz >= L.cubes[2] - 2;
             const std::uint64_t cube_key = static_cast<std::uint64_t>((cz * L.cubes[1] + cy) * L.cubes[0] + cx) * 48;
-            if (n.all_inside && !near_edge && !verify) return write_whole_cube(lay, n, num, keys, cube_key, t, out);
+            if (n.all_inside && mask == 0xFFFu && !near_edge && !verify) return write_whole_cube(lay, n, num, keys, cube_key, t, out);
             for (int index = 0; index < 12; ++index) {
+                if (!(mask >> index & 1u)) continue;
                 const TetShape& s = lay.shapes[static_cast<std::size_t>(index)];
                 bool all_zero = false;
                 int sign_code = 0;
@@ -361,6 +445,7 @@ void write_tets(const Layout& lay, const CubeRange& range, const Marks& marks, c
     out.all_zero_left_out = all_zero_left_out;
     out.uncovered_keys = uncovered;
     out.key_claim_failures = failures;
+    out.template_tets = templates;
     if (cyclic > 0)
         throw std::logic_error("mesh3d: the Delaunay face rule turned " + std::to_string(cyclic) + " prisms' three quads the same way");
 }
@@ -379,8 +464,9 @@ bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos
     return ok;
 }
 
-Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule, const BccKeyClaims* verify) {
-    const Layout lay(w, rule);
+Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule, const BccKeyClaims* verify,
+                  const graded3::Octree3* tree) {
+    const Layout lay(w, rule, tree);
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
     Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     const std::vector<std::int64_t> start = count_and_mark(lay, range, marks);

@@ -30,6 +30,10 @@
 #include "warpmesh/levelset/materials3.hpp"
 #include "warpmesh/mesh3d/mesh3d.hpp"
 
+namespace warpmesh::graded3 {
+struct Octree3;  // graded/octree3.hpp
+}
+
 namespace warpmesh::uniform3d {
 
 // A window of the lattice: the points with doubled coordinates in [lo, hi]
@@ -251,11 +255,16 @@ struct Emitted {
     std::string first_uncovered;
     std::int64_t key_claim_failures = 0;
     std::string first_key_claim_failure;
+    std::int64_t template_tets = 0;  // graded meshes: the templates output (generic_octree.hpp)
 };
 // Quads split by `rule`; with `verify`, every tetrahedron checked against
-// its key's claim.
+// its key's claim (a graded mesh's templates against verify->template_claim,
+// where given).  With `tree` (graded meshes, graded/octree3.hpp): the
+// finest leaves' background tetrahedra against finest leaves, split by the
+// stencils as above, and every leaf's templates (those inside, whole; a
+// template with a vertex not strictly on one side throws std::logic_error).
 Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint64_t max_memory, FaceRule rule,
-                  const BccKeyClaims* verify = nullptr);
+                  const BccKeyClaims* verify = nullptr, const graded3::Octree3* tree = nullptr);
 
 // Whether tetrahedron q satisfies a key's claim with the certificate's own
 // test (generic_bcc.hpp, "Angle forms"), in double precision: volume > 0 and
@@ -272,6 +281,13 @@ bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos
 // lists sorted by their vertex triples.  Throws std::logic_error for a face
 // in three tetrahedra.
 void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on_level_set, std::span<const CutOff> cut_off);
+
+// The whole lattice's window (w.grid set) sampled, cut and warped.
+void prepare_window(const LevelSet3& f, const BccOptions& o, Window& w);
+// The mesh of emitted tetrahedra (boundary faces found) and its counts;
+// throws std::logic_error for verify's failures, InputError for an empty
+// region.  `seconds` is left 0.
+BccMesh finish_mesh(Emitted&& e, const LevelSet3& f, const Lattice3& lattice, const BccOptions& o, std::int64_t warped);
 
 // Throws InputError for alphas not in (0, 1/2) or an unknown face rule.
 void check_options(const BccOptions& o);

@@ -11,6 +11,8 @@
 #include <type_traits>
 
 #include "warpmesh/certify/bcc_certified.hpp"
+#include "warpmesh/core/grading.hpp"
+#include "warpmesh/mesh3d/graded.hpp"
 #include "warpmesh/levelset/image_levelset.hpp"  // parse_label_list
 #include "warpmesh/levelset/materials3.hpp"
 #include "warpmesh/pipeline/mesh3d_options.hpp"
@@ -422,6 +424,49 @@ void part_block_facts(const Prepared& p, const Lattice3& L, const CubeRange& ran
     facts.voxel_volume = p.voxel_volume;
 }
 
+// A graded mesh's certification: the stencils' (the report's, from the
+// face rule's certificate) and the templates' (proofs/bcc_graded.cert)
+// together; without the latter the templates are uncertified.
+void graded_certification(Mesh3dReport& r, std::int64_t template_tets, const BccCertification& t) {
+    if (!r.certified || template_tets == 0) return;
+    if (t.certified) {
+        r.certified_min_deg = std::min(r.certified_min_deg, t.min_deg), r.certified_max_deg = std::max(r.certified_max_deg, t.max_deg);
+        return;
+    }
+    r.uncertified_tets += template_tets, r.certified_tets -= template_tets;
+    r.uncertified_reason = std::to_string(template_tets) + " template tetrahedra (between octree cells) are not certified (" +
+                           t.uncertified_reason + "); the bounds hold for the other " + std::to_string(r.certified_tets);
+    r.warnings.push_back(r.uncertified_reason);
+    r.verified = false;
+}
+
+// A graded mesh of one region (mesh3d/graded.hpp): cells capped by
+// max_size, widened by grading; verify checks the stencils' tetrahedra
+// against their keys' claims and the templates against theirs.
+void mesh_graded(const Prepared& p, const Mesh3dOptions& o, double spacing, Mesh3dResult& r) {
+    BccOptions b = stage_options(o, false);
+    const bool verify = o.verify && bcc_certificate_applies(b.alphas, b.face_rule);
+    const BccCertification templates = bcc_template_certification();
+    BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
+    if (verify && templates.certified) claims.template_claim = bcc_template_claim();
+    if (verify) b.verify = &claims;
+    GradedOptions3 g;
+    if (o.max_size) g.max_level = max_level_for_size(*o.max_size, spacing);
+    g.buffer = grading_buffer(o.grading);
+    GradedBccMesh m = mesh_bcc_graded(*p.f, r.lattice, b, g);
+    r.report = region_report(m.bcc, b.face_rule, b.alphas, o.quality ? std::optional(measure_quality3(m.bcc.mesh, *p.f)) : std::nullopt,
+                             facts_of(*p.f), spacing);
+    graded_certification(r.report, m.template_tets, templates);
+    Graded3Figures f;
+    f.leaves_per_level = m.leaves_per_level, f.template_tets = m.template_tets;
+    f.max_size = o.max_size.value_or(0), f.max_level = g.max_level;
+    f.grading = o.grading, f.grading_buffer = g.buffer;
+    f.longest_edge = longest_tet_edge(m.bcc.mesh);
+    f.templates_certified = templates.certified, f.template_min_deg = templates.min_deg, f.template_max_deg = templates.max_deg;
+    r.report.graded = f;
+    r.mesh = std::move(m.bcc.mesh);
+}
+
 }  // namespace
 
 bool several_materials(const Mesh3dInput& input, const Mesh3dOptions& o) { return o.materials || is_material_shapes(input); }
@@ -432,6 +477,9 @@ void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
         throw InputError("spacing is required for a shape, material shapes or a level set (the lattice's cube side, in its units)");
     if (!is_volume(input)) check_volume_options(o);
     check_material_options(input, o);
+    if (o.graded && several_materials(input, o))
+        throw OptionError("graded", "{graded} meshes of several materials are not built yet: mesh one region (labels), or drop "
+                                    "{graded}");
     const bcc::Alphas a = o.alphas_in_use(is_material_shapes(input));
     if (!(a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
           2 * a.short_num < a.short_den))
@@ -452,6 +500,7 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const double spacing = spacing_of(o, p);
     Mesh3dResult r;
     r.warnings = p.warnings;
+    if (o.max_size) check_max_size(*o.max_size, spacing);  // (a volume's default spacing is known now)
     if (p.field) {
         mesh_materials(p, input, o, spacing, progress, r);
         r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
@@ -459,7 +508,13 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     }
     r.lattice = lattice3_for(*p.f, spacing);
     if (progress && (p.large || r.lattice.point_count() >= (std::int64_t{1} << 24)))
-        progress("meshing a BCC lattice of " + std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
+        progress(std::string(o.graded ? "meshing a graded octree over" : "meshing") + " a BCC lattice of " +
+                 std::to_string(r.lattice.point_count()) + " points at spacing " + json_number(spacing));
+    if (o.graded) {
+        mesh_graded(p, o, spacing, r);
+        r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
+        return r;
+    }
     BccOptions b = stage_options(o, false);
     const bool verify = o.verify && bcc_certificate_applies(b.alphas, b.face_rule);
     const BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
@@ -472,12 +527,23 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     return r;
 }
 
+namespace {
+
+// Blocks of graded meshes are not built: the octree's leaves span blocks.
+void refuse_graded_blocks(const Mesh3dOptions& o) {
+    if (o.graded) throw OptionError("graded", "{graded} meshes are not available in blocks (lattice3d, mesh3d_block) yet");
+}
+
+}  // namespace
+
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    refuse_graded_blocks(o);
     const Prepared p = level_set_of(input, o, {});
     return p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
 }
 
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
+    refuse_graded_blocks(o);
     const Prepared p = level_set_of(input, o, {});
     const Lattice3 lattice = p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
     for (std::size_t a = 0; a < 3; ++a)

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 
+#include "warpmesh/core/grading.hpp"
 #include "warpmesh/pipeline/mesh3d_options.hpp"
 
 namespace warpmesh {
@@ -57,6 +58,19 @@ std::vector<O> entries() {
                       [](Mesh3dOptions& o, const OptionValue& v) { o.keep_background = v.choice(background_names); }));
     t.back().group = "input (materials)";
     t.back().choices = words_of(background_names);
+    t.push_back(entry("graded", OptionKind::flag, "",
+                      "graded mesh on a 2:1-balanced octree: the lattice's spacing along the surface, cells up to "
+                      "{max_size} (default: as coarse as the region allows) inside and outside, joined by "
+                      "transition tetrahedra certified by proofs/bcc_graded.cert (one region)",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.graded = v.flag(); }));
+    t.push_back(entry("max_size", OptionKind::number, "H",
+                      "every tetrahedron's longest edge at most H (input units; H >= 2 * spacing); graded: caps the "
+                      "octree's cells; uniform: checked",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.max_size = v.number(); }));
+    t.push_back(entry("grading", OptionKind::number, "G",
+                      "graded, 1.1 <= G <= 2 (default 2: 2:1 balance): cell sizes grow away from the surface by at "
+                      "most a factor G per cell on average",
+                      [](Mesh3dOptions& o, const OptionValue& v) { o.grading = v.number(); }));
     t.push_back(entry("max_memory", OptionKind::integer, "MB",
                       "refuse, before the work, inputs whose reading or meshing would take more than about MB "
                       "megabytes (default 2048)",
@@ -66,10 +80,27 @@ std::vector<O> entries() {
 
 }  // namespace
 
-void validate(const Mesh3dOptions& o, const GivenOptions&) {
+void validate(const Mesh3dOptions& o, const GivenOptions& given) {
     if (o.spacing && !(*o.spacing > 0 && std::isfinite(*o.spacing)))
         throw OptionError("spacing", "{spacing} must be positive and finite (got " + number_text(*o.spacing) + ")");
     band_in_range(o.band);
+    if (o.max_size && !(*o.max_size > 0 && std::isfinite(*o.max_size)))
+        throw OptionError("max_size", "{max_size} must be positive and finite (got " + number_text(*o.max_size) +
+                                          "; leave it out for no size bound)");
+    if (o.spacing && o.max_size) check_max_size(*o.max_size, *o.spacing);
+    if (!(o.grading >= min_grading && o.grading <= max_grading))
+        throw OptionError("grading", "{grading} must be between 1.1 and 2 (got " + number_text(o.grading) +
+                                         "; 2: neighbouring cells differ by a factor 2 at most; G < 2: sizes grow by at most "
+                                         "a factor G per cell on average; the octree's templates allow no more than 2)");
+    if (!o.graded && (o.grading != max_grading || given.contains("grading")))
+        throw OptionError("grading", "{grading} applies to graded meshes: add {graded=true} (a uniform mesh's size is its spacing)");
+}
+
+void check_max_size(double max_size, double spacing) {
+    if (max_size >= 2 * spacing) return;
+    throw OptionError("max_size", "{max_size} " + number_text(max_size) + " is below 2 * spacing = " + number_text(2 * spacing) +
+                                      ": tetrahedra of the surface band reach edges of 2 * spacing; use {spacing=" +
+                                      number_text(max_size / 2) + "} or less");
 }
 
 const OptionTable<Mesh3dOptions>& mesh3d_option_table() {

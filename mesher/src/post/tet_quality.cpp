@@ -222,6 +222,23 @@ TetQuality measure_quality3(const TetMesh& mesh, const LevelSet3& f) {
     return r;
 }
 
+double longest_tet_edge(const TetMesh& mesh) {
+    double longest2 = 0;
+    const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
+#pragma omp parallel for schedule(static) reduction(max : longest2)
+    for (std::int64_t t = 0; t < T; ++t) {
+        const auto& v = mesh.tets[static_cast<std::size_t>(t)];
+        for (std::size_t i = 0; i < 4; ++i)
+            for (std::size_t j = i + 1; j < 4; ++j) {
+                const Point3& a = mesh.vertices[static_cast<std::size_t>(v[i])];
+                const Point3& b = mesh.vertices[static_cast<std::size_t>(v[j])];
+                const double dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+                longest2 = std::max(longest2, dx * dx + dy * dy + dz * dz);
+            }
+    }
+    return std::sqrt(longest2);
+}
+
 std::vector<RegionMeasure> measure_regions3(const TetMesh& mesh) {
     std::map<std::int32_t, RegionMeasure> by_tag;
     for (std::size_t t = 0; t < mesh.tets.size(); ++t) {

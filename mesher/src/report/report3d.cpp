@@ -98,6 +98,36 @@ std::vector<std::string> material_warnings(const Materials3Figures& ms) {
     return warnings;
 }
 
+namespace {
+
+// A graded mesh's "graded" object.
+std::string graded_json(const Graded3Figures& g) {
+    const auto n = [](auto x) { return json_number(x); };
+    std::string levels = "[";
+    for (std::size_t k = 0; k < g.leaves_per_level.size(); ++k) levels += (k ? ", " : "") + n(g.leaves_per_level[k]);
+    return "{\"leaves_per_level\": " + levels + "], \"template_tetrahedra\": " + n(g.template_tets) +
+           ", \"max_size\": " + (g.max_size > 0 ? n(g.max_size) : std::string("null")) + ", \"max_level\": " + n(static_cast<std::int64_t>(g.max_level)) +
+           ", \"grading\": " + n(g.grading) + ", \"grading_buffer\": " + n(static_cast<std::int64_t>(g.grading_buffer)) + ", \"longest_edge\": " +
+           n(g.longest_edge) + ", \"templates\": " +
+           (g.templates_certified ? "{\"certificate\": \"proofs/bcc_graded.cert\", \"min_dihedral_deg\": " + n(g.template_min_deg) +
+                                        ", \"max_dihedral_deg\": " + n(g.template_max_deg) + "}"
+                                  : std::string("null")) +
+           "}";
+}
+
+std::string graded_text(const Graded3Figures& g) {
+    std::ostringstream o;
+    o << "graded: leaves per level (0 = finest)";
+    for (std::size_t k = 0; k < g.leaves_per_level.size(); ++k) o << (k ? ", " : " ") << g.leaves_per_level[k];
+    o << "; " << g.template_tets << " template tetrahedra; longest edge " << fmt(g.longest_edge, 5);
+    if (g.max_size > 0) o << " (max size " << fmt(g.max_size, 5) << ")";
+    if (g.grading_buffer > 0) o << "; grading " << fmt(g.grading, 4) << " (buffer " << g.grading_buffer << ")";
+    o << '\n';
+    return o.str();
+}
+
+}  // namespace
+
 std::string to_json(const Mesh3dReport& r) {
     const auto n = [](auto x) { return json_number(x); };
     std::string hist = "[";
@@ -126,6 +156,7 @@ std::string to_json(const Mesh3dReport& r) {
         {"nonmanifold_boundary_vertices", n(r.nonmanifold_boundary_vertices)},
     };
     if (r.materials) material_fields(*r.materials, fields);
+    if (r.graded) fields.emplace_back("graded", graded_json(*r.graded));
     const ReportFields certification = {
         {"face_rule", json_string(face_rule_name(r.face_rule))},
         {"certified", r.certified ? "{\"certificate\": " + json_string(bcc_certificate_path(r.face_rule)) + ", \"min_dihedral_deg\": " + n(r.certified_min_deg) + ", \"max_dihedral_deg\": " +
@@ -171,10 +202,12 @@ std::string to_text(const Mesh3dReport& r) {
           << fmt(r.quality.boundary_centroid_f_max, 3) << "; ";
     o << "non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices " << r.nonmanifold_boundary_vertices << '\n';
     if (r.materials) o << materials_text(*r.materials);
+    if (r.graded) o << graded_text(*r.graded);
     o << "face rule: " << face_rule_name(r.face_rule) << '\n';
     if (r.certified)
         o << "certified (" << bcc_certificate_path(r.face_rule)
           << (r.materials && r.materials->junctions_certified && r.materials->junction_tets > 0 ? " and proofs/bcc_junctions.cert" : "")
+          << (r.graded && r.graded->templates_certified && r.graded->template_tets > 0 ? " and proofs/bcc_graded.cert" : "")
           << "): dihedral angles in [" << fmt(r.certified_min_deg, 5) << ", "
           << fmt(r.certified_max_deg, 5) << "] deg for " << r.certified_tets << " tetrahedra"
           << (r.verified ? ", each verified" : "") << "; uncertified: " << r.uncertified_tets

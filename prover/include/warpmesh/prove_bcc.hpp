@@ -261,6 +261,10 @@ std::string proof_fields(const KeyProof& p, bool with_claim = true);
 // junction certificate to `out`; with `extremes`, prints the witness
 // search's extremes instead.  0: written, 1: a face not proved.
 int prove_junctions(const std::vector<JunctionKey>& keys, const bcc::Alphas& al, const Margins& mg, bool extremes, const std::string& out);
+// `warpmesh-prove-bcc --graded` (prove_graded.cpp): the transition
+// templates of graded meshes (generic_octree.hpp), exactly, written to
+// `out`.  0: written, 1: a template not positively oriented or no output.
+int prove_graded(const std::string& out);
 // `warpmesh-prove-bcc` (prove.cpp).
 int prove_bcc_main(int argc, char** argv);
 

@@ -98,4 +98,14 @@ std::optional<BccKeyBound> bcc_junction_certified_theorem();
 // the reason.
 BccCertification bcc_junction_certification(const bcc::Alphas& alphas);
 
+// ---- graded meshes' templates (proofs/bcc_graded.cert) -----------------------------
+// A graded mesh (mesh3d/graded.hpp) outputs, beside the stencils' tetrahedra,
+// the octree's templates (generic_octree.hpp): fixed polyhedra, certified
+// by proofs/bcc_graded.cert at any alphas (no vertex of theirs is warped).
+// Certified iff the build has the certificate; then every template's
+// dihedral angles lie in its claim's [min_deg, max_deg].
+BccCertification bcc_template_certification();
+// The templates' claim (cos² thresholds) for verify; zeros without the certificate.
+BccKeyClaim bcc_template_claim();
+
 }  // namespace warpmesh

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "warpmesh/core/grading.hpp"  // grading_buffer, min_grading, max_grading
 #include "warpmesh/mesh2d/lattice.hpp"
 
 namespace warpmesh {
@@ -72,9 +73,7 @@ struct GradedResult {
 // (quadtree.hpp).  A ratio above 2 between neighbours is not offered: it
 // would put two vertices on a leaf's side, which the right isosceles
 // templates do not allow.  Throws std::invalid_argument outside [1.1, 2].
-inline constexpr int max_grading_buffer = 8;
-inline constexpr double min_grading = 1.1, max_grading = 2.0;
-int grading_buffer(double grading);
+// (grading_buffer and its constants: core/grading.hpp, shared with 3D.)
 std::int64_t max_cell_for_size(double max_size, double spacing);
 
 // tiles (sample → signs → cut points where the level set can pass) → warp →

@@ -118,6 +118,10 @@ struct BccKeyClaims {
     // every tetrahedron of a junction background tetrahedron; empty: those
     // are not checked.
     std::function<std::optional<BccKeyClaim>(const bcc::JunctionKey& canonical_key)> junction_claim;
+    // Graded meshes (mesh3d/graded.hpp): the claim of the transition
+    // templates (proofs/bcc_graded.cert), checked against every template
+    // tetrahedron; none: those are not checked.
+    std::optional<BccKeyClaim> template_claim;
 };
 
 // What the meshing stage is told.  Throws InputError for alphas not in

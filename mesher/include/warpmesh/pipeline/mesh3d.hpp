@@ -98,6 +98,17 @@ struct Mesh3dOptions {
     // Output the background's tetrahedra too (region 0); false: it only
     // bounds the materials.
     bool keep_background = false;
+    // ---- graded meshes (mesh3d/graded.hpp; one region, not blocks)
+    // A graded mesh on a balanced octree: the finest lattice (spacing) along
+    // the surface, coarser cells inside and outside.
+    bool graded = false;
+    // Every tetrahedron's longest edge at most max_size (input units, >= 2 ·
+    // spacing); graded: caps the octree's cells (max_level_for_size);
+    // uniform: checked (a uniform mesh's edges are below 2 · spacing).
+    std::optional<double> max_size;
+    // Graded, 1.1 <= G <= 2: cell sizes grow away from the surface by at
+    // most a factor G per cell on average (core/grading.hpp); 2: plain 2:1.
+    double grading = 2.0;
 
     // The rule and alphas the mesh is split at: the options', else the
     // input's defaults.  `material_shapes`: the input is MaterialShapes3

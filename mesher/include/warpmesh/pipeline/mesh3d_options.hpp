@@ -13,8 +13,11 @@ namespace warpmesh {
 // (spacing positive and finite).  The pipeline's validate(input, options)
 // calls it, then checks what depends on the input.
 void validate(const Mesh3dOptions& options, const GivenOptions& given = {});
+// Throws OptionError unless max_size >= 2 · spacing (a volume's default
+// spacing is known only once it is read: the pipeline checks it then).
+void check_max_size(double max_size, double spacing);
 
-// spacing, face_rule, verify, band, background, max_memory (threads, alphas, quality: set by
+// spacing, face_rule, verify, band, graded, max_size, grading, background, max_memory (threads, alphas, quality: set by
 // the clients and by tests, not options).
 const OptionTable<Mesh3dOptions>& mesh3d_option_table();
 

@@ -73,6 +73,9 @@ std::array<double, 2> face_fidelity(const std::array<Point3, 3>& face, const Lev
 // boundary's fidelity is not measured (NaN).
 TetQuality measure_quality3(const TetMesh& mesh);
 
+// The longest edge of any tetrahedron (0 for none): --max-size's measure.
+double longest_tet_edge(const TetMesh& mesh);
+
 // Per region tag, in increasing order: its tetrahedra and their volume.
 struct RegionMeasure {
     std::int32_t tag = 0;

@@ -45,6 +45,21 @@ struct Materials3Figures {
     std::int64_t all_zero_filled = 0, all_zero_voids = 0;
 };
 
+// A graded mesh's figures (Mesh3dOptions::graded; mesh3d/graded.hpp).
+struct Graded3Figures {
+    std::vector<std::int64_t> leaves_per_level;  // leaves 2^l cubes wide, l = 0, 1, …
+    std::int64_t template_tets = 0;              // tetrahedra from the templates (the rest from the stencils)
+    double max_size = 0;                         // the bound asked for (0: none)
+    int max_level = 0;                           // the largest level allowed
+    double grading = 2;
+    int grading_buffer = 0;
+    double longest_edge = 0;                     // measured over every tetrahedron
+    // The templates' certification (proofs/bcc_graded.cert): their bounds;
+    // the mesh's certified bounds are these and the stencils' together.
+    bool templates_certified = false;
+    double template_min_deg = 0, template_max_deg = 0;
+};
+
 struct Mesh3dReport {
     // Counts.
     std::int64_t lattice_points = 0, background_tets = 0;  // in the lattice
@@ -60,6 +75,7 @@ struct Mesh3dReport {
     // (not finite for several materials: no level set).
     TetQuality quality;
     std::optional<Materials3Figures> materials;  // several materials
+    std::optional<Graded3Figures> graded;        // graded meshes
     // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
     std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
     // Certification by the face rule's certificate (bcc_certificate_path):

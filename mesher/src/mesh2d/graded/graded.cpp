@@ -15,14 +15,6 @@
 
 namespace warpmesh {
 
-int grading_buffer(double grading) {
-    if (!(grading >= min_grading && grading <= max_grading))
-        throw std::invalid_argument("grading must be between 1.1 and 2, got " + std::to_string(grading));
-    if (grading == max_grading) return 0;
-    const double n = std::ceil(1 / std::log2(grading) - 0.01);
-    return static_cast<int>(std::min<double>(max_grading_buffer, std::max(2.0, n)));
-}
-
 std::int64_t max_cell_for_size(double max_size, double spacing) {
     if (!(spacing > 0) || !(max_size >= std::sqrt(5.0) * spacing) || !std::isfinite(max_size))
         throw std::invalid_argument("max size must be finite and at least sqrt(5) * spacing");
