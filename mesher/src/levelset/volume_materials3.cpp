@@ -56,7 +56,11 @@ private:
     // D_m (materials3.hpp) at the 8 corners of cell c (corner q = (i + (q & 1),
     // j + (q >> 1 & 1), k + (q >> 2))) for each material ms[m] (at most 8), in out[m].
     void corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const;
-    static double trilinear(const std::array<double, 8>& d, const Index3& f);
+    // The interpolant of corner values d at offset f in a cell: the sum of
+    // weights[q] d[q], the weights (trilinear_weights) shared by every
+    // material's values at one point.
+    static std::array<double, 8> trilinear_weights(const Index3& f);
+    static double trilinear(const std::array<double, 8>& d, const std::array<double, 8>& weights);
     // The cell of x (its lowest corner, clamped so that the cell exists) and x's offset in it.
     void cell_of(const Index3& x, std::array<std::int64_t, 3>& c, Index3& f) const {
         for (std::size_t a = 0; a < 3; ++a) {
@@ -162,22 +166,25 @@ int nearest_d2(std::uint64_t voxels, int q) {
 
 void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const {
     static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
-    // The voxels of the block in the volume, and those of each material asked for.
+    // The voxels of the block in the volume, and those of each material
+    // asked for, row by row.
     std::uint64_t inside = 0;
     std::array<std::uint64_t, 8> of{};
-    const bool interior = c[0] >= 1 && c[1] >= 1 && c[2] >= 1 && c[0] + 2 < n_[0] && c[1] + 2 < n_[1] && c[2] + 2 < n_[2];
-    std::array<int, 8> corner{};  // the corners' materials
     for (int z = -1; z <= 2; ++z)
-        for (int y = -1; y <= 2; ++y)
+        for (int y = -1; y <= 2; ++y) {
+            const std::int64_t j = c[1] + y, k = c[2] + z, row = j * stride_[1] + k * stride_[2];
+            if (!(j >= 0 && k >= 0 && j < n_[1] && k < n_[2])) continue;
             for (int x = -1; x <= 2; ++x) {
-                const std::int64_t i = c[0] + x, j = c[1] + y, k = c[2] + z;
-                if (!interior && !(i >= 0 && j >= 0 && k >= 0 && i < n_[0] && j < n_[1] && k < n_[2])) continue;
-                const int label = mat_[static_cast<std::size_t>(at(i, j, k))];
+                const std::int64_t i = c[0] + x;
+                if (!(i >= 0 && i < n_[0])) continue;
+                const int label = mat_[static_cast<std::size_t>(row + i * stride_[0])];
                 const std::uint64_t bit = std::uint64_t{1} << block_bit(x, y, z);
                 inside |= bit;
                 for (std::size_t m = 0; m < ms.size(); ++m) of[m] |= label == ms[m] ? bit : 0;
-                if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && z >= 0 && z <= 1) corner[static_cast<std::size_t>(x + 2 * y + 4 * z)] = label;
             }
+        }
+    std::array<int, 8> corner{};  // the corners' materials
+    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat_[static_cast<std::size_t>(at(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2)))];
     // At corner q of material `own`: D_own from the nearest voxel not of
     // `own`, D_m (m != own) from the nearest voxel of m.
     for (int q = 0; q < 8; ++q)
@@ -187,10 +194,16 @@ void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::sp
                                                        : root[static_cast<std::size_t>(nearest_d2(of[m], q))] - 0.5;
 }
 
-double VolumeMaterials3::trilinear(const std::array<double, 8>& d, const Index3& f) {
-    double s = 0;
+std::array<double, 8> VolumeMaterials3::trilinear_weights(const Index3& f) {
+    std::array<double, 8> w{};
     for (int q = 0; q < 8; ++q)
-        s += (q & 1 ? f[0] : 1 - f[0]) * (q >> 1 & 1 ? f[1] : 1 - f[1]) * (q >> 2 ? f[2] : 1 - f[2]) * d[static_cast<std::size_t>(q)];
+        w[static_cast<std::size_t>(q)] = (q & 1 ? f[0] : 1 - f[0]) * (q >> 1 & 1 ? f[1] : 1 - f[1]) * (q >> 2 ? f[2] : 1 - f[2]);
+    return w;
+}
+
+double VolumeMaterials3::trilinear(const std::array<double, 8>& d, const std::array<double, 8>& w) {
+    double s = 0;
+    for (std::size_t q = 0; q < 8; ++q) s += w[q] * d[q];
     return s;
 }
 
@@ -216,7 +229,8 @@ int VolumeMaterials3::material_at(Point3 p) const {
     corner_phis(c, std::span<const int>(cand.data(), static_cast<std::size_t>(n)), std::span<std::array<double, 8>>(d.data(), static_cast<std::size_t>(n)));
     std::array<double, 8> value{};
     double best = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) best = std::min(best, value[k] = trilinear(d[k], f));
+    const std::array<double, 8> weights = trilinear_weights(f);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) best = std::min(best, value[k] = trilinear(d[k], weights));
     // A tie: the tied material of the nearest corner; equally near ones, the
     // last in (z, y, x) order.
     int winner = -1;
@@ -286,10 +300,12 @@ double VolumeMaterials3::cut_parameter(Point3 a, Point3 b, int ma, int mb) const
         Index3 f{};
         cell_of(x_at(0.5 * (t0 + t1)), cell, f);
         corner_phis(cell, ms, d);
+        const Index3 corner{static_cast<double>(cell[0]), static_cast<double>(cell[1]), static_cast<double>(cell[2])};
         const auto g = [&](double u) {
             const Index3 x = x_at(u);
-            for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - static_cast<double>(cell[a]);
-            return trilinear(d[0], f) - trilinear(d[1], f);
+            for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - corner[a];
+            const std::array<double, 8> weights = trilinear_weights(f);
+            return trilinear(d[0], weights) - trilinear(d[1], weights);
         };
         if (i == 0) {
             g_start = g(0);

@@ -19,7 +19,6 @@
 // vertices are those on an interface, and a matched candidate whose two
 // tetrahedra have different regions is an interface face.
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -51,12 +50,18 @@ unsigned level_set_faces(const TetMesh& mesh, std::int64_t t, std::span<const st
     const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
     unsigned level = 0;
     for (std::size_t v = 0; v < 4; ++v) level |= (on[static_cast<std::size_t>(tet[v])] ? 1u : 0u) << v;
-    if (std::popcount(level) < 3) return 0;  // most tetrahedra: no candidate face
+    unsigned rest = level & (level - 1);
+    rest &= rest - 1;  // two set bits cleared: non-zero iff three or four were set
+    if (!rest) return 0;  // most tetrahedra: no candidate face
     unsigned faces = 0;
     for (unsigned v = 0; v < 4; ++v)
         if ((level | 1u << v) == 15u) faces |= 1u << v;
     return faces;
 }
+
+// The number of faces in a face mask (no std::popcount: without -mpopcnt it
+// is a library call).
+int face_count(unsigned faces) { return static_cast<int>((faces & 1u) + (faces >> 1 & 1u) + (faces >> 2 & 1u) + (faces >> 3 & 1u)); }
 
 // The faces `faces` (bit v: the face without vertex v) of tetrahedron t, at out.
 FaceRef* add_faces(const TetMesh& mesh, std::int64_t t, unsigned faces, FaceRef* out) {
@@ -86,12 +91,12 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < threads; ++c) {
         std::int64_t n = 0;
-        for (std::int64_t t = chunk(c).first; t < chunk(c).second; ++t) n += std::popcount(level_set_faces(mesh, t, on));
+        for (std::int64_t t = chunk(c).first; t < chunk(c).second; ++t) n += face_count(level_set_faces(mesh, t, on));
         start[static_cast<std::size_t>(c) + 1] = n;
     }
     for (int c = 0; c < threads; ++c) start[static_cast<std::size_t>(c) + 1] += start[static_cast<std::size_t>(c)];
     std::int64_t cut_off_faces = 0;
-    for (const CutOff& c : cut_off) cut_off_faces += std::popcount(static_cast<unsigned>(c.second));
+    for (const CutOff& c : cut_off) cut_off_faces += face_count(c.second);
     Buffer<FaceRef> faces(static_cast<std::size_t>(start.back() + cut_off_faces));  // every element written below
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < threads; ++c) {
