@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "../core/root_finder.hpp"
+#include "warpmesh/core/buffer.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/io/volume.hpp"
 #include "warpmesh/levelset/image_levelset.hpp"  // parse_label_list
@@ -72,7 +73,7 @@ private:
     std::array<std::int64_t, 3> n_{}, stride_{};
     std::array<std::size_t, 3> axis_{};  // the physical axis of index axis a
     std::array<double, 3> sign_{}, spacing_{}, origin_{};
-    std::vector<std::uint16_t> mat_;          // per voxel
+    Buffer<std::uint16_t> mat_;               // per voxel (every one written by the constructor)
     std::vector<std::int32_t> tags_;          // per material
     std::vector<std::int64_t> voxels_;        // per material
     double voxel_volume_ = 1, resolution_ = 1;
