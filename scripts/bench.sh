@@ -217,7 +217,7 @@ if [ "${1:-}" = "--cgal3d-materials" ]; then
   echo "and the labels of >= 1000 voxels whose mesh volume is within 5 % of their voxels'."
   printf "%-46s %10s %8s %11s %6s %9s %9s %7s\n" mesher tetrahedra "CPU s" "tets/CPU s" "B/tet" "min dih" "max dih" labels
   for case in "brain:$brain:${WARPMESH_BENCH_BRAIN_SPACINGS:-1 2.9}:${WARPMESH_BENCH_BRAIN_CGAL:-4}" \
-              "abdomen:$abdomen:${WARPMESH_BENCH_ABDOMEN_SPACINGS:-0.9375 2.9}:${WARPMESH_BENCH_ABDOMEN_CGAL:-3.3}"; do
+              "abdomen:$abdomen:${WARPMESH_BENCH_ABDOMEN_SPACINGS:-0.9375 3.4}:${WARPMESH_BENCH_ABDOMEN_CGAL:-3.3}"; do
     IFS=: read -r name nrrd spacings sizes <<<"$case"
     [ -f "$nrrd" ] || { echo "$name: the atlas NRRD was not found (set WARPMESH_${name^^}_NRRD)" >&2; continue; }
     # The labels renumbered 1..N as little-endian 16-bit voxels for CGAL's Image_3.
