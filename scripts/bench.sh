@@ -27,9 +27,15 @@
 #                               every label of the SPL brain and abdomen atlases
 #                               (--materials all) against CGAL Mesh_3 on the same
 #                               labelled volumes (renumbered 1..N, 16-bit), one
-#                               thread each, in one run: tetrahedra, time, tetrahedra
-#                               per second, min/max dihedral angle, labels kept,
-#                               CGAL with refinement only and with perturb + exude.
+#                               thread each, in one run: tetrahedra, CPU seconds
+#                               (warpmesh: the whole mesh3d call through
+#                               warpmesh-bench3d; CGAL: make_mesh_3), tetrahedra per
+#                               CPU second, bytes per tetrahedron, min/max dihedral
+#                               angle, labels kept, certified bounds and per-label
+#                               volume errors, CGAL with refinement only and with
+#                               perturb + exude, and the ratio to CGAL's refinement
+#                               at the warpmesh spacing of the nearest count
+#                               (WARPMESH_BENCH_{BRAIN,ABDOMEN}_{SPACINGS,CGAL}).
 #                               Atlases: WARPMESH_BRAIN_NRRD, WARPMESH_ABDOMEN_NRRD
 #                               (default /work/shared/data/*/orig/{hncma-atlas,seg}.nrrd)
 #   scripts/bench.sh --accuracy [--before EXE] [--cgal]
@@ -198,14 +204,20 @@ fi
 
 if [ "${1:-}" = "--cgal3d-materials" ]; then
   install_cgal
+  bench3d="${WARPMESH_BUILD_DIR:-$root/build}/mesher/warpmesh-bench3d"
   brain="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
   abdomen="${WARPMESH_ABDOMEN_NRRD:-$(ls /work/shared/data/spl_abdomen/orig/seg.nrrd 2>/dev/null | head -1)}"
   g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
-  echo "every label; one thread each; s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); tets/s from it"
-  printf "%-44s %10s %8s %9s %9s %9s %7s\n" mesher tetrahedra "s" "tets/s" "min dih" "max dih" labels
+  echo "every label; one thread each.  CPU s: warpmesh, the whole mesh3d call (warpmesh-bench3d: the material field"
+  echo "built from the volume, lattice, meshing, boundary and interfaces, certification counts, per-material figures;"
+  echo "not reading the file, not the quality pass, no file written); CGAL, make_mesh_3 alone.  tets/CPU s from it."
+  echo "B/tet: warpmesh's peak resident memory of the call beyond what the process held before (the volume read) per tetrahedron."
+  echo "Then, per warpmesh spacing, from a separate report run (not timed): measured dihedral extremes, certified bounds,"
+  echo "and the labels of >= 1000 voxels whose mesh volume is within 5 % of their voxels'."
+  printf "%-46s %10s %8s %11s %6s %9s %9s %7s\n" mesher tetrahedra "CPU s" "tets/CPU s" "B/tet" "min dih" "max dih" labels
   for case in "brain:$brain:${WARPMESH_BENCH_BRAIN_SPACINGS:-1 2.9}:${WARPMESH_BENCH_BRAIN_CGAL:-4}" \
-              "abdomen:$abdomen:${WARPMESH_BENCH_ABDOMEN_SPACINGS:-0.9375 2.5}:${WARPMESH_BENCH_ABDOMEN_CGAL:-4}"; do
+              "abdomen:$abdomen:${WARPMESH_BENCH_ABDOMEN_SPACINGS:-0.9375 3.4}:${WARPMESH_BENCH_ABDOMEN_CGAL:-3.3}"; do
     IFS=: read -r name nrrd spacings sizes <<<"$case"
     [ -f "$nrrd" ] || { echo "$name: the atlas NRRD was not found (set WARPMESH_${name^^}_NRRD)" >&2; continue; }
     # The labels renumbered 1..N as little-endian 16-bit voxels for CGAL's Image_3.
@@ -226,17 +238,43 @@ lut[a].astype("<u2").tofile(sys.argv[2])
 print(*sizes, *spacing)
 PY
 )
+    : > "$tmp/$name.rows"
     for s in $spacings; do
+      out=$("$bench3d" --volume "$nrrd" --materials all --spacing "$s" --threads 1 2>/dev/null)
       "$exe" mesh3d "$nrrd" --materials all --spacing "$s" --threads 1 --report "$tmp/w.json" --quiet 2>/dev/null
-      /usr/bin/python3 -c "import json,sys; w=json.load(open(sys.argv[1])); kept=sum(1 for m in w['materials'] if m['tetrahedra'] > 0); print('%-44s %10d %8.2f %9.0f %9.3f %9.3f %7d' % ('warpmesh mesh3d ' + sys.argv[2] + ', spacing ' + sys.argv[3], w['tetrahedra'], w['seconds'], w['tetrahedra'] / w['seconds'], w['min_dihedral_deg'], w['max_dihedral_deg'], kept))" \
-        "$tmp/w.json" "$name" "$s"
+      /usr/bin/python3 - "$tmp/w.json" "$name" "$s" "$out" "$tmp/$name.rows" <<'PY'
+import json, sys
+w = json.load(open(sys.argv[1])); kv = dict(x.split("=", 1) for x in sys.argv[4].split())
+tets, cpu = int(kv["tets"]), float(kv["cpu_seconds"])
+print("%-46s %10d %8.2f %11.0f %6.1f %9.3f %9.3f %7s" % ("warpmesh mesh3d " + sys.argv[2] + ", spacing " + sys.argv[3], tets, cpu, tets / cpu,
+      float(kv["call_peak_bytes_per_tet"]), w["min_dihedral_deg"], w["max_dihedral_deg"], kv["kept"]))
+err = lambda m: m["relative_error"] if m.get("relative_error") is not None else -1.0
+big = [m for m in w["materials"] if (m.get("voxels") or 0) >= 1000]
+within = [m for m in big if abs(err(m)) <= 0.05]
+worst = max(big, key=lambda m: abs(err(m)))
+j, c = w["junctions"], w["certified"]
+print("    certified: %d of %d tetrahedra in [%.2f, %.2f] deg (junctions: %d tetrahedra, %s); labels >= 1000 voxels: %d of %d within 5 %%"
+      " (worst %s, %+.1f %%); labels kept %s of %d" % (c["certified_tetrahedra"], tets, c["min_dihedral_deg"], c["max_dihedral_deg"],
+      j["tetrahedra"], "certified" if j["certified"] else "not certified", len(within), len(big), worst["name"], 100 * err(worst),
+      kv["kept"], len(w["materials"])))
+open(sys.argv[5], "a").write("%d %f\n" % (tets, tets / cpu))
+PY
     done
     for h in $sizes; do
       for mode in "" optimise; do
         # shellcheck disable=SC2086
         "$tmp/cgal_mesh3" "$tmp/$name.raw" $geometry "$h" u16 $mode > "$tmp/c.json"
-        /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1])); print('%-44s %10d %8.2f %9.0f %9.3f %9.3f %7d' % ('CGAL Mesh_3 ' + sys.argv[2] + ', size ' + sys.argv[3] + (', perturb+exude' if sys.argv[4] else ''), c['tetrahedra'], c['seconds'], c['tetrahedra'] / c['seconds'], c['min_dihedral_deg'], c['max_dihedral_deg'], c['labels']))" \
-          "$tmp/c.json" "$name" "$h" "$mode"
+        /usr/bin/python3 - "$tmp/c.json" "$name" "$h" "$mode" "$tmp/$name.rows" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))
+rate = c["tetrahedra"] / c["cpu_seconds"]
+print("%-46s %10d %8.2f %11.0f %6s %9.3f %9.3f %7d" % ("CGAL Mesh_3 " + sys.argv[2] + ", size " + sys.argv[3] + (", perturb+exude" if sys.argv[4] else ""),
+      c["tetrahedra"], c["cpu_seconds"], rate, "", c["min_dihedral_deg"], c["max_dihedral_deg"], c["labels"]))
+if not sys.argv[4]:  # the ratio against the refinement alone, at the warpmesh run of the nearest count
+    rows = [tuple(map(float, l.split())) for l in open(sys.argv[5])]
+    tets, ours = min(rows, key=lambda r: abs(r[0] - c["tetrahedra"]) / c["tetrahedra"])
+    print("    ratio at equal count: warpmesh %d tets at %.0f tets/CPU s, CGAL %d at %.0f: %.1fx" % (tets, ours, c["tetrahedra"], rate, ours / rate))
+PY
       done
     done
   done

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../core/root_finder.hpp"
+#include "warpmesh/core/buffer.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/io/volume.hpp"
 #include "warpmesh/levelset/image_levelset.hpp"  // parse_label_list
@@ -50,6 +51,7 @@ private:
             if (!(x[a] >= 0 && x[a] <= static_cast<double>(n_[a] - 1))) return false;
         return true;
     }
+<<<<<<< HEAD
     // The material index of whole-volume voxel (i, j, k): of a part, the
     // background (flagged) outside it.
     std::uint16_t mat(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -60,10 +62,21 @@ private:
         }
         return mat_[static_cast<std::size_t>(i + pn_[0] * (j + pn_[1] * k))];
     }
+=======
+    // Voxel (i, j, k)'s place in mat_, which is stored in the physical axes'
+    // order (x fastest, then y, then z): the lattice is traversed in that
+    // order, and a volume whose index axes are permuted (an NRRD's space
+    // directions) would otherwise be read a slice apart at every step.
+    std::int64_t at(std::int64_t i, std::int64_t j, std::int64_t k) const { return i * stride_[0] + j * stride_[1] + k * stride_[2]; }
+>>>>>>> issue47-speed
     // D_m (materials3.hpp) at the 8 corners of cell c (corner q = (i + (q & 1),
     // j + (q >> 1 & 1), k + (q >> 2))) for each material ms[m] (at most 8), in out[m].
     void corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const;
-    static double trilinear(const std::array<double, 8>& d, const Index3& f);
+    // The interpolant of corner values d at offset f in a cell: the sum of
+    // weights[q] d[q], the weights (trilinear_weights) shared by every
+    // material's values at one point.
+    static std::array<double, 8> trilinear_weights(const Index3& f);
+    static double trilinear(const std::array<double, 8>& d, const std::array<double, 8>& weights);
     // The cell of x (its lowest corner, clamped so that the cell exists) and x's offset in it.
     void cell_of(const Index3& x, std::array<std::int64_t, 3>& c, Index3& f) const {
         for (std::size_t a = 0; a < 3; ++a) {
@@ -72,14 +85,18 @@ private:
         }
     }
 
+<<<<<<< HEAD
     std::array<std::int64_t, 3> n_{};  // the (whole) volume's voxels
     // A part (Volume::is_part): its voxels and offset in the whole.
     bool part_ = false;
     std::array<std::int64_t, 3> pn_{}, off_{0, 0, 0};
     mutable std::atomic<bool> outside_{false};
+=======
+    std::array<std::int64_t, 3> n_{}, stride_{};
+>>>>>>> issue47-speed
     std::array<std::size_t, 3> axis_{};  // the physical axis of index axis a
     std::array<double, 3> sign_{}, spacing_{}, origin_{};
-    std::vector<std::uint16_t> mat_;          // per voxel
+    Buffer<std::uint16_t> mat_;               // per voxel (every one written by the constructor)
     std::vector<std::int32_t> tags_;          // per material
     std::vector<std::int64_t> voxels_;        // per material
     double voxel_volume_ = 1, resolution_ = 1;
@@ -123,12 +140,6 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
         material_of[static_cast<std::size_t>(labels[k])] = static_cast<std::uint16_t>(k + 1);
         tags_.push_back(labels[k]);
     }
-    voxels_.assign(tags_.size(), 0);
-    mat_.resize(v.values.size());
-    for (std::size_t q = 0; q < v.values.size(); ++q) {
-        mat_[q] = material_of[static_cast<std::size_t>(v.values[q])];
-        ++voxels_[mat_[q]];
-    }
     // Geometry (volume.hpp: axis-aligned, each axes[a] a signed unit vector).
     double lo[3], hi[3];
     for (std::size_t a = 0; a < 3; ++a) {
@@ -137,6 +148,20 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
         spacing_[a] = v.spacing[a];
         origin_[a] = v.origin[a];
     }
+    for (std::size_t a = 0; a < 3; ++a) {
+        stride_[a] = 1;
+        for (std::size_t b = 0; b < 3; ++b)
+            if (axis_[b] < axis_[a]) stride_[a] *= n_[b];
+    }
+    voxels_.assign(tags_.size(), 0);
+    mat_.resize(v.values.size());
+    for (std::int64_t k = 0, q = 0; k < n_[2]; ++k)
+        for (std::int64_t j = 0; j < n_[1]; ++j)
+            for (std::int64_t i = 0; i < n_[0]; ++i, ++q) {
+                const std::uint16_t m = material_of[static_cast<std::size_t>(v.values[static_cast<std::size_t>(q)])];
+                mat_[static_cast<std::size_t>(at(i, j, k))] = m;
+                ++voxels_[m];
+            }
     for (std::size_t a = 0; a < 3; ++a) {
         const std::size_t c = axis_[a];
         const double e0 = origin_[c], e1 = origin_[c] + sign_[a] * spacing_[a] * static_cast<double>(n_[a] - 1);
@@ -147,6 +172,7 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
     resolution_ = std::min({spacing_[0], spacing_[1], spacing_[2]});
 }
 
+<<<<<<< HEAD
 void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const {
     static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
     // The labels of the 4 x 4 x 4 voxels around the cell (-1 beyond the
@@ -163,36 +189,74 @@ void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::sp
     static constexpr auto neighbours = [] {
         std::array<std::pair<int, int>, 26> n{};
         int m = 0;
+=======
+// The 4 x 4 x 4 voxels around a cell as bits of a 64-bit word: voxel (x, y,
+// z), each in -1..2 relative to the cell's lowest corner, is bit
+// (z + 1) 16 + (y + 1) 4 + (x + 1).  near[d2 - 1][q]: the voxels at squared
+// distance d2 (1, 2 or 3: the 26-neighbourhood) from the cell's corner q.
+namespace {
+constexpr int block_bit(int x, int y, int z) { return (z + 1) * 16 + (y + 1) * 4 + (x + 1); }
+constexpr auto near = [] {
+    std::array<std::array<std::uint64_t, 8>, 3> n{};
+    for (int q = 0; q < 8; ++q)
+>>>>>>> issue47-speed
         for (int z = -1; z <= 1; ++z)
             for (int y = -1; y <= 1; ++y)
                 for (int x = -1; x <= 1; ++x)
-                    if (x || y || z) n[static_cast<std::size_t>(m++)] = {z * 16 + y * 4 + x, x * x + y * y + z * z};
-        return n;
-    }();
-    for (int q = 0; q < 8; ++q) {
-        const int centre = ((q >> 2) + 1) * 16 + ((q >> 1 & 1) + 1) * 4 + (q & 1) + 1;
-        const int own = block[static_cast<std::size_t>(centre)];
-        // The nearest voxel not of `own` (own's d) and the nearest of each
-        // other material asked for.
-        std::array<int, 8> best{4, 4, 4, 4, 4, 4, 4, 4};
-        int best_other = 4;
-        for (const auto& [offset, d2] : neighbours) {
-            const int label = block[static_cast<std::size_t>(centre + offset)];
-            if (label == own || label < 0) continue;
-            best_other = std::min(best_other, d2);
-            for (std::size_t m = 0; m < ms.size(); ++m)
-                if (ms[m] == label) best[m] = std::min(best[m], d2);
+                    if (const int d2 = x * x + y * y + z * z; d2 > 0)
+                        n[static_cast<std::size_t>(d2 - 1)][static_cast<std::size_t>(q)] |=
+                            std::uint64_t{1} << block_bit((q & 1) + x, (q >> 1 & 1) + y, (q >> 2) + z);
+    return n;
+}();
+// The squared distance (1, 2, 3) from corner q to the nearest voxel of `voxels`
+// in its 26-neighbourhood, 4 if none.
+int nearest_d2(std::uint64_t voxels, int q) {
+    for (std::size_t d = 0; d < 3; ++d)
+        if (voxels & near[d][static_cast<std::size_t>(q)]) return static_cast<int>(d) + 1;
+    return 4;
+}
+}  // namespace
+
+void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const {
+    static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
+    // The voxels of the block in the volume, and those of each material
+    // asked for, row by row.
+    std::uint64_t inside = 0;
+    std::array<std::uint64_t, 8> of{};
+    for (int z = -1; z <= 2; ++z)
+        for (int y = -1; y <= 2; ++y) {
+            const std::int64_t j = c[1] + y, k = c[2] + z, row = j * stride_[1] + k * stride_[2];
+            if (!(j >= 0 && k >= 0 && j < n_[1] && k < n_[2])) continue;
+            for (int x = -1; x <= 2; ++x) {
+                const std::int64_t i = c[0] + x;
+                if (!(i >= 0 && i < n_[0])) continue;
+                const int label = mat_[static_cast<std::size_t>(row + i * stride_[0])];
+                const std::uint64_t bit = std::uint64_t{1} << block_bit(x, y, z);
+                inside |= bit;
+                for (std::size_t m = 0; m < ms.size(); ++m) of[m] |= label == ms[m] ? bit : 0;
+            }
         }
+    std::array<int, 8> corner{};  // the corners' materials
+    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat_[static_cast<std::size_t>(at(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2)))];
+    // At corner q of material `own`: D_own from the nearest voxel not of
+    // `own`, D_m (m != own) from the nearest voxel of m.
+    for (int q = 0; q < 8; ++q)
         for (std::size_t m = 0; m < ms.size(); ++m)
-            out[m][static_cast<std::size_t>(q)] = ms[m] == own ? 0.5 - root[static_cast<std::size_t>(best_other)]
-                                                              : root[static_cast<std::size_t>(best[m])] - 0.5;
-    }
+            out[m][static_cast<std::size_t>(q)] = ms[m] == corner[static_cast<std::size_t>(q)]
+                                                       ? 0.5 - root[static_cast<std::size_t>(nearest_d2(inside & ~of[m], q))]
+                                                       : root[static_cast<std::size_t>(nearest_d2(of[m], q))] - 0.5;
 }
 
-double VolumeMaterials3::trilinear(const std::array<double, 8>& d, const Index3& f) {
-    double s = 0;
+std::array<double, 8> VolumeMaterials3::trilinear_weights(const Index3& f) {
+    std::array<double, 8> w{};
     for (int q = 0; q < 8; ++q)
-        s += (q & 1 ? f[0] : 1 - f[0]) * (q >> 1 & 1 ? f[1] : 1 - f[1]) * (q >> 2 ? f[2] : 1 - f[2]) * d[static_cast<std::size_t>(q)];
+        w[static_cast<std::size_t>(q)] = (q & 1 ? f[0] : 1 - f[0]) * (q >> 1 & 1 ? f[1] : 1 - f[1]) * (q >> 2 ? f[2] : 1 - f[2]);
+    return w;
+}
+
+double VolumeMaterials3::trilinear(const std::array<double, 8>& d, const std::array<double, 8>& w) {
+    double s = 0;
+    for (std::size_t q = 0; q < 8; ++q) s += w[q] * d[q];
     return s;
 }
 
@@ -205,6 +269,10 @@ int VolumeMaterials3::material_at(Point3 p) const {
     std::array<int, 8> corner{};
     for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2));
     if (std::all_of(corner.begin(), corner.end(), [&](int m) { return m == corner[0]; })) return corner[0];
+    // At a voxel centre (a corner of its cell) the voxel's material wins:
+    // its D is below −1/2 there, every other material's above 1/2.
+    if ((f[0] == 0 || f[0] == 1) && (f[1] == 0 || f[1] == 1) && (f[2] == 0 || f[2] == 1))
+        return corner[static_cast<std::size_t>((f[0] == 1) + 2 * (f[1] == 1) + 4 * (f[2] == 1))];
     // The candidates: the corners' materials; the smallest phi wins.
     std::array<int, 8> cand{};
     int n = 0;
@@ -214,7 +282,8 @@ int VolumeMaterials3::material_at(Point3 p) const {
     corner_phis(c, std::span<const int>(cand.data(), static_cast<std::size_t>(n)), std::span<std::array<double, 8>>(d.data(), static_cast<std::size_t>(n)));
     std::array<double, 8> value{};
     double best = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) best = std::min(best, value[k] = trilinear(d[k], f));
+    const std::array<double, 8> weights = trilinear_weights(f);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) best = std::min(best, value[k] = trilinear(d[k], weights));
     // A tie: the tied material of the nearest corner; equally near ones, the
     // last in (z, y, x) order.
     int winner = -1;
@@ -284,10 +353,12 @@ double VolumeMaterials3::cut_parameter(Point3 a, Point3 b, int ma, int mb) const
         Index3 f{};
         cell_of(x_at(0.5 * (t0 + t1)), cell, f);
         corner_phis(cell, ms, d);
+        const Index3 corner{static_cast<double>(cell[0]), static_cast<double>(cell[1]), static_cast<double>(cell[2])};
         const auto g = [&](double u) {
             const Index3 x = x_at(u);
-            for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - static_cast<double>(cell[a]);
-            return trilinear(d[0], f) - trilinear(d[1], f);
+            for (std::size_t a = 0; a < 3; ++a) f[a] = x[a] - corner[a];
+            const std::array<double, 8> weights = trilinear_weights(f);
+            return trilinear(d[0], weights) - trilinear(d[1], weights);
         };
         if (i == 0) {
             g_start = g(0);

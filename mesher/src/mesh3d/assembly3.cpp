@@ -46,17 +46,36 @@ struct FaceRef {
     bool operator<(const FaceRef& o) const { return std::tie(sorted, tet, opposite) < std::tie(o.sorted, o.tet, o.opposite); }
 };
 
-// The faces of tetrahedron t in `only` (bit v: the face without vertex v),
-// or else those with three level-set vertices.
-void add_faces(const TetMesh& mesh, std::int64_t t, unsigned only, std::span<const std::uint8_t> on, std::vector<FaceRef>& out) {
+// The faces of tetrahedron t (bit v: the face without vertex v) whose three
+// vertices are on the level set.
+unsigned level_set_faces(const TetMesh& mesh, std::int64_t t, std::span<const std::uint8_t> on) {
+    const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
+    unsigned level = 0;
+    for (std::size_t v = 0; v < 4; ++v) level |= (on[static_cast<std::size_t>(tet[v])] ? 1u : 0u) << v;
+    unsigned rest = level & (level - 1);
+    rest &= rest - 1;  // two set bits cleared: non-zero iff three or four were set
+    if (!rest) return 0;  // most tetrahedra: no candidate face
+    unsigned faces = 0;
+    for (unsigned v = 0; v < 4; ++v)
+        if ((level | 1u << v) == 15u) faces |= 1u << v;
+    return faces;
+}
+
+// The number of faces in a face mask (no std::popcount: without -mpopcnt it
+// is a library call).
+int face_count(unsigned faces) { return static_cast<int>((faces & 1u) + (faces >> 1 & 1u) + (faces >> 2 & 1u) + (faces >> 3 & 1u)); }
+
+// The faces `faces` (bit v: the face without vertex v) of tetrahedron t, at out.
+FaceRef* add_faces(const TetMesh& mesh, std::int64_t t, unsigned faces, FaceRef* out) {
     const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
     for (int v = 0; v < 4; ++v) {
+        if (!(faces >> v & 1u)) continue;
         const auto& f = outward_face[static_cast<std::size_t>(v)];
         std::array<std::int32_t, 3> s{tet[static_cast<std::size_t>(f[0])], tet[static_cast<std::size_t>(f[1])], tet[static_cast<std::size_t>(f[2])]};
-        if (only ? !(only >> v & 1u) : !(on[static_cast<std::size_t>(s[0])] && on[static_cast<std::size_t>(s[1])] && on[static_cast<std::size_t>(s[2])])) continue;
         std::sort(s.begin(), s.end());
-        out.push_back({s, t, v});
+        *out++ = {s, t, v};
     }
+    return out;
 }
 
 }  // namespace
@@ -67,30 +86,39 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
 #ifdef _OPENMP
     threads = omp_get_max_threads();
 #endif
-    std::vector<std::vector<FaceRef>> part(static_cast<std::size_t>(threads));
+    // The candidates: each chunk's are counted, then written in place (one
+    // array of the exact size, in chunk order), then the cut-off faces.
+    const auto chunk = [&](int c) { return std::pair<std::int64_t, std::int64_t>{T * c / threads, T * (c + 1) / threads}; };
+    std::vector<std::int64_t> start(static_cast<std::size_t>(threads) + 1, 0);
 #pragma omp parallel for schedule(static)
     for (int c = 0; c < threads; ++c) {
-        auto& out = part[static_cast<std::size_t>(c)];
-        for (std::int64_t t = T * c / threads; t < T * (c + 1) / threads; ++t) {
-            // Most tetrahedra have fewer than three level-set vertices, hence no candidate face.
-            const auto& tet = mesh.tets[static_cast<std::size_t>(t)];
-            unsigned level = 0;
-            for (std::size_t v = 0; v < 4; ++v) level |= (on[static_cast<std::size_t>(tet[v])] ? 1u : 0u) << v;
-            level &= level - 1, level &= level - 1;  // two set bits cleared: non-zero iff three or four were set
-            if (level) add_faces(mesh, t, 0, on, out);
-        }
+        std::int64_t n = 0;
+        for (std::int64_t t = chunk(c).first; t < chunk(c).second; ++t) n += face_count(level_set_faces(mesh, t, on));
+        start[static_cast<std::size_t>(c) + 1] = n;
     }
-    std::vector<FaceRef> faces;
-    for (auto& p : part) faces.insert(faces.end(), p.begin(), p.end()), std::vector<FaceRef>().swap(p);
+    for (int c = 0; c < threads; ++c) start[static_cast<std::size_t>(c) + 1] += start[static_cast<std::size_t>(c)];
+    std::int64_t cut_off_faces = 0;
+    for (const CutOff& c : cut_off) cut_off_faces += face_count(c.second);
+    Buffer<FaceRef> faces(static_cast<std::size_t>(start.back() + cut_off_faces));  // every element written below
+#pragma omp parallel for schedule(static)
+    for (int c = 0; c < threads; ++c) {
+        FaceRef* out = faces.data() + start[static_cast<std::size_t>(c)];
+        for (std::int64_t t = chunk(c).first; t < chunk(c).second; ++t)
+            if (const unsigned f = level_set_faces(mesh, t, on)) out = add_faces(mesh, t, f, out);
+    }
     // A cut-off face has nothing behind it and no twin: it stays unmatched
     // (listed once even when its three vertices are on the level set).
-    for (const CutOff& c : cut_off) add_faces(mesh, c.first, c.second, on, faces);
+    FaceRef* out = faces.data() + start.back();
+    for (const CutOff& c : cut_off) out = add_faces(mesh, c.first, c.second, out);
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) { return a.tet == b.tet && a.opposite == b.opposite; }), faces.end());
     mesh.boundary.clear();
     mesh.boundary_tag.clear();
     mesh.interfaces.clear();
     mesh.interface_regions.clear();
+    // At most one a candidate (address space: only what is written is touched).
+    mesh.boundary.reserve(faces.size()), mesh.boundary_tag.reserve(faces.size());
+    mesh.interfaces.reserve(faces.size() / 2), mesh.interface_regions.reserve(faces.size() / 2);
     const auto outward = [&](const FaceRef& r) {
         const auto& tet = mesh.tets[static_cast<std::size_t>(r.tet)];
         const auto& f = outward_face[static_cast<std::size_t>(r.opposite)];

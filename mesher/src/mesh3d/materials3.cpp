@@ -35,12 +35,14 @@ namespace {
 using Key3 = std::array<std::int64_t, 3>;
 
 // The split of one background tetrahedron: output tetrahedra over its 15
-// local points (generic_bcc_materials.hpp) and their material codes.
+// local points (generic_bcc_materials.hpp) and their material codes.  Only
+// the first `count` entries of the arrays are written (a split is made for
+// every background tetrahedron near an interface, twice: not zeroed).
 struct Split {
     int count = 0;
-    std::array<bcc::OutTet, 24> tet{};
-    std::array<std::uint16_t, 24> material{};
-    std::array<std::uint8_t, 24> side{};  // 0, 1: a two-material side's letter; junction_side; fill_side
+    std::array<bcc::OutTet, 24> tet;
+    std::array<std::uint16_t, 24> material;
+    std::array<std::uint8_t, 24> side;  // 0, 1: a two-material side's letter; junction_side; fill_side
     std::array<int, 4> letter{};
     bool all_zero = false, junction = false, void_left = false;
 };
@@ -119,6 +121,7 @@ struct MaterialLayout {
     std::vector<std::uint8_t> output;  // per material code: output it
     bool merge_outside = false;        // the background dropped: it and the outside are one (no cut between them)
     const std::array<TetShape, 12>& shapes = tet_shapes();
+    std::span<const Plan> plans = uniform3d::plans();  // looked up once, not per tetrahedron
     std::int64_t plane_pair = 0;
     CubeRange range;
     GlobalKeys keys;
@@ -131,15 +134,19 @@ struct MaterialLayout {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
         for (int m = keep_background ? 0 : 1; m < f.count(); ++m) output[static_cast<std::size_t>(m)] = 1;
     }
-    // The window index of the point in neighbourhood slot k of cube m (TetShape::slot_in_cube).
-    std::int64_t point_at(const bcc::Ivec& m, int k) const {
-        if (k < 8) return w.grid.index(m) + (k & 1) + ((k >> 1) & 1) * w.grid.corner_w + (k >> 2) * plane_pair;
-        const std::int64_t centre = w.grid.index(bcc::add(m, {1, 1, 1}));
-        return k == 8 ? centre : k == 9 ? centre - 1 : k == 10 ? centre - w.grid.centre_w : centre - plane_pair;
+    // The window indices of the 12 points around cube m, by neighbourhood
+    // slot (TetShape::slot_in_cube): two index computations a cube.
+    using CubePoints = std::array<std::int64_t, 12>;
+    CubePoints cube_points(const bcc::Ivec& m) const {
+        const std::int64_t corner = w.grid.index(m), centre = w.grid.index(bcc::add(m, {1, 1, 1}));
+        CubePoints c;
+        for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = corner + (k & 1) + ((k >> 1) & 1) * w.grid.corner_w + (k >> 2) * plane_pair;
+        c[8] = centre, c[9] = centre - 1, c[10] = centre - w.grid.centre_w, c[11] = centre - plane_pair;
+        return c;
     }
-    std::array<std::int64_t, 4> points(const bcc::Ivec& m, int index) const {
+    std::array<std::int64_t, 4> points(const CubePoints& c, int index) const {
         std::array<std::int64_t, 4> p{};
-        for (std::size_t k = 0; k < 4; ++k) p[k] = point_at(m, shapes[static_cast<std::size_t>(index)].slot_in_cube[k]);
+        for (std::size_t k = 0; k < 4; ++k) p[k] = c[static_cast<std::size_t>(shapes[static_cast<std::size_t>(index)].slot_in_cube[k])];
         return p;
     }
     void push(Split& s, const bcc::OutTet& t, std::uint16_t material, std::uint8_t side) const {
@@ -158,11 +165,11 @@ struct MaterialLayout {
     // A cube whose 12 background tetrahedra all exist and whose 12 points
     // (TetShape::slot_in_cube) are unwarped and of one material: that
     // material's code (its tetrahedra are whole), else -1.
-    int whole_cube(const bcc::Ivec& m) const {
+    int whole_cube(const bcc::Ivec& m, const CubePoints& points) const {
         if (m[0] == 0 || m[1] == 0 || m[2] == 0) return -1;
         int code = -1;
-        for (int k = 0; k < 12; ++k) {
-            const std::size_t p = static_cast<std::size_t>(point_at(m, k));
+        for (const std::int64_t q : points) {
+            const std::size_t p = static_cast<std::size_t>(q);
             if (w.warp[p] != bcc::stay) return -1;
             int c = mat[p];
             if (merge_outside && c == outside_code) c = 0;
@@ -226,7 +233,7 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
             const int l = letter[static_cast<std::size_t>(i)];
             code = code * 3 + (l < 0 ? 1 : l == side ? 0 : 2);
         }
-        const bcc::Stencil& st = plan(code, parity).stencil;
+        const bcc::Stencil& st = plans[static_cast<std::size_t>(code * 2 + parity)].stencil;
         for (int t = 0; t < st.count; ++t) push(s, st.tet[static_cast<std::size_t>(t)], material_of[static_cast<std::size_t>(side)], static_cast<std::uint8_t>(side));
     }
     return s;
@@ -301,17 +308,18 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
     for (std::int64_t l = 0; l < r.hi[2] - r.lo[2]; ++l) {
         LayerCount& c = layers[static_cast<std::size_t>(l)];
         for_cubes_in_layer(r, r.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
-            if (const int whole = lay.whole_cube(m); whole >= 0) {
+            const MaterialLayout::CubePoints points = lay.cube_points(m);
+            if (const int whole = lay.whole_cube(m, points); whole >= 0) {
                 if (!lay.output[static_cast<std::size_t>(whole)]) return;
                 c.tets += 12;
-                for (int k = 0; k < 12; ++k)
+                for (std::size_t k = 0; k < 12; ++k)
                     if (k != 7)  // the corner m + (2, 2, 2) belongs to the cubes above
-                        std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(lay.point_at(m, k))]).store(1, std::memory_order_relaxed);
+                        std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(points[k])]).store(1, std::memory_order_relaxed);
                 return;
             }
             for (int index = 0; index < 12; ++index) {
                 if (m[static_cast<std::size_t>(index / 4)] == 0) continue;  // the cube below does not exist
-                const std::array<std::int64_t, 4> p = lay.points(m, index);
+                const std::array<std::int64_t, 4> p = lay.points(points, index);
                 count_split(lay, m, index, p, lay.split(p, lay.shapes[static_cast<std::size_t>(index)].parity), marks, c);
             }
         });
@@ -467,10 +475,11 @@ void write_layer(const MaterialLayout& lay, const Marks& marks, const Places& at
     std::int64_t t = at.tet_start[static_cast<std::size_t>(l)], centre = at.centre_start[static_cast<std::size_t>(l)];
     const bcc::OutTet& whole_order = plan(0, 0).stencil.tet[0];  // the all-− stencil's vertex order
     for_cubes_in_layer(lay.range, lay.range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
-        if (const int whole = lay.whole_cube(m); whole >= 0 && !in_lattice_edge(L, m)) {
+        const MaterialLayout::CubePoints points = lay.cube_points(m);
+        if (const int whole = lay.whole_cube(m, points); whole >= 0 && !in_lattice_edge(L, m)) {
             if (!lay.output[static_cast<std::size_t>(whole)]) return;
             for (int index = 0; index < 12; ++index, ++t) {
-                const std::array<std::int64_t, 4> p = lay.points(m, index);
+                const std::array<std::int64_t, 4> p = lay.points(points, index);
                 mesh.tets[static_cast<std::size_t>(t)] = {at.num.id[static_cast<std::size_t>(p[whole_order[0]])], at.num.id[static_cast<std::size_t>(p[whole_order[1]])],
                                                            at.num.id[static_cast<std::size_t>(p[whole_order[2]])], at.num.id[static_cast<std::size_t>(p[whole_order[3]])]};
                 mesh.region[static_cast<std::size_t>(t)] = lay.field.tag(whole);
@@ -481,7 +490,7 @@ void write_layer(const MaterialLayout& lay, const Marks& marks, const Places& at
         for (int index = 0; index < 12; ++index) {
             if (m[static_cast<std::size_t>(index / 4)] == 0) continue;
             const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
-            const std::array<std::int64_t, 4> p = lay.points(m, index);
+            const std::array<std::int64_t, 4> p = lay.points(points, index);
             const Split s = lay.split(p, sh.parity);
             if (s.count == 0) continue;
             const std::array<std::int32_t, 15> vid = point_ids(lay, marks, at, m, index, p, s, centre, out);

@@ -37,30 +37,50 @@ constexpr int opposite(int d) {
     return bcc::direction_of({-o[0], -o[1], -o[2]});
 }
 
-// The candidates sorted by bcc::warp_before (fraction, then the violated
-// vertex's coordinates lexicographically, then the direction), through
-// 32-byte keys: the coordinates are lattice coordinates, >= 0 and below
-// 2^32, so (x, y) and (z, direction) packed into two 64-bit words compare as
-// the tuple does (checked against warp_before, the definition, in debug
-// builds).
-std::vector<Candidate> in_warp_order(std::vector<Candidate> all) {
-    struct Key {
-        double frac;
-        std::uint64_t xy, zd;
-        std::size_t at;
-        bool operator<(const Key& o) const { return std::tie(frac, xy, zd) < std::tie(o.frac, o.xy, o.zd); }
-    };
-    std::vector<Key> keys(all.size());
+// The order of the candidates by bcc::warp_before (fraction, then the
+// violated vertex's coordinates lexicographically, then the direction):
+// 32-byte keys, sorted, each with its candidate's index (`at`).  The
+// coordinates are lattice coordinates, >= 0 and below 2^32, so (x, y) and
+// (z, direction) packed into two 64-bit words compare as the tuple does
+// (checked against warp_before, the definition, in debug builds).  The
+// candidates themselves are not moved: they are read through the keys.
+struct WarpKey {
+    double frac;
+    std::uint64_t xy, zd;
+    std::size_t at;
+    bool operator<(const WarpKey& o) const { return std::tie(frac, xy, zd) < std::tie(o.frac, o.xy, o.zd); }
+};
+Buffer<WarpKey> in_warp_order(std::span<const Candidate> all) {
+    Buffer<WarpKey> keys(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) {
         const bcc::Violation& v = all[i].v;
         const auto bits = [](int x) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)); };
         keys[i] = {v.frac, bits(v.vertex[0]) << 32 | bits(v.vertex[1]), bits(v.vertex[2]) << 32 | bits(v.direction), i};
     }
     std::sort(keys.begin(), keys.end());
-    std::vector<Candidate> sorted(all.size());
-    for (std::size_t i = 0; i < keys.size(); ++i) sorted[i] = all[keys[i].at];
-    assert(std::is_sorted(sorted.begin(), sorted.end(), [](const Candidate& a, const Candidate& b) { return bcc::warp_before(a.v, b.v); }));
-    return sorted;
+    assert(std::is_sorted(keys.begin(), keys.end(), [&](const WarpKey& a, const WarpKey& b) { return bcc::warp_before(all[a.at].v, all[b.at].v); }));
+    return keys;
+}
+
+// The violations of the cut edges of plane z's points, in point and slot
+// order: body(candidate) for each.
+template <class Body>
+void plane_violations(const Window& w, int z, double a_long, double a_short, Body&& body) {
+    const Grid& g = w.grid;
+    for (std::int64_t p = g.plane_start[static_cast<std::size_t>(z)]; p < g.plane_start[static_cast<std::size_t>(z) + 1]; ++p) {
+        const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
+        if (!mask) continue;
+        const bcc::Ivec pq = g.point_in_plane(z, p);
+        for (int s = 0; s < 7; ++s) {
+            if (!(mask >> s & 1u)) continue;
+            const int d = forward_direction[static_cast<std::size_t>(s)];
+            const bcc::Ivec q = bcc::add(pq, bcc::neighbour_offsets[static_cast<std::size_t>(d)]);
+            const std::int64_t qi = g.index(q);
+            const double u = w.u(p, s), alpha = slot_is_long(s) ? a_long : a_short;
+            if (u < alpha) body(Candidate{{u, pq, d}, p, qi, p, s, u});
+            if (1 - u < alpha) body(Candidate{{1 - u, q, opposite(d)}, qi, p, p, s, u});
+        }
+    }
 }
 
 }  // namespace
@@ -80,33 +100,23 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked) {
     const int planes = g.hi[2] - g.lo[2] + 1;
     const double a_long = bcc::alpha<double>(alphas, true), a_short = bcc::alpha<double>(alphas, false);
     w.warp.resize(n);
-    std::vector<std::vector<Candidate>> per_plane(static_cast<std::size_t>(planes));
+    // The candidates of every plane, counted, then written in place in plane order.
+    std::vector<std::int64_t> start(static_cast<std::size_t>(planes) + 1, 0);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int z = 0; z < planes; ++z) {
-        const std::int64_t first = g.plane_start[static_cast<std::size_t>(z)], end = g.plane_start[static_cast<std::size_t>(z) + 1];
-        auto& out = per_plane[static_cast<std::size_t>(z)];
-        for (std::int64_t p = first; p < end; ++p) {
-            w.warp[static_cast<std::size_t>(p)] = bcc::stay;
-            const unsigned mask = w.cut_mask[static_cast<std::size_t>(p)];
-            if (!mask) continue;
-            const bcc::Ivec pq = g.point_in_plane(z, p);
-            for (int s = 0; s < 7; ++s) {
-                if (!(mask >> s & 1u)) continue;
-                const int d = forward_direction[static_cast<std::size_t>(s)];
-                const bcc::Ivec q = bcc::add(pq, bcc::neighbour_offsets[static_cast<std::size_t>(d)]);
-                const std::int64_t qi = g.index(q);
-                const double u = w.u(p, s), alpha = slot_is_long(s) ? a_long : a_short;
-                if (u < alpha) out.push_back({{u, pq, d}, p, qi, p, s, u});
-                if (1 - u < alpha) out.push_back({{1 - u, q, opposite(d)}, qi, p, p, s, u});
-            }
-        }
+        std::fill(w.warp.begin() + g.plane_start[static_cast<std::size_t>(z)], w.warp.begin() + g.plane_start[static_cast<std::size_t>(z) + 1], bcc::stay);
+        std::int64_t count = 0;
+        plane_violations(w, z, a_long, a_short, [&](const Candidate&) { ++count; });
+        start[static_cast<std::size_t>(z) + 1] = count;
     }
-    std::vector<Candidate> all;
-    std::size_t total = 0;
-    for (const auto& v : per_plane) total += v.size();
-    all.reserve(total);
-    for (auto& v : per_plane) all.insert(all.end(), v.begin(), v.end()), std::vector<Candidate>().swap(v);
-    all = in_warp_order(std::move(all));
+    for (int z = 0; z < planes; ++z) start[static_cast<std::size_t>(z) + 1] += start[static_cast<std::size_t>(z)];
+    Buffer<Candidate> all(static_cast<std::size_t>(start.back()));  // every element written below
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int z = 0; z < planes; ++z) {
+        Candidate* out = all.data() + start[static_cast<std::size_t>(z)];
+        plane_violations(w, z, a_long, a_short, [&](const Candidate& c) { *out++ = c; });
+    }
+    const Buffer<WarpKey> order = in_warp_order(all);
 
     if (blocked) {  // the rim: points with a lattice neighbour outside the window
         w.taint.assign(n, 0);
@@ -119,7 +129,9 @@ void warp_points(const bcc::Alphas& alphas, Window& w, bool blocked) {
         }
     }
     w.warped.clear();
-    for (const Candidate& c : all) {
+    w.warped.reserve(all.size());  // at most one a candidate (address space: only what is written is touched)
+    for (const WarpKey& k : order) {
+        const Candidate& c = all[k.at];
         const std::size_t v = static_cast<std::size_t>(c.vi), o = static_cast<std::size_t>(c.wi);
         if (blocked && (w.taint[v] || w.taint[o])) w.taint[v] = 1;
         if (w.warp[v] != bcc::stay || w.warp[o] != bcc::stay) continue;
