@@ -353,7 +353,7 @@ def _pixels(image):
 
 
 def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=None,
-         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule="separating",
+         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule=None,
          lattice="square", guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES,
          threads=None, optimize=False, max_memory=_MAX_MEMORY_MB, repeat=1):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
@@ -418,7 +418,7 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
     return _finish(core, scale)
 
 
-def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating",
+def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule=None,
                lattice="square", guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES,
                threads=None, optimize=False, max_memory=_MAX_MEMORY_MB, repeat=1):
     """Mesh an analytic shape given as the CLI's --shape string:
@@ -432,7 +432,7 @@ def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, gr
 
 
 def mesh_shapes(spec, *, background="drop", spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0,
-                max_size_of=None, rule="separating", lattice="square", guarantee=None, min_spacing=None, certify=True,
+                max_size_of=None, rule=None, lattice="square", guarantee=None, min_spacing=None, certify=True,
                 verify=True, max_squares=_MAX_SQUARES, threads=None, optimize=False, max_memory=_MAX_MEMORY_MB,
                 repeat=1):
     """Mesh analytic materials given as the CLI's --shapes string,
