@@ -27,6 +27,32 @@ using namespace warpmesh::testing;
 
 namespace {
 
+// The face of f's domain box (0..5: x = xmin, x = xmax, y = ymin, ...) that
+// holds the boundary face's three vertices, or -1.
+int domain_face(const LevelSet3& f, const TetMesh& m, const std::array<std::int32_t, 3>& face) {
+    const auto d = f.domain();
+    if (!d) return -1;
+    const std::array<double, 6> plane{d->xmin, d->xmax, d->ymin, d->ymax, d->zmin, d->zmax};
+    for (int k = 0; k < 6; ++k) {
+        bool all = true;
+        for (const std::int32_t v : face) {
+            const Point3 p = m.vertices[static_cast<std::size_t>(v)];
+            const double x = k < 2 ? p.x : k < 4 ? p.y : p.z;
+            all = all && std::abs(x - plane[static_cast<std::size_t>(k)]) <= 1e-9;
+        }
+        if (all) return k;
+    }
+    return -1;
+}
+
+// A face's area.
+double face_area(const TetMesh& m, const std::array<std::int32_t, 3>& face) {
+    const Point3 a = m.vertices[static_cast<std::size_t>(face[0])], b = m.vertices[static_cast<std::size_t>(face[1])],
+                 c = m.vertices[static_cast<std::size_t>(face[2])];
+    const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, w[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
+    return 0.5 * std::hypot(u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]);
+}
+
 Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nullptr) {
     Mesh3dOptions o;
     o.spacing = spacing;
@@ -42,7 +68,10 @@ Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nul
     BOOST_TEST(r.uncertified_tets == 0);
     BOOST_TEST(r.quality.min_dihedral_deg >= r.certified_min_deg);
     BOOST_TEST(r.quality.max_dihedral_deg <= r.certified_max_deg);
-    for (std::int32_t t : m.boundary_tag) BOOST_TEST(t == boundary_level_set);
+    // Boundary faces on the level set, tagged 1, but where the input's domain
+    // (a volume's hull) cut the region off: tagged 2, as 2D tags the image's border.
+    for (std::size_t e = 0; e < m.boundary.size(); ++e)
+        BOOST_TEST(m.boundary_tag[e] == (domain_face(f, m, m.boundary[e]) >= 0 ? boundary_domain : boundary_level_set));
     BOOST_TEST(r.quality.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
     if (out) *out = std::move(m);
     return r;
@@ -323,9 +352,23 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     BOOST_TEST(std::abs(c.y / n - (-5 + 11.5)) < 0.3);
     BOOST_TEST(std::abs(c.z / n - (3 + 7.5 * 1.5)) < 0.3);
     // Label 5 fills the two lowest voxel layers, up to the volume's edge: the
-    // region is closed at the voxel centres' hull, by level-set faces.
+    // region is closed at the voxel centres' hull, whose faces are tagged
+    // boundary_domain (issue 50: they were tagged boundary_level_set, while 2D
+    // tags the image's border domain_border), every other face level set
+    // (mesh_checked).  The hull's face z = 3 under the slab is covered, but
+    // for the rim where the slab's level set meets it: the hull is 23 mm (y)
+    // by 23.75 mm (x).
     lo.mode.labels = {5};
-    mesh_checked(*make_volume_levelset3(v, lo), 0.6);
+    const auto slab = make_volume_levelset3(v, lo);
+    TetMesh s;
+    mesh_checked(*slab, 0.6, &s);
+    std::array<double, 6> area{};
+    for (std::size_t e = 0; e < s.boundary.size(); ++e)
+        if (const int k = domain_face(*slab, s, s.boundary[e]); k >= 0) area[static_cast<std::size_t>(k)] += face_area(s, s.boundary[e]);
+    BOOST_TEST(area[4] > 0.9 * 23 * 23.75, "z = 3: " << area[4]);
+    BOOST_TEST(area[4] <= 23 * 23.75);
+    BOOST_TEST(area[5] == 0);  // the slab's top is inside the volume
+    for (std::size_t k = 0; k < 4; ++k) BOOST_TEST(area[k] > 0);  // its sides reach the volume's sides
     lo.mode.labels = {9};
     BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "the region is empty"));
     // Issue 50: a listed label absent from the volume was ignored when

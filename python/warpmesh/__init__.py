@@ -465,7 +465,9 @@ class TetMesh:
       boundary_faces  (b, 3) int32     the faces of one tetrahedron, normal
                                        (p1 - p0) x (p2 - p0) pointing out
       boundary_tags   (b,)   int32     1 = on the level set (or against the dropped
-                                       background), 2 = on the lattice border
+                                       background), 2 = where the volume's edge (the
+                                       hull of its voxel centres) or the lattice's
+                                       border cut the region off
       interfaces      (k, 3) int32     faces between two regions (several materials;
                                        else empty), normal pointing from
                                        interface_regions[:, 0] into [:, 1]
