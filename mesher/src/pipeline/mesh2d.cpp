@@ -275,6 +275,7 @@ void finish_report(MeshResult& res, Phases phases, const MeshOptions& o, bool ju
 }  // namespace
 
 MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
+    const MemoryCall call;  // max_memory bounds what this call needs (memory.hpp)
     validate(o);
     if (!o.max_size_of.empty())
         throw OptionError("max_size_of", "{max_size_of} applies to multi-material meshes; use {max_size}");
@@ -418,6 +419,7 @@ OptimizeReport optimize_materials(MaterialResult& r, const CertifiedSummary& cer
 }  // namespace
 
 MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
+    const MemoryCall call;
     validate(o);
     if (o.guarantee == Guarantee::flat) throw OptionError("guarantee", "{guarantee=flat} is not available with several materials");
     if (o.lattice != LatticeMetric::square)

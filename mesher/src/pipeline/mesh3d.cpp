@@ -323,6 +323,7 @@ void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
 }
 
 Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress) {
+    const MemoryCall call;  // max_memory bounds what this call needs (memory.hpp)
     const Prepared p = level_set_of(input, o, progress);
     const double spacing = spacing_of(o, p);
     Mesh3dResult r;
@@ -347,11 +348,13 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
 }
 
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    const MemoryCall call;
     const Prepared p = level_set_of(input, o, {});
     return p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
 }
 
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
+    const MemoryCall call;
     const Prepared p = level_set_of(input, o, {});
     const Lattice3 lattice = p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
     for (std::size_t a = 0; a < 3; ++a)
