@@ -823,3 +823,65 @@ BOOST_AUTO_TEST_CASE(volume_warnings_name_lost_volume_a_guessed_iso_and_the_voxe
     BOOST_TEST(warned(guessed, "that is below the input's resolution, 1 (its voxel size): --spacing 1, the finest"));
     BOOST_TEST(!warned(guessed, "resolves it"));
 }
+
+// Issue 50: --manifold makes the boundary manifold where parts touch only at
+// a vertex or along an edge, by giving each part its own copy of the shared
+// vertices; no tetrahedron moves, so the certified bounds hold as they are.
+BOOST_AUTO_TEST_CASE(issue50_manifold_splits_the_boundarys_nonmanifold_vertices) {
+    const Point3 o{0, 0, 0}, z{0, 0, 1}, x{1, 0, 0}, y{0, 1, 0}, mx{-1, 0, 0}, my{0, -1, 0}, mz{0, 0, -1};
+    TetMesh edge = with_boundary({o, z, x, y, mx, my}, {{0, 2, 3, 1}, {0, 4, 5, 1}});
+    TetMesh vertex = with_boundary({o, x, y, z, mx, my, mz}, {{0, 1, 2, 3}, {0, 5, 4, 6}});
+    BOOST_TEST(split_nonmanifold_vertices(edge) == 2);  // both ends of the shared edge
+    BOOST_TEST(split_nonmanifold_vertices(vertex) == 1);
+    for (const TetMesh* m : {&edge, &vertex}) {
+        const TetMeshCheck c = check_tet_mesh(*m);
+        BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+        BOOST_TEST(c.nonmanifold_boundary_edges == 0);
+        BOOST_TEST(c.nonmanifold_boundary_vertices == 0);
+    }
+    // A label volume whose parts touch along a voxel edge (two blocks
+    // diagonal to each other) and at a voxel corner (a third block).
+    Volume v;
+    v.dims = {14, 14, 14};
+    v.spacing = {1, 1, 1};
+    v.origin = {0, 0, 0};
+    v.axes = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    v.source = "contacts";
+    v.values.assign(14 * 14 * 14, 0);
+    const auto set = [&](int i0, int i1, int j0, int j1, int k0, int k1) {
+        for (int k = k0; k < k1; ++k)
+            for (int j = j0; j < j1; ++j)
+                for (int i = i0; i < i1; ++i) v.values[static_cast<std::size_t>(i + 14 * (j + 14 * k))] = 1;
+    };
+    set(2, 6, 2, 6, 2, 8), set(6, 10, 6, 10, 2, 8), set(10, 13, 10, 13, 8, 12);
+    Mesh3dOptions mo;
+    mo.labels = "1";
+    mo.verify = true;
+    const Mesh3dResult plain = mesh3d(std::cref(v), mo);
+    mo.manifold = true;
+    const Mesh3dResult split = mesh3d(std::cref(v), mo);
+    BOOST_TEST(plain.report.nonmanifold_boundary_edges > 0);
+    BOOST_TEST(plain.report.nonmanifold_boundary_vertices > 0);
+    BOOST_TEST(!plain.report.manifold_added_vertices.has_value());
+    BOOST_TEST(split.report.nonmanifold_boundary_edges == 0);
+    BOOST_TEST(split.report.nonmanifold_boundary_vertices == 0);
+    BOOST_TEST(*split.report.manifold_added_vertices > 0);
+    BOOST_TEST(split.mesh.vertices.size() == plain.mesh.vertices.size() + static_cast<std::size_t>(*split.report.manifold_added_vertices));
+    const TetMeshCheck c = check_tet_mesh(split.mesh);
+    BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+    // Every tetrahedron where it was: the same corners, so the same shape and certified bounds.
+    BOOST_REQUIRE(split.mesh.tets.size() == plain.mesh.tets.size());
+    for (std::size_t t = 0; t < plain.mesh.tets.size(); ++t)
+        for (std::size_t k = 0; k < 4; ++k) {
+            const Point3 a = plain.mesh.vertices[static_cast<std::size_t>(plain.mesh.tets[t][k])];
+            const Point3 b = split.mesh.vertices[static_cast<std::size_t>(split.mesh.tets[t][k])];
+            BOOST_TEST((a.x == b.x && a.y == b.y && a.z == b.z));
+        }
+    BOOST_TEST(split.report.certified_min_deg == plain.report.certified_min_deg);
+    BOOST_TEST(split.report.verified);
+    BOOST_TEST(split.report.quality.min_dihedral_deg == plain.report.quality.min_dihedral_deg);
+    BOOST_TEST(split.mesh.boundary.size() == plain.mesh.boundary.size());
+    BOOST_TEST(to_json(split.report).find("\"manifold_added_vertices\": ") != std::string::npos);
+    // Blocks share their vertices by key: refused there.
+    BOOST_TEST(throws_containing([&] { mesh3d_block(std::cref(v), mo, CubeRange{{0, 0, 0}, {1, 1, 1}}); }, "manifold"));
+}

@@ -620,7 +620,7 @@ def _options3(function, values, label, labels, iso, inside, threads=None, materi
 
 def mesh3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
            background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False,
-           band=None, max_memory=None, max_memory_mb=None, threads=None):
+           band=None, manifold=False, max_memory=None, max_memory_mb=None, threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
     proofs/bcc_delaunay.cert for the default face rule, proofs/bcc.cert for

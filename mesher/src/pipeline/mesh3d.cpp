@@ -204,6 +204,13 @@ Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas
     return r;
 }
 
+// Mesh3dOptions::manifold: the boundary's non-manifold vertices split
+// (post/tet_checks.hpp), before the counts; the vertices added.
+std::optional<std::int64_t> manifold(const Mesh3dOptions& o, BccMesh& m) {
+    if (!o.manifold) return std::nullopt;
+    return split_nonmanifold_vertices(m.mesh);
+}
+
 // The report of one region from the stage's counts, the certification and the measurements.
 Mesh3dReport report_of(const BccMesh& m, const LevelSet3& f, const Mesh3dOptions& o, double spacing) {
     Mesh3dReport r = certified_counts(m, o.face_rule_in_use(), o.alphas_in_use());
@@ -287,8 +294,10 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (o.verify && certified) b.verify = &claims;
     BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
+    const std::optional<std::int64_t> added = manifold(o, m);
     const BccCertification junctions = bcc_junction_certification(b.alphas);
     r.report = certified_counts(m, b.face_rule, b.alphas, junctions);
+    r.report.manifold_added_vertices = added;
     if (o.quality) r.report.quality = measure_quality3(m.mesh);
     r.report.materials = material_figures(m, *p.field, p.voxel_volume, o.keep_background);
     r.report.materials->junctions_certified = r.report.certified && junctions.certified;
@@ -341,7 +350,9 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (verify) b.verify = &claims;
     BccMesh m = mesh_bcc(*p.f, r.lattice, b);
+    const std::optional<std::int64_t> added = manifold(o, m);
     r.report = report_of(m, *p.f, o, spacing);
+    r.report.manifold_added_vertices = added;
     r.mesh = std::move(m.mesh);
     r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
     return r;
@@ -355,6 +366,9 @@ Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
 
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
     const MemoryCall call;
+    if (o.manifold)
+        throw OptionError("manifold", "{manifold} applies to whole meshes (mesh3d), not to blocks: their merge keeps "
+                                      "the shared vertices");
     const Prepared p = level_set_of(input, o, {});
     const Lattice3 lattice = p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
     for (std::size_t a = 0; a < 3; ++a)
