@@ -29,6 +29,7 @@
 #include "warpmesh/post/quality.hpp"
 #include "warpmesh/post/mesh_checks.hpp"
 #include "warpmesh/mesh2d/uniform.hpp"
+#include "warpmesh/pipeline/mesh2d.hpp"
 
 namespace fs = std::filesystem;
 using namespace warpmesh;
@@ -229,5 +230,35 @@ BOOST_AUTO_TEST_CASE(fan_rule_with_materials_lifts_the_witness_and_its_junctions
         BOOST_TEST(g.mesh.boundary.size() == u.mesh.boundary.size());
         BOOST_TEST(compute_quality(g.mesh).min_angle_deg >= 18.4349);
     }
+    fs::remove_all(dir);
+}
+
+// Issue 50: the fan rule is the default (the paper's bound on every input,
+// several materials included); before, the default was the separating rule
+// and the witness came out at 15 deg with default options.  The rhombic
+// lattice, which has no fan rule, defaults to separating; fan is refused there
+// only when asked for.
+BOOST_AUTO_TEST_CASE(issue50_the_default_rule_is_the_fan_rule_and_separating_on_the_rhombic_lattice) {
+    const fs::path dir = fs::temp_directory_path() / ("warpmesh_fan_default_" + std::to_string(::getpid()));
+    const auto f = witness_levelset(dir);
+    MeshOptions o;  // the defaults
+    BOOST_TEST(!o.rule.has_value());
+    BOOST_TEST((rule_of(o) == DiagonalRule::fan));
+    const MeshResult one = mesh(*f, o);
+    BOOST_TEST((one.report.lattice.rule == DiagonalRule::fan));
+    BOOST_TEST(one.certified.min_deg >= 18.4349);
+    BOOST_TEST(compute_quality(one.mesh).min_angle_deg >= 18.4349);  // the witness square takes its fan
+    const WitnessMaterials field(witness_levelset(dir));
+    const MeshResult several = mesh(field, o);
+    BOOST_TEST((several.report.lattice.rule == DiagonalRule::fan));
+    BOOST_TEST(several.certified.min_deg >= 18.4349);
+    BOOST_TEST(compute_quality(several.mesh).min_angle_deg >= 18.4349);
+    o.lattice = LatticeMetric::rhombic;
+    BOOST_TEST((rule_of(o) == DiagonalRule::separating));
+    BOOST_TEST((mesh(*f, o).report.lattice.rule == DiagonalRule::separating));
+    o.rule = DiagonalRule::fan;
+    BOOST_CHECK_THROW(mesh(*f, o), OptionError);
+    o.lattice = LatticeMetric::square, o.rule = DiagonalRule::separating;  // by name, as before
+    BOOST_TEST(mesh(*f, o).certified.min_deg < 15.01);
     fs::remove_all(dir);
 }

@@ -27,6 +27,32 @@ using namespace warpmesh::testing;
 
 namespace {
 
+// The face of f's domain box (0..5: x = xmin, x = xmax, y = ymin, ...) that
+// holds the boundary face's three vertices, or -1.
+int domain_face(const LevelSet3& f, const TetMesh& m, const std::array<std::int32_t, 3>& face) {
+    const auto d = f.domain();
+    if (!d) return -1;
+    const std::array<double, 6> plane{d->xmin, d->xmax, d->ymin, d->ymax, d->zmin, d->zmax};
+    for (int k = 0; k < 6; ++k) {
+        bool all = true;
+        for (const std::int32_t v : face) {
+            const Point3 p = m.vertices[static_cast<std::size_t>(v)];
+            const double x = k < 2 ? p.x : k < 4 ? p.y : p.z;
+            all = all && std::abs(x - plane[static_cast<std::size_t>(k)]) <= 1e-9;
+        }
+        if (all) return k;
+    }
+    return -1;
+}
+
+// A face's area.
+double face_area(const TetMesh& m, const std::array<std::int32_t, 3>& face) {
+    const Point3 a = m.vertices[static_cast<std::size_t>(face[0])], b = m.vertices[static_cast<std::size_t>(face[1])],
+                 c = m.vertices[static_cast<std::size_t>(face[2])];
+    const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, w[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
+    return 0.5 * std::hypot(u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]);
+}
+
 Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nullptr) {
     Mesh3dOptions o;
     o.spacing = spacing;
@@ -42,7 +68,10 @@ Mesh3dReport mesh_checked(const LevelSet3& f, double spacing, TetMesh* out = nul
     BOOST_TEST(r.uncertified_tets == 0);
     BOOST_TEST(r.quality.min_dihedral_deg >= r.certified_min_deg);
     BOOST_TEST(r.quality.max_dihedral_deg <= r.certified_max_deg);
-    for (std::int32_t t : m.boundary_tag) BOOST_TEST(t == boundary_level_set);
+    // Boundary faces on the level set, tagged 1, but where the input's domain
+    // (a volume's hull) cut the region off: tagged 2, as 2D tags the image's border.
+    for (std::size_t e = 0; e < m.boundary.size(); ++e)
+        BOOST_TEST(m.boundary_tag[e] == (domain_face(f, m, m.boundary[e]) >= 0 ? boundary_domain : boundary_level_set));
     BOOST_TEST(r.quality.boundary_vertex_f_max < 1e-9 * std::max(1.0, spacing));
     if (out) *out = std::move(m);
     return r;
@@ -418,9 +447,23 @@ BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     BOOST_TEST(std::abs(c.y / n - (-5 + 11.5)) < 0.3);
     BOOST_TEST(std::abs(c.z / n - (3 + 7.5 * 1.5)) < 0.3);
     // Label 5 fills the two lowest voxel layers, up to the volume's edge: the
-    // region is closed at the voxel centres' hull, by level-set faces.
+    // region is closed at the voxel centres' hull, whose faces are tagged
+    // boundary_domain (issue 50: they were tagged boundary_level_set, while 2D
+    // tags the image's border domain_border), every other face level set
+    // (mesh_checked).  The hull's face z = 3 under the slab is covered, but
+    // for the rim where the slab's level set meets it: the hull is 23 mm (y)
+    // by 23.75 mm (x).
     lo.mode.labels = {5};
-    mesh_checked(*make_volume_levelset3(v, lo), 0.6);
+    const auto slab = make_volume_levelset3(v, lo);
+    TetMesh s;
+    mesh_checked(*slab, 0.6, &s);
+    std::array<double, 6> area{};
+    for (std::size_t e = 0; e < s.boundary.size(); ++e)
+        if (const int k = domain_face(*slab, s, s.boundary[e]); k >= 0) area[static_cast<std::size_t>(k)] += face_area(s, s.boundary[e]);
+    BOOST_TEST(area[4] > 0.9 * 23 * 23.75, "z = 3: " << area[4]);
+    BOOST_TEST(area[4] <= 23 * 23.75);
+    BOOST_TEST(area[5] == 0);  // the slab's top is inside the volume
+    for (std::size_t k = 0; k < 4; ++k) BOOST_TEST(area[k] > 0);  // its sides reach the volume's sides
     lo.mode.labels = {9};
     BOOST_TEST(throws_containing([&] { make_volume_levelset3(v, lo); }, "the region is empty"));
     // Issue 50: a listed label absent from the volume was ignored when
@@ -874,4 +917,66 @@ BOOST_AUTO_TEST_CASE(volume_warnings_name_lost_volume_a_guessed_iso_and_the_voxe
     BOOST_TEST(warned(guessed, "neither labels nor iso given: threshold mode"));
     BOOST_TEST(warned(guessed, "that is below the input's resolution, 1 (its voxel size): --spacing 1, the finest"));
     BOOST_TEST(!warned(guessed, "resolves it"));
+}
+
+// Issue 50: --manifold makes the boundary manifold where parts touch only at
+// a vertex or along an edge, by giving each part its own copy of the shared
+// vertices; no tetrahedron moves, so the certified bounds hold as they are.
+BOOST_AUTO_TEST_CASE(issue50_manifold_splits_the_boundarys_nonmanifold_vertices) {
+    const Point3 o{0, 0, 0}, z{0, 0, 1}, x{1, 0, 0}, y{0, 1, 0}, mx{-1, 0, 0}, my{0, -1, 0}, mz{0, 0, -1};
+    TetMesh edge = with_boundary({o, z, x, y, mx, my}, {{0, 2, 3, 1}, {0, 4, 5, 1}});
+    TetMesh vertex = with_boundary({o, x, y, z, mx, my, mz}, {{0, 1, 2, 3}, {0, 5, 4, 6}});
+    BOOST_TEST(split_nonmanifold_vertices(edge) == 2);  // both ends of the shared edge
+    BOOST_TEST(split_nonmanifold_vertices(vertex) == 1);
+    for (const TetMesh* m : {&edge, &vertex}) {
+        const TetMeshCheck c = check_tet_mesh(*m);
+        BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+        BOOST_TEST(c.nonmanifold_boundary_edges == 0);
+        BOOST_TEST(c.nonmanifold_boundary_vertices == 0);
+    }
+    // A label volume whose parts touch along a voxel edge (two blocks
+    // diagonal to each other) and at a voxel corner (a third block).
+    Volume v;
+    v.dims = {14, 14, 14};
+    v.spacing = {1, 1, 1};
+    v.origin = {0, 0, 0};
+    v.axes = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    v.source = "contacts";
+    v.values.assign(14 * 14 * 14, 0);
+    const auto set = [&](int i0, int i1, int j0, int j1, int k0, int k1) {
+        for (int k = k0; k < k1; ++k)
+            for (int j = j0; j < j1; ++j)
+                for (int i = i0; i < i1; ++i) v.values[static_cast<std::size_t>(i + 14 * (j + 14 * k))] = 1;
+    };
+    set(2, 6, 2, 6, 2, 8), set(6, 10, 6, 10, 2, 8), set(10, 13, 10, 13, 8, 12);
+    Mesh3dOptions mo;
+    mo.labels = "1";
+    mo.verify = true;
+    const Mesh3dResult plain = mesh3d(std::cref(v), mo);
+    mo.manifold = true;
+    const Mesh3dResult split = mesh3d(std::cref(v), mo);
+    BOOST_TEST(plain.report.nonmanifold_boundary_edges > 0);
+    BOOST_TEST(plain.report.nonmanifold_boundary_vertices > 0);
+    BOOST_TEST(!plain.report.manifold_added_vertices.has_value());
+    BOOST_TEST(split.report.nonmanifold_boundary_edges == 0);
+    BOOST_TEST(split.report.nonmanifold_boundary_vertices == 0);
+    BOOST_TEST(*split.report.manifold_added_vertices > 0);
+    BOOST_TEST(split.mesh.vertices.size() == plain.mesh.vertices.size() + static_cast<std::size_t>(*split.report.manifold_added_vertices));
+    const TetMeshCheck c = check_tet_mesh(split.mesh);
+    BOOST_TEST(c.ok, (c.problems.empty() ? "" : c.problems.front()));
+    // Every tetrahedron where it was: the same corners, so the same shape and certified bounds.
+    BOOST_REQUIRE(split.mesh.tets.size() == plain.mesh.tets.size());
+    for (std::size_t t = 0; t < plain.mesh.tets.size(); ++t)
+        for (std::size_t k = 0; k < 4; ++k) {
+            const Point3 a = plain.mesh.vertices[static_cast<std::size_t>(plain.mesh.tets[t][k])];
+            const Point3 b = split.mesh.vertices[static_cast<std::size_t>(split.mesh.tets[t][k])];
+            BOOST_TEST((a.x == b.x && a.y == b.y && a.z == b.z));
+        }
+    BOOST_TEST(split.report.certified_min_deg == plain.report.certified_min_deg);
+    BOOST_TEST(split.report.verified);
+    BOOST_TEST(split.report.quality.min_dihedral_deg == plain.report.quality.min_dihedral_deg);
+    BOOST_TEST(split.mesh.boundary.size() == plain.mesh.boundary.size());
+    BOOST_TEST(to_json(split.report).find("\"manifold_added_vertices\": ") != std::string::npos);
+    // Blocks share their vertices by key: refused there.
+    BOOST_TEST(throws_containing([&] { mesh3d_block(std::cref(v), mo, CubeRange{{0, 0, 0}, {1, 1, 1}}); }, "manifold"));
 }

@@ -748,6 +748,9 @@ void tune_malloc() {
 
 int main(int argc, char** argv) {
     tune_malloc();
+    // --max-memory bounds the whole run, its input included: one call from
+    // the start (memory.hpp), which the pipelines' own calls nest in.
+    const warpmesh::MemoryCall run;
     try {
         const std::string help = std::string(commands) + "\n" + mesh_command().help();
         if (argc < 2) {

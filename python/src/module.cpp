@@ -306,6 +306,7 @@ void bind_meshing(py::module_& m) {
         "mesh_image",
         [](const Pixels& pixels, int maxval, std::optional<double> iso, bool inside_above, std::optional<std::vector<int>> labels, bool nonzero,
            const std::string& source, const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
+            const MemoryCall call;  // max_memory counts what this call needs, not the caller's arrays
             const MeshOptions o = mesh_options(kw);
             const Image img = to_image(pixels, maxval, source);
             ImageLevelSetOptions io;
@@ -327,6 +328,7 @@ void bind_meshing(py::module_& m) {
     m.def(
         "mesh_shape",
         [](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
+            const MemoryCall call;
             const MeshOptions o = mesh_options(kw);
             const std::unique_ptr<LevelSet> f = parse_shape(spec);
             return run(*f, o, threads);
@@ -339,6 +341,7 @@ void bind_meshing(py::module_& m) {
         "mesh_materials",
         [](const Pixels& pixels, int maxval, const std::string& spec, const std::string& source,
            const Geometry& geometry, std::optional<int> threads, const py::dict& kw) {
+            const MemoryCall call;
             const Image img = to_image(pixels, maxval, source);
             const MeshOptions o = mesh_options(kw);
             const std::unique_ptr<MaterialField> field = make_label_materials(img, spec, pixel_geometry(geometry), o.max_memory);
@@ -350,6 +353,7 @@ void bind_meshing(py::module_& m) {
     m.def(
         "mesh_shapes",
         [](const std::string& spec, std::optional<int> threads, const py::dict& kw) {
+            const MemoryCall call;
             const MeshOptions o = mesh_options(kw);
             const std::unique_ptr<MaterialField> field = parse_material_shapes(spec);
             return run(*field, o, threads);
@@ -494,6 +498,7 @@ void bind_blocks(py::module_& m) {
     m.def(
         "lattice3",
         [](const py::object& input, const py::dict& kw) {
+            const MemoryCall call;
             const Mesh3dOptions o = mesh3d_options(kw);
             const Mesh3dInput in = mesh3d_input(input);
             py::gil_scoped_release release;
@@ -503,6 +508,7 @@ void bind_blocks(py::module_& m) {
     m.def(
         "mesh3d_block",
         [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, const py::dict& kw) {
+            const MemoryCall call;
             const Mesh3dOptions o = mesh3d_options(kw);
             const Mesh3dInput in = mesh3d_input(input);
             TetBlock b;
@@ -609,6 +615,7 @@ void bind_mesh3d(py::module_& m) {
     m.def(
         "mesh3d",
         [](const py::object& input, const py::dict& kw) {
+            const MemoryCall call;
             const Mesh3dOptions o = mesh3d_options(kw);
             const Mesh3dInput in = mesh3d_input(input);
             py::gil_scoped_release release;
@@ -623,6 +630,7 @@ void bind_mesh3d(py::module_& m) {
     m.def(
         "mesh3d_function",
         [](py::function f, std::array<double, 6> box, const py::dict& kw) {
+            const MemoryCall call;
             // The function's first failure, in the user's words: its Python
             // exception's type and message (not pybind11's wrapping with a
             // traceback), or a value that is no finite number.

@@ -420,7 +420,7 @@ def _pixels(image):
 
 
 def mesh(image, *, iso=None, inside="above", labels=None, materials=None, background="drop", spacing=None,
-         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule="separating",
+         pixel_size=None, graded=False, max_cell=0, max_size=None, grading=2.0, max_size_of=None, rule=None,
          lattice="square", guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES,
          threads=None, optimize=False, max_memory=_MAX_MEMORY_MB, repeat=1):
     """Mesh a 2D image (numpy array, row 0 at the top), as ``warpmesh mesh`` does.
@@ -485,7 +485,7 @@ def mesh(image, *, iso=None, inside="above", labels=None, materials=None, backgr
     return _finish(core, scale)
 
 
-def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule="separating",
+def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0, rule=None,
                lattice="square", guarantee=None, min_spacing=None, certify=True, verify=True, max_squares=_MAX_SQUARES,
                threads=None, optimize=False, max_memory=_MAX_MEMORY_MB, repeat=1):
     """Mesh an analytic shape given as the CLI's --shape string:
@@ -499,7 +499,7 @@ def mesh_shape(spec, *, spacing=1.0, graded=False, max_cell=0, max_size=None, gr
 
 
 def mesh_shapes(spec, *, background="drop", spacing=1.0, graded=False, max_cell=0, max_size=None, grading=2.0,
-                max_size_of=None, rule="separating", lattice="square", guarantee=None, min_spacing=None, certify=True,
+                max_size_of=None, rule=None, lattice="square", guarantee=None, min_spacing=None, certify=True,
                 verify=True, max_squares=_MAX_SQUARES, threads=None, optimize=False, max_memory=_MAX_MEMORY_MB,
                 repeat=1):
     """Mesh analytic materials given as the CLI's --shapes string,
@@ -532,7 +532,9 @@ class TetMesh:
       boundary_faces  (b, 3) int32     the faces of one tetrahedron, normal
                                        (p1 - p0) x (p2 - p0) pointing out
       boundary_tags   (b,)   int32     1 = on the level set (or against the dropped
-                                       background), 2 = on the lattice border
+                                       background), 2 = where the volume's edge (the
+                                       hull of its voxel centres) or the lattice's
+                                       border cut the region off
       interfaces      (k, 3) int32     faces between two regions (several materials;
                                        else empty), normal pointing from
                                        interface_regions[:, 0] into [:, 1]
@@ -707,7 +709,8 @@ def _options3(function, values, label, labels, iso, inside, threads=None, materi
 
 def mesh3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
            background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), box=None, face_rule=None, verify=False,
-           band=None, graded=False, max_size=None, grading=2.0, max_memory=None, max_memory_mb=None, threads=None):
+           band=None, graded=False, max_size=None, grading=2.0, manifold=False, max_memory=None, max_memory_mb=None,
+           threads=None):
     """Tetrahedral mesh of a volume, a 3D shape or a function, as ``warpmesh
     mesh3d`` does (BCC lattice warping, dihedral angles certified by
     proofs/bcc_delaunay.cert for the default face rule, proofs/bcc.cert for

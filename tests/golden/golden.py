@@ -45,8 +45,10 @@ EX = "mesher/examples"
 # name -> arguments to `warpmesh mesh` (paths relative to the repository root).
 # Each case says what it pins; where a case pins a fixed bug it is named after it.
 CASES = {
-    # The basic shapes, both rules, uniform.
-    "circle_separating": ["--shape", "circle:0,0,10"],
+    # The basic shapes, the three rules, uniform (the default is the fan rule,
+    # issue 50: circle_fan; the separating and maxmin rules by name).
+    "circle_separating": ["--shape", "circle:0,0,10", "--diagonal", "separating"],
+    "circle_fan": ["--shape", "circle:0,0,10"],
     "circle_maxmin": ["--shape", "circle:0,0,10", "--diagonal", "maxmin"],
     # Boolean shapes with a hole; the cut point of a corner shared by two cut
     # edges (coarse spacing: the boundary turns inside a square).
@@ -81,11 +83,12 @@ CASES = {
     "abdomen_kidneys_materials_s2": [f"{EX}/abdomen_axial_z040_labels16.pgm", "--materials", "51,52",
                                      "--spacing", "2"],
     "three_shapes_materials": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
-                               "--background", "keep", "--spacing", "0.75"],
-    # The fan rule with materials (issue 28): the same three materials; its
-    # certified floor is the fan rule's 18.4349 deg, junction squares included.
+                               "--background", "keep", "--spacing", "0.75", "--diagonal", "separating"],
+    # The fan rule with materials (issue 28), the default since issue 50: the
+    # same three materials; its certified floor is the fan rule's 18.4349 deg,
+    # junction squares included.
     "three_shapes_materials_fan": ["--shapes", "1=circle:0,0,10;2=circle:6,0,8;3=rect:-2,-2,2,12",
-                                   "--background", "keep", "--spacing", "0.75", "--diagonal", "fan"],
+                                   "--background", "keep", "--spacing", "0.75"],
     # Graded multi-material meshes: the finest band along every interface,
     # coarse leaves inside each material — every label of the brain slice
     # (background dropped), and the three analytic materials with the

@@ -201,3 +201,20 @@ def test_a_part_needs_listed_materials():
         warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), materials="all")
     with pytest.raises(warpmesh.InputError, match="does not lie in the whole"):
         warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((15, 0, 0), volume.shape), materials="1,2")
+
+
+def test_blocks_keep_the_volume_edges_domain_border_tags():
+    # Issue 50: faces where the volume's edge cuts a region off are tagged 2
+    # (domain_border); blocks flag their vertices the same way, so the merge
+    # equals the whole mesh, tags included, for one region and for materials.
+    labels = np.zeros((12, 12, 12), np.uint16)
+    labels[3:9, 3:9, 0:6] = 1  # against the volume's face x = 0
+    labels[3:9, 3:9, 6:9] = 2
+    for options in ({"label": 1}, {"materials": "all"}, {"materials": "all", "background": "keep"}):
+        whole = warpmesh.mesh3d(labels, **options)
+        assert (whole.boundary_tags == 2).sum() > 0, options
+        cubes = warpmesh.lattice3d(labels, **options)
+        cut = cubes[0] // 2
+        blocks = [warpmesh.mesh3d_block(labels, lo, hi, **options)
+                  for lo, hi in [((0, 0, 0), (cut, cubes[1], cubes[2])), ((cut, 0, 0), cubes)]]
+        assert same(warpmesh.merge_blocks(blocks), whole), options

@@ -73,6 +73,42 @@ def test_label_volume_in_mm(tmp_path):
     assert abs(tet_volumes(p.points, p.cells_dict["tetra"]).sum() / vol.sum() - 8) < 0.5
 
 
+def test_volume_edge_faces_are_tagged_domain_border_as_in_2d(tmp_path):
+    """Issue 50: where the volume's edge cuts a region off, 3D tagged the
+    closing faces boundary (1); 2D tags the image's border domain_border (2).
+    A block of label 1 against the volume's face x = 0 (and label 2 beside it,
+    inside): its faces on x = 0 are domain_border in every writer that writes
+    facet tags (.msh, .xdmf, .inp surfaces, .vtu's vertex markers), one region
+    and several materials alike; the other faces stay boundary."""
+    meshio = require("meshio", "python3-meshio")
+    labels = np.zeros((12, 12, 12), np.uint8)
+    labels[3:9, 3:9, 0:6] = 1  # (z, y, x): x = 0 .. 5, on the volume's face x = 0
+    labels[3:9, 3:9, 6:9] = 2
+    write_nrrd(tmp_path / "edge.nrrd", labels)
+    for name, args in (("one", ["--label", "1"]), ("materials", ["--materials", "all"])):
+        mesh3d(["edge.nrrd", *args, "-o", f"{name}.msh", "--also", f"{name}.xdmf", "--also", f"{name}.inp",
+                "--also", f"{name}.vtu", "--quiet"], tmp_path)
+        m = meshio.read(tmp_path / f"{name}.msh")
+        assert list(m.field_data["domain_border"]) == [2, 2] and list(m.field_data["boundary"]) == [1, 2], name
+        tri = m.cells_dict["triangle"]
+        tags = m.cell_data_dict["gmsh:physical"]["triangle"]
+        border = tri[tags == 2]
+        assert len(border) > 0, name
+        assert np.abs(m.points[border, 0]).max() < 1e-9, name  # every domain_border face on x = 0
+        on_plane = (np.abs(m.points[tri[tags == 1], 0]) < 1e-9).all(axis=1)
+        assert not on_plane.any(), name  # no boundary face lies there
+        a = m.points[border]
+        area = 0.5 * np.linalg.norm(np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]), axis=1).sum()
+        assert abs(area - 25) < 1e-9, (name, area)  # the lattice's section of the block at x = 0: 5 x 5 mm
+        f = meshio.read(tmp_path / f"{name}_facets.xdmf")
+        assert (f.cell_data["facet_tags"][0] == 2).sum() == len(border), name
+        assert "*SURFACE, TYPE=ELEMENT, NAME=domain_border" in (tmp_path / f"{name}.inp").read_text(), name
+        v = meshio.read(tmp_path / f"{name}.vtu")
+        marker = v.point_data["boundary_marker"]
+        inner = np.setdiff1d(np.unique(border), np.unique(tri[tags != 2]))  # vertices of domain_border faces only
+        assert len(inner) > 0 and (marker[inner] == 2).all(), name
+
+
 @pytest.mark.parametrize("args, message", [
     (["--max-cell", "4"], "--max-cell has no effect in 3D (warpmesh mesh3d): 3D graded meshes bound their cells by --max-size"),
     (["--materials", "all"], "materials apply to volumes, not to shapes"),

@@ -564,3 +564,31 @@ def test_optimize_on_one_region_and_max_memory_everywhere(root):
                  lambda: warpmesh.mesh_shapes("1=circle:0,0,100", spacing=0.01, max_memory=16)):
         with pytest.raises(warpmesh.InputError, match="max-memory|memory"):
             call()
+
+
+def test_max_memory_bounds_the_call_not_the_callers_arrays(root):
+    # Issue 50: max_memory counted the whole process, so after the caller
+    # allocated a large array (2.2 GB in the report) a small sphere was
+    # refused ("needs about 2240 MB").  Now it bounds what the call needs, its
+    # stages above what the process held when it began.  Cheaply: a limit
+    # below what this Python process holds already, once the array is made.
+    big = np.ones(48 << 20 >> 3)  # 48 MB, touched
+    import resource
+    held_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    limit = 40
+    assert held_mb > limit + 8  # the process alone is over the limit
+    assert len(warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.25, max_memory=limit).tetrahedra) > 100
+    assert len(warpmesh.mesh_shape("circle:0,0,10", max_memory=limit).triangles) > 100
+    img = warpmesh.read_image(root / BRAIN)
+    assert len(warpmesh.mesh(img, materials="all", spacing=2, max_memory=limit).interfaces) > 0
+    labels = np.zeros((12, 12, 12), np.uint16)
+    labels[2:10, 2:10, 2:10] = 1
+    assert len(warpmesh.mesh3d(labels, labels="nonzero", max_memory=limit).tetrahedra) > 100
+    # The limit still bounds the call, and its message adds up: the call's
+    # need on top of what the call holds (its input), not the process's size.
+    import re
+    with pytest.raises(warpmesh.OptionError, match="max_memory") as e:
+        warpmesh.mesh_shape("circle:0,0,100", spacing=0.01, max_memory=limit)
+    held = re.search(r"on top of the (\d+) MB this call holds already", str(e.value))
+    assert held and int(held.group(1)) < 16, str(e.value)
+    del big

@@ -5,6 +5,7 @@ inputs' own; the docstrings list every entry with the table's help; the CLI's
 help lists the same flags; a bad value raises OptionError naming the keyword
 in the library's words (never a CLI flag)."""
 import inspect
+import pathlib
 import subprocess
 
 import numpy as np
@@ -14,6 +15,7 @@ import warpmesh
 from warpmesh import _core
 from conftest import executable
 
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 TABLE2D = _core.option_table("mesh2d")
 TABLE3D = _core.option_table("mesh3d")
 
@@ -94,6 +96,22 @@ def test_lattice_keyword_is_the_cli_lattice(tmp_path):
         warpmesh.mesh_shapes("1=circle:0,0,5", lattice="rhombic")
     with pytest.raises(warpmesh.OptionError, match="^graded=True is not available with lattice='rhombic'"):
         warpmesh.mesh_shape("circle:0,0,5", lattice="rhombic", graded=True)
+
+
+def test_the_default_rule_is_the_fan_rule_as_the_clis(tmp_path):
+    # Issue 50: the default is the fan rule (the paper's 18.4349 deg on every
+    # input, several materials included), in Python as in the CLI; on the
+    # rhombic lattice, which has no fan rule, separating.
+    assert warpmesh.mesh.__kwdefaults__["rule"] is None and "fan (default)" in warpmesh.mesh.__doc__
+    labels = warpmesh.read_image(str(ROOT / "mesher/examples/abdomen_axial_z040_labels16.pgm"))
+    m = warpmesh.mesh(labels, materials="all", spacing=2)
+    assert m.report["rule"] == "fan" and m.report["certified"]["min_angle_deg"] >= 18.4349
+    assert warpmesh.mesh_shape("circle:0,0,5").report["rule"] == "fan"
+    assert warpmesh.mesh_shapes("1=circle:0,0,5;2=circle:3,0,3").report["rule"] == "fan"
+    assert warpmesh.mesh_shape("circle:0,0,5", lattice="rhombic").report["rule"] == "separating"
+    assert warpmesh.mesh_shape("circle:0,0,5", rule="separating").report["rule"] == "separating"
+    with pytest.raises(warpmesh.OptionError, match="^rule='fan' is not available with lattice='rhombic'"):
+        warpmesh.mesh_shape("circle:0,0,5", lattice="rhombic", rule="fan")
 
 
 def test_messages_name_keywords_where_the_cli_names_flags(tmp_path):

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <mutex>
 
 #include "warpmesh/core/errors.hpp"
 
@@ -17,6 +18,27 @@ std::uint64_t resident_bytes() {
     std::fclose(f);
     const long page = sysconf(_SC_PAGESIZE);
     return got == 2 && page > 0 ? resident * static_cast<std::uint64_t>(page) : 0;
+}
+
+namespace {
+std::mutex call_mutex;
+int calls = 0;                // MemoryCalls alive
+std::uint64_t baseline = 0;   // resident_bytes() when the first of them began
+}  // namespace
+
+MemoryCall::MemoryCall() {
+    const std::lock_guard lock(call_mutex);
+    if (calls++ == 0) baseline = resident_bytes();
+}
+
+MemoryCall::~MemoryCall() {
+    const std::lock_guard lock(call_mutex);
+    if (--calls == 0) baseline = 0;
+}
+
+std::uint64_t memory_baseline() {
+    const std::lock_guard lock(call_mutex);
+    return baseline;
 }
 
 // The costs: peaks measured on 2048 x 2048 images of random labels (every
@@ -46,14 +68,15 @@ std::uint64_t optimize_bytes_per_square(bool materials) { return 2 * optimize_by
 
 void check_memory(std::uint64_t need, std::uint64_t max_memory, const std::string& what, const std::string& how,
                   const std::string& advice) {
-    const std::uint64_t now = resident_bytes();
+    const std::uint64_t resident = resident_bytes(), base = memory_baseline();
+    const std::uint64_t now = resident > base ? resident - base : 0;  // what this call holds
     if (need <= max_memory && now <= max_memory - need) return;
-    // The stage's own need and what the process holds already (the input,
-    // and in Python the caller's arrays too), each stated, so the sum reads.
+    // The stage's own need and what the call holds already (its input, the
+    // stages before), each stated, so the sum reads.
     char text[160];
     std::snprintf(text, sizeof text, " needs about %.0f MB (", static_cast<double>(need) / 1048576.0);
     std::string msg = what + text + how + ")";
-    std::snprintf(text, sizeof text, " on top of the %.0f MB this process holds already, %.0f MB in all,",
+    std::snprintf(text, sizeof text, " on top of the %.0f MB this call holds already, %.0f MB in all,",
                   static_cast<double>(now) / 1048576.0, static_cast<double>(now + need) / 1048576.0);
     throw OptionError("max_memory", msg + text + " more than the {max_memory} limit of " + std::to_string(max_memory >> 20) +
                                         " MB; raise {max_memory} if this machine has the memory, or " + advice);

@@ -171,6 +171,8 @@ public:
             const double e0 = origin_[a] + static_cast<double>(region_lo[a] - 1) / scale_[a];
             const double e1 = origin_[a] + static_cast<double>(region_hi[a] + 1) / scale_[a];
             lo_box_[p] = std::min(e0, e1), hi_box_[p] = std::max(e0, e1);
+            const double h0 = origin_[a], h1 = origin_[a] + static_cast<double>(dims_[a] - 1) / scale_[a];
+            hull_lo_[p] = std::min(h0, h1), hull_hi_[p] = std::max(h0, h1);
         }
     }
     double value(double x, double y, double z) const override {
@@ -190,6 +192,9 @@ public:
     double cut_parameter(Point3 a, Point3 b, double fa, double fb) const override;
     Box3 bounds() const override {
         return {lo_box_[0], lo_box_[1], lo_box_[2], hi_box_[0], hi_box_[1], hi_box_[2]};
+    }
+    std::optional<Box3> domain() const override {
+        return Box3{hull_lo_[0], hull_lo_[1], hull_lo_[2], hull_hi_[0], hull_hi_[1], hull_hi_[2]};
     }
     double feature_size() const override { return feature_; }
     double resolution() const override { return resolution_; }
@@ -258,7 +263,7 @@ private:
     std::string name_;
     std::optional<double> reference_volume_;
     std::array<int, 3> perm_{0, 1, 2};
-    std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{};
+    std::array<double, 3> scale_{1, 1, 1}, origin_{0, 0, 0}, lo_box_{}, hi_box_{}, hull_lo_{}, hull_hi_{};
 };
 
 // A cubic c0 + c1 s + c2 s² + c3 s³.

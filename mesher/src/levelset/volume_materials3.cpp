@@ -30,13 +30,13 @@ public:
     std::string name(int m) const override { return m == 0 ? "background" : "label_" + std::to_string(tag(m)); }
     Box3 bounds() const override { return bounds_; }
     std::string describe() const override { return "materials " + spec_ + " of '" + source_ + "'"; }
-    bool read_outside_part() const override { return outside_.load(); }
     double resolution() const override { return resolution_; }
     std::optional<double> reference_volume(int m) const override {
         return static_cast<double>(voxels_[static_cast<std::size_t>(m)]) * voxel_volume_;
     }
     int material_at(Point3 p) const override;
     double cut_parameter(Point3 a, Point3 b, int ma, int mb) const override;
+    bool read_outside_part() const override { return outside_.load(); }
 
 private:
     using Index3 = std::array<double, 3>;
@@ -51,24 +51,27 @@ private:
             if (!(x[a] >= 0 && x[a] <= static_cast<double>(n_[a] - 1))) return false;
         return true;
     }
-<<<<<<< HEAD
+    // Whole-volume voxel (i, j, k)'s place in mat_ (it must lie in the part,
+    // if this is one), which is stored in the physical axes' order (x
+    // fastest, then y, then z): the lattice is traversed in that order, and a
+    // volume whose index axes are permuted (an NRRD's space directions) would
+    // otherwise be read a slice apart at every step.
+    std::int64_t at(std::int64_t i, std::int64_t j, std::int64_t k) const {
+        return (i - off_[0]) * stride_[0] + (j - off_[1]) * stride_[1] + (k - off_[2]) * stride_[2];
+    }
+    bool in_part(std::int64_t i, std::int64_t j, std::int64_t k) const {
+        i -= off_[0], j -= off_[1], k -= off_[2];
+        return i >= 0 && j >= 0 && k >= 0 && i < pn_[0] && j < pn_[1] && k < pn_[2];
+    }
     // The material index of whole-volume voxel (i, j, k): of a part, the
     // background (flagged) outside it.
     std::uint16_t mat(std::int64_t i, std::int64_t j, std::int64_t k) const {
-        i -= off_[0], j -= off_[1], k -= off_[2];
-        if (part_ && !(i >= 0 && j >= 0 && k >= 0 && i < pn_[0] && j < pn_[1] && k < pn_[2])) {
+        if (part_ && !in_part(i, j, k)) {
             outside_.store(true, std::memory_order_relaxed);
             return 0;
         }
-        return mat_[static_cast<std::size_t>(i + pn_[0] * (j + pn_[1] * k))];
+        return mat_[static_cast<std::size_t>(at(i, j, k))];
     }
-=======
-    // Voxel (i, j, k)'s place in mat_, which is stored in the physical axes'
-    // order (x fastest, then y, then z): the lattice is traversed in that
-    // order, and a volume whose index axes are permuted (an NRRD's space
-    // directions) would otherwise be read a slice apart at every step.
-    std::int64_t at(std::int64_t i, std::int64_t j, std::int64_t k) const { return i * stride_[0] + j * stride_[1] + k * stride_[2]; }
->>>>>>> issue47-speed
     // D_m (materials3.hpp) at the 8 corners of cell c (corner q = (i + (q & 1),
     // j + (q >> 1 & 1), k + (q >> 2))) for each material ms[m] (at most 8), in out[m].
     void corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const;
@@ -85,15 +88,11 @@ private:
         }
     }
 
-<<<<<<< HEAD
-    std::array<std::int64_t, 3> n_{};  // the (whole) volume's voxels
+    std::array<std::int64_t, 3> n_{}, stride_{};  // the (whole) volume's voxels; mat_'s strides
     // A part (Volume::is_part): its voxels and offset in the whole.
     bool part_ = false;
     std::array<std::int64_t, 3> pn_{}, off_{0, 0, 0};
     mutable std::atomic<bool> outside_{false};
-=======
-    std::array<std::int64_t, 3> n_{}, stride_{};
->>>>>>> issue47-speed
     std::array<std::size_t, 3> axis_{};  // the physical axis of index axis a
     std::array<double, 3> sign_{}, spacing_{}, origin_{};
     Buffer<std::uint16_t> mat_;               // per voxel (every one written by the constructor)
@@ -151,13 +150,13 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
     for (std::size_t a = 0; a < 3; ++a) {
         stride_[a] = 1;
         for (std::size_t b = 0; b < 3; ++b)
-            if (axis_[b] < axis_[a]) stride_[a] *= n_[b];
+            if (axis_[b] < axis_[a]) stride_[a] *= pn_[b];
     }
     voxels_.assign(tags_.size(), 0);
     mat_.resize(v.values.size());
-    for (std::int64_t k = 0, q = 0; k < n_[2]; ++k)
-        for (std::int64_t j = 0; j < n_[1]; ++j)
-            for (std::int64_t i = 0; i < n_[0]; ++i, ++q) {
+    for (std::int64_t k = off_[2], q = 0; k < off_[2] + pn_[2]; ++k)
+        for (std::int64_t j = off_[1]; j < off_[1] + pn_[1]; ++j)
+            for (std::int64_t i = off_[0]; i < off_[0] + pn_[0]; ++i, ++q) {
                 const std::uint16_t m = material_of[static_cast<std::size_t>(v.values[static_cast<std::size_t>(q)])];
                 mat_[static_cast<std::size_t>(at(i, j, k))] = m;
                 ++voxels_[m];
@@ -172,24 +171,6 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
     resolution_ = std::min({spacing_[0], spacing_[1], spacing_[2]});
 }
 
-<<<<<<< HEAD
-void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::span<const int> ms, std::span<std::array<double, 8>> out) const {
-    static constexpr std::array<double, 5> root{0, 1, 1.4142135623730951, 1.7320508075688772, 2};
-    // The labels of the 4 x 4 x 4 voxels around the cell (-1 beyond the
-    // volume), block[(z + 1) 16 + (y + 1) 4 + (x + 1)] for x, y, z in -1..2.
-    std::array<int, 64> block;  // every entry written below
-    for (int z = -1; z <= 2; ++z)
-        for (int y = -1; y <= 2; ++y)
-            for (int x = -1; x <= 2; ++x) {
-                const std::int64_t i = c[0] + x, j = c[1] + y, k = c[2] + z;
-                const bool in = i >= 0 && j >= 0 && k >= 0 && i < n_[0] && j < n_[1] && k < n_[2];
-                block[static_cast<std::size_t>((z + 1) * 16 + (y + 1) * 4 + (x + 1))] = in ? mat(i, j, k) : -1;
-            }
-    // The 26 neighbours' offsets in the block and their squared distances.
-    static constexpr auto neighbours = [] {
-        std::array<std::pair<int, int>, 26> n{};
-        int m = 0;
-=======
 // The 4 x 4 x 4 voxels around a cell as bits of a 64-bit word: voxel (x, y,
 // z), each in -1..2 relative to the cell's lowest corner, is bit
 // (z + 1) 16 + (y + 1) 4 + (x + 1).  near[d2 - 1][q]: the voxels at squared
@@ -199,7 +180,6 @@ constexpr int block_bit(int x, int y, int z) { return (z + 1) * 16 + (y + 1) * 4
 constexpr auto near = [] {
     std::array<std::array<std::uint64_t, 8>, 3> n{};
     for (int q = 0; q < 8; ++q)
->>>>>>> issue47-speed
         for (int z = -1; z <= 1; ++z)
             for (int y = -1; y <= 1; ++y)
                 for (int x = -1; x <= 1; ++x)
@@ -225,19 +205,19 @@ void VolumeMaterials3::corner_phis(const std::array<std::int64_t, 3>& c, std::sp
     std::array<std::uint64_t, 8> of{};
     for (int z = -1; z <= 2; ++z)
         for (int y = -1; y <= 2; ++y) {
-            const std::int64_t j = c[1] + y, k = c[2] + z, row = j * stride_[1] + k * stride_[2];
+            const std::int64_t j = c[1] + y, k = c[2] + z, row = at(0, j, k);
             if (!(j >= 0 && k >= 0 && j < n_[1] && k < n_[2])) continue;
             for (int x = -1; x <= 2; ++x) {
                 const std::int64_t i = c[0] + x;
                 if (!(i >= 0 && i < n_[0])) continue;
-                const int label = mat_[static_cast<std::size_t>(row + i * stride_[0])];
+                const int label = part_ ? mat(i, j, k) : mat_[static_cast<std::size_t>(row + i * stride_[0])];
                 const std::uint64_t bit = std::uint64_t{1} << block_bit(x, y, z);
                 inside |= bit;
                 for (std::size_t m = 0; m < ms.size(); ++m) of[m] |= label == ms[m] ? bit : 0;
             }
         }
     std::array<int, 8> corner{};  // the corners' materials
-    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat_[static_cast<std::size_t>(at(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2)))];
+    for (int q = 0; q < 8; ++q) corner[static_cast<std::size_t>(q)] = mat(c[0] + (q & 1), c[1] + (q >> 1 & 1), c[2] + (q >> 2));
     // At corner q of material `own`: D_own from the nearest voxel not of
     // `own`, D_m (m != own) from the nearest voxel of m.
     for (int q = 0; q < 8; ++q)

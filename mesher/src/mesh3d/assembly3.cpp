@@ -16,7 +16,9 @@
 // candidates on one side only).  The candidates — a surface-sized set — are
 // matched by sorting their vertex triples; the unmatched ones are the
 // boundary, oriented as their tetrahedron sees them from outside, tagged
-// boundary_level_set when all three vertices are on the level set, else
+// boundary_level_set when all three vertices are on the level set, unless
+// they all lie on one face of the input's domain (a volume's hull, which
+// closes a region reaching the volume's edge: mark_domain_faces), else
 // boundary_domain.  With several materials (materials3.cpp) the flagged
 // vertices are those on an interface, and a matched candidate whose two
 // tetrahedra have different regions is an interface face.
@@ -80,6 +82,22 @@ FaceRef* add_faces(const TetMesh& mesh, std::int64_t t, unsigned faces, FaceRef*
 
 }  // namespace
 
+void mark_domain_faces(std::span<const Point3> vertices, std::span<std::uint8_t> on, const std::optional<Box3>& domain,
+                       double spacing) {
+    if (!domain) return;
+    const double tol = 1e-6 * spacing;
+    const std::array<double, 6> plane{domain->xmin, domain->xmax, domain->ymin, domain->ymax, domain->zmin, domain->zmax};
+#pragma omp parallel for schedule(static)
+    for (std::int64_t v = 0; v < static_cast<std::int64_t>(vertices.size()); ++v) {
+        std::uint8_t& flag = on[static_cast<std::size_t>(v)];
+        if (!flag) continue;
+        const Point3 p = vertices[static_cast<std::size_t>(v)];
+        const std::array<double, 3> x{p.x, p.y, p.z};
+        for (std::size_t k = 0; k < 6; ++k)
+            if (std::abs(x[k / 2] - plane[k]) <= tol) flag = static_cast<std::uint8_t>(flag | (2u << k));
+    }
+}
+
 void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<const CutOff> cut_off) {
     const std::int64_t T = static_cast<std::int64_t>(mesh.tets.size());
     int threads = 1;
@@ -132,7 +150,9 @@ void find_boundary(TetMesh& mesh, std::span<const std::uint8_t> on, std::span<co
         if (j - i == 1) {
             const std::array<std::int32_t, 3> b = outward(faces[i]);
             mesh.boundary.push_back(b);
-            const bool level = on[static_cast<std::size_t>(b[0])] && on[static_cast<std::size_t>(b[1])] && on[static_cast<std::size_t>(b[2])];
+            const std::uint8_t o0 = on[static_cast<std::size_t>(b[0])], o1 = on[static_cast<std::size_t>(b[1])],
+                               o2 = on[static_cast<std::size_t>(b[2])];
+            const bool level = o0 && o1 && o2 && !(o0 & o1 & o2 & domain_face_flags);
             mesh.boundary_tag.push_back(level ? boundary_level_set : boundary_domain);
         } else if (const std::int32_t rb = mesh.region[static_cast<std::size_t>(faces[i + 1].tet)]; ra != rb) {
             mesh.interfaces.push_back(outward(faces[i]));  // out of the first tetrahedron, into the other
@@ -259,6 +279,7 @@ BccMesh finish_mesh(Emitted&& e, const LevelSet3& f, const Lattice3& lattice, co
     r.warped = warped;
     r.all_zero_left_out = e.all_zero_left_out;
     r.verified = o.verify != nullptr;
+    mark_domain_faces(std::span<const Point3>(e.vertices.data(), e.vertices.size()), e.on_level_set, f.domain(), lattice.spacing);
     r.mesh = to_mesh(std::move(e));
     return r;
 }
@@ -289,6 +310,7 @@ TetBlock mesh_bcc_block(const LevelSet3& f, const Lattice3& lattice, const BccOp
     const ThreadCount threads(o.threads);
     const Window w = block_window(lattice, block, [&](Window& win) { prepare(f, o, true, win); });
     Emitted e = emit_tets(w, block, true, o.max_memory, o.face_rule);
+    mark_domain_faces(std::span<const Point3>(e.vertices.data(), e.vertices.size()), e.on_level_set, f.domain(), lattice.spacing);
     TetBlock b = make_block(w, block, o, std::move(e.vertex_key), e.vertices, std::vector<std::uint8_t>(e.on_level_set), e.tets,
                             std::move(e.tet_key), e.cut_off);
     b.all_zero_left_out = e.all_zero_left_out;

@@ -667,6 +667,8 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
     MaterialOutput e = emit_materials(field, w, material, CubeRange{{0, 0, 0}, lattice.cubes}, options, keep_background, false, options.verify);
     if (e.mesh.tets.empty())
         throw InputError("no tetrahedron of any material at spacing " + std::to_string(lattice.spacing) + " (" + field.describe() + ")");
+    mark_domain_faces(std::span<const Point3>(e.mesh.vertices.data(), e.mesh.vertices.size()), e.on_interface,
+                      field.domain(), lattice.spacing);
     find_boundary(e.mesh, e.on_interface, e.cut_off);
     BccMesh out;
     out.mesh = std::move(e.mesh);
@@ -692,6 +694,8 @@ TetBlock mesh_bcc_materials_block(const MaterialField3& field, const Lattice3& l
     Buffer<std::uint16_t> material;
     const Window w = block_window(lattice, block, [&](Window& win) { prepare_materials(field, options, keep_background, true, win, material); });
     MaterialOutput e = emit_materials(field, w, material, block, options, keep_background, true, nullptr);
+    mark_domain_faces(std::span<const Point3>(e.mesh.vertices.data(), e.mesh.vertices.size()), e.on_interface,
+                      field.domain(), lattice.spacing);
     TetBlock b = make_block(w, block, options, std::move(e.vertex_key), e.mesh.vertices, std::move(e.on_interface), e.mesh.tets,
                             std::move(e.tet_key), e.cut_off);
     b.region.assign(e.mesh.region.begin(), e.mesh.region.end());

@@ -273,9 +273,21 @@ Emitted emit_tets(const Window& w, const CubeRange& range, bool keys, std::uint6
 //     θ <= θmax  <=>  d >= 0  or  d² <= C_max N.
 bool key_claim_holds(const std::array<Point3, 4>& q, double cos2_min, double cos2_max);
 
+// A vertex's flag (on_level_set, on_interface): bit 0 (on_flag) the vertex
+// is on the level set (an interface); bits 1..6 (domain_face_flags) it is
+// also on the domain's face x = xmin, x = xmax, y = ymin, y = ymax, z = zmin,
+// z = zmax (LevelSet3::domain, MaterialField3::domain), to within 1e-6
+// spacing (a cut point where the hull closes the region is computed to a few
+// ulps of its edge).  mark_domain_faces sets those bits on flagged vertices.
+inline constexpr std::uint8_t on_flag = 1, domain_face_flags = 0x7e;
+void mark_domain_faces(std::span<const Point3> vertices, std::span<std::uint8_t> on, const std::optional<Box3>& domain,
+                       double spacing);
+
 // The boundary faces of a mesh whose level-set (or interface) vertices are
 // flagged: the faces on the lattice's cut-off, and the unmatched ones of the
-// candidate faces with all three vertices flagged; and its interfaces: the
+// candidate faces with all three vertices flagged, tagged boundary_domain on
+// the lattice's cut-off or where the three vertices share a domain face bit
+// (the input's domain cut the region off), else boundary_level_set; and its interfaces: the
 // matched candidates whose two tetrahedra's regions (mesh.region, set
 // before) differ, oriented out of the tetrahedron that comes first.  Both
 // lists sorted by their vertex triples.  Throws std::logic_error for a face

@@ -159,7 +159,7 @@ LatticeFigures lattice_figures(const MeshOptions& o, std::string describe, doubl
     LatticeFigures l;
     l.input = o.input;
     l.levelset = std::move(describe);
-    l.rule = o.rule;
+    l.rule = rule_of(o);
     l.spacing = spacing;
     l.repeat = o.repeat;
     l.nx = lattice.nx, l.ny = lattice.ny;
@@ -196,7 +196,7 @@ RegionMeshed mesh_region(const LevelSet& f, const Lattice& lattice, const MeshOp
         const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, lattice.s);
         const int buffer = grading_buffer(o.grading);
         auto [r, certified] = fastest_of(o.repeat, [&] {
-            return certified_run(mesh_graded(f, lattice, o.rule, max_cell, keys, buffer), lattice, o.rule, certify);
+            return certified_run(mesh_graded(f, lattice, rule_of(o), max_cell, keys, buffer), lattice, rule_of(o), certify);
         });
         out.phases = {{"tiles", r.times.tiles}, {"warp", r.times.warp}, {"quadtree", r.times.quadtree}, {"triangulate", r.times.triangulate}};
         if (o.certify) out.phases.emplace_back("certify", r.times.certify);
@@ -208,7 +208,7 @@ RegionMeshed mesh_region(const LevelSet& f, const Lattice& lattice, const MeshOp
         out.certified = std::move(certified);
     } else {
         auto [r, certified] = fastest_of(o.repeat, [&] {
-            return certified_run(mesh_uniform(f, lattice, o.rule, keys, o.lattice), lattice, o.rule, certify);
+            return certified_run(mesh_uniform(f, lattice, rule_of(o), keys, o.lattice), lattice, rule_of(o), certify);
         });
         out.phases = {{"sample", r.times.sample}, {"signs", r.times.signs}, {"cut_points", r.times.cut_points},
                       {"warp", r.times.warp},     {"triangulate", r.times.triangulate}};
@@ -276,6 +276,7 @@ void finish_report(MeshResult& res, Phases phases, const MeshOptions& o, bool ju
 }  // namespace
 
 MeshResult mesh(const LevelSet& f0, const MeshOptions& o) {
+    const MemoryCall call;  // max_memory bounds what this call needs (memory.hpp)
     validate(o);
     if (!o.max_size_of.empty())
         throw OptionError("max_size_of", "{max_size_of} applies to multi-material meshes; use {max_size}");
@@ -419,6 +420,7 @@ OptimizeReport optimize_materials(MaterialResult& r, const CertifiedSummary& cer
 }  // namespace
 
 MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
+    const MemoryCall call;
     validate(o);
     if (o.guarantee == Guarantee::flat) throw OptionError("guarantee", "{guarantee=flat} is not available with several materials");
     if (o.lattice != LatticeMetric::square)
@@ -429,7 +431,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     res.lattice = make_lattice(field.bounds(), field.bounds_are_domain(), o.spacing, o);
     check_lattice_memory(res.lattice, field.bounds_are_domain(), field.count(), o);
     res.report.lattice = lattice_figures(o, field.describe(), o.spacing, res.lattice);
-    const MaterialOptions mo{o.keep_background, o.rule, KeyOptions{certify.enabled, certify.verify}};
+    const MaterialOptions mo{o.keep_background, rule_of(o), KeyOptions{certify.enabled, certify.verify}};
     // Size control (graded: the cells; uniform: bounded by the spacing).
     const std::int64_t max_cell = largest_cell(o.max_cell, o.max_size, res.lattice.s);
     const int buffer = grading_buffer(o.grading);
@@ -437,7 +439,7 @@ MeshResult mesh(const MaterialField& field, const MeshOptions& o) {
     auto [r, certified] = fastest_of(o.repeat, [&] {
         return certified_run(o.graded ? mesh_materials_graded(field, res.lattice, mo, max_cell, buffer, caps.max_cell_of)
                                       : mesh_materials(field, res.lattice, mo),
-                             res.lattice, o.rule, certify);
+                             res.lattice, rule_of(o), certify);
     });
     if (!o.max_size_of.empty()) {
         for (std::size_t m = 0; m < r.materials.size(); ++m) r.materials[m].max_size = caps.cap[m];

@@ -219,6 +219,13 @@ Mesh3dReport certified_counts(const BccMesh& m, FaceRule rule, const bcc::Alphas
     return r;
 }
 
+// Mesh3dOptions::manifold: the boundary's non-manifold vertices split
+// (post/tet_checks.hpp), before the counts; the vertices added.
+std::optional<std::int64_t> manifold(const Mesh3dOptions& o, BccMesh& m) {
+    if (!o.manifold) return std::nullopt;
+    return split_nonmanifold_vertices(m.mesh);
+}
+
 // What the report of one region needs of its input besides the mesh (the
 // level set's, or merged blocks' BlockFacts).
 struct RegionFacts {
@@ -335,7 +342,9 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (o.verify && certified) b.verify = &claims;
     BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
+    const std::optional<std::int64_t> added = manifold(o, m);
     r.report = materials_report(m, b.face_rule, b.alphas, o.quality, material_facts(*p.field, p.voxel_volume, o.keep_background));
+    r.report.manifold_added_vertices = added;
     r.mesh = std::move(m.mesh);
 }
 
@@ -454,8 +463,10 @@ void mesh_graded(const Prepared& p, const Mesh3dOptions& o, double spacing, Mesh
     if (o.max_size) g.max_level = max_level_for_size(*o.max_size, spacing);
     g.buffer = grading_buffer(o.grading);
     GradedBccMesh m = mesh_bcc_graded(*p.f, r.lattice, b, g);
+    const std::optional<std::int64_t> added = manifold(o, m.bcc);
     r.report = region_report(m.bcc, b.face_rule, b.alphas, o.quality ? std::optional(measure_quality3(m.bcc.mesh, *p.f)) : std::nullopt,
                              facts_of(*p.f), spacing);
+    r.report.manifold_added_vertices = added;
     graded_certification(r.report, m.template_tets, templates);
     Graded3Figures f;
     f.leaves_per_level = m.leaves_per_level, f.template_tets = m.template_tets;
@@ -496,6 +507,7 @@ void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
 }
 
 Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress) {
+    const MemoryCall call;  // max_memory bounds what this call needs (memory.hpp)
     const Prepared p = level_set_of(input, o, progress);
     const double spacing = spacing_of(o, p);
     Mesh3dResult r;
@@ -520,8 +532,10 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh
     const BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (verify) b.verify = &claims;
     BccMesh m = mesh_bcc(*p.f, r.lattice, b);
+    const std::optional<std::int64_t> added = manifold(o, m);
     r.report = region_report(m, b.face_rule, b.alphas, o.quality ? std::optional(measure_quality3(m.mesh, *p.f)) : std::nullopt,
                              facts_of(*p.f), spacing);
+    r.report.manifold_added_vertices = added;
     r.mesh = std::move(m.mesh);
     r.warnings.insert(r.warnings.end(), r.report.warnings.begin(), r.report.warnings.end());
     return r;
@@ -537,12 +551,17 @@ void refuse_graded_blocks(const Mesh3dOptions& o) {
 }  // namespace
 
 Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
+    const MemoryCall call;
     refuse_graded_blocks(o);
     const Prepared p = level_set_of(input, o, {});
     return p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
 }
 
 TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
+    const MemoryCall call;
+    if (o.manifold)
+        throw OptionError("manifold", "{manifold} applies to whole meshes (mesh3d), not to blocks: their merge keeps "
+                                      "the shared vertices");
     refuse_graded_blocks(o);
     const Prepared p = level_set_of(input, o, {});
     const Lattice3 lattice = p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));

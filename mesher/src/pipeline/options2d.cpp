@@ -35,10 +35,12 @@ std::vector<O> entries() {
                       [](MeshOptions& o, const OptionValue& v) { o.spacing = v.number(); }));
     O& rule = t.emplace_back(entry(
         "rule", OptionKind::choice, "RULE", lattice_group,
-        "separating (default): the mesh boundary follows the level set; maxmin: the paper's rule, the diagonal with "
-        "the larger minimum angle; fan: separating, but a square whose corners are all inside and whose diagonals "
-        "both have an angle below atan(1/3) = 18.43 deg gets 4 triangles around its centroid: certified minimum "
-        "angle 18.4349 deg on every input (uniform and {graded} meshes, one region or several materials)",
+        "fan (default): separating, but a square whose corners are all inside and whose diagonals both have an "
+        "angle below atan(1/3) = 18.43 deg gets 4 triangles around its centroid: every angle certified in "
+        "[18.4349, 143.1302] deg on every input (uniform and {graded} meshes, one region or several materials); "
+        "separating: the mesh boundary follows the level set, certified [14.9999, 143.1302] deg (18.4349 where every "
+        "warped square is flat); maxmin: the diagonal with the larger minimum angle (one region); with "
+        "{lattice=rhombic} the default is separating",
         [](MeshOptions& o, const OptionValue& v) { o.rule = v.choice(diagonal_rule_names); }));
     rule.choices = words_of(diagonal_rule_names), rule.flag = "--diagonal";
     t.push_back(entry(
@@ -176,6 +178,10 @@ void check_contradictions(const MeshOptions& o, const GivenOptions& given) {
 }
 
 }  // namespace
+
+DiagonalRule rule_of(const MeshOptions& o) {
+    return o.rule.value_or(o.lattice == LatticeMetric::rhombic ? DiagonalRule::separating : DiagonalRule::fan);
+}
 
 void validate(const MeshOptions& options, const GivenOptions& given) {
     check_values(options, given);

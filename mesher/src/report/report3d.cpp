@@ -155,6 +155,7 @@ std::string to_json(const Mesh3dReport& r) {
         {"nonmanifold_boundary_edges", n(r.nonmanifold_boundary_edges)},
         {"nonmanifold_boundary_vertices", n(r.nonmanifold_boundary_vertices)},
     };
+    if (r.manifold_added_vertices) fields.emplace_back("manifold_added_vertices", n(*r.manifold_added_vertices));
     if (r.materials) material_fields(*r.materials, fields);
     if (r.graded) fields.emplace_back("graded", graded_json(*r.graded));
     const ReportFields certification = {
@@ -200,7 +201,9 @@ std::string to_text(const Mesh3dReport& r) {
     if (std::isfinite(r.quality.boundary_vertex_f_max))  // (several materials: no level set)
         o << "|f| at vertices <= " << fmt(r.quality.boundary_vertex_f_max, 3) << ", at face centroids <= "
           << fmt(r.quality.boundary_centroid_f_max, 3) << "; ";
-    o << "non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices " << r.nonmanifold_boundary_vertices << '\n';
+    o << "non-manifold edges " << r.nonmanifold_boundary_edges << ", vertices " << r.nonmanifold_boundary_vertices;
+    if (r.manifold_added_vertices) o << " (after --manifold split vertices: " << *r.manifold_added_vertices << " added)";
+    o << '\n';
     if (r.materials) o << materials_text(*r.materials);
     if (r.graded) o << graded_text(*r.graded);
     o << "face rule: " << face_rule_name(r.face_rule) << '\n';

@@ -21,7 +21,8 @@ namespace warpmesh {
 // Tags of boundary edges.
 enum BoundaryTag : std::int32_t {
     boundary_level_set = 1,  // on (or, under max-min, near) the level set f = 0
-    boundary_domain = 2,     // on the lattice's outer border: the region was cut off there
+    boundary_domain = 2,     // the region was cut off there: the lattice's outer border (2D: an image's
+                             // border), 3D also a volume's hull (LevelSet3::domain)
 };
 
 struct Vec2 {

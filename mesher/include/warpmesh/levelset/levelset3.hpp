@@ -30,6 +30,12 @@ public:
     // A box containing the region {f <= 0} (volumes: the volume's extent).
     // The lattice covers it with a margin (lattice3_for).
     virtual Box3 bounds() const = 0;
+    // The box the input is defined on, where it cuts the region off (a
+    // volume: the hull of its voxel centres, whose faces close a region that
+    // reaches the volume's edge); nullopt: none (shapes, functions).  The
+    // mesh's boundary faces on it are tagged boundary_domain, as 2D tags the
+    // image's border.
+    virtual std::optional<Box3> domain() const { return std::nullopt; }
     // The parameter u in (0, 1) of a zero of f on a + u (b − a), given f(a) =
     // fa and f(b) = fb of strictly opposite signs.  Default: bracketed_root3.
     virtual double cut_parameter(Point3 a, Point3 b, double fa, double fb) const;

@@ -42,6 +42,9 @@ public:
     // A box containing every material but the background (the lattice covers
     // it with a margin; with the background kept, a volume's whole hull).
     virtual Box3 bounds() const = 0;
+    // The box the field is defined on (outside_material beyond it; a volume:
+    // the hull of its voxel centres), as LevelSet3::domain; nullopt: none.
+    virtual std::optional<Box3> domain() const { return std::nullopt; }
     virtual std::string describe() const = 0;
 
     // The material at p (0 .. count()-1), or outside_material.

@@ -52,7 +52,11 @@ struct MeshOptions {
     // Lattice spacing in the level set's units (pixels for images), > 0 and
     // at most 1e9.
     double spacing = 1;
-    DiagonalRule rule = DiagonalRule::separating;
+    // The diagonal rule; unset: the fan rule on the square lattice (the
+    // paper's bound, every angle in [18.4349°, 143.1302°] on every input,
+    // several materials included), separating on the rhombic lattice (which
+    // has no fan rule).  rule_of() gives the rule a mesh uses.
+    std::optional<DiagonalRule> rule;
     // Graded mesh on a 2:1-balanced quadtree (graded.hpp), finest along the
     // boundary; max_cell is the largest cell in lattice squares (a power of
     // two, 0 = as coarse as the domain allows); a non-zero max_cell without
@@ -134,6 +138,10 @@ struct MeshOptions {
 // options given that do not apply (grading 2 without graded).  mesh() calls
 // it with nothing given.
 void validate(const MeshOptions& options, const GivenOptions& given = {});
+
+// The rule a mesh with these options uses: options.rule, or its default
+// (fan on the square lattice, separating on the rhombic one).
+DiagonalRule rule_of(const MeshOptions& options);
 
 // The options of mesh() by name (options.hpp): the command line's `warpmesh
 // mesh` options and Python's keywords of mesh, mesh_shape and mesh_shapes are

@@ -73,6 +73,9 @@ struct Mesh3dOptions {
     // Measure dihedral angles, radius ratios and the boundary's distance to
     // the level set for the report (a second pass over the mesh).
     bool quality = true;
+    // Split the boundary's non-manifold vertices (split_nonmanifold_vertices,
+    // post/tet_checks.hpp) after meshing; mesh3d only (blocks: refused).
+    bool manifold = false;
     int threads = 0;                                // OpenMP threads (>= 0); 0 = the OpenMP default
     std::uint64_t max_memory = default_max_memory;  // refuse (InputError) inputs, lattices and meshes above it
     // ---- volumes only

@@ -46,6 +46,20 @@ struct NonmanifoldBoundary {
 };
 NonmanifoldBoundary nonmanifold_boundary(const TetMesh& mesh);
 
+// Makes the boundary manifold where parts of the region touch only at a
+// vertex or along edges: each boundary vertex whose tetrahedra fall into
+// several classes (joined across faces through the vertex) gets one copy per
+// class but the first, at the same position; the classes' tetrahedra, and
+// the boundary faces and interfaces on them, take their copy.  No
+// tetrahedron moves (its shape, hence any certified bound, is unchanged);
+// the mesh stays conforming (no face is shared across classes), but the
+// parts no longer share those vertices (a finite-element field is not
+// continuous there).  Places where the parts also share faces around the
+// vertex (a link that is not a disc although its tetrahedra are one class)
+// stay non-manifold: nonmanifold_boundary counts them.  Returns the vertices
+// added.
+std::int64_t split_nonmanifold_vertices(TetMesh& mesh);
+
 // The six dihedral angles (degrees) of a tetrahedron, at edges 01 02 03 12
 // 13 23, and its radius ratio 3 r_in / R_circ (1 for the regular one, 0 flat).
 std::array<double, 6> dihedral_angles_deg(const std::array<Point3, 4>& p);

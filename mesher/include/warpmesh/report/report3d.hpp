@@ -78,6 +78,9 @@ struct Mesh3dReport {
     std::optional<Graded3Figures> graded;        // graded meshes
     // The boundary's non-manifold edges and vertices (nonmanifold_boundary).
     std::int64_t nonmanifold_boundary_edges = 0, nonmanifold_boundary_vertices = 0;
+    // Mesh3dOptions::manifold: the vertices split_nonmanifold_vertices added
+    // (the counts above are after it).
+    std::optional<std::int64_t> manifold_added_vertices;
     // Certification by the face rule's certificate (bcc_certificate_path):
     // certified: it is compiled in and its alphas are the options'; the
     // bounds then hold for every certified tetrahedron (each comes from a

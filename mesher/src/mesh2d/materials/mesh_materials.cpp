@@ -97,8 +97,8 @@ static bool tie_mover_is_lower(const Buffer<std::uint16_t>& mat, std::int64_t nx
 void check_material_options(const MaterialField& field, const MaterialOptions& options) {
     if (options.rule == DiagonalRule::maxmin)
         throw InputError("--diagonal maxmin cannot mesh several materials: it can join two unwarped corners of different "
-                         "materials by its diagonal, leaving a triangle with no single material; use the separating rule "
-                         "(the default)");
+                         "materials by its diagonal, leaving a triangle with no single material; use the fan rule (the "
+                         "default) or the separating rule");
     const int nmat = field.count();
     if (nmat < 1 || nmat > 65536) throw InputError("between 1 and 65536 materials are needed, not " + std::to_string(nmat));
 }
