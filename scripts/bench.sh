@@ -14,9 +14,11 @@
 #   scripts/bench.sh --3d       the 3D mesher (issue 30): a sphere and the SPL brain
 #                               atlas through warpmesh-bench3d (library only, no
 #                               file); the fastest of three runs each
-#   scripts/bench.sh --writers  end to end with file output (issue 32's targets):
-#                               whole-process wall time and peak RSS from
-#                               /usr/bin/time -v against the meshing time, per format
+#   scripts/bench.sh --writers  end to end with file output (issues 32, 49): whole-
+#                               process wall time and peak RSS from /usr/bin/time -v
+#                               against the meshing time, per format, triangles (the
+#                               4096² disc) and tetrahedra (the SPL brain atlas at
+#                               1 mm, WARPMESH_BRAIN_NRRD), each with a no-output row
 #   scripts/bench.sh --cgal3d   warpmesh mesh3d against CGAL Mesh_3 on the SPL brain
 #                               atlas (--label nonzero), one thread each, in one run:
 #                               tetrahedra, time, min/max dihedral angle; installs
@@ -105,23 +107,29 @@ print_case() {  # name threads, from $tmp/r.json
 # One whole-process run writing `out`: file size (all files it makes), wall
 # time and peak RSS (/usr/bin/time -v), the meshing time (the report's
 # total_seconds) and wall / meshing; the fastest wall time of three runs.
-write_case() {  # name threads out args...
-  local name="$1" threads="$2" out="$3"
+# OUT "-": no mesh output (the report only: the process's fixed costs beyond
+# the meshing, e.g. the quality report).  A first argument mesh3d meshes
+# tetrahedra.
+write_case() {  # name threads out [mesh3d] args...
+  local name="$1" threads="$2" out="$3" sub=mesh
   shift 3
-  local best="" w
+  if [ "${1:-}" = mesh3d ]; then sub=mesh3d; shift; fi
+  local best="" w o=()
+  [ "$out" != - ] && o=(-o "$tmp/o/$out")
   for _ in 1 2 3; do
     rm -rf "$tmp/o" && mkdir "$tmp/o"
-    /usr/bin/time -v "$exe" mesh "$@" --threads "$threads" -o "$tmp/o/$out" --quiet --report "$tmp/w.json" 2>"$tmp/time.txt"
+    /usr/bin/time -v "$exe" "$sub" "$@" --threads "$threads" "${o[@]}" --quiet --report "$tmp/w.json" 2>"$tmp/time.txt"
     w=$(sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$tmp/time.txt" | awk -F: '{ print ($1 * 60) + $2 }')
     if [ -z "$best" ] || awk -v a="$w" -v b="$best" 'BEGIN { exit !(a < b) }'; then
       best="$w"
       cp "$tmp/w.json" "$tmp/wb.json"
       cp "$tmp/time.txt" "$tmp/timeb.txt"
-      du -cb "$tmp"/o/* | tail -1 | cut -f1 >"$tmp/size.txt"
+      du -cb "$tmp"/o | tail -1 | cut -f1 >"$tmp/size.txt"
     fi
   done
   local mesh rss size
   mesh=$(field total_seconds "$tmp/wb.json")
+  [ -n "$mesh" ] || mesh=$(field seconds "$tmp/wb.json")  # mesh3d's report
   rss=$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$tmp/timeb.txt")
   size=$(cat "$tmp/size.txt")
   awk -v n="$name" -v th="$threads" -v s="$size" -v w="$best" -v m="$mesh" -v r="$rss" 'BEGIN {
@@ -152,6 +160,7 @@ if [ "${1:-}" = "--writers" ]; then
   echo "| output | threads | files | wall | meshing | wall / meshing | peak RSS |"
   echo "|---|---:|---:|---:|---:|---:|---:|"
   disc=(--shape circle:0,0,2047 --spacing 1)
+  write_case "disc 4096², no mesh output (report only)" 1 - "${disc[@]}"
   write_case "disc 4096², binary .vtu" 1 d.vtu "${disc[@]}"
   write_case "disc 4096², zlib .vtu (--compress)" 1 d.vtu "${disc[@]}" --compress
   write_case "disc 4096², binary .msh 4.1" 1 d.msh "${disc[@]}"
@@ -161,6 +170,18 @@ if [ "${1:-}" = "--writers" ]; then
   write_case "disc 4096², ASCII .node/.ele" 2 d.node "${disc[@]}"
   write_case "brain slice ¼ px, every label, binary .vtu" 1 b.vtu "$brain" --materials all --spacing 0.25
   write_case "brain slice ¼ px, every label, binary .vtu" 2 b.vtu "$brain" --materials all --spacing 0.25
+  # Tetrahedra: the SPL brain atlas at 1 mm (--label nonzero, 22 M tetrahedra).
+  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  if [ -f "$nrrd" ]; then
+    atlas=(mesh3d "$nrrd" --label nonzero --spacing 1)
+    write_case "SPL brain 1 mm, no mesh output (report only)" 1 - "${atlas[@]}"
+    write_case "SPL brain 1 mm, binary .vtu" 1 t.vtu "${atlas[@]}"
+    write_case "SPL brain 1 mm, binary .msh 4.1" 1 t.msh "${atlas[@]}"
+    write_case "SPL brain 1 mm, .xdmf + .h5" 1 t.xdmf "${atlas[@]}"
+    write_case "SPL brain 1 mm, ASCII .inp" 2 t.inp "${atlas[@]}"
+  else
+    echo "(the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD for the tetrahedral cases)"
+  fi
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
   exit 0
 fi

@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <charconv>
 #include <cstddef>
 #include <cstdint>
@@ -27,6 +26,10 @@
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "io/atomic_file.hpp"
 #include "warpmesh/core/mesh.hpp"
@@ -236,38 +239,37 @@ private:
 };
 
 // Runs produce(b, buffer) for the blocks b = 0 … count-1 on all OpenMP threads
-// (dynamic schedule) and consume(buffer) for each block in block order, one
-// at a time, while other threads produce later blocks.  Each thread owns one
-// Buffer: memory is (threads x one block), whatever count is.  An exception
-// from produce or consume stops the work and is rethrown here.
+// and consume(buffer) for each block in block order.  The blocks go in rounds
+// of a few per thread: the round's blocks are produced in parallel (dynamic
+// schedule), then consumed in order by one thread.  Memory is one Buffer per
+// block of a round, whatever count is.  (An `omp ordered` loop had threads
+// spin-wait for their turn: on a loaded machine most of the CPU went there.)
+// An exception from produce or consume stops the work and is rethrown here.
 template <class Buffer, class Produce, class Consume>
 void ordered_blocks(std::size_t count, Produce&& produce, Consume&& consume) {
+#ifdef _OPENMP
+    const auto round = static_cast<std::size_t>(4 * std::max(1, omp_get_max_threads()));
+#else
+    const std::size_t round = 4;
+#endif
+    std::vector<Buffer> bufs(std::min(count, round));
     std::exception_ptr error;
-    std::atomic<bool> failed{false};
-    auto keep = [&] {
-#pragma omp critical(warpmesh_ordered_blocks)
-        if (!error) error = std::current_exception();
-        failed = true;
-    };
-    const auto n = static_cast<std::int64_t>(count);
-#pragma omp parallel
-    {
-        Buffer buf;
-#pragma omp for ordered schedule(dynamic, 1)
+    for (std::size_t first = 0; first < count && !error; first += round) {
+        const auto n = static_cast<std::int64_t>(std::min(round, count - first));
+#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
         for (std::int64_t b = 0; b < n; ++b) {
-            if (!failed) try {
-                    produce(static_cast<std::size_t>(b), buf);
-                } catch (...) {
-                    keep();
-                }
-#pragma omp ordered
-            {
-                if (!failed) try {
-                        consume(buf);
-                    } catch (...) {
-                        keep();
-                    }
+            try {
+                produce(first + static_cast<std::size_t>(b), bufs[static_cast<std::size_t>(b)]);
+            } catch (...) {
+#pragma omp critical(warpmesh_ordered_blocks)
+                if (!error) error = std::current_exception();
             }
+        }
+        if (error) break;
+        try {
+            for (std::int64_t b = 0; b < n; ++b) consume(bufs[static_cast<std::size_t>(b)]);
+        } catch (...) {
+            error = std::current_exception();
         }
     }
     if (error) std::rethrow_exception(error);
@@ -302,7 +304,10 @@ void write_value(std::ostream& out, T x) {
 
 // Items 0 … count-1 of `item_bytes` bytes each, fill(dst, first, n) writing
 // items first … first+n-1 to dst, streamed to `out` through a bounded buffer
-// (little-endian host layout: the writers say LittleEndian).
+// (little-endian host layout: the writers say LittleEndian).  Arrays already
+// in memory as written go through it too: the kernel copies from a small,
+// reused buffer several times faster than from a large array in one write(2)
+// (docs/performance.md, "Writers").
 template <class Fill>
 void write_binary(std::ostream& out, std::size_t count, std::size_t item_bytes, Fill&& fill) {
     const std::size_t per = std::max<std::size_t>(1, (std::size_t{1} << 20) / item_bytes);

@@ -37,6 +37,7 @@
 #include <map>
 #include <set>
 #include <unordered_map>
+#include <vector>
 
 #include "io/atomic_file.hpp"
 #include "io/output.hpp"
@@ -164,9 +165,13 @@ struct Face {
 std::vector<std::vector<Face>> group_faces(const detail::MeshView& mesh, const std::vector<detail::FacetGroup>& groups) {
     std::vector<std::vector<Face>> faces(groups.size());
     std::unordered_map<FacetKey, std::pair<std::size_t, std::size_t>, FacetKeyHash> wanted;  // facet → (group, member)
+    // The vertices of grouped facets: a cell's side is looked up only if its
+    // first vertex is one (a small fraction of the cells' sides).
+    std::vector<std::uint8_t> on_facet(mesh.num_vertices, 0);
     for (std::size_t g = 0; g < groups.size(); ++g) {
         faces[g].resize(groups[g].size());
         for (std::size_t i = 0; i < groups[g].size(); ++i) wanted[facet_key(groups[g].facets()[i])] = {g, i};
+        for (const std::int32_t v : groups[g].nodes) on_facet[static_cast<std::size_t>(v)] = 1;
     }
     const auto sides = element_faces(mesh.cells.kind);
     const auto per = static_cast<std::size_t>(mesh.facet_kind.nodes);
@@ -180,6 +185,7 @@ std::vector<std::vector<Face>> group_faces(const detail::MeshView& mesh, const s
         for (std::size_t s = 0; s < sides.size(); ++s) {
             std::int32_t f[3];
             for (std::size_t j = 0; j < per; ++j) f[j] = t[static_cast<std::size_t>(sides[s][j])];
+            if (!on_facet[static_cast<std::size_t>(f[0])]) continue;
             const auto it = wanted.find(facet_key({f, per}));
             if (it == wanted.end()) continue;
             const auto [g, i] = it->second;

@@ -82,6 +82,7 @@
 // max(largest region tag, 0) + 1 + the rank of t among the non-positive tags:
 // the background of labels 1 … 9 is physical surface 10, named "background".
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <map>
 #include <span>
@@ -197,15 +198,46 @@ struct Layout {
           nb(mesh.num_boundary()),
           ne(nt + nb + mesh.num_interfaces()),
           binary(bin) {
-        for (Group& g : by_region.groups) {
-            for (std::size_t i = g.begin; i < g.end; ++i)
-                for (const std::int32_t v : cells[by_region.member(i)]) g.box.add(mesh, v);
-            region_names.push_back(detail::region_name(mesh, g.tag, by_region.groups.size() == 1));
-        }
+        region_boxes(mesh);
+        for (const Group& g : by_region.groups) region_names.push_back(detail::region_name(mesh, g.tag, by_region.groups.size() == 1));
         for (const detail::FacetGroup& c : curves) {
             Bbox& box = curve_box.emplace_back();
             for (const std::int32_t v : c.nodes) box.add(mesh, v);
         }
+    }
+    // Each region group's box: one pass over the cells in mesh order, a run
+    // of cells of one region tag at a time.
+    void region_boxes(const detail::MeshView& mesh) {
+        const double inf = std::numeric_limits<double>::infinity();
+        std::vector<std::array<double, 6>> box(by_region.groups.size(), {inf, inf, inf, -inf, -inf, -inf});
+        const auto per = static_cast<std::size_t>(cells.kind.nodes);
+        for (std::size_t k = 0; k < cells.size();) {
+            std::size_t end = k + 1;
+            while (end < cells.size() && mesh.region[end] == mesh.region[k]) ++end;
+            const auto g = std::lower_bound(by_region.groups.begin(), by_region.groups.end(), mesh.region[k],
+                                            [](const Group& a, std::int32_t t) { return a.tag < t; }) - by_region.groups.begin();
+            const auto nodes = cells.nodes.subspan(k * per, (end - k) * per);
+            if (mesh.dim == 3) add_to_box<3>(mesh.coords, nodes, box[static_cast<std::size_t>(g)]);
+            else add_to_box<2>(mesh.coords, nodes, box[static_cast<std::size_t>(g)]);
+            k = end;
+        }
+        for (std::size_t i = 0; i < box.size(); ++i) {
+            Bbox& out = by_region.groups[i].box;
+            for (std::size_t d = 0; d < 3; ++d)
+                out.lo[d] = d < static_cast<std::size_t>(mesh.dim) ? box[i][d] : 0.0, out.hi[d] = d < static_cast<std::size_t>(mesh.dim) ? box[i][3 + d] : 0.0;
+            out.empty = false;
+        }
+    }
+    // box = {min x, y, z, max x, y, z} grown by the vertices `nodes` (D coordinates each).
+    template <std::size_t D>
+    static void add_to_box(const double* coords, std::span<const std::int32_t> nodes, std::array<double, 6>& box) {
+        std::array<double, D> lo, hi;
+        for (std::size_t d = 0; d < D; ++d) lo[d] = box[d], hi[d] = box[3 + d];
+        for (const std::int32_t v : nodes) {
+            const double* p = coords + static_cast<std::size_t>(v) * D;
+            for (std::size_t d = 0; d < D; ++d) lo[d] = std::min(lo[d], p[d]), hi[d] = std::max(hi[d], p[d]);
+        }
+        for (std::size_t d = 0; d < D; ++d) box[d] = lo[d], box[3 + d] = hi[d];
     }
     // Element tag of the i-th member of facet group c.
     std::uint64_t line_tag(const detail::FacetGroup& c, std::size_t i) const {

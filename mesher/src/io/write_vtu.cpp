@@ -108,14 +108,18 @@ Sections arrays_of(const detail::MeshView& mesh, const std::vector<std::int32_t>
     const auto per = static_cast<std::int64_t>(cells.kind.nodes);
     const std::uint8_t vtk_type = cells.kind.vtk;
     Sections s;
-    s.points.push_back({"Float64", "Points", 3, nv, 24,
-                        [mesh](std::byte* dst, std::size_t first, std::size_t n) {
-                            for (std::size_t i = 0; i < n; ++i) {
-                                const double p[3] = {mesh.coord(first + i, 0), mesh.coord(first + i, 1), mesh.coord(first + i, 2)};
-                                std::memcpy(dst + 24 * i, p, 24);
-                            }
-                        },
-                        [mesh](TextBuf& b, std::size_t i) { b << mesh.coord(i, 0) << ' ' << mesh.coord(i, 1) << ' ' << mesh.coord(i, 2); }});
+    if (mesh.dim == 3) {
+        s.points.push_back(direct("Float64", "Points", 3, nv, mesh.coords));
+    } else {
+        s.points.push_back({"Float64", "Points", 3, nv, 24,
+                            [xy = mesh.coords](std::byte* dst, std::size_t first, std::size_t n) {
+                                for (std::size_t i = 0; i < n; ++i) {
+                                    const double p[3] = {xy[2 * (first + i)], xy[2 * (first + i) + 1], 0.0};
+                                    std::memcpy(dst + 24 * i, p, 24);
+                                }
+                            },
+                            [mesh](TextBuf& b, std::size_t i) { b << mesh.coord(i, 0) << ' ' << mesh.coord(i, 1) << ' ' << mesh.coord(i, 2); }});
+    }
     s.cells.push_back(direct("Int32", "connectivity", 1, cells.nodes.size(), cells.nodes.data()));
     auto offset = [per](std::size_t i) { return per * static_cast<std::int64_t>(i + 1); };
     if (per * static_cast<std::int64_t>(nt) <= std::numeric_limits<std::int32_t>::max())
@@ -285,8 +289,8 @@ void write_zlib(std::ostream& os, const detail::MeshView& mesh, const Sections& 
     os << "\n  </AppendedData>\n</VTKFile>\n";
 }
 
+// `mesh` has passed detail::check_mesh_arrays.
 void write_view(const detail::MeshView& mesh, std::ostream& os, const VtuOptions& options) {
-    detail::check_mesh_arrays(mesh, "<vtu stream>");
     const auto markers = detail::vertex_markers(mesh, detail::facet_groups(mesh));
     const Sections s = arrays_of(mesh, markers, options);
     switch (options.encoding) {
@@ -299,10 +303,17 @@ void write_view(const detail::MeshView& mesh, std::ostream& os, const VtuOptions
     }
 }
 
+template <class M>
+void write_vtu_stream(const M& mesh, std::ostream& os, const VtuOptions& options) {
+    const detail::MeshView view = detail::view_of(mesh);
+    detail::check_mesh_arrays(view, "<vtu stream>");
+    write_view(view, os, options);
+}
+
 }  // namespace
 
-void write_vtu(const Mesh& mesh, std::ostream& os, const VtuOptions& options) { write_view(detail::view_of(mesh), os, options); }
-void write_vtu(const TetMesh& mesh, std::ostream& os, const VtuOptions& options) { write_view(detail::view_of(mesh), os, options); }
+void write_vtu(const Mesh& mesh, std::ostream& os, const VtuOptions& options) { write_vtu_stream(mesh, os, options); }
+void write_vtu(const TetMesh& mesh, std::ostream& os, const VtuOptions& options) { write_vtu_stream(mesh, os, options); }
 void write_vtu(const Mesh& mesh, const std::string& path, const VtuOptions& options) {
     detail::write_mesh_file(mesh, path, [&](const detail::MeshView& v, std::ostream& os) { write_view(v, os, options); });
 }

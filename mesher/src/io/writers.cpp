@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -136,16 +137,26 @@ std::vector<FacetGroup> facet_groups(const MeshView& mesh) {
 }
 
 std::vector<std::int32_t> vertex_markers(const MeshView& mesh, const std::vector<FacetGroup>& groups) {
-    constexpr std::int32_t none = std::numeric_limits<std::int32_t>::max();
-    std::vector<std::int32_t> boundary(mesh.num_vertices, none), interface(mesh.num_vertices, none);
+    // One array (group tags are >= 1): interface tags first, kept negative
+    // (-smallest), then boundary tags override them (smallest); the vertices
+    // left negative are on interfaces only.
+    std::vector<std::int32_t> marker(mesh.num_vertices, 0);
     for (const FacetGroup& g : groups)
-        for (const std::int32_t v : g.nodes) {
-            std::int32_t& m = (g.interface ? interface : boundary)[static_cast<std::size_t>(v)];
-            m = std::min(m, g.tag);
-        }
-    for (std::size_t i = 0; i < boundary.size(); ++i)
-        if (boundary[i] == none) boundary[i] = interface[i] == none ? 0 : interface[i];
-    return boundary;
+        if (g.interface)
+            for (const std::int32_t v : g.nodes) {
+                std::int32_t& m = marker[static_cast<std::size_t>(v)];
+                m = m == 0 ? -g.tag : std::max(m, -g.tag);
+            }
+    for (const FacetGroup& g : groups)
+        if (!g.interface)
+            for (const std::int32_t v : g.nodes) {
+                std::int32_t& m = marker[static_cast<std::size_t>(v)];
+                m = m <= 0 ? g.tag : std::min(m, g.tag);
+            }
+    for (const FacetGroup& g : groups)
+        if (g.interface)
+            for (const std::int32_t v : g.nodes) marker[static_cast<std::size_t>(v)] = std::abs(marker[static_cast<std::size_t>(v)]);
+    return marker;
 }
 
 Colouring picture_colouring(const Mesh& mesh, const std::string& cell_data_name, bool by_min_angle,
