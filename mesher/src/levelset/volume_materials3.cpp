@@ -29,6 +29,7 @@ public:
     std::int32_t tag(int m) const override { return tags_[static_cast<std::size_t>(m)]; }
     std::string name(int m) const override { return m == 0 ? "background" : "label_" + std::to_string(tag(m)); }
     Box3 bounds() const override { return bounds_; }
+    std::optional<Box3> domain() const override { return bounds_; }  // the hull of the voxel centres (the whole volume's, for a part)
     std::string describe() const override { return "materials " + spec_ + " of '" + source_ + "'"; }
     double resolution() const override { return resolution_; }
     std::optional<double> reference_volume(int m) const override {
