@@ -74,6 +74,14 @@ inline void expect_rejected_by(const std::string& exe, const std::vector<std::st
     BOOST_TEST(msg.find(why) != std::string::npos, name << ": " << msg);
 }
 
+// The lines of proofs/NAME, at least `at_least` of them (a truncated or
+// missing certificate fails the test here, not in a tamper case).
+inline std::vector<std::string> proof_lines(const std::string& name, std::size_t at_least = 1) {
+    auto l = read_lines(std::filesystem::path(WARPMESH_PROOFS_DIR) / name);
+    BOOST_REQUIRE_GE(l.size(), at_least);
+    return l;
+}
+
 #ifdef WARPMESH_CHECK_BCC_EXE
 // warpmesh-check-bcc rejects `lines` (exit 1) with a message containing `why`.
 inline void expect_bcc_rejected(const std::vector<std::string>& lines, const std::string& name, const std::string& why) {

@@ -17,16 +17,11 @@
 #error "tests/CMakeLists.txt must define WARPMESH_CHECK_BCC_EXE"
 #endif
 
-namespace fs = std::filesystem;
 using namespace warpmesh::testing;
 
 namespace {
 
-std::vector<std::string> cert() {
-    auto l = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "bcc.cert");
-    BOOST_REQUIRE(l.size() > 1000);
-    return l;
-}
+std::vector<std::string> cert() { return proof_lines("bcc.cert", 1001); }
 
 // The first key line whose split string starts with a split ('1' + side).
 std::size_t first_split_key(const std::vector<std::string>& l) {

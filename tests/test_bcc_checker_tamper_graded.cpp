@@ -15,16 +15,11 @@
 #error "tests/CMakeLists.txt must define WARPMESH_CHECK_BCC_EXE"
 #endif
 
-namespace fs = std::filesystem;
 using namespace warpmesh::testing;
 
 namespace {
 
-std::vector<std::string> cert() {
-    auto l = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "bcc_graded.cert");
-    BOOST_REQUIRE(l.size() > 100);
-    return l;
-}
+std::vector<std::string> cert() { return proof_lines("bcc_graded.cert", 101); }
 
 // The index of the n-th line starting with `prefix`.
 std::size_t nth(const std::vector<std::string>& l, const std::string& prefix, int n) {

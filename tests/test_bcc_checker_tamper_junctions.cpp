@@ -20,16 +20,11 @@
 #error "tests/CMakeLists.txt must define WARPMESH_CHECK_BCC_EXE"
 #endif
 
-namespace fs = std::filesystem;
 using namespace warpmesh::testing;
 
 namespace {
 
-std::vector<std::string> cert() {
-    auto l = read_lines(fs::path(WARPMESH_PROOFS_DIR) / "bcc_junctions.cert");
-    BOOST_REQUIRE(l.size() > 20);
-    return l;
-}
+std::vector<std::string> cert() { return proof_lines("bcc_junctions.cert", 21); }
 
 // The first face line whose split string starts with a split, and its fields:
 // "face F m" + 2m root ends, then m + m + m witness coordinates (min, max,
