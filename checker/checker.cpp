@@ -1151,6 +1151,11 @@ std::string tightness_text(const Tightness tight[2]) {
 // then the claims against the keys as verified.
 bool check_file(const std::string& path) {
     Reader rd = read_certificate(path);
+    // A line `end` before the last one: data after the end, refused before
+    // any leaf is verified.  (A certificate cut short has no `end` at all; it
+    // is read up to its cut, where the reader reports what it expected.)
+    for (std::size_t i = 0; i + 1 < rd.lines.size(); ++i)
+        if (rd.lines[i].size() == 1 && rd.lines[i][0] == "end") fail("data after end");
     const Header hd = read_header(rd);
     const Claims cl = read_claims(rd, hd);
     const auto keys = enumerate_keys(hd.junctions);

@@ -312,15 +312,21 @@ BOOST_AUTO_TEST_CASE(header_rule_or_space_wrong) {
     rejected({"# only a comment"}, "empty", "empty certificate");
 }
 
-// `end` is reached only after every key is verified: the smallest certificate
-// (materials.cert), and not under the sanitizers.
-BOOST_AUTO_TEST_CASE(end_missing_or_data_after_it, *warpmesh::testing::full_scale_only()) {
-    const auto full = cert("materials.cert");
-    BOOST_REQUIRE(full.back() == "end");
-    auto l = full;
+// A missing `end` is found only after every key is verified: the smallest
+// certificate (materials.cert), and not under the sanitizers.  Data after
+// `end` is refused before the leaves.
+BOOST_AUTO_TEST_CASE(end_missing, *warpmesh::testing::full_scale_only()) {
+    auto l = cert("materials.cert");
+    BOOST_REQUIRE(l.back() == "end");
     l.pop_back();
     rejected(l, "end_missing", "truncated: expected end");
-    l = full;
+}
+BOOST_AUTO_TEST_CASE(data_after_end) {
+    const auto full = cert("materials.cert");
+    auto l = full;
     l.push_back("end");
     rejected(l, "data_after_end", "data after end");
+    l = full;
+    l.insert(l.begin() + static_cast<long>(line_of(l, "key 5 ")), "end");
+    rejected(l, "end_inside", "data after end");
 }
