@@ -188,6 +188,14 @@ BOOST_AUTO_TEST_CASE(max_size_holds_on_every_tetrahedron) {
         previous = r.report.tets;
     }
     BOOST_TEST(previous > free.report.tets);
+    // Several materials: the cap on every tetrahedron of every material.
+    const MaterialShapes3 two{"1=sphere:0,0,0,1;2=sphere:0.1,0,0,0.4"};
+    o.max_size.reset();
+    BOOST_TEST(!within(longest_edge_by_hand(mesh3d(two, o).mesh), 3.9 * s));  // uncapped: cells of 4 cubes
+    o.max_size = 3.9 * s;
+    const Mesh3dResult m = mesh3d(two, o);
+    BOOST_TEST(check_tet_mesh(m.mesh).ok);
+    BOOST_TEST(within(longest_edge_by_hand(m.mesh), 3.9 * s), longest_edge_by_hand(m.mesh));
     o.max_size = 1.99 * s;
     BOOST_TEST(throws_containing<OptionError>([&] { mesh3d(Shape3{"sphere:0,0,0,1"}, o); }, "max_size 0.0995 is below 2 * spacing = 0.1"));
     BOOST_TEST(max_level_for_size(4 * s, s) == 2);
@@ -301,21 +309,4 @@ BOOST_AUTO_TEST_CASE(graded_materials_do_not_depend_on_the_tags) {
     std::int64_t mismatched = 0;
     for (std::size_t t = 0; t < a.mesh.region.size() && t < b.mesh.region.size(); ++t) mismatched += to.at(a.mesh.region[t]) != b.mesh.region[t];
     BOOST_TEST(mismatched == 0);
-}
-
-BOOST_AUTO_TEST_CASE(max_size_holds_on_every_tetrahedron_of_several_materials) {
-    const double s = 0.05;
-    Mesh3dOptions o;
-    o.spacing = s;
-    o.graded = true;
-    o.quality = false;
-    const char* two = "1=sphere:0,0,0,1;2=sphere:0.1,0,0,0.4";
-    const auto within = [](double edge, double h) { return edge <= h * (1 + 1e-12); };
-    BOOST_TEST(!within(longest_edge_by_hand(mesh3d(MaterialShapes3{two}, o).mesh), 3.9 * s));  // uncapped: cells of 4 cubes
-    for (const double h : {3.9 * s, 2 * s}) {
-        o.max_size = h;
-        const Mesh3dResult r = mesh3d(MaterialShapes3{two}, o);
-        BOOST_TEST(check_tet_mesh(r.mesh).ok);
-        BOOST_TEST(within(longest_edge_by_hand(r.mesh), h), "max size " << h << ": " << longest_edge_by_hand(r.mesh));
-    }
 }
