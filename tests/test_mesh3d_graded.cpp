@@ -295,12 +295,15 @@ BOOST_AUTO_TEST_CASE(graded_materials_keep_the_uniform_interfaces_and_volumes) {
 }
 
 // Relabelling the materials (the same shapes under other tags) changes only
-// the regions' tags: the same tetrahedra, the coarse cells where they were.
-BOOST_AUTO_TEST_CASE(graded_materials_do_not_depend_on_the_tags) {
+// the regions' tags: the same tetrahedra, the coarse cells where they were;
+// and the thread count changes nothing.
+BOOST_AUTO_TEST_CASE(graded_materials_do_not_depend_on_the_tags_or_the_threads) {
     Mesh3dOptions o;
     o.spacing = 0.1;
     o.graded = true;
+    o.threads = 1;
     const Mesh3dResult a = mesh3d(MaterialShapes3{"1=sphere:0,0,0,1;2=sphere:0.2,0,0,0.5;3=sphere:-0.3,0.1,0,0.4"}, o);
+    o.threads = 2;
     const Mesh3dResult b = mesh3d(MaterialShapes3{"7=sphere:0,0,0,1;3=sphere:0.2,0,0,0.5;5=sphere:-0.3,0.1,0,0.4"}, o);
     BOOST_TEST((a.mesh.vertices.size() == b.mesh.vertices.size()));
     BOOST_TEST((a.mesh.tets == b.mesh.tets));
@@ -309,4 +312,5 @@ BOOST_AUTO_TEST_CASE(graded_materials_do_not_depend_on_the_tags) {
     std::int64_t mismatched = 0;
     for (std::size_t t = 0; t < a.mesh.region.size() && t < b.mesh.region.size(); ++t) mismatched += to.at(a.mesh.region[t]) != b.mesh.region[t];
     BOOST_TEST(mismatched == 0);
+    BOOST_TEST((a.mesh.interfaces == b.mesh.interfaces));
 }
