@@ -85,6 +85,15 @@ assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"en
 (np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
 PY
 }
+# The CGAL sections on the brain: CGAL installed, the peer built ($tmp/cgal_mesh3),
+# the atlas found ($nrrd) and binarised ($tmp/brain.raw).
+cgal_and_brain() {
+  install_cgal
+  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
+  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
+  brain_bytes "$nrrd" "$tmp/brain.raw"
+}
 brain="$root/mesher/examples/brain_axial_s128_labels16.pgm"
 
 field() { sed -n "s/^  \"$1\": \\([^,]*\\),*$/\\1/p" "$2"; }
@@ -208,11 +217,7 @@ if [ "${1:-}" = "--writers" ]; then
 fi
 
 if [ "${1:-}" = "--cgal3d" ]; then
-  install_cgal
-  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
-  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
-  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
-  brain_bytes "$nrrd" "$tmp/brain.raw"
+  cgal_and_brain
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); CPU s: user CPU of the whole process"
   printf "%-38s %10s %9s %9s %9s %9s %8s\n" mesher tetrahedra "wall s" "CPU s" "min dih" "max dih" "peak MB"
@@ -237,12 +242,8 @@ if [ "${1:-}" = "--cgal3d" ]; then
 fi
 
 if [ "${1:-}" = "--graded3d" ]; then
-  install_cgal
   bench3d="${WARPMESH_BUILD_DIR:-$root/build}/mesher/warpmesh-bench3d"
-  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
-  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
-  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
-  brain_bytes "$nrrd" "$tmp/brain.raw"
+  cgal_and_brain
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each.  CPU s: warpmesh, the whole mesh3d call (warpmesh-bench3d,"
   echo "no file, no quality pass); CGAL, make_mesh_3 alone.  Angles, boundary faces and certified bounds from a separate report run."
