@@ -25,6 +25,16 @@
 #                               libcgal-dev (benchmark-only) and builds
 #                               bench/peers/cgal_mesh3.cpp.  The atlas NRRD is
 #                               WARPMESH_BRAIN_NRRD or /work/shared/data/*/orig/hncma-atlas.nrrd
+#   scripts/bench.sh --graded3d graded against uniform warpmesh and CGAL Mesh_3 on the SPL
+#                               brain atlas (--label nonzero) at 2, 1.4 and 1 mm
+#                               (WARPMESH_BENCH_GRADED_SPACINGS), one thread each, in one
+#                               run (issue 48): tetrahedra, boundary faces, CPU s,
+#                               tets/CPU s, tets per boundary face, measured and
+#                               certified dihedral extremes.
+#                               CGAL gets the surface size of the spacing (facet size S,
+#                               facet distance S / 2) and no cell size (cells free to
+#                               grow inside); WARPMESH_BENCH_GRADED_CGAL lists the
+#                               spacings CGAL runs at (default all).
 #   scripts/bench.sh --cgal3d-materials
 #                               every label of the SPL brain and abdomen atlases
 #                               (--materials all) against CGAL Mesh_3 on the same
@@ -64,6 +74,26 @@ install_cgal() {
   fi
 }
 trap 'rm -rf "$tmp"' EXIT
+# The region warpmesh meshes with --label nonzero, as bytes for CGAL's Image_3
+# (the SPL atlas NRRD is gzip'd shorts, x fastest, 1 mm voxels): brain_bytes NRRD RAW.
+brain_bytes() {
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import gzip, sys, numpy as np
+raw = open(sys.argv[1], "rb").read()
+at = raw.index(b"\n\n")
+assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
+(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
+PY
+}
+# The CGAL sections on the brain: CGAL installed, the peer built ($tmp/cgal_mesh3),
+# the atlas found ($nrrd) and binarised ($tmp/brain.raw).
+cgal_and_brain() {
+  install_cgal
+  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
+  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
+  brain_bytes "$nrrd" "$tmp/brain.raw"
+}
 brain="$root/mesher/examples/brain_axial_s128_labels16.pgm"
 
 field() { sed -n "s/^  \"$1\": \\([^,]*\\),*$/\\1/p" "$2"; }
@@ -187,19 +217,7 @@ if [ "${1:-}" = "--writers" ]; then
 fi
 
 if [ "${1:-}" = "--cgal3d" ]; then
-  install_cgal
-  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
-  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
-  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
-  # The region warpmesh meshes with --label nonzero, as bytes for CGAL's Image_3
-  # (the NRRD is gzip'd shorts, x fastest, 1 mm voxels).
-  /usr/bin/python3 - "$nrrd" "$tmp/brain.raw" <<'PY'
-import gzip, sys, numpy as np
-raw = open(sys.argv[1], "rb").read()
-at = raw.index(b"\n\n")
-assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
-(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
-PY
+  cgal_and_brain
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); CPU s: user CPU of the whole process"
   printf "%-38s %10s %9s %9s %9s %9s %8s\n" mesher tetrahedra "wall s" "CPU s" "min dih" "max dih" "peak MB"
@@ -219,6 +237,41 @@ PY
       "$tmp/c.json" "$h" "$user" "$rss"
   done
   echo "  (CGAL: wall s = make_mesh_3 only; CPU s = the whole process, reading and the image domain included)"
+  echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--graded3d" ]; then
+  bench3d="${WARPMESH_BUILD_DIR:-$root/build}/mesher/warpmesh-bench3d"
+  cgal_and_brain
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each.  CPU s: warpmesh, the whole mesh3d call (warpmesh-bench3d,"
+  echo "no file, no quality pass); CGAL, make_mesh_3 alone.  Angles, boundary faces and certified bounds from a separate report run."
+  printf "%-44s %10s %9s %9s %8s %11s %9s %9s  %s\n" mesher tetrahedra "bdry fcs" "tets/fc" "CPU s" "tets/CPU s" "min dih" "max dih" certified
+  cgal_at=" ${WARPMESH_BENCH_GRADED_CGAL:-${WARPMESH_BENCH_GRADED_SPACINGS:-2 1.4 1}} "
+  for s in ${WARPMESH_BENCH_GRADED_SPACINGS:-2 1.4 1}; do
+    for mode in "" --graded; do
+      # shellcheck disable=SC2086
+      out=$("$bench3d" --volume "$nrrd" --label nonzero --spacing "$s" --threads 1 $mode 2>/dev/null)
+      # shellcheck disable=SC2086
+      "$exe" mesh3d "$nrrd" --label nonzero --spacing "$s" --threads 1 $mode --report "$tmp/w.json" --quiet 2>/dev/null
+      /usr/bin/python3 - "$tmp/w.json" "$s" "$mode" "$out" <<'PY'
+import json, sys
+w = json.load(open(sys.argv[1])); kv = dict(x.split("=", 1) for x in sys.argv[4].split())
+tets, cpu, c = int(kv["tets"]), float(kv["cpu_seconds"]), w["certified"]
+print("%-44s %10d %9d %9.2f %8.2f %11.0f %9.3f %9.3f  [%.2f, %.2f]" % ("warpmesh mesh3d %s, spacing %s" % ("graded" if sys.argv[3] else "uniform", sys.argv[2]),
+      tets, w["boundary_faces"], tets / w["boundary_faces"], cpu, tets / cpu, w["min_dihedral_deg"], w["max_dihedral_deg"], c["min_dihedral_deg"], c["max_dihedral_deg"]))
+PY
+    done
+    case "$cgal_at" in *" $s "*) ;; *) continue ;; esac
+    "$tmp/cgal_mesh3" "$tmp/brain.raw" 256 256 256 1 1 1 "$s" cell=0 "distance=$(awk -v s="$s" 'BEGIN { print s / 2 }')" > "$tmp/c.json"
+    /usr/bin/python3 - "$tmp/c.json" "$s" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))
+print("%-44s %10d %9d %9.2f %8.2f %11.0f %9.3f %9.3f  none" % ("CGAL Mesh_3, facet size %s, no cell size" % sys.argv[2], c["tetrahedra"], c["facets"],
+      c["tetrahedra"] / c["facets"], c["cpu_seconds"], c["tetrahedra"] / c["cpu_seconds"], c["min_dihedral_deg"], c["max_dihedral_deg"]))
+PY
+  done
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
   exit 0
 fi

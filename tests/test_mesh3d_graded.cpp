@@ -3,9 +3,11 @@
 // (mesh3d/generic_octree.hpp), --max-size and --grading, through the pipeline.
 #define BOOST_TEST_MODULE mesh3d_graded
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <set>
 #include <tuple>
+#include <utility>
 
 #include "brain_crop.hpp"
 #include "support.hpp"
@@ -39,6 +41,23 @@ std::set<Triangle> boundary_of(const TetMesh& m) {
     return s;
 }
 
+// The interfaces as a set of (triangle, its two regions).
+std::set<std::pair<Triangle, std::array<std::int32_t, 2>>> interfaces_of(const TetMesh& m) {
+    std::set<std::pair<Triangle, std::array<std::int32_t, 2>>> s;
+    for (std::size_t i = 0; i < m.interfaces.size(); ++i) {
+        Triangle t{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Point3& p = m.vertices[static_cast<std::size_t>(m.interfaces[i][k])];
+            t[k] = {p.x, p.y, p.z};
+        }
+        std::sort(t.begin(), t.end());
+        std::array<std::int32_t, 2> r = m.interface_regions[i];
+        std::sort(r.begin(), r.end());
+        s.insert({t, r});
+    }
+    return s;
+}
+
 double longest_edge_by_hand(const TetMesh& m) {
     double l = 0;
     for (const auto& t : m.tets)
@@ -50,20 +69,29 @@ double longest_edge_by_hand(const TetMesh& m) {
     return l;
 }
 
-// A graded mesh against the uniform one at the same spacing: conforming,
-// the same boundary triangle for triangle and the same volume (the finest
-// band is the uniform lattice's, the inside only coarser), fewer tetrahedra,
-// the stencils' tetrahedra certified and verified, and the report's figures.
-void check_against_uniform(const Mesh3dInput& in, Mesh3dOptions o, const std::string& what) {
+// The uniform and the graded mesh of `in`, both verified; the graded one
+// conforming (every tetrahedron positively oriented), with the uniform
+// one's boundary triangle for triangle and fewer tetrahedra.
+std::pair<Mesh3dResult, Mesh3dResult> uniform_and_graded(const Mesh3dInput& in, Mesh3dOptions o, const std::string& what) {
     o.verify = true;
-    const Mesh3dResult u = mesh3d(in, o);
+    Mesh3dResult u = mesh3d(in, o);
     o.graded = true;
-    const Mesh3dResult g = mesh3d(in, o);
+    Mesh3dResult g = mesh3d(in, o);
     const TetMeshCheck c = check_tet_mesh(g.mesh);
     BOOST_TEST(c.ok, what << ": " << (c.problems.empty() ? std::string() : c.problems.front()));
+    BOOST_TEST(c.inverted == 0, what);
     BOOST_TEST((boundary_of(g.mesh) == boundary_of(u.mesh)), what);
-    BOOST_TEST(std::abs(g.report.quality.volume - u.report.quality.volume) < 1e-9 * u.report.quality.volume, what);
     BOOST_TEST(g.report.tets < u.report.tets, what);
+    return {std::move(u), std::move(g)};
+}
+
+// A graded mesh against the uniform one at the same spacing: as above, and
+// the same volume (the finest band is the uniform lattice's, the inside only
+// coarser), the stencils' tetrahedra certified and verified, and the
+// report's figures.
+void check_against_uniform(const Mesh3dInput& in, const Mesh3dOptions& o, const std::string& what) {
+    const auto [u, g] = uniform_and_graded(in, o, what);
+    BOOST_TEST(std::abs(g.report.quality.volume - u.report.quality.volume) < 1e-9 * u.report.quality.volume, what);
     BOOST_REQUIRE(g.report.graded.has_value());
     const Graded3Figures& f = *g.report.graded;
     BOOST_TEST(f.template_tets > 0, what);
@@ -170,6 +198,14 @@ BOOST_AUTO_TEST_CASE(max_size_holds_on_every_tetrahedron) {
         previous = r.report.tets;
     }
     BOOST_TEST(previous > free.report.tets);
+    // Several materials: the cap on every tetrahedron of every material.
+    const MaterialShapes3 two{"1=sphere:0,0,0,1;2=sphere:0.1,0,0,0.4"};
+    o.max_size.reset();
+    BOOST_TEST(!within(longest_edge_by_hand(mesh3d(two, o).mesh), 3.9 * s));  // uncapped: cells of 4 cubes
+    o.max_size = 3.9 * s;
+    const Mesh3dResult m = mesh3d(two, o);
+    BOOST_TEST(check_tet_mesh(m.mesh).ok);
+    BOOST_TEST(within(longest_edge_by_hand(m.mesh), 3.9 * s), longest_edge_by_hand(m.mesh));
     o.max_size = 1.99 * s;
     BOOST_TEST(throws_containing<OptionError>([&] { mesh3d(Shape3{"sphere:0,0,0,1"}, o); }, "max_size 0.0995 is below 2 * spacing = 0.1"));
     BOOST_TEST(max_level_for_size(4 * s, s) == 2);
@@ -196,18 +232,99 @@ BOOST_AUTO_TEST_CASE(grading_widens_the_fine_cells) {
     BOOST_TEST(throws_containing<OptionError>([&] { mesh3d(Shape3{"sphere:0,0,0,1"}, o); }, "grading must be between 1.1 and 2"));
 }
 
-BOOST_AUTO_TEST_CASE(graded_output_is_identical_for_any_thread_count_and_refuses_what_is_not_built) {
-    Mesh3dOptions o;
-    o.spacing = 0.07;
+namespace {
+
+// The graded mesh of `in` with 1 and with 2 threads: the same tetrahedra,
+// regions, boundary and interfaces.
+void check_thread_count_changes_nothing(const Mesh3dInput& in, Mesh3dOptions o) {
     o.graded = true;
     o.threads = 1;
-    const Mesh3dResult one = mesh3d(Shape3{"torus:0,0,0,1,0.4"}, o);
+    const Mesh3dResult one = mesh3d(in, o);
     o.threads = 2;
-    const Mesh3dResult two = mesh3d(Shape3{"torus:0,0,0,1,0.4"}, o);
+    const Mesh3dResult two = mesh3d(in, o);
     BOOST_TEST((one.mesh.tets == two.mesh.tets));
+    BOOST_TEST((one.mesh.region == two.mesh.region));
     BOOST_TEST((one.mesh.boundary == two.mesh.boundary));
-    BOOST_TEST(throws_containing<OptionError>([&] { mesh3d(MaterialShapes3{"1=sphere:0,0,0,1;2=sphere:0,0,0,0.5"}, o); },
-                                              "graded meshes of several materials are not built yet"));
+    BOOST_TEST((one.mesh.interfaces == two.mesh.interfaces));
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(graded_output_is_identical_for_any_thread_count_and_refuses_blocks) {
+    Mesh3dOptions o;
+    o.spacing = 0.07;
+    check_thread_count_changes_nothing(Shape3{"torus:0,0,0,1,0.4"}, o);
+    o.spacing = 0.1;
+    check_thread_count_changes_nothing(MaterialShapes3{"1=sphere:0,0,0,1;2=sphere:0.2,0,0,0.5;3=sphere:-0.3,0.1,0,0.4"}, o);
+    o.graded = true;
     BOOST_TEST(throws_containing<OptionError>([&] { mesh3d_block(Shape3{"sphere:0,0,0,1"}, o, {{0, 0, 0}, {2, 2, 2}}); },
                                               "not available in blocks"));
+}
+
+namespace {
+
+// Several materials (issue 48, item 5): every cube whose 15 points are not
+// unwarped and of one material is finest, so the interfaces, the boundary
+// and every material's volume are the uniform multi-material mesh's (the
+// same finest cells, the inside of each material only coarser); every
+// tetrahedron is positively oriented and verified (junctions and two-sided
+// stencils against their keys, templates against proofs/bcc_graded.cert),
+// and the certified bounds are the uniform theorem's joined to the
+// templates'.
+void check_materials_against_uniform(const Mesh3dInput& in, const Mesh3dOptions& o, const std::string& what) {
+    const auto [u, g] = uniform_and_graded(in, o, what);
+    BOOST_TEST((interfaces_of(g.mesh) == interfaces_of(u.mesh)), what);
+    BOOST_TEST(!g.mesh.interfaces.empty(), what);
+    const std::vector<RegionMeasure> ru = measure_regions3(u.mesh), rg = measure_regions3(g.mesh);
+    BOOST_REQUIRE(ru.size() == rg.size());
+    for (std::size_t k = 0; k < ru.size(); ++k) {
+        BOOST_TEST(rg[k].tag == ru[k].tag);
+        BOOST_TEST(std::abs(rg[k].volume - ru[k].volume) < 1e-9 * ru[k].volume, what << " tag " << ru[k].tag);
+    }
+    BOOST_REQUIRE(g.report.graded.has_value());
+    BOOST_REQUIRE(g.report.materials.has_value());
+    const Graded3Figures& f = *g.report.graded;
+    BOOST_TEST(f.template_tets > 0, what);
+    BOOST_TEST(g.report.materials->junction_tets == u.report.materials->junction_tets, what);
+    BOOST_TEST(g.report.certified);
+    BOOST_TEST(g.report.verified);
+    BOOST_TEST(g.report.uncertified_tets == u.report.uncertified_tets);
+    BOOST_TEST(g.report.certified_min_deg == std::min(u.report.certified_min_deg, f.template_min_deg));
+    BOOST_TEST(g.report.certified_max_deg == std::max(u.report.certified_max_deg, f.template_max_deg));
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(graded_materials_keep_the_uniform_interfaces_and_volumes) {
+    Mesh3dOptions o;
+    o.spacing = 0.1;
+    check_materials_against_uniform(MaterialShapes3{"1=sphere:0,0,0,1;2=sphere:0,0,0,0.5"}, o, "nested spheres");
+    // Junctions: four materials, three boxes and a ball.
+    const char* boxes = "1=box:-1,-1,-1,0.03,1,1;2=box:0.03,-1,-1,1,0.013,1;3=box:0.03,0.013,-1,1,1,1;4=sphere:0.03,0.013,0.2,0.4";
+    check_materials_against_uniform(MaterialShapes3{boxes}, o, "junctions");
+    o.keep_background = true;
+    o.spacing = 0.125;
+    check_materials_against_uniform(MaterialShapes3{"1=sphere:0,0,0,1;2=sphere:0,0,0,0.5"}, o, "background kept");
+    // The bundled crop of the brain atlas, every label its own material.
+    Mesh3dOptions v;
+    v.materials = "all";
+    check_materials_against_uniform(VolumeFile{std::string(WARPMESH_TEST_DATA) + "/brain_crop22_labels.nrrd"}, v, "brain crop");
+}
+
+// Relabelling the materials (the same shapes under other tags) changes only
+// the regions' tags: the same tetrahedra, the coarse cells where they were.
+BOOST_AUTO_TEST_CASE(graded_materials_do_not_depend_on_the_tags) {
+    Mesh3dOptions o;
+    o.spacing = 0.1;
+    o.graded = true;
+    const Mesh3dResult a = mesh3d(MaterialShapes3{"1=sphere:0,0,0,1;2=sphere:0.2,0,0,0.5;3=sphere:-0.3,0.1,0,0.4"}, o);
+    const Mesh3dResult b = mesh3d(MaterialShapes3{"7=sphere:0,0,0,1;3=sphere:0.2,0,0,0.5;5=sphere:-0.3,0.1,0,0.4"}, o);
+    BOOST_TEST((a.mesh.vertices.size() == b.mesh.vertices.size()));
+    BOOST_TEST((a.mesh.tets == b.mesh.tets));
+    BOOST_TEST((a.report.graded->leaves_per_level == b.report.graded->leaves_per_level));
+    const std::map<std::int32_t, std::int32_t> to{{1, 7}, {2, 3}, {3, 5}};
+    std::int64_t mismatched = 0;
+    for (std::size_t t = 0; t < a.mesh.region.size() && t < b.mesh.region.size(); ++t) mismatched += to.at(a.mesh.region[t]) != b.mesh.region[t];
+    BOOST_TEST(mismatched == 0);
+    BOOST_TEST((a.mesh.interfaces == b.mesh.interfaces));
 }

@@ -385,8 +385,8 @@ struct Args {
 // Why an option of `mesh` is refused by mesh3d.
 std::string refused_in_3d(const std::string& option) {
     if (option == "--max-size-of")
-        return "per-material sizes need graded meshes of several materials, not built yet in 3D (docs/3d.md); --graded "
-               "meshes one region, --max-size bounds every tetrahedron";
+        return "per-material sizes are not built in 3D (docs/3d.md); --graded with --max-size bounds every tetrahedron of "
+               "every material";
     if (option == "--max-cell") return "3D graded meshes bound their cells by --max-size, in the input's units";
     if (option == "--slice" || option == "--slices" || option == "--points-3d")
         return "mesh3d meshes the whole volume in 3D; it applies to 2D meshes of slices (warpmesh mesh)";

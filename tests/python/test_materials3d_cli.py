@@ -272,3 +272,28 @@ def test_calculix_solves_a_three_material_bar(tmp_path):
     series = 1 / 1000 + 1 / 10000 + 1 / 100000
     assert 0.7 * series < end_u[:, 0].mean() < 1.1 * series, end_u[:, 0].mean()
     assert 0.8 < interface_u[:, 0].mean() / end_u[:, 0].mean() < 0.97
+
+
+def test_graded_labels_keep_the_uniform_interfaces_and_volumes(labelled):
+    """--materials all --graded (issue 48): every interface and the boundary
+    stay at the finest level, so the boundary and interface faces and every
+    label's volume are the uniform mesh's, with fewer tetrahedra, each
+    positive (meshio), tagged with its label and verified."""
+    d = labelled[0]
+    meshio = require("meshio", "python3-meshio")
+    args = ["l.nrrd", "--materials", "all", "--spacing", "0.5", "--verify", "--quiet"]
+    mesh3d([*args, "-o", "u.vtu", "--report", "u.json"], d)
+    mesh3d([*args, "--graded", "-o", "g.vtu", "--report", "g.json"], d)
+    u, g = (json.loads((d / f"{n}.json").read_text()) for n in ("u", "g"))
+    assert g["tetrahedra"] < u["tetrahedra"] and g["graded"]["template_tetrahedra"] > 0
+    assert g["boundary_faces"] == u["boundary_faces"] and g["interface_faces"] == u["interface_faces"] > 0
+    assert g["certified"]["verified"] and g["certified"]["uncertified_tetrahedra"] == 0
+    assert [x["tag"] for x in g["materials"]] == [x["tag"] for x in u["materials"]]
+    for a, b in zip(u["materials"], g["materials"]):
+        assert abs(a["volume"] - b["volume"]) <= 1e-9 * a["volume"], a["tag"]
+    m = meshio.read(d / "g.vtu")
+    tets, region = m.cells_dict["tetra"], m.cell_data["region"][0]
+    vol = tet_volumes(m.points, tets)
+    assert (vol > 0).all() and len(tets) == g["tetrahedra"]
+    for x in g["materials"]:
+        assert abs(vol[region == x["tag"]].sum() - x["volume"]) <= 1e-9 * max(x["volume"], 1e-300)

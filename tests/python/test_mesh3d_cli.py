@@ -112,7 +112,7 @@ def test_volume_edge_faces_are_tagged_domain_border_as_in_2d(tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["--max-cell", "4"], "--max-cell has no effect in 3D (warpmesh mesh3d): 3D graded meshes bound their cells by --max-size"),
     (["--materials", "all"], "materials apply to volumes, not to shapes"),
-    (["--max-size-of", "1=0.1"], "per-material sizes need graded meshes of several materials"),
+    (["--max-size-of", "1=0.1"], "per-material sizes are not built in 3D"),
     (["--grading", "1.5"], "--grading applies to graded meshes: add --graded"),
     (["--graded", "--max-size", "0.5"], "--max-size 0.5 is below 2 * spacing = 0.6"),
     (["--slice", "k=3"], "--slice has no effect in 3D"),

@@ -194,7 +194,8 @@ def test_read_volume_gives_the_cli_mesh(root, tmp_path, fixture):
 def test_graded_keywords():
     """graded=, max_size=, grading= (issue 48): the CLI's --graded, --max-size,
     --grading; a graded ball has the uniform one's boundary with fewer
-    tetrahedra, its edges within max_size; several materials are refused."""
+    tetrahedra, its edges within max_size; several materials (shapes=) too,
+    each coarse cell in one material."""
     u = warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1)
     g = warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1, graded=True, max_size=0.45)
     assert len(g.tetrahedra) < len(u.tetrahedra) and len(g.boundary_faces) == len(u.boundary_faces)
@@ -204,7 +205,10 @@ def test_graded_keywords():
     p, t = g.points, g.tetrahedra
     edges = np.concatenate([p[t[:, i]] - p[t[:, j]] for i in range(4) for j in range(i + 1, 4)])
     assert np.linalg.norm(edges, axis=1).max() <= 0.45 * (1 + 1e-12)
-    with pytest.raises(warpmesh.InputError, match="graded meshes of several materials are not built yet"):
-        warpmesh.mesh3d(shapes="1=sphere:0,0,0,1;2=sphere:0,0,0,0.5", spacing=0.2, graded=True)
+    two = "1=sphere:0,0,0,1;2=sphere:0,0,0,0.5"
+    mu = warpmesh.mesh3d(shapes=two, spacing=0.1)
+    mg = warpmesh.mesh3d(shapes=two, spacing=0.1, graded=True, max_size=0.45)
+    assert len(mg.tetrahedra) < len(mu.tetrahedra) and len(mg.boundary_faces) == len(mu.boundary_faces)
+    assert set(np.unique(mg.regions)) == {1, 2} and mg.report["graded"]["template_tetrahedra"] > 0
     with pytest.raises(warpmesh.InputError, match="^max_size 0.1 is below 2 \\* spacing"):
         warpmesh.mesh3d("sphere:0,0,0,1", spacing=0.1, graded=True, max_size=0.1)

@@ -18,11 +18,13 @@
 #include <optional>
 #include <stdexcept>
 
+#include "mesh3d/graded/octree3.hpp"
 #include "uniform3d.hpp"
 #include "warpmesh/core/errors.hpp"
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/mesh3d/generic_bcc_keys.hpp"  // key_of
 #include "warpmesh/mesh3d/generic_bcc_materials.hpp"
+#include "warpmesh/mesh3d/graded.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -126,11 +128,13 @@ struct MaterialLayout {
     CubeRange range;
     GlobalKeys keys;
     bool keyed = false;                // write every vertex's and tetrahedron's key (blocks)
+    const graded3::Octree3* tree = nullptr;  // graded meshes (whole lattice, no keys)
 
     MaterialLayout(const Window& win, const MaterialField3& f, const std::optional<BccKeyClaim>& fill_claim,
-                   std::span<const std::uint16_t> material, bool keep_background, const CubeRange& cubes, bool with_keys)
+                   std::span<const std::uint16_t> material, bool keep_background, const CubeRange& cubes, bool with_keys,
+                   const graded3::Octree3* octree = nullptr)
         : w(win), field(f), fill(fill_claim), mat(material), output(65536, 0), merge_outside(!keep_background), range(cubes),
-          keys(win.grid.lattice), keyed(with_keys) {
+          keys(win.grid.lattice), keyed(with_keys), tree(octree) {
         plane_pair = win.grid.corner_w * win.grid.corner_h + win.grid.centre_w * win.grid.centre_h;
         for (int m = keep_background ? 0 : 1; m < f.count(); ++m) output[static_cast<std::size_t>(m)] = 1;
     }
@@ -156,6 +160,26 @@ struct MaterialLayout {
         s.material[static_cast<std::size_t>(s.count++)] = material;
     }
     Split split(const std::array<std::int64_t, 4>& p, int parity) const;
+    // Window point p's material code (the outside merged into the background when it is dropped).
+    std::uint16_t code(std::int64_t p) const {
+        const std::uint16_t c = mat[static_cast<std::size_t>(p)];
+        return merge_outside && c == outside_code ? 0 : c;
+    }
+    // Graded meshes: the output templates of cube c's leaf (none unless c is
+    // its origin and the leaf's material is output), that material in
+    // `material`.  Each template's four vertices must be unwarped and of the
+    // leaf's material (octree3.hpp's invariant, several materials), else
+    // std::logic_error.
+    int leaf_templates(const graded3::Cube& c, graded3::Templates& out, std::uint16_t& material) const;
+    // Graded meshes: which of cube c's background tetrahedra the split rule
+    // handles (all without a tree); false when c lies in a coarser leaf.
+    bool fine_cube(const graded3::Cube& c, unsigned& mask) const {
+        mask = 0xFFFu;
+        if (!tree) return true;
+        if (tree->level_at(c) > 0) return false;
+        mask = graded3::uniform_mask(*tree, c);
+        return true;
+    }
     // An all-zero background tetrahedron's material (mesh3d.hpp): the
     // material at its centroid if it is output and the warped tetrahedron
     // meets the fill claim with a margin; -1 if that material is not output
@@ -193,6 +217,26 @@ int MaterialLayout::fill_material(const std::array<std::int64_t, 4>& p) const {
     // forms cannot let a tetrahedron just outside it through.
     if (!fill || !key_claim_holds(q, fill->cos2_min * (1 - 1e-9), fill->cos2_max * (1 - 1e-9))) return void_fill;
     return m;
+}
+
+int MaterialLayout::leaf_templates(const graded3::Cube& c, graded3::Templates& out, std::uint16_t& material) const {
+    const int side = 1 << tree->level_at(c);
+    bcc::Ivec centre{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (c[a] & (side - 1)) return 0;  // not the leaf's origin
+        centre[a] = static_cast<int>(2 * c[a]) + side;
+    }
+    material = code(w.grid.index(centre));
+    if (!output[material]) return 0;  // a leaf's templates all have its centre's material
+    const int k = graded3::leaf_templates(*tree, c, out);
+    for (int i = 0; i < k; ++i)
+        for (const bcc::Ivec& q : out[static_cast<std::size_t>(i)]) {
+            const std::int64_t p = w.grid.index(q);
+            if (w.warp[static_cast<std::size_t>(p)] != bcc::stay || code(p) != material)
+                throw std::logic_error("mesh3d graded materials: a template tetrahedron has a warped vertex or two materials "
+                                       "(the finest-band invariant of octree3.hpp failed)");
+        }
+    return k;
 }
 
 Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) const {
@@ -267,7 +311,7 @@ FacePoint face_point_of(const MaterialLayout& lay, const bcc::Ivec& m, int index
 
 // Pass A's per-layer results (and, summed, the window's).
 struct LayerCount {
-    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, voids = 0, junctions = 0, junction_tets = 0;
+    std::int64_t tets = 0, centres = 0, all_zero = 0, filled = 0, voids = 0, junctions = 0, junction_tets = 0, templates = 0;
     std::vector<FacePoint> faces;  // face points used
 };
 
@@ -307,9 +351,21 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t l = 0; l < r.hi[2] - r.lo[2]; ++l) {
         LayerCount& c = layers[static_cast<std::size_t>(l)];
-        for_cubes_in_layer(r, r.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
+        for_cubes_in_layer(r, r.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
+            unsigned mask = 0xFFFu;
+            if (lay.tree) {
+                const graded3::Cube cube{cx, cy, r.lo[2] + l};
+                graded3::Templates t;  // (not zeroed: per cube)
+                std::uint16_t material = 0;
+                const int k = lay.leaf_templates(cube, t, material);
+                c.tets += k, c.templates += k;
+                for (int i = 0; i < k; ++i)
+                    for (const bcc::Ivec& q : t[static_cast<std::size_t>(i)])
+                        std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(lay.w.grid.index(q))]).store(1, std::memory_order_relaxed);
+                if (!lay.fine_cube(cube, mask)) return;
+            }
             const MaterialLayout::CubePoints points = lay.cube_points(m);
-            if (const int whole = lay.whole_cube(m, points); whole >= 0) {
+            if (const int whole = mask == 0xFFFu ? lay.whole_cube(m, points) : -1; whole >= 0) {
                 if (!lay.output[static_cast<std::size_t>(whole)]) return;
                 c.tets += 12;
                 for (std::size_t k = 0; k < 12; ++k)
@@ -318,7 +374,7 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
                 return;
             }
             for (int index = 0; index < 12; ++index) {
-                if (m[static_cast<std::size_t>(index / 4)] == 0) continue;  // the cube below does not exist
+                if (m[static_cast<std::size_t>(index / 4)] == 0 || !(mask >> index & 1u)) continue;  // no cube below, or a template's
                 const std::array<std::int64_t, 4> p = lay.points(points, index);
                 count_split(lay, m, index, p, lay.split(p, lay.shapes[static_cast<std::size_t>(index)].parity), marks, c);
             }
@@ -465,6 +521,30 @@ void verify_junction(const MaterialLayout& lay, const BccKeyClaims& claims, cons
     }
 }
 
+// Graded meshes, pass B: the output templates of cube c's leaf, written
+// from t on with their leaf's material; with claims, each checked against
+// the templates' claim (proofs/bcc_graded.cert), when they have it.
+void write_templates(const MaterialLayout& lay, const Places& at, const graded3::Cube& c, const BccKeyClaims* verify, std::int64_t& t,
+                     MaterialOutput& out, VerifyCounts& counts) {
+    graded3::Templates tt;
+    std::uint16_t material = 0;
+    const int k = lay.leaf_templates(c, tt, material);
+    const bool check = verify && verify->template_claim;
+    for (int i = 0; i < k; ++i, ++t) {
+        std::array<std::int32_t, 4> v{};
+        std::array<Point3, 4> x{};
+        for (std::size_t j = 0; j < 4; ++j) {
+            const bcc::Ivec& q = tt[static_cast<std::size_t>(i)][j];
+            v[j] = at.num.id[static_cast<std::size_t>(lay.w.grid.index(q))];
+            x[j] = lay.w.lattice_position(q);
+        }
+        out.mesh.tets[static_cast<std::size_t>(t)] = v;
+        out.mesh.region[static_cast<std::size_t>(t)] = lay.field.tag(material);
+        if (check && !key_claim_holds(x, verify->template_claim->cos2_min, verify->template_claim->cos2_max)) ++counts.failures;
+    }
+    if (verify && k > 0 && !verify->template_claim) ++counts.uncovered;
+}
+
 // Pass B for layer l of the range: the tetrahedra, their regions (and keys)
 // and centres, and the faces on the lattice's cut-off (and, with claims,
 // verify's checks).
@@ -474,9 +554,15 @@ void write_layer(const MaterialLayout& lay, const Marks& marks, const Places& at
     TetMesh& mesh = out.mesh;
     std::int64_t t = at.tet_start[static_cast<std::size_t>(l)], centre = at.centre_start[static_cast<std::size_t>(l)];
     const bcc::OutTet& whole_order = plan(0, 0).stencil.tet[0];  // the all-− stencil's vertex order
-    for_cubes_in_layer(lay.range, lay.range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t, std::int64_t) {
+    for_cubes_in_layer(lay.range, lay.range.lo[2] + l, [&](const bcc::Ivec& m, std::int64_t cx, std::int64_t cy) {
+        unsigned mask = 0xFFFu;
+        if (lay.tree) {
+            const graded3::Cube cube{cx, cy, lay.range.lo[2] + l};
+            write_templates(lay, at, cube, verify, t, out, counts);
+            if (!lay.fine_cube(cube, mask)) return;
+        }
         const MaterialLayout::CubePoints points = lay.cube_points(m);
-        if (const int whole = lay.whole_cube(m, points); whole >= 0 && !in_lattice_edge(L, m)) {
+        if (const int whole = mask == 0xFFFu ? lay.whole_cube(m, points) : -1; whole >= 0 && !in_lattice_edge(L, m)) {
             if (!lay.output[static_cast<std::size_t>(whole)]) return;
             for (int index = 0; index < 12; ++index, ++t) {
                 const std::array<std::int64_t, 4> p = lay.points(points, index);
@@ -488,7 +574,7 @@ void write_layer(const MaterialLayout& lay, const Marks& marks, const Places& at
             return;
         }
         for (int index = 0; index < 12; ++index) {
-            if (m[static_cast<std::size_t>(index / 4)] == 0) continue;
+            if (m[static_cast<std::size_t>(index / 4)] == 0 || !(mask >> index & 1u)) continue;
             const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
             const std::array<std::int64_t, 4> p = lay.points(points, index);
             const Split s = lay.split(p, sh.parity);
@@ -602,7 +688,7 @@ MaterialOutput assemble(const MaterialLayout& lay, const Marks& marks, std::vect
     for (const LayerCount& l : layers) {
         LayerCount& c = out.count;
         c.tets += l.tets, c.centres += l.centres, c.all_zero += l.all_zero, c.filled += l.filled, c.voids += l.voids;
-        c.junctions += l.junctions, c.junction_tets += l.junction_tets;
+        c.junctions += l.junctions, c.junction_tets += l.junction_tets, c.templates += l.templates;
     }
     return out;
 }
@@ -637,10 +723,13 @@ void prepare_materials(const MaterialField3& field, const BccOptions& options, b
 
 // The output of the cubes `range` of a prepared window (keyed: with global
 // keys; verify: every two-material tetrahedron checked).
+// (tree: a graded mesh's octree over the whole lattice.)
 MaterialOutput emit_materials(const MaterialField3& field, const Window& w, const Buffer<std::uint16_t>& material, const CubeRange& range,
-                              const BccOptions& options, bool keep_background, bool keyed, const BccKeyClaims* verify) {
+                              const BccOptions& options, bool keep_background, bool keyed, const BccKeyClaims* verify,
+                              const graded3::Octree3* tree = nullptr) {
     const std::size_t n = static_cast<std::size_t>(w.grid.count());
-    const MaterialLayout lay(w, field, options.fill_claim, std::span<const std::uint16_t>(material.data(), n), keep_background, range, keyed);
+    const MaterialLayout lay(w, field, options.fill_claim, std::span<const std::uint16_t>(material.data(), n), keep_background, range, keyed,
+                             tree);
     Marks marks{ZeroBuffer<std::uint8_t>(n), ZeroBuffer<std::uint8_t>(n)};
     std::vector<LayerCount> layers = count_and_mark(lay, marks);
     return assemble(lay, marks, layers, options.max_memory, verify);
@@ -655,8 +744,14 @@ std::vector<std::pair<std::int32_t, std::string>> output_names(const MaterialFie
 }  // namespace
 }  // namespace uniform3d
 
-BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background) {
-    using namespace uniform3d;
+namespace uniform3d {
+namespace {
+
+// The mesh of the whole lattice, uniform or (graded) on the octree of the
+// points' materials (octree3.hpp): the window, the stage's output, the
+// domain's faces and the boundary, the counts.
+GradedBccMesh whole_materials(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background,
+                              const GradedOptions3* graded) {
     check_material_options(options);
     const ThreadCount threads(options.threads);
     const auto start = std::chrono::steady_clock::now();
@@ -664,13 +759,23 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
     w.grid = Grid::whole(lattice);
     Buffer<std::uint16_t> material;
     prepare_materials(field, options, keep_background, false, w, material);
-    MaterialOutput e = emit_materials(field, w, material, CubeRange{{0, 0, 0}, lattice.cubes}, options, keep_background, false, options.verify);
+    GradedBccMesh r;
+    MaterialOutput e;
+    const CubeRange all{{0, 0, 0}, lattice.cubes};
+    if (graded) {
+        const std::span<const std::uint16_t> codes(material.data(), static_cast<std::size_t>(w.grid.count()));
+        const graded3::Octree3 tree = graded3::build_octree3(w, graded->max_level, graded->buffer, codes, !keep_background);
+        e = emit_materials(field, w, material, all, options, keep_background, false, options.verify, &tree);
+        r.leaves_per_level = tree.leaves_per_level;
+    } else {
+        e = emit_materials(field, w, material, all, options, keep_background, false, options.verify);
+    }
     if (e.mesh.tets.empty())
         throw InputError("no tetrahedron of any material at spacing " + std::to_string(lattice.spacing) + " (" + field.describe() + ")");
     mark_domain_faces(std::span<const Point3>(e.mesh.vertices.data(), e.mesh.vertices.size()), e.on_interface,
                       field.domain(), lattice.spacing);
     find_boundary(e.mesh, e.on_interface, e.cut_off);
-    BccMesh out;
+    BccMesh& out = r.bcc;
     out.mesh = std::move(e.mesh);
     out.mesh.region_names = output_names(field, keep_background);
     const LayerCount& c = e.count;
@@ -681,8 +786,22 @@ BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice,
     out.lattice_points = lattice.point_count();
     out.background_tets = 12 * lattice.cubes[0] * lattice.cubes[1] * lattice.cubes[2];
     out.warped = w.warp_count;
+    r.template_tets = c.templates;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return out;
+    return r;
+}
+
+}  // namespace
+}  // namespace uniform3d
+
+BccMesh mesh_bcc_materials(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background) {
+    return uniform3d::whole_materials(field, lattice, options, keep_background, nullptr).bcc;
+}
+
+GradedBccMesh mesh_bcc_materials_graded(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options,
+                                        bool keep_background, const GradedOptions3& graded) {
+    graded3::check_graded_options(graded);
+    return uniform3d::whole_materials(field, lattice, options, keep_background, &graded);
 }
 
 TetBlock mesh_bcc_materials_block(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options, bool keep_background,

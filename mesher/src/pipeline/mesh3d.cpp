@@ -329,6 +329,15 @@ BccOptions material_stage_options(const Mesh3dInput& input, const Mesh3dOptions&
     return b;
 }
 
+// Graded meshes (below): the stage's options, the templates' certification
+// joined to the report's, the report's figures.
+GradedOptions3 graded_options(const Mesh3dOptions& o, double spacing);
+void graded_certification(Mesh3dReport& r, std::int64_t template_tets, const BccCertification& t);
+Graded3Figures graded_figures(const GradedBccMesh& m, const Mesh3dOptions& o, const GradedOptions3& g, const BccCertification& templates);
+
+// Several materials, uniform or graded (mesh_bcc_materials_graded: the
+// interfaces and the outer boundary in the finest band; the bounds the
+// uniform multi-material theorem's joined to the templates').
 void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOptions& o, double spacing,
                     const Mesh3dProgress& progress, Mesh3dResult& r) {
     r.lattice = material_lattice(p, o, spacing);
@@ -339,13 +348,21 @@ void mesh_materials(const Prepared& p, const Mesh3dInput& input, const Mesh3dOpt
     BccOptions b = material_stage_options(input, o, certified);
     // verify checks every two-material side against its key's claim and
     // every junction tetrahedron against its junction key's (bcc_key_claims).
-    const BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
+    BccKeyClaims claims = o.verify && certified ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
+    const BccCertification templates = o.graded ? bcc_template_certification() : BccCertification{};
+    if (o.verify && certified && templates.certified) claims.template_claim = bcc_template_claim();
     if (o.verify && certified) b.verify = &claims;
-    BccMesh m = mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background);
-    const std::optional<std::int64_t> added = manifold(o, m);
-    r.report = materials_report(m, b.face_rule, b.alphas, o.quality, material_facts(*p.field, p.voxel_volume, o.keep_background));
+    const GradedOptions3 g = o.graded ? graded_options(o, spacing) : GradedOptions3{};
+    GradedBccMesh m = o.graded ? mesh_bcc_materials_graded(*p.field, r.lattice, b, o.keep_background, g)
+                               : GradedBccMesh{mesh_bcc_materials(*p.field, r.lattice, b, o.keep_background), {}, 0};
+    const std::optional<std::int64_t> added = manifold(o, m.bcc);
+    r.report = materials_report(m.bcc, b.face_rule, b.alphas, o.quality, material_facts(*p.field, p.voxel_volume, o.keep_background));
     r.report.manifold_added_vertices = added;
-    r.mesh = std::move(m.mesh);
+    if (o.graded) {
+        graded_certification(r.report, m.template_tets, templates);
+        r.report.graded = graded_figures(m, o, g, templates);
+    }
+    r.mesh = std::move(m.bcc.mesh);
 }
 
 
@@ -459,23 +476,32 @@ void mesh_graded(const Prepared& p, const Mesh3dOptions& o, double spacing, Mesh
     BccKeyClaims claims = verify ? bcc_key_claims(b.face_rule) : BccKeyClaims{};
     if (verify && templates.certified) claims.template_claim = bcc_template_claim();
     if (verify) b.verify = &claims;
-    GradedOptions3 g;
-    if (o.max_size) g.max_level = max_level_for_size(*o.max_size, spacing);
-    g.buffer = grading_buffer(o.grading);
+    const GradedOptions3 g = graded_options(o, spacing);
     GradedBccMesh m = mesh_bcc_graded(*p.f, r.lattice, b, g);
     const std::optional<std::int64_t> added = manifold(o, m.bcc);
     r.report = region_report(m.bcc, b.face_rule, b.alphas, o.quality ? std::optional(measure_quality3(m.bcc.mesh, *p.f)) : std::nullopt,
                              facts_of(*p.f), spacing);
     r.report.manifold_added_vertices = added;
     graded_certification(r.report, m.template_tets, templates);
+    r.report.graded = graded_figures(m, o, g, templates);
+    r.mesh = std::move(m.bcc.mesh);
+}
+
+GradedOptions3 graded_options(const Mesh3dOptions& o, double spacing) {
+    GradedOptions3 g;
+    if (o.max_size) g.max_level = max_level_for_size(*o.max_size, spacing);
+    g.buffer = grading_buffer(o.grading);
+    return g;
+}
+
+Graded3Figures graded_figures(const GradedBccMesh& m, const Mesh3dOptions& o, const GradedOptions3& g, const BccCertification& templates) {
     Graded3Figures f;
     f.leaves_per_level = m.leaves_per_level, f.template_tets = m.template_tets;
     f.max_size = o.max_size.value_or(0), f.max_level = g.max_level;
     f.grading = o.grading, f.grading_buffer = g.buffer;
     f.longest_edge = longest_tet_edge(m.bcc.mesh);
     f.templates_certified = templates.certified, f.template_min_deg = templates.min_deg, f.template_max_deg = templates.max_deg;
-    r.report.graded = f;
-    r.mesh = std::move(m.bcc.mesh);
+    return f;
 }
 
 }  // namespace
@@ -488,9 +514,6 @@ void validate(const Mesh3dInput& input, const Mesh3dOptions& o) {
         throw InputError("spacing is required for a shape, material shapes or a level set (the lattice's cube side, in its units)");
     if (!is_volume(input)) check_volume_options(o);
     check_material_options(input, o);
-    if (o.graded && several_materials(input, o))
-        throw OptionError("graded", "{graded} meshes of several materials are not built yet: mesh one region (labels), or drop "
-                                    "{graded}");
     const bcc::Alphas a = o.alphas_in_use(is_material_shapes(input));
     if (!(a.long_den > 0 && a.short_den > 0 && a.long_num > 0 && a.short_num > 0 && 2 * a.long_num < a.long_den &&
           2 * a.short_num < a.short_den))

@@ -65,9 +65,9 @@ std::vector<O> entries() {
     t.back().group = "input (materials)";
     t.back().choices = words_of(background_names);
     t.push_back(entry("graded", OptionKind::flag, "",
-                      "graded mesh on a 2:1-balanced octree: the lattice's spacing along the surface, cells up to "
-                      "{max_size} (default: as coarse as the region allows) inside and outside, joined by "
-                      "transition tetrahedra certified by proofs/bcc_graded.cert (one region)",
+                      "graded mesh on a 2:1-balanced octree: the lattice's spacing along the surface (and every "
+                      "interface of several materials), cells up to {max_size} (default: as coarse as the region "
+                      "allows) inside and outside, joined by transition tetrahedra certified by proofs/bcc_graded.cert",
                       [](Mesh3dOptions& o, const OptionValue& v) { o.graded = v.flag(); }));
     t.push_back(entry("max_size", OptionKind::number, "H",
                       "every tetrahedron's longest edge at most H (input units; H >= 2 * spacing); graded: caps the "

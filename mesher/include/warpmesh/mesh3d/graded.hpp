@@ -47,6 +47,18 @@ struct GradedBccMesh {
 // max_level or a buffer outside 0 .. max_grading_buffer.
 GradedBccMesh mesh_bcc_graded(const LevelSet3& f, const Lattice3& lattice, const BccOptions& options, const GradedOptions3& graded);
 
+// The graded mesh of several materials: mesh_bcc_materials (mesh3d.hpp)
+// on a balanced octree whose finest leaves are every cube whose 15 points
+// are not all unwarped and of one and the same material (the outside
+// counted as the background when it is dropped), so every interface and the
+// outer boundary lie in the finest band, split by the uniform
+// multi-material rule (proofs/bcc_junctions.cert and the parity
+// certificate apply unchanged); coarser leaves lie in one material and
+// their templates carry its tag.  Throws as mesh_bcc_materials and
+// mesh_bcc_graded do.
+GradedBccMesh mesh_bcc_materials_graded(const MaterialField3& field, const Lattice3& lattice, const BccOptions& options,
+                                        bool keep_background, const GradedOptions3& graded);
+
 // The largest level l with 2^l · spacing <= max_size; std::invalid_argument
 // unless max_size >= 2 · spacing (finite).
 int max_level_for_size(double max_size, double spacing);

@@ -21,10 +21,14 @@ int max_level_for_size(double max_size, double spacing) {
     return l;
 }
 
-GradedBccMesh mesh_bcc_graded(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o, const GradedOptions3& g) {
-    using namespace uniform3d;
+void graded3::check_graded_options(const GradedOptions3& g) {
     if (g.max_level < 0) throw std::invalid_argument("mesh_bcc_graded: max_level must be 0 or more");
     if (g.buffer < 0 || g.buffer > max_grading_buffer) throw std::invalid_argument("mesh_bcc_graded: buffer out of range");
+}
+
+GradedBccMesh mesh_bcc_graded(const LevelSet3& f, const Lattice3& lattice, const BccOptions& o, const GradedOptions3& g) {
+    using namespace uniform3d;
+    graded3::check_graded_options(g);
     check_options(o);
     const ThreadCount threads(o.threads);
     const auto start = std::chrono::steady_clock::now();

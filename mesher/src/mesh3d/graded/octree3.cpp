@@ -13,19 +13,35 @@ namespace {
 using uniform3d::Grid;
 using uniform3d::Window;
 
-// Cell classes: critical, or coarsenable inside (−) or outside (+).
-constexpr std::uint8_t critical = 0, inside = 1, outside = 2;
+// Cell classes: critical, or coarsenable of one class: one region's inside
+// (−) or outside (+), or one material (its code).  A class fits 31 bits
+// (a material code is 16), so critical is −1.
+using Class = std::int32_t;
+constexpr Class critical = -1, inside = 0, outside = 1;
 
-// Level 0: each cube's class from the post-warp signs of its 15 points
-// (indices by offsets from the cube's lowest corner and its centre, as
-// tets3.cpp's neighbourhood).
-std::vector<std::uint8_t> cube_classes(const Window& w, const std::array<std::int64_t, 3>& n) {
+// The class of window point p, or critical: one region, its post-warp sign
+// (0: on the level set); several materials (`material` not empty), its
+// material code (merge_outside: the outside is the background, code 0) if
+// it is not warped (warp3 sets a warped point's sign to 0).
+Class point_class(const Window& w, std::span<const std::uint16_t> material, bool merge_outside, std::int64_t p) {
+    const int sign = w.sign[static_cast<std::size_t>(p)];
+    if (sign == 0) return critical;
+    if (material.empty()) return sign < 0 ? inside : outside;
+    const std::uint16_t m = material[static_cast<std::size_t>(p)];
+    return merge_outside && m == uniform3d::outside_code ? 0 : static_cast<Class>(m);
+}
+
+// Level 0: each cube's class from the classes of its 15 points (indices by
+// offsets from the cube's lowest corner and its centre, as tets3.cpp's
+// neighbourhood): coarsenable iff all 15 have one class that is not critical.
+std::vector<Class> cube_classes(const Window& w, std::span<const std::uint16_t> material, bool merge_outside,
+                                const std::array<std::int64_t, 3>& n) {
     const Grid& g = w.grid;
     const std::int64_t plane_pair = g.corner_w * g.corner_h + g.centre_w * g.centre_h;
     std::array<std::int64_t, 8> corner{};
     for (int b = 0; b < 8; ++b) corner[static_cast<std::size_t>(b)] = (b & 1) + ((b >> 1) & 1) * g.corner_w + (b >> 2) * plane_pair;
     const std::array<std::int64_t, 6> centre{-1, 1, -g.centre_w, g.centre_w, -plane_pair, plane_pair};
-    std::vector<std::uint8_t> cls(static_cast<std::size_t>(n[0] * n[1] * n[2]), critical);
+    std::vector<Class> cls(static_cast<std::size_t>(n[0] * n[1] * n[2]), critical);
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::int64_t z = 2; z < n[2] - 2; ++z)
         for (std::int64_t y = 2; y < n[1] - 2; ++y) {
@@ -33,25 +49,25 @@ std::vector<std::uint8_t> cube_classes(const Window& w, const std::array<std::in
             const std::int64_t k0 = g.index(m), c0 = g.index(bcc::add(m, {1, 1, 1}));
             for (std::int64_t x = 2; x < n[0] - 2; ++x) {
                 const std::int64_t k = k0 + (x - 2), c = c0 + (x - 2);
-                const int sign = w.sign[static_cast<std::size_t>(c)];
-                bool ok = sign != 0;
-                for (std::size_t i = 0; i < 8 && ok; ++i) ok = w.sign[static_cast<std::size_t>(k + corner[i])] == sign;
-                for (std::size_t i = 0; i < 6 && ok; ++i) ok = w.sign[static_cast<std::size_t>(c + centre[i])] == sign;
-                if (ok) cls[static_cast<std::size_t>((z * n[1] + y) * n[0] + x)] = sign < 0 ? inside : outside;
+                const Class first = point_class(w, material, merge_outside, c);
+                bool ok = first != critical;
+                for (std::size_t i = 0; i < 8 && ok; ++i) ok = point_class(w, material, merge_outside, k + corner[i]) == first;
+                for (std::size_t i = 0; i < 6 && ok; ++i) ok = point_class(w, material, merge_outside, c + centre[i]) == first;
+                if (ok) cls[static_cast<std::size_t>((z * n[1] + y) * n[0] + x)] = first;
             }
         }
     return cls;
 }
 
 // Level l + 1 from level l (dims n → n / 2): one class of 8 coarsenable children.
-std::vector<std::uint8_t> parent_classes(const std::vector<std::uint8_t>& c, const std::array<std::int64_t, 3>& n,
+std::vector<Class> parent_classes(const std::vector<Class>& c, const std::array<std::int64_t, 3>& n,
                                          const std::array<std::int64_t, 3>& m) {
-    std::vector<std::uint8_t> out(static_cast<std::size_t>(m[0] * m[1] * m[2]), critical);
+    std::vector<Class> out(static_cast<std::size_t>(m[0] * m[1] * m[2]), critical);
 #pragma omp parallel for schedule(static)
     for (std::int64_t z = 0; z < m[2]; ++z)
         for (std::int64_t y = 0; y < m[1]; ++y)
             for (std::int64_t x = 0; x < m[0]; ++x) {
-                const std::uint8_t first = c[static_cast<std::size_t>((2 * z * n[1] + 2 * y) * n[0] + 2 * x)];
+                const Class first = c[static_cast<std::size_t>((2 * z * n[1] + 2 * y) * n[0] + 2 * x)];
                 bool same = first != critical;
                 for (int b = 1; b < 8 && same; ++b)
                     same = c[static_cast<std::size_t>(((2 * z + (b >> 2)) * n[1] + 2 * y + ((b >> 1) & 1)) * n[0] + 2 * x + (b & 1))] == first;
@@ -63,7 +79,7 @@ std::vector<std::uint8_t> parent_classes(const std::vector<std::uint8_t>& c, con
 // The grading buffer: a cell stays coarsenable only if every cell within r
 // (max norm) is coarsenable (cells beyond the grid count as critical); one
 // pass per axis of a running count of critical cells.
-void erode(std::vector<std::uint8_t>& c, const std::array<std::int64_t, 3>& n, std::int64_t r) {
+void erode(std::vector<Class>& c, const std::array<std::int64_t, 3>& n, std::int64_t r) {
     std::vector<std::uint8_t> bad(c.size());
     for (std::size_t i = 0; i < c.size(); ++i) bad[i] = c[i] == critical;
     const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
@@ -123,13 +139,13 @@ void balance(Octree3& t, int top) {
 
 }  // namespace
 
-Octree3 build_octree3(const Window& w, int max_level, int buffer) {
+Octree3 build_octree3(const Window& w, int max_level, int buffer, std::span<const std::uint16_t> material, bool merge_outside) {
     Octree3 t;
     t.cubes = w.grid.lattice.cubes;
-    std::vector<std::vector<std::uint8_t>> cls;
+    std::vector<std::vector<Class>> cls;
     std::vector<std::array<std::int64_t, 3>> dims;
     dims.push_back(t.cubes);
-    cls.push_back(cube_classes(w, t.cubes));
+    cls.push_back(cube_classes(w, material, merge_outside, t.cubes));
     for (int l = 1; l <= max_level; ++l) {
         const std::array<std::int64_t, 3> n = dims.back(), m{n[0] / 2, n[1] / 2, n[2] / 2};
         if (m[0] == 0 || m[1] == 0 || m[2] == 0) break;

@@ -25,6 +25,16 @@
 // their face's corners), and no point of a non-critical cube is warped (a
 // warped point has sign 0).  So a template is output whole (inside) or not
 // at all.
+// SEVERAL MATERIALS (materials3.cpp, mesh_bcc_materials_graded): the same
+// argument with "one strict sign" read as "unwarped and of one material".
+// A background tetrahedron whose stencil does more than output it whole in
+// one material has a warped vertex or two vertices of different materials
+// (generic_bcc_materials.hpp: its letters); a cube is critical unless its
+// 15 points are unwarped and of one material, so every such tetrahedron lies
+// between finest leaves and is split by the uniform multi-material rule
+// (two-material sides, junctions: proofs/bcc_junctions.cert) unchanged, and
+// every template has four unwarped vertices of one material, output whole
+// with that material's tag (or not at all, when it is not output).
 // A cell of level l ≥ 1 is *coarsenable* if its 8 children are coarsenable
 // (level 0: non-critical) with one sign, and, with a grading buffer n ≥ 2,
 // every cell of its level within n cells (max norm) is coarsenable too
@@ -39,10 +49,12 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "mesh3d/uniform3d.hpp"
 #include "warpmesh/mesh3d/generic_octree.hpp"
+#include "warpmesh/mesh3d/graded.hpp"
 
 namespace warpmesh::graded3 {
 
@@ -61,7 +73,19 @@ struct Octree3 {
 
 // The octree of a warped window of the whole lattice: leaves at most
 // 2^max_level cubes wide, grading buffer `buffer` (1: plain 2:1 balance).
-Octree3 build_octree3(const uniform3d::Window& w, int max_level, int buffer);
+// One region: a point's class is its post-warp sign.  Several materials
+// (`material`: every window point's code, materials3.cpp's): a point's class
+// is its material (merge_outside: the outside counted as the background,
+// code 0), and a warped point is critical, so a cube is coarsenable iff its
+// 15 points are unwarped and strictly inside one and the same material —
+// every interface and the outer boundary (a cut between materials or
+// against the outside) stay in the finest band.
+Octree3 build_octree3(const uniform3d::Window& w, int max_level, int buffer, std::span<const std::uint16_t> material = {},
+                      bool merge_outside = false);
+
+// std::invalid_argument for a negative max_level or a buffer outside
+// 0 .. max_grading_buffer (graded3.cpp).
+void check_graded_options(const GradedOptions3& g);
 
 // Cube c of a finest leaf: the bits of its background tetrahedra
 // (background_tet's index) that the uniform stencils split — those of its
