@@ -65,9 +65,9 @@ def cpu_seconds():
 def mesh_piece(path, lo, hi, out, options):
     """On a worker: mesh the cubes [lo, hi) from their part of the volume
     and write the piece to `out`.  Returns its metadata with "voxels_read"
-    (the largest part read), the worker's process id, its peak memory (MB)
-    and CPU time (s) so far."""
-    volume, read_sizes = open_volume(path), [0]
+    (the largest part read) and "seconds" (the CPU time it took), the
+    worker's process id, its peak memory (MB) and CPU time (s) so far."""
+    start, volume, read_sizes = cpu_seconds(), open_volume(path), [0]
 
     def read(start, stop):
         read_sizes.append(int(np.prod(np.subtract(stop, start))))
@@ -75,8 +75,7 @@ def mesh_piece(path, lo, hi, out, options):
 
     block = warpmesh.mesh3d_block_read(read, volume.shape, lo, hi, **options)
     piece = warpmesh.write_block(block, out)
-    del block
-    piece["voxels_read"] = max(read_sizes)
+    piece.update(voxels_read=max(read_sizes), seconds=cpu_seconds() - start)
     return piece, os.getpid(), (peak_memory_mb(), cpu_seconds())
 
 
@@ -95,6 +94,8 @@ def mesh_partitioned(client, path, out, block=32, progress=None, **options):
     block."""
     import distributed
 
+    if block < 1:
+        raise warpmesh.InputError(f"a block must be at least 1 cube a side, got {block}")
     volume = open_volume(path)
     cubes = warpmesh.lattice3d(np.asarray(volume[:2, :2, :2]), region=((0, 0, 0), volume.shape), **options)
     ranges = blocks_of(cubes, block)
@@ -172,8 +173,6 @@ def main():
         return 0
     if not (a.volume and a.output and a.materials):
         p.error("give VOLUME, -o OUT.pvtu and --materials (or --upsample)")
-    if a.block < 1:
-        p.error("--block must be at least 1 cube")
     import distributed
 
     volume = open_volume(a.volume)
@@ -194,12 +193,13 @@ def main():
     tets = sum(piece["tetrahedra"] for piece in pieces)
     part = max(piece["voxels_read"] for piece in pieces) / np.prod(volume.shape)
     cpu = sum(c for _, c in workers.values())
+    empty = [piece["seconds"] for piece in pieces if not piece["tetrahedra"]]
     print(f"{len(pieces)} blocks on {a.workers} workers (memory limit {a.memory_limit}) of a "
           f"{volume.nbytes / 1e9:.2f} GB volume {volume.shape[::-1]}, each reading at most {part:.2%} of it: "
           f"{tets} tetrahedra in {seconds:.1f} s, {cpu:.1f} CPU s on the workers ({tets / seconds / 1e6:.3f} M/s, "
           f"{tets / cpu / 1e6:.3f} M per CPU s); peak memory per worker "
           f"{', '.join(f'{m:.0f}' for m, _ in sorted(workers.values()))} MB, driver {peak_memory_mb():.0f} MB; "
-          f"wrote {a.output}")
+          f"{len(empty)} blocks without tetrahedra took {sum(empty):.1f} CPU s; wrote {a.output}")
     return 0
 
 

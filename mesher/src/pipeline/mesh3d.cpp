@@ -716,7 +716,7 @@ void write_block_vtu(const TetBlock& b, const std::string& path, const VtuOption
     else std::copy(b.region.begin(), b.region.end(), m.region.begin());
     m.region_names = b.region_names;
     VtuOptions o = options;
-    o.point_global_ids = b.vertex_key, o.cell_global_ids = b.tet_key;
+    o.point_global_ids = b.vertex_key, o.cell_global_ids = b.tet_key, o.global_ids = true;
     write_vtu(m, path, o);
 }
 
