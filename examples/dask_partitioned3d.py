@@ -43,8 +43,8 @@ def open_volume(path):
         import zarr
         try:
             volume = zarr.open_array(str(path), mode="r")
-        except Exception as e:
-            raise warpmesh.InputError(f"{path!r} is neither a .npy file nor a zarr array: {e}") from None
+        except Exception:
+            raise warpmesh.InputError(f"{path!r} is neither a .npy file nor a zarr array") from None
     if volume.ndim != 3 or not np.issubdtype(volume.dtype, np.integer):
         raise warpmesh.InputError(f"{path!r} is a {volume.dtype} array of shape {volume.shape}: give 3D integer labels")
     return volume
@@ -122,6 +122,8 @@ def mesh_partitioned(client, path, out, block=32, progress=None, **options):
 def upsample(source, factor, path, slab=64):
     """Write the label volume `source` grown `factor` times by nearest
     neighbour to `path` (.zarr, .npy or raw .nrrd), `slab` z-planes at a time."""
+    if factor < 1:
+        raise warpmesh.InputError(f"the upsampling factor must be a whole number >= 1, got {factor}")
     v = warpmesh.read_volume(source)
     if not v.integer_valued:
         raise warpmesh.InputError(f"{source!r} is not a label volume (its samples are not integers)")
@@ -168,6 +170,8 @@ def main():
     if a.upsample:
         source, factor, path = a.upsample
         t0 = time.perf_counter()
+        if not factor.isdigit():
+            p.error(f"FACTOR must be a whole number >= 1, got {factor!r}")
         shape, size = upsample(source, int(factor), path)
         print(f"{path}: {shape[2]} x {shape[1]} x {shape[0]} voxels of {size} in {time.perf_counter() - t0:.1f} s")
         return 0
@@ -179,6 +183,7 @@ def main():
     size = a.voxel_size and [float(x) for x in a.voxel_size.split(",")]
     size = size or getattr(volume, "attrs", {}).get("voxel_size") or 1.0
     options = {"materials": a.materials, "spacing": a.spacing, "voxel_size": size}
+
     def progress(done, total):  # every block on a terminal, else every tenth of them
         if sys.stderr.isatty():
             print(f"\rblocks {done} / {total}", end="" if done < total else "\n", file=sys.stderr, flush=True)
