@@ -20,8 +20,10 @@ done
 # gmsh's command line and Python API (also what dolfinx.io.gmshio uses);
 # FEniCSx 0.5 for the round trips and the Poisson convergence test; CalculiX
 # (an Abaqus-format solver) for the .inp; VTK's own Python reader for the binary
-# and zlib .vtu (python3-vtk9).
-for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx calculix-ccx python3-vtk9; do
+# and zlib .vtu (python3-vtk9); zarr for the chunked volumes of the dask
+# partitioned run (examples/dask_partitioned3d.py).
+for pkg in python3-pytest python3-numpy python3-meshio python3-h5py gmsh python3-gmsh python3-dolfinx calculix-ccx python3-vtk9 \
+           python3-zarr; do
   have_pkg "$pkg" || need+=("$pkg")
 done
 # libgomp ships with g++ (OpenMP); Boost.Interval and Boost.Multiprecision are

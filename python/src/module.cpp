@@ -557,6 +557,14 @@ void bind_blocks(py::module_& m) {
         "write_pvtu", [](const std::string& path, const std::vector<std::string>& pieces) { write_pvtu(path, pieces); },
         py::arg("path"), py::arg("pieces"));
     m.def(
+        "check_blocks",
+        [](const std::vector<py::dict>& dicts) {
+            std::vector<TetBlock> blocks;
+            for (const py::dict& d : dicts) blocks.push_back(block_from_dict(d));
+            check_blocks(blocks);
+        },
+        py::arg("blocks"));
+    m.def(
         "merge_tet_blocks",
         [](const std::vector<py::dict>& dicts) {
             std::vector<TetBlock> blocks;

@@ -897,14 +897,30 @@ def write_blocks(path, blocks, *, compress=False):
 
 def write_block(block, path, *, compress=False):
     """Write one block as a .vtu piece (as write_blocks does), e.g. on the
-    worker that meshed it; write_pvtu(path, pieces) then lists the pieces."""
-    _core.write_block_vtu(_block_list([block])[0], os.fspath(path), bool(compress))
+    worker that meshed it, and return the piece for write_pvtu: a small
+    dict, the block without its arrays (its lattice, range, face rule,
+    alphas and facts) with "piece" (the file's path) and its "points" and
+    "tetrahedra" counts."""
+    path = os.fspath(path)
+    _core.write_block_vtu(_block_list([block])[0], path, bool(compress))
+    piece = {k: v[:0] if isinstance(v, np.ndarray) else v for k, v in block.items()}
+    piece["facts"] = dict(block["facts"], open_face_f=block["facts"]["open_face_f"][:0])
+    piece.update(piece=path, points=len(block["vertices"]), tetrahedra=len(block["tets"]))
+    return piece
 
 
 def write_pvtu(path, pieces):
-    """The .pvtu listing .vtu pieces written by write_block (their names
-    relative to the .pvtu's folder)."""
-    _core.write_pvtu(os.fspath(path), [os.fspath(p) for p in pieces])
+    """The .pvtu at `path` listing .vtu pieces: the pieces write_block
+    returns (their blocks must tile one lattice exactly once, from one input
+    and options, as merge_blocks checks: InputError naming what is wrong,
+    nothing written), or file names relative to the .pvtu's folder (not
+    checked)."""
+    path, pieces = os.fspath(path), list(pieces)
+    if any(isinstance(p, dict) for p in pieces) or not pieces:
+        _core.check_blocks(_block_list(pieces))
+        folder = os.path.dirname(os.path.abspath(path))
+        pieces = [os.path.relpath(os.path.abspath(p["piece"]), folder) for p in pieces]
+    _core.write_pvtu(path, [os.fspath(p) for p in pieces])
 
 
 def _block_list(blocks):

@@ -130,7 +130,7 @@ Sections arrays_of(const detail::MeshView& mesh, const std::vector<std::int32_t>
     s.point_data.push_back(direct("Int32", "boundary_marker", 1, nv, markers.data()));
     s.cell_data.push_back(direct("Int32", "region", 1, nt, mesh.region.data()));
     for (const auto& [name, values] : mesh.cell_data) s.cell_data.push_back(direct("Float64", name, 1, nt, values.data()));
-    if (!o.point_global_ids.empty() || !o.cell_global_ids.empty()) {
+    if (o.global_ids || !o.point_global_ids.empty() || !o.cell_global_ids.empty()) {
         if (o.point_global_ids.size() != nv || o.cell_global_ids.size() != nt)
             throw OutputError("the global ids of a .vtu piece must be one per point and one per cell");
         const std::uint64_t* pid = o.point_global_ids.data();

@@ -739,12 +739,17 @@ void write_block_vtu(const TetBlock& b, const std::string& path, const VtuOption
     else std::copy(b.region.begin(), b.region.end(), m.region.begin());
     m.region_names = b.region_names;
     VtuOptions o = options;
-    o.point_global_ids = b.vertex_key, o.cell_global_ids = b.tet_key;
+    o.point_global_ids = b.vertex_key, o.cell_global_ids = b.tet_key, o.global_ids = true;
     write_vtu(m, path, o);
 }
 
-std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options) {
+void check_blocks(std::span<const TetBlock> blocks) {
     if (const auto problem = tiling_problem(blocks)) throw InputError("the blocks do not make one mesh: " + *problem);
+    check_block_facts(blocks);
+}
+
+std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options) {
+    check_blocks(blocks);
     const std::size_t slash = path.find_last_of('/');
     const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
     std::string stem = path.substr(dir.size());

@@ -104,8 +104,11 @@ struct VtuOptions {
     Encoding encoding = Encoding::raw;
     // A piece of a partitioned mesh (write_pvtu): per point and per cell its
     // global id (Int64 arrays "GlobalIds", VTK's global-id attribute, so that
-    // readers match the points pieces share); empty: none.
+    // readers match the points pieces share); written when global_ids is set
+    // or the spans are not empty (a piece with no point has them too, empty,
+    // as its .pvtu declares them).
     std::span<const std::uint64_t> point_global_ids, cell_global_ids;
+    bool global_ids = false;
 };
 
 struct XdmfOptions {

@@ -212,6 +212,11 @@ Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
 // (write_pvtu), written only if they tile one lattice exactly once
 // (InputError as merge_mesh3d_blocks; OutputError when a file cannot be
 // written).  write_blocks_pvtu returns the pieces' file names.
+// check_blocks: InputError unless blocks tile one lattice exactly once and
+// come from one input and options (merge_mesh3d_blocks' checks), from their
+// lattices, ranges, rules and facts only: blocks whose arrays were dropped
+// (the pieces a driver lists) will do.
+void check_blocks(std::span<const TetBlock> blocks);
 void write_block_vtu(const TetBlock& block, const std::string& path, const VtuOptions& options = {});
 std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options = {});
 
