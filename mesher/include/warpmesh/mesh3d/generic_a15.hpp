@@ -301,31 +301,33 @@ inline constexpr std::array<CellTet, tets_per_cell> cell_tets{{
 }};
 inline constexpr std::array<std::array<Ivec, 4>, class_count> reference_tets{
     {cell_tets[0].v, cell_tets[24].v, cell_tets[40].v}};
-// The reference tetrahedron's lattice symmetries, as permutations of its
-// local vertices (symmetry[i] = the local vertex vertex i goes to) with their
-// determinant: class 0 the mirror swapping its chain ends; class 1 the three
-// rotations about its A vertex's threefold axis; class 2 the 8 symmetries
-// keeping the two chain pairs.
+// The reference tetrahedron's lattice symmetries: vertex i goes to vertex
+// to[i], and the symmetry's linear part is `axis` (as in LatticeOp; its
+// translation is whatever maps the vertices, unused): class 0 the mirror
+// swapping its chain ends; class 1 the three rotations about its A vertex's
+// threefold axis; class 2 the 8 symmetries keeping the two chain pairs.  A
+// configuration's image under one moves vertex i's sign and warp to to[i],
+// the warp direction mapped by the linear part (`transform`).
 struct VertexMap {
     std::array<int, 4> to;
-    int det;
+    std::array<int, 3> axis;
 };
 struct ClassSymmetries {
     int count;
     std::array<VertexMap, 8> map;
 };
 inline constexpr std::array<ClassSymmetries, class_count> symmetries{{
-    {2, {{{{0, 1, 2, 3}, 1}, {{1, 0, 2, 3}, -1}}}},
-    {3, {{{{0, 1, 2, 3}, 1}, {{0, 2, 3, 1}, 1}, {{0, 3, 1, 2}, 1}}}},
+    {2, {{{{0, 1, 2, 3}, {1, 2, 3}}, {{1, 0, 2, 3}, {-1, 2, 3}}}}},
+    {3, {{{{0, 1, 2, 3}, {1, 2, 3}}, {{0, 2, 3, 1}, {3, 1, 2}}, {{0, 3, 1, 2}, {2, 3, 1}}}}},
     {8,
-     {{{{0, 1, 2, 3}, 1},
-       {{0, 1, 3, 2}, -1},
-       {{1, 0, 2, 3}, -1},
-       {{1, 0, 3, 2}, 1},
-       {{2, 3, 0, 1}, 1},
-       {{2, 3, 1, 0}, -1},
-       {{3, 2, 0, 1}, -1},
-       {{3, 2, 1, 0}, 1}}}},
+     {{{{0, 1, 2, 3}, {1, 2, 3}},
+       {{0, 1, 3, 2}, {1, 2, -3}},
+       {{1, 0, 2, 3}, {-1, 2, 3}},
+       {{1, 0, 3, 2}, {-1, 2, -3}},
+       {{2, 3, 0, 1}, {3, -2, 1}},
+       {{2, 3, 1, 0}, {-3, -2, 1}},
+       {{3, 2, 0, 1}, {3, -2, -1}},
+       {{3, 2, 1, 0}, {-3, -2, -1}}}}},
 }};
 // The site of local vertex i of a class's reference (its warp directions
 // index that site's neighbours).
