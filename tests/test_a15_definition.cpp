@@ -9,7 +9,6 @@
 // class; the face form is the empty-circle test; and the face rule is
 // conforming between neighbours, ties included, with no cyclic prism.
 #define BOOST_TEST_MODULE a15_definition
-#include <boost/multiprecision/cpp_int.hpp>
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -19,28 +18,12 @@
 #include <vector>
 
 #include "warpmesh/mesh3d/generic_a15.hpp"
+#include "exact_rational.hpp"
 
 using namespace warpmesh;
 using a15::Ivec;
 using boost::multiprecision::cpp_rational;
-
-namespace {
-
-// Exact rationals as a scalar of the generic model.
-struct Q {
-    cpp_rational q;
-};
-Q operator+(const Q& a, const Q& b) { return {a.q + b.q}; }
-Q operator-(const Q& a, const Q& b) { return {a.q - b.q}; }
-Q operator*(const Q& a, const Q& b) { return {a.q * b.q}; }
-
-}  // namespace
-
-template <>
-struct warpmesh::ScalarOps<Q> {
-    static Q from_int(int v) { return {cpp_rational(v)}; }
-    static Truth positive(const Q& a) { return truth(a.q > 0); }
-};
+using warpmesh::testing::Q;
 
 namespace {
 

@@ -5,7 +5,6 @@
 // (generic_a15.hpp, steps 1–5, implemented here independently of any
 // mesher), canonicalised, with its parameters inside the key's box.
 #define BOOST_TEST_MODULE a15_keys
-#include <boost/multiprecision/cpp_int.hpp>
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -15,26 +14,12 @@
 #include <vector>
 
 #include "warpmesh/mesh3d/generic_a15_keys.hpp"
+#include "exact_rational.hpp"
 
 using namespace warpmesh;
 using a15::Ivec;
 using boost::multiprecision::cpp_rational;
-
-namespace {
-
-struct Q {
-    cpp_rational q;
-};
-Q operator+(const Q& a, const Q& b) { return {a.q + b.q}; }
-Q operator*(const Q& a, const Q& b) { return {a.q * b.q}; }
-
-}  // namespace
-
-template <>
-struct warpmesh::ScalarOps<Q> {
-    static Q from_int(int v) { return {cpp_rational(v)}; }
-    static Truth positive(const Q& a) { return truth(a.q > 0); }
-};
+using warpmesh::testing::Q;
 
 BOOST_AUTO_TEST_CASE(key_counts) {
     // The canonical consistent keys with a - vertex, per class (pinned; the

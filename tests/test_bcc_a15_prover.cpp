@@ -5,34 +5,18 @@
 // a claim stricter than a witness.  Not a certificate: no checker reads A15
 // lines yet (proofs/README.md, "The A15 space").
 #define BOOST_TEST_MODULE bcc_a15_prover
-#include <boost/multiprecision/cpp_int.hpp>
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 #include <random>
 
 #include "warpmesh/prove_bcc.hpp"
+#include "exact_rational.hpp"
 
 using namespace warpmesh;
 using namespace warpmesh::bcc_prover;
 using boost::multiprecision::cpp_rational;
-
-namespace {
-
-struct Q {
-    cpp_rational q;
-};
-Q operator+(const Q& a, const Q& b) { return {a.q + b.q}; }
-Q operator-(const Q& a, const Q& b) { return {a.q - b.q}; }
-Q operator*(const Q& a, const Q& b) { return {a.q * b.q}; }
-
-}  // namespace
-
-template <>
-struct warpmesh::ScalarOps<Q> {
-    static Q from_int(int v) { return {cpp_rational(v)}; }
-    static Truth positive(const Q& a) { return truth(a.q > 0); }
-};
+using warpmesh::testing::Q;
 
 namespace {
 
