@@ -16,6 +16,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
 namespace warpmesh::bcc_prover {
@@ -45,17 +46,23 @@ int run(const Run& r) {
     const std::size_t n = r.keys.size();
     std::vector<Witness> lo(n), hi(n);
     std::vector<KeyProof> proofs(n);
+    {
+        prover::KeyProgress progress(r.extremes ? "warpmesh-prove-a15: searching" : "warpmesh-prove-a15: proving", static_cast<long>(n));
 #pragma omp parallel for schedule(dynamic, 4)
-    for (long i = 0; i < static_cast<long>(n); ++i) {
-        const auto I = static_cast<std::size_t>(i);
-        const Subject s = a15_subject(r.keys[I], r.al);
-        if (r.extremes) {
-            lo[I] = search_subject(s, 1), hi[I] = search_subject(s, -1);
-        } else {
-            proofs[I] = prove_subject_tight(s, r.mg);
-            lo[I] = proofs[I].wmin, hi[I] = proofs[I].wmax;
+        for (long i = 0; i < static_cast<long>(n); ++i) {
+            const auto I = static_cast<std::size_t>(i);
+            const Subject s = a15_subject(r.keys[I], r.al);
+            if (r.extremes) {
+                lo[I] = search_subject(s, 1), hi[I] = search_subject(s, -1);
+            } else {
+                proofs[I] = prove_subject_tight(s, r.mg);
+                lo[I] = proofs[I].wmin, hi[I] = proofs[I].wmax;
+            }
+            progress.tick();
         }
     }
+    for (std::size_t i = 0; i < n && !r.extremes; ++i)  // kind: 0 orientation, 1 minimum, 2 maximum, 3 budget, 4 face angle
+        if (!proofs[i].ok) std::fprintf(stderr, "key %s: not proved (kind %d)\n", a15::code_of(r.keys[i]).c_str(), proofs[i].fail_kind);
     std::size_t a = 0, b = 0, ca = 0, cb = 0;
     int failed = 0;
     for (std::size_t i = 0; i < n; ++i) {
