@@ -55,6 +55,8 @@ UMBRELLA = "mesher/include/warpmesh/warpmesh.hpp"
 GENERIC_MODELS = {
     "mesher/include/warpmesh/mesh2d/generic_square.hpp",
     "mesher/include/warpmesh/mesh2d/square_keys.hpp",
+    "mesher/include/warpmesh/mesh3d/generic_a15.hpp",
+    "mesher/include/warpmesh/mesh3d/generic_a15_keys.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc_keys.hpp",
     "mesher/include/warpmesh/mesh3d/generic_bcc_materials.hpp",

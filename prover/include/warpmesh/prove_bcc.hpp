@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/mesh3d/generic_a15_keys.hpp"
 #include "warpmesh/mesh3d/generic_bcc.hpp"
 #include "warpmesh/mesh3d/generic_bcc_keys.hpp"
 #include "warpmesh/mesh3d/generic_bcc_materials.hpp"
@@ -151,15 +152,39 @@ struct Subject {
     bool junction = false;
     std::vector<bcc::OutTet> tets;  // junction: the face's cone tetrahedra
     std::string seed;
+    // An A15 key (generic_a15_keys.hpp) of this class, or -1: `key` holds
+    // its signs and warps (parity 0), its points are a15::generic_points and
+    // its stencils those of the A15 Delaunay rule (a15_subject).
+    int a15_class = -1;
 };
 Subject region_subject(const Key& k, const bcc::Alphas& al, FaceRule rule = FaceRule::parity);
+
+// ---- A15 keys (issue 51; generic_a15.hpp, generic_a15_keys.hpp) --------------
+// The subject of A15 key k under thresholds al: its parameters
+// (a15::key_params: lo, hi the exact ends rounded to nearest, the root box
+// their dyadic enclosure as for BCC keys), seeded by its code.
+Subject a15_subject(const a15::Key& k, const a15::Alphas& al);
+// The A15 key an A15 subject holds.
+inline a15::Key a15_key(const Subject& s) { return {s.a15_class, s.key.sign, s.key.warp}; }
+// The stencils the A15 Delaunay rule admits on box b of subject s: as
+// admissible_stencils, with a15::face_form and a15::inside_form enclosed in
+// outward-rounded intervals; an enclosure containing 0 admits both signs (a
+// tie goes to one of the two diagonals by the face's global order, which
+// the local frame does not know), and the cyclic n- = 3 combinations, which
+// no point realises (a strict total order on the three - vertices), are
+// skipped.  Every stencil the rule chooses at a point of b is among them.
+std::vector<bcc::Stencil> admissible_a15_stencils(const Subject& s, const Box& b);
+// The A15 rule's stencil at parameter values x in double (ties: the
+// diagonal at the lower local index; for witnesses only, not on the proof
+// path).
+bcc::Stencil a15_stencil_at(const Subject& s, const double* x);
 Subject junction_subject(const JunctionKey& k, int face, const bcc::Alphas& al);
 // The subject's 15 points (one region: generic_points' ten, the rest 0;
 // junction: junction_points12) at t, u.
 template <class T>
 std::array<bcc::Vec<T>, 15> subject_points(const Subject& s, const std::array<T, 4>& t, const std::array<T, 6>& u) {
     if (s.junction) return bcc::junction_points12<T>(s.key, t, u);
-    const std::array<bcc::Vec<T>, 10> g = bcc::generic_points<T>(s.key, t, u);
+    const std::array<bcc::Vec<T>, 10> g = s.a15_class >= 0 ? a15::generic_points<T>(a15_key(s), t, u) : bcc::generic_points<T>(s.key, t, u);
     std::array<bcc::Vec<T>, 15> p{};
     std::copy(g.begin(), g.end(), p.begin());
     return p;

@@ -79,10 +79,11 @@ bool same(const bcc::Stencil& a, const bcc::Stencil& b) {
 
 // The output tetrahedra to verify on box b: a junction face's cone
 // tetrahedra; the key's stencil (parity), or every tetrahedron of every
-// admissible stencil, each once (Delaunay).
+// admissible stencil, each once (Delaunay; A15 keys: their rule).
 std::vector<bcc::OutTet> box_tets(const Subject& s, const Box& b) {
     if (s.junction) return s.tets;
-    const std::vector<bcc::Stencil> sts = s.rule == FaceRule::parity ? std::vector<bcc::Stencil>{bcc::stencil(s.key.sign, s.key.parity)}
+    const std::vector<bcc::Stencil> sts = s.a15_class >= 0             ? admissible_a15_stencils(s, b)
+                                          : s.rule == FaceRule::parity ? std::vector<bcc::Stencil>{bcc::stencil(s.key.sign, s.key.parity)}
                                                                      : admissible_stencils(s.key, s.ps, b);
     std::vector<bcc::OutTet> out;
     for (const bcc::Stencil& st : sts)

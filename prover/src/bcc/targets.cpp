@@ -92,6 +92,12 @@ double extreme_cos(const Subject& s, const std::array<double, 4>& x, int sign) {
     std::array<double, 6> u{};
     split_params(s.ps, x.data(), t, u);
     if (s.junction) return tets_extreme(s.tets.data(), static_cast<int>(s.tets.size()), subject_points(s, t, u), sign);
+    if (s.a15_class >= 0) {
+        const auto p15 = subject_points(s, t, u);
+        std::array<bcc::Vec<double>, 10> p{};
+        std::copy(p15.begin(), p15.begin() + 10, p.begin());
+        return stencil_extreme(a15_stencil_at(s, x.data()), p, sign);
+    }
     return stencil_extreme(stencil_at(s.key, s.ps, x.data(), s.rule), key_points(s.key, s.ps, x.data()), sign);
 }
 }  // namespace
@@ -273,7 +279,7 @@ Witness search_subject(const Subject& sub, int sign, const std::array<double, 4>
     }
     pattern_search(obj, ps, w.x, fb, 0.25, 0x1p-24);
     w.cos = (sign == -1 ? -1 : 1) * fb;
-    return !sub.junction && sub.rule == FaceRule::delaunay ? follow_ties(sub, sign, std::move(starts), w, fb) : w;
+    return !sub.junction && sub.a15_class < 0 && sub.rule == FaceRule::delaunay ? follow_ties(sub, sign, std::move(starts), w, fb) : w;
 }
 
 // The claim cos² c + 2 sqrt(c (1 − c)) δ + δ² (δ the margin in radians:

@@ -1,0 +1,129 @@
+// prove_a15.cpp — `warpmesh-prove-a15` (issue 51): the 3D prover's branch
+// and bound and witness search over the A15 keys (generic_a15_keys.hpp),
+// through a15_subject.  Prints the extremes found (--extremes) or proves
+// every key (or every N-th, --every) tight against the caps and reports the
+// theorem the proved claims give.  No independent checker reads its output
+// yet, so what it writes is not a certificate (proofs/README.md, "The A15
+// space").
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <string>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "warpmesh/key_progress.hpp"
+#include "warpmesh/prove_bcc.hpp"
+
+namespace warpmesh::bcc_prover {
+namespace {
+
+// "0.285" -> 28500 / 100000 (at most 5 decimals, in (0, 0.5)).
+bool parse_alpha(const std::string& s, a15::Fraction& f) {
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (end == s.c_str() || *end != '\0' || !(x > 0 && x < 0.5)) return false;
+    f = {std::llround(x * 100000), 100000};
+    return std::fabs(static_cast<double>(f.num) - x * 100000) < 1e-6;
+}
+double deg(double c) { return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI; }
+// The angle a claim's cos² names (acute side for cmin, obtuse for cmax).
+double claim_deg(double c2, bool obtuse) { return obtuse ? 180 - deg(std::sqrt(c2)) : deg(std::sqrt(c2)); }
+
+struct Run {
+    std::vector<a15::Key> keys;
+    a15::Alphas al;
+    Margins mg;
+    bool extremes = false;
+    std::optional<std::string> out;
+};
+
+int run(const Run& r) {
+    const std::size_t n = r.keys.size();
+    std::vector<Witness> lo(n), hi(n);
+    std::vector<KeyProof> proofs(n);
+    {
+        prover::KeyProgress progress(r.extremes ? "warpmesh-prove-a15: searching" : "warpmesh-prove-a15: proving", static_cast<long>(n));
+#pragma omp parallel for schedule(dynamic, 4)
+        for (long i = 0; i < static_cast<long>(n); ++i) {
+            const auto I = static_cast<std::size_t>(i);
+            const Subject s = a15_subject(r.keys[I], r.al);
+            if (r.extremes) {
+                lo[I] = search_subject(s, 1), hi[I] = search_subject(s, -1);
+            } else {
+                proofs[I] = prove_subject_tight(s, r.mg);
+                lo[I] = proofs[I].wmin, hi[I] = proofs[I].wmax;
+            }
+            progress.tick();
+        }
+    }
+    for (std::size_t i = 0; i < n && !r.extremes; ++i)  // kind: 0 orientation, 1 minimum, 2 maximum, 3 budget, 4 face angle
+        if (!proofs[i].ok) std::fprintf(stderr, "key %s: not proved (kind %d)\n", a15::code_of(r.keys[i]).c_str(), proofs[i].fail_kind);
+    std::size_t a = 0, b = 0, ca = 0, cb = 0;
+    int failed = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (lo[i].cos > lo[a].cos) a = i;
+        if (hi[i].cos < hi[b].cos) b = i;
+        if (r.extremes) continue;
+        failed += !proofs[i].ok;
+        if (proofs[i].claim.cmin > proofs[ca].claim.cmin) ca = i;
+        if (proofs[i].claim.cmax > proofs[cb].claim.cmax) cb = i;
+    }
+    std::printf("keys %zu\nwitness-min %.10f %s\nwitness-max %.10f %s\n", n, deg(lo[a].cos), a15::code_of(r.keys[a]).c_str(),
+                deg(hi[b].cos), a15::code_of(r.keys[b]).c_str());
+    if (r.extremes) return 0;
+    std::printf("proved %zu failed %d\nclaim-min %.6f %s\nclaim-max %.6f %s\n", n - static_cast<std::size_t>(failed), failed,
+                claim_deg(proofs[ca].claim.cmin, false), a15::code_of(r.keys[ca]).c_str(), claim_deg(proofs[cb].claim.cmax, true),
+                a15::code_of(r.keys[cb]).c_str());
+    if (r.out) {
+        std::ofstream o(*r.out);
+        o << "warpmesh-a15-prover-output 1 (not a certificate: no checker yet)\n";
+        for (std::size_t i = 0; i < n; ++i) o << "key " << a15::code_of(r.keys[i]) << " " << proof_fields(proofs[i]) << "\n";
+    }
+    return failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace warpmesh::bcc_prover
+
+int main(int argc, char** argv) {
+    using namespace warpmesh::bcc_prover;
+    std::array<std::string, 4> alpha{"0.3", "0.3", "0.3", "0.3"};
+    double cap_min = 12.0, cap_max = 160.0;
+    long every = 1;
+    Run r;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool more = i + 1 < argc;
+        if (a == "--alphas" && i + 4 < argc)
+            for (auto& s : alpha) s = argv[++i];
+        else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
+        else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
+        else if (a == "--every" && more) every = std::atol(argv[++i]);
+        else if (a == "--extremes") r.extremes = true;
+        else if (a == "--out" && more) r.out = argv[++i];
+        else if (a == "--threads" && more) {
+#ifdef _OPENMP
+            omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
+#else
+            ++i;
+#endif
+        } else {
+            std::fprintf(stderr, "usage: warpmesh-prove-a15 [--alphas CHAIN WIDE MIXED_AT_A MIXED_AT_B] [--cap-min-deg D] [--cap-max-deg D] [--every N] [--extremes] [--out FILE] [--threads N]\n");
+            return 2;
+        }
+    }
+    if (!parse_alpha(alpha[0], r.al.chain) || !parse_alpha(alpha[1], r.al.wide) || !parse_alpha(alpha[2], r.al.mixed_at_a) ||
+        !parse_alpha(alpha[3], r.al.mixed_at_b) || !(cap_min > 0 && cap_min < 90) || !(cap_max > 90 && cap_max < 180) || every < 1) {
+        std::fprintf(stderr, "warpmesh-prove-a15: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180, every >= 1\n");
+        return 2;
+    }
+    r.mg.cap = cap_claim(cap_min, cap_max);
+    const auto all = warpmesh::a15::enumerate_keys();
+    for (std::size_t i = 0; i < all.size(); i += static_cast<std::size_t>(every)) r.keys.push_back(all[i]);
+    return run(r);
+}
