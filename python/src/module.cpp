@@ -728,6 +728,7 @@ void bind_read_image(py::module_& m) {
             auto v = std::make_unique<Volume>(read_volume(path, {max_voxels, max_memory}));
             const std::array<py::ssize_t, 3> shape{v->dims[2], v->dims[1], v->dims[0]};
             py::dict geometry = volume_geometry(*v);
+            samples_to_values(*v);  // float64, whatever the reader kept
             double* data = v->values.data();
             py::capsule owner(v.release(), [](void* p) { delete static_cast<Volume*>(p); });
             return py::make_tuple(py::array_t<double>(shape, data, owner), geometry);
