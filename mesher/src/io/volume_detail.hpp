@@ -108,7 +108,7 @@ bool decode_labels(std::span<const std::uint8_t> raw, bool swap, std::span<std::
         S y;
         std::memcpy(&y, v, sizeof(S));
         const std::int64_t x = static_cast<std::int64_t>(y);
-        in_range = in_range && x >= 0 && x <= 65535;
+        in_range &= x >= 0 && x <= 65535;
         out[k] = static_cast<std::uint16_t>(x);
     }
     return in_range;
@@ -129,17 +129,18 @@ inline void decode_samples(const std::string& format, const std::string& name, s
     std::vector<std::uint8_t> copy;
     if (v.integer_valued) {
         const bool in_place = !v.labels.empty() && raw.data() == reinterpret_cast<const std::uint8_t*>(v.labels.data());
-        if (in_place && t == Sample::i16) {
-            bool negative = false;
-            for (std::size_t k = 0; k < n && !negative; ++k) {
-                std::uint8_t b[2];
-                std::memcpy(b, raw.data() + 2 * k, 2);
-                if (swap) std::swap(b[0], b[1]);
-                std::int16_t y;
-                std::memcpy(&y, b, 2);
-                negative = y < 0;
+        if (in_place && (t == Sample::i16 || t == Sample::u16)) {
+            // 16-bit samples in place: the sign bits (of shorts) tell a
+            // value out of range; in the host's order they are the labels.
+            std::uint16_t signs = 0;
+            for (std::size_t k = 0; k < n; ++k) signs |= v.labels[k];
+            if (swap) signs = static_cast<std::uint16_t>(signs << 8 | signs >> 8);
+            if (t == Sample::u16 || (signs & 0x8000) == 0) {
+                if (swap)
+                    for (std::size_t k = 0; k < n; ++k) v.labels[k] = static_cast<std::uint16_t>(v.labels[k] << 8 | v.labels[k] >> 8);
+                return;
             }
-            if (negative) copy.assign(raw.begin(), raw.begin() + static_cast<std::ptrdiff_t>(2 * n)), raw = copy;
+            copy.assign(raw.begin(), raw.begin() + static_cast<std::ptrdiff_t>(2 * n)), raw = copy;
         }
         v.labels.resize(n);
         bool ok = false;

@@ -46,41 +46,44 @@
 namespace warpmesh {
 namespace {
 
-// Squared-distance transform of one line: d[i] = min_j g[j] + (w (i − j))²,
-// +inf where that exceeds `limit`.
-void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
-              std::vector<double>& z, std::vector<double>& gv) {
+// Squared-distance transform of one line, in place: g[i] → min_j g[j] +
+// (w (i − j))², +inf where that exceeds `limit`.  The lower envelope of the
+// finite g's parabolas (v: their positions, vg: their values, z: where each
+// starts), then its values only within r = ⌈√limit / w⌉ + 1 of the first and
+// last parabola: beyond, every parabola is more than √limit + w away, above
+// the limit, and g is +inf there already.  False: no finite value (g unchanged).
+bool edt_line(float* g, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
+              std::vector<double>& z, std::vector<double>& vg) {
     constexpr double inf = std::numeric_limits<double>::infinity();
-    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), gv.resize(static_cast<std::size_t>(n));
-    for (std::int64_t i = 0; i < n; ++i) gv[static_cast<std::size_t>(i)] = g[i * stride];
+    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), vg.resize(static_cast<std::size_t>(n));
     std::int64_t k = -1;
     const double w2 = w * w;
     for (std::int64_t q = 0; q < n; ++q) {
-        const double fq = gv[static_cast<std::size_t>(q)];
+        const double fq = g[q * stride];
         if (!(fq < inf)) continue;
         double s = -inf;
         while (k >= 0) {
             const std::int64_t p = v[static_cast<std::size_t>(k)];
-            s = ((fq + w2 * static_cast<double>(q * q)) - (gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>(p * p))) /
+            s = ((fq + w2 * static_cast<double>(q * q)) - (vg[static_cast<std::size_t>(k)] + w2 * static_cast<double>(p * p))) /
                 (2 * w2 * static_cast<double>(q - p));
             if (s > z[static_cast<std::size_t>(k)]) break;
             --k;
         }
         ++k;
-        v[static_cast<std::size_t>(k)] = q;
+        v[static_cast<std::size_t>(k)] = q, vg[static_cast<std::size_t>(k)] = fq;
         z[static_cast<std::size_t>(k)] = k == 0 ? -inf : s;
         z[static_cast<std::size_t>(k) + 1] = inf;
     }
-    for (std::int64_t i = 0, j = 0; i < n; ++i) {
-        if (k < 0) {
-            d[i * stride] = std::numeric_limits<float>::infinity();
-            continue;
-        }
+    if (k < 0) return false;
+    const std::int64_t r = static_cast<std::int64_t>(std::ceil(std::sqrt(limit) / w)) + 1;
+    const std::int64_t lo = std::max<std::int64_t>(0, v[0] - r), hi = std::min(n, v[static_cast<std::size_t>(k)] + r + 1);
+    for (std::int64_t i = lo, j = 0; i < hi; ++i) {
         while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
         const std::int64_t p = v[static_cast<std::size_t>(j)];
-        const double di = gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>((i - p) * (i - p));
-        d[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+        const double di = vg[static_cast<std::size_t>(j)] + w2 * static_cast<double>((i - p) * (i - p));
+        g[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
     }
+    return true;
 }
 
 // The first pass on one line of sources (0 at a source, +inf elsewhere):
@@ -105,35 +108,30 @@ void sources_line(float* g, std::int64_t n, double w, double limit, std::vector<
 // beyond `limit` after each pass (a later pass only adds to a value).  The x
 // lines are contiguous (sources_line); the y and z lines are taken in tiles of `tile` lines
 // adjacent along x, copied into a small buffer (each voxel row read and
-// written as whole cache lines) and transformed there, a line at a time with
-// its stride: the same arithmetic as a line in place (edt_line reads its
-// whole line before it writes).
+// written as whole cache lines) and transformed there in place, a line at a
+// time with its stride.
 void edt(std::span<float> g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w, double limit) {
     constexpr std::int64_t tile = 16;
 #pragma omp parallel
     {
         std::vector<std::int64_t> v;
-        std::vector<double> z, gv;
-        std::vector<float> in_tile, out_tile;
+        std::vector<double> z, vg;
+        std::vector<float> lines;
 #pragma omp for schedule(static)
         for (std::int64_t line = 0; line < n[1] * n[2]; ++line) sources_line(g.data() + line * n[0], n[0], w[0], limit, v);
         for (std::size_t a = 1; a < 3; ++a) {
             const std::size_t c = 3 - a;  // the axis other than x and a
             const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
             const std::int64_t tiles = (n[0] + tile - 1) / tile, len = n[a];
-            in_tile.resize(static_cast<std::size_t>(len * tile)), out_tile.resize(static_cast<std::size_t>(len * tile));
+            lines.resize(static_cast<std::size_t>(len * tile));
 #pragma omp for schedule(static)
             for (std::int64_t job = 0; job < tiles * n[c]; ++job) {
                 const std::int64_t x0 = job % tiles * tile, width = std::min(tile, n[0] - x0), base = x0 + job / tiles * stride_c;
-                bool finite = false;  // none: the tile is +inf and stays so
-                for (std::int64_t i = 0; i < len; ++i) {
-                    const float* row = g.data() + base + i * stride_a;
-                    for (std::int64_t x = 0; x < width; ++x) finite = finite || row[x] < std::numeric_limits<float>::infinity();
-                    std::copy_n(row, width, in_tile.data() + i * tile);
-                }
-                if (!finite) continue;
-                for (std::int64_t x = 0; x < width; ++x) edt_line(in_tile.data() + x, out_tile.data() + x, len, tile, w[a], limit, v, z, gv);
-                for (std::int64_t i = 0; i < len; ++i) std::copy_n(out_tile.data() + i * tile, width, g.data() + base + i * stride_a);
+                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, lines.data() + i * tile);
+                bool any = false;
+                for (std::int64_t x = 0; x < width; ++x) any = edt_line(lines.data() + x, len, tile, w[a], limit, v, z, vg) || any;
+                if (any)
+                    for (std::int64_t i = 0; i < len; ++i) std::copy_n(lines.data() + i * tile, width, g.data() + base + i * stride_a);
             }
         }
     }
@@ -217,7 +215,13 @@ Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::a
             for (std::int64_t at = z0 * plane; at < z1 * plane; ++at) {
                 const bool r = (region[static_cast<std::size_t>(at)] & in_region) != 0;
                 if (r == of_region) continue;  // the other transform's voxel
-                const double d = std::sqrt(static_cast<double>(window[static_cast<std::size_t>(at - w0 * plane)])) - c;
+                const float d2 = window[static_cast<std::size_t>(at - w0 * plane)];
+                if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
+                    if (r) deepest = std::numeric_limits<double>::infinity();
+                    field[static_cast<std::size_t>(at)] = static_cast<float>(r ? -cap : cap);
+                    continue;
+                }
+                const double d = std::sqrt(static_cast<double>(d2)) - c;
                 if (r) deepest = std::max(deepest, d);
                 field[static_cast<std::size_t>(at)] = static_cast<float>(std::clamp(r ? -d : d, -cap, cap));
             }
@@ -476,8 +480,9 @@ RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std
     std::string absent;
     for (std::size_t i = 0; i < m.labels.size() && !m.label_nonzero; ++i) {
         const bool valid = m.labels[i] >= 0 && m.labels[i] <= 65535;
-        if (!valid || (!seen[i] && slot[static_cast<std::size_t>(m.labels[i])] == i + 1))
-            absent += (absent.empty() ? "" : ",") + std::to_string(m.labels[i]);
+        if (valid && (seen[i] || slot[static_cast<std::size_t>(m.labels[i])] != i + 1)) continue;
+        if (!absent.empty()) absent += ',';
+        absent += std::to_string(m.labels[i]);
     }
     if (!absent.empty())
         throw InputError(v.source + ": no voxel has the label(s) " + absent + " (of " + labels_text(m) + "): a typo, or the wrong volume?");
