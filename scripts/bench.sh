@@ -30,7 +30,7 @@
 #                               read + mesh + write a Medit .mesh, one thread each,
 #                               wall, CPU (user + system) and peak RSS from
 #                               /usr/bin/time -v, at the pairs WARPMESH_BENCH_PAIRS
-#                               (warpmesh spacing:CGAL size, default "5:4 2.5:2 1.4:1");
+#                               (warpmesh spacing:CGAL size, default "5:5 2.5:2.5 1.4:1.4");
 #                               warpmesh reads the gzip'd NRRD (--label nonzero), CGAL
 #                               the region as raw bytes (written before, not timed)
 #   scripts/bench.sh --cgal3d-materials
@@ -73,6 +73,27 @@ install_cgal() {
 }
 trap 'rm -rf "$tmp"' EXIT
 brain="$root/mesher/examples/brain_axial_s128_labels16.pgm"
+
+# The region warpmesh meshes with --label nonzero, as bytes for CGAL's Image_3
+# (the brain atlas NRRD $1 is gzip'd shorts, x fastest, 1 mm voxels) into $2.
+brain_region_raw() {
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import gzip, sys, numpy as np
+raw = open(sys.argv[1], "rb").read()
+at = raw.index(b"\n\n")
+assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
+(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
+PY
+}
+
+# The CGAL peer built ($tmp/cgal_mesh3), the atlas found ($nrrd) and its region as raw bytes ($tmp/brain.raw).
+cgal_brain_setup() {
+  install_cgal
+  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
+  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
+  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
+  brain_region_raw "$nrrd" "$tmp/brain.raw"
+}
 
 field() { sed -n "s/^  \"$1\": \\([^,]*\\),*$/\\1/p" "$2"; }
 
@@ -195,19 +216,7 @@ if [ "${1:-}" = "--writers" ]; then
 fi
 
 if [ "${1:-}" = "--cgal3d" ]; then
-  install_cgal
-  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
-  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
-  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
-  # The region warpmesh meshes with --label nonzero, as bytes for CGAL's Image_3
-  # (the NRRD is gzip'd shorts, x fastest, 1 mm voxels).
-  /usr/bin/python3 - "$nrrd" "$tmp/brain.raw" <<'PY'
-import gzip, sys, numpy as np
-raw = open(sys.argv[1], "rb").read()
-at = raw.index(b"\n\n")
-assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
-(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
-PY
+  cgal_brain_setup
   echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "SPL brain atlas 256^3, 1 mm, --label nonzero; one thread each; wall s: the meshing alone (warpmesh: its report, CGAL: make_mesh_3); CPU s: user CPU of the whole process"
   printf "%-38s %10s %9s %9s %9s %9s %8s\n" mesher tetrahedra "wall s" "CPU s" "min dih" "max dih" "peak MB"
@@ -232,17 +241,7 @@ PY
 fi
 
 if [ "${1:-}" = "--cgal3d-whole" ]; then
-  install_cgal
-  nrrd="${WARPMESH_BRAIN_NRRD:-$(ls /work/shared/data/*/orig/hncma-atlas.nrrd 2>/dev/null | head -1)}"
-  [ -f "$nrrd" ] || { echo "the SPL brain atlas NRRD was not found: set WARPMESH_BRAIN_NRRD" >&2; exit 1; }
-  g++ -O3 -DNDEBUG -std=c++17 "$root/bench/peers/cgal_mesh3.cpp" -o "$tmp/cgal_mesh3" -lgmp -lmpfr
-  /usr/bin/python3 - "$nrrd" "$tmp/brain.raw" <<'PY'
-import gzip, sys, numpy as np
-raw = open(sys.argv[1], "rb").read()
-at = raw.index(b"\n\n")
-assert b"sizes: 256 256 256" in raw[:at] and b"type: short" in raw[:at] and b"encoding: gzip" in raw[:at]
-(np.frombuffer(gzip.decompress(raw[at + 2:]), "<i2") != 0).astype(np.uint8).tofile(sys.argv[2])
-PY
+  cgal_brain_setup
   # wall s, CPU s (user + system) and peak MB of the last command, from /usr/bin/time -v's report in $1.
   timed() { awk -F': ' '/Elapsed/ { n = split($2, t, ":"); w = t[n] + (n > 1 ? 60 * t[n - 1] : 0) } /User time/ { u = $2 }
                         /System time/ { s = $2 } /Maximum resident/ { m = $2 } END { printf "%.2f %.2f %d", w, u + s, m / 1024 }' "$1"; }
@@ -250,7 +249,7 @@ PY
   echo "SPL brain atlas 256^3 int16 (33.5 MB of voxels, 0.47 MB gzip'd), --label nonzero; one thread each; the whole process:"
   echo "read + mesh + write a Medit .mesh (warpmesh: the gzip'd NRRD, its default report with the quality pass; CGAL: the raw region bytes)"
   printf "%-34s %10s %8s %8s %8s %11s %9s %9s\n" mesher tetrahedra "wall s" "CPU s" "peak MB" "tets/CPU s" "min dih" "max dih"
-  for pair in ${WARPMESH_BENCH_PAIRS:-5:4 2.5:2 1.4:1}; do
+  for pair in ${WARPMESH_BENCH_PAIRS:-5:5 2.5:2.5 1.4:1.4}; do
     s=${pair%%:*} h=${pair##*:}
     /usr/bin/time -v -o "$tmp/t" "$exe" mesh3d "$nrrd" --label nonzero --spacing "$s" --threads 1 -o "$tmp/w.mesh" \
       --report "$tmp/w.json" --quiet 2>/dev/null

@@ -721,7 +721,8 @@ void bind_read_image(py::module_& m) {
         py::arg("max_pixels") = default_max_pixels, py::arg("max_memory") = default_max_memory);
     // (values, geometry): a volume as the command line reads it (read_volume:
     // NRRD, NIfTI, TIFF, PGM, PNG), values a float64 array (z, y, x) that owns
-    // the decoded samples (no copy), geometry a dict of volume_geometry's.
+    // the decoded samples (converted from 16-bit labels where the reader kept
+    // them so), geometry a dict of volume_geometry's.
     m.def(
         "read_volume",
         [](const std::string& path, std::uint64_t max_voxels, std::uint64_t max_memory) {

@@ -77,16 +77,22 @@ inline std::uint64_t checked_voxels(const std::string& format, const std::string
 // The samples of one type S (a loop per type: the type's switch, the byte
 // order and the finiteness test are out of the per-voxel work where they can
 // be); all_int: every value is an integer (always, for integer types).
+// Sample k of type S from `raw`, its bytes reversed when `swap`.
+template <class S>
+S sample_at(std::span<const std::uint8_t> raw, std::size_t k, bool swap) {
+    std::uint8_t v[sizeof(S)];
+    std::memcpy(v, raw.data() + k * sizeof(S), sizeof(S));
+    if (swap) std::reverse(v, v + sizeof(S));
+    S y;
+    std::memcpy(&y, v, sizeof(S));
+    return y;
+}
+
 template <class S>
 void decode_as(const std::string& format, const std::string& name, std::span<const std::uint8_t> raw, bool swap,
                std::vector<double>& out, bool& all_int) {
     for (std::size_t k = 0; k < out.size(); ++k) {
-        std::uint8_t v[sizeof(S)];
-        std::memcpy(v, raw.data() + k * sizeof(S), sizeof(S));
-        if (swap) std::reverse(v, v + sizeof(S));
-        S y;
-        std::memcpy(&y, v, sizeof(S));
-        const double x = static_cast<double>(y);
+        const double x = static_cast<double>(sample_at<S>(raw, k, swap));
         if constexpr (std::is_floating_point_v<S>) {
             if (!std::isfinite(x)) fail(format, name, "voxel " + std::to_string(k) + " is not a finite number (NaN or infinity)");
             all_int = all_int && x == std::floor(x);
@@ -102,12 +108,7 @@ template <class S>
 bool decode_labels(std::span<const std::uint8_t> raw, bool swap, std::span<std::uint16_t> out) {
     bool in_range = true;
     for (std::size_t k = 0; k < out.size(); ++k) {
-        std::uint8_t v[sizeof(S)];
-        std::memcpy(v, raw.data() + k * sizeof(S), sizeof(S));
-        if (swap) std::reverse(v, v + sizeof(S));
-        S y;
-        std::memcpy(&y, v, sizeof(S));
-        const std::int64_t x = static_cast<std::int64_t>(y);
+        const std::int64_t x = static_cast<std::int64_t>(sample_at<S>(raw, k, swap));
         in_range &= x >= 0 && x <= 65535;
         out[k] = static_cast<std::uint16_t>(x);
     }
