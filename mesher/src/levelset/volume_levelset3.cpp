@@ -86,31 +86,41 @@ bool edt_line(float* g, std::int64_t n, std::int64_t stride, double w, double li
     return true;
 }
 
-// The first pass on one line of sources (0 at a source, +inf elsewhere):
-// d[i] = w² (i − p)² for the nearest source p, +inf beyond `limit` or with no
-// source — edt_line's value to the bit (its parabolas all have g = 0, so its
-// envelope at an integer i is a nearest source's, 0 + w² (i − p)²), found by
-// one sweep each way instead of the envelope's divisions.
-void sources_line(float* g, std::int64_t n, double w, double limit, std::vector<std::int64_t>& left) {
+// The mask of the box (label_levelset): bit 0 the region, bit 1 a source
+// (mark_sources).
+constexpr std::uint8_t in_region = 1, source = 2;
+
+// The first pass on one line: the sources are the mask's voxels m with
+// (m & (source | in_region)) == want; g[i] = w² (i − p)² for the nearest
+// source p, +inf beyond `limit` or with no source — edt_line's value on the
+// line of sources (0 at a source, +inf elsewhere) to the bit (its parabolas
+// all have g = 0, so its envelope at an integer i is a nearest source's,
+// 0 + w² (i − p)²), found by one sweep each way instead of the envelope's
+// divisions.
+void sources_line(const std::uint8_t* mask, std::uint8_t want, float* g, std::int64_t n, double w, double limit,
+                  std::vector<std::int64_t>& left) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::min() / 4;
+    const auto is_source = [&](std::int64_t i) { return (mask[i] & (source | in_region)) == want; };
     left.resize(static_cast<std::size_t>(n));
-    for (std::int64_t i = 0, last = none; i < n; ++i) left[static_cast<std::size_t>(i)] = last = g[i] == 0 ? i : last;
+    for (std::int64_t i = 0, last = none; i < n; ++i) left[static_cast<std::size_t>(i)] = last = is_source(i) ? i : last;
     const double w2 = w * w;
     for (std::int64_t i = n - 1, next = -none; i >= 0; --i) {
-        next = g[i] == 0 ? i : next;
+        next = is_source(i) ? i : next;
         const std::int64_t d = std::min(i - left[static_cast<std::size_t>(i)], next - i);
         const double di = d > n ? limit + 1 : 0.0 + w2 * static_cast<double>(d * d);
         g[i] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
     }
 }
 
-// In place: g (0 at the sources, +inf elsewhere) → squared distances, +inf
-// beyond `limit` after each pass (a later pass only adds to a value).  The x
-// lines are contiguous (sources_line); the y and z lines are taken in tiles of `tile` lines
+// The squared distances to the sources `want` of the mask (sources_line) on
+// the box of n voxels, into g, +inf beyond `limit` after each pass (a later
+// pass only adds to a value).  The x lines are contiguous (sources_line, from
+// the mask); the y and z lines are taken in tiles of `tile` lines
 // adjacent along x, copied into a small buffer (each voxel row read and
 // written as whole cache lines) and transformed there in place, a line at a
 // time with its stride.
-void edt(std::span<float> g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w, double limit) {
+void edt(const std::uint8_t* mask, std::uint8_t want, std::span<float> g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
+         double limit) {
     constexpr std::int64_t tile = 16;
 #pragma omp parallel
     {
@@ -118,7 +128,8 @@ void edt(std::span<float> g, const std::array<std::int64_t, 3>& n, const std::ar
         std::vector<double> z, vg;
         std::vector<float> lines;
 #pragma omp for schedule(static)
-        for (std::int64_t line = 0; line < n[1] * n[2]; ++line) sources_line(g.data() + line * n[0], n[0], w[0], limit, v);
+        for (std::int64_t line = 0; line < n[1] * n[2]; ++line)
+            sources_line(mask + line * n[0], want, g.data() + line * n[0], n[0], w[0], limit, v);
         for (std::size_t a = 1; a < 3; ++a) {
             const std::size_t c = 3 - a;  // the axis other than x and a
             const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
@@ -146,10 +157,7 @@ void edt(std::span<float> g, const std::array<std::int64_t, 3>& n, const std::ar
 // one axis's offset shrinks.  So the fields are those of the transforms from
 // every voxel of the class (to the last bit, unless two sources tie within
 // rounding), at the cost of a surface's worth of sources.  mark_sources sets
-// bit 1 of the mask (bit 0: the region) on them, once; sources writes one
-// class's for the box's planes [z0, z1) (along index axis 2) into g (0 at a
-// source, +inf elsewhere).
-constexpr std::uint8_t in_region = 1, source = 2;
+// bit 1 of the mask (bit 0: the region) on them, once.
 void mark_sources(std::span<std::uint8_t> mask, const std::array<std::int64_t, 3>& n) {
     const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
 #pragma omp parallel for schedule(static)
@@ -167,14 +175,6 @@ void mark_sources(std::span<std::uint8_t> mask, const std::array<std::int64_t, 3
                 if (edge) mask[static_cast<std::size_t>(at)] |= source;
             }
 }
-void sources(std::span<const std::uint8_t> mask, std::int64_t plane, std::int64_t z0, std::int64_t z1, bool of_region, std::span<float> g) {
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    const std::uint8_t want = source | (of_region ? in_region : 0);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t at = z0 * plane; at < z1 * plane; ++at)
-        g[static_cast<std::size_t>(at - z0 * plane)] = (mask[static_cast<std::size_t>(at)] & (source | in_region)) == want ? 0.0f : inf;
-}
-
 // The label field (levelset3.hpp, label mode) on the box of n voxels whose
 // mask (in_region, source: mark_sources) is `region`: f = d_out − c outside and −(d_in − c) inside,
 // clamped to [−cap, cap].  Exact wherever |f| < cap: a value there is a
@@ -208,8 +208,8 @@ Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::a
                            w1 = std::min(n[2], z1 + halo);
         const std::span<float> window(g.data(), static_cast<std::size_t>(plane * (w1 - w0)));
         for (const bool of_region : {true, false}) {  // d_out from the region's sources, then d_in
-            sources(region, plane, w0, w1, of_region, window);
-            edt(window, {n[0], n[1], w1 - w0}, w, limit);
+            edt(region.data() + w0 * plane, static_cast<std::uint8_t>(source | (of_region ? in_region : 0)), window, {n[0], n[1], w1 - w0}, w,
+                limit);
             double deepest = 0;
 #pragma omp parallel for schedule(static) reduction(max : deepest)
             for (std::int64_t at = z0 * plane; at < z1 * plane; ++at) {
