@@ -35,6 +35,14 @@
 #                               facet distance S / 2) and no cell size (cells free to
 #                               grow inside); WARPMESH_BENCH_GRADED_CGAL lists the
 #                               spacings CGAL runs at (default all).
+#   scripts/bench.sh --cgal3d-whole
+#                               the whole process of both, in one run (issue 49, item 7):
+#                               read + mesh + write a Medit .mesh, one thread each,
+#                               wall, CPU (user + system) and peak RSS from
+#                               /usr/bin/time -v, at the pairs WARPMESH_BENCH_PAIRS
+#                               (warpmesh spacing:CGAL size, default "5:5 2.5:2.5 1.4:1.4");
+#                               warpmesh reads the gzip'd NRRD (--label nonzero), CGAL
+#                               the region as raw bytes (written before, not timed)
 #   scripts/bench.sh --cgal3d-materials
 #                               every label of the SPL brain and abdomen atlases
 #                               (--materials all) against CGAL Mesh_3 on the same
@@ -273,6 +281,33 @@ print("%-44s %10d %9d %9.2f %8.2f %11.0f %9.3f %9.3f  none" % ("CGAL Mesh_3, fac
 PY
   done
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+  exit 0
+fi
+
+if [ "${1:-}" = "--cgal3d-whole" ]; then
+  cgal_and_brain
+  # wall s, CPU s (user + system) and peak MB of the last command, from /usr/bin/time -v's report in $1.
+  timed() { awk -F': ' '/Elapsed/ { n = split($2, t, ":"); w = t[n] + (n > 1 ? 60 * t[n - 1] : 0) } /User time/ { u = $2 }
+                        /System time/ { s = $2 } /Maximum resident/ { m = $2 } END { printf "%.2f %.2f %d", w, u + s, m / 1024 }' "$1"; }
+  echo "machine: $(nproc) cores, $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); $(uptime)"
+  echo "SPL brain atlas 256^3 int16 (33.5 MB of voxels, 0.47 MB gzip'd), --label nonzero; one thread each; the whole process:"
+  echo "read + mesh + write a Medit .mesh (warpmesh: the gzip'd NRRD, its default report with the quality pass; CGAL: the raw region bytes)"
+  printf "%-34s %10s %8s %8s %8s %11s %9s %9s\n" mesher tetrahedra "wall s" "CPU s" "peak MB" "tets/CPU s" "min dih" "max dih"
+  for pair in ${WARPMESH_BENCH_PAIRS:-5:5 2.5:2.5 1.4:1.4}; do
+    s=${pair%%:*} h=${pair##*:}
+    /usr/bin/time -v -o "$tmp/t" "$exe" mesh3d "$nrrd" --label nonzero --spacing "$s" --threads 1 -o "$tmp/w.mesh" \
+      --report "$tmp/w.json" --quiet 2>/dev/null
+    read -r wall cpu mb <<<"$(timed "$tmp/t")"
+    wt=$(field tetrahedra "$tmp/w.json")
+    printf "%-34s %10s %8s %8s %8s %11.0f %9.3f %9.3f\n" "warpmesh mesh3d --spacing $s" "$wt" "$wall" "$cpu" "$mb" \
+      "$(awk -v t="$wt" -v c="$cpu" 'BEGIN { print t / c }')" "$(field min_dihedral_deg "$tmp/w.json")" "$(field max_dihedral_deg "$tmp/w.json")"
+    /usr/bin/time -v -o "$tmp/t" "$tmp/cgal_mesh3" "$tmp/brain.raw" 256 256 256 1 1 1 "$h" "out=$tmp/c.mesh" > "$tmp/c.json"
+    read -r cwall ccpu cmb <<<"$(timed "$tmp/t")"
+    /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1])); print('%-34s %10d %8s %8s %8s %11.0f %9.3f %9.3f' % ('CGAL Mesh_3, size ' + sys.argv[2], c['tetrahedra'], sys.argv[3], sys.argv[4], sys.argv[5], c['tetrahedra'] / float(sys.argv[4]), c['min_dihedral_deg'], c['max_dihedral_deg']))" \
+      "$tmp/c.json" "$h" "$cwall" "$ccpu" "$cmb"
+    awk -v a="$ccpu" -v b="$cpu" 'BEGIN { printf "  CGAL CPU / warpmesh CPU: %.1fx\n", a / b }'
+  done
+  echo "$(uptime)"
   exit 0
 fi
 

@@ -583,6 +583,62 @@ BOOST_AUTO_TEST_CASE(label_distance_field_is_the_clamped_signed_distance) {
     BOOST_TEST(checked > 100);
 }
 
+// Issue 49 (fixed costs follow the region): the labels stay 16-bit
+// (Volume::labels) up to the region's mask, and the transforms run in slabs
+// of planes with a halo of the band's reach.  A tall volume of several slabs
+// (64 planes each, halo 9 here) must still give the clamped signed distance
+// at every voxel centre, across the slabs' seams, and the same field and mesh
+// from its labels as from the same samples as doubles.
+BOOST_AUTO_TEST_CASE(issue49_label_field_is_the_same_across_slabs_and_from_16_bit_labels) {
+    Volume v;
+    v.dims = {9, 8, 150};
+    v.spacing = {1.0, 1.0, 0.6};
+    v.physical = true;
+    v.source = "tube";
+    v.labels.assign(static_cast<std::size_t>(v.voxel_count()), 0);
+    for (std::int64_t k = 3; k < 146; ++k)
+        for (std::int64_t j = 0; j < 8; ++j)
+            for (std::int64_t i = 0; i < 9; ++i)
+                if (std::hypot(i - 4 - 1.5 * std::sin(0.1 * static_cast<double>(k)), j - 3.5) < 2.2 + std::cos(0.07 * static_cast<double>(k)))
+                    v.labels[static_cast<std::size_t>(i + 9 * (j + 8 * k))] = 7;
+    Volume d = v;  // the same samples as doubles
+    samples_to_values(d);
+    BOOST_TEST(d.labels.empty());
+    VolumeLevelSet3Options o;
+    o.mode.mode = ImageMode::label;
+    o.mode.labels = {7};
+    const auto f = make_volume_levelset3(v, o), g = make_volume_levelset3(d, o);
+    const double c = 0.3, cap = o.band * 1.0;
+    const std::int64_t reach = static_cast<std::int64_t>(std::ceil((cap + c) / 0.6));
+    int checked = 0;
+    for (std::int64_t k = 0; k < 150; ++k)
+        for (std::int64_t j = 0; j < 8; ++j)
+            for (std::int64_t i = 0; i < 9; ++i) {
+                const bool in = v.at(i, j, k) == 7;
+                double d2 = std::numeric_limits<double>::infinity();  // nearer than cap + c, else clamped anyway
+                for (std::int64_t kk = std::max<std::int64_t>(0, k - reach); kk < std::min<std::int64_t>(150, k + reach + 1); ++kk)
+                    for (std::int64_t jj = 0; jj < 8; ++jj)
+                        for (std::int64_t ii = 0; ii < 9; ++ii)
+                            if ((v.at(ii, jj, kk) == 7) != in)
+                                d2 = std::min(d2, std::pow(ii - i, 2) + std::pow(jj - j, 2) + std::pow(0.6 * (kk - k), 2));
+                // f = max(the field, the box distance to the voxel centres' hull)
+                const double hull = std::max({std::abs(i - 4.0) - 4.0, std::abs(j - 3.5) - 3.5, 0.6 * (std::abs(k - 74.5) - 74.5)});
+                const double want = std::max(hull, std::clamp(in ? -(std::sqrt(d2) - c) : std::sqrt(d2) - c, -cap, cap));
+                const double x = static_cast<double>(i), y = static_cast<double>(j), z = 0.6 * static_cast<double>(k);
+                const double got = f->value(x, y, z);
+                BOOST_TEST(std::abs(got - want) < 1e-5, "voxel " << i << "," << j << "," << k << ": " << got << " against " << want);
+                BOOST_TEST(got == g->value(x, y, z));
+                checked += std::abs(want) < cap;
+            }
+    BOOST_TEST(checked > 1000);
+    Mesh3dOptions m;
+    m.labels = "7";
+    m.spacing = 0.9;
+    const Mesh3dResult a = mesh3d(std::cref(v), m), b = mesh3d(std::cref(d), m);
+    BOOST_TEST(a.mesh.tets.size() > 1000u);
+    BOOST_TEST(same(a.mesh, b.mesh));
+}
+
 BOOST_AUTO_TEST_CASE(bad_input_empty_region_coarse_spacing_memory_limit) {
     Mesh3dOptions o;
     o.spacing = 0.1;

@@ -15,6 +15,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sys/stat.h>
@@ -97,10 +98,15 @@ struct Dir : TempDir {
 };
 
 bool same_values(const Volume& v, const std::vector<double>& want) {
-    if (v.values.size() != want.size()) return false;
+    if (v.values.size() + v.labels.size() != want.size() || (!v.values.empty() && !v.labels.empty())) return false;
     for (std::size_t k = 0; k < want.size(); ++k)
-        if (v.values[k] != want[k]) return false;
+        if (v.value(k) != want[k]) return false;
     return true;
+}
+
+// Whether a reader must keep these samples as 16-bit labels: integers in 0..65535.
+bool label_range(const std::vector<double>& x) {
+    return std::all_of(x.begin(), x.end(), [](double y) { return y >= 0 && y <= 65535 && y == std::floor(y); });
 }
 
 }  // namespace
@@ -120,7 +126,29 @@ BOOST_AUTO_TEST_CASE(nrrd_every_type_encoding_and_byte_order_round_trips) {
                     BOOST_TEST((v.dims == std::array<std::int64_t, 3>{3, 4, 5}));
                     BOOST_TEST(same_values(v, n.values));
                     BOOST_TEST(v.integer_valued == (t != T::f32 && t != T::f64));
+                    // Integer labels stay 2 bytes a voxel (issue 49: no doubles for a label volume).
+                    BOOST_TEST(!v.labels.empty() == (v.integer_valued && label_range(n.values)));
+                    BOOST_TEST(v.values.empty() == !v.labels.empty());
                     BOOST_TEST(!v.physical);  // no spacings, no directions
+                }
+            }
+}
+
+// 16-bit gzip samples are inflated into the labels' own memory and decoded
+// there; a negative short among them falls back to doubles from a copy.
+BOOST_AUTO_TEST_CASE(nrrd_16_bit_labels_decode_in_place_and_fall_back_to_doubles) {
+    for (T t : {T::i16, T::u16})
+        for (bool big : {false, true})
+            for (bool negative : {false, true}) {
+                Nrrd n;
+                n.type = t, n.sizes = {5, 4, 3}, n.encoding = "gzip", n.big = big;
+                n.values.assign(60, 0);
+                for (std::size_t k = 0; k < 60; ++k) n.values[k] = static_cast<double>(k * 541 % 4101);
+                if (negative && t == T::i16) n.values[37] = -2;
+                const Volume v = decode(nrrd(n));
+                BOOST_TEST_CONTEXT(nrrd_type(t) << (big ? " big" : " little") << (negative ? " negative" : "")) {
+                    BOOST_TEST(same_values(v, n.values));
+                    BOOST_TEST(v.labels.empty() == (negative && t == T::i16));
                 }
             }
 }

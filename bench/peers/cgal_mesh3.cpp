@@ -1,7 +1,7 @@
 // cgal_mesh3.cpp — the CGAL Mesh_3 peer of scripts/bench.sh's 3D section
 // (built only by that script; warpmesh does not depend on CGAL).
 //
-// usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H [u16] [optimise] [cell=C] [distance=D]
+// usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H [u16] [optimise] [cell=C] [distance=D] [out=MESH]
 //   RAW: NX*NY*NZ unsigned bytes (or, with u16, little-endian 16-bit
 //   labels), x fastest, 0 = outside and any other value a label (the script
 //   writes the SPL atlas binarised, the region warpmesh meshes with --label
@@ -10,7 +10,9 @@
 //   exude after the refinement (CGAL's sliver removal).  cell=C: the cell
 //   size C instead of H (0: no cell size, the cells free to grow inside;
 //   the graded comparison of issue 48); distance=D: the facet distance D
-//   instead of SX / 2.
+//   instead of SX / 2.  out=MESH: write the complex as a Medit .mesh file
+//   (CGAL's own writer), for whole-process runs that read, mesh and write
+//   (scripts/bench.sh --cgal3d-whole).
 // Meshes the labelled image with Labeled_mesh_domain_3 and the criteria
 //   facet_angle 25, facet_size H, facet_distance SX / 2,
 //   cell_radius_edge_ratio 3, cell_size H
@@ -29,6 +31,7 @@
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/IO/File_medit.h>
 
 #include <algorithm>
 #include <array>
@@ -71,13 +74,15 @@ int main(int argc, char** argv) {
     const std::vector<std::string> flags(argv + std::min(argc, 9), argv + argc);
     const bool u16 = std::count(flags.begin(), flags.end(), "u16") > 0, optimise = std::count(flags.begin(), flags.end(), "optimise") > 0;
     double cell = -1, distance = -1;  // -1: H, SX / 2
+    std::string out;
     std::size_t known = static_cast<std::size_t>(u16) + static_cast<std::size_t>(optimise);
     for (const std::string& f : flags) {
         if (f.rfind("cell=", 0) == 0) cell = std::stod(f.substr(5)), ++known;
         if (f.rfind("distance=", 0) == 0) distance = std::stod(f.substr(9)), ++known;
+        if (f.rfind("out=", 0) == 0) out = f.substr(4), ++known;
     }
     if (argc < 9 || static_cast<std::size_t>(argc - 9) != known) {
-        std::cerr << "usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H [u16] [optimise] [cell=C] [distance=D]\n";
+        std::cerr << "usage: cgal_mesh3 RAW NX NY NZ SX SY SZ H [u16] [optimise] [cell=C] [distance=D] [out=MESH]\n";
         return 2;
     }
     const int nx = std::stoi(argv[2]), ny = std::stoi(argv[3]), nz = std::stoi(argv[4]);
@@ -117,6 +122,14 @@ int main(int argc, char** argv) {
         for (int i = 0; i < 4; ++i) p[static_cast<std::size_t>(i)] = c3t3.triangulation().point(c->vertex(i)).point();
         for (const double d : dihedrals(p)) lo = std::min(lo, d), hi = std::max(hi, d);
         labels.insert(static_cast<int>(c3t3.subdomain_index(c)));
+    }
+    if (!out.empty()) {
+        std::ofstream medit(out);
+        CGAL::IO::output_to_medit(medit, c3t3);
+        if (!medit) {
+            std::cerr << "cgal_mesh3: cannot write " << out << "\n";
+            return 1;
+        }
     }
     std::printf("{\"seconds\": %.3f, \"cpu_seconds\": %.3f, \"tetrahedra\": %zu, \"min_dihedral_deg\": %.3f, \"max_dihedral_deg\": %.3f, \"labels\": %zu, "
                 "\"facets\": %zu}\n",

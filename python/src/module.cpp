@@ -729,13 +729,15 @@ void bind_read_image(py::module_& m) {
         py::arg("max_pixels") = default_max_pixels, py::arg("max_memory") = default_max_memory);
     // (values, geometry): a volume as the command line reads it (read_volume:
     // NRRD, NIfTI, TIFF, PGM, PNG), values a float64 array (z, y, x) that owns
-    // the decoded samples (no copy), geometry a dict of volume_geometry's.
+    // the decoded samples (converted from 16-bit labels where the reader kept
+    // them so), geometry a dict of volume_geometry's.
     m.def(
         "read_volume",
         [](const std::string& path, std::uint64_t max_voxels, std::uint64_t max_memory) {
             auto v = std::make_unique<Volume>(read_volume(path, {max_voxels, max_memory}));
             const std::array<py::ssize_t, 3> shape{v->dims[2], v->dims[1], v->dims[0]};
             py::dict geometry = volume_geometry(*v);
+            samples_to_values(*v);  // float64, whatever the reader kept
             double* data = v->values.data();
             py::capsule owner(v.release(), [](void* p) { delete static_cast<Volume*>(p); });
             return py::make_tuple(py::array_t<double>(shape, data, owner), geometry);

@@ -37,7 +37,9 @@ inline void check_volume(const Volume& v) {
         n *= static_cast<std::uint64_t>(d);
         if (n > fuzz_volume_limits.max_voxels) volume_violation("more voxels than the limit");
     }
-    if (v.values.size() != n) volume_violation("value count differs from the dimensions");
+    // The samples are the 16-bit labels or the doubles, never both (volume.hpp).
+    if (!v.values.empty() && !v.labels.empty()) volume_violation("samples both as labels and as doubles");
+    if (v.values.size() + v.labels.size() != n) volume_violation("value count differs from the dimensions");
     for (const double x : v.values)
         if (!std::isfinite(x)) volume_violation("a non-finite value");
     for (int a = 0; a < 3; ++a) {

@@ -164,6 +164,7 @@ void apply_scaling(const Header& H, const std::string& name, Volume& v) {
         bad("scl_slope is " + std::to_string(slope) + " but scl_inter is " + (std::isnan(inter) ? "NaN" : "infinite") +
             ": the scaling is undefined; fix scl_inter (0: no offset)");
     if (slope == 1 && inter == 0) return;
+    samples_to_values(v);
     bool integer = true;
     for (double& x : v.values) {
         x = slope * x + inter;
@@ -276,8 +277,7 @@ Volume decode_nifti(std::span<const std::uint8_t> bytes, const std::string& name
     v.source = name;
     v.physical = true;
     for (int a = 0; a < 3; ++a) v.dims[a] = static_cast<std::int64_t>(L.sizes[static_cast<std::size_t>(a)]);
-    v.values = decode_samples("NIfTI", name, file.subspan(static_cast<std::size_t>(L.offset)), L.type, H.swap,
-                              static_cast<std::size_t>(L.n), &v.integer_valued);
+    decode_samples("NIfTI", name, file.subspan(static_cast<std::size_t>(L.offset)), L.type, H.swap, static_cast<std::size_t>(L.n), v);
     apply_scaling(H, name, v);
     read_geometry(H, name, v);
     return v;

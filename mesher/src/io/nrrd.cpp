@@ -338,13 +338,25 @@ std::vector<double> decode_ascii(std::span<const std::uint8_t> data, const Layou
     return values;
 }
 
-// Raw or gzip samples: gzip inflated up to byte skip + the voxel bytes (more
-// is an error), then the skip applied; raw: the skip (or, -1, the last voxel
-// bytes).
-std::vector<double> decode_binary(std::span<const std::uint8_t> data, const Layout& L, const std::string& name,
-                                  bool* integer) {
+// Raw or gzip samples into v (decode_samples): gzip inflated up to byte skip
+// + the voxel bytes (more is an error), then the skip applied — 16-bit
+// samples without a skip straight into v.labels' memory and decoded there,
+// so that the file's inflated bytes are never held beside their labels; raw:
+// the skip (or, -1, the last voxel bytes).
+void decode_binary(std::span<const std::uint8_t> data, const Layout& L, const std::string& name, Volume& v) {
     const std::uint64_t need = L.voxel_bytes();
     std::vector<std::uint8_t> inflated;
+    if (L.encoding == Encoding::gzip && L.byte_skip == 0 && (L.type == Sample::i16 || L.type == Sample::u16)) {
+        if (static_cast<double>(data.size()) * 1032.0 + 1024 < static_cast<double>(need))
+            bad(name, "truncated data: " + std::to_string(data.size()) + " gzip bytes cannot hold " + std::to_string(need) +
+                          " bytes of voxels");
+        v.labels.resize(static_cast<std::size_t>(L.n));
+        const std::span<std::uint8_t> bytes(reinterpret_cast<std::uint8_t*>(v.labels.data()), static_cast<std::size_t>(need));
+        const std::size_t got = gunzip_exact_into(data, bytes, name);
+        if (got < need)
+            bad(name, "truncated data: gzip data inflates to " + std::to_string(got) + " bytes, expected " + std::to_string(need));
+        return decode_samples("NRRD", name, bytes, L.type, L.swap, L.n, v);
+    }
     if (L.encoding == Encoding::gzip) {
         // deflate cannot compress more than about 1032:1: refuse data that
         // is too short to hold the voxels before inflating anything.
@@ -373,7 +385,7 @@ std::vector<double> decode_binary(std::span<const std::uint8_t> data, const Layo
             bad(name, "the data has " + std::to_string(data.size()) + " bytes, more than the " + std::to_string(need) +
                           " bytes of voxels the header implies (sizes and type): a wrong header?");
     }
-    return decode_samples("NRRD", name, data, L.type, L.swap, L.n, integer);
+    decode_samples("NRRD", name, data, L.type, L.swap, L.n, v);
 }
 
 // `space directions`: each index axis's spacing and direction.
@@ -456,8 +468,8 @@ Volume decode_nrrd(std::span<const std::uint8_t> bytes, const std::string& name,
     Volume v;
     v.format = "NRRD";
     v.source = name;
-    v.values = L.encoding == Encoding::ascii ? decode_ascii(data, L, name, &v.integer_valued)
-                                             : decode_binary(data, L, name, &v.integer_valued);
+    if (L.encoding == Encoding::ascii) v.values = decode_ascii(data, L, name, &v.integer_valued);
+    else decode_binary(data, L, name, v);
     for (int a = 0; a < 3; ++a) v.dims[a] = a < L.dim ? static_cast<std::int64_t>(L.sizes[a]) : 1;
     read_geometry(h, name, L.dim, v);
     return v;

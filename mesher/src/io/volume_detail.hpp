@@ -77,16 +77,22 @@ inline std::uint64_t checked_voxels(const std::string& format, const std::string
 // The samples of one type S (a loop per type: the type's switch, the byte
 // order and the finiteness test are out of the per-voxel work where they can
 // be); all_int: every value is an integer (always, for integer types).
+// Sample k of type S from `raw`, its bytes reversed when `swap`.
+template <class S>
+S sample_at(std::span<const std::uint8_t> raw, std::size_t k, bool swap) {
+    std::uint8_t v[sizeof(S)];
+    std::memcpy(v, raw.data() + k * sizeof(S), sizeof(S));
+    if (swap) std::reverse(v, v + sizeof(S));
+    S y;
+    std::memcpy(&y, v, sizeof(S));
+    return y;
+}
+
 template <class S>
 void decode_as(const std::string& format, const std::string& name, std::span<const std::uint8_t> raw, bool swap,
                std::vector<double>& out, bool& all_int) {
     for (std::size_t k = 0; k < out.size(); ++k) {
-        std::uint8_t v[sizeof(S)];
-        std::memcpy(v, raw.data() + k * sizeof(S), sizeof(S));
-        if (swap) std::reverse(v, v + sizeof(S));
-        S y;
-        std::memcpy(&y, v, sizeof(S));
-        const double x = static_cast<double>(y);
+        const double x = static_cast<double>(sample_at<S>(raw, k, swap));
         if constexpr (std::is_floating_point_v<S>) {
             if (!std::isfinite(x)) fail(format, name, "voxel " + std::to_string(k) + " is not a finite number (NaN or infinity)");
             all_int = all_int && x == std::floor(x);
@@ -95,26 +101,75 @@ void decode_as(const std::string& format, const std::string& name, std::span<con
     }
 }
 
+// Integer samples of type S as 16-bit labels, in place when `raw` is out's
+// own memory (a sample read before its label is written); false (out
+// partly written) if a value lies outside 0..65535.
+template <class S>
+bool decode_labels(std::span<const std::uint8_t> raw, bool swap, std::span<std::uint16_t> out) {
+    bool in_range = true;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        const std::int64_t x = static_cast<std::int64_t>(sample_at<S>(raw, k, swap));
+        in_range &= x >= 0 && x <= 65535;
+        out[k] = static_cast<std::uint16_t>(x);
+    }
+    return in_range;
+}
+
+inline bool is_integer_sample(Sample t) { return t != Sample::f32 && t != Sample::f64; }
+
 // n samples of type t from `raw` (at least n * sample_bytes(t) bytes), byte
-// order swapped when `swap`, as doubles.  Sets *integer to false if some
-// value is not an integer; refuses NaN and infinities.
-inline std::vector<double> decode_samples(const std::string& format, const std::string& name,
-                                          std::span<const std::uint8_t> raw, Sample t, bool swap, std::size_t n,
-                                          bool* integer) {
-    std::vector<double> out(n);
+// order swapped when `swap`, into v: integers in 0..65535 as v.labels (the
+// label and material modes' range, 2 bytes a voxel), anything else as
+// doubles in v.values.  Sets v.integer_valued; refuses NaN and infinities.
+// `raw` may be v.labels' own memory (16-bit samples inflated there):
+// decoded in place.
+inline void decode_samples(const std::string& format, const std::string& name, std::span<const std::uint8_t> raw, Sample t,
+                           bool swap, std::size_t n, Volume& v) {
+    v.integer_valued = is_integer_sample(t);
+    // A value out of range after an in-place decode: the raw samples are gone, so copy them first.
+    std::vector<std::uint8_t> copy;
+    if (v.integer_valued) {
+        const bool in_place = !v.labels.empty() && raw.data() == reinterpret_cast<const std::uint8_t*>(v.labels.data());
+        if (in_place && (t == Sample::i16 || t == Sample::u16)) {
+            // 16-bit samples in place: the sign bits (of shorts) tell a
+            // value out of range; in the host's order they are the labels.
+            std::uint16_t signs = 0;
+            for (std::size_t k = 0; k < n; ++k) signs |= v.labels[k];
+            if (swap) signs = static_cast<std::uint16_t>(signs << 8 | signs >> 8);
+            if (t == Sample::u16 || (signs & 0x8000) == 0) {
+                if (swap)
+                    for (std::size_t k = 0; k < n; ++k) v.labels[k] = static_cast<std::uint16_t>(v.labels[k] << 8 | v.labels[k] >> 8);
+                return;
+            }
+            copy.assign(raw.begin(), raw.begin() + static_cast<std::ptrdiff_t>(2 * n)), raw = copy;
+        }
+        v.labels.resize(n);
+        bool ok = false;
+        switch (t) {
+            case Sample::i8: ok = decode_labels<std::int8_t>(raw, swap, v.labels); break;
+            case Sample::u8: ok = decode_labels<std::uint8_t>(raw, swap, v.labels); break;
+            case Sample::i16: ok = decode_labels<std::int16_t>(raw, swap, v.labels); break;
+            case Sample::u16: ok = decode_labels<std::uint16_t>(raw, swap, v.labels); break;
+            case Sample::i32: ok = decode_labels<std::int32_t>(raw, swap, v.labels); break;
+            case Sample::u32: ok = decode_labels<std::uint32_t>(raw, swap, v.labels); break;
+            default: break;
+        }
+        if (ok) return;
+        Buffer<std::uint16_t>().swap(v.labels);
+    }
+    v.values.resize(n);
     bool all_int = true;
     switch (t) {
-        case Sample::i8: decode_as<std::int8_t>(format, name, raw, swap, out, all_int); break;
-        case Sample::u8: decode_as<std::uint8_t>(format, name, raw, swap, out, all_int); break;
-        case Sample::i16: decode_as<std::int16_t>(format, name, raw, swap, out, all_int); break;
-        case Sample::u16: decode_as<std::uint16_t>(format, name, raw, swap, out, all_int); break;
-        case Sample::i32: decode_as<std::int32_t>(format, name, raw, swap, out, all_int); break;
-        case Sample::u32: decode_as<std::uint32_t>(format, name, raw, swap, out, all_int); break;
-        case Sample::f32: decode_as<float>(format, name, raw, swap, out, all_int); break;
-        case Sample::f64: decode_as<double>(format, name, raw, swap, out, all_int); break;
+        case Sample::i8: decode_as<std::int8_t>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::u8: decode_as<std::uint8_t>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::i16: decode_as<std::int16_t>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::u16: decode_as<std::uint16_t>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::i32: decode_as<std::int32_t>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::u32: decode_as<std::uint32_t>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::f32: decode_as<float>(format, name, raw, swap, v.values, all_int); break;
+        case Sample::f64: decode_as<double>(format, name, raw, swap, v.values, all_int); break;
     }
-    *integer = all_int;
-    return out;
+    v.integer_valued = all_int;
 }
 
 inline bool host_is_little_endian() {

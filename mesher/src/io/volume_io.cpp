@@ -89,41 +89,67 @@ std::vector<std::uint8_t> read_regular_file(const std::string& prefix, const std
 
 }  // namespace volume_detail
 
+namespace {
+
+// A gzip/zlib stream (several gzip members, one after the other, are one
+// stream), inflated into the caller's buffers piece by piece.
+class Inflater {
+public:
+    Inflater(std::span<const std::uint8_t> in, const std::string& name) : in_(in), name_(name) {
+        if (inflateInit2(&zs_, 15 + 32) != Z_OK) throw InputError("'" + name + "': cannot initialise zlib");
+    }
+    ~Inflater() { inflateEnd(&zs_); }
+    Inflater(const Inflater&) = delete;
+    Inflater& operator=(const Inflater&) = delete;
+    // Up to `want` bytes into out; fewer only where the stream ends.
+    std::size_t read(std::uint8_t* out, std::size_t want) {
+        std::size_t got = 0;
+        while (got < want && !done_) {
+            if (zs_.avail_in == 0) {
+                if (pos_ >= in_.size()) break;  // input ends: the caller sees a short result
+                const std::size_t chunk = std::min<std::size_t>(in_.size() - pos_, 1u << 30);
+                zs_.next_in = const_cast<Bytef*>(in_.data() + pos_);
+                zs_.avail_in = static_cast<uInt>(chunk);
+                pos_ += chunk;
+            }
+            const std::size_t step = std::min<std::size_t>(want - got, 1u << 30);
+            zs_.next_out = out + got;
+            zs_.avail_out = static_cast<uInt>(step);
+            const int rc = inflate(&zs_, Z_NO_FLUSH);
+            got += step - zs_.avail_out;
+            if (rc == Z_STREAM_END) {
+                if ((zs_.avail_in == 0 && pos_ >= in_.size()) || inflateReset(&zs_) != Z_OK) done_ = true;
+                continue;
+            }
+            if (rc == Z_BUF_ERROR && zs_.avail_in == 0 && pos_ >= in_.size()) break;
+            if (rc != Z_OK && rc != Z_BUF_ERROR)
+                throw InputError("'" + name_ + "': corrupt gzip data (" + (zs_.msg ? zs_.msg : "zlib error " + std::to_string(rc)) + ")");
+        }
+        return got;
+    }
+
+private:
+    z_stream zs_{};
+    std::span<const std::uint8_t> in_;
+    std::size_t pos_ = 0;
+    bool done_ = false;
+    const std::string& name_;
+};
+
+}  // namespace
+
 std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t max_out, const std::string& name) {
     std::vector<std::uint8_t> out;
-    z_stream zs{};
-    if (inflateInit2(&zs, 15 + 32) != Z_OK) throw InputError("'" + name + "': cannot initialise zlib");
-    struct End {
-        z_stream* z;
-        ~End() { inflateEnd(z); }
-    } end{&zs};
-    std::size_t pos = 0;
+    Inflater z(in, name);
     // Grow the output as data arrives (never beyond max_out): a small corrupt
     // stream cannot make us allocate what its header merely claims.
     while (out.size() < max_out) {
-        if (zs.avail_in == 0) {
-            if (pos >= in.size()) break;  // input ends: the caller sees a short result
-            const std::size_t chunk = std::min<std::size_t>(in.size() - pos, 1u << 30);
-            zs.next_in = const_cast<Bytef*>(in.data() + pos);
-            zs.avail_in = static_cast<uInt>(chunk);
-            pos += chunk;
-        }
         const std::size_t have = out.size();
         const std::size_t want = std::min<std::size_t>({max_out - have, std::max<std::size_t>(have, 1u << 16), 1u << 30});
         out.resize(have + want);
-        zs.next_out = out.data() + have;
-        zs.avail_out = static_cast<uInt>(want);
-        const int rc = inflate(&zs, Z_NO_FLUSH);
-        out.resize(have + (want - zs.avail_out));
-        if (rc == Z_STREAM_END) {
-            // A gzip file may hold several members, one after the other.
-            if (zs.avail_in == 0 && pos >= in.size()) break;
-            if (inflateReset(&zs) != Z_OK) break;
-            continue;
-        }
-        if (rc == Z_BUF_ERROR && zs.avail_in == 0 && pos >= in.size()) break;
-        if (rc != Z_OK && rc != Z_BUF_ERROR)
-            throw InputError("'" + name + "': corrupt gzip data (" + (zs.msg ? zs.msg : "zlib error " + std::to_string(rc)) + ")");
+        const std::size_t got = z.read(out.data() + have, want);
+        out.resize(have + got);
+        if (got < want) break;
     }
     return out;
 }
@@ -134,6 +160,22 @@ std::vector<std::uint8_t> gunzip_exact(std::span<const std::uint8_t> in, std::si
         throw InputError("'" + name + "': the gzip data inflates to more than the " + std::to_string(expected) +
                          " bytes the header implies");
     return out;
+}
+
+std::size_t gunzip_exact_into(std::span<const std::uint8_t> in, std::span<std::uint8_t> out, const std::string& name) {
+    Inflater z(in, name);
+    const std::size_t got = z.read(out.data(), out.size());
+    std::uint8_t more = 0;
+    if (got == out.size() && z.read(&more, 1) > 0)
+        throw InputError("'" + name + "': the gzip data inflates to more than the " + std::to_string(out.size()) +
+                         " bytes the header implies");
+    return got;
+}
+
+void samples_to_values(Volume& v) {
+    if (v.labels.empty()) return;
+    v.values.assign(v.labels.begin(), v.labels.end());
+    Buffer<std::uint16_t>().swap(v.labels);
 }
 
 std::optional<Vec3> axis_aligned(const Vec3& d) {

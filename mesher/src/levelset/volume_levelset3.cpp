@@ -21,12 +21,15 @@
 // the smallest spacing, so along the axis of the smallest spacing f is
 // antisymmetric about the midpoint between a voxel and its neighbour of the
 // other class and the trilinear interpolant's zero passes there.  Only the
-// region's bounding box grown by `band` voxels is transformed and stored (as
-// floats); f is clamped to ±band × the largest spacing, which farther voxels
-// get without being stored.  The transforms start from the voxels on the
-// region's surface only (boundary_sources) and drop distances beyond the
-// band after each pass, so their work follows the surface; the region's
-// inscribed distance (feature_size) is then known only within the band.
+// region's bounding box grown by `band` voxels is stored (as floats); f is
+// clamped to ±band × the largest spacing, which farther voxels get without
+// being stored.  The labels stay 16-bit integers (Volume::labels) up to the
+// region's mask over that box (1 byte a voxel); the transforms run on the
+// mask in slabs with a halo of the band's reach (banded_distance), start
+// from the voxels on the region's surface only (mark_sources) and drop
+// distances beyond the band after each pass, so their work follows the
+// surface and their memory is a slab's; the region's inscribed distance
+// (feature_size) is then known only within the band.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,91 +46,119 @@
 namespace warpmesh {
 namespace {
 
-// Squared-distance transform of one line: d[i] = min_j g[j] + (w (i − j))²,
-// +inf where that exceeds `limit`.
-void edt_line(const float* g, float* d, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
-              std::vector<double>& z, std::vector<double>& gv) {
+// Squared-distance transform of one line, in place: g[i] → min_j g[j] +
+// (w (i − j))², +inf where that exceeds `limit`.  The lower envelope of the
+// finite g's parabolas (v: their positions, vg: their values, z: where each
+// starts), then its values only within r = ⌈√limit / w⌉ + 1 of the first and
+// last parabola: beyond, every parabola is more than √limit + w away, above
+// the limit, and g is +inf there already.  False: no finite value (g unchanged).
+bool edt_line(float* g, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
+              std::vector<double>& z, std::vector<double>& vg) {
     constexpr double inf = std::numeric_limits<double>::infinity();
-    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), gv.resize(static_cast<std::size_t>(n));
-    for (std::int64_t i = 0; i < n; ++i) gv[static_cast<std::size_t>(i)] = g[i * stride];
+    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), vg.resize(static_cast<std::size_t>(n));
     std::int64_t k = -1;
     const double w2 = w * w;
     for (std::int64_t q = 0; q < n; ++q) {
-        const double fq = gv[static_cast<std::size_t>(q)];
+        const double fq = g[q * stride];
         if (!(fq < inf)) continue;
         double s = -inf;
         while (k >= 0) {
             const std::int64_t p = v[static_cast<std::size_t>(k)];
-            s = ((fq + w2 * static_cast<double>(q * q)) - (gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>(p * p))) /
+            s = ((fq + w2 * static_cast<double>(q * q)) - (vg[static_cast<std::size_t>(k)] + w2 * static_cast<double>(p * p))) /
                 (2 * w2 * static_cast<double>(q - p));
             if (s > z[static_cast<std::size_t>(k)]) break;
             --k;
         }
         ++k;
-        v[static_cast<std::size_t>(k)] = q;
+        v[static_cast<std::size_t>(k)] = q, vg[static_cast<std::size_t>(k)] = fq;
         z[static_cast<std::size_t>(k)] = k == 0 ? -inf : s;
         z[static_cast<std::size_t>(k) + 1] = inf;
     }
-    for (std::int64_t i = 0, j = 0; i < n; ++i) {
-        if (k < 0) {
-            d[i * stride] = std::numeric_limits<float>::infinity();
-            continue;
-        }
+    if (k < 0) return false;
+    const std::int64_t r = static_cast<std::int64_t>(std::ceil(std::sqrt(limit) / w)) + 1;
+    const std::int64_t lo = std::max<std::int64_t>(0, v[0] - r), hi = std::min(n, v[static_cast<std::size_t>(k)] + r + 1);
+    for (std::int64_t i = lo, j = 0; i < hi; ++i) {
         while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
         const std::int64_t p = v[static_cast<std::size_t>(j)];
-        const double di = gv[static_cast<std::size_t>(p)] + w2 * static_cast<double>((i - p) * (i - p));
-        d[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+        const double di = vg[static_cast<std::size_t>(j)] + w2 * static_cast<double>((i - p) * (i - p));
+        g[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+    }
+    return true;
+}
+
+// The mask of the box (label_levelset): bit 0 the region, bit 1 a source
+// (mark_sources).
+constexpr std::uint8_t in_region = 1, source = 2;
+
+// The first pass on one line: the sources are the mask's voxels m with
+// (m & (source | in_region)) == want; g[i] = w² (i − p)² for the nearest
+// source p, +inf beyond `limit` or with no source — edt_line's value on the
+// line of sources (0 at a source, +inf elsewhere) to the bit (its parabolas
+// all have g = 0, so its envelope at an integer i is a nearest source's,
+// 0 + w² (i − p)²), found by one sweep each way instead of the envelope's
+// divisions.
+void sources_line(const std::uint8_t* mask, std::uint8_t want, float* g, std::int64_t n, double w, double limit,
+                  std::vector<std::int64_t>& left) {
+    constexpr std::int64_t none = std::numeric_limits<std::int64_t>::min() / 4;
+    const auto is_source = [&](std::int64_t i) { return (mask[i] & (source | in_region)) == want; };
+    left.resize(static_cast<std::size_t>(n));
+    for (std::int64_t i = 0, last = none; i < n; ++i) left[static_cast<std::size_t>(i)] = last = is_source(i) ? i : last;
+    const double w2 = w * w;
+    for (std::int64_t i = n - 1, next = -none; i >= 0; --i) {
+        next = is_source(i) ? i : next;
+        const std::int64_t d = std::min(i - left[static_cast<std::size_t>(i)], next - i);
+        const double di = d > n ? limit + 1 : 0.0 + w2 * static_cast<double>(d * d);
+        g[i] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
     }
 }
 
-// In place: g (0 at the sources, +inf elsewhere) → squared distances, +inf
-// beyond `limit` after each pass (a later pass only adds to a value).  The x
-// lines are contiguous; the y and z lines are taken in tiles of `tile` lines
+// The squared distances to the sources `want` of the mask (sources_line) on
+// the box of n voxels, into g, +inf beyond `limit` after each pass (a later
+// pass only adds to a value).  The x lines are contiguous (sources_line, from
+// the mask); the y and z lines are taken in tiles of `tile` lines
 // adjacent along x, copied into a small buffer (each voxel row read and
-// written as whole cache lines) and transformed there, a line at a time with
-// its stride: the same arithmetic as a line in place.
-void edt(Buffer<float>& g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w, double limit) {
+// written as whole cache lines) and transformed there in place, a line at a
+// time with its stride.
+void edt(const std::uint8_t* mask, std::uint8_t want, std::span<float> g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
+         double limit) {
     constexpr std::int64_t tile = 16;
-    Buffer<float> out(g.size());  // every element written by each pass
 #pragma omp parallel
     {
         std::vector<std::int64_t> v;
-        std::vector<double> z, gv;
-        std::vector<float> in_tile, out_tile;
+        std::vector<double> z, vg;
+        std::vector<float> lines;
 #pragma omp for schedule(static)
         for (std::int64_t line = 0; line < n[1] * n[2]; ++line)
-            edt_line(g.data() + line * n[0], out.data() + line * n[0], n[0], 1, w[0], limit, v, z, gv);
+            sources_line(mask + line * n[0], want, g.data() + line * n[0], n[0], w[0], limit, v);
         for (std::size_t a = 1; a < 3; ++a) {
             const std::size_t c = 3 - a;  // the axis other than x and a
             const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
-#pragma omp single
-            g.swap(out);
             const std::int64_t tiles = (n[0] + tile - 1) / tile, len = n[a];
-            in_tile.resize(static_cast<std::size_t>(len * tile)), out_tile.resize(static_cast<std::size_t>(len * tile));
+            lines.resize(static_cast<std::size_t>(len * tile));
 #pragma omp for schedule(static)
             for (std::int64_t job = 0; job < tiles * n[c]; ++job) {
                 const std::int64_t x0 = job % tiles * tile, width = std::min(tile, n[0] - x0), base = x0 + job / tiles * stride_c;
-                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, in_tile.data() + i * tile);
-                for (std::int64_t x = 0; x < width; ++x) edt_line(in_tile.data() + x, out_tile.data() + x, len, tile, w[a], limit, v, z, gv);
-                for (std::int64_t i = 0; i < len; ++i) std::copy_n(out_tile.data() + i * tile, width, out.data() + base + i * stride_a);
+                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, lines.data() + i * tile);
+                bool any = false;
+                for (std::int64_t x = 0; x < width; ++x) any = edt_line(lines.data() + x, len, tile, w[a], limit, v, z, vg) || any;
+                if (any)
+                    for (std::int64_t i = 0; i < len; ++i) std::copy_n(lines.data() + i * tile, width, g.data() + base + i * stride_a);
             }
         }
     }
-    g.swap(out);
 }
 
-// The transforms' sources: the voxels of each class (region or not) with a
-// 6-neighbour of the other class in the box.  The nearest voxel of a class
-// to a voxel p of the other class is one of them: a voxel q of the class
-// without such a neighbour has a neighbour of its class one step nearer p
-// along an axis where q − p is non-zero, and a transform's value (rounded
-// sums of the squared offsets, axis by axis) never grows as one axis's
-// offset shrinks.  So the fields are those of the transforms from every
-// voxel of the class (to the last bit, unless two sources tie within
-// rounding), at the cost of a surface's worth of sources.
-void boundary_sources(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, Buffer<float>& in,
-                      Buffer<float>& out) {
-    constexpr float inf = std::numeric_limits<float>::infinity();
+// The transforms' sources: the voxels of each class (the region's, or the
+// rest's) with a 6-neighbour of the other class in the box.  The nearest
+// voxel of a class to a voxel p of the other class is one of them: a voxel
+// q of the class without such a neighbour has a neighbour of its class one
+// step nearer p along an axis where q − p is non-zero, and a transform's
+// value (rounded sums of the squared offsets, axis by axis) never grows as
+// one axis's offset shrinks.  So the fields are those of the transforms from
+// every voxel of the class (to the last bit, unless two sources tie within
+// rounding), at the cost of a surface's worth of sources.  mark_sources sets
+// bit 1 of the mask (bit 0: the region) on them, once.
+void mark_sources(std::span<std::uint8_t> mask, const std::array<std::int64_t, 3>& n) {
     const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
 #pragma omp parallel for schedule(static)
     for (std::int64_t k = 0; k < n[2]; ++k)
@@ -135,15 +166,69 @@ void boundary_sources(std::span<const std::uint8_t> region, const std::array<std
             for (std::int64_t i = 0; i < n[0]; ++i) {
                 const std::int64_t at = i + stride[1] * j + stride[2] * k;
                 const std::array<std::int64_t, 3> q{i, j, k};
-                const std::uint8_t r = region[static_cast<std::size_t>(at)];
+                const std::uint8_t r = mask[static_cast<std::size_t>(at)] & in_region;
                 bool edge = false;
                 for (std::size_t a = 0; a < 3; ++a) {
-                    edge = edge || (q[a] > 0 && region[static_cast<std::size_t>(at - stride[a])] != r);
-                    edge = edge || (q[a] + 1 < n[a] && region[static_cast<std::size_t>(at + stride[a])] != r);
+                    edge = edge || (q[a] > 0 && (mask[static_cast<std::size_t>(at - stride[a])] & in_region) != r);
+                    edge = edge || (q[a] + 1 < n[a] && (mask[static_cast<std::size_t>(at + stride[a])] & in_region) != r);
                 }
-                in[static_cast<std::size_t>(at)] = r && edge ? 0.0f : inf;   // sources of d_out: the region's
-                out[static_cast<std::size_t>(at)] = !r && edge ? 0.0f : inf;  // sources of d_in: the rest's
+                if (edge) mask[static_cast<std::size_t>(at)] |= source;
             }
+}
+// The label field (levelset3.hpp, label mode) on the box of n voxels whose
+// mask (in_region, source: mark_sources) is `region`: f = d_out − c outside and −(d_in − c) inside,
+// clamped to [−cap, cap].  Exact wherever |f| < cap: a value there is a
+// distance below cap + c to a source, and the transforms keep every squared
+// distance up to limit = (cap + 2c)², so a source within cap + 2c of a voxel
+// is seen.  The box is transformed in slabs of planes along index axis 2,
+// each with a halo of h = ⌈(cap + 2c)/w₂⌉ planes on either side: a source
+// more than h planes away is more than cap + 2c away, so the slab's own
+// planes get what the whole box's transforms give them (the x and y passes
+// are the same lines; a z line loses only sources beyond the limit).  So the
+// work and memory beyond the field are one slab's.  `feature`: the largest
+// inscribed distance, +inf where it is beyond the band.
+struct Slabs {
+    std::int64_t slab, halo;  // planes a slab, planes of halo on either side
+};
+Slabs slabs_of(double reach, double w2) {
+    const std::int64_t halo = static_cast<std::int64_t>(std::ceil(reach / w2));
+    return {std::max<std::int64_t>(64, 4 * halo), halo};
+}
+
+Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
+                              double c, double cap, double& feature) {
+    const double limit = (cap + 2 * c) * (cap + 2 * c);
+    const auto [slab, halo] = slabs_of(cap + 2 * c, w[2]);
+    const std::int64_t plane = n[0] * n[1];
+    Buffer<float> field(static_cast<std::size_t>(plane * n[2]));  // every element written below
+    Buffer<float> g(static_cast<std::size_t>(plane * std::min(n[2], slab + 2 * halo)));
+    feature = 0;
+    for (std::int64_t z0 = 0; z0 < n[2]; z0 += slab) {
+        const std::int64_t z1 = std::min(n[2], z0 + slab), w0 = std::max<std::int64_t>(0, z0 - halo),
+                           w1 = std::min(n[2], z1 + halo);
+        const std::span<float> window(g.data(), static_cast<std::size_t>(plane * (w1 - w0)));
+        for (const bool of_region : {true, false}) {  // d_out from the region's sources, then d_in
+            edt(region.data() + w0 * plane, static_cast<std::uint8_t>(source | (of_region ? in_region : 0)), window, {n[0], n[1], w1 - w0}, w,
+                limit);
+            double deepest = 0;
+#pragma omp parallel for schedule(static) reduction(max : deepest)
+            for (std::int64_t at = z0 * plane; at < z1 * plane; ++at) {
+                const bool r = (region[static_cast<std::size_t>(at)] & in_region) != 0;
+                if (r == of_region) continue;  // the other transform's voxel
+                const float d2 = window[static_cast<std::size_t>(at - w0 * plane)];
+                if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
+                    if (r) deepest = std::numeric_limits<double>::infinity();
+                    field[static_cast<std::size_t>(at)] = static_cast<float>(r ? -cap : cap);
+                    continue;
+                }
+                const double d = std::sqrt(static_cast<double>(d2)) - c;
+                if (r) deepest = std::max(deepest, d);
+                field[static_cast<std::size_t>(at)] = static_cast<float>(std::clamp(r ? -d : d, -cap, cap));
+            }
+            feature = std::max(feature, deepest);
+        }
+    }
+    return field;
 }
 
 class VolumeLevelSet3 final : public LevelSet3 {
@@ -344,89 +429,116 @@ std::string labels_text(const ImageLevelSetOptions& m) {
     return s.str();
 }
 
-std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
-    const auto& m = o.mode;
-    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs labels: a label list (e.g. 3 or 51,52) or nonzero");
-    // Which of the listed labels occur: every one must (a label in no voxel
-    // is a typo or the wrong volume, refused as 2D's --materials does).
-    std::vector<char> seen(m.labels.size(), 0);
-    auto in_region = [&](double x) {
-        if (m.label_nonzero) return x != 0;
-        const auto it = std::find(m.labels.begin(), m.labels.end(), static_cast<int>(x));
-        if (it == m.labels.end()) return false;
-        seen[static_cast<std::size_t>(it - m.labels.begin())] = 1;
-        return true;
-    };
-    // The region's bounding box and voxel count, a row of voxels (x fastest) at a time.
-    std::array<std::int64_t, 3> lo{v.dims}, hi{-1, -1, -1};
-    std::int64_t region_voxels = 0;
+// The region's labels: slot[x] = k + 1 for the k-th listed label x (1 for
+// every non-zero x with label_nonzero), 0 for a label outside the region.
+std::vector<std::uint16_t> region_slots(const ImageLevelSetOptions& m) {
+    std::vector<std::uint16_t> slot(65536, 0);
+    if (m.label_nonzero) std::fill(slot.begin() + 1, slot.end(), std::uint16_t{1});
+    for (std::size_t i = m.label_nonzero ? m.labels.size() : 0; i < m.labels.size(); ++i)
+        if (m.labels[i] >= 0 && m.labels[i] <= 65535 && slot[static_cast<std::size_t>(m.labels[i])] == 0)
+            slot[static_cast<std::size_t>(m.labels[i])] = static_cast<std::uint16_t>(i + 1);
+    return slot;
+}
+
+// The region's voxels in a volume: their bounding box [lo, hi] and count,
+// and which listed labels occur (refusing non-integer values, an empty
+// region and absent labels).  A row of voxels (x fastest) at a time, the
+// 16-bit labels straight (Volume::labels), doubles checked to be labels.
+struct RegionScan {
+    std::array<std::int64_t, 3> lo{}, hi{};
+    std::int64_t voxels = 0;
+};
+RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot) {
+    RegionScan out{v.dims, {-1, -1, -1}, 0};
+    std::vector<char> seen(std::max<std::size_t>(1, m.labels.size()), 0);
     for (std::int64_t k = 0; k < v.dims[2]; ++k)
         for (std::int64_t j = 0; j < v.dims[1]; ++j) {
-            const double* row = v.values.data() + v.dims[0] * (j + v.dims[1] * k);
+            const std::size_t row = static_cast<std::size_t>(v.dims[0] * (j + v.dims[1] * k));
             std::int64_t first = -1, last = -1;
             for (std::int64_t i = 0; i < v.dims[0]; ++i) {
-                const double x = row[i];
-                // In 0..65535, then an integer (the cast is exact there).
-                if (!(x >= 0 && x <= 65535) || static_cast<double>(static_cast<std::int32_t>(x)) != x)
-                    throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(x) + ")");
-                if (!in_region(x)) continue;
-                ++region_voxels;
+                std::size_t x = 0;
+                if (!v.labels.empty()) {
+                    x = v.labels[row + static_cast<std::size_t>(i)];
+                } else {
+                    const double d = v.values[row + static_cast<std::size_t>(i)];
+                    // In 0..65535, then an integer (the cast is exact there).
+                    if (!(d >= 0 && d <= 65535) || static_cast<double>(static_cast<std::int32_t>(d)) != d)
+                        throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(d) + ")");
+                    x = static_cast<std::size_t>(d);
+                }
+                if (slot[x] == 0) continue;
+                seen[slot[x] - 1u] = 1;
                 if (first < 0) first = i;
                 last = i;
+                ++out.voxels;
             }
             if (first < 0) continue;
-            lo = {std::min(lo[0], first), std::min(lo[1], j), std::min(lo[2], k)};
-            hi = {std::max(hi[0], last), std::max(hi[1], j), std::max(hi[2], k)};
+            out.lo = {std::min(out.lo[0], first), std::min(out.lo[1], j), std::min(out.lo[2], k)};
+            out.hi = {std::max(out.hi[0], last), std::max(out.hi[1], j), std::max(out.hi[2], k)};
         }
-    if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
+    if (out.hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
     std::string absent;
-    for (std::size_t i = 0; i < m.labels.size(); ++i)
-        if (!seen[i]) absent += (absent.empty() ? "" : ",") + std::to_string(m.labels[i]);
+    for (std::size_t i = 0; i < m.labels.size() && !m.label_nonzero; ++i) {
+        const bool valid = m.labels[i] >= 0 && m.labels[i] <= 65535;
+        if (valid && (seen[i] || slot[static_cast<std::size_t>(m.labels[i])] != i + 1)) continue;
+        if (!absent.empty()) absent += ',';
+        absent += std::to_string(m.labels[i]);
+    }
     if (!absent.empty())
-        throw InputError(v.source + ": no voxel has the label(s) " + absent + " (of " + labels_text(m) +
-                         "): a typo, or the wrong volume?");
-    const std::array<std::int64_t, 3> region_lo = lo, region_hi = hi;
-    std::array<std::int64_t, 3> n{};
+        throw InputError(v.source + ": no voxel has the label(s) " + absent + " (of " + labels_text(m) + "): a typo, or the wrong volume?");
+    return out;
+}
+
+// Label mode (levelset3.hpp).  The volume's samples are read twice — the
+// scan, then the region's mask over its box — and may be released after
+// that (`release`: the caller's volume, whose samples nothing needs later);
+// the field is built from the mask alone (banded_distance).
+std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o, Volume* release) {
+    const auto& m = o.mode;
+    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs labels: a label list (e.g. 3 or 51,52) or nonzero");
+    const std::vector<std::uint16_t> slot = region_slots(m);
+    const RegionScan scan = scan_region(v, m, slot);
+    std::array<std::int64_t, 3> lo{}, hi{}, n{};
     std::uint64_t count = 1;
     for (std::size_t a = 0; a < 3; ++a) {
-        lo[a] = std::max<std::int64_t>(0, lo[a] - o.band), hi[a] = std::min<std::int64_t>(v.dims[a] - 1, hi[a] + o.band);
+        lo[a] = std::max<std::int64_t>(0, scan.lo[a] - o.band), hi[a] = std::min<std::int64_t>(v.dims[a] - 1, scan.hi[a] + o.band);
         n[a] = hi[a] - lo[a] + 1;
         count *= static_cast<std::uint64_t>(n[a]);
     }
-    // Two float fields, a transform buffer and the region's mask while building, one field kept.
-    check_memory(count * 13, o.max_memory, "the label volume's distance field (" + std::to_string(count) + " voxels)",
-                 "13 bytes a voxel of the region's bounding box", "crop the volume to the region");
-    std::vector<std::uint8_t> region(count);
-    for (std::int64_t k = 0; k < n[2]; ++k)
-        for (std::int64_t j = 0; j < n[1]; ++j)
-            for (std::int64_t i = 0; i < n[0]; ++i)
-                region[static_cast<std::size_t>(i + n[0] * (j + n[1] * k))] = in_region(v.at(lo[0] + i, lo[1] + j, lo[2] + k));
-    Buffer<float> in(count), out(count);  // every element written by boundary_sources
-    boundary_sources(region, n, in, out);
     const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
     const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
-    // A squared distance above (cap + 2c)² gives |f| > cap: clamped to cap,
-    // the same as +inf, so the transforms drop it (and skip it in later passes).
-    edt(in, n, w, (cap + 2 * c) * (cap + 2 * c));
-    edt(out, n, w, (cap + 2 * c) * (cap + 2 * c));
-    double feature = 0;  // the largest inscribed distance; +inf: beyond the band
-    for (std::size_t at = 0; at < count; ++at) {
-        const bool r = region[at];
-        const double d = r ? -(std::sqrt(static_cast<double>(out[at])) - c) : std::sqrt(static_cast<double>(in[at])) - c;
-        if (r) feature = std::max(feature, -d);
-        in[at] = static_cast<float>(std::clamp(d, -cap, cap));
-    }
+    const Slabs sl = slabs_of(cap + 2 * c, w[2]);
+    // The mask and the field (1 + 4 bytes a voxel of the box), and a slab of the transforms'.
+    const std::uint64_t window = static_cast<std::uint64_t>(std::min(n[2], sl.slab + 2 * sl.halo));
+    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * window * 4, o.max_memory,
+                 "the label volume's distance field (" + std::to_string(count) + " voxels)", "5 bytes a voxel of the region's bounding box",
+                 "crop the volume to the region");
+    Buffer<std::uint8_t> region(count);  // every element written below
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j) {
+            const std::size_t from = static_cast<std::size_t>(lo[0] + v.dims[0] * (lo[1] + j + v.dims[1] * (lo[2] + k)));
+            std::uint8_t* to = region.data() + n[0] * (j + n[1] * k);
+            for (std::int64_t i = 0; i < n[0]; ++i)
+                to[i] = slot[v.labels.empty() ? static_cast<std::size_t>(v.values[from + static_cast<std::size_t>(i)])
+                                              : v.labels[from + static_cast<std::size_t>(i)]] != 0;
+        }
+    if (release) Buffer<std::uint16_t>().swap(release->labels), std::vector<double>().swap(release->values);
+    double feature = 0;
+    mark_sources(region, n);
+    Buffer<float> field = banded_distance(region, n, w, c, cap, feature);
     if (!std::isfinite(feature)) feature = 0;  // unknown: deeper than the band somewhere
-    Buffer<float>().swap(out);
-    auto f = std::make_unique<VolumeLevelSet3>(v, std::move(in), lo, n, region_lo, region_hi, static_cast<float>(cap), feature, 1.0,
+    Buffer<std::uint8_t>().swap(region);
+    auto f = std::make_unique<VolumeLevelSet3>(v, std::move(field), lo, n, scan.lo, scan.hi, static_cast<float>(cap), feature, 1.0,
                                                v.source + " (label " + labels_text(m) + ")");
-    f->set_reference_volume(static_cast<double>(region_voxels) * v.spacing[0] * v.spacing[1] * v.spacing[2]);
+    f->set_reference_volume(static_cast<double>(scan.voxels) * v.spacing[0] * v.spacing[1] * v.spacing[2]);
     return f;
 }
 
 std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
-    const auto [mn, mx] = std::minmax_element(v.values.begin(), v.values.end());
-    const double iso = o.mode.iso ? *o.mode.iso : v.maxval > 0 ? 0.5 * v.maxval : 0.5 * (*mn + *mx);
+    double mn = std::numeric_limits<double>::infinity(), mx = -mn;
+    for (std::size_t q = 0; q < static_cast<std::size_t>(v.voxel_count()); ++q) mn = std::min(mn, v.value(q)), mx = std::max(mx, v.value(q));
+    const double iso = o.mode.iso ? *o.mode.iso : v.maxval > 0 ? 0.5 * v.maxval : 0.5 * (mn + mx);
     if (!std::isfinite(iso)) throw InputError("the iso value must be a finite number");
     const std::uint64_t count = static_cast<std::uint64_t>(v.voxel_count());
     check_memory(count * 4, o.max_memory, "the volume's grey values (" + std::to_string(count) + " voxels)", "4 bytes a voxel",
@@ -437,7 +549,7 @@ std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevel
     for (std::int64_t k = 0, i = 0; k < v.dims[2]; ++k)
         for (std::int64_t j = 0; j < v.dims[1]; ++j)
             for (std::int64_t x = 0; x < v.dims[0]; ++x, ++i) {
-                f[static_cast<std::size_t>(i)] = static_cast<float>(sign * (v.values[static_cast<std::size_t>(i)] - iso));
+                f[static_cast<std::size_t>(i)] = static_cast<float>(sign * (v.value(static_cast<std::size_t>(i)) - iso));
                 if (f[static_cast<std::size_t>(i)] > 0) continue;
                 const std::array<std::int64_t, 3> q{x, j, k};
                 for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
@@ -445,13 +557,11 @@ std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevel
     if (hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel is " + (o.mode.inside_above ? "above" : "below") + " the iso value");
     std::ostringstream name;
     name << v.source << " (iso " << iso << (o.mode.inside_above ? ", inside above)" : ", inside below)");
-    const float far = static_cast<float>(std::max(1.0, std::abs(*mx - *mn)));
+    const float far = static_cast<float>(std::max(1.0, std::abs(mx - mn)));
     return std::make_unique<VolumeLevelSet3>(v, std::move(f), std::array<std::int64_t, 3>{0, 0, 0}, v.dims, lo, hi, far, 0.0, far / std::min({v.spacing[0], v.spacing[1], v.spacing[2]}), name.str());
 }
 
-}  // namespace
-
-std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options) {
+std::unique_ptr<LevelSet3> volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options, Volume* release) {
     for (std::size_t a = 0; a < 3; ++a) {
         if (volume.dims[a] < 2)
             throw InputError(volume.source + ": a 3D mesh needs at least 2 voxels along every axis (" + std::to_string(volume.dims[0]) +
@@ -459,8 +569,18 @@ std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const Vol
         if (!axis_aligned(volume.axes[a])) throw InputError(volume.source + ": oblique orientations are not supported");
     }
     if (options.band < 2) throw InputError("the distance band must be at least 2 voxels");
-    if (options.mode.mode == ImageMode::label) return label_levelset(volume, options);
+    if (options.mode.mode == ImageMode::label) return label_levelset(volume, options, release);
     return threshold_levelset(volume, options);
+}
+
+}  // namespace
+
+std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options) {
+    return volume_levelset3(volume, options, nullptr);
+}
+
+std::unique_ptr<LevelSet3> make_volume_levelset3(Volume&& volume, const VolumeLevelSet3Options& options) {
+    return volume_levelset3(volume, options, &volume);
 }
 
 }  // namespace warpmesh

@@ -119,8 +119,8 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
     check_memory(static_cast<std::uint64_t>(v.voxel_count()) * 2, max_memory, "the material field of '" + source_ + "'",
                  "2 bytes a voxel", "");
     std::vector<std::int64_t> hist(65536, 0);
-    for (std::size_t q = 0; q < v.values.size(); ++q) {
-        const double x = v.values[q];
+    for (std::size_t q = 0; q < static_cast<std::size_t>(v.voxel_count()); ++q) {
+        const double x = v.value(q);
         if (!(x >= 0 && x <= 65535 && x == std::floor(x))) {
             const std::int64_t i = off_[0] + static_cast<std::int64_t>(q) % pn_[0], j = off_[1] + static_cast<std::int64_t>(q) / pn_[0] % pn_[1],
                                k = off_[2] + static_cast<std::int64_t>(q) / (pn_[0] * pn_[1]);
@@ -154,11 +154,11 @@ VolumeMaterials3::VolumeMaterials3(const Volume& v, const std::string& spec, std
             if (axis_[b] < axis_[a]) stride_[a] *= pn_[b];
     }
     voxels_.assign(tags_.size(), 0);
-    mat_.resize(v.values.size());
+    mat_.resize(static_cast<std::size_t>(v.voxel_count()));
     for (std::int64_t k = off_[2], q = 0; k < off_[2] + pn_[2]; ++k)
         for (std::int64_t j = off_[1]; j < off_[1] + pn_[1]; ++j)
             for (std::int64_t i = off_[0]; i < off_[0] + pn_[0]; ++i, ++q) {
-                const std::uint16_t m = material_of[static_cast<std::size_t>(v.values[static_cast<std::size_t>(q)])];
+                const std::uint16_t m = material_of[static_cast<std::size_t>(v.value(static_cast<std::size_t>(q)))];
                 mat_[static_cast<std::size_t>(at(i, j, k))] = m;
                 ++voxels_[m];
             }

@@ -71,7 +71,7 @@ struct Prepared {
     // A part of a volume (Volume::is_part): its geometry (the options'
     // overrides applied; no values) and its values.
     std::optional<Volume> part;
-    const std::vector<double>* part_values = nullptr;
+    const Volume* part_values = nullptr;
 };
 
 // The options' geometry of a volume: voxel_size, units.
@@ -86,7 +86,8 @@ void apply_geometry(Volume& v, const Mesh3dOptions& o) {
     }
 }
 
-void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p) {
+// `owned`: v itself when the pipeline read it (its samples are released as soon as the level set no longer needs them).
+void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p, Volume* owned = nullptr) {
     if (v.is_part()) {
         if (!o.materials)
             throw InputError("a part of a volume is meshed with materials only: one region's level set is a distance "
@@ -116,7 +117,7 @@ void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgr
     }
     if (progress && p.large)
         progress(std::string(o.labels ? "signed distance of the labels" : "threshold level set") + " of " + size);
-    p.owned = make_volume_levelset3(v, lo);
+    p.owned = owned ? make_volume_levelset3(std::move(*owned), lo) : make_volume_levelset3(v, lo);
     p.f = p.owned.get();
     // Neither labels nor iso: threshold mode at a guessed iso, which for a
     // label volume meshes whatever lies above half its largest label.  Say so.
@@ -135,10 +136,10 @@ Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Me
                 Volume v = read_volume(in.path, {o.max_voxels, o.max_memory});
                 p.warnings = v.warnings;
                 apply_geometry(v, o);
-                volume_level_set(v, o, progress, p);
+                volume_level_set(v, o, progress, p, &v);
             } else if constexpr (std::is_same_v<T, std::reference_wrapper<const Volume>>) {
                 p.warnings = in.get().warnings;
-                p.part_values = &in.get().values;
+                p.part_values = &in.get();
                 if (!overrides_geometry(o)) return volume_level_set(in.get(), o, progress, p);
                 Volume v = in.get();  // a copy, to override its geometry
                 apply_geometry(v, o);
@@ -402,7 +403,7 @@ std::array<std::array<std::int64_t, 3>, 2> voxels_of_block(const Volume& g, cons
 // Per output material (the background first when kept), the part's voxels
 // whose centres lie in the cubes `range` (half-open along every world axis:
 // each voxel of the whole volume is counted by exactly one block).
-std::vector<std::int64_t> owned_voxels(const Volume& g, std::span<const double> values, const MaterialField3& field,
+std::vector<std::int64_t> owned_voxels(const Volume& g, const Volume& values, const MaterialField3& field,
                                        bool keep_background, const Lattice3& L, const CubeRange& range) {
     std::vector<int> material_of(65536, 0);
     for (int m = 1; m < field.count(); ++m) material_of[static_cast<std::size_t>(field.tag(m))] = m;
@@ -418,7 +419,7 @@ std::vector<std::int64_t> owned_voxels(const Volume& g, std::span<const double> 
                     const double x = g.origin[c[a]] + static_cast<double>(g.part_offset[a] + i[a]) * g.spacing[a] * g.axes[a][c[a]];
                     own = cube_boundary(L, c[a], range.lo[c[a]]) <= x && x < cube_boundary(L, c[a], range.hi[c[a]]);
                 }
-                if (own) ++count[static_cast<std::size_t>(material_of[static_cast<std::size_t>(values[static_cast<std::size_t>(i[0] + g.dims[0] * (i[1] + g.dims[1] * i[2]))])])];
+                if (own) ++count[static_cast<std::size_t>(material_of[static_cast<std::size_t>(values.at(i[0], i[1], i[2]))])];
             }
     if (!keep_background) count.erase(count.begin());
     return count;

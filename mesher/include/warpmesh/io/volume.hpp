@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "warpmesh/core/buffer.hpp"
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/core/mesh.hpp"
 #include "warpmesh/io/image.hpp"
@@ -43,7 +44,13 @@ using Vec3 = std::array<double, 3>;
 
 struct Volume {
     std::array<std::int64_t, 3> dims{1, 1, 1};  // voxels along i, j, k (each >= 1)
-    std::vector<double> values;                 // index i + dims[0] (j + dims[1] k)
+    // The samples, index i + dims[0] (j + dims[1] k): as 16-bit labels when
+    // every one is an integer in 0..65535 (the label and material modes'
+    // range; the readers keep integer files so, 2 bytes a voxel, and `values`
+    // is then empty), else as doubles in `values`.  Read them with value()
+    // and at(), which see either.
+    std::vector<double> values;
+    Buffer<std::uint16_t> labels;  // (buffer.hpp: written whole by the reader, not zero-filled first)
     Vec3 spacing{1, 1, 1};                      // > 0: mm for physical volumes, else pixels
     Vec3 origin{0, 0, 0};                       // physical position of voxel (0, 0, 0)
     std::array<Vec3, 3> axes{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
@@ -64,8 +71,9 @@ struct Volume {
     bool is_part() const { return whole_dims[0] > 0; }
 
     std::int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
+    double value(std::size_t q) const { return labels.empty() ? values[q] : labels[q]; }
     double at(std::int64_t i, std::int64_t j, std::int64_t k) const {
-        return values[static_cast<std::size_t>(i + dims[0] * (j + dims[1] * k))];
+        return value(static_cast<std::size_t>(i + dims[0] * (j + dims[1] * k)));
     }
 };
 
@@ -98,6 +106,9 @@ Volume decode_nifti(std::span<const std::uint8_t> bytes, const std::string& name
 Volume decode_tiff(std::span<const std::uint8_t> bytes, const std::string& name, const VolumeLimits& limits);
 bool tiff_supported();
 
+// The samples as doubles in `values` (labels moved there, and freed).
+void samples_to_values(Volume& volume);
+
 // gzip/zlib data, inflated to at most max_out bytes (stops there: callers ask
 // for what they need).  Throws InputError naming `name` on corrupt data.
 std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t max_out, const std::string& name);
@@ -105,6 +116,9 @@ std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> in, std::size_t m
 // bytes (fewer: the caller reports the truncation) and throws InputError if
 // the stream holds more.
 std::vector<std::uint8_t> gunzip_exact(std::span<const std::uint8_t> in, std::size_t expected, const std::string& name);
+// The same into the caller's buffer: inflates at most out.size() bytes and
+// returns how many (fewer: truncated); throws InputError if the stream holds more.
+std::size_t gunzip_exact_into(std::span<const std::uint8_t> in, std::span<std::uint8_t> out, const std::string& name);
 
 // Axis-aligned directions: the unit vector +-e_p nearest to d, if d is
 // within 1e-6 (relative) of it; else nullopt (oblique).

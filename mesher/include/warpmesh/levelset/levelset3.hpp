@@ -104,11 +104,22 @@ std::unique_ptr<LevelSet3> parse_shape3(const std::string& spec);
 //              inside (d the exact Euclidean distance, spacing-weighted, to the
 //              nearest voxel centre of the other class; h/2 puts the boundary
 //              midway between a voxel inside and its 6-neighbour outside along
-//              each axis), interpolated trilinearly.  It is computed exactly
-//              only in a band of `band` voxels around the boundary (farther, f
-//              is clamped to ±band × the largest spacing: the sign is all the
-//              mesher needs there), on the region's bounding box plus that
-//              band, as 4-byte floats.
+//              each axis), interpolated trilinearly.  The band contract:
+//              with cap = band × the largest spacing, a voxel's value is
+//              clamp(±(d − h/2), −cap, cap), exact (the transform's value,
+//              as a 4-byte float) wherever |f| < cap and ±cap beyond, so its
+//              sign is the voxel's class everywhere and clamping never raises
+//              the field's Lipschitz constant (|clamp a − clamp b| <= |a − b|).
+//              What the mesher reads: the sign at every lattice point, and
+//              f along cut edges for the cut points (warping reads the cut
+//              points, not f) — on cut_parameter's cubic path only the voxel
+//              cell where f changes sign, whose corners lie within a voxel
+//              of the boundary, inside the band (>= 2 voxels); its fallback
+//              iterates on f itself, clamped values included (they are f).  Stored on the region's bounding box
+//              plus `band` voxels (farther voxels get ±cap without being
+//              stored); the distances come from the voxels within cap + h of
+//              each voxel (banded_distance, volume_levelset3.cpp), so a
+//              voxel's value depends only on the labels within that reach.
 // The region is cut off at the hull of the voxel centres (f = max(the
 // interpolant at the nearest point of the hull, the box distance to the hull
 // in f's units): continuous, and a region reaching the volume's edge is
@@ -122,5 +133,9 @@ struct VolumeLevelSet3Options {
     std::uint64_t max_memory = default_max_memory;
 };
 std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options);
+// The same, releasing the volume's samples (label mode: as soon as the
+// region's mask is read from them, before the distance field is built) for
+// a caller that needs only its geometry afterwards.
+std::unique_ptr<LevelSet3> make_volume_levelset3(Volume&& volume, const VolumeLevelSet3Options& options);
 
 }  // namespace warpmesh
