@@ -38,8 +38,8 @@ using Key3 = std::array<std::int64_t, 3>;
 
 // The split of one background tetrahedron: output tetrahedra over its 15
 // local points (generic_bcc_materials.hpp) and their material codes.  Only
-// the first `count` entries of the arrays are written (a split is made for
-// every background tetrahedron near an interface, twice: not zeroed).
+// the first `count` entries of the arrays are written (pass B makes a split
+// for every background tetrahedron near an interface: not zeroed).
 struct Split {
     int count = 0;
     std::array<bcc::OutTet, 24> tet;
@@ -49,6 +49,23 @@ struct Split {
     bool all_zero = false, junction = false, void_left = false;
 };
 inline constexpr std::uint8_t junction_side = 2, fill_side = 3;
+
+// What a split outputs, as pass A needs it: how many tetrahedra, which of
+// the 15 local points they use (bit q) and the split's flags.
+struct Footprint {
+    int count = 0;
+    unsigned used = 0;
+    bool all_zero = false, junction = false, void_left = false;
+};
+
+// Bit q set for every local point q of the first `count` tetrahedra of t.
+template <std::size_t N>
+unsigned used_points(const std::array<bcc::OutTet, N>& t, int count) {
+    unsigned used = 0;
+    for (int k = 0; k < count; ++k)
+        for (const std::uint8_t q : t[static_cast<std::size_t>(k)]) used |= 1u << q;
+    return used;
+}
 inline constexpr int void_fill = -2;
 
 // The junction stencils by (letters, parity): letters coded (l + 1) 5^i.
@@ -159,7 +176,15 @@ struct MaterialLayout {
         s.side[static_cast<std::size_t>(s.count)] = side;
         s.material[static_cast<std::size_t>(s.count++)] = material;
     }
+    // The letters of background tetrahedron p's points (letters_of, with
+    // warped points and the outside merged as `code` does) and each letter's
+    // material code in material_of.
+    std::array<int, 4> letters(const std::array<std::int64_t, 4>& p, std::array<std::uint16_t, 4>& material_of) const;
     Split split(const std::array<std::int64_t, 4>& p, int parity) const;
+    // What split(p, parity) outputs, for pass A: its count, the local points
+    // its tetrahedra use and its flags, from per-stencil tables (the same
+    // stencils, so the same figures) instead of writing the tetrahedra.
+    Footprint footprint(const std::array<std::int64_t, 4>& p, int parity) const;
     // Window point p's material code (the outside merged into the background when it is dropped).
     std::uint16_t code(std::int64_t p) const {
         const std::uint16_t c = mat[static_cast<std::size_t>(p)];
@@ -239,21 +264,42 @@ int MaterialLayout::leaf_templates(const graded3::Cube& c, graded3::Templates& o
     return k;
 }
 
-Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) const {
+std::array<int, 4> MaterialLayout::letters(const std::array<std::int64_t, 4>& p, std::array<std::uint16_t, 4>& material_of) const {
     std::array<std::uint16_t, 4> m{};
     std::array<bool, 4> warped{};
     for (std::size_t k = 0; k < 4; ++k) {
-        m[k] = mat[static_cast<std::size_t>(p[k])];
-        if (merge_outside && m[k] == outside_code) m[k] = 0;
+        m[k] = code(p[k]);
         warped[k] = w.warp[static_cast<std::size_t>(p[k])] != bcc::stay;
     }
     const std::array<int, 4> letter = bcc::letters_of(m, warped);
+    material_of = {};
+    for (std::size_t i = 0; i < 4; ++i)
+        if (letter[i] >= 0) material_of[static_cast<std::size_t>(letter[i])] = m[i];
+    return letter;
+}
+
+// The junction stencil's code of letters (l + 1) 5^i, and a two-material
+// side's one-region code Σ (sign + 1) 3^i (its letter −, the other +).
+int junction_code(const std::array<int, 4>& letter) {
+    int code = 0;
+    for (int i = 3; i >= 0; --i) code = code * 5 + letter[static_cast<std::size_t>(i)] + 1;
+    return code;
+}
+int side_code(const std::array<int, 4>& letter, int side) {
+    int code = 0;
+    for (int i = 3; i >= 0; --i) {
+        const int l = letter[static_cast<std::size_t>(i)];
+        code = code * 3 + (l < 0 ? 1 : l == side ? 0 : 2);
+    }
+    return code;
+}
+
+Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) const {
+    std::array<std::uint16_t, 4> material_of{};
+    const std::array<int, 4> letter = letters(p, material_of);
     const int k = bcc::letter_count(letter);
     Split s;
     s.letter = letter;
-    std::array<std::uint16_t, 4> material_of{};
-    for (std::size_t i = 0; i < 4; ++i)
-        if (letter[i] >= 0) material_of[static_cast<std::size_t>(letter[i])] = m[i];
     if (k == 0) {
         s.all_zero = true;
         const int f = fill_material(p);
@@ -262,9 +308,7 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
         return s;
     }
     if (k >= 3) {
-        int code = 0;
-        for (int i = 3; i >= 0; --i) code = code * 5 + letter[static_cast<std::size_t>(i)] + 1;
-        const bcc::MaterialStencil& st = junction_table()[static_cast<std::size_t>(code * 2 + parity)];
+        const bcc::MaterialStencil& st = junction_table()[static_cast<std::size_t>(junction_code(letter) * 2 + parity)];
         s.junction = true;
         for (int t = 0; t < st.count; ++t)
             push(s, st.tet[static_cast<std::size_t>(t)].tet, material_of[static_cast<std::size_t>(st.tet[static_cast<std::size_t>(t)].letter)], junction_side);
@@ -272,17 +316,64 @@ Split MaterialLayout::split(const std::array<std::int64_t, 4>& p, int parity) co
     }
     // One or two letters: the one-region stencil of each side (code = Σ (sign + 1) 3^i).
     for (int side = 0; side < k; ++side) {
-        int code = 0;
-        for (int i = 3; i >= 0; --i) {
-            const int l = letter[static_cast<std::size_t>(i)];
-            code = code * 3 + (l < 0 ? 1 : l == side ? 0 : 2);
-        }
-        const bcc::Stencil& st = plans[static_cast<std::size_t>(code * 2 + parity)].stencil;
+        const bcc::Stencil& st = plans[static_cast<std::size_t>(side_code(letter, side) * 2 + parity)].stencil;
         for (int t = 0; t < st.count; ++t) push(s, st.tet[static_cast<std::size_t>(t)], material_of[static_cast<std::size_t>(side)], static_cast<std::uint8_t>(side));
     }
     return s;
 }
 
+// Per one-region plan (plans()'s index code * 2 + parity): its stencil's
+// count and used points.
+const std::vector<Footprint>& side_footprints() {
+    static const std::vector<Footprint> table = [] {
+        std::vector<Footprint> t;
+        for (const Plan& p : plans())
+            t.push_back({p.stencil.count, used_points(p.stencil.tet, p.stencil.count)});
+        return t;
+    }();
+    return table;
+}
+
+// Per junction stencil (junction_table()'s index) and letter: the count and
+// used points of its tetrahedra of that letter.
+const std::vector<std::array<Footprint, 4>>& junction_footprints() {
+    static const std::vector<std::array<Footprint, 4>> table = [] {
+        std::vector<std::array<Footprint, 4>> t(junction_table().size());
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            const bcc::MaterialStencil& st = junction_table()[i];
+            for (int k = 0; k < st.count; ++k) {
+                Footprint& f = t[i][static_cast<std::size_t>(st.tet[static_cast<std::size_t>(k)].letter)];
+                ++f.count;
+                for (const std::uint8_t q : st.tet[static_cast<std::size_t>(k)].tet) f.used |= 1u << q;
+            }
+        }
+        return t;
+    }();
+    return table;
+}
+
+Footprint MaterialLayout::footprint(const std::array<std::int64_t, 4>& p, int parity) const {
+    std::array<std::uint16_t, 4> material_of{};
+    const std::array<int, 4> letter = letters(p, material_of);
+    const int k = bcc::letter_count(letter);
+    Footprint f;
+    const auto add = [&](const Footprint& g, std::uint16_t material) {
+        if (output[material]) f.count += g.count, f.used |= g.used;
+    };
+    if (k == 0) {  // the fill's material needs the field: split it
+        const Split s = split(p, parity);
+        return {s.count, used_points(s.tet, s.count), true, false, s.void_left};
+    }
+    if (k >= 3) {
+        const std::array<Footprint, 4>& by_letter = junction_footprints()[static_cast<std::size_t>(junction_code(letter) * 2 + parity)];
+        for (int l = 0; l < k; ++l) add(by_letter[static_cast<std::size_t>(l)], material_of[static_cast<std::size_t>(l)]);
+        f.junction = true;
+        return f;
+    }
+    for (int side = 0; side < k; ++side)
+        add(side_footprints()[static_cast<std::size_t>(side_code(letter, side) * 2 + parity)], material_of[static_cast<std::size_t>(side)]);
+    return f;
+}
 
 // Whether cube m touches the lattice's cut-off (its tetrahedra may have
 // faces there: the general path records them).
@@ -316,8 +407,8 @@ struct LayerCount {
 };
 
 // Pass A for one split background tetrahedron (index, lattice points p) of cube m.
-void count_split(const MaterialLayout& lay, const bcc::Ivec& m, int index, const std::array<std::int64_t, 4>& p, const Split& s, Marks& marks,
-                 LayerCount& c) {
+void count_split(const MaterialLayout& lay, const bcc::Ivec& m, int index, const std::array<std::int64_t, 4>& p, const Footprint& s,
+                 Marks& marks, LayerCount& c) {
     const TetShape& sh = lay.shapes[static_cast<std::size_t>(index)];
     c.all_zero += s.all_zero;
     c.filled += s.all_zero && s.count > 0;
@@ -326,11 +417,8 @@ void count_split(const MaterialLayout& lay, const bcc::Ivec& m, int index, const
     if (s.count == 0) return;
     c.tets += s.count;
     c.junction_tets += s.junction ? s.count : 0;
-    unsigned used = 0;
-    for (int t = 0; t < s.count; ++t)
-        for (const std::uint8_t q : s.tet[static_cast<std::size_t>(t)]) used |= 1u << q;
     for (int q = 0; q < 15; ++q) {
-        if (!(used >> q & 1u)) continue;
+        if (!(s.used >> q & 1u)) continue;
         if (q < 4) {
             std::atomic_ref<std::uint8_t>(marks.point[static_cast<std::size_t>(p[static_cast<std::size_t>(q)])]).store(1, std::memory_order_relaxed);
         } else if (q < 10) {
@@ -376,7 +464,7 @@ std::vector<LayerCount> count_and_mark(const MaterialLayout& lay, Marks& marks) 
             for (int index = 0; index < 12; ++index) {
                 if (m[static_cast<std::size_t>(index / 4)] == 0 || !(mask >> index & 1u)) continue;  // no cube below, or a template's
                 const std::array<std::int64_t, 4> p = lay.points(points, index);
-                count_split(lay, m, index, p, lay.split(p, lay.shapes[static_cast<std::size_t>(index)].parity), marks, c);
+                count_split(lay, m, index, p, lay.footprint(p, lay.shapes[static_cast<std::size_t>(index)].parity), marks, c);
             }
         });
     }
