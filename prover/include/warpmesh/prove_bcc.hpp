@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -216,6 +217,13 @@ KeyProof prove_subject(const Subject& s, const Claim& c, int max_depth = default
 // distinct stencils, in the order found.  Every stencil the rule chooses at
 // a point of b is among them.
 std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Param>& ps, const Box& b);
+// The enumeration both lattices' admissible stencils share: adm[f] (f < 4)
+// the signs admitted for the quad of the face without vertex f, adm[4] those
+// of the inside quad ({0}: no quad); every combination is resolved into
+// diagonals by `resolve(face_signs, inside_sign)`, and the stencils of the
+// non-cyclic ones (stencil_with) are returned, distinct, in the order found.
+std::vector<bcc::Stencil> stencils_of_signs(const std::array<int, 4>& sign, const std::array<std::vector<int>, 5>& adm,
+                                            const std::function<bcc::Diagonals(const std::array<int, 4>&, int)>& resolve);
 
 // ---- per-key targets (targets.cpp; not on the proof path) -------------------
 // The key's ten points in double at the parameter values x[0 .. ps.size()).

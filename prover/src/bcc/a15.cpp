@@ -15,13 +15,6 @@ double dyadic_floor(double x) { return std::floor(std::ldexp(x, 20)) / 1048576.0
 double dyadic_ceil(double x) { return std::ceil(std::ldexp(x, 20)) / 1048576.0; }
 double to_double(const a15::Fraction& f) { return static_cast<double>(f.num) / static_cast<double>(f.den); }
 
-bool same(const bcc::Stencil& a, const bcc::Stencil& b) {
-    if (a.count != b.count) return false;
-    for (std::size_t j = 0; j < static_cast<std::size_t>(a.count); ++j)
-        if (a.tet[j] != b.tet[j]) return false;
-    return true;
-}
-
 // The cut fractions of the subject's parameters (others 0) at box b, as T.
 template <class T>
 std::array<T, 6> cut_fractions(const Subject& s, const Box& b) {
@@ -70,23 +63,9 @@ std::vector<bcc::Stencil> admissible_a15_stencils(const Subject& s, const Box& b
     int a = -1, bb = -1, r0 = -1, r1 = -1;
     adm[4] = bcc::inside_quad(sign, a, bb, r0, r1) ? admitted(decided_sign(a15::inside_form(cls, a, bb, r0, r1, u)))
                                                   : std::vector<int>{0};
-    std::vector<bcc::Stencil> out;
-    std::array<std::size_t, 5> at{};  // an odometer over the combinations
-    for (bool more = true; more;) {
-        std::array<int, 4> fs{};
-        for (std::size_t f = 0; f < 4; ++f) fs[f] = adm[f][at[f]];
-        const bcc::Diagonals d = a15::resolve_delaunay(sign, fs, {}, adm[4][at[4]]);
-        if (!bcc::is_cyclic(sign, d)) {
-            const bcc::Stencil st = bcc::stencil_with(sign, d);
-            if (std::none_of(out.begin(), out.end(), [&](const bcc::Stencil& o) { return same(o, st); })) out.push_back(st);
-        }
-        more = false;
-        for (std::size_t q = 0; q < 5 && !more; ++q) {
-            if (++at[q] < adm[q].size()) more = true;
-            else at[q] = 0;
-        }
-    }
-    return out;
+    return stencils_of_signs(sign, adm, [&](const std::array<int, 4>& fs, int inside) {
+        return a15::resolve_delaunay(sign, fs, {}, inside);
+    });
 }
 
 bcc::Stencil a15_stencil_at(const Subject& s, const double* x) {

@@ -256,14 +256,21 @@ std::vector<bcc::Stencil> admissible_stencils(const Key& k, const std::vector<Pa
         adm[static_cast<std::size_t>(f)] = admitted(s.face[static_cast<std::size_t>(f)], quad_face(k, f, a, bb, r));
     int a = -1, bb = -1, r0 = -1, r1 = -1;
     adm[4] = admitted(s.inside, inside_quad(k, a, bb, r0, r1));
+    return stencils_of_signs(k.sign, adm, [&](const std::array<int, 4>& fs, int inside) {
+        return bcc::resolve_delaunay(k.sign, k.parity, fs, inside);
+    });
+}
+
+std::vector<bcc::Stencil> stencils_of_signs(const std::array<int, 4>& sign, const std::array<std::vector<int>, 5>& adm,
+                                            const std::function<bcc::Diagonals(const std::array<int, 4>&, int)>& resolve) {
     std::vector<bcc::Stencil> out;
     std::array<std::size_t, 5> at{};  // an odometer over the combinations
     for (bool more = true; more;) {
         std::array<int, 4> fs{};
         for (std::size_t f = 0; f < 4; ++f) fs[f] = adm[f][at[f]];
-        const bcc::Diagonals d = bcc::resolve_delaunay(k.sign, k.parity, fs, adm[4][at[4]]);
-        if (!bcc::is_cyclic(k.sign, d)) {
-            const bcc::Stencil st = bcc::stencil_with(k.sign, d);
+        const bcc::Diagonals d = resolve(fs, adm[4][at[4]]);
+        if (!bcc::is_cyclic(sign, d)) {
+            const bcc::Stencil st = bcc::stencil_with(sign, d);
             if (std::none_of(out.begin(), out.end(), [&](const bcc::Stencil& o) { return same(o, st); })) out.push_back(st);
         }
         more = false;

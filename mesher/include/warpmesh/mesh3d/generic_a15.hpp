@@ -366,22 +366,7 @@ T face_form(int cls, int a, int b, int r, const std::array<T, 6>& u) {
 // prism's inside quad.
 template <class T>
 T inside_form(int cls, int a, int b, int r0, int r1, const std::array<T, 6>& u) {
-    using O = ScalarOps<T>;
-    const auto& ref = reference_tets[static_cast<std::size_t>(cls)];
-    const auto at = [&](int x, int r, int k) {
-        const int base = ref[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)];
-        const int d = ref[static_cast<std::size_t>(r)][static_cast<std::size_t>(k)] - base;
-        return d == 0 ? O::from_int(base) : O::from_int(base) + O::from_int(d) * bcc::cut_fraction(x, r, u);
-    };
-    const auto dist2 = [&](int x, int rx, int y, int ry) {
-        T s = O::from_int(0);
-        for (int k = 0; k < 3; ++k) {
-            const T c = at(x, rx, k) - at(y, ry, k);
-            s = s + c * c;
-        }
-        return s;
-    };
-    return dist2(a, r0, b, r1) - dist2(a, r1, b, r0);
+    return bcc::inside_form_of(reference_tets[static_cast<std::size_t>(cls)], a, b, r0, r1, u);
 }
 
 // The rule on one lattice face, from its global data alone: the - sites A, B,

@@ -421,15 +421,16 @@ T face_form(int a, int b, int r, const std::array<T, 6>& u) {
     return power(b) - power(a);
 }
 
-// The prism's inside form |cut(a,r0) cut(b,r1)|² − |cut(a,r1) cut(b,r0)|²
-// (doubled coordinates): < 0 iff cut(a,r0)–cut(b,r1) is the shorter diagonal.
-template <class T>
-T inside_form(int a, int b, int r0, int r1, const std::array<T, 6>& u) {
+// The prism's inside form of a tetrahedron with integer corners ref[0..3]:
+// |cut(a,r0) cut(b,r1)|² − |cut(a,r1) cut(b,r0)|², < 0 iff cut(a,r0)–cut(b,r1)
+// is the shorter diagonal (one definition for every lattice: BCC's reference
+// tetrahedron here, A15's classes in generic_a15.hpp).
+template <class T, class Ref>
+T inside_form_of(const Ref& ref, int a, int b, int r0, int r1, const std::array<T, 6>& u) {
     using O = ScalarOps<T>;
     const auto at = [&](int x, int r, int k) {
-        const T base = O::from_int(reference_tet[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)]);
-        const int d = reference_tet[static_cast<std::size_t>(r)][static_cast<std::size_t>(k)] -
-                      reference_tet[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)];
+        const T base = O::from_int(ref[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)]);
+        const int d = ref[static_cast<std::size_t>(r)][static_cast<std::size_t>(k)] - ref[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)];
         return d == 0 ? base : base + O::from_int(d) * cut_fraction(x, r, u);
     };
     const auto dist2 = [&](int x, int rx, int y, int ry) {
@@ -441,6 +442,12 @@ T inside_form(int a, int b, int r0, int r1, const std::array<T, 6>& u) {
         return s;
     };
     return dist2(a, r0, b, r1) - dist2(a, r1, b, r0);
+}
+
+// BCC's (doubled coordinates).
+template <class T>
+T inside_form(int a, int b, int r0, int r1, const std::array<T, 6>& u) {
+    return inside_form_of(reference_tet, a, b, r0, r1, u);
 }
 
 // Resolve the Delaunay rule from the signs (-1, 0, +1) of its forms:
