@@ -335,14 +335,19 @@ const std::vector<Footprint>& side_footprints() {
 }
 
 // Per junction stencil (junction_table()'s index) and letter: the count and
-// used points of its tetrahedra of that letter.
+// used points of its tetrahedra of that letter.  The table also holds codes
+// split() never meets (letters not numbered by first appearance, such as
+// three warped vertices and letter 2), whose stencils may hold tetrahedra
+// of letter -1 (a face of three warped vertices); those are left out.
 const std::vector<std::array<Footprint, 4>>& junction_footprints() {
     static const std::vector<std::array<Footprint, 4>> table = [] {
         std::vector<std::array<Footprint, 4>> t(junction_table().size());
         for (std::size_t i = 0; i < t.size(); ++i) {
             const bcc::MaterialStencil& st = junction_table()[i];
             for (int k = 0; k < st.count; ++k) {
-                Footprint& f = t[i][static_cast<std::size_t>(st.tet[static_cast<std::size_t>(k)].letter)];
+                const int letter = st.tet[static_cast<std::size_t>(k)].letter;
+                if (letter < 0) continue;
+                Footprint& f = t[i][static_cast<std::size_t>(letter)];
                 ++f.count;
                 for (const std::uint8_t q : st.tet[static_cast<std::size_t>(k)].tet) f.used |= 1u << q;
             }
