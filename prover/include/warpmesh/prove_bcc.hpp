@@ -65,6 +65,9 @@ struct Param {
     double root_lo, root_hi;
 };
 std::vector<Param> key_params(const Key& k, const bcc::Alphas& al);
+// A threshold from the command line: "0.24999" -> num = 24999 (over
+// 100000; at most 5 decimals, in (0, 1/2)); false if it is not one.
+bool parse_alpha(const std::string& s, std::int64_t& num);
 // One parameter: t of vertex i warped along direction w; u of local edge e.
 Param warp_param(int i, int w, const bcc::Alphas& al);
 Param cut_param(int e, const bcc::Alphas& al);

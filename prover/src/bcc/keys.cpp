@@ -3,6 +3,7 @@
 // and canonical forms are generic_bcc_keys.hpp's.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "warpmesh/prove_bcc.hpp"
 
@@ -89,6 +90,14 @@ std::vector<Param> key_params(const Key& k, const bcc::Alphas& al) {
         if (k.sign[static_cast<std::size_t>(ed[0])] * k.sign[static_cast<std::size_t>(ed[1])] < 0) out.push_back(cut_param(e, al));
     }
     return out;
+}
+
+bool parse_alpha(const std::string& s, std::int64_t& num) {
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (end == s.c_str() || *end != '\0' || !(x > 0 && x < 0.5)) return false;
+    num = std::llround(x * 100000);
+    return std::fabs(static_cast<double>(num) - x * 100000) < 1e-6;
 }
 
 }  // namespace warpmesh::bcc_prover

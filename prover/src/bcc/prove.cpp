@@ -21,15 +21,6 @@
 namespace warpmesh::bcc_prover {
 namespace {
 
-// "0.24999" -> 24999 / 100000 (at most 5 decimals).
-bool parse_alpha(const std::string& s, std::int64_t& num) {
-    char* end = nullptr;
-    const double x = std::strtod(s.c_str(), &end);
-    if (end == s.c_str() || *end != '\0' || !(x > 0 && x < 0.5)) return false;
-    num = std::llround(x * 100000);
-    return std::fabs(static_cast<double>(num) - x * 100000) < 1e-6;
-}
-
 // A dyadic p / 2^40 as text.
 std::string dyadic40(double x) {
     std::ostringstream o;

@@ -22,13 +22,12 @@
 namespace warpmesh::bcc_prover {
 namespace {
 
-// "0.285" -> 28500 / 100000 (at most 5 decimals, in (0, 0.5)).
+// "0.285" -> 28500 / 100000 (parse_alpha, keys.cpp).
 bool parse_alpha(const std::string& s, a15::Fraction& f) {
-    char* end = nullptr;
-    const double x = std::strtod(s.c_str(), &end);
-    if (end == s.c_str() || *end != '\0' || !(x > 0 && x < 0.5)) return false;
-    f = {std::llround(x * 100000), 100000};
-    return std::fabs(static_cast<double>(f.num) - x * 100000) < 1e-6;
+    std::int64_t num = 0;
+    if (!bcc_prover::parse_alpha(s, num)) return false;
+    f = {num, 100000};
+    return true;
 }
 double deg(double c) { return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI; }
 // The angle a claim's cos² names (acute side for cmin, obtuse for cmax).
