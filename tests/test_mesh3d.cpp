@@ -873,6 +873,44 @@ BOOST_AUTO_TEST_CASE(issue30_nonmanifold_boundary_edges_counted) {
     }
 }
 
+// check_tet_mesh finds each broken invariant and names the element: two
+// tetrahedra sharing a face, in two regions with their interface listed,
+// then one thing broken at a time.
+BOOST_AUTO_TEST_CASE(check_tet_mesh_names_each_broken_invariant) {
+    const Point3 o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1}, mz{0, 0, -1};
+    TetMesh good = with_boundary({o, x, y, z, mz}, {{0, 1, 2, 3}, {0, 2, 1, 4}});
+    good.region = {1, 2};
+    good.interfaces = {{0, 2, 1}};  // out of tetrahedron 0 (region 1)
+    good.interface_regions = {{1, 2}};
+    BOOST_TEST(check_tet_mesh(good).ok);
+    const auto finds = [](const TetMesh& m, const std::string& what) {
+        const TetMeshCheck c = check_tet_mesh(m);
+        bool named = false;
+        for (const auto& p : c.problems) named = named || p.find(what) != std::string::npos;
+        BOOST_TEST(!c.ok, what);
+        BOOST_TEST(named, what << (c.problems.empty() ? "" : ", first problem: " + c.problems.front()));
+        return c;
+    };
+    TetMesh m = good;
+    std::swap(m.tets[0][0], m.tets[0][1]);
+    BOOST_TEST(finds(m, "tetrahedron 0 is not positively oriented").inverted == 1);
+    m = good;
+    m.boundary.pop_back(), m.boundary_tag.pop_back();
+    BOOST_TEST(finds(m, "has one tetrahedron but is listed 0 times as boundary").boundary_mismatch == 1);
+    m = good;
+    std::swap(m.boundary[0][1], m.boundary[0][2]);
+    BOOST_TEST(finds(m, "is not oriented outward").boundary_mismatch == 1);
+    m = good;
+    m.tets.push_back(m.tets[1]), m.region.push_back(2);
+    BOOST_TEST(finds(m, "(0, 1, 2) is in 3 tetrahedra").nonmanifold_faces >= 1);
+    m = good;
+    m.interface_regions[0] = {2, 1};
+    BOOST_TEST(finds(m, "interface face 0 has the wrong regions or orientation").interface_mismatch == 1);
+    m = good;
+    m.vertices.push_back({5, 5, 5});
+    BOOST_TEST(finds(m, "vertex 5 is in no tetrahedron").unused_vertices == 1);
+}
+
 BOOST_AUTO_TEST_CASE(region_at_the_lattice_upper_corner_leaves_no_isolated_vertex) {
     // A region reaching the lattice's upper corner (z > 0.3 reaches the top
     // of the lattice): its cubes there are whole (all 12 points inside), and

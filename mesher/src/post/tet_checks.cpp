@@ -10,7 +10,6 @@
 // as there are link edges at v starting or ending at w.
 #include <algorithm>
 #include <span>
-#include <tuple>
 
 #include "warpmesh/post/tet_checks.hpp"
 
@@ -165,7 +164,11 @@ TetMeshCheck check_tet_mesh(const TetMesh& m) {
         if (k < m.boundary_tag.size() && m.boundary_tag[k] != boundary_level_set && m.boundary_tag[k] != boundary_domain)
             note(c, "boundary face " + std::to_string(k) + " has an unknown tag");
     }
-    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return std::tie(a.sorted, a.owner) < std::tie(b.sorted, b.owner); });
+    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) {
+        for (std::size_t k = 0; k < 3; ++k)
+            if (a.sorted[k] != b.sorted[k]) return a.sorted[k] < b.sorted[k];
+        return a.owner < b.owner;
+    });
     // The faces between two regions: (sorted, the two tetrahedra's entries).
     std::vector<std::array<std::size_t, 2>> between;
     const bool regions = m.region.size() == m.tets.size();
@@ -173,16 +176,18 @@ TetMeshCheck check_tet_mesh(const TetMesh& m) {
         std::size_t j = i;
         int tets = 0, listed = 0;
         while (j < faces.size() && faces[j].sorted == faces[i].sorted) (faces[j].owner >= 0 ? tets : listed)++, ++j;
-        const std::string name = "face (" + std::to_string(faces[i].sorted[0]) + ", " + std::to_string(faces[i].sorted[1]) + ", " +
-                                 std::to_string(faces[i].sorted[2]) + ")";
-        if (tets > 2) ++c.nonmanifold_faces, note(c, name + " is in " + std::to_string(tets) + " tetrahedra");
+        const auto name = [&] {  // only when a problem is noted
+            return "face (" + std::to_string(faces[i].sorted[0]) + ", " + std::to_string(faces[i].sorted[1]) + ", " +
+                   std::to_string(faces[i].sorted[2]) + ")";
+        };
+        if (tets > 2) ++c.nonmanifold_faces, note(c, name() + " is in " + std::to_string(tets) + " tetrahedra");
         else if (tets == 2 && !same_orientation(faces[j - 1].oriented, {faces[j - 2].oriented[0], faces[j - 2].oriented[2], faces[j - 2].oriented[1]}))
-            ++c.nonmanifold_faces, note(c, name + ": its two tetrahedra lie on the same side");
-        else if (tets == 2 && listed > 0) ++c.boundary_mismatch, note(c, name + " is listed as boundary but shared by two tetrahedra");
-        else if (tets == 1 && listed != 1) ++c.boundary_mismatch, note(c, name + " has one tetrahedron but is listed " + std::to_string(listed) + " times as boundary");
+            ++c.nonmanifold_faces, note(c, name() + ": its two tetrahedra lie on the same side");
+        else if (tets == 2 && listed > 0) ++c.boundary_mismatch, note(c, name() + " is listed as boundary but shared by two tetrahedra");
+        else if (tets == 1 && listed != 1) ++c.boundary_mismatch, note(c, name() + " has one tetrahedron but is listed " + std::to_string(listed) + " times as boundary");
         else if (tets == 1 && !same_orientation(faces[i].oriented, faces[i + 1].oriented))  // listed (owner < 0) sorts first
-            ++c.boundary_mismatch, note(c, name + " is not oriented outward");
-        else if (tets == 0) ++c.boundary_mismatch, note(c, name + " is listed as boundary but in no tetrahedron");
+            ++c.boundary_mismatch, note(c, name() + " is not oriented outward");
+        else if (tets == 0) ++c.boundary_mismatch, note(c, name() + " is listed as boundary but in no tetrahedron");
         if (tets == 2 && regions &&
             m.region[static_cast<std::size_t>(faces[j - 1].owner)] != m.region[static_cast<std::size_t>(faces[j - 2].owner)])
             between.push_back({j - 2, j - 1});
