@@ -103,6 +103,31 @@ def test_pieces_made_on_workers_are_the_single_process_mesh(root, tmp_path, clie
     assert not (tmp_path / "lost.pvtu").exists() and not (tmp_path / "twice.pvtu").exists()
 
 
+def test_one_region_pieces_after_the_workers_reduction_are_the_single_process_mesh(root, tmp_path, client):
+    """One region (label=): the workers first reduce parts of the volume to
+    the whole region's facts, then mesh their blocks from their parts; the
+    pieces' vertices (by GlobalIds) and tetrahedra are the single-process
+    mesh's."""
+    vtk = require("vtk", "python3-vtk9")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    mod = load_example(root)
+    labels, options = kmeans_labels(24), {"label": "1,2", "spacing": 1.1, "voxel_size": (1.0, 1.0, 1.25)}
+    np.save(tmp_path / "labels.npy", labels)
+    pieces, _ = mod.mesh_partitioned(client, tmp_path / "labels.npy", tmp_path / "one.pvtu", 12, **options)
+    whole = warpmesh.mesh3d(labels, **options)
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(str(tmp_path / "one.pvtu"))
+    reader.Update()
+    grid = reader.GetOutput()
+    point_ids = vtk_to_numpy(grid.GetPointData().GetGlobalIds())
+    keys, first = np.unique(point_ids, return_index=True)
+    assert np.array_equal(vtk_to_numpy(grid.GetPoints().GetData())[first], whole.points)
+    tets = np.searchsorted(keys, point_ids)[vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4)]
+    assert len(pieces) > 4 and len(tets) == len(whole.tetrahedra) > 1000
+    assert np.array_equal(np.sort(np.sort(tets, axis=1), axis=0), np.sort(np.sort(whole.tetrahedra, axis=1), axis=0))
+
+
 def test_bad_input_is_refused_clearly(root, tmp_path, client):
     mod = load_example(root)
     with pytest.raises(warpmesh.InputError, match="no volume at"):
