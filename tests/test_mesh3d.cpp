@@ -416,6 +416,18 @@ BOOST_AUTO_TEST_CASE(merge_refuses_a_lost_repeated_or_shifted_block_and_reports_
 
 namespace {
 
+// A physical volume of `dims` voxels of `spacing` mm at `origin`, its index
+// axes permuted and flipped (i along +y, j along −x, k along +z); values 0.
+Volume oriented_volume(const std::array<std::int64_t, 3>& dims, const Vec3& spacing, const Vec3& origin, const std::string& source) {
+    Volume v;
+    v.dims = dims, v.spacing = spacing, v.origin = origin;
+    v.axes = {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}};
+    v.physical = true;
+    v.source = source;
+    v.values.resize(static_cast<std::size_t>(v.voxel_count()));
+    return v;
+}
+
 // The voxels [box[0], box[1]) (i, j, k) of v as a part of it (Volume::is_part).
 Volume part_of(const Volume& v, const std::array<std::array<std::int64_t, 3>, 2>& box) {
     Volume p;
@@ -459,15 +471,7 @@ TetBlock block_of_part(const Volume& v, const Mesh3dOptions& o, const CubeRange&
 // facts, facts of another band, a tiling with a part lost or repeated, a
 // part too small for the facts it gives.
 BOOST_AUTO_TEST_CASE(one_region_blocks_that_read_only_their_part_merge_into_the_whole_mesh) {
-    using Box = std::array<std::array<std::int64_t, 3>, 2>;
-    Volume v;
-    v.dims = {26, 22, 18};
-    v.spacing = {1.0, 0.8, 1.3};
-    v.origin = {4, -5, 3};
-    v.axes = {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}};
-    v.physical = true;
-    v.source = "parts.nrrd";
-    v.values.resize(static_cast<std::size_t>(v.voxel_count()));
+    Volume v = oriented_volume({26, 22, 18}, {1.0, 0.8, 1.3}, {4, -5, 3}, "parts.nrrd");
     for (std::int64_t k = 0, q = 0; k < 18; ++k)
         for (std::int64_t j = 0; j < 22; ++j)
             for (std::int64_t i = 0; i < 26; ++i, ++q) {
@@ -534,14 +538,7 @@ BOOST_AUTO_TEST_CASE(one_region_blocks_that_read_only_their_part_merge_into_the_
 BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     // A ball of label 3 (radius 6 mm) and a slab of label 5 in a 24 x 20 x 16
     // volume with anisotropic spacing and a flipped, permuted orientation.
-    Volume v;
-    v.dims = {24, 20, 16};
-    v.spacing = {1.0, 1.25, 1.5};
-    v.origin = {10, -5, 3};
-    v.axes = {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}};
-    v.physical = true;
-    v.source = "ball.nrrd";
-    v.values.resize(static_cast<std::size_t>(v.voxel_count()));
+    Volume v = oriented_volume({24, 20, 16}, {1.0, 1.25, 1.5}, {10, -5, 3}, "ball.nrrd");
     for (std::int64_t k = 0; k < 16; ++k)
         for (std::int64_t j = 0; j < 20; ++j)
             for (std::int64_t i = 0; i < 24; ++i) {
