@@ -825,14 +825,25 @@ def _zyx(box):
     return tuple(int(v) for v in box[0][::-1]), tuple(int(v) for v in box[1][::-1])
 
 
-def region_part_voxels(shape, start, stop, *, label=None, labels=None, band=None, voxel_size=None):
+def _block_options_only(function, options):
+    """Refuse keywords that are not mesh3d_block's (the region functions
+    ignore its others, so that one dict of options serves the facts and
+    the blocks)."""
+    unknown = set(options) - set(mesh3d_block.__kwdefaults__)
+    if unknown:
+        raise TypeError(f"{function.__name__}() got unexpected keyword arguments {sorted(unknown)}")
+
+
+def region_part_voxels(shape, start, stop, *, label=None, labels=None, band=None, voxel_size=None, **block_options):
     """One region of a label volume of `shape` (nz, ny, nx) meshed in blocks
     that read only their part (mesh3d_block's region=) needs the whole
     region's facts first: a reduction over parts that tile the volume.  The
     part owning the voxels [start, stop) (z, y, x) reads these voxels,
     (start, stop): its own and those their distance values depend on (about
     band + 2 voxels more along each axis, within the volume).  No voxel is
-    read."""
+    read.  mesh3d_block's other options are ignored (one dict of options
+    serves the facts and the blocks)."""
+    _block_options_only(region_part_voxels, block_options)
     shape = tuple(_integer("shape", n, 2) for n in shape)
     options = _options3(region_part_voxels, locals(), label, labels, None, None)
     part = np.zeros((1, 1, 1), np.uint8)
@@ -841,14 +852,16 @@ def region_part_voxels(shape, start, stop, *, label=None, labels=None, band=None
     return _zyx(box)
 
 
-def region_part_facts(part, start, stop, *, region, label=None, labels=None, band=None, voxel_size=None):
+def region_part_facts(part, start, stop, *, region, label=None, labels=None, band=None, voxel_size=None,
+                      **block_options):
     """The region's facts of the voxels [start, stop) (z, y, x) of a label
     volume: its voxel box, count, the distance field's minimum and depth
     there, and which labels occur (a small picklable dict).  `part` holds
     the voxels region_part_voxels names, region=(part_start, shape) as
     mesh3d_block's.  merge_region_facts combines the facts of parts that
     tile the volume; InputError if the part lacks voxels the facts depend
-    on."""
+    on.  mesh3d_block's other options are ignored."""
+    _block_options_only(region_part_facts, block_options)
     options = _options3(region_part_facts, locals(), label, labels, None, None)
     a = _input3(part, voxel_size, (0.0, 0.0, 0.0), options, None, region)
     return _core.region_part_facts(a, _box("start, stop", (start, stop), None), options)
@@ -858,12 +871,8 @@ def region_part_facts_read(read, shape, start, stop, **options):
     """region_part_facts of the voxels [start, stop) (z, y, x) of a label
     volume of `shape`, reading only the part they need: read(start, stop)
     returns volume[z0:z1, y0:y1, x0:x1] (as mesh3d_block_read's read).
-    Options: label (or labels), band, voxel_size; mesh3d_block's others are
-    ignored, so that one dict of options serves the facts and the blocks."""
-    unknown = set(options) - set(mesh3d_block.__kwdefaults__)
-    if unknown:
-        raise TypeError(f"region_part_facts_read() got unexpected keyword arguments {sorted(unknown)}")
-    options = {k: v for k, v in options.items() if k in ("label", "labels", "band", "voxel_size")}
+    Options as region_part_facts'."""
+    _block_options_only(region_part_facts_read, options)
     shape = tuple(int(n) for n in shape)
     part_start, part_stop = region_part_voxels(shape, start, stop, **options)
     return region_part_facts(read(part_start, part_stop), start, stop, region=(part_start, shape), **options)
