@@ -625,10 +625,10 @@ void check_whole_facts(const LabelRegionFacts& w, const Volume& v, const VolumeL
     if (mine != theirs) throw InputError(v.source + ": the region's facts are of " + theirs + ", not of this part's " + mine);
     if (w.owned_lo != Index3{0, 0, 0} || w.owned_hi != w.whole)
         throw InputError(v.source + ": the region's facts are of the voxels [" + index_text(w.owned_lo) + ", " + index_text(w.owned_hi) +
-                         ") (i, j, k) only, not of the whole volume: merge the parts' facts first (merge_label_facts)");
+                         ") (i, j, k) only, not of the whole volume: merge the parts' facts first (merge_region_facts)");
     for (std::size_t a = 0; a < 3; ++a)
         if (!(w.lo[a] >= 0 && w.lo[a] <= w.hi[a] && w.hi[a] < w.whole[a] && w.voxels > 0))
-            throw InputError(v.source + ": the region's facts give no region (an empty region, or facts not made by merge_label_facts)");
+            throw InputError(v.source + ": the region's facts give no region (an empty region, or facts not made by merge_region_facts)");
 }
 
 // A part's label level set (levelset3.hpp, "One region of a label volume in
@@ -639,7 +639,7 @@ std::unique_ptr<LevelSet3> label_part_levelset(const Volume& v, const VolumeLeve
     if (!v.is_part()) throw InputError(v.source + ": the whole region's facts apply to a part of a volume, and this volume is whole");
     if (!o.whole)
         throw InputError(v.source + ": a part of a volume in label mode needs the whole region's facts (its box, voxels, field minimum "
-                                    "and depth: the reduction over the volume's parts, merge_label_facts)");
+                                    "and depth: the reduction over the volume's parts, merge_region_facts)");
     const LabelRegionFacts& w = *o.whole;
     const PartPlace place = place_of(v);
     check_whole_facts(w, v, o, place);
