@@ -437,7 +437,8 @@ Volume part_of(const Volume& v, const std::array<std::array<std::int64_t, 3>, 2>
     p.values.resize(static_cast<std::size_t>(p.voxel_count()));
     for (std::int64_t k = 0, q = 0; k < p.dims[2]; ++k)
         for (std::int64_t j = 0; j < p.dims[1]; ++j)
-            for (std::int64_t i = 0; i < p.dims[0]; ++i, ++q) p.values[static_cast<std::size_t>(q)] = v.at(box[0][0] + i, box[0][1] + j, box[0][2] + k);
+            for (std::int64_t i = 0; i < p.dims[0]; ++i, ++q)
+                p.values[static_cast<std::size_t>(q)] = v.at(box[0][0] + i, box[0][1] + j, box[0][2] + k);
     return p;
 }
 

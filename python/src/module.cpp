@@ -502,23 +502,27 @@ py::dict facts_to_dict(const LabelRegionFacts& f) {
 }
 LabelRegionFacts facts_from_dict(const py::handle& h) {
     if (!py::isinstance<py::dict>(h))
-        throw InputError("region facts must be the dicts region_part_facts and merge_region_facts return, got " + py::repr(h).cast<std::string>());
+        throw InputError("region facts must be the dicts region_part_facts and merge_region_facts return, got " +
+                         py::repr(h).cast<std::string>());
     const py::dict d = h.cast<py::dict>();
     const auto need = [&](const char* name) {
-        if (!d.contains(name)) throw InputError(std::string("region facts without '") + name + "': give the dicts merge_region_facts returns, unchanged");
+        if (!d.contains(name))
+            throw InputError(std::string("region facts without '") + name + "': give the dicts merge_region_facts returns, unchanged");
         return d[name];
     };
     LabelRegionFacts f;
     try {
         f.labels = need("labels").cast<std::string>(), f.of = need("of").cast<std::string>();
         f.whole = need("whole").cast<std::array<std::int64_t, 3>>();
-        f.owned_lo = need("owned_lo").cast<std::array<std::int64_t, 3>>(), f.owned_hi = need("owned_hi").cast<std::array<std::int64_t, 3>>();
+        f.owned_lo = need("owned_lo").cast<std::array<std::int64_t, 3>>();
+        f.owned_hi = need("owned_hi").cast<std::array<std::int64_t, 3>>();
         f.lo = need("lo").cast<std::array<std::int64_t, 3>>(), f.hi = need("hi").cast<std::array<std::int64_t, 3>>();
         f.voxels = need("voxels").cast<std::int64_t>();
         f.lowest = need("lowest").cast<double>(), f.deepest = need("deepest").cast<double>();
         for (const int x : need("seen").cast<std::vector<int>>()) f.seen.push_back(x != 0);
     } catch (const py::cast_error& e) {
-        throw InputError(std::string("region facts with an entry of the wrong type (give the dicts merge_region_facts returns): ") + e.what());
+        throw InputError(std::string("region facts with an entry of the wrong type (give the dicts merge_region_facts returns): ") +
+                         e.what());
     }
     return f;
 }

@@ -241,7 +241,8 @@ public:
     VolumeLevelSet3(const Volume& v, Buffer<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
                     std::array<std::int64_t, 3> region_lo, std::array<std::int64_t, 3> region_hi, float far, double feature,
                     double per_mm, std::string name)
-        : values_(std::move(values)), lo_(lo), n_(n), dims_(v.is_part() ? v.whole_dims : v.dims), far_(far), feature_(feature), name_(std::move(name)) {
+        : values_(std::move(values)), lo_(lo), n_(n), dims_(v.is_part() ? v.whole_dims : v.dims), far_(far), feature_(feature),
+          name_(std::move(name)) {
         resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
         spacing_ = {v.spacing[0], v.spacing[1], v.spacing[2]};
         per_mm_ = per_mm;
@@ -500,7 +501,8 @@ RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std
         }
     return out;
 }
-void check_region(const RegionScan& scan, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot, const std::string& source) {
+void check_region(const RegionScan& scan, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot,
+                  const std::string& source) {
     if (scan.hi[0] < 0) throw InputError(source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
     std::string absent;
     for (std::size_t i = 0; i < m.labels.size() && !m.label_nonzero; ++i) {
@@ -659,8 +661,8 @@ std::unique_ptr<LevelSet3> label_part_levelset(const Volume& v, const VolumeLeve
     Buffer<float> values;
     if (kept) {
         double feature = 0;
-        const Buffer<float> field = label_field(v, o.band, o.max_memory, slot, {qlo[0] - place.off[0], qlo[1] - place.off[1], qlo[2] - place.off[2]},
-                                                qn, feature, nullptr);
+        const Index3 local{qlo[0] - place.off[0], qlo[1] - place.off[1], qlo[2] - place.off[2]};
+        const Buffer<float> field = label_field(v, o.band, o.max_memory, slot, local, qn, feature, nullptr);
         values.resize(static_cast<std::size_t>(sn[0] * sn[1] * sn[2]));
         for (std::int64_t k = 0; k < sn[2]; ++k)
             for (std::int64_t j = 0; j < sn[1]; ++j)
@@ -745,7 +747,8 @@ LabelRegionFacts label_part_facts(const Volume& v, const VolumeLevelSet3Options&
     const std::string own = "[" + index_text(owned_lo) + ", " + index_text(owned_hi) + ")";
     for (std::size_t a = 0; a < 3; ++a)
         if (!(owned_lo[a] >= 0 && owned_lo[a] < owned_hi[a] && owned_hi[a] <= place.whole[a]))
-            throw InputError(v.source + ": the part's own voxels " + own + " (i, j, k) are not a box of the volume's " + index_text(place.whole));
+            throw InputError(v.source + ": the part's own voxels " + own + " (i, j, k) are not a box of the volume's " +
+                             index_text(place.whole));
     const std::array<Index3, 2> zone = exact_zone(v, place, o.band);
     for (std::size_t a = 0; a < 3; ++a)
         if (owned_lo[a] < zone[0][a] || owned_hi[a] - 1 > zone[1][a])
@@ -806,8 +809,8 @@ LabelRegionFacts merge_label_facts(std::span<const LabelRegionFacts> parts, cons
             for (std::size_t k = 0; k < 3; ++k)
                 overlap = overlap && p.owned_lo[k] < parts[j].owned_hi[k] && parts[j].owned_lo[k] < p.owned_hi[k];
             if (overlap)
-                throw InputError("the region's facts do not merge: parts " + std::to_string(j) + " and " + std::to_string(i) + " overlap (" +
-                                 box(parts[j]) + " and " + box(p) + "), or a part is given twice");
+                throw InputError("the region's facts do not merge: parts " + std::to_string(j) + " and " + std::to_string(i) +
+                                 " overlap (" + box(parts[j]) + " and " + box(p) + "), or a part is given twice");
         }
         for (std::size_t k = 0; k < w.seen.size(); ++k) w.seen[k] |= p.seen[k];
         if (p.voxels == 0) continue;

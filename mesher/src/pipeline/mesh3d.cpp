@@ -453,7 +453,8 @@ std::string voxel_box_text(const std::array<std::array<std::int64_t, 3>, 2>& b) 
 // A block of a part whose field or level set read outside it.
 InputError part_too_small(const Volume& g) {
     return InputError("the block's part of the volume is too small: the block read voxels outside the part's " +
-                      voxel_box_text({g.part_offset, {g.part_offset[0] + g.dims[0], g.part_offset[1] + g.dims[1], g.part_offset[2] + g.dims[2]}}) +
+                      voxel_box_text({g.part_offset,
+                                      {g.part_offset[0] + g.dims[0], g.part_offset[1] + g.dims[1], g.part_offset[2] + g.dims[2]}}) +
                       " (i, j, k): its window grew beyond the halo the part was cut for; cut it with twice the halo (block_voxels)");
 }
 
@@ -683,13 +684,15 @@ std::array<std::array<std::int64_t, 3>, 2> region_part_voxels(const Mesh3dInput&
     std::array<Index3, 2> box{};
     for (std::size_t a = 0; a < 3; ++a) {
         if (!(owned[0][a] >= 0 && owned[0][a] < owned[1][a] && owned[1][a] <= whole[a]))
-            throw InputError("region_part_voxels: the part's own voxels " + voxel_box_text(owned) + " (i, j, k) are not a box of the volume");
+            throw InputError("region_part_voxels: the part's own voxels " + voxel_box_text(owned) +
+                             " (i, j, k) are not a box of the volume");
         box[0][a] = std::max<std::int64_t>(0, owned[0][a] - reach[a]), box[1][a] = std::min(whole[a], owned[1][a] + reach[a]);
     }
     return box;
 }
 
-LabelRegionFacts region_part_facts(const Mesh3dInput& input, const Mesh3dOptions& o, const std::array<std::array<std::int64_t, 3>, 2>& owned) {
+LabelRegionFacts region_part_facts(const Mesh3dInput& input, const Mesh3dOptions& o,
+                                   const std::array<std::array<std::int64_t, 3>, 2>& owned) {
     const MemoryCall call;
     if (const auto* v = std::get_if<std::reference_wrapper<const Volume>>(&input); v && !overrides_geometry(o) && o.labels) {
         validate(input, o);
