@@ -165,12 +165,15 @@ std::unique_ptr<LevelSet3> make_volume_levelset3(Volume&& volume, const VolumeLe
 // minimum and the maximum — and the level set of any part of the volume
 // (VolumeLevelSet3Options::whole) then has, wherever it reads voxels at
 // least label_reach from the part's cut faces, the whole volume's values to
-// the last bit; elsewhere it flags read_outside_part.
+// the last bit; elsewhere it flags read_outside_part.  (The minimum is
+// carried rather than replaced by the data-independent −cap: where the
+// region is thinner than the band the two send different cut edges to the
+// root finder, and the cut points round differently.)
 struct LabelRegionFacts {
     // What they are of: the labels (their list's text), band and voxel size
-    // (`of`); the whole volume's
-    // voxels; the voxels [owned_lo, owned_hi) the facts count (merged: the
-    // whole volume).  Facts of different ones do not merge.
+    // (`of`); the whole volume's voxels; the voxels [owned_lo, owned_hi) the
+    // facts count (merged: the whole volume).  Facts of different ones do
+    // not merge.
     std::string labels, of;
     std::array<std::int64_t, 3> whole{0, 0, 0}, owned_lo{0, 0, 0}, owned_hi{0, 0, 0};
     // The region's voxels among them: their box [lo, hi] (lo > hi: none),
