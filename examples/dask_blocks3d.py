@@ -6,20 +6,24 @@ The BCC lattice rule is local: a block of lattice cubes meshes on its own
 every vertex and tetrahedron carries its global key (its lattice position),
 so warpmesh.merge_blocks puts blocks meshed anywhere, in any order, back
 together.  This is how a volume too large for one machine is meshed: each
-worker needs its block of the volume only (--parts; several materials).
+worker needs its block of the volume only (--parts).
 
-    python3 examples/dask_blocks3d.py [VOLUME.npy] [--label nonzero] [--spacing S]
-                                      [--materials all|L,L,... [--background drop|keep] [--parts]]
+    python3 examples/dask_blocks3d.py [VOLUME.npy] [--label nonzero] [--spacing S] [--parts]
+                                      [--materials all|L,L,... [--background drop|keep]]
                                       [--block N] [--workers W] [-o OUT.vtu]
 
 Without VOLUME a demo volume (two touching balls, labels 1 and 2) is used.
 With --materials every label listed (all: every label but 0) is its own
 region of one conforming mesh, as warpmesh.mesh3d(volume, materials=...)
 makes it; its blocks merge into that mesh exactly too, regions and
-interfaces included.  With --parts (materials listed) no worker gets the
-whole volume: each opens the .npy file as a memmap and reads only its
-block's part (warpmesh.mesh3d_block_read); without, the whole array is
-scattered to every worker once.  The result is checked against warpmesh.mesh3d of the
+interfaces included.  With --parts (one region, or materials listed) no
+worker gets the whole volume: each opens the .npy file as a memmap and
+reads only its block's part (warpmesh.mesh3d_block_read); one region first
+needs the whole region's facts (its voxel box, where the lattice lies;
+its voxels; the distance field's minimum and depth), which the workers
+find from parts of the volume that tile it (region_part_facts_read) and
+the driver merges (merge_region_facts) before any block is meshed.
+Without --parts the whole array is scattered to every worker once.  The result is checked against warpmesh.mesh3d of the
 whole volume: the mesh and its report (but the meshing time).  Every block
 carries its lattice, cube range, face rule and alphas, so merge_blocks
 refuses, naming the missing cubes, a set of blocks with one lost (a failed
@@ -64,13 +68,35 @@ def _mesh_part(path, lo, hi, options):
     return warpmesh.mesh3d_block_read(read, volume.shape, lo, hi, **options)
 
 
+def _region_part(path, start, stop, options):
+    """The region's facts of the voxels [start, stop) of the .npy volume at
+    `path`, reading only the part they depend on."""
+    volume = np.load(path, mmap_mode="r")
+    read = lambda a, b: volume[a[0]:b[0], a[1]:b[1], a[2]:b[2]]
+    return warpmesh.region_part_facts_read(read, volume.shape, start, stop, **options)
+
+
+def region_facts(client, path, chunk=32, **options):
+    """One region's facts (label=) of the .npy volume at `path`: the
+    workers' facts of its chunks of `chunk` voxels a side, merged."""
+    shape = np.load(path, mmap_mode="r").shape
+    starts = itertools.product(*(range(0, n, chunk) for n in shape))
+    futures = [client.submit(_region_part, str(path), s, tuple(min(a + chunk, n) for a, n in zip(s, shape)), options,
+                             pure=False) for s in starts]
+    return warpmesh.merge_region_facts(client.gather(futures))
+
+
 def mesh_parts_in_blocks(client, path, block=16, **options):
     """The TetMesh of the label volume in the .npy file `path` (materials= a
-    label list), meshed in blocks of `block` cubes a side whose workers each
-    read only their block's part of the file (warpmesh.block_voxels: the
-    block, its window's halo and the voxels' neighbourhoods): no worker holds
-    the whole volume, nor is it sent anywhere."""
+    label list, or one region: label=), meshed in blocks of `block` cubes a
+    side whose workers each read only their block's part of the file
+    (warpmesh.block_voxels: the block, its window's halo and what the
+    voxels' values depend on): no worker holds the whole volume, nor is it
+    sent anywhere.  One region: the whole region's facts first
+    (region_facts)."""
     volume = np.load(path, mmap_mode="r")
+    if options.get("materials") is None:
+        options = dict(options, region_facts=region_facts(client, path, **options))
     cubes = warpmesh.lattice3d(volume[:2, :2, :2], region=((0, 0, 0), volume.shape), **options)
     futures = [client.submit(_mesh_part, str(path), lo, hi, options, pure=False) for lo, hi in blocks_of(cubes, block)]
     return warpmesh.merge_blocks(client.gather(futures)), len(futures)
@@ -111,10 +137,10 @@ def main():
     p.add_argument("--block", type=int, default=16, help="block side in lattice cubes")
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--parts", action="store_true",
-                   help="with --materials L,L,...: every worker reads only its block's part of the volume (a .npy memmap)")
+                   help="every worker reads only its block's part of the volume (a .npy memmap; --materials: a list)")
     p.add_argument("-o", "--output", default=None)
     a = p.parse_args()
-    if a.parts and (a.materials is None or a.materials == "all"):
+    if a.parts and a.materials == "all":
         p.error("--parts needs --materials with a label list (all depends on the whole volume)")
     volume = np.load(a.volume, mmap_mode="r" if a.parts else None) if a.volume else demo_volume()
     if a.materials is not None:

@@ -8,9 +8,13 @@ piece (write_block: GlobalIds from the lattice keys, equal in every piece
 that shares a vertex), and only the piece's metadata comes back.  The driver
 writes the .pvtu (write_pvtu), refusing pieces that do not tile the lattice
 exactly once; ParaView and VTK read it as one mesh.  Several materials,
-listed (materials="all" depends on the whole volume's labels).
+listed (materials="all" depends on the whole volume's labels), or one
+region (--label): then the workers first find the whole region's facts
+from parts of the volume that tile it (region_part_facts_read: its voxel
+box, where the lattice lies, its voxels, the distance field's minimum and
+depth), which the driver merges (merge_region_facts) and every block gets.
 
-    python3 examples/dask_partitioned3d.py VOLUME -o OUT.pvtu --materials L,L,...
+    python3 examples/dask_partitioned3d.py VOLUME -o OUT.pvtu (--materials L,L,... | --label L)
             [--spacing S] [--voxel-size X[,Y,Z]] [--block N] [--workers W] [--memory-limit 500MB]
     python3 examples/dask_partitioned3d.py --upsample SOURCE FACTOR VOLUME
 
@@ -79,6 +83,24 @@ def mesh_piece(path, lo, hi, out, options):
     return piece, os.getpid(), (peak_memory_mb(), cpu_seconds())
 
 
+def region_part(path, start, stop, options):
+    """On a worker: the region's facts of the voxels [start, stop), reading
+    only the part they depend on."""
+    volume = open_volume(path)
+    read = lambda a, b: np.asarray(volume[a[0]:b[0], a[1]:b[1], a[2]:b[2]])
+    return warpmesh.region_part_facts_read(read, volume.shape, start, stop, **options)
+
+
+def region_facts(client, path, chunk=64, **options):
+    """One region's facts (label=) of the volume at `path`: the workers'
+    facts of its chunks of `chunk` voxels a side, merged."""
+    shape = open_volume(path).shape
+    starts = [(z, y, x) for z in range(0, shape[0], chunk) for y in range(0, shape[1], chunk) for x in range(0, shape[2], chunk)]
+    futures = [client.submit(region_part, str(path), s, tuple(min(a + chunk, n) for a, n in zip(s, shape)), options,
+                             pure=False) for s in starts]
+    return warpmesh.merge_region_facts(client.gather(futures))
+
+
 def blocks_of(cubes, block):
     """The [lo, hi) cube ranges of `block` cubes a side that tile `cubes`."""
     return [((x, y, z), (min(x + block, cubes[0]), min(y + block, cubes[1]), min(z + block, cubes[2])))
@@ -86,8 +108,8 @@ def blocks_of(cubes, block):
 
 
 def mesh_partitioned(client, path, out, block=32, progress=None, **options):
-    """Mesh the label volume at `path` (materials= a label list, and
-    mesh3d's options) in blocks of `block` cubes a side on the dask
+    """Mesh the label volume at `path` (materials= a label list, or one
+    region: label=, and mesh3d's options) in blocks of `block` cubes a side on the dask
     `client`'s workers, as the .pvtu `out` and its pieces OUT_NNNNN.vtu.
     Returns the pieces (write_block's metadata) and, by worker process id,
     its peak memory (MB) and CPU time (s).  progress(done, total) after every
@@ -97,6 +119,8 @@ def mesh_partitioned(client, path, out, block=32, progress=None, **options):
     if block < 1:
         raise warpmesh.InputError(f"a block must be at least 1 cube a side, got {block}")
     volume = open_volume(path)
+    if options.get("materials") is None:
+        options = dict(options, region_facts=region_facts(client, path, **options))
     cubes = warpmesh.lattice3d(np.asarray(volume[:2, :2, :2]), region=((0, 0, 0), volume.shape), **options)
     ranges = blocks_of(cubes, block)
     stem = os.path.splitext(os.path.abspath(out))[0]
@@ -160,6 +184,7 @@ def main():
     p.add_argument("volume", nargs="?", help="a .zarr or .npy label volume (z, y, x)")
     p.add_argument("-o", "--output", help="the .pvtu to write (its pieces beside it)")
     p.add_argument("--materials", help="the labels to mesh, each its own region: 3,41,42")
+    p.add_argument("--label", help="instead: the labels of one region (3,41,42 or nonzero)")
     p.add_argument("--spacing", type=float, default=None)
     p.add_argument("--voxel-size", default=None, help="x[,y,z]; default: the zarr's voxel_size attribute, else 1")
     p.add_argument("--block", type=int, default=32, help="block side in lattice cubes")
@@ -175,14 +200,14 @@ def main():
         shape, size = upsample(source, int(factor), path)
         print(f"{path}: {shape[2]} x {shape[1]} x {shape[0]} voxels of {size} in {time.perf_counter() - t0:.1f} s")
         return 0
-    if not (a.volume and a.output and a.materials):
-        p.error("give VOLUME, -o OUT.pvtu and --materials (or --upsample)")
+    if not (a.volume and a.output and (a.materials or a.label)) or (a.materials and a.label):
+        p.error("give VOLUME, -o OUT.pvtu and --materials or --label (or --upsample)")
     import distributed
 
     volume = open_volume(a.volume)
     size = a.voxel_size and [float(x) for x in a.voxel_size.split(",")]
     size = size or getattr(volume, "attrs", {}).get("voxel_size") or 1.0
-    options = {"materials": a.materials, "spacing": a.spacing, "voxel_size": size}
+    options = {"materials": a.materials, "label": a.label, "spacing": a.spacing, "voxel_size": size}
 
     def progress(done, total):  # every block on a terminal, else every tenth of them
         if sys.stderr.isatty():

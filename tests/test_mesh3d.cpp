@@ -327,13 +327,13 @@ std::string report_json(Mesh3dReport r) {
     return to_json(r);
 }
 
-// A random partition of L's cubes: 0 to 2 random cuts along every axis.
-std::vector<CubeRange> random_partition(const Lattice3& L, std::mt19937& rng) {
+// A random partition of the box [0, n): 0 to 2 random cuts along every axis.
+std::vector<CubeRange> random_partition(const std::array<std::int64_t, 3>& n, std::mt19937& rng) {
     std::array<std::vector<std::int64_t>, 3> cuts;
     for (std::size_t a = 0; a < 3; ++a) {
-        std::set<std::int64_t> c{0, L.cubes[a]};
+        std::set<std::int64_t> c{0, n[a]};
         const int k = std::uniform_int_distribution<int>(0, 2)(rng);
-        for (int i = 0; i < k; ++i) c.insert(std::uniform_int_distribution<std::int64_t>(1, L.cubes[a] - 1)(rng));
+        for (int i = 0; i < k; ++i) c.insert(std::uniform_int_distribution<std::int64_t>(1, n[a] - 1)(rng));
         cuts[a].assign(c.begin(), c.end());
     }
     std::vector<CubeRange> out;
@@ -362,7 +362,7 @@ BOOST_AUTO_TEST_CASE(merge_refuses_a_lost_repeated_or_shifted_block_and_reports_
         const Mesh3dResult whole = mesh3d(*torus, o);
         const Lattice3 L = lattice3d(*torus, o);
         std::vector<CubeRange> ranges;
-        while (ranges.size() < 2) ranges = random_partition(L, rng);
+        while (ranges.size() < 2) ranges = random_partition(L.cubes, rng);
         std::vector<TetBlock> blocks;
         for (const CubeRange& r : ranges) blocks.push_back(mesh3d_block(*torus, o, r));
         std::shuffle(blocks.begin(), blocks.end(), rng);
@@ -414,17 +414,132 @@ BOOST_AUTO_TEST_CASE(merge_refuses_a_lost_repeated_or_shifted_block_and_reports_
     BOOST_TEST(throws_containing<std::invalid_argument>([&] { merge_tet_blocks(one); }, "the cubes [(" + std::to_string(half)));
 }
 
+namespace {
+
+// A physical volume of `dims` voxels of `spacing` mm at `origin`, its index
+// axes permuted and flipped (i along +y, j along −x, k along +z); values 0.
+Volume oriented_volume(const std::array<std::int64_t, 3>& dims, const Vec3& spacing, const Vec3& origin, const std::string& source) {
+    Volume v;
+    v.dims = dims, v.spacing = spacing, v.origin = origin;
+    v.axes = {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}};
+    v.physical = true;
+    v.source = source;
+    v.values.resize(static_cast<std::size_t>(v.voxel_count()));
+    return v;
+}
+
+// The voxels [box[0], box[1]) (i, j, k) of v as a part of it (Volume::is_part).
+Volume part_of(const Volume& v, const std::array<std::array<std::int64_t, 3>, 2>& box) {
+    Volume p;
+    p.spacing = v.spacing, p.origin = v.origin, p.axes = v.axes, p.physical = v.physical, p.source = v.source;
+    p.part_offset = box[0], p.whole_dims = v.dims;
+    for (std::size_t a = 0; a < 3; ++a) p.dims[a] = box[1][a] - box[0][a];
+    p.values.resize(static_cast<std::size_t>(p.voxel_count()));
+    for (std::int64_t k = 0, q = 0; k < p.dims[2]; ++k)
+        for (std::int64_t j = 0; j < p.dims[1]; ++j)
+            for (std::int64_t i = 0; i < p.dims[0]; ++i, ++q)
+                p.values[static_cast<std::size_t>(q)] = v.at(box[0][0] + i, box[0][1] + j, box[0][2] + k);
+    return p;
+}
+
+// The block r from its part alone: the voxels block_voxels names, read again
+// with twice the halo while the part is too small (mesh3d_block_read's loop).
+TetBlock block_of_part(const Volume& v, const Mesh3dOptions& o, const CubeRange& r, const LabelRegionFacts& region, std::int64_t& least) {
+    const Volume geometry = part_of(v, {{{0, 0, 0}, {1, 1, 1}}});
+    for (std::int64_t halo = 2;; halo *= 2) {
+        const Volume part = part_of(v, block_voxels(std::cref(geometry), o, r, halo, &region));
+        try {
+            TetBlock b = mesh3d_block(std::cref(part), o, r, &region);
+            least = std::min(least, part.voxel_count());
+            return b;
+        } catch (const InputError& e) {
+            if (std::string(e.what()).find("too small") == std::string::npos || halo > 64) throw;
+        }
+    }
+}
+
+}  // namespace
+
+// Issue 49, item 1, one region: blocks that each read only their part of a
+// label volume (block_voxels) merge into exactly mesh3d's mesh and report,
+// given the whole region's facts from a reduction over a random tiling of
+// the volume (region_part_voxels, region_part_facts, merge_region_facts).
+// The volume has a sheet two voxels thick (the field's minimum is above
+// −cap: cut_parameter's switch between the cubic path and the root finder
+// moves with it), a region against the volume's edge, anisotropic voxels
+// (the band's voxels beyond the region's box are within cap) and a flipped,
+// permuted orientation.  Refused: a part without the facts, a part's own
+// facts, facts of another band, a tiling with a part lost or repeated, a
+// part too small for the facts it gives.
+BOOST_AUTO_TEST_CASE(one_region_blocks_that_read_only_their_part_merge_into_the_whole_mesh) {
+    Volume v = oriented_volume({26, 22, 18}, {1.0, 0.8, 1.3}, {4, -5, 3}, "parts.nrrd");
+    for (std::int64_t k = 0, q = 0; k < 18; ++k)
+        for (std::int64_t j = 0; j < 22; ++j)
+            for (std::int64_t i = 0; i < 26; ++i, ++q) {
+                const double x = (i - 17) * 1.0, y = (j - 11) * 0.8, z = (k - 8) * 1.3;
+                const bool sheet = (i == 7 || i == 8) && j > 3 && j < 19 && k > 2 && k < 16;
+                v.values[static_cast<std::size_t>(q)] = sheet ? 3 : x * x + y * y + z * z < 30 ? 5 : (k < 2 && i > 12 ? 3 : 0);
+            }
+    Mesh3dOptions o;
+    o.labels = "3,5";
+    o.spacing = 1.1;
+    const Mesh3dResult whole = mesh3d(std::cref(v), o);
+    const Volume geometry = part_of(v, {{{0, 0, 0}, {1, 1, 1}}});
+    std::mt19937 rng(491);
+    for (int trial = 0; trial < scaled(2); ++trial) {
+        std::vector<LabelRegionFacts> facts;
+        std::vector<CubeRange> tiling;
+        while (tiling.size() < 2) tiling = random_partition(v.dims, rng);
+        for (const CubeRange& own : tiling) {
+            const Volume part = part_of(v, region_part_voxels(std::cref(geometry), o, {own.lo, own.hi}));
+            facts.push_back(region_part_facts(std::cref(part), o, {own.lo, own.hi}));
+        }
+        std::shuffle(facts.begin(), facts.end(), rng);
+        const LabelRegionFacts region = merge_region_facts(facts);
+        const Lattice3 L = lattice3d(std::cref(geometry), o, &region);
+        BOOST_TEST(L.cubes == whole.lattice.cubes);
+        std::vector<TetBlock> blocks;
+        std::int64_t least = v.voxel_count();
+        for (const CubeRange& r : random_partition(L.cubes, rng)) blocks.push_back(block_of_part(v, o, r, region, least));
+        const Mesh3dResult merged = merge_mesh3d_blocks(blocks);
+        BOOST_TEST(same(merged.mesh, whole.mesh), "trial " << trial);
+        BOOST_TEST(report_json(merged.report) == report_json(whole.report), "trial " << trial);
+        BOOST_TEST(merged.warnings == whole.warnings);
+        // Lost and repeated parts of the reduction.
+        std::vector<LabelRegionFacts> lost(facts.begin() + 1, facts.end()), twice = facts;
+        twice.push_back(facts.back());
+        BOOST_TEST(input_error_containing([&] { merge_region_facts(lost); }, "a part is missing"));
+        BOOST_TEST(input_error_containing([&] { merge_region_facts(twice); }, "or a part is given twice"));
+        BOOST_TEST(input_error_containing([&] { mesh3d_block(std::cref(geometry), o, {{0, 0, 0}, {1, 1, 1}}, &facts[0]); },
+                                          "merge the parts' facts first"));
+    }
+    const Volume half = part_of(v, {{{0, 0, 0}, {13, 22, 18}}});
+    BOOST_TEST(input_error_containing([&] { mesh3d_block(std::cref(half), o, {{0, 0, 0}, {2, 2, 2}}); }, "needs the whole region's facts"));
+    BOOST_TEST(input_error_containing([&] { region_part_facts(std::cref(half), o, {{{0, 0, 0}, {13, 22, 18}}}); },
+                                      "does not hold the voxels within"));
+    Mesh3dOptions wider = o;
+    wider.band = 5;
+    const LabelRegionFacts region = merge_region_facts(std::vector{region_part_facts(std::cref(v), o, {{{0, 0, 0}, v.dims}})});
+    BOOST_TEST(input_error_containing([&] { mesh3d_block(std::cref(half), wider, {{0, 0, 0}, {2, 2, 2}}, &region); }, "band 4"));
+    BOOST_TEST(input_error_containing([&] { mesh3d_block(std::cref(v), o, {{0, 0, 0}, {2, 2, 2}}, &region); }, "apply to a part"));
+    // The field's minimum carried, not −cap (what a rule independent of the
+    // data would take): −cap moves cut points of the thin sheet.
+    LabelRegionFacts capped = region;
+    capped.lowest = -4 * 1.3;
+    const std::array<std::int64_t, 3> L{whole.lattice.cubes};
+    std::vector<TetBlock> blocks;
+    std::int64_t least = v.voxel_count();
+    const std::int64_t cut = whole.lattice.cubes[0] / 4;
+    for (const CubeRange& r : {CubeRange{{0, 0, 0}, {cut, L[1], L[2]}}, CubeRange{{cut, 0, 0}, L}})
+        blocks.push_back(block_of_part(v, o, r, capped, least));
+    BOOST_TEST(!same(merge_mesh3d_blocks(blocks).mesh, whole.mesh));
+    BOOST_TEST(least < v.voxel_count());  // the first block read a part
+}
+
 BOOST_AUTO_TEST_CASE(label_volume_in_physical_units) {
     // A ball of label 3 (radius 6 mm) and a slab of label 5 in a 24 x 20 x 16
     // volume with anisotropic spacing and a flipped, permuted orientation.
-    Volume v;
-    v.dims = {24, 20, 16};
-    v.spacing = {1.0, 1.25, 1.5};
-    v.origin = {10, -5, 3};
-    v.axes = {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}};
-    v.physical = true;
-    v.source = "ball.nrrd";
-    v.values.resize(static_cast<std::size_t>(v.voxel_count()));
+    Volume v = oriented_volume({24, 20, 16}, {1.0, 1.25, 1.5}, {10, -5, 3}, "ball.nrrd");
     for (std::int64_t k = 0; k < 16; ++k)
         for (std::int64_t j = 0; j < 20; ++j)
             for (std::int64_t i = 0; i < 24; ++i) {

@@ -491,44 +491,123 @@ TetBlock block_from_dict(const py::dict& d) {
     return b;
 }
 
+// One region's facts (levelset3.hpp: LabelRegionFacts) as a dict of plain
+// values (picklable), and back; InputError for a missing entry or a value of
+// the wrong type.
+py::dict facts_to_dict(const LabelRegionFacts& f) {
+    return py::dict(py::arg("labels") = f.labels, py::arg("of") = f.of, py::arg("whole") = f.whole, py::arg("owned_lo") = f.owned_lo,
+                    py::arg("owned_hi") = f.owned_hi, py::arg("lo") = f.lo, py::arg("hi") = f.hi, py::arg("voxels") = f.voxels,
+                    py::arg("lowest") = f.lowest, py::arg("deepest") = f.deepest,
+                    py::arg("seen") = std::vector<int>(f.seen.begin(), f.seen.end()));
+}
+LabelRegionFacts facts_from_dict(const py::handle& h) {
+    if (!py::isinstance<py::dict>(h))
+        throw InputError("region facts must be the dicts region_part_facts and merge_region_facts return, got " +
+                         py::repr(h).cast<std::string>());
+    const py::dict d = h.cast<py::dict>();
+    const auto need = [&](const char* name) {
+        if (!d.contains(name))
+            throw InputError(std::string("region facts without '") + name + "': give the dicts merge_region_facts returns, unchanged");
+        return d[name];
+    };
+    LabelRegionFacts f;
+    try {
+        f.labels = need("labels").cast<std::string>(), f.of = need("of").cast<std::string>();
+        f.whole = need("whole").cast<std::array<std::int64_t, 3>>();
+        f.owned_lo = need("owned_lo").cast<std::array<std::int64_t, 3>>();
+        f.owned_hi = need("owned_hi").cast<std::array<std::int64_t, 3>>();
+        f.lo = need("lo").cast<std::array<std::int64_t, 3>>(), f.hi = need("hi").cast<std::array<std::int64_t, 3>>();
+        f.voxels = need("voxels").cast<std::int64_t>();
+        f.lowest = need("lowest").cast<double>(), f.deepest = need("deepest").cast<double>();
+        for (const int x : need("seen").cast<std::vector<int>>()) f.seen.push_back(x != 0);
+    } catch (const py::cast_error& e) {
+        throw InputError(std::string("region facts with an entry of the wrong type (give the dicts merge_region_facts returns): ") +
+                         e.what());
+    }
+    return f;
+}
+// None or the whole region's facts (mesh3d_block's region_facts=).
+std::optional<LabelRegionFacts> optional_facts(const py::object& region) {
+    if (region.is_none()) return std::nullopt;
+    return facts_from_dict(region);
+}
+
+// The reduction before one region's blocks of parts (pipeline/mesh3d.hpp):
+// warpmesh.region_part_voxels, region_part_facts, merge_region_facts.
+void bind_region_facts(py::module_& m) {
+    using Box = std::array<std::array<std::int64_t, 3>, 2>;
+    m.def(
+        "region_part_voxels",
+        [](const py::object& input, const Box& owned, const py::dict& kw) {
+            return region_part_voxels(mesh3d_input(input), mesh3d_options(kw), owned);
+        },
+        py::arg("input"), py::arg("owned"), py::arg("options"));
+    m.def(
+        "region_part_facts",
+        [](const py::object& input, const Box& owned, const py::dict& kw) {
+            const Mesh3dOptions o = mesh3d_options(kw);
+            const Mesh3dInput in = mesh3d_input(input);
+            LabelRegionFacts f;
+            {
+                py::gil_scoped_release release;
+                f = region_part_facts(in, o, owned);
+            }
+            return facts_to_dict(f);
+        },
+        py::arg("input"), py::arg("owned"), py::arg("options"));
+    m.def(
+        "merge_region_facts",
+        [](const py::list& parts) {
+            std::vector<LabelRegionFacts> facts;
+            for (const py::handle& p : parts) facts.push_back(facts_from_dict(p));
+            return facts_to_dict(merge_region_facts(facts));
+        },
+        py::arg("parts"));
+}
+
 // The block API (pipeline/mesh3d.hpp, "Blocks"): the lattice of an input,
 // one block of its cubes, the merge; warpmesh.lattice3d, mesh3d_block and
 // merge_blocks in __init__.py.
 void bind_blocks(py::module_& m) {
+    bind_region_facts(m);
     m.def(
         "lattice3",
-        [](const py::object& input, const py::dict& kw) {
+        [](const py::object& input, const py::dict& kw, const py::object& region) {
             const MemoryCall call;
             const Mesh3dOptions o = mesh3d_options(kw);
             const Mesh3dInput in = mesh3d_input(input);
+            const std::optional<LabelRegionFacts> facts = optional_facts(region);
             py::gil_scoped_release release;
-            return lattice3d(in, o).cubes;
+            return lattice3d(in, o, facts ? &*facts : nullptr).cubes;
         },
-        py::arg("input"), py::arg("options"));
+        py::arg("input"), py::arg("options"), py::arg("region") = py::none());
     m.def(
         "mesh3d_block",
-        [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, const py::dict& kw) {
+        [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, const py::dict& kw,
+           const py::object& region) {
             const MemoryCall call;
             const Mesh3dOptions o = mesh3d_options(kw);
             const Mesh3dInput in = mesh3d_input(input);
+            const std::optional<LabelRegionFacts> facts = optional_facts(region);
             TetBlock b;
             {
                 py::gil_scoped_release release;
-                b = mesh3d_block(in, o, CubeRange{lo, hi});
+                b = mesh3d_block(in, o, CubeRange{lo, hi}, facts ? &*facts : nullptr);
             }
             return block_to_dict(std::move(b));
         },
-        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("options"));
+        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("options"), py::arg("region") = py::none());
     m.def(
         "block_voxels",
         [](const py::object& input, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi, std::int64_t halo,
-           const py::dict& kw) {
+           const py::dict& kw, const py::object& region) {
             const Mesh3dOptions o = mesh3d_options(kw);
             const Mesh3dInput in = mesh3d_input(input);
+            const std::optional<LabelRegionFacts> facts = optional_facts(region);
             py::gil_scoped_release release;
-            return block_voxels(in, o, CubeRange{lo, hi}, halo);
+            return block_voxels(in, o, CubeRange{lo, hi}, halo, facts ? &*facts : nullptr);
         },
-        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("halo"), py::arg("options"));
+        py::arg("input"), py::arg("lo"), py::arg("hi"), py::arg("halo"), py::arg("options"), py::arg("region") = py::none());
     // Partitioned output (pipeline/mesh3d.hpp): a block as a .vtu piece,
     // blocks as pieces and their .pvtu, a .pvtu of pieces written elsewhere.
     const auto vtu_options = [](bool compress) {

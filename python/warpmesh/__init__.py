@@ -31,6 +31,7 @@ from . import _core
 from ._core import InputError, OptionError, OutputError, png_supported, certified_table_available
 
 __all__ = ["mesh", "mesh_shape", "mesh_shapes", "mesh3d", "lattice3d", "mesh3d_block", "merge_blocks", "block_voxels", "mesh3d_block_read",
+           "region_part_voxels", "region_part_facts", "region_part_facts_read", "merge_region_facts",
            "write_blocks", "write_block", "write_pvtu",
            "read_image", "read_volume",
            "Volume",
@@ -798,38 +799,121 @@ if mesh3d.__doc__:  # (None under python -OO)
 
 
 def lattice3d(volume=None, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None, shapes=None,
-              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None, region=None):
+              background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), band=None, region=None, region_facts=None):
     """The BCC lattice mesh3d uses for this input: its cubes (nx, ny, nz),
     to split into blocks [lo, hi) for mesh3d_block.  Arguments as mesh3d's
-    (volumes, shape strings, materials= and shapes=); region as
-    mesh3d_block's (then any part will do: the lattice is the whole's)."""
+    (volumes, shape strings, materials= and shapes=); region and
+    region_facts as mesh3d_block's (then any part will do: the lattice is
+    the whole's)."""
     options = _options3(lattice3d, locals(), label, labels, iso, inside, materials=materials)
-    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes, region), options))
+    return tuple(int(n) for n in _core.lattice3(_input3(volume, voxel_size, origin, options, shapes, region), options,
+                                                region_facts))
 
 
-def block_voxels(shape, lo, hi, *, halo=2, materials=None, spacing=None, background="drop", voxel_size=None,
-                 origin=(0.0, 0.0, 0.0)):
+def _box(name, box, shape):
+    """(start, stop) in (z, y, x) order as the library's [lo, hi) in (i, j, k)."""
+    try:
+        start, stop = (tuple(_integer(name, v, 0) for v in t) for t in box)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be (start, stop), each three voxel indices (z, y, x), got {box!r}") from None
+    if len(start) != 3 or len(stop) != 3:
+        raise InputError(f"{name} must be (start, stop), each three voxel indices (z, y, x), got {box!r}")
+    return start[::-1], stop[::-1]
+
+
+def _zyx(box):
+    return tuple(int(v) for v in box[0][::-1]), tuple(int(v) for v in box[1][::-1])
+
+
+def _block_options_only(function, options):
+    """Refuse keywords that are not mesh3d_block's (the region functions
+    ignore its others, so that one dict of options serves the facts and
+    the blocks)."""
+    unknown = set(options) - set(mesh3d_block.__kwdefaults__)
+    if unknown:
+        raise TypeError(f"{function.__name__}() got unexpected keyword arguments {sorted(unknown)}")
+
+
+def region_part_voxels(shape, start, stop, *, label=None, labels=None, band=None, voxel_size=None, **block_options):
+    """One region of a label volume of `shape` (nz, ny, nx) meshed in blocks
+    that read only their part (mesh3d_block's region=) needs the whole
+    region's facts first: a reduction over parts that tile the volume.  The
+    part owning the voxels [start, stop) (z, y, x) reads these voxels,
+    (start, stop): its own and those their distance values depend on (about
+    band + 2 voxels more along each axis, within the volume).  No voxel is
+    read.  mesh3d_block's other options are ignored (one dict of options
+    serves the facts and the blocks)."""
+    _block_options_only(region_part_voxels, block_options)
+    shape = tuple(_integer("shape", n, 2) for n in shape)
+    options = _options3(region_part_voxels, locals(), label, labels, None, None)
+    part = np.zeros((1, 1, 1), np.uint8)
+    box = _core.region_part_voxels(_input3(part, voxel_size, (0.0, 0.0, 0.0), options, None, ((0, 0, 0), shape)),
+                                   _box("start, stop", (start, stop), shape), options)
+    return _zyx(box)
+
+
+def region_part_facts(part, start, stop, *, region, label=None, labels=None, band=None, voxel_size=None,
+                      **block_options):
+    """The region's facts of the voxels [start, stop) (z, y, x) of a label
+    volume: its voxel box, count, the distance field's minimum and depth
+    there, and which labels occur (a small picklable dict).  `part` holds
+    the voxels region_part_voxels names, region=(part_start, shape) as
+    mesh3d_block's.  merge_region_facts combines the facts of parts that
+    tile the volume; InputError if the part lacks voxels the facts depend
+    on.  mesh3d_block's other options are ignored."""
+    _block_options_only(region_part_facts, block_options)
+    options = _options3(region_part_facts, locals(), label, labels, None, None)
+    a = _input3(part, voxel_size, (0.0, 0.0, 0.0), options, None, region)
+    return _core.region_part_facts(a, _box("start, stop", (start, stop), None), options)
+
+
+def region_part_facts_read(read, shape, start, stop, **options):
+    """region_part_facts of the voxels [start, stop) (z, y, x) of a label
+    volume of `shape`, reading only the part they need: read(start, stop)
+    returns volume[z0:z1, y0:y1, x0:x1] (as mesh3d_block_read's read).
+    Options as region_part_facts'."""
+    _block_options_only(region_part_facts_read, options)
+    shape = tuple(int(n) for n in shape)
+    part_start, part_stop = region_part_voxels(shape, start, stop, **options)
+    return region_part_facts(read(part_start, part_stop), start, stop, region=(part_start, shape), **options)
+
+
+def merge_region_facts(parts):
+    """The whole region's facts from the facts of parts that tile the volume
+    (region_part_facts, any order), for region_facts= of lattice3d,
+    block_voxels, mesh3d_block and mesh3d_block_read.  Raises InputError,
+    naming what is wrong, for parts that overlap, leave voxels out or were
+    made with other labels, band or voxel size, and (as mesh3d) for an empty
+    region or a listed label no voxel has."""
+    parts = list(parts)
+    return _core.merge_region_facts(parts)
+
+
+def block_voxels(shape, lo, hi, *, halo=2, materials=None, label=None, labels=None, band=None, spacing=None,
+                 background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), region_facts=None):
     """The voxels a block of a label volume of `shape` (nz, ny, nx) reads,
     as (start, stop) in (z, y, x) order: volume[z0:z1, y0:y1, x0:x1] is the
     part to give mesh3d_block(part, lo, hi, region=(start, shape), ...).  The
     block's cubes [lo, hi) grown by `halo` cubes (the window the block's
     warping decisions are made in: 2 cubes, doubled while a decision in the
-    block depends on its edge), the voxel cells around it and their
-    3 x 3 x 3 neighbourhoods (the materials' phi), one voxel for rounding.
-    Several materials (materials= a label list) only; no voxel is read."""
+    block depends on its edge), the voxel cells around it and the voxels
+    their values depend on (several materials: their 3 x 3 x 3
+    neighbourhoods; one region: the distance band's reach), one voxel for
+    rounding.  Several materials (materials= a label list), or one region
+    (label=, with region_facts= from merge_region_facts); no voxel is read."""
     shape = tuple(_integer("shape", n, 2) for n in shape)
-    options = _options3(block_voxels, locals(), None, None, None, None, materials=materials)
+    options = _options3(block_voxels, locals(), label, labels, None, None, materials=materials)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     part = np.zeros((1, 1, 1), np.uint8)
     box = _core.block_voxels(_input3(part, voxel_size, origin, options, None, ((0, 0, 0), shape)), lo, hi,
-                             _integer("halo", halo, 0), options)
-    return tuple(int(v) for v in box[0][::-1]), tuple(int(v) for v in box[1][::-1])
+                             _integer("halo", halo, 0), options, region_facts)
+    return _zyx(box)
 
 
 def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=None, inside=None, materials=None,
                  shapes=None, background="drop", voxel_size=None, origin=(0.0, 0.0, 0.0), face_rule=None, band=None,
-                 region=None):
+                 region=None, region_facts=None):
     """The tetrahedra of the lattice cubes [lo, hi) (each a triple of cube
     indices, within lattice3d's cubes) of the mesh mesh3d would make, with
     every vertex and tetrahedron named by its global key: a dict of numpy
@@ -846,16 +930,19 @@ def mesh3d_block(volume, lo, hi, *, spacing=None, label=None, labels=None, iso=N
     region=(start, shape): `volume` is only a part of a label volume of
     `shape` (nz, ny, nx), starting at voxel `start` (z, y, x) of it (a slice
     of a numpy memmap, a zarr or HDF5 region; origin is the whole's); with
-    materials= a label list, the block reads only this part — block_voxels
-    names the part it needs — and the blocks merge into exactly the whole
-    volume's mesh and report.  Raises InputError if the part lacks a voxel
-    the block read (take block_voxels with a larger halo)."""
+    materials= a label list, or one region (label=) and region_facts= the
+    whole region's facts (merge_region_facts), the block reads only this
+    part — block_voxels names the part it needs — and the blocks merge into
+    exactly the whole volume's mesh and report.  Raises InputError if the
+    part lacks a voxel the block read (take block_voxels with a larger
+    halo), and for one region without region_facts or with another volume's."""
     options = _options3(mesh3d_block, locals(), label, labels, iso, inside, materials=materials)
     lo = tuple(_integer("lo", v, 0) for v in lo)
     hi = tuple(_integer("hi", v, 1) for v in hi)
     if len(lo) != 3 or len(hi) != 3:
         raise InputError("lo and hi must be triples of cube indices")
-    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes, region), lo, hi, options)
+    return _core.mesh3d_block(_input3(volume, voxel_size, origin, options, shapes, region), lo, hi, options,
+                              region_facts)
 
 
 def mesh3d_block_read(read, shape, lo, hi, *, halo=2, **options):
@@ -864,7 +951,7 @@ def mesh3d_block_read(read, shape, lo, hi, *, halo=2, **options):
     volume[z0:z1, y0:y1, x0:x1] (a numpy memmap's, a zarr array's, an HDF5
     dataset's slice), called with block_voxels' box, and again with twice the
     halo while the block's window needs more.  Options as mesh3d_block's
-    (materials= a label list)."""
+    (materials= a label list, or label= and region_facts=)."""
     shape = tuple(int(n) for n in shape)
     while True:
         start, stop = block_voxels(shape, lo, hi, halo=halo, **{k: v for k, v in options.items() if k in _BLOCK_VOXELS})
@@ -877,7 +964,7 @@ def mesh3d_block_read(read, shape, lo, hi, *, halo=2, **options):
             halo *= 2
 
 
-_BLOCK_VOXELS = ("materials", "spacing", "background", "voxel_size", "origin")
+_BLOCK_VOXELS = ("materials", "label", "labels", "band", "spacing", "background", "voxel_size", "origin", "region_facts")
 
 
 def write_blocks(path, blocks, *, compress=False):

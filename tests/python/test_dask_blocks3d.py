@@ -5,7 +5,9 @@ sizes and either worker count, and for a shape in any block order; a block
 given twice and a block outside the lattice are refused.  Issue 49: the
 blocks of a random partition of a label volume (one region, several
 materials) merge into mesh3d's mesh and report; drop, repeat or shift any
-block and the merge is refused, naming what is wrong."""
+block and the merge is refused, naming what is wrong; so do blocks that
+read only their part of the volume (several materials, and one region with
+the whole region's facts from a reduction over the parts)."""
 import importlib.util
 
 import numpy as np
@@ -45,14 +47,15 @@ def test_blocks_on_a_local_cluster_equal_the_whole_mesh(root, workers, block):
     assert mod.same_report(merged, whole)
 
 
-def test_blocks_reading_their_parts_on_a_local_cluster(root, tmp_path):
+@pytest.mark.parametrize("options", [{"materials": "1,2", "spacing": 1.1}, {"label": "nonzero", "spacing": 1.1}])
+def test_blocks_reading_their_parts_on_a_local_cluster(root, tmp_path, options):
     """examples/dask_blocks3d.py --parts: every worker reads only its block's
-    part of a .npy memmap; the merge is the whole volume's mesh and report."""
+    part of a .npy memmap (one region: after the workers' reduction to the
+    whole region's facts); the merge is the whole volume's mesh and report."""
     distributed = require("distributed", "python3-distributed")
     mod = load_example(root)
     volume = mod.demo_volume(32)
     np.save(tmp_path / "v.npy", volume)
-    options = {"materials": "1,2", "spacing": 1.1}
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         merged, count = mod.mesh_parts_in_blocks(client, tmp_path / "v.npy", 10, **options)
@@ -158,45 +161,103 @@ def test_merge_refuses_blocks_of_different_meshes():
         warpmesh.merge_blocks([a, "b"])
 
 
-@pytest.mark.parametrize("options", [{"materials": "1,2,3,4", "spacing": 1.0},
-                                     {"materials": "2,4", "background": "keep", "spacing": 1.3,
-                                      "voxel_size": (1.0, 0.9, 1.2), "origin": (5.0, -3.0, 2.0)}])
-def test_blocks_that_read_only_their_part_merge_into_the_whole_mesh(tmp_path, options):
+def region_facts(read, shape, rng, **options):
+    """The whole region's facts (one region, label=) by the reduction over a
+    random tiling of the volume's voxels, each part read as
+    region_part_voxels names, merged in a random order."""
+    tiling = random_partition(shape[::-1], rng)
+    facts = [warpmesh.region_part_facts_read(read, shape, lo[::-1], hi[::-1], **options) for lo, hi in tiling]
+    return warpmesh.merge_region_facts([facts[i] for i in rng.permutation(len(facts))])
+
+
+@pytest.mark.parametrize("options, store", [({"materials": "1,2,3,4", "spacing": 1.0}, "npy"),
+                                            ({"materials": "2,4", "background": "keep", "spacing": 1.3,
+                                              "voxel_size": (1.0, 0.9, 1.2), "origin": (5.0, -3.0, 2.0)}, "npy"),
+                                            ({"label": [1, 3], "spacing": 1.3, "voxel_size": (1.0, 1.0, 1.2)}, "npy"),
+                                            ({"label": 2, "spacing": 0.9, "voxel_size": (0.8, 1.0, 1.1),
+                                              "origin": (5.0, -3.0, 2.0)}, "zarr")])
+def test_blocks_that_read_only_their_part_merge_into_the_whole_mesh(tmp_path, options, store):
     """Issue 49, item 1: each block reads only the voxels block_voxels names
-    (a region of a .npy memmap) and is meshed from that part; the blocks
-    merge into exactly the whole volume's mesh and report."""
-    path = tmp_path / "labels.npy"
-    np.save(path, kmeans_labels(26))
-    volume = np.load(path, mmap_mode="r")
-    whole = warpmesh.mesh3d(np.asarray(volume), **options)
-    cubes = warpmesh.lattice3d(volume[:2, :2, :2], region=((0, 0, 0), volume.shape), **options)
-    assert cubes == warpmesh.lattice3d(np.asarray(volume), **options)
+    (a region of a .npy memmap or a zarr array) and is meshed from that part;
+    the blocks merge into exactly the whole volume's mesh and report.  One
+    region (label=): the whole region's facts first, by a reduction over a
+    random tiling of the volume (each part read as region_part_voxels
+    names)."""
+    labels = kmeans_labels(30)
+    if store == "npy":
+        np.save(tmp_path / "labels.npy", labels)
+        volume = np.load(tmp_path / "labels.npy", mmap_mode="r")
+    else:
+        zarr = require("zarr", "python3-zarr")
+        volume = zarr.open_array(str(tmp_path / "labels.zarr"), mode="w", shape=labels.shape, chunks=(8, 8, 8),
+                                 dtype=labels.dtype)
+        volume[:] = labels
+    whole = warpmesh.mesh3d(labels, **options)
     read = []
 
     def region(start, stop):
         read.append(int(np.prod(np.subtract(stop, start))))
         return volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2]]
 
+    if "label" in options:
+        options = dict(options, region_facts=region_facts(region, labels.shape, np.random.default_rng(3), **options))
+    cubes = warpmesh.lattice3d(labels[:2, :2, :2], region=((0, 0, 0), labels.shape), **options)
+    assert cubes == warpmesh.lattice3d(labels, **{k: v for k, v in options.items() if k != "region_facts"})
+    read.clear()
     halves = [[(0, n // 2), (n // 2, n)] for n in cubes]
     ranges = [((x[0], y[0], z[0]), (x[1], y[1], z[1])) for x in halves[0] for y in halves[1] for z in halves[2]]
-    blocks = [warpmesh.mesh3d_block_read(region, volume.shape, lo, hi, **options) for lo, hi in ranges]
-    assert max(read) < 0.6 * volume.size
+    blocks = [warpmesh.mesh3d_block_read(region, labels.shape, lo, hi, **options) for lo, hi in ranges]
+    assert max(read) < (0.6 if "materials" in options else 0.95) * labels.size  # one region: band + 2 voxels more
     merged = warpmesh.merge_blocks(blocks)
     assert same(merged, whole) and merged.region_names == whole.region_names
     assert np.array_equal(merged.interfaces, whole.interfaces)
     assert report_without_time(merged) == report_without_time(whole)
     # A part too small for its block is refused, naming what it needs.
     lo, hi = (0, 0, 0), (cubes[0] // 2, cubes[1], cubes[2])
-    start, stop = warpmesh.block_voxels(volume.shape, lo, hi, **options)
-    small = volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2] - 4]
+    start, stop = warpmesh.block_voxels(labels.shape, lo, hi, **options)
+    small = labels[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2] - 4]
     with pytest.raises(warpmesh.InputError, match="too small"):
-        warpmesh.mesh3d_block(small, lo, hi, region=(start, volume.shape), **options)
+        warpmesh.mesh3d_block(small, lo, hi, region=(start, labels.shape), **options)
+
+
+def test_a_part_of_one_region_needs_the_whole_regions_facts():
+    """One region's part without the reduction's facts, with a part's facts
+    only, with facts of another band, with a lost or repeated part, or cut
+    too small for the facts it gives: refused, naming what is wrong."""
+    volume = kmeans_labels()
+    shape, options = volume.shape, {"label": 1, "spacing": 1.0}
+    read = lambda start, stop: volume[start[0]:stop[0], start[1]:stop[1], start[2]:stop[2]]
+    part = dict(region=((0, 0, 0), shape), **options)
+    with pytest.raises(warpmesh.InputError, match="needs the whole region's facts"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), **part)
+    with pytest.raises(warpmesh.InputError, match="label mode"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), shape), iso=0.5, spacing=1.0)
+    halves = [((0, 0, 0), (11, 22, 22)), ((11, 0, 0), shape)]
+    facts = [warpmesh.region_part_facts_read(read, shape, a, b, **options) for a, b in halves]
+    with pytest.raises(warpmesh.InputError, match="merge the parts' facts first"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region_facts=facts[0], **part)
+    with pytest.raises(warpmesh.InputError, match="a part is missing"):
+        warpmesh.merge_region_facts(facts[1:])
+    with pytest.raises(warpmesh.InputError, match="given twice"):
+        warpmesh.merge_region_facts(facts + facts[:1])
+    with pytest.raises(warpmesh.InputError, match="band 6"):
+        warpmesh.merge_region_facts([facts[0], warpmesh.region_part_facts_read(read, shape, *halves[1], band=6, **options)])
+    facts = warpmesh.merge_region_facts(facts)
+    with pytest.raises(warpmesh.InputError, match="not of this part's labels 1, band 6"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region_facts=facts, band=6, **part)
+    with pytest.raises(warpmesh.InputError, match="apply to a part"):
+        warpmesh.mesh3d_block(volume, (0, 0, 0), (2, 2, 2), region_facts=facts, **options)
+    with pytest.raises(warpmesh.InputError, match="does not hold the voxels within"):
+        warpmesh.region_part_facts(volume[:11], *halves[0], region=((0, 0, 0), shape), label=1)
+    with pytest.raises(warpmesh.InputError, match="no voxel has the label"):
+        warpmesh.merge_region_facts([warpmesh.region_part_facts_read(read, shape, (0, 0, 0), shape, label=[1, 9])])
+    with pytest.raises(warpmesh.InputError, match="region facts without 'lowest'"):
+        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region_facts={k: v for k, v in facts.items() if k != "lowest"},
+                              **part)
 
 
 def test_a_part_needs_listed_materials():
     volume = kmeans_labels()
-    with pytest.raises(warpmesh.InputError, match="materials only"):
-        warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), label=1, spacing=1.0)
     with pytest.raises(warpmesh.InputError, match="needs its materials listed"):
         warpmesh.mesh3d_block(volume[:10], (0, 0, 0), (2, 2, 2), region=((0, 0, 0), volume.shape), materials="all")
     with pytest.raises(warpmesh.InputError, match="does not lie in the whole"):

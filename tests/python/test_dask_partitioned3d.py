@@ -35,6 +35,22 @@ def kmeans_labels(n=32, k=4, seed=5):
     return v
 
 
+def read_pvtu(vtk, path):
+    """The .pvtu at `path` as VTK's PUnstructuredGrid reader reads it: the
+    grid, its points' distinct GlobalIds (keys), the points in the keys'
+    order and the tetrahedra numbered so."""
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    point_ids = vtk_to_numpy(grid.GetPointData().GetGlobalIds())
+    keys, first = np.unique(point_ids, return_index=True)
+    tets = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4)
+    return grid, keys, vtk_to_numpy(grid.GetPoints().GetData())[first], np.searchsorted(keys, point_ids)[tets]
+
+
 def tet_volumes(points, tets):
     p = points[tets]
     return np.abs(np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])) / 6
@@ -67,21 +83,13 @@ def test_pieces_made_on_workers_are_the_single_process_mesh(root, tmp_path, clie
     assert max(p["voxels_read"] for p in pieces) < 0.6 * labels.size
     assert sum(p["tetrahedra"] for p in pieces) == len(whole.tetrahedra) > 1000
 
-    # VTK: the .pvtu as one mesh.
-    reader = vtk.vtkXMLPUnstructuredGridReader()
-    reader.SetFileName(str(tmp_path / "mesh.pvtu"))
-    reader.Update()
-    grid = reader.GetOutput()
-    point_ids = vtk_to_numpy(grid.GetPointData().GetGlobalIds())
-    keys, first = np.unique(point_ids, return_index=True)
-    points = vtk_to_numpy(grid.GetPoints().GetData())
-    assert len(keys) == len(whole.points) and np.array_equal(points[first], whole.points)
-    tets = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 4)
+    # VTK: the .pvtu as one mesh, its vertices numbered as the whole mesh's (by GlobalIds).
+    grid, keys, points, tets = read_pvtu(vtk, tmp_path / "mesh.pvtu")
+    assert len(keys) == len(whole.points) and np.array_equal(points, whole.points)
     region = vtk_to_numpy(grid.GetCellData().GetArray("region"))
     cell_ids = vtk_to_numpy(grid.GetCellData().GetGlobalIds())
     assert len(tets) == len(whole.tetrahedra) and len(np.unique(cell_ids)) == len(cell_ids)
-    rank = np.searchsorted(keys, point_ids)                        # the whole mesh's vertex numbers
-    assert np.array_equal(np.sort(np.sort(rank[tets], axis=1), axis=0), np.sort(np.sort(whole.tetrahedra, axis=1), axis=0))
+    assert np.array_equal(np.sort(np.sort(tets, axis=1), axis=0), np.sort(np.sort(whole.tetrahedra, axis=1), axis=0))
     volume, whole_volume = tet_volumes(points, tets), tet_volumes(whole.points, whole.tetrahedra)
     for tag in (1, 2, 4):
         assert np.isclose(volume[region == tag].sum(), whole_volume[whole.regions == tag].sum(), rtol=1e-12)
@@ -101,6 +109,23 @@ def test_pieces_made_on_workers_are_the_single_process_mesh(root, tmp_path, clie
     with pytest.raises(warpmesh.InputError, match="given twice"):
         warpmesh.write_pvtu(tmp_path / "twice.pvtu", pieces + pieces[:1])
     assert not (tmp_path / "lost.pvtu").exists() and not (tmp_path / "twice.pvtu").exists()
+
+
+def test_one_region_pieces_after_the_workers_reduction_are_the_single_process_mesh(root, tmp_path, client):
+    """One region (label=): the workers first reduce parts of the volume to
+    the whole region's facts, then mesh their blocks from their parts; the
+    pieces' vertices (by GlobalIds) and tetrahedra are the single-process
+    mesh's."""
+    vtk = require("vtk", "python3-vtk9")
+    mod = load_example(root)
+    labels, options = kmeans_labels(24), {"label": "1,2", "spacing": 1.1, "voxel_size": (1.0, 1.0, 1.25)}
+    np.save(tmp_path / "labels.npy", labels)
+    pieces, _ = mod.mesh_partitioned(client, tmp_path / "labels.npy", tmp_path / "one.pvtu", 12, **options)
+    whole = warpmesh.mesh3d(labels, **options)
+    _, keys, points, tets = read_pvtu(vtk, tmp_path / "one.pvtu")
+    assert len(keys) == len(whole.points) and np.array_equal(points, whole.points)
+    assert len(pieces) > 4 and len(tets) == len(whole.tetrahedra) > 1000
+    assert np.array_equal(np.sort(np.sort(tets, axis=1), axis=0), np.sort(np.sort(whole.tetrahedra, axis=1), axis=0))
 
 
 def test_bad_input_is_refused_clearly(root, tmp_path, client):

@@ -31,6 +31,7 @@
 // surface and their memory is a slab's; the region's inscribed distance
 // (feature_size) is then known only within the band.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -87,8 +88,9 @@ bool edt_line(float* g, std::int64_t n, std::int64_t stride, double w, double li
 }
 
 // The mask of the box (label_levelset): bit 0 the region, bit 1 a source
-// (mark_sources).
-constexpr std::uint8_t in_region = 1, source = 2;
+// (mark_sources), bit 2 a voxel whose depth banded_distance's `feature`
+// leaves out (a part's voxels that are not its own: label_part_facts).
+constexpr std::uint8_t in_region = 1, source = 2, uncounted = 4;
 
 // The first pass on one line: the sources are the mask's voxels m with
 // (m & (source | in_region)) == want; g[i] = w² (i − p)² for the nearest
@@ -215,14 +217,15 @@ Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::a
             for (std::int64_t at = z0 * plane; at < z1 * plane; ++at) {
                 const bool r = (region[static_cast<std::size_t>(at)] & in_region) != 0;
                 if (r == of_region) continue;  // the other transform's voxel
+                const bool counted = r && !(region[static_cast<std::size_t>(at)] & uncounted);
                 const float d2 = window[static_cast<std::size_t>(at - w0 * plane)];
                 if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
-                    if (r) deepest = std::numeric_limits<double>::infinity();
+                    if (counted) deepest = std::numeric_limits<double>::infinity();
                     field[static_cast<std::size_t>(at)] = static_cast<float>(r ? -cap : cap);
                     continue;
                 }
                 const double d = std::sqrt(static_cast<double>(d2)) - c;
-                if (r) deepest = std::max(deepest, d);
+                if (counted) deepest = std::max(deepest, d);
                 field[static_cast<std::size_t>(at)] = static_cast<float>(std::clamp(r ? -d : d, -cap, cap));
             }
             feature = std::max(feature, deepest);
@@ -238,7 +241,8 @@ public:
     VolumeLevelSet3(const Volume& v, Buffer<float> values, std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> n,
                     std::array<std::int64_t, 3> region_lo, std::array<std::int64_t, 3> region_hi, float far, double feature,
                     double per_mm, std::string name)
-        : values_(std::move(values)), lo_(lo), n_(n), dims_(v.dims), far_(far), feature_(feature), name_(std::move(name)) {
+        : values_(std::move(values)), lo_(lo), n_(n), dims_(v.is_part() ? v.whole_dims : v.dims), far_(far), feature_(feature),
+          name_(std::move(name)) {
         resolution_ = std::min({v.spacing[0], v.spacing[1], v.spacing[2]});
         spacing_ = {v.spacing[0], v.spacing[1], v.spacing[2]};
         per_mm_ = per_mm;
@@ -286,6 +290,13 @@ public:
     std::string describe() const override { return name_; }
     std::optional<double> reference_volume() const override { return reference_volume_; }
     void set_reference_volume(double v) { reference_volume_ = v; }
+    // A part's (label_part_levelset): the whole field's minimum, and the
+    // whole's stored box [lo, hi], whose voxels beyond the stored ones are
+    // read outside the part.
+    void set_part(double lowest, const std::array<std::int64_t, 3>& lo, const std::array<std::int64_t, 3>& hi) {
+        lowest_ = lowest, part_ = true, whole_lo_ = lo, whole_hi_ = hi;
+    }
+    bool read_outside_part() const override { return outside_.load(); }
 
 private:
     // Index coordinates t of a physical point X: t_n = ((X − origin)·a_n) / s_n.
@@ -334,13 +345,23 @@ private:
         std::int64_t k = 0;
         for (int a = 2; a >= 0; --a) {
             const std::int64_t r = j[static_cast<std::size_t>(a)] - lo_[static_cast<std::size_t>(a)];
-            if (r < 0 || r >= n_[static_cast<std::size_t>(a)]) return far_;
+            if (r < 0 || r >= n_[static_cast<std::size_t>(a)]) return outside(j);
             k = k * n_[static_cast<std::size_t>(a)] + r;
         }
         return values_[static_cast<std::size_t>(k)];
     }
+    // far_ for a voxel beyond the stored box; of a part, flagged where the whole stores it.
+    float outside(const std::array<std::int64_t, 3>& j) const {
+        bool stored = part_;
+        for (std::size_t a = 0; a < 3; ++a) stored = stored && j[a] >= whole_lo_[a] && j[a] <= whole_hi_[a];
+        if (stored) outside_.store(true, std::memory_order_relaxed);
+        return far_;
+    }
     Buffer<float> values_;
     std::array<std::int64_t, 3> lo_, n_, dims_;
+    bool part_ = false;
+    std::array<std::int64_t, 3> whole_lo_{}, whole_hi_{};
+    mutable std::atomic<bool> outside_{false};
     float far_;
     double lowest_ = 0;  // no voxel value is below it: F >= lowest_ everywhere
     double feature_, resolution_ = 0, per_mm_ = 1;
@@ -441,16 +462,18 @@ std::vector<std::uint16_t> region_slots(const ImageLevelSetOptions& m) {
 }
 
 // The region's voxels in a volume: their bounding box [lo, hi] and count,
-// and which listed labels occur (refusing non-integer values, an empty
-// region and absent labels).  A row of voxels (x fastest) at a time, the
-// 16-bit labels straight (Volume::labels), doubles checked to be labels.
+// and which listed labels occur (refusing non-integer values; check_region
+// refuses an empty region and absent labels).  A row of voxels (x fastest)
+// at a time, the 16-bit labels straight (Volume::labels), doubles checked to
+// be labels.
 struct RegionScan {
     std::array<std::int64_t, 3> lo{}, hi{};
     std::int64_t voxels = 0;
+    std::vector<std::uint8_t> seen;  // per listed label
 };
 RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot) {
-    RegionScan out{v.dims, {-1, -1, -1}, 0};
-    std::vector<char> seen(std::max<std::size_t>(1, m.labels.size()), 0);
+    RegionScan out{v.dims, {-1, -1, -1}, 0, std::vector<std::uint8_t>(std::max<std::size_t>(1, m.labels.size()), 0)};
+    std::vector<std::uint8_t>& seen = out.seen;
     for (std::int64_t k = 0; k < v.dims[2]; ++k)
         for (std::int64_t j = 0; j < v.dims[1]; ++j) {
             const std::size_t row = static_cast<std::size_t>(v.dims[0] * (j + v.dims[1] * k));
@@ -476,41 +499,38 @@ RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std
             out.lo = {std::min(out.lo[0], first), std::min(out.lo[1], j), std::min(out.lo[2], k)};
             out.hi = {std::max(out.hi[0], last), std::max(out.hi[1], j), std::max(out.hi[2], k)};
         }
-    if (out.hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
+    return out;
+}
+void check_region(const RegionScan& scan, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot,
+                  const std::string& source) {
+    if (scan.hi[0] < 0) throw InputError(source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
     std::string absent;
     for (std::size_t i = 0; i < m.labels.size() && !m.label_nonzero; ++i) {
         const bool valid = m.labels[i] >= 0 && m.labels[i] <= 65535;
-        if (valid && (seen[i] || slot[static_cast<std::size_t>(m.labels[i])] != i + 1)) continue;
+        if (valid && (scan.seen[i] || slot[static_cast<std::size_t>(m.labels[i])] != i + 1)) continue;
         if (!absent.empty()) absent += ',';
         absent += std::to_string(m.labels[i]);
     }
     if (!absent.empty())
-        throw InputError(v.source + ": no voxel has the label(s) " + absent + " (of " + labels_text(m) + "): a typo, or the wrong volume?");
-    return out;
+        throw InputError(source + ": no voxel has the label(s) " + absent + " (of " + labels_text(m) + "): a typo, or the wrong volume?");
 }
 
-// Label mode (levelset3.hpp).  The volume's samples are read twice — the
-// scan, then the region's mask over its box — and may be released after
-// that (`release`: the caller's volume, whose samples nothing needs later);
-// the field is built from the mask alone (banded_distance).
-std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o, Volume* release) {
-    const auto& m = o.mode;
-    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs labels: a label list (e.g. 3 or 51,52) or nonzero");
-    const std::vector<std::uint16_t> slot = region_slots(m);
-    const RegionScan scan = scan_region(v, m, slot);
-    std::array<std::int64_t, 3> lo{}, hi{}, n{};
-    std::uint64_t count = 1;
-    for (std::size_t a = 0; a < 3; ++a) {
-        lo[a] = std::max<std::int64_t>(0, scan.lo[a] - o.band), hi[a] = std::min<std::int64_t>(v.dims[a] - 1, scan.hi[a] + o.band);
-        n[a] = hi[a] - lo[a] + 1;
-        count *= static_cast<std::uint64_t>(n[a]);
-    }
+// The label field (levelset3.hpp, label mode) on the box [lo, lo + n) of
+// v's voxels (its own indices): the region's mask over the box, its sources,
+// the banded distances.  `feature` (banded_distance's): of the voxels in
+// the box `counted` [lo, hi) (own indices; none: all).  `release`: v's
+// samples are released once the mask is read from them.
+using Index3 = std::array<std::int64_t, 3>;
+double label_cap(const Volume& v, int band) { return band * std::max({v.spacing[0], v.spacing[1], v.spacing[2]}); }
+Buffer<float> label_field(const Volume& v, int band, std::uint64_t max_memory, const std::vector<std::uint16_t>& slot, const Index3& lo,
+                          const Index3& n, double& feature, Volume* release, const std::array<Index3, 2>* counted = nullptr) {
+    const std::uint64_t count = static_cast<std::uint64_t>(n[0]) * static_cast<std::uint64_t>(n[1]) * static_cast<std::uint64_t>(n[2]);
     const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
-    const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
+    const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = label_cap(v, band);
     const Slabs sl = slabs_of(cap + 2 * c, w[2]);
     // The mask and the field (1 + 4 bytes a voxel of the box), and a slab of the transforms'.
     const std::uint64_t window = static_cast<std::uint64_t>(std::min(n[2], sl.slab + 2 * sl.halo));
-    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * window * 4, o.max_memory,
+    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * window * 4, max_memory,
                  "the label volume's distance field (" + std::to_string(count) + " voxels)", "5 bytes a voxel of the region's bounding box",
                  "crop the volume to the region");
     Buffer<std::uint8_t> region(count);  // every element written below
@@ -523,15 +543,138 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
                 to[i] = slot[v.labels.empty() ? static_cast<std::size_t>(v.values[from + static_cast<std::size_t>(i)])
                                               : v.labels[from + static_cast<std::size_t>(i)]] != 0;
         }
+    for (std::int64_t q = 0; counted && q < static_cast<std::int64_t>(count); ++q) {
+        const Index3 at{lo[0] + q % n[0], lo[1] + q / n[0] % n[1], lo[2] + q / (n[0] * n[1])};
+        bool in = true;
+        for (std::size_t a = 0; a < 3; ++a) in = in && at[a] >= (*counted)[0][a] && at[a] < (*counted)[1][a];
+        if (!in) region[static_cast<std::size_t>(q)] |= uncounted;
+    }
     if (release) Buffer<std::uint16_t>().swap(release->labels), std::vector<double>().swap(release->values);
-    double feature = 0;
     mark_sources(region, n);
-    Buffer<float> field = banded_distance(region, n, w, c, cap, feature);
+    return banded_distance(region, n, w, c, cap, feature);
+}
+
+std::string label_name(const Volume& v, const ImageLevelSetOptions& m) { return v.source + " (label " + labels_text(m) + ")"; }
+
+// Label mode (levelset3.hpp).  The volume's samples are read twice — the
+// scan, then the region's mask over its box — and may be released after
+// that (`release`: the caller's volume, whose samples nothing needs later);
+// the field is built from the mask alone (banded_distance).  A part's:
+// label_part_levelset.
+std::unique_ptr<LevelSet3> label_part_levelset(const Volume& v, const VolumeLevelSet3Options& o);
+std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3Options& o, Volume* release) {
+    const auto& m = o.mode;
+    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs labels: a label list (e.g. 3 or 51,52) or nonzero");
+    if (v.is_part() || o.whole) return label_part_levelset(v, o);
+    const std::vector<std::uint16_t> slot = region_slots(m);
+    const RegionScan scan = scan_region(v, m, slot);
+    check_region(scan, m, slot, v.source);
+    Index3 lo{}, n{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int64_t>(0, scan.lo[a] - o.band);
+        n[a] = std::min<std::int64_t>(v.dims[a] - 1, scan.hi[a] + o.band) - lo[a] + 1;
+    }
+    double feature = 0;
+    Buffer<float> field = label_field(v, o.band, o.max_memory, slot, lo, n, feature, release);
     if (!std::isfinite(feature)) feature = 0;  // unknown: deeper than the band somewhere
-    Buffer<std::uint8_t>().swap(region);
-    auto f = std::make_unique<VolumeLevelSet3>(v, std::move(field), lo, n, scan.lo, scan.hi, static_cast<float>(cap), feature, 1.0,
-                                               v.source + " (label " + labels_text(m) + ")");
+    auto f = std::make_unique<VolumeLevelSet3>(v, std::move(field), lo, n, scan.lo, scan.hi, static_cast<float>(label_cap(v, o.band)),
+                                               feature, 1.0, label_name(v, m));
     f->set_reference_volume(static_cast<double>(scan.voxels) * v.spacing[0] * v.spacing[1] * v.spacing[2]);
+    return f;
+}
+
+// A part's place in the whole volume (Volume::is_part; a whole volume:
+// itself): its offset and the whole's voxels; InputError unless it lies in it.
+struct PartPlace {
+    Index3 off, whole;
+};
+PartPlace place_of(const Volume& v) {
+    const PartPlace p{v.is_part() ? v.part_offset : Index3{0, 0, 0}, v.is_part() ? v.whole_dims : v.dims};
+    for (std::size_t a = 0; a < 3; ++a)
+        if (!(p.off[a] >= 0 && v.dims[a] >= 1 && p.off[a] + v.dims[a] <= p.whole[a]))
+            throw InputError(v.source + ": the part does not lie in the whole volume");
+    return p;
+}
+
+// The part's voxels [lo, hi] (whole indices) whose label values are the
+// whole volume's: label_reach from its faces that cut the volume.
+std::array<Index3, 2> exact_zone(const Volume& v, const PartPlace& p, int band) {
+    const Index3 k = label_reach(v.spacing, band);
+    std::array<Index3, 2> z{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        z[0][a] = p.off[a] + (p.off[a] > 0 ? k[a] : 0);
+        z[1][a] = p.off[a] + v.dims[a] - 1 - (p.off[a] + v.dims[a] < p.whole[a] ? k[a] : 0);
+    }
+    return z;
+}
+
+std::string index_text(const Index3& x) {
+    return "(" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " + std::to_string(x[2]) + ")";
+}
+
+// LabelRegionFacts::of: the band and the voxel size.
+std::string facts_of(const Volume& v, int band) {
+    std::ostringstream s;
+    s << "band " << band << ", voxel " << v.spacing[0] << " x " << v.spacing[1] << " x " << v.spacing[2];
+    return s.str();
+}
+
+// The whole region's facts given to a part: of its labels, band, voxel
+// size and volume, and merged (of the whole volume).
+void check_whole_facts(const LabelRegionFacts& w, const Volume& v, const VolumeLevelSet3Options& o, const PartPlace& place) {
+    const std::string mine = "labels " + labels_text(o.mode) + ", " + facts_of(v, o.band) + ", volume " + index_text(place.whole);
+    const std::string theirs = "labels " + w.labels + ", " + w.of + ", volume " + index_text(w.whole);
+    if (mine != theirs) throw InputError(v.source + ": the region's facts are of " + theirs + ", not of this part's " + mine);
+    if (w.owned_lo != Index3{0, 0, 0} || w.owned_hi != w.whole)
+        throw InputError(v.source + ": the region's facts are of the voxels [" + index_text(w.owned_lo) + ", " + index_text(w.owned_hi) +
+                         ") (i, j, k) only, not of the whole volume: merge the parts' facts first (merge_region_facts)");
+    for (std::size_t a = 0; a < 3; ++a)
+        if (!(w.lo[a] >= 0 && w.lo[a] <= w.hi[a] && w.hi[a] < w.whole[a] && w.voxels > 0))
+            throw InputError(v.source + ": the region's facts give no region (an empty region, or facts not made by merge_region_facts)");
+}
+
+// A part's label level set (levelset3.hpp, "One region of a label volume in
+// parts"): the field on the whole's stored box (the whole region's box grown
+// by the band) within the part, kept on its exact zone; bounds, minimum,
+// feature size and reference volume from the whole region's facts.
+std::unique_ptr<LevelSet3> label_part_levelset(const Volume& v, const VolumeLevelSet3Options& o) {
+    if (!v.is_part()) throw InputError(v.source + ": the whole region's facts apply to a part of a volume, and this volume is whole");
+    if (!o.whole)
+        throw InputError(v.source + ": a part of a volume in label mode needs the whole region's facts (its box, voxels, field minimum "
+                                    "and depth: the reduction over the volume's parts, merge_region_facts)");
+    const LabelRegionFacts& w = *o.whole;
+    const PartPlace place = place_of(v);
+    check_whole_facts(w, v, o, place);
+    const std::vector<std::uint16_t> slot = region_slots(o.mode);
+    scan_region(v, o.mode, slot);  // refuses values that are no labels (the mask looks them up)
+    const std::array<Index3, 2> zone = exact_zone(v, place, o.band);
+    Index3 blo{}, bhi{}, qlo{}, qn{}, slo{}, sn{};
+    bool kept = true;
+    for (std::size_t a = 0; a < 3; ++a) {
+        blo[a] = std::max<std::int64_t>(0, w.lo[a] - o.band), bhi[a] = std::min<std::int64_t>(place.whole[a] - 1, w.hi[a] + o.band);
+        qlo[a] = std::max(blo[a], place.off[a]);
+        qn[a] = std::min(bhi[a], place.off[a] + v.dims[a] - 1) - qlo[a] + 1;
+        slo[a] = std::max(blo[a], zone[0][a]);
+        sn[a] = std::min(bhi[a], zone[1][a]) - slo[a] + 1;
+        kept = kept && sn[a] > 0;
+    }
+    Buffer<float> values;
+    if (kept) {
+        double feature = 0;
+        const Index3 local{qlo[0] - place.off[0], qlo[1] - place.off[1], qlo[2] - place.off[2]};
+        const Buffer<float> field = label_field(v, o.band, o.max_memory, slot, local, qn, feature, nullptr);
+        values.resize(static_cast<std::size_t>(sn[0] * sn[1] * sn[2]));
+        for (std::int64_t k = 0; k < sn[2]; ++k)
+            for (std::int64_t j = 0; j < sn[1]; ++j)
+                std::copy_n(field.data() + (slo[0] - qlo[0]) + qn[0] * (slo[1] - qlo[1] + j + qn[1] * (slo[2] - qlo[2] + k)), sn[0],
+                            values.data() + sn[0] * (j + sn[1] * k));
+    } else {
+        sn = {0, 0, 0};
+    }
+    auto f = std::make_unique<VolumeLevelSet3>(v, std::move(values), slo, sn, w.lo, w.hi, static_cast<float>(label_cap(v, o.band)),
+                                               std::isfinite(w.deepest) ? w.deepest : 0.0, 1.0, label_name(v, o.mode));
+    f->set_reference_volume(static_cast<double>(w.voxels) * v.spacing[0] * v.spacing[1] * v.spacing[2]);
+    f->set_part(w.lowest, blo, bhi);
     return f;
 }
 
@@ -562,14 +705,18 @@ std::unique_ptr<LevelSet3> threshold_levelset(const Volume& v, const VolumeLevel
 }
 
 std::unique_ptr<LevelSet3> volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options, Volume* release) {
+    const Index3 dims = volume.is_part() ? volume.whole_dims : volume.dims;
     for (std::size_t a = 0; a < 3; ++a) {
-        if (volume.dims[a] < 2)
-            throw InputError(volume.source + ": a 3D mesh needs at least 2 voxels along every axis (" + std::to_string(volume.dims[0]) +
-                             " x " + std::to_string(volume.dims[1]) + " x " + std::to_string(volume.dims[2]) + ")");
+        if (dims[a] < 2)
+            throw InputError(volume.source + ": a 3D mesh needs at least 2 voxels along every axis (" + std::to_string(dims[0]) +
+                             " x " + std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + ")");
         if (!axis_aligned(volume.axes[a])) throw InputError(volume.source + ": oblique orientations are not supported");
     }
     if (options.band < 2) throw InputError("the distance band must be at least 2 voxels");
     if (options.mode.mode == ImageMode::label) return label_levelset(volume, options, release);
+    if (volume.is_part() || options.whole)
+        throw InputError(volume.source + ": a part of a volume is meshed in label mode only (threshold mode's iso and bounds are "
+                                         "the whole volume's)");
     return threshold_levelset(volume, options);
 }
 
@@ -581,6 +728,104 @@ std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const Vol
 
 std::unique_ptr<LevelSet3> make_volume_levelset3(Volume&& volume, const VolumeLevelSet3Options& options) {
     return volume_levelset3(volume, options, &volume);
+}
+
+std::array<std::int64_t, 3> label_reach(const std::array<double, 3>& spacing, int band) {
+    const double c = 0.5 * std::min({spacing[0], spacing[1], spacing[2]}), cap = band * std::max({spacing[0], spacing[1], spacing[2]});
+    std::array<std::int64_t, 3> k{};
+    for (std::size_t a = 0; a < 3; ++a) k[a] = static_cast<std::int64_t>(std::ceil((cap + 2 * c) / spacing[a])) + 1;
+    return k;
+}
+
+LabelRegionFacts label_part_facts(const Volume& v, const VolumeLevelSet3Options& o, const std::array<std::int64_t, 3>& owned_lo,
+                                  const std::array<std::int64_t, 3>& owned_hi) {
+    const ImageLevelSetOptions& m = o.mode;
+    if (m.mode != ImageMode::label) throw InputError("the region's facts are of label mode (labels), not of threshold mode");
+    if (!m.label_nonzero && m.labels.empty()) throw InputError("label mode needs labels: a label list (e.g. 3 or 51,52) or nonzero");
+    if (o.band < 2) throw InputError("the distance band must be at least 2 voxels");
+    const PartPlace place = place_of(v);
+    const std::string own = "[" + index_text(owned_lo) + ", " + index_text(owned_hi) + ")";
+    for (std::size_t a = 0; a < 3; ++a)
+        if (!(owned_lo[a] >= 0 && owned_lo[a] < owned_hi[a] && owned_hi[a] <= place.whole[a]))
+            throw InputError(v.source + ": the part's own voxels " + own + " (i, j, k) are not a box of the volume's " +
+                             index_text(place.whole));
+    const std::array<Index3, 2> zone = exact_zone(v, place, o.band);
+    for (std::size_t a = 0; a < 3; ++a)
+        if (owned_lo[a] < zone[0][a] || owned_hi[a] - 1 > zone[1][a])
+            throw InputError(v.source + ": the part [" + index_text(place.off) + ", " +
+                             index_text({place.off[0] + v.dims[0], place.off[1] + v.dims[1], place.off[2] + v.dims[2]}) +
+                             ") (i, j, k) does not hold the voxels within " + index_text(label_reach(v.spacing, o.band)) + " of its own " +
+                             own + ", on which their values depend: read the part region_part_voxels names");
+    LabelRegionFacts f;
+    f.labels = labels_text(m), f.of = facts_of(v, o.band), f.whole = place.whole, f.owned_lo = owned_lo, f.owned_hi = owned_hi;
+    const std::vector<std::uint16_t> slot = region_slots(m);
+    const RegionScan scan = scan_region(v, m, slot);
+    f.seen = scan.seen;
+    if (scan.voxels == 0) return f;
+    Index3 lo{}, n{};
+    std::array<Index3, 2> counted{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int64_t>(0, scan.lo[a] - o.band);
+        n[a] = std::min<std::int64_t>(v.dims[a] - 1, scan.hi[a] + o.band) - lo[a] + 1;
+        counted[0][a] = owned_lo[a] - place.off[a], counted[1][a] = owned_hi[a] - place.off[a];
+    }
+    double deepest = 0, lowest = std::numeric_limits<double>::infinity();
+    const Buffer<float> field = label_field(v, o.band, o.max_memory, slot, lo, n, deepest, nullptr, &counted);
+    // The region's own voxels: those of negative value (levelset3.hpp: the sign is the class).
+    for (std::int64_t k = std::max(lo[2], counted[0][2]); k < std::min(lo[2] + n[2], counted[1][2]); ++k)
+        for (std::int64_t j = std::max(lo[1], counted[0][1]); j < std::min(lo[1] + n[1], counted[1][1]); ++j)
+            for (std::int64_t i = std::max(lo[0], counted[0][0]); i < std::min(lo[0] + n[0], counted[1][0]); ++i) {
+                const float x = field[static_cast<std::size_t>(i - lo[0] + n[0] * (j - lo[1] + n[1] * (k - lo[2])))];
+                if (!(x < 0)) continue;
+                const Index3 q{i + place.off[0], j + place.off[1], k + place.off[2]};
+                for (std::size_t a = 0; a < 3; ++a) f.lo[a] = f.voxels ? std::min(f.lo[a], q[a]) : q[a], f.hi[a] = std::max(f.hi[a], q[a]);
+                ++f.voxels;
+                lowest = std::min(lowest, static_cast<double>(x));
+            }
+    if (f.voxels > 0) f.lowest = lowest, f.deepest = deepest;
+    return f;
+}
+
+LabelRegionFacts merge_label_facts(std::span<const LabelRegionFacts> parts, const std::string& source) {
+    if (parts.empty()) throw InputError("the region's facts do not merge: no parts");
+    const LabelRegionFacts& a = parts.front();
+    const auto what = [](const LabelRegionFacts& x) { return "labels " + x.labels + ", " + x.of + ", volume " + index_text(x.whole); };
+    LabelRegionFacts w;
+    w.labels = a.labels, w.of = a.of, w.whole = a.whole, w.owned_hi = a.whole, w.seen.assign(a.seen.size(), 0);
+    w.lowest = std::numeric_limits<double>::infinity();
+    const auto box = [](const LabelRegionFacts& x) { return "[" + index_text(x.owned_lo) + ", " + index_text(x.owned_hi) + ")"; };
+    std::int64_t held = 0;
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const LabelRegionFacts& p = parts[i];
+        const std::string which = "part " + std::to_string(i);
+        if (what(p) != what(a) || p.seen.size() != a.seen.size())
+            throw InputError("the region's facts do not merge: " + which + "'s are of " + what(p) + ", part 0's of " + what(a));
+        bool overlap = true;
+        for (std::size_t k = 0; k < 3; ++k)
+            if (!(p.owned_lo[k] >= 0 && p.owned_lo[k] < p.owned_hi[k] && p.owned_hi[k] <= a.whole[k]))
+                throw InputError("the region's facts do not merge: " + which + "'s voxels " + box(p) + " are not a box of the volume");
+        held += (p.owned_hi[0] - p.owned_lo[0]) * (p.owned_hi[1] - p.owned_lo[1]) * (p.owned_hi[2] - p.owned_lo[2]);
+        for (std::size_t j = 0; j < i; ++j, overlap = true) {
+            for (std::size_t k = 0; k < 3; ++k)
+                overlap = overlap && p.owned_lo[k] < parts[j].owned_hi[k] && parts[j].owned_lo[k] < p.owned_hi[k];
+            if (overlap)
+                throw InputError("the region's facts do not merge: parts " + std::to_string(j) + " and " + std::to_string(i) +
+                                 " overlap (" + box(parts[j]) + " and " + box(p) + "), or a part is given twice");
+        }
+        for (std::size_t k = 0; k < w.seen.size(); ++k) w.seen[k] |= p.seen[k];
+        if (p.voxels == 0) continue;
+        for (std::size_t k = 0; k < 3; ++k)
+            w.lo[k] = w.voxels ? std::min(w.lo[k], p.lo[k]) : p.lo[k], w.hi[k] = std::max(w.hi[k], p.hi[k]);
+        w.voxels += p.voxels, w.lowest = std::min(w.lowest, p.lowest), w.deepest = std::max(w.deepest, p.deepest);
+    }
+    if (held != a.whole[0] * a.whole[1] * a.whole[2])
+        throw InputError("the region's facts do not merge: the parts hold " + std::to_string(held) + " of the volume's " +
+                         std::to_string(a.whole[0] * a.whole[1] * a.whole[2]) + " voxels: a part is missing");
+    if (w.voxels == 0) w.lowest = 0;
+    // Refused as make_volume_levelset3 refuses the whole volume.
+    const ImageLevelSetOptions m = label_options(a.labels);
+    check_region(RegionScan{w.lo, w.voxels ? w.hi : Index3{-1, -1, -1}, w.voxels, w.seen}, m, region_slots(m), source);
+    return w;
 }
 
 }  // namespace warpmesh

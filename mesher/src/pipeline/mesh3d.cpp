@@ -74,6 +74,17 @@ struct Prepared {
     const Volume* part_values = nullptr;
 };
 
+// A part of a volume (Volume::is_part) is meshed with several materials
+// (listed) or as one region in label mode, then given the whole region's
+// facts (merge_region_facts); the facts apply to nothing else.
+void check_part(const Volume& v, const Mesh3dOptions& o, const LabelRegionFacts* whole) {
+    if (whole && (o.materials || !o.labels || !v.is_part()))
+        throw InputError("the whole region's facts (region_facts) apply to a part of a volume meshed as one region in label mode (labels)");
+    if (v.is_part() && !o.materials && !o.labels)
+        throw InputError("a part of a volume is meshed in label mode (labels, with the whole region's facts) or with materials: "
+                         "threshold mode's iso and bounds are the whole volume's");
+}
+
 // The options' geometry of a volume: voxel_size, units.
 bool overrides_geometry(const Mesh3dOptions& o) { return !o.voxel_size.empty() || o.units; }
 void apply_geometry(Volume& v, const Mesh3dOptions& o) {
@@ -87,11 +98,10 @@ void apply_geometry(Volume& v, const Mesh3dOptions& o) {
 }
 
 // `owned`: v itself when the pipeline read it (its samples are released as soon as the level set no longer needs them).
-void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p, Volume* owned = nullptr) {
+void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgress& progress, Prepared& p, const LabelRegionFacts* whole,
+                      Volume* owned = nullptr) {
+    check_part(v, o, whole);
     if (v.is_part()) {
-        if (!o.materials)
-            throw InputError("a part of a volume is meshed with materials only: one region's level set is a distance "
-                             "transform of the whole region (its band and bounding box)");
         p.part = Volume{};
         p.part->dims = v.dims, p.part->spacing = v.spacing, p.part->origin = v.origin, p.part->axes = v.axes;
         p.part->part_offset = v.part_offset, p.part->whole_dims = v.whole_dims;
@@ -109,6 +119,7 @@ void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgr
     VolumeLevelSet3Options lo;
     lo.max_memory = o.max_memory;
     lo.band = o.band;
+    lo.whole = whole;
     if (o.labels) {
         lo.mode = label_options(*o.labels);
     } else {
@@ -126,8 +137,11 @@ void volume_level_set(const Volume& v, const Mesh3dOptions& o, const Mesh3dProgr
                              "; a label volume needs labels (nonzero, or a list such as 3 or 51,52)");
 }
 
-Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress) {
+Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Mesh3dProgress& progress,
+                      const LabelRegionFacts* whole = nullptr) {
     validate(input, o);
+    if (whole && !std::holds_alternative<std::reference_wrapper<const Volume>>(input))
+        throw InputError("the whole region's facts (region_facts) apply to a part of a volume");
     Prepared p;
     std::visit(
         [&](const auto& in) {
@@ -136,14 +150,14 @@ Prepared level_set_of(const Mesh3dInput& input, const Mesh3dOptions& o, const Me
                 Volume v = read_volume(in.path, {o.max_voxels, o.max_memory});
                 p.warnings = v.warnings;
                 apply_geometry(v, o);
-                volume_level_set(v, o, progress, p, &v);
+                volume_level_set(v, o, progress, p, whole, &v);
             } else if constexpr (std::is_same_v<T, std::reference_wrapper<const Volume>>) {
                 p.warnings = in.get().warnings;
                 p.part_values = &in.get();
-                if (!overrides_geometry(o)) return volume_level_set(in.get(), o, progress, p);
+                if (!overrides_geometry(o)) return volume_level_set(in.get(), o, progress, p, whole);
                 Volume v = in.get();  // a copy, to override its geometry
                 apply_geometry(v, o);
-                volume_level_set(v, o, progress, p);
+                volume_level_set(v, o, progress, p, whole);
             } else if constexpr (std::is_same_v<T, Shape3>) {
                 p.owned = parse_shape3(in.spec);
                 p.f = p.owned.get();
@@ -382,10 +396,14 @@ double cube_boundary(const Lattice3& L, std::size_t c, std::int64_t n) {
 
 // The whole volume's voxels [lo, hi) (index order i, j, k) that the block
 // `range` reads with its window grown by `halo` cubes: the window's box in
-// index coordinates (as the material field maps points), its voxel cells'
-// corners and their 3 x 3 x 3 neighbourhoods (materials3.hpp's phi), one
-// voxel more for rounding.
-std::array<std::array<std::int64_t, 3>, 2> voxels_of_block(const Volume& g, const Lattice3& L, const CubeRange& range, std::int64_t halo) {
+// index coordinates (as the material field and the level set map points),
+// its voxel cells' corners, `below` and `above` more: several materials,
+// the corners' 3 x 3 x 3 neighbourhoods (materials3.hpp's phi), one region
+// the voxels their values depend on (label_reach), and one voxel more for
+// rounding.
+using Index3 = std::array<std::int64_t, 3>;
+std::array<Index3, 2> voxels_of_block(const Volume& g, const Lattice3& L, const CubeRange& range, std::int64_t halo,
+                                      const Index3& below = {1, 1, 1}, const Index3& above = {1, 1, 1}) {
     const std::array<std::int64_t, 3> n = g.is_part() ? g.whole_dims : g.dims;
     std::array<std::array<std::int64_t, 3>, 2> box{};
     for (std::size_t a = 0; a < 3; ++a) {
@@ -394,8 +412,8 @@ std::array<std::array<std::int64_t, 3>, 2> voxels_of_block(const Volume& g, cons
         const std::int64_t w0 = std::max<std::int64_t>(0, range.lo[c] - halo), w1 = std::min(L.cubes[c], range.hi[c] + halo);
         const double t0 = sign * (cube_boundary(L, c, w0) - g.origin[c]) / g.spacing[a];
         const double t1 = sign * (cube_boundary(L, c, w1) - g.origin[c]) / g.spacing[a];
-        box[0][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::min(t0, t1))) - 2, 0, n[a]);
-        box[1][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::max(t0, t1))) + 4, 0, n[a]);
+        box[0][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::min(t0, t1))) - 1 - below[a], 0, n[a]);
+        box[1][a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(std::max(t0, t1))) + 3 + above[a], 0, n[a]);
     }
     return box;
 }
@@ -432,6 +450,14 @@ std::string voxel_box_text(const std::array<std::array<std::int64_t, 3>, 2>& b) 
     return "[" + t(b[0]) + ", " + t(b[1]) + ")";
 }
 
+// A block of a part whose field or level set read outside it.
+InputError part_too_small(const Volume& g) {
+    return InputError("the block's part of the volume is too small: the block read voxels outside the part's " +
+                      voxel_box_text({g.part_offset,
+                                      {g.part_offset[0] + g.dims[0], g.part_offset[1] + g.dims[1], g.part_offset[2] + g.dims[2]}}) +
+                      " (i, j, k): its window grew beyond the halo the part was cut for; cut it with twice the halo (block_voxels)");
+}
+
 // A block of a part: its materials' voxels are its own cubes'; refused when
 // the part lacked voxels the block read.
 void part_block_facts(const Prepared& p, const Lattice3& L, const CubeRange& range, bool keep_background, BlockFacts& facts) {
@@ -440,11 +466,7 @@ void part_block_facts(const Prepared& p, const Lattice3& L, const CubeRange& ran
     bool covers = !p.field->read_outside_part();
     for (std::size_t a = 0; a < 3; ++a)
         covers = covers && g.part_offset[a] <= need[0][a] && need[1][a] <= g.part_offset[a] + g.dims[a];
-    if (!covers)
-        throw InputError("the block's part of the volume is too small: the block read voxels outside the part's " +
-                         voxel_box_text({g.part_offset, {g.part_offset[0] + g.dims[0], g.part_offset[1] + g.dims[1],
-                                                         g.part_offset[2] + g.dims[2]}}) +
-                         " (i, j, k): its window grew beyond the halo the part was cut for; cut it with twice the halo (block_voxels)");
+    if (!covers) throw part_too_small(g);
     const std::vector<std::int64_t> own = owned_voxels(g, *p.part_values, *p.field, keep_background, L, range);
     for (std::size_t k = 0; k < facts.materials.size(); ++k) facts.materials[k].voxels = own[k], facts.materials[k].reference_volume.reset();
     facts.part = true;
@@ -574,20 +596,20 @@ void refuse_graded_blocks(const Mesh3dOptions& o) {
 
 }  // namespace
 
-Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o) {
+Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& o, const LabelRegionFacts* region) {
     const MemoryCall call;
     refuse_graded_blocks(o);
-    const Prepared p = level_set_of(input, o, {});
+    const Prepared p = level_set_of(input, o, {}, region);
     return p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
 }
 
-TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block) {
+TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block, const LabelRegionFacts* region) {
     const MemoryCall call;
     if (o.manifold)
         throw OptionError("manifold", "{manifold} applies to whole meshes (mesh3d), not to blocks: their merge keeps "
                                       "the shared vertices");
     refuse_graded_blocks(o);
-    const Prepared p = level_set_of(input, o, {});
+    const Prepared p = level_set_of(input, o, {}, region);
     const Lattice3 lattice = p.field ? material_lattice(p, o, spacing_of(o, p)) : lattice3_for(*p.f, spacing_of(o, p));
     for (std::size_t a = 0; a < 3; ++a)
         if (block.lo[a] < 0 || block.lo[a] >= block.hi[a] || block.hi[a] > lattice.cubes[a])
@@ -598,6 +620,7 @@ TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const Cu
     BlockFacts& facts = b.facts;
     if (!p.field) {
         b = mesh_bcc_block(*p.f, lattice, stage_options(o, false), block);
+        if (p.part && p.f->read_outside_part()) throw part_too_small(*p.part);
         facts.source = p.f->describe();
         const RegionFacts region = facts_of(*p.f);
         facts.reference_volume = region.reference_volume;
@@ -622,12 +645,63 @@ TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& o, const Cu
 }
 
 std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& o, const CubeRange& block,
-                                                        std::int64_t halo) {
-    const Prepared p = level_set_of(input, o, {});
+                                                        std::int64_t halo, const LabelRegionFacts* region) {
+    const Prepared p = level_set_of(input, o, {}, region);
     if (!p.part) throw InputError("block_voxels: the input is not a part of a volume (give the whole volume's dimensions)");
     if (halo < 0) throw InputError("block_voxels: the halo must be 0 or more cubes");
-    return voxels_of_block(*p.part, material_lattice(p, o, spacing_of(o, p)), block, halo);
+    if (p.field) return voxels_of_block(*p.part, material_lattice(p, o, spacing_of(o, p)), block, halo);
+    const Index3 reach = label_reach(p.part->spacing, o.band);
+    return voxels_of_block(*p.part, lattice3_for(*p.f, spacing_of(o, p)), block, halo, reach, reach);
 }
+
+namespace {
+
+// The volume of a part's input, its geometry overridden by the options, for
+// the region's facts; InputError unless one region in label mode.
+Volume region_part(const Mesh3dInput& input, const Mesh3dOptions& o, const char* what) {
+    validate(input, o);
+    const auto* v = std::get_if<std::reference_wrapper<const Volume>>(&input);
+    if (!v || !o.labels)
+        throw InputError(std::string(what) + ": the region's facts are of a volume's part (or the whole volume) in label mode (labels)");
+    Volume g = v->get();
+    apply_geometry(g, o);
+    return g;
+}
+
+VolumeLevelSet3Options label_mode(const Mesh3dOptions& o) {
+    VolumeLevelSet3Options lo;
+    lo.mode = label_options(*o.labels);
+    lo.band = o.band, lo.max_memory = o.max_memory;
+    return lo;
+}
+
+}  // namespace
+
+std::array<std::array<std::int64_t, 3>, 2> region_part_voxels(const Mesh3dInput& input, const Mesh3dOptions& o,
+                                                              const std::array<std::array<std::int64_t, 3>, 2>& owned) {
+    const Volume g = region_part(input, o, "region_part_voxels");
+    const Index3 whole = g.is_part() ? g.whole_dims : g.dims, reach = label_reach(g.spacing, o.band);
+    std::array<Index3, 2> box{};
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (!(owned[0][a] >= 0 && owned[0][a] < owned[1][a] && owned[1][a] <= whole[a]))
+            throw InputError("region_part_voxels: the part's own voxels " + voxel_box_text(owned) +
+                             " (i, j, k) are not a box of the volume");
+        box[0][a] = std::max<std::int64_t>(0, owned[0][a] - reach[a]), box[1][a] = std::min(whole[a], owned[1][a] + reach[a]);
+    }
+    return box;
+}
+
+LabelRegionFacts region_part_facts(const Mesh3dInput& input, const Mesh3dOptions& o,
+                                   const std::array<std::array<std::int64_t, 3>, 2>& owned) {
+    const MemoryCall call;
+    if (const auto* v = std::get_if<std::reference_wrapper<const Volume>>(&input); v && !overrides_geometry(o) && o.labels) {
+        validate(input, o);
+        return label_part_facts(v->get(), label_mode(o), owned[0], owned[1]);
+    }
+    return label_part_facts(region_part(input, o, "region_part_facts"), label_mode(o), owned[0], owned[1]);
+}
+
+LabelRegionFacts merge_region_facts(std::span<const LabelRegionFacts> parts) { return merge_label_facts(parts, "the volume's parts"); }
 
 namespace {
 

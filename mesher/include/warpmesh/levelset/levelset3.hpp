@@ -4,11 +4,14 @@
 // level set of a volume (make_volume_levelset3).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "warpmesh/core/memory.hpp"
 #include "warpmesh/core/tet_mesh.hpp"            // Point3
@@ -55,6 +58,10 @@ public:
     // pipeline warns when the mesh's volume is far from it.
     virtual std::optional<double> reference_volume() const { return std::nullopt; }
     virtual std::string describe() const = 0;
+    // The level set of a part of a volume (Volume::is_part): whether f was
+    // asked where its value depends on voxels outside the part (it was then
+    // answered wrongly): the caller's part was too small.
+    virtual bool read_outside_part() const { return false; }
 };
 
 // Illinois regula falsi with a bisection step every eighth iteration, to
@@ -127,15 +134,68 @@ std::unique_ptr<LevelSet3> parse_shape3(const std::string& spec);
 // (InputError naming the memory limit) before anything is allocated when the field would take the resident memory above max_memory.
 // Throws InputError for label mode on non-integer values, labels absent from
 // the volume (an empty region), a volume less than 2 voxels along an axis.
+struct LabelRegionFacts;
 struct VolumeLevelSet3Options {
     ImageLevelSetOptions mode;  // threshold / label, iso, inside_above, labels, label_nonzero
     int band = 4;               // voxels of exact distance around the boundary (label mode), >= 2
     std::uint64_t max_memory = default_max_memory;
+    // Label mode on a part of a volume (Volume::is_part): the whole region's
+    // facts (merge_label_facts), required there, refused on a whole volume.
+    const LabelRegionFacts* whole = nullptr;
 };
 std::unique_ptr<LevelSet3> make_volume_levelset3(const Volume& volume, const VolumeLevelSet3Options& options);
 // The same, releasing the volume's samples (label mode: as soon as the
 // region's mask is read from them, before the distance field is built) for
 // a caller that needs only its geometry afterwards.
 std::unique_ptr<LevelSet3> make_volume_levelset3(Volume&& volume, const VolumeLevelSet3Options& options);
+
+// One region of a label volume in parts (pipeline/mesh3d.hpp, "Blocks that
+// read only their part").  A voxel's value in label mode depends only on the
+// labels within label_reach(spacing, band)[a] voxels along index axis a:
+// the sources within cap + 2c (cap = band × the largest spacing, c half the
+// smallest) and their 6-neighbours.  Three facts are the whole region's: its
+// voxel box (bounds(), where the lattice lies, and the stored box: the
+// band's voxels beyond it are +cap), the field's minimum (cut_parameter's
+// switch between the cubic path and the root finder) and the inscribed
+// distance (feature_size), with the voxel count (reference_volume).  So a
+// reduction finds them before any block is meshed: each part of a tiling of
+// the volume (its own voxels [owned_lo, owned_hi), read with label_reach
+// more around them) gives them for its own voxels (label_part_facts),
+// merge_label_facts combines the parts' — the region's box, the sum, the
+// minimum and the maximum — and the level set of any part of the volume
+// (VolumeLevelSet3Options::whole) then has, wherever it reads voxels at
+// least label_reach from the part's cut faces, the whole volume's values to
+// the last bit; elsewhere it flags read_outside_part.  (The minimum is
+// carried rather than replaced by the data-independent −cap: where the
+// region is thinner than the band the two send different cut edges to the
+// root finder, and the cut points round differently.)
+struct LabelRegionFacts {
+    // What they are of: the labels (their list's text), band and voxel size
+    // (`of`); the whole volume's voxels; the voxels [owned_lo, owned_hi) the
+    // facts count (merged: the whole volume).  Facts of different ones do
+    // not merge.
+    std::string labels, of;
+    std::array<std::int64_t, 3> whole{0, 0, 0}, owned_lo{0, 0, 0}, owned_hi{0, 0, 0};
+    // The region's voxels among them: their box [lo, hi] (lo > hi: none),
+    // count, the field's minimum at them (a stored 4-byte float) and their
+    // largest inscribed distance (+inf: one is deeper than the band).
+    std::array<std::int64_t, 3> lo{0, 0, 0}, hi{-1, -1, -1};
+    std::int64_t voxels = 0;
+    double lowest = 0, deepest = 0;
+    std::vector<std::uint8_t> seen;  // per listed label (ImageLevelSetOptions::labels): whether a voxel has it
+    bool operator==(const LabelRegionFacts&) const = default;
+};
+std::array<std::int64_t, 3> label_reach(const std::array<double, 3>& spacing, int band);
+// The facts of the part's voxels [owned_lo, owned_hi) (whole-volume indices;
+// `part` a Volume::is_part, or the whole volume).  Throws InputError in
+// threshold mode, for non-integer values, and unless the part holds
+// label_reach voxels around them (within the whole volume).
+LabelRegionFacts label_part_facts(const Volume& part, const VolumeLevelSet3Options& options, const std::array<std::int64_t, 3>& owned_lo,
+                                  const std::array<std::int64_t, 3>& owned_hi);
+// The whole region's facts from its parts'.  Throws InputError, naming what
+// is wrong, unless the parts are of one labels, band, voxel size and volume
+// and tile the volume exactly once, and (as make_volume_levelset3) for an
+// empty region or a listed label no voxel has.
+LabelRegionFacts merge_label_facts(std::span<const LabelRegionFacts> parts, const std::string& source);
 
 }  // namespace warpmesh

@@ -184,26 +184,40 @@ Mesh3dResult mesh3d(const Mesh3dInput& input, const Mesh3dOptions& options, cons
 // (mesh3d.hpp: merge_bcc_blocks).  Several materials too (mesh3d.hpp:
 // mesh_bcc_materials_block): the merge carries their regions, interfaces
 // and region names.
-Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options);
-TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block);
+// `region`: the whole region's facts, for a part in label mode (below).
+Lattice3 lattice3d(const Mesh3dInput& input, const Mesh3dOptions& options, const LabelRegionFacts* region = nullptr);
+TetBlock mesh3d_block(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block,
+                      const LabelRegionFacts* region = nullptr);
 Mesh3dResult merge_mesh3d_blocks(std::span<const TetBlock> blocks);
 
-// Blocks that read only their part of a volume (several materials, listed:
-// "all" depends on the whole volume).  The input is a Volume that is a part
-// of the whole (Volume::is_part: its offset and the whole's dimensions; the
-// whole's origin); the lattice is the whole's (the field's bounds are the
-// whole volume's hull), and a block of a part that holds the voxels
-// block_voxels names merges with the others into exactly mesh3d's mesh of
-// the whole volume, report included (each block counts the materials'
-// voxels of its own cubes).  block_voxels: the whole volume's voxels
-// [lo, hi) (index order i, j, k) a block reads when its window is its cubes
-// grown by `halo` cubes: the window's box, its voxel cells' corners and their
-// 3 x 3 x 3 neighbourhoods (phi, levelset/materials3.hpp), one voxel more for
+// Blocks that read only their part of a volume: several materials (listed:
+// "all" depends on the whole volume), or one region in label mode.  The
+// input is a Volume that is a part of the whole (Volume::is_part: its offset
+// and the whole's dimensions; the whole's origin); the lattice is the
+// whole's, and a block of a part that holds the voxels block_voxels names
+// merges with the others into exactly mesh3d's mesh of the whole volume,
+// report included.  Several materials: the field's bounds are the whole
+// volume's hull, and each block counts the materials' voxels of its own
+// cubes.  One region (levelset3.hpp, "One region of a label volume in
+// parts"): the lattice lies on the whole region's voxel box, so a reduction
+// runs first — each part of a tiling of the volume, read as
+// region_part_voxels names (its own voxels and label_reach around them),
+// gives region_part_facts; merge_region_facts combines them (InputError
+// unless they tile the volume exactly once with one labels, band and voxel
+// size; for an empty region or an absent label, as mesh3d) — and every
+// lattice3d, block_voxels and mesh3d_block of a part takes the result as
+// `region` (required there; refused elsewhere, and when it is of other
+// labels, band, voxel size or volume, or of some parts only).
+// block_voxels: the whole volume's voxels [lo, hi) (index order i, j, k) a
+// block reads when its window is its cubes grown by `halo` cubes: the
+// window's box, its voxel cells' corners and what their values depend on
+// (several materials: their 3 x 3 x 3 neighbourhoods, phi in
+// levelset/materials3.hpp; one region: label_reach), one voxel more for
 // rounding.  The window is grown from 2 cubes, doubling while a warping
 // decision in the block depends on its edge (mesh3d.hpp, "Blocks"), so halo
 // 2 covers most blocks; mesh3d_block refuses (InputError) a part that lacks
-// a voxel the block read, and a part of a volume in one-region mode (its
-// level set is a distance transform of the whole region).
+// a voxel the block read, and a part in threshold mode (its iso and bounds
+// are the whole volume's).
 // Partitioned output, for meshes never merged in one process: a block as a
 // .vtu piece (its tetrahedra with their regions and its vertices; the
 // GlobalIds point and cell arrays hold their keys, equal in every piece that
@@ -221,6 +235,14 @@ void write_block_vtu(const TetBlock& block, const std::string& path, const VtuOp
 std::vector<std::string> write_blocks_pvtu(const std::string& path, std::span<const TetBlock> blocks, const VtuOptions& options = {});
 
 std::array<std::array<std::int64_t, 3>, 2> block_voxels(const Mesh3dInput& input, const Mesh3dOptions& options, const CubeRange& block,
-                                                        std::int64_t halo = 2);
+                                                        std::int64_t halo = 2, const LabelRegionFacts* region = nullptr);
+// The reduction before one region's blocks (above): the voxels [lo, hi) a
+// part owning the voxels `owned` [lo, hi) reads (the input: any part of the
+// volume, for its geometry), that part's facts, and the whole region's.
+std::array<std::array<std::int64_t, 3>, 2> region_part_voxels(const Mesh3dInput& input, const Mesh3dOptions& options,
+                                                              const std::array<std::array<std::int64_t, 3>, 2>& owned);
+LabelRegionFacts region_part_facts(const Mesh3dInput& part, const Mesh3dOptions& options,
+                                   const std::array<std::array<std::int64_t, 3>, 2>& owned);
+LabelRegionFacts merge_region_facts(std::span<const LabelRegionFacts> parts);
 
 }  // namespace warpmesh
