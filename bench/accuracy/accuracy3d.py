@@ -43,7 +43,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tests", "python"))
 
-from accuracy import ratio_at_equal_unknowns  # noqa: E402
+from accuracy import gmsh_cells, ratio_at_equal_unknowns  # noqa: E402
 from conftest import ball_error, read_xdmf  # noqa: E402
 
 SERIES = ("warpmesh", "warpmesh-graded", "gmsh")
@@ -83,18 +83,10 @@ def gmsh_ball(h):
         gmsh.model.occ.addSphere(0, 0, 0, 1)
         gmsh.model.occ.synchronize()
         gmsh.model.mesh.generate(3)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, nodes = gmsh.model.mesh.getElementsByType(4)
+        points, tets = gmsh_cells(4, 4)
     finally:
         gmsh.finalize()
-    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-    index[tags.astype(np.int64)] = np.arange(len(tags))
-    tets = index[nodes.astype(np.int64)].reshape(-1, 4)
-    used = np.unique(tets)
-    remap = np.full(len(tags), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    mesh = dmesh.create_mesh(MPI.COMM_SELF, remap[tets], coords.reshape(-1, 3)[used].copy(),
-                             ufl.Mesh(ufl.VectorElement("Lagrange", "tetrahedron", 1)))
+    mesh = dmesh.create_mesh(MPI.COMM_SELF, tets, points, ufl.Mesh(ufl.VectorElement("Lagrange", "tetrahedron", 1)))
     mesh.topology.create_connectivity(2, 3)
     return mesh, dmesh.exterior_facet_indices(mesh.topology)
 
