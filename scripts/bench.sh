@@ -73,7 +73,7 @@
 #                               against Gmsh's Delaunay ball, L² error against
 #                               vertices (bench/accuracy/accuracy3d.py --compare);
 #                               --rates: the graded series' rates at these spacings
-#                               (0.00625 needs about 10 GB)
+#                               (0.00625: 13.8 M tetrahedra, 6.6 GB, 6 CPU min)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh" >/dev/null
