@@ -109,17 +109,26 @@ def gmsh_mesh(domain, h):
         gmsh.model.geo.synchronize()
         gmsh.model.addPhysicalGroup(2, [surface], 1)
         gmsh.model.mesh.generate(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, elem_nodes = gmsh.model.mesh.getElementsByType(2)
+        points, tris = gmsh_cells(2, 3)
     finally:
         gmsh.finalize()
+    return points[:, :2].copy(), tris
+
+
+def gmsh_cells(element_type, corners):
+    """(points (n, 3), cells (m, corners) 0-based) of the current Gmsh model's
+    elements of `element_type` (2: triangles, 4: tetrahedra), only the nodes
+    they use (Gmsh's geometry points are left out)."""
+    import gmsh
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    _, elem_nodes = gmsh.model.mesh.getElementsByType(element_type)
     index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
     index[tags.astype(np.int64)] = np.arange(len(tags))
-    tris = index[elem_nodes.astype(np.int64)].reshape(-1, 3)
-    used = np.unique(tris)
+    cells = index[elem_nodes.astype(np.int64)].reshape(-1, corners)
+    used = np.unique(cells)
     remap = np.full(len(tags), -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
-    return coords.reshape(-1, 3)[used, :2].copy(), remap[tris]
+    return coords.reshape(-1, 3)[used].copy(), remap[cells]
 
 
 def cgal_mesh(exe, domain, h, workdir):

@@ -96,6 +96,18 @@ def p1_l2_error(mesh, boundary, exact, rhs, k=1.0):
     return np.sqrt(fem.assemble_scalar(fem.form((uh - exact) ** 2 * dx)))
 
 
+def ball_error(mesh, boundary):
+    """The L² error of the P1 solution of the unit ball's problem (issue 30,
+    tests/python/test_poisson3d.py; bench/accuracy/accuracy3d.py): -Δu = f with
+    the smooth u = (1 - r²) cos(x) e^(y/2), which vanishes on the sphere, and
+    u = 0 on the facets `boundary` (the mesh's, whose vertices lie on it)."""
+    import ufl
+    assert len(boundary) > 0 and mesh.topology.dim == 3
+    x = ufl.SpatialCoordinate(mesh)
+    exact = (1 - ufl.dot(x, x)) * ufl.cos(x[0]) * ufl.exp(x[1] / 2)
+    return p1_l2_error(mesh, boundary, exact, -ufl.div(ufl.grad(exact)))
+
+
 def run_warpmesh(args, cwd):
     """Runs `warpmesh mesh ARGS --quiet` in `cwd`; fails the test with its
     stderr on a non-zero exit."""
