@@ -14,8 +14,8 @@
 // points there are zeros of f like any other.
 //
 // Label mode.  With m = 1 on the region's voxels, the exact Euclidean
-// distance transform (Felzenszwalb and Huttenlocher's lower envelope of
-// parabolas, one pass per index axis, weighted by the spacings) gives d_out
+// distance transform (one pass of squared distances per index axis, weighted
+// by the spacings) gives d_out
 // at every voxel outside (the distance to the nearest centre inside) and d_in
 // at every voxel inside; f = d_out − c outside and −(d_in − c) inside, c half
 // the smallest spacing, so along the axis of the smallest spacing f is
@@ -25,10 +25,11 @@
 // clamped to ±band × the largest spacing, which farther voxels get without
 // being stored.  The labels stay 16-bit integers (Volume::labels) up to the
 // region's mask over that box (1 byte a voxel); the transforms run on the
-// mask in slabs with a halo of the band's reach (banded_distance), start
-// from the voxels on the region's surface only (mark_sources) and drop
-// distances beyond the band after each pass, so their work follows the
-// surface and their memory is a slab's; the region's inscribed distance
+// mask plane by plane with a ring of the band's reach (banded_distance),
+// start from the voxels on the region's surface only (mark_sources), drop
+// distances beyond the band after each pass and skip what lies beyond it
+// (Planes), so their work follows the surface and their memory is a ring's;
+// the region's inscribed distance
 // (feature_size) is then known only within the band.
 #include <algorithm>
 #include <cmath>
@@ -46,57 +47,15 @@
 namespace warpmesh {
 namespace {
 
-// Squared-distance transform of one line, in place: g[i] → min_j g[j] +
-// (w (i − j))², +inf where that exceeds `limit`.  The lower envelope of the
-// finite g's parabolas (v: their positions, vg: their values, z: where each
-// starts), then its values only within r = ⌈√limit / w⌉ + 1 of the first and
-// last parabola: beyond, every parabola is more than √limit + w away, above
-// the limit, and g is +inf there already.  False: no finite value (g unchanged).
-bool edt_line(float* g, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
-              std::vector<double>& z, std::vector<double>& vg) {
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), vg.resize(static_cast<std::size_t>(n));
-    std::int64_t k = -1;
-    const double w2 = w * w;
-    for (std::int64_t q = 0; q < n; ++q) {
-        const double fq = g[q * stride];
-        if (!(fq < inf)) continue;
-        double s = -inf;
-        while (k >= 0) {
-            const std::int64_t p = v[static_cast<std::size_t>(k)];
-            s = ((fq + w2 * static_cast<double>(q * q)) - (vg[static_cast<std::size_t>(k)] + w2 * static_cast<double>(p * p))) /
-                (2 * w2 * static_cast<double>(q - p));
-            if (s > z[static_cast<std::size_t>(k)]) break;
-            --k;
-        }
-        ++k;
-        v[static_cast<std::size_t>(k)] = q, vg[static_cast<std::size_t>(k)] = fq;
-        z[static_cast<std::size_t>(k)] = k == 0 ? -inf : s;
-        z[static_cast<std::size_t>(k) + 1] = inf;
-    }
-    if (k < 0) return false;
-    const std::int64_t r = static_cast<std::int64_t>(std::ceil(std::sqrt(limit) / w)) + 1;
-    const std::int64_t lo = std::max<std::int64_t>(0, v[0] - r), hi = std::min(n, v[static_cast<std::size_t>(k)] + r + 1);
-    for (std::int64_t i = lo, j = 0; i < hi; ++i) {
-        while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
-        const std::int64_t p = v[static_cast<std::size_t>(j)];
-        const double di = vg[static_cast<std::size_t>(j)] + w2 * static_cast<double>((i - p) * (i - p));
-        g[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
-    }
-    return true;
-}
-
 // The mask of the box (label_levelset): bit 0 the region, bit 1 a source
 // (mark_sources).
 constexpr std::uint8_t in_region = 1, source = 2;
 
 // The first pass on one line: the sources are the mask's voxels m with
 // (m & (source | in_region)) == want; g[i] = w² (i − p)² for the nearest
-// source p, +inf beyond `limit` or with no source — edt_line's value on the
-// line of sources (0 at a source, +inf elsewhere) to the bit (its parabolas
-// all have g = 0, so its envelope at an integer i is a nearest source's,
-// 0 + w² (i − p)²), found by one sweep each way instead of the envelope's
-// divisions.
+// source p, +inf beyond `limit` or with no source — the squared-distance
+// transform g[i] → min_j g[j] + w² (i − j)² of the line of sources (0 at a
+// source, +inf elsewhere), found by one sweep each way.
 void sources_line(const std::uint8_t* mask, std::uint8_t want, float* g, std::int64_t n, double w, double limit,
                   std::vector<std::int64_t>& left) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::min() / 4;
@@ -112,40 +71,92 @@ void sources_line(const std::uint8_t* mask, std::uint8_t want, float* g, std::in
     }
 }
 
-// The squared distances to the sources `want` of the mask (sources_line) on
-// the box of n voxels, into g, +inf beyond `limit` after each pass (a later
-// pass only adds to a value).  The x lines are contiguous (sources_line, from
-// the mask); the y and z lines are taken in tiles of `tile` lines
-// adjacent along x, copied into a small buffer (each voxel row read and
-// written as whole cache lines) and transformed there in place, a line at a
-// time with its stride.
-void edt(const std::uint8_t* mask, std::uint8_t want, std::span<float> g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
-         double limit) {
-    constexpr std::int64_t tile = 16;
-#pragma omp parallel
-    {
-        std::vector<std::int64_t> v;
-        std::vector<double> z, vg;
-        std::vector<float> lines;
+// The passes along y and z.  Every squared distance the transforms keep is at
+// most `limit`, so along an axis of spacing w a value reaches another only
+// over offsets d with w² d² <= limit, and the pass g(i) → min_j g(j) + w² (i −
+// j)² is the least of those few candidates: g(i + d) + b[|d|], b[d] = w² d²
+// (in doubles from the float values, as Felzenszwalb and Huttenlocher's lower
+// envelope computes them; its value, wherever no two candidates tie within
+// rounding).  The offsets' terms, b[0] = 0 first:
+std::vector<double> offset_terms(double w, double limit) {
+    std::vector<double> b;
+    for (std::int64_t d = 0; w * w * static_cast<double>(d * d) <= limit; ++d) b.push_back(w * w * static_cast<double>(d * d));
+    return b;
+}
+
+// Planes of n0 × n1 squared distances (x fastest), each row cut into chunks
+// of `chunk` values with a flag: set when the chunk may hold a finite value.
+// A chunk whose flag is clear is +inf throughout: its values are neither
+// written nor read.  The passes along y and z keep x, so a chunk's candidates
+// are the same chunk of other rows, and a chunk with no flagged candidate is
+// skipped — the transforms' work follows the band around the surface.
+struct Planes {
+    static constexpr std::int64_t chunk = 16;
+    std::int64_t n0, n1, chunks, planes;
+    Buffer<float> g;  // a chunk's values written before its flag is set
+    std::vector<std::uint8_t> live;
+    Planes(std::int64_t x, std::int64_t y, std::int64_t p)
+        : n0(x), n1(y), chunks((x + chunk - 1) / chunk), planes(p), g(static_cast<std::size_t>(x * y * p)),
+          live(static_cast<std::size_t>(y * chunks * p), 0) {}
+    float* row(std::int64_t p, std::int64_t j) { return g.data() + (p * n1 + j) * n0; }
+    std::uint8_t* flags(std::int64_t p, std::int64_t j) { return live.data() + (p * n1 + j) * chunks; }
+    std::int64_t width(std::int64_t c) const { return std::min(chunk, n0 - c * chunk); }
+};
+
+// acc[x] = min_d in(d)[x] + b[|d|] over |d| < b.size(), in(d) the chunk of
+// the row at offset d (nullptr: outside the box, or flagged +inf); false if
+// no row is.
+template <class In>
+bool least_candidate(const In& in, const std::vector<double>& b, std::int64_t width, double* acc) {
+    std::fill_n(acc, width, std::numeric_limits<double>::infinity());
+    bool any = false;
+    const std::int64_t r = static_cast<std::int64_t>(b.size()) - 1;
+    for (std::int64_t d = -r; d <= r; ++d) {
+        const float* from = in(d);
+        if (!from) continue;
+        any = true;
+        const double bd = b[static_cast<std::size_t>(std::abs(d))];
+        for (std::int64_t x = 0; x < width; ++x) acc[x] = std::min(acc[x], static_cast<double>(from[x]) + bd);
+    }
+    return any;
+}
+
+// The squared distances to the sources `want` (sources_line) on plane k, in
+// place of the whole box's first two passes: the x pass into `xs` (one
+// plane), then the y pass from it into `ys`'s plane `slot`.  Values above
+// `limit` become +inf after each pass (a later pass only adds to a value).
+// Called by every thread of a parallel region, each taking rows.
+void xy_passes(std::span<const std::uint8_t> mask, std::uint8_t want, std::int64_t k, const std::array<double, 3>& w, double limit,
+               const std::vector<double>& b1, Planes& xs, Planes& ys, std::int64_t slot, std::vector<std::int64_t>& left) {
+    const std::int64_t n0 = xs.n0, n1 = xs.n1;
 #pragma omp for schedule(static)
-        for (std::int64_t line = 0; line < n[1] * n[2]; ++line)
-            sources_line(mask + line * n[0], want, g.data() + line * n[0], n[0], w[0], limit, v);
-        for (std::size_t a = 1; a < 3; ++a) {
-            const std::size_t c = 3 - a;  // the axis other than x and a
-            const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
-            const std::int64_t tiles = (n[0] + tile - 1) / tile, len = n[a];
-            lines.resize(static_cast<std::size_t>(len * tile));
-#pragma omp for schedule(static)
-            for (std::int64_t job = 0; job < tiles * n[c]; ++job) {
-                const std::int64_t x0 = job % tiles * tile, width = std::min(tile, n[0] - x0), base = x0 + job / tiles * stride_c;
-                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, lines.data() + i * tile);
-                bool any = false;
-                for (std::int64_t x = 0; x < width; ++x) any = edt_line(lines.data() + x, len, tile, w[a], limit, v, z, vg) || any;
-                if (any)
-                    for (std::int64_t i = 0; i < len; ++i) std::copy_n(lines.data() + i * tile, width, g.data() + base + i * stride_a);
-            }
+    for (std::int64_t j = 0; j < n1; ++j) {
+        float* g = xs.row(0, j);
+        sources_line(mask.data() + (k * n1 + j) * n0, want, g, n0, w[0], limit, left);
+        for (std::int64_t c = 0; c < xs.chunks; ++c) {
+            const float* at = g + c * Planes::chunk;
+            xs.flags(0, j)[c] = std::any_of(at, at + xs.width(c), [](float v) { return v < std::numeric_limits<float>::infinity(); });
         }
     }
+    std::array<double, Planes::chunk> acc{};
+#pragma omp for schedule(static)
+    for (std::int64_t j = 0; j < n1; ++j)
+        for (std::int64_t c = 0; c < xs.chunks; ++c) {
+            const auto in = [&](std::int64_t d) -> const float* {
+                const std::int64_t y = j + d;
+                return y >= 0 && y < n1 && xs.flags(0, y)[c] ? xs.row(0, y) + c * Planes::chunk : nullptr;
+            };
+            bool finite = false;
+            if (least_candidate(in, b1, xs.width(c), acc.data())) {
+                float* out = ys.row(slot, j) + c * Planes::chunk;
+                for (std::int64_t x = 0; x < xs.width(c); ++x) {
+                    out[x] = acc[static_cast<std::size_t>(x)] > limit ? std::numeric_limits<float>::infinity()
+                                                                      : static_cast<float>(acc[static_cast<std::size_t>(x)]);
+                    finite = finite || acc[static_cast<std::size_t>(x)] <= limit;
+                }
+            }
+            ys.flags(slot, j)[c] = finite;
+        }
 }
 
 // The transforms' sources: the voxels of each class (the region's, or the
@@ -175,58 +186,73 @@ void mark_sources(std::span<std::uint8_t> mask, const std::array<std::int64_t, 3
                 if (edge) mask[static_cast<std::size_t>(at)] |= source;
             }
 }
-// The label field (levelset3.hpp, label mode) on the box of n voxels whose
-// mask (in_region, source: mark_sources) is `region`: f = d_out − c outside and −(d_in − c) inside,
-// clamped to [−cap, cap].  Exact wherever |f| < cap: a value there is a
-// distance below cap + c to a source, and the transforms keep every squared
-// distance up to limit = (cap + 2c)², so a source within cap + 2c of a voxel
-// is seen.  The box is transformed in slabs of planes along index axis 2,
-// each with a halo of h = ⌈(cap + 2c)/w₂⌉ planes on either side: a source
-// more than h planes away is more than cap + 2c away, so the slab's own
-// planes get what the whole box's transforms give them (the x and y passes
-// are the same lines; a z line loses only sources beyond the limit).  So the
-// work and memory beyond the field are one slab's.  `feature`: the largest
-// inscribed distance, +inf where it is beyond the band.
-struct Slabs {
-    std::int64_t slab, halo;  // planes a slab, planes of halo on either side
-};
-Slabs slabs_of(double reach, double w2) {
-    const std::int64_t halo = static_cast<std::int64_t>(std::ceil(reach / w2));
-    return {std::max<std::int64_t>(64, 4 * halo), halo};
-}
 
-Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
-                              double c, double cap, double& feature) {
-    const double limit = (cap + 2 * c) * (cap + 2 * c);
-    const auto [slab, halo] = slabs_of(cap + 2 * c, w[2]);
-    const std::int64_t plane = n[0] * n[1];
-    Buffer<float> field(static_cast<std::size_t>(plane * n[2]));  // every element written below
-    Buffer<float> g(static_cast<std::size_t>(plane * std::min(n[2], slab + 2 * halo)));
-    feature = 0;
-    for (std::int64_t z0 = 0; z0 < n[2]; z0 += slab) {
-        const std::int64_t z1 = std::min(n[2], z0 + slab), w0 = std::max<std::int64_t>(0, z0 - halo),
-                           w1 = std::min(n[2], z1 + halo);
-        const std::span<float> window(g.data(), static_cast<std::size_t>(plane * (w1 - w0)));
-        for (const bool of_region : {true, false}) {  // d_out from the region's sources, then d_in
-            edt(region.data() + w0 * plane, static_cast<std::uint8_t>(source | (of_region ? in_region : 0)), window, {n[0], n[1], w1 - w0}, w,
-                limit);
-            double deepest = 0;
-#pragma omp parallel for schedule(static) reduction(max : deepest)
-            for (std::int64_t at = z0 * plane; at < z1 * plane; ++at) {
-                const bool r = (region[static_cast<std::size_t>(at)] & in_region) != 0;
-                if (r == of_region) continue;  // the other transform's voxel
-                const float d2 = window[static_cast<std::size_t>(at - w0 * plane)];
+// The field's values on plane z from the transform of one class's sources
+// (`of_region`), at the voxels of the other class: the z pass over ys's
+// planes z − r .. z + r (plane p in slot p mod the ring's planes), then f =
+// ±(√d² − c) clamped to [−cap, cap], ±cap where d² is +inf (beyond the band).  `deepest`: the largest d − c inside the
+// region, +inf if a voxel inside is beyond the band.
+void field_plane(std::span<const std::uint8_t> mask, bool of_region, std::int64_t z, std::int64_t n2, const std::vector<double>& b2,
+                 double limit, double c, double cap, Planes& ys, std::span<float> field, double& deepest) {
+    const std::int64_t n0 = ys.n0, n1 = ys.n1, ring = ys.planes;
+    std::array<double, Planes::chunk> acc{};
+#pragma omp for schedule(static)
+    for (std::int64_t j = 0; j < n1; ++j)
+        for (std::int64_t ch = 0; ch < ys.chunks; ++ch) {
+            const auto in = [&](std::int64_t d) -> const float* {
+                const std::int64_t p = z + d;
+                return p >= 0 && p < n2 && ys.flags(p % ring, j)[ch] ? ys.row(p % ring, j) + ch * Planes::chunk : nullptr;
+            };
+            if (!least_candidate(in, b2, ys.width(ch), acc.data())) acc.fill(std::numeric_limits<double>::infinity());
+            const std::int64_t at = (z * n1 + j) * n0 + ch * Planes::chunk;
+            for (std::int64_t x = 0; x < ys.width(ch); ++x) {
+                const bool inside = (mask[static_cast<std::size_t>(at + x)] & in_region) != 0;
+                if (inside == of_region) continue;  // the other transform's voxel
+                const double di = acc[static_cast<std::size_t>(x)];
+                const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
                 if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
-                    if (r) deepest = std::numeric_limits<double>::infinity();
-                    field[static_cast<std::size_t>(at)] = static_cast<float>(r ? -cap : cap);
+                    if (inside) deepest = std::numeric_limits<double>::infinity();
+                    field[static_cast<std::size_t>(at + x)] = static_cast<float>(inside ? -cap : cap);
                     continue;
                 }
                 const double d = std::sqrt(static_cast<double>(d2)) - c;
-                if (r) deepest = std::max(deepest, d);
-                field[static_cast<std::size_t>(at)] = static_cast<float>(std::clamp(r ? -d : d, -cap, cap));
+                if (inside) deepest = std::max(deepest, d);
+                field[static_cast<std::size_t>(at + x)] = static_cast<float>(std::clamp(inside ? -d : d, -cap, cap));
             }
-            feature = std::max(feature, deepest);
         }
+}
+
+// The label field (levelset3.hpp, label mode) on the box of n voxels whose
+// mask (in_region, source: mark_sources) is `region`: f = d_out − c outside
+// and −(d_in − c) inside, clamped to [−cap, cap].  Exact wherever |f| < cap:
+// a value there is a distance below cap + c to a source, and the transforms
+// keep every squared distance up to limit = (cap + 2c)², so a source within
+// cap + 2c of a voxel is seen.  Each transform runs plane by plane along
+// index axis 2: the x and y passes of plane k into a ring of 2r + 1 planes (r
+// the z pass's largest offset), then the z pass of plane k − r, whose
+// candidates are the ring's planes.  So the work and memory beyond the field
+// are a ring's.  `feature`: the largest inscribed distance, +inf where it is
+// beyond the band.
+Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
+                              double c, double cap, double& feature) {
+    const double limit = (cap + 2 * c) * (cap + 2 * c);
+    const std::vector<double> b1 = offset_terms(w[1], limit), b2 = offset_terms(w[2], limit);
+    const std::int64_t r = static_cast<std::int64_t>(b2.size()) - 1;
+    Buffer<float> field(static_cast<std::size_t>(n[0] * n[1] * n[2]));  // every element written below (field_plane)
+    Planes xs(n[0], n[1], 1), ys(n[0], n[1], 2 * r + 1);
+    feature = 0;
+    for (const bool of_region : {true, false}) {  // d_out from the region's sources, then d_in
+        const std::uint8_t want = static_cast<std::uint8_t>(source | (of_region ? in_region : 0));
+        double deepest = 0;
+#pragma omp parallel reduction(max : deepest)
+        {
+            std::vector<std::int64_t> left;
+            for (std::int64_t k = 0; k < n[2] + r; ++k) {
+                if (k < n[2]) xy_passes(region, want, k, w, limit, b1, xs, ys, k % (2 * r + 1), left);
+                if (k >= r) field_plane(region, of_region, k - r, n[2], b2, limit, c, cap, ys, field, deepest);
+            }
+        }
+        feature = std::max(feature, deepest);
     }
     return field;
 }
@@ -507,10 +533,9 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
     }
     const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
     const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
-    const Slabs sl = slabs_of(cap + 2 * c, w[2]);
-    // The mask and the field (1 + 4 bytes a voxel of the box), and a slab of the transforms'.
-    const std::uint64_t window = static_cast<std::uint64_t>(std::min(n[2], sl.slab + 2 * sl.halo));
-    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * window * 4, o.max_memory,
+    // The mask and the field (1 + 4 bytes a voxel of the box), and the transforms' planes (banded_distance: 2r + 2).
+    const std::uint64_t planes = 2 * offset_terms(w[2], (cap + 2 * c) * (cap + 2 * c)).size();
+    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * planes * 4, o.max_memory,
                  "the label volume's distance field (" + std::to_string(count) + " voxels)", "5 bytes a voxel of the region's bounding box",
                  "crop the volume to the region");
     Buffer<std::uint8_t> region(count);  // every element written below
