@@ -26,7 +26,7 @@
 // being stored.  The labels stay 16-bit integers (Volume::labels) up to the
 // region's mask over that box (1 byte a voxel); the transforms run on the
 // mask plane by plane with a ring of the band's reach (banded_distance),
-// start from the voxels on the region's surface only (mark_sources), drop
+// start from the voxels on the region's surface only (row_sources), drop
 // distances beyond the band after each pass and skip what lies beyond it
 // (Planes), so their work follows the surface and their memory is a ring's;
 // the region's inscribed distance
@@ -47,19 +47,37 @@
 namespace warpmesh {
 namespace {
 
-// The mask of the box (label_levelset): bit 0 the region, bit 1 a source
-// (mark_sources).
-constexpr std::uint8_t in_region = 1, source = 2;
+// The transforms' sources: the voxels of each class (the region's, or the
+// rest's) with a 6-neighbour of the other class in the box.  The nearest
+// voxel of a class to a voxel p of the other class is one of them: a voxel
+// q of the class without such a neighbour has a neighbour of its class one
+// step nearer p along an axis where q − p is non-zero, and a transform's
+// value (rounded sums of the squared offsets, axis by axis) never grows as
+// one axis's offset shrinks.  So the fields are those of the transforms from
+// every voxel of the class (to the last bit, unless two sources tie within
+// rounding), at the cost of a surface's worth of sources.  On row (j, k) of
+// the mask m (1 in the region, 0 elsewhere): e[i] = 1 where voxel i is a
+// source (of its class); false if the row has none.
+bool row_sources(const std::uint8_t* m, std::int64_t j, std::int64_t k, const std::array<std::int64_t, 3>& n, std::uint8_t* e) {
+    const std::int64_t n0 = n[0], plane = n[0] * n[1];
+    // A neighbour's row beyond the box: the row itself, which differs nowhere.
+    const std::uint8_t *y0 = j > 0 ? m - n0 : m, *y1 = j + 1 < n[1] ? m + n0 : m;
+    const std::uint8_t *z0 = k > 0 ? m - plane : m, *z1 = k + 1 < n[2] ? m + plane : m;
+    for (std::int64_t i = 0; i < n0; ++i) e[i] = (m[i] ^ y0[i]) | (m[i] ^ y1[i]) | (m[i] ^ z0[i]) | (m[i] ^ z1[i]);
+    for (std::int64_t i = 1; i < n0; ++i) e[i] |= m[i] ^ m[i - 1];
+    for (std::int64_t i = 0; i + 1 < n0; ++i) e[i] |= m[i] ^ m[i + 1];
+    return std::any_of(e, e + n0, [](std::uint8_t x) { return x != 0; });
+}
 
-// The first pass on one line: the sources are the mask's voxels m with
-// (m & (source | in_region)) == want; g[i] = w² (i − p)² for the nearest
-// source p, +inf beyond `limit` or with no source — the squared-distance
-// transform g[i] → min_j g[j] + w² (i − j)² of the line of sources (0 at a
-// source, +inf elsewhere), found by one sweep each way.
-void sources_line(const std::uint8_t* mask, std::uint8_t want, float* g, std::int64_t n, double w, double limit,
+// The first pass on one line: the sources are the voxels i with e[i] = 1
+// and m[i] = `of`; g[i] = w² (i − p)² for the nearest source p, +inf beyond
+// `limit` or with no source — the squared-distance transform g[i] → min_j
+// g[j] + w² (i − j)² of the line of sources (0 at a source, +inf elsewhere),
+// found by one sweep each way.
+void sources_line(const std::uint8_t* m, const std::uint8_t* e, std::uint8_t of, float* g, std::int64_t n, double w, double limit,
                   std::vector<std::int64_t>& left) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::min() / 4;
-    const auto is_source = [&](std::int64_t i) { return (mask[i] & (source | in_region)) == want; };
+    const auto is_source = [&](std::int64_t i) { return e[i] != 0 && m[i] == of; };
     left.resize(static_cast<std::size_t>(n));
     for (std::int64_t i = 0, last = none; i < n; ++i) left[static_cast<std::size_t>(i)] = last = is_source(i) ? i : last;
     const double w2 = w * w;
@@ -102,13 +120,14 @@ struct Planes {
     std::uint8_t* flags(std::int64_t p, std::int64_t j) { return live.data() + (p * n1 + j) * chunks; }
     std::int64_t width(std::int64_t c) const { return std::min(chunk, n0 - c * chunk); }
 };
+using Chunk = std::array<double, Planes::chunk>;
 
 // acc[x] = min_d in(d)[x] + b[|d|] over |d| < b.size(), in(d) the chunk of
 // the row at offset d (nullptr: outside the box, or flagged +inf); false if
 // no row is.
 template <class In>
-bool least_candidate(const In& in, const std::vector<double>& b, std::int64_t width, double* acc) {
-    std::fill_n(acc, width, std::numeric_limits<double>::infinity());
+bool least_candidate(const In& in, const std::vector<double>& b, std::int64_t width, Chunk& acc) {
+    acc.fill(std::numeric_limits<double>::infinity());
     bool any = false;
     const std::int64_t r = static_cast<std::int64_t>(b.size()) - 1;
     for (std::int64_t d = -r; d <= r; ++d) {
@@ -116,99 +135,80 @@ bool least_candidate(const In& in, const std::vector<double>& b, std::int64_t wi
         if (!from) continue;
         any = true;
         const double bd = b[static_cast<std::size_t>(std::abs(d))];
-        for (std::int64_t x = 0; x < width; ++x) acc[x] = std::min(acc[x], static_cast<double>(from[x]) + bd);
+        for (std::int64_t x = 0; x < width; ++x) acc[static_cast<std::size_t>(x)] = std::min(acc[static_cast<std::size_t>(x)], static_cast<double>(from[x]) + bd);
     }
     return any;
 }
 
-// The squared distances to the sources `want` (sources_line) on plane k, in
-// place of the whole box's first two passes: the x pass into `xs` (one
-// plane), then the y pass from it into `ys`'s plane `slot`.  Values above
-// `limit` become +inf after each pass (a later pass only adds to a value).
-// Called by every thread of a parallel region, each taking rows.
-void xy_passes(std::span<const std::uint8_t> mask, std::uint8_t want, std::int64_t k, const std::array<double, 3>& w, double limit,
-               const std::vector<double>& b1, Planes& xs, Planes& ys, std::int64_t slot, std::vector<std::int64_t>& left) {
-    const std::int64_t n0 = xs.n0, n1 = xs.n1;
+// The two transforms (t = 0: from the region's sources, read outside; t = 1:
+// from the other class's, read inside) on plane k, in place of the whole
+// box's first two passes: the x pass into xs's plane t, then the y pass from
+// it into ys[t]'s plane `slot`.  Values above `limit` become +inf after each
+// pass (a later pass only adds to a value).  Called by every thread of a
+// parallel region, each taking rows; `e`, `left`: the thread's scratch.
+void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
+               double limit, const std::vector<double>& b1, Planes& xs, std::array<Planes, 2>& ys, std::int64_t slot,
+               std::vector<std::uint8_t>& e, std::vector<std::int64_t>& left) {
+    const std::int64_t n0 = n[0], n1 = n[1];
+    constexpr float inf = std::numeric_limits<float>::infinity();
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j) {
-        float* g = xs.row(0, j);
-        sources_line(mask.data() + (k * n1 + j) * n0, want, g, n0, w[0], limit, left);
-        for (std::int64_t c = 0; c < xs.chunks; ++c) {
-            const float* at = g + c * Planes::chunk;
-            xs.flags(0, j)[c] = std::any_of(at, at + xs.width(c), [](float v) { return v < std::numeric_limits<float>::infinity(); });
+        const std::uint8_t* m = mask.data() + (k * n1 + j) * n0;
+        const bool any = row_sources(m, j, k, n, e.data());
+        for (std::int64_t t = 0; t < 2; ++t) {
+            float* g = xs.row(t, j);
+            if (any) sources_line(m, e.data(), static_cast<std::uint8_t>(1 - t), g, n0, w[0], limit, left);
+            for (std::int64_t c = 0; c < xs.chunks; ++c)
+                xs.flags(t, j)[c] = any && std::any_of(g + c * Planes::chunk, g + c * Planes::chunk + xs.width(c), [](float v) { return v < inf; });
         }
     }
-    std::array<double, Planes::chunk> acc{};
+    Chunk acc{};
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j)
-        for (std::int64_t c = 0; c < xs.chunks; ++c) {
-            const auto in = [&](std::int64_t d) -> const float* {
-                const std::int64_t y = j + d;
-                return y >= 0 && y < n1 && xs.flags(0, y)[c] ? xs.row(0, y) + c * Planes::chunk : nullptr;
-            };
-            bool finite = false;
-            if (least_candidate(in, b1, xs.width(c), acc.data())) {
-                float* out = ys.row(slot, j) + c * Planes::chunk;
-                for (std::int64_t x = 0; x < xs.width(c); ++x) {
-                    out[x] = acc[static_cast<std::size_t>(x)] > limit ? std::numeric_limits<float>::infinity()
-                                                                      : static_cast<float>(acc[static_cast<std::size_t>(x)]);
-                    finite = finite || acc[static_cast<std::size_t>(x)] <= limit;
+        for (std::int64_t t = 0; t < 2; ++t)
+            for (std::int64_t c = 0; c < xs.chunks; ++c) {
+                const auto in = [&](std::int64_t d) -> const float* {
+                    const std::int64_t y = j + d;
+                    return y >= 0 && y < n1 && xs.flags(t, y)[c] ? xs.row(t, y) + c * Planes::chunk : nullptr;
+                };
+                bool finite = false;
+                if (least_candidate(in, b1, xs.width(c), acc)) {
+                    float* out = ys[static_cast<std::size_t>(t)].row(slot, j) + c * Planes::chunk;
+                    for (std::size_t x = 0; x < static_cast<std::size_t>(xs.width(c)); ++x) {
+                        out[x] = acc[x] > limit ? inf : static_cast<float>(acc[x]);
+                        finite = finite || acc[x] <= limit;
+                    }
                 }
-            }
-            ys.flags(slot, j)[c] = finite;
-        }
-}
-
-// The transforms' sources: the voxels of each class (the region's, or the
-// rest's) with a 6-neighbour of the other class in the box.  The nearest
-// voxel of a class to a voxel p of the other class is one of them: a voxel
-// q of the class without such a neighbour has a neighbour of its class one
-// step nearer p along an axis where q − p is non-zero, and a transform's
-// value (rounded sums of the squared offsets, axis by axis) never grows as
-// one axis's offset shrinks.  So the fields are those of the transforms from
-// every voxel of the class (to the last bit, unless two sources tie within
-// rounding), at the cost of a surface's worth of sources.  mark_sources sets
-// bit 1 of the mask (bit 0: the region) on them, once.
-void mark_sources(std::span<std::uint8_t> mask, const std::array<std::int64_t, 3>& n) {
-    const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
-#pragma omp parallel for schedule(static)
-    for (std::int64_t k = 0; k < n[2]; ++k)
-        for (std::int64_t j = 0; j < n[1]; ++j)
-            for (std::int64_t i = 0; i < n[0]; ++i) {
-                const std::int64_t at = i + stride[1] * j + stride[2] * k;
-                const std::array<std::int64_t, 3> q{i, j, k};
-                const std::uint8_t r = mask[static_cast<std::size_t>(at)] & in_region;
-                bool edge = false;
-                for (std::size_t a = 0; a < 3; ++a) {
-                    edge = edge || (q[a] > 0 && (mask[static_cast<std::size_t>(at - stride[a])] & in_region) != r);
-                    edge = edge || (q[a] + 1 < n[a] && (mask[static_cast<std::size_t>(at + stride[a])] & in_region) != r);
-                }
-                if (edge) mask[static_cast<std::size_t>(at)] |= source;
+                ys[static_cast<std::size_t>(t)].flags(slot, j)[c] = finite;
             }
 }
 
-// The field's values on plane z from the transform of one class's sources
-// (`of_region`), at the voxels of the other class: the z pass over ys's
-// planes z − r .. z + r (plane p in slot p mod the ring's planes), then f =
-// ±(√d² − c) clamped to [−cap, cap], ±cap where d² is +inf (beyond the band).  `deepest`: the largest d − c inside the
-// region, +inf if a voxel inside is beyond the band.
-void field_plane(std::span<const std::uint8_t> mask, bool of_region, std::int64_t z, std::int64_t n2, const std::vector<double>& b2,
-                 double limit, double c, double cap, Planes& ys, std::span<float> field, double& deepest) {
-    const std::int64_t n0 = ys.n0, n1 = ys.n1, ring = ys.planes;
-    std::array<double, Planes::chunk> acc{};
+// The field's values on plane z: the z pass of both transforms over ys's
+// planes z − r .. z + r (plane p in slot p mod the ring's planes), then at
+// each voxel, from the transform of the other class's sources, f = ±(√d² −
+// c) clamped to [−cap, cap] (− inside), ±cap where d² is +inf (beyond the
+// band).  `deepest`: the largest d − c inside the region, +inf if a voxel
+// inside is beyond the band.
+void field_plane(std::span<const std::uint8_t> mask, std::int64_t z, std::int64_t n2, const std::vector<double>& b2, double limit, double c,
+                 double cap, std::array<Planes, 2>& ys, std::span<float> field, double& deepest) {
+    const std::int64_t n0 = ys[0].n0, n1 = ys[0].n1, ring = ys[0].planes;
+    std::array<Chunk, 2> acc{};
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j)
-        for (std::int64_t ch = 0; ch < ys.chunks; ++ch) {
-            const auto in = [&](std::int64_t d) -> const float* {
-                const std::int64_t p = z + d;
-                return p >= 0 && p < n2 && ys.flags(p % ring, j)[ch] ? ys.row(p % ring, j) + ch * Planes::chunk : nullptr;
-            };
-            if (!least_candidate(in, b2, ys.width(ch), acc.data())) acc.fill(std::numeric_limits<double>::infinity());
+        for (std::int64_t ch = 0; ch < ys[0].chunks; ++ch) {
             const std::int64_t at = (z * n1 + j) * n0 + ch * Planes::chunk;
-            for (std::int64_t x = 0; x < ys.width(ch); ++x) {
-                const bool inside = (mask[static_cast<std::size_t>(at + x)] & in_region) != 0;
-                if (inside == of_region) continue;  // the other transform's voxel
-                const double di = acc[static_cast<std::size_t>(x)];
+            const auto [fewest, most] = std::minmax_element(mask.begin() + at, mask.begin() + at + ys[0].width(ch));
+            for (std::size_t t = 0; t < 2; ++t) {
+                if (t == 0 ? *fewest == 1 : *most == 0) continue;  // no voxel of the chunk reads transform t
+                const auto in = [&](std::int64_t d) -> const float* {
+                    const std::int64_t p = z + d;
+                    return p >= 0 && p < n2 && ys[t].flags(p % ring, j)[ch] ? ys[t].row(p % ring, j) + ch * Planes::chunk : nullptr;
+                };
+                least_candidate(in, b2, ys[t].width(ch), acc[t]);
+            }
+            for (std::int64_t x = 0; x < ys[0].width(ch); ++x) {
+                const std::uint8_t inside = mask[static_cast<std::size_t>(at + x)];
+                const double di = acc[inside][static_cast<std::size_t>(x)];
                 const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
                 if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
                     if (inside) deepest = std::numeric_limits<double>::infinity();
@@ -223,11 +223,11 @@ void field_plane(std::span<const std::uint8_t> mask, bool of_region, std::int64_
 }
 
 // The label field (levelset3.hpp, label mode) on the box of n voxels whose
-// mask (in_region, source: mark_sources) is `region`: f = d_out − c outside
+// mask is `region` (1 in the region, 0 elsewhere): f = d_out − c outside
 // and −(d_in − c) inside, clamped to [−cap, cap].  Exact wherever |f| < cap:
 // a value there is a distance below cap + c to a source, and the transforms
 // keep every squared distance up to limit = (cap + 2c)², so a source within
-// cap + 2c of a voxel is seen.  Each transform runs plane by plane along
+// cap + 2c of a voxel is seen.  Both transforms run plane by plane along
 // index axis 2: the x and y passes of plane k into a ring of 2r + 1 planes (r
 // the z pass's largest offset), then the z pass of plane k − r, whose
 // candidates are the ring's planes.  So the work and memory beyond the field
@@ -239,21 +239,19 @@ Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::a
     const std::vector<double> b1 = offset_terms(w[1], limit), b2 = offset_terms(w[2], limit);
     const std::int64_t r = static_cast<std::int64_t>(b2.size()) - 1;
     Buffer<float> field(static_cast<std::size_t>(n[0] * n[1] * n[2]));  // every element written below (field_plane)
-    Planes xs(n[0], n[1], 1), ys(n[0], n[1], 2 * r + 1);
-    feature = 0;
-    for (const bool of_region : {true, false}) {  // d_out from the region's sources, then d_in
-        const std::uint8_t want = static_cast<std::uint8_t>(source | (of_region ? in_region : 0));
-        double deepest = 0;
+    Planes xs(n[0], n[1], 2);
+    std::array<Planes, 2> ys{Planes(n[0], n[1], 2 * r + 1), Planes(n[0], n[1], 2 * r + 1)};
+    double deepest = 0;
 #pragma omp parallel reduction(max : deepest)
-        {
-            std::vector<std::int64_t> left;
-            for (std::int64_t k = 0; k < n[2] + r; ++k) {
-                if (k < n[2]) xy_passes(region, want, k, w, limit, b1, xs, ys, k % (2 * r + 1), left);
-                if (k >= r) field_plane(region, of_region, k - r, n[2], b2, limit, c, cap, ys, field, deepest);
-            }
+    {
+        std::vector<std::uint8_t> e(static_cast<std::size_t>(n[0]));
+        std::vector<std::int64_t> left;
+        for (std::int64_t k = 0; k < n[2] + r; ++k) {
+            if (k < n[2]) xy_passes(region, k, n, w, limit, b1, xs, ys, k % (2 * r + 1), e, left);
+            if (k >= r) field_plane(region, k - r, n[2], b2, limit, c, cap, ys, field, deepest);
         }
-        feature = std::max(feature, deepest);
     }
+    feature = deepest;
     return field;
 }
 
@@ -533,8 +531,8 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
     }
     const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
     const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = o.band * std::max({w[0], w[1], w[2]});
-    // The mask and the field (1 + 4 bytes a voxel of the box), and the transforms' planes (banded_distance: 2r + 2).
-    const std::uint64_t planes = 2 * offset_terms(w[2], (cap + 2 * c) * (cap + 2 * c)).size();
+    // The mask and the field (1 + 4 bytes a voxel of the box), and the transforms' planes (banded_distance: 2 (2r + 2)).
+    const std::uint64_t planes = 4 * offset_terms(w[2], (cap + 2 * c) * (cap + 2 * c)).size();
     check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * planes * 4, o.max_memory,
                  "the label volume's distance field (" + std::to_string(count) + " voxels)", "5 bytes a voxel of the region's bounding box",
                  "crop the volume to the region");
@@ -550,7 +548,6 @@ std::unique_ptr<LevelSet3> label_levelset(const Volume& v, const VolumeLevelSet3
         }
     if (release) Buffer<std::uint16_t>().swap(release->labels), std::vector<double>().swap(release->values);
     double feature = 0;
-    mark_sources(region, n);
     Buffer<float> field = banded_distance(region, n, w, c, cap, feature);
     if (!std::isfinite(feature)) feature = 0;  // unknown: deeper than the band somewhere
     Buffer<std::uint8_t>().swap(region);
