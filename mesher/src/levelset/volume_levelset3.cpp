@@ -69,33 +69,15 @@ bool row_sources(const std::uint8_t* m, std::int64_t j, std::int64_t k, const st
     return std::any_of(e, e + n0, [](std::uint8_t x) { return x != 0; });
 }
 
-// The first pass on one line: the sources are the voxels i with e[i] = 1
-// and m[i] = `of`; g[i] = w² (i − p)² for the nearest source p, +inf beyond
-// `limit` or with no source — the squared-distance transform g[i] → min_j
-// g[j] + w² (i − j)² of the line of sources (0 at a source, +inf elsewhere),
-// found by one sweep each way.
-void sources_line(const std::uint8_t* m, const std::uint8_t* e, std::uint8_t of, float* g, std::int64_t n, double w, double limit,
-                  std::vector<std::int64_t>& left) {
-    constexpr std::int64_t none = std::numeric_limits<std::int64_t>::min() / 4;
-    const auto is_source = [&](std::int64_t i) { return e[i] != 0 && m[i] == of; };
-    left.resize(static_cast<std::size_t>(n));
-    for (std::int64_t i = 0, last = none; i < n; ++i) left[static_cast<std::size_t>(i)] = last = is_source(i) ? i : last;
-    const double w2 = w * w;
-    for (std::int64_t i = n - 1, next = -none; i >= 0; --i) {
-        next = is_source(i) ? i : next;
-        const std::int64_t d = std::min(i - left[static_cast<std::size_t>(i)], next - i);
-        const double di = d > n ? limit + 1 : 0.0 + w2 * static_cast<double>(d * d);
-        g[i] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
-    }
-}
-
-// The passes along y and z.  Every squared distance the transforms keep is at
-// most `limit`, so along an axis of spacing w a value reaches another only
-// over offsets d with w² d² <= limit, and the pass g(i) → min_j g(j) + w² (i −
+// The passes.  Every squared distance the transforms keep is at most
+// `limit`, so along an axis of spacing w a value reaches another only over
+// offsets d with w² d² <= limit, and the pass g(i) → min_j g(j) + w² (i −
 // j)² is the least of those few candidates: g(i + d) + b[|d|], b[d] = w² d²
 // (in doubles from the float values, as Felzenszwalb and Huttenlocher's lower
 // envelope computes them; its value, wherever no two candidates tie within
-// rounding).  The offsets' terms, b[0] = 0 first:
+// rounding).  The first pass starts from 0 at the sources and +inf elsewhere:
+// its value is the float of b[d] for the nearest source, d offsets away.
+// The offsets' terms, b[0] = 0 first:
 std::vector<double> offset_terms(double w, double limit) {
     std::vector<double> b;
     for (std::int64_t d = 0; w * w * static_cast<double>(d * d) <= limit; ++d) b.push_back(w * w * static_cast<double>(d * d));
@@ -103,84 +85,120 @@ std::vector<double> offset_terms(double w, double limit) {
 }
 
 // Planes of n0 × n1 squared distances (x fastest), each row cut into chunks
-// of `chunk` values with a flag: set when the chunk may hold a finite value.
-// A chunk whose flag is clear is +inf throughout: its values are neither
-// written nor read.  The passes along y and z keep x, so a chunk's candidates
-// are the same chunk of other rows, and a chunk with no flagged candidate is
-// skipped — the transforms' work follows the band around the surface.
+// of `chunk` values (the last one padded with +inf) with a flag: set when the
+// chunk may hold a finite value.  A chunk whose flag is clear is +inf
+// throughout: its values are neither written nor read.  A row's last flag:
+// whether any chunk's is set.  The passes along y and z keep x, so a chunk's
+// candidates are the same chunk of other rows, and a chunk with no flagged
+// candidate is skipped — the transforms' work follows the band around the
+// surface.
 struct Planes {
     static constexpr std::int64_t chunk = 16;
     std::int64_t n0, n1, chunks, planes;
     Buffer<float> g;  // a chunk's values written before its flag is set
     std::vector<std::uint8_t> live;
     Planes(std::int64_t x, std::int64_t y, std::int64_t p)
-        : n0(x), n1(y), chunks((x + chunk - 1) / chunk), planes(p), g(static_cast<std::size_t>(x * y * p)),
-          live(static_cast<std::size_t>(y * chunks * p), 0) {}
-    float* row(std::int64_t p, std::int64_t j) { return g.data() + (p * n1 + j) * n0; }
-    std::uint8_t* flags(std::int64_t p, std::int64_t j) { return live.data() + (p * n1 + j) * chunks; }
-    std::int64_t width(std::int64_t c) const { return std::min(chunk, n0 - c * chunk); }
+        : n0(x), n1(y), chunks((x + chunk - 1) / chunk), planes(p), g(static_cast<std::size_t>(y * p * chunks * chunk)),
+          live(static_cast<std::size_t>(y * p * (chunks + 1)), 0) {}
+    float* row(std::int64_t p, std::int64_t j) { return g.data() + (p * n1 + j) * chunks * chunk; }
+    std::uint8_t* flags(std::int64_t p, std::int64_t j) { return live.data() + (p * n1 + j) * (chunks + 1); }
 };
-using Chunk = std::array<double, Planes::chunk>;
+struct Row {
+    const float* values = nullptr;  // nullptr: beyond the box
+    const std::uint8_t* flags = nullptr;
+};
 
-// acc[x] = min_d in(d)[x] + b[|d|] over |d| < b.size(), in(d) the chunk of
-// the row at offset d (nullptr: outside the box, or flagged +inf); false if
-// no row is.
+// One row of a pass along y or z, chunk by chunk: acc[x] = min_d in(d)[x] +
+// b[|d|] over |d| < b.size(), in(d) the row at offset d, for the chunks c
+// with need[c]; any[c] is set where some row's chunk is flagged (elsewhere
+// every candidate is +inf and acc is not written).
 template <class In>
-bool least_candidate(const In& in, const std::vector<double>& b, std::int64_t width, Chunk& acc) {
-    acc.fill(std::numeric_limits<double>::infinity());
-    bool any = false;
+void least_candidates(const In& in, const std::vector<double>& b, const std::uint8_t* need, std::int64_t chunks, double* acc,
+                      std::uint8_t* any) {
+    constexpr std::int64_t w = Planes::chunk;
+    std::fill_n(any, chunks, 0);
     const std::int64_t r = static_cast<std::int64_t>(b.size()) - 1;
     for (std::int64_t d = -r; d <= r; ++d) {
-        const float* from = in(d);
-        if (!from) continue;
-        any = true;
+        const Row from = in(d);
+        if (!from.values || !from.flags[chunks]) continue;
         const double bd = b[static_cast<std::size_t>(std::abs(d))];
-        for (std::int64_t x = 0; x < width; ++x) acc[static_cast<std::size_t>(x)] = std::min(acc[static_cast<std::size_t>(x)], static_cast<double>(from[x]) + bd);
+        for (std::int64_t c = 0; c < chunks; ++c) {
+            if (!from.flags[c] || !need[c]) continue;
+            double* a = acc + c * w;
+            const float* f = from.values + c * w;
+            if (any[c]) {
+#pragma omp simd
+                for (std::int64_t x = 0; x < w; ++x) {
+                    const double v = static_cast<double>(f[x]) + bd, old = a[x];
+                    a[x] = v < old ? v : old;
+                }
+            } else {
+#pragma omp simd
+                for (std::int64_t x = 0; x < w; ++x) a[x] = static_cast<double>(f[x]) + bd;
+            }
+            any[c] = 1;
+        }
     }
-    return any;
 }
+
+// Per thread: a row of candidates for each transform and their chunks' flags.
+struct Scratch {
+    std::vector<std::uint8_t> e, need, any[2];
+    std::vector<double> acc[2];
+    explicit Scratch(const Planes& p)
+        : e(static_cast<std::size_t>(p.n0)), need(static_cast<std::size_t>(p.chunks), 1),
+          any{std::vector<std::uint8_t>(static_cast<std::size_t>(p.chunks)), std::vector<std::uint8_t>(static_cast<std::size_t>(p.chunks))},
+          acc{std::vector<double>(static_cast<std::size_t>(p.chunks * Planes::chunk)),
+              std::vector<double>(static_cast<std::size_t>(p.chunks * Planes::chunk))} {}
+};
 
 // The two transforms (t = 0: from the region's sources, read outside; t = 1:
 // from the other class's, read inside) on plane k, in place of the whole
-// box's first two passes: the x pass into xs's plane t, then the y pass from
-// it into ys[t]'s plane `slot`.  Values above `limit` become +inf after each
-// pass (a later pass only adds to a value).  Called by every thread of a
-// parallel region, each taking rows; `e`, `left`: the thread's scratch.
-void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
-               double limit, const std::vector<double>& b1, Planes& xs, std::array<Planes, 2>& ys, std::int64_t slot,
-               std::vector<std::uint8_t>& e, std::vector<std::int64_t>& left) {
-    const std::int64_t n0 = n[0], n1 = n[1];
+// box's first two passes: the x pass into xs's plane t (each source's offsets
+// b0, as floats), then the y pass from it into ys[t]'s plane `slot`.  Values
+// above `limit` become +inf after each pass (a later pass only adds to a
+// value).  Called by every thread of a parallel region, each taking rows.
+void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::array<std::int64_t, 3>& n, const std::vector<float>& b0,
+               const std::vector<double>& b1, double limit, Planes& xs, std::array<Planes, 2>& ys, std::int64_t slot, Scratch& s) {
+    constexpr std::int64_t w = Planes::chunk;
     constexpr float inf = std::numeric_limits<float>::infinity();
+    const std::int64_t n0 = n[0], n1 = n[1], chunks = xs.chunks, r0 = static_cast<std::int64_t>(b0.size()) - 1;
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j) {
         const std::uint8_t* m = mask.data() + (k * n1 + j) * n0;
-        const bool any = row_sources(m, j, k, n, e.data());
+        const bool any = row_sources(m, j, k, n, s.e.data());
         for (std::int64_t t = 0; t < 2; ++t) {
+            std::fill_n(xs.flags(t, j), chunks + 1, 0);
+            if (any) std::fill_n(xs.row(t, j), chunks * w, inf);
+        }
+        for (std::int64_t i = 0; any && i < n0; ++i) {
+            if (!s.e[static_cast<std::size_t>(i)]) continue;
+            const std::int64_t t = 1 - m[i], lo = std::max<std::int64_t>(0, i - r0), hi = std::min(n0 - 1, i + r0);
             float* g = xs.row(t, j);
-            if (any) sources_line(m, e.data(), static_cast<std::uint8_t>(1 - t), g, n0, w[0], limit, left);
-            for (std::int64_t c = 0; c < xs.chunks; ++c)
-                xs.flags(t, j)[c] = any && std::any_of(g + c * Planes::chunk, g + c * Planes::chunk + xs.width(c), [](float v) { return v < inf; });
+            for (std::int64_t x = lo; x <= hi; ++x) g[x] = std::min(g[x], b0[static_cast<std::size_t>(std::abs(x - i))]);
+            std::fill(xs.flags(t, j) + lo / w, xs.flags(t, j) + hi / w + 1, std::uint8_t{1});
+            xs.flags(t, j)[chunks] = 1;
         }
     }
-    Chunk acc{};
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j)
-        for (std::int64_t t = 0; t < 2; ++t)
-            for (std::int64_t c = 0; c < xs.chunks; ++c) {
-                const auto in = [&](std::int64_t d) -> const float* {
-                    const std::int64_t y = j + d;
-                    return y >= 0 && y < n1 && xs.flags(t, y)[c] ? xs.row(t, y) + c * Planes::chunk : nullptr;
-                };
+        for (std::size_t t = 0; t < 2; ++t) {
+            const auto in = [&](std::int64_t d) { return j + d < 0 || j + d >= n1 ? Row{} : Row{xs.row(static_cast<std::int64_t>(t), j + d), xs.flags(static_cast<std::int64_t>(t), j + d)}; };
+            least_candidates(in, b1, s.need.data(), chunks, s.acc[t].data(), s.any[t].data());
+            float* out = ys[t].row(slot, j);
+            std::uint8_t* flags = ys[t].flags(slot, j);
+            flags[chunks] = 0;
+            for (std::int64_t c = 0; c < chunks; ++c) {
                 bool finite = false;
-                if (least_candidate(in, b1, xs.width(c), acc)) {
-                    float* out = ys[static_cast<std::size_t>(t)].row(slot, j) + c * Planes::chunk;
-                    for (std::size_t x = 0; x < static_cast<std::size_t>(xs.width(c)); ++x) {
-                        out[x] = acc[x] > limit ? inf : static_cast<float>(acc[x]);
-                        finite = finite || acc[x] <= limit;
-                    }
+                for (std::int64_t x = c * w; s.any[t][static_cast<std::size_t>(c)] && x < (c + 1) * w; ++x) {
+                    const double a = s.acc[t][static_cast<std::size_t>(x)];
+                    out[x] = a > limit ? inf : static_cast<float>(a);
+                    finite |= a <= limit;
                 }
-                ys[static_cast<std::size_t>(t)].flags(slot, j)[c] = finite;
+                flags[c] = finite;
+                flags[chunks] |= finite;
             }
+        }
 }
 
 // The field's values on plane z: the z pass of both transforms over ys's
@@ -190,36 +208,38 @@ void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::ar
 // band).  `deepest`: the largest d − c inside the region, +inf if a voxel
 // inside is beyond the band.
 void field_plane(std::span<const std::uint8_t> mask, std::int64_t z, std::int64_t n2, const std::vector<double>& b2, double limit, double c,
-                 double cap, std::array<Planes, 2>& ys, std::span<float> field, double& deepest) {
-    const std::int64_t n0 = ys[0].n0, n1 = ys[0].n1, ring = ys[0].planes;
-    std::array<Chunk, 2> acc{};
+                 double cap, std::array<Planes, 2>& ys, std::span<float> field, double& deepest, Scratch& s) {
+    constexpr std::int64_t w = Planes::chunk;
+    const std::int64_t n0 = ys[0].n0, n1 = ys[0].n1, chunks = ys[0].chunks, ring = ys[0].planes;
+    std::array<std::vector<std::uint8_t>, 2> need{s.need, s.need};  // the chunks with a voxel that reads transform t
 #pragma omp for schedule(static)
-    for (std::int64_t j = 0; j < n1; ++j)
-        for (std::int64_t ch = 0; ch < ys[0].chunks; ++ch) {
-            const std::int64_t at = (z * n1 + j) * n0 + ch * Planes::chunk;
-            const auto [fewest, most] = std::minmax_element(mask.begin() + at, mask.begin() + at + ys[0].width(ch));
-            for (std::size_t t = 0; t < 2; ++t) {
-                if (t == 0 ? *fewest == 1 : *most == 0) continue;  // no voxel of the chunk reads transform t
-                const auto in = [&](std::int64_t d) -> const float* {
-                    const std::int64_t p = z + d;
-                    return p >= 0 && p < n2 && ys[t].flags(p % ring, j)[ch] ? ys[t].row(p % ring, j) + ch * Planes::chunk : nullptr;
-                };
-                least_candidate(in, b2, ys[t].width(ch), acc[t]);
-            }
-            for (std::int64_t x = 0; x < ys[0].width(ch); ++x) {
-                const std::uint8_t inside = mask[static_cast<std::size_t>(at + x)];
-                const double di = acc[inside][static_cast<std::size_t>(x)];
-                const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
-                if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
-                    if (inside) deepest = std::numeric_limits<double>::infinity();
-                    field[static_cast<std::size_t>(at + x)] = static_cast<float>(inside ? -cap : cap);
-                    continue;
-                }
-                const double d = std::sqrt(static_cast<double>(d2)) - c;
-                if (inside) deepest = std::max(deepest, d);
-                field[static_cast<std::size_t>(at + x)] = static_cast<float>(std::clamp(inside ? -d : d, -cap, cap));
-            }
+    for (std::int64_t j = 0; j < n1; ++j) {
+        const std::int64_t at = (z * n1 + j) * n0;
+        for (std::int64_t ch = 0; ch < chunks; ++ch) {
+            const auto [fewest, most] = std::minmax_element(mask.begin() + at + ch * w, mask.begin() + at + std::min(n0, (ch + 1) * w));
+            need[0][static_cast<std::size_t>(ch)] = *fewest == 0, need[1][static_cast<std::size_t>(ch)] = *most == 1;
         }
+        for (std::size_t t = 0; t < 2; ++t) {
+            const auto in = [&](std::int64_t d) {
+                const std::int64_t p = z + d;
+                return p < 0 || p >= n2 ? Row{} : Row{ys[t].row(p % ring, j), ys[t].flags(p % ring, j)};
+            };
+            least_candidates(in, b2, need[t].data(), chunks, s.acc[t].data(), s.any[t].data());
+        }
+        for (std::int64_t x = 0; x < n0; ++x) {
+            const std::uint8_t inside = mask[static_cast<std::size_t>(at + x)];
+            const double di = s.any[inside][static_cast<std::size_t>(x / w)] ? s.acc[inside][static_cast<std::size_t>(x)] : limit + 1;
+            const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+            if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
+                if (inside) deepest = std::numeric_limits<double>::infinity();
+                field[static_cast<std::size_t>(at + x)] = static_cast<float>(inside ? -cap : cap);
+                continue;
+            }
+            const double d = std::sqrt(static_cast<double>(d2)) - c;
+            if (inside) deepest = std::max(deepest, d);
+            field[static_cast<std::size_t>(at + x)] = static_cast<float>(std::clamp(inside ? -d : d, -cap, cap));
+        }
+    }
 }
 
 // The label field (levelset3.hpp, label mode) on the box of n voxels whose
@@ -237,6 +257,8 @@ Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::a
                               double c, double cap, double& feature) {
     const double limit = (cap + 2 * c) * (cap + 2 * c);
     const std::vector<double> b1 = offset_terms(w[1], limit), b2 = offset_terms(w[2], limit);
+    std::vector<float> b0;
+    for (const double b : offset_terms(w[0], limit)) b0.push_back(static_cast<float>(b));
     const std::int64_t r = static_cast<std::int64_t>(b2.size()) - 1;
     Buffer<float> field(static_cast<std::size_t>(n[0] * n[1] * n[2]));  // every element written below (field_plane)
     Planes xs(n[0], n[1], 2);
@@ -244,11 +266,10 @@ Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::a
     double deepest = 0;
 #pragma omp parallel reduction(max : deepest)
     {
-        std::vector<std::uint8_t> e(static_cast<std::size_t>(n[0]));
-        std::vector<std::int64_t> left;
+        Scratch s(xs);
         for (std::int64_t k = 0; k < n[2] + r; ++k) {
-            if (k < n[2]) xy_passes(region, k, n, w, limit, b1, xs, ys, k % (2 * r + 1), e, left);
-            if (k >= r) field_plane(region, k - r, n[2], b2, limit, c, cap, ys, field, deepest);
+            if (k < n[2]) xy_passes(region, k, n, b0, b1, limit, xs, ys, k % (2 * r + 1), s);
+            if (k >= r) field_plane(region, k - r, n[2], b2, limit, c, cap, ys, field, deepest, s);
         }
     }
     feature = deepest;
