@@ -496,31 +496,35 @@ struct RegionScan {
 RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot) {
     RegionScan out{v.dims, {-1, -1, -1}, 0};
     std::vector<char> seen(std::max<std::size_t>(1, m.labels.size()), 0);
-    for (std::int64_t k = 0; k < v.dims[2]; ++k)
-        for (std::int64_t j = 0; j < v.dims[1]; ++j) {
-            const std::size_t row = static_cast<std::size_t>(v.dims[0] * (j + v.dims[1] * k));
-            std::int64_t first = -1, last = -1;
-            for (std::int64_t i = 0; i < v.dims[0]; ++i) {
-                std::size_t x = 0;
-                if (!v.labels.empty()) {
-                    x = v.labels[row + static_cast<std::size_t>(i)];
-                } else {
-                    const double d = v.values[row + static_cast<std::size_t>(i)];
-                    // In 0..65535, then an integer (the cast is exact there).
-                    if (!(d >= 0 && d <= 65535) || static_cast<double>(static_cast<std::int32_t>(d)) != d)
-                        throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(d) + ")");
-                    x = static_cast<std::size_t>(d);
+    const auto scan = [&](const auto& label) {  // label(q): voxel q's label
+        for (std::int64_t k = 0; k < v.dims[2]; ++k)
+            for (std::int64_t j = 0; j < v.dims[1]; ++j) {
+                const std::size_t row = static_cast<std::size_t>(v.dims[0] * (j + v.dims[1] * k));
+                std::int64_t first = -1, last = -1;
+                for (std::int64_t i = 0; i < v.dims[0]; ++i) {
+                    const std::size_t x = label(row + static_cast<std::size_t>(i));
+                    if (slot[x] == 0) continue;
+                    seen[slot[x] - 1u] = 1;
+                    if (first < 0) first = i;
+                    last = i;
+                    ++out.voxels;
                 }
-                if (slot[x] == 0) continue;
-                seen[slot[x] - 1u] = 1;
-                if (first < 0) first = i;
-                last = i;
-                ++out.voxels;
+                if (first < 0) continue;
+                out.lo = {std::min(out.lo[0], first), std::min(out.lo[1], j), std::min(out.lo[2], k)};
+                out.hi = {std::max(out.hi[0], last), std::max(out.hi[1], j), std::max(out.hi[2], k)};
             }
-            if (first < 0) continue;
-            out.lo = {std::min(out.lo[0], first), std::min(out.lo[1], j), std::min(out.lo[2], k)};
-            out.hi = {std::max(out.hi[0], last), std::max(out.hi[1], j), std::max(out.hi[2], k)};
-        }
+    };
+    if (!v.labels.empty()) {
+        scan([&](std::size_t q) -> std::size_t { return v.labels[q]; });
+    } else {
+        scan([&](std::size_t q) -> std::size_t {
+            const double d = v.values[q];
+            // In 0..65535, then an integer (the cast is exact there).
+            if (!(d >= 0 && d <= 65535) || static_cast<double>(static_cast<std::int32_t>(d)) != d)
+                throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(d) + ")");
+            return static_cast<std::size_t>(d);
+        });
+    }
     if (out.hi[0] < 0) throw InputError(v.source + ": the region is empty: no voxel has the label(s) " + labels_text(m));
     std::string absent;
     for (std::size_t i = 0; i < m.labels.size() && !m.label_nonzero; ++i) {
