@@ -141,15 +141,17 @@ void least_candidates(const In& in, const std::vector<double>& b, const std::uin
     }
 }
 
-// Per thread: a row of candidates for each transform and their chunks' flags.
+// Per thread: the row's sources (e), a row of candidates for each transform,
+// the chunks computed (every: all of them; need) and those with a candidate (any).
 struct Scratch {
-    std::vector<std::uint8_t> e, need, any[2];
+    std::vector<std::uint8_t> e, every, need[2], any[2];
     std::vector<double> acc[2];
-    explicit Scratch(const Planes& p)
-        : e(static_cast<std::size_t>(p.n0)), need(static_cast<std::size_t>(p.chunks), 1),
-          any{std::vector<std::uint8_t>(static_cast<std::size_t>(p.chunks)), std::vector<std::uint8_t>(static_cast<std::size_t>(p.chunks))},
-          acc{std::vector<double>(static_cast<std::size_t>(p.chunks * Planes::chunk)),
-              std::vector<double>(static_cast<std::size_t>(p.chunks * Planes::chunk))} {}
+    explicit Scratch(const Planes& p) : e(static_cast<std::size_t>(p.n0)), every(static_cast<std::size_t>(p.chunks), 1) {
+        for (std::size_t t = 0; t < 2; ++t) {
+            need[t].resize(static_cast<std::size_t>(p.chunks)), any[t].resize(static_cast<std::size_t>(p.chunks));
+            acc[t].resize(static_cast<std::size_t>(p.chunks * Planes::chunk));
+        }
+    }
 };
 
 // The two transforms (t = 0: from the region's sources, read outside; t = 1:
@@ -184,7 +186,7 @@ void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::ar
     for (std::int64_t j = 0; j < n1; ++j)
         for (std::size_t t = 0; t < 2; ++t) {
             const auto in = [&](std::int64_t d) { return j + d < 0 || j + d >= n1 ? Row{} : Row{xs.row(static_cast<std::int64_t>(t), j + d), xs.flags(static_cast<std::int64_t>(t), j + d)}; };
-            least_candidates(in, b1, s.need.data(), chunks, s.acc[t].data(), s.any[t].data());
+            least_candidates(in, b1, s.every.data(), chunks, s.acc[t].data(), s.any[t].data());
             float* out = ys[t].row(slot, j);
             std::uint8_t* flags = ys[t].flags(slot, j);
             flags[chunks] = 0;
@@ -210,34 +212,45 @@ void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::ar
 void field_plane(std::span<const std::uint8_t> mask, std::int64_t z, std::int64_t n2, const std::vector<double>& b2, double limit, double c,
                  double cap, std::array<Planes, 2>& ys, std::span<float> field, double& deepest, Scratch& s) {
     constexpr std::int64_t w = Planes::chunk;
+    constexpr double inf = std::numeric_limits<double>::infinity();
     const std::int64_t n0 = ys[0].n0, n1 = ys[0].n1, chunks = ys[0].chunks, ring = ys[0].planes;
-    std::array<std::vector<std::uint8_t>, 2> need{s.need, s.need};  // the chunks with a voxel that reads transform t
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j) {
-        const std::int64_t at = (z * n1 + j) * n0;
-        for (std::int64_t ch = 0; ch < chunks; ++ch) {
-            const auto [fewest, most] = std::minmax_element(mask.begin() + at + ch * w, mask.begin() + at + std::min(n0, (ch + 1) * w));
-            need[0][static_cast<std::size_t>(ch)] = *fewest == 0, need[1][static_cast<std::size_t>(ch)] = *most == 1;
+        const std::uint8_t* m = mask.data() + (z * n1 + j) * n0;
+        float* f = field.data() + (z * n1 + j) * n0;
+        for (std::size_t ch = 0; ch < static_cast<std::size_t>(chunks); ++ch) {  // whether a voxel of the chunk reads transform t
+            std::uint8_t some = 0, all = 1;
+            for (std::int64_t x = static_cast<std::int64_t>(ch) * w; x < std::min(n0, static_cast<std::int64_t>(ch + 1) * w); ++x)
+                some |= m[x], all &= m[x];
+            s.need[0][ch] = !all, s.need[1][ch] = some;
         }
         for (std::size_t t = 0; t < 2; ++t) {
             const auto in = [&](std::int64_t d) {
                 const std::int64_t p = z + d;
                 return p < 0 || p >= n2 ? Row{} : Row{ys[t].row(p % ring, j), ys[t].flags(p % ring, j)};
             };
-            least_candidates(in, b2, need[t].data(), chunks, s.acc[t].data(), s.any[t].data());
+            least_candidates(in, b2, s.need[t].data(), chunks, s.acc[t].data(), s.any[t].data());
         }
-        for (std::int64_t x = 0; x < n0; ++x) {
-            const std::uint8_t inside = mask[static_cast<std::size_t>(at + x)];
-            const double di = s.any[inside][static_cast<std::size_t>(x / w)] ? s.acc[inside][static_cast<std::size_t>(x)] : limit + 1;
-            const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
-            if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
-                if (inside) deepest = std::numeric_limits<double>::infinity();
-                field[static_cast<std::size_t>(at + x)] = static_cast<float>(inside ? -cap : cap);
+        for (std::size_t ch = 0; ch < static_cast<std::size_t>(chunks); ++ch) {
+            const std::int64_t x0 = static_cast<std::int64_t>(ch) * w, x1 = std::min(n0, x0 + w);
+            if (!s.any[0][ch] && !s.any[1][ch]) {  // every voxel beyond the band: ±cap (what the clamp gives)
+                for (std::int64_t x = x0; x < x1; ++x) f[x] = static_cast<float>(m[x] ? -cap : cap);
+                if (s.need[1][ch]) deepest = inf;
                 continue;
             }
-            const double d = std::sqrt(static_cast<double>(d2)) - c;
-            if (inside) deepest = std::max(deepest, d);
-            field[static_cast<std::size_t>(at + x)] = static_cast<float>(std::clamp(inside ? -d : d, -cap, cap));
+            for (std::int64_t x = x0; x < x1; ++x) {
+                const std::uint8_t inside = m[x];
+                const double di = s.any[inside][ch] ? s.acc[inside][static_cast<std::size_t>(x)] : inf;
+                const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+                if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band
+                    if (inside) deepest = inf;
+                    f[x] = static_cast<float>(inside ? -cap : cap);
+                    continue;
+                }
+                const double d = std::sqrt(static_cast<double>(d2)) - c;
+                if (inside) deepest = std::max(deepest, d);
+                f[x] = static_cast<float>(std::clamp(inside ? -d : d, -cap, cap));
+            }
         }
     }
 }
