@@ -15,22 +15,21 @@
 //
 // Label mode.  With m = 1 on the region's voxels, the exact Euclidean
 // distance transform (one pass of squared distances per index axis, weighted
-// by the spacings) gives d_out
-// at every voxel outside (the distance to the nearest centre inside) and d_in
-// at every voxel inside; f = d_out − c outside and −(d_in − c) inside, c half
-// the smallest spacing, so along the axis of the smallest spacing f is
-// antisymmetric about the midpoint between a voxel and its neighbour of the
-// other class and the trilinear interpolant's zero passes there.  Only the
-// region's bounding box grown by `band` voxels is stored (as floats); f is
-// clamped to ±band × the largest spacing, which farther voxels get without
-// being stored.  The labels stay 16-bit integers (Volume::labels) up to the
-// region's mask over that box (1 byte a voxel); the transforms run on the
-// mask plane by plane with a ring of the band's reach (banded_distance),
-// start from the voxels on the region's surface only (row_sources), drop
-// distances beyond the band after each pass and skip what lies beyond it
-// (Planes), so their work follows the surface and their memory is a ring's;
-// the region's inscribed distance
-// (feature_size) is then known only within the band.
+// by the spacings) gives d_out at every voxel outside (the distance to the
+// nearest centre inside) and d_in at every voxel inside; f = d_out − c
+// outside and −(d_in − c) inside, c half the smallest spacing, so along the
+// axis of the smallest spacing f is antisymmetric about the midpoint between
+// a voxel and its neighbour of the other class and the trilinear
+// interpolant's zero passes there.  Only the region's bounding box grown by
+// `band` voxels is stored (as floats); f is clamped to ±band × the largest
+// spacing, which farther voxels get without being stored.  The labels stay
+// 16-bit integers (Volume::labels) up to the region's mask over that box (1
+// byte a voxel); the transforms run on the mask plane by plane through a ring
+// of planes of the band's reach (banded_distance), start from the voxels on
+// the region's surface only (row_sources), drop distances beyond the band
+// after each pass and skip what lies beyond it (Planes), so their work
+// follows the surface and their memory is a ring's; the region's inscribed
+// distance (feature_size) is then known only within the band.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -73,9 +72,9 @@ bool row_sources(const std::uint8_t* m, std::int64_t j, std::int64_t k, const st
 // `limit`, so along an axis of spacing w a value reaches another only over
 // offsets d with w² d² <= limit, and the pass g(i) → min_j g(j) + w² (i −
 // j)² is the least of those few candidates: g(i + d) + b[|d|], b[d] = w² d²
-// (in doubles from the float values, as Felzenszwalb and Huttenlocher's lower
-// envelope computes them; its value, wherever no two candidates tie within
-// rounding).  The first pass starts from 0 at the sources and +inf elsewhere:
+// (in doubles from the float values, the sums Felzenszwalb and
+// Huttenlocher's lower envelope of parabolas compares: its value, wherever no
+// two candidates tie within rounding).  The first pass starts from 0 at the sources and +inf elsewhere:
 // its value is the float of b[d] for the nearest source, d offsets away.
 // The offsets' terms, b[0] = 0 first:
 std::vector<double> offset_terms(double w, double limit) {
@@ -185,18 +184,22 @@ void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::ar
 #pragma omp for schedule(static)
     for (std::int64_t j = 0; j < n1; ++j)
         for (std::size_t t = 0; t < 2; ++t) {
-            const auto in = [&](std::int64_t d) { return j + d < 0 || j + d >= n1 ? Row{} : Row{xs.row(static_cast<std::int64_t>(t), j + d), xs.flags(static_cast<std::int64_t>(t), j + d)}; };
+            const auto in = [&](std::int64_t d) {
+                const std::int64_t y = j + d, plane = static_cast<std::int64_t>(t);
+                return y < 0 || y >= n1 ? Row{} : Row{xs.row(plane, y), xs.flags(plane, y)};
+            };
             least_candidates(in, b1, s.every.data(), chunks, s.acc[t].data(), s.any[t].data());
             float* out = ys[t].row(slot, j);
             std::uint8_t* flags = ys[t].flags(slot, j);
             flags[chunks] = 0;
             for (std::int64_t c = 0; c < chunks; ++c) {
                 bool finite = false;
-                for (std::int64_t x = c * w; s.any[t][static_cast<std::size_t>(c)] && x < (c + 1) * w; ++x) {
-                    const double a = s.acc[t][static_cast<std::size_t>(x)];
-                    out[x] = a > limit ? inf : static_cast<float>(a);
-                    finite |= a <= limit;
-                }
+                if (s.any[t][static_cast<std::size_t>(c)])
+                    for (std::int64_t x = c * w; x < (c + 1) * w; ++x) {
+                        const double a = s.acc[t][static_cast<std::size_t>(x)];
+                        out[x] = a > limit ? inf : static_cast<float>(a);
+                        finite |= a <= limit;
+                    }
                 flags[c] = finite;
                 flags[chunks] |= finite;
             }
