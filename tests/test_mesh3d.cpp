@@ -699,11 +699,11 @@ BOOST_AUTO_TEST_CASE(label_distance_field_is_the_clamped_signed_distance) {
 }
 
 // Issue 49 (fixed costs follow the region): the labels stay 16-bit
-// (Volume::labels) up to the region's mask, and the transforms run in slabs
-// of planes with a halo of the band's reach.  A tall volume of several slabs
-// (64 planes each, halo 9 here) must still give the clamped signed distance
-// at every voxel centre, across the slabs' seams, and the same field and mesh
-// from its labels as from the same samples as doubles.
+// (Volume::labels) up to the region's mask, and the transforms run plane by
+// plane through a ring of the band's reach (first, slabs of 64 planes with a
+// halo).  A tall volume (150 planes; a ring of 15 here, wrapped ten times)
+// must still give the clamped signed distance at every voxel centre, and the
+// same field and mesh from its labels as from the same samples as doubles.
 BOOST_AUTO_TEST_CASE(issue49_label_field_is_the_same_across_slabs_and_from_16_bit_labels) {
     Volume v;
     v.dims = {9, 8, 150};

@@ -14,22 +14,22 @@
 // points there are zeros of f like any other.
 //
 // Label mode.  With m = 1 on the region's voxels, the exact Euclidean
-// distance transform (Felzenszwalb and Huttenlocher's lower envelope of
-// parabolas, one pass per index axis, weighted by the spacings) gives d_out
-// at every voxel outside (the distance to the nearest centre inside) and d_in
-// at every voxel inside; f = d_out − c outside and −(d_in − c) inside, c half
-// the smallest spacing, so along the axis of the smallest spacing f is
-// antisymmetric about the midpoint between a voxel and its neighbour of the
-// other class and the trilinear interpolant's zero passes there.  Only the
-// region's bounding box grown by `band` voxels is stored (as floats); f is
-// clamped to ±band × the largest spacing, which farther voxels get without
-// being stored.  The labels stay 16-bit integers (Volume::labels) up to the
-// region's mask over that box (1 byte a voxel); the transforms run on the
-// mask in slabs with a halo of the band's reach (banded_distance), start
-// from the voxels on the region's surface only (mark_sources) and drop
-// distances beyond the band after each pass, so their work follows the
-// surface and their memory is a slab's; the region's inscribed distance
-// (feature_size) is then known only within the band.
+// distance transform (one pass of squared distances per index axis, weighted
+// by the spacings) gives d_out at every voxel outside (the distance to the
+// nearest centre inside) and d_in at every voxel inside; f = d_out − c
+// outside and −(d_in − c) inside, c half the smallest spacing, so along the
+// axis of the smallest spacing f is antisymmetric about the midpoint between
+// a voxel and its neighbour of the other class and the trilinear
+// interpolant's zero passes there.  Only the region's bounding box grown by
+// `band` voxels is stored (as floats); f is clamped to ±band × the largest
+// spacing, which farther voxels get without being stored.  The labels stay
+// 16-bit integers (Volume::labels) up to the region's mask over that box (1
+// byte a voxel); the transforms run on the mask plane by plane through a ring
+// of planes of the band's reach (banded_distance), start from the voxels on
+// the region's surface only (row_sources), drop distances beyond the band
+// after each pass and skip what lies beyond it (Planes), so their work
+// follows the surface and their memory is a ring's; the region's inscribed
+// distance (feature_size) is then known only within the band.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -47,109 +47,6 @@
 namespace warpmesh {
 namespace {
 
-// Squared-distance transform of one line, in place: g[i] → min_j g[j] +
-// (w (i − j))², +inf where that exceeds `limit`.  The lower envelope of the
-// finite g's parabolas (v: their positions, vg: their values, z: where each
-// starts), then its values only within r = ⌈√limit / w⌉ + 1 of the first and
-// last parabola: beyond, every parabola is more than √limit + w away, above
-// the limit, and g is +inf there already.  False: no finite value (g unchanged).
-bool edt_line(float* g, std::int64_t n, std::int64_t stride, double w, double limit, std::vector<std::int64_t>& v,
-              std::vector<double>& z, std::vector<double>& vg) {
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    v.resize(static_cast<std::size_t>(n)), z.resize(static_cast<std::size_t>(n) + 1), vg.resize(static_cast<std::size_t>(n));
-    std::int64_t k = -1;
-    const double w2 = w * w;
-    for (std::int64_t q = 0; q < n; ++q) {
-        const double fq = g[q * stride];
-        if (!(fq < inf)) continue;
-        double s = -inf;
-        while (k >= 0) {
-            const std::int64_t p = v[static_cast<std::size_t>(k)];
-            s = ((fq + w2 * static_cast<double>(q * q)) - (vg[static_cast<std::size_t>(k)] + w2 * static_cast<double>(p * p))) /
-                (2 * w2 * static_cast<double>(q - p));
-            if (s > z[static_cast<std::size_t>(k)]) break;
-            --k;
-        }
-        ++k;
-        v[static_cast<std::size_t>(k)] = q, vg[static_cast<std::size_t>(k)] = fq;
-        z[static_cast<std::size_t>(k)] = k == 0 ? -inf : s;
-        z[static_cast<std::size_t>(k) + 1] = inf;
-    }
-    if (k < 0) return false;
-    const std::int64_t r = static_cast<std::int64_t>(std::ceil(std::sqrt(limit) / w)) + 1;
-    const std::int64_t lo = std::max<std::int64_t>(0, v[0] - r), hi = std::min(n, v[static_cast<std::size_t>(k)] + r + 1);
-    for (std::int64_t i = lo, j = 0; i < hi; ++i) {
-        while (z[static_cast<std::size_t>(j) + 1] < static_cast<double>(i)) ++j;
-        const std::int64_t p = v[static_cast<std::size_t>(j)];
-        const double di = vg[static_cast<std::size_t>(j)] + w2 * static_cast<double>((i - p) * (i - p));
-        g[i * stride] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
-    }
-    return true;
-}
-
-// The mask of the box (label_levelset): bit 0 the region, bit 1 a source
-// (mark_sources), bit 2 a voxel whose depth banded_distance's `feature`
-// leaves out (a part's voxels that are not its own: label_part_facts).
-constexpr std::uint8_t in_region = 1, source = 2, uncounted = 4;
-
-// The first pass on one line: the sources are the mask's voxels m with
-// (m & (source | in_region)) == want; g[i] = w² (i − p)² for the nearest
-// source p, +inf beyond `limit` or with no source — edt_line's value on the
-// line of sources (0 at a source, +inf elsewhere) to the bit (its parabolas
-// all have g = 0, so its envelope at an integer i is a nearest source's,
-// 0 + w² (i − p)²), found by one sweep each way instead of the envelope's
-// divisions.
-void sources_line(const std::uint8_t* mask, std::uint8_t want, float* g, std::int64_t n, double w, double limit,
-                  std::vector<std::int64_t>& left) {
-    constexpr std::int64_t none = std::numeric_limits<std::int64_t>::min() / 4;
-    const auto is_source = [&](std::int64_t i) { return (mask[i] & (source | in_region)) == want; };
-    left.resize(static_cast<std::size_t>(n));
-    for (std::int64_t i = 0, last = none; i < n; ++i) left[static_cast<std::size_t>(i)] = last = is_source(i) ? i : last;
-    const double w2 = w * w;
-    for (std::int64_t i = n - 1, next = -none; i >= 0; --i) {
-        next = is_source(i) ? i : next;
-        const std::int64_t d = std::min(i - left[static_cast<std::size_t>(i)], next - i);
-        const double di = d > n ? limit + 1 : 0.0 + w2 * static_cast<double>(d * d);
-        g[i] = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
-    }
-}
-
-// The squared distances to the sources `want` of the mask (sources_line) on
-// the box of n voxels, into g, +inf beyond `limit` after each pass (a later
-// pass only adds to a value).  The x lines are contiguous (sources_line, from
-// the mask); the y and z lines are taken in tiles of `tile` lines
-// adjacent along x, copied into a small buffer (each voxel row read and
-// written as whole cache lines) and transformed there in place, a line at a
-// time with its stride.
-void edt(const std::uint8_t* mask, std::uint8_t want, std::span<float> g, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
-         double limit) {
-    constexpr std::int64_t tile = 16;
-#pragma omp parallel
-    {
-        std::vector<std::int64_t> v;
-        std::vector<double> z, vg;
-        std::vector<float> lines;
-#pragma omp for schedule(static)
-        for (std::int64_t line = 0; line < n[1] * n[2]; ++line)
-            sources_line(mask + line * n[0], want, g.data() + line * n[0], n[0], w[0], limit, v);
-        for (std::size_t a = 1; a < 3; ++a) {
-            const std::size_t c = 3 - a;  // the axis other than x and a
-            const std::int64_t stride_a = a == 1 ? n[0] : n[0] * n[1], stride_c = c == 1 ? n[0] : n[0] * n[1];
-            const std::int64_t tiles = (n[0] + tile - 1) / tile, len = n[a];
-            lines.resize(static_cast<std::size_t>(len * tile));
-#pragma omp for schedule(static)
-            for (std::int64_t job = 0; job < tiles * n[c]; ++job) {
-                const std::int64_t x0 = job % tiles * tile, width = std::min(tile, n[0] - x0), base = x0 + job / tiles * stride_c;
-                for (std::int64_t i = 0; i < len; ++i) std::copy_n(g.data() + base + i * stride_a, width, lines.data() + i * tile);
-                bool any = false;
-                for (std::int64_t x = 0; x < width; ++x) any = edt_line(lines.data() + x, len, tile, w[a], limit, v, z, vg) || any;
-                if (any)
-                    for (std::int64_t i = 0; i < len; ++i) std::copy_n(lines.data() + i * tile, width, g.data() + base + i * stride_a);
-            }
-        }
-    }
-}
-
 // The transforms' sources: the voxels of each class (the region's, or the
 // rest's) with a 6-neighbour of the other class in the box.  The nearest
 // voxel of a class to a voxel p of the other class is one of them: a voxel
@@ -158,79 +55,248 @@ void edt(const std::uint8_t* mask, std::uint8_t want, std::span<float> g, const 
 // value (rounded sums of the squared offsets, axis by axis) never grows as
 // one axis's offset shrinks.  So the fields are those of the transforms from
 // every voxel of the class (to the last bit, unless two sources tie within
-// rounding), at the cost of a surface's worth of sources.  mark_sources sets
-// bit 1 of the mask (bit 0: the region) on them, once.
-void mark_sources(std::span<std::uint8_t> mask, const std::array<std::int64_t, 3>& n) {
-    const std::array<std::int64_t, 3> stride{1, n[0], n[0] * n[1]};
-#pragma omp parallel for schedule(static)
-    for (std::int64_t k = 0; k < n[2]; ++k)
-        for (std::int64_t j = 0; j < n[1]; ++j)
-            for (std::int64_t i = 0; i < n[0]; ++i) {
-                const std::int64_t at = i + stride[1] * j + stride[2] * k;
-                const std::array<std::int64_t, 3> q{i, j, k};
-                const std::uint8_t r = mask[static_cast<std::size_t>(at)] & in_region;
-                bool edge = false;
-                for (std::size_t a = 0; a < 3; ++a) {
-                    edge = edge || (q[a] > 0 && (mask[static_cast<std::size_t>(at - stride[a])] & in_region) != r);
-                    edge = edge || (q[a] + 1 < n[a] && (mask[static_cast<std::size_t>(at + stride[a])] & in_region) != r);
-                }
-                if (edge) mask[static_cast<std::size_t>(at)] |= source;
-            }
-}
-// The label field (levelset3.hpp, label mode) on the box of n voxels whose
-// mask (in_region, source: mark_sources) is `region`: f = d_out − c outside and −(d_in − c) inside,
-// clamped to [−cap, cap].  Exact wherever |f| < cap: a value there is a
-// distance below cap + c to a source, and the transforms keep every squared
-// distance up to limit = (cap + 2c)², so a source within cap + 2c of a voxel
-// is seen.  The box is transformed in slabs of planes along index axis 2,
-// each with a halo of h = ⌈(cap + 2c)/w₂⌉ planes on either side: a source
-// more than h planes away is more than cap + 2c away, so the slab's own
-// planes get what the whole box's transforms give them (the x and y passes
-// are the same lines; a z line loses only sources beyond the limit).  So the
-// work and memory beyond the field are one slab's.  `feature`: the largest
-// inscribed distance, +inf where it is beyond the band.
-struct Slabs {
-    std::int64_t slab, halo;  // planes a slab, planes of halo on either side
-};
-Slabs slabs_of(double reach, double w2) {
-    const std::int64_t halo = static_cast<std::int64_t>(std::ceil(reach / w2));
-    return {std::max<std::int64_t>(64, 4 * halo), halo};
+// rounding), at the cost of a surface's worth of sources.  On row (j, k) of
+// the mask m (1 in the region, 0 elsewhere): e[i] = 1 where voxel i is a
+// source (of its class); false if the row has none.
+bool row_sources(const std::uint8_t* m, std::int64_t j, std::int64_t k, const std::array<std::int64_t, 3>& n, std::uint8_t* e) {
+    const std::int64_t n0 = n[0], plane = n[0] * n[1];
+    // A neighbour's row beyond the box: the row itself, which differs nowhere.
+    const std::uint8_t *y0 = j > 0 ? m - n0 : m, *y1 = j + 1 < n[1] ? m + n0 : m;
+    const std::uint8_t *z0 = k > 0 ? m - plane : m, *z1 = k + 1 < n[2] ? m + plane : m;
+    for (std::int64_t i = 0; i < n0; ++i) e[i] = (m[i] ^ y0[i]) | (m[i] ^ y1[i]) | (m[i] ^ z0[i]) | (m[i] ^ z1[i]);
+    for (std::int64_t i = 1; i < n0; ++i) e[i] |= m[i] ^ m[i - 1];
+    for (std::int64_t i = 0; i + 1 < n0; ++i) e[i] |= m[i] ^ m[i + 1];
+    return std::any_of(e, e + n0, [](std::uint8_t x) { return x != 0; });
 }
 
-Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
-                              double c, double cap, double& feature) {
-    const double limit = (cap + 2 * c) * (cap + 2 * c);
-    const auto [slab, halo] = slabs_of(cap + 2 * c, w[2]);
-    const std::int64_t plane = n[0] * n[1];
-    Buffer<float> field(static_cast<std::size_t>(plane * n[2]));  // every element written below
-    Buffer<float> g(static_cast<std::size_t>(plane * std::min(n[2], slab + 2 * halo)));
-    feature = 0;
-    for (std::int64_t z0 = 0; z0 < n[2]; z0 += slab) {
-        const std::int64_t z1 = std::min(n[2], z0 + slab), w0 = std::max<std::int64_t>(0, z0 - halo),
-                           w1 = std::min(n[2], z1 + halo);
-        const std::span<float> window(g.data(), static_cast<std::size_t>(plane * (w1 - w0)));
-        for (const bool of_region : {true, false}) {  // d_out from the region's sources, then d_in
-            edt(region.data() + w0 * plane, static_cast<std::uint8_t>(source | (of_region ? in_region : 0)), window, {n[0], n[1], w1 - w0}, w,
-                limit);
-            double deepest = 0;
-#pragma omp parallel for schedule(static) reduction(max : deepest)
-            for (std::int64_t at = z0 * plane; at < z1 * plane; ++at) {
-                const bool r = (region[static_cast<std::size_t>(at)] & in_region) != 0;
-                if (r == of_region) continue;  // the other transform's voxel
-                const bool counted = r && !(region[static_cast<std::size_t>(at)] & uncounted);
-                const float d2 = window[static_cast<std::size_t>(at - w0 * plane)];
-                if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band: ±cap (what the clamp gives)
-                    if (counted) deepest = std::numeric_limits<double>::infinity();
-                    field[static_cast<std::size_t>(at)] = static_cast<float>(r ? -cap : cap);
+// The passes.  Every squared distance the transforms keep is at most
+// `limit`, so along an axis of spacing w a value reaches another only over
+// offsets d with w² d² <= limit, and the pass g(i) → min_j g(j) + w² (i −
+// j)² is the least of those few candidates: g(i + d) + b[|d|], b[d] = w² d²
+// (in doubles from the float values, the sums Felzenszwalb and
+// Huttenlocher's lower envelope of parabolas compares: its value, wherever no
+// two candidates tie within rounding).  The first pass starts from 0 at the sources and +inf elsewhere:
+// its value is the float of b[d] for the nearest source, d offsets away.
+// The offsets' terms, b[0] = 0 first:
+std::vector<double> offset_terms(double w, double limit) {
+    std::vector<double> b;
+    for (std::int64_t d = 0; w * w * static_cast<double>(d * d) <= limit; ++d) b.push_back(w * w * static_cast<double>(d * d));
+    return b;
+}
+
+// Planes of n0 × n1 squared distances (x fastest), each row cut into chunks
+// of `chunk` values (the last one padded with +inf) with a flag: set when the
+// chunk may hold a finite value.  A chunk whose flag is clear is +inf
+// throughout: its values are neither written nor read.  A row's last flag:
+// whether any chunk's is set.  The passes along y and z keep x, so a chunk's
+// candidates are the same chunk of other rows, and a chunk with no flagged
+// candidate is skipped — the transforms' work follows the band around the
+// surface.
+struct Planes {
+    static constexpr std::int64_t chunk = 16;
+    std::int64_t n0, n1, chunks, planes;
+    Buffer<float> g;  // a chunk's values written before its flag is set
+    std::vector<std::uint8_t> live;
+    Planes(std::int64_t x, std::int64_t y, std::int64_t p)
+        : n0(x), n1(y), chunks((x + chunk - 1) / chunk), planes(p), g(static_cast<std::size_t>(y * p * chunks * chunk)),
+          live(static_cast<std::size_t>(y * p * (chunks + 1)), 0) {}
+    float* row(std::int64_t p, std::int64_t j) { return g.data() + (p * n1 + j) * chunks * chunk; }
+    std::uint8_t* flags(std::int64_t p, std::int64_t j) { return live.data() + (p * n1 + j) * (chunks + 1); }
+};
+struct Row {
+    const float* values = nullptr;  // nullptr: beyond the box
+    const std::uint8_t* flags = nullptr;
+};
+
+// One row of a pass along y or z, chunk by chunk: acc[x] = min_d in(d)[x] +
+// b[|d|] over |d| < b.size(), in(d) the row at offset d, for the chunks c
+// with need[c]; any[c] is set where some row's chunk is flagged (elsewhere
+// every candidate is +inf and acc is not written).
+template <class In>
+void least_candidates(const In& in, const std::vector<double>& b, const std::uint8_t* need, std::int64_t chunks, double* acc,
+                      std::uint8_t* any) {
+    constexpr std::int64_t w = Planes::chunk;
+    std::fill_n(any, chunks, 0);
+    const std::int64_t r = static_cast<std::int64_t>(b.size()) - 1;
+    for (std::int64_t d = -r; d <= r; ++d) {
+        const Row from = in(d);
+        if (!from.values || !from.flags[chunks]) continue;
+        const double bd = b[static_cast<std::size_t>(std::abs(d))];
+        for (std::int64_t c = 0; c < chunks; ++c) {
+            if (!from.flags[c] || !need[c]) continue;
+            double* a = acc + c * w;
+            const float* f = from.values + c * w;
+            if (any[c]) {
+#pragma omp simd
+                for (std::int64_t x = 0; x < w; ++x) {
+                    const double v = static_cast<double>(f[x]) + bd, old = a[x];
+                    a[x] = v < old ? v : old;
+                }
+            } else {
+#pragma omp simd
+                for (std::int64_t x = 0; x < w; ++x) a[x] = static_cast<double>(f[x]) + bd;
+            }
+            any[c] = 1;
+        }
+    }
+}
+
+// Per thread: the row's sources (e), a row of candidates for each transform,
+// the chunks computed (every: all of them; need) and those with a candidate (any).
+struct Scratch {
+    std::vector<std::uint8_t> e, every, need[2], any[2];
+    std::vector<double> acc[2];
+    explicit Scratch(const Planes& p) : e(static_cast<std::size_t>(p.n0)), every(static_cast<std::size_t>(p.chunks), 1) {
+        for (std::size_t t = 0; t < 2; ++t) {
+            need[t].resize(static_cast<std::size_t>(p.chunks)), any[t].resize(static_cast<std::size_t>(p.chunks));
+            acc[t].resize(static_cast<std::size_t>(p.chunks * Planes::chunk));
+        }
+    }
+};
+
+// The two transforms (t = 0: from the region's sources, read outside; t = 1:
+// from the other class's, read inside) on plane k, in place of the whole
+// box's first two passes: the x pass into xs's plane t (each source's offsets
+// b0, as floats), then the y pass from it into ys[t]'s plane `slot`.  Values
+// above `limit` become +inf after each pass (a later pass only adds to a
+// value).  Called by every thread of a parallel region, each taking rows.
+void xy_passes(std::span<const std::uint8_t> mask, std::int64_t k, const std::array<std::int64_t, 3>& n, const std::vector<float>& b0,
+               const std::vector<double>& b1, double limit, Planes& xs, std::array<Planes, 2>& ys, std::int64_t slot, Scratch& s) {
+    constexpr std::int64_t w = Planes::chunk;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const std::int64_t n0 = n[0], n1 = n[1], chunks = xs.chunks, r0 = static_cast<std::int64_t>(b0.size()) - 1;
+#pragma omp for schedule(static)
+    for (std::int64_t j = 0; j < n1; ++j) {
+        const std::uint8_t* m = mask.data() + (k * n1 + j) * n0;
+        const bool any = row_sources(m, j, k, n, s.e.data());
+        for (std::int64_t t = 0; t < 2; ++t) {
+            std::fill_n(xs.flags(t, j), chunks + 1, 0);
+            if (any) std::fill_n(xs.row(t, j), chunks * w, inf);
+        }
+        for (std::int64_t i = 0; any && i < n0; ++i) {
+            if (!s.e[static_cast<std::size_t>(i)]) continue;
+            const std::int64_t t = 1 - m[i], lo = std::max<std::int64_t>(0, i - r0), hi = std::min(n0 - 1, i + r0);
+            float* g = xs.row(t, j);
+            for (std::int64_t x = lo; x <= hi; ++x) g[x] = std::min(g[x], b0[static_cast<std::size_t>(std::abs(x - i))]);
+            std::fill(xs.flags(t, j) + lo / w, xs.flags(t, j) + hi / w + 1, std::uint8_t{1});
+            xs.flags(t, j)[chunks] = 1;
+        }
+    }
+#pragma omp for schedule(static)
+    for (std::int64_t j = 0; j < n1; ++j)
+        for (std::size_t t = 0; t < 2; ++t) {
+            const auto in = [&](std::int64_t d) {
+                const std::int64_t y = j + d, plane = static_cast<std::int64_t>(t);
+                return y < 0 || y >= n1 ? Row{} : Row{xs.row(plane, y), xs.flags(plane, y)};
+            };
+            least_candidates(in, b1, s.every.data(), chunks, s.acc[t].data(), s.any[t].data());
+            float* out = ys[t].row(slot, j);
+            std::uint8_t* flags = ys[t].flags(slot, j);
+            flags[chunks] = 0;
+            for (std::int64_t c = 0; c < chunks; ++c) {
+                bool finite = false;
+                if (s.any[t][static_cast<std::size_t>(c)])
+                    for (std::int64_t x = c * w; x < (c + 1) * w; ++x) {
+                        const double a = s.acc[t][static_cast<std::size_t>(x)];
+                        out[x] = a > limit ? inf : static_cast<float>(a);
+                        finite |= a <= limit;
+                    }
+                flags[c] = finite;
+                flags[chunks] |= finite;
+            }
+        }
+}
+
+// The field's values on plane z: the z pass of both transforms over ys's
+// planes z − r .. z + r (plane p in slot p mod the ring's planes), then at
+// each voxel, from the transform of the other class's sources, f = ±(√d² −
+// c) clamped to [−cap, cap] (− inside), ±cap where d² is +inf (beyond the
+// band).  `deepest`: the largest d − c inside the region at the voxels of
+// the box `counted` [lo, hi), +inf if such a voxel is beyond the band.
+void field_plane(std::span<const std::uint8_t> mask, std::int64_t z, std::int64_t n2, const std::vector<double>& b2, double limit, double c,
+                 double cap, std::array<Planes, 2>& ys, std::span<float> field, const std::array<std::array<std::int64_t, 3>, 2>& counted,
+                 double& deepest, Scratch& s) {
+    constexpr std::int64_t w = Planes::chunk;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const std::int64_t n0 = ys[0].n0, n1 = ys[0].n1, chunks = ys[0].chunks, ring = ys[0].planes;
+    const bool plane_counted = z >= counted[0][2] && z < counted[1][2];
+#pragma omp for schedule(static)
+    for (std::int64_t j = 0; j < n1; ++j) {
+        const std::uint8_t* m = mask.data() + (z * n1 + j) * n0;
+        float* f = field.data() + (z * n1 + j) * n0;
+        const bool row_counted = plane_counted && j >= counted[0][1] && j < counted[1][1];
+        const auto deep = [&](std::int64_t x) { return row_counted && x >= counted[0][0] && x < counted[1][0]; };
+        for (std::size_t ch = 0; ch < static_cast<std::size_t>(chunks); ++ch) {  // whether a voxel of the chunk reads transform t
+            std::uint8_t some = 0, all = 1;
+            for (std::int64_t x = static_cast<std::int64_t>(ch) * w; x < std::min(n0, static_cast<std::int64_t>(ch + 1) * w); ++x)
+                some |= m[x], all &= m[x];
+            s.need[0][ch] = !all, s.need[1][ch] = some;
+        }
+        for (std::size_t t = 0; t < 2; ++t) {
+            const auto in = [&](std::int64_t d) {
+                const std::int64_t p = z + d;
+                return p < 0 || p >= n2 ? Row{} : Row{ys[t].row(p % ring, j), ys[t].flags(p % ring, j)};
+            };
+            least_candidates(in, b2, s.need[t].data(), chunks, s.acc[t].data(), s.any[t].data());
+        }
+        for (std::size_t ch = 0; ch < static_cast<std::size_t>(chunks); ++ch) {
+            const std::int64_t x0 = static_cast<std::int64_t>(ch) * w, x1 = std::min(n0, x0 + w);
+            if (!s.any[0][ch] && !s.any[1][ch]) {  // every voxel beyond the band: ±cap (what the clamp gives)
+                for (std::int64_t x = x0; x < x1; ++x) {
+                    f[x] = static_cast<float>(m[x] ? -cap : cap);
+                    if (m[x] && deep(x)) deepest = inf;
+                }
+                continue;
+            }
+            for (std::int64_t x = x0; x < x1; ++x) {
+                const std::uint8_t inside = m[x];
+                const double di = s.any[inside][ch] ? s.acc[inside][static_cast<std::size_t>(x)] : inf;
+                const float d2 = di > limit ? std::numeric_limits<float>::infinity() : static_cast<float>(di);
+                if (!(d2 < std::numeric_limits<float>::infinity())) {  // beyond the band
+                    if (inside && deep(x)) deepest = inf;
+                    f[x] = static_cast<float>(inside ? -cap : cap);
                     continue;
                 }
                 const double d = std::sqrt(static_cast<double>(d2)) - c;
-                if (counted) deepest = std::max(deepest, d);
-                field[static_cast<std::size_t>(at)] = static_cast<float>(std::clamp(r ? -d : d, -cap, cap));
+                if (inside && deep(x)) deepest = std::max(deepest, d);
+                f[x] = static_cast<float>(std::clamp(inside ? -d : d, -cap, cap));
             }
-            feature = std::max(feature, deepest);
         }
     }
+}
+
+// The label field (levelset3.hpp, label mode) on the box of n voxels whose
+// mask is `region` (1 in the region, 0 elsewhere): f = d_out − c outside
+// and −(d_in − c) inside, clamped to [−cap, cap].  Exact wherever |f| < cap:
+// a value there is a distance below cap + c to a source, and the transforms
+// keep every squared distance up to limit = (cap + 2c)², so a source within
+// cap + 2c of a voxel is seen.  Both transforms run plane by plane along
+// index axis 2: the x and y passes of plane k into a ring of 2r + 1 planes (r
+// the z pass's largest offset), then the z pass of plane k − r, whose
+// candidates are the ring's planes.  So the work and memory beyond the field
+// are a ring's.  `feature`: the largest inscribed distance at the voxels of
+// the box `counted` [lo, hi) (a part's own voxels; the whole box: [0, n)),
+// +inf where it is beyond the band.
+Buffer<float> banded_distance(std::span<const std::uint8_t> region, const std::array<std::int64_t, 3>& n, const std::array<double, 3>& w,
+                              double c, double cap, const std::array<std::array<std::int64_t, 3>, 2>& counted, double& feature) {
+    const double limit = (cap + 2 * c) * (cap + 2 * c);
+    const std::vector<double> b1 = offset_terms(w[1], limit), b2 = offset_terms(w[2], limit);
+    std::vector<float> b0;
+    for (const double b : offset_terms(w[0], limit)) b0.push_back(static_cast<float>(b));
+    const std::int64_t r = static_cast<std::int64_t>(b2.size()) - 1;
+    Buffer<float> field(static_cast<std::size_t>(n[0] * n[1] * n[2]));  // every element written below (field_plane)
+    Planes xs(n[0], n[1], 2);
+    std::array<Planes, 2> ys{Planes(n[0], n[1], 2 * r + 1), Planes(n[0], n[1], 2 * r + 1)};
+    double deepest = 0;
+#pragma omp parallel reduction(max : deepest)
+    {
+        Scratch s(xs);
+        for (std::int64_t k = 0; k < n[2] + r; ++k) {
+            if (k < n[2]) xy_passes(region, k, n, b0, b1, limit, xs, ys, k % (2 * r + 1), s);
+            if (k >= r) field_plane(region, k - r, n[2], b2, limit, c, cap, ys, field, counted, deepest, s);
+        }
+    }
+    feature = deepest;
     return field;
 }
 
@@ -474,31 +540,35 @@ struct RegionScan {
 RegionScan scan_region(const Volume& v, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot) {
     RegionScan out{v.dims, {-1, -1, -1}, 0, std::vector<std::uint8_t>(std::max<std::size_t>(1, m.labels.size()), 0)};
     std::vector<std::uint8_t>& seen = out.seen;
-    for (std::int64_t k = 0; k < v.dims[2]; ++k)
-        for (std::int64_t j = 0; j < v.dims[1]; ++j) {
-            const std::size_t row = static_cast<std::size_t>(v.dims[0] * (j + v.dims[1] * k));
-            std::int64_t first = -1, last = -1;
-            for (std::int64_t i = 0; i < v.dims[0]; ++i) {
-                std::size_t x = 0;
-                if (!v.labels.empty()) {
-                    x = v.labels[row + static_cast<std::size_t>(i)];
-                } else {
-                    const double d = v.values[row + static_cast<std::size_t>(i)];
-                    // In 0..65535, then an integer (the cast is exact there).
-                    if (!(d >= 0 && d <= 65535) || static_cast<double>(static_cast<std::int32_t>(d)) != d)
-                        throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(d) + ")");
-                    x = static_cast<std::size_t>(d);
+    const auto scan = [&](const auto& label) {  // label(q): voxel q's label
+        for (std::int64_t k = 0; k < v.dims[2]; ++k)
+            for (std::int64_t j = 0; j < v.dims[1]; ++j) {
+                const std::size_t row = static_cast<std::size_t>(v.dims[0] * (j + v.dims[1] * k));
+                std::int64_t first = -1, last = -1;
+                for (std::int64_t i = 0; i < v.dims[0]; ++i) {
+                    const std::size_t x = label(row + static_cast<std::size_t>(i));
+                    if (slot[x] == 0) continue;
+                    seen[slot[x] - 1u] = 1;
+                    if (first < 0) first = i;
+                    last = i;
+                    ++out.voxels;
                 }
-                if (slot[x] == 0) continue;
-                seen[slot[x] - 1u] = 1;
-                if (first < 0) first = i;
-                last = i;
-                ++out.voxels;
+                if (first < 0) continue;
+                out.lo = {std::min(out.lo[0], first), std::min(out.lo[1], j), std::min(out.lo[2], k)};
+                out.hi = {std::max(out.hi[0], last), std::max(out.hi[1], j), std::max(out.hi[2], k)};
             }
-            if (first < 0) continue;
-            out.lo = {std::min(out.lo[0], first), std::min(out.lo[1], j), std::min(out.lo[2], k)};
-            out.hi = {std::max(out.hi[0], last), std::max(out.hi[1], j), std::max(out.hi[2], k)};
-        }
+    };
+    if (!v.labels.empty()) {
+        scan([&](std::size_t q) -> std::size_t { return v.labels[q]; });
+    } else {
+        scan([&](std::size_t q) -> std::size_t {
+            const double d = v.values[q];
+            // In 0..65535, then an integer (the cast is exact there).
+            if (!(d >= 0 && d <= 65535) || static_cast<double>(static_cast<std::int32_t>(d)) != d)
+                throw InputError(v.source + ": label mode needs integer voxel values in 0..65535 (found " + std::to_string(d) + ")");
+            return static_cast<std::size_t>(d);
+        });
+    }
     return out;
 }
 void check_region(const RegionScan& scan, const ImageLevelSetOptions& m, const std::vector<std::uint16_t>& slot,
@@ -527,10 +597,9 @@ Buffer<float> label_field(const Volume& v, int band, std::uint64_t max_memory, c
     const std::uint64_t count = static_cast<std::uint64_t>(n[0]) * static_cast<std::uint64_t>(n[1]) * static_cast<std::uint64_t>(n[2]);
     const std::array<double, 3> w{v.spacing[0], v.spacing[1], v.spacing[2]};
     const double c = 0.5 * std::min({w[0], w[1], w[2]}), cap = label_cap(v, band);
-    const Slabs sl = slabs_of(cap + 2 * c, w[2]);
-    // The mask and the field (1 + 4 bytes a voxel of the box), and a slab of the transforms'.
-    const std::uint64_t window = static_cast<std::uint64_t>(std::min(n[2], sl.slab + 2 * sl.halo));
-    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * window * 4, max_memory,
+    // The mask and the field (1 + 4 bytes a voxel of the box), and the transforms' planes (banded_distance: 2 (2r + 2)).
+    const std::uint64_t planes = 4 * offset_terms(w[2], (cap + 2 * c) * (cap + 2 * c)).size();
+    check_memory(count * 5 + count / static_cast<std::uint64_t>(n[2]) * planes * 4, max_memory,
                  "the label volume's distance field (" + std::to_string(count) + " voxels)", "5 bytes a voxel of the region's bounding box",
                  "crop the volume to the region");
     Buffer<std::uint8_t> region(count);  // every element written below
@@ -543,15 +612,11 @@ Buffer<float> label_field(const Volume& v, int band, std::uint64_t max_memory, c
                 to[i] = slot[v.labels.empty() ? static_cast<std::size_t>(v.values[from + static_cast<std::size_t>(i)])
                                               : v.labels[from + static_cast<std::size_t>(i)]] != 0;
         }
-    for (std::int64_t q = 0; counted && q < static_cast<std::int64_t>(count); ++q) {
-        const Index3 at{lo[0] + q % n[0], lo[1] + q / n[0] % n[1], lo[2] + q / (n[0] * n[1])};
-        bool in = true;
-        for (std::size_t a = 0; a < 3; ++a) in = in && at[a] >= (*counted)[0][a] && at[a] < (*counted)[1][a];
-        if (!in) region[static_cast<std::size_t>(q)] |= uncounted;
-    }
     if (release) Buffer<std::uint16_t>().swap(release->labels), std::vector<double>().swap(release->values);
-    mark_sources(region, n);
-    return banded_distance(region, n, w, c, cap, feature);
+    std::array<Index3, 2> mine{Index3{}, n};  // `counted` in the box's indices
+    for (std::size_t a = 0; counted && a < 3; ++a)
+        mine[0][a] = std::clamp((*counted)[0][a] - lo[a], std::int64_t{0}, n[a]), mine[1][a] = std::clamp((*counted)[1][a] - lo[a], mine[0][a], n[a]);
+    return banded_distance(region, n, w, c, cap, mine, feature);
 }
 
 std::string label_name(const Volume& v, const ImageLevelSetOptions& m) { return v.source + " (label " + labels_text(m) + ")"; }
