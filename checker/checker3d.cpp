@@ -1195,6 +1195,23 @@ Witnessed check_witnesses(const Entry& en, bool delaunay) {
 const char* const KIND[3] = {"min", "max", "face"};
 const char* const TOL[3] = {"0.01", "0.1", "0.01"};
 
+// The claim is the keys' extremes (largest C_min, C_max, C_face) and tight:
+// its most extreme witness per kind (ext: that key) lies within 0.01° /
+// 0.1° of it, as check's.
+void theorem_extremes(const Claim& claim, const std::vector<Entry>& entries, const std::vector<Witnessed>& wit, std::size_t* ext) {
+    for (int j = 0; j < 3; ++j) {
+        Z worst = zint(0);
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            if (cmp(claim_of(entries[i].claim, j), worst) > 0) worst = claim_of(entries[i].claim, j);
+            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
+        }
+        if (cmp(worst, claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
+        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
+            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
+                 " deg of the claim");
+    }
+}
+
 // Prints the theorem (checked), its witnesses (ext: the most extreme key per
 // kind) and the keys' tightness; degrees by arccos in double, messages only:
 // the theorem is the exact statement of the first line.
@@ -2015,17 +2032,7 @@ int check_junctions(const std::vector<std::string>& body, bool progress) {
         wit.push_back(junction_witnesses(keys.back()));
     }
     std::size_t ext[3] = {0, 0, 0};
-    for (int j = 0; j < 3; ++j) {  // the claim is the keys' extremes, and tight: as check's
-        Z worst = zint(0);
-        for (std::size_t i = 0; i < keys.size(); ++i) {
-            if (cmp(claim_of(entries[i].claim, j), worst) > 0) worst = claim_of(entries[i].claim, j);
-            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
-        }
-        if (cmp(worst, claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
-        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
-            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
-                 " deg of the claim");
-    }
+    theorem_extremes(claim, entries, wit, ext);
     long leaves = 0;
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     for (std::size_t i = 0; i < keys.size(); ++i) {  // a progress line per key, rewritten in place on a terminal
@@ -2506,17 +2513,7 @@ int check_a15(const std::vector<std::string>& body, bool progress) {
         wit.push_back(check_witnesses15(keys.back()));
     }
     std::size_t ext[3] = {0, 0, 0};
-    for (int j = 0; j < 3; ++j) {  // the claim is the keys' extremes, and tight: as check's
-        Z worst = zint(0);
-        for (std::size_t i = 0; i < keys.size(); ++i) {
-            if (cmp(claim_of(entries[i].claim, j), worst) > 0) worst = claim_of(entries[i].claim, j);
-            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
-        }
-        if (cmp(worst, claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
-        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
-            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
-                 " deg of the claim");
-    }
+    theorem_extremes(claim, entries, wit, ext);
     // Every leaf, the keys on all threads (OpenMP, where built with it: the
     // keys are independent and the checker has no global state); a failure
     // is reported for the first failing key in the certificate's order.

@@ -146,8 +146,8 @@ BOOST_AUTO_TEST_CASE(the_class_1_prism_peaks_at_an_exact_tie_on_a_corner) {
     // threefold symmetry); the mesher on the reference tetrahedron then takes
     // the face diagonals by the reference's coordinate order and the inside
     // quad's against the face (a, b, r0), and the largest dihedral angle
-    // grows to 155.286° at the line's end, the corner where every cut point
-    // sits at α_B from its B end (u = 0.65).  Off the line the rule's
+    // grows to 155.286° at the line's end, the corner where all four
+    // parameters are at their upper end, 0.65.  Off the line the rule's
     // stencil stays near 150°, so the grid search does not find it; the
     // search tries the exact corners, and the certificate writes their
     // coordinates as the exact ends.

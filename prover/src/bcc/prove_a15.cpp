@@ -106,7 +106,7 @@ int run(const Run& r) {
 int main(int argc, char** argv) {
     using namespace warpmesh::bcc_prover;
     std::array<std::string, 4> alpha{"0.3", "0.3", "0.3", "0.3"};
-    double cap_min = 12.0, cap_max = 160.0;
+    double cap_min = 12.0, cap_max = 160.0, cap_face = 0;
     long every = 1;
     std::optional<std::string> key_list;
     Run r;
@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
             for (auto& s : alpha) s = argv[++i];
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
+        else if (a == "--cap-face-deg" && more) cap_face = std::atof(argv[++i]);
         else if (a == "--every" && more) every = std::atol(argv[++i]);
         else if (a == "--keys" && more) key_list = argv[++i];
         else if (a == "--extremes") r.extremes = true;
@@ -128,16 +129,19 @@ int main(int argc, char** argv) {
             ++i;
 #endif
         } else {
-            std::fprintf(stderr, "usage: warpmesh-prove-a15 [--alphas CHAIN WIDE MIXED_AT_A MIXED_AT_B] [--cap-min-deg D] [--cap-max-deg D] [--every N | --keys I,J,..] [--extremes] [--out FILE] [--threads N]\n");
+            std::fprintf(stderr, "usage: warpmesh-prove-a15 [--alphas CHAIN WIDE MIXED_AT_A MIXED_AT_B] [--cap-min-deg D] [--cap-max-deg D] [--cap-face-deg D] [--every N | --keys I,J,..] [--extremes] [--out FILE] [--threads N]\n");
             return 2;
         }
     }
     if (!parse_alpha(alpha[0], r.al.chain) || !parse_alpha(alpha[1], r.al.wide) || !parse_alpha(alpha[2], r.al.mixed_at_a) ||
-        !parse_alpha(alpha[3], r.al.mixed_at_b) || !(cap_min > 0 && cap_min < 90) || !(cap_max > 90 && cap_max < 180) || every < 1) {
-        std::fprintf(stderr, "warpmesh-prove-a15: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180, every >= 1\n");
+        !parse_alpha(alpha[3], r.al.mixed_at_b) || !(cap_min > 0 && cap_min < 90) || !(cap_max > 90 && cap_max < 180) || !(cap_face >= 0 && cap_face < 60) || every < 1) {
+        std::fprintf(stderr, "warpmesh-prove-a15: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180, 0 <= cap-face-deg < 60, every >= 1\n");
         return 2;
     }
     r.mg.cap = cap_claim(cap_min, cap_max);
+    // The face-angle cap: by default none (cos² 1); a key whose tight
+    // face-angle claim is not proved within the budget claims the cap.
+    if (cap_face > 0) r.mg.cap.cface = std::round(std::ldexp(std::pow(std::cos(cap_face * M_PI / 180), 2), 40)) / 1099511627776.0;
     const auto all = warpmesh::a15::enumerate_keys();
     std::vector<int> subset;
     std::string bad;
