@@ -35,6 +35,12 @@
 // And the graded templates' certificate (proofs/bcc_graded.cert,
 // "warpmesh-bcc-graded 1", see check_graded): the tetrahedra of a graded
 // mesh's octree transitions, re-derived from the fan rule and checked exactly.
+// And the A15 certificate (proofs/a15.cert, "warpmesh-a15-certificate 1",
+// see check_a15): isosurface stuffing on the A15 lattice, whose sites,
+// Delaunay tetrahedra, classes, symmetries, keys, parameter boxes and face
+// rule are re-derived here from proofs/README.md ("The A15 space"); the
+// stencils, leaves, witnesses and tightness are the BCC ones', on the A15
+// reference tetrahedra (Frame).
 // No global state.  Any failure: exit 1; exit 0 only when the printed
 // theorem (an angle bound) holds; exit 3 when a counter-example or ceiling
 // certificate holds (verified, NO BOUND), as warpmesh-check does for
@@ -66,7 +72,9 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
+#include <tuple>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -433,24 +441,37 @@ std::vector<Tet> stencil(const Key& k, const Diag& d) {
     return out;
 }
 std::vector<Tet> stencil(const Key& k) { return stencil(k, parity_diag(k)); }
-long ref_volume(const Tet& t) {  // 6 * volume, quadrupled coordinates
+// The geometry of a key's generic tetrahedron: its reference vertices and
+// each vertex's warp offset (zero for one that stays), integer lattice
+// coordinates (BCC doubled, A15 quadrupled).
+struct Frame {
+    std::array<std::array<int, 3>, 4> ref{}, off{};
+};
+Frame bcc_frame(const Key& k) {
+    Frame f;
+    for (int i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c) f.ref[i][c] = REF[i][c], f.off[i][c] = k.warp[i] == STAY ? 0 : OFF[k.warp[i]][c];
+    return f;
+}
+long ref_volume(const Tet& t, const Frame& fr) {  // 6 * volume at the reference with cut points at the midpoints, doubled
     long p[4][3];
     for (int v = 0; v < 4; ++v)
         for (int c = 0; c < 3; ++c)
-            p[v][c] = t[v] < 4 ? 2 * REF[t[v]][c] : REF[EDGE[t[v] - 4][0]][c] + REF[EDGE[t[v] - 4][1]][c];
+            p[v][c] = t[v] < 4 ? 2 * fr.ref[t[v]][c] : fr.ref[EDGE[t[v] - 4][0]][c] + fr.ref[EDGE[t[v] - 4][1]][c];
     long a[3], b[3], c[3];
     for (int x = 0; x < 3; ++x) a[x] = p[1][x] - p[0][x], b[x] = p[2][x] - p[0][x], c[x] = p[3][x] - p[0][x];
     return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
-std::vector<Tet> oriented(const Key& k, const Diag& d) {
+std::vector<Tet> oriented(const Key& k, const Diag& d, const Frame& fr) {
     std::vector<Tet> s = stencil(k, d);
     for (Tet& t : s) {
-        const long v = ref_volume(t);
+        const long v = ref_volume(t, fr);
         if (v == 0) fail("flat stencil tetrahedron");
         if (v < 0) std::swap(t[2], t[3]);
     }
     return s;
 }
+std::vector<Tet> oriented(const Key& k, const Diag& d) { return oriented(k, d, bcc_frame(k)); }
 std::vector<Tet> oriented(const Key& k) { return oriented(k, parity_diag(k)); }
 
 // ---- symmetries and canonical keys -------------------------------------------------
@@ -565,29 +586,26 @@ struct Claim {
 // The scaled integer 2^K · x of a box end (K >= x.e).
 Z scaled(const Dy& x, int K) { return zint(x.m) * pow2(K - x.e); }
 
-// The ten points of the generic tetrahedron, times 2^K, on box b (T = I: values
-// only; T = D: with partials in the box's parameters; T = D2: and second
-// partials).
+// The ten points of the generic tetrahedron of frame fr, times S, where the
+// parameters ps take the scaled values val (val[i] = S times parameter i's
+// interval; T = I: values only; T = D: with partials in the parameters, at
+// the value's scale S; T = D2: and second partials).
 template <class T>
-std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& ps, const Box& b, int K) {
+std::array<std::array<T, 3>, 10> scaled_points(const Frame& fr, const std::vector<Param>& ps, const std::vector<I>& val, const Z& S) {
     std::array<T, 10> var{};
-    std::array<int, 10> which{};
-    which.fill(-1);
     for (std::size_t i = 0; i < ps.size(); ++i) {
-        I x{scaled(b[i].lo, K), scaled(b[i].hi, K)};
-        which[ps[i].index] = static_cast<int>(i);
         if constexpr (!std::is_same_v<T, I>) {
             var[ps[i].index] = T{};
-            var[ps[i].index].v = x, var[ps[i].index].n = static_cast<int>(ps.size());
-            var[ps[i].index].d[i] = point(pow2(K));  // dt/dt, at the value's scale 2^K
+            var[ps[i].index].v = val[i], var[ps[i].index].n = static_cast<int>(ps.size());
+            var[ps[i].index].d[i] = point(S);  // dt/dt, at the value's scale S
         } else {
-            var[ps[i].index] = x;
+            var[ps[i].index] = val[i];
         }
     }
     const auto cst = [&](int v) {
         T c{};
-        if constexpr (!std::is_same_v<T, I>) c.v = point(zint(v) * pow2(K));
-        else c = point(zint(v) * pow2(K));
+        if constexpr (!std::is_same_v<T, I>) c.v = point(zint(v) * S);
+        else c = point(zint(v) * S);
         return c;
     };
     const auto times = [&](int c, const T& x) {  // c · x, c a small integer
@@ -604,17 +622,27 @@ std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& 
     std::array<std::array<T, 3>, 10> pt{};
     for (int i = 0; i < 4; ++i)
         for (int c = 0; c < 3; ++c) {
-            pt[i][c] = cst(REF[i][c]);
-            if (k.warp[i] != STAY && OFF[k.warp[i]][c] != 0) pt[i][c] = pt[i][c] + times(OFF[k.warp[i]][c], var[i]);
+            pt[i][c] = cst(fr.ref[i][c]);
+            if (fr.off[i][c] != 0) pt[i][c] = pt[i][c] + times(fr.off[i][c], var[i]);
         }
     for (int e = 0; e < 6; ++e)
         for (int c = 0; c < 3; ++c) {
-            const int a = REF[EDGE[e][0]][c], d = REF[EDGE[e][1]][c] - a;
+            const int a = fr.ref[EDGE[e][0]][c], d = fr.ref[EDGE[e][1]][c] - a;
             pt[4 + e][c] = cst(a);
             if (d != 0) pt[4 + e][c] = pt[4 + e][c] + times(d, var[4 + e]);
         }
-    (void)which;
     return pt;
+}
+// The ten points on box b, times 2^K (K >= every end's exponent).
+template <class T>
+std::array<std::array<T, 3>, 10> points(const Frame& fr, const std::vector<Param>& ps, const Box& b, int K) {
+    std::vector<I> val;
+    for (const Side& s : b) val.push_back(I{scaled(s.lo, K), scaled(s.hi, K)});
+    return scaled_points<T>(fr, ps, val, pow2(K));
+}
+template <class T>
+std::array<std::array<T, 3>, 10> points(const Key& k, const std::vector<Param>& ps, const Box& b, int K) {
+    return points<T>(bcc_frame(k), ps, b, K);
 }
 
 template <class T>
@@ -719,6 +747,8 @@ struct Model {
     Key k;  // the warps (one region: and the signs)
     std::vector<Param> ps;
     bool junction = false;
+    std::optional<Frame> a15;  // an A15 key's frame (its warps: fr.off; k.warp unused), else BCC's
+    Frame frame() const { return a15 ? *a15 : bcc_frame(k); }
 };
 template <class T>
 std::array<P3<T>, 15> jpoints(const Model& m, const Box& b, int K);
@@ -727,7 +757,7 @@ std::array<P3<T>, 15> jpoints(const Model& m, const Box& b, int K);
 template <class T, class F>
 auto on_points(const Model& m, const Box& b, int K, F&& f) {
     if (m.junction) return f(jpoints<T>(m, b, K));
-    return f(points<T>(m.k, m.ps, b, K));
+    return f(points<T>(m.frame(), m.ps, b, K));
 }
 
 // ---- the Delaunay face rule (format 5) -------------------------------------------
@@ -760,21 +790,34 @@ std::vector<int> admits(const I& x) {
 }
 // The output tetrahedra of every stencil the Delaunay rule admits where the
 // points pt are (a leaf box, or an exact point: one stencil), each once.
-// Ties: a face quad takes the parity rule's diagonal, the inside quad the
-// choice against the face (a, b, r0).  An n- = 3 prism's three face quads
-// never all turn the same way at a point (P_a < P_b < P_c < P_a; a tie
-// breaks no order), so such combinations are skipped.
-std::vector<Tet> delaunay_tets(const Key& k, const std::array<P3<I>, 10>& pt) {
+// Ties, BCC: a face quad takes the parity rule's diagonal, the inside quad
+// the choice against the face (a, b, r0).  A15 (m.a15): the tie of a face
+// quad goes by the face's global order, which the key does not know, so a
+// box admits both diagonals; an exact point (at_point: a witness) is the
+// configuration on the reference tetrahedron itself, where a face quad's tie
+// goes to a iff a's reference coordinates precede b's lexicographically and
+// the inside quad's against the face (a, b, r0), as on BCC (a box admits
+// both there too: another tetrahedron of the class may hold the key in
+// another vertex order).  An n- = 3 prism's three face quads never all turn
+// the same way at a point (P_a < P_b < P_c < P_a; a tie breaks no order),
+// so such combinations are skipped.
+std::vector<Tet> delaunay_tets(const Model& m, const std::array<P3<I>, 10>& pt, bool at_point) {
+    const Key& k = m.k;
+    const Frame fr = m.frame();
     std::array<std::vector<int>, 5> opt;  // per face (the vertex off it), then the inside quad
     std::vector<int> ng, ps;
     for (int i = 0; i < 4; ++i) {
         if (k.sign[i] < 0) ng.push_back(i);
         if (k.sign[i] > 0) ps.push_back(i);
     }
+    const auto tie = [&](std::vector<int> o) { return m.a15 && !at_point && o == std::vector<int>{0} ? std::vector<int>{-1, 1} : o; };
     for (int f = 0, a, b, r; f < 4; ++f)
-        opt[f] = quad_face(k, f, a, b, r) ? admits(power(pt, b, r) - power(pt, a, r)) : std::vector<int>{1};
-    opt[4] = ng.size() == 2 && ps.size() == 2 ? admits(inside(pt, ng[0], ng[1], ps[0], ps[1])) : std::vector<int>{0};
-    const Diag par = parity_diag(k);
+        opt[f] = quad_face(k, f, a, b, r) ? tie(admits(power(pt, b, r) - power(pt, a, r))) : std::vector<int>{1};
+    opt[4] = ng.size() == 2 && ps.size() == 2 ? tie(admits(inside(pt, ng[0], ng[1], ps[0], ps[1]))) : std::vector<int>{0};
+    Diag par = parity_diag(k);
+    if (m.a15)
+        for (int f = 0, a, b, r; f < 4; ++f)
+            if (quad_face(k, f, a, b, r)) par.face[f] = fr.ref[a] < fr.ref[b];
     std::vector<Tet> out;
     for (int c = 0, n = 1; c < n; ++c) {
         Diag d;
@@ -790,7 +833,7 @@ std::vector<Tet> delaunay_tets(const Key& k, const std::array<P3<I>, 10>& pt) {
             const bool f0 = takes(d, ng[0], ng[1], ps[0]);
             if (takes(d, ng[1], ng[2], ps[0]) == f0 && takes(d, ng[2], ng[0], ps[0]) == f0) continue;
         }
-        for (const Tet& t : oriented(k, d))
+        for (const Tet& t : oriented(k, d, fr))
             if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
     }
     return out;
@@ -906,7 +949,7 @@ long replay(const Model& m, const std::vector<Tet>& tets, const Box& root, const
         if (at >= splits.size()) fail("split string too short");
         const char c = splits[at++];
         if (c == '0') {
-            const auto at = [&] { return delaunay_tets(m.k, points<I>(m.k, m.ps, b, leaf_exponent(b))); };
+            const auto at = [&] { return delaunay_tets(m, points<I>(m.frame(), m.ps, b, leaf_exponent(b)), false); };
             if (!verify_leaf(m, delaunay ? at() : tets, b, cl)) fail("leaf not verified");
             ++leaves;
             continue;
@@ -972,7 +1015,7 @@ Cos2 witness_cos2(const Model& m, const std::vector<Tet>& tets, const std::vecto
     Cos2 best;
     on_points<I>(m, b, K, [&](const auto& pt) {
         if constexpr (std::tuple_size_v<std::decay_t<decltype(pt)>> == 10)
-            if (delaunay) return extreme_cos2(delaunay_tets(m.k, pt), pt, kind, found, best);
+            if (delaunay) return extreme_cos2(delaunay_tets(m, pt, true), pt, kind, found, best);
         return extreme_cos2(tets, pt, kind, found, best);
     });
     if (!found) fail("min witness without an acute angle");
@@ -1141,7 +1184,7 @@ Witnessed check_witnesses(const Entry& en, bool delaunay) {
     const std::vector<Tet> tets = oriented(en.k);
     Witnessed w{};
     for (int j = 0; j < 3; ++j) {
-        w.c[j] = witness_cos2(Model{en.k, en.ps, false}, tets, en.w[j], j, delaunay);
+        w.c[j] = witness_cos2(Model{en.k, en.ps, false, std::nullopt}, tets, en.w[j], j, delaunay);
         const Z& c = claim_of(en.claim, j);
         if ((j != 1 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), c * w.c[j].q) > 0) fail("the witness of " + en.code + " contradicts its claim");
         w.tight[j] = tight(c, w.c[j], tol_den(j), j == 1);
@@ -1152,14 +1195,32 @@ Witnessed check_witnesses(const Entry& en, bool delaunay) {
 const char* const KIND[3] = {"min", "max", "face"};
 const char* const TOL[3] = {"0.01", "0.1", "0.01"};
 
+// The claim is the keys' extremes (largest C_min, C_max, C_face) and tight:
+// its most extreme witness per kind (ext: that key) lies within 0.01° /
+// 0.1° of it, as check's.
+void theorem_extremes(const Claim& claim, const std::vector<Entry>& entries, const std::vector<Witnessed>& wit, std::size_t* ext) {
+    for (int j = 0; j < 3; ++j) {
+        Z worst = zint(0);
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            if (cmp(claim_of(entries[i].claim, j), worst) > 0) worst = claim_of(entries[i].claim, j);
+            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
+        }
+        if (cmp(worst, claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
+        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
+            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
+                 " deg of the claim");
+    }
+}
+
 // Prints the theorem (checked), its witnesses (ext: the most extreme key per
 // kind) and the keys' tightness; degrees by arccos in double, messages only:
 // the theorem is the exact statement of the first line.
 void print_theorem(const std::string& setting, const std::array<std::string, 3>& text, const Claim& claim,
-                   const std::vector<Entry>& entries, const std::vector<Witnessed>& wit, const std::size_t* ext, long leaves) {
+                   const std::vector<Entry>& entries, const std::vector<Witnessed>& wit, const std::size_t* ext, long leaves,
+                   const char* lattice = "BCC") {
     double deg[3];
     for (int j = 0; j < 3; ++j) deg[j] = degrees(Cos2{claim_of(claim, j), pow2(40), j != 1});
-    std::cout << std::fixed << std::setprecision(10) << "BCC theorem (alphas " << setting
+    std::cout << std::fixed << std::setprecision(10) << lattice << " theorem (alphas " << setting
               << "): every output tetrahedron of the " << entries.size()
               << " keys is positively oriented, and every dihedral angle t has cos t <= 0 or cos^2 t <= " << text[0]
               << ", and cos t >= 0 or cos^2 t <= " << text[1] << ": t in [" << deg[0] << ", " << deg[1] << "] deg (" << leaves
@@ -1901,7 +1962,7 @@ JFace parse_face_line(const std::string& line, const JKey& k, const std::string&
     const std::string name = code + " face " + std::to_string(f);
     if (!(in >> word >> F >> m) || word != "face" || F != f) fail("expected face line " + std::to_string(f) + " of " + code);
     JFace face;
-    face.m = Model{Key{}, jface_params(k, f, along, ashort, den), true};
+    face.m = Model{Key{}, jface_params(k, f, along, ashort, den), true, std::nullopt};
     for (int i = 0; i < 4; ++i) face.m.k.warp[i] = k.warp[i];
     if (m != static_cast<int>(face.m.ps.size())) fail("wrong parameter count for " + name);
     face.tets = jorient(jface_tets(k, f));
@@ -1971,17 +2032,7 @@ int check_junctions(const std::vector<std::string>& body, bool progress) {
         wit.push_back(junction_witnesses(keys.back()));
     }
     std::size_t ext[3] = {0, 0, 0};
-    for (int j = 0; j < 3; ++j) {  // the claim is the keys' extremes, and tight: as check's
-        Z worst = zint(0);
-        for (std::size_t i = 0; i < keys.size(); ++i) {
-            if (cmp(claim_of(entries[i].claim, j), worst) > 0) worst = claim_of(entries[i].claim, j);
-            if (j != 1 ? larger(wit[ext[j]].c[j], wit[i].c[j]) : larger(wit[i].c[j], wit[ext[j]].c[j])) ext[j] = i;
-        }
-        if (cmp(worst, claim_of(claim, j)) != 0) fail("the claim is not the keys' extremes");
-        if (!tight(claim_of(claim, j), wit[ext[j]].c[j], tol_den(j), j == 1))
-            fail(std::string("the theorem's ") + KIND[j] + " witness (" + entries[ext[j]].code + ") is not within " + TOL[j] +
-                 " deg of the claim");
-    }
+    theorem_extremes(claim, entries, wit, ext);
     long leaves = 0;
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     for (std::size_t i = 0; i < keys.size(); ++i) {  // a progress line per key, rewritten in place on a terminal
@@ -1992,6 +2043,511 @@ int check_junctions(const std::vector<std::string>& body, bool progress) {
     }
     if (progress && terminal) std::cerr << "\r\033[K";
     print_theorem(al + ", " + as + ", junction keys", text, claim, entries, wit, ext, leaves);
+    return 0;
+}
+
+// ---- the A15 certificate (proofs/a15.cert) -----------------------------------------
+// Format (proofs/README.md, "The A15 certificate"):
+//   warpmesh-a15-certificate 1
+//   alphas CHAIN WIDE A B   exact rationals, one denominator below 2^31, each in (0, 1/2):
+//                           the thresholds of chain and wide B–B edges, and of mixed
+//                           A–B edges at their A end and at their B end
+//   claim CMIN CMAX CFACE   exactly the keys' extremes, tight
+//   keys N                  every canonical A15 key with output, in any order
+//   key CODE m lo_0 hi_0 .. CMIN CMAX CFACE WMIN_0 .. WMAX_0 .. WFACE_0 .. SPLITS
+// as a BCC key line, with an A15 code ("1:+,-,0c,-": the class, then per
+// vertex of the class's reference its sign and, for a zero vertex, its warp
+// letter a.. (an index into its site's lattice edges, by |d|² then
+// lexicographically) or s), and witness coordinates p/q with q a power of 2
+// up to 2^24 or the alphas' denominator (an exact end of the box).
+// Everything else is re-derived here from the definition of proofs/README.md
+// ("The A15 space"): the sites, the lattice edges, the Delaunay
+// tetrahedra of a cell (every 4-clique of lattice edges whose circumsphere
+// holds no other lattice point, exactly; their volumes must fill the cell,
+// so none is missing), each tetrahedron the image of its class's reference
+// under a lattice symmetry (so a configuration of any background
+// tetrahedron is one of its reference's, with the same angles), the
+// reference's own symmetries, the consistent keys and their canonical forms,
+// the parameter boxes, the stencils (BCC's, oriented at the A15 reference)
+// and the Delaunay rule with A15's ties (delaunay_tets).
+using V3 = std::array<int, 3>;
+// The sites of a cubic cell, quadrupled coordinates: A (Si) then B (Cr).
+const V3 A15_SITE[8] = {{0, 0, 0}, {2, 2, 2}, {1, 0, 2}, {3, 0, 2}, {2, 1, 0}, {2, 3, 0}, {0, 2, 1}, {0, 2, 3}};
+// The references (the codes' local vertex orders): class 0 (B, B', A, B'')
+// with BB' a chain edge, class 1 (A, B, B', B''), class 2 (B0, B1, B2, B3)
+// with B0B1 and B2B3 chain edges.
+const V3 A15_REF[3][4] = {{{-1, 0, 2}, {1, 0, 2}, {0, 0, 0}, {0, 2, 1}},
+                          {{0, 0, 0}, {0, 2, 1}, {1, 0, 2}, {2, 1, 0}},
+                          {{-1, 0, 2}, {1, 0, 2}, {0, 2, 1}, {0, 2, 3}}};
+int a15_site(const V3& q) {
+    V3 r{};
+    for (int c = 0; c < 3; ++c) r[c] = ((q[c] % 4) + 4) % 4;
+    for (int s = 0; s < 8; ++s)
+        if (A15_SITE[s] == r) return s;
+    return -1;
+}
+V3 add3(const V3& a, const V3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+V3 diff3(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+int norm2(const V3& d) { return d[0] * d[0] + d[1] * d[1] + d[2] * d[2]; }
+long long det3(const V3& a, const V3& b, const V3& c) {
+    return static_cast<long long>(a[0]) * (b[1] * c[2] - b[2] * c[1]) - static_cast<long long>(a[1]) * (b[0] * c[2] - b[2] * c[0]) +
+           static_cast<long long>(a[2]) * (b[0] * c[1] - b[1] * c[0]);
+}
+long long vol6(const std::array<V3, 4>& t) { return det3(diff3(t[1], t[0]), diff3(t[2], t[0]), diff3(t[3], t[0])); }
+// x ↦ L x, L a signed permutation matrix.
+struct Lin {
+    int L[3][3];
+    V3 operator()(const V3& x) const {
+        V3 y{};
+        for (int r = 0; r < 3; ++r) y[r] = L[r][0] * x[0] + L[r][1] * x[1] + L[r][2] * x[2];
+        return y;
+    }
+};
+std::vector<Lin> signed_permutations() {
+    std::vector<Lin> out;
+    std::array<int, 3> ax{0, 1, 2};
+    do
+        for (int sg = 0; sg < 8; ++sg) {
+            Lin m{};
+            for (int r = 0; r < 3; ++r) m.L[r][ax[r]] = (sg >> r) & 1 ? -1 : 1;
+            out.push_back(m);
+        }
+    while (std::next_permutation(ax.begin(), ax.end()));
+    return out;
+}
+// Whether x ↦ L x + t maps the lattice onto itself (the 8 sites onto 8
+// distinct sites modulo the cell).
+bool lattice_map(const Lin& L, const V3& t) {
+    std::set<int> img;
+    for (const V3& s : A15_SITE) {
+        const int i = a15_site(add3(L(s), t));
+        if (i < 0) return false;
+        img.insert(i);
+    }
+    return img.size() == 8;
+}
+// A lattice symmetry mapping tetrahedron `from` onto `to` vertex for vertex
+// through the permutation p (from[i] ↦ to[p[i]]): its linear part, if any.
+std::optional<Lin> maps_onto(const std::array<V3, 4>& from, const std::array<V3, 4>& to, const std::array<int, 4>& p,
+                             const std::vector<Lin>& lins) {
+    for (const Lin& L : lins) {
+        const V3 t = diff3(to[p[0]], L(from[0]));
+        bool ok = true;
+        for (int i = 1; i < 4 && ok; ++i) ok = add3(L(from[i]), t) == to[p[i]];
+        if (ok && lattice_map(L, t)) return L;
+    }
+    return std::nullopt;
+}
+// Where q lies against the circumsphere of t (6·volume != 0): +1 strictly
+// inside, 0 on it, -1 outside.  The lifted determinant, coordinates times 4
+// so that the centroid (an interior point) is integral: q is inside iff its
+// determinant has the centroid's sign.
+int sphere_side(const std::array<V3, 4>& t, const V3& q) {
+    const auto lifted = [&](const V3& x4) {
+        __int128 m[4][4];
+        for (int i = 0; i < 4; ++i) {
+            const V3 d = diff3({4 * t[i][0], 4 * t[i][1], 4 * t[i][2]}, x4);
+            for (int c = 0; c < 3; ++c) m[i][c] = d[c];
+            m[i][3] = static_cast<__int128>(d[0]) * d[0] + static_cast<__int128>(d[1]) * d[1] + static_cast<__int128>(d[2]) * d[2];
+        }
+        const auto minor3 = [&](const int* r) {  // the rows r, columns 0..2
+            return m[r[0]][0] * (m[r[1]][1] * m[r[2]][2] - m[r[1]][2] * m[r[2]][1]) -
+                   m[r[0]][1] * (m[r[1]][0] * m[r[2]][2] - m[r[1]][2] * m[r[2]][0]) +
+                   m[r[0]][2] * (m[r[1]][0] * m[r[2]][1] - m[r[1]][1] * m[r[2]][0]);
+        };
+        __int128 det = 0;  // expansion along the last column
+        for (int i = 0; i < 4; ++i) {
+            int r[3], n = 0;
+            for (int j = 0; j < 4; ++j)
+                if (j != i) r[n++] = j;
+            det += (i % 2 == 0 ? -1 : 1) * m[i][3] * minor3(r);
+        }
+        return det;
+    };
+    const __int128 dc = lifted(add3(add3(t[0], t[1]), add3(t[2], t[3])));
+    const __int128 dq = lifted({4 * q[0], 4 * q[1], 4 * q[2]});
+    if (dc == 0) fail("internal: a centroid on its circumsphere");
+    return dq == 0 ? 0 : (dq > 0) == (dc > 0) ? 1 : -1;
+}
+// The lattice as re-derived: each site's lattice edges (offsets, by |d|²
+// then lexicographically: the warp letters' order), and each class's
+// reference symmetries (vertex permutation and linear part).
+struct A15 {
+    std::array<std::vector<V3>, 8> nb;
+    struct Sym15 {
+        std::array<int, 4> p;
+        Lin L;
+    };
+    std::array<std::vector<Sym15>, 3> sym;
+    std::array<int, 3> per_class{};  // Delaunay tetrahedra per cell, by class
+};
+std::array<V3, 4> a15_ref(int c) { return {A15_REF[c][0], A15_REF[c][1], A15_REF[c][2], A15_REF[c][3]}; }
+// Every lattice point with coordinates in [lo, hi).
+std::vector<V3> lattice_points(int lo, int hi) {
+    std::vector<V3> out;
+    for (int x = lo; x < hi; ++x)
+        for (int y = lo; y < hi; ++y)
+            for (int z = lo; z < hi; ++z)
+                if (a15_site({x, y, z}) >= 0) out.push_back({x, y, z});
+    return out;
+}
+// The lattice edges: no two lattice points closer than |d|² = 4; an A site
+// has 12 edges of |d|² <= 6, a B site 14.
+void derive_edges(A15& g) {
+    for (int s = 0; s < 8; ++s) {
+        for (int x = -3; x <= 3; ++x)
+            for (int y = -3; y <= 3; ++y)
+                for (int z = -3; z <= 3; ++z) {
+                    const V3 d{x, y, z};
+                    if (norm2(d) == 0 || norm2(d) > 6 || a15_site(add3(A15_SITE[s], d)) < 0) continue;
+                    if (norm2(d) < 4) fail("A15: two lattice points closer than an edge");
+                    g.nb[s].push_back(d);
+                }
+        std::sort(g.nb[s].begin(), g.nb[s].end(), [](const V3& a, const V3& b) { return std::pair{norm2(a), a} < std::pair{norm2(b), b}; });
+        if (static_cast<int>(g.nb[s].size()) != (s < 2 ? 12 : 14)) fail("A15: a site's edge count");
+    }
+}
+bool adjacent(const V3& a, const V3& b) {
+    const int n = norm2(diff3(a, b));
+    return n >= 4 && n <= 6;
+}
+// The Delaunay tetrahedra with their centroid in cell 0 (coordinate sums in
+// [0, 16)³): every 4-clique of lattice edges whose circumsphere has every
+// other lattice point strictly outside.  Their 6·volumes must add up to the
+// cell's, 6·4³: the Delaunay tetrahedra tile space, so none is missing (and,
+// no point being on a sphere, the tiling is unique).  Each must be the image
+// of one reference under a lattice symmetry, every reference positively
+// oriented and Delaunay.
+void derive_tetrahedra(A15& g, const std::vector<Lin>& lins) {
+    const std::vector<V3> verts = lattice_points(-3, 7), probe = lattice_points(-6, 11);
+    long long volume = 0;
+    for (std::size_t a = 0; a < verts.size(); ++a)
+        for (std::size_t b = a + 1; b < verts.size(); ++b)
+            for (std::size_t c = b + 1; c < verts.size(); ++c)
+                for (std::size_t d = c + 1; d < verts.size(); ++d) {
+                    const std::array<V3, 4> t{verts[a], verts[b], verts[c], verts[d]};
+                    bool clique = true;
+                    for (int i = 0; i < 4 && clique; ++i)
+                        for (int j = i + 1; j < 4 && clique; ++j) clique = adjacent(t[i], t[j]);
+                    if (!clique) continue;
+                    const V3 sum = add3(add3(t[0], t[1]), add3(t[2], t[3]));
+                    if (!(sum[0] >= 0 && sum[0] < 16 && sum[1] >= 0 && sum[1] < 16 && sum[2] >= 0 && sum[2] < 16) || vol6(t) == 0) continue;
+                    bool empty = true;
+                    for (const V3& q : probe)
+                        if (q != t[0] && q != t[1] && q != t[2] && q != t[3]) {
+                            const int side = sphere_side(t, q);
+                            if (side == 0) fail("A15: five lattice points on one sphere (the Delaunay tetrahedra are not unique)");
+                            empty = empty && side < 0;
+                        }
+                    if (!empty) continue;
+                    volume += std::llabs(vol6(t));
+                    int cls = -1;
+                    std::array<int, 4> p{0, 1, 2, 3};
+                    for (int k = 0; k < 3 && cls < 0; ++k) {
+                        std::sort(p.begin(), p.end());
+                        do
+                            if (maps_onto(a15_ref(k), t, p, lins)) cls = k;
+                        while (cls < 0 && std::next_permutation(p.begin(), p.end()));
+                    }
+                    if (cls < 0) fail("A15: a Delaunay tetrahedron is the image of no reference");
+                    ++g.per_class[cls];
+                }
+    if (volume != 6 * 64) fail("A15: the Delaunay tetrahedra found do not fill the cell");
+    for (int k = 0; k < 3; ++k) {
+        const std::array<V3, 4> r = a15_ref(k);
+        if (vol6(r) <= 0) fail("A15: a reference is not positively oriented");
+        for (const V3& q : probe)
+            if (q != r[0] && q != r[1] && q != r[2] && q != r[3] && sphere_side(r, q) >= 0) fail("A15: a reference is not Delaunay");
+    }
+}
+// Each reference's lattice symmetries: the permutations p and linear parts L
+// with L r_i + t = r_{p[i]} for a lattice symmetry x ↦ L x + t.
+void derive_symmetries(A15& g, const std::vector<Lin>& lins) {
+    for (int k = 0; k < 3; ++k) {
+        std::array<int, 4> p{0, 1, 2, 3};
+        do
+            for (const Lin& L : lins) {
+                const V3 t = diff3(A15_REF[k][p[0]], L(A15_REF[k][0]));
+                bool ok = true;
+                for (int i = 1; i < 4 && ok; ++i) ok = add3(L(A15_REF[k][i]), t) == A15_REF[k][p[i]];
+                if (ok && lattice_map(L, t)) g.sym[k].push_back({p, L});
+            }
+        while (std::next_permutation(p.begin(), p.end()));
+    }
+}
+A15 derive_a15() {
+    A15 g;
+    const std::vector<Lin> lins = signed_permutations();
+    derive_edges(g);
+    derive_tetrahedra(g, lins);
+    derive_symmetries(g, lins);
+    return g;
+}
+
+// ---- A15 keys ---------------------------------------------------------------------------
+int site_of_vertex(int cls, int i) { return a15_site(A15_REF[cls][i]); }
+int a15_dir(const A15& g, int site, const V3& d) {
+    for (std::size_t i = 0; i < g.nb[site].size(); ++i)
+        if (g.nb[site][i] == d) return static_cast<int>(i);
+    return -1;
+}
+// The local vertex vertex i of class cls reaches along its warp w, or -1.
+int a15_reached(const A15& g, int cls, int i, int w) {
+    if (w == STAY) return -1;
+    const V3 q = add3(A15_REF[cls][i], g.nb[site_of_vertex(cls, i)][w]);
+    for (int j = 0; j < 4; ++j)
+        if (A15_REF[cls][j] == q) return j;
+    return -1;
+}
+// The consistency rules of proofs/README.md ("The A15 space"): only zero
+// vertices warp; no two warp towards each other; a vertex warped along an
+// edge of the tetrahedron found its other end unwarped, so that end, if
+// zero, warped later (not `s`).
+bool a15_consistent(const A15& g, int cls, const Key& k) {
+    for (int i = 0; i < 4; ++i) {
+        const int w = k.warp[i];
+        if (w == STAY) continue;
+        if (k.sign[i] != 0 || w >= static_cast<int>(g.nb[site_of_vertex(cls, i)].size())) return false;
+        const int j = a15_reached(g, cls, i, w);
+        if (j >= 0 && (a15_reached(g, cls, j, k.warp[j]) == i || (k.sign[j] == 0 && k.warp[j] == STAY))) return false;
+    }
+    return true;
+}
+using Enc15 = std::array<int, 9>;  // class, then sign and warp of each vertex
+Enc15 enc15(int cls, const Key& k) { return {cls, k.sign[0], k.warp[0], k.sign[1], k.warp[1], k.sign[2], k.warp[2], k.sign[3], k.warp[3]}; }
+Key a15_image(const A15& g, int cls, const Key& k, const A15::Sym15& s) {
+    Key m;
+    for (int i = 0; i < 4; ++i) {
+        const int to = s.p[i];
+        m.sign[to] = k.sign[i];
+        m.warp[to] = k.warp[i] == STAY ? STAY : a15_dir(g, site_of_vertex(cls, to), s.L(g.nb[site_of_vertex(cls, i)][k.warp[i]]));
+        if (m.warp[to] < 0) fail("A15: a symmetry maps a lattice edge to none");
+    }
+    return m;
+}
+// Every canonical consistent key with a - vertex: the smallest image.
+std::set<Enc15> a15_keys(const A15& g) {
+    std::set<Enc15> out;
+    for (int cls = 0; cls < 3; ++cls)
+        for (int code = 0; code < 81; ++code) {
+            Key k;
+            for (int i = 0, c = code; i < 4; ++i, c /= 3) k.sign[i] = c % 3 - 1;
+            if (std::none_of(k.sign.begin(), k.sign.end(), [](int v) { return v < 0; })) continue;
+            std::array<int, 4> n{};
+            for (int i = 0; i < 4; ++i) n[i] = k.sign[i] == 0 ? static_cast<int>(g.nb[site_of_vertex(cls, i)].size()) + 1 : 1;
+            for (int w = 0; w < n[0] * n[1] * n[2] * n[3]; ++w) {
+                for (int i = 0, r = w; i < 4; ++i, r /= n[i - 1]) k.warp[i] = k.sign[i] != 0 || r % n[i] == n[i] - 1 ? STAY : r % n[i];
+                if (!a15_consistent(g, cls, k)) continue;
+                Enc15 best = enc15(cls, k);
+                for (const A15::Sym15& s : g.sym[cls]) best = std::min(best, enc15(cls, a15_image(g, cls, k, s)));
+                out.insert(best);
+            }
+        }
+    return out;
+}
+// "C:v,v,v,v", v one of -, +, 0x (x a warp letter a.. or s).
+std::pair<int, Key> a15_parse_code(const std::string& s) {
+    const auto bad = [&] { fail("bad A15 key code " + s.substr(0, 40)); };
+    if (s.size() < 2 || s[0] < '0' || s[0] > '2' || s[1] != ':') bad();
+    Key k;
+    std::size_t at = 2;
+    for (int i = 0; i < 4; ++i) {
+        if (at >= s.size()) bad();
+        const char c = s[at++];
+        if (c == '-' || c == '+') k.sign[i] = c == '-' ? -1 : 1;
+        else if (c == '0' && at < s.size() && (s[at] == 's' || (s[at] >= 'a' && s[at] <= 'n')))
+            k.sign[i] = 0, k.warp[i] = s[at] == 's' ? STAY : s[at] - 'a', ++at;
+        else bad();
+        if (i < 3 && (at >= s.size() || s[at++] != ',')) bad();
+    }
+    if (at != s.size()) bad();
+    return {s[0] - '0', k};
+}
+// The thresholds: chain, wide, mixed at the A end, mixed at the B end (over den).
+struct Alphas15 {
+    std::array<std::int64_t, 4> num{};
+    std::int64_t den = 1;
+    std::int64_t at(int len2, bool end_is_a) const { return len2 == 4 ? num[0] : len2 == 6 ? num[1] : end_is_a ? num[2] : num[3]; }
+};
+// The key's parameters (warped vertices, then cut edges, by local index):
+// t of vertex i in [0, α of its warp edge at i], u of a (-, +) edge e =
+// (i, j) in [α at i, 1 − α at j].
+std::vector<Param> a15_params(const A15& g, int cls, const Key& k, const Alphas15& al) {
+    std::vector<Param> ps;
+    for (int i = 0; i < 4; ++i)
+        if (k.warp[i] != STAY)
+            ps.push_back({i, 0, al.at(norm2(g.nb[site_of_vertex(cls, i)][k.warp[i]]), site_of_vertex(cls, i) < 2), al.den});
+    for (int e = 0; e < 6; ++e) {
+        const int i = EDGE[e][0], j = EDGE[e][1];
+        if (k.sign[i] * k.sign[j] >= 0) continue;
+        const int len2 = norm2(diff3(A15_REF[cls][j], A15_REF[cls][i]));
+        ps.push_back({4 + e, al.at(len2, site_of_vertex(cls, i) < 2), al.den - al.at(len2, site_of_vertex(cls, j) < 2), al.den});
+    }
+    return ps;
+}
+Frame a15_frame(const A15& g, int cls, const Key& k) {
+    Frame f;
+    for (int i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c)
+            f.ref[i][c] = A15_REF[cls][i][c], f.off[i][c] = k.warp[i] == STAY ? 0 : g.nb[site_of_vertex(cls, i)][k.warp[i]][c];
+    return f;
+}
+
+// ---- the A15 certificate's lines -----------------------------------------------------
+struct Entry15 {
+    Entry e;  // its witnesses are wq's
+    int cls = 0;
+    Frame fr;
+    std::array<std::vector<std::pair<std::int64_t, std::int64_t>>, 3> wq;  // p/q in lowest terms
+};
+std::int64_t gcd64(std::int64_t a, std::int64_t b) {
+    a = a < 0 ? -a : a;
+    while (b != 0) a %= b, std::swap(a, b);
+    return a;
+}
+// The three witnesses (min, max, face): per parameter p/q with q a power of
+// 2 up to 2^24 or the alphas' denominator, inside the exact box.
+std::array<std::vector<std::pair<std::int64_t, std::int64_t>>, 3> parse_witnesses15(std::istream& in, const std::vector<Param>& ps,
+                                                                                       const std::string& code) {
+    std::array<std::vector<std::pair<std::int64_t, std::int64_t>>, 3> out;
+    std::string x;
+    for (auto& w : out)
+        for (const Param& p : ps) {
+            if (!(in >> x)) fail("bad witness for " + code);
+            auto [n, q] = parse_q(x);
+            if (!(q == p.den || ((q & (q - 1)) == 0 && q <= (std::int64_t{1} << 24)))) fail("bad witness denominator for " + code);
+            const __int128 lo = static_cast<__int128>(p.lo_num) * q, hi = static_cast<__int128>(p.hi_num) * q, v = static_cast<__int128>(n) * p.den;
+            if (v < lo || v > hi) fail("witness outside the parameter box of " + code);
+            const std::int64_t g = gcd64(n, q);
+            w.push_back({n / g, q / g});
+        }
+    return out;
+}
+// The exact cos² of the extreme angle (witness_cos2's kinds) of the rule's
+// output at the rational point w: coordinates times S, the least common
+// denominator (the point's scale; every form is homogeneous).
+Cos2 witness15(const Model& m, const std::vector<std::pair<std::int64_t, std::int64_t>>& w, int kind) {
+    std::int64_t S = 1;
+    for (const auto& [n, q] : w) {
+        S = S / gcd64(S, q) * q;
+        if (S > (std::int64_t{1} << 56)) fail("witness denominators too large");
+    }
+    std::vector<I> val;
+    for (const auto& [n, q] : w) val.push_back(point(zint(n * (S / q))));
+    const auto pt = scaled_points<I>(m.frame(), m.ps, val, zint(S));
+    bool found = false;
+    Cos2 best;
+    extreme_cos2(delaunay_tets(m, pt, true), pt, kind, found, best);
+    if (!found) fail("min witness without an acute angle");
+    return best;
+}
+Entry15 parse_key_line15(const A15& g, const std::string& line, const Alphas15& al, const std::set<Enc15>& expected, std::set<Enc15>& seen) {
+    std::istringstream ks(line);
+    std::string word, code;
+    int m = -1;
+    if (!(ks >> word >> code >> m) || word != "key") fail("bad key line");
+    Entry15 en;
+    std::tie(en.cls, en.e.k) = a15_parse_code(code);
+    en.e.code = code;
+    const Enc15 enc = enc15(en.cls, en.e.k);
+    if (!expected.count(enc) || !seen.insert(enc).second) fail("unexpected or repeated key " + code);
+    en.fr = a15_frame(g, en.cls, en.e.k);
+    en.e.ps = a15_params(g, en.cls, en.e.k, al);
+    if (m != static_cast<int>(en.e.ps.size())) fail("wrong parameter count for " + code);
+    en.e.root = parse_root(ks, en.e.ps, code);
+    std::string lo, hi, fa;
+    if (!(ks >> lo >> hi >> fa)) fail("bad claim for " + code);
+    en.e.claim = Claim{claim_threshold(lo), claim_threshold(hi), claim_threshold(fa)};
+    en.wq = parse_witnesses15(ks, en.e.ps, code);
+    en.e.splits = parse_splits(ks, m, code);
+    return en;
+}
+Witnessed check_witnesses15(const Entry15& en) {
+    Witnessed w{};
+    const Model m{en.e.k, en.e.ps, false, en.fr};
+    for (int j = 0; j < 3; ++j) {
+        w.c[j] = witness15(m, en.wq[j], j);
+        const Z& c = claim_of(en.e.claim, j);
+        if ((j != 1 || !w.c[j].acute) && cmp(w.c[j].p * pow2(40), c * w.c[j].q) > 0) fail("the witness of " + en.e.code + " contradicts its claim");
+        w.tight[j] = tight(c, w.c[j], tol_den(j), j == 1);
+    }
+    return w;
+}
+Alphas15 a15_alphas(const std::string& line) {
+    std::istringstream a(line);
+    std::string word, x[4];
+    if (!(a >> word >> x[0] >> x[1] >> x[2] >> x[3]) || word != "alphas" || (a >> word)) fail("bad alphas line");
+    Alphas15 al;
+    for (int i = 0; i < 4; ++i) {
+        const auto [n, d] = parse_q(x[i]);
+        if ((i > 0 && d != al.den) || d >= (std::int64_t{1} << 31)) fail("alphas need one denominator below 2^31");
+        if (!(n > 0 && 2 * n < d)) fail("alphas out of (0, 1/2)");
+        al.num[i] = n, al.den = d;
+    }
+    return al;
+}
+// The A15 certificate: the lattice re-derived, the header, every key line
+// and witness (cheap), the theorem's tightness, then every leaf.
+int check_a15(const std::vector<std::string>& body, bool progress) {
+    if (body.size() < 4) fail("an A15 certificate has alphas, claim and keys lines");
+    const A15 g = derive_a15();
+    const Alphas15 al = a15_alphas(body[1]);
+    std::istringstream c(body[2]), n(body[3]);
+    std::string word;
+    std::array<std::string, 3> text;
+    long nkeys = -1;
+    if (!(c >> word >> text[0] >> text[1] >> text[2]) || word != "claim" || (c >> word)) fail("bad claim line");
+    if (!(n >> word >> nkeys) || word != "keys" || nkeys < 0 || nkeys > 1000000 || (n >> word)) fail("bad keys line");
+    const Claim claim{claim_threshold(text[0]), claim_threshold(text[1]), claim_threshold(text[2])};
+    if (static_cast<long>(body.size()) != 4 + nkeys) fail("key count mismatch");
+    const std::set<Enc15> expected = a15_keys(g);
+    if (static_cast<long>(expected.size()) != nkeys)
+        fail("the certificate does not list every key (" + std::to_string(expected.size()) + " canonical A15 keys)");
+    std::vector<Entry15> keys;
+    std::vector<Entry> entries;
+    std::vector<Witnessed> wit;
+    std::set<Enc15> seen;
+    for (long i = 0; i < nkeys; ++i) {
+        keys.push_back(parse_key_line15(g, body[4 + static_cast<std::size_t>(i)], al, expected, seen));
+        entries.push_back(keys.back().e);
+        wit.push_back(check_witnesses15(keys.back()));
+    }
+    std::size_t ext[3] = {0, 0, 0};
+    theorem_extremes(claim, entries, wit, ext);
+    // Every leaf, the keys on all threads (OpenMP, where built with it: the
+    // keys are independent and the checker has no global state); a failure
+    // is reported for the first failing key in the certificate's order.
+    const bool terminal = ::isatty(STDERR_FILENO) == 1;
+    std::vector<long> key_leaves(keys.size(), 0);
+    std::vector<std::string> failure(keys.size());
+    long done = 0, leaves = 0;
+#pragma omp parallel for schedule(dynamic, 4)
+    for (long i = 0; i < static_cast<long>(keys.size()); ++i) {
+        const Entry15& en = keys[static_cast<std::size_t>(i)];
+        try {
+            const Model m{en.e.k, en.e.ps, false, en.fr};
+            key_leaves[static_cast<std::size_t>(i)] = replay(m, oriented(en.e.k, parity_diag(en.e.k), en.fr), en.e.root, en.e.splits, en.e.claim, true);
+        } catch (const Fail& e) {
+            failure[static_cast<std::size_t>(i)] = en.e.code + ": " + e.msg;
+        }
+#pragma omp critical
+        {
+            leaves += key_leaves[static_cast<std::size_t>(i)];
+            if (progress && (++done % 50 == 0 || done == static_cast<long>(keys.size())))
+                std::cerr << (terminal ? "\r" : "") << "checked " << done << " of " << keys.size() << " A15 keys, " << leaves << " leaves"
+                          << (terminal ? "\033[K" : "\n") << std::flush;
+        }
+    }
+    if (progress && terminal) std::cerr << "\r\033[K";
+    for (const std::string& f : failure)
+        if (!f.empty()) fail(f);
+    std::cout << "A15 lattice (re-derived): 8 sites per cell, " << g.per_class[0] + g.per_class[1] + g.per_class[2]
+              << " Delaunay tetrahedra per cell (" << g.per_class[0] << " / " << g.per_class[1] << " / " << g.per_class[2]
+              << " by class, each the image of its class's reference), reference symmetries " << g.sym[0].size() << " / "
+              << g.sym[1].size() << " / " << g.sym[2].size() << "\n";
+    std::string setting;
+    for (int i = 0; i < 4; ++i) setting += (i ? ", " : "") + std::to_string(al.num[i]) + "/" + std::to_string(al.den);
+    print_theorem(setting + " (chain, wide, mixed at A, mixed at B), Delaunay face rule", text, claim, entries, wit, ext, leaves, "A15");
     return 0;
 }
 
@@ -2034,6 +2590,7 @@ int check(std::istream& in, bool progress) {
     if (!body.empty() && body[0] == "warpmesh-bcc-ceiling 1") return check_ceiling(body);
     if (!body.empty() && body[0] == "warpmesh-bcc-junctions 1") return check_junctions(body, progress);
     if (!body.empty() && body[0] == "warpmesh-bcc-graded 1") return check_graded(body);
+    if (!body.empty() && body[0] == "warpmesh-a15-certificate 1") return check_a15(body, progress);
     const bool delaunay = !body.empty() && body[0] == "warpmesh-bcc-certificate 5";
     if (body.size() < 4 || (body[0] != "warpmesh-bcc-certificate 4" && !delaunay))
         fail("not a BCC certificate (format 4 or 5), counter-example, ceiling, junction or graded certificate (format 1)");
@@ -2085,7 +2642,7 @@ int check(std::istream& in, bool progress) {
     // Second pass: every leaf verified against its key's claim.
     long leaves = 0;
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        leaves += replay(Model{entries[i].k, entries[i].ps, false}, oriented(entries[i].k), entries[i].root, entries[i].splits, entries[i].claim,
+        leaves += replay(Model{entries[i].k, entries[i].ps, false, std::nullopt}, oriented(entries[i].k), entries[i].root, entries[i].splits, entries[i].claim,
                          delaunay);
         if (progress && ((i + 1) % 50 == 0 || i + 1 == entries.size()))
             std::cerr << (terminal ? "\r" : "") << "checked " << i + 1 << " of " << entries.size() << " keys, " << leaves

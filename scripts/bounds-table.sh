@@ -5,11 +5,13 @@
 #   { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
 #     build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert;
 #     build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_graded.cert;
-#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
+#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert;
+#     build/checker/warpmesh-check-bcc proofs/a15.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
 # row per certificate in input order: the parity face rule, the Delaunay face
 # rule, the junction keys of multi-material meshes) come after the 2D rows,
+# then the A15 lattice's (proofs/a15.cert),
 # then the graded meshes' transition templates;
 # its counter-example for the α = ½ closer-endpoint rule (no bound: an
 # inverted tetrahedron) follows, and the
@@ -32,9 +34,11 @@ awk '
     next
   }
   /^    rounded outward/ { r = $0; sub(/.*every angle in /, "", r); sub(/ deg$/, "", r); rounded[rule, set] = r; next }
-  /^BCC theorem \(alphas / {
+  /^(BCC|A15) theorem \(alphas / {
     # BCC theorem (alphas A, B[, Delaunay face rule]): ... t in [LO, HI] deg ...
-    al = $0; sub(/^BCC theorem \(alphas /, "", al); sub(/\):.*/, "", al)
+    # A15 theorem (alphas C, W, A, B (chain, ...), Delaunay face rule): ... (the A15 lattice)
+    al = $0; sub(/^(BCC|A15) theorem \(alphas /, "", al); sub(/\):.*/, "", al)
+    a15[n3 + 1] = $0 ~ /^A15/
     faces3[++n3] = al ~ /Delaunay face rule/ ? "Delaunay" : "parity"
     junction3[n3] = al ~ /junction keys/
     a3[n3] = al
@@ -101,10 +105,16 @@ awk '
         }
       }
     for (i = 1; i <= n3; ++i) {
+      if (a15[i]) continue
       split(a3[i], aa, ", "); split(aa[1], p, "/"); split(aa[2], q, "/")
       what3 = junction3[i] ? "BCC multi-material junctions (3 or 4 materials), " : "BCC closest-first, "
       conf3 = junction3[i] ? "all junction keys" : "all keys with output"
       printf "| %s%s faces (3D dihedral, α %.5f / %.5f) | %s | %s° | %s° | %s | %s | %s |\n", what3, faces3[i], p[1] / p[2], q[1] / q[2], conf3, lo3[i], hi3[i], r3[i], wit3[i, "min"], wit3[i, "max"]
+    }
+    for (i = 1; i <= n3; ++i) {  # the A15 lattice after BCC
+      if (!a15[i]) continue
+      split(a3[i], aa, ", "); split(aa[1], ac, "/"); split(aa[2], aw, "/"); split(aa[3], ax5, "/"); split(aa[4], ay, "/")
+      printf "| A15 closest-first, %s faces (3D dihedral, α chain %.5f / wide %.5f / A end %.5f / B end %.5f) | all keys with output | %s° | %s° | %s | %s | %s |\n", faces3[i], ac[1] / ac[2], aw[1] / aw[2], ax5[1] / ax5[2], ay[1] / ay[2], lo3[i], hi3[i], r3[i], wit3[i, "min"], wit3[i, "max"]
     }
     if (glo != "")
       printf "| BCC graded transitions (3D dihedral, the templates of graded meshes, any α) | all 17 fan configurations (%s tetrahedra) | %s° | %s° | %s° … %s° | %s° (exact) | %s° (exact) |\n", gn, glo, ghi, glo, ghi, gv[1], gv[2]

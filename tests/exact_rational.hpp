@@ -1,25 +1,9 @@
-// exact_rational.hpp — exact rationals as a scalar of the generic models
-// (ScalarOps: from_int, positive), for tests that evaluate generic_a15.hpp's
-// and the prover's forms exactly.
+// exact_rational.hpp — the tests' name for the exact rational scalar
+// (prover/include/warpmesh/exact_rational.hpp).
 #pragma once
 
-#include <boost/multiprecision/cpp_int.hpp>
-
-#include "warpmesh/numerics/scalar.hpp"
+#include "../prover/include/warpmesh/exact_rational.hpp"
 
 namespace warpmesh::testing {
-
-struct Q {
-    boost::multiprecision::cpp_rational q;
-};
-inline Q operator+(const Q& a, const Q& b) { return {a.q + b.q}; }
-inline Q operator-(const Q& a, const Q& b) { return {a.q - b.q}; }
-inline Q operator*(const Q& a, const Q& b) { return {a.q * b.q}; }
-
+using rational::Q;
 }  // namespace warpmesh::testing
-
-template <>
-struct warpmesh::ScalarOps<warpmesh::testing::Q> {
-    static warpmesh::testing::Q from_int(int v) { return {boost::multiprecision::cpp_rational(v)}; }
-    static Truth positive(const warpmesh::testing::Q& a) { return truth(a.q > 0); }
-};

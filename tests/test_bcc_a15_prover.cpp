@@ -2,8 +2,9 @@
 // enclose the exact parameter boxes; the stencils admitted on a box include
 // the rule's stencil at every exact point of it, ties both ways; the branch
 // and bound proves tight claims that bracket the keys' witnesses, and fails
-// a claim stricter than a witness.  Not a certificate: no checker reads A15
-// lines yet (proofs/README.md, "The A15 space").
+// a claim stricter than a witness; the class-1 prism's largest angle is
+// found at the exact tie on a corner of its box (proofs/README.md, "The A15
+// space").
 #define BOOST_TEST_MODULE bcc_a15_prover
 #include <boost/test/unit_test.hpp>
 
@@ -137,4 +138,29 @@ BOOST_AUTO_TEST_CASE(the_class_2_prism_is_proved_under_a_cap) {
     const Subject s = a15_subject(key("2:-,-,+,+"), alphas);
     BOOST_TEST(prove_subject(s, cap_claim(11.0, 160.0)).ok);
     BOOST_TEST(!prove_subject(s, cap_claim(14.0, 160.0), default_max_depth, 20000).ok);
+}
+
+BOOST_AUTO_TEST_CASE(the_class_1_prism_peaks_at_an_exact_tie_on_a_corner) {
+    // 1:+,-,-,+: where its four cut fractions are equal its two face quads
+    // and its inside quad all tie (a line of the box, by the class's
+    // threefold symmetry); the mesher on the reference tetrahedron then takes
+    // the face diagonals by the reference's coordinate order and the inside
+    // quad's against the face (a, b, r0), and the largest dihedral angle
+    // grows to 155.286° at the line's end, the corner where all four
+    // parameters are at their upper end, 0.65.  Off the line the rule's
+    // stencil stays near 150°, so the grid search does not find it; the
+    // search tries the exact corners, and the certificate writes their
+    // coordinates as the exact ends.
+    const Subject s = a15_subject(key("1:+,-,-,+"), alphas);
+    const Witness w = search_subject(s, -1);
+    const double wmax = std::acos(w.cos) * 180 / M_PI;
+    BOOST_TEST((wmax > 155.28 && wmax < 155.29), wmax);
+    for (std::size_t i = 0; i < s.ps.size(); ++i) {
+        a15::Fraction end{};
+        BOOST_TEST_REQUIRE(a15_exact_end(s, i, w.x[i], end));
+        BOOST_TEST((end.num * 100 == 65 * end.den));
+    }
+    std::array<double, 4> off = w.x;  // off the tie line, one grid step
+    for (std::size_t i = 0; i < s.ps.size(); ++i) off[i] = std::floor(std::ldexp(w.x[i], 24)) / 16777216.0 - (i == 0 ? 0x1p-24 : 0);
+    BOOST_TEST(std::acos(subject_witness_cos(s, off, -1)) * 180 / M_PI < 151.0);
 }

@@ -160,6 +160,7 @@ struct Subject {
     // its signs and warps (parity 0), its points are a15::generic_points and
     // its stencils those of the A15 Delaunay rule (a15_subject).
     int a15_class = -1;
+    a15::Alphas a15_alphas{};  // an A15 key's thresholds (its exact parameter box)
 };
 Subject region_subject(const Key& k, const bcc::Alphas& al, FaceRule rule = FaceRule::parity);
 
@@ -178,10 +179,20 @@ inline a15::Key a15_key(const Subject& s) { return {s.a15_class, s.key.sign, s.k
 // no point realises (a strict total order on the three - vertices), are
 // skipped.  Every stencil the rule chooses at a point of b is among them.
 std::vector<bcc::Stencil> admissible_a15_stencils(const Subject& s, const Box& b);
-// The A15 rule's stencil at parameter values x in double (ties: the
-// diagonal at the lower local index; for witnesses only, not on the proof
-// path).
+// The A15 rule's stencil at parameter values x, as the mesher splits the
+// key's reference tetrahedron itself (a background tetrahedron at its
+// reference coordinates): a15::delaunay_diagonals, a face quad's tie going
+// by the lexicographic order of those coordinates, the inside quad's against
+// the face (a, b, r0).  Each x[i] is a multiple of 2^-24 (the forms are
+// decided in double) or the nearest double of an exact end of its parameter
+// (a15_exact_end; the forms are then decided in exact rationals, so that an
+// exact tie at a corner of the box is seen).  For witnesses only, not on
+// the proof path.
 bcc::Stencil a15_stencil_at(const Subject& s, const double* x);
+// Whether x is the nearest double of an exact end of parameter i of A15
+// subject s and not a multiple of 2^-24 (a witness coordinate the
+// certificate writes as that end's exact rational, `num`/`den`).
+bool a15_exact_end(const Subject& s, std::size_t i, double x, a15::Fraction& end);
 Subject junction_subject(const JunctionKey& k, int face, const bcc::Alphas& al);
 // The subject's 15 points (one region: generic_points' ten, the rest 0;
 // junction: junction_points12) at t, u.
@@ -242,7 +253,9 @@ double witness_cos(const Key& k, const std::vector<Param>& ps, const std::array<
 // on the 2^-24 grid; deterministic per key.
 Witness search_witness(const Key& k, const std::vector<Param>& ps, int sign, const std::array<double, 4>* start = nullptr,
                        FaceRule rule = FaceRule::parity);
-// The same for any subject (its own parameters and seed).
+// The same for any subject (its own parameters and seed); an A15 subject's
+// search also tries the exact corners of its box (targets.cpp,
+// try_exact_corners).
 Witness search_subject(const Subject& s, int sign, const std::array<double, 4>* start = nullptr);
 double subject_witness_cos(const Subject& s, const std::array<double, 4>& x, int sign);
 // The claim's cos² for a witness with this cos: the angle moved outward by
@@ -290,8 +303,12 @@ std::vector<KeyProof> prove_tight(const std::vector<Subject>& subs, Margins mg =
 std::string certificate_line(const Key& k, const KeyProof& p);
 // A proof's fields as certificate_line writes them after the code: "m lo_0
 // hi_0 .. CMIN CMAX CFACE WMIN_0 .. WMAX_0 .. WFACE_0 .. SPLITS" (without
-// the claim: a junction face line, whose claim is its key's).
-std::string proof_fields(const KeyProof& p, bool with_claim = true);
+// the claim: a junction face line, whose claim is its key's).  With an A15
+// subject, a witness coordinate at an exact end of its parameter
+// (a15_exact_end) is written as that rational, "num/den".
+std::string proof_fields(const KeyProof& p, bool with_claim = true, const Subject* a15 = nullptr);
+// A dyadic double p / 2^40 as the certificates write it, "p/1099511627776".
+std::string dyadic40(double x);
 // `warpmesh-prove-bcc --junctions` (prove_junctions.cpp): proves every face
 // of `keys` (prove_subject_tight on junction_subject) and writes the
 // junction certificate to `out`; with `extremes`, prints the witness

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "warpmesh/exact_rational.hpp"
 #include "warpmesh/numerics/interval.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
@@ -35,6 +36,7 @@ Subject a15_subject(const a15::Key& k, const a15::Alphas& al) {
     s.a15_class = k.cls;
     s.rule = FaceRule::delaunay;
     s.seed = a15::code_of(k);
+    s.a15_alphas = al;
     for (const a15::Param& p : a15::key_params(k, al)) {
         const double lo = to_double(p.lo), hi = to_double(p.hi);
         s.ps.push_back({p.index, lo, hi, p.lo.num == 0 ? 0.0 : dyadic_floor(lo - 0x1p-20), dyadic_ceil(hi + 0x1p-20)});
@@ -68,19 +70,36 @@ std::vector<bcc::Stencil> admissible_a15_stencils(const Subject& s, const Box& b
     });
 }
 
+bool a15_exact_end(const Subject& s, std::size_t i, double x, a15::Fraction& end) {
+    const double g = std::ldexp(x, 24);
+    if (g == std::floor(g)) return false;
+    const a15::Param p = a15::key_params(a15_key(s), s.a15_alphas)[i];
+    for (const a15::Fraction& f : {p.lo, p.hi})
+        if (x == to_double(f)) return end = f, true;
+    return false;
+}
+
 bcc::Stencil a15_stencil_at(const Subject& s, const double* x) {
+    const auto& ref = a15::reference_tets[static_cast<std::size_t>(s.a15_class)];
+    bool exact = false;
+    std::array<rational::Q, 6> uq{};
     std::array<double, 6> u{};
-    for (std::size_t i = 0; i < s.ps.size(); ++i)
-        if (s.ps[i].index >= 4) u[static_cast<std::size_t>(s.ps[i].index - 4)] = x[i];
-    std::array<int, 4> fs{};
-    for (int f = 0; f < 4; ++f) {
-        int a = -1, b = -1, r = -1;
-        if (bcc::quad_face(s.key.sign, f, a, b, r)) fs[static_cast<std::size_t>(f)] = decided_sign(a15::face_form(s.a15_class, a, b, r, u)).value();
+    for (std::size_t i = 0; i < s.ps.size(); ++i) {
+        if (s.ps[i].index < 4) continue;
+        const auto e = static_cast<std::size_t>(s.ps[i].index - 4);
+        u[e] = x[i];
+        a15::Fraction f{};
+        if (a15_exact_end(s, i, x[i], f)) uq[e] = {boost::multiprecision::cpp_rational(f.num, f.den)}, exact = true;
+        else uq[e] = {boost::multiprecision::cpp_rational(static_cast<long long>(std::ldexp(x[i], 24)), 16777216)};
     }
-    int a = -1, b = -1, r0 = -1, r1 = -1, is = 0;
-    if (bcc::inside_quad(s.key.sign, a, b, r0, r1)) is = decided_sign(a15::inside_form(s.a15_class, a, b, r0, r1, u)).value();
-    const bcc::Diagonals d = a15::resolve_delaunay(s.key.sign, fs, {true, true, true, true}, is);
-    return bcc::stencil_with(s.key.sign, d);
+    // Near a tie the double forms (the inside form's squares need 54 bits on
+    // the grid) may not decide exactly: decide them in rationals there too.
+    for (int f = 0, a, b, r; f < 4 && !exact; ++f)
+        exact = bcc::quad_face(s.key.sign, f, a, b, r) && std::fabs(a15::face_form(s.a15_class, a, b, r, u)) < 1e-9;
+    int a = -1, b = -1, r0 = -1, r1 = -1;
+    exact = exact || (bcc::inside_quad(s.key.sign, a, b, r0, r1) && std::fabs(a15::inside_form(s.a15_class, a, b, r0, r1, u)) < 1e-9);
+    return bcc::stencil_with(s.key.sign, exact ? a15::delaunay_diagonals(s.a15_class, s.key.sign, uq, ref)
+                                               : a15::delaunay_diagonals(s.a15_class, s.key.sign, u, ref));
 }
 
 }  // namespace warpmesh::bcc_prover

@@ -357,14 +357,24 @@ KeyProof prove_subject(const Subject& sub, const Claim& c, int max_depth, long m
 // the split string.
 std::string certificate_line(const Key& k, const KeyProof& p) { return "key " + code_of(k) + " " + proof_fields(p); }
 
-std::string proof_fields(const KeyProof& p, bool with_claim) {
+std::string dyadic40(double x) {
+    std::ostringstream o;
+    o << static_cast<long long>(std::ldexp(x, 40)) << "/1099511627776";
+    return o.str();
+}
+
+std::string proof_fields(const KeyProof& p, bool with_claim, const Subject* a15) {
     std::ostringstream o;
     o << p.root.m;
     const auto dy = [&](double x, int e) { o << " " << static_cast<long long>(std::ldexp(x, e)) << "/" << (1LL << e); };
     for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(p.root.lo[j], 20), dy(p.root.hi[j], 20);
     if (with_claim) dy(p.claim.cmin, 40), dy(p.claim.cmax, 40), dy(p.claim.cface, 40);
     for (const Witness* w : {&p.wmin, &p.wmax, &p.wface})
-        for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) dy(w->x[j], 24);
+        for (std::size_t j = 0; j < static_cast<std::size_t>(p.root.m); ++j) {
+            a15::Fraction end{};
+            if (a15 && a15_exact_end(*a15, j, w->x[j], end)) o << " " << end.num << "/" << end.den;
+            else dy(w->x[j], 24);
+        }
     o << " " << p.splits;
     return o.str();
 }

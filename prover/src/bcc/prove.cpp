@@ -21,13 +21,6 @@
 namespace warpmesh::bcc_prover {
 namespace {
 
-// A dyadic p / 2^40 as text.
-std::string dyadic40(double x) {
-    std::ostringstream o;
-    o << static_cast<long long>(std::ldexp(x, 40)) << "/1099511627776";
-    return o.str();
-}
-
 // `--extremes`: the prover's own witness search (targets.cpp, the same
 // deterministic search that chooses each key's claim) over every key, no
 // proof: prints the smallest and largest angle found and their keys, from

@@ -1,10 +1,10 @@
 // prove_a15.cpp — `warpmesh-prove-a15` (issue 51): the 3D prover's branch
 // and bound and witness search over the A15 keys (generic_a15_keys.hpp),
 // through a15_subject.  Prints the extremes found (--extremes) or proves
-// every key (or every N-th, --every) tight against the caps and reports the
-// theorem the proved claims give.  No independent checker reads its output
-// yet, so what it writes is not a certificate (proofs/README.md, "The A15
-// space").
+// every key (or every N-th, --every, or those listed, --keys) tight against
+// the caps, reports the theorem the proved claims give and, if every key is
+// proved, writes the certificate (--out; proofs/README.md, "The A15
+// certificate"), which `warpmesh-check-bcc` checks.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +16,7 @@
 #include <omp.h>
 #endif
 
+#include "warpmesh/key_list.hpp"
 #include "warpmesh/key_progress.hpp"
 #include "warpmesh/prove_bcc.hpp"
 
@@ -78,12 +79,25 @@ int run(const Run& r) {
     std::printf("proved %zu failed %d\nclaim-min %.6f %s\nclaim-max %.6f %s\n", n - static_cast<std::size_t>(failed), failed,
                 claim_deg(proofs[ca].claim.cmin, false), a15::code_of(r.keys[ca]).c_str(), claim_deg(proofs[cb].claim.cmax, true),
                 a15::code_of(r.keys[cb]).c_str());
-    if (r.out) {
-        std::ofstream o(*r.out);
-        o << "warpmesh-a15-prover-output 1 (not a certificate: no checker yet)\n";
-        for (std::size_t i = 0; i < n; ++i) o << "key " << a15::code_of(r.keys[i]) << " " << proof_fields(proofs[i]) << "\n";
+    if (failed || !r.out) return failed == 0 ? 0 : 1;
+    Claim claim{0, 0, 0};  // the theorem: the extremes of the keys' claims
+    for (const KeyProof& p : proofs)
+        claim = {std::max(claim.cmin, p.claim.cmin), std::max(claim.cmax, p.claim.cmax), std::max(claim.cface, p.claim.cface)};
+    std::ofstream o(*r.out, std::ios::binary);
+    const auto q = [](const a15::Fraction& f) { return std::to_string(f.num) + "/" + std::to_string(f.den); };
+    o << "warpmesh-a15-certificate 1\n# Dihedral angle bounds for the A15 generic tetrahedron.  Format: proofs/README.md.\n"
+      << "alphas " << q(r.al.chain) << " " << q(r.al.wide) << " " << q(r.al.mixed_at_a) << " " << q(r.al.mixed_at_b) << "\n"
+      << "claim " << dyadic40(claim.cmin) << " " << dyadic40(claim.cmax) << " " << dyadic40(claim.cface) << "\n"
+      << "keys " << n << "\n";
+    for (std::size_t i = 0; i < n; ++i) {
+        const Subject s = a15_subject(r.keys[i], r.al);
+        o << "key " << a15::code_of(r.keys[i]) << " " << proof_fields(proofs[i], true, &s) << "\n";
     }
-    return failed == 0 ? 0 : 1;
+    if (!o) {
+        std::fprintf(stderr, "warpmesh-prove-a15: cannot write %s\n", r.out->c_str());
+        return 1;
+    }
+    return 0;
 }
 
 }  // namespace
@@ -92,8 +106,9 @@ int run(const Run& r) {
 int main(int argc, char** argv) {
     using namespace warpmesh::bcc_prover;
     std::array<std::string, 4> alpha{"0.3", "0.3", "0.3", "0.3"};
-    double cap_min = 12.0, cap_max = 160.0;
+    double cap_min = 12.0, cap_max = 160.0, cap_face = 0;
     long every = 1;
+    std::optional<std::string> key_list;
     Run r;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -102,7 +117,9 @@ int main(int argc, char** argv) {
             for (auto& s : alpha) s = argv[++i];
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
+        else if (a == "--cap-face-deg" && more) cap_face = std::atof(argv[++i]);
         else if (a == "--every" && more) every = std::atol(argv[++i]);
+        else if (a == "--keys" && more) key_list = argv[++i];
         else if (a == "--extremes") r.extremes = true;
         else if (a == "--out" && more) r.out = argv[++i];
         else if (a == "--threads" && more) {
@@ -112,17 +129,27 @@ int main(int argc, char** argv) {
             ++i;
 #endif
         } else {
-            std::fprintf(stderr, "usage: warpmesh-prove-a15 [--alphas CHAIN WIDE MIXED_AT_A MIXED_AT_B] [--cap-min-deg D] [--cap-max-deg D] [--every N] [--extremes] [--out FILE] [--threads N]\n");
+            std::fprintf(stderr, "usage: warpmesh-prove-a15 [--alphas CHAIN WIDE MIXED_AT_A MIXED_AT_B] [--cap-min-deg D] [--cap-max-deg D] [--cap-face-deg D] [--every N | --keys I,J,..] [--extremes] [--out FILE] [--threads N]\n");
             return 2;
         }
     }
     if (!parse_alpha(alpha[0], r.al.chain) || !parse_alpha(alpha[1], r.al.wide) || !parse_alpha(alpha[2], r.al.mixed_at_a) ||
-        !parse_alpha(alpha[3], r.al.mixed_at_b) || !(cap_min > 0 && cap_min < 90) || !(cap_max > 90 && cap_max < 180) || every < 1) {
-        std::fprintf(stderr, "warpmesh-prove-a15: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180, every >= 1\n");
+        !parse_alpha(alpha[3], r.al.mixed_at_b) || !(cap_min > 0 && cap_min < 90) || !(cap_max > 90 && cap_max < 180) || !(cap_face >= 0 && cap_face < 60) || every < 1) {
+        std::fprintf(stderr, "warpmesh-prove-a15: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180, 0 <= cap-face-deg < 60, every >= 1\n");
         return 2;
     }
     r.mg.cap = cap_claim(cap_min, cap_max);
+    // The face-angle cap: by default none (cos² 1); a key whose tight
+    // face-angle claim is not proved within the budget claims the cap.
+    if (cap_face > 0) r.mg.cap.cface = std::round(std::ldexp(std::pow(std::cos(cap_face * M_PI / 180), 2), 40)) / 1099511627776.0;
     const auto all = warpmesh::a15::enumerate_keys();
-    for (std::size_t i = 0; i < all.size(); i += static_cast<std::size_t>(every)) r.keys.push_back(all[i]);
+    std::vector<int> subset;
+    std::string bad;
+    if (key_list && !warpmesh::prover::parse_key_list(*key_list, static_cast<long>(all.size()), subset, bad)) {
+        std::fprintf(stderr, "warpmesh-prove-a15: --keys expects key indices 0..%zu separated by commas (bad: '%s')\n", all.size() - 1, bad.c_str());
+        return 2;
+    }
+    for (int k : subset) r.keys.push_back(all[static_cast<std::size_t>(k)]);
+    for (std::size_t i = 0; i < all.size() && !key_list; i += static_cast<std::size_t>(every)) r.keys.push_back(all[i]);
     return run(r);
 }

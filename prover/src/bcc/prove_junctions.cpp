@@ -20,11 +20,6 @@
 namespace warpmesh::bcc_prover {
 namespace {
 
-std::string dyadic40(double x) {
-    std::ostringstream o;
-    o << static_cast<long long>(std::ldexp(x, 40)) << "/1099511627776";
-    return o.str();
-}
 double degrees(double cos2, bool obtuse) {  // messages only
     const double a = std::acos(std::sqrt(cos2)) * 180 / M_PI;
     return obtuse ? 180 - a : a;

@@ -246,6 +246,24 @@ Witness follow_ties(const Subject& sub, int sign, std::vector<std::array<double,
     return w;
 }
 
+// An A15 key's extreme may sit at an exact tie on the boundary of its box,
+// realised there only (`1:+,-,-,+`'s largest angle: at the corner where its
+// two face quads and its inside quad all tie, a15_stencil_at), which no
+// point of the 2^-24 grid reaches: the 2^m corners of the exact box (every
+// parameter at the nearest double of an exact end; a15_stencil_at decides
+// the rule there in exact rationals) are tried too.  Corners only: a point
+// mixing the grid's 2^-24 with the ends' denominator would need more digits
+// than the checker's fixed 768 bits hold.
+void try_exact_corners(const Subject& sub, int sign, Witness& w, double& fb) {
+    const std::size_t m = sub.ps.size();
+    for (std::size_t c = 0; c < (std::size_t{1} << m); ++c) {
+        std::array<double, 4> y{};
+        for (std::size_t i = 0; i < m; ++i) y[i] = (c >> i) & 1 ? sub.ps[i].hi : sub.ps[i].lo;
+        const double f = extreme_cos(sub, y, sign);
+        if (f > fb + 1e-15) fb = f, w.x = y;
+    }
+}
+
 }  // namespace
 
 // Random starts (corners and faces favoured) and a shrinking-step pattern
@@ -278,6 +296,7 @@ Witness search_subject(const Subject& sub, int sign, const std::array<double, 4>
         if (f > fb) fb = f, w.x = x;
     }
     pattern_search(obj, ps, w.x, fb, 0.25, 0x1p-24);
+    if (sub.a15_class >= 0) try_exact_corners(sub, sign, w, fb);
     w.cos = (sign == -1 ? -1 : 1) * fb;
     return !sub.junction && sub.a15_class < 0 && sub.rule == FaceRule::delaunay ? follow_ties(sub, sign, std::move(starts), w, fb) : w;
 }
