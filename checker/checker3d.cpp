@@ -35,7 +35,7 @@
 // And the graded templates' certificate (proofs/bcc_graded.cert,
 // "warpmesh-bcc-graded 1", see check_graded): the tetrahedra of a graded
 // mesh's octree transitions, re-derived from the fan rule and checked exactly.
-// And the A15 certificate (proofs/a15.cert, "warpmesh-a15-certificate 1",
+// And the A15 certificate (a15.cert, "warpmesh-a15-certificate 1",
 // see check_a15): isosurface stuffing on the A15 lattice, whose sites,
 // Delaunay tetrahedra, classes, symmetries, keys, parameter boxes and face
 // rule are re-derived here from proofs/README.md ("The A15 space"); the
@@ -2046,7 +2046,7 @@ int check_junctions(const std::vector<std::string>& body, bool progress) {
     return 0;
 }
 
-// ---- the A15 certificate (proofs/a15.cert) -----------------------------------------
+// ---- the A15 certificate (a15.cert) ------------------------------------------------
 // Format (proofs/README.md, "The A15 certificate"):
 //   warpmesh-a15-certificate 1
 //   alphas CHAIN WIDE A B   exact rationals, one denominator below 2^31, each in (0, 1/2):

@@ -5,13 +5,13 @@
 #   { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert;
 #     build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert;
 #     build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_graded.cert;
-#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert;
-#     build/checker/warpmesh-check-bcc proofs/a15.cert; } | scripts/bounds-table.sh
+#     build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh
 #
 # The 3D checker's theorems (dihedral angles of the BCC lattice warping, one
 # row per certificate in input order: the parity face rule, the Delaunay face
 # rule, the junction keys of multi-material meshes) come after the 2D rows,
-# then the A15 lattice's (proofs/a15.cert),
+# then the A15 lattice's (a15.cert, when its check is in the input: not
+# yet in proofs/, proofs/README.md "The A15 space"),
 # then the graded meshes' transition templates;
 # its counter-example for the α = ½ closer-endpoint rule (no bound: an
 # inverted tetrahedron) follows, and the

@@ -3,8 +3,7 @@
 # proofs/bcc_delaunay.cert (the Delaunay face rule), proofs/bcc_junctions.cert
 # (the junction keys of multi-material meshes), proofs/bcc_graded.cert (the
 # graded meshes' transition templates), the 3D
-# counter-example proofs/bcc_half.cert, the 3D ceiling proofs/bcc_ceiling.cert
-# and the A15 lattice's proofs/a15.cert
+# counter-example proofs/bcc_half.cert and the 3D ceiling proofs/bcc_ceiling.cert
 # (scripts/test.sh reruns the 3D ones on samples of their keys) — into OUTDIR
 # (default: a temporary directory) and compares each with proofs/ byte for
 # byte.  Exit 1 if any differs.
@@ -25,13 +24,11 @@ alphas="$(awk '/^alphas /{split($2, a, "/"); split($3, b, "/"); printf "%.5f %.5
   --threads "$(nproc)" --out "$out/bcc_delaunay.cert"  # proofs/README.md, "The Delaunay face rule (certified)"
 "$build/prover/warpmesh-prove-bcc" --junctions --threads "$(nproc)" --out "$out/bcc_junctions.cert"  # multi-material junctions
 "$build/prover/warpmesh-prove-bcc" --graded --out "$out/bcc_graded.cert"  # the graded meshes' transition templates
-"$build/prover/warpmesh-prove-a15" --alphas 0.39 0.35 0.35 0.35 --cap-min-deg 11.645 --cap-max-deg 155.38 --cap-face-deg 11.112 --threads "$(nproc)" \
-  --out "$out/a15.cert" >/dev/null  # the A15 lattice (proofs/README.md, "The A15 space")
 echo "== [$SECONDS s] 3D proofs done"
 "$build/prover/bcc_explore" counterexample 0.5 0.5 >"$out/bcc_half.cert"  # the alpha = 1/2 counter-example
 "$build/prover/bcc_ceiling" 11.88 >"$out/bcc_ceiling.cert"  # no thresholds reach 11.88 deg
 status=0
-for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc,bcc_delaunay,bcc_junctions,bcc_graded,bcc_half,bcc_ceiling,a15}.cert "$root"/proofs/key_table.txt; do
+for cert in "$root"/proofs/{maxmin,separating,materials,fan,bcc,bcc_delaunay,bcc_junctions,bcc_graded,bcc_half,bcc_ceiling}.cert "$root"/proofs/key_table.txt; do
   if ! cmp -s "$cert" "$out/$(basename "$cert")"; then
     echo "prove-all: $(basename "$cert") differs from the prover's fresh output ($out)" >&2
     status=1

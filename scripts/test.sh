@@ -86,21 +86,6 @@ if [ -x "$build/checker/warpmesh-check" ]; then
     diff "$fresh/bcc_junctions.committed.lines" "$fresh/bcc_junctions.sample.lines" | cut -c1-200 >&2 || true
     exit 1
   fi
-  # The A15 certificate (issue 51, proofs/README.md "The A15 space"): a key's
-  # line depends on the key alone; every 97th key and the keys of the
-  # theorem's witnesses (6162 0:0f,0g,+,- and 13034 1:+,-,-,+; the prover
-  # numbers the keys in canonical order) rerun, byte-identical (about 20 s
-  # of CPU; the whole proof is about 8 min, scripts/prove-all.sh).
-  na15="$(sed -n 's/^keys //p' "$root/proofs/a15.cert")"
-  a15_alphas="$(awk '/^alphas /{for (i = 2; i <= 5; ++i) { split($i, a, "/"); printf "%.5f ", a[1] / a[2] }}' "$root/proofs/a15.cert")"
-  # shellcheck disable=SC2086  # four words: chain, wide, mixed at A, mixed at B
-  "$build/prover/warpmesh-prove-a15" --alphas $a15_alphas --cap-min-deg 11.645 --cap-max-deg 155.38 --cap-face-deg 11.112 --threads "$(nproc)" \
-    --keys "$(seq -s, 0 97 $((na15 - 1))),6162,13034" --out "$fresh/a15.sample" >"$fresh/a15.sample.log" 2>&1 ||
-    { cat "$fresh/a15.sample.log" >&2; exit 1; }
-  if grep '^key ' "$fresh/a15.sample" | grep -vxF -f "$root/proofs/a15.cert" >&2; then
-    echo "test: these proofs/a15.cert keys differ from the prover's fresh output" >&2
-    exit 1
-  fi
   # The 3D counter-example (the alpha = 1/2 closer-endpoint rule inverts a
   # tetrahedron) and the 3D ceiling (no thresholds reach 11.88 deg): their
   # writers are deterministic, the files byte-identical.
@@ -136,8 +121,6 @@ if [ -x "$build/checker/warpmesh-check" ]; then
   pids+=($!)
   "$build/checker/warpmesh-check-bcc" "$root/proofs/bcc_graded.cert" >"$fresh/bcc_graded.cert.check3d" 2>&1 &
   pids+=($!)
-  "$build/checker/warpmesh-check-bcc" "$root/proofs/a15.cert" >"$fresh/a15.cert.check3d" 2>&1 &
-  pids+=($!)
   no_bound=(bcc_half bcc_ceiling)  # a counter-example and a ceiling: NO BOUND statements
   no_bound_pids=()
   for c in "${no_bound[@]}"; do
@@ -169,7 +152,7 @@ if [ -x "$build/checker/warpmesh-check" ]; then
     sed -n '/<!-- certified-bounds:begin -->/,/<!-- certified-bounds:end -->/p' "$root/$page" | sed '1d;$d' >"$fresh/page.md"
     if ! cmp -s "$fresh/table.md" "$fresh/page.md"; then
       echo "test: $page's certified-bounds table differs from the checker's output; regenerate it with" >&2
-      echo "      { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_graded.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; build/checker/warpmesh-check-bcc proofs/a15.cert; } | scripts/bounds-table.sh" >&2
+      echo "      { build/checker/warpmesh-check proofs/{fan,materials,materials_fan,maxmin,rhombic_maxmin,rhombic_separating,separating}.cert; build/checker/warpmesh-check-bcc proofs/bcc.cert; build/checker/warpmesh-check-bcc proofs/bcc_delaunay.cert; build/checker/warpmesh-check-bcc proofs/bcc_junctions.cert; build/checker/warpmesh-check-bcc proofs/bcc_graded.cert; build/checker/warpmesh-check-bcc proofs/bcc_half.cert; build/checker/warpmesh-check-bcc proofs/bcc_ceiling.cert; } | scripts/bounds-table.sh" >&2
       diff "$fresh/page.md" "$fresh/table.md" >&2 || true
       exit 1
     fi
