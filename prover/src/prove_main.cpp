@@ -9,9 +9,6 @@
 #include <fstream>
 #include <sstream>
 #include <utility>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "warpmesh/key_list.hpp"
 #include "warpmesh/prove.hpp"
@@ -51,11 +48,7 @@ int prove_main(int argc, char** argv) {
         if (a == "prove") continue;
         if (a == "--out" && i + 1 < argc) out = argv[++i];
         else if (a == "--threads" && i + 1 < argc) {
-#ifdef _OPENMP
-            omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
-#else
-            ++i;
-#endif
+            prover::set_threads(argv[++i]);
         } else if (a == "--rule" && i + 1 < argc) {  // one rule only (development; key_table.txt then holds it alone)
             const std::optional<DiagonalRule> r = value_of(diagonal_rule_names, argv[++i]);
             if (!r) {

@@ -1,4 +1,5 @@
-// The provers' --keys arguments: lists of key indices.
+// The provers' command-line arguments shared by their tools: --keys lists of
+// key indices, and --threads.
 //
 // Contract: parse_key_list reads "I,J,..." — decimal integers, each in
 // [0, count), the number of keys of the space the indices refer to — and
@@ -8,12 +9,25 @@
 // and exit with status 2 instead of proving a list nobody asked for.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 #include <string>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace warpmesh::prover {
+
+// --threads N: OpenMP's thread count, at least 1 (ignored without OpenMP).
+inline void set_threads(const char* n) {
+#ifdef _OPENMP
+    omp_set_num_threads(std::max(1, std::atoi(n)));
+#else
+    (void)n;
+#endif
+}
 
 inline bool parse_key_index(const std::string& tok, long count, int& k) {
     if (tok.empty() || tok.size() > 9) return false;

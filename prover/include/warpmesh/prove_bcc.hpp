@@ -282,10 +282,11 @@ struct Margins {
     double tight_min_deg = 0.009, tight_max_deg = 0.09;  // a cap this close to the witness is claimed
     Claim cap{1, 1, 1};                                   // no cap on the face angle
 };
-// The cap for the angles (degrees): cos² rounded to 2^-40.  The prover's
+// The cap for the angles (degrees): cos² rounded to 2^-40; a face angle of
+// 0 (the default) is no cap on the face angle (cos² 1).  The prover's
 // defaults are those of proofs/bcc.cert (at bcc::parity_alphas: the
 // witnesses 10.7685 and 164.7019 deg, moved out as bcc-frontier.sh does).
-Claim cap_claim(double min_deg, double max_deg);
+Claim cap_claim(double min_deg, double max_deg, double face_deg = 0);
 inline constexpr double default_cap_min_deg = 10.763, default_cap_max_deg = 164.752;
 KeyProof prove_key_tight(const Key& k, const bcc::Alphas& al, Margins mg = {}, int max_depth = default_max_depth,
                          FaceRule rule = FaceRule::parity);

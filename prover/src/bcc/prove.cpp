@@ -10,9 +10,6 @@
 #include <optional>
 #include <sstream>
 #include <string>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "warpmesh/key_list.hpp"
 #include "warpmesh/key_progress.hpp"
@@ -76,11 +73,7 @@ int prove_bcc_main(int argc, char** argv) {
         else if (a == "--cap-min-deg" && more) cap_min = std::atof(argv[++i]);
         else if (a == "--cap-max-deg" && more) cap_max = std::atof(argv[++i]);
         else if (a == "--threads" && more) {
-#ifdef _OPENMP
-            omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
-#else
-            ++i;
-#endif
+            prover::set_threads(argv[++i]);
         } else if (a == "--keys" && more) {
             key_list = argv[++i];
         } else {

@@ -12,9 +12,6 @@
 #include <fstream>
 #include <optional>
 #include <string>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "warpmesh/key_list.hpp"
 #include "warpmesh/key_progress.hpp"
@@ -123,11 +120,7 @@ int main(int argc, char** argv) {
         else if (a == "--extremes") r.extremes = true;
         else if (a == "--out" && more) r.out = argv[++i];
         else if (a == "--threads" && more) {
-#ifdef _OPENMP
-            omp_set_num_threads(std::max(1, std::atoi(argv[++i])));
-#else
-            ++i;
-#endif
+            warpmesh::prover::set_threads(argv[++i]);
         } else {
             std::fprintf(stderr, "usage: warpmesh-prove-a15 [--alphas CHAIN WIDE MIXED_AT_A MIXED_AT_B] [--cap-min-deg D] [--cap-max-deg D] [--cap-face-deg D] [--every N | --keys I,J,..] [--extremes] [--out FILE] [--threads N]\n");
             return 2;
@@ -138,10 +131,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "warpmesh-prove-a15: alphas must be decimals in (0, 0.5) with at most 5 digits, 0 < cap-min-deg < 90 < cap-max-deg < 180, 0 <= cap-face-deg < 60, every >= 1\n");
         return 2;
     }
-    r.mg.cap = cap_claim(cap_min, cap_max);
-    // The face-angle cap: by default none (cos² 1); a key whose tight
-    // face-angle claim is not proved within the budget claims the cap.
-    if (cap_face > 0) r.mg.cap.cface = std::round(std::ldexp(std::pow(std::cos(cap_face * M_PI / 180), 2), 40)) / 1099511627776.0;
+    // The face-angle cap: by default none; a key whose tight face-angle
+    // claim is not proved within the budget claims the cap.
+    r.mg.cap = cap_claim(cap_min, cap_max, cap_face);
     const auto all = warpmesh::a15::enumerate_keys();
     std::vector<int> subset;
     std::string bad;

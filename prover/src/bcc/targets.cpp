@@ -316,12 +316,12 @@ namespace warpmesh::bcc_prover {
 
 // cos² of each angle (degrees), rounded to a multiple of 2^-40 (the claim is
 // stated by these numbers; the degrees are only their names).
-Claim cap_claim(double min_deg, double max_deg) {
+Claim cap_claim(double min_deg, double max_deg, double face_deg) {
     const auto c2 = [](double deg) {
         const double c = std::cos(deg * M_PI / 180);
         return std::round(std::ldexp(c * c, 40)) / 1099511627776.0;
     };
-    return {c2(min_deg), c2(max_deg), 1};
+    return {c2(min_deg), c2(max_deg), c2(face_deg)};  // cos 0 = 1 exactly: no face cap
 }
 
 namespace {
